@@ -13,6 +13,7 @@ from ._erp import (
     erp as erp,
     housing_acoustics as housing_acoustics,
     housing_response as housing_response,
+    housing_vibration as housing_vibration,
     seat_forces as seat_forces,
     total_level as total_level,
 )

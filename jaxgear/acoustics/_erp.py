@@ -41,6 +41,7 @@ __all__ = [
     "erp",
     "housing_acoustics",
     "housing_response",
+    "housing_vibration",
     "seat_forces",
     "total_level",
 ]
@@ -264,7 +265,40 @@ def housing_response(acoustics: HousingAcoustics, loads, frequency) -> HousingRe
     w2 = (2 * jnp.pi * f)[..., None] ** 2
     lam = lam.reshape((1,) * (w2.ndim - 1) + lam.shape)
     modal = (F.astype(cdt) @ phi[:nb].astype(cdt)) / (lam - w2)  # Φ_bᵀ F / ((1 + iη) λ − ω²)
-    q = modal @ phi.T.astype(cdt)
+    return housing_vibration(acoustics, modal @ phi.T.astype(cdt), f)
+
+
+def housing_vibration(acoustics: HousingAcoustics, coordinates, frequency) -> HousingResponse:
+    """The housing's surface vibration and ERP of its condensed coordinates q at frequencies:
+    v_n = iω N Φ q at every skin facet and at the named points, and P = ½ ρ c Σ |v_n|² A (the
+    module's equations). :func:`housing_response` solves q from seat loads (the one-way path);
+    a coupled model's response holds q itself: the housing's coordinates of a lumped 3D scene
+    with a :class:`~jaxgear.scenes.Housing` (``WhineResponse.coordinates[..., n0:n0 + n_c]``,
+    n0 the structure's ``housing <first seat>`` node), in the condensed housing's own order
+    and frame.
+
+    Args:
+        acoustics: :func:`housing_acoustics`.
+        coordinates: q (..., n_c), one-sided complex amplitudes (m, rad, modal amplitudes).
+        frequency: f (Hz) >= 0, broadcastable to q's leading shape.
+
+    Returns:
+        :class:`HousingResponse` with q's leading shape.
+
+    Raises:
+        TypeError: not a HousingAcoustics. ValueError: q of another size than n_c.
+    """
+    if not isinstance(acoustics, HousingAcoustics):
+        raise TypeError(f"acoustics = {acoustics!r}: allowed housing_acoustics(...)")
+    n_c = acoustics.K.shape[0]
+    q = jnp.asarray(coordinates)
+    if q.ndim == 0 or q.shape[-1] != n_c:
+        raise ValueError(
+            f"coordinates: shape {q.shape}, allowed (..., {n_c}) (the condensed coordinates)"
+        )
+    cdt = jnp.result_type(acoustics.K.dtype, jnp.complex64)
+    q = q.astype(cdt)
+    f = jnp.broadcast_to(jnp.asarray(frequency, acoustics.K.dtype), q.shape[:-1])
     iw = (2j * jnp.pi * f)[..., None]
     vn = iw * (q @ acoustics.normal_map.T.astype(cdt))
     vp = iw * (q @ acoustics.point_map.T.astype(cdt))

@@ -13,6 +13,7 @@ import numpy as np
 
 from ..dynamics import DynamicModel, whine_response
 from ..io import build_dynamic_model, whine_of, write_csv, write_json
+from ._housing_run import housed_run, housing_outputs, housing_run_line
 from ._plots import whine_order_plot, whine_waterfall_plot
 
 __all__ = ["whine_outputs", "whine_run_line"]
@@ -51,6 +52,7 @@ def whine_outputs(case, out_dir: str) -> dict | None:
             f"[whine]: the case's model is a {type(model).__name__}: allowed a lumped scene "
             "(torsional or lumped 3D; no condensed bodies)"
         )
+    housed = housed_run(case, model)  # [housing]: its points checked before the whine
     w = whine_response(model, np.asarray(inputs.speeds), inputs.method,
                        positions=inputs.positions)
     folder = os.path.join(out_dir, "whine")
@@ -116,6 +118,7 @@ def whine_outputs(case, out_dir: str) -> dict | None:
             br_total[:, wf], label="bearing force (N)", title=case.name, invalid=invalid,
         )
     files = [f"whine/{n}" for n in FILES if os.path.exists(os.path.join(folder, n))]
+    housing = None if housed is None else housing_outputs(housed, case, w, folder, invalid)
     valid_note = (
         "contact loss at the flagged speeds: the linear (frequency-domain) result does not hold "
         "there; the time domain (jaxgear sweep) is the reference"
@@ -139,7 +142,8 @@ def whine_outputs(case, out_dir: str) -> dict | None:
         "linear_result_invalid_at_rad_s": speeds[invalid].tolist(),
         "nonlinearity_above_2_percent_at_rad_s": speeds[doubtful].tolist(),
         "validity": valid_note,
-        "files": files,
+        "files": files + ([] if housing is None else housing["files"]),
+        **({} if housing is None else {"housing": housing}),
     }
     write_json(os.path.join(folder, "whine.json"), {"case": case.name, **section})
     # the summary keeps the headline, not the arrays
@@ -149,6 +153,7 @@ def whine_outputs(case, out_dir: str) -> dict | None:
         for k in ("method", "harmonics", "positions_per_period", "orders", "validity",
                   "linear_result_invalid_at_rad_s", "nonlinearity_above_2_percent_at_rad_s",
                   "files")
+        + (("housing",) if housing is not None else ())
     } | {
         "speed_range_rad_s": [float(speeds[0]), float(speeds[-1])],
         "speeds": int(S),
@@ -169,4 +174,4 @@ def whine_run_line(section: dict | None) -> list[str]:
         f"whine ({section['method']}, H = {section['harmonics']}, {section['speeds']} speeds "
         f"{lo:g}-{hi:g} rad/s): TE order 1 max {section['max_te_order_1_um']:.3g} µm at "
         f"{section['speed_of_max_te_order_1_rad_s']:.0f} rad/s{flag} (whine/)"
-    ]
+    ] + housing_run_line(section.get("housing"))

@@ -31,6 +31,7 @@ from ..scenes import (
     disc_inertia,
     grounded,
     hybrid_train,
+    line_of_action,
     lumped_train,
     torsional_train,
     train_layout,
@@ -503,14 +504,7 @@ class Case(MeshSettings):
             self.shaft_of,
             **self._lumped_args(),
         )
-        housing = None
-        if self.housing is not None:
-            first = [spec.shaft_gears[i][0] for i in range(spec.n_shafts)]
-            housing = self.build_housing(
-                spec.shafts,
-                [spec.layout.centres[g] for g in first],
-                [s.gear_positions[0] for s in spec.shafts],
-            )
+        housing = None if self.housing is None else self.housing_body().housing
         return lumped_train(spec, housing)
 
     def build_housing(self, shafts, centres, gear_z, *, cache=True):
@@ -522,6 +516,34 @@ class Case(MeshSettings):
 
         positions = bearing_positions(shafts, centres, gear_z)
         return build_housing(self.housing, shafts, positions, cache=cache)
+
+    def housing_body(self, scene=None, *, cache=True):
+        """The case's ``[housing]`` (:attr:`housing`) round the bearings of its lumped 3D scene
+        (a pair's ``scene``, default ``[scene]``: its two shafts' axes through the line of
+        action's centres; a train's ``[[scene.shafts]]``, each axis through its first gear's
+        layout centre), as a :class:`~jaxgear.io.HousingBody`: the mesh, the
+        condensed housing (cached) and the scene's :class:`jaxgear.scenes.Housing`
+        (docs/housing.md).
+
+        Raises:
+            ValueError: the case has no ``[housing]``.
+        """
+        from ._housing_table import housing_body
+
+        if self.housing is None:
+            raise ValueError(f"case {self.name!r}: no [housing] table")
+        scene = self.scene if scene is None else scene
+        if isinstance(self.form, TrainForm):
+            shafts = tuple(scene.shafts)
+            first = [min(g for g, s in enumerate(self.shaft_of) if s == i)
+                     for i in range(len(shafts))]
+            centres = [self.layout().centres[g] for g in first]
+        else:
+            shafts = (scene.pinion_shaft, scene.gear_shaft)
+            centres = line_of_action(self.pair)["centres"]
+        gear_z = [s.gear_positions[0] for s in shafts]
+        positions = bearing_positions(shafts, centres, gear_z)
+        return housing_body(self.housing, shafts, positions, cache=cache)
 
     def hybrid_train(self, bodies: tuple, slices: int | None = None, *, tooth_mass: bool = True):
         """The train's lumped 3D scene with its flexible gears as condensed FE bodies

@@ -25,7 +25,6 @@ from ..scenes import (
     disc_inertia,
     grounded,
     hybrid_pair,
-    line_of_action,
     lumped_pair,
 )
 from ._case import Case, PairForm, TrainForm
@@ -186,11 +185,7 @@ def _lumped3d_pair(case: Case, spec: SceneSpec, mesh):
     shafts = (spec.pinion_shaft, spec.gear_shaft)
     housing = None
     if case.housing is not None:  # [housing]: the bearings on its seats (docs/housing.md)
-        housing = case.build_housing(
-            shafts,
-            line_of_action(case.pair)["centres"],
-            [s.gear_positions[0] for s in shafts],
-        )
+        housing = case.housing_body(spec).housing
     return lumped_pair(
         case.pair,
         mesh,

@@ -21,6 +21,8 @@ bearings join the shafts to, condensed by :mod:`fem_prep.housing` (built once, t
                                  # (cut-off 1.5 x it)
     loss_factor = 0.02           # modal damping zeta = loss_factor / 2 on the housing's modes
     coupling = "rigid"           # the seats' coupling: "rigid" or "averaging"
+    [housing.points_mm]          # accelerometer points (scene frame, mm): each read at the
+    top = [100.0, 80.0, 0.0]     # outer skin's node nearest it (jaxgear run, [whine])
 
 The box's frame: its length along the shafts (scene z), its width along scene x, its height
 along scene y; centred on the shafts' axes across, its end walls' mid-planes at the outermost
@@ -37,12 +39,20 @@ from __future__ import annotations
 import dataclasses
 import math
 import os
+from typing import Any, NamedTuple
 
 import numpy as np
 
 from fem_prep import schema as sc
 
-__all__ = ["HousingSpec", "build_housing", "parse_housing"]
+__all__ = [
+    "HousingBody",
+    "HousingSpec",
+    "build_housing",
+    "housing_body",
+    "housing_surface",
+    "parse_housing",
+]
 
 _KEYS = {
     "width_mm",
@@ -67,6 +77,7 @@ _KEYS = {
     "offset_mm",
     "seats",
     "feet",
+    "points_mm",
 }
 _BOX_ONLY = (
     "width_mm",
@@ -92,7 +103,8 @@ ROTATION = ((0.0, 1.0, 0.0), (0.0, 0.0, 1.0), (1.0, 0.0, 0.0))
 class HousingSpec:
     """A case's ``[housing]`` in SI (m, Pa, kg/m³, Hz); ``None``: the default (module
     docstring). ``seats``: (centre (3,), axis (3,), diameter, width, name) per seat and
-    ``feet``: ((x_min, x_max), (y_min, y_max)) per foot, of a mesh file (housing frame, m)."""
+    ``feet``: ((x_min, x_max), (y_min, y_max)) per foot, of a mesh file (housing frame, m);
+    ``points``: ((name, (x, y, z)), ...) the named points (scene frame, m)."""
 
     cutoff: float
     width: float | None = None
@@ -113,6 +125,7 @@ class HousingSpec:
     offset: tuple = (0.0, 0.0, 0.0)
     seats: tuple = ()
     feet: tuple = ()
+    points: tuple = ()
 
 
 def _vec(table, key, where, n, default=None):
@@ -155,7 +168,12 @@ def parse_housing(table, base_dir: str | None = None, material=None) -> HousingS
     E = sc.number(table, "youngs_modulus_GPa", w, E0 * 1e-9, allowed="[0.1, 1e+07]") * 1e9
     nu = sc.number(table, "poisson_ratio", w, nu0, allowed="[0, 0.5)")
     rho = sc.number(table, "density_kg_m3", w, rho0, allowed="[1, 1e+05]")
+    points = []
+    for name in sc.subtable(table, "points_mm", w):
+        xyz = sc.number_list(table["points_mm"], name, "housing.points_mm", length=3)
+        points.append((str(name), tuple(float(x) * 1e-3 for x in xyz)))
     common = {
+        "points": tuple(points),
         "cutoff": cutoff,
         "material": (E, nu, rho),
         "loss_factor": sc.number(table, "loss_factor", w, 0.0, allowed="[0, 1]"),
@@ -258,9 +276,29 @@ def _box(spec: HousingSpec, shafts, positions):
     return box, off
 
 
+class HousingBody(NamedTuple):
+    """A case's housing: its ``mesh`` (:class:`fem_prep.housing.HousingMesh`, housing frame),
+    its ``condensed`` form (:class:`fem_prep.housing.CondensedHousing`, with the full-field
+    recovery), the scene's :class:`jaxgear.scenes.Housing` ``housing`` (placed, damped) and
+    the ``offset`` t (3,) (m) of its placement x_scene = R x_housing + t."""
+
+    mesh: Any
+    condensed: Any
+    housing: Any
+    offset: Any
+
+
 def build_housing(spec: HousingSpec, shafts, positions, *, cache=True, progress=False):
     """The :class:`jaxgear.scenes.Housing` of ``spec`` placed round the scene's bearings:
-    meshed, condensed (:func:`fem_prep.housing.condensed_housing`, cached) and damped.
+    meshed, condensed (:func:`fem_prep.housing.condensed_housing`, cached) and damped
+    (:func:`housing_body`'s ``housing``)."""
+    return housing_body(spec, shafts, positions, cache=cache, progress=progress).housing
+
+
+def housing_body(spec: HousingSpec, shafts, positions, *, cache=True,
+                 progress=False) -> HousingBody:
+    """The housing of ``spec`` placed round the scene's bearings: meshed, condensed
+    (:func:`fem_prep.housing.condensed_housing`, cached) and damped, as a :class:`HousingBody`.
 
     Args:
         spec: the case's ``[housing]``. shafts: each shaft's :class:`~jaxgear.scenes.ShaftSpec`.
@@ -312,6 +350,36 @@ def build_housing(spec: HousingSpec, shafts, positions, *, cache=True, progress=
         cache=cache,
         progress=progress,
     )
-    return Housing.of(
+    housing = Housing.of(
         condensed, loss_factor=spec.loss_factor, rotation=np.array(ROTATION), offset=offset
     )
+    return HousingBody(mesh, condensed, housing, np.asarray(offset, dtype=float))
+
+
+def housing_surface(spec: HousingSpec, body: HousingBody):
+    """The outer skin of a case's housing (:func:`fem_prep.housing.outer_surface`) with the
+    named points of ``[housing.points_mm]`` (scene frame, moved into the housing's frame by
+    the placement x_h = Rᵀ (x − t)), each read at the skin node nearest it.
+
+    Raises:
+        SchemaError: a point farther from the outer skin than its largest facet edge (outside
+            the housing, or inside its cavity), naming the point's key.
+    """
+    from fem_prep.housing import outer_surface
+
+    R = np.asarray(body.housing.rotation)
+    local = {name: R.T @ (np.asarray(x) - body.offset) for name, x in spec.points}
+    surface = outer_surface(body.mesh, local)
+    if spec.points:
+        v = body.mesh.mesh.p[:, body.mesh.mesh.facets[:, surface.facets]]  # (3, 3, F)
+        tol = float(np.linalg.norm(v - np.roll(v, 1, axis=1), axis=0).max())
+        for k, (name, x) in enumerate(spec.points):
+            d = float(np.linalg.norm(surface.point_positions[k] - local[name]))
+            if d > tol:
+                raise sc.fail(
+                    "housing.points_mm", name,
+                    f"{d * 1e3:.4g} mm from the housing's outer surface (outside the housing "
+                    f"or in its cavity): allowed within {tol * 1e3:.4g} mm (its largest "
+                    "skin cell edge)", [x_ * 1e3 for x_ in x],
+                )
+    return surface

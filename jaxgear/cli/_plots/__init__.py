@@ -60,6 +60,7 @@ from ._sweep import (
 )
 from ._tribology import path_of_contact_plot as path_of_contact_plot
 from ._whine import (
+    whine_level_plot as whine_level_plot,
     whine_order_plot as whine_order_plot,
     whine_waterfall_plot as whine_waterfall_plot,
 )

@@ -9,7 +9,7 @@ from matplotlib.colors import Normalize
 
 from ._figure import new_figure, savefig
 
-__all__ = ["whine_order_plot", "whine_waterfall_plot"]
+__all__ = ["whine_level_plot", "whine_order_plot", "whine_waterfall_plot"]
 
 #: the linear result's caveat, under the axes where some speed is flagged
 INVALID_NOTE = "shaded: contact loss, the linear (frequency-domain) result does not hold there"
@@ -59,9 +59,10 @@ def whine_order_plot(path, speeds, amplitudes, orders, *, ylabel, title, invalid
 
 
 def whine_waterfall_plot(path, speeds, fundamental_hz, orders, amplitudes, *, label, title,
-                         invalid=None, dynamic_range_db=60.0) -> None:
+                         invalid=None, dynamic_range_db=60.0, power=False) -> None:
     """The waterfall: every order's frequency (Hz) against the speed (rad/s), each point
-    coloured by the order's level 20 log10(|a| / max |a|) (dB), the orders as grey lines.
+    coloured by the order's level 20 log10(|a| / max |a|) (dB; ``power``: a power's,
+    10 log10), the orders as grey lines (NaN amplitudes: not drawn).
 
     Args:
         fundamental_hz: (S,) the orders' unit (the first mesh's frequency, Hz).
@@ -73,8 +74,9 @@ def whine_waterfall_plot(path, speeds, fundamental_hz, orders, amplitudes, *, la
     o = np.asarray(orders, dtype=float)
     a = np.abs(np.asarray(amplitudes, dtype=float))
     f = np.asarray(fundamental_hz, dtype=float)[:, None] * o[None, :]
-    ref = float(np.max(a)) if a.size and np.max(a) > 0 else 1.0
-    level = 20 * np.log10(np.maximum(a / ref, 1e-30))
+    top = float(np.nanmax(a)) if np.isfinite(a).any() else 0.0
+    ref = top if top > 0 else 1.0
+    level = (10 if power else 20) * np.log10(np.maximum(a / ref, 1e-30))
     for j in range(o.size):
         ax.plot(s, f[:, j], color="0.8", lw=0.6, zorder=0)
     S = np.broadcast_to(s[:, None], f.shape)
@@ -93,4 +95,34 @@ def whine_waterfall_plot(path, speeds, fundamental_hz, orders, amplitudes, *, la
     ax.grid(True, alpha=0.3)
     if flagged:
         ax.text(0.0, -0.12, INVALID_NOTE, transform=ax.transAxes, fontsize=8, va="top")
+    savefig(fig, path)
+
+
+def whine_level_plot(path, speeds, levels_db, orders, overall_db=None, *, ylabel, title,
+                     invalid=None, note=None, span_db=70.0) -> None:
+    """Each order's level (dB) against the speed, and the orders' overall level as a heavy
+    line (NaN levels: not drawn; the axis spans ``span_db`` below the highest level).
+
+    Args:
+        speeds: (S,) input speeds (rad/s). levels_db: (S, k) of the orders ``orders`` (k,).
+        overall_db: None or (S,). invalid: None or (S,) booleans (shaded, as the order plot).
+    """
+    fig, ax = new_figure()
+    lv = np.asarray(levels_db, dtype=float)
+    for j, o in enumerate(orders):
+        ax.plot(speeds, lv[:, j], "-", lw=1.3, marker=".", ms=3, label=f"order {o:g}")
+    if overall_db is not None:
+        ax.plot(speeds, overall_db, "k-", lw=2.0, label="overall")
+        lv = np.column_stack([lv, overall_db])
+    top = float(np.nanmax(lv)) if np.isfinite(lv).any() else 0.0
+    ax.set_ylim(top - span_db, top + 5.0)
+    flagged = invalid is not None and _shade(ax, speeds, invalid)
+    ax.set_xlabel("input speed (rad/s)")
+    ax.set_ylabel(ylabel)
+    ax.set_title(title)
+    ax.grid(True, alpha=0.3)
+    ax.legend(loc="lower right", fontsize=8, ncol=2)
+    lines = [x for x in (note, INVALID_NOTE if flagged else None) if x]
+    if lines:
+        ax.text(0.0, -0.18, "\n".join(lines), transform=ax.transAxes, fontsize=8, va="top")
     savefig(fig, path)

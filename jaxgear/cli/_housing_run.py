@@ -1,0 +1,219 @@
+"""``jaxgear run``'s housing outputs, for a pair or train case with ``[housing]`` and
+``[whine]`` (docs/housing.md, "In jaxgear run"): the housing is a body of the case's lumped 3D
+scene, so the whine response holds its condensed coordinates; their full-field recovery on the
+outer skin (:func:`jaxgear.acoustics.housing_vibration`, the path the one-way
+:func:`~jaxgear.acoustics.housing_response` ends in) gives the normal velocity at the named
+points of ``[housing.points_mm]`` and the equivalent radiated power per order and speed. Into
+``whine/``: ``housing.json``, ``housing.csv``, the order plots and waterfalls of the ERP and of
+each point's velocity, and the operating deflection shapes at each drawn order's loudest speed
+(``housing_ods.vtu``)."""
+
+from __future__ import annotations
+
+import os
+import re
+from typing import NamedTuple
+
+import numpy as np
+
+from ..acoustics import housing_acoustics, housing_vibration, total_level
+from ..io import housing_surface, write_csv, write_json
+from ._plots import whine_level_plot, whine_order_plot, whine_waterfall_plot
+
+__all__ = ["HousedRun", "housed_run", "housing_outputs", "housing_run_line"]
+
+#: integer orders drawn in the order plots and written as operating deflection shapes
+ORDERS_DRAWN = 4
+#: orders drawn in the waterfalls (the higher ones are in housing.csv)
+WATERFALL_ORDERS = 8
+#: the condensed housing's band: the orders at frequencies up to cut-off / BAND (docs/housing.md,
+#: "What the condensation keeps": the default cut-off is 1.5 x the highest mesh order's)
+BAND = 1.5
+
+
+class HousedRun(NamedTuple):
+    """What the housing outputs need of a case, gathered before the whine is solved (the
+    named points checked first): the case's :class:`~jaxgear.io.HousingBody`, its outer
+    surface with the points, the acoustics on the condensed coordinates and the first housing
+    coordinate ``first`` of the scene's structure."""
+
+    body: object
+    surface: object
+    acoustics: object
+    first: int
+
+
+def housed_run(case, model) -> HousedRun | None:
+    """The :class:`HousedRun` of ``case`` (whose dynamic model is ``model``), None without
+    ``[housing]``.
+
+    Raises:
+        SchemaError: a named point off the housing's outer surface (one line naming its key).
+    """
+    if case.housing is None:
+        return None
+    body = case.housing_body()  # the condensed housing from fem_prep's cache
+    surface = housing_surface(case.housing, body)
+    acoustics = housing_acoustics(body.condensed, surface, loss_factor=case.housing.loss_factor)
+    first = model.scene.structure.node(f"housing {body.condensed.seat_names[0]}")
+    return HousedRun(body, surface, acoustics, int(first))
+
+
+def _file_key(name: str) -> str:
+    return re.sub(r"[^A-Za-z0-9_-]+", "_", name).strip("_") or "point"
+
+
+def housing_outputs(run: HousedRun, case, w, folder: str, invalid) -> dict:
+    """The housing's files of the whine response ``w`` (of the housed scene) into ``folder``;
+    returns the ``housing`` section of the whine summary. ``invalid``: (S,) the speeds with
+    contact loss (shaded, listed)."""
+    ac, body = run.acoustics, run.body
+    n_c = int(ac.K.shape[0])
+    speeds = np.asarray(w.speed, dtype=float)
+    f1 = np.asarray(w.frequency, dtype=float)
+    orders_all = np.asarray(w.orders, dtype=float)
+    keep = orders_all > 0  # the mean moves the housing statically: no velocity
+    orders = orders_all[keep]
+    freq = f1[:, None] * orders[None, :]  # (S, k) Hz
+    q = np.asarray(w.coordinates)[:, keep, run.first : run.first + n_c]
+    r = housing_vibration(ac, q, freq)
+    power = np.asarray(r.power, dtype=float)  # (S, k) W
+    level = np.asarray(r.level, dtype=float)
+    pv = np.asarray(r.point_velocity)  # (S, k, P) m/s
+    band = float(body.condensed.cutoff_hz) / BAND
+    in_band = freq <= band
+    overall_w = np.where(in_band, power, 0.0).sum(axis=1)
+    overall_db = np.asarray(total_level(np.where(in_band, power, 0.0)), dtype=float)
+    overall_db = np.where(in_band.any(axis=1), overall_db, np.nan)
+    shown = np.where(in_band, level, np.nan)
+    R = np.asarray(body.housing.rotation)
+    names = list(ac.point_names)
+    points = {}
+    pop = run.surface.point_operator
+    for k, name in enumerate(names):
+        requested = dict(case.housing.points)[name]
+        node = R @ run.surface.point_positions[k] + body.offset  # scene frame
+        normal = R @ pop[k].toarray().reshape(-1, 3).sum(axis=0)
+        points[name] = {
+            "requested_mm": (np.asarray(requested) * 1e3).tolist(),
+            "node_mm": (node * 1e3).tolist(),
+            "moved_mm": float(np.linalg.norm(node - np.asarray(requested)) * 1e3),
+            "normal": normal.tolist(),
+            "velocity_m_s": {"amplitude": np.abs(pv[:, :, k]).tolist(),
+                             "phase_deg": np.degrees(np.angle(pv[:, :, k])).tolist()},
+        }
+    # housing.csv: one row per speed and order
+    S, K = freq.shape
+    cols = {
+        "speed_rad_s": np.repeat(speeds, K),
+        "order": np.tile(orders, S),
+        "frequency_Hz": freq.ravel(),
+        "in_band": in_band.astype(float).ravel(),
+        "erp_W": power.ravel(),
+        "erp_dB": level.ravel(),
+        "overall_erp_dB": np.repeat(overall_db, K),
+    }
+    for k, name in enumerate(names):
+        key = _file_key(name)
+        cols[f"point_{key}_mm_s"] = np.abs(pv[:, :, k]).ravel() * 1e3
+        cols[f"point_{key}_phase_deg"] = np.degrees(np.angle(pv[:, :, k])).ravel()
+    cols["contact_loss"] = np.repeat(np.asarray(invalid, dtype=float), K)
+    write_csv(os.path.join(folder, "housing.csv"), list(cols), list(cols.values()))
+    # the figures: the first integer orders, in the band
+    drawn = [j for j in range(K) if orders[j] == round(orders[j])][:ORDERS_DRAWN]
+    wf = slice(0, WATERFALL_ORDERS)
+    files = []
+    title = f"{case.name}: housing ERP ({len(body.condensed.modes_hz)} housing modes to "
+    title += f"{body.condensed.cutoff_hz:.0f} Hz)"
+    note = (f"½ρc Σ|v_n|²A of the outer skin ({run.surface.area:.3g} m²), dB re 1 pW; orders "
+            f"above {band:.0f} Hz (cut-off / {BAND:g}) not drawn nor in the overall")
+    if in_band.any():
+        whine_level_plot(os.path.join(folder, "erp_orders.png"), speeds, shown[:, drawn],
+                         orders[drawn], overall_db, ylabel="ERP level (dB re 1 pW)", title=title,
+                         invalid=invalid, note=note)
+        whine_waterfall_plot(os.path.join(folder, "erp_waterfall.png"), speeds, f1, orders[wf],
+                             np.where(in_band, power, np.nan)[:, wf], label="ERP (W)",
+                             title=case.name, invalid=invalid, power=True)
+        files += ["erp_orders.png", "erp_waterfall.png"]
+        for k, name in enumerate(names):
+            key = _file_key(name)
+            v = np.where(in_band, np.abs(pv[:, :, k]), np.nan) * 1e3
+            whine_order_plot(os.path.join(folder, f"point_{key}_orders.png"), speeds,
+                             v[:, drawn], orders[drawn], ylabel="normal velocity (mm/s)",
+                             title=f"{case.name}: housing point {name!r}", invalid=invalid,
+                             note="outward normal velocity at the skin node nearest the point; "
+                             "one-sided amplitudes")
+            whine_waterfall_plot(os.path.join(folder, f"point_{key}_waterfall.png"), speeds, f1,
+                                 orders[wf], v[:, wf], label=f"{name} velocity (mm/s)",
+                                 title=case.name, invalid=invalid)
+            files += [f"point_{key}_orders.png", f"point_{key}_waterfall.png"]
+    # the operating deflection shapes: each drawn order at its loudest speed in the band
+    from fem_prep.housing import write_housing_ods_vtu  # lazy: meshio, for this file only
+
+    shapes, ods = {}, []
+    for j in drawn:
+        if not in_band[:, j].any():
+            continue
+        s = int(np.nanargmax(shown[:, j]))
+        label = f"order{orders[j]:g}_{speeds[s]:.0f}rad_s"
+        shapes[label] = np.asarray(r.coordinates[s, j])
+        ods.append({"label": label, "order": float(orders[j]), "speed_rad_s": float(speeds[s]),
+                    "frequency_Hz": float(freq[s, j]), "erp_dB": float(level[s, j])})
+    if shapes:
+        write_housing_ods_vtu(body.mesh, body.condensed, shapes,
+                              os.path.join(folder, "housing_ods.vtu"))
+        files.append("housing_ods.vtu")
+    files = ["housing.json", "housing.csv", *files]
+    peak = int(np.nanargmax(np.where(np.isfinite(overall_db), overall_db, -np.inf)))
+    section = {
+        "cutoff_Hz": float(body.condensed.cutoff_hz),
+        "band_limit_Hz": band,
+        "housing_modes": len(body.condensed.modes_hz),
+        "housing_dofs": int(body.mesh.n_dofs),
+        "condensed_coordinates": n_c,
+        "skin_area_m2": float(run.surface.area),
+        "skin_facets": int(run.surface.facets.size),
+        "density_kg_m3": float(ac.density),
+        "sound_speed_m_s": float(ac.sound_speed),
+        "loss_factor": float(case.housing.loss_factor),
+        "speeds_rad_s": speeds.tolist(),
+        "fundamental_Hz": f1.tolist(),
+        "orders": orders.tolist(),
+        "frequency_Hz": freq.tolist(),
+        "in_band": in_band.tolist(),
+        "erp_W": power.tolist(),
+        "erp_level_dB": level.tolist(),
+        "overall_erp_W": overall_w.tolist(),
+        "overall_erp_level_dB": overall_db.tolist(),
+        "points": points,
+        "operating_deflection_shapes": ods,
+        "contact_loss_at_rad_s": speeds[np.asarray(invalid, bool)].tolist(),
+        "method": (
+            "the housing's condensed coordinates of the coupled whine response, recovered on "
+            "the outer skin: v_n = i ω N Φ q; ERP = ½ ρ c Σ |v_n|² A per order, the overall "
+            "the sum over the orders in the band (frequency <= cut-off / 1.5); points: the "
+            "outward normal velocity at the skin node nearest each named point"
+        ),
+        "files": [f"whine/{n}" for n in files],
+    }
+    write_json(os.path.join(folder, "housing.json"), {"case": case.name, **section})
+    return {
+        k: section[k] for k in ("cutoff_Hz", "band_limit_Hz", "housing_modes", "files")
+    } | {
+        "max_overall_erp_dB": float(overall_db[peak]) if in_band.any() else None,
+        "speed_of_max_overall_erp_rad_s": float(speeds[peak]) if in_band.any() else None,
+        "points": names,
+    }
+
+
+def housing_run_line(section: dict | None) -> list[str]:
+    """What ``jaxgear run`` prints of the whine's ``housing`` section (nothing without one)."""
+    if section is None:
+        return []
+    top = section["max_overall_erp_dB"]
+    head = (f"housing ({section['housing_modes']} modes to {section['cutoff_Hz']:.0f} Hz): ")
+    if top is None:
+        return [head + f"no order below {section['band_limit_Hz']:.0f} Hz (cut-off / 1.5)"]
+    pts = f", {len(section['points'])} named point(s)" if section["points"] else ""
+    return [head + f"overall ERP max {top:.1f} dB re 1 pW at "
+            f"{section['speed_of_max_overall_erp_rad_s']:.0f} rad/s{pts} (whine/housing.*)"]
