@@ -133,7 +133,7 @@ def housing_outputs(run: HousedRun, case, w, folder: str, invalid) -> dict:
                          invalid=invalid, note=note)
         whine_waterfall_plot(os.path.join(folder, "erp_waterfall.png"), speeds, f1, orders[wf],
                              np.where(in_band, power, np.nan)[:, wf], label="ERP (W)",
-                             title=case.name, invalid=invalid, power=True)
+                             title=case.name, invalid=invalid, power=True, limit_hz=band)
         files += ["erp_orders.png", "erp_waterfall.png"]
         for k, name in enumerate(names):
             key = _file_key(name)
@@ -145,7 +145,7 @@ def housing_outputs(run: HousedRun, case, w, folder: str, invalid) -> dict:
                              "one-sided amplitudes")
             whine_waterfall_plot(os.path.join(folder, f"point_{key}_waterfall.png"), speeds, f1,
                                  orders[wf], v[:, wf], label=f"{name} velocity (mm/s)",
-                                 title=case.name, invalid=invalid)
+                                 title=case.name, invalid=invalid, limit_hz=band)
             files += [f"point_{key}_orders.png", f"point_{key}_waterfall.png"]
     # the operating deflection shapes: each drawn order at its loudest speed in the band
     from fem_prep.housing import write_housing_ods_vtu  # lazy: meshio, for this file only

@@ -266,8 +266,11 @@ def _box(spec: HousingSpec, shafts, positions):
         Bore(wall, (a[0] - off[0], a[1] - off[1]), d / 2) for wall in ("x-", "x+") for a in axes
     )
     f = spec.foot_size or 3 * t
+    # each foot's ranges end exactly on the bottom's edges (x + f may round past them)
     feet = tuple(
-        Foot((x, x + f), (y, y + f)) for x in (0.0, length - f) for y in (0.0, spec.width - f)
+        Foot(xr, yr)
+        for xr in ((0.0, f), (length - f, length))
+        for yr in ((0.0, f), (spec.width - f, spec.width))
     )
     try:
         box = HousingBox(length, spec.width, spec.height, t, bores=bores, feet=feet)

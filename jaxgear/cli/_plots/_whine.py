@@ -59,7 +59,8 @@ def whine_order_plot(path, speeds, amplitudes, orders, *, ylabel, title, invalid
 
 
 def whine_waterfall_plot(path, speeds, fundamental_hz, orders, amplitudes, *, label, title,
-                         invalid=None, dynamic_range_db=60.0, power=False) -> None:
+                         invalid=None, dynamic_range_db=60.0, power=False,
+                         limit_hz=None) -> None:
     """The waterfall: every order's frequency (Hz) against the speed (rad/s), each point
     coloured by the order's level 20 log10(|a| / max |a|) (dB; ``power``: a power's,
     10 log10), the orders as grey lines (NaN amplitudes: not drawn).
@@ -68,6 +69,8 @@ def whine_waterfall_plot(path, speeds, fundamental_hz, orders, amplitudes, *, la
         fundamental_hz: (S,) the orders' unit (the first mesh's frequency, Hz).
         orders: (k,) orders. amplitudes: (S, k). label: the quantity and its unit.
         dynamic_range_db: the colour scale's span below the largest level.
+        limit_hz: None, or the frequency above which nothing is drawn (a dashed line; the
+            frequency axis ends a little above it).
     """
     fig, ax = new_figure((8, 5.5))
     s = np.asarray(speeds, dtype=float)
@@ -89,6 +92,11 @@ def whine_waterfall_plot(path, speeds, fundamental_hz, orders, amplitudes, *, la
     for j in range(o.size):  # each order named at its right end
         ax.annotate(f"{o[j]:g}×", (s[-1], f[-1, j]), xytext=(3, 0), textcoords="offset points",
                     fontsize=7, va="center", color="0.3")
+    if limit_hz is not None:
+        ax.axhline(limit_hz, color="tab:red", ls="--", lw=0.9)
+        ax.annotate("band limit", (s[0], limit_hz), xytext=(2, 3), textcoords="offset points",
+                    fontsize=7, color="tab:red")
+        ax.set_ylim(0.0, 1.15 * limit_hz)
     ax.set_xlabel("input speed (rad/s)")
     ax.set_ylabel("frequency (Hz)")
     ax.set_title(f"{title}: {label}")
