@@ -35,6 +35,7 @@ def _(form: PairForm, case: Case) -> str:
         f"T {case.torque:g} N·m, {case.stiffness_model} stiffness"
         + (f", {scene.model} scene" if scene is not None else "")
         + (" with condensed bodies" if scene is not None and scene.hybrid else "")
+        + (" on a flexible housing" if case.housing is not None else "")
     )
 
 
@@ -47,6 +48,7 @@ def _(form: TrainForm, case: Case) -> str:
         f"train z {teeth}, m_n {'/'.join(modules)} mm, "
         f"T {case.torque:g} N·m (input), {case.stiffness_model} stiffness"
         + (f", {case.scene.model} scene" if case.scene is not None else "")
+        + (" on a flexible housing" if case.housing is not None else "")
         + (f" ({glossary})" if glossary else "")
     )
 

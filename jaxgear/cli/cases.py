@@ -24,7 +24,8 @@ MEASURED = (
     "2026-11-28 on that day's host of the 2-core VM (an Intel Xeon, about 2x the AMD EPYC's "
     "speed on the test suite; docs/bench/bench_gearbox_coupled.json, and the two-stage "
     "timings beside docs/bench/bench_run_cases_two_stage_settled.json). "
-    "Under load, wall time is "
+    "power-helical-housed estimated alike from its runs on 2026-11-28 under load "
+    "(59 s of CPU for the first; the second about 3/4 of it). Under load, wall time is "
     "several times longer (nrel-5mw-planetary: 703 s and 217 s at a load of 8-14)"
 )
 
@@ -112,6 +113,14 @@ CASE_INDEX: dict[str, tuple[str, str, float, float, bool]] = {
         24,
         16,
         True,
+    ),
+    "power-helical-housed": (
+        "z 35/68, m_n 2.5 mm, β 12.0°, T 310 N·m, weber stiffness, lumped3d scene on a flexible "
+        "housing",
+        "yes",
+        45,
+        35,
+        False,
     ),
     "two-stage": (
         "train z 28/127/35/68, m_n 1.5/2.5 mm, T 70 N·m (input), weber stiffness, lumped3d scene "
