@@ -140,6 +140,9 @@ RUNS = {  # name: (argv after the command, output file(s) to compare, in the def
     "run-accessory-idler-train": (["run", "accessory-idler-train"], SUMMARY_AND_SWEEP, False),
     "run-two-stage": (["run", "two-stage"], SUMMARY_AND_SWEEP, False),
     "run-flexible-idler": (["run", "flexible-idler"], SUMMARY, False),
+    # the power-helical pair in a flexible housing: its sweep and its whine with the housing's
+    # ERP and points (summary.json's whine.housing)
+    "run-power-helical-housed": (["run", "power-helical-housed"], SUMMARY_AND_SWEEP, False),
     # the NREL 5 MW gearbox's parallel helical stage (a pair: no scene, no sweep)
     "run-nrel-5mw-stage3": (["run", "nrel-5mw-stage3"], SUMMARY, False),
     # the example case files

@@ -140,6 +140,8 @@ density_kg_m3 = 2700.0
 cutoff_Hz = 3000.0
 loss_factor = 0.02
 coupling = "rigid"
+[housing.points_mm]
+top = [50.0, 80.0, 0.0]
 """,
     "housing mesh file": """
 [housing]
@@ -239,7 +241,11 @@ _INDEX = re.compile(r"\[\d+\]")
 #: the per-member modification tables of a pair: the same entries as ``[modifications]``
 _MEMBER_MODS = re.compile(r"^modifications\.(pinion|gear)\.")
 #: tables whose keys are names the file chooses (not schema keys)
-NAMED_KEYS = {"optimise.bounds": "a design variable of `vars` (E* for depths, Γ for extents)"}
+NAMED_KEYS = {
+    "optimise.bounds": "a design variable of `vars` (E* for depths, Γ for extents)",
+    "housing.points_mm": "a point's name: [x, y, z] in the scene frame (mm), read at the "
+    "housing's outer skin node nearest it",
+}
 #: the default ``name`` of a case (its file's name, without the extension)
 FILE_NAME = "the-file-name"
 #: what stands for a name the file gives a gear or a shaft
