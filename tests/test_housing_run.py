@@ -185,7 +185,7 @@ def housed_run(tmp_path_factory):
 
 @pytest.mark.slow  # about 40 s on the 2-core host (the housed pair's whine)
 def test_run_files_are_complete(housed_run):
-    case, folder, section, _, _ = housed_run
+    _, folder, section, _, _ = housed_run
     h = section["housing"]
     names = ["housing.json", "housing.csv", "erp_orders.png", "erp_waterfall.png",
              "point_top_orders.png", "point_top_waterfall.png", "point_side_wall_orders.png",
@@ -221,6 +221,44 @@ def test_run_files_are_complete(housed_run):
     assert w["housing"]["files"] == h["files"]
 
 
+def _full_fe_check(case, folder, model, w, max_hz):
+    """The run's ERP and point velocities in ``folder``/housing.json against the full FE
+    model at every speed and order up to ``max_hz`` (the test below); returns how many."""
+    d = json.loads((folder / "housing.json").read_text())
+    body = case.housing_body()
+    prepared = prepare_housing(body.mesh, fem_prep.Material(*case.housing.material),
+                               case.housing.cutoff)
+    s = outer_surface(body.mesh)
+    st = model.scene.structure
+    first = st.node(f"housing {body.condensed.seat_names[0]}")
+    nb = 6 * len(body.condensed.seat_names)
+    Kb = np.asarray(st.stiffness_parts()["bearings"])[first : first + nb]
+    X = np.asarray(w.coordinates)
+    pop = jio.housing_surface(case.housing, body).point_operator
+    names = list(d["points"])
+    checked = 0
+    for i in range(len(d["speeds_rad_s"])):
+        for j, order in enumerate(d["orders"]):
+            f = d["frequency_Hz"][i][j]
+            if f > max_hz:
+                continue
+            h = int(np.argmin(np.abs(np.asarray(w.orders) - order)))
+            loads = -(Kb @ X[i, h])
+            rhs = np.zeros(prepared.K.shape[0], complex)
+            rhs[prepared.seat_dofs.ravel()] = loads
+            A = (prepared.K - (2 * math.pi * f) ** 2 * prepared.M).tocsc()
+            u = prepared.full_field(spla.spsolve(A, rhs))
+            vn = 2j * math.pi * f * (s.normal_operator @ u)
+            ref = 0.5 * AIR.density * AIR.sound_speed * np.sum(np.abs(vn) ** 2 * s.areas)
+            np.testing.assert_allclose(d["erp_W"][i][j], ref, rtol=0.004)
+            if names:
+                vp = np.abs(2j * math.pi * f * (pop @ u))
+                got = [d["points"][n]["velocity_m_s"]["amplitude"][i][j] for n in names]
+                np.testing.assert_allclose(got, vp, rtol=0, atol=0.01 * vp.max())
+            checked += 1
+    return checked
+
+
 @pytest.mark.slow  # shares the run above; the full FE solves take a few seconds
 def test_run_erp_and_points_against_the_full_fe_model(housed_run):
     """At the speeds and orders up to an eighth of the cut-off (6 kHz): the loads the bearings
@@ -231,34 +269,31 @@ def test_run_erp_and_points_against_the_full_fe_model(housed_run):
     within 1 % of the largest (measured 0.7 %). Higher, the condensation's error grows as
     (f / f_c)²: 1.7-3.7 % at 1.1-1.4 kHz (docs/housing.md, "In jaxgear run")."""
     case, folder, _, model, w = housed_run
-    d = json.loads((folder / "housing.json").read_text())
-    body = case.housing_body()
-    prepared = prepare_housing(body.mesh, fem_prep.Material(*case.housing.material),
-                               case.housing.cutoff)
-    s = outer_surface(body.mesh)
-    st = model.scene.structure
-    first = st.node("housing seat0")
-    nb = 6 * len(body.condensed.seat_names)
-    Kb = np.asarray(st.stiffness_parts()["bearings"])[first : first + nb]
-    X = np.asarray(w.coordinates)
-    pop = jio.housing_surface(case.housing, body).point_operator
-    names = list(d["points"])
-    checked = 0
-    for i in range(len(d["speeds_rad_s"])):
-        for j, order in enumerate(d["orders"]):
-            f = d["frequency_Hz"][i][j]
-            if f > case.housing.cutoff / 8:
-                continue
-            loads = -(Kb @ X[i, int(round(order))])
-            rhs = np.zeros(prepared.K.shape[0], complex)
-            rhs[prepared.seat_dofs.ravel()] = loads
-            A = (prepared.K - (2 * math.pi * f) ** 2 * prepared.M).tocsc()
-            u = prepared.full_field(spla.spsolve(A, rhs))
-            vn = 2j * math.pi * f * (s.normal_operator @ u)
-            ref = 0.5 * AIR.density * AIR.sound_speed * np.sum(np.abs(vn) ** 2 * s.areas)
-            np.testing.assert_allclose(d["erp_W"][i][j], ref, rtol=0.004)
-            vp = np.abs(2j * math.pi * f * (pop @ u))
-            got = [d["points"][n]["velocity_m_s"]["amplitude"][i][j] for n in names]
-            np.testing.assert_allclose(got, vp, rtol=0, atol=0.01 * vp.max())
-            checked += 1
-    assert checked == 3
+    assert _full_fe_check(case, folder, model, w, case.housing.cutoff / 8) == 3
+
+
+@pytest.mark.slow  # about 40 s on the 2-core host
+def test_train_run_erp_against_the_full_fe_model(tmp_path):
+    """The same on a lumped 3D idler train (three shafts, six bearings, tests/_kinds.py) in a
+    box: the run's housing files, and its ERP against the full FE model up to f_c / 8."""
+    from _kinds import KINDS
+
+    from jaxgear.cli.run import whine_outputs
+    from jaxgear.dynamics import whine_response
+
+    table = (TABLE.replace("width_mm = 250.0", "width_mm = 200.0")
+             .replace("height_mm = 160.0", "height_mm = 200.0")
+             .replace("bore_diameter_mm = 50.0", "bore_diameter_mm = 27.0")
+             .replace("mesh_size_mm = 40.0", "mesh_size_mm = 20.0"))
+    table = table[: table.index("[housing.points_mm]")]
+    path = tmp_path / "train.toml"
+    path.write_text(KINDS["train-lumped3d"] + '[scene.damping]\nmodel = "none"\n' + table + WHINE)
+    case = jio.load_case(str(path))
+    section = whine_outputs(case, str(tmp_path))
+    assert {"whine/housing.json", "whine/erp_orders.png", "whine/housing_ods.vtu"} <= set(
+        section["housing"]["files"])
+    model, _ = jio.build_dynamic_model(case)
+    inputs = jio.whine_of(case)
+    w = whine_response(model, np.asarray(inputs.speeds), inputs.method,
+                       positions=inputs.positions)
+    assert _full_fe_check(case, tmp_path / "whine", model, w, case.housing.cutoff / 8) >= 2

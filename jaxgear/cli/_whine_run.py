@@ -3,7 +3,8 @@
 speeds): ``whine/whine.json`` (every order of every mesh's TE and force and of every bearing
 force component at every speed, with the validity flags), ``whine/whine.csv`` (the same, one row
 per speed and order), the order plots and the waterfalls of the TE and of the bearing forces
-(docs/whine.md, "Outputs")."""
+(docs/whine.md, "Outputs"); with ``[housing]``, the housing's ERP, named points and operating
+deflection shapes from the same response (:mod:`jaxgear.cli._housing_run`)."""
 
 from __future__ import annotations
 

@@ -24,14 +24,14 @@ from ._case_model import (
     quasi_static_scene as quasi_static_scene,
     static_scene as static_scene,
 )
+from ._deviations_table import (
+    deviation_kinds_from_names as deviation_kinds_from_names,
+    parse_deviations as parse_deviations,
+)
 from ._housing_table import (
     HousingBody as HousingBody,
     HousingSpec as HousingSpec,
     housing_surface as housing_surface,
-)
-from ._deviations_table import (
-    deviation_kinds_from_names as deviation_kinds_from_names,
-    parse_deviations as parse_deviations,
 )
 from ._load import (
     embedded_case_text as embedded_case_text,
