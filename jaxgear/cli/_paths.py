@@ -87,7 +87,10 @@ OUTPUT_FILES: dict[str, tuple[str, ...]] = {
     # jaxgear run on a case with [whine] (subfolder whine/): the orders and waterfalls of the
     # TE and bearing forces over the speed range
     "whine": ("whine.json", "whine.csv", "te_orders.png", "bearing_orders.png",
-              "te_waterfall.png", "bearing_waterfall.png"),
+              "te_waterfall.png", "bearing_waterfall.png",
+              # with [housing]: its ERP, named points and operating deflection shapes
+              "housing.json", "housing.csv", "erp_orders.png", "erp_waterfall.png",
+              "point_*_orders.png", "point_*_waterfall.png", "housing_ods.vtu"),
     "master-curve": ("master_curve.json", "master_curve.png"),
     "robust": ("robust.json", "samples.csv", "robust_distributions.png", "robust_speed_bands.png"),
     "bench quasi-static": ("bench_quasi_static.json", "speed_accuracy_quasi_static.png"),
