@@ -129,4 +129,9 @@ from ._stage import (
     max_planets as max_planets,
     speed_ratio as speed_ratio,
 )
-from ._whine import PlanetaryWhine as PlanetaryWhine, planetary_whine as planetary_whine
+from ._whine import (
+    PlanetaryWhine as PlanetaryWhine,
+    SupportReactions as SupportReactions,
+    planetary_whine as planetary_whine,
+    support_reactions as support_reactions,
+)

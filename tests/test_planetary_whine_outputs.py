@@ -1,0 +1,96 @@
+"""The planetary whine's outputs (issue 65, item 4, for a planetary stage): each mesh's TE and
+the central members' support reactions per order. At a low speed the orders are the Fourier
+coefficients of the separate quasi-static contact solve (jaxgear.planetary_quasi_static at the
+same mid-point travels), and the ring's support reaction is its meshes' forces by the ring's
+statics written out here from Lin & Parker's mesh directions (not the support rows' code)."""
+
+import jax
+import numpy as np
+import pytest
+from _planetary_stage import K0, SEQ, geometry, stage
+
+import jaxgear as jg
+import jaxgear.planetary as jp
+from jaxgear.dynamics import HarmonicBalance, whine_response
+
+jax.config.update("jax_enable_x64", True)
+
+P, H = 32, 4
+
+
+def _model(sun_bearing=2e8, ring_bearing=3e9):
+    geo = geometry(**SEQ)
+    st = stage(geo, 3, sun_bearing=sun_bearing)
+    st = jg.PlanetaryStage.equally_spaced(
+        3, sun=st.sun, carrier=st.carrier, planet=st.planet,
+        ring=jg.PlanetaryMember(st.ring.mass, st.ring.polar_inertia, st.ring.base_radius,
+                                ring_bearing, st.ring.torsional_stiffness),
+        sun_pressure_angle=st.sun_pressure_angle, ring_pressure_angle=st.ring_pressure_angle,
+        sun_mesh_stiffness=st.sun_mesh_stiffness, ring_mesh_stiffness=st.ring_mesh_stiffness)
+    meshes = jg.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(K0))
+    run = jp.PlanetaryRun(1000.0, tangential_pin_errors=np.array([4e-6, 0.0, 0.0]))
+    return jp.PlanetaryModel(jg.PlanarPlanetary(), st, meshes, run)
+
+
+def _orders(signal, n):
+    """One-sided harmonics 0..n-1 of ``signal`` (P, m) sampled at the mid-points s = (r+½)/P."""
+    s = (np.arange(signal.shape[0]) + 0.5) / signal.shape[0]
+    c = np.array([np.mean(signal * np.exp(-2j * np.pi * h * s)[:, None], axis=0)
+                  for h in range(n)])
+    c[1:] *= 2
+    return c
+
+
+def test_low_speed_orders_are_the_quasi_static_fourier_coefficients():
+    """At a mesh frequency 7e-7 of the excited mode's (12 kHz): every mesh's TE and force, orders 0-4, equal
+    the quasi-static solve's coefficients to 1e-6 of order 0 (the damping force ∝ speed:
+    measured 1e-4 at 1e-4 of it); the
+    ring's support force (carrier-frame x, y) and torque are Σ_n F_rn (sin ψ_rn, −cos ψ_rn)
+    and −r_br Σ_n F_rn (the ring's statics, ψ_rn = ψ_n + α_r), the carrier's and the ring's
+    torques add to the sun torque in order 0 and cancel in the others."""
+    model = _model()
+    speed = 1e-3  # rad/s on the carrier: a mesh frequency 7e-7 of the excited mode's
+    w = whine_response(model, speed, HarmonicBalance(H), positions=P)
+    st, run = model.stage, model.run
+    qs = jp.planetary_quasi_static(model.kind, st, model.meshes, run.sun_torque,
+                                   model.meshes.positions(P, 1), run.tangential_pin_errors)
+    assert not np.any(np.asarray(w.contact_loss))
+    te = _orders(np.concatenate([qs.sun_te, qs.ring_te], axis=1), 5)
+    fm = _orders(np.concatenate([qs.sun_mesh_forces, qs.ring_mesh_forces], axis=1), 5)
+    got_te, got_f = np.asarray(w.transmission_error[0, :5]), np.asarray(w.mesh_force[0, :5])
+    np.testing.assert_allclose(got_te, te, atol=1e-6 * np.abs(te[0]).max())
+    np.testing.assert_allclose(got_f, fm, atol=1e-6 * np.abs(fm[0]).max())
+    assert np.abs(te[1:]).max() > 1e-3 * np.abs(te[0]).max()  # the orders are there
+    # the ring's statics (Lin & Parker's ring-mesh direction on x_r, y_r, u_r)
+    psi_r = np.asarray(st.planet_angles) + float(st.ring_pressure_angle)
+    f_r = np.asarray(qs.ring_mesh_forces)
+    ring_xy = np.stack([f_r @ np.sin(psi_r), -(f_r @ np.cos(psi_r))], axis=1)
+    ring_torque = -float(st.ring.base_radius) * f_r.sum(axis=1)
+    names = list(w.bearing_names)
+    assert names == ["carrier x", "carrier y", "ring x", "ring y", "sun x", "sun y"]
+    ref = _orders(ring_xy, 5)
+    got = np.asarray(w.bearing_force[0, :5, 2:4])
+    np.testing.assert_allclose(got, ref, atol=1e-6 * np.abs(ref).max())
+    assert np.abs(ref[1:]).max() > 1e-3 * np.abs(ref).max()
+    moments = list(w.moment_names)
+    assert moments == ["carrier torque", "ring torque"]  # the sun is free to turn
+    tr = _orders(ring_torque[:, None], 5)[:, 0]
+    np.testing.assert_allclose(np.asarray(w.support_moment[0, :5, 1]), tr,
+                               atol=1e-6 * abs(tr[0]))
+    total = np.asarray(w.support_moment[0, :5].sum(axis=-1))
+    np.testing.assert_allclose(total.real[0], float(run.sun_torque), rtol=1e-6)
+    np.testing.assert_allclose(np.abs(total[1:]), 0.0, atol=1e-6 * float(run.sun_torque))
+
+
+def test_support_reactions_drop_a_floating_member():
+    """A floating sun (no bearing) has no support row; every row is zero on the planets."""
+    model = _model(sun_bearing=0.0)
+    sup = jp.support_reactions(model.kind, model.stage)
+    assert sup.force_names == ("carrier x", "carrier y", "ring x", "ring y")
+    n_central = 9
+    assert np.all(np.asarray(sup.forces)[:, n_central:] == 0.0)
+    np.testing.assert_allclose(np.asarray(sup.forces)[2, 3], 3e9)  # k_r on x_r
+
+
+if __name__ == "__main__":
+    pytest.main([__file__, "-q", "-n", "0"])
