@@ -4,13 +4,18 @@ coefficients of the separate quasi-static contact solve (jaxgear.planetary_quasi
 same mid-point travels), and the ring's support reaction is its meshes' forces by the ring's
 statics written out here from Lin & Parker's mesh directions (not the support rows' code)."""
 
+import json
+import pathlib
+
 import jax
 import numpy as np
 import pytest
 from _planetary_stage import K0, SEQ, geometry, stage
 
 import jaxgear as jg
+import jaxgear.io as jio
 import jaxgear.planetary as jp
+from jaxgear.cli import main
 from jaxgear.dynamics import HarmonicBalance, whine_response
 
 jax.config.update("jax_enable_x64", True)
@@ -90,6 +95,60 @@ def test_support_reactions_drop_a_floating_member():
     n_central = 9
     assert np.all(np.asarray(sup.forces)[:, n_central:] == 0.0)
     np.testing.assert_allclose(np.asarray(sup.forces)[2, 3], 3e9)  # k_r on x_r
+
+
+def _stage_case(tmp_path, whine: str) -> pathlib.Path:
+    """examples/planetary-hunting.toml without its per-tooth deviations, with ``whine``."""
+    text = (pathlib.Path(__file__).parents[1] / "examples" / "planetary-hunting.toml").read_text()
+    text = text[: text.index("\n[deviations]") + 1].replace('"planetary-hunting"', '"pw"')
+    path = tmp_path / "pw.toml"
+    path.write_text(text + whine)
+    return path
+
+
+def test_a_planetary_case_reads_its_whine_table(tmp_path):
+    case = jio.load_case(str(_stage_case(tmp_path, "[whine]\nspeed_min_rad_s = 1.0\n"
+                                         "speed_max_rad_s = 9.0\nspeeds = 3\n")))
+    assert jio.whine_of(case).speeds == [1.0, 5.0, 9.0]
+    with pytest.raises(ValueError, match="harmonics") as e:
+        jio.load_case(str(_stage_case(tmp_path, "[whine]\nspeed_min_rad_s = 1.0\n"
+                                      "speed_max_rad_s = 9.0\nharmonics = 0\n")))
+    assert "\n" not in str(e.value)
+
+
+@pytest.mark.slow  # about 110 s on the shared 2-core host (the stage's first-look sweep first)
+def test_run_writes_a_planetary_stages_whine(tmp_path, capsys):
+    """``jaxgear run`` on the three-planet stage of examples/planetary-hunting.toml with
+    ``[whine]``: whine.json/csv, the order plots and waterfalls of the 6 meshes' TE and of the
+    sun, carrier and ring support forces; at 0.01 rad/s (carrier) every mesh's TE orders 0-3
+    are the Fourier coefficients of the quasi-static contact solve of the case's stage
+    (jaxgear.planetary_quasi_static at the same 32 mid-point travels) to 1e-6; the resonant
+    speeds (mesh frequency near the first modes) are flagged with contact loss, the
+    low-speed one is not."""
+    path = _stage_case(tmp_path, "[whine]\nspeed_min_rad_s = 0.01\nspeed_max_rad_s = 300.0\n"
+                                 "speeds = 4\nharmonics = 4\npositions_per_period = 32\n")
+    out = tmp_path / "o"
+    assert main(["run", str(path), "--out", str(out), "--quiet"]) == 0
+    assert "whine (HarmonicBalance, H = 4, 4 speeds" in capsys.readouterr().out
+    for name in ("whine.json", "whine.csv", "te_orders.png", "te_waterfall.png",
+                 "bearing_orders.png", "bearing_waterfall.png"):
+        assert (out / "whine" / name).stat().st_size > 0
+    d = json.loads((out / "whine" / "whine.json").read_text())
+    assert d["meshes"] == [f"{m}-planet{k}" for m in ("sun", "ring") for k in (1, 2, 3)]
+    assert d["bearing_components"] == ["carrier x", "carrier y", "ring x", "ring y", "sun x",
+                                       "sun y"]
+    assert d["support_moment_components"] == ["carrier torque", "ring torque"]
+    assert 0.01 not in d["linear_result_invalid_at_rad_s"]
+    assert d["linear_result_invalid_at_rad_s"] and "carrier frame" in d["frame"]
+    model, _ = jio.build_dynamic_model(jio.load_case(str(path)))
+    run = model.run
+    qs = jp.planetary_quasi_static(model.kind, model.stage, model.meshes, run.sun_torque,
+                                   model.meshes.positions(32, 1), run.tangential_pin_errors,
+                                   run.radial_pin_errors)
+    ref = np.abs(_orders(np.concatenate([qs.sun_te, qs.ring_te], axis=1), 4))
+    got = np.array(d["transmission_error_m"]["amplitude"])[0, :4]
+    np.testing.assert_allclose(got, ref, atol=1e-6 * ref.max())
+    assert ref[1:].max() > 1e-2 * ref.max()
 
 
 if __name__ == "__main__":

@@ -1,6 +1,7 @@
-"""``jaxgear run``'s gear whine, for a pair or train case with ``[whine]``
+"""``jaxgear run``'s gear whine, for a pair, train or planetary case with ``[whine]``
 (:func:`jaxgear.dynamics.whine_response` on the case's lumped dynamic model over the table's
-speeds): ``whine/whine.json`` (every order of every mesh's TE and force and of every bearing
+speeds; a planetary stage's :class:`~jaxgear.planetary.PlanetaryModel`: its 2N meshes and the
+support forces and torques of its sun, carrier and ring): ``whine/whine.json`` (every order of every mesh's TE and force and of every bearing
 force component at every speed, with the validity flags), ``whine/whine.csv`` (the same, one row
 per speed and order), the order plots and the waterfalls of the TE and of the bearing forces
 (docs/whine.md, "Outputs")."""
@@ -13,6 +14,7 @@ import numpy as np
 
 from ..dynamics import DynamicModel, whine_response
 from ..io import build_dynamic_model, whine_of, write_csv, write_json
+from ..planetary import PlanetaryModel
 from ._plots import whine_order_plot, whine_waterfall_plot
 
 __all__ = ["whine_outputs", "whine_run_line"]
@@ -46,10 +48,10 @@ def whine_outputs(case, out_dir: str) -> dict | None:
     if inputs is None:
         return None
     model, _ = build_dynamic_model(case)
-    if not isinstance(model, DynamicModel):
+    if not isinstance(model, (DynamicModel, PlanetaryModel)):
         raise ValueError(
             f"[whine]: the case's model is a {type(model).__name__}: allowed a lumped scene "
-            "(torsional or lumped 3D; no condensed bodies)"
+            "(torsional or lumped 3D; no condensed bodies) or a planetary stage's"
         )
     w = whine_response(model, np.asarray(inputs.speeds), inputs.method,
                        positions=inputs.positions)
@@ -59,8 +61,12 @@ def whine_outputs(case, out_dir: str) -> dict | None:
     f1 = np.asarray(w.frequency, dtype=float)
     orders = np.asarray(w.orders, dtype=float)
     n_meshes = int(w.transmission_error.shape[-1])
-    mesh_names = [case.mesh_name(k) for k in range(n_meshes)] if n_meshes > 1 else ["mesh"]
-    names = list(getattr(model.scene, "reaction_names", ()))
+    planetary = _planetary_parts(w)  # a planetary stage's meshes, supports and torques
+    if planetary is not None:
+        mesh_names, names = planetary["meshes"], planetary["bearings"]
+    else:
+        mesh_names = [case.mesh_name(k) for k in range(n_meshes)] if n_meshes > 1 else ["mesh"]
+        names = list(getattr(model.scene, "reaction_names", ()))
     te_a, te_p = _amp_phase(w.transmission_error)
     fm_a, fm_p = _amp_phase(w.mesh_force)
     br_a, br_p = _amp_phase(w.bearing_force)
@@ -81,9 +87,12 @@ def whine_outputs(case, out_dir: str) -> dict | None:
         cols[f"mesh_force_{n}_N"] = fm_a[:, :, k].ravel()
         cols[f"mesh_force_{n}_phase_deg"] = fm_p[:, :, k].ravel()
     for k, n in enumerate(names):
-        key = n.replace(" ", "_").replace("=", "")
+        key = _key(n)
         cols[f"bearing_{key}_N"] = br_a[:, :, k].ravel()
         cols[f"bearing_{key}_phase_deg"] = br_p[:, :, k].ravel()
+    for k, n in enumerate(planetary["moments"] if planetary else ()):
+        cols[f"support_{_key(n)}_Nm"] = planetary["moment_amp"][:, :, k].ravel()
+        cols[f"support_{_key(n)}_phase_deg"] = planetary["moment_phase"][:, :, k].ravel()
     cols["contact_loss"] = np.repeat(invalid.astype(float), h)
     cols["nonlinearity"] = np.repeat(nonlin.max(axis=1), h)
     write_csv(os.path.join(folder, "whine.csv"), list(cols), list(cols.values()))
@@ -141,6 +150,8 @@ def whine_outputs(case, out_dir: str) -> dict | None:
         "validity": valid_note,
         "files": files,
     }
+    if planetary is not None:  # the frame of the support forces, the torques
+        section |= planetary["section"]
     write_json(os.path.join(folder, "whine.json"), {"case": case.name, **section})
     # the summary keeps the headline, not the arrays
     peak = int(np.argmax(te_total[:, 1])) if h > 1 else 0
@@ -154,6 +165,38 @@ def whine_outputs(case, out_dir: str) -> dict | None:
         "speeds": int(S),
         "max_te_order_1_um": float(te_total[peak, 1] * 1e6) if h > 1 else 0.0,
         "speed_of_max_te_order_1_rad_s": float(speeds[peak]),
+    }
+
+
+def _key(name: str) -> str:
+    """A component's name as a CSV column key."""
+    return name.replace(" ", "_").replace("=", "").replace("-", "_")
+
+
+def _planetary_parts(w) -> dict | None:
+    """A planetary stage's whine (:class:`~jaxgear.planetary.PlanetaryWhine`): its 2N meshes'
+    names, its supports' force components (carrier frame) and its support torques and moments
+    (N m) with the JSON keys that say so; None for a pair's or a train's response."""
+    if not hasattr(w, "moment_names"):
+        return None
+    amp, phase = _amp_phase(w.support_moment)
+    return {
+        "meshes": [n.replace(" ", "") for n in w.mesh_names],
+        "bearings": list(w.bearing_names),
+        "moments": list(w.moment_names),
+        "moment_amp": amp,
+        "moment_phase": phase,
+        "section": {
+            "support_moment_components": list(w.moment_names),
+            "support_moment_Nm": {"amplitude": amp.tolist(), "phase_deg": phase.tolist()},
+            "frame": (
+                "planetary stage: orders of the mesh frequency on the mesh travel; the support "
+                "forces (bearing_force_N) along the carrier frame's x, y: a support fixed in "
+                "space (the held ring's) sees order h at h f_mesh ± f_carrier; the torques "
+                "about the axis are frame-free; per-tooth deviations ([deviations]) are not in "
+                "the whine (the dynamic model's meshes repeat every mesh period)"
+            ),
+        },
     }
 
 

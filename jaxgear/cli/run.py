@@ -649,7 +649,11 @@ def _(form: TrainForm, case: Case, summary: dict) -> list[str]:
     )
 
 
-run_lines.register(PlanetaryForm, planetary_run_lines)
+@run_lines.register
+def _(form: PlanetaryForm, case: Case, summary: dict) -> list[str]:
+    return planetary_run_lines(form, case, summary) + whine_run_line(summary.get("whine"))
+
+
 run_lines.register(GearboxForm, gearbox_run_lines)
 
 
