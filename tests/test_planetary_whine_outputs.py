@@ -52,7 +52,8 @@ def test_low_speed_orders_are_the_quasi_static_fourier_coefficients():
     measured 1e-4 at 1e-4 of it); the
     ring's support force (carrier-frame x, y) and torque are Σ_n F_rn (sin ψ_rn, −cos ψ_rn)
     and −r_br Σ_n F_rn (the ring's statics, ψ_rn = ψ_n + α_r), the carrier's and the ring's
-    torques add to the sun torque in order 0 and cancel in the others."""
+    torques add to the sun torque in order 0 and cancel in the others; the fixed-frame lines
+    are the carrier-frame orders turned and Fourier-analysed over a carrier turn."""
     model = _model()
     speed = 1e-3  # rad/s on the carrier: a mesh frequency 7e-7 of the excited mode's
     w = whine_response(model, speed, HarmonicBalance(H), positions=P)
@@ -85,6 +86,23 @@ def test_low_speed_orders_are_the_quasi_static_fourier_coefficients():
     total = np.asarray(w.support_moment[0, :5].sum(axis=-1))
     np.testing.assert_allclose(total.real[0], float(run.sun_torque), rtol=1e-6)
     np.testing.assert_allclose(np.abs(total[1:]), 0.0, atol=1e-6 * float(run.sun_torque))
+    # what a support fixed in space receives: the carrier-frame orders rebuilt over one
+    # carrier turn (the ring held: the mesh frequency is 53 times the carrier's), turned into
+    # the fixed frame and Fourier-analysed: line k of the carrier frequency is order h's at
+    # k = 53 h + 1 (h = -H..H)
+    members, freq, amp = w.fixed_frame_lines()
+    assert members == ("carrier", "ring", "sun")
+    n_t = 2048
+    t = np.arange(n_t) / n_t * 2 * np.pi / speed
+    e = np.exp(1j * np.outer(t, np.arange(H + 1) * 53 * speed))  # (t, H+1)
+    F = np.asarray(w.bearing_force[0])  # one-sided, (H+1, 6)
+    xy = np.real(e @ F)  # carrier-frame components over the turn, (t, 6)
+    Z = np.exp(1j * speed * t)[:, None] * (xy[:, 0::2] + 1j * xy[:, 1::2])  # fixed frame
+    Zh = np.fft.fft(Z, axis=0) / n_t
+    k = 53 * np.arange(-H, H + 1) + 1
+    np.testing.assert_allclose(np.asarray(amp[0]), np.abs(Zh[k % n_t]),
+                               atol=1e-9 * np.abs(Zh).max())
+    np.testing.assert_allclose(np.asarray(freq[0]), np.abs(k) * speed / (2 * np.pi), rtol=1e-9)
 
 
 def test_support_reactions_drop_a_floating_member():
@@ -140,6 +158,9 @@ def test_run_writes_a_planetary_stages_whine(tmp_path, capsys):
     assert d["support_moment_components"] == ["carrier torque", "ring torque"]
     assert 0.01 not in d["linear_result_invalid_at_rad_s"]
     assert d["linear_result_invalid_at_rad_s"] and "carrier frame" in d["frame"]
+    ff = d["support_fixed_frame"]
+    assert ff["members"] == ["carrier", "ring", "sun"] and len(ff["carrier_frame_order"]) == 9
+    assert np.shape(ff["amplitude_N"]) == (4, 9, 3)
     model, _ = jio.build_dynamic_model(jio.load_case(str(path)))
     run = model.run
     qs = jp.planetary_quasi_static(model.kind, model.stage, model.meshes, run.sun_torque,

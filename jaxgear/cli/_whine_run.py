@@ -180,6 +180,8 @@ def _planetary_parts(w) -> dict | None:
     if not hasattr(w, "moment_names"):
         return None
     amp, phase = _amp_phase(w.support_moment)
+    members, line_f, line_a = w.fixed_frame_lines()
+    H = int(w.orders.shape[0]) - 1
     return {
         "meshes": [n.replace(" ", "") for n in w.mesh_names],
         "bearings": list(w.bearing_names),
@@ -189,10 +191,19 @@ def _planetary_parts(w) -> dict | None:
         "section": {
             "support_moment_components": list(w.moment_names),
             "support_moment_Nm": {"amplitude": amp.tolist(), "phase_deg": phase.tolist()},
+            # the in-plane support forces a fixed seat receives: carrier-frame order h at
+            # |h f_mesh + f_carrier|, h = -H..H (PlanetaryWhine.fixed_frame_lines)
+            "support_fixed_frame": {
+                "members": list(members),
+                "carrier_frame_order": list(range(-H, H + 1)),
+                "frequency_Hz": np.asarray(line_f, dtype=float).tolist(),
+                "amplitude_N": np.asarray(line_a, dtype=float).tolist(),
+            },
             "frame": (
                 "planetary stage: orders of the mesh frequency on the mesh travel; the support "
                 "forces (bearing_force_N) along the carrier frame's x, y: a support fixed in "
-                "space (the held ring's) sees order h at h f_mesh ± f_carrier; the torques "
+                "space (the held ring's) sees order h at h f_mesh ± f_carrier "
+                "(support_fixed_frame: each line's frequency and x, y amplitude); the torques "
                 "about the axis are frame-free; per-tooth deviations ([deviations]) are not in "
                 "the whine (the dynamic model's meshes repeat every mesh period)"
             ),

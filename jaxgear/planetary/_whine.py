@@ -153,6 +153,7 @@ class PlanetaryWhine(eqx.Module):
             axis and tilting moments (N m), (S, H + 1, r_m).
         bearing_names, moment_names: static, the components' labels (r,), (r_m,).
         mesh_names: static, ``"sun-planet <n>"`` then ``"ring-planet <n>"`` (2N,).
+        carrier_speed: Ω (rad/s, signed, fixed frame), (S,).
 
     ``mesh_force`` (S, H + 1, 2N): the sun meshes' forces, then the ring meshes' (the order of
     ``transmission_error``, :class:`~jaxgear.dynamics.WhineResponse`'s attribute).
@@ -174,11 +175,40 @@ class PlanetaryWhine(eqx.Module):
     bearing_names: tuple = eqx.field(static=True, default=())
     moment_names: tuple = eqx.field(static=True, default=())
     mesh_names: tuple = eqx.field(static=True, default=())
+    carrier_speed: Float[Array, " S"] | None = None
 
     @property
     def mesh_force(self) -> Complex[Array, "S h m"]:
         """The sun meshes' forces, then the ring meshes' (N), (S, H + 1, 2N)."""
         return jnp.concatenate([self.sun_mesh_force, self.ring_mesh_force], axis=-1)
+
+    def fixed_frame_lines(self) -> tuple[tuple, Array, Array]:
+        """The support forces as a support fixed in space (a housing's seat) receives them: each
+        member's in-plane force, carrier-frame x + i y = Σ_h (c^x_h + i c^y_h) e^{i h ω t}
+        (two-sided c_h, h = −H..H, from the one-sided orders), turned by the carrier angle Ω t,
+        is the sum of circular whirls Σ_h d_h e^{i (h ω + Ω) t}, d_h = c^x_h + i c^y_h: one
+        line per h at the frequency |h f + f_c| (f_c = Ω / 2π), of which the fixed x and y
+        components each carry |d_h| (order h of the carrier frame at h f ± f_c, the
+        planet-pass sidebands; order 0 at f_c).
+
+        Returns:
+            (members, frequency, amplitude): the members with an x and a y force component
+            (names), the lines' frequencies (Hz, (S, 2H + 1), h = −H..H: |h f + f_c|) and
+            their amplitudes (N, (S, 2H + 1, members)).
+        """
+        names = list(self.bearing_names)
+        members = tuple(n[:-2] for n in names if n.endswith(" x") and f"{n[:-2]} y" in names)
+        F = self.bearing_force
+        half = jnp.concatenate([F[:, :1], 0.5 * F[:, 1:]], axis=1)  # c_h, h = 0..H
+        both = jnp.concatenate([jnp.conj(half[:, :0:-1]), half], axis=1)  # h = −H..H
+        ix = jnp.array([names.index(f"{m} x") for m in members], dtype=int)
+        iy = jnp.array([names.index(f"{m} y") for m in members], dtype=int)
+        d = both[..., ix] + 1j * both[..., iy]
+        H = F.shape[1] - 1
+        h = jnp.arange(-H, H + 1, dtype=self.frequency.dtype)
+        f_c = self.carrier_speed / (2 * jnp.pi)
+        freq = jnp.abs(h[None, :] * self.frequency[:, None] + f_c[:, None])
+        return members, freq, jnp.abs(d)
 
 
 def _one_sided(c, H):
@@ -279,6 +309,7 @@ def planetary_whine(
         bearing_names=sup.force_names,
         moment_names=sup.moment_names,
         mesh_names=tuple(f"{m}-planet {k + 1}" for m in ("sun", "ring") for k in range(n_pl)),
+        carrier_speed=omega,
     )
 
 
