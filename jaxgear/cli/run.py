@@ -461,7 +461,8 @@ def run_kind(case: Case, out: str, args, settings) -> dict:
         summary["whine"] = whine_outputs(case, out)
         write_json(summary_path, summary)
     if not last:
-        if summary.get("rating") is not None:  # rating.md once, of the final section
+        # rating.md once, of the final section (a planetary stage's: written by its own files)
+        if summary.get("rating") is not None and not isinstance(case.form, PlanetaryForm):
             write_rating_table(case, out, summary["rating"], summary.get("tribology"))
         summary["complete"] = True
         write_json(summary_path, summary)
