@@ -1,10 +1,10 @@
 """``jaxgear run``'s gear whine, for a pair, train or planetary case with ``[whine]``
 (:func:`jaxgear.dynamics.whine_response` on the case's lumped dynamic model over the table's
 speeds; a planetary stage's :class:`~jaxgear.planetary.PlanetaryModel`: its 2N meshes and the
-support forces and torques of its sun, carrier and ring): ``whine/whine.json`` (every order of every mesh's TE and force and of every bearing
-force component at every speed, with the validity flags), ``whine/whine.csv`` (the same, one row
-per speed and order), the order plots and the waterfalls of the TE and of the bearing forces
-(docs/whine.md, "Outputs")."""
+support forces and torques of its sun, carrier and ring): ``whine/whine.json`` (every order of
+every mesh's TE and force and of every bearing force component at every speed, with the
+validity flags), ``whine/whine.csv`` (the same, one row per speed and order), the order plots
+and the waterfalls of the TE and of the bearing forces (docs/whine.md, "Outputs")."""
 
 from __future__ import annotations
 
@@ -172,7 +172,7 @@ def whine_outputs(case, out_dir: str) -> dict | None:
 
 def _key(name: str) -> str:
     """A component's name as a CSV column key."""
-    return name.replace(" ", "_").replace("=", "").replace("-", "_")
+    return name.replace(" ", "_").replace("=", "")
 
 
 def _planetary_parts(w) -> dict | None:
