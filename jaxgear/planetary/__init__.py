@@ -27,7 +27,10 @@ from :mod:`jaxgear` too; the rest lives here only. Modules:
   per mesh period, span, kept periods), every speed in one program (:func:`steps_sweep`), the
   factors read from its records (:func:`sweep_factors`), whether anything excites the stage
   (:func:`excitation`) and the lumped model a stage's supports allow
-  (:func:`planetary_model_for`).
+  (:func:`planetary_model_for`);
+- ``_whine``: the stage's gear whine in the frequency domain (:func:`planetary_whine`,
+  :class:`PlanetaryWhine`) and the central members' support reactions
+  (:func:`support_reactions`).
 """
 
 from ._analysis import (
