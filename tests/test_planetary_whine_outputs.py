@@ -127,6 +127,9 @@ def test_support_reactions_drop_a_floating_member():
     n_central = 9
     assert np.all(np.asarray(sup.forces)[:, n_central:] == 0.0)
     np.testing.assert_allclose(np.asarray(sup.forces)[2, 3], 3e9)  # k_r on x_r
+    with pytest.raises(ValueError, match="model") as e:
+        jp.support_reactions("planar", model.stage)
+    assert "\n" not in str(e.value)
 
 
 def _stage_case(tmp_path, whine: str) -> pathlib.Path:

@@ -28,7 +28,7 @@ import numpy as np
 from jaxtyping import Array, Bool, Complex, Float
 
 from .._contact import ContactLaw, ExactContact, contact_law, solve_contact
-from .._util import check_integer, is_traced
+from .._util import check_instance, check_integer, is_traced
 from ..dynamics import (
     AbstractWhineMethod,
     HarmonicBalance,
@@ -85,7 +85,14 @@ def support_reactions(model: AbstractPlanetaryModel, stage: PlanetaryStage) -> S
 
     In the carrier frame (docs/planetary.md): a fixed-frame support (the held ring's) sees an
     in-plane component of order h at h f_m ± f_c, f_c the carrier's rotation frequency; the
-    torque about the axis is the same in both frames."""
+    torque about the axis is the same in both frames.
+
+    Raises:
+        ValueError: a model or stage of another type (one line)."""
+    check_instance("model", model, AbstractPlanetaryModel,
+                   "a planetary model kind (TorsionalPlanetary, PlanarPlanetary, "
+                   "SpatialPlanetary)", "support_reactions")
+    check_instance("stage", stage, PlanetaryStage, "a jaxgear.PlanetaryStage", "support_reactions")
     k_full = structure_stiffness(model, stage)
     zero = jnp.zeros((), dtype=stage.planet_angles.dtype)
 
