@@ -166,7 +166,8 @@ def test_run_writes_a_planetary_stages_whine(tmp_path, capsys):
     assert main(["run", str(path), "--out", str(out), "--quiet"]) == 0
     assert "whine (HarmonicBalance, H = 4, 4 speeds" in capsys.readouterr().out
     for name in ("whine.json", "whine.csv", "te_orders.png", "te_waterfall.png",
-                 "bearing_orders.png", "bearing_waterfall.png"):
+                 "bearing_orders.png", "bearing_waterfall.png",
+                 "support_fixed_frame_waterfall.png"):
         assert (out / "whine" / name).stat().st_size > 0
     d = json.loads((out / "whine" / "whine.json").read_text())
     assert d["meshes"] == [f"{m}-planet{k}" for m in ("sun", "ring") for k in (1, 2, 3)]

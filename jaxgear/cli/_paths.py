@@ -87,7 +87,9 @@ OUTPUT_FILES: dict[str, tuple[str, ...]] = {
     # jaxgear run on a case with [whine] (subfolder whine/): the orders and waterfalls of the
     # TE and bearing forces over the speed range
     "whine": ("whine.json", "whine.csv", "te_orders.png", "bearing_orders.png",
-              "te_waterfall.png", "bearing_waterfall.png"),
+              "te_waterfall.png", "bearing_waterfall.png",
+              # a planetary stage's: its supports' forces as a fixed seat receives them
+              "support_fixed_frame_waterfall.png"),
     "master-curve": ("master_curve.json", "master_curve.png"),
     "robust": ("robust.json", "samples.csv", "robust_distributions.png", "robust_speed_bands.png"),
     "bench quasi-static": ("bench_quasi_static.json", "speed_accuracy_quasi_static.png"),

@@ -25,7 +25,7 @@ ORDERS_DRAWN = 4
 WATERFALL_ORDERS = 8
 #: files of the whine/ folder
 FILES = ("whine.json", "whine.csv", "te_orders.png", "bearing_orders.png", "te_waterfall.png",
-         "bearing_waterfall.png")
+         "bearing_waterfall.png", "support_fixed_frame_waterfall.png")
 #: ``nonlinearity`` above which a speed's linear result is flagged as doubtful (docs/whine.md:
 #: within about 1 % of the time domain below 0.5 %)
 NONLINEAR_LIMIT = 0.02
@@ -126,6 +126,8 @@ def whine_outputs(case, out_dir: str) -> dict | None:
             os.path.join(folder, "bearing_waterfall.png"), speeds, f1, orders[wf],
             br_total[:, wf], label="bearing force (N)", title=case.name, invalid=invalid,
         )
+    if planetary is not None:  # the supports' lines in the fixed frame (a housing's view)
+        _fixed_frame_waterfall(folder, case.name, speeds, f1, planetary["section"], invalid)
     files = [f"whine/{n}" for n in FILES if os.path.exists(os.path.join(folder, n))]
     valid_note = (
         "contact loss at the flagged speeds: the linear (frequency-domain) result does not hold "
@@ -211,6 +213,28 @@ def _planetary_parts(w) -> dict | None:
             ),
         },
     }
+
+
+def _fixed_frame_waterfall(folder, name, speeds, f1, section, invalid) -> None:
+    """``support_fixed_frame_waterfall.png``: the root-sum-square over the members of each
+    fixed-frame line |h f_mesh + f_carrier|, h = −8..8 (at most), as orders of f_mesh (the
+    ratio f_carrier / f_mesh is the same at every speed)."""
+    ff = section["support_fixed_frame"]
+    if not ff["members"]:
+        return
+    h = np.asarray(ff["carrier_frame_order"])
+    keep = np.abs(h) <= WATERFALL_ORDERS
+    freq = np.asarray(ff["frequency_Hz"])[:, keep]
+    amp = np.sqrt(np.sum(np.asarray(ff["amplitude_N"])[:, keep] ** 2, axis=2))
+    orders = freq[0] / f1[0]  # |h + f_carrier / f_mesh|
+    # each line by its carrier-frame order and side: "4+" at 4 f_mesh + f_carrier
+    labels = [f"{abs(k)}{'+' if k > 0 else '−' if k < 0 else ''}" if k else "f_c"
+              for k in h[keep]]
+    whine_waterfall_plot(
+        os.path.join(folder, "support_fixed_frame_waterfall.png"), speeds, f1, orders, amp,
+        label=f"support forces in the fixed frame, root-sum-square of {len(ff['members'])} "
+        "members (N)", title=name, invalid=invalid, order_labels=labels,
+    )
 
 
 def whine_run_line(section: dict | None) -> list[str]:

@@ -59,7 +59,7 @@ def whine_order_plot(path, speeds, amplitudes, orders, *, ylabel, title, invalid
 
 
 def whine_waterfall_plot(path, speeds, fundamental_hz, orders, amplitudes, *, label, title,
-                         invalid=None, dynamic_range_db=60.0) -> None:
+                         invalid=None, dynamic_range_db=60.0, order_labels=None) -> None:
     """The waterfall: every order's frequency (Hz) against the speed (rad/s), each point
     coloured by the order's level 20 log10(|a| / max |a|) (dB), the orders as grey lines.
 
@@ -67,6 +67,7 @@ def whine_waterfall_plot(path, speeds, fundamental_hz, orders, amplitudes, *, la
         fundamental_hz: (S,) the orders' unit (the first mesh's frequency, Hz).
         orders: (k,) orders. amplitudes: (S, k). label: the quantity and its unit.
         dynamic_range_db: the colour scale's span below the largest level.
+        order_labels: (k,) the names written at the orders' ends (default "<order>×").
     """
     fig, ax = new_figure((8, 5.5))
     s = np.asarray(speeds, dtype=float)
@@ -85,7 +86,8 @@ def whine_waterfall_plot(path, speeds, fundamental_hz, orders, amplitudes, *, la
     cb.set_label(f"level, dB re the largest ({ref:.3g} {label.split('(')[-1].rstrip(')')})")
     flagged = invalid is not None and _shade(ax, s, invalid)
     for j in range(o.size):  # each order named at its right end
-        ax.annotate(f"{o[j]:g}×", (s[-1], f[-1, j]), xytext=(3, 0), textcoords="offset points",
+        text = f"{o[j]:g}×" if order_labels is None else order_labels[j]
+        ax.annotate(text, (s[-1], f[-1, j]), xytext=(3, 0), textcoords="offset points",
                     fontsize=7, va="center", color="0.3")
     ax.set_xlabel("input speed (rad/s)")
     ax.set_ylabel("frequency (Hz)")
