@@ -145,6 +145,9 @@ def test_a_planetary_case_reads_its_whine_table(tmp_path):
     case = jio.load_case(str(_stage_case(tmp_path, "[whine]\nspeed_min_rad_s = 1.0\n"
                                          "speed_max_rad_s = 9.0\nspeeds = 3\n")))
     assert jio.whine_of(case).speeds == [1.0, 5.0, 9.0]
+    example = jio.load_case(str(pathlib.Path(__file__).parents[1] / "examples"
+                                / "planetary-whine.toml"))
+    assert jio.whine_of(example).method.harmonics == 8
     with pytest.raises(ValueError, match="harmonics") as e:
         jio.load_case(str(_stage_case(tmp_path, "[whine]\nspeed_min_rad_s = 1.0\n"
                                       "speed_max_rad_s = 9.0\nharmonics = 0\n")))
