@@ -116,7 +116,8 @@ def whine_outputs(case, out_dir: str) -> dict | None:
         br_total = np.sqrt(np.sum(br_a**2, axis=2))  # every bearing component, root-sum-square
         b_what = f"bearing force, root-sum-square of the {len(names)} components (N)"
         if planetary is not None:
-            b_what += ", the sun's, carrier's and ring's supports in the carrier frame"
+            b_what = (f"sun, carrier and ring supports (carrier frame), root-sum-square of the "
+                      f"{len(names)} components (N)")
         whine_order_plot(
             os.path.join(folder, "bearing_orders.png"), speeds, br_total[:, drawn],
             orders[drawn], ylabel="bearing force (N)", title=title, invalid=invalid,
