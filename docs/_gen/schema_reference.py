@@ -476,6 +476,10 @@ def case_samples() -> Iterator[tuple[dict, str | None]]:
     data = tomllib.loads(jio.embedded_case_text("accessory-idler-train"))
     data.update(tomllib.loads(SAMPLE_OVERLAYS["whine"]))
     yield data, None
+    # a planetary stage's gear whine (the input member's speeds)
+    data = tomllib.loads(jio.embedded_case_text("nrel-5mw-planetary"))
+    data.update(tomllib.loads(SAMPLE_OVERLAYS["whine"]))
+    yield data, None
     # a train rated to ISO 6336: the shared [rating] and each mesh's own
     data = tomllib.loads(jio.embedded_case_text("accessory-idler-train"))
     data["material"].update(sigma_H_lim_MPa=1500.0, sigma_F_lim_MPa=430.0)

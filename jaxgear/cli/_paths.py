@@ -90,7 +90,9 @@ OUTPUT_FILES: dict[str, tuple[str, ...]] = {
               "te_waterfall.png", "bearing_waterfall.png",
               # with [housing]: its ERP, named points and operating deflection shapes
               "housing.json", "housing.csv", "erp_orders.png", "erp_waterfall.png",
-              "point_*_orders.png", "point_*_waterfall.png", "housing_ods.vtu"),
+              "point_*_orders.png", "point_*_waterfall.png", "housing_ods.vtu",
+              # a planetary stage's: its supports' forces as a fixed seat receives them
+              "support_fixed_frame_waterfall.png"),
     "master-curve": ("master_curve.json", "master_curve.png"),
     "robust": ("robust.json", "samples.csv", "robust_distributions.png", "robust_speed_bands.png"),
     "bench quasi-static": ("bench_quasi_static.json", "speed_accuracy_quasi_static.png"),

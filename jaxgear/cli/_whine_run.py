@@ -1,10 +1,12 @@
-"""``jaxgear run``'s gear whine, for a pair or train case with ``[whine]``
+"""``jaxgear run``'s gear whine, for a pair, train or planetary case with ``[whine]``
 (:func:`jaxgear.dynamics.whine_response` on the case's lumped dynamic model over the table's
-speeds): ``whine/whine.json`` (every order of every mesh's TE and force and of every bearing
-force component at every speed, with the validity flags), ``whine/whine.csv`` (the same, one row
-per speed and order), the order plots and the waterfalls of the TE and of the bearing forces
-(docs/whine.md, "Outputs"); with ``[housing]``, the housing's ERP, named points and operating
-deflection shapes from the same response (:mod:`jaxgear.cli._housing_run`)."""
+speeds; a planetary stage's :class:`~jaxgear.planetary.PlanetaryModel`: its 2N meshes and the
+support forces and torques of its sun, carrier and ring): ``whine/whine.json`` (every order of
+every mesh's TE and force and of every bearing force component at every speed, with the
+validity flags), ``whine/whine.csv`` (the same, one row per speed and order), the order plots
+and the waterfalls of the TE and of the bearing forces (docs/whine.md, "Outputs"); with
+``[housing]`` (pair and train), the housing's ERP, named points and operating deflection shapes
+from the same response (:mod:`jaxgear.cli._housing_run`)."""
 
 from __future__ import annotations
 
@@ -14,6 +16,7 @@ import numpy as np
 
 from ..dynamics import DynamicModel, whine_response
 from ..io import build_dynamic_model, whine_of, write_csv, write_json
+from ..planetary import PlanetaryModel
 from ._housing_run import housed_run, housing_outputs, housing_run_line
 from ._plots import whine_order_plot, whine_waterfall_plot
 
@@ -25,7 +28,7 @@ ORDERS_DRAWN = 4
 WATERFALL_ORDERS = 8
 #: files of the whine/ folder
 FILES = ("whine.json", "whine.csv", "te_orders.png", "bearing_orders.png", "te_waterfall.png",
-         "bearing_waterfall.png")
+         "bearing_waterfall.png", "support_fixed_frame_waterfall.png")
 #: ``nonlinearity`` above which a speed's linear result is flagged as doubtful (docs/whine.md:
 #: within about 1 % of the time domain below 0.5 %)
 NONLINEAR_LIMIT = 0.02
@@ -48,10 +51,10 @@ def whine_outputs(case, out_dir: str) -> dict | None:
     if inputs is None:
         return None
     model, _ = build_dynamic_model(case)
-    if not isinstance(model, DynamicModel):
+    if not isinstance(model, (DynamicModel, PlanetaryModel)):
         raise ValueError(
             f"[whine]: the case's model is a {type(model).__name__}: allowed a lumped scene "
-            "(torsional or lumped 3D; no condensed bodies)"
+            "(torsional or lumped 3D; no condensed bodies) or a planetary stage's"
         )
     housed = housed_run(case, model)  # [housing]: its points checked before the whine
     w = whine_response(model, np.asarray(inputs.speeds), inputs.method,
@@ -62,8 +65,12 @@ def whine_outputs(case, out_dir: str) -> dict | None:
     f1 = np.asarray(w.frequency, dtype=float)
     orders = np.asarray(w.orders, dtype=float)
     n_meshes = int(w.transmission_error.shape[-1])
-    mesh_names = [case.mesh_name(k) for k in range(n_meshes)] if n_meshes > 1 else ["mesh"]
-    names = list(getattr(model.scene, "reaction_names", ()))
+    planetary = _planetary_parts(w)  # a planetary stage's meshes, supports and torques
+    if planetary is not None:
+        mesh_names, names = planetary["meshes"], planetary["bearings"]
+    else:
+        mesh_names = [case.mesh_name(k) for k in range(n_meshes)] if n_meshes > 1 else ["mesh"]
+        names = list(getattr(model.scene, "reaction_names", ()))
     te_a, te_p = _amp_phase(w.transmission_error)
     fm_a, fm_p = _amp_phase(w.mesh_force)
     br_a, br_p = _amp_phase(w.bearing_force)
@@ -84,9 +91,12 @@ def whine_outputs(case, out_dir: str) -> dict | None:
         cols[f"mesh_force_{n}_N"] = fm_a[:, :, k].ravel()
         cols[f"mesh_force_{n}_phase_deg"] = fm_p[:, :, k].ravel()
     for k, n in enumerate(names):
-        key = n.replace(" ", "_").replace("=", "")
+        key = _key(n)
         cols[f"bearing_{key}_N"] = br_a[:, :, k].ravel()
         cols[f"bearing_{key}_phase_deg"] = br_p[:, :, k].ravel()
+    for k, n in enumerate(planetary["moments"] if planetary else ()):
+        cols[f"support_{_key(n)}_Nm"] = planetary["moment_amp"][:, :, k].ravel()
+        cols[f"support_{_key(n)}_phase_deg"] = planetary["moment_phase"][:, :, k].ravel()
     cols["contact_loss"] = np.repeat(invalid.astype(float), h)
     cols["nonlinearity"] = np.repeat(nonlin.max(axis=1), h)
     write_csv(os.path.join(folder, "whine.csv"), list(cols), list(cols.values()))
@@ -109,6 +119,9 @@ def whine_outputs(case, out_dir: str) -> dict | None:
     if names:
         br_total = np.sqrt(np.sum(br_a**2, axis=2))  # every bearing component, root-sum-square
         b_what = f"bearing force, root-sum-square of the {len(names)} components (N)"
+        if planetary is not None:
+            b_what = (f"sun, carrier and ring supports (carrier frame), root-sum-square of the "
+                      f"{len(names)} components (N)")
         whine_order_plot(
             os.path.join(folder, "bearing_orders.png"), speeds, br_total[:, drawn],
             orders[drawn], ylabel="bearing force (N)", title=title, invalid=invalid,
@@ -118,6 +131,8 @@ def whine_outputs(case, out_dir: str) -> dict | None:
             os.path.join(folder, "bearing_waterfall.png"), speeds, f1, orders[wf],
             br_total[:, wf], label="bearing force (N)", title=case.name, invalid=invalid,
         )
+    if planetary is not None:  # the supports' lines in the fixed frame (a housing's view)
+        _fixed_frame_waterfall(folder, case.name, speeds, f1, planetary["section"], invalid)
     files = [f"whine/{n}" for n in FILES if os.path.exists(os.path.join(folder, n))]
     housing = None if housed is None else housing_outputs(housed, case, w, folder, invalid)
     valid_note = (
@@ -146,6 +161,8 @@ def whine_outputs(case, out_dir: str) -> dict | None:
         "files": files + ([] if housing is None else housing["files"]),
         **({} if housing is None else {"housing": housing}),
     }
+    if planetary is not None:  # the frame of the support forces, the torques
+        section |= planetary["section"]
     write_json(os.path.join(folder, "whine.json"), {"case": case.name, **section})
     # the summary keeps the headline, not the arrays
     peak = int(np.argmax(te_total[:, 1])) if h > 1 else 0
@@ -161,6 +178,71 @@ def whine_outputs(case, out_dir: str) -> dict | None:
         "max_te_order_1_um": float(te_total[peak, 1] * 1e6) if h > 1 else 0.0,
         "speed_of_max_te_order_1_rad_s": float(speeds[peak]),
     }
+
+
+def _key(name: str) -> str:
+    """A component's name as a CSV column key."""
+    return name.replace(" ", "_").replace("=", "")
+
+
+def _planetary_parts(w) -> dict | None:
+    """A planetary stage's whine (:class:`~jaxgear.planetary.PlanetaryWhine`): its 2N meshes'
+    names, its supports' force components (carrier frame) and its support torques and moments
+    (N m) with the JSON keys that say so; None for a pair's or a train's response."""
+    if not hasattr(w, "moment_names"):
+        return None
+    amp, phase = _amp_phase(w.support_moment)
+    members, line_f, line_a = w.fixed_frame_lines()
+    H = int(w.orders.shape[0]) - 1
+    return {
+        "meshes": [n.replace(" ", "") for n in w.mesh_names],
+        "bearings": list(w.bearing_names),
+        "moments": list(w.moment_names),
+        "moment_amp": amp,
+        "moment_phase": phase,
+        "section": {
+            "support_moment_components": list(w.moment_names),
+            "support_moment_Nm": {"amplitude": amp.tolist(), "phase_deg": phase.tolist()},
+            # the in-plane support forces a fixed seat receives: carrier-frame order h at
+            # |h f_mesh + f_carrier|, h = -H..H (PlanetaryWhine.fixed_frame_lines)
+            "support_fixed_frame": {
+                "members": list(members),
+                "carrier_frame_order": list(range(-H, H + 1)),
+                "frequency_Hz": np.asarray(line_f, dtype=float).tolist(),
+                "amplitude_N": np.asarray(line_a, dtype=float).tolist(),
+            },
+            "frame": (
+                "planetary stage: orders of the mesh frequency on the mesh travel; the support "
+                "forces (bearing_force_N) along the carrier frame's x, y: a support fixed in "
+                "space (the held ring's) sees order h at h f_mesh ± f_carrier "
+                "(support_fixed_frame: each line's frequency and x, y amplitude); the torques "
+                "about the axis are frame-free; per-tooth deviations ([deviations]) are not in "
+                "the whine (the dynamic model's meshes repeat every mesh period)"
+            ),
+        },
+    }
+
+
+def _fixed_frame_waterfall(folder, name, speeds, f1, section, invalid) -> None:
+    """``support_fixed_frame_waterfall.png``: the root-sum-square over the members of each
+    fixed-frame line |h f_mesh + f_carrier|, h = −8..8 (at most), as orders of f_mesh (the
+    ratio f_carrier / f_mesh is the same at every speed)."""
+    ff = section["support_fixed_frame"]
+    if not ff["members"]:
+        return
+    h = np.asarray(ff["carrier_frame_order"])
+    keep = np.abs(h) <= WATERFALL_ORDERS
+    freq = np.asarray(ff["frequency_Hz"])[:, keep]
+    amp = np.sqrt(np.sum(np.asarray(ff["amplitude_N"])[:, keep] ** 2, axis=2))
+    orders = freq[0] / f1[0]  # |h + f_carrier / f_mesh|
+    # each line by its carrier-frame order and side: "4+" at 4 f_mesh + f_carrier
+    labels = [f"{abs(k)}{'+' if k > 0 else '−' if k < 0 else ''}" if k else "f_c"
+              for k in h[keep]]
+    whine_waterfall_plot(
+        os.path.join(folder, "support_fixed_frame_waterfall.png"), speeds, f1, orders, amp,
+        label=f"support forces in the fixed frame, root-sum-square of {len(ff['members'])} "
+        "members (N)", title=name, invalid=invalid, order_labels=labels,
+    )
 
 
 def whine_run_line(section: dict | None) -> list[str]:

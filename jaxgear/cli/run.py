@@ -461,7 +461,8 @@ def run_kind(case: Case, out: str, args, settings) -> dict:
         summary["whine"] = whine_outputs(case, out)
         write_json(summary_path, summary)
     if not last:
-        if summary.get("rating") is not None:  # rating.md once, of the final section
+        # rating.md once, of the final section (a planetary stage's: written by its own files)
+        if summary.get("rating") is not None and not isinstance(case.form, PlanetaryForm):
             write_rating_table(case, out, summary["rating"], summary.get("tribology"))
         summary["complete"] = True
         write_json(summary_path, summary)
@@ -649,7 +650,11 @@ def _(form: TrainForm, case: Case, summary: dict) -> list[str]:
     )
 
 
-run_lines.register(PlanetaryForm, planetary_run_lines)
+@run_lines.register
+def _(form: PlanetaryForm, case: Case, summary: dict) -> list[str]:
+    return planetary_run_lines(form, case, summary) + whine_run_line(summary.get("whine"))
+
+
 run_lines.register(GearboxForm, gearbox_run_lines)
 
 

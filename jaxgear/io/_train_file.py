@@ -489,13 +489,10 @@ def parse_train(data: dict, default_name: str = "train", base_dir: str | None = 
     sc.subtable(data, "mesh", "", _SCHEMA["mesh"])
     op_keys = {*_SCHEMA["operating"], "loads", "wrenches", *OPERATING_RATING_KEYS}
     sc.subtable(data, "operating", "", op_keys, required=True)
-    if is_planetary(data):
-        if "whine" in data:
-            raise sc.fail("", "whine", "not in a planetary stage's case yet (allowed: a pair's or "
-                          "a train's case with a lumped scene)", "[whine]")
-        return _planetary_case(data, name)
-    if "whine" in data:
+    if "whine" in data:  # a train's or a planetary stage's gear whine
         parse_whine(data["whine"])
+    if is_planetary(data):
+        return _planetary_case(data, name)
     if "deviations" in data:
         raise sc.fail("", "deviations", "not in a gear train's case (allowed: a pair's case, or "
                       "a planetary stage's with [[gears]])", "[deviations]")

@@ -5,7 +5,8 @@ method object here only.
 Keys (file units; ranges as checked)::
 
     [whine]
-    speed_min_rad_s = 50.0          # the input (pinion) speed range, (0, 1e5] rad/s ...
+    speed_min_rad_s = 50.0          # the input (pinion; a stage's input member) speed range,
+                                    # (0, 1e5] rad/s ...
     speed_max_rad_s = 1500.0        # ... > speed_min_rad_s
     speeds = 48                     # speeds, equally spaced, [2, 2000]; default 48
     harmonics = 16                  # H, the orders of the span's fundamental kept, [1, 256]
@@ -15,9 +16,10 @@ Keys (file units; ranges as checked)::
                                     # at least 4 harmonics + 1 over the model's span
 
 ``jaxgear run`` on a pair or train case with a lumped scene (torsional or lumped 3D; a pair
-without ``[scene]``: the torsional one) writes ``whine/whine.json``, ``whine/whine.csv``, the
-order plots and the waterfall of the TE and the bearing forces; a gearbox's stages each run
-their own case's table.
+without ``[scene]``: the torsional one) or on a planetary stage's case (its lumped stage: the
+speeds are the input member's) writes ``whine/whine.json``, ``whine/whine.csv``, the order plots
+and the waterfall of the TE and the bearing forces; a gearbox's stages each run their own case's
+table.
 """
 
 from __future__ import annotations

@@ -27,7 +27,10 @@ from :mod:`jaxgear` too; the rest lives here only. Modules:
   per mesh period, span, kept periods), every speed in one program (:func:`steps_sweep`), the
   factors read from its records (:func:`sweep_factors`), whether anything excites the stage
   (:func:`excitation`) and the lumped model a stage's supports allow
-  (:func:`planetary_model_for`).
+  (:func:`planetary_model_for`);
+- ``_whine``: the stage's gear whine in the frequency domain (:func:`planetary_whine`,
+  :class:`PlanetaryWhine`) and the central members' support reactions
+  (:func:`support_reactions`).
 """
 
 from ._analysis import (
@@ -129,4 +132,9 @@ from ._stage import (
     max_planets as max_planets,
     speed_ratio as speed_ratio,
 )
-from ._whine import PlanetaryWhine as PlanetaryWhine, planetary_whine as planetary_whine
+from ._whine import (
+    PlanetaryWhine as PlanetaryWhine,
+    SupportReactions as SupportReactions,
+    planetary_whine as planetary_whine,
+    support_reactions as support_reactions,
+)

@@ -18,6 +18,9 @@ Phases are on the mesh travel: q(x) = Re Σ_h q_h e^{2πi h x / p_b}, x the trav
 
 from __future__ import annotations
 
+import dataclasses
+from typing import NamedTuple
+
 import equinox as eqx
 import jax
 import jax.numpy as jnp
@@ -25,7 +28,7 @@ import numpy as np
 from jaxtyping import Array, Bool, Complex, Float
 
 from .._contact import ContactLaw, ExactContact, contact_law, solve_contact
-from .._util import check_integer, is_traced
+from .._util import check_instance, check_integer, is_traced
 from ..dynamics import (
     AbstractWhineMethod,
     HarmonicBalance,
@@ -33,12 +36,98 @@ from ..dynamics import (
     harmonic_balance,
 )
 from ._dynamics import PlanetaryRun, planetary_cell_row, planetary_stage_system
-from ._meshes import AbstractPlanetaryMeshes
+from ._meshes import AbstractPlanetaryMeshes, pin_terms, structure_stiffness
 from ._plan import carrier_periodic
 from ._ring import AbstractRingModel, RigidRing, modal_damping
 from ._stage import AbstractPlanetaryModel, PlanetaryStage
 
-__all__ = ["PlanetaryWhine", "planetary_whine"]
+__all__ = ["PlanetaryWhine", "SupportReactions", "planetary_whine", "support_reactions"]
+
+
+#: the central members' coordinate suffixes (:meth:`AbstractPlanetaryModel.dof_names`)
+_MEMBERS = {"c": "carrier", "r": "ring", "s": "sun"}
+#: a central coordinate's component, its label and whether it is a force (else a moment)
+_COMPONENTS = {"x": ("x", True), "y": ("y", True), "z": ("z", True),
+               "theta_x": ("moment x", False), "theta_y": ("moment y", False),
+               "u": ("torque", False)}
+
+
+class SupportReactions(NamedTuple):
+    """What the central members (sun, carrier, ring) put on their supports
+    (:func:`support_reactions`), linear in the stage's coordinates q (n,).
+
+    Attributes:
+        force_names: ``"<member> x"``, ``"<member> y"`` (and ``"<member> z"`` in the 3D model),
+            (r,): the in-plane components along the **carrier frame's** axes.
+        forces: (r, n) (N per coordinate unit): the force F = forces @ q the member puts on its
+            translational support (positive along the axis: +k q, the spring's pull on the
+            member reversed).
+        moment_names: ``"<member> torque"`` (about the stage axis; the held members' reaction
+            torque), ``"<member> moment x"``, ``"<member> moment y"`` (the 3D model's tilts),
+            (r_m,).
+        moments: (r_m, n) (N m per coordinate unit), the same for the torsional and tilting
+            supports (a u = r_b θ coordinate's force k_u u times the member's base radius).
+    """
+
+    force_names: tuple
+    forces: Array
+    moment_names: tuple
+    moments: Array
+
+
+def support_reactions(model: AbstractPlanetaryModel, stage: PlanetaryStage) -> SupportReactions:
+    """The central members' support reactions of ``stage`` in ``model``'s coordinates: the
+    grounded springs of its stiffness without the meshes, K_b − K_b(the central members'
+    bearings, axial, tilting and torsional supports removed), row by row on the central
+    coordinates (:class:`SupportReactions`). A coordinate whose support is zero (a floating
+    sun) has no row where the stage is concrete (traced: every central coordinate keeps its
+    row). The planet pins are inside the stage (planet on carrier) and give no row.
+
+    In the carrier frame (docs/planetary.md): a fixed-frame support (the held ring's) sees an
+    in-plane component of order h at h f_m ± f_c, f_c the carrier's rotation frequency; the
+    torque about the axis is the same in both frames.
+
+    Raises:
+        ValueError: a model or stage of another type (one line)."""
+    check_instance("model", model, AbstractPlanetaryModel,
+                   "a planetary model kind (TorsionalPlanetary, PlanarPlanetary, "
+                   "SpatialPlanetary)", "support_reactions")
+    check_instance("stage", stage, PlanetaryStage, "a jaxgear.PlanetaryStage", "support_reactions")
+    k_full = structure_stiffness(model, stage)
+    zero = jnp.zeros((), dtype=stage.planet_angles.dtype)
+
+    def free(m):
+        return eqx.tree_at(
+            lambda m: (m.bearing_stiffness, m.torsional_stiffness, m.axial_stiffness,
+                       m.tilt_stiffness),
+            m, (jnp.zeros(2, zero.dtype), zero, zero, jnp.zeros(2, zero.dtype)),
+        )
+
+    bare = eqx.tree_at(lambda s: (s.sun, s.ring, s.carrier), stage,
+                       (free(stage.sun), free(stage.ring), free(stage.carrier)))
+    k_g = k_full - structure_stiffness(model, bare)
+    radius = {"c": stage.carrier.base_radius, "r": stage.ring.base_radius,
+              "s": stage.sun.base_radius}
+    concrete = not is_traced(k_g)
+    forces, moments = ([], []), ([], [])
+    for i, name in enumerate(model.dof_names(stage)):
+        comp, _, member = name.rpartition("_")
+        if member not in _MEMBERS or comp not in _COMPONENTS:
+            continue
+        if concrete and float(k_g[i, i]) == 0.0:
+            continue
+        label, is_force = _COMPONENTS[comp]
+        row = k_g[i] if comp != "u" else k_g[i] * radius[member]
+        names, rows = forces if is_force else moments
+        names.append(f"{_MEMBERS[member]} {label}")
+        rows.append(row)
+    n = k_g.shape[0]
+
+    def stack(rows):
+        return jnp.stack(rows) if rows else jnp.zeros((0, n), k_g.dtype)
+
+    return SupportReactions(tuple(forces[0]), stack(forces[1]), tuple(moments[0]),
+                            stack(moments[1]))
 
 
 class PlanetaryWhine(eqx.Module):
@@ -62,6 +151,19 @@ class PlanetaryWhine(eqx.Module):
         contact_loss: min_mesh_force <= 0 (S, 2N): the linear result does not hold there.
         nonlinearity: the contact force the held active set misplaces over the static force,
             the largest over the period, (S, 2N) (as :class:`~jaxgear.dynamics.WhineResponse`).
+        transmission_error: each mesh's transmission error, its transverse deflection V q + d
+            at mid-face (m, compression positive, the pin errors' offsets d in order 0: as
+            :class:`~jaxgear.planetary.PlanetaryQuasiStatic`'s ``sun_te``, ``ring_te``),
+            (S, H + 1, 2N): the sun meshes, then the ring meshes.
+        bearing_force: the central members' support forces (N, carrier-frame components,
+            :func:`support_reactions`), (S, H + 1, r). support_moment: their torques about the
+            axis and tilting moments (N m), (S, H + 1, r_m).
+        bearing_names, moment_names: static, the components' labels (r,), (r_m,).
+        mesh_names: static, ``"sun-planet <n>"`` then ``"ring-planet <n>"`` (2N,).
+        carrier_speed: Ω (rad/s, signed, fixed frame), (S,).
+
+    ``mesh_force`` (S, H + 1, 2N): the sun meshes' forces, then the ring meshes' (the order of
+    ``transmission_error``, :class:`~jaxgear.dynamics.WhineResponse`'s attribute).
     """
 
     speed: Float[Array, " S"]
@@ -74,6 +176,46 @@ class PlanetaryWhine(eqx.Module):
     min_mesh_force: Float[Array, "S m"]
     contact_loss: Bool[Array, "S m"]
     nonlinearity: Float[Array, "S m"]
+    transmission_error: Complex[Array, "S h m"]
+    bearing_force: Complex[Array, "S h r"]
+    support_moment: Complex[Array, "S h rm"]
+    bearing_names: tuple = eqx.field(static=True, default=())
+    moment_names: tuple = eqx.field(static=True, default=())
+    mesh_names: tuple = eqx.field(static=True, default=())
+    carrier_speed: Float[Array, " S"] | None = None
+
+    @property
+    def mesh_force(self) -> Complex[Array, "S h m"]:
+        """The sun meshes' forces, then the ring meshes' (N), (S, H + 1, 2N)."""
+        return jnp.concatenate([self.sun_mesh_force, self.ring_mesh_force], axis=-1)
+
+    def fixed_frame_lines(self) -> tuple[tuple, Array, Array]:
+        """The support forces as a support fixed in space (a housing's seat) receives them: each
+        member's in-plane force, carrier-frame x + i y = Σ_h (c^x_h + i c^y_h) e^{i h ω t}
+        (two-sided c_h, h = −H..H, from the one-sided orders), turned by the carrier angle Ω t,
+        is the sum of circular whirls Σ_h d_h e^{i (h ω + Ω) t}, d_h = c^x_h + i c^y_h: one
+        line per h at the frequency |h f + f_c| (f_c = Ω / 2π), of which the fixed x and y
+        components each carry |d_h| (order h of the carrier frame at h f ± f_c, the
+        planet-pass sidebands; order 0 at f_c).
+
+        Returns:
+            (members, frequency, amplitude): the members with an x and a y force component
+            (names), the lines' frequencies (Hz, (S, 2H + 1), h = −H..H: |h f + f_c|) and
+            their amplitudes (N, (S, 2H + 1, members)).
+        """
+        names = list(self.bearing_names)
+        members = tuple(n[:-2] for n in names if n.endswith(" x") and f"{n[:-2]} y" in names)
+        F = self.bearing_force
+        half = jnp.concatenate([F[:, :1], 0.5 * F[:, 1:]], axis=1)  # c_h, h = 0..H
+        both = jnp.concatenate([jnp.conj(half[:, :0:-1]), half], axis=1)  # h = −H..H
+        ix = jnp.array([names.index(f"{m} x") for m in members], dtype=int)
+        iy = jnp.array([names.index(f"{m} y") for m in members], dtype=int)
+        d = both[..., ix] + 1j * both[..., iy]
+        H = F.shape[1] - 1
+        h = jnp.arange(-H, H + 1, dtype=self.frequency.dtype)
+        f_c = self.carrier_speed / (2 * jnp.pi)
+        freq = jnp.abs(h[None, :] * self.frequency[:, None] + f_c[:, None])
+        return members, freq, jnp.abs(d)
 
 
 def _one_sided(c, H):
@@ -156,7 +298,26 @@ def planetary_whine(
     omega = jnp.atleast_1d(jnp.asarray(carrier_speeds, dtype))
     v = (stage.ring.base_radius * jnp.abs(omega) if mesh_speeds is None
          else jnp.broadcast_to(jnp.asarray(mesh_speeds, dtype), omega.shape))
-    return _whine(model, stage, meshes, run, omega, v, method, int(positions), law)
+    w = _whine(model, stage, meshes, run, omega, v, method, int(positions), law)
+    # the TE (V q + d, as planetary_quasi_static's) and the supports' reactions per order
+    (v_s, _), (v_r, _) = model.face_rows(stage)
+    _, d_s, d_r = pin_terms(model, stage, run.tangential_pin_errors, run.radial_pin_errors,
+                            "planetary_whine")
+    X = w.coordinates
+    te = jnp.einsum("shn,mn->shm", X, jnp.concatenate([v_s, v_r]).astype(X.dtype))
+    te = te.at[:, 0, :].add(jnp.concatenate([d_s, d_r]))
+    sup = support_reactions(model, stage)
+    n_pl = stage.n_planets
+    return dataclasses.replace(
+        w,
+        transmission_error=te,
+        bearing_force=jnp.einsum("shn,rn->shr", X, sup.forces.astype(X.dtype)),
+        support_moment=jnp.einsum("shn,rn->shr", X, sup.moments.astype(X.dtype)),
+        bearing_names=sup.force_names,
+        moment_names=sup.moment_names,
+        mesh_names=tuple(f"{m}-planet {k + 1}" for m in ("sun", "ring") for k in range(n_pl)),
+        carrier_speed=omega,
+    )
 
 
 @eqx.filter_jit
@@ -216,4 +377,7 @@ def _whine(kind, stage, meshes, run, speeds, mesh_speeds, method, P, law) -> Pla
         min_mesh_force=fmin,
         contact_loss=fmin <= 0.0,
         nonlinearity=misplaced / fs,
+        transmission_error=None,
+        bearing_force=None,
+        support_moment=None,
     )

@@ -60,7 +60,7 @@ def whine_order_plot(path, speeds, amplitudes, orders, *, ylabel, title, invalid
 
 def whine_waterfall_plot(path, speeds, fundamental_hz, orders, amplitudes, *, label, title,
                          invalid=None, dynamic_range_db=60.0, power=False,
-                         limit_hz=None) -> None:
+                         limit_hz=None, order_labels=None) -> None:
     """The waterfall: every order's frequency (Hz) against the speed (rad/s), each point
     coloured by the order's level 20 log10(|a| / max |a|) (dB; ``power``: a power's,
     10 log10), the orders as grey lines (NaN amplitudes: not drawn).
@@ -71,6 +71,7 @@ def whine_waterfall_plot(path, speeds, fundamental_hz, orders, amplitudes, *, la
         dynamic_range_db: the colour scale's span below the largest level.
         limit_hz: None, or the frequency above which nothing is drawn (a dashed line; the
             frequency axis ends a little above it).
+        order_labels: (k,) the names written at the orders' ends (default "<order>×").
     """
     fig, ax = new_figure((8, 5.5))
     s = np.asarray(speeds, dtype=float)
@@ -90,7 +91,8 @@ def whine_waterfall_plot(path, speeds, fundamental_hz, orders, amplitudes, *, la
     cb.set_label(f"level, dB re the largest ({ref:.3g} {label.split('(')[-1].rstrip(')')})")
     flagged = invalid is not None and _shade(ax, s, invalid)
     for j in range(o.size):  # each order named at its right end
-        ax.annotate(f"{o[j]:g}×", (s[-1], f[-1, j]), xytext=(3, 0), textcoords="offset points",
+        text = f"{o[j]:g}×" if order_labels is None else order_labels[j]
+        ax.annotate(text, (s[-1], f[-1, j]), xytext=(3, 0), textcoords="offset points",
                     fontsize=7, va="center", color="0.3")
     if limit_hz is not None:
         ax.axhline(limit_hz, color="tab:red", ls="--", lw=0.9)
