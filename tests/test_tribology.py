@@ -256,7 +256,9 @@ def test_film_at_a_vanishing_load_is_finite_with_a_zero_derivative():
             h = tr.film_thickness(kind, R, u, w, eta, alpha, e_star)
             assert float(h.minimum) == pytest.approx(ref[f"{key}_min"], rel=1e-12)
             assert float(h.central) == pytest.approx(ref[f"{key}_c"], rel=1e-12)
-            dh = jax.grad(lambda x, k=kind: tr.film_thickness(k, R, u, x, eta, alpha, e_star).minimum)
+            dh = jax.grad(
+                lambda x, k=kind: tr.film_thickness(k, R, u, x, eta, alpha, e_star).minimum
+            )
             assert float(dh(jnp.asarray(w))) == 0.0
         above = _reference_films(R, u, 10.0 * w_floor, eta, alpha, E, NU, E, NU)
         h = tr.film_thickness(kind, R, u, 10.0 * w_floor, eta, alpha, e_star)

@@ -345,8 +345,8 @@ def measured_k_h_alpha(loads: StageLoads | None) -> list[dict] | None:
     """The ``rating.measured`` K_Hα of the stage's two rated meshes from its quasi-static loads
     (:func:`stage_loads`): each planet's mesh measured as a pair's
     (:func:`jaxgear.rating.transverse_load_factor`: the load sharing between the tooth pairs in
-    contact on the theoretical path, ``loads.paths``), the largest over the planets, with :data:`STAGE_ALPHA_SOURCE` and the solve's
-    contact model; None without loads."""
+    contact on the theoretical path, ``loads.paths``), the largest over the planets, with
+    :data:`STAGE_ALPHA_SOURCE` and the solve's contact model; None without loads."""
     if loads is None:
         return None
     source = STAGE_ALPHA_SOURCE.format(source=loads.source, n=len(loads.meshes[0]))

@@ -13,15 +13,15 @@ per unit length of contact line (N/m), α the pressure–viscosity coefficient (
 Isothermal formulas; none carries an inlet shear-heating factor (GEARpie's φ_T, 0.996 to 0.999 at
 the FZG points of docs/tribology.md, is left out).
 
-The load group is taken no smaller than ``_MIN_LOAD_PARAMETER``, W ≥ 1e-12: the formulas' W^−0.1
-… W^−0.17 have a derivative ∝ W^−1.1 … W^−1.17 that overflows to inf below W ≈ 1e-270 (float64) or
-1e-34 (float32), and a masked cell's zero cotangent times inf is NaN. A contact solve in the
-smooth law gives such loads (1e-276 N/m) to cells far from contact, the corner cells of contact
-beyond the path of contact. Gear contacts have W ≈ 1e-5 … 1e-3, the range the formulas were fitted
-to; a cell at W = 1e-12 carries 1e-8 of a typical line load and its film is about ten times the mesh's
-smallest, so the floor leaves every film that matters unchanged and gives such a cell a finite
-film with a zero derivative (``jnp.maximum`` evaluates the power only at the safe value: the
-double-``where`` pattern).
+The load group is taken no smaller than ``_MIN_LOAD_PARAMETER``, W >= 1e-12: the formulas'
+W^−0.1 … W^−0.17 have a derivative ∝ W^−1.1 … W^−1.17 that overflows to inf below W ≈ 1e-270
+(float64) or 1e-34 (float32), and a masked cell's zero cotangent times inf is NaN. A contact
+solve in the smooth law gives such loads (1e-276 N/m) to cells far from contact, the corner
+cells of contact beyond the path of contact. Gear contacts have W ≈ 1e-5 … 1e-3, the range the
+formulas were fitted to; a cell at W = 1e-12 carries 1e-8 of a typical line load and its film
+is about ten times the mesh's smallest, so the floor leaves every film that matters unchanged
+and gives such a cell a finite film with a zero derivative (``jnp.maximum`` evaluates the power
+only at the safe value: the double-``where`` pattern).
 """
 
 from __future__ import annotations
