@@ -34,6 +34,14 @@ def case():
     return jio.load_case(CASE).replace(extended_contact=False)
 
 
+@pytest.fixture(scope="module")
+def beyond():
+    # the case file as written: contact beyond the path of contact (the default)
+    c = jio.load_case(CASE)
+    assert c.extended_contact
+    return c
+
+
 def _problem(case, objective, **settings):
     return jio.case_problem(case, VARS, objective, positions_per_pitch=PPP, **settings)
 
@@ -95,17 +103,12 @@ def test_torque_range_and_statistic_from_the_case_names(case):
         jio.parse_optimise({"objective": "te_rms", "torques": [100.0, 300.0, 3]})
 
 
-@pytest.mark.parametrize(
-    "name", ["power_loss", "min_specific_film", "max_flash_temperature"]
-)
-def test_gradients_wrt_tip_relief_and_crowning_match_central_differences(case, name):
-    """d(scaled objective)/d(tip relief depth, tip relief extent, crowning depth) in the smooth
-    law against central differences (relative 1e-4 of the largest component). Crowning of a spur
-    pair moves load across the face, not along the path: the power loss does not depend on it,
-    the minimum λ and the maximum flash temperature (on the most loaded slice) do."""
-    prob = _problem(case, name)
+def _central_differences(prob, name):
+    """The smooth law's gradient of the scaled objective at X0 and its central differences at
+    steps 1e-4 and 5e-5 (agreeing: no kink crossed)."""
     f = jax.jit(lambda x: prob.value(x))
     g = np.asarray(jax.jit(jax.grad(lambda x: prob.value(x)))(jnp.asarray(X0)))
+    assert np.all(np.isfinite(g)), (name, g)
     scale = np.max(np.abs(g))
     for i in range(3):
         e = np.zeros(3)
@@ -114,22 +117,62 @@ def test_gradients_wrt_tip_relief_and_crowning_match_central_differences(case, n
         fd2 = (float(f(jnp.asarray(X0 + e / 2))) - float(f(jnp.asarray(X0 - e / 2)))) / 1e-4
         assert fd2 == pytest.approx(fd, abs=1e-4 * scale)
         assert g[i] == pytest.approx(fd, abs=1e-4 * scale), (name, i)
+    return g, scale
+
+
+@pytest.mark.parametrize(
+    "name", ["power_loss", "efficiency_loss", "min_specific_film", "max_flash_temperature"]
+)
+def test_gradients_beyond_the_path_match_central_differences(beyond, name):
+    """With contact beyond the path of contact (the case file's default): d(scaled objective)/
+    d(tip relief depth, tip relief extent, crowning depth) in the smooth law is finite and
+    matches central differences (relative 1e-4 of the largest component), and every component
+    is non-zero. The smooth law gives the corner cells beyond the path that do not touch a
+    vanishing load (1e-276 N/m), at which the film formula's W^-0.13 has an overflowing
+    derivative: the film is evaluated at W >= 1e-12 (jaxgear.tribology.film_thickness), so
+    1/λ_min's gradient is finite. Crowning changes the loss here: at the positions where a
+    corner cell beyond the path touches, only the middle of the face touches there, so crowning
+    (which relieves the fully touching pair by its mean over the face but the corner's touching
+    slices by less) moves load to the corner pair at the end of the path, where the sliding is
+    fastest: the loss rises with crowning."""
+    g, _ = _central_differences(_problem(beyond, name), name)
+    assert np.all(np.abs(g) > 1e-3), g
+    if name in ("power_loss", "efficiency_loss"):
+        assert g[2] > 0.0
+
+
+def test_power_loss_on_the_path_does_not_depend_on_crowning(case):
+    """On the theoretical path of contact every contact line of a spur pair lies at one s and
+    touches along the whole face at the design point: crowning c(y) shifts each pair's
+    approach by its mean over the face alike, so each pair's total load, and with it the loss
+    Σ μ w v_g l (v_g a function of s alone), does not depend on the crowning depth (checked on
+    each pair's load summed over the face, and on the objective's gradient), while the tip
+    relief's components match central differences."""
+    prob = _problem(case, "power_loss")
+    g, scale = _central_differences(prob, "power_loss")
     assert abs(g[0]) > 1e-3 and abs(g[1]) > 1e-3
-    if name == "power_loss":
-        assert abs(g[2]) < 1e-8 * scale
-    else:
-        assert abs(g[2]) > 1e-3
+    assert abs(g[2]) < 1e-8 * scale
+    law = prob.contact
+
+    def pair_loads(x):
+        r = jg.quasi_static(prob.mesh, prob.modifications(x), case.torque, contact=law,
+                            positions_per_pitch=PPP)
+        return jnp.sum(r.line_load, axis=-1), r.line_load
+
+    (_, w), (dpair, dw) = jax.jvp(pair_loads, (jnp.asarray(X0),), (jnp.asarray([0.0, 0.0, 1.0]),))
+    assert float(jnp.max(jnp.abs(dw))) > 1e4  # the load moves across the face ...
+    assert float(jnp.max(jnp.abs(dpair))) < 1e-8 * float(jnp.max(w))  # ... not between pairs
 
 
-def test_float32_objective_and_gradient(case):
-    """The efficiency-loss problem built and evaluated in float32 gives the float64 value and
-    gradient within float32's reach."""
-    ref = _problem(case, "efficiency_loss")
+@pytest.mark.parametrize("name", ["efficiency_loss", "min_specific_film"])
+def test_float32_objective_and_gradient(beyond, name):
+    """The problem built and evaluated in float32, with contact beyond the path, gives the
+    float64 value and gradient within float32's reach (the gradient finite)."""
+    ref = _problem(beyond, name)
     v64 = float(ref.value(jnp.asarray(X0)))
     g64 = np.asarray(jax.grad(ref.value)(jnp.asarray(X0)))
     with jax.enable_x64(False):
-        # loaded in float32, on the theoretical path as the fixture
-        p32 = _problem(jio.load_case(CASE).replace(extended_contact=False), "efficiency_loss")
+        p32 = _problem(jio.load_case(CASE), name)  # loaded in float32
         x = jnp.asarray(X0, dtype=jnp.float32)
         v32 = p32.value(x)
         g32 = jax.grad(lambda y: p32.value(y))(x)

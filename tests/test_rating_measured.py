@@ -41,6 +41,40 @@ def test_transverse_load_factor_by_hand():
     assert float(jg.rating.transverse_load_factor(_Loads(even, even > 0))) == 1.0
 
 
+class _Cells(NamedTuple):
+    line_load: np.ndarray
+    cell_s: np.ndarray
+    cell_mask: np.ndarray
+
+
+def test_transverse_load_factor_beyond_the_path_by_hand():
+    """One position, two lines of two slices, g_α = 1: a pair on the path carrying 0.87 of
+    the load (line load 87 on both cells) and a tip corner beyond the path (s = -0.1) carrying
+    0.13 (13): the corner is not a pair, the pair on the path carries less than the whole load
+    over its length: ratio 87/100 -> K_Hα 1. The same corner placed on the path (s = 0.1, a
+    second pair in the double contact zone taking 13 %): 87 over the mean 50 -> 1.74, as
+    without path_of_contact (every cell a pair's). A result without cell_s is refused with
+    path_of_contact, and g_α <= 0 too, in one line."""
+    w = np.array([[[87.0, 87.0], [13.0, 13.0]]])
+    mask = np.ones(w.shape, dtype=bool)
+    s = lambda corner: np.array([[[0.5, 0.5], [corner, corner]]])
+    k = jg.rating.transverse_load_factor
+    assert float(k(_Cells(w, s(-0.1), mask), path_of_contact=1.0)) == 1.0
+    assert float(k(_Cells(w, s(1.1), mask), path_of_contact=1.0)) == 1.0  # late disengagement
+    assert float(k(_Cells(w, s(0.1), mask), path_of_contact=1.0)) == pytest.approx(1.74, rel=1e-12)
+    assert float(k(_Cells(w, s(-0.1), mask))) == pytest.approx(1.74, rel=1e-12)
+    # two pairs on the path sharing 60/40 and a corner of 10 beyond: 60 over 110/4 (the corner's
+    # load in the total, its cells not in the length)
+    w3 = np.array([[[60.0, 60.0], [40.0, 40.0], [10.0, 10.0]]])
+    s3 = np.array([[[0.3, 0.3], [0.8, 0.8], [1.05, 1.05]]])
+    got = float(k(_Cells(w3, s3, np.ones(w3.shape, bool)), path_of_contact=1.0))
+    assert got == pytest.approx(60.0 / (220.0 / 4), rel=1e-12)
+    with pytest.raises(ValueError, match="_Loads has no cell_s"):
+        k(_Loads(w, mask), path_of_contact=1.0)
+    with pytest.raises(ValueError, match=r"path_of_contact = 0 m is out of range: allowed > 0 m"):
+        k(_Cells(w, s(0.1), mask), path_of_contact=0.0)
+
+
 def test_transverse_load_factor_of_a_tip_relieved_uniform_spur_pair():
     # theoretical path: the hand count below takes the path's cells (two lines in double contact)
     case = jio.load_case("accessory-spur").replace(

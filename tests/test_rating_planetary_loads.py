@@ -96,7 +96,8 @@ def test_in_phase_stage_meshes_equal_the_pairs_run_alone(tmp_path):
         for planet in loads.meshes[k]:
             np.testing.assert_allclose(planet.line_load, w, rtol=0, atol=1e-9 * w.max())
             np.testing.assert_array_equal(planet.cell_mask, np.asarray(pair_res.cell_mask))
-        want.append(float(jg.rating.transverse_load_factor(pair_res)))
+        g = float(case.pairs[k].path_of_contact)  # the pairs on the theoretical path
+        want.append(float(jg.rating.transverse_load_factor(pair_res, path_of_contact=g)))
     got = [m["value"] for m in measured_k_h_alpha(loads)]
     np.testing.assert_allclose(got, want, rtol=1e-9)
     assert got[0] > 1.05  # the relief shifts load between the sun mesh's pairs
@@ -191,7 +192,8 @@ def test_nrel_stage1_fe_root_stress_against_iso(tmp_path, resolution):
     from jaxgear.cli.planetary import measured_k_h_alpha, rating_section
 
     # theoretical path: the even split between the pairs (K_Halpha 1) that puts the map at
-    # ISO's load is the path's; the corner's light contact is read as a second pair beyond it
+    # ISO's load is the path's (beyond it the corners' contact loads the fillets' other points:
+    # test_nrel_stage1_k_h_alpha_beyond_the_path_against_a_reference below)
     case = jio.load_case("nrel-5mw-planetary").replace(extended_contact=False)
     if resolution is not None:
         case = case.replace(slices=resolution[0], positions_per_pitch=resolution[1])
@@ -210,3 +212,53 @@ def test_nrel_stage1_fe_root_stress_against_iso(tmp_path, resolution):
     iso = np.asarray(rs["iso_sigma_F0_Pa"])
     np.testing.assert_allclose(iso, np.asarray(sec["bending"]["sigma_F0_Pa"]), rtol=0)
     assert math.isclose(rs["max_Pa"][0][0] / iso[0][0], ratios[0], rel_tol=1e-12)
+
+
+def _k_h_alpha_reference(w, s, mask, g, loaded=1e-2):
+    """K_Halpha written again from its definition (docs/rating.md): at each position the pairs
+    are the contact lines' cells on the theoretical path [0, g] loaded above ``loaded`` of the
+    largest line load; the largest pair's mean line load over (all the load, on the path and
+    beyond, over all the pairs' loaded cells); the largest over the positions, at least 1."""
+    w = np.where(mask, np.maximum(w, 0.0), 0.0)
+    cut = loaded * w.max()
+    best = 1.0
+    for p in range(w.shape[0]):
+        count, means = 0, []
+        for line in range(w.shape[1]):
+            cells = [j for j in range(w.shape[2])
+                     if w[p, line, j] > cut and 0.0 <= s[p, line, j] <= g]
+            count += len(cells)
+            if cells:
+                means.append(sum(w[p, line, j] for j in range(w.shape[2])
+                                 if 0.0 <= s[p, line, j] <= g) / len(cells))
+        if means:
+            best = max(best, max(means) / (w[p].sum() / count))
+    return best
+
+
+def test_nrel_stage1_k_h_alpha_beyond_the_path_against_a_reference():
+    """nrel-5mw-planetary as the case file has it (contact beyond the path), 2 slices and 16
+    positions: the unmodified spur meshes share evenly between their pairs on the path, and the
+    tip corners' light contact beyond it (up to a quarter of the load where one pair alone is
+    on the path) relieves that pair rather than counting as a second pair: K_Halpha 1 on both
+    meshes, equal to the reference written from the definition for every planet (1e-12); read
+    with every cell as a pair's (path_of_contact None) the same loads would give above 1.5."""
+    from jaxgear.cli.planetary import measured_k_h_alpha
+
+    case = jio.load_case("nrel-5mw-planetary").replace(slices=2, positions_per_pitch=16)
+    assert case.extended_contact
+    loads = _loads(case)
+    got = [m["value"] for m in measured_k_h_alpha(loads)]
+    assert got == pytest.approx([1.0, 1.0], abs=1e-9)
+    beyond = False
+    for k, kind in enumerate(loads.meshes):
+        g = float(case.pairs[k].path_of_contact)
+        assert loads.paths[k] == pytest.approx(g, rel=1e-12)
+        for planet in kind:
+            w, s, m = (np.asarray(a) for a in (planet.line_load, planet.cell_s, planet.cell_mask))
+            beyond |= bool(np.any(m & (w > 0) & ((s < 0) | (s > g))))
+            ref = _k_h_alpha_reference(w, s, m, g)
+            assert float(jg.rating.transverse_load_factor(planet, path_of_contact=g)) == (
+                pytest.approx(ref, rel=1e-12))
+        assert float(jg.rating.transverse_load_factor(kind[0])) > 1.5  # every cell a pair's
+    assert beyond  # the corners do touch

@@ -241,6 +241,30 @@ def test_film_formulas_against_separate_evaluation(R, u, w, eta, alpha):
     assert float(ph.minimum) == pytest.approx(float(dh.minimum), rel=0.3)
 
 
+def test_film_at_a_vanishing_load_is_finite_with_a_zero_derivative():
+    """A load far below any gear contact's (the smooth contact law gives 1e-276 N/m to corner
+    cells beyond the path of contact that do not touch, and 0 where it underflows) is taken at
+    the load group W = 1e-12: the film is the formula's at that W (written again here from the
+    papers), its derivative in w is 0 and finite (W^-0.13's would overflow), and a load with
+    W above 1e-12 keeps the formula's own film."""
+    R, u, eta, alpha = 0.0075, 2.5, 0.046, 20e-9
+    e_star = jg.contact_modulus(E, NU)
+    w_floor = 1e-12 * 2.0 * e_star * R  # the load at W = 1e-12
+    ref = _reference_films(R, u, w_floor, eta, alpha, E, NU, E, NU)
+    for kind, key in ((tr.DowsonHigginson(), "dh"), (tr.PanHamrock(), "ph")):
+        for w in (0.0, 2.2e-276, 1e-3 * w_floor):
+            h = tr.film_thickness(kind, R, u, w, eta, alpha, e_star)
+            assert float(h.minimum) == pytest.approx(ref[f"{key}_min"], rel=1e-12)
+            assert float(h.central) == pytest.approx(ref[f"{key}_c"], rel=1e-12)
+            dh = jax.grad(
+                lambda x, k=kind: tr.film_thickness(k, R, u, x, eta, alpha, e_star).minimum
+            )
+            assert float(dh(jnp.asarray(w))) == 0.0
+        above = _reference_films(R, u, 10.0 * w_floor, eta, alpha, E, NU, E, NU)
+        h = tr.film_thickness(kind, R, u, 10.0 * w_floor, eta, alpha, e_star)
+        assert float(h.minimum) == pytest.approx(above[f"{key}_min"], rel=1e-12)
+
+
 # -- the integrated loss in Ohlendorf's limit ---------------------------------------------
 
 

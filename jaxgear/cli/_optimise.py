@@ -178,6 +178,13 @@ def _objective_report(objective, problem, designs: dict) -> dict:
     return {}
 
 
+def _path_of_contact(mesh) -> float:
+    """g_α (m) of the problem's one mesh (a mesh model, or a scene's one base plane): where the
+    measured K_Hα reads its pairs (:func:`jaxgear.rating.transverse_load_factor`)."""
+    plane = mesh if isinstance(mesh, jg.MeshModel) else mesh.base_planes[0]
+    return float(plane.path_of_contact)
+
+
 @_objective_report.register
 def _(objective: LeastSafetyFactor, problem, designs: dict) -> dict:
     """``rating``: the start's and the optimum's rating in exact contact (sharp relief starts),
@@ -203,7 +210,8 @@ def _(objective: LeastSafetyFactor, problem, designs: dict) -> dict:
             "S_F": s_f.tolist(),
             "least_S": float(min(s_h.min(), s_f.min())),
             "K_Hbeta_measured": float(jg.rating.face_load_factor(res)),
-            "K_Halpha_measured": float(jg.rating.transverse_load_factor(res)),
+            "K_Halpha_measured": float(jg.rating.transverse_load_factor(
+                res, path_of_contact=_path_of_contact(sharp.mesh))),
             "te_rms_m": float(res.te_rms),
         }
     limit = objective.te_limit

@@ -261,12 +261,17 @@ class StageLoads(NamedTuple):
             over the positions), (n_planets,).
         source: :data:`STAGE_LOADS` filled in.
         contact_model: the contact model of the solve's meshes (:func:`stage_contact_model`).
+        paths: (sun/planet, planet/ring): each mesh model's theoretical path of contact g_α
+            (m), where the measured K_Hα reads its pairs (cells beyond it, a tip corner's
+            contact, are not pairs: :func:`jaxgear.rating.transverse_load_factor`); None: every
+            cell is on the path.
     """
 
     meshes: tuple
     forces: tuple
     source: str
     contact_model: str
+    paths: tuple | None = None
 
     def most_loaded(self, k: int) -> int:
         """The planet (0-based) whose mesh of kind ``k`` carries the largest mean force, the
@@ -309,7 +314,8 @@ def stage_loads(case, spec, stage, models: dict, ring=None) -> StageLoads | None
                    for f in (q.sun_mesh_forces, q.ring_mesh_forces))
     source = STAGE_LOADS.format(model=name, slices=case.slices,
                                 positions=case.positions_per_pitch)
-    return StageLoads(tuple(kinds), forces, source, stage_contact_model(meshes))
+    paths = tuple(float(m.path_of_contact) for m in (meshes.sun_mesh, meshes.ring_mesh))
+    return StageLoads(tuple(kinds), forces, source, stage_contact_model(meshes), paths)
 
 
 def _mesh_loads(meshes, x, values, n: int, per_length: bool = False) -> tuple:
@@ -339,13 +345,14 @@ def measured_k_h_alpha(loads: StageLoads | None) -> list[dict] | None:
     """The ``rating.measured`` K_Hα of the stage's two rated meshes from its quasi-static loads
     (:func:`stage_loads`): each planet's mesh measured as a pair's
     (:func:`jaxgear.rating.transverse_load_factor`: the load sharing between the tooth pairs in
-    contact), the largest over the planets, with :data:`STAGE_ALPHA_SOURCE` and the solve's
-    contact model; None without loads."""
+    contact on the theoretical path, ``loads.paths``), the largest over the planets, with
+    :data:`STAGE_ALPHA_SOURCE` and the solve's contact model; None without loads."""
     if loads is None:
         return None
     source = STAGE_ALPHA_SOURCE.format(source=loads.source, n=len(loads.meshes[0]))
-    return [MeasuredFactor(planet_transverse_factor(kind), source, loads.contact_model).entry()
-            for kind in loads.meshes]
+    paths = (None, None) if loads.paths is None else loads.paths
+    return [MeasuredFactor(planet_transverse_factor(kind, g), source, loads.contact_model).entry()
+            for kind, g in zip(loads.meshes, paths, strict=True)]
 
 
 @functools.singledispatch

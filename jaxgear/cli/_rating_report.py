@@ -12,7 +12,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .. import quasi_static, tooth_geometry
+from .. import MeshModel, quasi_static, tooth_geometry
 from ..dynamics import Outputs, simulate
 from ..io import (
     Case,
@@ -262,6 +262,15 @@ def _(form: TrainForm, result) -> list:  # a train's: one per mesh
     return list(result)
 
 
+def _path(mesh, result) -> float | None:
+    """The theoretical path g_α (m) on which the measured K_Hα reads its pairs
+    (:func:`jaxgear.rating.transverse_load_factor`): ``mesh``'s where it has contact beyond the
+    path and ``result`` places its cells (``cell_s``); None (every cell a pair's) otherwise."""
+    if isinstance(mesh, MeshModel) and mesh.extended_contact and hasattr(result, "cell_s"):
+        return float(mesh.path_of_contact)
+    return None
+
+
 def _factors(result, model: str, mesh, suffix: str = "") -> dict:
     """K_Hβ and K_Hα measured on one mesh's load map ``result`` of ``model`` (a source's name)
     whose mesh model is ``mesh`` (the contact model they state:
@@ -272,7 +281,8 @@ def _factors(result, model: str, mesh, suffix: str = "") -> dict:
         f"K_Hbeta{suffix}": MeasuredFactor(
             float(face_load_factor(result)), MEASURED.format(model=model), words).entry(),
         f"K_Halpha{suffix}": MeasuredFactor(
-            float(transverse_load_factor(result)), MEASURED_ALPHA.format(model=model),
+            float(transverse_load_factor(result, path_of_contact=_path(mesh, result))),
+            MEASURED_ALPHA.format(model=model),
             words).entry(),
     }
 

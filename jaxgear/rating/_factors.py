@@ -11,7 +11,7 @@ import equinox as eqx
 import jax.numpy as jnp
 from jaxtyping import Array
 
-from .._util import as_float
+from .._util import as_float, check_real
 
 __all__ = [
     "LoadFactors",
@@ -238,7 +238,9 @@ def face_load_factor(result) -> Array:
     return jnp.maximum(jnp.max(face) / jnp.mean(face), 1.0)
 
 
-def transverse_load_factor(result, loaded: float = 1e-2) -> Array:
+def transverse_load_factor(
+    result, loaded: float = 1e-2, *, path_of_contact: float | None = None
+) -> Array:
     """K_Hα measured on a jaxgear load distribution: the load sharing between the tooth pairs in
     contact. ISO 6336-1:2019 clause 8 defines K_Hα as accounting for the non-uniform
     distribution of the transverse load between the several pairs of teeth in contact at once;
@@ -251,18 +253,49 @@ def transverse_load_factor(result, loaded: float = 1e-2) -> Array:
     deflection) is not in contact: its mate then carries the load alone, ratio 1 (ISO's cap
     ε_γ/(ε_α Z_ε²) covers that case); so this measures sharing, not lift-off.
 
+    Contact beyond the theoretical path (``path_of_contact`` given): ISO's pairs in contact are
+    those on the theoretical path [0, g_α], whose length ε_α counts (Z_ε, the limits of
+    :func:`transverse_factor_limits`). A tip corner touching beyond it (premature engagement,
+    late disengagement: docs/extended-contact.md) carries load that the pairs on the path then
+    do not; it counts in the total load but not as a pair among which the load is shared: the
+    numerator and the loaded length are read on the cells with 0 <= s <= g_α only (the mesh
+    model's own test for the cells beyond the path). A corner thus relieves the pair it
+    accompanies (ratio below 1, the result 1) rather than counting as a second pair that
+    carries little (the corner of an unmodified pair taking 13 % of the load in the single
+    contact zone would read 0.87/0.5 = 1.74 as a pair; it reads 1).
+
     Args:
         result: a one-mesh result with ``line_load`` (N/m) and ``cell_mask`` (P, L, N)
-            (:class:`jaxgear.MeshResult`, a one-mesh :class:`jaxgear.QuasiStaticResult`).
+            (:class:`jaxgear.MeshResult`, a one-mesh :class:`jaxgear.QuasiStaticResult`), and
+            ``cell_s`` (m) where ``path_of_contact`` is given.
         loaded: a cell is loaded above this fraction of the result's largest line load.
+        path_of_contact: g_α (m) of the mesh (:attr:`jaxgear.MeshModel.path_of_contact`): a
+            result of a mesh model with ``extended_contact`` needs it; None: every cell is on
+            the path (a mesh model without contact beyond it).
 
     Returns:
         K_Hα (-), >= 1.
+
+    Raises:
+        ValueError: ``path_of_contact`` not > 0, or given for a result without ``cell_s``.
     """
     w = jnp.where(result.cell_mask, jnp.maximum(result.line_load, 0.0), 0.0)
     on = w > loaded * jnp.max(w)
-    n_line = jnp.sum(on, axis=-1)  # (P, L) loaded cells per line
-    line_mean = jnp.sum(w, axis=-1) / jnp.maximum(n_line, 1)
+    pair_load = w
+    if path_of_contact is not None:
+        check_real("path_of_contact", path_of_contact, "m", lo=0.0, lo_open=True, shape=(),
+                   where="transverse_load_factor")
+        if not hasattr(result, "cell_s"):
+            raise ValueError(
+                f"transverse_load_factor: result = {type(result).__name__} has no cell_s: "
+                "allowed a result with cell_s where path_of_contact is given"
+            )
+        s = result.cell_s
+        on_path = (s >= 0.0) & (s <= path_of_contact)
+        on = on & on_path
+        pair_load = jnp.where(on_path, w, 0.0)
+    n_line = jnp.sum(on, axis=-1)  # (P, L) loaded cells per line on the path
+    line_mean = jnp.sum(pair_load, axis=-1) / jnp.maximum(n_line, 1)
     all_mean = jnp.sum(w, axis=(-2, -1)) / jnp.maximum(jnp.sum(on, axis=(-2, -1)), 1)
     ratio = jnp.max(line_mean, axis=-1) / jnp.where(all_mean > 0, all_mean, 1.0)
     return jnp.maximum(jnp.max(ratio), 1.0)

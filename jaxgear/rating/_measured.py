@@ -173,11 +173,14 @@ def planet_dynamic_factor(speeds, dynamic_factors, speed: float, forces) -> floa
     return max(v / share[j] for j, v in enumerate(values) if share[j] > 0)
 
 
-def planet_transverse_factor(meshes) -> float:
+def planet_transverse_factor(meshes, path_of_contact: float | None = None) -> float:
     """K_Hα of one mesh kind of a planetary stage: each planet's mesh measured as a pair's
-    (:func:`jaxgear.rating.transverse_load_factor` of its one-mesh result, ``line_load`` and
-    ``cell_mask``), the largest over the planets."""
-    return max(float(transverse_load_factor(m)) for m in meshes)
+    (:func:`jaxgear.rating.transverse_load_factor` of its one-mesh result, ``line_load``,
+    ``cell_mask`` and, with ``path_of_contact`` (g_α of the kind's mesh model, m), ``cell_s``:
+    the pairs read on the theoretical path, a corner's contact beyond it not a pair), the
+    largest over the planets."""
+    return max(float(transverse_load_factor(m, path_of_contact=path_of_contact))
+               for m in meshes)
 
 
 def with_load_sharing(settings, k_gamma: float):

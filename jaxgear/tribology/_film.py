@@ -12,6 +12,16 @@ per unit length of contact line (N/m), α the pressure–viscosity coefficient (
 
 Isothermal formulas; none carries an inlet shear-heating factor (GEARpie's φ_T, 0.996 to 0.999 at
 the FZG points of docs/tribology.md, is left out).
+
+The load group is taken no smaller than ``_MIN_LOAD_PARAMETER``, W >= 1e-12: the formulas'
+W^−0.1 … W^−0.17 have a derivative ∝ W^−1.1 … W^−1.17 that overflows to inf below W ≈ 1e-270
+(float64) or 1e-34 (float32), and a masked cell's zero cotangent times inf is NaN. A contact
+solve in the smooth law gives such loads (1e-276 N/m) to cells far from contact, the corner
+cells of contact beyond the path of contact. Gear contacts have W ≈ 1e-5 … 1e-3, the range the
+formulas were fitted to; a cell at W = 1e-12 carries 1e-8 of a typical line load and its film
+is about ten times the mesh's smallest, so the floor leaves every film that matters unchanged
+and gives such a cell a finite film with a zero derivative (``jnp.maximum`` evaluates the power
+only at the safe value: the double-``where`` pattern).
 """
 
 from __future__ import annotations
@@ -23,6 +33,9 @@ import jax.numpy as jnp
 from jaxtyping import Array, Float
 
 from .._util import NamedKind
+
+_MIN_LOAD_PARAMETER = 1e-12
+"""The smallest load group W = w/(E'R) the film formulas are evaluated at (the module docstring)."""
 
 __all__ = [
     "AbstractFilmFormula",
@@ -123,11 +136,13 @@ def film_thickness(
         contact_modulus: E* (Pa) (E' = 2E* in the formulas).
 
     Returns:
-        :class:`FilmThickness` (m). Non-positive inputs give inf or NaN; callers mask them
+        :class:`FilmThickness` (m). W = w/(E'R) below 1e-12 (a zero
+        or vanishing load) is taken as 1e-12: a finite film with a zero derivative in w (the
+        module docstring). A non-positive radius or speed gives inf or NaN; callers mask them
         (:func:`jaxgear.tribology.mesh_tribology` does).
     """
     e_prime = 2.0 * jnp.asarray(contact_modulus)
     U = viscosity * entrainment_speed / (e_prime * radius)
     G = pressure_viscosity * e_prime
-    W = line_load / (e_prime * radius)
+    W = jnp.maximum(line_load / (e_prime * radius), _MIN_LOAD_PARAMETER)
     return FilmThickness(radius * formula.central(U, G, W), radius * formula.minimum(U, G, W))

@@ -55,7 +55,7 @@ from jaxtyping import Array, Bool, Float
 from .._geometry import AbstractGearPair
 from .._pressure import contact_modulus
 from .._util import check_instance, check_real, safe_max
-from ._film import AbstractFilmFormula, DowsonHigginson
+from ._film import AbstractFilmFormula, DowsonHigginson, film_thickness
 from ._flash import (
     STEEL_THERMAL_CONTACT_COEFFICIENT,
     cell_flash_temperature,
@@ -294,11 +294,10 @@ def _micropitting(pair, trib, lub, ra, e_star, b_m, lam_p, theta_m):
 
     eta_m, alpha_m = eta(theta_m), alpha(theta_m)
     s_gf = jnp.where(loaded, alpha(theta_b) * eta(theta_b) / (alpha_m * eta_m), 1.0)
-    e_r = 2.0 * e_star
     R = jnp.where(loaded, trib.radius, 1.0)
     w = jnp.where(loaded, trib.line_load, 1.0)
     u = jnp.where(loaded, trib.entrainment_speed, 1.0)
-    h = R * TSMicropittingFilm().minimum(eta_m * u / (e_r * R), alpha_m * e_r, w / (e_r * R))
+    h = film_thickness(TSMicropittingFilm(), R, u, w, eta_m, alpha_m, e_star).minimum
     h = jnp.where(loaded, h * s_gf**0.22, zero)
     lam = h / (0.5 * (ra[0] + ra[1]))
     lam_min = -safe_max(jnp.where(loaded, -lam, -jnp.inf))
