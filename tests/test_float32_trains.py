@@ -118,7 +118,10 @@ def test_float32_tests_on_avx2(tier):
     were compiled for this CPU's full instruction set). The slow tier's lumped 3D train is the
     same property on a regular stiffness; the default tier asserts it on the free torsional
     trains."""
-    env = dict(os.environ, XLA_FLAGS="--xla_cpu_max_isa=AVX2", JAX_PLATFORMS="cpu")
+    # the suite's XLA flags kept (tests/conftest.py: the subprocess's conftest then finds them
+    # named and starts no probe of them), the instruction set limited
+    flags = f"{os.environ.get('XLA_FLAGS', '')} --xla_cpu_max_isa=AVX2".strip()
+    env = dict(os.environ, XLA_FLAGS=flags, JAX_PLATFORMS="cpu")
     env.pop("JAX_COMPILATION_CACHE_DIR", None)
     env.pop("PYTEST_XDIST_WORKER", None)
     env.pop("JAXGEAR_TEST_COMPILE_LOG", None)  # its CPU is the test's child_cpu_s in the log

@@ -8,6 +8,7 @@ import math
 import runpy
 from pathlib import Path
 
+import equinox as eqx
 import numpy as np
 import pytest
 
@@ -65,8 +66,10 @@ def _strain_shares(chain, run, modes):
     phi = np.asarray(modes.analysis.shapes)
     w2 = (2 * np.pi * np.asarray(modes.analysis.frequency)) ** 2
     out, i = [], 0
+    # each stage's parts by one compiled program (eagerly, several hundred small ones)
+    parts = eqx.filter_jit(lambda s: s.dynamic_parts(run.mean_positions))
     for s in chain.stages:
-        k_m = np.asarray(s.dynamic_parts(run.mean_positions)[2])
+        k_m = np.asarray(parts(s)[2])
         p = phi[i:i + k_m.shape[0]]
         out.append(np.einsum("in,ij,jn->n", p, k_m, p) / w2)
         i += k_m.shape[0]

@@ -37,7 +37,7 @@ USING = "/jax/compilation_cache/tasks_using_cache"
 REQUESTS = "/jax/compilation_cache/compile_requests_use_cache"
 
 
-def _run(tmp_path, cache, name, case="accessory-spur"):
+def _run(tmp_path, cache, name, case="accessory-spur", command=("run",)):
     env = dict(os.environ)
     env.pop("JAX_COMPILATION_CACHE_DIR", None)  # the CLI switches the cache on, not JAX's env
     env["JAXGEAR_XLA_CACHE"] = str(cache)
@@ -46,7 +46,7 @@ def _run(tmp_path, cache, name, case="accessory-spur"):
     env["JAX_PERSISTENT_CACHE_MIN_COMPILE_TIME_SECS"] = "0"
     out = tmp_path / name
     events = tmp_path / f"{name}.json"
-    args = ["run", case, "--out", str(out), "--quiet"]
+    args = [command[0], case, *command[1:], "--out", str(out), "--quiet"]
     proc = subprocess.run(
         [sys.executable, "-c", PROBE, str(events), *args],
         env=env,
@@ -82,6 +82,11 @@ def test_second_run_compiles_nothing_again(tmp_path):
         assert (out2 / name).read_bytes() == (out1 / name).read_bytes()
 
 
+# fast twin: test_second_planetary_sweep_compiles_nothing_again (the same carrier-frame sweep
+# engine, Campbell diagram and ring spectrum on a short explicit plan); this one's cost is the
+# run's automatic plan (about 49 000 Newmark steps at each of its 9 speeds, twice: ~26 s on the
+# idle 2-core CI machine), not its compilations
+@pytest.mark.slow
 def test_second_planetary_run_compiles_nothing_again(tmp_path):
     """The planetary case lin-parker-1999 (modes, Campbell diagram, load sharing, the carrier-
     frame sweep; about 30 s for both runs): its second run reads back every program the first
@@ -102,6 +107,33 @@ def test_second_planetary_run_compiles_nothing_again(tmp_path):
     for s in sweeps:
         s.pop("elapsed_s")  # wall time of the sweep, the one entry that differs
     assert sweeps[0] == sweeps[1]
+
+
+def test_second_planetary_sweep_compiles_nothing_again(tmp_path):
+    """``jaxgear sweep`` on lin-parker-1999 (2 speeds, an explicit plan of 4 periods of 64
+    steps: the cache's behaviour does not depend on the plan's size, and the under-resolution
+    warning on stderr does not matter here): the carrier-frame sweep, its Campbell diagram and
+    ring spectrum; the second run reads back every program the first one compiled and wrote
+    (no program holding a Python callback) and gives the same numbers. The whole ``jaxgear
+    run`` (load sharing, modes, rating on top) is the slow twin above; the load sharing's and
+    Campbell's host checks under a caller's jit: test_planetary_checks_under_a_callers_jit."""
+    cache = tmp_path / "xla"
+    sweep = ("sweep", "--speeds", "80:120:2", "--steps-per-period", "64", "--periods", "4",
+             "--keep-periods", "2")
+    out1, first = _run(tmp_path, cache, "first", "lin-parker-1999", sweep)
+    written = first.get(MISSES, 0)
+    assert written > 0
+    # every program it asked for was compiled and written, or read back (one asked twice)
+    assert first.get(REQUESTS, 0) == written + first.get(HITS, 0)
+    out2, second = _run(tmp_path, cache, "second", "lin-parker-1999", sweep)
+    assert second.get(MISSES, 0) == 0
+    assert second.get(REQUESTS, 0) == second.get(HITS, 0) == written + first.get(HITS, 0)
+    assert (out2 / "sweep.csv").read_bytes() == (out1 / "sweep.csv").read_bytes()
+    sweeps = [json.loads((o / "sweep.json").read_text()) for o in (out1, out2)]
+    for s in sweeps:
+        s.pop("elapsed_s")  # wall time of the sweep, the one entry that differs
+    assert sweeps[0] == sweeps[1]
+    assert sweeps[0]["campbell"] and sweeps[0]["ring_spectrum"]
 
 
 def test_import_compiles_nothing():
