@@ -181,3 +181,15 @@ def test_a_flexible_bodys_shaft_keeps_its_bearings_on_the_ground(case, body, gro
     keep = np.r_[np.arange(n_sh), body_dofs]
     np.testing.assert_array_equal(K[np.ix_(keep, keep)], Kg)
     assert not np.any(K[np.ix_(keep, np.arange(n_sh, n_sh + h))])
+
+
+def test_a_hybrid_case_with_a_housing_table_is_a_one_line_error(tmp_path):
+    """``[housing]`` in a case with a condensed body: one line saying why (the body's shaft
+    keeps its bearings on the ground) and where a hybrid scene takes a housing."""
+    text = (DATA / "hybrid-test-case.toml").read_text()
+    text = text.replace('"hybrid-test-wheel.toml"', repr(str(DATA / "hybrid-test-wheel.toml")))
+    path = tmp_path / "c.toml"
+    path.write_text(text + "\n[housing]\nwall_thickness_mm = 8.0\n")
+    with pytest.raises(ValueError, match=r"housing.*lumped3d.*hybrid_pair") as err:
+        jio.load_case(path)
+    assert "\n" not in str(err.value)
