@@ -76,8 +76,9 @@ class HybridScene(AssembledScene):
 
     Build with :func:`hybrid_pair` or, from a train's :class:`~jaxgear.scenes.TrainSpec`,
     :meth:`train`. Generalised coordinates: the shafts
-    (6 per node), then each body's rim master and modal DOFs (its bearing nodes are shaft
-    nodes). The scene speed Ω is the pinion's (a train's input's).
+    (6 per node), a flexible housing's if the bearings sit in one (``housing=``:
+    docs/housing.md, "Hybrid scenes"), then each body's rim master and modal DOFs (its bearing
+    nodes are shaft nodes). The scene speed Ω is the pinion's (a train's input's).
 
     Attributes:
         structure: the assembled shafts, bearings, rigid gear nodes and condensed bodies with
