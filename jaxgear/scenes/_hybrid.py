@@ -355,7 +355,7 @@ def _housing_seats(housing, seats, shafts, turning, names) -> list | None:
         if i in turning and s_ is not None:
             what = "seats = None (the nearest seat)" if seats is None else f"seats[{j}] = {s_!r}"
             raise ValueError(
-                f"{what}: bearing {k} of shaft {names[i]!r} carries a flexible body's shaft, "
+                f"{what}: bearing {k} of shaft {names[i]!r} holds a flexible body's shaft, "
                 "which turns with the body frame while a housing seat stands still (a coupling "
                 "periodic in the shaft angle, not modelled); allowed: None for its entries "
                 "(those bearings stay on the ground)"
