@@ -376,17 +376,26 @@ class MeshModel(eqx.Module):
         gap = jnp.where(s < 0.0, before, jnp.where(s > self.path_of_contact, after, 0.0))
         return gap * jnp.cos(self.base_helix_angle)
 
-    def extension_limit(self, cells: Cells, delta0: Float[Array, "L N"]) -> Float[Array, ""]:
-        """The rigid approach (m, flank-normal) beyond which a corner would touch past the far
-        end of the cells beyond the path (the extension too short): the cells' separation
-        ``delta0`` without their corner gap, least over the cells beyond the path, plus the
-        smaller gap at the extension's ends; +inf without ``extended_contact``."""
+    def extension_overrun(self, cells: Cells, gap: Float[Array, "L N"]) -> Bool[Array, ""]:
+        """Whether the solved approach would close the corner gap past the far end of the
+        cells beyond the path (the extension too short): a cell beyond the path whose own
+        approach, less its separation without the corner gap, exceeds the corner gap at its
+        side's end, i.e. Δ_c + g(s_c) > g_end (``gap`` Δ = V·X − δ0 of each cell, m,
+        flank-normal, from the contact solve; g the corner gap :meth:`extension_separation`).
+
+        Each cell's approach is its own (V·X at the cell: a condensed body's rim deflection,
+        a shaft's tilt included), compared with the separation it would have at the
+        extension's end: like with like. The mesh's approach on the members' coordinates
+        (u·X, the TE's) is not the cells': with a condensed body it holds the body's twist
+        between the hub and the rim, which closes no gap. False without ``extended_contact``."""
         if not self.extended_contact:
-            return jnp.asarray(jnp.inf, delta0.dtype)
-        beyond = cells.mask & ((cells.s < 0.0) | (cells.s > self.path_of_contact))
-        base = delta0 - self.extension_separation(cells.s)
-        least = jnp.min(jnp.where(beyond, base, jnp.inf))
-        return least + jnp.min(self.extension_gap[:, -1]) * jnp.cos(self.base_helix_angle)
+            return jnp.asarray(False)
+        s = cells.s
+        lead = cells.mask & (s < 0.0)
+        trail = cells.mask & (s > self.path_of_contact)
+        end = self.extension_gap[:, -1] * jnp.cos(self.base_helix_angle)
+        reach = gap + self.extension_separation(s)
+        return jnp.any(lead & (reach > end[0])) | jnp.any(trail & (reach > end[1]))
 
     def normal_load(self, torque: Float[Array, ""]) -> Float[Array, ""]:
         """Flank-normal mesh force F_n = T / (r_b1 cos β_b) (N) for pinion torque T (N·m)."""

@@ -225,11 +225,12 @@ def _one_position(scene: Scene, mods: tuple, torque, speed, theta, law: ContactL
                 cell_mask=c.mask,
             )
         )
-    # an approach that would close the corner gap at the far end of the cells beyond the
+    # a cell approach that would close the corner gap at the far end of the cells beyond the
     # theoretical path fails loudly: the extension is too short (docs/extended-contact.md)
+    gaps = split_by_mesh(sol.gap, shapes)
     over = [
-        u_x[k] > mesh.extension_limit(c, delta0)
-        for k, (mesh, (c, _, delta0)) in enumerate(zip(planes, parts, strict=True))
+        mesh.extension_overrun(c, gaps[k])
+        for k, (mesh, c) in enumerate(zip(planes, cells, strict=True))
         if mesh.extended_contact
     ]
     result = sol.result

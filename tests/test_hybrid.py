@@ -415,9 +415,6 @@ def test_cached_window_compliance_gives_the_same_solve(case, body):
     the relief depth, equal to a central difference; a position that is not cached raises."""
     from jaxgear.scenes import cache_window_compliance
 
-    # theoretical path: at 2.5 times the torque the corner contact beyond it trips the check
-    # that the cells reach far enough (beyond_extension, an open point of docs/extended-contact.md)
-    case = case.replace(extended_contact=False)
     scene = static_scene(case, bodies=(None, body))[0]
     # the 4 positions of the module's other solves of this scene: one compiled program
     theta = jg.mesh_positions(case.mesh_model(), 4, 1)
@@ -452,3 +449,52 @@ def test_cached_window_compliance_gives_the_same_solve(case, body):
     assert g_cached == pytest.approx(fd, rel=1e-6)
     with pytest.raises(eqx.EquinoxRuntimeError, match="not one of the cached positions"):
         jg.quasi_static(cached, mods, case.torque, theta + 1e-4)
+
+
+def test_the_extension_check_reads_each_corners_own_approach(case, scene):
+    """``beyond_extension`` trips where a cell beyond the path, from its own approach (the
+    exact law's interference p/k, the condensed wheel's rim deflection in it), would close the
+    corner gap at the extension's end: Δ + g(s) > g(end), g from the involute geometry
+    (:class:`jaxgear.CornerContact`). At 3000 rad/s, 2.5 times the torque and a doubled tip
+    relief the corners reach a third of that gap (the hub's approach u·X, which the check used
+    to read, holds the body's twist and exceeds it): no trip; at 20 times the torque the
+    positions whose corners reach beyond it trip, and only those."""
+    mesh = scene.base_planes[0]
+    pair, cb = case.pair, math.cos(float(mesh.base_helix_angle))
+    g_alpha = float(mesh.path_of_contact)
+    span = np.asarray(mesh.extension_span)
+    end = jg.CornerContact(pair, np.array([-span[0], g_alpha + span[1]])).gap * cb
+    theta = jg.mesh_positions(case.mesh_model(), 4, 1)
+    mods = case.modifications
+    deeper = dataclasses.replace(
+        mods, gear=dataclasses.replace(mods.gear, tip_relief_depth=2 * mods.gear.tip_relief_depth)
+    )
+
+    def reach(r):
+        """Per position: the most a corner beyond the path reaches toward its end's gap,
+        max (Δ + g(s) − g(end)) (m) over the loaded cells beyond the path (-inf: none)."""
+        out = []
+        for p, th in enumerate(np.asarray(theta)):
+            cells = mesh.cells(scene.mesh_angles(jnp.asarray(th))[0])
+            s, k = np.asarray(cells.s), np.asarray(cells.stiffness)
+            load = np.asarray(r.meshes[0].line_load[p])
+            lead, trail = (load > 0) & (s < 0), (load > 0) & (s > g_alpha)
+            best = -np.inf
+            for side, on in ((0, lead), (1, trail)):
+                if on.any():
+                    g = jg.CornerContact(pair, s[on]).gap * cb
+                    best = max(best, float(np.max(load[on] / k[on] + g - end[side])))
+            out.append(best)
+        return np.array(out)
+
+    light = jg.quasi_static(scene, deeper, 2.5 * case.torque, theta, speed=3000.0, throw=False)
+    assert set(np.asarray(light.result).tolist()) == {0}
+    r_light = reach(light)
+    assert np.isfinite(r_light).any() and np.all(r_light < -0.5 * end.min())
+    heavy = jg.quasi_static(scene, mods, 20 * case.torque, theta, speed=3000.0, throw=False)
+    r_heavy, result = reach(heavy), np.asarray(heavy.result)
+    assert np.all(np.abs(r_heavy[np.isfinite(r_heavy)]) > 1e-2 * end.min())  # none borderline
+    trips = result == int(jg.ContactResult.beyond_extension)
+    assert trips.any() and not trips.all()
+    np.testing.assert_array_equal(trips, r_heavy > 0)
+    assert set(result[~trips].tolist()) == {0}

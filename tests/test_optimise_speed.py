@@ -324,9 +324,6 @@ def test_jaxgear_optimise_load_centroid_at_speed_on_the_small_case(tmp_path, cap
         "[modifications.pinion]\nhelix_slope = { deviation_um = 20.0 }\n"
         'end_relief = { depth_um = 5.0, extent = 0.4, edge = "z1" }\n'
     )
-    # theoretical path: the corner contact beyond it trips the check that the cells reach far
-    # enough at 3000 rad/s (beyond_extension, an open point of docs/extended-contact.md)
-    text = text.replace("[mesh]\n", "[mesh]\nextended_contact = false\n", 1)
     case = tmp_path / "c.toml"
     case.write_text(text)
     out = tmp_path / "o"

@@ -545,7 +545,15 @@ class Case(MeshSettings):
         positions = bearing_positions(shafts, centres, gear_z)
         return housing_body(self.housing, shafts, positions, cache=cache)
 
-    def hybrid_train(self, bodies: tuple, slices: int | None = None, *, tooth_mass: bool = True):
+    def hybrid_train(
+        self,
+        bodies: tuple,
+        slices: int | None = None,
+        *,
+        tooth_mass: bool = True,
+        housing=None,
+        seats=None,
+    ):
         """The train's lumped 3D scene with its flexible gears as condensed FE bodies
         (:func:`jaxgear.scenes.hybrid_train`; ``[scene.bodies]``), the output held; its meshes'
         tooth stiffness leaves out a flexible gear's foundation term.
@@ -554,6 +562,9 @@ class Case(MeshSettings):
             bodies: each gear's condensed body or ``None`` (rigid), (n,)
                 (:func:`jaxgear.io.load_bodies` of the case's scene).
             tooth_mass: lump the teeth's mass on the rim masters (default).
+            housing, seats: a :class:`jaxgear.scenes.Housing` the rigid gears' shafts sit in
+                and each bearing's seat, None for a bearing on the ground
+                (:func:`~jaxgear.scenes.hybrid_train`; docs/housing.md, "Hybrid scenes").
 
         Raises:
             ValueError: the case has no lumped 3D scene, or what
@@ -573,7 +584,7 @@ class Case(MeshSettings):
             gear_names=self.gear_names,
             **self._lumped_args(),
         )
-        return hybrid_train(spec, tooth_mass=tooth_mass)
+        return hybrid_train(spec, tooth_mass=tooth_mass, housing=housing, seats=seats)
 
     def dynamic_train(self, slices: int | None = None):
         """The train's rigid-gear scene: :meth:`lumped_train` for a lumped 3D scene, else

@@ -514,7 +514,9 @@ def parse_case(data: dict, default_name: str = "case", base_dir: str | None = No
 
 def case_housing(data: dict, scene, base_dir, material):
     """``[housing]`` of a case (:func:`parse_housing`), or None; it needs a lumped 3D scene
-    without condensed bodies (the bearings it carries are the lumped scene's)."""
+    without condensed bodies (the bearings it carries are the lumped scene's: a condensed
+    body's shaft turns with the body frame and keeps its bearings on the ground, so a hybrid
+    scene takes a housing in Python, ``hybrid_pair(..., housing=, seats=)``)."""
     if "housing" not in data:
         return None
     table = sc.subtable(data, "housing", "")  # checked by parse_housing
@@ -523,7 +525,9 @@ def case_housing(data: dict, scene, base_dir, material):
             "housing",
             None,
             "a housing carries the bearings of a lumped 3D scene: allowed with [scene] "
-            "model = 'lumped3d' without condensed bodies",
+            "model = 'lumped3d' without condensed bodies (a condensed body's shaft turns with "
+            "its frame and keeps its bearings on the ground: a hybrid scene takes a housing "
+            "in Python, jaxgear.scenes.hybrid_pair(..., housing=, seats=))",
         )
     return parse_housing(table, base_dir, material)
 

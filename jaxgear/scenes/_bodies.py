@@ -286,7 +286,8 @@ def _rotating_frame(n, d, parts):
     and the rotation vector, P = J ᵀJ), with no polar gyroscopic term (as the lumped model)."""
     gyro = np.zeros((n, n))
     spin_K = np.zeros((n, n))
-    offsets = (*d["shaft_offsets"], d["M"].shape[0])
+    # the shafts end where a housing's coordinates begin (:func:`couple_housing`)
+    offsets = (*d["shaft_offsets"], d.get("housing_offset", d["M"].shape[0]))
     for shaft, w, gidx, (gy, sk) in parts:
         gyro[np.ix_(gidx, gidx)] += 2.0 * w * gy
         spin_K[np.ix_(gidx, gidx)] += w * w * sk

@@ -197,8 +197,8 @@ def couple_housing(d: dict, shafts, positions, housing: Housing | None, seats=No
     seat (module docstring): M, the stiffness parts (a ``housing`` part appended; the
     ``bearings`` part holding the bearing couplings), the damping (n', n') and the bearing
     force rows, grown to n' = n + h. ``positions``: :func:`bearing_positions`; ``seats``: the
-    seat index of every bearing (shaft after shaft, as ``positions``; None: the nearest).
-    ``housing`` None returns ``d`` unchanged.
+    seat index of every bearing (shaft after shaft, as ``positions``; None: the nearest), an
+    entry None leaving that bearing on the ground. ``housing`` None returns ``d`` unchanged.
 
     Raises:
         ValueError: ``seats`` of another length than the bearings, or a seat index out of range.
@@ -219,12 +219,17 @@ def couple_housing(d: dict, shafts, positions, housing: Housing | None, seats=No
     if len(seats) != len(flat):
         raise ValueError(f"seats: {len(seats)} entries for {len(flat)} bearings, allowed one each")
     for k, s in enumerate(seats):
+        if s is None:
+            continue
         if (
             isinstance(s, bool)
             or not isinstance(s, (int, np.integer))
             or not 0 <= s < housing.n_seats
         ):
-            raise ValueError(f"seats[{k}] = {s!r}, allowed a seat index 0 to {housing.n_seats - 1}")
+            raise ValueError(
+                f"seats[{k}] = {s!r}, allowed a seat index 0 to {housing.n_seats - 1} "
+                "(None: the ground)"
+            )
 
     def grow(a):
         out = np.zeros(a.shape[:-2] + (N, N))
@@ -246,16 +251,18 @@ def couple_housing(d: dict, shafts, positions, housing: Housing | None, seats=No
     for (i, b, p), s in zip(flat, seats, strict=True):
         node = int(np.argmin(np.abs(mats[i].nodes - b.z)))
         u = slice(offsets[i] + 6 * node, offsets[i] + 6 * node + 6)
-        q = slice(n + 6 * s, n + 6 * s + 6)
-        G = housing.seat_transform(s, p)
-        for target, a in ((parts[-2], b.stiffness_matrix()), (C, b.damping_matrix())):
-            target[u, q] -= a @ G
-            target[q, u] -= G.T @ a
-            target[q, q] += G.T @ a @ G
+        if s is not None:  # None: the bearing stays on the ground
+            q = slice(n + 6 * s, n + 6 * s + 6)
+            G = housing.seat_transform(s, p)
+            for target, a in ((parts[-2], b.stiffness_matrix()), (C, b.damping_matrix())):
+                target[u, q] -= a @ G
+                target[q, u] -= G.T @ a
+                target[q, q] += G.T @ a @ G
         kb = b.stiffness_matrix()
         for k in range(3):  # the rows _shaft_arrays made, in its order
             if np.any(kb[k] != 0):
-                reaction[row, q] = -kb[k] @ G
+                if s is not None:
+                    reaction[row, n + 6 * s : n + 6 * s + 6] = -kb[k] @ G
                 row += 1
     return dict(d, M=M, parts=parts, bearing_C=C, reaction=reaction, housing_offset=n)
 

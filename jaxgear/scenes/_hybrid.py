@@ -52,7 +52,8 @@ from ._bodies import (
 )
 from ._gear_mesh import line_of_action, mesh_line, only_mesh, pair_mesh
 from ._interface import GearPlace, RigidMember, body_rims, flexible_member, rim_window
-from ._lumped3d import _lumped_arrays, _train_arrays, train_meshes
+from ._housing import Housing
+from ._lumped3d import _housed, _lumped_arrays, _train_arrays, train_meshes
 from ._shaft import Material, ShaftSpec
 from ._structure import AssembledScene
 from ._train import TrainSpec
@@ -75,8 +76,9 @@ class HybridScene(AssembledScene):
 
     Build with :func:`hybrid_pair` or, from a train's :class:`~jaxgear.scenes.TrainSpec`,
     :meth:`train`. Generalised coordinates: the shafts
-    (6 per node), then each body's rim master and modal DOFs (its bearing nodes are shaft
-    nodes). The scene speed Ω is the pinion's (a train's input's).
+    (6 per node), a flexible housing's if the bearings sit in one (``housing=``:
+    docs/housing.md, "Hybrid scenes"), then each body's rim master and modal DOFs (its bearing
+    nodes are shaft nodes). The scene speed Ω is the pinion's (a train's input's).
 
     Attributes:
         structure: the assembled shafts, bearings, rigid gear nodes and condensed bodies with
@@ -115,7 +117,14 @@ class HybridScene(AssembledScene):
     compliance: WindowCompliance | None = None
 
     @classmethod
-    def train(cls, spec: TrainSpec, *, tooth_mass: bool = True) -> HybridScene:
+    def train(
+        cls,
+        spec: TrainSpec,
+        *,
+        tooth_mass: bool = True,
+        housing: Housing | None = None,
+        seats=None,
+    ) -> HybridScene:
         """A lumped 3D gear train (:class:`~jaxgear.scenes.LumpedTrain`) whose flexible gears are
         condensed FE bodies: a flexible idler meshes twice, its two contact zones on one rim, both
         through the interface of :mod:`._interface`; a body with two rims (a fem_prep
@@ -137,15 +146,21 @@ class HybridScene(AssembledScene):
                 every rim one; the mesh models must leave out the foundation term of a flexible
                 gear (as :func:`hybrid_pair`).
             tooth_mass: add the teeth's mass and centrifugal load on the rim masters.
+            housing, seats: a flexible :class:`~jaxgear.scenes.Housing` and each bearing's
+                seat (shaft after shaft), as :meth:`~jaxgear.scenes.LumpedTrain.of`'s, its
+                coordinates after the shafts' (before the bodies'), with the restriction of
+                :func:`hybrid_pair`: the bearings of a shaft carrying a flexible body stay on
+                the ground (their ``seats`` entries None).
 
         Raises:
             ValueError (one line, lengths in mm): a shaft carrying a flexible gear and a rigid one or
                 two bodies (the shaft turns with the body frame); a body's rims not matching its
                 gears (count, rim taken twice), a gear position that is not where the body puts its
-                rim, a rim width that is not the face width of the gear's meshes; what
-                :func:`hybrid_pair` and :meth:`~jaxgear.scenes.LumpedTrain.of` refuse.
+                rim, a rim width that is not the face width of the gear's meshes; a bearing of a
+                flexible body's shaft given a seat; what :func:`hybrid_pair` and
+                :meth:`~jaxgear.scenes.LumpedTrain.of` refuse.
         """
-        return _hybrid_train(cls, spec, tooth_mass)
+        return _hybrid_train(cls, spec, tooth_mass, housing, seats)
 
     def with_window_compliance(self, theta) -> HybridScene:
         """The scene holding its :func:`window_compliance` at the scene angles ``theta`` (rad,
@@ -320,12 +335,53 @@ class HybridScene(AssembledScene):
 # builders (NumPy, once per scene)
 
 
-def _hybrid_train(cls, spec: TrainSpec, tooth_mass: bool) -> HybridScene:
+def _housing_seats(housing, seats, shafts, turning, names) -> list | None:
+    """The ``seats`` of a hybrid scene's bearings on ``housing`` (shaft after shaft; None: the
+    nearest seat), checked against the shafts that turn with a flexible body (``turning``,
+    their indices; ``names``: each shaft's label): a bearing of those stays on the ground.
+
+    A flexible body's shaft is taken in the body's turning frame (its bearings are
+    axisymmetric, so their stiffness does not change); a housing seat is fixed, and a bearing
+    joining the two would couple them through the shaft's angle (a stiffness periodic in time,
+    which the scene's constant matrices cannot hold).
+
+    Raises:
+        ValueError: a seat given (or defaulted) to a bearing of a turning shaft (one line)."""
+    if housing is None:
+        return None
+    flat = [(i, k) for i, spec in enumerate(shafts) for k in range(len(spec.bearings))]
+    given = [0] * len(flat) if seats is None else list(seats)
+    for j, ((i, k), s_) in enumerate(zip(flat, given)):
+        if i in turning and s_ is not None:
+            what = "seats = None (the nearest seat)" if seats is None else f"seats[{j}] = {s_!r}"
+            raise ValueError(
+                f"{what}: bearing {k} of shaft {names[i]!r} holds a flexible body's shaft, "
+                "which turns with the body frame while a housing seat stands still (a coupling "
+                "periodic in the shaft angle, not modelled); allowed: None for its entries "
+                "(those bearings stay on the ground)"
+            )
+    if seats is None:
+        return None
+    return list(seats)
+
+
+def _hybrid_train(cls, spec: TrainSpec, tooth_mass: bool, housing=None, seats=None) -> HybridScene:
     """:meth:`HybridScene.train`."""
     bodies, layout, on = spec.gear_bodies, spec.layout, spec.shaft_gears
     shaft_body, bodies_z = _shaft_bodies(spec)
     masses = [None if b is not None else m for b, m in zip(bodies, spec.masses, strict=True)]
     t = _train_arrays(spec, masses, tuple(map(tuple, bodies_z)))
+    n0 = t["d"]["M"].shape[0]
+    t["d"] = _housed(
+        dict(t["d"], nodes=t["nodes"]),
+        spec.shafts,
+        [layout.centres[on[i][0]] for i in range(spec.n_shafts)],
+        [sh.gear_positions[0] for sh in spec.shafts],
+        housing,
+        _housing_seats(housing, seats, spec.shafts, set(shaft_body), spec.names),
+    )
+    t["nodes"] = t["d"].pop("nodes")
+    t["f_torque"] = np.concatenate([t["f_torque"], np.zeros(t["d"]["M"].shape[0] - n0)])
     d, first = t["d"], t["first"]
     n_sh = d["M"].shape[0]
     spin = np.asarray(layout.spins, float)
@@ -429,6 +485,8 @@ def hybrid_pair(
     inertias: tuple,
     material: Material = Material(),
     tooth_mass: bool = True,
+    housing: Housing | None = None,
+    seats=None,
 ) -> HybridScene:
     """Assemble the hybrid scene: the lumped 3D scene with condensed bodies (H1, H2).
 
@@ -445,12 +503,21 @@ def hybrid_pair(
             teeth).
         tooth_mass: add the mass and centrifugal load of the teeth (not in the FE body, which
             ends at the root circle) on the rim master nodes [R].
+        housing: a flexible :class:`~jaxgear.scenes.Housing` the bearings join the shafts to,
+            as :func:`~jaxgear.scenes.lumped_pair`'s (its coordinates after the shafts', before
+            the bodies'; the structure's nodes ``housing <seat>``; the same scene frame), or
+            None: the bearings hold the shafts to the ground.
+        seats: with ``housing``, each bearing's seat index (pinion's bearings, then the
+            gear's), None for a bearing that stays on the ground; None: the nearest seat. The
+            bearings of a flexible member's shaft stay on the ground (that shaft turns with the
+            body frame, a seat does not: docs/housing.md, "Hybrid scenes").
 
     Raises:
         ValueError: body/gear mismatch (teeth, root radius), a bearing node off the axis or
             outside its shaft, a structure with a rigid-body mode other than the drive rotation,
             a bearing stiffness or damping matrix on a flexible body's shaft that is not
-            axisymmetric about z (that shaft turns with the body frame).
+            axisymmetric about z (that shaft turns with the body frame); a seat for a bearing
+            of that shaft; what :func:`~jaxgear.scenes.lumped_pair` refuses of ``seats``.
     """
     shafts = (pinion_shaft, gear_shaft)
     where = ("scene.pinion_shaft", "scene.gear_shaft")
@@ -467,6 +534,16 @@ def hybrid_pair(
     )
     masses = tuple(None if b is not None else ms for b, ms in zip(bodies, masses, strict=True))
     d = _lumped_arrays(pair, pinion_shaft, gear_shaft, masses, inertias, *material, extra_z=extra)
+    line = line_of_action(pair)
+    turning = {m for m, body in enumerate(bodies) if body is not None}
+    d = _housed(
+        d,
+        shafts,
+        line["centres"],
+        (pinion_shaft.gear_positions[0], gear_shaft.gear_positions[0]),
+        housing,
+        _housing_seats(housing, seats, shafts, turning, ("pinion", "gear")),
+    )
     ratio = pair.pinion.teeth / pair.gear.teeth
     placed = _place_bodies(
         d,
@@ -489,7 +566,6 @@ def hybrid_pair(
     # the drive rotation (pinion chain), scaled to a unit base-plane approach
     Nv = _shaft_rotation(d, 0, n, bodies[0], gidxs[0]) / rb1
     G = _drive_compliance(placed["K"], Nv[:, None], t_out)
-    line = line_of_action(pair)
     zone = mesh_line(
         line["tangent_point"], line["direction"], line["normal"], line["roll_start"], mesh
     )
@@ -515,13 +591,16 @@ def hybrid_pair(
     )
 
 
-def hybrid_train(spec: TrainSpec, *, tooth_mass: bool = True) -> HybridScene:
-    """The hybrid scene of the train ``spec``: :meth:`HybridScene.train`.
+def hybrid_train(
+    spec: TrainSpec, *, tooth_mass: bool = True, housing: Housing | None = None, seats=None
+) -> HybridScene:
+    """The hybrid scene of the train ``spec`` (with ``housing``: the bearings of its rigid
+    gears' shafts on the housing's seats): :meth:`HybridScene.train`.
 
     Raises:
         ValueError: what :meth:`HybridScene.train` refuses.
     """
-    return HybridScene.train(spec, tooth_mass=tooth_mass)
+    return HybridScene.train(spec, tooth_mass=tooth_mass, housing=housing, seats=seats)
 
 
 HybridPair = HybridScene  # the name of the pair's scene (a hybrid train is the same class)

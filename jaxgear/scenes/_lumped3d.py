@@ -142,7 +142,8 @@ def lumped_pair(
             frame: the pinion's axis is the z axis, the gear's through (a_w, 0), both gears'
             centres at z = 0 (a shaft position s lies at z = s − its ``gear_z``).
         seats: with ``housing``, each bearing's seat index (pinion's bearings, then the
-            gear's); None: the seat nearest each bearing.
+            gear's), an entry None keeping that bearing on the ground; None: the seat nearest
+            each bearing.
 
     Raises:
         ValueError: what :func:`~jaxgear.scenes._housing.couple_housing` refuses.
@@ -283,8 +284,8 @@ class LumpedTrain(GearTrain):
         rotation; wrenches add forces and tilting moments at shaft nodes.
 
         With ``housing`` (a :class:`~jaxgear.scenes.Housing`) the bearings join the shafts to
-        its seats (``seats``: each bearing's seat index, shaft after shaft; None: the nearest
-        seat) instead of the ground, its coordinates after the shafts' (:func:`lumped_pair`'s
+        its seats (``seats``: each bearing's seat index, shaft after shaft, an entry None
+        keeping that bearing on the ground; None: the nearest seat) instead of the ground, its coordinates after the shafts' (:func:`lumped_pair`'s
         ``housing``); shaft i's axis runs through its first gear's layout centre, a shaft
         position s at z = centre_z + s − that gear's position along the shaft.
 
