@@ -90,8 +90,9 @@ class AcousticPath(eqx.Module):
 
     Attributes:
         model: the lumped :class:`~jaxgear.dynamics.DynamicModel` of the gearbox at the design
-            torque (:func:`jaxgear.dynamics.dynamic_model` or :func:`jaxgear.io.build_dynamic_model`;
-            its damping is held; the design's modifications replace its ``mods``).
+            torque (:func:`jaxgear.dynamics.dynamic_model`, or
+            :func:`jaxgear.io.build_dynamic_model` of a case; its damping is held; the design's
+            modifications replace its ``mods``).
         housing: the housing's :class:`~jaxgear.acoustics.HousingAcoustics` (its skin and, one
             way, its loss factor).
         speeds: pinion speeds Ω (rad/s), (S,), each in (0, 1e5].
@@ -325,11 +326,11 @@ class RadiatedSoundPower(AbstractAcousticObjective):
                 f"radiation = {type(self.radiation).__name__}: allowed an "
                 "optimise.SurfaceRadiation"
             )
-        S, O = self.path.speeds.shape[0], len(self.path.orders)
-        if self.radiation.factors.shape[:2] != (S, O):
+        n_s, n_o = self.path.speeds.shape[0], len(self.path.orders)
+        if self.radiation.factors.shape[:2] != (n_s, n_o):
             raise ValueError(
                 f"radiation.factors: {self.radiation.factors.shape[:2]} frequencies, allowed "
-                f"(S, O) = ({S}, {O}), the path's speeds and orders"
+                f"(S, O) = ({n_s}, {n_o}), the path's speeds and orders"
             )
         if self.radiation.vertex_map.shape[1] != self.path.housing.areas.shape[0]:
             raise ValueError(
