@@ -235,7 +235,7 @@ def test_quiet_relief_example_lowers_the_erp(tmp_path):
     from _examples import load_example
 
     ex = load_example("quiet_relief")
-    rec = ex.main(tmp_path, slices=2, speeds=(300.0, 600.0, 900.0), sweep_speeds=5, n_grid=2,
+    rec = ex.main(tmp_path, slices=2, speeds=(200.0, 400.0, 600.0), sweep_speeds=5, n_grid=2,
                   max_iterations=6, harmonics=4, positions=32)
     for run in rec["erp_runs"].values():
         assert run["value"] < run["value0"]
