@@ -6,8 +6,9 @@ The relieved ``accessory-spur`` pair in its lumped 3D scene (4 slices) drives a 
 box housing (300 x 200 x 200 mm, 8 mm walls, two feet; Tet4 cells of 60 mm, modes to 20 kHz):
 its bearing forces on the housing's four seats (one way: the gears on rigid supports), the
 housing's skin vibration, and the equivalent radiated power (ERP) of orders 1-3 of the mesh
-frequency, A-weighted and summed, at ten speeds across the operating range 150-600 rad/s (mesh
-frequency 1.1-4.3 kHz: every order counted lies below the housing's cut-off).
+frequency, A-weighted and summed, at 25 speeds across the operating range 150-600 rad/s (mesh
+frequency 1.1-4.3 kHz: every order counted lies below the housing's cut-off; the speeds are
+close enough to catch the gearbox's resonances, whose peaks are some 50 rad/s wide).
 
 1. The TE-optimal design: ``optimise.TeRms`` (the quasi-static TE RMS at the design torque) over
    the tip relief depth E* = E/δ_m, its extent Γ and the crowning depth C* = C/δ_m, by L-BFGS.
@@ -92,10 +93,10 @@ def acoustic_path(model, case, speeds, orders=(1, 2, 3), harmonics=8, positions=
 def main(
     out_dir=OUT,
     slices: int = 4,
-    speeds=tuple(np.linspace(150.0, 600.0, 10)),
+    speeds=tuple(np.linspace(150.0, 600.0, 25)),
     sweep_speeds: int = 49,
     n_grid: int = 5,
-    max_iterations: int = 25,
+    max_iterations: int = 20,
     harmonics: int = 8,
     positions: int = 64,
     cutoff_hz: float = 20000.0,
@@ -171,6 +172,7 @@ def main(
     for k, x in designs.items():
         p = np.asarray(order_powers(jnp.asarray(x))) * weight
         sweep[k] = np.asarray(sound_power_level(p.sum(axis=1))).tolist()
+        record_designs[k]["sweep_mean_dBA"] = float(sound_power_level(p.sum(axis=1).mean()))
         record_designs[k]["erp_per_order_dBA"] = [  # each order's energy mean over the sweep
             float(sound_power_level(m)) for m in p.mean(axis=0)
         ]
@@ -204,8 +206,9 @@ def main(
     (out_dir / "quiet_relief.json").write_text(json.dumps(record, indent=1) + "\n")
     plot(record, out_dir / "quiet_relief.png")
     a, b = record_designs["te_optimal"], record_designs["quiet"]
-    print(f"TE-optimal: TE RMS {a['te_rms_um']:.3f} µm, ERP {a['erp_mean_dBA']:.1f} dB(A); "
-          f"quiet: TE RMS {b['te_rms_um']:.3f} µm, ERP {b['erp_mean_dBA']:.1f} dB(A) "
+    print(f"TE-optimal: TE RMS {a['te_rms_um']:.3f} µm, ERP {a['erp_mean_dBA']:.1f} dB(A) "
+          f"(sweep {a['sweep_mean_dBA']:.1f}); quiet: TE RMS {b['te_rms_um']:.3f} µm, ERP "
+          f"{b['erp_mean_dBA']:.1f} dB(A) (sweep {b['sweep_mean_dBA']:.1f}) "
           f"({record['seconds']:.0f} s)")
     return record
 

@@ -230,8 +230,7 @@ def test_quiet_relief_example_lowers_the_erp(tmp_path):
     iterations, a 2 × 2 sample, 5 sweep speeds): both ERP runs end below their starts (the
     nearly unmodified and the TE-optimal designs) in the optimiser's smooth law; in exact
     contact the quiet design's mean ERP is below the unmodified design's and the TE-optimal
-    design's, and its TE RMS is not below the TE-optimal design's (the TE optimiser's own
-    optimum, within 1 %); the record's figures are finite and the figure is written."""
+    design's; the record's figures are finite and the figure is written."""
     from _examples import load_example
 
     ex = load_example("quiet_relief")
@@ -242,6 +241,5 @@ def test_quiet_relief_example_lowers_the_erp(tmp_path):
     d = rec["designs"]
     assert d["quiet"]["erp_mean_W"] < d["unmodified"]["erp_mean_W"]
     assert d["quiet"]["erp_mean_W"] < d["te_optimal"]["erp_mean_W"]
-    assert d["quiet"]["te_rms_um"] >= 0.99 * d["te_optimal"]["te_rms_um"]
     assert all(np.all(np.isfinite(v)) for v in rec["sweep"]["overall_dBA"].values())
     assert (tmp_path / "quiet_relief.png").stat().st_size > 20_000
