@@ -189,7 +189,7 @@ def test_statistics_over_speeds_and_problem_scale(housed):
     np.testing.assert_allclose(g[0], fd, rtol=1e-4)
 
 
-@pytest.mark.slow  # about 10 s on the 2-core host (the lumped model and the housing)
+@pytest.mark.slow  # about 6 s on the 2-core host (the lumped model and the housing)
 def test_bad_inputs(housed):
     case, model, _, _, ac, seats, names = housed
     ok = {"seats": seats, "axes": names, "rotation": ROTATION}
@@ -224,7 +224,7 @@ def test_bad_inputs(housed):
         jio.objective_from_name("sound_power", case.torque, acoustic_path=path)
 
 
-@pytest.mark.slow  # about 2 min on the 2-core host (three L-BFGS runs on the whine chain)
+@pytest.mark.slow  # about 1 min on the 2-core host (three L-BFGS runs on the whine chain)
 def test_quiet_relief_example_lowers_the_erp(tmp_path):
     """examples/quiet_relief.py reduced (2 slices, 3 speeds, H = 4, 32 positions, 6 L-BFGS
     iterations, a 2 × 2 sample, 5 sweep speeds): both ERP runs end below their starts (the
@@ -243,3 +243,13 @@ def test_quiet_relief_example_lowers_the_erp(tmp_path):
     assert d["quiet"]["erp_mean_W"] < d["te_optimal"]["erp_mean_W"]
     assert all(np.all(np.isfinite(v)) for v in rec["sweep"]["overall_dBA"].values())
     assert (tmp_path / "quiet_relief.png").stat().st_size > 20_000
+
+
+def test_cli_says_the_acoustic_objectives_need_a_path():
+    """``jaxgear optimise --objective erp`` (or sound_power) stops with one line: a case file
+    does not give an acoustic path yet."""
+    from jaxgear.cli import check_settings
+
+    for name in ("erp", "sound_power"):
+        with pytest.raises(ValueError, match="acoustic path.*optimise.AcousticPath"):
+            check_settings({"objective": name, "max_iterations": 5})
