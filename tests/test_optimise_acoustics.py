@@ -79,7 +79,8 @@ def _with_depth(mods, d):
 def test_erp_chain_gradient_matches_central_differences(housed):
     """d(ERP of orders 1-2 at one speed, A-weighted)/d(tip relief depth of both members) by
     jax.grad through the whole chain equals the central difference (step 1e-6 of the depth)
-    to 1e-5; the ERP objective's value equals the orders' ERP A-weighted and summed by hand."""
+    to 1e-5; the value under jit equals the eager one to 1e-9; the ERP objective's value equals
+    the orders' ERP A-weighted and summed by hand."""
     case, model, *_ = housed
     obj = op.EquivalentRadiatedPower(_path(housed, [400.0]), op.Max())
     d0 = float(model.mods.pinion.tip_relief_depth)
@@ -92,6 +93,9 @@ def test_erp_chain_gradient_matches_central_differences(housed):
     fd = float(value(d0 + step) - value(d0 - step)) / (2 * step)
     assert grad != 0.0 and float(value(d0)) > 0
     np.testing.assert_allclose(grad, fd, rtol=1e-5)
+    # under jit the whine's balance runs on the scene's contact coordinates, eagerly on the
+    # basis of the cells' structure vectors: two bases of the same space, the same power
+    np.testing.assert_allclose(float(jax.jit(value)(d0)), float(value(d0)), rtol=1e-9)
     # the value: ½ ρ c Σ |v|² A per order, times 10^(A(f)/10), summed
     freq, vn = obj.path.surface_velocity(model.mods, case.torque, jg.ExactContact())
     ac = obj.path.housing
@@ -253,3 +257,67 @@ def test_cli_says_the_acoustic_objectives_need_a_path():
     for name in ("erp", "sound_power"):
         with pytest.raises(ValueError, match="acoustic path.*optimise.AcousticPath"):
             check_settings({"objective": name, "max_iterations": 5})
+
+
+# the coupled path: housing frame -> scene frame (the shafts' axis, scene z, along the box's
+# length x; the shafts' plane, scene x, across its width y; scene y its height z)
+R_COUPLED = np.array([[0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]])
+
+
+@pytest.mark.slow  # about 1 min on the 2-core host (the housed scene's whine and gradient)
+def test_coupled_path_against_the_housing_under_its_bearing_forces():
+    """An undamped scene that carries a box housing (jaxgear.scenes.Housing, loss factor 0):
+    the skin velocity the coupled path reads from the whine's housing coordinates equals the
+    one-way response of the same condensed housing (housing_response, η = 0) to the coupled
+    whine's own bearing forces put on the seats (rotated into the housing's frame) to 1e-6 of
+    its largest entry: the housing's equation of motion, solved apart. The ERP's derivative with
+    respect to the tip relief depth through the coupled chain matches central differences to
+    1e-5."""
+    from jaxgear.acoustics import housing_response, seat_forces
+    from jaxgear.dynamics import NoDamping, dynamic_model, whine_response
+    from jaxgear.scenes import Housing, lumped_pair
+
+    case = jio.load_case("accessory-spur").replace(slices=2)
+    a, t, width, height = float(case.pair.center_distance), 0.01, 0.25, 0.16
+    length = 0.1 + t
+    off = np.array([-(width / 2 - a / 2), -height / 2, -length / 2])
+    bores = tuple(Bore(w, (x - off[0], height / 2), 0.025) for w in ("x-", "x+") for x in (0.0, a))
+    feet = tuple(Foot((x0, x0 + 0.03), (y0, y0 + 0.03))
+                 for x0 in (0.0, length - 0.03) for y0 in (0.0, width - 0.03))
+    mesh = mesh_box(HousingBox(length, width, height, t, bores=bores, feet=feet), 0.04,
+                    element=Tet4())
+    ch = condensed_housing(mesh, ALUMINIUM, 8000.0, cache=False)
+    housing = Housing.of(ch, loss_factor=0.0, rotation=R_COUPLED, offset=off)
+    s = case.scene
+    scene = lumped_pair(case.pair, case.mesh_model(), s.pinion_shaft, s.gear_shaft,
+                        masses=(1.0, 2.5), inertias=((1e-3, 2e-3), (4e-3, 8e-3)), housing=housing)
+    # undamped (the model's modal damping would reach the housing's coordinates too)
+    model = dynamic_model(scene, case.modifications, case.torque, NoDamping())
+    ac = housing_acoustics(ch, outer_surface(mesh), loss_factor=0.0)
+    path = op.AcousticPath(model, ac, [450.0], (1, 2), HarmonicBalance(4), positions=32)
+    freq, vn = path.surface_velocity(model.mods, case.torque, jg.ExactContact())
+    # the reference: the coupled whine's bearing forces on the nearest seats (scene frame)
+    w = whine_response(model, [450.0], HarmonicBalance(4), positions=32)
+    centres = off + np.array([sd.centre for sd in mesh.seats]) @ R_COUPLED.T
+    names = scene.reaction_names
+    seats = []
+    for n in names:
+        shaft, z = n.split()[0], float(n.split("z=")[1].split("mm")[0]) * 1e-3
+        spec = s.pinion_shaft if shaft == "pinion" else s.gear_shaft
+        p = np.array([0.0 if shaft == "pinion" else a, 0.0, z - spec.gear_z])
+        seats.append(int(np.argmin(np.linalg.norm(centres - p, axis=1))))
+    loads = seat_forces(w.bearing_force[:, 1:3], seats, names, len(ch.seat_names), R_COUPLED.T)
+    ref = housing_response(ac, loads, freq).normal_velocity
+    np.testing.assert_allclose(np.asarray(vn), np.asarray(ref), rtol=0,
+                               atol=1e-6 * float(np.max(np.abs(np.asarray(ref)))))
+    obj = op.EquivalentRadiatedPower(path, op.Max(), False)
+    d0 = float(model.mods.pinion.tip_relief_depth)
+
+    def value(d):
+        return obj.at_torque(None, _with_depth(model.mods, d), case.torque, jg.ExactContact())
+
+    grad = float(jax.grad(value)(jnp.asarray(d0)))
+    step = 1e-6 * d0
+    fd = float(value(d0 + step) - value(d0 - step)) / (2 * step)
+    assert grad != 0.0
+    np.testing.assert_allclose(grad, fd, rtol=1e-5)
