@@ -75,7 +75,7 @@ def _with_depth(mods, d):
     )
 
 
-@pytest.mark.slow  # about 40 s on the 2-core host (the lumped 3D whine and its gradient)
+@pytest.mark.slow  # about 1 min on the 2-core host (the lumped 3D whine and its gradient)
 def test_erp_chain_gradient_matches_central_differences(housed):
     """d(ERP of orders 1-2 at one speed, A-weighted)/d(tip relief depth of both members) by
     jax.grad through the whole chain equals the central difference (step 1e-6 of the depth)
@@ -130,7 +130,7 @@ def _top_wall(mesh, surface, top=0.2):
     return plate, vm
 
 
-@pytest.mark.slow  # about 40 s on the 2-core host (the lumped 3D whine and its gradient)
+@pytest.mark.slow  # about 20 s on the 2-core host (the lumped 3D whine and its gradient)
 def test_sound_power_chain_gradient_and_value(housed):
     """The sound power of the top wall as a baffled panel (its Rayleigh radiation resistance,
     cached at the path's frequencies; orders 1-2 at one speed, not weighted): the objective's
@@ -163,7 +163,7 @@ def test_sound_power_chain_gradient_and_value(housed):
     np.testing.assert_allclose(grad, fd, rtol=1e-5)
 
 
-@pytest.mark.slow  # about 40 s on the 2-core host (three speeds, the problem's gradient)
+@pytest.mark.slow  # about 1 min on the 2-core host (three speeds, the problem's gradient)
 def test_statistics_over_speeds_and_problem_scale(housed):
     """Over three speeds: Max, Mean and Quantile(0.5) of the per-speed powers as written out;
     the problem built on the path's scene is scaled by the unmodified design's value (exact
