@@ -4,7 +4,9 @@ Objectives are objects (:class:`TeRms`, :class:`TePeakToPeak`, :class:`RobustTeR
 range, :class:`MaxLineLoad`, :class:`LoadCentroid` across the face, :class:`LineLoadLp` of the
 line load, :class:`DynamicFactor` over a speed band, :class:`LeastSafetyFactor` of the rating, the
 tribology objectives :class:`MeshPowerLoss`, :class:`EfficiencyLoss`, :class:`MinSpecificFilm`,
-:class:`MaxFlashTemperature` of a :class:`MeshLubrication`) on the rigid mesh or on any scene
+:class:`MaxFlashTemperature` of a :class:`MeshLubrication`, the acoustic objectives
+:class:`EquivalentRadiatedPower` and :class:`RadiatedSoundPower` of a housed gearbox over a speed
+range along an :class:`AcousticPath`) on the rigid mesh or on any scene
 (the hybrid scene at speed included), design variables normalised and bounded by
 reparametrisation; any optimistix quasi-Newton minimiser or optax gradient transformation
 solves it (:func:`minimise`, L-BFGS by default); the Master Curve and the (Γ, E) contour map of TE RMS; robust design against
@@ -12,6 +14,13 @@ sampled deviations (:func:`robust_problem`, a :class:`Mean` or :class:`Quantile`
 Case-file names map to these objects in :mod:`jaxgear.io` (``case_problem``).
 """
 
+from ._acoustics import (
+    AbstractAcousticObjective as AbstractAcousticObjective,
+    AcousticPath as AcousticPath,
+    EquivalentRadiatedPower as EquivalentRadiatedPower,
+    RadiatedSoundPower as RadiatedSoundPower,
+    SurfaceRadiation as SurfaceRadiation,
+)
 from ._master_curve import contour_map as contour_map, master_curve as master_curve
 from ._minimise import OptimisationResult as OptimisationResult, minimise as minimise
 from ._objectives import (

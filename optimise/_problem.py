@@ -9,7 +9,8 @@ The objective is an object (:mod:`optimise._objectives`: :class:`TeRms`, :class:
 :class:`RobustTeRms`, :class:`MaxLineLoad`, :class:`LoadCentroid`, :class:`LineLoadLp`,
 :class:`DynamicFactor`, :class:`LeastSafetyFactor`, the tribology objectives
 :class:`MeshPowerLoss`, :class:`EfficiencyLoss`, :class:`MinSpecificFilm`,
-:class:`MaxFlashTemperature`), scaled by its unmodified value at the design torque, so O(1)
+:class:`MaxFlashTemperature`, the acoustic :class:`EquivalentRadiatedPower` and
+:class:`RadiatedSoundPower`), scaled by its unmodified value at the design torque, so O(1)
 (``LoadCentroid`` by a fixed 0.01). Every quasi-static objective works on the rigid mesh and on
 any scene, e.g. the hybrid scene of :func:`jaxgear.io.static_scene` at a pinion speed
 (centrifugal loads).
@@ -28,6 +29,7 @@ from jaxtyping import Array, Float
 
 import jaxgear as jg
 
+from ._acoustics import EquivalentRadiatedPower, RadiatedSoundPower
 from ._objectives import (
     AbstractObjective,
     DynamicFactor,
@@ -67,6 +69,8 @@ _OBJECTIVE_CLASSES = (
     EfficiencyLoss,
     MinSpecificFilm,
     MaxFlashTemperature,
+    EquivalentRadiatedPower,
+    RadiatedSoundPower,
 )
 # the objectives' names (case files map them to objects in jaxgear.io) and their units
 OBJECTIVES = tuple(c.name for c in _OBJECTIVE_CLASSES)

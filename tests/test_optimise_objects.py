@@ -43,6 +43,10 @@ def test_case_file_names_map_to_objects(case):
         lubrication=lubrication,
     )
     for name in jio.OBJECTIVES:
+        if name in ("erp", "sound_power"):  # built on an acoustic path: test_optimise_acoustics
+            with pytest.raises(ValueError, match="needs acoustic_path"):
+                jio.objective_from_name(name, case.torque, **settings)
+            continue
         obj = jio.objective_from_name(name, case.torque, **settings)
         assert isinstance(obj, op.AbstractObjective) and obj.name == name
     assert op.OBJECTIVES == tuple(jio.OBJECTIVES)

@@ -134,7 +134,7 @@ SECTIONS = {
         ("Writing files", ("_writers",)),
     ),
     "optimise": (
-        ("Objectives", ("_objectives", "_safety", "_tribology")),
+        ("Objectives", ("_objectives", "_safety", "_tribology", "_acoustics")),
         ("Problems and variables", ("_problem", "_variables")),
         ("Minimisers", ("_minimise", "_master_curve", "_robust")),
     ),

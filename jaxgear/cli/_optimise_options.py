@@ -31,6 +31,8 @@ OBJECTIVE_NAMES = (
     "efficiency_loss",
     "min_specific_film",
     "max_flash_temperature",
+    "erp",
+    "sound_power",
 )
 #: ``--reduce``: the keys of :data:`jaxgear.io.STATISTICS`
 STATISTIC_NAMES = ("max", "mean")
@@ -61,7 +63,8 @@ def add_optimise_arguments(o) -> None:
         "line load over the load map (a smooth maximum, see --lp-order), least_safety: raise the "
         "least ISO 6336 safety factor (a case with [rating]; see --te-limit-um); power_loss, "
         "efficiency_loss, min_specific_film (as 1/λ), max_flash_temperature: the mesh's "
-        "tribology (a case with [lubricant])",
+        "tribology (a case with [lubricant]); erp, sound_power: the housing's radiated power, "
+        "from Python only (optimise.AcousticPath: a case file does not give one yet)",
     )
     o.add_argument(
         "--te-limit-um",

@@ -214,6 +214,18 @@ def _mesh_basis(V, mask) -> np.ndarray | None:
     return vt[:r].T
 
 
+def _contact_basis(scene) -> np.ndarray | None:
+    """The columns of the identity at the coordinates every cell's structure vector can reach
+    (:meth:`~jaxgear.scenes.Scene.contact_dofs`, static): a basis of the mesh stiffness known
+    without the cells' values (under jit or grad, where :func:`_mesh_basis` cannot see them);
+    None where the scene does not know them or they are every coordinate."""
+    dofs = scene.contact_dofs()
+    n = scene.mass().shape[0]
+    if dofs is None or len(dofs) >= n:
+        return None
+    return np.eye(n)[:, list(dofs)]
+
+
 class WhineResponse(eqx.Module):
     """The frequency-domain steady state of a lumped model (:func:`whine_response`) at S speeds,
     H + 1 orders (0..H of the span's fundamental; of the mesh frequency for a pair), n
@@ -338,6 +350,8 @@ def whine_response(
     prep = _prep(model, law, int(positions))
     speeds = jnp.atleast_1d(jnp.asarray(speeds, model.dtype))
     basis = _mesh_basis(prep.table.V, prep.table.mask)
+    if basis is None and is_traced((prep.table.V, prep.table.mask)):
+        basis = _contact_basis(model.scene)  # traced (under jit): the scene's static DOFs
     basis = None if basis is None else jnp.asarray(basis, model.dtype)
     return _whine(model, prep, speeds, method, basis)
 

@@ -100,8 +100,31 @@ def _tribology(kind):
     return build
 
 
+def _acoustic(kind):
+    """The builder of an acoustic objective ``kind``: its acoustic path (an
+    :class:`optimise.AcousticPath`, built in Python: a case file does not give one yet), the
+    statistic over the path's speeds, the A weighting, and (sound power) the cached radiation."""
+
+    def build(torque, acoustic_path=None, reduce="max", a_weighted=True, radiation=None, **_):
+        if acoustic_path is None:
+            raise ValueError(
+                f"objective = {kind.name!r} needs acoustic_path = optimise.AcousticPath(...) "
+                "(the housed gearbox, its speeds and orders; docs/acoustics.md)"
+            )
+        extra = {} if radiation is None else {"radiation": radiation}
+        if kind is op.RadiatedSoundPower and radiation is None:
+            raise ValueError(
+                "objective = 'sound_power' needs radiation = optimise.SurfaceRadiation(...) (the "
+                "cached radiation resistance at the path's frequencies)"
+            )
+        return kind(acoustic_path, _statistic(reduce), bool(a_weighted), **extra)
+
+    return build
+
+
 # ``objective = "..."``: the objective object, from the design torque (N·m) and the settings
-# (torques, reduce, lp_order, speeds, integrator, window, rating, te_limit, lubrication)
+# (torques, reduce, lp_order, speeds, integrator, window, rating, te_limit, lubrication,
+# acoustic_path, a_weighted, radiation)
 OBJECTIVES: dict[str, Callable[..., op.AbstractObjective]] = {
     "te_rms": lambda torque, **_: op.TeRms(),
     "te_ptp": lambda torque, **_: op.TePeakToPeak(),
@@ -115,6 +138,8 @@ OBJECTIVES: dict[str, Callable[..., op.AbstractObjective]] = {
     "efficiency_loss": _tribology(op.EfficiencyLoss),
     "min_specific_film": _tribology(op.MinSpecificFilm),
     "max_flash_temperature": _tribology(op.MaxFlashTemperature),
+    "erp": _acoustic(op.EquivalentRadiatedPower),
+    "sound_power": _acoustic(op.RadiatedSoundPower),
 }
 
 # ``method = "..."``: the optimiser object (an optimistix minimiser or an optax transformation)
@@ -140,6 +165,9 @@ _SETTINGS = {
     "bounds",
     "speed",
     "te_limit",
+    "acoustic_path",
+    "a_weighted",
+    "radiation",
 }
 
 
@@ -169,12 +197,16 @@ def objective_from_name(name: str, torque, **settings) -> op.AbstractObjective:
             "least_safety", ``lubrication`` (the case's :class:`optimise.MeshLubrication`, from
             its ``[lubricant]``), ``torques`` and ``reduce`` of the tribology objectives
             ("power_loss", "efficiency_loss", "min_specific_film", "max_flash_temperature");
-            the others are ignored.
+            ``acoustic_path`` (an :class:`optimise.AcousticPath`), ``reduce`` over its speeds,
+            ``a_weighted`` (default True) and ``radiation`` (an
+            :class:`optimise.SurfaceRadiation`, "sound_power" only) of the acoustic objectives
+            ("erp", "sound_power"); the others are ignored.
 
     Raises:
         ValueError: an unknown name or reduce, settings out of range (as the objective class),
             "least_safety" without ``rating`` (the case has no ``[rating]`` table), a
-            tribology objective without ``lubrication`` (no ``[lubricant]``).
+            tribology objective without ``lubrication`` (no ``[lubricant]``), an acoustic
+            objective without ``acoustic_path`` ("sound_power": or without ``radiation``).
     """
     return _lookup(OBJECTIVES, "objective", name)(torque, **settings)
 
