@@ -105,13 +105,13 @@ def body_outputs(out_dir, scene, bodies, res, k: int, names=None):
 PEAK_RTOL = 1e-9
 
 
-def first_peak(peak) -> int:
-    """The first index of ``peak`` (1-D) within :data:`PEAK_RTOL` of its largest value: the
-    position a body's deformation and stresses are reported at, the same whatever round-off
-    decides among a plateau's equal peaks."""
+def first_peak(peak, rtol: float = PEAK_RTOL) -> int:
+    """The first index of ``peak`` (1-D) within ``rtol`` (default :data:`PEAK_RTOL`) of its
+    largest value: the position a body's deformation and stresses are reported at, the same
+    whatever round-off decides among a plateau's equal peaks."""
     peak = np.asarray(peak)
     top = peak.max()
-    return int(np.flatnonzero(peak >= top - PEAK_RTOL * abs(top))[0])
+    return int(np.flatnonzero(peak >= top - rtol * abs(top))[0])
 
 
 def peak_position(res) -> int:

@@ -88,7 +88,10 @@ def root_stress_map(
             quasi-static result, or dynamic cell loads with the same fields).
         member: 0 (pinion) or 1 (gear).
         roll_table: (K,) roll distances ρ (m) of the unit loads, increasing, covering the
-            member's active profile (``fem_prep.fillet_influence(...).roll``).
+            member's active profile (``fem_prep.fillet_influence(...).roll``). Cells outside
+            it (contact beyond the theoretical path) take the nearest end's value
+            (``jnp.interp`` holds the ends): the tip's for a member touching with its tip
+            corner, the start of active profile's, an upper bound, below it.
         stress_per_load: (K,) the largest fillet stress per unit load at each (Pa per N/m;
             ``fem_prep.fillet_influence(...).peak``).
 
