@@ -159,9 +159,10 @@ def acoustic_outputs(
     A = np.asarray(a_weighting(f))
     LW, LWA = _db(W, W_REF), _db(W * 10 ** (A / 10), W_REF)
     total, total_a = _db(np.nansum(W, axis=1), W_REF), _db(np.nansum(W * 10 ** (A / 10), 1), W_REF)
+    head = f"{name}: " if name else ""
     folder = os.path.join(out_dir, "acoustics")
     os.makedirs(folder, exist_ok=True)
-    title = f"{name}: radiated sound power ({table.method}, {len(grid)} frequencies)"
+    title = f"{head}radiated sound power ({table.method}, {len(grid)} frequencies)"
     sound_power_plot(os.path.join(folder, "sound_power.png"), speeds, orders, LW, LWA, total,
                      total_a, title=title)
     cols = {"speed_rad_s": speeds}
@@ -195,7 +196,7 @@ def acoustic_outputs(
         LpA = _db(np.nansum(p2 * 10 ** (A / 10)[..., None], axis=1), P_REF**2)  # (S, q)
         names = [m for m, _ in mics]
         microphone_plot(os.path.join(folder, "microphones.png"), names, speeds, f, orders, Lp, LpA,
-                        title=f"{name}: sound pressure at the microphones ({table.method})")
+                        title=f"{head}sound pressure at the microphones ({table.method})")
         mcols = {"speed_rad_s": np.repeat(speeds, O), "order": np.tile(orders, S),
                  "frequency_Hz": f.reshape(-1)}
         for k, m in enumerate(names):
@@ -227,7 +228,7 @@ def acoustic_outputs(
     if maps:
         intensity_map_plot(os.path.join(folder, "intensity.png"), surface.vertices,
                            surface.triangles, maps,
-                           title=f"{name}: radiated intensity at the loudest speed")
+                           title=f"{head}radiated intensity at the loudest speed")
     section["map_speed_rad_s"] = float(speeds[s_max])
     section["files"] = [f"acoustics/{x}" for x in ACOUSTICS_FILES
                         if x == "sound_power.json" or os.path.exists(os.path.join(folder, x))]
