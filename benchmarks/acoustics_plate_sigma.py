@@ -3,11 +3,11 @@
 supported 1 m × 0.8 m plate by the Rayleigh resistance (fem_prep.acoustics) against Wallace's
 (1972) far-field integral, eq. (8), for the modes (1,1), (2,1), (2,2), (3,3) from ka = 0.2 to 20.
 
-On the 20 × 16 panel mesh the (3,3) mode drifts from Wallace's curve above ka ≈ 12 (kh ≈ 0.6
-with h = 50 mm and about seven cells per half wave of the mode: the 3-point rule of each
-triangle and the P1 mode shape both lose accuracy there). The figure is drawn on 40 × 32 cells;
-the record holds the error at Wallace's points on 20 × 16 and 40 × 32 cells and, at the two
-highest ka, on 60 × 48 cells, so what the figure shows is what has converged. From the repository root:
+The question was whether the (3,3) mode's rise above ka ≈ 12 on the 20 × 16 panel mesh is a
+drift of the mesh (kh ≈ 0.6 there with h = 50 mm). The figure is drawn on 40 × 32 cells; the
+record holds the error at Wallace's points on 20 × 16 and 40 × 32 cells and, at the two highest
+ka, on 60 × 48 cells. Measured: at most 0.28 % on 20 × 16, 0.017 % on 40 × 32 and 1.5e-5 on 60 ×
+48 cells. The rise is Wallace's curve. From the repository root:
 ``python -m benchmarks.acoustics_plate_sigma``.
 """
 
