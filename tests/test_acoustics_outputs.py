@@ -8,9 +8,14 @@ from __future__ import annotations
 
 import math
 
+import jax
 import numpy as np
 import pytest
+from scipy import special
 
+import fem_prep.acoustics as fa
+import jaxgear.acoustics as ja
+import jaxgear.io as jio
 from fem_prep.housing import (
     Bore,
     Foot,
@@ -20,6 +25,7 @@ from fem_prep.housing import (
     mesh_box,
     outer_surface,
 )
+from jaxgear.cli.run import acoustic_outputs
 
 L, W, H, T = 0.3, 0.2, 0.16, 0.01
 BORES = (Bore("x-", (0.1, 0.08), 0.025), Bore("x+", (0.1, 0.08), 0.025), Bore("z+", (0.2, 0.1), 0.03))
@@ -77,7 +83,7 @@ def test_closed_outer_surface_normal_operator():
     d = rs.normal_operator @ u
     x = s.vertices
     inner = np.all((x > 1e-9) & (x < np.array([L, W, H]) - 1e-9), axis=1)
-    on = lambda axis, value: np.isclose(x[:, axis], value) & np.all(  # noqa: E731
+    on = lambda axis, value: np.isclose(x[:, axis], value) & np.all(
         [(x[:, k] > 1e-9) & (x[:, k] < (L, W, H)[k] - 1e-9) for k in range(3) if k != axis],
         axis=0)
     assert not inner.any()
@@ -97,15 +103,6 @@ def test_closed_outer_surface_refuses_bad_input():
 
 
 # -- the power and pressure between grid frequencies (jaxgear.acoustics) ------------------------
-
-import jax  # noqa: E402
-import jax.numpy as jnp  # noqa: E402
-from scipy import special  # noqa: E402
-
-import fem_prep.acoustics as fa  # noqa: E402
-import jaxgear.acoustics as ja  # noqa: E402
-import jaxgear.io as jio  # noqa: E402
-from jaxgear.cli.run import acoustic_outputs  # noqa: E402
 
 
 def test_power_between_grid_frequencies_is_exact_for_a_power_law():

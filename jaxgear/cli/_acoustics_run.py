@@ -241,8 +241,9 @@ def acoustics_run_line(section: dict | None) -> list[str]:
     if not section:
         return []
     top = np.nanmax(np.asarray(section["overall_LWA_dBA"], dtype=float))
-    return [
+    line = (
         f"acoustics ({section['method']}, {len(section['grid_Hz'])} frequencies): overall "
         f"L_WA up to {top:.1f} dB(A) re 1 pW at {section['map_speed_rad_s']:.0f} rad/s "
         "(acoustics/)"
-    ]
+    )
+    return [line]
