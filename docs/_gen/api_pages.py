@@ -111,7 +111,9 @@ SECTIONS = {
         ("Micropitting", ("_micropitting",)),
     ),
     "jaxgear.acoustics": (
+        ("Housing response and equivalent radiated power", ("_erp",)),
         ("Sound power and levels", ("_power",)),
+        ("Power and microphone pressure across a band", ("_band",)),
         ("A weighting", ("_weighting",)),
     ),
     "fem_prep.acoustics": (
@@ -120,9 +122,6 @@ SECTIONS = {
         ("Boundary elements", ("_bem",)),
         ("Rayleigh integral", ("_rayleigh",)),
     ),
-    "jaxgear.acoustics": (
-        ("Housing response and equivalent radiated power", ("_erp",)),
-    ),
     "jaxgear.io": (
         ("Loading a case", ("_load", "_case_file", "_case", "_names", "_plausibility")),
         ("From a case to models", ("_case_model", "_scene_spec", "_scene_table", "_problem",
@@ -130,7 +129,8 @@ SECTIONS = {
         ("Tables of a case file", ("_deviations_table", "_modifications_table",
                                    "_optimise_table", "_rating*", "_robust_table",
                                    "_lubricant_table", "_scuffing_table",
-                                   "_micropitting_table", "_housing_table", "_whine_table")),
+                                   "_micropitting_table", "_housing_table", "_whine_table",
+                                   "_acoustics_table")),
         ("Writing files", ("_writers",)),
     ),
     "optimise": (

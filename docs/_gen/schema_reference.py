@@ -168,6 +168,19 @@ harmonics = 8
 method = "harmonic-balance"
 positions_per_period = 64
 """,
+    "acoustics": """
+[acoustics]
+method = "bem"
+band_Hz = [100.0, 4000.0]
+frequencies = 24
+rank = 64
+cache = true
+density_kg_m3 = 1.21
+sound_speed_m_s = 343.0
+[[acoustics.microphones]]
+name = "front"
+position_mm = [150.0, -1000.0, 80.0]
+""",
     "modifications": """
 [modifications]
 tip_relief = { depth_um = 10.0, extent = 0.2, shape = "parabolic" }
@@ -475,6 +488,7 @@ def case_samples() -> Iterator[tuple[dict, str | None]]:
     # a train's gear whine in the frequency domain
     data = tomllib.loads(jio.embedded_case_text("accessory-idler-train"))
     data.update(tomllib.loads(SAMPLE_OVERLAYS["whine"]))
+    data.update(tomllib.loads(SAMPLE_OVERLAYS["acoustics"]))
     yield data, None
     # a planetary stage's gear whine (the input member's speeds)
     data = tomllib.loads(jio.embedded_case_text("nrel-5mw-planetary"))

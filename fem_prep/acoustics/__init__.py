@@ -12,14 +12,17 @@ from ._bem import (
     Direct as Direct,
     Formulation as Formulation,
     bem_field_pressure as bem_field_pressure,
+    bem_field_transfer as bem_field_transfer,
     bem_impedance as bem_impedance,
 )
 from ._rayleigh import (
     rayleigh_pressure as rayleigh_pressure,
     rayleigh_resistance as rayleigh_resistance,
+    rayleigh_transfer as rayleigh_transfer,
 )
 from ._resistance import (
     BEM as BEM,
+    ERP as ERP,
     RADIATION_FORMAT as RADIATION_FORMAT,
     RadiationMethod as RadiationMethod,
     RadiationResistance as RadiationResistance,

@@ -36,7 +36,14 @@ from tqdm import tqdm
 from .._kinds import Kind
 from ._surface import AIR, Fluid, RadiatingSurface
 
-__all__ = ["BurtonMiller", "Direct", "Formulation", "bem_field_pressure", "bem_impedance"]
+__all__ = [
+    "BurtonMiller",
+    "Direct",
+    "Formulation",
+    "bem_field_pressure",
+    "bem_field_transfer",
+    "bem_impedance",
+]
 
 
 class Formulation(Kind):
@@ -222,3 +229,52 @@ def bem_field_pressure(
     with _quiet():
         p = pot.double_layer(sp, x.T, k).evaluate(p_s) - pot.single_layer(sp, x.T, k).evaluate(q)
     return np.asarray(p).reshape(-1)
+
+
+def bem_field_transfer(
+    surface: RadiatingSurface,
+    frequency_hz: float,
+    impedance: np.ndarray,
+    points: np.ndarray,
+    fluid: Fluid = AIR,
+) -> np.ndarray:
+    """The matrix T with p(x) = T v: the pressure amplitudes (Pa, peak, e^{-iωt}) at field
+    points (microphones) per unit vertex normal velocity (m/s) of a closed surface, the
+    representation p = K p_S − V ∂p/∂n of :func:`bem_field_pressure` with p_S = Z v and
+    ∂p/∂n = iωρ v, integrated in NumPy by each triangle's 3-point rule
+    (:meth:`RadiatingSurface.quadrature`) instead of bempp-cl's potentials (which give one
+    velocity at a time):
+
+        T = (∂G/∂n_y)(x, y_q) w_q Φ Z − G(x, y_q) w_q Φ iωρ,
+        G = e^{ikr}/(4πr),  ∂G/∂n_y = (n_y · (x − y)/r) (1/r − ik) G.
+
+    Accurate for points a few triangle sizes off the surface (microphones).
+
+    Args:
+        surface: a closed :class:`RadiatingSurface`.
+        frequency_hz: f > 0 (Hz).
+        impedance: ``(n, n)`` Z from :func:`bem_impedance` at this frequency.
+        points: ``(q, 3)`` field points (m), outside the surface.
+        fluid: the medium.
+
+    Returns:
+        ``(q, n)`` complex T (Pa s/m).
+
+    Raises:
+        TypeError, ValueError: as :func:`bem_impedance`; shapes that do not fit.
+    """
+    k = _check(surface, frequency_hz, fluid, BurtonMiller(), "bem_field_transfer")
+    x = np.asarray(points, dtype=float)
+    if x.ndim != 2 or x.shape[1] != 3 or not np.all(np.isfinite(x)):
+        raise ValueError(f"bem_field_transfer: points must be finite (q, 3), got {x.shape}")
+    if np.shape(impedance) != (surface.n_vertices,) * 2:
+        raise ValueError(f"bem_field_transfer: impedance must be (n, n), got {np.shape(impedance)}")
+    y, w, interp = surface.quadrature()
+    ny = np.repeat(surface.normals, 3, axis=0)
+    d = x[:, None, :] - y[None, :, :]
+    r = np.linalg.norm(d, axis=2)
+    g = np.exp(1j * k * r) / (4 * np.pi * r)
+    dg = np.einsum("qpd,pd->qp", d, ny) / r * (1 / r - 1j * k) * g
+    a = interp * w[:, None]
+    omega = 2 * np.pi * frequency_hz
+    return (dg @ a) @ np.asarray(impedance) - 1j * omega * fluid.density * (g @ a)

@@ -25,7 +25,7 @@ from scipy.spatial.distance import cdist
 
 from ._surface import AIR, Fluid, RadiatingSurface
 
-__all__ = ["rayleigh_pressure", "rayleigh_resistance"]
+__all__ = ["rayleigh_pressure", "rayleigh_resistance", "rayleigh_transfer"]
 
 
 def _planar(surface: RadiatingSurface, fn: str) -> tuple[np.ndarray, float]:
@@ -65,6 +65,39 @@ def rayleigh_resistance(
     return omega * fluid.density * k / (4 * np.pi) * (a.T @ s @ a)
 
 
+def rayleigh_transfer(
+    surface: RadiatingSurface,
+    frequency_hz: float,
+    points: np.ndarray,
+    fluid: Fluid = AIR,
+) -> np.ndarray:
+    """The matrix T with p(x) = T v: the complex pressure amplitudes (Pa, peak; e^{-iωt}) at
+    field ``points`` ``(q, 3)`` (m) in front of a baffled flat panel per unit vertex normal
+    velocity (m/s), the Rayleigh integral p = −iωρ/(2π) ∫ v e^{ikr}/r dS on the panel's 3-point
+    quadrature (points at least a few triangle sizes off the panel).
+
+    Returns:
+        ``(q, n)`` complex T (Pa s/m).
+
+    Raises:
+        TypeError: ``surface`` not a RadiatingSurface.
+        ValueError: a closed or curved surface, ``frequency_hz`` ≤ 0, points not ``(q, 3)``,
+            a point behind or on the baffle.
+    """
+    normal, offset = _planar(surface, "rayleigh_transfer")
+    x = np.asarray(points, dtype=float)
+    if x.ndim != 2 or x.shape[1] != 3 or not np.all(np.isfinite(x)):
+        raise ValueError(f"rayleigh_transfer: points must be finite (q, 3), got {x.shape}")
+    if np.any(x @ normal - offset <= 0):
+        raise ValueError("rayleigh_transfer: every point must lie in front of the baffle")
+    k = fluid.wavenumber(frequency_hz)
+    omega = 2 * np.pi * frequency_hz
+    pts, w, interp = surface.quadrature()
+    r = cdist(x, pts)
+    g = np.exp(1j * k * r) / r
+    return -1j * omega * fluid.density / (2 * np.pi) * (g @ (interp * w[:, None]))
+
+
 def rayleigh_pressure(
     surface: RadiatingSurface,
     frequency_hz: float,
@@ -75,14 +108,14 @@ def rayleigh_pressure(
     """The complex pressure amplitude (Pa, peak; e^{-iωt}) at field ``points`` ``(q, 3)`` (m)
     in front of a baffled flat panel with vertex normal velocity ``velocity`` ``(n,)`` (m/s), by
     the Rayleigh integral on the panel's 3-point quadrature (points at least a few triangle
-    sizes off the panel).
+    sizes off the panel): :func:`rayleigh_transfer` times ``velocity``.
 
     Raises:
         TypeError: ``surface`` not a RadiatingSurface.
         ValueError: a closed or curved surface, ``frequency_hz`` ≤ 0, shapes that do not fit,
             a point behind or on the baffle.
     """
-    normal, offset = _planar(surface, "rayleigh_pressure")
+    _planar(surface, "rayleigh_pressure")
     v = np.asarray(velocity)
     if v.shape != (surface.n_vertices,):
         raise ValueError(
@@ -91,11 +124,4 @@ def rayleigh_pressure(
     x = np.asarray(points, dtype=float)
     if x.ndim != 2 or x.shape[1] != 3:
         raise ValueError(f"rayleigh_pressure: points must be (q, 3), got {x.shape}")
-    if np.any(x @ normal - offset <= 0):
-        raise ValueError("rayleigh_pressure: every point must lie in front of the baffle")
-    k = fluid.wavenumber(frequency_hz)
-    omega = 2 * np.pi * frequency_hz
-    pts, w, interp = surface.quadrature()
-    r = cdist(x, pts)
-    g = np.exp(1j * k * r) / r
-    return -1j * omega * fluid.density / (2 * np.pi) * (g @ (w * (interp @ v)))
+    return rayleigh_transfer(surface, frequency_hz, x, fluid) @ v

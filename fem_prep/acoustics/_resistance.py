@@ -30,12 +30,13 @@ from tqdm import tqdm
 
 from .._fe_cache import cache_key, load_entry, store_entry, table_dir
 from .._kinds import Kind
-from ._bem import BurtonMiller, Formulation, bem_impedance
-from ._rayleigh import rayleigh_resistance
+from ._bem import BurtonMiller, Formulation, bem_field_transfer, bem_impedance
+from ._rayleigh import rayleigh_resistance, rayleigh_transfer
 from ._surface import AIR, Fluid, RadiatingSurface
 
 __all__ = [
     "BEM",
+    "ERP",
     "RADIATION_FORMAT",
     "RadiationMethod",
     "RadiationResistance",
@@ -54,6 +55,16 @@ class RadiationMethod(Kind):
     @abc.abstractmethod
     def resistance(self, surface: RadiatingSurface, frequency_hz: float, fluid: Fluid):
         """``(n, n)`` Hermitian R (kg/s) at one frequency."""
+
+    def operators(self, surface, frequency_hz, fluid, points=None):
+        """R and, given field ``points`` ``(q, 3)`` (m), the transfer ``(q, n)`` from the
+        vertex normal velocity to the pressure there (Pa s/m; ``None`` without points).
+
+        Raises:
+            ValueError: points given to a method that has no field pressure."""
+        if points is not None:
+            raise ValueError(f"radiation_resistance: method {self} gives no field pressure")
+        return self.resistance(surface, frequency_hz, fluid), None
 
 
 class BEM(RadiationMethod):
@@ -78,9 +89,13 @@ class BEM(RadiationMethod):
         return f"BEM({self.formulation!r})"
 
     def resistance(self, surface, frequency_hz, fluid):
+        return self.operators(surface, frequency_hz, fluid)[0]
+
+    def operators(self, surface, frequency_hz, fluid, points=None):
         Z = bem_impedance(surface, frequency_hz, fluid, self.formulation, progress=self.progress)
         MZ = surface.mass_matrix() @ Z
-        return 0.25 * (MZ + MZ.conj().T)
+        T = None if points is None else bem_field_transfer(surface, frequency_hz, Z, points, fluid)
+        return 0.25 * (MZ + MZ.conj().T), T
 
 
 class Rayleigh(RadiationMethod):
@@ -90,6 +105,23 @@ class Rayleigh(RadiationMethod):
 
     def resistance(self, surface, frequency_hz, fluid):
         return rayleigh_resistance(surface, frequency_hz, fluid).astype(complex)
+
+    def operators(self, surface, frequency_hz, fluid, points=None):
+        R = self.resistance(surface, frequency_hz, fluid)
+        T = None if points is None else rayleigh_transfer(surface, frequency_hz, points, fluid)
+        return R, T
+
+
+class ERP(RadiationMethod):
+    """The equivalent radiated power as a resistance: R = ½ ρc M (M the P1 mass matrix), every
+    part of the surface radiating as a plane wave (radiation efficiency 1; close to the power
+    above the coincidence frequency, an upper estimate below it: Fritze, Marburg & Hardtke,
+    Acta Acust. united Ac. 95 (2009)). Any surface, open or closed; no field pressure."""
+
+    name = "erp"
+
+    def resistance(self, surface, frequency_hz, fluid):
+        return (0.5 * fluid.impedance * surface.mass_matrix()).astype(complex)
 
 
 @dataclass(frozen=True, eq=False)
@@ -103,8 +135,11 @@ class RadiationResistance:
         eigenvalues: ``(f, n)`` the eigenvalues of each R, descending (kg/s): the radiation
             modes' resistances (their tail shows what a rank r drops).
         fluid_density, sound_speed: the fluid (kg/m³, m/s).
-        method: the method's name (``"bem/burton-miller"``, ``"rayleigh"``).
+        method: the method's name (``"bem/burton-miller"``, ``"rayleigh"``, ``"erp"``).
         key: the cache key.
+        points: ``(q, 3)`` the field points asked for (m), or ``None``.
+        transfer: ``(f, q, n)`` complex: the pressure amplitude at each point per unit vertex
+            normal velocity (Pa s/m; p = T v, e^{-iωt}), or ``None`` without points.
     """
 
     frequencies_hz: np.ndarray
@@ -114,6 +149,8 @@ class RadiationResistance:
     sound_speed: float
     method: str
     key: str
+    points: np.ndarray | None = None
+    transfer: np.ndarray | None = None
 
     def matrix(self, i: int) -> np.ndarray:
         """``(n, n)`` R ≈ L Lᴴ at the ``i``-th frequency (kg/s)."""
@@ -133,11 +170,12 @@ def _factor(R: np.ndarray, rank: int | None):
     return U[:, :r] * np.sqrt(np.clip(lam[:r], 0.0, None)), lam
 
 
-def _inputs(surface, freqs, fluid, method, rank):
+def _inputs(surface, freqs, fluid, method, rank, points=None):
     geo = hashlib.sha256(
         surface.vertices.astype("<f8").tobytes() + surface.triangles.astype("<i8").tobytes()
     ).hexdigest()
-    return {
+    extra = {} if points is None else {"points": [[repr(float(c)) for c in p] for p in points]}
+    return extra | {
         "format_version": RADIATION_FORMAT,
         "surface_sha256": geo,
         "frequencies_hz": [repr(float(f)) for f in freqs],
@@ -156,6 +194,7 @@ def radiation_resistance(
     rank: int | None = None,
     cache: bool | str | Path = True,
     progress: bool = False,
+    points=None,
 ) -> RadiationResistance:
     """R (or its rank-r factor) of ``surface`` at each frequency, built once and then read from
     fem_prep's cache.
@@ -165,10 +204,12 @@ def radiation_resistance(
             :class:`Rayleigh`).
         frequencies_hz: ``(f,)`` frequencies > 0 (Hz).
         fluid: the medium.
-        method: :class:`BEM` (default) or :class:`Rayleigh`.
+        method: :class:`BEM` (default), :class:`Rayleigh` or :class:`ERP`.
         rank: keep the ``rank`` largest radiation modes (``None``: all).
         cache: ``True`` (fem_prep's cache folder), ``False`` (build, store nothing) or a folder.
         progress: a tqdm bar over the frequencies (each a BEM assembly and solve).
+        points: ``(q, 3)`` field points (m; microphones): the result also holds the transfer
+            from the velocity to the pressure there (BEM: from the same solve; Rayleigh).
 
     Returns:
         The :class:`RadiationResistance`.
@@ -176,7 +217,8 @@ def radiation_resistance(
     Raises:
         TypeError: a surface, fluid or method of another type.
         ValueError: no frequency, a frequency ≤ 0 or not finite, ``rank`` not an integer ≥ 1,
-            a surface the method cannot take (see the method).
+            points not finite ``(q, 3)`` or given to :class:`ERP`, a surface the method cannot
+            take (see the method).
     """
     method = BEM() if method is None else method
     if not isinstance(surface, RadiatingSurface):
@@ -186,7 +228,9 @@ def radiation_resistance(
     if not isinstance(fluid, Fluid):
         raise TypeError(f"radiation_resistance: fluid must be a Fluid, got {type(fluid).__name__}")
     if not isinstance(method, RadiationMethod):
-        raise TypeError(f"radiation_resistance: method must be BEM() or Rayleigh(), got {method!r}")
+        raise TypeError(
+            f"radiation_resistance: method must be BEM(), Rayleigh() or ERP(), got {method!r}"
+        )
     freqs = np.atleast_1d(np.asarray(frequencies_hz, dtype=float))
     if freqs.ndim != 1 or len(freqs) == 0 or not np.all(np.isfinite(freqs)) or freqs.min() <= 0:
         raise ValueError(
@@ -196,7 +240,15 @@ def radiation_resistance(
         raise ValueError(
             f"radiation_resistance: rank must be an integer >= 1 or None, got {rank!r}"
         )
-    inputs = _inputs(surface, freqs, fluid, method, rank)
+    if points is not None:
+        points = np.asarray(points, dtype=float)
+        if points.ndim != 2 or points.shape[1] != 3 or not np.all(np.isfinite(points)):
+            raise ValueError(
+                f"radiation_resistance: points must be finite (q, 3) (m), got {points.shape}"
+            )
+        if isinstance(method, ERP):
+            raise ValueError("radiation_resistance: points given to ERP(): it has no pressure")
+    inputs = _inputs(surface, freqs, fluid, method, rank, points)
     key = cache_key(inputs)
     path = None
     if cache is not False:
@@ -212,12 +264,16 @@ def radiation_resistance(
                 sound_speed=float(d["sound_speed"]),
                 method=str(d["method"]),
                 key=key,
+                points=points,
+                transfer=d["transfer"] if points is not None else None,
             )
-    factors, eigs = [], []
+    factors, eigs, transfer = [], [], []
     for f in tqdm(freqs, desc=f"radiation ({method})", disable=not progress):
-        L, lam = _factor(method.resistance(surface, float(f), fluid), rank)
+        R, T = method.operators(surface, float(f), fluid, points)
+        L, lam = _factor(R, rank)
         factors.append(L)
         eigs.append(lam)
+        transfer.append(T)
     out = RadiationResistance(
         frequencies_hz=freqs,
         factors=np.stack(factors),
@@ -226,11 +282,14 @@ def radiation_resistance(
         sound_speed=fluid.sound_speed,
         method=str(method),
         key=key,
+        points=points,
+        transfer=None if points is None else np.stack(transfer),
     )
     if path is not None:
+        extra = {} if points is None else {"transfer": out.transfer}
         store_entry(
             path,
-            {
+            extra | {
                 "frequencies_hz": out.frequencies_hz,
                 "factors": out.factors,
                 "eigenvalues": out.eigenvalues,

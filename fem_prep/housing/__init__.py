@@ -29,6 +29,8 @@ from ._mesh import (
 )
 from ._surface import (
     HousingSurface as HousingSurface,
+    RadiatingSkin as RadiatingSkin,
+    closed_outer_surface as closed_outer_surface,
     outer_surface as outer_surface,
     write_housing_ods_vtu as write_housing_ods_vtu,
 )

@@ -24,10 +24,17 @@ import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
+from ..acoustics import RadiatingSurface
 from ..files import atomic_write
 from ._mesh import HousingMesh
 
-__all__ = ["HousingSurface", "outer_surface", "write_housing_ods_vtu"]
+__all__ = [
+    "HousingSurface",
+    "RadiatingSkin",
+    "closed_outer_surface",
+    "outer_surface",
+    "write_housing_ods_vtu",
+]
 
 
 @dataclass(frozen=True)
@@ -155,6 +162,143 @@ def outer_surface(housing: HousingMesh, points: dict | None = None) -> HousingSu
         )
         pos = nodes[node]
     return HousingSurface(f, centroids, normals, areas, op, names, pos, pop)
+
+
+@dataclass(frozen=True, eq=False)
+class RadiatingSkin:
+    """The housing's outer skin closed by caps over its openings: the closed surface the
+    exterior BEM takes (:func:`closed_outer_surface`).
+
+    Attributes:
+        surface: the closed :class:`~fem_prep.acoustics.RadiatingSurface` (m), normals outward;
+            its vertices are the skin's mesh vertices (in ``mesh_vertices`` order), then one
+            vertex per cap (its centre).
+        normal_operator: ``(n, n_dofs)`` sparse: each surface vertex's normal displacement (m)
+            of a full FE displacement ``u`` (m), along the surface's area-weighted vertex
+            normal; a cap's centre row is the mean of its rim's rows (the normal velocity is
+            interpolated across the cap: see :func:`closed_outer_surface`).
+        mesh_vertices: ``(n_skin,)`` the housing mesh's vertex of each skin vertex of
+            ``surface`` (its first ``n_skin`` vertices).
+        cap_vertices: ``(n_caps,)`` the caps' centre vertices in ``surface``.
+        cap_triangles: ``(m_caps,)`` the caps' triangles in ``surface`` (the last ones).
+        skin: the :func:`outer_surface` the skin came from.
+    """
+
+    surface: RadiatingSurface
+    normal_operator: sp.csr_matrix
+    mesh_vertices: np.ndarray
+    cap_vertices: np.ndarray
+    cap_triangles: np.ndarray
+    skin: HousingSurface
+
+    @property
+    def cap_area(self) -> float:
+        """The caps' total area (m^2)."""
+        return float(np.sum(self.surface.areas[self.cap_triangles]))
+
+
+def closed_outer_surface(housing: HousingMesh, skin: HousingSurface | None = None) -> RadiatingSkin:
+    """The outer skin of ``housing`` (:func:`outer_surface`) as a closed radiating surface for
+    the exterior BEM (:func:`fem_prep.acoustics.radiation_resistance`): the skin's straight
+    triangles (the mesh's vertices; a Tet10's edge nodes are not used), each opening of the
+    skin (a bearing bore's mouth, an open bottom) closed by a cap, a fan of triangles from the
+    centroid of the opening's rim.
+
+    The cap stands for what fills the bore (the bearing's outer ring and the shaft end, or a
+    cover): its normal velocity is **interpolated**, linear from the rim's vertices to the
+    centre, whose value is the rim's mean (a bore that moves with its wall as a plug). Set the
+    rows ``cap_vertices`` of a velocity to zero for a rigid, still cover instead.
+
+    Args:
+        housing: a :class:`~fem_prep.housing.HousingMesh`.
+        skin: its :func:`outer_surface` (``None``: computed).
+
+    Returns:
+        The :class:`RadiatingSkin`: on a box housing, area and enclosed volume those of the
+        box (the caps lie in the walls' outer planes).
+
+    Raises:
+        TypeError: not a housing mesh. ValueError: a skin of another mesh, an opening whose
+            rim is not star-shaped about its centroid (its fan would fold over).
+    """
+    if not isinstance(housing, HousingMesh):
+        raise TypeError(f"housing = {housing!r}, allowed a fem_prep.housing.HousingMesh")
+    skin = outer_surface(housing) if skin is None else skin
+    mesh = housing.mesh
+    if skin.normal_operator.shape[1] != housing.n_dofs:
+        raise ValueError(
+            f"skin: {skin.normal_operator.shape[1]} DOFs, housing of {housing.n_dofs}: allowed "
+            "the outer_surface of this housing"
+        )
+    tri = mesh.facets[:, skin.facets].T.astype(np.int64)  # (F, 3) mesh vertices
+    p = mesh.p.T
+    n = np.cross(p[tri[:, 1]] - p[tri[:, 0]], p[tri[:, 2]] - p[tri[:, 0]])
+    flip = np.sum(n * skin.normals, axis=1) < 0  # counter-clockwise seen from outside
+    tri[flip] = tri[flip][:, ::-1]
+    verts, local = np.unique(tri, return_inverse=True)
+    local = local.reshape(tri.shape)
+    # directed boundary edges: (a, b) of a skin triangle with no (b, a) in another
+    e = np.concatenate([local[:, [0, 1]], local[:, [1, 2]], local[:, [2, 0]]])
+    key = e[:, 0] * len(verts) + e[:, 1]
+    rev = e[:, 1] * len(verts) + e[:, 0]
+    open_e = e[~np.isin(key, rev)]
+    xyz = p[verts]
+    tris = [local]
+    rows = []
+    cap_v, cap_t = [], []
+    if open_e.size:
+        nb = len(verts)
+        g = sp.csr_matrix((np.ones(len(open_e)), (open_e[:, 0], open_e[:, 1])), (nb, nb))
+        _, lab = connected_components(g, directed=False)
+        for loop in np.unique(lab[open_e[:, 0]]):
+            edges = open_e[lab[open_e[:, 0]] == loop]
+            rim = np.unique(edges)
+            centre = len(verts) + len(cap_v)
+            c = xyz[rim].mean(axis=0)
+            fan = np.column_stack([edges[:, 1], edges[:, 0], np.full(len(edges), centre)])
+            a, b = xyz[fan[:, 0]], xyz[fan[:, 1]]
+            fn = np.cross(b - a, c - a)
+            mean_n = fn.sum(axis=0)
+            if np.any(fn @ mean_n <= 0):
+                raise ValueError(
+                    f"closed_outer_surface: the opening with rim centroid {c.tolist()} m is not "
+                    "star-shaped about it (a fan cap would fold over)"
+                )
+            cap_t.append(fan)
+            cap_v.append(centre)
+            rows.append((centre, rim))
+            xyz = np.vstack([xyz, c])
+    n_tri_skin = len(local)
+    all_t = np.concatenate(tris + cap_t) if cap_t else local
+    surface = RadiatingSurface(xyz, all_t)
+    # area-weighted vertex normals of the closed surface
+    v3 = surface.vertices[surface.triangles]
+    cross = np.cross(v3[:, 1] - v3[:, 0], v3[:, 2] - v3[:, 0])
+    vn = np.zeros((surface.n_vertices, 3))
+    for k in range(3):
+        np.add.at(vn, surface.triangles[:, k], cross)
+    vn /= np.linalg.norm(vn, axis=1, keepdims=True)
+    ns = len(verts)
+    r = np.repeat(np.arange(ns), 3)
+    cols = (3 * verts[:, None] + np.arange(3)).ravel()
+    op = sp.csr_matrix((vn[:ns].ravel(), (r, cols)), shape=(surface.n_vertices, housing.n_dofs))
+    if rows:
+        # a cap's centre: the mean of its rim's normal displacements
+        ri, ci, vals = [], [], []
+        for centre, rim in rows:
+            ri += [centre] * len(rim)
+            ci += list(rim)
+            vals += [1.0 / len(rim)] * len(rim)
+        avg = sp.csr_matrix((vals, (ri, ci)), shape=(surface.n_vertices, surface.n_vertices))
+        op = (op + avg @ op).tocsr()
+    return RadiatingSkin(
+        surface=surface,
+        normal_operator=op,
+        mesh_vertices=verts,
+        cap_vertices=np.asarray(cap_v, dtype=np.int64),
+        cap_triangles=np.arange(n_tri_skin, len(all_t)),
+        skin=skin,
+    )
 
 
 def write_housing_ods_vtu(housing: HousingMesh, condensed, shapes: dict, path) -> Path:

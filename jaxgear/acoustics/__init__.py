@@ -3,10 +3,16 @@ and differentiable: the housing's vibration at its outer surface and its equival
 power (ERP) from the bearing forces at its seats; the sound power W = Re(vᴴ R v) of a surface's
 normal velocity from a cached radiation resistance matrix R (:mod:`fem_prep.acoustics`: the BEM
 or the Rayleigh integral), its low-rank form over the radiation modes, the radiation efficiency,
-sound power and pressure levels, and the A weighting of IEC 61672-1. The housing's geometry and
+sound power and pressure levels, the power and the microphones' pressure at any frequency of a
+band from R at a grid of frequencies (log-log interpolation), and the A weighting of
+IEC 61672-1. The housing's geometry and
 condensation come from :mod:`fem_prep.housing` (NumPy), loaded by the caller.
 """
 
+from ._band import (
+    mean_square_pressure_at as mean_square_pressure_at,
+    radiated_power_at as radiated_power_at,
+)
 from ._erp import (
     HousingAcoustics as HousingAcoustics,
     HousingResponse as HousingResponse,

@@ -30,6 +30,7 @@ from ..io import (
     write_json,
 )
 from . import scene as cli_scene, sweep as cli_sweep
+from ._acoustics_run import acoustic_outputs, acoustics_run_line  # noqa: F401 (the hook)
 from ._deviation_run import deviation_line, deviation_outputs
 from ._optimise import check_settings, optimise_case, settings_from_case
 from ._paths import check_output_dir, staged_outputs
@@ -77,6 +78,7 @@ from .train import format_train_table, run_train
 
 __all__ = [
     "RUN_SWEEP_SLICES",
+    "acoustic_outputs",
     "format_table",
     "rating_run_line",
     "result_summary",

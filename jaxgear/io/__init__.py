@@ -9,6 +9,13 @@ cases, a case's optimisation problem, and atomic writers. JSON/CSV only: plots l
 :mod:`jaxgear.cli`. The model (:mod:`jaxgear`, :mod:`jaxgear.scenes`, :mod:`jaxgear.dynamics`)
 never imports this package: it takes the objects built here, never a case."""
 
+from ._acoustics_table import (
+    ACOUSTICS_KEYS as ACOUSTICS_KEYS,
+    ACOUSTICS_METHODS as ACOUSTICS_METHODS,
+    AcousticsInputs as AcousticsInputs,
+    acoustics_of as acoustics_of,
+    parse_acoustics as parse_acoustics,
+)
 from ._case import (
     Case as Case,
     CaseForm as CaseForm,

@@ -29,6 +29,7 @@ from ._rating_table import MATERIAL_RATING_KEYS, OPERATING_RATING_KEYS, check_ra
 from ._robust_table import parse_robust
 from ._housing_table import parse_housing
 from ._scene_table import parse_scene
+from ._acoustics_table import parse_acoustics
 from ._whine_table import parse_whine
 
 __all__ = [
@@ -96,6 +97,7 @@ _SCHEMA: dict[str, Any] = {
     "lubricant": None,  # checked by parse_lubricant (film and sliding loss)
     "housing": None,  # checked by parse_housing (a flexible housing, docs/housing.md)
     "whine": None,  # checked by parse_whine (gear whine in the frequency domain)
+    "acoustics": None,  # checked by parse_acoustics (the housing's radiated sound)
 }
 # [mesh] keys read by some stiffness models only
 _MODEL_KEYS = {
@@ -453,6 +455,8 @@ def parse_case(data: dict, default_name: str = "case", base_dir: str | None = No
         parse_lubricant(data["lubricant"], data["operating"])
     if "whine" in data:
         parse_whine(data["whine"])
+    if "acoustics" in data:
+        parse_acoustics(data["acoustics"])
     mesh = parse_mesh_settings(data, pair.normal_module)
     mods = parse_modifications(data.get("modifications", {}), module)
     deviations, deviation_settings = (

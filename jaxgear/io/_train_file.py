@@ -128,6 +128,7 @@ from ._rating_table import (
     older_ring_cutter,
 )
 from ._train_scene import check_table_size, shaft_of_table, train_scene
+from ._acoustics_table import parse_acoustics
 from ._whine_table import parse_whine
 
 __all__ = ["is_train", "parse_train"]
@@ -147,6 +148,7 @@ _TOP_KEYS = {
     "deviations",  # a planetary stage's only (jaxgear/io/_planetary_deviations_table.py)
     "lubricant",  # every mesh's film, loss and the efficiency (jaxgear/io/_lubricant_table.py)
     "whine",  # a train's gear whine (jaxgear/io/_whine_table.py)
+    "acoustics",  # the housing's radiated sound (jaxgear/io/_acoustics_table.py)
 }
 _GEAR_KEYS = {
     "name",
@@ -493,6 +495,8 @@ def parse_train(data: dict, default_name: str = "train", base_dir: str | None = 
         parse_whine(data["whine"])
     if is_planetary(data):
         return _planetary_case(data, name)
+    if "acoustics" in data:
+        parse_acoustics(data["acoustics"])
     if "deviations" in data:
         raise sc.fail("", "deviations", "not in a gear train's case (allowed: a pair's case, or "
                       "a planetary stage's with [[gears]])", "[deviations]")

@@ -7,9 +7,14 @@ plotting never changes the process's pyplot backend (a notebook keeps its inline
 module per what they draw: the figure itself (``_figure``), ``jaxgear run``'s quasi-static
 curves and maps (``_quasi_static``), the sweep's dynamic factor and pressures (``_sweep``), its
 Campbell diagram (``_campbell``), the coupled gearbox's Campbell diagram and housing spectrum
-(``_gearbox``), the optimisation's (``_optimisation``).
+(``_gearbox``), the optimisation's (``_optimisation``), the radiated noise's (``_acoustics``).
 """
 
+from ._acoustics import (
+    intensity_map_plot as intensity_map_plot,
+    microphone_plot as microphone_plot,
+    sound_power_plot as sound_power_plot,
+)
 from ._campbell import campbell_plot as campbell_plot, harmonic_crossings as harmonic_crossings
 from ._figure import (
     DPI as DPI,

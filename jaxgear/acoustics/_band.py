@@ -1,0 +1,147 @@
+"""Sound power and microphone pressure at any frequency of a band, from the radiation operators
+computed at a grid of frequencies (:func:`fem_prep.acoustics.radiation_resistance`), in JAX.
+
+A gear's orders sweep the frequency with the speed, so the radiated power is wanted at
+frequencies nobody computes R at. Between two grid frequencies f_i < f < f_{i+1} the quadratic
+forms W_i = vᴴ R(f_i) v and the mean square pressures at the microphones are interpolated
+log-log (geometrically):
+
+    W(f) ≈ W_i^{1−t} W_{i+1}^t,   t = log(f/f_i) / log(f_{i+1}/f_i),
+
+which is exact for a power law W ∝ f^m: the low-frequency radiation of a compact source (a
+monopole's W ∝ f², a dipole's ∝ f⁴ at fixed velocity) and the constant ρc S ⟨v²⟩ above
+coincidence. A value of zero at either end falls back to linear interpolation. At a grid
+frequency the value is exact; outside the grid it is NaN (no extrapolation).
+
+The velocity v is in the convention of R (fem_prep.acoustics: e^{-iωt}); the one-sided
+amplitudes of jaxgear's whine and housing response (v(t) = Re v e^{iωt}) are its conjugates.
+"""
+
+from __future__ import annotations
+
+import jax
+import jax.numpy as jnp
+
+__all__ = ["mean_square_pressure_at", "radiated_power_at"]
+
+
+def _bracket(frequency, grid):
+    """The grid interval ``i`` (clipped to [0, G − 2]), the log-position ``t`` in it and
+    whether the frequency lies in the grid's range (relative tolerance 1e-9)."""
+    g = jnp.asarray(grid)
+    f = jnp.asarray(frequency, g.dtype)
+    G = g.shape[0]
+    if G == 1:
+        ok = jnp.abs(f - g[0]) <= 1e-9 * g[0]
+        return jnp.zeros(f.shape, int), jnp.zeros(f.shape, g.dtype), ok
+    i = jnp.clip(jnp.searchsorted(g, f, side="right") - 1, 0, G - 2)
+    lo, hi = g[i], g[i + 1]
+    ok = (f >= g[0] * (1 - 1e-9)) & (f <= g[-1] * (1 + 1e-9))
+    fc = jnp.clip(f, lo, hi)
+    t = jnp.log(fc / lo) / jnp.log(hi / lo)
+    return i, t, ok
+
+
+def _loglog(a, b, t):
+    """a^{1−t} b^t for a, b ≥ 0 (linear where either is 0), safe for gradients."""
+    pos = (a > 0) & (b > 0)
+    sa, sb = jnp.where(pos, a, 1.0), jnp.where(pos, b, 1.0)
+    geo = jnp.exp((1 - t) * jnp.log(sa) + t * jnp.log(sb))
+    return jnp.where(pos, geo, (1 - t) * a + t * b)
+
+
+def _check(fn, v, op, grid, what):
+    if op.ndim != 3 or op.shape[0] != grid.shape[0]:
+        raise ValueError(
+            f"{fn}: {what} must be (G, ., .) with G = {grid.shape[0]} grid frequencies, "
+            f"got {op.shape}"
+        )
+    if grid.ndim != 1 or grid.shape[0] < 1:
+        raise ValueError(f"{fn}: grid_hz must be (G,) with G >= 1, got {grid.shape}")
+
+
+def radiated_power_at(velocity, frequency_hz, factors, grid_hz):
+    """The radiated power W (W) of vertex normal velocities at frequencies between the grid's,
+    interpolated log-log (module docstring) from W_i = ‖L_iᴴ v‖² at the two grid frequencies
+    that bracket each frequency.
+
+    Args:
+        velocity: ``(..., n)`` complex vertex normal velocity amplitudes (m/s, peak; e^{-iωt}).
+        frequency_hz: ``(...)`` the frequency of each velocity (Hz).
+        factors: ``(G, n, r)`` L with R ≈ L Lᴴ at each grid frequency
+            (``RadiationResistance.factors``, (kg/s)^½).
+        grid_hz: ``(G,)`` the grid frequencies, increasing (Hz).
+
+    Returns:
+        ``(...)`` W (W); NaN at a frequency outside [grid_hz[0], grid_hz[-1]].
+
+    Raises:
+        ValueError: shapes that do not fit.
+    """
+    L = jnp.asarray(factors)
+    grid = jnp.asarray(grid_hz, L.real.dtype)
+    v = jnp.asarray(velocity)
+    _check("radiated_power_at", v, L, grid, "factors")
+    if v.shape[-1] != L.shape[1]:
+        raise ValueError(
+            f"radiated_power_at: velocity must end in {L.shape[1]} (the vertices), got {v.shape}"
+        )
+    lead = v.shape[:-1]
+    f = jnp.broadcast_to(jnp.asarray(frequency_hz, grid.dtype), lead)
+    i, t, ok = _bracket(f, grid)
+    j = jnp.minimum(i + 1, grid.shape[0] - 1)
+
+    def one(args):
+        vk, ik, jk = args
+        a = jnp.conj(L[ik]).T @ vk
+        b = jnp.conj(L[jk]).T @ vk
+        return jnp.sum(jnp.abs(a) ** 2), jnp.sum(jnp.abs(b) ** 2)
+
+    n = v.shape[-1]
+    wa, wb = jax.lax.map(one, (v.reshape(-1, n), i.reshape(-1), j.reshape(-1)))
+    w = _loglog(wa.reshape(lead), wb.reshape(lead), t)
+    return jnp.where(ok, w, jnp.nan)
+
+
+def mean_square_pressure_at(velocity, frequency_hz, transfer, grid_hz):
+    """The mean square pressure p_rms² = |p|²/2 (Pa²) at field points (microphones) of vertex
+    normal velocities at frequencies between the grid's, interpolated log-log (module
+    docstring) from |T_i v|²/2 at the two bracketing grid frequencies. L_p follows as
+    10 log10(p_rms² / (20 µPa)²).
+
+    Args:
+        velocity: ``(..., n)`` complex vertex normal velocity amplitudes (m/s, peak; e^{-iωt}).
+        frequency_hz: ``(...)`` (Hz).
+        transfer: ``(G, q, n)`` T with p = T v at each grid frequency
+            (``RadiationResistance.transfer``, Pa s/m).
+        grid_hz: ``(G,)`` increasing (Hz).
+
+    Returns:
+        ``(..., q)`` p_rms² (Pa²); NaN outside the grid's range.
+
+    Raises:
+        ValueError: shapes that do not fit.
+    """
+    T = jnp.asarray(transfer)
+    grid = jnp.asarray(grid_hz, T.real.dtype)
+    v = jnp.asarray(velocity)
+    _check("mean_square_pressure_at", v, T, grid, "transfer")
+    if v.shape[-1] != T.shape[2]:
+        raise ValueError(
+            f"mean_square_pressure_at: velocity must end in {T.shape[2]} (the vertices), "
+            f"got {v.shape}"
+        )
+    lead = v.shape[:-1]
+    f = jnp.broadcast_to(jnp.asarray(frequency_hz, grid.dtype), lead)
+    i, t, ok = _bracket(f, grid)
+    j = jnp.minimum(i + 1, grid.shape[0] - 1)
+
+    def one(args):
+        vk, ik, jk = args
+        return 0.5 * jnp.abs(T[ik] @ vk) ** 2, 0.5 * jnp.abs(T[jk] @ vk) ** 2
+
+    n = v.shape[-1]
+    pa, pb = jax.lax.map(one, (v.reshape(-1, n), i.reshape(-1), j.reshape(-1)))
+    q = T.shape[1]
+    p2 = _loglog(pa.reshape(*lead, q), pb.reshape(*lead, q), t[..., None])
+    return jnp.where(ok[..., None], p2, jnp.nan)

@@ -1,0 +1,249 @@
+"""``jaxgear run``'s radiated noise, for a housed case with ``[acoustics]`` (docs/acoustics.md,
+"Outputs"): from the housing skin's normal velocity at every order and speed, the radiation
+operators once per frequency of the band (:func:`fem_prep.acoustics.radiation_resistance`,
+cached; a progress bar over the frequencies, each a BEM solve), then in JAX the sound power per
+order and speed (:func:`jaxgear.acoustics.radiated_power_at`) and the pressure at the
+microphones (:func:`jaxgear.acoustics.mean_square_pressure_at`). Writes ``acoustics/``:
+
+- ``sound_power.csv`` / ``.json`` / ``.png``: L_W (dB re 1 pW) against speed per order and
+  overall, linear and A-weighted (dB(A), IEC 61672-1), with W (W) and each order's frequency;
+- ``microphones.csv`` / ``.png``: L_p (dB re 20 µPa) at each microphone per order and speed
+  (and its frequency), the overall A-weighted L_pA per speed;
+- ``intensity.vtu`` / ``.png``: the radiated intensity on the surface at the loudest speed,
+  per order (W/m², point data, ParaView).
+
+The hook (a housed run that holds the condensed housing ``ch``, its mesh ``hm``, the
+:class:`~jaxgear.acoustics.HousingResponse` ``resp`` (speeds × orders) and the ``[whine]``
+speeds and orders)::
+
+    skin = fem_prep.housing.closed_outer_surface(hm)
+    v = 1j * 2 * np.pi * np.asarray(resp.frequency)[..., None] * (
+        np.asarray(resp.coordinates) @ (skin.normal_operator @ ch.recovery).T)
+    section = acoustic_outputs(skin.surface, v, speeds, orders, out_dir, acoustics_of(case),
+                               frequencies=resp.frequency)
+"""
+
+from __future__ import annotations
+
+import math
+import os
+
+import jax.numpy as jnp
+import numpy as np
+
+from fem_prep import acoustics as fa
+
+from ..acoustics import (
+    a_weighting,
+    mean_square_pressure_at,
+    radiated_power_at,
+)
+from ..io import AcousticsInputs, parse_acoustics, write_csv, write_json, write_vtu
+from ._plots import intensity_map_plot, microphone_plot, sound_power_plot
+
+__all__ = ["ACOUSTICS_FILES", "acoustic_outputs", "acoustics_run_line"]
+
+#: files of the acoustics/ folder (the microphones' only with microphones)
+ACOUSTICS_FILES = (
+    "sound_power.json",
+    "sound_power.csv",
+    "sound_power.png",
+    "microphones.csv",
+    "microphones.png",
+    "intensity.vtu",
+    "intensity.png",
+)
+#: orders drawn on the intensity map's figure (every order is in intensity.vtu)
+MAP_ORDERS = 3
+W_REF, P_REF = 1e-12, 20e-6
+
+
+def _db(x, ref):
+    x = np.asarray(x, dtype=float)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(x > 0, 10 * np.log10(np.where(x > 0, x, 1.0) / ref), np.nan)
+
+
+def _vertex_areas(surface) -> np.ndarray:
+    a = np.zeros(surface.n_vertices)
+    for k in range(3):
+        np.add.at(a, surface.triangles[:, k], surface.areas / 3)
+    return a
+
+
+def _intensity(surface, rr, grid, v, f, areas):
+    """The radiated intensity (W/m²) per vertex: Re(v_j* (R v)_j) / A_j, R linear between the
+    two grid frequencies round f (its sum over the surface is W)."""
+    L = rr.factors
+    if len(grid) == 1:
+        i, j, t = 0, 0, 0.0
+    else:
+        i = int(np.clip(np.searchsorted(grid, f, side="right") - 1, 0, len(grid) - 2))
+        j = i + 1
+        t = float(np.clip(math.log(f / grid[i]) / math.log(grid[j] / grid[i]), 0.0, 1.0))
+    Rv = (1 - t) * (L[i] @ (L[i].conj().T @ v)) + t * (L[j] @ (L[j].conj().T @ v))
+    return np.real(np.conj(v) * Rv) / areas
+
+
+def acoustic_outputs(
+    surface,
+    velocities,
+    speeds,
+    orders,
+    out_dir: str,
+    table,
+    *,
+    frequencies=None,
+    name: str = "",
+    progress: bool = False,
+) -> dict:
+    """The radiated noise of a vibrating surface over speeds and orders into
+    ``out_dir/acoustics`` (the module docstring's files).
+
+    Args:
+        surface: the :class:`fem_prep.acoustics.RadiatingSurface` (m): closed for ``bem``
+            (:func:`fem_prep.housing.closed_outer_surface`), a flat panel for ``rayleigh``.
+        velocities: ``(S, O, n)`` complex normal velocity amplitudes at the surface's vertices
+            (m/s, one-sided, v(t) = Re v e^{iωt}: jaxgear's whine and housing convention;
+            conjugated here to fem_prep.acoustics' e^{-iωt}).
+        speeds: ``(S,)`` input speeds (rad/s, > 0).
+        orders: ``(O,)`` the orders (> 0): order o at speed Ω sounds at o Ω / 2π Hz unless
+            ``frequencies`` says otherwise.
+        out_dir: the run's folder (``acoustics/`` is made in it).
+        table: :class:`jaxgear.io.AcousticsInputs` or the raw ``[acoustics]`` table.
+        frequencies: ``(S, O)`` Hz of each order at each speed (a whine sweep's
+            ``frequency[:, None] * orders[None, :]``), or ``None``.
+        name: the case's name (titles).
+        progress: progress bars over the frequencies' radiation solves.
+
+    Returns:
+        The ``acoustics`` section (dict) of the run's summary, with the files written.
+
+    Raises:
+        TypeError: a surface that is not a RadiatingSurface, a table of another type.
+        ValueError: shapes that do not fit, a speed, order or frequency ≤ 0 or not finite.
+    """
+    if not isinstance(surface, fa.RadiatingSurface):
+        raise TypeError(
+            f"acoustic_outputs: surface = {type(surface).__name__}, allowed a "
+            "fem_prep.acoustics.RadiatingSurface"
+        )
+    if isinstance(table, dict):
+        table = parse_acoustics(table, progress)
+    if not isinstance(table, AcousticsInputs):
+        raise TypeError(f"acoustic_outputs: table = {table!r}, allowed AcousticsInputs or a dict")
+    speeds = np.asarray(speeds, dtype=float).reshape(-1)
+    orders = np.asarray(orders, dtype=float).reshape(-1)
+    v = np.asarray(velocities)
+    S, O, n = len(speeds), len(orders), surface.n_vertices
+    if v.shape != (S, O, n):
+        raise ValueError(f"acoustic_outputs: velocities = {v.shape}, allowed (S, O, n) = "
+                         f"({S}, {O}, {n}) (speeds, orders, the surface's vertices)")
+    for what, x in (("speeds", speeds), ("orders", orders)):
+        if x.size == 0 or not np.all(np.isfinite(x)) or x.min() <= 0:
+            raise ValueError(f"acoustic_outputs: {what} = {x.tolist()}, allowed finite values > 0")
+    f = (orders[None, :] * speeds[:, None] / (2 * np.pi) if frequencies is None
+         else np.asarray(frequencies, dtype=float))
+    if f.shape != (S, O) or not np.all(np.isfinite(f)) or f.min() <= 0:
+        raise ValueError(f"acoustic_outputs: frequencies {f.shape}, allowed (S, O) = ({S}, {O}) "
+                         "finite values > 0 (Hz)")
+    band = table.band or (float(f.min()), float(f.max()))
+    grid = (np.array([band[0]]) if table.frequencies == 1 or band[1] <= band[0]
+            else np.geomspace(band[0], band[1], table.frequencies))
+    mics = table.microphones
+    points = np.array([p for _, p in mics]) if mics else None
+    rr = fa.radiation_resistance(surface, grid, table.fluid, table.method, rank=table.rank,
+                                 cache=table.cache, progress=progress, points=points)
+    vc = jnp.asarray(np.conj(v))  # e^{iωt} → e^{-iωt}
+    W = np.asarray(radiated_power_at(vc, f, rr.factors, grid))  # (S, O)
+    A = np.asarray(a_weighting(f))
+    LW, LWA = _db(W, W_REF), _db(W * 10 ** (A / 10), W_REF)
+    total, total_a = _db(np.nansum(W, axis=1), W_REF), _db(np.nansum(W * 10 ** (A / 10), 1), W_REF)
+    head = f"{name}: " if name else ""
+    folder = os.path.join(out_dir, "acoustics")
+    os.makedirs(folder, exist_ok=True)
+    title = f"{head}radiated sound power ({table.method}, {len(grid)} frequencies)"
+    sound_power_plot(os.path.join(folder, "sound_power.png"), speeds, orders, LW, LWA, total,
+                     total_a, title=title)
+    cols = {"speed_rad_s": speeds}
+    for j, o in enumerate(orders):
+        cols[f"order_{o:g}_frequency_Hz"] = f[:, j]
+        cols[f"order_{o:g}_W_W"] = W[:, j]
+        cols[f"order_{o:g}_LW_dB"] = LW[:, j]
+        cols[f"order_{o:g}_LWA_dBA"] = LWA[:, j]
+    cols["overall_LW_dB"], cols["overall_LWA_dBA"] = total, total_a
+    write_csv(os.path.join(folder, "sound_power.csv"), list(cols), list(cols.values()))
+    section = {
+        "method": str(table.method),
+        "band_Hz": list(band),
+        "grid_Hz": grid.tolist(),
+        "rank": table.rank,
+        "radiation_cache_key": rr.key,
+        "velocity_convention": "one-sided, v(t) = Re v exp(i w t)",
+        "speeds_rad_s": speeds.tolist(),
+        "orders": orders.tolist(),
+        "frequency_Hz": f.tolist(),
+        "power_W": W.tolist(),
+        "LW_dB": LW.tolist(),
+        "LWA_dBA": LWA.tolist(),
+        "overall_LW_dB": total.tolist(),
+        "overall_LWA_dBA": total_a.tolist(),
+        "outside_band": int(np.sum(np.isnan(W))),
+    }
+    if mics:
+        p2 = np.asarray(mean_square_pressure_at(vc, f, rr.transfer, grid))  # (S, O, q)
+        Lp = _db(p2, P_REF**2)
+        LpA = _db(np.nansum(p2 * 10 ** (A / 10)[..., None], axis=1), P_REF**2)  # (S, q)
+        names = [m for m, _ in mics]
+        microphone_plot(os.path.join(folder, "microphones.png"), names, speeds, f, orders, Lp, LpA,
+                        title=f"{head}sound pressure at the microphones ({table.method})")
+        mcols = {"speed_rad_s": np.repeat(speeds, O), "order": np.tile(orders, S),
+                 "frequency_Hz": f.reshape(-1)}
+        for k, m in enumerate(names):
+            mcols[f"{m}_Lp_dB"] = Lp[:, :, k].reshape(-1)
+            mcols[f"{m}_LpA_dBA"] = (Lp[:, :, k] + A).reshape(-1)
+        write_csv(os.path.join(folder, "microphones.csv"), list(mcols), list(mcols.values()))
+        section["microphones"] = {
+            m: {"position_m": list(p), "Lp_dB": Lp[:, :, k].tolist(),
+                "overall_LpA_dBA": LpA[:, k].tolist()}
+            for k, (m, p) in enumerate(mics)
+        }
+    # the radiated intensity at the loudest speed, every order
+    s_max = int(np.nanargmax(np.where(np.isnan(total_a), -np.inf, total_a)))
+    areas = _vertex_areas(surface)
+    data, maps = {}, {}
+    loud = np.argsort(-np.nan_to_num(W[s_max], nan=-1.0))
+    for j in range(O):
+        if np.isnan(W[s_max, j]):
+            continue
+        q = _intensity(surface, rr, grid, np.conj(v[s_max, j]), f[s_max, j], areas)
+        label = f"order_{orders[j]:g}"
+        data[f"{label}_intensity_W_m2"] = q
+        data[f"{label}_normal_velocity_m_s"] = np.abs(v[s_max, j])
+        if j in loud[:MAP_ORDERS]:
+            maps[f"order {orders[j]:g} at {speeds[s_max]:.0f} rad/s, {f[s_max, j]:.0f} Hz: "
+                 f"L_W = {LW[s_max, j]:.1f} dB"] = q
+    write_vtu(os.path.join(folder, "intensity.vtu"), surface.vertices,
+              [("triangle", surface.triangles)], data)
+    if maps:
+        intensity_map_plot(os.path.join(folder, "intensity.png"), surface.vertices,
+                           surface.triangles, maps,
+                           title=f"{head}radiated intensity at the loudest speed")
+    section["map_speed_rad_s"] = float(speeds[s_max])
+    section["files"] = [f"acoustics/{x}" for x in ACOUSTICS_FILES
+                        if x == "sound_power.json" or os.path.exists(os.path.join(folder, x))]
+    write_json(os.path.join(folder, "sound_power.json"), {"case": name, **section})
+    return section
+
+
+def acoustics_run_line(section: dict | None) -> list[str]:
+    """What ``jaxgear run`` prints of the ``acoustics`` section (nothing without one)."""
+    if not section:
+        return []
+    top = np.nanmax(np.asarray(section["overall_LWA_dBA"], dtype=float))
+    line = (
+        f"acoustics ({section['method']}, {len(section['grid_Hz'])} frequencies): overall "
+        f"L_WA up to {top:.1f} dB(A) re 1 pW at {section['map_speed_rad_s']:.0f} rad/s "
+        "(acoustics/)"
+    )
+    return [line]
