@@ -12,15 +12,9 @@ microphones (:func:`jaxgear.acoustics.mean_square_pressure_at`). Writes ``acoust
 - ``intensity.vtu`` / ``.png``: the radiated intensity on the surface at the loudest speed,
   per order (W/m², point data, ParaView).
 
-The hook (a housed run that holds the condensed housing ``ch``, its mesh ``hm``, the
-:class:`~jaxgear.acoustics.HousingResponse` ``resp`` (speeds × orders) and the ``[whine]``
-speeds and orders)::
-
-    skin = fem_prep.housing.closed_outer_surface(hm)
-    v = 1j * 2 * np.pi * np.asarray(resp.frequency)[..., None] * (
-        np.asarray(resp.coordinates) @ (skin.normal_operator @ ch.recovery).T)
-    section = acoustic_outputs(skin.surface, v, speeds, orders, out_dir, acoustics_of(case),
-                               frequencies=resp.frequency)
+Called by ``jaxgear run``'s housing outputs (:mod:`jaxgear.cli._housing_run`) with the
+closed skin placed in the scene's frame and v = iω N_v Φ q of the housed whine's condensed
+housing coordinates q, at the orders in the housing's band.
 """
 
 from __future__ import annotations

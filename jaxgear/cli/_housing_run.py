@@ -17,7 +17,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ..acoustics import housing_acoustics, housing_vibration, total_level
-from ..io import housing_surface, write_csv, write_json
+from ..io import SchemaError, acoustics_of, housing_surface, write_csv, write_json
 from ._plots import whine_level_plot, whine_order_plot, whine_waterfall_plot
 
 __all__ = ["HousedRun", "housed_run", "housing_outputs", "housing_run_line"]
@@ -197,13 +197,18 @@ def housing_outputs(run: HousedRun, case, w, folder: str, invalid) -> dict:
         "files": [f"whine/{n}" for n in files],
     }
     write_json(os.path.join(folder, "housing.json"), {"case": case.name, **section})
+    table = acoustics_of(case, progress=True)
+    if table is not None:  # [acoustics]: the radiated sound of the same skin's motion
+        section["acoustics"] = _radiation(run, case, q[:, in_band.all(axis=0)], speeds,
+                                          orders[in_band.all(axis=0)],
+                                          freq[:, in_band.all(axis=0)], folder, table)
     return {
         k: section[k] for k in ("cutoff_Hz", "band_limit_Hz", "housing_modes", "files")
     } | {
         "max_overall_erp_dB": float(overall_db[peak]) if in_band.any() else None,
         "speed_of_max_overall_erp_rad_s": float(speeds[peak]) if in_band.any() else None,
         "points": names,
-    }
+    } | ({"acoustics": section["acoustics"]} if "acoustics" in section else {})
 
 
 def housing_run_line(section: dict | None) -> list[str]:
@@ -217,3 +222,31 @@ def housing_run_line(section: dict | None) -> list[str]:
     pts = f", {len(section['points'])} named point(s)" if section["points"] else ""
     return [head + f"overall ERP max {top:.1f} dB re 1 pW at "
             f"{section['speed_of_max_overall_erp_rad_s']:.0f} rad/s{pts} (whine/housing.*)"]
+
+
+def _radiation(run: HousedRun, case, q, speeds, orders, freq, folder: str, table) -> dict:
+    """``[acoustics]``'s files (:func:`jaxgear.cli._acoustics_run.acoustic_outputs`) of the
+    housing's condensed coordinates ``q`` (S, k, n_c) at the orders in the band over every
+    speed: the outer skin closed over its bores (:func:`fem_prep.housing.closed_outer_surface`)
+    placed in the scene's frame (x = R x_housing + t: the microphones are in the scene's frame,
+    as the named points), its vertices' normal velocity v = iω N_v Φ q."""
+    from fem_prep.acoustics import RadiatingSurface
+    from fem_prep.housing import closed_outer_surface
+
+    from ._acoustics_run import acoustic_outputs
+
+    if not orders.size:
+        raise SchemaError(
+            f"[acoustics]: no order of [whine] lies below the housing's band limit at every "
+            f"speed ({float(run.body.condensed.cutoff_hz) / BAND:.0f} Hz = cut-off / {BAND:g}): "
+            "allowed a cut-off above 1.5 x the highest order's frequency"
+        )
+    body = run.body
+    skin = closed_outer_surface(body.mesh)
+    R = np.asarray(body.housing.rotation, dtype=float)
+    placed = RadiatingSurface(skin.surface.vertices @ R.T + np.asarray(body.offset, float),
+                              skin.surface.triangles)
+    velocity = 1j * 2 * np.pi * freq[..., None] * (
+        q @ (skin.normal_operator @ body.condensed.recovery).T)
+    return acoustic_outputs(placed, velocity, speeds, orders, os.path.dirname(folder), table,
+                            frequencies=freq, name=case.name, progress=True)

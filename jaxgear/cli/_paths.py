@@ -93,6 +93,9 @@ OUTPUT_FILES: dict[str, tuple[str, ...]] = {
               "point_*_orders.png", "point_*_waterfall.png", "housing_ods.vtu",
               # a planetary stage's: its supports' forces as a fixed seat receives them
               "support_fixed_frame_waterfall.png"),
+    # jaxgear run on a housed case with [acoustics] (subfolder acoustics/): the radiated sound
+    "acoustics": ("sound_power.json", "sound_power.csv", "sound_power.png", "microphones.csv",
+                  "microphones.png", "intensity.vtu", "intensity.png"),
     "master-curve": ("master_curve.json", "master_curve.png"),
     "robust": ("robust.json", "samples.csv", "robust_distributions.png", "robust_speed_bands.png"),
     "bench quasi-static": ("bench_quasi_static.json", "speed_accuracy_quasi_static.png"),
@@ -125,9 +128,10 @@ OUTPUT_FILES["run"] += PLANETARY_FILES
 GEARBOX_FILES = ("coupled.json", "coupled.png", "campbell.json", "housing_spectrum.json",
                  "housing_spectrum.png")
 OUTPUT_FILES["run"] += GEARBOX_FILES
-# ``jaxgear run`` also owns the sweep/, optimise/, scene/ and deviations/ subfolders of its folder
+# ``jaxgear run`` also owns the sweep/, optimise/, scene/, deviations/, whine/ and acoustics/
+# subfolders of its folder
 OUTPUT_FILES["run"] += tuple(
-    f"{sub}/{n}" for sub in ("sweep", "optimise", "scene", "deviations", "whine")
+    f"{sub}/{n}" for sub in ("sweep", "optimise", "scene", "deviations", "whine", "acoustics")
     for n in OUTPUT_FILES[sub]
 )
 

@@ -32,7 +32,7 @@ from typing import NamedTuple
 from fem_prep import acoustics as fa, schema as sc
 
 __all__ = ["ACOUSTICS_KEYS", "ACOUSTICS_METHODS", "AcousticsInputs", "acoustics_of",
-           "parse_acoustics"]
+           "parse_acoustics", "parse_case_acoustics"]
 
 WHERE = "acoustics"
 #: ``[acoustics] method`` names
@@ -121,3 +121,23 @@ def acoustics_of(case, progress: bool = False) -> AcousticsInputs | None:
     if "acoustics" not in raw:
         return None
     return parse_acoustics(raw["acoustics"], progress)
+
+
+def parse_case_acoustics(data: dict) -> AcousticsInputs:
+    """A case file's ``[acoustics]``: :func:`parse_acoustics`, and what it radiates from: the
+    housing's skin of ``[housing]`` moved by the ``[whine]`` response (``jaxgear run``), a
+    closed surface (method ``bem`` or ``erp-only``).
+
+    Raises:
+        SchemaError: the table's own errors, no ``[housing]`` or ``[whine]`` beside it, method
+            ``rayleigh`` (a flat baffled panel, not a closed housing).
+    """
+    inputs = parse_acoustics(data["acoustics"])
+    for needed in ("housing", "whine"):
+        if needed not in data:
+            raise sc.fail("", WHERE, f"radiates the housing's vibration: needs [{needed}] "
+                          "too (allowed with [housing] and [whine])", f"[{WHERE}]")
+    if data["acoustics"].get("method") == "rayleigh":
+        raise sc.fail(WHERE, "method", "a housing's closed skin radiates by 'bem' or "
+                      "'erp-only' ('rayleigh' is for a flat baffled panel)", "rayleigh")
+    return inputs

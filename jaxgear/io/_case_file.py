@@ -29,7 +29,7 @@ from ._rating_table import MATERIAL_RATING_KEYS, OPERATING_RATING_KEYS, check_ra
 from ._robust_table import parse_robust
 from ._housing_table import parse_housing
 from ._scene_table import parse_scene
-from ._acoustics_table import parse_acoustics
+from ._acoustics_table import parse_case_acoustics
 from ._whine_table import parse_whine
 
 __all__ = [
@@ -456,7 +456,7 @@ def parse_case(data: dict, default_name: str = "case", base_dir: str | None = No
     if "whine" in data:
         parse_whine(data["whine"])
     if "acoustics" in data:
-        parse_acoustics(data["acoustics"])
+        parse_case_acoustics(data)
     mesh = parse_mesh_settings(data, pair.normal_module)
     mods = parse_modifications(data.get("modifications", {}), module)
     deviations, deviation_settings = (

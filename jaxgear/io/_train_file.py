@@ -128,7 +128,7 @@ from ._rating_table import (
     older_ring_cutter,
 )
 from ._train_scene import check_table_size, shaft_of_table, train_scene
-from ._acoustics_table import parse_acoustics
+from ._acoustics_table import parse_case_acoustics
 from ._whine_table import parse_whine
 
 __all__ = ["is_train", "parse_train"]
@@ -496,7 +496,7 @@ def parse_train(data: dict, default_name: str = "train", base_dir: str | None = 
     if is_planetary(data):
         return _planetary_case(data, name)
     if "acoustics" in data:
-        parse_acoustics(data["acoustics"])
+        parse_case_acoustics(data)
     if "deviations" in data:
         raise sc.fail("", "deviations", "not in a gear train's case (allowed: a pair's case, or "
                       "a planetary stage's with [[gears]])", "[deviations]")
