@@ -442,6 +442,11 @@ class _Recorder:
             fem_prep.load_body = saved_load
 
 
+# [acoustics] radiates a housed whine: its sample carries [housing] and [whine] too
+SAMPLE_OVERLAYS["acoustics"] = (SAMPLE_OVERLAYS["housing"] + SAMPLE_OVERLAYS["whine"]
+                                + SAMPLE_OVERLAYS["acoustics"])
+
+
 def case_samples() -> Iterator[tuple[dict, str | None]]:
     """(parsed TOML, base folder) of every sample case file."""
     import jaxgear.io as jio
@@ -488,7 +493,6 @@ def case_samples() -> Iterator[tuple[dict, str | None]]:
     # a train's gear whine in the frequency domain
     data = tomllib.loads(jio.embedded_case_text("accessory-idler-train"))
     data.update(tomllib.loads(SAMPLE_OVERLAYS["whine"]))
-    data.update(tomllib.loads(SAMPLE_OVERLAYS["acoustics"]))
     yield data, None
     # a planetary stage's gear whine (the input member's speeds)
     data = tomllib.loads(jio.embedded_case_text("nrel-5mw-planetary"))
@@ -512,6 +516,10 @@ def case_samples() -> Iterator[tuple[dict, str | None]]:
     for overlay in ("housing", "housing mesh file"):
         data["housing"] = tomllib.loads(SAMPLE_OVERLAYS[overlay])["housing"]
         yield copy.deepcopy(data), None
+    # its radiated sound: [acoustics] beside [housing] and [whine]
+    data.update(tomllib.loads(SAMPLE_OVERLAYS["whine"]))
+    data.update(tomllib.loads(SAMPLE_OVERLAYS["acoustics"]))
+    yield copy.deepcopy(data), None
     # both members condensed: the flexible case with a condensed pinion too
     data = tomllib.loads(jio.embedded_case_text("accessory-spur-flexible"))
     data["scene"]["pinion_body"] = {"body": "accessory-pinion"}

@@ -655,7 +655,8 @@ def check_ring_teeth(data: dict) -> None:
     gears = data.get("gears")
     if not isinstance(t, dict) or not isinstance(gears, list):
         return
-    by_name = {g.get("name"): (i, g) for i, g in enumerate(gears) if isinstance(g, dict)}
+    by_name = {g.get("name"): (i, g) for i, g in enumerate(gears)
+               if isinstance(g, dict) and isinstance(g.get("name"), str)}
     try:
         (_, sun), (_, ring) = by_name[t["sun_gear"]], by_name[t["ring_gear"]]
     except (KeyError, TypeError):
