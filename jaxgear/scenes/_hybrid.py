@@ -176,8 +176,12 @@ class HybridScene(AssembledScene):
 
     def window(self, cells: Cells, pad: int = 0):
         """Window DOFs (w,) and structure vectors on them (L, N, w), masked cells zeroed;
-        ``pad`` rim stations more on each side of a flexible member's window."""
-        return only_mesh(self.meshes).window(self.members, cells, pad)
+        ``pad`` rim stations more on each side of a flexible member's window (corner cells
+        beyond the path less their part along the free drive rotation:
+        :meth:`~jaxgear.scenes.AssembledScene._free_drive`)."""
+        mesh = only_mesh(self.meshes)
+        idx, Vw = mesh.window(self.members, cells, pad)
+        return idx, self._free_drive(mesh, idx, Vw, cells)
 
     def window_overflow(self, cells: Cells):
         """True if a cell on the flanks reaches a rim station beyond its member's window."""
