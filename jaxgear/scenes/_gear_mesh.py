@@ -331,8 +331,11 @@ def only_mesh(meshes: tuple) -> GearMesh:
 def mesh_zone_load(scene, k: int, theta, first: int = 0) -> Float[Array, " m"]:
     """A unit normal force spread over mesh ``k``'s contact zone, as a load on the structure.
 
-    The zone is the mesh's cells on the drive flanks at the scene angle ``theta``
-    (:meth:`GearMesh.angle`, :meth:`MeshModel.cells`); the unit force is shared among them in
+    The zone is the mesh's cells on the drive flanks and on the theoretical path of contact
+    (0 ≤ s ≤ g_α) at the scene angle ``theta`` (:meth:`GearMesh.angle`,
+    :meth:`MeshModel.cells`): with contact beyond the path a corner cell holds its gap and
+    carries load only under deflection (docs/extended-contact.md, as the no-load mean mesh
+    stiffness counts it), so it is no part of the zone. The unit force is shared among them in
     proportion to their contact lengths l_c (uniform line load), and each cell's share acts
     through its structure vector V_c (seed (2.9) for a rigid or torsional gear, (2.30) through
     the interface of a condensed body): f = Σ_c w_c V_c with w_c = l_c / Σ l. Its work on the
@@ -377,5 +380,6 @@ def mesh_zone_load(scene, k: int, theta, first: int = 0) -> Float[Array, " m"]:
     mesh = meshes[k]
     cells = mesh.base_plane.cells(mesh.angle(theta))
     V = mesh.cell_vectors(scene.members, cells, n)[..., first:]
-    w = jnp.where(cells.mask & (cell_flank(cells) > 0), cells.length, 0.0)
+    on = (cells.s >= 0.0) & (cells.s <= mesh.base_plane.path_of_contact)
+    w = jnp.where(cells.mask & (cell_flank(cells) > 0) & on, cells.length, 0.0)
     return jnp.einsum("ij,ijm->m", w / jnp.sum(w), V)
