@@ -441,3 +441,45 @@ def test_free_drive_rotation_stays_free_in_a_dynamic_scene():
     model = jd.dynamic_model(dyn, None, 400.0)
     modes = jd.mesh_averaged_modes(model)
     assert int(np.sum(np.asarray(modes.rigid))) == 1
+
+
+def test_hybrid_free_drive_rotation_carries_no_contact_force(fem_prep_cache):
+    # the hybrid pair's dynamics turn freely as a whole (pinion chain, wheel and its body at
+    # the ratio): its rigid mode is the null space of K (two chains, tests/_hybrid_util) that
+    # moves no TE, and the rows the solvers use carry no force along it, corner cells too
+    # (without the drive-rotation step its mesh-averaged modes had a 36 Hz mode in its place)
+    import pathlib
+
+    from _hybrid_util import drive_rotations
+
+    import fem_prep
+    from jaxgear import io as jio
+    from jaxgear.io import static_scene
+
+    data = pathlib.Path(__file__).parent / "data"
+    case = jio.load_case(data / "hybrid-test-case.toml").replace(extended_contact=True)
+    body = fem_prep.condensed(data / "hybrid-test-wheel.toml")
+    sc = static_scene(case, bodies=(None, body))[0]
+    null = drive_rotations(sc)  # (n, 2), K null = 0
+    u = np.asarray(sc.meshes[0].te)
+    c = np.linalg.svd((u @ null)[None])[2][-1]
+    ref = null @ c
+    R = np.asarray(sc.rigid_modes())[:, 0]
+    np.testing.assert_allclose(R / np.linalg.norm(R) * np.sign(R @ ref), ref / np.linalg.norm(ref),
+                               atol=1e-9)
+    mesh, g = sc.mesh, case.pair.path_of_contact
+    beyond = 0
+    for theta in np.linspace(0.0, float(mesh.mesh_period_angle), 5)[:-1] + 1e-4:
+        cells = mesh.cells(jnp.asarray(theta))
+        exact = np.asarray(sc.cell_vectors(cells))
+        row = sc.window_row((cells,), (jnp.zeros_like(cells.s),))
+        V = np.zeros(exact.shape)
+        V.reshape(-1, V.shape[-1])[:, np.asarray(row.idx)] = np.asarray(row.V)
+        s, mask = np.asarray(cells.s), np.asarray(cells.mask)
+        corner = mask & ((s < 0) | (s > g))
+        beyond += int(corner.sum())
+        scale = np.abs(exact).max() * np.abs(R).max()
+        assert np.abs(V[mask] @ R).max() < 1e-10 * scale
+        if corner.any():  # the exact derivative has a part along it there
+            assert np.abs(exact[corner] @ R).max() > 1e-4 * scale
+    assert beyond > 0
