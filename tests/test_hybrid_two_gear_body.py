@@ -30,7 +30,7 @@ from _hybrid_util import (
     train_fixtures,
     zone_compliance,
 )
-from _trains import line_direction, shaft_sum
+from _trains import contact_forces, line_direction, shaft_sum
 
 import fem_prep
 import jaxgear as jg
@@ -231,16 +231,24 @@ def test_the_body_bearings_carry_both_mesh_forces(case, scene):
     """The intermediate shaft's bearings (the body's shaft turns with its frame) carry the
     first mesh's force on the wheel, F_1 along the first line, less the force the pinion puts
     on the output, F_2 = F_1 r_b,wheel / r_b,pinion along the second (spur gears), to 1e-6 of
-    F_2; the input's and the output's bearings their own mesh's force."""
+    F_2; the input's and the output's bearings their own mesh's force. With the case file's
+    default contact beyond the path each mesh's force is the mean of its cells' contact forces,
+    along the corner's involute normal beyond the path (tests/_trains.contact_forces): to 3e-5
+    of F_2 (measured 1.2e-5: the code interpolates the corner's normal on its table's grid, the
+    reference takes it exact; 1e-6 on the path), and within 5e-3 of the nominal forces (measured 2.0e-3: the corners' lever
+    arms)."""
     res = jg.quasi_static(scene, case.mesh_modifications(), case.torque)
     forces = bearing_forces(scene, res)
     f1 = case.torque / case.pairs[0].base_radii[0]
     f2 = f1 * case.pairs[0].base_radii[1] / case.pairs[1].base_radii[0]
     d0, d1 = line_direction(case, 0), line_direction(case, 1)
+    c0, c1 = (contact_forces(case, res, k)[1].sum(axis=(1, 2)).mean(axis=0)[:2] for k in (0, 1))
+    np.testing.assert_allclose(c0, f1 * d0, atol=5e-3 * f1)
+    np.testing.assert_allclose(c1, f2 * d1, atol=5e-3 * f2)
     got = shaft_sum(forces, "intermediate")[:2]
-    np.testing.assert_allclose(got, f1 * d0 - f2 * d1, atol=1e-6 * f2)
-    np.testing.assert_allclose(shaft_sum(forces, "input")[:2], -f1 * d0, atol=1e-6 * f1)
-    np.testing.assert_allclose(shaft_sum(forces, "output")[:2], f2 * d1, atol=1e-6 * f2)
+    np.testing.assert_allclose(got, c0 - c1, atol=3e-5 * f2)
+    np.testing.assert_allclose(shaft_sum(forces, "input")[:2], -c0, atol=3e-5 * f1)
+    np.testing.assert_allclose(shaft_sum(forces, "output")[:2], c1, atol=3e-5 * f2)
 
 
 def test_the_two_rims_share_the_body(case, bodies):
