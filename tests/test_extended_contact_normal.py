@@ -12,6 +12,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 import pytest
+import scipy.linalg
 
 import jaxgear as jg
 from jaxgear.scenes import Bearing, ShaftSpec, lumped_pair
@@ -317,6 +318,10 @@ def test_planetary_rows_are_the_corner_gap_derivative(which):
     r_r = float(geo.planet_ring.base_radii[1])
     model = jg.planetary.PlanarPlanetary()
     names = model.dof_names(stage)
+    K, M = (np.asarray(a) for a in (model.stiffness_matrix(stage), model.mass_matrix(stage)))
+    lam, phi = scipy.linalg.eigh(K, M)
+    phi = phi[:, lam <= 1e-9 * np.abs(lam).max()]
+    assert phi.shape[1] >= 1  # the sun and the carrier turn freely
     zero = jnp.zeros(4)
     g, pb = float(mesh.path_of_contact), float(mesh.base_pitch)
     seen = []
@@ -335,20 +340,23 @@ def test_planetary_rows_are_the_corner_gap_derivative(which):
             V = np.asarray(meshes.cell_row(model, stage, jnp.asarray(x), (zero, zero)).V)
             V = V[(0 if k == 0 else 4 * models[0].n_lines) + line]
             d = -_gap_derivative(pair, float(s[line]))  # ∂gap/∂(φ1, φ2, x1, y1, x2, y2)
-            pick = [
-                V[names.index(n)]
-                for n in (
-                    ("u_s", "u_1", "x_s", "y_s", "zeta_1", "eta_1")
-                    if k == 0
-                    else ("u_1", "u_r", "zeta_1", "eta_1", "x_r", "y_r")
-                )
-            ]
+            coords = (
+                ("u_s", "u_1", "x_s", "y_s", "zeta_1", "eta_1")
+                if k == 0
+                else ("u_1", "u_r", "zeta_1", "eta_1", "x_r", "y_r")
+            )
             if k == 0:  # u = r_b θ, the planet's motion clockwise
                 ref = [-d[0] / r_s, d[1] / r_p, -d[2], -d[3], -d[4], -d[5]]
             else:  # mirrored: both turn clockwise in the stage, y flips
                 ref = [d[0] / r_p, d[1] / r_r, -d[2], d[3], -d[4], d[5]]
-            np.testing.assert_allclose(pick, ref, atol=2e-6)
-            assert abs(pick[0 if s[line] > g else 1]) < 0.99  # the tip owner's λ
+            # the row the solvers use: the exact one less its part along the stage's free
+            # rigid-body modes Φ_r (mass-normalised, found here by scipy), V − (V Φ_r)(M Φ_r)ᵀ
+            full = np.zeros(V.shape)
+            full[[names.index(n) for n in coords]] = ref
+            full -= (full @ phi) @ (M @ phi).T
+            np.testing.assert_allclose(V, full, atol=2e-6)
+            assert np.abs(V @ phi).max() < 1e-12 * np.abs(V).max() * np.abs(phi).max()
+            assert abs(ref[0 if s[line] > g else 1]) < 0.99  # the tip owner's λ
     assert sorted(seen) == [False, True]
 
 

@@ -494,6 +494,7 @@ class ContactMeshes(AbstractPlanetaryMeshes):
         x_s, x_r = model.line_rows(stage)
         d_s, d_r = offsets
         corner = model.corner_rows(stage) if self._extended() else (None, None)
+        drive = _drive_modes(model, stage) if self._extended() else None
         parts = []
         for mesh, cells, delta0, (v, w), x_line, pitch, d, rows in (
             (self.sun_mesh, cells_s, d0_s, rows_s, x_s, self.pitch_points[0], d_s, corner[0]),
@@ -507,10 +508,38 @@ class ContactMeshes(AbstractPlanetaryMeshes):
                       + along[..., None] * x_line[:, None, None, :])
             if mesh.extended_contact:  # the corner cells' geometry (docs/extended-contact.md)
                 V = V + cb * _corner_terms(mesh, cells, rows)
+                # less their part along the stage's free drive rotation (_drive_modes)
+                phi, m_phi = drive
+                beyond = (cells.s < 0.0) | (cells.s > mesh.path_of_contact)
+                V = jnp.where(beyond[..., None], V - (V @ phi) @ m_phi.T, V)
             d0 = jnp.where(cells.mask, delta0 - cb * d[:, None, None], 0.0)
             parts.append((V.reshape(-1, v.shape[-1]), cells.stiffness.reshape(-1),
                           cells.length.reshape(-1), d0.reshape(-1), cells.mask.reshape(-1)))
         return CellRow(None, *(jnp.concatenate(f) for f in zip(*parts, strict=True)))
+
+
+def _drive_modes(model, stage) -> tuple:
+    """(Φ_r, M Φ_r), each (n_dof, n_dof): the stage's rigid-body modes (the free drive rotation
+    of a stage whose sun and carrier turn freely, the ring held), mass-normalised (Φᵀ M Φ = I)
+    in the model's coordinates, other columns zero: the modes of K (the stage's constant mesh
+    springs) and M with ω² ≤ 1e-9 of the largest (the rule of
+    :class:`~jaxgear.PlanetaryModes`). A corner cell's row beyond the theoretical path drops
+    its part along them, V − (V Φ_r)(M Φ_r)ᵀ, so that V·φ = 0 for every rigid mode φ (the
+    rule the lumped and hybrid scenes follow, :meth:`jaxgear.scenes.AssembledScene._free_drive`;
+    docs/extended-contact.md, "The free drive rotation"): the corner's gap changes as the
+    stage turns as a whole, and without this step the corners would give the drive rotation a
+    weak positional stiffness. The modes are held constant under differentiation
+    (``stop_gradient``: the rigid rotation's direction is the kinematics', and the eigenvector
+    derivatives of the stage's repeated modes are not finite)."""
+    K = model.stiffness_matrix(stage)
+    M = model.mass_matrix(stage)
+    L = jnp.linalg.cholesky(M)
+    Li = jax.scipy.linalg.solve_triangular(L, jnp.eye(M.shape[0], dtype=M.dtype), lower=True)
+    lam, Y = jnp.linalg.eigh(Li @ K @ Li.T)
+    phi = Li.T @ Y
+    rigid = lam <= 1e-9 * jnp.max(jnp.abs(lam))
+    phi = jnp.where(rigid[None, :], phi, 0.0)
+    return jax.lax.stop_gradient(phi), jax.lax.stop_gradient(M @ phi)
 
 
 def _corner_terms(mesh, cells, rows) -> Array:
