@@ -25,7 +25,7 @@ from jax.scipy.linalg import block_diag
 from jaxtyping import Array, Bool, Float, Int
 
 from ._backlash import cell_flank, coast_phase
-from ._extended import extension_table, line_range
+from ._extended import corner_table, extension_table, line_range
 from ._geometry import GearPair
 from ._util import as_float
 
@@ -184,6 +184,10 @@ class MeshModel(eqx.Module):
         extension_gap: the tip-corner gaps there (m, transverse, :class:`jaxgear.CornerContact`),
             shape (2, n_ext): row 0 at s = −S_a u, row 1 at s = g_α + S_r u, u equally spaced
             on [0, 1].
+        extension_corner: where a corner cell's force acts, shape (2, 4, n_ext) on the grid of
+            ``extension_gap``: the tip owner's lever ratio λ, the normal's angle ε (rad) from
+            the line of action and the contact point's offset (o_t, o_v) (m) from the line of
+            action (:func:`jaxgear._extended.corner_table`; :meth:`corner`).
         extended_contact: static; True: contact beyond the theoretical path (premature
             engagement and late disengagement at the tip corners; docs/extended-contact.md).
         n_lines: static, the rows of the cell arrays (drive and coast lines with ``coast``).
@@ -207,6 +211,9 @@ class MeshModel(eqx.Module):
     extension_span: Float[Array, " 2"] = eqx.field(converter=as_float, default=(0.0, 0.0))
     extension_gap: Float[Array, "2 n_ext"] = eqx.field(
         converter=as_float, default=((0.0, 0.0), (0.0, 0.0))
+    )
+    extension_corner: Float[Array, "2 4 n_ext"] = eqx.field(
+        converter=as_float, default=(((1.0, 1.0), (0.0, 0.0), (0.0, 0.0), (0.0, 0.0)),) * 2
     )
     extended_contact: bool = eqx.field(static=True, default=False)
 
@@ -246,6 +253,8 @@ class MeshModel(eqx.Module):
                 "(as stiffness_table returns)"
             )
         span, gap = (0.0, 0.0), np.zeros((2, 2))
+        corner = np.zeros((2, 4, 2))
+        corner[:, 0] = 1.0
         if extended_contact:
             if coast:
                 raise ValueError(
@@ -253,6 +262,7 @@ class MeshModel(eqx.Module):
                     "mesh.extended_contact = false or drop the tooth thickness allowances"
                 )
             span, gap = extension_table(pair)
+            corner = corner_table(pair, span, gap.shape[1])
         lead = pair.face_width * math.tan(pair.base_helix_angle)
         first, last = line_range(pair.path_of_contact, pair.base_pitch, lead, span)
         n_lines = last - first + 1
@@ -278,6 +288,7 @@ class MeshModel(eqx.Module):
             coast=bool(coast),
             extension_span=span,
             extension_gap=gap,
+            extension_corner=corner,
             extended_contact=bool(extended_contact),
         )
 
@@ -375,6 +386,34 @@ class MeshModel(eqx.Module):
         after = _interp_uniform((s - self.path_of_contact) / span[1], grid, self.extension_gap[1])
         gap = jnp.where(s < 0.0, before, jnp.where(s > self.path_of_contact, after, 0.0))
         return gap * jnp.cos(self.base_helix_angle)
+
+    def corner(self, s: Float[Array, "..."]) -> tuple:
+        """Where the force of a cell at base-plane coordinates ``s`` (m) acts
+        (docs/extended-contact.md, "Where it acts"): ``(lever_driving, lever_driven, eps,
+        o_t, o_v)``, arrays shaped like ``s``. Beyond the theoretical path the tip owner (the
+        driven gear before the start, s < 0; the driving gear after the end, s > g_α) has the
+        lever ratio λ(s) = d_T/r_bT, the flank owner 1 (its normal is tangent to its base
+        circle); ε (rad) turns the transverse normal from the line of action (t' = cos ε t −
+        sin ε v, v the unit vector from the driving gear's centre to its tangent point T1) and
+        the contact point (the corner) sits at M + o_t t + o_v v. On the path, and without
+        ``extended_contact``: (1, 1, 0, 0, 0). Source: :class:`jaxgear.CornerContact`."""
+        one, zero = jnp.ones_like(s), jnp.zeros_like(s)
+        if not self.extended_contact:
+            return one, one, zero, zero, zero
+        n = self.extension_corner.shape[-1]
+        grid = jnp.linspace(0.0, 1.0, n, dtype=s.dtype)
+        span = jnp.maximum(self.extension_span, jnp.finfo(s.dtype).tiny)
+        u_before = -s / span[0]
+        u_after = (s - self.path_of_contact) / span[1]
+        before, after = s < 0.0, s > self.path_of_contact
+        table = self.extension_corner
+        out = []
+        for k in range(4):
+            b = _interp_uniform(u_before, grid, table[0, k])
+            a = _interp_uniform(u_after, grid, table[1, k])
+            out.append(jnp.where(before, b, jnp.where(after, a, one if k == 0 else zero)))
+        lam, eps, o_t, o_v = out
+        return jnp.where(after, lam, one), jnp.where(before, lam, one), eps, o_t, o_v
 
     def extension_overrun(self, cells: Cells, gap: Float[Array, "L N"]) -> Bool[Array, ""]:
         """Whether the solved approach would close the corner gap past the far end of the

@@ -41,7 +41,7 @@ import numpy as np
 
 from ._geometry import AbstractGearPair
 
-__all__ = ["CornerContact", "extension_table", "line_range"]
+__all__ = ["CornerContact", "corner_table", "extension_table", "line_range"]
 
 
 def _inv(r, rb):
@@ -67,9 +67,21 @@ class CornerContact:
         tip_lever: the tip owner's lever arm of that normal over its base radius, d_T/r_bT (-).
         on_flank: True where the contact point lies on the flank owner's involute (above its
             form circle, below its tip; an internal gear's within its root circle).
+        offset: the contact point P (the tip owner's corner) from the line-of-action point Q(s),
+            shape ``s.shape + (2,)`` (m): its components along t and along v = (T1 − O1)/r_b1
+            (the unit vector from the pinion's centre to its tangent point), P = Q + o_t t +
+            o_v v.
+
+    ``rotation`` and ``shift`` displace the gears from their rigid conjugate positions at s
+    (what the structure vector of a corner cell differentiates; docs/extended-contact.md):
+    ``rotation`` (φ1, φ2) (rad), each gear's rotation in its direction of motion (the pinion
+    counter-clockwise, an external gear clockwise, an internal gear counter-clockwise);
+    ``shift`` (2, 2) (m), each centre's translation in the pair's frame. The tip owner's corner
+    moves with its gear; ``gap`` is then the flank owner's rotation (times r_bF) that closes
+    it, so that a positive ``gap`` is open and the approach V·X closes it.
     """
 
-    def __init__(self, pair: AbstractGearPair, s):
+    def __init__(self, pair: AbstractGearPair, s, rotation=(0.0, 0.0), shift=((0, 0), (0, 0))):
         s = np.asarray(s, float)
         shape, s = s.shape, np.atleast_1d(s).ravel()
         alpha = pair.operating_pressure_angle
@@ -87,6 +99,9 @@ class CornerContact:
         centres, tangents = (np.zeros(2), O2), (T1, T2)
         start = [math.atan2(*(tangents[g] - centres[g])[::-1]) for g in (0, 1)]
         kappa = (1.0, float(sigma))
+        # the displacement: each gear's polar rotation (counter-clockwise) and its centre's shift
+        psi = (float(rotation[0]), -float(sigma) * float(rotation[1]))
+        shift = np.asarray(shift, float).reshape(2, 2)
         # the flank owner's involute must exist at the contact: above its form circle and
         # below its tip (an internal gear's: between its tip circle and its root circle)
         bounds = (
@@ -94,6 +109,7 @@ class CornerContact:
             (_form_radius(pair, 1), ra[1]) if sigma > 0 else (ra[1], pair.root_radii[1]),
         )
         fields = {k: np.full(s.shape, np.nan) for k in ("gap", "radius", "roll", "eps", "lever")}
+        offset = np.full(s.shape + (2,), np.nan)
         on = np.zeros(s.shape, bool)
         for tip, flank, where in ((1, 0, s < 0.0), (0, 1, s > pair.path_of_contact)):
             if not np.any(where):
@@ -101,19 +117,23 @@ class CornerContact:
             rho1 = pair.start_roll + s[where]
             rolls = (rho1, L - sigma * rho1)
             # the tip owner's corner P: its involute through Q(s) at its tip radius
-            ang = start[tip] + rolls[tip] / rb[tip] - _inv(ra[tip], rb[tip])
-            P = centres[tip][:, None] + ra[tip] * np.stack([np.cos(ang), np.sin(ang)])
-            d = P - centres[flank][:, None]
+            ang = start[tip] + rolls[tip] / rb[tip] - _inv(ra[tip], rb[tip]) + psi[tip]
+            tip_centre = centres[tip] + shift[tip]
+            P = tip_centre[:, None] + ra[tip] * np.stack([np.cos(ang), np.sin(ang)])
+            flank_centre = centres[flank] + shift[flank]
+            d = P - flank_centre[:, None]
             r = np.hypot(d[0], d[1])
             rr = np.maximum(r, rb[flank])
             polar = np.arctan2(d[1], d[0])
-            phi_f = start[flank] + rolls[flank] / rb[flank] - _inv(rr, rb[flank])
+            phi_f = start[flank] + rolls[flank] / rb[flank] - _inv(rr, rb[flank]) + psi[flank]
             rho = np.sqrt(rr**2 - rb[flank] ** 2)
             # the normal at the contact point: tangent to the flank owner's base circle at
             # χ = ang(P − O_F) − atan(ρ/r_b); ε from the line of action's tangent point
             chi = polar - np.arctan2(rho, rb[flank])
             e = np.stack([-np.sin(chi), np.cos(chi)])
-            arm = P - centres[tip][:, None]
+            arm = P - tip_centre[:, None]
+            Q = T1[:, None] + rho1 * t[:, None]
+            offset[where] = np.stack([t @ (P - Q), (nv @ (P - Q))], axis=-1)
             fields["gap"][where] = kappa[flank] * rb[flank] * _wrap(polar - phi_f)
             fields["radius"][where] = r
             fields["roll"][where] = rho
@@ -127,6 +147,7 @@ class CornerContact:
         self.normal_angle = fields["eps"].reshape(shape)
         self.tip_lever = fields["lever"].reshape(shape)
         self.on_flank = on.reshape(shape)
+        self.offset = offset.reshape(shape + (2,))
 
 
 def _form_radius(pair: AbstractGearPair, member: int) -> float:
@@ -177,6 +198,26 @@ def extension_table(pair: AbstractGearPair, points: int = EXTENSION_POINTS) -> t
         ]
     )
     return (float(spans[0]), float(spans[1])), gap
+
+
+def corner_table(pair: AbstractGearPair, span, points: int = EXTENSION_POINTS) -> np.ndarray:
+    """Where a corner cell's force acts (:class:`CornerContact`), tabulated on the grid of
+    :func:`extension_table` (row 0 at s = −S_a u, row 1 at s = g_α + S_r u, u =
+    linspace(0, 1, ``points``); ``span`` = (S_a, S_r), m): shape (2, 4, ``points``), for each
+    side the tip owner's lever ratio λ = d_T/r_bT (-), the normal's angle ε from the line of
+    action (rad) and the contact point's offset (o_t, o_v) from the line-of-action point (m)
+    (:attr:`CornerContact.offset`). At u = 0 (the path's ends) λ = 1 and ε = o = 0."""
+    grid = np.linspace(0.0, 1.0, points)
+    out = np.zeros((2, 4, points))
+    out[:, 0] = 1.0
+    g = pair.path_of_contact
+    for k, s in enumerate((-span[0] * grid[1:], g + span[1] * grid[1:])):
+        if span[k] <= 0.0:
+            continue
+        c = CornerContact(pair, s)
+        out[k, 0, 1:], out[k, 1, 1:] = c.tip_lever, c.normal_angle
+        out[k, 2, 1:], out[k, 3, 1:] = c.offset[:, 0], c.offset[:, 1]
+    return out
 
 
 def line_range(path_of_contact, base_pitch, lead, span=(0.0, 0.0)) -> tuple[int, int]:

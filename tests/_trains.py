@@ -6,8 +6,9 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from _corner import cell_points_normals
 
-__all__ = ["line_direction", "shaft_sum", "spins"]
+__all__ = ["contact_forces", "line_direction", "shaft_sum", "spins"]
 
 
 def shaft_sum(forces: dict, shaft: str) -> np.ndarray:
@@ -42,3 +43,28 @@ def spins(case) -> list:
             if case.shaft_of[i] == case.shaft_of[h]:
                 spin[i] = -spin[g]
     return spin
+
+
+def contact_forces(case, result, k: int) -> tuple:
+    """(P, F): each cell's contact point (S, L, N, 3) (m) and the force (S, L, N, 3) (N) that
+    mesh k's driving gear puts on its driven gear there, from a quasi-static ``result`` of the
+    train's static scene: the cell's line load times its length b/(N cos β_b) along the driving
+    gear's outward normal, the line of action's on the path, the corner's involute normal
+    beyond it (tests/_corner.py); masked cells carry nothing."""
+    layout, plane = case.layout(), case.mesh_models()[k]
+    line, mesh = layout.lines[k], result.meshes[k]
+    g, h = case.gears[k]
+    b = float(plane.face_width)
+    cell = b / mesh.line_load.shape[-1] / math.cos(float(plane.base_helix_angle))
+    f = np.where(mesh.cell_mask, np.asarray(mesh.line_load) * cell, 0.0)
+    s, z = np.asarray(mesh.cell_s), np.asarray(mesh.cell_z)
+    M = (
+        np.asarray(line["tangent_point"])
+        + (line["roll_start"] + s)[..., None] * np.asarray(line["direction"])
+        + (line["axial"] * (z - b / 2))[..., None] * np.array([0.0, 0.0, 1.0])
+    )
+    P, n = cell_points_normals(
+        case.pairs[k], s, M, line["direction"], line["normal"],
+        (layout.centres[g], layout.centres[h]),
+    )
+    return P, f[..., None] * n

@@ -6,6 +6,7 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 import scipy.linalg
+from _corner import cell_points_normals
 
 import jaxgear as jg
 import jaxgear.dynamics as jd
@@ -131,20 +132,38 @@ def test_structure_vectors_reduce_to_torsional_and_rigid_mode_is_free():
     cells = scene.mesh.cells(jnp.asarray(0.01))
     V = np.asarray(scene.cell_vectors(cells))
     assert np.all(V[~np.asarray(cells.mask)] == 0.0)  # a cell off the flanks loads nothing
-    V = V[np.asarray(cells.mask)]  # (cells on the flanks, n)
+    mask, s = np.asarray(cells.mask), np.asarray(cells.s)
+    V = V[mask]  # (cells on the flanks, n)
     p = case.pair
+    on = (s[mask] >= 0.0) & (s[mask] <= p.path_of_contact)
+    assert not np.all(on)  # the case file's default contact beyond the path: corner cells
     cb, sb = math.cos(p.base_helix_angle), math.sin(p.base_helix_angle)
     i, j = (member.dofs[0] for member in scene.members)  # the gear nodes
-    # torsional part: cos β_b (r_b1 φ_z1 + r_b2 φ_z2), i.e. cos β_b (r_b1 θ1 − r_b2 θ2)
-    np.testing.assert_allclose(V[..., i + 5], cb * p.base_radii[0], rtol=1e-12)
-    np.testing.assert_allclose(V[..., j + 5], cb * p.base_radii[1], rtol=1e-12)
+    # torsional part: cos β_b (r_b1 φ_z1 + r_b2 φ_z2), i.e. cos β_b (r_b1 θ1 − r_b2 θ2), on the
+    # path; beyond it the moments of the corner's normal through its contact point about the
+    # gear axes (tests/_corner.py), to the corner table's interpolation (3e-5)
+    np.testing.assert_allclose(V[on, i + 5], cb * p.base_radii[0], rtol=1e-12)
+    np.testing.assert_allclose(V[on, j + 5], cb * p.base_radii[1], rtol=1e-12)
+    gm = scene.meshes[0]
+    P, n = cell_points_normals(
+        p, s, np.asarray(gm.points(cells)), np.asarray(gm.direction), np.asarray(gm.normal),
+        [np.asarray(m.centre) for m in scene.members],
+    )
+    arm = [np.cross(P - np.asarray(m.centre), sign * n)[..., 2][mask]
+           for m, sign in zip(scene.members, (1.0, -1.0), strict=True)]
+    np.testing.assert_allclose(V[~on, i + 5], arm[0][~on], rtol=3e-5)
+    np.testing.assert_allclose(V[~on, j + 5], arm[1][~on], rtol=3e-5)
     # helical: axial coupling sin β_b on the translations, opposite on the gear
     np.testing.assert_allclose(V[..., i + 2], sb, rtol=1e-12)
     np.testing.assert_allclose(V[..., j + 2], -sb, rtol=1e-12)
     # tilting couplings vary across the face (lever arm z − b/2)
     assert np.ptp(V[..., i + 3]) > 0 or np.ptp(V[..., i + 4]) > 0
     r = np.asarray(scene.rigid_modes())[:, 0]
-    assert np.abs(V @ r).max() < 1e-12
+    assert np.abs(V[on] @ r).max() < 1e-12
+    # a corner cell's exact vector has a part along the drive rotation; the rows the solvers
+    # use drop it (docs/extended-contact.md, "The free drive rotation")
+    used = np.asarray(scene.cell_row((cells,), (jnp.zeros_like(cells.s),)).V)
+    assert np.abs(used @ r).max() < 1e-12
     assert abs(np.asarray(scene.external_load(jnp.asarray(310.0))) @ r) < 1e-9
 
 

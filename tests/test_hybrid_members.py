@@ -85,12 +85,17 @@ body = "{DATA / "hybrid-test-wheel.toml"}"
 @pytest.fixture(scope="module")
 def pairs(fem_prep_cache, tmp_path_factory):
     """(case, scene) of the test pair with its flexible wheel and of its mirror, whose
-    flexible member is the pinion."""
+    flexible member is the pinion. On the theoretical path: the mirror holds the other gear
+    and loads the one the original holds, which is the same load case only while every cell
+    shares the torque ratio of the line of action; a corner cell beyond the path (the case
+    file's default) acts with the tip owner's shorter lever arm and breaks that ratio, so the
+    two load cases differ there (measured 2.5 % of the TE at two of 16 positions)."""
     path = tmp_path_factory.mktemp("mirror") / "hybrid-test-mirror.toml"
     path.write_text(MIRROR)
     body = fem_prep.condensed(DATA / "hybrid-test-wheel.toml")
     out = []
     for case, bodies in ((jio.load_case(CASE), (None, body)), (jio.load_case(path), (body, None))):
+        case = case.replace(extended_contact=False)
         out.append((case, static_scene(case, bodies=bodies)[0]))
     return out
 

@@ -25,7 +25,7 @@ from _hybrid_util import (
     train_fixtures,
     zone_compliance,
 )
-from _trains import line_direction, shaft_sum
+from _trains import contact_forces, line_direction, shaft_sum
 
 import fem_prep
 import jaxgear as jg
@@ -81,14 +81,21 @@ def test_idler_bearings_carry_its_two_mesh_forces(case, scene):
     """The idler's bearings (on a shaft that turns with its body frame) carry the force of the
     first mesh on it, F_n along the first line, less the force it puts on the output, F_n along
     the second (spur gears; an idler passes F_n on), to 1e-6 of F_n; the input's and the
-    output's bearings theirs."""
+    output's bearings theirs. With the case file's default contact beyond the path each mesh's
+    force is the mean of its cells' contact forces, along the corner's involute normal beyond
+    the path (tests/_trains.contact_forces): to 1e-5 of F_n (the code interpolates the corner's
+    normal on its table's grid, the reference takes it exact), and within 5e-3 of the nominal
+    F_n along the line (measured 1.9e-3: the corners' lever arms)."""
     res = jg.quasi_static(scene, case.mesh_modifications(), case.torque)
     forces = bearing_forces(scene, res)
     fn = case.torque / case.pairs[0].base_radii[0]
     d0, d1 = line_direction(case, 0), line_direction(case, 1)
-    np.testing.assert_allclose(shaft_sum(forces, "idler")[:2], fn * (d0 - d1), atol=1e-6 * fn)
-    np.testing.assert_allclose(shaft_sum(forces, "input")[:2], -fn * d0, atol=1e-6 * fn)
-    np.testing.assert_allclose(shaft_sum(forces, "output")[:2], fn * d1, atol=1e-6 * fn)
+    f0, f1 = (contact_forces(case, res, k)[1].sum(axis=(1, 2)).mean(axis=0)[:2] for k in (0, 1))
+    np.testing.assert_allclose(f0, fn * d0, atol=5e-3 * fn)
+    np.testing.assert_allclose(f1, fn * d1, atol=5e-3 * fn)
+    np.testing.assert_allclose(shaft_sum(forces, "idler")[:2], f0 - f1, atol=1e-5 * fn)
+    np.testing.assert_allclose(shaft_sum(forces, "input")[:2], -f0, atol=1e-5 * fn)
+    np.testing.assert_allclose(shaft_sum(forces, "output")[:2], f1, atol=1e-5 * fn)
 
 
 def test_the_two_contact_zones_share_the_idler_body(scene):
@@ -193,7 +200,12 @@ def test_rigidified_idler_train_dynamics_equal_the_rigid_node_train(case):
     recorded): each mesh's dynamic factor within 2 % at 1000 rad/s (near a coincidence, DF
     1.89 and 1.70) and 2000 rad/s (measured 0.03 to 0.7 %; after 30 periods 0.05 to 0.7 %)."""
     stiff = stiffened_body(DATA / "hybrid-test-wheel.toml", 1000.0)
-    uni = case.replace(stiffness=jg.Uniform(1.4e10))
+    # on the theoretical path (open, issue 68): beyond it the two scenes' corner rows differ by
+    # the drive-rotation step, which takes a corner cell's part along the free rotation off
+    # along M r on the mesh's window coordinates: a rigid node's whole gear, a condensed body's
+    # rim masters under the contact; with the case file's default the dynamic factors at
+    # 1000 rad/s were 1.527 (hybrid) and 1.569 (rigid node), at 2000 rad/s 0.5 % apart
+    uni = case.replace(stiffness=jg.Uniform(1.4e10), extended_contact=False)
     mods = uni.mesh_modifications()
     damping = Damping("rayleigh", alpha=25.0, beta=2.5e-6)
     Mr = rigid_mass_matrix(stiff)

@@ -30,7 +30,7 @@ from _hybrid_util import (
     train_fixtures,
     zone_compliance,
 )
-from _trains import line_direction, shaft_sum
+from _trains import contact_forces, line_direction, shaft_sum
 
 import fem_prep
 import jaxgear as jg
@@ -231,16 +231,24 @@ def test_the_body_bearings_carry_both_mesh_forces(case, scene):
     """The intermediate shaft's bearings (the body's shaft turns with its frame) carry the
     first mesh's force on the wheel, F_1 along the first line, less the force the pinion puts
     on the output, F_2 = F_1 r_b,wheel / r_b,pinion along the second (spur gears), to 1e-6 of
-    F_2; the input's and the output's bearings their own mesh's force."""
+    F_2; the input's and the output's bearings their own mesh's force. With the case file's
+    default contact beyond the path each mesh's force is the mean of its cells' contact forces,
+    along the corner's involute normal beyond the path (tests/_trains.contact_forces): to 3e-5
+    of F_2 (measured 1.2e-5: the code interpolates the corner's normal on its table's grid, the
+    reference takes it exact; 1e-6 on the path), and within 5e-3 of the nominal forces (measured 2.0e-3: the corners' lever
+    arms)."""
     res = jg.quasi_static(scene, case.mesh_modifications(), case.torque)
     forces = bearing_forces(scene, res)
     f1 = case.torque / case.pairs[0].base_radii[0]
     f2 = f1 * case.pairs[0].base_radii[1] / case.pairs[1].base_radii[0]
     d0, d1 = line_direction(case, 0), line_direction(case, 1)
+    c0, c1 = (contact_forces(case, res, k)[1].sum(axis=(1, 2)).mean(axis=0)[:2] for k in (0, 1))
+    np.testing.assert_allclose(c0, f1 * d0, atol=5e-3 * f1)
+    np.testing.assert_allclose(c1, f2 * d1, atol=5e-3 * f2)
     got = shaft_sum(forces, "intermediate")[:2]
-    np.testing.assert_allclose(got, f1 * d0 - f2 * d1, atol=1e-6 * f2)
-    np.testing.assert_allclose(shaft_sum(forces, "input")[:2], -f1 * d0, atol=1e-6 * f1)
-    np.testing.assert_allclose(shaft_sum(forces, "output")[:2], f2 * d1, atol=1e-6 * f2)
+    np.testing.assert_allclose(got, c0 - c1, atol=3e-5 * f2)
+    np.testing.assert_allclose(shaft_sum(forces, "input")[:2], -c0, atol=3e-5 * f1)
+    np.testing.assert_allclose(shaft_sum(forces, "output")[:2], c1, atol=3e-5 * f2)
 
 
 def test_the_two_rims_share_the_body(case, bodies):
@@ -248,8 +256,8 @@ def test_the_two_rims_share_the_body(case, bodies):
     alone (its bearing nodes held): reciprocal (Maxwell–Betti, 1e-9), positive definite, and
     its cross term not zero (more than 1 % of the own terms' geometric mean; at θ = 0, 7.77 and
     1.62 nm/N own, −0.92 nm/N across, −0.26 of the own: docs/trains-evidence.md)."""
-    # theoretical path: the zones (unit loads over the masked cells) are the path's contact
-    # lines, as the documented figures; the cells beyond it would widen them
+    # theoretical path, as the documented figures were measured (mesh_zone_load spreads its
+    # unit load over the path's cells either way; the compliances do not depend on contact)
     scene = case.replace(extended_contact=False).static_train(bodies=bodies)
     for theta in (0.0, 0.05, 0.1):
         C = zone_compliance(scene, theta)

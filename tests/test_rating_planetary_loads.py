@@ -34,12 +34,15 @@ from jaxgear.io import CaseWarning
 jax.config.update("jax_enable_x64", True)
 
 
-def _stage2(slices=2, positions=16, relief_um=None, stiffness=None, use=None):
+def _stage2(slices=2, positions=16, relief_um=None, stiffness=None, use=None, extended=None):
     """nrel-5mw-stage2 at a coarse resolution, its given K_Hbeta kept, with a linear tip relief
     of ``relief_um`` on the sun (extent 0.3 of the path), ``stiffness`` the [mesh] table's
-    model keys, ``use`` the rating's use_measured."""
+    model keys, ``use`` the rating's use_measured, ``extended`` its extended_contact (None: the
+    case file's default)."""
     d = tomllib.loads(jio.embedded_case_text("nrel-5mw-stage2"))
     d["mesh"].update(slices=slices, positions_per_pitch=positions)
+    if extended is not None:
+        d["mesh"]["extended_contact"] = extended
     if stiffness:
         d["mesh"].update(stiffness)
     if relief_um is not None:
@@ -87,7 +90,11 @@ def test_in_phase_stage_meshes_equal_the_pairs_run_alone(tmp_path):
     1e-9), both members."""
     from jaxgear.cli.planetary import measured_k_h_alpha, stage_root_stress
 
-    case = _stage2(relief_um=60.0)
+    # on the theoretical path: the stage's rows and the pair alone agree there cell by cell;
+    # beyond it a corner cell's broken torque ratio is shared by the stage's members (the tip
+    # owner's rotation times λ, translations turned) but carried by the pinion alone with the
+    # gear held in the pair's rigid mesh (13 % apart at one position with the default)
+    case = _stage2(relief_um=60.0, extended=False)
     loads = _loads(case)
     want = []
     for k in (0, 1):

@@ -105,15 +105,16 @@ def test_lumped3d_mean_te_35um_against_12um_rigid():
 @pytest.mark.parametrize("name", ["accessory-spur", "power-helical"])
 def test_active_set_passes(name):
     """docs/guide/pair.md "Contact law": "Newton's method on a piecewise-linear equation started
-    with every cell in contact: finite passes (1–4 per position for the embedded cases at their
+    with every cell in contact: finite passes (1–5 per position for the embedded cases at their
     torque, at most 6 at a tenth of it)", the case files' default cells beyond the path's ends
-    included. Measured: 1–3 (accessory-spur, both loads), 3–4 (power-helical); 5–6 at 0.1 ×
-    torque with the helical pair's relief and crowning (1–3 and 4–5 on the theoretical path)."""
+    included (their forces along the corner's normal with the tip owner's lever arm). Measured:
+    1–3 (accessory-spur, both loads), 3–4 (power-helical unmodified), 3–5 with its relief and
+    crowning; 5–6 at 0.1 × torque with them (1–3 and 4–5 on the theoretical path)."""
     case = jio.load_case(name)
     mesh = case.mesh_model()
     for mods in (None, case.modifications):
         it = np.asarray(jg.quasi_static(mesh, mods, case.torque).iterations)
-        assert it.min() >= 1 and it.max() <= 4, (mods, np.unique(it))
+        assert it.min() >= 1 and it.max() <= 5, (mods, np.unique(it))
         it = np.asarray(jg.quasi_static(mesh, mods, 0.1 * case.torque).iterations)
         assert it.max() <= 6, (mods, np.unique(it))
 
@@ -198,11 +199,12 @@ def test_torsional_mode_and_critical_speeds_of_the_accessory_pair():
 
 def test_lumped3d_example_peak_and_mode():
     """docs/dynamics.md: "`jaxgear sweep examples/accessory-lumped3d.toml --speeds 200:2000:40`
-    (…) puts the main peak (dynamic factor 1.66; …) at 938 rad/s against 939 rad/s predicted by
+    (…) puts the main peak (dynamic factor 1.67; …) at 938 rad/s against 939 rad/s predicted by
     the mode at 6728 Hz holding 89 % of its strain energy in the mesh". The sweep here runs the
     peak speed of that grid and its two neighbours only (same model and integration settings).
-    Measured: 6727.6 Hz, 88.8 %, 939.36 rad/s; DF 1.548, 1.656, 1.537 with contact beyond the
-    path (the case files' default; 1.575, 1.741, 1.537 on the theoretical path)."""
+    Measured: 6727.6 Hz, 88.8 %, 939.36 rad/s; DF 1.549, 1.668, 1.537 with contact beyond the
+    path (the case files' default, its corner cells along the corner's normal; 1.548, 1.656,
+    1.537 with them along the line of action; 1.575, 1.741, 1.537 on the theoretical path)."""
     case = jio.load_case(str(ROOT / "examples" / "accessory-lumped3d.toml"))
     model, spec = build_dynamic_model(case)
     f = np.asarray(model.modes.frequency)
@@ -222,7 +224,7 @@ def test_lumped3d_example_peak_and_mode():
     df = np.asarray(s.dynamic_factor)
     assert np.all(np.asarray(s.results.result) == 0)
     assert speeds[1] == pytest.approx(938, abs=0.5)
-    assert df[1] == pytest.approx(1.656, abs=0.005) and df[1] > df[0] and df[1] > df[2]
+    assert df[1] == pytest.approx(1.668, abs=0.005) and df[1] > df[0] and df[1] > df[2]
 
 
 def test_license_and_thesis_citation():
@@ -283,7 +285,7 @@ def test_moved_claims_are_still_stated():
         "reference/outputs.md": ("TE(θ) over two mesh periods",),
         "guide/pair.md": (
             "35 µm mean TE for the default case against 12 µm for rigid bodies",
-            "1–4 per position for the embedded cases at their torque, at most 6 at a tenth of it",
+            "1–5 per position for the embedded cases at their torque, at most 6 at a tenth of it",
             "come back as a result code per position",
         ),
         "guide/modifications.md": (

@@ -84,7 +84,16 @@ def test_runout_gives_shaft_order_sidebands_in_the_dynamic_te(torsional):
     which the rigid quasi-static TE does not have (< 1e-9 F_r/2, docs/deviations.md); they are
     proportional to the runout (doubling F_r doubles them, to 1 %), and the mesh-order line does
     not depend on it."""
-    case, mesh, scene = torsional
+    case, mesh, _ = torsional
+    # on the theoretical path: the shaft-order line F_r/2 is the runout's projection on the line
+    # of action; at this speed the dynamic load reaches past the case's tip relief and corner
+    # cells beyond the path (the case file's default) touch, which moves that line by 0.11 %
+    p = case.pair
+    scene = TorsionalDynamics(
+        mesh.with_extended_contact(False),
+        disc_inertia(case.density, p.tip_radii[0], p.pinion.face_width),
+        disc_inertia(case.density, p.tip_radii[1], p.gear.face_width),
+    )
     z1, z2 = case.pair.pinion.teeth, case.pair.gear.teeth
     N = 64
     orders = (1, z1 - 1, z1, z1 + 1, 2 * z1 - 1, 2 * z1 + 1)

@@ -338,6 +338,8 @@ class PairGearboxStage(AbstractGearboxStage):
                                       x / self.mesh.base_radius_pinion)
         v = jnp.cos(self.mesh.base_helix_angle) * r
         V = jnp.broadcast_to(v, cells.s.shape + (2,))
+        if self.mesh.extended_contact:  # beyond the path: the tip owner's lever ratio λ
+            V = V * jnp.stack(self.mesh.corner(cells.s)[:2], axis=-1)
         return CellRow.of(cells, V, delta0)
 
     def mesh_forces(self, forces):

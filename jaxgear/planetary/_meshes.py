@@ -401,6 +401,9 @@ class ContactMeshes(AbstractPlanetaryMeshes):
     def mesh_period(self):
         return self.sun_mesh.base_pitch
 
+    def _extended(self) -> bool:
+        return self.sun_mesh.extended_contact or self.ring_mesh.extended_contact
+
     def other_flanks(self) -> ContactMeshes:
         """The meshes with the load on the other flanks: the planets driving the sun (carrier
         in and sun out, ring held; or the sun's torque reversed), where :meth:`from_geometry`
@@ -490,10 +493,12 @@ class ContactMeshes(AbstractPlanetaryMeshes):
         rows_s, rows_r = model.face_rows(stage)
         x_s, x_r = model.line_rows(stage)
         d_s, d_r = offsets
+        corner = model.corner_rows(stage) if self._extended() else (None, None)
+        drive = _drive_modes(model, stage) if self._extended() else None
         parts = []
-        for mesh, cells, delta0, (v, w), x_line, pitch, d in (
-            (self.sun_mesh, cells_s, d0_s, rows_s, x_s, self.pitch_points[0], d_s),
-            (self.ring_mesh, cells_r, d0_r, rows_r, x_r, self.pitch_points[1], d_r),
+        for mesh, cells, delta0, (v, w), x_line, pitch, d, rows in (
+            (self.sun_mesh, cells_s, d0_s, rows_s, x_s, self.pitch_points[0], d_s, corner[0]),
+            (self.ring_mesh, cells_r, d0_r, rows_r, x_r, self.pitch_points[1], d_r, corner[1]),
         ):
             cb = jnp.cos(mesh.base_helix_angle)
             # (n_lines, n_slices), every planet's; mirrored for left-hand planets
@@ -501,10 +506,55 @@ class ContactMeshes(AbstractPlanetaryMeshes):
             along = cells.s - pitch  # (n_planets, n_lines, n_slices)
             V = cb * (v[:, None, None, :] + across[None, :, :, None] * w[:, None, None, :]
                       + along[..., None] * x_line[:, None, None, :])
+            if mesh.extended_contact:  # the corner cells' geometry (docs/extended-contact.md)
+                V = V + cb * _corner_terms(mesh, cells, rows)
+                # less their part along the stage's free drive rotation (_drive_modes)
+                phi, m_phi = drive
+                beyond = (cells.s < 0.0) | (cells.s > mesh.path_of_contact)
+                V = jnp.where(beyond[..., None], V - (V @ phi) @ m_phi.T, V)
             d0 = jnp.where(cells.mask, delta0 - cb * d[:, None, None], 0.0)
             parts.append((V.reshape(-1, v.shape[-1]), cells.stiffness.reshape(-1),
                           cells.length.reshape(-1), d0.reshape(-1), cells.mask.reshape(-1)))
         return CellRow(None, *(jnp.concatenate(f) for f in zip(*parts, strict=True)))
+
+
+def _drive_modes(model, stage) -> tuple:
+    """(Φ_r, M Φ_r), each (n_dof, n_dof): the stage's rigid-body modes (the free drive rotation
+    of a stage whose sun and carrier turn freely, the ring held), mass-normalised (Φᵀ M Φ = I)
+    in the model's coordinates, other columns zero: the modes of K (the stage's constant mesh
+    springs) and M with ω² ≤ 1e-9 of the largest (the rule of
+    :class:`~jaxgear.PlanetaryModes`). A corner cell's row beyond the theoretical path drops
+    its part along them, V − (V Φ_r)(M Φ_r)ᵀ, so that V·φ = 0 for every rigid mode φ (the
+    rule the lumped and hybrid scenes follow, :meth:`jaxgear.scenes.AssembledScene._free_drive`;
+    docs/extended-contact.md, "The free drive rotation"): the corner's gap changes as the
+    stage turns as a whole, and without this step the corners would give the drive rotation a
+    weak positional stiffness. The modes are held constant under differentiation
+    (``stop_gradient``: the rigid rotation's direction is the kinematics', and the eigenvector
+    derivatives of the stage's repeated modes are not finite)."""
+    K = model.stiffness_matrix(stage)
+    M = model.mass_matrix(stage)
+    L = jnp.linalg.cholesky(M)
+    Li = jax.scipy.linalg.solve_triangular(L, jnp.eye(M.shape[0], dtype=M.dtype), lower=True)
+    lam, Y = jnp.linalg.eigh(Li @ K @ Li.T)
+    phi = Li.T @ Y
+    rigid = lam <= 1e-9 * jnp.max(jnp.abs(lam))
+    phi = jnp.where(rigid[None, :], phi, 0.0)
+    return jax.lax.stop_gradient(phi), jax.lax.stop_gradient(M @ phi)
+
+
+def _corner_terms(mesh, cells, rows) -> Array:
+    """What a corner cell beyond the theoretical path adds to its mesh row (n_planets, n_lines,
+    n_slices, n_dof), before the factor cos β_b: the tip owner's rotation entry times λ − 1
+    and the translation entries turned by ε (:meth:`~jaxgear.MeshModel.corner`, the rows of
+    :meth:`AbstractPlanetaryModel.corner_rows`); zero on the path."""
+    lever_driving, lever_driven, eps, _, _ = mesh.corner(cells.s)
+    r_driving, r_driven, trans, perp = (r[:, None, None, :] for r in rows)
+    return (
+        (lever_driving - 1.0)[..., None] * r_driving
+        + (lever_driven - 1.0)[..., None] * r_driven
+        + (jnp.cos(eps) - 1.0)[..., None] * trans
+        - jnp.sin(eps)[..., None] * perp
+    )
 
 
 @eqx.filter_jit

@@ -407,6 +407,45 @@ def mesh_rows(stage: PlanetaryStage) -> tuple[Float[Array, "n d"], Float[Array, 
     return _rows(stage, 2, sun, p_sun), _rows(stage, 1, ring, p_ring)
 
 
+def corner_rows(stage: PlanetaryStage) -> tuple:
+    """The pieces of :func:`mesh_rows` that a corner contact beyond the theoretical path turns
+    (docs/extended-contact.md, "Where it acts"), per mesh (sun, ring), each four (n_planets,
+    3 (3 + N)) rows of the planar coordinates: the driving member's rotation entry, the driven
+    member's, the translation entries (σ t on each member, its own frame; t the pinion's push
+    along the line of action, σ = +1 on the driving member, −1 on the driven) and the same
+    members' σ v, v the unit vector from the pinion's centre to its tangent point. A corner
+    cell's row is the mesh row with the tip owner's rotation entry times λ and each
+    translation entry σ t turned to σ (cos ε t − sin ε v) (:meth:`jaxgear.MeshModel.corner`).
+    The sun mesh's pinion is the sun (driving the planet), the ring mesh's the planet (driving
+    the ring)."""
+    psi = stage.planet_angles
+    a_s, a_r = stage.sun_pressure_angle, stage.ring_pressure_angle
+    zero, one = jnp.zeros_like(psi), jnp.ones_like(psi)
+    psi_s, psi_r = psi - a_s, psi + a_r
+
+    def part(*cols):
+        return jnp.stack(cols, axis=-1)
+
+    no = part(zero, zero, zero)
+    sun = (
+        _rows(stage, 2, part(zero, zero, one), no),  # the sun's rotation (driving)
+        _rows(stage, 2, no, part(zero, zero, one)),  # the planet's (driven)
+        _rows(stage, 2, part(-jnp.sin(psi_s), jnp.cos(psi_s), zero),
+              part(-jnp.sin(a_s) * one, -jnp.cos(a_s) * one, zero)),
+        _rows(stage, 2, part(jnp.cos(psi_s), jnp.sin(psi_s), zero),
+              part(-jnp.cos(a_s) * one, jnp.sin(a_s) * one, zero)),
+    )
+    ring = (
+        _rows(stage, 1, no, part(zero, zero, -one)),  # the planet's rotation (driving)
+        _rows(stage, 1, part(zero, zero, one), no),  # the ring's (driven)
+        _rows(stage, 1, part(-jnp.sin(psi_r), jnp.cos(psi_r), zero),
+              part(jnp.sin(a_r) * one, -jnp.cos(a_r) * one, zero)),
+        _rows(stage, 1, part(-jnp.cos(psi_r), -jnp.sin(psi_r), zero),
+              part(jnp.cos(a_r) * one, jnp.sin(a_r) * one, zero)),
+    )
+    return sun, ring
+
+
 def pin_rows(stage: PlanetaryStage) -> tuple[Float[Array, "n d"], Float[Array, "n d"]]:
     """(P_zeta, P_eta): the planet-pin deflections (m) ``P q``, radial and tangential."""
     psi = stage.planet_angles
@@ -568,6 +607,15 @@ class AbstractPlanetaryModel(eqx.Module):
         tilts sees the same deflection across the face)."""
         v_s, v_r = self.mesh_deflection_rows(stage)
         return (v_s, jnp.zeros_like(v_s)), (v_r, jnp.zeros_like(v_r))
+
+    def corner_rows(self, stage: PlanetaryStage) -> tuple:
+        """:func:`corner_rows` in the model's coordinates (each row times :meth:`reduction`):
+        per mesh (sun, ring) the driving and driven members' rotation rows, the translation
+        rows σ t and the rows σ v, each (n_planets, n_dof). For a model with tilts (the 3D
+        one) these are the in-plane coordinates' part: the corner's turned normal and its
+        contact point do not change the tilting columns (not modelled)."""
+        t = self.reduction(stage)
+        return tuple(tuple(r @ t for r in mesh) for mesh in corner_rows(stage))
 
     def line_rows(self, stage: PlanetaryStage):
         """(X_s, X_r), each (n_planets, n_dof): the change of :meth:`face_rows`' deflection per

@@ -181,28 +181,50 @@ class GearMesh(eqx.Module):
             self.tangent_point, self.direction, self.normal, self.roll_start, self.base_plane
         )
 
-    def _on_member(self, cells: Cells, side: float) -> Cells:
-        """The cells as gear ``side`` (+1 driving, −1 driven) carries them: beyond the
-        theoretical path (``extended_contact``) a tooth touches with its tip corner, so the
-        tip owner's contact stays at its tip (s ≤ g_α driving, s ≥ 0 driven) while the flank
-        owner's runs down its flank (docs/extended-contact.md). Along the line of action the
-        place does not change a rigid gear's vector; a condensed body's mortar needs it."""
+    def _corner(self, members: tuple, cells: Cells) -> tuple:
+        """Where the cells' forces act (docs/extended-contact.md, "Where it acts"): the contact
+        points P (L, N, 3), the driving gear's outward normals n' (L, N, 3) and the two gears'
+        lever ratios ((L, N) each, driving then driven) from :meth:`MeshModel.corner`. On the
+        path P = M, n' = n, ratios 1; beyond it P is the tip owner's corner, n' = cos β_b (cos ε
+        t − sin ε v) + a sin β_b e_z, v the unit vector from the driving gear's centre to T1
+        (from a member placed in space; a torsional scene needs only the ratios)."""
         plane = self.base_plane
-        if not plane.extended_contact:
-            return cells
-        s = jnp.minimum(cells.s, plane.path_of_contact) if side > 0 else jnp.maximum(cells.s, 0.0)
-        return eqx.tree_at(lambda c: c.s, cells, s)
+        lever_driving, lever_driven, eps, o_t, o_v = plane.corner(cells.s)
+        centre = getattr(members[self.gears[0]], "centre", None)
+        M = self.points(cells)
+        if centre is None:  # a torsional member: no place in space, the ratios alone
+            return M, self.normal, (lever_driving, lever_driven)
+        ez = jnp.array([0.0, 0.0, 1.0], M.dtype)
+        d = self.tangent_point - centre
+        d = d - (d @ self.direction) * self.direction - (d @ ez) * ez
+        lead = (1,) * cells.s.ndim + (3,)
+        v = (d / jnp.linalg.norm(d)).reshape(lead)
+        t = self.direction.reshape(lead)
+        P = M + o_t[..., None] * t + o_v[..., None] * v
+        cb = jnp.cos(plane.base_helix_angle)
+        turn = (jnp.cos(eps) - 1.0)[..., None] * t - jnp.sin(eps)[..., None] * v
+        n = self.normal.reshape(lead) + cb * turn
+        return P, n, (lever_driving, lever_driven)
 
     def _parts(self, members: tuple, cells: Cells, pad: int):
         theta = (cells.theta - self.phase) / self.ratio  # the scene angle: the members' frames
         if not self.base_plane.coast:
             line = self.line()
+            if not self.base_plane.extended_contact:
+                points = self.points(cells)
+                return [
+                    members[g].window(points, cells.mask, line, theta, self.base_plane, side, pad)
+                    for g, side in zip(self.gears, (1.0, -1.0), strict=True)
+                ]
+            # beyond the theoretical path each member sees the corner's point, its turned
+            # normal and its own lever ratio (docs/extended-contact.md, "Where it acts")
+            P, n, levers = self._corner(members, cells)
             return [
                 members[g].window(
-                    self.points(self._on_member(cells, side)), cells.mask, line, theta,
+                    P, cells.mask, {**line, "cell_normal": n, "lever": lever}, theta,
                     self.base_plane, side, pad,
                 )
-                for g, side in zip(self.gears, (1.0, -1.0), strict=True)
+                for g, side, lever in zip(self.gears, (1.0, -1.0), levers, strict=True)
             ]
         return self._flank_parts(members, cells, theta, pad)
 
@@ -309,8 +331,11 @@ def only_mesh(meshes: tuple) -> GearMesh:
 def mesh_zone_load(scene, k: int, theta, first: int = 0) -> Float[Array, " m"]:
     """A unit normal force spread over mesh ``k``'s contact zone, as a load on the structure.
 
-    The zone is the mesh's cells on the drive flanks at the scene angle ``theta``
-    (:meth:`GearMesh.angle`, :meth:`MeshModel.cells`); the unit force is shared among them in
+    The zone is the mesh's cells on the drive flanks and on the theoretical path of contact
+    (0 ≤ s ≤ g_α) at the scene angle ``theta`` (:meth:`GearMesh.angle`,
+    :meth:`MeshModel.cells`): with contact beyond the path a corner cell holds its gap and
+    carries load only under deflection (docs/extended-contact.md, as the no-load mean mesh
+    stiffness counts it), so it is no part of the zone. The unit force is shared among them in
     proportion to their contact lengths l_c (uniform line load), and each cell's share acts
     through its structure vector V_c (seed (2.9) for a rigid or torsional gear, (2.30) through
     the interface of a condensed body): f = Σ_c w_c V_c with w_c = l_c / Σ l. Its work on the
@@ -355,5 +380,6 @@ def mesh_zone_load(scene, k: int, theta, first: int = 0) -> Float[Array, " m"]:
     mesh = meshes[k]
     cells = mesh.base_plane.cells(mesh.angle(theta))
     V = mesh.cell_vectors(scene.members, cells, n)[..., first:]
-    w = jnp.where(cells.mask & (cell_flank(cells) > 0), cells.length, 0.0)
+    on = (cells.s >= 0.0) & (cells.s <= mesh.base_plane.path_of_contact)
+    w = jnp.where(cells.mask & (cell_flank(cells) > 0) & on, cells.length, 0.0)
     return jnp.einsum("ij,ijm->m", w / jnp.sum(w), V)

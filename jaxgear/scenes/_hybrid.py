@@ -115,6 +115,16 @@ class HybridScene(AssembledScene):
     member_shafts: tuple = eqx.field(static=True, default=(0, 1))
     periods: int = eqx.field(static=True, default=1)
     compliance: WindowCompliance | None = None
+    rigid: Float[Array, "n 1"] | None = None
+
+    def rigid_modes(self) -> Float[Array, "n r"]:
+        """The free drive rotation of the dynamics (n, 1) (every shaft and body turning at its
+        ratio, the output's too: u·r = 0 for every mesh's TE vector u, K r = 0), :attr:`rigid`;
+        (n, 0) for a scene built without it. The rows of corner cells beyond the theoretical
+        path drop their part along it (:meth:`~jaxgear.scenes.AssembledScene._free_drive`)."""
+        if self.rigid is None:
+            return jnp.zeros((self.structure.K.shape[0], 0), self.structure.K.dtype)
+        return self.rigid
 
     @classmethod
     def train(
@@ -191,8 +201,12 @@ class HybridScene(AssembledScene):
 
     def window(self, cells: Cells, pad: int = 0):
         """Window DOFs (w,) and structure vectors on them (L, N, w), masked cells zeroed;
-        ``pad`` rim stations more on each side of a flexible member's window."""
-        return only_mesh(self.meshes).window(self.members, cells, pad)
+        ``pad`` rim stations more on each side of a flexible member's window (corner cells
+        beyond the path less their part along the free drive rotation:
+        :meth:`~jaxgear.scenes.AssembledScene._free_drive`)."""
+        mesh = only_mesh(self.meshes)
+        idx, Vw = mesh.window(self.members, cells, pad)
+        return idx, self._free_drive(mesh, idx, Vw, cells)
 
     def window_overflow(self, cells: Cells):
         """True if a cell on the flanks reaches a rim station beyond its member's window."""
@@ -431,6 +445,15 @@ def _hybrid_train(cls, spec: TrainSpec, tooth_mass: bool, housing=None, seats=No
         x_centrifugal=jnp.asarray(G @ placed["fc"]),
         member_shafts=tuple(int(s_) for s_ in spec.shaft_of),
         periods=t["periods"],
+        rigid=jnp.asarray(_free_rotation(
+            [
+                _shaft_rotation(
+                    d, i, n, shaft_body[i][0] if i in shaft_body else None, gidx_of.get(i)
+                )
+                for i in range(spec.n_shafts)
+            ],
+            [np.asarray(m.te) for m in out_meshes],
+        )),
     )
 
 
@@ -588,7 +611,21 @@ def hybrid_pair(
         f_torque=jnp.asarray(f_t),
         x_torque=jnp.asarray(G @ f_t),
         x_centrifugal=jnp.asarray(G @ placed["fc"]),
+        rigid=jnp.asarray(_free_rotation(
+            [_shaft_rotation(d, m, n, bodies[m], gidxs[m]) for m in (0, 1)], [te]
+        )),
     )
+
+
+def _free_rotation(rotations: list, te_rows: list) -> np.ndarray:
+    """The scene's free drive rotation (n, 1): the combination of the shafts' rigid rotations
+    ``rotations`` (each (n,), :func:`_shaft_rotation`) that moves no mesh's TE vector
+    (``te_rows``, each (n,)): the null vector of their (meshes × shafts) products, scaled to a
+    unit rotation of the first shaft."""
+    Nr = np.stack(rotations, axis=1)
+    A = np.stack(te_rows) @ Nr
+    c = np.linalg.svd(A)[2][-1]
+    return (Nr @ (c / c[0]))[:, None]
 
 
 def hybrid_train(

@@ -162,7 +162,11 @@ class GearMember(eqx.Module):
         ``points`` (L, N, 3) with mask (L, N) on the mesh's ``line``
         (:meth:`~jaxgear.scenes.GearMesh.line`) at scene angle θ (rad) of base plane ``mesh``;
         ``side`` +1 the mesh's driving gear, −1 its driven gear; ``pad`` rim stations more on
-        each side of a window that follows the contact."""
+        each side of a window that follows the contact. With contact beyond the theoretical
+        path (``mesh.extended_contact``) ``points`` are the corners' contact points, ``line``'s
+        ``cell_normal`` (L, N, 3) the driving gear's outward normal of each cell (turned by ε
+        beyond the path) and its ``lever`` (L, N) this member's lever ratio (λ where it owns
+        the tip corner, else 1; docs/extended-contact.md, "Where it acts")."""
 
     @property
     def contact_dofs(self) -> tuple | None:
@@ -212,7 +216,7 @@ class RigidMember(GearMember):
         """Global DOFs (6,), structure vectors on them (L, N, 6), no overflow. ``side``: +1 the
         mesh's driving gear (n_m = n), −1 its driven gear (n_m = −n); ``pad``: unused, the
         node's DOFs are the whole window."""
-        v = rigid_node_vector(points, self.centre, side * line["normal"])
+        v = rigid_node_vector(points, self.centre, side * line.get("cell_normal", line["normal"]))
         return jnp.asarray(self.dofs), v, jnp.array(False)
 
 
@@ -239,7 +243,10 @@ class TorsionalMember(GearMember):
         flips it; ``points`` and ``pad`` unused: the vector is the same for every cell."""
         r = mesh.base_radius_pinion if side > 0 else mesh.base_radius_gear
         v = side * line.get("flank", 1.0) * jnp.cos(mesh.base_helix_angle) * r
-        return jnp.asarray([self.dof]), jnp.broadcast_to(v, mask.shape + (1,)), jnp.array(False)
+        v = jnp.broadcast_to(v, mask.shape + (1,))
+        if "lever" in line:  # beyond the theoretical path: the tip owner's lever ratio λ
+            v = v * line["lever"][..., None]
+        return jnp.asarray([self.dof]), v, jnp.array(False)
 
 
 class FlexibleMember(GearMember):
@@ -393,7 +400,8 @@ class FlexibleMember(GearMember):
         # root points M_p1, M_p2 on the face at the slice centre, in the fixed frame
         pk = _rot(rot, jnp.concatenate([face[..., 1, :], jnp.zeros_like(face[..., 1, :1])], -1))
         pk = pk[..., :2] + _lead(self.centre[:2], pk[..., :2])  # (L, N, 2, 2)
-        c1, c2 = self.coefficients(points, side * line["normal"], pk[..., 0, :], pk[..., 1, :])
+        normal = side * line.get("cell_normal", line["normal"])  # per cell beyond the path
+        c1, c2 = self.coefficients(points, normal, pk[..., 0, :], pk[..., 1, :])
         # coefficients in the body frame: c·u_fixed = (R(−φ_rot) c)·u_body
         cb = jnp.stack([_rot(-rot, c1), _rot(-rot, c2)], axis=-2)  # (L, N, 2, 3)
         w = w * jnp.asarray(MORTAR, points.dtype).reshape((1,) * (w.ndim - 3) + (3, 1, 1))

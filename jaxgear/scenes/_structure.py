@@ -190,16 +190,41 @@ class AssembledScene(Scene):
         (:meth:`GearMesh.angle`)."""
         return tuple(m.angle(theta) for m in self.meshes)
 
+    def _free_drive(self, mesh, idx, Vw, cells: Cells):
+        """The window vectors ``Vw`` (..., w) of ``mesh``'s ``cells`` on the DOFs ``idx`` (w,),
+        each corner cell's beyond the theoretical path (``extended_contact``) less its part
+        along the scene's free drive rotations R (:meth:`~jaxgear.scenes.DynamicScene.
+        rigid_modes`): Vw − (Vw R_w)(G_wᵀ R_w)⁻¹ G_wᵀ, G = M R, both on the window, so that
+        V·R = 0 (the rigid modes' contract). A corner cell's gap changes as the mesh position
+        moves, so its exact vector has a part along the drive rotation (docs/extended-contact.md,
+        "Where it acts"); the scene's nominal motion sets the mesh position, and the cell sees
+        the elastic deviation, the torque ratio that the corner breaks shared by the window's
+        inertias. Unchanged on the path, for a scene without rigid modes, or without
+        ``extended_contact``."""
+        if not mesh.base_plane.extended_contact or not hasattr(self, "rigid_modes"):
+            return Vw
+        R = self.rigid_modes()
+        if R.shape[1] == 0:
+            return Vw
+        G = (self.structure.M @ R)[idx]
+        R = R[idx]
+        part = (Vw @ R) @ jnp.linalg.solve(G.T @ R, G.T)
+        beyond = (cells.s < 0.0) | (cells.s > mesh.base_plane.path_of_contact)
+        return Vw - jnp.where(beyond[..., None], part, 0.0)
+
     def cell_row(self, cells: tuple[Cells, ...], delta0: tuple) -> CellRow:
-        """The cells of every mesh in one row on all n coordinates, mesh after mesh."""
+        """The cells of every mesh in one row on all n coordinates, mesh after mesh (with a
+        free drive rotation, corner cells beyond the path less their part along it:
+        :meth:`_free_drive`)."""
         _check_meshes(self, cells)
         n = self.structure.size
-        return CellRow.concat(
-            [
-                CellRow.of(c, m.cell_vectors(self.members, c, n), d)
-                for m, c, d in zip(self.meshes, cells, delta0, strict=True)
-            ]
-        )
+        rows = []
+        for m, c, d in zip(self.meshes, cells, delta0, strict=True):
+            idx, Vw = m.window(self.members, c)
+            Vw = self._free_drive(m, idx, Vw, c)
+            V = jnp.zeros(c.s.shape + (n,), Vw.dtype).at[..., idx].add(Vw)
+            rows.append(CellRow.of(c, V, d))
+        return CellRow.concat(rows)
 
     def window_row(self, cells: tuple[Cells, ...], delta0: tuple, pad: int = 0) -> CellRow:
         """The cells of every mesh in one row on the meshes' windows (:meth:`GearMesh.window`,
@@ -210,7 +235,7 @@ class AssembledScene(Scene):
         rows = []
         for m, c, d in zip(self.meshes, cells, delta0, strict=True):
             idx, Vw = m.window(self.members, c, pad)
-            rows.append(CellRow.of(c, Vw, d, idx))
+            rows.append(CellRow.of(c, self._free_drive(m, idx, Vw, c), d, idx))
         return CellRow.concat(rows)
 
     def contact_dofs(self) -> tuple[int, ...] | None:

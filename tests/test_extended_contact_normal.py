@@ -1,0 +1,493 @@
+"""Where a corner cell's force acts beyond the theoretical path (docs/extended-contact.md, "Where
+it acts"): the structure vectors against central differences of the exact corner gap, the
+moments against a contact point and normal placed here by the tooth thickness, and the limits
+(the line of action's vectors at λ = 1, ε = 0; today's results with enough tip relief)."""
+
+from __future__ import annotations
+
+import math
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+import pytest
+import scipy.linalg
+
+import jaxgear as jg
+from jaxgear.scenes import Bearing, ShaftSpec, lumped_pair
+
+
+def _pair(z1=20, z2=40, m=0.004, b=0.02, beta=0.0):
+    return jg.GearPair(
+        jg.Member(teeth=z1, face_width=b),
+        jg.Member(teeth=z2, face_width=b),
+        normal_module=m,
+        normal_pressure_angle=math.radians(20.0),
+        helix_angle=beta,
+    )
+
+
+def _ring():
+    return jg.InternalGearPair(
+        jg.Member(teeth=21, face_width=0.03, profile_shift=0.4),
+        jg.Member(teeth=-72, face_width=0.03, profile_shift=0.0),
+        normal_module=0.004,
+        normal_pressure_angle=math.radians(20.0),
+    )
+
+
+def _mesh(pair, extended=True, slices=1, stiffness=None):
+    s, k = jg.stiffness_table(pair, jg.Weber() if stiffness is None else stiffness)
+    return jg.MeshModel.from_pair(pair, s, k, slices, extended_contact=extended)
+
+
+def _on_line(mesh):
+    """The mesh with the line of action's geometry beyond the path: λ = 1, ε = 0, no offset."""
+    table = jnp.zeros_like(mesh.extension_corner).at[:, 0].set(1.0)
+    return eqx.tree_at(lambda m: m.extension_corner, mesh, table)
+
+
+def _lumped(pair, mesh):
+    def shaft():
+        return ShaftSpec(
+            length=0.1,
+            diameter=0.04,
+            gear_z=0.05,
+            elements=2,
+            bearings=(Bearing(0.0, 1e9, 1e9, 0.0), Bearing(0.1, 1e9, 0.0, 0.0)),
+        )
+
+    return lumped_pair(pair, mesh, shaft(), shaft(), masses=(1.0, 2.0), inertias=((1e-3,) * 2,) * 2)
+
+
+def _theta_at(mesh, s):
+    """A pinion angle that puts contact line −1 (s < 0) or line 1 (s > g_α) of a spur mesh's
+    cells at the base-plane coordinate ``s`` (on the gap table's grid)."""
+    pb = float(mesh.base_pitch)
+    return (s % pb) / float(mesh.base_radius_pinion)
+
+
+def _cell(cells, s):
+    k = np.argmin(np.abs(np.asarray(cells.s)[:, 0] - s))
+    assert abs(float(cells.s[k, 0]) - s) < 1e-12 and bool(cells.mask[k, 0])
+    return k
+
+
+def _gap_derivative(pair, s):
+    """−∂gap/∂X (the approach per unit coordinate) of the exact corner gap by central
+    differences: the pinion's and the gear's rotation in their directions of motion (rad) and
+    each centre's x, y translation (m), in that order."""
+    out = []
+    for kind, h in (("rotation", 1e-7), ("shift", 1e-8)):
+        for j in range(2 if kind == "rotation" else 4):
+            d = np.zeros(2 if kind == "rotation" else (2, 2))
+            d.flat[j] = h
+            plus = jg.CornerContact(pair, s, **{kind: d}).gap
+            minus = jg.CornerContact(pair, s, **{kind: -d}).gap
+            out.append(-(plus - minus) / (2 * h))
+    return np.array(out)
+
+
+@pytest.mark.parametrize("side", [0, 1])
+def test_lumped_and_torsional_vectors_are_the_corner_gap_derivative(side):
+    pair = _pair()
+    mesh = _mesh(pair)
+    span = np.asarray(mesh.extension_span)
+    u = np.linspace(0.0, 1.0, mesh.extension_gap.shape[1])[40]  # a grid point of the table
+    s = -span[0] * u if side == 0 else float(mesh.path_of_contact) + span[1] * u
+    ref = _gap_derivative(pair, s)
+    cells = mesh.cells(jnp.asarray(_theta_at(mesh, s)))
+    k = _cell(cells, s)
+    # lumped 3D: node DOFs (x, y, z, φx, φy, φz); the gear turns about −z
+    scene = _lumped(pair, mesh)
+    V = np.asarray(scene.cell_vectors(cells))[k, 0]
+    (m1, m2) = (m.dofs for m in scene.members)
+    got = np.array([V[m1[5]], -V[m2[5]], V[m1[0]], V[m1[1]], V[m2[0]], V[m2[1]]])
+    np.testing.assert_allclose(got, ref, rtol=1e-6, atol=1e-8)
+    # the tip owner's lever arm is shorter than its base radius: not the line of action's
+    lam = jg.CornerContact(pair, s).tip_lever
+    assert 0.85 < lam < 0.99
+    # torsional pair (rotations) and the rigid pair (the pinion's advance, the gear held)
+    Vt = np.asarray(jg.scenes.TorsionalPair(mesh).cell_vectors(cells))[k, 0]
+    np.testing.assert_allclose(Vt, ref[:2], rtol=1e-6)
+    Vr = np.asarray(jg.scenes.RigidMesh(mesh).cell_vectors(cells))[k, 0, 0]
+    assert Vr == pytest.approx(ref[0] / pair.base_radii[0], rel=1e-6)
+
+
+def test_internal_mesh_torsional_vectors_are_the_corner_gap_derivative():
+    ring = _ring()
+    mesh = _mesh(ring, stiffness=jg.ISO6336())
+    span = np.asarray(mesh.extension_span)
+    for s in (-0.5 * span[0], float(mesh.path_of_contact) + 0.5 * span[1]):
+        ref = _gap_derivative(ring, s)
+        cells = mesh.cells(jnp.asarray(_theta_at(mesh, s)))
+        V = np.asarray(jg.scenes.TorsionalPair(mesh).cell_vectors(cells))[_cell(cells, s), 0]
+        np.testing.assert_allclose(V, ref[:2], rtol=1e-6)
+
+
+def _psi(pair, member, r):
+    """Half angle from a tooth's centre line to its involute flank at radius r (ISO 21771:
+    s_t/(2 r_p) + inv α_t − inv α_r), from the tooth thickness."""
+    rp, rb = pair.pitch_radii[member], pair.base_radii[member]
+    at = pair.transverse_pressure_angle
+    ar = math.acos(rb / r)
+    return pair.reference_thickness[member] / (2 * rp) + (math.tan(at) - at) - (math.tan(ar) - ar)
+
+
+def _corner_by_hand(pair, s):
+    """The corner contact of an external spur pair at base-plane coordinate s outside [0, g_α],
+    placed here by the tooth thickness: the teeth's centre lines at the engagement point A
+    (both drive flanks through A), turned by s/r_b1 and −s/r_b2; the tip owner's corner on its
+    tip circle; the normal of the mating flank at the corner's radius (the flank X(r) = O +
+    r e(c + ψ(r)), dψ/dr = −tan α_r / r, so its tangent is e_r − tan α_r e_φ).
+    Returns the contact point P, the pinion's outward unit normal n (both (2,)) and the centres."""
+    a = pair.operating_pressure_angle
+    rb1, rb2 = pair.base_radii
+    O = [np.zeros(2), np.array([pair.center_distance, 0.0])]
+    t = np.array([math.sin(a), math.cos(a)])
+    A = rb1 * np.array([math.cos(a), -math.sin(a)]) + pair.start_roll * t
+    r2A = float(np.hypot(*(A - O[1])))
+    c = [
+        math.atan2(A[1], A[0]) - _psi(pair, 0, float(np.hypot(*A))) + s / rb1,
+        math.atan2(A[1] - O[1][1], A[0] - O[1][0]) - _psi(pair, 1, r2A) - s / rb2,
+    ]
+    tip, flank = (1, 0) if s < 0 else (0, 1)
+    ra = pair.tip_radii[tip]
+    ang = c[tip] + _psi(pair, tip, ra)
+    P = O[tip] + ra * np.array([math.cos(ang), math.sin(ang)])
+    d = P - O[flank]
+    r, phi = float(np.hypot(*d)), math.atan2(d[1], d[0])
+    ar = math.acos(pair.base_radii[flank] / r)
+    er, ephi = np.array([math.cos(phi), math.sin(phi)]), np.array([-math.sin(phi), math.cos(phi)])
+    tangent = er - math.tan(ar) * ephi
+    n = np.array([tangent[1], -tangent[0]]) / np.hypot(*tangent)
+    if n @ t < 0:  # the pinion's outward normal points along the line of action's direction
+        n = -n
+    return P, n, O
+
+
+def _cross(a, b):
+    return a[0] * b[1] - a[1] * b[0]
+
+
+def test_torque_balance_with_moments_about_the_corner_by_hand():
+    # the torsional pair at a position where corner cells before the start and after the end
+    # carry load: the pinion's input torque and the gear's shaft reaction against the moments
+    # of the cells' forces along the mating flank's normal through the corner, written here
+    pair = _pair()
+    mesh = _mesh(pair)
+    k_out = 1e6
+    scene = jg.scenes.TorsionalPair(mesh, k_out)
+    T = 400.0
+    pb, g = float(mesh.base_pitch), pair.path_of_contact
+    # a line 0.02 p_b before the start, and one 0.02 p_b after the end
+    theta = jnp.asarray([0.98 * pb, (g + 0.02 * pb) % pb]) / pair.base_radii[0]
+    res = jg.quasi_static(scene, None, T, theta=theta)
+    assert np.all(np.asarray(res.result) == 0)
+    m = res.meshes[0]
+    s_all, load = np.asarray(m.cell_s), np.asarray(m.line_load)
+    length = float(pair.face_width)  # one slice, spur: the cell is the face width long
+    loa = _on_line(mesh)
+    for p in range(len(theta)):
+        torque = [0.0, 0.0]
+        beyond = 0.0
+        for s, w in zip(s_all[p, :, 0], load[p, :, 0], strict=True):
+            if w == 0.0:
+                continue
+            F = w * length
+            if 0.0 <= s <= pair.path_of_contact:  # on the path: the line of action
+                arms = pair.base_radii
+            else:
+                P, n, O = _corner_by_hand(pair, s)
+                arms = (_cross(P - O[0], n), _cross(P - O[1], -n))
+                beyond += F
+            torque[0] += F * arms[0]
+            torque[1] += F * arms[1]
+        assert beyond > 0.01 * T / pair.base_radii[0]  # a corner carries a real load here
+        assert torque[0] == pytest.approx(T, rel=2e-6)
+        assert torque[1] == pytest.approx(k_out * float(res.x[p, 1]), rel=2e-6)
+    # the line of action's lever arms miss the pinion's balance by more than that
+    r0 = jg.quasi_static(jg.scenes.TorsionalPair(loa, k_out), None, T, theta=theta)
+    w0 = np.asarray(r0.meshes[0].line_load)[:, :, 0] * length
+    s0 = np.asarray(r0.meshes[0].cell_s)[:, :, 0]
+    after = s0 > pair.path_of_contact
+    assert np.any(w0[after] > 0)
+    miss = 0.0
+    for s, w in zip(s0[after], w0[after], strict=True):
+        P, n, O = _corner_by_hand(pair, s)
+        miss += w * (pair.base_radii[0] - _cross(P - O[0], n))
+    assert miss > 1e-4 * T
+
+
+def test_lumped_moments_about_the_corner_by_hand():
+    # one corner cell's structure vector on the lumped 3D nodes: [n', (P − O) × n'] with the
+    # contact point and the normal written here
+    pair = _pair()
+    mesh = _mesh(pair)
+    scene = _lumped(pair, mesh)
+    for s in (-0.6 * float(mesh.extension_span[0]), pair.path_of_contact + 0.02 * pair.base_pitch):
+        cells = mesh.cells(jnp.asarray(_theta_at(mesh, s)))
+        k = int(np.argmin(np.abs(np.asarray(cells.s)[:, 0] - s)))
+        s = float(cells.s[k, 0])
+        V = np.asarray(scene.cell_vectors(cells))[k, 0]
+        P, n, O = _corner_by_hand(pair, s)
+        d1, d2 = scene.members[0].dofs, scene.members[1].dofs
+        np.testing.assert_allclose(V[list(d1[:2])], n, atol=2e-6)
+        np.testing.assert_allclose(V[list(d2[:2])], -n, atol=2e-6)
+        assert V[d1[5]] == pytest.approx(_cross(P - O[0], n), rel=2e-6)
+        assert V[d2[5]] == pytest.approx(_cross(P - O[1], -n), rel=2e-6)
+
+
+def test_on_the_line_of_action_and_with_tip_relief_results_are_todays():
+    pair = _pair(beta=math.radians(12.0))
+    mesh = _mesh(pair, slices=4)
+    loa = _on_line(mesh)
+    T = 300.0
+    # at λ = 1, ε = 0 the pinion's advance, its rotation and the 3D nodes agree cell by cell
+    te = [
+        np.asarray(
+            jg.quasi_static(sc, None, T, positions_per_pitch=16).meshes[0].transmission_error
+        )
+        for sc in (loa, jg.scenes.TorsionalPair(loa, 1e12))
+    ]
+    np.testing.assert_allclose(te[1], te[0], rtol=1e-9)
+    cells = loa.cells(jnp.asarray(0.01))
+    Vl = np.asarray(_lumped(pair, loa).cell_vectors(cells))
+    Vm = np.asarray(_lumped(pair, _mesh(pair, extended=False, slices=4)).cell_vectors(cells))
+    np.testing.assert_array_equal(Vl[np.asarray(cells.mask)], Vm[np.asarray(cells.mask)])
+    # with enough tip relief no corner touches: the theoretical model's results to 1e-12
+    mods = jg.Modifications(
+        pinion=jg.MemberModification(tip_relief_depth=60e-6, tip_relief_extent=0.3),
+        gear=jg.MemberModification(tip_relief_depth=60e-6, tip_relief_extent=0.3),
+    )
+    off = _mesh(pair, extended=False, slices=4)
+    for build in (lambda m: m, lambda m: jg.scenes.TorsionalPair(m), lambda m: _lumped(pair, m)):
+        r1 = jg.quasi_static(build(mesh), mods, T, positions_per_pitch=16)
+        r0 = jg.quasi_static(build(off), mods, T, positions_per_pitch=16)
+        np.testing.assert_allclose(
+            np.asarray(r1.meshes[0].transmission_error),
+            np.asarray(r0.meshes[0].transmission_error),
+            rtol=1e-12,
+            atol=1e-18,
+        )
+
+
+def _planetary():
+    b, m_n = 0.03, 0.003
+    geo = jg.planetary_geometry(
+        jg.Member(20, face_width=b),
+        jg.Member(30, face_width=b, dedendum_coeff=1.3),
+        jg.Member(-80, face_width=b),
+        m_n,
+        math.radians(20.0),
+    )
+    psi = 2 * np.pi * np.arange(4) / 4
+    models = tuple(
+        jg.MeshModel.from_pair(
+            p, *jg.stiffness_table(p, jg.Uniform(1.4e10)), 1, extended_contact=True
+        )
+        for p in (geo.sun_planet, geo.planet_ring)
+    )
+    r_s, r_p = (float(r) for r in geo.sun_planet.base_radii)
+    r_r = float(geo.planet_ring.base_radii[1])
+    member = jg.PlanetaryMember
+    stage = jg.PlanetaryStage(
+        sun=member(1.0, 1e-3, r_s),
+        ring=member(10.0, 1.0, r_r, torsional_stiffness=1e9),
+        carrier=member(10.0, 1.0, float(geo.center_distance)),
+        planet=member(0.5, 1e-3, r_p),
+        planet_angles=psi,
+        sun_pressure_angle=geo.sun_pressure_angle,
+        ring_pressure_angle=geo.ring_pressure_angle,
+        sun_mesh_stiffness=1e9,
+        ring_mesh_stiffness=1e9,
+    )
+    return geo, models, jg.ContactMeshes.from_models(geo, psi, models), stage
+
+
+@pytest.mark.parametrize("which", ["sun", "ring"])
+def test_planetary_rows_are_the_corner_gap_derivative(which):
+    # planet 1 sits at ψ = 0: the sun pair's frame is the stage's (the sun at the origin turning
+    # counter-clockwise, the planet on +x); the ring pair's (the planet its pinion, turning
+    # clockwise in the stage) is the stage's mirrored about the x axis, its centre at −a_w
+    geo, models, meshes, stage = _planetary()
+    k = 0 if which == "sun" else 1
+    pair, mesh = (geo.sun_planet, geo.planet_ring)[k], models[k]
+    r_s, r_p = (float(r) for r in geo.sun_planet.base_radii)
+    r_r = float(geo.planet_ring.base_radii[1])
+    model = jg.planetary.PlanarPlanetary()
+    names = model.dof_names(stage)
+    K, M = (np.asarray(a) for a in (model.stiffness_matrix(stage), model.mass_matrix(stage)))
+    lam, phi = scipy.linalg.eigh(K, M)
+    phi = phi[:, lam <= 1e-9 * np.abs(lam).max()]
+    assert phi.shape[1] >= 1  # the sun and the carrier turn freely
+    zero = jnp.zeros(4)
+    g, pb = float(mesh.path_of_contact), float(mesh.base_pitch)
+    seen = []
+    xs = np.linspace(0.0, pb, 64, endpoint=False) + 1e-6
+    every = eqx.filter_jit(jax.vmap(lambda x: meshes.planet_cells(x)[k][0]))(jnp.asarray(xs))
+    for i, x in enumerate(xs):
+        s, on = np.asarray(every.s)[i, 0, :, 0], np.asarray(every.mask)[i, 0, :, 0]
+        far = on & (
+            (s < -0.3 * float(mesh.extension_span[0]))
+            | (s > g + 0.3 * float(mesh.extension_span[1]))
+        )
+        for line in np.flatnonzero(far):
+            if (s[line] < 0) in seen:
+                continue
+            seen.append(bool(s[line] < 0))
+            V = np.asarray(meshes.cell_row(model, stage, jnp.asarray(x), (zero, zero)).V)
+            V = V[(0 if k == 0 else 4 * models[0].n_lines) + line]
+            d = -_gap_derivative(pair, float(s[line]))  # ∂gap/∂(φ1, φ2, x1, y1, x2, y2)
+            coords = (
+                ("u_s", "u_1", "x_s", "y_s", "zeta_1", "eta_1")
+                if k == 0
+                else ("u_1", "u_r", "zeta_1", "eta_1", "x_r", "y_r")
+            )
+            if k == 0:  # u = r_b θ, the planet's motion clockwise
+                ref = [-d[0] / r_s, d[1] / r_p, -d[2], -d[3], -d[4], -d[5]]
+            else:  # mirrored: both turn clockwise in the stage, y flips
+                ref = [d[0] / r_p, d[1] / r_r, -d[2], d[3], -d[4], d[5]]
+            # the row the solvers use: the exact one less its part along the stage's free
+            # rigid-body modes Φ_r (mass-normalised, found here by scipy), V − (V Φ_r)(M Φ_r)ᵀ
+            full = np.zeros(V.shape)
+            full[[names.index(n) for n in coords]] = ref
+            full -= (full @ phi) @ (M @ phi).T
+            np.testing.assert_allclose(V, full, atol=2e-6)
+            assert np.abs(V @ phi).max() < 1e-12 * np.abs(V).max() * np.abs(phi).max()
+            assert abs(ref[0 if s[line] > g else 1]) < 0.99  # the tip owner's λ
+    assert sorted(seen) == [False, True]
+
+
+def test_condensed_body_rigid_motion_is_the_corner_gap_derivative(fem_prep_cache):
+    # a condensed wheel (hybrid pair) beyond the path: a rigid motion of its rim masters gives
+    # the corner gap's derivative (the mortar at the corner with the turned normal); the
+    # rotation about the axis to the interface's chord/arc difference (docs/hybrid.md)
+    import pathlib
+
+    import fem_prep
+    from jaxgear import io as jio
+    from jaxgear.io import static_scene
+
+    data = pathlib.Path(__file__).parent / "data"
+    case = jio.load_case(data / "hybrid-test-case.toml").replace(extended_contact=True)
+    body = fem_prep.condensed(data / "hybrid-test-wheel.toml")
+    sc = static_scene(case, bodies=(None, body))[0]
+    pair, member = case.pair, sc.members[1]
+    assert isinstance(member, jg.scenes.FlexibleMember)
+    mesh = sc.mesh
+    g = pair.path_of_contact
+    dofs = np.asarray(member.rim_dofs)
+    Z, n_ax, _ = dofs.shape
+    ang = float(member.station0) + float(member.pitch_angle) * np.arange(Z)
+    R = float(member.rim_radius)
+    checked = 0
+    for theta in np.linspace(0.0, float(mesh.mesh_period_angle), 9)[:-1] + 1e-4:
+        cells = mesh.cells(jnp.asarray(theta))
+        V = np.asarray(sc.cell_vectors(cells))
+        s, mask = np.asarray(cells.s), np.asarray(cells.mask)
+        rot = float(member.frame_angle(theta))
+        for i, j in zip(*np.nonzero(mask & ((s < 0) | (s > g))), strict=True):
+            if abs(s[i, j] - (0 if s[i, j] < 0 else g)) < 0.3 * pair.base_pitch * 0.05:
+                continue
+            d = _gap_derivative(pair, float(s[i, j]))  # −∂gap/∂(φ1, φ2, x1, y1, x2, y2)
+            for a_b, w_z, want, tol in (
+                (np.array([1.0, 0.0, 0.0]), 0.0, None, 2e-5),  # ε interpolated
+                (np.array([0.0, 1.0, 0.0]), 0.0, None, 2e-5),
+                (np.zeros(3), 1.0, -d[1], 2e-3),  # the wheel turns about −z
+            ):
+                X = np.zeros(sc.structure.K.shape[0])
+                for k in range(Z):
+                    for m in range(n_ax):
+                        x = np.array([R * math.cos(ang[k]), R * math.sin(ang[k]), 0.0])
+                        X[dofs[k, m]] = a_b + np.cross([0.0, 0.0, w_z], x)
+                if want is None:  # the translation in the fixed frame
+                    c, sn = math.cos(rot), math.sin(rot)
+                    a = np.array([c * a_b[0] - sn * a_b[1], sn * a_b[0] + c * a_b[1]])
+                    want = d[4:6] @ a
+                got = float(V[i, j] @ X)
+                assert got == pytest.approx(want, rel=tol, abs=tol * abs(d[1])), (s[i, j], a_b)
+            checked += 1
+    assert checked >= 2
+
+
+def test_free_drive_rotation_stays_free_in_a_dynamic_scene():
+    # a corner cell's gap changes as the mesh position moves (its vector has a part along the
+    # drive rotation R), but a dynamic scene's nominal motion sets the mesh position: the rows
+    # the solvers use keep V·R = 0 (the rigid modes' contract), the part along R taken off
+    # along M R on the mesh's DOFs; on the path nothing changes
+    pair = _pair()
+    mesh = _mesh(pair)
+    scene = _lumped(pair, mesh)
+    s = -0.5 * float(mesh.extension_span[0])
+    cells = mesh.cells(jnp.asarray(_theta_at(mesh, s)))
+    k = _cell(cells, s)
+    exact = np.asarray(scene.cell_vectors(cells))
+    row = scene.cell_row((cells,), (jnp.zeros_like(cells.s),))
+    used = np.asarray(row.V).reshape(exact.shape)
+    R = np.asarray(scene.rigid_modes())[:, 0]
+    assert abs(exact[k, 0] @ R) > 1e-3 * np.abs(exact[k, 0]).max() * np.abs(R).max()
+    assert abs(used[k, 0] @ R) < 1e-12 * np.abs(exact[k, 0]).max() * np.abs(R).max()
+    on = (
+        np.asarray(cells.mask)
+        & (np.asarray(cells.s) >= 0)
+        & (np.asarray(cells.s) <= pair.path_of_contact)
+    )
+    np.testing.assert_array_equal(used[on], exact[on])
+    # the difference lies along M R on the two gear nodes
+    G = np.asarray(scene.mass()) @ R
+    dofs = [d for m in scene.members for d in m.dofs]
+    diff = used[k, 0] - exact[k, 0]
+    g = np.zeros_like(G)
+    g[dofs] = G[dofs]
+    np.testing.assert_allclose(diff, (diff @ g) / (g @ g) * g, atol=1e-12 * np.abs(diff).max())
+    # the torsional dynamics: the drive rotation is a rigid mode again (no corner stiffness)
+    import jaxgear.dynamics as jd
+
+    dyn = jg.scenes.TorsionalDynamics(mesh, 1e-3, 4e-3)
+    model = jd.dynamic_model(dyn, None, 400.0)
+    modes = jd.mesh_averaged_modes(model)
+    assert int(np.sum(np.asarray(modes.rigid))) == 1
+
+
+def test_hybrid_free_drive_rotation_carries_no_contact_force(fem_prep_cache):
+    # the hybrid pair's dynamics turn freely as a whole (pinion chain, wheel and its body at
+    # the ratio): its rigid mode is the null space of K (two chains, tests/_hybrid_util) that
+    # moves no TE, and the rows the solvers use carry no force along it, corner cells too
+    # (without the drive-rotation step its mesh-averaged modes had a 36 Hz mode in its place)
+    import pathlib
+
+    from _hybrid_util import drive_rotations
+
+    import fem_prep
+    from jaxgear import io as jio
+    from jaxgear.io import static_scene
+
+    data = pathlib.Path(__file__).parent / "data"
+    case = jio.load_case(data / "hybrid-test-case.toml").replace(extended_contact=True)
+    body = fem_prep.condensed(data / "hybrid-test-wheel.toml")
+    sc = static_scene(case, bodies=(None, body))[0]
+    null = drive_rotations(sc)  # (n, 2), K null = 0
+    u = np.asarray(sc.meshes[0].te)
+    c = np.linalg.svd((u @ null)[None])[2][-1]
+    ref = null @ c
+    R = np.asarray(sc.rigid_modes())[:, 0]
+    np.testing.assert_allclose(R / np.linalg.norm(R) * np.sign(R @ ref), ref / np.linalg.norm(ref),
+                               atol=1e-9)
+    mesh, g = sc.mesh, case.pair.path_of_contact
+    beyond = 0
+    for theta in np.linspace(0.0, float(mesh.mesh_period_angle), 5)[:-1] + 1e-4:
+        cells = mesh.cells(jnp.asarray(theta))
+        exact = np.asarray(sc.cell_vectors(cells))
+        row = sc.window_row((cells,), (jnp.zeros_like(cells.s),))
+        V = np.zeros(exact.shape)
+        V.reshape(-1, V.shape[-1])[:, np.asarray(row.idx)] = np.asarray(row.V)
+        s, mask = np.asarray(cells.s), np.asarray(cells.mask)
+        corner = mask & ((s < 0) | (s > g))
+        beyond += int(corner.sum())
+        scale = np.abs(exact).max() * np.abs(R).max()
+        assert np.abs(V[mask] @ R).max() < 1e-10 * scale
+        if corner.any():  # the exact derivative has a part along it there
+            assert np.abs(exact[corner] @ R).max() > 1e-4 * scale
+    assert beyond > 0
