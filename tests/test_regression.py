@@ -182,6 +182,12 @@ RUNS = {  # name: (argv after the command, output file(s) to compare, in the def
         SUMMARY,
         False,
     ),
+    # a planetary stage's gear whine: its meshes' TE and forces and its supports' per order
+    "run-example-planetary-whine": (
+        ["run", "examples/planetary-whine.toml"],
+        ("summary.json", "whine/whine.json"),
+        False,
+    ),
 }
 
 

@@ -185,7 +185,7 @@ def test_base_case_with_optimise_table_is_valid_and_normalised():
                 "[optimise] objective = 'te_max': allowed 'te_rms', 'te_ptp', 'robust_te_rms', "
                 "'max_line_load', 'load_centroid', 'line_load_lp', 'dynamic_factor', "
                 "'least_safety', 'power_loss', 'efficiency_loss', 'min_specific_film', "
-                "'max_flash_temperature'"
+                "'max_flash_temperature', 'erp', 'sound_power'"
             ),
         ),
         (
