@@ -50,6 +50,27 @@ def _loglog(a, b, t):
     return jnp.where(pos, geo, (1 - t) * a + t * b)
 
 
+def _interpolated(v, frequency_hz, grid, measure):
+    """``measure(k, v)`` (a non-negative quadratic form of one velocity ``v`` (n,) at grid
+    frequency k: a scalar or (q,)) of every velocity of ``v`` (..., n) at its frequency,
+    log-log between the two bracketing grid frequencies; NaN outside the grid's range."""
+    lead = v.shape[:-1]
+    f = jnp.broadcast_to(jnp.asarray(frequency_hz, grid.dtype), lead)
+    i, t, ok = _bracket(f, grid)
+    j = jnp.minimum(i + 1, grid.shape[0] - 1)
+
+    def one(args):
+        vk, ik, jk = args
+        return measure(ik, vk), measure(jk, vk)
+
+    n = v.shape[-1]
+    a, b = jax.lax.map(one, (v.reshape(-1, n), i.reshape(-1), j.reshape(-1)))
+    tail = a.shape[1:]
+    a, b = a.reshape(*lead, *tail), b.reshape(*lead, *tail)
+    extra = (None,) * len(tail)
+    return jnp.where(ok[(..., *extra)], _loglog(a, b, t[(..., *extra)]), jnp.nan)
+
+
 def _check(fn, v, op, grid, what):
     if op.ndim != 3 or op.shape[0] != grid.shape[0]:
         raise ValueError(
@@ -86,21 +107,8 @@ def radiated_power_at(velocity, frequency_hz, factors, grid_hz):
         raise ValueError(
             f"radiated_power_at: velocity must end in {L.shape[1]} (the vertices), got {v.shape}"
         )
-    lead = v.shape[:-1]
-    f = jnp.broadcast_to(jnp.asarray(frequency_hz, grid.dtype), lead)
-    i, t, ok = _bracket(f, grid)
-    j = jnp.minimum(i + 1, grid.shape[0] - 1)
-
-    def one(args):
-        vk, ik, jk = args
-        a = jnp.conj(L[ik]).T @ vk
-        b = jnp.conj(L[jk]).T @ vk
-        return jnp.sum(jnp.abs(a) ** 2), jnp.sum(jnp.abs(b) ** 2)
-
-    n = v.shape[-1]
-    wa, wb = jax.lax.map(one, (v.reshape(-1, n), i.reshape(-1), j.reshape(-1)))
-    w = _loglog(wa.reshape(lead), wb.reshape(lead), t)
-    return jnp.where(ok, w, jnp.nan)
+    return _interpolated(v, frequency_hz, grid,
+                         lambda k, vk: jnp.sum(jnp.abs(jnp.conj(L[k]).T @ vk) ** 2))
 
 
 def mean_square_pressure_at(velocity, frequency_hz, transfer, grid_hz):
@@ -131,17 +139,4 @@ def mean_square_pressure_at(velocity, frequency_hz, transfer, grid_hz):
             f"mean_square_pressure_at: velocity must end in {T.shape[2]} (the vertices), "
             f"got {v.shape}"
         )
-    lead = v.shape[:-1]
-    f = jnp.broadcast_to(jnp.asarray(frequency_hz, grid.dtype), lead)
-    i, t, ok = _bracket(f, grid)
-    j = jnp.minimum(i + 1, grid.shape[0] - 1)
-
-    def one(args):
-        vk, ik, jk = args
-        return 0.5 * jnp.abs(T[ik] @ vk) ** 2, 0.5 * jnp.abs(T[jk] @ vk) ** 2
-
-    n = v.shape[-1]
-    pa, pb = jax.lax.map(one, (v.reshape(-1, n), i.reshape(-1), j.reshape(-1)))
-    q = T.shape[1]
-    p2 = _loglog(pa.reshape(*lead, q), pb.reshape(*lead, q), t[..., None])
-    return jnp.where(ok[..., None], p2, jnp.nan)
+    return _interpolated(v, frequency_hz, grid, lambda k, vk: 0.5 * jnp.abs(T[k] @ vk) ** 2)
