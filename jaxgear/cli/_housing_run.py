@@ -242,7 +242,7 @@ def _radiation(run: HousedRun, case, q, speeds, orders, freq, folder: str, table
             "allowed a cut-off above 1.5 x the highest order's frequency"
         )
     body = run.body
-    skin = closed_outer_surface(body.mesh)
+    skin = closed_outer_surface(body.mesh, run.surface)  # the skin housed_run found
     R = np.asarray(body.housing.rotation, dtype=float)
     placed = RadiatingSurface(skin.surface.vertices @ R.T + np.asarray(body.offset, float),
                               skin.surface.triangles)
