@@ -532,7 +532,14 @@ class Case(MeshSettings):
 
         if self.housing is None:
             raise ValueError(f"case {self.name!r}: no [housing] table")
-        scene = self.scene if scene is None else scene
+        shafts, positions = self._bearing_layout(self.scene if scene is None else scene)
+        return housing_body(self.housing, shafts, positions, cache=cache)
+
+    def _bearing_layout(self, scene) -> tuple:
+        """(shafts, positions): the lumped 3D ``scene``'s shafts (a pair's two, a train's
+        ``[[scene.shafts]]``) and each one's bearings' scene positions
+        (:func:`jaxgear.scenes.bearing_positions`: a pair's axes through the line of action's
+        centres, a train's each through its first gear's layout centre)."""
         if isinstance(self.form, TrainForm):
             shafts = tuple(scene.shafts)
             first = [min(g for g, s in enumerate(self.shaft_of) if s == i)
@@ -542,8 +549,30 @@ class Case(MeshSettings):
             shafts = (scene.pinion_shaft, scene.gear_shaft)
             centres = line_of_action(self.pair)["centres"]
         gear_z = [s.gear_positions[0] for s in shafts]
-        positions = bearing_positions(shafts, centres, gear_z)
-        return housing_body(self.housing, shafts, positions, cache=cache)
+        return shafts, bearing_positions(shafts, centres, gear_z)
+
+    def hybrid_housing(self, *, cache=True) -> dict:
+        """The ``housing`` and ``seats`` keywords of the case's hybrid scene
+        (:func:`jaxgear.scenes.hybrid_pair`, :meth:`hybrid_train`) from its ``[housing]``
+        (:meth:`housing_body`); ``{}`` without one. Each bearing of a rigid gear's shaft sits
+        in the housing's nearest seat; a shaft that carries a condensed body turns with the
+        body frame, so its bearings stay on the ground (seat ``None``; docs/housing.md,
+        "Hybrid scenes")."""
+        if self.housing is None:
+            return {}
+        housing = self.housing_body(cache=cache).housing
+        shafts, positions = self._bearing_layout(self.scene)
+        refs = self.scene.bodies
+        if isinstance(self.form, TrainForm):
+            turning = {self.shaft_of[g] for g, ref in enumerate(refs) if ref is not None}
+        else:
+            turning = {m for m, ref in enumerate(refs) if ref is not None}
+        seats = [
+            None if i in turning else housing.nearest_seat(p)
+            for i, ps in enumerate(positions)
+            for p in ps
+        ]
+        return {"housing": housing, "seats": seats}
 
     def hybrid_train(
         self,
@@ -605,7 +634,8 @@ class Case(MeshSettings):
         """The scene of the train's quasi-static solve: :meth:`dynamic_train` with the output
         shaft's rotation held by a spring (the output torque's reaction; the meshes' TE and
         loads do not depend on it); with flexible gears, :meth:`hybrid_train` of ``bodies``
-        (which holds the output itself).
+        (which holds the output itself), on the case's ``[housing]`` if it has one
+        (:meth:`hybrid_housing`).
 
         Raises:
             ValueError: flexible gears without their ``bodies``.
@@ -616,7 +646,7 @@ class Case(MeshSettings):
                     "static_train: the case has flexible gears ([scene.bodies]); pass their "
                     "condensed bodies (jaxgear.io.load_bodies(case.scene))"
                 )
-            return self.hybrid_train(bodies, slices)
+            return self.hybrid_train(bodies, slices, **self.hybrid_housing())
         train = self.dynamic_train(slices)
         return grounded(train, (train.torque_dofs[1],), factor=1e9)
 

@@ -517,21 +517,29 @@ def parse_case(data: dict, default_name: str = "case", base_dir: str | None = No
 
 
 def case_housing(data: dict, scene, base_dir, material):
-    """``[housing]`` of a case (:func:`parse_housing`), or None; it needs a lumped 3D scene
-    without condensed bodies (the bearings it carries are the lumped scene's: a condensed
-    body's shaft turns with the body frame and keeps its bearings on the ground, so a hybrid
-    scene takes a housing in Python, ``hybrid_pair(..., housing=, seats=)``)."""
+    """``[housing]`` of a case (:func:`parse_housing`), or None; it needs a lumped 3D scene,
+    whose bearings it carries: with condensed bodies (a hybrid scene) those of the rigid gears'
+    shafts, a condensed body's shaft keeping its bearings on the ground (it turns with the
+    body frame; :meth:`Case.hybrid_housing`). Also refuses ``[whine]`` with condensed bodies
+    (the harmonic balance takes lumped models without them), before anything is built."""
+    if "whine" in data and scene is not None and scene.hybrid:
+        raise sc.fail(
+            "whine",
+            None,
+            "the gear whine (harmonic balance) takes a scene without condensed bodies: allowed "
+            "with [scene] model = 'lumped3d' or 'torsional' and rigid gears (drop [whine], or "
+            "the scene's condensed bodies; the time-domain sweep, jaxgear sweep, takes them)",
+        )
     if "housing" not in data:
         return None
     table = sc.subtable(data, "housing", "")  # checked by parse_housing
-    if scene is None or not scene.lumped or scene.hybrid:
+    if scene is None or not scene.lumped:
         raise sc.fail(
             "housing",
             None,
             "a housing carries the bearings of a lumped 3D scene: allowed with [scene] "
-            "model = 'lumped3d' without condensed bodies (a condensed body's shaft turns with "
-            "its frame and keeps its bearings on the ground: a hybrid scene takes a housing "
-            "in Python, jaxgear.scenes.hybrid_pair(..., housing=, seats=))",
+            "model = 'lumped3d' (rigid gears, or condensed bodies whose own shafts' bearings "
+            "stay on the ground)",
         )
     return parse_housing(table, base_dir, material)
 

@@ -149,11 +149,12 @@ def _internal_model(form: InternalMeshForm, case: Case, spec: SceneSpec, slices,
 def _train_model(form: TrainForm, case: Case, spec: SceneSpec, slices, bodies):
     """A train case's dynamic model: its torsional or lumped 3D train
     (:meth:`Case.dynamic_train`), or with flexible gears its hybrid train
-    (:meth:`Case.hybrid_train` of the condensed ``bodies``, default the scene's)."""
+    (:meth:`Case.hybrid_train` of the condensed ``bodies``, default the scene's; on the
+    case's ``[housing]``, :meth:`Case.hybrid_housing`)."""
     if case.flexible:  # its flexible gears condensed: a hybrid model
         bodies = load_bodies(spec) if bodies is None else bodies
         return dynamic_model(
-            case.hybrid_train(bodies, slices),
+            case.hybrid_train(bodies, slices, **case.hybrid_housing()),
             case.mesh_modifications(),
             case.torque,
             spec_damping(spec),
@@ -247,7 +248,8 @@ def static_scene(
     A pair's: ``lumped3d`` without bodies, the lumped scene with the load rotation grounded;
     with ``[scene.pinion_body]``/``[scene.gear_body]``, the hybrid scene
     (:func:`jaxgear.scenes.hybrid_pair`), its flexible members' tooth stiffness without the
-    foundation term. A train's: :meth:`Case.static_train` (the lumped 3D train, the output
+    foundation term, with ``[housing]`` its rigid gears' shafts on the housing's seats
+    (:meth:`Case.hybrid_housing`). A train's: :meth:`Case.static_train` (the lumped 3D train, the output
     shaft's rotation held; with ``[scene.bodies]`` its hybrid train, the bodies default to the
     scene's), the scene ``jaxgear run`` solves. The scene holds no operating point: pass the
     torque and the input speed (the case's ``torque``/``speed``) to the solvers.
@@ -291,6 +293,7 @@ def _pair_static_scene(form: PairForm, case: Case, slices, bodies):
         masses=masses,
         inertias=inertias,
         material=Material(case.youngs_modulus, case.poisson_ratio, case.density),
+        **case.hybrid_housing(),  # [housing]: the rigid gears' shafts on its seats
     )
     return scene, bodies
 
