@@ -17,7 +17,7 @@ import fem_prep
 import jaxgear as jg
 from fem_prep.housing import Bore, Foot, HousingBox, Tet4, mesh_box, prepare_housing
 from jaxgear import io as jio
-from jaxgear.scenes import Housing, hybrid_pair, shaft_matrices
+from jaxgear.scenes import Housing, Material, hybrid_pair, shaft_matrices
 
 DATA = pathlib.Path(__file__).parent / "data"
 # housing frame -> scene frame: the shafts' axis (scene z) along the box's length (housing x),
@@ -183,16 +183,131 @@ def test_a_flexible_bodys_shaft_keeps_its_bearings_on_the_ground(case, body, gro
     assert not np.any(K[np.ix_(keep, np.arange(n_sh, n_sh + h))])
 
 
-def test_a_hybrid_case_with_a_housing_table_is_a_one_line_error(tmp_path):
-    """``[housing]`` in a case with a condensed body: one line saying why (the body's shaft
-    keeps its bearings on the ground) and where a hybrid scene takes a housing."""
+HOUSING = """
+[housing]
+width_mm = 160.0
+height_mm = 120.0
+wall_thickness_mm = 8.0
+bore_diameter_mm = 26.0
+mesh_size_mm = 20.0
+element = "tet4"
+youngs_modulus_GPa = {E}
+density_kg_m3 = {rho}
+cutoff_Hz = 5000.0
+"""
+
+
+def _case_file(tmp_path, extra=""):
+    """The hybrid test case (its wheel body by absolute path) with ``extra`` tables appended."""
     text = (DATA / "hybrid-test-case.toml").read_text()
     text = text.replace('"hybrid-test-wheel.toml"', repr(str(DATA / "hybrid-test-wheel.toml")))
-    path = tmp_path / "c.toml"
-    path.write_text(text + "\n[housing]\nwall_thickness_mm = 8.0\n")
-    with pytest.raises(ValueError, match=r"housing.*lumped3d.*hybrid_pair") as err:
-        jio.load_case(path)
-    assert "\n" not in str(err.value)
+    path = tmp_path / f"c{abs(hash(extra))}.toml"
+    path.write_text(text + extra)
+    return path
+
+
+def test_a_hybrid_case_files_housing_is_the_box_round_its_shafts(tmp_path, body):
+    """``[housing]`` in a case with a condensed wheel: the case's scene (jaxgear.io's
+    static_scene, the one ``jaxgear run``, ``sweep`` and ``modes`` build) equals the hybrid pair
+    built here on the box the table describes, written out in the test (its end walls'
+    mid-planes at the bearings, ±40 mm; centred across the two axes; a bore round each axis in
+    both walls; feet of 3 walls; the pinion's bearings on the seats of its bores, the wheel's
+    on the ground); and as the housing grows stiff (E × 1000 of steel's) its natural
+    frequencies below 5 kHz are the grounded hybrid pair's to 1e-3, while the soft box
+    (E = 7 GPa) moves the first one by more than 5 %."""
+    case = jio.load_case(_case_file(tmp_path, HOUSING.format(E=7.0, rho=2700.0)))
+    kw = case.hybrid_housing()
+    assert kw["seats"] == [0, 2, None, None]  # x- wall's pinion bore, x+ wall's; wheel grounded
+    scene, _ = jio.static_scene(case, bodies=(None, body))
+    # the box of the table, written here (housing frame: x along the shafts, z up)
+    a, t, width, height = case.pair.center_distance, 0.008, 0.16, 0.12
+    L = 0.08 + t
+    off = np.array([a / 2 - width / 2, -height / 2, -L / 2])
+    bores = tuple(Bore(w, (x - off[0], -off[1]), 0.013) for w in ("x-", "x+") for x in (0.0, a))
+    f = 3 * t
+    feet = tuple(Foot(xr, yr) for xr in ((0.0, f), (L - f, L))
+                 for yr in ((0.0, f), (width - f, width)))
+    box = HousingBox(L, width, height, t, bores=bores, feet=feet)
+    ph = prepare_housing(mesh_box(box, 0.02, element=Tet4()),
+                         fem_prep.Material(7e9, 0.3, 2700.0), 5000.0)
+    housing = Housing.of(ph.condensed_housing(), rotation=R, offset=off)
+    ref = hybrid_pair(
+        case.pair,
+        case.mesh_model(flexible=(False, True)),
+        case.scene.pinion_shaft,
+        case.scene.gear_shaft,
+        bodies=(None, body),
+        masses=scene_masses(case),
+        inertias=scene_inertias(case),
+        material=Material(case.youngs_modulus, case.poisson_ratio, case.density),
+        housing=housing,
+        seats=[0, 2, None, None],
+    )
+    for got, want in ((scene.structure.K, ref.structure.K), (scene.structure.M, ref.structure.M)):
+        got, want = np.asarray(got), np.asarray(want)
+        np.testing.assert_allclose(got, want, rtol=0, atol=1e-9 * np.abs(want).max())
+    grounded = jio.static_scene(jio.load_case(_case_file(tmp_path)), bodies=(None, body))[0]
+    f0 = _freqs(grounded.structure, 5000.0)
+    f_soft = _freqs(scene.structure, 5000.0)
+    assert abs(f_soft[0] / f0[0] - 1) > 0.05
+    stiff = jio.load_case(_case_file(tmp_path, HOUSING.format(E=210e3, rho=7800.0)))
+    st = jio.static_scene(stiff, bodies=(None, body))[0].structure
+    np.testing.assert_allclose(_freqs(st, math.inf)[: f0.size], f0, rtol=1e-3)
+
+
+def scene_masses(case):
+    """The rigid pinion's disc mass (kg) of the case's scene (jaxgear.io's default: a solid
+    disc of the tip radius and the face width); the wheel's is its body's."""
+    r, b = case.pair.tip_radii[0], case.pair.pinion.face_width
+    return (case.density * math.pi * r * r * b, None)
+
+
+def scene_inertias(case):
+    """The rigid pinion's (diametral, polar) inertias (kg m²) of a solid disc."""
+    r, b = case.pair.tip_radii[0], case.pair.pinion.face_width
+    m = case.density * math.pi * r * r * b
+    ip = 0.5 * m * r * r
+    return ((ip / 2 + m * b * b / 12, ip), (1.0, 1.0))
+
+
+def test_a_hybrid_train_case_files_housing_seats_the_rigid_gears_shafts(tmp_path, body):
+    """``[housing]`` in the small idler train whose idler is a condensed body: the box's bores
+    round the three shafts in both walls (seats x- then x+, input, idler, output each); the
+    input's and the output's bearings on the seats of their own bores, the idler's on the
+    ground: in the case's hybrid train (jaxgear.io's static_train) the seats of the idler's
+    bores have no stiffness term with the rest of the structure, the four others have (their
+    bearings), no seat has a mass term; the structure is the grounded train's plus the
+    housing's coordinates."""
+    text = (DATA / "hybrid-test-train.toml").read_text()
+    text = text.replace('"hybrid-test-wheel.toml"', repr(str(DATA / "hybrid-test-wheel.toml")))
+    housing = HOUSING.format(E=7.0, rho=2700.0).replace("120.0", "140.0")
+    (tmp_path / "t.toml").write_text(text + housing)
+    (tmp_path / "g.toml").write_text(text)
+    case = jio.load_case(tmp_path / "t.toml")
+    kw = case.hybrid_housing()
+    assert kw["seats"] == [0, 3, None, None, 2, 5]
+    bodies = (None, body, None)
+    st = case.static_train(bodies=bodies).structure
+    g = jio.load_case(tmp_path / "g.toml").static_train(bodies=bodies).structure
+    assert st.size == g.size + kw["housing"].size
+    h0 = st.node("housing seat0")
+    outside = np.r_[0:h0, h0 + kw["housing"].size : st.size]
+    K = np.asarray(st.K)
+    for k in range(6):  # each seat's stiffness terms with the rest of the structure
+        seat = np.arange(st.node(f"housing seat{k}"), st.node(f"housing seat{k}") + 6)
+        assert np.any(K[np.ix_(outside, seat)]) == (k not in (1, 4)), k  # idler's bores free
+    assert not np.any(np.asarray(st.M)[np.ix_(outside, np.arange(h0, h0 + kw["housing"].size))])
+
+
+def test_a_hybrid_case_with_whine_is_a_one_line_error(tmp_path):
+    """``[whine]`` beside condensed bodies (with or without ``[housing]``): the harmonic balance
+    takes lumped models without them; one line naming ``[whine]``, when the case is loaded
+    (before any body or housing is built)."""
+    whine = "\n[whine]\nspeed_min_rad_s = 100.0\nspeed_max_rad_s = 200.0\nspeeds = 3\n"
+    for extra in (whine, HOUSING.format(E=70.0, rho=2700.0) + whine):
+        with pytest.raises(ValueError, match=r"^\[whine\].*condensed bodies") as err:
+            jio.load_case(_case_file(tmp_path, extra))
+        assert "\n" not in str(err.value)
 
 
 @pytest.mark.slow

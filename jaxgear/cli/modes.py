@@ -113,6 +113,7 @@ def _(model: HybridModel, modes) -> dict:
     parts = modes.parts
     energy = np.asarray(modes.energy)[:, :HYBRID_MODES]
     rigid = np.asarray(modes.rigid)
+    housing = _housing_share(model.scene, np.asarray(modes.shapes)[:, :HYBRID_MODES])
     rows = []
     for i, f in enumerate(np.asarray(modes.frequency)[:HYBRID_MODES]):
         kind = "rigid" if rigid[i] else parts[int(np.argmax(energy[:, i]))]
@@ -120,8 +121,30 @@ def _(model: HybridModel, modes) -> dict:
             "frequency_Hz": float(f),
             "type": kind,
             "strain_energy_shares": {p: float(energy[k, i]) for k, p in enumerate(parts)},
+            **({} if housing is None else {"housing_kinetic_energy_share": float(housing[i])}),
         })
     return {"classification": "part storing the largest strain energy", "modes": rows}
+
+
+def _housing_share(scene, shapes) -> np.ndarray | None:
+    """Each mass-normalised mode's (columns of ``shapes``) share of kinetic energy in a hybrid
+    scene's flexible housing: e = Σ_{j∈housing} φ_j (M φ)_j over its coordinates (its seats'
+    six each from the node ``housing <seat>`` of the lowest index on, then its modal ones, up
+    to the bodies' rim masters and modal coordinates, which follow it); None without a
+    housing."""
+    nodes = [first for name, first in scene.structure.nodes if name.startswith("housing ")]
+    if not nodes:
+        return None
+    M = np.asarray(scene.mass())
+    after = [
+        int(d)
+        for m in scene.members
+        if hasattr(m, "rim_dofs")
+        for d in np.concatenate([np.ravel(m.rim_dofs), np.ravel(m.body_dofs)])
+        if d >= max(nodes) + 6
+    ]
+    h = slice(min(nodes), min(after, default=M.shape[0]))
+    return np.einsum("ji,ji->i", shapes[h], (M @ shapes)[h])
 
 
 @functools.singledispatch

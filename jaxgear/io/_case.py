@@ -236,7 +236,7 @@ class Case(MeshSettings):
     wrenches: tuple = ()
     shaft_names: tuple = ()
     scene: Any = None
-    housing: Any = None  # [housing]: a HousingSpec (docs/housing.md), lumped 3D scenes only
+    housing: Any = None  # [housing]: a HousingSpec (docs/housing.md), lumped 3D scenes
     raw: dict = dataclasses.field(default_factory=dict, repr=False, compare=False)
     deviations: Any = None
     deviation_settings: dict | None = None
