@@ -4,6 +4,7 @@ box housing, its wheel shaft's on the ground (that shaft turns with the condense
 References written here: the full, uncondensed housing FE joined to the grounded hybrid
 structure by the bearings (modes), and the grounded hybrid scene as the housing grows stiff."""
 
+import json
 import math
 import pathlib
 
@@ -17,6 +18,7 @@ import fem_prep
 import jaxgear as jg
 from fem_prep.housing import Bore, Foot, HousingBox, Tet4, mesh_box, prepare_housing
 from jaxgear import io as jio
+from jaxgear.cli import main
 from jaxgear.scenes import Housing, Material, hybrid_pair, shaft_matrices
 
 DATA = pathlib.Path(__file__).parent / "data"
@@ -297,6 +299,28 @@ def test_a_hybrid_train_case_files_housing_seats_the_rigid_gears_shafts(tmp_path
         seat = np.arange(st.node(f"housing seat{k}"), st.node(f"housing seat{k}") + 6)
         assert np.any(K[np.ix_(outside, seat)]) == (k not in (1, 4)), k  # idler's bores free
     assert not np.any(np.asarray(st.M)[np.ix_(outside, np.arange(h0, h0 + kw["housing"].size))])
+
+
+@pytest.mark.slow
+def test_jaxgear_modes_gives_the_housings_share_of_each_hybrid_mode(tmp_path, fem_prep_cache):
+    """``jaxgear modes`` on the hybrid pair in the soft box (E = 7 GPa) and in a box stiffened
+    × 1000 from steel's: each of the 20 listed modes has its housing_kinetic_energy_share (of a
+    mass-normalised mode, in [0, 1]); in the soft box a mode lives mostly in the housing (a
+    share above 1/2), in the stiff one the housing's seats hardly move in any mode below its
+    cut-off (every share below 1e-3: the seated bearings' deflection is 1e-3 of the shafts';
+    about 1 min)."""
+    shares = {}
+    for E, rho in ((7.0, 2700.0), (210e3, 7800.0)):
+        path = _case_file(tmp_path, HOUSING.format(E=E, rho=rho))
+        out = tmp_path / f"modes{E:g}"
+        assert main(["modes", str(path), "--out", str(out)]) == 0
+        rows = json.loads((out / "modes.json").read_text())["modes"]
+        assert len(rows) == 20
+        elastic = [r for r in rows if r["type"] != "rigid"]
+        shares[E] = np.array([r["housing_kinetic_energy_share"] for r in elastic])
+        assert np.all(shares[E] > -1e-12) and np.all(shares[E] < 1 + 1e-9)
+    assert shares[7.0].max() > 0.5
+    assert shares[210e3].max() < 1e-3
 
 
 def test_a_hybrid_case_with_whine_is_a_one_line_error(tmp_path):

@@ -561,7 +561,7 @@ class Case(MeshSettings):
         if self.housing is None:
             return {}
         housing = self.housing_body(cache=cache).housing
-        shafts, positions = self._bearing_layout(self.scene)
+        _, positions = self._bearing_layout(self.scene)
         refs = self.scene.bodies
         if isinstance(self.form, TrainForm):
             turning = {self.shaft_of[g] for g, ref in enumerate(refs) if ref is not None}

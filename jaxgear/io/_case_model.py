@@ -249,10 +249,11 @@ def static_scene(
     with ``[scene.pinion_body]``/``[scene.gear_body]``, the hybrid scene
     (:func:`jaxgear.scenes.hybrid_pair`), its flexible members' tooth stiffness without the
     foundation term, with ``[housing]`` its rigid gears' shafts on the housing's seats
-    (:meth:`Case.hybrid_housing`). A train's: :meth:`Case.static_train` (the lumped 3D train, the output
-    shaft's rotation held; with ``[scene.bodies]`` its hybrid train, the bodies default to the
-    scene's), the scene ``jaxgear run`` solves. The scene holds no operating point: pass the
-    torque and the input speed (the case's ``torque``/``speed``) to the solvers.
+    (:meth:`Case.hybrid_housing`). A train's: :meth:`Case.static_train` (the lumped 3D train,
+    the output shaft's rotation held; with ``[scene.bodies]`` its hybrid train, the bodies
+    default to the scene's), the scene ``jaxgear run`` solves. The scene holds no operating
+    point: pass the torque and the input speed (the case's ``torque``/``speed``) to the
+    solvers.
 
     Returns:
         (scene, bodies): the scene and the condensed bodies (a pair's (pinion, gear), a train's
