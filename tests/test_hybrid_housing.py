@@ -208,6 +208,37 @@ def _case_file(tmp_path, extra=""):
     return path
 
 
+def _table_box_scene(case, body):
+    """The hybrid pair of the case (jaxgear.io's default rigid pinion: a solid disc) on the box
+    of ``HOUSING`` at E = 7 GPa, written out here (housing frame: x along the shafts, z up): its
+    end walls' mid-planes at the bearings (±40 mm), centred across the two axes, a bore round
+    each axis in both walls, feet of 3 walls; the pinion's bearings on its bores' seats (x-,
+    x+), the wheel's on the ground."""
+    a, t, width, height = case.pair.center_distance, 0.008, 0.16, 0.12
+    L = 0.08 + t
+    off = np.array([a / 2 - width / 2, -height / 2, -L / 2])
+    bores = tuple(Bore(w, (x - off[0], -off[1]), 0.013) for w in ("x-", "x+") for x in (0.0, a))
+    f = 3 * t
+    feet = tuple(Foot(xr, yr) for xr in ((0.0, f), (L - f, L))
+                 for yr in ((0.0, f), (width - f, width)))
+    box = HousingBox(L, width, height, t, bores=bores, feet=feet)
+    ph = prepare_housing(mesh_box(box, 0.02, element=Tet4()),
+                         fem_prep.Material(7e9, 0.3, 2700.0), 5000.0)
+    housing = Housing.of(ph.condensed_housing(), rotation=R, offset=off)
+    return hybrid_pair(
+        case.pair,
+        case.mesh_model(flexible=(False, True)),
+        case.scene.pinion_shaft,
+        case.scene.gear_shaft,
+        bodies=(None, body),
+        masses=scene_masses(case),
+        inertias=scene_inertias(case),
+        material=Material(case.youngs_modulus, case.poisson_ratio, case.density),
+        housing=housing,
+        seats=[0, 2, None, None],
+    )
+
+
 def test_a_hybrid_case_files_housing_is_the_box_round_its_shafts(tmp_path, body):
     """``[housing]`` in a case with a condensed wheel: the case's scene (jaxgear.io's
     static_scene, the one ``jaxgear run``, ``sweep`` and ``modes`` build) equals the hybrid pair
@@ -221,30 +252,7 @@ def test_a_hybrid_case_files_housing_is_the_box_round_its_shafts(tmp_path, body)
     kw = case.hybrid_housing()
     assert kw["seats"] == [0, 2, None, None]  # x- wall's pinion bore, x+ wall's; wheel grounded
     scene, _ = jio.static_scene(case, bodies=(None, body))
-    # the box of the table, written here (housing frame: x along the shafts, z up)
-    a, t, width, height = case.pair.center_distance, 0.008, 0.16, 0.12
-    L = 0.08 + t
-    off = np.array([a / 2 - width / 2, -height / 2, -L / 2])
-    bores = tuple(Bore(w, (x - off[0], -off[1]), 0.013) for w in ("x-", "x+") for x in (0.0, a))
-    f = 3 * t
-    feet = tuple(Foot(xr, yr) for xr in ((0.0, f), (L - f, L))
-                 for yr in ((0.0, f), (width - f, width)))
-    box = HousingBox(L, width, height, t, bores=bores, feet=feet)
-    ph = prepare_housing(mesh_box(box, 0.02, element=Tet4()),
-                         fem_prep.Material(7e9, 0.3, 2700.0), 5000.0)
-    housing = Housing.of(ph.condensed_housing(), rotation=R, offset=off)
-    ref = hybrid_pair(
-        case.pair,
-        case.mesh_model(flexible=(False, True)),
-        case.scene.pinion_shaft,
-        case.scene.gear_shaft,
-        bodies=(None, body),
-        masses=scene_masses(case),
-        inertias=scene_inertias(case),
-        material=Material(case.youngs_modulus, case.poisson_ratio, case.density),
-        housing=housing,
-        seats=[0, 2, None, None],
-    )
+    ref = _table_box_scene(case, body)
     for got, want in ((scene.structure.K, ref.structure.K), (scene.structure.M, ref.structure.M)):
         got, want = np.asarray(got), np.asarray(want)
         np.testing.assert_allclose(got, want, rtol=0, atol=1e-9 * np.abs(want).max())
@@ -299,6 +307,29 @@ def test_a_hybrid_train_case_files_housing_seats_the_rigid_gears_shafts(tmp_path
         seat = np.arange(st.node(f"housing seat{k}"), st.node(f"housing seat{k}") + 6)
         assert np.any(K[np.ix_(outside, seat)]) == (k not in (1, 4)), k  # idler's bores free
     assert not np.any(np.asarray(st.M)[np.ix_(outside, np.arange(h0, h0 + kw["housing"].size))])
+
+
+@pytest.mark.slow
+def test_jaxgear_run_of_a_housed_hybrid_case(tmp_path, body):
+    """``jaxgear run`` on the hybrid pair in the soft box (about a minute): its quasi-static TE
+    is that of the hybrid pair built here on the box written out (jaxgear.quasi_static, the
+    case's positions and modifications; to 1e-9), and its mean bearing forces balance the mesh:
+    the pinion's two bearings (in the housing's seats) carry together the normal mesh force
+    T / r_b1 (spur; to 1e-3, measured 1.6e-4: the mean over the mesh period of a deflected
+    contact), all four sum to zero (to 1e-5 of it)."""
+    path = _case_file(tmp_path, HOUSING.format(E=7.0, rho=2700.0))
+    case = jio.load_case(path)
+    assert main(["run", str(path), "--out", str(tmp_path / "run"), "--quiet"]) == 0
+    q = json.loads((tmp_path / "run" / "summary.json").read_text())["quasi_static_scene"]
+    res = jg.quasi_static(_table_box_scene(case, body), case.modifications, case.torque,
+                          positions_per_pitch=case.positions_per_pitch)
+    np.testing.assert_allclose(q["exact"]["te_mean_m"], float(res.te_mean), rtol=1e-9)
+    forces = q["exact"]["bearing_forces_mean_N"]
+    total = {m: np.array([sum(v for k, v in forces.items() if k.startswith(m) and k.endswith(c))
+                          for c in ("Fx", "Fy")]) for m in ("pinion", "gear")}
+    F_n = case.torque / case.pair.base_radii[0]
+    np.testing.assert_allclose(np.linalg.norm(total["pinion"]), F_n, rtol=1e-3)
+    assert np.linalg.norm(total["pinion"] + total["gear"]) < 1e-5 * F_n
 
 
 @pytest.mark.slow
