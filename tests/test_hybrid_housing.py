@@ -316,7 +316,8 @@ def test_jaxgear_run_of_a_housed_hybrid_case(tmp_path, body):
     case's positions and modifications; to 1e-9), and its mean bearing forces balance the mesh:
     the pinion's two bearings (in the housing's seats) carry together the normal mesh force
     T / r_b1 (spur; to 1e-3, measured 1.6e-4: the mean over the mesh period of a deflected
-    contact), all four sum to zero (to 1e-5 of it)."""
+    contact), all four sum to zero (to 1e-5 of it); the summary's ``housing`` says where each
+    bearing sits."""
     path = _case_file(tmp_path, HOUSING.format(E=7.0, rho=2700.0))
     case = jio.load_case(path)
     assert main(["run", str(path), "--out", str(tmp_path / "run"), "--quiet"]) == 0
@@ -330,6 +331,9 @@ def test_jaxgear_run_of_a_housed_hybrid_case(tmp_path, body):
     F_n = case.torque / case.pair.base_radii[0]
     np.testing.assert_allclose(np.linalg.norm(total["pinion"]), F_n, rtol=1e-3)
     assert np.linalg.norm(total["pinion"] + total["gear"]) < 1e-5 * F_n
+    seats = [(b["shaft"], b["position_mm"], b["seat"]) for b in q["housing"]["bearings"]]
+    assert seats == [("pinion", 0.0, "seat0"), ("pinion", 80.0, "seat2"), ("gear", 0.0, None),
+                     ("gear", 80.0, None)]
 
 
 @pytest.mark.slow

@@ -17,10 +17,18 @@ from typing import NamedTuple
 import numpy as np
 
 from ..acoustics import housing_acoustics, housing_vibration, total_level
-from ..io import SchemaError, acoustics_of, housing_surface, write_csv, write_json
+from ..io import (
+    SchemaError,
+    TrainForm,
+    acoustics_of,
+    housing_surface,
+    write_csv,
+    write_json,
+)
 from ._plots import whine_level_plot, whine_order_plot, whine_waterfall_plot
 
-__all__ = ["HousedRun", "housed_run", "housing_outputs", "housing_run_line"]
+__all__ = ["HousedRun", "housed_run", "housing_outputs", "housing_run_line", "hybrid_seats_line",
+           "hybrid_seats_section"]
 
 #: integer orders drawn in the order plots and written as operating deflection shapes
 ORDERS_DRAWN = 4
@@ -250,3 +258,41 @@ def _radiation(run: HousedRun, case, q, speeds, orders, freq, folder: str, table
         q @ (skin.normal_operator @ body.condensed.recovery).T)
     return acoustic_outputs(placed, velocity, speeds, orders, os.path.dirname(folder), table,
                             frequencies=freq, name=case.name, progress=True)
+
+
+def hybrid_seats_section(case) -> dict | None:
+    """The ``housing`` entry of a hybrid case's quasi-static summary (a case with condensed
+    bodies and ``[housing]``; None otherwise): the condensed housing's size, modes and cut-off,
+    and where each bearing sits (:meth:`jaxgear.io.Case.hybrid_housing`: the rigid gears'
+    shafts in the nearest seats, a condensed body's shaft on the ground, ``seat`` None)."""
+    if case.housing is None or case.scene is None or not case.scene.hybrid:
+        return None
+    kw = case.hybrid_housing()
+    housing, seats = kw["housing"], iter(kw["seats"])
+    if isinstance(case.form, TrainForm):
+        shafts, names = case.scene.shafts, case.shaft_names
+    else:
+        shafts, names = (case.scene.pinion_shaft, case.scene.gear_shaft), ("pinion", "gear")
+    bearings = [
+        {"shaft": name, "position_mm": float(b.z) * 1e3,
+         "seat": None if (s := next(seats)) is None else housing.seat_names[s]}
+        for name, spec in zip(names, shafts, strict=True)
+        for b in spec.bearings
+    ]
+    return {
+        "housing_modes": len(housing.modes_hz),
+        "cutoff_Hz": float(housing.cutoff_hz),
+        "condensed_coordinates": int(housing.size),
+        "bearings": bearings,
+    }
+
+
+def hybrid_seats_line(section: dict | None) -> list[str]:
+    """The printed line of :func:`hybrid_seats_section` (nothing without one)."""
+    if section is None:
+        return []
+    seated = sum(b["seat"] is not None for b in section["bearings"])
+    line = (f"  on a flexible housing ({section['housing_modes']} modes to "
+            f"{section['cutoff_Hz']:.0f} Hz): {seated} of {len(section['bearings'])} bearings in "
+            "its seats, a condensed body's shaft's on the ground")
+    return [line]

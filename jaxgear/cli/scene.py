@@ -16,6 +16,7 @@ from .. import dynamics, io as case_io
 from ..io import Case, atomic_open, write_vtu
 from ..scenes import FlexibleMember, HybridScene
 from . import _plots
+from ._housing_run import hybrid_seats_line, hybrid_seats_section
 from ._progress import inner_bars, progress as progress_bar
 from ._stress_outputs import body_stress_outputs
 from ._summary import result_summary
@@ -205,6 +206,8 @@ def scene_outputs(
         curves["base_planes"] = scene.base_planes
     run = _SceneRun(case, out_dir, bar, curves)
     out.update(condensed_outputs(scene, run, bodies, res, pressure))
+    if (seated := hybrid_seats_section(case)) is not None:  # [housing] of a hybrid case
+        out["housing"] = seated
     bar.close()
     return out
 
@@ -355,7 +358,7 @@ class CondensedSceneLines(SceneLines):
         return super().lines(q) + [
             f"  {name} rim radial growth at {c['speed_rad_s']:g} rad/s (pinion): {g * 1e6:.3f} µm"
             for name, g in c["rim_radial_growth_m"].items()
-        ]
+        ] + hybrid_seats_line(q.get("housing"))
 
 
 #: each scene model of ``quasi_static_scene`` (:func:`scene_model`) as the printed summary

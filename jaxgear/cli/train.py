@@ -12,6 +12,7 @@ from .. import Modifications, contact_pressure, quasi_static
 from ..dynamics import bearing_forces
 from ..io import TrainCase, atomic_open, load_bodies, write_csv
 from ._case_kinds import gear_glossary
+from ._housing_run import hybrid_seats_section
 from ._plots import face_maps, mesh_stiffness_plot, train_phasing_plot, transmission_error_plot
 from ._progress import inner_bars, progress
 from ._summary import environment_summary, mesh_settings_summary, result_summary
@@ -268,6 +269,8 @@ def run_train(
         summary["body_vtu"], summary["body_stress"], summary["body_stress_vtu"] = body_outputs(
             out_dir, scene, bodies, qs, k, names_of
         )
+        if (seated := hybrid_seats_section(case)) is not None:  # [housing]: the seats
+            summary["housing"] = seated
     marks = {}
     for k, pair in enumerate(case.pairs):
         g = case.gears[k][0]
