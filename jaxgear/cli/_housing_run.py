@@ -292,7 +292,8 @@ def hybrid_seats_line(section: dict | None) -> list[str]:
     if section is None:
         return []
     seated = sum(b["seat"] is not None for b in section["bearings"])
-    line = (f"  on a flexible housing ({section['housing_modes']} modes to "
+    n = section["housing_modes"]
+    line = (f"  on a flexible housing ({n} mode{'' if n == 1 else 's'} to "
             f"{section['cutoff_Hz']:.0f} Hz): {seated} of {len(section['bearings'])} bearings in "
             "its seats, a condensed body's shaft's on the ground")
     return [line]
