@@ -25,7 +25,8 @@ MEASURED = (
     "speed on the test suite; docs/bench/bench_gearbox_coupled.json, and the two-stage "
     "timings beside docs/bench/bench_run_cases_two_stage_settled.json). "
     "power-helical-housed estimated alike from its runs on 2026-11-28 under load "
-    "(59 s and 29 s of CPU). Under load, wall time is "
+    "(59 s and 29 s of CPU), nrel-5mw-stage3-housed alike on 2026-11-28 (78 s and 36 s of "
+    "CPU). Under load, wall time is "
     "several times longer (nrel-5mw-planetary: 703 s and 217 s at a load of 8-14)"
 )
 
@@ -98,6 +99,14 @@ CASE_INDEX: dict[str, tuple[str, str, float, float, bool]] = {
         13,
         11,
         True,
+    ),
+    "nrel-5mw-stage3-housed": (
+        "z 24/95, m_n 14 mm, β 10.0°, T 40953 N·m, iso6336 stiffness, lumped3d scene on a "
+        "flexible housing",
+        "yes",
+        60,
+        31,
+        False,
     ),
     "power-helical": (
         "z 35/68, m_n 2.5 mm, β 12.0°, T 310 N·m, weber stiffness",
