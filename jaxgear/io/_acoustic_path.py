@@ -33,7 +33,6 @@ from ..acoustics import HousingAcoustics, housing_acoustics
 from ..dynamics import DynamicModel
 from ._acoustics_table import AcousticsInputs, acoustics_of
 from ._housing_table import housing_surface
-from ._optimise_table import ACOUSTIC_OBJECTIVES
 from ._whine_table import whine_of
 
 __all__ = [

@@ -22,16 +22,12 @@ import optimise as op
 from fem_prep.schema import atomic_write
 from optimise import Problem, make_problem
 
-from ._acoustic_path import (
-    ACOUSTIC_OBJECTIVES,
-    case_acoustic_path,
-    case_radiation,
-    housed_acoustics,
-)
+from ._acoustic_path import case_acoustic_path, case_radiation, housed_acoustics
 from ._case import Case
 from ._load import load_case
 from ._lubricant_table import tribology_of
 from ._modifications_table import case_text_with_modifications, modifications_with
+from ._optimise_table import ACOUSTIC_OBJECTIVES
 from ._rating_table import RatingCase, rating_of
 
 __all__ = [
