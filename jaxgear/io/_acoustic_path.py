@@ -193,7 +193,8 @@ def case_radiation(case, path: op.AcousticPath, housed: HousedAcoustics | None =
         allowed = max(1, FACTOR_BYTES // (16 * len(grid) * n))
         raise sc.fail("acoustics", "rank", f"the radiation's factors ({len(grid)} frequencies x "
                       f"{n} vertices x rank {rank}) take {need / 1024**3:.3g} GiB in the design "
-                      f"loop: allowed rank <= {allowed} (or fewer frequencies)", inputs.rank)
+                      f"loop: allowed rank <= {allowed} (or fewer frequencies)",
+                      sc.MISSING if inputs.rank is None else inputs.rank)
     body = housed.body
     vertices = np.asarray(skin.normal_operator @ body.condensed.recovery)  # (n, n_c)
     facets = np.asarray(housed.acoustics.normal_map)  # (F, n_c)
