@@ -106,6 +106,7 @@ def test_case_acoustic_path_of_the_small_housed_case(tmp_path):
 
 
 @pytest.mark.slow  # about 3 min on the 2-core host (the housed whine, its gradient, 3 L-BFGS steps)
+@pytest.mark.filterwarnings("ignore:optimiser stopped at the iteration cap")
 def test_jaxgear_optimise_lowers_the_erp_of_a_housed_case(tmp_path, capsys):
     """``jaxgear optimise`` on the small housed case (objective erp, the energy mean over the
     [whine] speeds, A-weighted; tip relief depth, 3 L-BFGS iterations) ends below its start in
@@ -132,7 +133,7 @@ def test_jaxgear_optimise_lowers_the_erp_of_a_housed_case(tmp_path, capsys):
                                rtol=1e-9)
 
 
-@pytest.mark.slow  # about 4 min on the 2-core host (the housed whine twice, R at 4 frequencies)
+@pytest.mark.slow  # about 1 min on the 2-core host (the housed whine twice, R at 4 frequencies)
 def test_sound_power_objective_is_the_runs_sound_power(tmp_path):
     """The objective "sound_power" of a housed case with [acoustics] (method 'erp-only', 4 grid
     frequencies), unweighted, at the case's design: per speed, the sound power ``jaxgear run``
