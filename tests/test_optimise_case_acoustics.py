@@ -64,13 +64,16 @@ def test_acoustic_objective_settings_refused_one_line(tmp_path, tables, match):
 
 
 def test_cli_acoustic_objective_needs_the_housed_tables(tmp_path, capsys):
-    """``jaxgear optimise --objective erp`` on a case without [housing] (and ``--reduce
-    quantile`` without ``--quantile``) stops with one line, exit status 2, nothing written."""
+    """``jaxgear optimise --objective erp`` on a case without [housing] (``--reduce quantile``
+    without ``--quantile``, ``--no-a-weighted`` with a TE objective) stops with one line, exit
+    status 2, nothing written."""
     case = jio.load_case("accessory-spur")
     with pytest.raises(ValueError, match=r"--objective erp .*has no \[housing\]"):
         check_settings({"objective": "erp", "max_iterations": 5}, case)
     with pytest.raises(ValueError, match="--reduce quantile needs --quantile"):
         check_settings({"objective": "robust_te_rms", "reduce": "quantile", "max_iterations": 5})
+    with pytest.raises(ValueError, match="--no-a-weighted applies to the objectives erp and"):
+        check_settings({"objective": "te_rms", "a_weighted": False, "max_iterations": 5})
     out = tmp_path / "o"
     assert main(["optimise", "accessory-spur", "--objective", "sound_power", "--out",
                  str(out)]) == 2
