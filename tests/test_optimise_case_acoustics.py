@@ -162,3 +162,20 @@ def test_sound_power_objective_is_the_runs_sound_power(tmp_path):
     vertices = skin.normal_operator @ housed.body.condensed.recovery
     got = np.asarray(obj.radiation.vertex_map) @ np.asarray(housed.acoustics.normal_map)
     np.testing.assert_allclose(got, vertices, rtol=0, atol=1e-9 * np.abs(vertices).max())
+
+
+def test_surface_radiation_on_a_grid_checks_its_shapes():
+    """``SurfaceRadiation`` with ``grid_hz``: factors (G, n, r) at its G frequencies and the
+    vertex map (n, F); another G or n is one line naming both shapes."""
+    import jax.numpy as jnp
+
+    vm = jnp.zeros((3, 5))
+    rad = op.SurfaceRadiation(vm, jnp.zeros((2, 3, 1), complex), jnp.asarray([100.0, 200.0]))
+    assert rad.grid_hz.shape == (2,)
+    for L, g in ((jnp.zeros((2, 4, 1), complex), [100.0, 200.0]),
+                 (jnp.zeros((2, 3, 1), complex), [100.0, 150.0, 200.0]),
+                 (jnp.zeros((1, 2, 3, 1), complex), [100.0, 200.0])):
+        with pytest.raises(ValueError, match=r"vertex_map \(3, 5\), factors .*allowed \(n, F\) "
+                           r"and \(G, n, r\)") as e:
+            op.SurfaceRadiation(vm, L, jnp.asarray(g))
+        assert "\n" not in str(e.value)
