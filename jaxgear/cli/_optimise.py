@@ -255,8 +255,8 @@ def _(objective: AbstractAcousticObjective, rep: dict) -> str:
 def _(objective: AbstractAcousticObjective, problem, designs: dict) -> dict:
     """``acoustics``: the path (speeds, orders, the whine's method), the statistic, the
     weighting and, at the start and the optimum (exact contact, sharp relief starts), the power
-    at each speed (W and dB re 1 pW; the orders summed) and each order's frequency;
-    "sound_power": the radiation's grid."""
+    at each speed (W and dB re 1 pW; the orders summed, weighted as the objective weights
+    them); "sound_power": the radiation's grid."""
     sharp = problem.sharp()
     path = objective.path
     per = eqx.filter_jit(
