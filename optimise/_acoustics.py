@@ -72,6 +72,10 @@ def _speeds(s) -> Float[Array, " S"]:
     return jnp.asarray(np.asarray(s, dtype=float).reshape(-1))
 
 
+def _grid(g) -> Float[Array, " G"] | None:
+    return None if g is None else jnp.asarray(np.asarray(g, dtype=float))
+
+
 def _default_method() -> HarmonicBalance:
     return HarmonicBalance(8)
 
@@ -245,7 +249,7 @@ class SurfaceRadiation(eqx.Module):
 
     vertex_map: Float[Array, "n F"]
     factors: Complex[Array, "S O n r"] | Complex[Array, "G n r"]
-    grid_hz: Float[Array, " G"] | None = None
+    grid_hz: Float[Array, " G"] | None = eqx.field(default=None, converter=_grid)
 
     def __check_init__(self):
         vm, L, g = self.vertex_map, self.factors, self.grid_hz

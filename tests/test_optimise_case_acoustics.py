@@ -173,9 +173,9 @@ def test_surface_radiation_on_a_grid_checks_its_shapes():
     rad = op.SurfaceRadiation(vm, jnp.zeros((2, 3, 1), complex), jnp.asarray([100.0, 200.0]))
     assert rad.grid_hz.shape == (2,)
     for L, g in ((jnp.zeros((2, 4, 1), complex), [100.0, 200.0]),
-                 (jnp.zeros((2, 3, 1), complex), [100.0, 150.0, 200.0]),
+                 (jnp.zeros((2, 3, 1), complex), (100.0, 150.0, 200.0)),
                  (jnp.zeros((1, 2, 3, 1), complex), [100.0, 200.0])):
         with pytest.raises(ValueError, match=r"vertex_map \(3, 5\), factors .*allowed \(n, F\) "
                            r"and \(G, n, r\)") as e:
-            op.SurfaceRadiation(vm, L, jnp.asarray(g))
+            op.SurfaceRadiation(vm, L, g)
         assert "\n" not in str(e.value)

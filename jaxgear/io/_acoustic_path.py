@@ -24,6 +24,7 @@ from __future__ import annotations
 import math
 from typing import NamedTuple
 
+import jax.numpy as jnp
 import numpy as np
 
 import optimise as op
@@ -208,4 +209,4 @@ def case_radiation(case, path: op.AcousticPath, housed: HousedAcoustics | None =
     points = np.array([p for _, p in mics]) if mics else None
     rr = fa.radiation_resistance(placed, grid, inputs.fluid, inputs.method, rank=inputs.rank,
                                  cache=inputs.cache, progress=progress, points=points)
-    return op.SurfaceRadiation(vertex_map, rr.factors, grid)
+    return op.SurfaceRadiation(jnp.asarray(vertex_map), jnp.asarray(rr.factors), grid)
