@@ -97,8 +97,8 @@ def test_case_acoustic_path_of_the_small_housed_case(tmp_path):
     want = tuple(h for h in (1, 2) if h * 160.0 * z1 / (2 * math.pi) <= 6000.0 / 1.5)
     assert path.orders == want == (1, 2)
     f_lo = 40.0 * z1 / (2 * math.pi)
-    short = housed_case(tmp_path, whine=WHINE_TABLE,
-                        extra=f"\n[acoustics]\nmethod = 'erp-only'\nband_Hz = [{2 * f_lo}, 5000.0]\n")
+    band = f"\n[acoustics]\nmethod = 'erp-only'\nband_Hz = [{2 * f_lo}, 5000.0]\n"
+    short = housed_case(tmp_path, whine=WHINE_TABLE, extra=band)
     with pytest.raises(jio.SchemaError, match=r"\[acoustics\] band_Hz = .*must span") as e:
         jio.case_radiation(short, path)
     assert "\n" not in str(e.value)
