@@ -14,8 +14,9 @@ The chain of one design (tooth modifications ``mods``) at one torque:
          → the outward normal velocity v_n of the housing's skin facets at each speed and order
          → the power: the ERP ½ ρ c Σ_f |v_n,f|² A_f, or the radiated sound power
            W = ‖Lᴴ v‖² from the cached radiation resistance R ≈ L Lᴴ of the radiating surface at
-           that frequency (:func:`fem_prep.acoustics.radiation_resistance`, computed once before
-           the design loop: the loop never calls the boundary elements).
+           that frequency, or interpolated log-log between R at a grid of frequencies
+           (:func:`fem_prep.acoustics.radiation_resistance`, computed once before the design
+           loop: the loop never calls the boundary elements).
 
 At each speed s the orders' powers are summed, each weighted by the A weighting of its frequency
 (IEC 61672-1) when ``a_weighted`` (the overall dB(A) power), else as they are; a statistic over
@@ -42,6 +43,7 @@ from jaxgear.acoustics import (
     HousingAcoustics,
     a_weighting,
     housing_response,
+    radiated_power_at,
     radiated_power_low_rank,
     seat_forces,
 )
@@ -68,6 +70,10 @@ MAX_SPEED = 1e5  # rad/s
 
 def _speeds(s) -> Float[Array, " S"]:
     return jnp.asarray(np.asarray(s, dtype=float).reshape(-1))
+
+
+def _grid(g) -> Float[Array, " G"] | None:
+    return None if g is None else jnp.asarray(np.asarray(g, dtype=float))
 
 
 def _default_method() -> HarmonicBalance:
@@ -222,28 +228,40 @@ class AcousticPath(eqx.Module):
 
 
 class SurfaceRadiation(eqx.Module):
-    """The cached radiation of a surface at the acoustic path's frequencies, for
-    :class:`RadiatedSoundPower`.
+    """The cached radiation of a surface, for :class:`RadiatedSoundPower`: at the acoustic
+    path's own frequencies, or at a grid of frequencies that spans them.
 
     Attributes:
         vertex_map: (n, F): the radiating surface's vertex normal velocities (m/s) from the
             housing skin facets' (:attr:`jaxgear.acoustics.HousingResponse.normal_velocity`).
-        factors: (S, O, n, r) complex L with R ≈ L Lᴴ at each speed's order frequency
-            (:attr:`fem_prep.acoustics.RadiationResistance.factors` at
-            :meth:`AcousticPath.frequencies`).
+        factors: complex L with R ≈ L Lᴴ (:attr:`fem_prep.acoustics.RadiationResistance.factors`,
+            (kg/s)^½): (S, O, n, r) at each speed's order frequency
+            (:meth:`AcousticPath.frequencies`), or (G, n, r) at the grid ``grid_hz``.
+        grid_hz: None (``factors`` at the path's frequencies), or (G,) increasing grid
+            frequencies (Hz): each order's power is then interpolated log-log between the two
+            grid frequencies that bracket it (:func:`jaxgear.acoustics.radiated_power_at`, as
+            ``jaxgear run``'s ``[acoustics]`` does); NaN outside the grid, which
+            :meth:`RadiatedSoundPower.scale` refuses.
 
     Raises:
         ValueError: shapes that do not fit.
     """
 
     vertex_map: Float[Array, "n F"]
-    factors: Complex[Array, "S O n r"]
+    factors: Complex[Array, "S O n r"] | Complex[Array, "G n r"]
+    grid_hz: Float[Array, " G"] | None = eqx.field(default=None, converter=_grid)
 
     def __check_init__(self):
-        vm, L = self.vertex_map, self.factors
-        if vm.ndim != 2 or L.ndim != 4 or L.shape[2] != vm.shape[0]:
+        vm, L, g = self.vertex_map, self.factors, self.grid_hz
+        if g is None:
+            ok, want = vm.ndim == 2 and L.ndim == 4 and L.shape[2] == vm.shape[0], "(S, O, n, r)"
+        else:
+            ok = (vm.ndim == 2 and L.ndim == 3 and L.shape[1] == vm.shape[0] and g.ndim == 1
+                  and g.shape[0] == L.shape[0])
+            want = f"(G, n, r) with G = {g.shape[0] if g.ndim == 1 else g.shape} grid frequencies"
+        if not ok:
             raise ValueError(
-                f"vertex_map {vm.shape}, factors {L.shape}: allowed (n, F) and (S, O, n, r)"
+                f"vertex_map {vm.shape}, factors {L.shape}: allowed (n, F) and {want}"
             )
 
 
@@ -327,7 +345,7 @@ class RadiatedSoundPower(AbstractAcousticObjective):
                 "optimise.SurfaceRadiation"
             )
         n_s, n_o = self.path.speeds.shape[0], len(self.path.orders)
-        if self.radiation.factors.shape[:2] != (n_s, n_o):
+        if self.radiation.grid_hz is None and self.radiation.factors.shape[:2] != (n_s, n_o):
             raise ValueError(
                 f"radiation.factors: {self.radiation.factors.shape[:2]} frequencies, allowed "
                 f"(S, O) = ({n_s}, {n_o}), the path's speeds and orders"
@@ -339,6 +357,24 @@ class RadiatedSoundPower(AbstractAcousticObjective):
             )
 
     def order_powers(self, freq, velocity):
-        vm = self.radiation.vertex_map
-        v = velocity @ vm.T.astype(velocity.dtype)  # (S, O, n)
-        return radiated_power_low_rank(v, self.radiation.factors)
+        rad = self.radiation
+        v = velocity @ rad.vertex_map.T.astype(velocity.dtype)  # (S, O, n)
+        if rad.grid_hz is None:
+            return radiated_power_low_rank(v, rad.factors)
+        # R's convention is e^{-iωt}: the conjugate of the whine's one-sided amplitudes
+        return radiated_power_at(jnp.conj(v), freq, rad.factors, rad.grid_hz)
+
+    def scale(self, unmodified, torque):
+        """The unmodified design's value (W) at ``torque``, exact contact.
+
+        Raises:
+            ValueError: a value that is not finite (a frequency of the path outside the
+                radiation's grid)."""
+        value = super().scale(unmodified, torque)
+        if not np.isfinite(value):
+            raise ValueError(
+                f"radiation.grid_hz = [{float(self.radiation.grid_hz[0]):.6g}, "
+                f"{float(self.radiation.grid_hz[-1]):.6g}] Hz: allowed a grid that spans the "
+                "path's order frequencies (AcousticPath.frequencies())"
+            )
+        return value

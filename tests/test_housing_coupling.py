@@ -10,6 +10,7 @@ import pytest
 import scipy.linalg as sla
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
+from _housing import HOUSING_BOX
 
 import fem_prep
 import jaxgear.io as jio
@@ -272,17 +273,7 @@ def test_housing_bad_input_one_line():
 # -------------------------------------------------------------------------------------------
 # the [housing] case table
 
-_TABLE = """
-[housing]
-width_mm = 250.0
-height_mm = 160.0
-wall_thickness_mm = 10.0
-bore_diameter_mm = 50.0
-mesh_size_mm = 40.0
-element = "tet4"
-youngs_modulus_GPa = 7.0
-density_kg_m3 = 2700.0
-cutoff_Hz = 2000.0
+_TABLE = HOUSING_BOX + """cutoff_Hz = 2000.0
 loss_factor = 0.02
 """
 

@@ -17,6 +17,7 @@ import math
 import numpy as np
 import pytest
 import scipy.sparse.linalg as spla
+from _housing import HOUSING_TABLE, WHINE_TABLE, housed_case
 
 import fem_prep
 import jaxgear.io as jio
@@ -33,32 +34,11 @@ from fem_prep.housing import (
 )
 from jaxgear.acoustics import housing_acoustics, housing_response, housing_vibration
 
-# a soft box (E = 7 GPa) round the accessory-spur pair, coarse Tet4 cells (a few seconds)
-TABLE = """
-[housing]
-width_mm = 250.0
-height_mm = 160.0
-wall_thickness_mm = 10.0
-bore_diameter_mm = 50.0
-mesh_size_mm = 40.0
-element = "tet4"
-youngs_modulus_GPa = 7.0
-density_kg_m3 = 2700.0
-cutoff_Hz = 6000.0
-loss_factor = 0.0
-[housing.points_mm]
-top = [50.0, 80.0, 0.0]
-"side wall" = [175.0, 0.0, 20.0]
-"""
+TABLE, WHINE = HOUSING_TABLE, WHINE_TABLE
 
 
 def _case(tmp_path, table=TABLE, whine="", damping=None):
-    text = jio.embedded_case_text("accessory-spur").replace("slices = 40", "slices = 4")
-    if damping is not None:
-        text = text.replace('[scene.damping]\nmodel = "composite"', f"[scene.damping]\n{damping}")
-    path = tmp_path / "housed.toml"
-    path.write_text(text + table + whine)
-    return jio.load_case(str(path))
+    return housed_case(tmp_path, table, whine, damping)
 
 
 # -------------------------------------------------------------------------------------------
@@ -156,14 +136,6 @@ def test_named_points_snap_to_the_nearest_skin_node(tmp_path):
 # the run
 
 
-WHINE = """
-[whine]
-speed_min_rad_s = 40.0
-speed_max_rad_s = 160.0
-speeds = 3
-harmonics = 2
-positions_per_period = 16
-"""
 
 
 @pytest.fixture(scope="module")

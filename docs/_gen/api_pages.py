@@ -125,6 +125,7 @@ SECTIONS = {
     "jaxgear.io": (
         ("Loading a case", ("_load", "_case_file", "_case", "_names", "_plausibility")),
         ("From a case to models", ("_case_model", "_scene_spec", "_scene_table", "_problem",
+                                   "_acoustic_path",
                                    "_planetary_spec", "_train_file", "_gearbox_file")),
         ("Tables of a case file", ("_deviations_table", "_modifications_table",
                                    "_optimise_table", "_rating*", "_robust_table",

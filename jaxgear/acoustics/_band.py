@@ -71,7 +71,9 @@ def _interpolated(v, frequency_hz, grid, measure):
     return jnp.where(ok[(..., *extra)], _loglog(a, b, t[(..., *extra)]), jnp.nan)
 
 
-def _check(fn, v, op, grid, what):
+def _check(fn, v, op, grid, what, vertex_axis):
+    """The operator ``op`` (G, ., .) at the grid's G frequencies, the grid (G,), and the
+    velocity ``v`` ending in the operator's vertex count (its axis ``vertex_axis``)."""
     if op.ndim != 3 or op.shape[0] != grid.shape[0]:
         raise ValueError(
             f"{fn}: {what} must be (G, ., .) with G = {grid.shape[0]} grid frequencies, "
@@ -79,6 +81,9 @@ def _check(fn, v, op, grid, what):
         )
     if grid.ndim != 1 or grid.shape[0] < 1:
         raise ValueError(f"{fn}: grid_hz must be (G,) with G >= 1, got {grid.shape}")
+    n = op.shape[vertex_axis]
+    if v.shape[-1] != n:
+        raise ValueError(f"{fn}: velocity must end in {n} (the vertices), got {v.shape}")
 
 
 def radiated_power_at(velocity, frequency_hz, factors, grid_hz):
@@ -102,11 +107,7 @@ def radiated_power_at(velocity, frequency_hz, factors, grid_hz):
     L = jnp.asarray(factors)
     grid = jnp.asarray(grid_hz, L.real.dtype)
     v = jnp.asarray(velocity)
-    _check("radiated_power_at", v, L, grid, "factors")
-    if v.shape[-1] != L.shape[1]:
-        raise ValueError(
-            f"radiated_power_at: velocity must end in {L.shape[1]} (the vertices), got {v.shape}"
-        )
+    _check("radiated_power_at", v, L, grid, "factors", 1)
     return _interpolated(v, frequency_hz, grid,
                          lambda k, vk: jnp.sum(jnp.abs(jnp.conj(L[k]).T @ vk) ** 2))
 
@@ -133,10 +134,5 @@ def mean_square_pressure_at(velocity, frequency_hz, transfer, grid_hz):
     T = jnp.asarray(transfer)
     grid = jnp.asarray(grid_hz, T.real.dtype)
     v = jnp.asarray(velocity)
-    _check("mean_square_pressure_at", v, T, grid, "transfer")
-    if v.shape[-1] != T.shape[2]:
-        raise ValueError(
-            f"mean_square_pressure_at: velocity must end in {T.shape[2]} (the vertices), "
-            f"got {v.shape}"
-        )
+    _check("mean_square_pressure_at", v, T, grid, "transfer", 2)
     return _interpolated(v, frequency_hz, grid, lambda k, vk: 0.5 * jnp.abs(T[k] @ vk) ** 2)

@@ -32,7 +32,14 @@ from ..acoustics import (
     mean_square_pressure_at,
     radiated_power_at,
 )
-from ..io import AcousticsInputs, parse_acoustics, write_csv, write_json, write_vtu
+from ..io import (
+    AcousticsInputs,
+    parse_acoustics,
+    radiation_grid,
+    write_csv,
+    write_json,
+    write_vtu,
+)
 from ._plots import intensity_map_plot, microphone_plot, sound_power_plot
 
 __all__ = ["ACOUSTICS_FILES", "acoustic_outputs", "acoustics_run_line"]
@@ -141,9 +148,7 @@ def acoustic_outputs(
     if f.shape != (S, O) or not np.all(np.isfinite(f)) or f.min() <= 0:
         raise ValueError(f"acoustic_outputs: frequencies {f.shape}, allowed (S, O) = ({S}, {O}) "
                          "finite values > 0 (Hz)")
-    band = table.band or (float(f.min()), float(f.max()))
-    grid = (np.array([band[0]]) if table.frequencies == 1 or band[1] <= band[0]
-            else np.geomspace(band[0], band[1], table.frequencies))
+    band, grid = radiation_grid(table, f)  # the grid the acoustic objectives radiate at too
     mics = table.microphones
     points = np.array([p for _, p in mics]) if mics else None
     rr = fa.radiation_resistance(surface, grid, table.fluid, table.method, rank=table.rank,

@@ -16,12 +16,14 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..acoustics import housing_acoustics, housing_vibration, total_level
+from ..acoustics import housing_vibration, total_level
 from ..io import (
+    HOUSING_BAND,
     SchemaError,
     TrainForm,
     acoustics_of,
-    housing_surface,
+    closed_skin,
+    housed_acoustics,
     write_csv,
     write_json,
 )
@@ -34,9 +36,8 @@ __all__ = ["HousedRun", "housed_run", "housing_outputs", "housing_run_line", "hy
 ORDERS_DRAWN = 4
 #: orders drawn in the waterfalls (the higher ones are in housing.csv)
 WATERFALL_ORDERS = 8
-#: the condensed housing's band: the orders at frequencies up to cut-off / BAND (docs/housing.md,
-#: "What the condensation keeps": the default cut-off is 1.5 x the highest mesh order's)
-BAND = 1.5
+#: the condensed housing's band: the orders at frequencies up to cut-off / BAND
+BAND = HOUSING_BAND
 
 
 class HousedRun(NamedTuple):
@@ -58,13 +59,12 @@ def housed_run(case, model) -> HousedRun | None:
     Raises:
         SchemaError: a named point off the housing's outer surface (one line naming its key).
     """
-    if case.housing is None:
+    housed = housed_acoustics(case)  # the condensed housing from fem_prep's cache
+    if housed is None:
         return None
-    body = case.housing_body()  # the condensed housing from fem_prep's cache
-    surface = housing_surface(case.housing, body)
-    acoustics = housing_acoustics(body.condensed, surface, loss_factor=case.housing.loss_factor)
+    body = housed.body
     first = model.scene.structure.node(f"housing {body.condensed.seat_names[0]}")
-    return HousedRun(body, surface, acoustics, int(first))
+    return HousedRun(body, housed.surface, housed.acoustics, int(first))
 
 
 def _file_key(name: str) -> str:
@@ -238,9 +238,6 @@ def _radiation(run: HousedRun, case, q, speeds, orders, freq, folder: str, table
     speed: the outer skin closed over its bores (:func:`fem_prep.housing.closed_outer_surface`)
     placed in the scene's frame (x = R x_housing + t: the microphones are in the scene's frame,
     as the named points), its vertices' normal velocity v = iω N_v Φ q."""
-    from fem_prep.acoustics import RadiatingSurface
-    from fem_prep.housing import closed_outer_surface
-
     from ._acoustics_run import acoustic_outputs
 
     if not orders.size:
@@ -250,10 +247,7 @@ def _radiation(run: HousedRun, case, q, speeds, orders, freq, folder: str, table
             "allowed a cut-off above 1.5 x the highest order's frequency"
         )
     body = run.body
-    skin = closed_outer_surface(body.mesh, run.surface)  # the skin housed_run found
-    R = np.asarray(body.housing.rotation, dtype=float)
-    placed = RadiatingSurface(skin.surface.vertices @ R.T + np.asarray(body.offset, float),
-                              skin.surface.triangles)
+    skin, placed = closed_skin(run)  # the skin housed_run found, closed, in the scene's frame
     velocity = 1j * 2 * np.pi * freq[..., None] * (
         q @ (skin.normal_operator @ body.condensed.recovery).T)
     return acoustic_outputs(placed, velocity, speeds, orders, os.path.dirname(folder), table,

@@ -23,10 +23,12 @@ import numpy as np
 import jaxgear as jg
 from optimise import (
     VARIABLES,
+    AbstractAcousticObjective,
     AbstractTribologyObjective,
     LeastSafetyFactor,
     LineLoadLp,
     LoadCentroid,
+    RadiatedSoundPower,
     RobustTeRms,
     TePeakToPeak,
     TeRms,
@@ -39,6 +41,7 @@ from optimise import (
 )
 
 from ..io import (
+    ACOUSTIC_OBJECTIVES,
     OPTIMISE_DEFAULTS,
     TORQUE_RANGE_OBJECTIVES,
     Case,
@@ -109,6 +112,8 @@ def settings_from_case(case: Case, args=None) -> dict:
         "speeds": get("speeds", d["speeds"]),
         "lp_order": get("lp_order", None),  # None: the objective's own (8)
         "te_limit_um": get("te_limit_um", d["te_limit_um"]),
+        "quantile": get("quantile", d["quantile"]),
+        "a_weighted": get("a_weighted", None),  # None: the objective's own (A-weighted)
     }
 
 
@@ -224,6 +229,56 @@ def _(objective: LeastSafetyFactor, problem, designs: dict) -> dict:
     return {"rating": rated}
 
 
+@functools.singledispatch
+def _model_name(objective, scene) -> str:
+    """The report's ``model``: what the objective was optimised on."""
+    return "rigid mesh" if scene is None else "hybrid scene"
+
+
+@_model_name.register
+def _(objective: AbstractAcousticObjective, scene) -> str:
+    return "housed lumped 3D scene (the case's acoustic path)"
+
+
+def _db(watts: float) -> float:
+    return 10 * np.log10(watts / 1e-12) if watts > 0 else float("nan")
+
+
+@_change.register
+def _(objective: AbstractAcousticObjective, rep: dict) -> str:
+    a, b = (rep[k]["objective_exact_W"] for k in ("initial", "final"))
+    weighted = " A-weighted" if objective.a_weighted else ""
+    return f"{a:.4g} -> {b:.4g} W ({_db(a):.2f} -> {_db(b):.2f} dB{weighted} re 1 pW)"
+
+
+@_objective_report.register
+def _(objective: AbstractAcousticObjective, problem, designs: dict) -> dict:
+    """``acoustics``: the path (speeds, orders, the whine's method), the statistic, the
+    weighting and, at the start and the optimum (exact contact, sharp relief starts), the power
+    at each speed (W and dB re 1 pW; the orders summed, weighted as the objective weights
+    them); "sound_power": the radiation's grid."""
+    sharp = problem.sharp()
+    path = objective.path
+    per = eqx.filter_jit(
+        lambda x: objective.per_speed(sharp.modifications(x), sharp.design_torque,
+                                      jg.ExactContact()))
+    section = {
+        "speeds_rad_s": np.asarray(path.speeds).tolist(),
+        "orders": list(path.orders),
+        "whine_method": type(path.method).__name__,
+        "harmonics": int(path.method.harmonics),
+        "positions_per_period": int(path.positions),
+        "statistic": type(objective.statistic).__name__,
+        "a_weighted": bool(objective.a_weighted),
+    }
+    if isinstance(objective, RadiatedSoundPower):
+        section["radiation_grid_Hz"] = np.asarray(objective.radiation.grid_hz).tolist()
+    for label, x in designs.items():
+        w = np.asarray(per(jnp.asarray(x)), dtype=float)
+        section[label] = {"power_W": w.tolist(), "level_dB": [_db(v) for v in w]}
+    return {"acoustics": section}
+
+
 @_change.register
 def _(objective: LoadCentroid, rep: dict) -> str:
     # the signed centroid reads better than c²
@@ -263,6 +318,9 @@ def _optimise(case: Case, settings: dict, out_dir: str, progress: bool):
         speed=settings.get("speed") or 0.0,
         speeds=speeds,
         te_limit=None if settings.get("te_limit_um") is None else settings["te_limit_um"] * 1e-6,
+        quantile=settings.get("quantile"),
+        a_weighted=settings.get("a_weighted"),
+        progress=progress,
     )
     solver = optimiser_from_name(settings["method"])
     sharp = problem.sharp()  # sharp relief starts: the design as the case file writes it
@@ -324,8 +382,9 @@ def _optimise(case: Case, settings: dict, out_dir: str, progress: bool):
         "variables": list(problem.names),
         "torques_Nm": np.asarray(problem.torques).tolist(),
         "reduce": settings["reduce"],
+        "quantile": settings.get("quantile"),
         "method": settings["method"],
-        "model": "rigid mesh" if scene is None else "hybrid scene",
+        "model": _model_name(objective, scene),
         "speed_rad_s": settings.get("speed"),
         "mean_static_deflection_m": float(problem.delta_m),
         "lp_order": _lp_order(objective),
@@ -504,12 +563,31 @@ def check_settings(settings: dict, case: Case | None = None) -> dict:
             f"--speeds {band}: the dynamic_factor objective needs a case with condensed bodies "
             "([scene.gear_body] or [scene.pinion_body])"
         )
-    if settings["objective"] in ("erp", "sound_power"):
+    acoustic = settings["objective"] in ACOUSTIC_OBJECTIVES
+    if acoustic and case is not None:
+        tables = ("housing", "whine") + (("acoustics",) if settings["objective"] == "sound_power"
+                                         else ())
+        missing = [t for t in tables if t not in (case.raw or {})]
+        if missing:
+            raise ValueError(
+                f"--objective {settings['objective']} radiates the housing's whine: the case "
+                f"{case.name!r} has no [{missing[0]}] (allowed a case with "
+                f"{' and '.join(f'[{t}]' for t in tables)}; docs/acoustics.md)"
+            )
+    if settings.get("a_weighted") is not None and not acoustic:
         raise ValueError(
-            f"--objective {settings['objective']}: the acoustic objectives run on a housed "
-            "gearbox's acoustic path (its housing skin, speeds and orders), which a case file "
-            "does not give yet: build it in Python (optimise.AcousticPath, docs/acoustics.md)"
+            f"--{'' if settings['a_weighted'] else 'no-'}a-weighted applies to the objectives "
+            f"erp and sound_power only, not {settings['objective']}"
         )
+    level = settings.get("quantile")
+    if (settings.get("reduce") == "quantile") != (level is not None):
+        raise ValueError(
+            "--reduce quantile needs --quantile Q (its level in (0, 1); in a case file "
+            f"[optimise] quantile = q) and --quantile applies to it only (--reduce "
+            f"{settings.get('reduce')}, --quantile {level})"
+        )
+    if level is not None and not 0 < level < 1:
+        raise ValueError(f"--quantile {level:g}: out of range, allowed (0, 1)")
     least = settings["objective"] == "least_safety"
     te_limit = settings.get("te_limit_um")
     if te_limit is not None and not least:

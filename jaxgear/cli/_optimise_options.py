@@ -8,6 +8,8 @@ the keys there."""
 
 from __future__ import annotations
 
+import argparse
+
 __all__ = [
     "OBJECTIVE_NAMES",
     "OPTIMISER_NAMES",
@@ -35,7 +37,7 @@ OBJECTIVE_NAMES = (
     "sound_power",
 )
 #: ``--reduce``: the keys of :data:`jaxgear.io.STATISTICS`
-STATISTIC_NAMES = ("max", "mean")
+STATISTIC_NAMES = ("max", "mean", "quantile")
 #: ``--method``: the keys of :data:`jaxgear.io.OPTIMISERS`
 OPTIMISER_NAMES = ("lbfgs", "adam")
 #: ``--vars``: the keys of :data:`optimise.VARIABLES`
@@ -63,8 +65,9 @@ def add_optimise_arguments(o) -> None:
         "line load over the load map (a smooth maximum, see --lp-order), least_safety: raise the "
         "least ISO 6336 safety factor (a case with [rating]; see --te-limit-um); power_loss, "
         "efficiency_loss, min_specific_film (as 1/λ), max_flash_temperature: the mesh's "
-        "tribology (a case with [lubricant]); erp, sound_power: the housing's radiated power, "
-        "from Python only (optimise.AcousticPath: a case file does not give one yet)",
+        "tribology (a case with [lubricant]); erp, sound_power: the housing's radiated power over "
+        "the [whine] speeds (a housed case: [housing] and [whine]; sound_power: and "
+        "[acoustics], its radiation method and grid)",
     )
     o.add_argument(
         "--te-limit-um",
@@ -114,8 +117,20 @@ def add_optimise_arguments(o) -> None:
     o.add_argument(
         "--reduce",
         choices=STATISTIC_NAMES,
-        help="robust_te_rms, tribology objectives: worst case or mean over the torques "
-        "(default: the case's [optimise], else the worst case)",
+        help="robust_te_rms, tribology objectives: worst case, mean or quantile over the "
+        "torques; erp, sound_power: over the [whine] speeds (default: the case's [optimise], "
+        "else the worst case)",
+    )
+    o.add_argument(
+        "--quantile",
+        type=float,
+        help="the level q in (0, 1) of --reduce quantile (e.g. 0.9)",
+    )
+    o.add_argument(
+        "--a-weighted",
+        action=argparse.BooleanOptionalAction,
+        help="erp, sound_power: sum the orders A-weighted (IEC 61672-1; the default) or, with "
+        "--no-a-weighted, as they are",
     )
     o.add_argument("--method", choices=OPTIMISER_NAMES, help="optimiser (default lbfgs)")
     o.add_argument("--max-iterations", type=int, help="iteration cap (default 100)")

@@ -9,6 +9,15 @@ cases, a case's optimisation problem, and atomic writers. JSON/CSV only: plots l
 :mod:`jaxgear.cli`. The model (:mod:`jaxgear`, :mod:`jaxgear.scenes`, :mod:`jaxgear.dynamics`)
 never imports this package: it takes the objects built here, never a case."""
 
+from ._acoustic_path import (
+    HOUSING_BAND as HOUSING_BAND,
+    HousedAcoustics as HousedAcoustics,
+    case_acoustic_path as case_acoustic_path,
+    case_radiation as case_radiation,
+    closed_skin as closed_skin,
+    housed_acoustics as housed_acoustics,
+    radiation_grid as radiation_grid,
+)
 from ._acoustics_table import (
     ACOUSTICS_KEYS as ACOUSTICS_KEYS,
     ACOUSTICS_METHODS as ACOUSTICS_METHODS,
@@ -74,6 +83,7 @@ from ._gearbox_file import (
     GearboxStage as GearboxStage,
 )
 from ._optimise_table import (
+    ACOUSTIC_OBJECTIVES as ACOUSTIC_OBJECTIVES,
     OPTIMISE_DEFAULTS as OPTIMISE_DEFAULTS,
     TORQUE_RANGE_OBJECTIVES as TORQUE_RANGE_OBJECTIVES,
     parse_optimise as parse_optimise,

@@ -9,7 +9,7 @@ from typing import Any
 from fem_prep import schema as sc
 from optimise import OBJECTIVES, VARIABLES
 
-__all__ = ["OPTIMISE_DEFAULTS", "TORQUE_RANGE_OBJECTIVES", "parse_optimise"]
+__all__ = ["ACOUSTIC_OBJECTIVES", "OPTIMISE_DEFAULTS", "TORQUE_RANGE_OBJECTIVES", "parse_optimise"]
 
 #: the objectives that take a torque range (``torques``) and its statistic (``reduce``): the TE
 #: RMS and the tribology objectives (:mod:`jaxgear.io._problem` maps the names to objects)
@@ -34,6 +34,8 @@ OPTIMISE_DEFAULTS = {
     "speeds": None,
     "lp_order": 8.0,
     "te_limit_um": None,
+    "quantile": None,
+    "a_weighted": True,
 }
 
 _OPTIMISE_KEYS = {
@@ -47,7 +49,11 @@ _OPTIMISE_KEYS = {
     "lp_order",
     "speeds",
     "te_limit_um",
+    "quantile",
+    "a_weighted",
 }
+#: the objectives over the speeds of a housed case's [whine] (jaxgear.io's acoustic path)
+ACOUSTIC_OBJECTIVES = ("erp", "sound_power")
 _DEFAULT_VARS = tuple(OPTIMISE_DEFAULTS["vars"].split(","))
 
 
@@ -72,7 +78,10 @@ def parse_optimise(table) -> dict:
         SchemaError: unknown key, objective, method or variable; torques not ``[start, stop, n]``
             with 0 < start < stop and an integer n >= 2; crossed bounds; ``lp_order`` outside
             [1, 64] or with an objective other than ``line_load_lp``; ``te_limit_um`` (the TE
-            RMS limit of ``least_safety``, µm) not in (0, 1e+04] or with another objective.
+            RMS limit of ``least_safety``, µm) not in (0, 1e+04] or with another objective;
+            ``quantile`` outside (0, 1) or without ``reduce = "quantile"`` (which needs it);
+            ``a_weighted`` not a boolean or with an objective other than ``erp`` and
+            ``sound_power``.
     """
     w = "optimise"
     if not isinstance(table, dict):
@@ -82,7 +91,23 @@ def parse_optimise(table) -> dict:
     if "objective" in table:
         out["objective"] = sc.choice(table, "objective", w, OBJECTIVES, OPTIMISE_DEFAULTS["objective"])
     if "reduce" in table:
-        out["reduce"] = sc.choice(table, "reduce", w, ("max", "mean"), OPTIMISE_DEFAULTS["reduce"])
+        out["reduce"] = sc.choice(table, "reduce", w, ("max", "mean", "quantile"),
+                                  OPTIMISE_DEFAULTS["reduce"])
+    # the level of reduce = "quantile" (over the torques, or the acoustic objectives' speeds)
+    if "quantile" in table:
+        out["quantile"] = float(sc.number(table, "quantile", w, None, allowed="(0, 1)"))
+        if out.get("reduce") != "quantile":
+            raise sc.fail(w, "quantile", "applies to reduce = 'quantile' only, not "
+                          f"{out.get('reduce', 'max')!r}", table["quantile"])
+    elif out.get("reduce") == "quantile":
+        raise sc.fail(w, "reduce", "'quantile' needs its level: quantile = q in (0, 1) "
+                      "(e.g. 0.9)", "quantile")
+    # the A weighting of the acoustic objectives' orders (IEC 61672-1)
+    if "a_weighted" in table:
+        out["a_weighted"] = sc.boolean(table, "a_weighted", w, True)
+        if out.get("objective") not in ACOUSTIC_OBJECTIVES:
+            raise sc.fail(w, "a_weighted", "applies to objective = 'erp' or 'sound_power' only, "
+                          f"not {out.get('objective', 'te_rms')!r}", table["a_weighted"])
     if "method" in table:
         out["method"] = sc.choice(table, "method", w, ("lbfgs", "adam"), OPTIMISE_DEFAULTS["method"])
     if "max_iterations" in table:

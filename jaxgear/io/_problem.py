@@ -22,10 +22,12 @@ import optimise as op
 from fem_prep.schema import atomic_write
 from optimise import Problem, make_problem
 
+from ._acoustic_path import case_acoustic_path, case_radiation, housed_acoustics
 from ._case import Case
 from ._load import load_case
 from ._lubricant_table import tribology_of
 from ._modifications_table import case_text_with_modifications, modifications_with
+from ._optimise_table import ACOUSTIC_OBJECTIVES
 from ._rating_table import RatingCase, rating_of
 
 __all__ = [
@@ -39,16 +41,27 @@ __all__ = [
     "write_design_case",
 ]
 
-# ``reduce = "..."``: the statistic over the torques of robust_te_rms
-STATISTICS: dict[str, op.AbstractStatistic] = {"max": op.Max(), "mean": op.Mean()}
+def _quantile(quantile=None, **_) -> op.Quantile:
+    if quantile is None:
+        raise ValueError("reduce = 'quantile' needs its level: quantile = q in (0, 1) (e.g. 0.9)")
+    return op.Quantile(float(quantile))
+
+
+# ``reduce = "..."``: the statistic over the torques of robust_te_rms and the tribology
+# objectives, over the speeds of the acoustic objectives (``quantile``: its level q in (0, 1))
+STATISTICS: dict[str, Callable[..., op.AbstractStatistic]] = {
+    "max": lambda **_: op.Max(),
+    "mean": lambda **_: op.Mean(),
+    "quantile": _quantile,
+}
 
 DEFAULT_TOL = 1e-7  # rtol = atol of the optimiser's stopping rule
 DEFAULT_LEARNING_RATE = 0.05  # Adam's step
 
 
-def _robust(torque, torques=None, reduce="max", **_) -> op.RobustTeRms:
+def _robust(torque, torques=None, reduce="max", quantile=None, **_) -> op.RobustTeRms:
     torques = np.array([float(torque)]) if torques is None else torques
-    return op.RobustTeRms(torques, _statistic(reduce))
+    return op.RobustTeRms(torques, _statistic(reduce, quantile))
 
 
 def _dynamic(torque, speeds=None, integrator=None, window=None, **_) -> op.DynamicFactor:
@@ -89,23 +102,25 @@ def _tribology(kind):
     """The builder of a tribology objective ``kind``: the case's lubricated mesh, the torque
     range (None: the design torque) and its statistic."""
 
-    def build(torque, lubrication=None, torques=None, reduce="max", **_):
+    def build(torque, lubrication=None, torques=None, reduce="max", quantile=None, **_):
         if lubrication is None:
             raise ValueError(
                 f"objective = {kind.name!r} needs the case's [lubricant] table (the oil, its "
                 "temperature and the flanks' roughness; docs/tribology.md)"
             )
-        return kind(lubrication, torques, _statistic(reduce))
+        return kind(lubrication, torques, _statistic(reduce, quantile))
 
     return build
 
 
 def _acoustic(kind):
     """The builder of an acoustic objective ``kind``: its acoustic path (an
-    :class:`optimise.AcousticPath`, built in Python: a case file does not give one yet), the
-    statistic over the path's speeds, the A weighting, and (sound power) the cached radiation."""
+    :class:`optimise.AcousticPath`; :func:`case_problem` builds a housed case's,
+    :func:`case_acoustic_path`), the statistic over the path's speeds, the A weighting, and
+    (sound power) the cached radiation (:func:`case_radiation`)."""
 
-    def build(torque, acoustic_path=None, reduce="max", a_weighted=True, radiation=None, **_):
+    def build(torque, acoustic_path=None, reduce="max", a_weighted=True, radiation=None,
+              quantile=None, **_):
         if acoustic_path is None:
             raise ValueError(
                 f"objective = {kind.name!r} needs acoustic_path = optimise.AcousticPath(...) "
@@ -117,7 +132,8 @@ def _acoustic(kind):
                 "objective = 'sound_power' needs radiation = optimise.SurfaceRadiation(...) (the "
                 "cached radiation resistance at the path's frequencies)"
             )
-        return kind(acoustic_path, _statistic(reduce), bool(a_weighted), **extra)
+        weighted = True if a_weighted is None else bool(a_weighted)
+        return kind(acoustic_path, _statistic(reduce, quantile), weighted, **extra)
 
     return build
 
@@ -168,6 +184,8 @@ _SETTINGS = {
     "acoustic_path",
     "a_weighted",
     "radiation",
+    "quantile",
+    "progress",
 }
 
 
@@ -180,8 +198,8 @@ def _lookup(table: dict, what: str, name: str):
         ) from None
 
 
-def _statistic(name: str) -> op.AbstractStatistic:
-    return _lookup(STATISTICS, "reduce", name)
+def _statistic(name: str, quantile=None) -> op.AbstractStatistic:
+    return _lookup(STATISTICS, "reduce", name)(quantile=quantile)
 
 
 def objective_from_name(name: str, torque, **settings) -> op.AbstractObjective:
@@ -190,7 +208,8 @@ def objective_from_name(name: str, torque, **settings) -> op.AbstractObjective:
     Args:
         name: e.g. "te_rms", "robust_te_rms", "dynamic_factor".
         torque: the design torque (N·m): the torque range of "robust_te_rms" when none is given.
-        settings: ``torques`` (N·m, (T,)) and ``reduce`` ("max" | "mean") of "robust_te_rms",
+        settings: ``torques`` (N·m, (T,)) and ``reduce`` ("max" | "mean" | "quantile", with
+            ``quantile`` its level in (0, 1)) of "robust_te_rms",
             ``lp_order`` of "line_load_lp", ``speeds`` (rad/s), ``integrator``, ``window`` of
             "dynamic_factor", ``rating`` (the case's :class:`RatingCase`,
             :func:`rating_of`) and ``te_limit`` (the TE RMS limit, m, > 0, or None) of
@@ -256,15 +275,31 @@ def case_problem(
             ``end_relief_blend``: :class:`optimise.Smoothing`) and the other keywords of
             :func:`optimise.make_problem` (``bounds``, ``speed``).
 
+        An acoustic objective ("erp", "sound_power") without an ``acoustic_path`` runs on the
+        housed case's own (:func:`case_acoustic_path`: its lumped 3D scene with the housing,
+        the ``[whine]`` speeds and the orders in the housing's band; that scene is the
+        structure), "sound_power" with the radiation of its ``[acoustics]``
+        (:func:`case_radiation`; ``progress``: a bar over its BEM solves).
+
     Raises:
         ValueError: an unknown objective name, "least_safety" on a case without ``[rating]``,
-            as :func:`optimise.make_problem` otherwise.
+            an acoustic objective on a case without ``[housing]`` and ``[whine]`` ("sound_power":
+            or without ``[acoustics]``), as :func:`optimise.make_problem` otherwise.
     """
     unknown = sorted(set(settings) - _SETTINGS)
     if unknown:
         raise TypeError(f"case_problem() got an unexpected keyword argument {unknown[0]!r}")
     smoothing = {k: settings.pop(k, None) for k in ("contact", "relief_blend", "end_relief_blend")}
     problem_settings = {k: settings.pop(k) for k in ("bounds", "speed") if k in settings}
+    progress = bool(settings.pop("progress", False))
+    if objective in ACOUSTIC_OBJECTIVES and settings.get("acoustic_path") is None:
+        housed = housed_acoustics(case)
+        settings["acoustic_path"] = case_acoustic_path(case, objective, housed=housed)
+        if objective == "sound_power" and settings.get("radiation") is None:
+            settings["radiation"] = case_radiation(case, settings["acoustic_path"], housed,
+                                                   progress=progress)
+    if objective in ACOUSTIC_OBJECTIVES and scene is None:
+        scene = settings["acoustic_path"].model.scene  # the path's own structure
     goal = objective_from_name(
         objective, case.torque, rating=rating_of(case), lubrication=_lubrication(case), **settings
     )

@@ -25,6 +25,8 @@ OBJECTIVE_WORDS = {
     "robust_te_rms": "TE RMS over the torques",
     "max_line_load": "max line load",
     "line_load_lp": "line load Lp norm",
+    "erp": "housing ERP",
+    "sound_power": "radiated sound power",
 }
 
 

@@ -1,0 +1,212 @@
+"""The acoustic path of a housed case: what the acoustic objectives of ``jaxgear optimise``
+("erp", "sound_power"; :mod:`optimise`'s :class:`~optimise.AcousticPath` and
+:class:`~optimise.SurfaceRadiation`) run on, built from a pair case's ``[housing]``, ``[whine]``
+and (sound power) ``[acoustics]`` as ``jaxgear run``'s housed whine builds them
+(docs/acoustics.md, "Optimising for noise").
+
+- :func:`housed_acoustics`: the housing body (condensed, cached), its outer skin with the named
+  points and its :class:`jaxgear.acoustics.HousingAcoustics` (the skin's facets on the condensed
+  coordinates); ``jaxgear run`` reads its housing outputs from the same three.
+- :func:`case_acoustic_path`: the coupled path (the case's lumped 3D scene carries the
+  housing) over the ``[whine]`` speeds, with its method and positions, at the orders of the
+  mesh frequency below the housing's band limit (cut-off / :data:`HOUSING_BAND`) at every speed:
+  the orders the run sums into its overall ERP and radiates.
+- :func:`radiation_grid`: the frequencies ``[acoustics]`` computes R at (its ``band_Hz``, by
+  default the orders' range, ``frequencies`` log-spaced), the run's and the objective's.
+- :func:`case_radiation`: R of the housing's closed skin (:func:`fem_prep.housing.
+  closed_outer_surface`, placed in the scene's frame as the run places it, with the run's
+  microphones: one cache entry serves both) at that grid, and the map from the skin facets'
+  normal velocities to the closed skin's vertices'.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+import jax.numpy as jnp
+import numpy as np
+
+import optimise as op
+from fem_prep import acoustics as fa, schema as sc
+
+from ..acoustics import HousingAcoustics, housing_acoustics
+from ..dynamics import DynamicModel
+from ._acoustics_table import AcousticsInputs, acoustics_of
+from ._housing_table import housing_surface
+from ._whine_table import whine_of
+
+__all__ = [
+    "FACTOR_BYTES",
+    "HOUSING_BAND",
+    "HousedAcoustics",
+    "case_acoustic_path",
+    "case_radiation",
+    "closed_skin",
+    "housed_acoustics",
+    "radiation_grid",
+]
+
+#: the condensed housing's band: orders at frequencies up to cut-off / HOUSING_BAND count
+#: (docs/housing.md, "What the condensation keeps": the default cut-off is 1.5 x the highest
+#: mesh order's)
+HOUSING_BAND = 1.5
+#: the most memory (bytes) the radiation's factors L (G grid frequencies x n vertices x rank,
+#: complex) may take in the design loop
+FACTOR_BYTES = 2 * 1024**3
+
+
+class HousedAcoustics(NamedTuple):
+    """A housed case's housing: its :class:`~jaxgear.io.HousingBody` ``body``, its outer skin
+    ``surface`` (:class:`fem_prep.housing.HousingSurface`, the named points on it) and the
+    skin's ``acoustics`` on the condensed coordinates
+    (:class:`jaxgear.acoustics.HousingAcoustics`)."""
+
+    body: object
+    surface: object
+    acoustics: HousingAcoustics
+
+    @property
+    def band_limit_hz(self) -> float:
+        """The highest frequency (Hz) whose response the condensed housing holds:
+        cut-off / :data:`HOUSING_BAND`."""
+        return float(self.body.condensed.cutoff_hz) / HOUSING_BAND
+
+
+def housed_acoustics(case) -> HousedAcoustics | None:
+    """The :class:`HousedAcoustics` of ``case``, None without ``[housing]``.
+
+    Raises:
+        SchemaError: a named point off the housing's outer surface (one line naming its key).
+    """
+    if case.housing is None:
+        return None
+    body = case.housing_body()  # the condensed housing from fem_prep's cache
+    surface = housing_surface(case.housing, body)
+    acoustics = housing_acoustics(body.condensed, surface, loss_factor=case.housing.loss_factor)
+    return HousedAcoustics(body, surface, acoustics)
+
+
+def _refuse(objective: str, why: str):
+    return sc.fail("optimise", "objective", why, objective)
+
+
+def case_acoustic_path(case, objective: str = "erp", model=None,
+                       housed: HousedAcoustics | None = None) -> op.AcousticPath:
+    """The :class:`optimise.AcousticPath` of a housed pair case: its lumped 3D scene with the
+    housing (coupled; ``model``: default :func:`jaxgear.io.build_dynamic_model` of the case), the
+    ``[whine]`` speeds, method and positions per period, the orders h of the mesh frequency
+    f_m = Ω z₁ / 2π whose h f_m at the highest speed lies within the housing's band limit
+    (:attr:`HousedAcoustics.band_limit_hz`).
+
+    Args:
+        case: a pair :class:`~jaxgear.io.Case` with ``[housing]`` and ``[whine]``.
+        objective: the objective's name, for the errors.
+        model, housed: already built (default: built here).
+
+    Raises:
+        SchemaError: no ``[housing]`` or ``[whine]``, a model that is not lumped, no order in the
+            band (one line naming ``[optimise] objective`` and what is missing).
+    """
+    whine = whine_of(case)
+    for table, given in (("housing", case.housing), ("whine", whine)):
+        if given is None:
+            raise _refuse(objective, f"runs on a housed gearbox's whine: the case needs "
+                          f"[{table}] ([housing] and [whine] both; docs/acoustics.md)")
+    if model is None:
+        from ._case_model import build_dynamic_model
+
+        model, _ = build_dynamic_model(case)
+    if not isinstance(model, DynamicModel):
+        raise _refuse(objective, f"runs on a lumped scene carrying the housing: the case's model "
+                      f"is a {type(model).__name__}")
+    housed = housed_acoustics(case) if housed is None else housed
+    speeds = np.asarray(whine.speeds, dtype=float)
+    f_mesh = speeds.max() * case.pair.pinion.teeth / (2 * math.pi)
+    H = int(whine.method.harmonics)
+    orders = tuple(h for h in range(1, H + 1) if h * f_mesh <= housed.band_limit_hz)
+    if not orders:
+        raise _refuse(objective, f"no order of [whine] lies below the housing's band limit at "
+                      f"every speed ({housed.band_limit_hz:.0f} Hz = cut-off / {HOUSING_BAND:g}, "
+                      f"order 1 at {f_mesh:.0f} Hz): allowed a cut-off above 1.5 x the highest "
+                      "order's frequency")
+    return op.AcousticPath(model, housed.acoustics, speeds, orders, whine.method,
+                           positions=whine.positions)
+
+
+def radiation_grid(inputs: AcousticsInputs, frequencies) -> tuple[tuple[float, float], np.ndarray]:
+    """The band (Hz) and the grid frequencies (Hz, (G,)) ``[acoustics]`` computes R at:
+    ``band_Hz`` (default the range of ``frequencies``), ``frequencies`` of them log-spaced (one
+    when the band is a single frequency)."""
+    f = np.asarray(frequencies, dtype=float)
+    band = inputs.band or (float(f.min()), float(f.max()))
+    grid = (np.array([band[0]]) if inputs.frequencies == 1 or band[1] <= band[0]
+            else np.geomspace(band[0], band[1], inputs.frequencies))
+    return band, grid
+
+
+def closed_skin(housed: HousedAcoustics):
+    """The housing's outer skin closed over its openings (:func:`fem_prep.housing.
+    closed_outer_surface`) and that closed surface placed in the scene's frame
+    (x = R x_housing + t), as a :class:`fem_prep.acoustics.RadiatingSurface`."""
+    from fem_prep.housing import closed_outer_surface
+
+    body = housed.body
+    skin = closed_outer_surface(body.mesh, housed.surface)
+    R = np.asarray(body.housing.rotation, dtype=float)
+    placed = fa.RadiatingSurface(skin.surface.vertices @ R.T + np.asarray(body.offset, float),
+                                 skin.surface.triangles)
+    return skin, placed
+
+
+def case_radiation(case, path: op.AcousticPath, housed: HousedAcoustics | None = None,
+                   progress: bool = False) -> op.SurfaceRadiation:
+    """The :class:`optimise.SurfaceRadiation` of a housed case's ``[acoustics]`` for the
+    objective "sound_power" on ``path`` (:func:`case_acoustic_path`): R of the closed skin by
+    the table's method (``bem`` or ``erp-only``), fluid and rank at :func:`radiation_grid` of the
+    path's order frequencies (read from / written to fem_prep's cache as ``jaxgear run`` does),
+    and the vertex map V = (N_v Φ)(N_f Φ)⁺ from the skin facets' mean normal velocities to the
+    closed skin's vertex normal velocities (exact on the condensed coordinates' span: N_f Φ of
+    full column rank).
+
+    Raises:
+        SchemaError: no ``[acoustics]``; a ``band_Hz`` that does not span the path's
+            frequencies; factors over :data:`FACTOR_BYTES` (naming ``rank``); a skin whose facets
+            do not determine its vertices' motion (one line each).
+    """
+    inputs = acoustics_of(case, progress)
+    if inputs is None:
+        raise _refuse("sound_power", "radiates by the case's [acoustics] table (its method, band "
+                      "and grid; e.g. [acoustics] method = 'bem'): the case has none")
+    housed = housed_acoustics(case) if housed is None else housed
+    f1 = np.asarray(path.speeds) * case.pair.pinion.teeth / (2 * math.pi)
+    freq = f1[:, None] * np.asarray(path.orders, dtype=float)[None, :]
+    band, grid = radiation_grid(inputs, freq)
+    if freq.min() < grid[0] * (1 - 1e-9) or freq.max() > grid[-1] * (1 + 1e-9):
+        raise sc.fail("acoustics", "band_Hz", "must span the order frequencies the objective "
+                      f"sound_power radiates at, [{freq.min():.6g}, {freq.max():.6g}] Hz",
+                      list(band))
+    skin, placed = closed_skin(housed)
+    n = int(placed.n_vertices)
+    rank = n if inputs.rank is None else min(inputs.rank, n)
+    need = len(grid) * n * rank * 16
+    if need > FACTOR_BYTES:
+        allowed = max(1, FACTOR_BYTES // (16 * len(grid) * n))
+        raise sc.fail("acoustics", "rank", f"the radiation's factors ({len(grid)} frequencies x "
+                      f"{n} vertices x rank {rank}) take {need / 1024**3:.3g} GiB in the design "
+                      f"loop: allowed rank <= {allowed} (or fewer frequencies)",
+                      sc.MISSING if inputs.rank is None else inputs.rank)
+    body = housed.body
+    vertices = np.asarray(skin.normal_operator @ body.condensed.recovery)  # (n, n_c)
+    facets = np.asarray(housed.acoustics.normal_map)  # (F, n_c)
+    vertex_map = np.linalg.lstsq(facets.T, vertices.T, rcond=None)[0].T  # (n, F)
+    err = np.linalg.norm(vertex_map @ facets - vertices) / max(np.linalg.norm(vertices), 1e-300)
+    if not err <= 1e-6:
+        raise _refuse("sound_power", f"the housing skin's {facets.shape[0]} facets do not "
+                      f"determine its {facets.shape[1]} condensed coordinates' motion (relative "
+                      f"residual {err:.2g}): allowed a finer [housing] mesh_size_mm")
+    mics = inputs.microphones
+    points = np.array([p for _, p in mics]) if mics else None
+    rr = fa.radiation_resistance(placed, grid, inputs.fluid, inputs.method, rank=inputs.rank,
+                                 cache=inputs.cache, progress=progress, points=points)
+    return op.SurfaceRadiation(jnp.asarray(vertex_map), jnp.asarray(rr.factors), grid)

@@ -1,0 +1,90 @@
+"""The housings the housing and acoustics tests share: a soft box round the accessory-spur pair
+(E = 7 GPa, coarse 40 mm Tet4 cells: condensed in a few seconds) as a case file's ``[housing]``,
+a short ``[whine]`` (3 speeds, 2 harmonics) and the case written with them (slices reduced to
+4); and, for the one-way path built in Python, an aluminium box round a pair of centre distance
+a with its seats (the pinion's bearings on seats 0 and 1, the gear's on 2 and 3) and the
+rotation from the lumped scene's axes to the box's."""
+
+from __future__ import annotations
+
+import fem_prep
+import jaxgear.io as jio
+from fem_prep.housing import Bore, Foot, HousingBox
+
+__all__ = [
+    "ALUMINIUM",
+    "HOUSING_BOX",
+    "HOUSING_TABLE",
+    "ROTATION",
+    "WHINE_TABLE",
+    "accessory_box",
+    "housed_case",
+    "one_way_seats",
+]
+
+ALUMINIUM = fem_prep.Material(70e9, 0.33, 2700.0)
+#: the lumped scene's axes to the box's: z along the shafts (the box's y), x between the
+#: centres (its x)
+ROTATION = ((1.0, 0.0, 0.0), (0.0, 0.0, 1.0), (0.0, 1.0, 0.0))
+
+#: the box of [housing] round the accessory-spur pair: a soft one (E = 7 GPa), coarse Tet4
+#: cells (a few seconds to condense); its cut-off and loss factor follow it
+HOUSING_BOX = """
+[housing]
+width_mm = 250.0
+height_mm = 160.0
+wall_thickness_mm = 10.0
+bore_diameter_mm = 50.0
+mesh_size_mm = 40.0
+element = "tet4"
+youngs_modulus_GPa = 7.0
+density_kg_m3 = 2700.0
+"""
+
+#: that box undamped, condensed to 6 kHz, with two named points
+HOUSING_TABLE = HOUSING_BOX + """cutoff_Hz = 6000.0
+loss_factor = 0.0
+[housing.points_mm]
+top = [50.0, 80.0, 0.0]
+"side wall" = [175.0, 0.0, 20.0]
+"""
+
+WHINE_TABLE = """
+[whine]
+speed_min_rad_s = 40.0
+speed_max_rad_s = 160.0
+speeds = 3
+harmonics = 2
+positions_per_period = 16
+"""
+
+
+def housed_case(tmp_path, table=HOUSING_TABLE, whine="", damping=None, extra=""):
+    """The accessory-spur case (4 slices) with ``table``, ``whine`` and ``extra`` appended
+    (``damping``: the ``[scene.damping]`` body instead of the composite model), written to
+    ``tmp_path/housed.toml`` and loaded."""
+    text = jio.embedded_case_text("accessory-spur").replace("slices = 40", "slices = 4")
+    if damping is not None:
+        text = text.replace('[scene.damping]\nmodel = "composite"', f"[scene.damping]\n{damping}")
+    path = tmp_path / "housed.toml"
+    path.write_text(text + table + whine + extra)
+    return jio.load_case(str(path))
+
+
+def accessory_box(a: float) -> HousingBox:
+    """A 0.3 x 0.2 x 0.2 m box (8 mm walls) round a pair of centre distance ``a`` (m): the
+    pinion's bearings in the walls y = 0 and 0.2 m at (x, z) = (0.08, 0.1) m, the gear's at
+    (0.08 + a, 0.1) m (seats 0, 1 and 2, 3), two feet along its ends."""
+    return HousingBox(
+        0.3, 0.2, 0.2, 0.008,
+        bores=(Bore("y-", (0.08, 0.1), 0.025), Bore("y+", (0.08, 0.1), 0.025),
+               Bore("y-", (0.08 + a, 0.1), 0.03), Bore("y+", (0.08 + a, 0.1), 0.03)),
+        feet=(Foot((0.0, 0.05), (0.0, 0.2)), Foot((0.25, 0.3), (0.0, 0.2))),
+    )
+
+
+def one_way_seats(names) -> tuple[int, ...]:
+    """The seat of each bearing force component of a lumped pair (its ``reaction_names``) on a
+    box whose pinion bearings sit on seats 0, 1 and the gear's on 2, 3 (the bearing at z = 0 on
+    the first of each)."""
+    return tuple((0 if "z=0mm" in n else 1) + (2 if n.startswith("gear") else 0) for n in names)
