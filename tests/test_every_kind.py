@@ -58,12 +58,8 @@ def _csv_finite(path: Path) -> None:
 # (test_jaxgear_run_on_the_two_stage_case_writes_bearing_forces); a lumped 3D pair's run is
 # tests/test_cli_scene_curves.py's default run of a small lumped 3D pair (its scene's curves and
 # files) with tests/test_regression.py's default sweep-accessory-spur (the sweep_case of a lumped
-# 3D pair, against its record). A rigid pair's run (no scene: its quasi-static files, no sweep) is
-# tests/test_cli.py's default run of a small rigid helical pair
-# (test_run_writes_summary_csv_and_plots: its summary keys, CSV files and plots) and
-# tests/test_regression.py's default run-power-helical (a rigid pair's whole summary against its
-# record).
-SLOW_RUN = {"train-two-stage", "pair-torsional", "train-lumped3d", "pair-lumped3d", "pair-rigid"}
+# 3D pair, against its record).
+SLOW_RUN = {"train-two-stage", "pair-torsional", "train-lumped3d", "pair-lumped3d"}
 # The commands here that are also tests/test_regression.py's records (the same case text, the
 # same options): their outputs are compared with the record here, and the regression test runs
 # them only in the slow suite (one run of each in the default suite, not two).
