@@ -112,6 +112,7 @@ def test_torsional_model_is_a_structure_of_rotations_with_one_mesh(accessory):
     cb, r1, r2 = (
         float(v) for v in (jnp.cos(m.base_helix_angle), m.base_radius_pinion, m.base_radius_gear)
     )
+
     # the cells at one position and their vectors in one compiled program (op by op they were
     # some 90 small programs)
     @eqx.filter_jit
