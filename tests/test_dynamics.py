@@ -112,8 +112,16 @@ def test_torsional_model_is_a_structure_of_rotations_with_one_mesh(accessory):
     cb, r1, r2 = (
         float(v) for v in (jnp.cos(m.base_helix_angle), m.base_radius_pinion, m.base_radius_gear)
     )
-    cells = m.cells(0.3 * float(m.mesh_period_angle))
-    V = np.asarray(s4.cell_vectors(cells))
+
+    # the cells at one position and their vectors in one compiled program (op by op they were
+    # some 90 small programs)
+    @eqx.filter_jit
+    def cells_and_vectors(s4, m, angle):
+        cells = m.cells(angle)
+        return cells, s4.cell_vectors(cells)
+
+    cells, V = cells_and_vectors(s4, m, 0.3 * float(m.mesh_period_angle))
+    V = np.asarray(V)
     on = np.asarray(cells.mask)
     np.testing.assert_allclose(
         V[on], np.broadcast_to([0.0, cb * r1, -cb * r2, 0.0], V[on].shape), rtol=1e-15
@@ -438,7 +446,9 @@ def test_dynamic_model_checks_are_jittable(accessory):
         build(-1.0)  # a Python float is static under filter_jit: refused before tracing
 
 
-@pytest.mark.parametrize("solver", ["newmark", "tsit5"])
+# slow (newmark): the default suite covers forward mode through the Newmark dynamics against a
+# central difference in test_gradient_wrt_tip_relief_matches_finite_differences (jax.jvp)
+@pytest.mark.parametrize("solver", [pytest.param("newmark", marks=pytest.mark.slow), "tsit5"])
 def test_forward_mode_through_the_dynamics_matches_finite_differences(solver):
     """jax.jvp of the dynamic TE RMS w.r.t. the relief depth, Newmark and diffrax paths (the
     diffrax path needs ``adjoint="forward"``: the default checkpointed adjoint is a custom_vjp),

@@ -10,6 +10,7 @@ import functools
 import itertools
 import math
 
+import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
@@ -187,6 +188,11 @@ def test_train_phases_put_every_contact_point_on_the_generated_flanks():
         generate_tooth(jg.tooth_geometry(pairs[1], 1), n_involute=1600),
     ]
 
+    @eqx.filter_jit
+    def contact_points(plane, mesh, angle):  # one compiled program per mesh, not op by op
+        cells = plane.cells(angle)
+        return cells.mask, mesh.points(cells)
+
     def misses(phase_error):
         worst = 0.0
         for k, (line, (g, h)) in enumerate(zip((line_a, line_b), gears, strict=True)):
@@ -194,8 +200,8 @@ def test_train_phases_put_every_contact_point_on_the_generated_flanks():
             mesh = pair_mesh(plane, line, jnp.zeros(3))
             for theta in (0.0, 0.031, 0.117, 0.25):
                 angle = ratios[k] * theta + phases[k] + (phase_error if k else 0.0)
-                cells = plane.cells(jnp.asarray(angle))
-                points = np.asarray(mesh.points(cells))[np.asarray(cells.mask)]
+                mask, points = contact_points(plane, mesh, jnp.asarray(angle))
+                points = np.asarray(points)[np.asarray(mask)]
                 assert points.shape[0] > 0
                 for gear, side in ((g, 1.0), (h, -1.0)):
                     c = tooth[gear] + gear_ratio[gear] * theta

@@ -416,6 +416,9 @@ def test_a_branching_train_shares_the_power_by_statics():
     data["gears"].append(acc)
     data["meshes"].append({"driving": "idler", "driven": "accessory", "angle_deg": -90.0})
     data["operating"]["loads"] = [{"gear": "accessory", "torque_Nm": -20.0}]
+    # the model's time averages on the run's 32 steps per period (not the 64 positions of an
+    # "auto" step): the sweep below runs on the rows the build holds (one table, not two)
+    data["scene"]["integration"]["steps_per_period"] = 32
     case = jio.parse_train(copy.deepcopy(data))
     res = jg.quasi_static(
         case.static_train(), case.mesh_modifications(), case.torque, positions_per_pitch=PPP
