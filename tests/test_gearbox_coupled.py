@@ -173,7 +173,8 @@ def test_quasi_static_limit_gives_the_torque_ratios():
 
 def test_sweep_is_each_speed_run_alone():
     """The vmapped sweep is the single runs at its speeds (the engine's vectorisation)."""
-    chain, run = EX.two_stage(periods=4, keep_periods=1)
+    # the plan of test_quasi_static_limit_gives_the_torque_ratios (one compiled single run)
+    chain, run = EX.two_stage(steps_per_period=2048, periods=3, keep_periods=2)
     speeds = jnp.array([30.0, 70.0])
     sweep = gb.gearbox_speed_sweep(chain, run, speeds)
     for i, w in enumerate(speeds):
@@ -244,7 +245,9 @@ def test_automatic_time_plan_converges():
     chain, run = EX.two_stage(steps_per_period=None, periods=None, keep_periods=1)
     auto = gb.gearbox_dynamics(chain, run, 100.0)
     per_block = auto.time.shape[0]  # one recorded block: 2 S steps (stage 2 meshes twice as fast)
-    _, finer = EX.two_stage(steps_per_period=per_block, periods=None, keep_periods=1)
+    # the same blocks as the automatic span (given: no second modal solve for the plan)
+    blocks = int(auto.steps) // per_block
+    _, finer = EX.two_stage(steps_per_period=per_block, periods=blocks, keep_periods=1)
     fine = gb.gearbox_dynamics(chain, finer, 100.0)
     assert int(auto.result) == 0 and int(fine.result) == 0
     assert fine.time.shape[0] == 2 * per_block
@@ -252,11 +255,15 @@ def test_automatic_time_plan_converges():
                                np.asarray(fine.dynamic_factors), rtol=1.5e-2)
 
 
-def test_jaxgear_runs_coupled_section(tmp_path):
+def test_jaxgear_runs_coupled_section(tmp_path, monkeypatch):
     """jaxgear run's coupled section of a gearbox (jaxgear.cli.gearbox.coupled_sweep) on the
     two-stage case file: coupled.json and coupled.png written, the nine meshes named, their
-    static forces the torque ratios', the modes typed, the resolution reported."""
+    static forces the torque ratios', the modes typed, the resolution reported (at the ends of
+    the operating range alone: the lowest speed sets the step, the highest the span)."""
+    import jaxgear.cli.gearbox as cli_gearbox
     from jaxgear.cli.gearbox import coupled_sweep
+
+    monkeypatch.setattr(cli_gearbox, "COUPLED_SPEEDS", cli_gearbox.COUPLED_SPEEDS[[0, -1]])
 
     case = jio.load_case(str(pathlib.Path(__file__).parent / "data" / "gearbox"
                              / "two-stage-gearbox.toml"))
