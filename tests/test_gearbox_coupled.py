@@ -14,7 +14,6 @@ import scipy.linalg
 from _examples import load_example
 
 import jaxgear as jg
-import jaxgear.dynamics as jd
 import jaxgear.io as jio
 from jaxgear import gearbox as gb
 
@@ -192,15 +191,23 @@ def test_bad_inputs_one_line():
         gb.gearbox_dynamics("box", run, 1.0)
 
 
-def test_the_case_file_builds_the_example():
+@pytest.fixture(scope="module")
+def case_modes():
+    """The two-stage case file's coupled chain (contact on the theoretical path, as the case
+    file states) and its coupled modes (Hz) on the example's default run: shared by the
+    case-file and extended-contact tests (one modal solve)."""
+    _, run = EX.two_stage()
+    chain = jio.load_case(str(pathlib.Path(__file__).parent / "data" / "gearbox"
+                              / "two-stage-gearbox.toml")).form.coupled()
+    return chain, np.asarray(gb.gearbox_coupled_modes(chain, run).analysis.frequency)
+
+
+def test_the_case_file_builds_the_example(case_modes):
     """tests/data/gearbox/two-stage-gearbox.toml (the same gearbox as case files: a planetary
     case, a pair case, the gearbox's [[stages]]) gives, through jaxgear.io's GearboxForm.coupled,
     the model the example builds in Python: the same coupled modes and the same cells."""
-    case = jio.load_case(str(pathlib.Path(__file__).parent / "data" / "gearbox"
-                             / "two-stage-gearbox.toml"))
-    chain = case.form.coupled()
+    chain, f_case = case_modes
     ex, run = EX.two_stage()
-    f_case = np.asarray(gb.gearbox_coupled_modes(chain, run).analysis.frequency)
     f_ex = np.asarray(gb.gearbox_coupled_modes(ex, run).analysis.frequency)
     np.testing.assert_allclose(f_case, f_ex, rtol=1e-10)
     # the rows of both builds by one compiled program per kind of stage (the same function of
@@ -215,7 +222,7 @@ def test_the_case_file_builds_the_example():
                                        rtol=1e-12)
 
 
-def test_extended_contact_leaves_the_mesh_averaged_modes(tmp_path):
+def test_extended_contact_leaves_the_mesh_averaged_modes(tmp_path, case_modes):
     """The gearbox case files with contact beyond the theoretical path (the case files' default,
     here the pin removed): the coupled modes (M, K + K̄_m) are those on the theoretical path to
     1e-10 (K̄_m averages the cells on the path: beyond it a corner's cell holds a gap and
@@ -229,11 +236,10 @@ def test_extended_contact_leaves_the_mesh_averaged_modes(tmp_path):
         (tmp_path / f.name).write_text("".join(keep), encoding="utf-8")
     extended = jio.load_case(str(tmp_path / "two-stage-gearbox.toml")).form.coupled()
     assert extended.stages[1].mesh.extended_contact  # the default, on
-    path = jio.load_case(str(data / "two-stage-gearbox.toml")).form.coupled()
+    path, f_path = case_modes  # the case file itself: on the theoretical path
     assert not path.stages[1].mesh.extended_contact
     _, run = EX.two_stage()
     f_ext = np.asarray(gb.gearbox_coupled_modes(extended, run).analysis.frequency)
-    f_path = np.asarray(gb.gearbox_coupled_modes(path, run).analysis.frequency)
     np.testing.assert_allclose(f_ext, f_path, rtol=1e-10)
 
 
