@@ -14,7 +14,6 @@ import scipy.linalg
 from _examples import load_example
 
 import jaxgear as jg
-import jaxgear.dynamics as jd
 import jaxgear.io as jio
 from jaxgear import gearbox as gb
 
@@ -173,7 +172,8 @@ def test_quasi_static_limit_gives_the_torque_ratios():
 
 def test_sweep_is_each_speed_run_alone():
     """The vmapped sweep is the single runs at its speeds (the engine's vectorisation)."""
-    chain, run = EX.two_stage(periods=4, keep_periods=1)
+    # the plan of test_quasi_static_limit_gives_the_torque_ratios (one compiled single run)
+    chain, run = EX.two_stage(steps_per_period=2048, periods=3, keep_periods=2)
     speeds = jnp.array([30.0, 70.0])
     sweep = gb.gearbox_speed_sweep(chain, run, speeds)
     for i, w in enumerate(speeds):
@@ -191,15 +191,23 @@ def test_bad_inputs_one_line():
         gb.gearbox_dynamics("box", run, 1.0)
 
 
-def test_the_case_file_builds_the_example():
+@pytest.fixture(scope="module")
+def case_modes():
+    """The two-stage case file's coupled chain (contact on the theoretical path, as the case
+    file states) and its coupled modes (Hz) on the example's default run: shared by the
+    case-file and extended-contact tests (one modal solve)."""
+    _, run = EX.two_stage()
+    chain = jio.load_case(str(pathlib.Path(__file__).parent / "data" / "gearbox"
+                              / "two-stage-gearbox.toml")).form.coupled()
+    return chain, np.asarray(gb.gearbox_coupled_modes(chain, run).analysis.frequency)
+
+
+def test_the_case_file_builds_the_example(case_modes):
     """tests/data/gearbox/two-stage-gearbox.toml (the same gearbox as case files: a planetary
     case, a pair case, the gearbox's [[stages]]) gives, through jaxgear.io's GearboxForm.coupled,
     the model the example builds in Python: the same coupled modes and the same cells."""
-    case = jio.load_case(str(pathlib.Path(__file__).parent / "data" / "gearbox"
-                             / "two-stage-gearbox.toml"))
-    chain = case.form.coupled()
+    chain, f_case = case_modes
     ex, run = EX.two_stage()
-    f_case = np.asarray(gb.gearbox_coupled_modes(chain, run).analysis.frequency)
     f_ex = np.asarray(gb.gearbox_coupled_modes(ex, run).analysis.frequency)
     np.testing.assert_allclose(f_case, f_ex, rtol=1e-10)
     # the rows of both builds by one compiled program per kind of stage (the same function of
@@ -214,7 +222,7 @@ def test_the_case_file_builds_the_example():
                                        rtol=1e-12)
 
 
-def test_extended_contact_leaves_the_mesh_averaged_modes(tmp_path):
+def test_extended_contact_leaves_the_mesh_averaged_modes(tmp_path, case_modes):
     """The gearbox case files with contact beyond the theoretical path (the case files' default,
     here the pin removed): the coupled modes (M, K + K̄_m) are those on the theoretical path to
     1e-10 (K̄_m averages the cells on the path: beyond it a corner's cell holds a gap and
@@ -228,11 +236,10 @@ def test_extended_contact_leaves_the_mesh_averaged_modes(tmp_path):
         (tmp_path / f.name).write_text("".join(keep), encoding="utf-8")
     extended = jio.load_case(str(tmp_path / "two-stage-gearbox.toml")).form.coupled()
     assert extended.stages[1].mesh.extended_contact  # the default, on
-    path = jio.load_case(str(data / "two-stage-gearbox.toml")).form.coupled()
+    path, f_path = case_modes  # the case file itself: on the theoretical path
     assert not path.stages[1].mesh.extended_contact
     _, run = EX.two_stage()
     f_ext = np.asarray(gb.gearbox_coupled_modes(extended, run).analysis.frequency)
-    f_path = np.asarray(gb.gearbox_coupled_modes(path, run).analysis.frequency)
     np.testing.assert_allclose(f_ext, f_path, rtol=1e-10)
 
 
@@ -244,7 +251,9 @@ def test_automatic_time_plan_converges():
     chain, run = EX.two_stage(steps_per_period=None, periods=None, keep_periods=1)
     auto = gb.gearbox_dynamics(chain, run, 100.0)
     per_block = auto.time.shape[0]  # one recorded block: 2 S steps (stage 2 meshes twice as fast)
-    _, finer = EX.two_stage(steps_per_period=per_block, periods=None, keep_periods=1)
+    # the same blocks as the automatic span (given: no second modal solve for the plan)
+    blocks = int(auto.steps) // per_block
+    _, finer = EX.two_stage(steps_per_period=per_block, periods=blocks, keep_periods=1)
     fine = gb.gearbox_dynamics(chain, finer, 100.0)
     assert int(auto.result) == 0 and int(fine.result) == 0
     assert fine.time.shape[0] == 2 * per_block
@@ -252,11 +261,15 @@ def test_automatic_time_plan_converges():
                                np.asarray(fine.dynamic_factors), rtol=1.5e-2)
 
 
-def test_jaxgear_runs_coupled_section(tmp_path):
+def test_jaxgear_runs_coupled_section(tmp_path, monkeypatch):
     """jaxgear run's coupled section of a gearbox (jaxgear.cli.gearbox.coupled_sweep) on the
     two-stage case file: coupled.json and coupled.png written, the nine meshes named, their
-    static forces the torque ratios', the modes typed, the resolution reported."""
+    static forces the torque ratios', the modes typed, the resolution reported (at the ends of
+    the operating range alone: the lowest speed sets the step, the highest the span)."""
+    import jaxgear.cli.gearbox as cli_gearbox
     from jaxgear.cli.gearbox import coupled_sweep
+
+    monkeypatch.setattr(cli_gearbox, "COUPLED_SPEEDS", cli_gearbox.COUPLED_SPEEDS[[0, -1]])
 
     case = jio.load_case(str(pathlib.Path(__file__).parent / "data" / "gearbox"
                              / "two-stage-gearbox.toml"))

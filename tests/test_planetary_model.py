@@ -70,8 +70,10 @@ def test_simulate_and_speed_sweep_are_planetary_dynamics(seq):
     st, meshes, run, model = seq
     speeds = np.array([80.0, 160.0])
     window = jd.SteadyState(4, 2)
-    sweep = jd.speed_sweep(model, speeds, integrator=jd.Newmark(96), window=window)
-    direct = jp.PlanetaryRun(TORQUE, steps_per_period=96, periods=4, keep_periods=2,
+    # N_s = 384 over 4 periods: the direct run of test_a_sweep_of_several_automatic_steps_runs_
+    # each_at_its_own at N_s = 384 (one compiled planetary_dynamics for both)
+    sweep = jd.speed_sweep(model, speeds, integrator=jd.Newmark(384), window=window)
+    direct = jp.PlanetaryRun(TORQUE, steps_per_period=384, periods=4, keep_periods=2,
                              damping_ratio=0.05, ring_cell_space=True)
     for k, w in enumerate(speeds):
         want = jp.planetary_dynamics(jg.TorsionalPlanetary(), st, meshes, direct, jnp.asarray(w))
@@ -79,7 +81,7 @@ def test_simulate_and_speed_sweep_are_planetary_dynamics(seq):
                                    rtol=1e-9)
         np.testing.assert_allclose(sweep.results.ring_mesh_forces[k], want.ring_mesh_forces,
                                    rtol=1e-9)
-    one = jd.simulate(model, speeds[1], integrator=jd.Newmark(96), window=window)
+    one = jd.simulate(model, speeds[1], integrator=jd.Newmark(384), window=window)
     np.testing.assert_allclose(one.dynamic_factors[0], sweep.results.dynamic_factors[0][1],
                                rtol=1e-9)
 

@@ -156,17 +156,17 @@ def test_the_spectrum_turn_is_one_settled_period_repeated(small_case, tmp_path):
     model, ring = jg.PlanarPlanetary(), jp.RigidRing()
     assert jp.carrier_periodic(stage, False)
     z_r = 53
-    w = spec.speeds(30.0)
     run = jp.PlanetaryRun(abs(spec.torques(case.torque)["sun"]), steps_per_period=SMALL_S,
                           periods=settle + 1, keep_periods=1,
                           tangential_pin_errors=np.array([10e-6, 0.0, 0.0]),
                           radial_pin_errors=np.zeros(3))
-    # the turn as ring_spectrum integrates it (the same compiled run)
-    turn = jp.PlanetaryRun(run.sun_torque, steps_per_period=SMALL_S, periods=settle + z_r,
-                           keep_periods=z_r, tangential_pin_errors=run.tangential_pin_errors,
-                           radial_pin_errors=run.radial_pin_errors)
-    d = jp.planetary_dynamics(model, stage, meshes, turn, jnp.asarray(w["carrier"]),
-                              jnp.asarray(spec.mesh_speed(30.0)), ring=ring)
+    # the turn as ring_spectrum integrates it: the stage's engine (jaxgear.dynamics.simulate)
+    # at the same step, settling and kept periods, so that ring_spectrum's integration below
+    # reuses this compiled run
+    engine = jp.PlanetaryModel(model, stage, meshes, run, spec.speeds(1.0)["carrier"],
+                               spec.mesh_speed(1.0), ring)
+    d = jd.simulate(engine, 30.0, integrator=jd.Newmark(SMALL_S),
+                    window=jd.SteadyState(settle + z_r, z_r))
     f = np.asarray(d.ring_mesh_forces)
     nominal = float(d.static_force)
     last = f[-SMALL_S:]

@@ -157,15 +157,21 @@ def test_k_h_alpha_of_a_uniform_stage_mesh_against_the_closed_form():
 def test_use_measured_k_h_alpha_rates_each_mesh_with_the_stages(tmp_path):
     """`use_measured = ["K_Halpha"]`: each mesh rated with its measured K_Halpha (within ISO's
     limits, jg.rating.transverse_factor_limits) in place of ISO's, K_Falpha with it; no warning (the
-    stage measures it). K_v named too: the one-line warning names K_v only."""
+    stage measures it). K_v named too (in the same rating): the one-line warning names K_v
+    only."""
     from jaxgear.cli.planetary import rating_section
 
-    case = _stage2(relief_um=60.0, use=["K_Halpha"])
+    # one rating with K_v named too (not measured here): its one use_measured warning names K_v
+    # alone (K_Halpha is measured: no warning of it)
+    case = _stage2(relief_um=60.0, use=["K_Halpha", "K_v"])
     loads = _loads(case)
-    with warnings.catch_warnings():
-        warnings.filterwarnings("error", "\\[rating\\] use_measured", CaseWarning)
-        warnings.filterwarnings("ignore", category=CaseWarning)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
         sec = rating_section(case, str(tmp_path), 1.0, loads=loads, table=stub_table)
+    said = [str(w.message) for w in caught if issubclass(w.category, CaseWarning)
+            and "use_measured" in str(w.message)]
+    assert len(said) == 1, said
+    assert said[0].startswith("[rating] use_measured: K_v not measured on this planetary"), said
     measured = sec["measured"]["K_Halpha"]["value"]
     caps = [float(jg.rating.transverse_factor_limits(rc.geometry)[0]) for rc in jio.ratings_of(case)]
     for key in ("K_Halpha", "K_Falpha"):
@@ -176,9 +182,6 @@ def test_use_measured_k_h_alpha_rates_each_mesh_with_the_stages(tmp_path):
     md = (tmp_path / "rating.md").read_text()
     assert md.count("| K_Hα measured |") == 2
     assert md.count("| σ_F,FE max | ") == 2 and "not computed" not in md  # the ring: its cutter
-    case_v = _stage2(relief_um=60.0, use=["K_Halpha", "K_v"])
-    with pytest.warns(CaseWarning, match=r"use_measured: K_v not measured on this planetary"):
-        rating_section(case_v, str(tmp_path), 1.0, loads=loads, table=stub_table)
 
 
 @pytest.mark.parametrize("resolution", [
