@@ -7,6 +7,8 @@ from __future__ import annotations
 
 import pathlib
 
+import equinox as eqx
+import jax.numpy as jnp
 import numpy as np
 import pytest
 
@@ -80,8 +82,8 @@ def tooth_offsets(member: FlexibleMember, mesh, side: float, theta: float) -> np
     the nearest station of the member's rim in the turning body frame. ``side``: +1 where the
     member drives the mesh, −1 where it is driven (the tooth lies on the side −side·n of its
     flank)."""
-    cells = mesh.base_plane.cells(mesh.angle(theta))
-    p = np.asarray(mesh.points(cells))[np.asarray(cells.mask)]
+    points, mask, frame = (np.asarray(a) for a in _flank_points(member, mesh, jnp.asarray(theta)))
+    p = points[mask]
     rel = p - np.asarray(member.centre)
     r = np.hypot(rel[:, 0], rel[:, 1])
     rb = float(member.base_radius)
@@ -91,10 +93,16 @@ def tooth_offsets(member: FlexibleMember, mesh, side: float, theta: float) -> np
     e_phi = np.stack([-rel[:, 1], rel[:, 0]], -1) / r[:, None]
     flank = np.sign(-side * (e_phi @ n))
     phi_c = np.arctan2(rel[:, 1], rel[:, 0]) + flank * psi
-    t = (phi_c - float(member.frame_angle(theta)) - float(member.station0)) / float(
-        member.pitch_angle
-    )
+    t = (phi_c - float(frame) - float(member.station0)) / float(member.pitch_angle)
     return (t + 0.5) % 1.0 - 0.5
+
+
+@eqx.filter_jit
+def _flank_points(member: FlexibleMember, mesh, theta):
+    """The cells' points and mask of ``mesh`` at scene angle θ and the member's body-frame
+    angle there, in one compiled program per mesh (the angle traced)."""
+    cells = mesh.base_plane.cells(mesh.angle(theta))
+    return mesh.points(cells), cells.mask, member.frame_angle(theta)
 
 
 def rigid_mass_matrix(body) -> np.ndarray:
@@ -196,5 +204,14 @@ def zone_compliance(scene, theta: float) -> np.ndarray:
     F the two zones' unit loads (:func:`jaxgear.scenes.mesh_zone_load`) at scene angle θ."""
     first = scene.structure.C_bearing.shape[0]
     K = np.asarray(scene.structure.K)[first:, first:]
-    F = np.stack([np.asarray(mesh_zone_load(scene, k, theta, first)) for k in range(2)], 1)
+    F = np.asarray(_zone_loads(scene, jnp.asarray(theta, dtype=float)))
     return F.T @ np.linalg.solve(K, F)
+
+
+@eqx.filter_jit
+def _zone_loads(scene, theta):
+    """The two zones' loads of :func:`zone_compliance` (n − first, 2) in one compiled program
+    (the scene angle traced: one program for every angle; eagerly, mesh_zone_load's operations
+    compile one by one, 170 small programs)."""
+    first = scene.structure.C_bearing.shape[0]
+    return jnp.stack([mesh_zone_load(scene, k, theta, first) for k in range(2)], 1)
