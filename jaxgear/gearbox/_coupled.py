@@ -407,8 +407,17 @@ class CoupledModes(eqx.Module):
     stage_energy: Float[Array, "s n"]
 
 
-@eqx.filter_jit
 def _coupled_modes(chain, run):
+    # the modal solve reads the torque, the hold, the damping and the mean positions only: the
+    # time plan (static fields) is set to GearboxRun's defaults so that runs with different
+    # plans share one compiled modal solve
+    return _modes_compiled(chain, GearboxRun(
+        input_torque=run.input_torque, output_stiffness=run.output_stiffness,
+        damping_ratio=run.damping_ratio, mean_positions=run.mean_positions))
+
+
+@eqx.filter_jit
+def _modes_compiled(chain, run):
     speed = jnp.ones(())
     m, _, k, _, _, k_mean, _, _, _ = _assemble(chain, run, speed)
     # the per-mesh mean stiffness: each stage's rows over its own mesh period
