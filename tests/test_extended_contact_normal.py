@@ -306,6 +306,13 @@ def _planetary():
     return geo, models, jg.ContactMeshes.from_models(geo, psi, models), stage
 
 
+@eqx.filter_jit
+def _planetary_row(meshes, model, stage, x):
+    """The structure vectors of the stage's cells at the mesh travel x (one compiled program)."""
+    zero = jnp.zeros(4)
+    return meshes.cell_row(model, stage, x, (zero, zero)).V
+
+
 @pytest.mark.parametrize("which", ["sun", "ring"])
 def test_planetary_rows_are_the_corner_gap_derivative(which):
     # planet 1 sits at ψ = 0: the sun pair's frame is the stage's (the sun at the origin turning
@@ -322,7 +329,6 @@ def test_planetary_rows_are_the_corner_gap_derivative(which):
     lam, phi = scipy.linalg.eigh(K, M)
     phi = phi[:, lam <= 1e-9 * np.abs(lam).max()]
     assert phi.shape[1] >= 1  # the sun and the carrier turn freely
-    zero = jnp.zeros(4)
     g, pb = float(mesh.path_of_contact), float(mesh.base_pitch)
     seen = []
     xs = np.linspace(0.0, pb, 64, endpoint=False) + 1e-6
@@ -337,7 +343,7 @@ def test_planetary_rows_are_the_corner_gap_derivative(which):
             if (s[line] < 0) in seen:
                 continue
             seen.append(bool(s[line] < 0))
-            V = np.asarray(meshes.cell_row(model, stage, jnp.asarray(x), (zero, zero)).V)
+            V = np.asarray(_planetary_row(meshes, model, stage, jnp.asarray(x)))
             V = V[(0 if k == 0 else 4 * models[0].n_lines) + line]
             d = -_gap_derivative(pair, float(s[line]))  # ∂gap/∂(φ1, φ2, x1, y1, x2, y2)
             coords = (
@@ -360,10 +366,11 @@ def test_planetary_rows_are_the_corner_gap_derivative(which):
     assert sorted(seen) == [False, True]
 
 
-def test_condensed_body_rigid_motion_is_the_corner_gap_derivative(fem_prep_cache):
-    # a condensed wheel (hybrid pair) beyond the path: a rigid motion of its rim masters gives
-    # the corner gap's derivative (the mortar at the corner with the turned normal); the
-    # rotation about the axis to the interface's chord/arc difference (docs/hybrid.md)
+@pytest.fixture(scope="module")
+def hybrid(fem_prep_cache):
+    """The hybrid test pair beyond the path (its condensed wheel) and, at eight positions over a
+    mesh period, its cells, their exact structure vectors and the rows the solvers use (one
+    compiled program): (case, scene, thetas, cells, exact V, row idx, row V)."""
     import pathlib
 
     import fem_prep
@@ -374,18 +381,37 @@ def test_condensed_body_rigid_motion_is_the_corner_gap_derivative(fem_prep_cache
     case = jio.load_case(data / "hybrid-test-case.toml").replace(extended_contact=True)
     body = fem_prep.condensed(data / "hybrid-test-wheel.toml")
     sc = static_scene(case, bodies=(None, body))[0]
+    mesh = sc.mesh
+    thetas = np.linspace(0.0, float(mesh.mesh_period_angle), 9)[:-1] + 1e-4
+
+    @eqx.filter_jit
+    def rows(th):
+        def one(t):
+            cells = mesh.cells(t)
+            row = sc.window_row((cells,), (jnp.zeros_like(cells.s),))
+            return cells, sc.cell_vectors(cells), row.idx, row.V
+
+        return jax.vmap(one)(th)
+
+    return (case, sc, thetas, *rows(jnp.asarray(thetas)))
+
+
+def test_condensed_body_rigid_motion_is_the_corner_gap_derivative(hybrid):
+    # a condensed wheel (hybrid pair) beyond the path: a rigid motion of its rim masters gives
+    # the corner gap's derivative (the mortar at the corner with the turned normal); the
+    # rotation about the axis to the interface's chord/arc difference (docs/hybrid.md)
+    case, sc, thetas, every, Vs, _, _ = hybrid
     pair, member = case.pair, sc.members[1]
     assert isinstance(member, jg.scenes.FlexibleMember)
-    mesh = sc.mesh
     g = pair.path_of_contact
     dofs = np.asarray(member.rim_dofs)
     Z, n_ax, _ = dofs.shape
     ang = float(member.station0) + float(member.pitch_angle) * np.arange(Z)
     R = float(member.rim_radius)
     checked = 0
-    for theta in np.linspace(0.0, float(mesh.mesh_period_angle), 9)[:-1] + 1e-4:
-        cells = mesh.cells(jnp.asarray(theta))
-        V = np.asarray(sc.cell_vectors(cells))
+    for p, theta in enumerate(thetas):
+        cells = jax.tree.map(lambda a, p=p: a[p], every)
+        V = np.asarray(Vs[p])
         s, mask = np.asarray(cells.s), np.asarray(cells.mask)
         rot = float(member.frame_angle(theta))
         for i, j in zip(*np.nonzero(mask & ((s < 0) | (s > g))), strict=True):
@@ -451,23 +477,14 @@ def test_free_drive_rotation_stays_free_in_a_dynamic_scene():
     assert int(np.sum(np.asarray(modes.rigid))) == 1
 
 
-def test_hybrid_free_drive_rotation_carries_no_contact_force(fem_prep_cache):
+def test_hybrid_free_drive_rotation_carries_no_contact_force(hybrid):
     # the hybrid pair's dynamics turn freely as a whole (pinion chain, wheel and its body at
     # the ratio): its rigid mode is the null space of K (two chains, tests/_hybrid_util) that
     # moves no TE, and the rows the solvers use carry no force along it, corner cells too
     # (without the drive-rotation step its mesh-averaged modes had a 36 Hz mode in its place)
-    import pathlib
-
     from _hybrid_util import drive_rotations
 
-    import fem_prep
-    from jaxgear import io as jio
-    from jaxgear.io import static_scene
-
-    data = pathlib.Path(__file__).parent / "data"
-    case = jio.load_case(data / "hybrid-test-case.toml").replace(extended_contact=True)
-    body = fem_prep.condensed(data / "hybrid-test-wheel.toml")
-    sc = static_scene(case, bodies=(None, body))[0]
+    case, sc, thetas, every, Vs, idx, rowV = hybrid
     null = drive_rotations(sc)  # (n, 2), K null = 0
     u = np.asarray(sc.meshes[0].te)
     c = np.linalg.svd((u @ null)[None])[2][-1]
@@ -475,15 +492,13 @@ def test_hybrid_free_drive_rotation_carries_no_contact_force(fem_prep_cache):
     R = np.asarray(sc.rigid_modes())[:, 0]
     np.testing.assert_allclose(R / np.linalg.norm(R) * np.sign(R @ ref), ref / np.linalg.norm(ref),
                                atol=1e-9)
-    mesh, g = sc.mesh, case.pair.path_of_contact
+    g = case.pair.path_of_contact
     beyond = 0
-    for theta in np.linspace(0.0, float(mesh.mesh_period_angle), 5)[:-1] + 1e-4:
-        cells = mesh.cells(jnp.asarray(theta))
-        exact = np.asarray(sc.cell_vectors(cells))
-        row = sc.window_row((cells,), (jnp.zeros_like(cells.s),))
+    for p in range(len(thetas)):
+        exact = np.asarray(Vs[p])
         V = np.zeros(exact.shape)
-        V.reshape(-1, V.shape[-1])[:, np.asarray(row.idx)] = np.asarray(row.V)
-        s, mask = np.asarray(cells.s), np.asarray(cells.mask)
+        V.reshape(-1, V.shape[-1])[:, np.asarray(idx[p])] = np.asarray(rowV[p])
+        s, mask = np.asarray(every.s[p]), np.asarray(every.mask[p])
         corner = mask & ((s < 0) | (s > g))
         beyond += int(corner.sum())
         scale = np.abs(exact).max() * np.abs(R).max()
