@@ -61,6 +61,18 @@ def _lumped(pair, mesh):
     return lumped_pair(pair, mesh, shaft(), shaft(), masses=(1.0, 2.0), inertias=((1e-3,) * 2,) * 2)
 
 
+@eqx.filter_jit
+def _cells(mesh, theta):
+    """The mesh's cells at the pinion angle theta (one compiled program per mesh shape)."""
+    return mesh.cells(theta)
+
+
+@eqx.filter_jit
+def _vectors(scene, cells):
+    """The scene's exact structure vectors of the cells (one compiled program per shape)."""
+    return scene.cell_vectors(cells)
+
+
 def _theta_at(mesh, s):
     """A pinion angle that puts contact line −1 (s < 0) or line 1 (s > g_α) of a spur mesh's
     cells at the base-plane coordinate ``s`` (on the gap table's grid)."""
@@ -97,11 +109,11 @@ def test_lumped_and_torsional_vectors_are_the_corner_gap_derivative(side):
     u = np.linspace(0.0, 1.0, mesh.extension_gap.shape[1])[40]  # a grid point of the table
     s = -span[0] * u if side == 0 else float(mesh.path_of_contact) + span[1] * u
     ref = _gap_derivative(pair, s)
-    cells = mesh.cells(jnp.asarray(_theta_at(mesh, s)))
+    cells = _cells(mesh, jnp.asarray(_theta_at(mesh, s)))
     k = _cell(cells, s)
     # lumped 3D: node DOFs (x, y, z, φx, φy, φz); the gear turns about −z
     scene = _lumped(pair, mesh)
-    V = np.asarray(scene.cell_vectors(cells))[k, 0]
+    V = np.asarray(_vectors(scene, cells))[k, 0]
     (m1, m2) = (m.dofs for m in scene.members)
     got = np.array([V[m1[5]], -V[m2[5]], V[m1[0]], V[m1[1]], V[m2[0]], V[m2[1]]])
     np.testing.assert_allclose(got, ref, rtol=1e-6, atol=1e-8)
@@ -109,9 +121,9 @@ def test_lumped_and_torsional_vectors_are_the_corner_gap_derivative(side):
     lam = jg.CornerContact(pair, s).tip_lever
     assert 0.85 < lam < 0.99
     # torsional pair (rotations) and the rigid pair (the pinion's advance, the gear held)
-    Vt = np.asarray(jg.scenes.TorsionalPair(mesh).cell_vectors(cells))[k, 0]
+    Vt = np.asarray(_vectors(jg.scenes.TorsionalPair(mesh), cells))[k, 0]
     np.testing.assert_allclose(Vt, ref[:2], rtol=1e-6)
-    Vr = np.asarray(jg.scenes.RigidMesh(mesh).cell_vectors(cells))[k, 0, 0]
+    Vr = np.asarray(_vectors(jg.scenes.RigidMesh(mesh), cells))[k, 0, 0]
     assert Vr == pytest.approx(ref[0] / pair.base_radii[0], rel=1e-6)
 
 
@@ -121,8 +133,8 @@ def test_internal_mesh_torsional_vectors_are_the_corner_gap_derivative():
     span = np.asarray(mesh.extension_span)
     for s in (-0.5 * span[0], float(mesh.path_of_contact) + 0.5 * span[1]):
         ref = _gap_derivative(ring, s)
-        cells = mesh.cells(jnp.asarray(_theta_at(mesh, s)))
-        V = np.asarray(jg.scenes.TorsionalPair(mesh).cell_vectors(cells))[_cell(cells, s), 0]
+        cells = _cells(mesh, jnp.asarray(_theta_at(mesh, s)))
+        V = np.asarray(_vectors(jg.scenes.TorsionalPair(mesh), cells))[_cell(cells, s), 0]
         np.testing.assert_allclose(V, ref[:2], rtol=1e-6)
 
 
@@ -227,10 +239,10 @@ def test_lumped_moments_about_the_corner_by_hand():
     mesh = _mesh(pair)
     scene = _lumped(pair, mesh)
     for s in (-0.6 * float(mesh.extension_span[0]), pair.path_of_contact + 0.02 * pair.base_pitch):
-        cells = mesh.cells(jnp.asarray(_theta_at(mesh, s)))
+        cells = _cells(mesh, jnp.asarray(_theta_at(mesh, s)))
         k = int(np.argmin(np.abs(np.asarray(cells.s)[:, 0] - s)))
         s = float(cells.s[k, 0])
-        V = np.asarray(scene.cell_vectors(cells))[k, 0]
+        V = np.asarray(_vectors(scene, cells))[k, 0]
         P, n, O = _corner_by_hand(pair, s)
         d1, d2 = scene.members[0].dofs, scene.members[1].dofs
         np.testing.assert_allclose(V[list(d1[:2])], n, atol=2e-6)
@@ -244,23 +256,31 @@ def test_on_the_line_of_action_and_with_tip_relief_results_are_todays():
     mesh = _mesh(pair, slices=4)
     loa = _on_line(mesh)
     T = 300.0
+
+    def relief(depth):
+        return jg.Modifications(
+            pinion=jg.MemberModification(tip_relief_depth=depth, tip_relief_extent=0.3),
+            gear=jg.MemberModification(tip_relief_depth=depth, tip_relief_extent=0.3),
+        )
+
     # at λ = 1, ε = 0 the pinion's advance, its rotation and the 3D nodes agree cell by cell
+    # (unmodified teeth: a relief of zero depth, whose runs are the compiled programs of the
+    # runs with relief below)
     te = [
         np.asarray(
-            jg.quasi_static(sc, None, T, positions_per_pitch=16).meshes[0].transmission_error
+            jg.quasi_static(sc, relief(0.0), T, positions_per_pitch=16)
+            .meshes[0]
+            .transmission_error
         )
         for sc in (loa, jg.scenes.TorsionalPair(loa, 1e12))
     ]
     np.testing.assert_allclose(te[1], te[0], rtol=1e-9)
-    cells = loa.cells(jnp.asarray(0.01))
+    cells = _cells(loa, jnp.asarray(0.01))
     Vl = np.asarray(_lumped(pair, loa).cell_vectors(cells))
     Vm = np.asarray(_lumped(pair, _mesh(pair, extended=False, slices=4)).cell_vectors(cells))
     np.testing.assert_array_equal(Vl[np.asarray(cells.mask)], Vm[np.asarray(cells.mask)])
     # with enough tip relief no corner touches: the theoretical model's results to 1e-12
-    mods = jg.Modifications(
-        pinion=jg.MemberModification(tip_relief_depth=60e-6, tip_relief_extent=0.3),
-        gear=jg.MemberModification(tip_relief_depth=60e-6, tip_relief_extent=0.3),
-    )
+    mods = relief(60e-6)
     off = _mesh(pair, extended=False, slices=4)
     for build in (lambda m: m, lambda m: jg.scenes.TorsionalPair(m), lambda m: _lumped(pair, m)):
         r1 = jg.quasi_static(build(mesh), mods, T, positions_per_pitch=16)
@@ -447,10 +467,10 @@ def test_free_drive_rotation_stays_free_in_a_dynamic_scene():
     mesh = _mesh(pair)
     scene = _lumped(pair, mesh)
     s = -0.5 * float(mesh.extension_span[0])
-    cells = mesh.cells(jnp.asarray(_theta_at(mesh, s)))
+    cells = _cells(mesh, jnp.asarray(_theta_at(mesh, s)))
     k = _cell(cells, s)
-    exact = np.asarray(scene.cell_vectors(cells))
-    row = scene.cell_row((cells,), (jnp.zeros_like(cells.s),))
+    exact = np.asarray(_vectors(scene, cells))
+    row = eqx.filter_jit(lambda sc, c: sc.cell_row((c,), (jnp.zeros_like(c.s),)))(scene, cells)
     used = np.asarray(row.V).reshape(exact.shape)
     R = np.asarray(scene.rigid_modes())[:, 0]
     assert abs(exact[k, 0] @ R) > 1e-3 * np.abs(exact[k, 0]).max() * np.abs(R).max()
