@@ -61,6 +61,18 @@ def _lumped(pair, mesh):
     return lumped_pair(pair, mesh, shaft(), shaft(), masses=(1.0, 2.0), inertias=((1e-3,) * 2,) * 2)
 
 
+@eqx.filter_jit
+def _cells(mesh, theta):
+    """The mesh's cells at the pinion angle theta (one compiled program per mesh shape)."""
+    return mesh.cells(theta)
+
+
+@eqx.filter_jit
+def _vectors(scene, cells):
+    """The scene's exact structure vectors of the cells (one compiled program per shape)."""
+    return scene.cell_vectors(cells)
+
+
 def _theta_at(mesh, s):
     """A pinion angle that puts contact line −1 (s < 0) or line 1 (s > g_α) of a spur mesh's
     cells at the base-plane coordinate ``s`` (on the gap table's grid)."""
@@ -97,11 +109,11 @@ def test_lumped_and_torsional_vectors_are_the_corner_gap_derivative(side):
     u = np.linspace(0.0, 1.0, mesh.extension_gap.shape[1])[40]  # a grid point of the table
     s = -span[0] * u if side == 0 else float(mesh.path_of_contact) + span[1] * u
     ref = _gap_derivative(pair, s)
-    cells = mesh.cells(jnp.asarray(_theta_at(mesh, s)))
+    cells = _cells(mesh, jnp.asarray(_theta_at(mesh, s)))
     k = _cell(cells, s)
     # lumped 3D: node DOFs (x, y, z, φx, φy, φz); the gear turns about −z
     scene = _lumped(pair, mesh)
-    V = np.asarray(scene.cell_vectors(cells))[k, 0]
+    V = np.asarray(_vectors(scene, cells))[k, 0]
     (m1, m2) = (m.dofs for m in scene.members)
     got = np.array([V[m1[5]], -V[m2[5]], V[m1[0]], V[m1[1]], V[m2[0]], V[m2[1]]])
     np.testing.assert_allclose(got, ref, rtol=1e-6, atol=1e-8)
@@ -109,9 +121,9 @@ def test_lumped_and_torsional_vectors_are_the_corner_gap_derivative(side):
     lam = jg.CornerContact(pair, s).tip_lever
     assert 0.85 < lam < 0.99
     # torsional pair (rotations) and the rigid pair (the pinion's advance, the gear held)
-    Vt = np.asarray(jg.scenes.TorsionalPair(mesh).cell_vectors(cells))[k, 0]
+    Vt = np.asarray(_vectors(jg.scenes.TorsionalPair(mesh), cells))[k, 0]
     np.testing.assert_allclose(Vt, ref[:2], rtol=1e-6)
-    Vr = np.asarray(jg.scenes.RigidMesh(mesh).cell_vectors(cells))[k, 0, 0]
+    Vr = np.asarray(_vectors(jg.scenes.RigidMesh(mesh), cells))[k, 0, 0]
     assert Vr == pytest.approx(ref[0] / pair.base_radii[0], rel=1e-6)
 
 
@@ -121,8 +133,8 @@ def test_internal_mesh_torsional_vectors_are_the_corner_gap_derivative():
     span = np.asarray(mesh.extension_span)
     for s in (-0.5 * span[0], float(mesh.path_of_contact) + 0.5 * span[1]):
         ref = _gap_derivative(ring, s)
-        cells = mesh.cells(jnp.asarray(_theta_at(mesh, s)))
-        V = np.asarray(jg.scenes.TorsionalPair(mesh).cell_vectors(cells))[_cell(cells, s), 0]
+        cells = _cells(mesh, jnp.asarray(_theta_at(mesh, s)))
+        V = np.asarray(_vectors(jg.scenes.TorsionalPair(mesh), cells))[_cell(cells, s), 0]
         np.testing.assert_allclose(V, ref[:2], rtol=1e-6)
 
 
@@ -227,10 +239,10 @@ def test_lumped_moments_about_the_corner_by_hand():
     mesh = _mesh(pair)
     scene = _lumped(pair, mesh)
     for s in (-0.6 * float(mesh.extension_span[0]), pair.path_of_contact + 0.02 * pair.base_pitch):
-        cells = mesh.cells(jnp.asarray(_theta_at(mesh, s)))
+        cells = _cells(mesh, jnp.asarray(_theta_at(mesh, s)))
         k = int(np.argmin(np.abs(np.asarray(cells.s)[:, 0] - s)))
         s = float(cells.s[k, 0])
-        V = np.asarray(scene.cell_vectors(cells))[k, 0]
+        V = np.asarray(_vectors(scene, cells))[k, 0]
         P, n, O = _corner_by_hand(pair, s)
         d1, d2 = scene.members[0].dofs, scene.members[1].dofs
         np.testing.assert_allclose(V[list(d1[:2])], n, atol=2e-6)
@@ -244,23 +256,31 @@ def test_on_the_line_of_action_and_with_tip_relief_results_are_todays():
     mesh = _mesh(pair, slices=4)
     loa = _on_line(mesh)
     T = 300.0
+
+    def relief(depth):
+        return jg.Modifications(
+            pinion=jg.MemberModification(tip_relief_depth=depth, tip_relief_extent=0.3),
+            gear=jg.MemberModification(tip_relief_depth=depth, tip_relief_extent=0.3),
+        )
+
     # at λ = 1, ε = 0 the pinion's advance, its rotation and the 3D nodes agree cell by cell
+    # (unmodified teeth: a relief of zero depth, whose runs are the compiled programs of the
+    # runs with relief below)
     te = [
         np.asarray(
-            jg.quasi_static(sc, None, T, positions_per_pitch=16).meshes[0].transmission_error
+            jg.quasi_static(sc, relief(0.0), T, positions_per_pitch=16)
+            .meshes[0]
+            .transmission_error
         )
         for sc in (loa, jg.scenes.TorsionalPair(loa, 1e12))
     ]
     np.testing.assert_allclose(te[1], te[0], rtol=1e-9)
-    cells = loa.cells(jnp.asarray(0.01))
+    cells = _cells(loa, jnp.asarray(0.01))
     Vl = np.asarray(_lumped(pair, loa).cell_vectors(cells))
     Vm = np.asarray(_lumped(pair, _mesh(pair, extended=False, slices=4)).cell_vectors(cells))
     np.testing.assert_array_equal(Vl[np.asarray(cells.mask)], Vm[np.asarray(cells.mask)])
     # with enough tip relief no corner touches: the theoretical model's results to 1e-12
-    mods = jg.Modifications(
-        pinion=jg.MemberModification(tip_relief_depth=60e-6, tip_relief_extent=0.3),
-        gear=jg.MemberModification(tip_relief_depth=60e-6, tip_relief_extent=0.3),
-    )
+    mods = relief(60e-6)
     off = _mesh(pair, extended=False, slices=4)
     for build in (lambda m: m, lambda m: jg.scenes.TorsionalPair(m), lambda m: _lumped(pair, m)):
         r1 = jg.quasi_static(build(mesh), mods, T, positions_per_pitch=16)
@@ -306,6 +326,13 @@ def _planetary():
     return geo, models, jg.ContactMeshes.from_models(geo, psi, models), stage
 
 
+@eqx.filter_jit
+def _planetary_row(meshes, model, stage, x):
+    """The structure vectors of the stage's cells at the mesh travel x (one compiled program)."""
+    zero = jnp.zeros(4)
+    return meshes.cell_row(model, stage, x, (zero, zero)).V
+
+
 @pytest.mark.parametrize("which", ["sun", "ring"])
 def test_planetary_rows_are_the_corner_gap_derivative(which):
     # planet 1 sits at ψ = 0: the sun pair's frame is the stage's (the sun at the origin turning
@@ -322,7 +349,6 @@ def test_planetary_rows_are_the_corner_gap_derivative(which):
     lam, phi = scipy.linalg.eigh(K, M)
     phi = phi[:, lam <= 1e-9 * np.abs(lam).max()]
     assert phi.shape[1] >= 1  # the sun and the carrier turn freely
-    zero = jnp.zeros(4)
     g, pb = float(mesh.path_of_contact), float(mesh.base_pitch)
     seen = []
     xs = np.linspace(0.0, pb, 64, endpoint=False) + 1e-6
@@ -337,7 +363,7 @@ def test_planetary_rows_are_the_corner_gap_derivative(which):
             if (s[line] < 0) in seen:
                 continue
             seen.append(bool(s[line] < 0))
-            V = np.asarray(meshes.cell_row(model, stage, jnp.asarray(x), (zero, zero)).V)
+            V = np.asarray(_planetary_row(meshes, model, stage, jnp.asarray(x)))
             V = V[(0 if k == 0 else 4 * models[0].n_lines) + line]
             d = -_gap_derivative(pair, float(s[line]))  # ∂gap/∂(φ1, φ2, x1, y1, x2, y2)
             coords = (
@@ -360,10 +386,11 @@ def test_planetary_rows_are_the_corner_gap_derivative(which):
     assert sorted(seen) == [False, True]
 
 
-def test_condensed_body_rigid_motion_is_the_corner_gap_derivative(fem_prep_cache):
-    # a condensed wheel (hybrid pair) beyond the path: a rigid motion of its rim masters gives
-    # the corner gap's derivative (the mortar at the corner with the turned normal); the
-    # rotation about the axis to the interface's chord/arc difference (docs/hybrid.md)
+@pytest.fixture(scope="module")
+def hybrid(fem_prep_cache):
+    """The hybrid test pair beyond the path (its condensed wheel) and, at eight positions over a
+    mesh period, its cells, their exact structure vectors and the rows the solvers use (one
+    compiled program): (case, scene, thetas, cells, exact V, row idx, row V)."""
     import pathlib
 
     import fem_prep
@@ -374,18 +401,37 @@ def test_condensed_body_rigid_motion_is_the_corner_gap_derivative(fem_prep_cache
     case = jio.load_case(data / "hybrid-test-case.toml").replace(extended_contact=True)
     body = fem_prep.condensed(data / "hybrid-test-wheel.toml")
     sc = static_scene(case, bodies=(None, body))[0]
+    mesh = sc.mesh
+    thetas = np.linspace(0.0, float(mesh.mesh_period_angle), 9)[:-1] + 1e-4
+
+    @eqx.filter_jit
+    def rows(th):
+        def one(t):
+            cells = mesh.cells(t)
+            row = sc.window_row((cells,), (jnp.zeros_like(cells.s),))
+            return cells, sc.cell_vectors(cells), row.idx, row.V
+
+        return jax.vmap(one)(th)
+
+    return (case, sc, thetas, *rows(jnp.asarray(thetas)))
+
+
+def test_condensed_body_rigid_motion_is_the_corner_gap_derivative(hybrid):
+    # a condensed wheel (hybrid pair) beyond the path: a rigid motion of its rim masters gives
+    # the corner gap's derivative (the mortar at the corner with the turned normal); the
+    # rotation about the axis to the interface's chord/arc difference (docs/hybrid.md)
+    case, sc, thetas, every, Vs, _, _ = hybrid
     pair, member = case.pair, sc.members[1]
     assert isinstance(member, jg.scenes.FlexibleMember)
-    mesh = sc.mesh
     g = pair.path_of_contact
     dofs = np.asarray(member.rim_dofs)
     Z, n_ax, _ = dofs.shape
     ang = float(member.station0) + float(member.pitch_angle) * np.arange(Z)
     R = float(member.rim_radius)
     checked = 0
-    for theta in np.linspace(0.0, float(mesh.mesh_period_angle), 9)[:-1] + 1e-4:
-        cells = mesh.cells(jnp.asarray(theta))
-        V = np.asarray(sc.cell_vectors(cells))
+    for p, theta in enumerate(thetas):
+        cells = jax.tree.map(lambda a, p=p: a[p], every)
+        V = np.asarray(Vs[p])
         s, mask = np.asarray(cells.s), np.asarray(cells.mask)
         rot = float(member.frame_angle(theta))
         for i, j in zip(*np.nonzero(mask & ((s < 0) | (s > g))), strict=True):
@@ -421,10 +467,10 @@ def test_free_drive_rotation_stays_free_in_a_dynamic_scene():
     mesh = _mesh(pair)
     scene = _lumped(pair, mesh)
     s = -0.5 * float(mesh.extension_span[0])
-    cells = mesh.cells(jnp.asarray(_theta_at(mesh, s)))
+    cells = _cells(mesh, jnp.asarray(_theta_at(mesh, s)))
     k = _cell(cells, s)
-    exact = np.asarray(scene.cell_vectors(cells))
-    row = scene.cell_row((cells,), (jnp.zeros_like(cells.s),))
+    exact = np.asarray(_vectors(scene, cells))
+    row = eqx.filter_jit(lambda sc, c: sc.cell_row((c,), (jnp.zeros_like(c.s),)))(scene, cells)
     used = np.asarray(row.V).reshape(exact.shape)
     R = np.asarray(scene.rigid_modes())[:, 0]
     assert abs(exact[k, 0] @ R) > 1e-3 * np.abs(exact[k, 0]).max() * np.abs(R).max()
@@ -451,23 +497,14 @@ def test_free_drive_rotation_stays_free_in_a_dynamic_scene():
     assert int(np.sum(np.asarray(modes.rigid))) == 1
 
 
-def test_hybrid_free_drive_rotation_carries_no_contact_force(fem_prep_cache):
+def test_hybrid_free_drive_rotation_carries_no_contact_force(hybrid):
     # the hybrid pair's dynamics turn freely as a whole (pinion chain, wheel and its body at
     # the ratio): its rigid mode is the null space of K (two chains, tests/_hybrid_util) that
     # moves no TE, and the rows the solvers use carry no force along it, corner cells too
     # (without the drive-rotation step its mesh-averaged modes had a 36 Hz mode in its place)
-    import pathlib
-
     from _hybrid_util import drive_rotations
 
-    import fem_prep
-    from jaxgear import io as jio
-    from jaxgear.io import static_scene
-
-    data = pathlib.Path(__file__).parent / "data"
-    case = jio.load_case(data / "hybrid-test-case.toml").replace(extended_contact=True)
-    body = fem_prep.condensed(data / "hybrid-test-wheel.toml")
-    sc = static_scene(case, bodies=(None, body))[0]
+    case, sc, thetas, every, Vs, idx, rowV = hybrid
     null = drive_rotations(sc)  # (n, 2), K null = 0
     u = np.asarray(sc.meshes[0].te)
     c = np.linalg.svd((u @ null)[None])[2][-1]
@@ -475,15 +512,13 @@ def test_hybrid_free_drive_rotation_carries_no_contact_force(fem_prep_cache):
     R = np.asarray(sc.rigid_modes())[:, 0]
     np.testing.assert_allclose(R / np.linalg.norm(R) * np.sign(R @ ref), ref / np.linalg.norm(ref),
                                atol=1e-9)
-    mesh, g = sc.mesh, case.pair.path_of_contact
+    g = case.pair.path_of_contact
     beyond = 0
-    for theta in np.linspace(0.0, float(mesh.mesh_period_angle), 5)[:-1] + 1e-4:
-        cells = mesh.cells(jnp.asarray(theta))
-        exact = np.asarray(sc.cell_vectors(cells))
-        row = sc.window_row((cells,), (jnp.zeros_like(cells.s),))
+    for p in range(len(thetas)):
+        exact = np.asarray(Vs[p])
         V = np.zeros(exact.shape)
-        V.reshape(-1, V.shape[-1])[:, np.asarray(row.idx)] = np.asarray(row.V)
-        s, mask = np.asarray(cells.s), np.asarray(cells.mask)
+        V.reshape(-1, V.shape[-1])[:, np.asarray(idx[p])] = np.asarray(rowV[p])
+        s, mask = np.asarray(every.s[p]), np.asarray(every.mask[p])
         corner = mask & ((s < 0) | (s > g))
         beyond += int(corner.sum())
         scale = np.abs(exact).max() * np.abs(R).max()

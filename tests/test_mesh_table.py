@@ -90,15 +90,30 @@ def test_each_mesh_takes_its_own_period_in_rows():
     assert jd.mesh_table(idler, None, 16).rows == (16, 16)
 
 
+@functools.cache
+def _two_stage_model():
+    """The two-stage train's dynamic model (24 positions per pitch) and its speed, 0.6 of its
+    first elastic mode's first-mesh coincidence (shared by the tests of this module)."""
+    train, mods = _two_stage()
+    model = jd.dynamic_model(train, mods, TORQUE, positions_per_pitch=24)
+    return model, 0.6 * float(model.modes.omega[1]) / 20
+
+
+@functools.cache
+def _two_stage_own_run():
+    """The two-stage train's run on its own-period table, 24 steps per period, two spans kept
+    (SteadyState(16, 8)): (result, prepared)."""
+    model, speed = _two_stage_model()
+    return jd.simulate_on_table(model, speed, 24, jd.SteadyState(16, 8))
+
+
 def test_own_period_tables_run_the_long_table_dynamics():
     """The two-stage train (tip relief, exact contact) at 0.6 of its first elastic mode's
     first-mesh coincidence, 24 steps per period, two spans kept: every mesh's dynamic factors,
     mesh forces, TE and static force on the own-period table equal the long table's to 1e-10."""
-    train, mods = _two_stage()
-    model = jd.dynamic_model(train, mods, TORQUE, positions_per_pitch=24)
-    speed = 0.6 * float(model.modes.omega[1]) / 20
+    model, speed = _two_stage_model()
     window = jd.SteadyState(16, 8)
-    own, p_own = jd.simulate_on_table(model, speed, 24, window)
+    own, p_own = _two_stage_own_run()
     long, p_long = jd.simulate_on_table(model, speed, 24, window, own_periods=False)
     assert p_own.table.theta.shape == (32,) and p_long.table.theta.shape == (96,)
     assert int(own.result) == 0 and int(long.result) == 0
@@ -129,20 +144,11 @@ def test_lumped_trains_on_own_period_tables_run_the_long_table_dynamics(case):
     50 s) and the lumped idler train of examples/ (one period for both meshes: the tables are the same) at
     half their first elastic mode's coincidence, the span kept: dynamic factors, mesh forces,
     TE and bearing forces equal the long table's to 1e-10."""
-    if case == "two-stage":
-        data = tomllib.loads(jio.embedded_case_text("two-stage"))
-        steps, rows = 35, (35, 127)
-    else:
-        data = tomllib.loads(IDLER.read_text("utf-8"))
-        steps, rows = 16, (16, 16)
-    data["mesh"].update(slices=2, positions_per_pitch=4)
-    train = jio.parse_train(data)
-    spec = dataclasses.replace(train.scene, steps_per_period=steps)
-    model, _ = jio.build_dynamic_model(train, spec, slices=2)
-    q = train.span_periods
-    window = jd.SteadyState(q + 2, max(q, 2))
-    speed = 0.5 * float(model.modes.omega[1]) / train.pairs[0].pinion.teeth
-    own, p_own = jd.simulate_on_table(model, speed, steps, window)
+    steps, rows = (35, (35, 127)) if case == "two-stage" else (16, (16, 16))
+    model, speed, steps_, window = _lumped_case(case)
+    assert steps_ == steps
+    q = window.periods - 2
+    own, p_own = _lumped_own_run(case)
     long, p_long = jd.simulate_on_table(model, speed, steps, window, own_periods=False)
     assert p_own.table.rows == rows and p_long.table.theta.shape == (q * steps,)
     if case == "two-stage":  # the case's own 140 steps (docs/trains.md): 140 and 508 rows
@@ -160,9 +166,7 @@ def test_diffrax_records_take_each_mesh_at_its_own_row():
     mesh's dynamic factor within 0.5 % (measured 0.06 %, 0.19 %) and on its mesh force within 1 %
     of the static force at 95 % of the samples (before the rows were fixed, the second mesh's
     cells were read a first-mesh period, 3/4 of its own, away)."""
-    train, mods = _two_stage()
-    model = jd.dynamic_model(train, mods, TORQUE, positions_per_pitch=24)
-    speed = 0.6 * float(model.modes.omega[1]) / 20
+    model, speed = _two_stage_model()
     window = jd.SteadyState(13, 8)
     law = jg.SmoothContact(1e-7)
     steps = 24
@@ -214,6 +218,7 @@ def test_two_stage_train_builds_in_float32(model):
         np.testing.assert_allclose(a, b, rtol=1e-3)
 
 
+@functools.cache
 def _lumped_case(case: str):
     """The lumped 3D ``two-stage`` case (2 slices, 35 steps per HST period: a span of 4445
     steps) or the lumped idler train of examples/ (16 steps), at half their first elastic
@@ -231,6 +236,14 @@ def _lumped_case(case: str):
     q = train.span_periods
     speed = 0.5 * float(model.modes.omega[1]) / train.pairs[0].pinion.teeth
     return model, speed, steps, jd.SteadyState(q + 2, max(q, 2))
+
+
+@functools.cache
+def _lumped_own_run(case: str):
+    """The lumped case's run on its own-period table (:func:`_lumped_case`): (result,
+    prepared), shared by the tests of this module."""
+    model, speed, steps, window = _lumped_case(case)
+    return jd.simulate_on_table(model, speed, steps, window)
 
 
 def _static_reference(model, steps: int, periods: int):
@@ -271,10 +284,9 @@ def test_static_rows_are_each_steps_static_solve(case):
     the run on every coordinate (``condensed=False``: the static rows and each Newmark step's
     contact solved as before; to 1e-10, measured 1.7e-12). The lumped ``two-stage`` at 35
     steps (a span of 4445 steps) is slow (about a minute)."""
-    if case == "torsional":
-        train, mods = _two_stage()
-        model = jd.dynamic_model(train, mods, TORQUE, positions_per_pitch=24)
-        speed, steps, window = 0.6 * float(model.modes.omega[1]) / 20, 24, jd.SteadyState(6, 4)
+    if case == "torsional":  # the static rows do not depend on the window: the module's run
+        model, _ = _two_stage_model()
+        steps = 24
         assert model.scene.contact_dofs() == (0, 1, 2)
     else:
         model, speed, steps, window = _lumped_case(case)
@@ -284,7 +296,7 @@ def test_static_rows_are_each_steps_static_solve(case):
         assert model.scene.contact_dofs() == tuple(sorted(gears))
         sizes = {"idler": (18, 90), "two-stage": (24, 102)}[case]
         assert (len(gears), model.scene.structure.size) == sizes
-    res, prep = jd.simulate_on_table(model, speed, steps, window)
+    res, prep = _two_stage_own_run() if case == "torsional" else _lumped_own_run(case)
     span = prep.table.span
     x_ref, p_ref = _static_reference(model, steps, span // steps)
     x, p = np.asarray(prep.static_x), np.asarray(prep.static_force_density)
