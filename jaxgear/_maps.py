@@ -182,6 +182,21 @@ def loaded_path(
         if bool(jnp.any(c != 0)):
             raise ValueError("loaded_path: the contact solve failed at some torque and position")
     theta = mesh_positions(mesh, positions_per_pitch)
+    relief_start, relief_end = _corner_relief(mesh, mods, theta, te)
+    return LoadedPath(
+        torque=jnp.asarray(torques, te.dtype),
+        start=start,
+        end=end,
+        relief_start=relief_start,
+        relief_end=relief_end,
+        path_of_contact=mesh.path_of_contact,
+    )
+
+
+@eqx.filter_jit
+def _corner_relief(mesh, mods, theta, te):
+    """The extra tip relief at the start and at the end that keeps every corner cell open at
+    each torque (one compiled program: the separations at every position, then the maxima)."""
     cells, e_max, delta0 = jax.vmap(lambda t: separation(mesh, mods, t))(theta)
     beyond = cells.mask & ((cells.s < 0) | (cells.s > mesh.path_of_contact))
     # the approach of the theoretical model u = TE cos β_b + max e, against each corner cell's
@@ -192,11 +207,4 @@ def loaded_path(
     def side(where):
         return jnp.maximum(jnp.max(jnp.where(where[None], over, 0.0), axis=(1, 2, 3)), 0.0)
 
-    return LoadedPath(
-        torque=jnp.asarray(torques, te.dtype),
-        start=start,
-        end=end,
-        relief_start=side(beyond & (cells.s < 0)),
-        relief_end=side(beyond & (cells.s > mesh.path_of_contact)),
-        path_of_contact=mesh.path_of_contact,
-    )
+    return side(beyond & (cells.s < 0)), side(beyond & (cells.s > mesh.path_of_contact))
