@@ -379,13 +379,8 @@ class MeshModel(eqx.Module):
         ``extension_gap`` × cos β_b (interpolated)."""
         if not self.extended_contact:
             return jnp.zeros_like(s)
-        n = self.extension_gap.shape[1]
-        grid = jnp.linspace(0.0, 1.0, n, dtype=s.dtype)
-        span = jnp.maximum(self.extension_span, jnp.finfo(s.dtype).tiny)
-        before = _interp_uniform(-s / span[0], grid, self.extension_gap[0])
-        after = _interp_uniform((s - self.path_of_contact) / span[1], grid, self.extension_gap[1])
-        gap = jnp.where(s < 0.0, before, jnp.where(s > self.path_of_contact, after, 0.0))
-        return gap * jnp.cos(self.base_helix_angle)
+        beyond, gap = self._beyond_path(s, self.extension_gap[..., None])
+        return jnp.where(beyond, gap[..., 0], 0.0) * jnp.cos(self.base_helix_angle)
 
     def corner(self, s: Float[Array, "..."]) -> tuple:
         """Where the force of a cell at base-plane coordinates ``s`` (m) acts
@@ -400,20 +395,31 @@ class MeshModel(eqx.Module):
         one, zero = jnp.ones_like(s), jnp.zeros_like(s)
         if not self.extended_contact:
             return one, one, zero, zero, zero
-        n = self.extension_corner.shape[-1]
-        grid = jnp.linspace(0.0, 1.0, n, dtype=s.dtype)
+        # the four channels of the cell's side from one interpolation: (2, n, 4)
+        beyond, values = self._beyond_path(s, jnp.moveaxis(self.extension_corner, 1, 2))
+        on_path = jnp.asarray([1.0, 0.0, 0.0, 0.0], values.dtype)
+        lam, eps, o_t, o_v = jnp.moveaxis(jnp.where(beyond[..., None], values, on_path), -1, 0)
+        after = s > self.path_of_contact
+        return jnp.where(after, lam, one), jnp.where(beyond & ~after, lam, one), eps, o_t, o_v
+
+    def _beyond_path(self, s, table: Float[Array, "2 n c"]) -> tuple:
+        """(beyond, values): whether each cell at base-plane coordinates ``s`` (m) lies beyond
+        the theoretical path (s < 0 or s > g_α), and ``table``'s c channels (..., c) linearly
+        interpolated on its side's row (row 0 at s = −S_a u, row 1 at s = g_α + S_r u, u
+        equally spaced on [0, 1], clamped at the ends; the tables of :meth:`from_pair`). One
+        index and one pair of row gathers for every channel and both sides (on the path the
+        values are row 0's at its clamped end: callers replace them)."""
+        n = table.shape[1]
         span = jnp.maximum(self.extension_span, jnp.finfo(s.dtype).tiny)
-        u_before = -s / span[0]
-        u_after = (s - self.path_of_contact) / span[1]
-        before, after = s < 0.0, s > self.path_of_contact
-        table = self.extension_corner
-        out = []
-        for k in range(4):
-            b = _interp_uniform(u_before, grid, table[0, k])
-            a = _interp_uniform(u_after, grid, table[1, k])
-            out.append(jnp.where(before, b, jnp.where(after, a, one if k == 0 else zero)))
-        lam, eps, o_t, o_v = out
-        return jnp.where(after, lam, one), jnp.where(before, lam, one), eps, o_t, o_v
+        after = s > self.path_of_contact
+        u = jnp.where(after, (s - self.path_of_contact) / span[1], -s / span[0])
+        t = u * (n - 1)  # the grid's u_0 = 0 and u_{n-1} = 1 exactly: _interp_uniform's t
+        i = jnp.clip(jnp.floor(t), 0, n - 2)
+        w = jnp.clip(t - i, 0.0, 1.0)[..., None]
+        row = after.astype(jnp.int32) * n + i.astype(jnp.int32)
+        flat = table.reshape(2 * n, table.shape[2])
+        values = flat[row] * (1.0 - w) + flat[row + 1] * w
+        return (s < 0.0) | after, values
 
     def extension_overrun(self, cells: Cells, gap: Float[Array, "L N"]) -> Bool[Array, ""]:
         """Whether the solved approach would close the corner gap past the far end of the
