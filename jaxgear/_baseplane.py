@@ -406,7 +406,9 @@ class MeshModel(eqx.Module):
             return one, one, zero, zero, zero
         beyond, after, values = self._beyond_path(s)
         on_path = jnp.asarray([1.0, 0.0, 0.0, 0.0], values.dtype)
-        lam, eps, o_t, o_v = jnp.moveaxis(jnp.where(beyond[..., None], values[..., 1:], on_path), -1, 0)
+        lam, eps, o_t, o_v = jnp.moveaxis(
+            jnp.where(beyond[..., None], values[..., 1:], on_path), -1, 0
+        )
         return jnp.where(after, lam, one), jnp.where(beyond & ~after, lam, one), eps, o_t, o_v
 
     def _beyond_path(self, s) -> tuple:
