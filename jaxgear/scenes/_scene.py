@@ -143,8 +143,9 @@ class Scene(eqx.Module):
         r = self.cell_row(cells, delta0)
         K, F = self.stiffness(), self.external_load(torque)
         K = self.pinned_stiffness(K, r)
-        start = contact_start(self.base_planes, cells, torque)
-        sol = solve_contact(K, F, r.V, r.k, r.length, r.delta0, r.mask, law, start)
+        sol = solve_contact(
+            K, F, r.V, r.k, r.length, r.delta0, r.mask, law, loaded_flank(cells, torque)
+        )
         return sol, sol.x, self.te_vectors() @ sol.x
 
 
@@ -238,25 +239,6 @@ class Grounded(Scene):
 
     def te_vector(self):
         return self.base.te_vector()
-
-
-def contact_start(planes: tuple, cells: tuple, torque):
-    """The active set's start of a static solve, (c,) over the cells of every mesh, or None
-    (every cell on the flanks): the cells of the flank that the torque loads
-    (:func:`loaded_flank`), less the corner cells beyond the theoretical path of each mesh with
-    ``extended_contact`` (``planes``: each mesh's :class:`~jaxgear.MeshModel`): a corner cell
-    holds its corner's gap and touches only where the deflection closes it
-    (docs/extended-contact.md), so starting with it open saves the pass that would open it.
-    The start sets only the iteration's path: the converged contact set is the same."""
-    start = loaded_flank(cells, torque)
-    if not any(p.extended_contact for p in planes):
-        return start
-    path = [
-        (c.s >= 0.0) & (c.s <= p.path_of_contact) if p.extended_contact else c.mask
-        for p, c in zip(planes, cells, strict=True)
-    ]
-    path = jnp.concatenate([x.reshape(-1) for x in path])
-    return path if start is None else start & path
 
 
 def loaded_flank(cells: tuple, torque):
