@@ -49,8 +49,17 @@ def _interp_uniform(x, xp, fp):
     t = (x - xp[0]) / (xp[-1] - xp[0]) * (n - 1)
     i = jnp.clip(jnp.floor(t), 0, n - 2)
     w = jnp.clip(t - i, 0.0, 1.0)
-    i = i.astype(jnp.int32)
-    return fp[i] * (1.0 - w) + fp[i + 1] * w
+    return _lerp_rows(fp[:, None], i.astype(jnp.int32), w[..., None])[..., 0]
+
+
+def _lerp_rows(table, row, w):
+    """table[row] (1 − w) + table[row + 1] w, shape (..., c), for a table (m, c), row indices
+    (...) in [0, m − 2] and weights w (..., 1): the two rows from one gather of the table's
+    neighbouring rows side by side (XLA's CPU gather costs per index more than per value)."""
+    c = table.shape[1]
+    pairs = jnp.concatenate([table[:-1], table[1:]], axis=1)
+    both = pairs.at[row].get(mode="promise_in_bounds")
+    return both[..., :c] * (1.0 - w) + both[..., c:] * w
 
 
 class Cells(eqx.Module):
@@ -379,13 +388,8 @@ class MeshModel(eqx.Module):
         ``extension_gap`` × cos β_b (interpolated)."""
         if not self.extended_contact:
             return jnp.zeros_like(s)
-        n = self.extension_gap.shape[1]
-        grid = jnp.linspace(0.0, 1.0, n, dtype=s.dtype)
-        span = jnp.maximum(self.extension_span, jnp.finfo(s.dtype).tiny)
-        before = _interp_uniform(-s / span[0], grid, self.extension_gap[0])
-        after = _interp_uniform((s - self.path_of_contact) / span[1], grid, self.extension_gap[1])
-        gap = jnp.where(s < 0.0, before, jnp.where(s > self.path_of_contact, after, 0.0))
-        return gap * jnp.cos(self.base_helix_angle)
+        beyond, _, values = self._beyond_path(s)
+        return jnp.where(beyond, values[..., 0], 0.0) * jnp.cos(self.base_helix_angle)
 
     def corner(self, s: Float[Array, "..."]) -> tuple:
         """Where the force of a cell at base-plane coordinates ``s`` (m) acts
@@ -400,20 +404,36 @@ class MeshModel(eqx.Module):
         one, zero = jnp.ones_like(s), jnp.zeros_like(s)
         if not self.extended_contact:
             return one, one, zero, zero, zero
-        n = self.extension_corner.shape[-1]
-        grid = jnp.linspace(0.0, 1.0, n, dtype=s.dtype)
+        beyond, after, values = self._beyond_path(s)
+        on_path = jnp.asarray([1.0, 0.0, 0.0, 0.0], values.dtype)
+        lam, eps, o_t, o_v = jnp.moveaxis(
+            jnp.where(beyond[..., None], values[..., 1:], on_path), -1, 0
+        )
+        return jnp.where(after, lam, one), jnp.where(beyond & ~after, lam, one), eps, o_t, o_v
+
+    def _beyond_path(self, s) -> tuple:
+        """(beyond, after, values) at base-plane coordinates ``s`` (m): whether each cell lies
+        beyond the theoretical path (s < 0 or s > g_α), whether after its end, and the tables
+        of its side (row 0 at s = −S_a u, row 1 at s = g_α + S_r u, u equally spaced on
+        [0, 1], clamped at the ends) linearly interpolated, shape (..., 5): the corner gap
+        (``extension_gap``, transverse) and ``extension_corner``'s λ, ε, o_t, o_v. One index
+        and one gather for every channel and both sides, the same in :meth:`corner` and
+        :meth:`extension_separation` (a program that calls both computes it once: XLA merges
+        the two). On the path the values are row 0's at its clamped start: callers replace
+        them."""
+        table = jnp.concatenate(
+            [self.extension_gap[..., None], jnp.moveaxis(self.extension_corner, 1, 2)], axis=-1
+        )
+        n = table.shape[1]
         span = jnp.maximum(self.extension_span, jnp.finfo(s.dtype).tiny)
-        u_before = -s / span[0]
-        u_after = (s - self.path_of_contact) / span[1]
-        before, after = s < 0.0, s > self.path_of_contact
-        table = self.extension_corner
-        out = []
-        for k in range(4):
-            b = _interp_uniform(u_before, grid, table[0, k])
-            a = _interp_uniform(u_after, grid, table[1, k])
-            out.append(jnp.where(before, b, jnp.where(after, a, one if k == 0 else zero)))
-        lam, eps, o_t, o_v = out
-        return jnp.where(after, lam, one), jnp.where(before, lam, one), eps, o_t, o_v
+        after = s > self.path_of_contact
+        u = jnp.where(after, (s - self.path_of_contact) / span[1], -s / span[0])
+        t = u * (n - 1)  # the grid's u_0 = 0 and u_{n-1} = 1 exactly: _interp_uniform's t
+        i = jnp.clip(jnp.floor(t), 0, n - 2)
+        w = jnp.clip(t - i, 0.0, 1.0)[..., None]
+        row = after.astype(jnp.int32) * n + i.astype(jnp.int32)
+        values = _lerp_rows(table.reshape(2 * n, table.shape[2]), row, w)
+        return (s < 0.0) | after, after, values
 
     def extension_overrun(self, cells: Cells, gap: Float[Array, "L N"]) -> Bool[Array, ""]:
         """Whether the solved approach would close the corner gap past the far end of the
