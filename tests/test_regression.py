@@ -293,7 +293,10 @@ def differences(got, ref, path: str = "", scale: float | None = None) -> list[st
         same = (math.isnan(ref) and math.isnan(got)) or got == ref
         return [] if same else [f"{path}: {got!r} != {ref!r}"]
     s = abs(ref) if scale is None else max(scale, abs(ref))
-    if abs(got - ref) <= RTOL * s:
+    step = got - ref
+    if "phase_deg" in path:  # an angle: +180° and −180° are one phase (round-off flips them)
+        step = (step + 180.0) % 360.0 - 180.0
+    if abs(step) <= RTOL * s:
         return []
     return [f"{path}: {got!r} != {ref!r} (relative {abs(got - ref) / max(s, 1e-300):.2e})"]
 
@@ -371,6 +374,10 @@ def test_differences_sees_a_change():
     assert differences({**table, "te_rms_m": 4e-7 * (1 + 1e-12)}, table, t) == []
     assert differences({**table, "x": 1.0}, table, t) == []  # round-off on 1.7e9
     assert differences({**table, "te_rms_m": 4e-7 * (1 + 3e-9)}, table, ".other") == []
+    # phases in degrees compare on the circle: ±180° is one phase, 10° and 11° are not
+    phases = {"phase_deg": [180.0 - 1e-10, 10.0]}
+    assert differences({"phase_deg": [-180.0 + 1e-10, 10.0]}, phases) == []
+    assert differences({"phase_deg": [180.0 - 1e-10, 11.0]}, phases) != []
 
 
 def test_a_changed_recorded_number_is_reported(tmp_path):
