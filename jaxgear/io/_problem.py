@@ -259,6 +259,12 @@ def case_problem(
     modifications as the starting design, its torque as the design torque, its positions per
     pitch and its smooth contact width.
 
+    An acoustic objective ("erp", "sound_power") without an ``acoustic_path`` runs on the
+    housed case's own (:func:`case_acoustic_path`: its lumped 3D scene with the housing, the
+    ``[whine]`` speeds and the orders in the housing's band; that scene is the structure),
+    "sound_power" with the radiation of its ``[acoustics]`` (:func:`case_radiation`;
+    ``progress``: a bar over its BEM solves).
+
     Args:
         case: a :class:`Case` (:func:`jaxgear.io.load_case`).
         variables: as :func:`optimise.make_problem`.
@@ -274,12 +280,6 @@ def case_problem(
             (``contact``, default ``SmoothContact`` of the case's width; ``relief_blend``,
             ``end_relief_blend``: :class:`optimise.Smoothing`) and the other keywords of
             :func:`optimise.make_problem` (``bounds``, ``speed``).
-
-        An acoustic objective ("erp", "sound_power") without an ``acoustic_path`` runs on the
-        housed case's own (:func:`case_acoustic_path`: its lumped 3D scene with the housing,
-        the ``[whine]`` speeds and the orders in the housing's band; that scene is the
-        structure), "sound_power" with the radiation of its ``[acoustics]``
-        (:func:`case_radiation`; ``progress``: a bar over its BEM solves).
 
     Raises:
         ValueError: an unknown objective name, "least_safety" on a case without ``[rating]``,
