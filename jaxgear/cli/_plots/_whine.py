@@ -111,7 +111,8 @@ def whine_waterfall_plot(path, speeds, fundamental_hz, orders, amplitudes, *, la
 def whine_level_plot(path, speeds, levels_db, orders, overall_db=None, *, ylabel, title,
                      invalid=None, note=None, span_db=70.0) -> None:
     """Each order's level (dB) against the speed, and the orders' overall level as a heavy
-    line (NaN levels: not drawn; the axis spans ``span_db`` below the highest level).
+    line (NaN levels: not drawn, an order NaN at every speed left out of the legend; the axis
+    spans ``span_db`` below the highest level).
 
     Args:
         speeds: (S,) input speeds (rad/s). levels_db: (S, k) of the orders ``orders`` (k,).
@@ -120,7 +121,8 @@ def whine_level_plot(path, speeds, levels_db, orders, overall_db=None, *, ylabel
     fig, ax = new_figure()
     lv = np.asarray(levels_db, dtype=float)
     for j, o in enumerate(orders):
-        ax.plot(speeds, lv[:, j], "-", lw=1.3, marker=".", ms=3, label=f"order {o:g}")
+        if np.isfinite(lv[:, j]).any():  # an order out of the band at every speed: no entry
+            ax.plot(speeds, lv[:, j], "-", lw=1.3, marker=".", ms=3, label=f"order {o:g}")
     if overall_db is not None:
         ax.plot(speeds, overall_db, "k-", lw=2.0, label="overall")
         lv = np.column_stack([lv, overall_db])
