@@ -15,11 +15,24 @@ axial part a sin β_b (the gap is transverse; the docs' approximation).
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 import jaxgear as jg
 
-__all__ = ["cell_points_normals"]
+__all__ = ["cell_points_normals", "ring_pair"]
+
+
+def ring_pair():
+    """The internal mesh the extended-contact tests share: a 21-tooth pinion (x = 0.4) in a
+    72-tooth ring, m = 4 mm, α = 20°, 30 mm face."""
+    return jg.InternalGearPair(
+        jg.Member(teeth=21, face_width=0.03, profile_shift=0.4),
+        jg.Member(teeth=-72, face_width=0.03, profile_shift=0.0),
+        normal_module=0.004,
+        normal_pressure_angle=math.radians(20.0),
+    )
 
 
 def _inplane(x):

@@ -9,6 +9,7 @@ import re
 
 import numpy as np
 import pytest
+from _corner import ring_pair
 
 import jaxgear as jg
 import jaxgear.io as jio
@@ -19,15 +20,6 @@ def _pair(z1=20, z2=40, m=0.004, x1=0.0, x2=0.0, b=0.02):
         jg.Member(teeth=z1, face_width=b, profile_shift=x1),
         jg.Member(teeth=z2, face_width=b, profile_shift=x2),
         normal_module=m,
-        normal_pressure_angle=math.radians(20.0),
-    )
-
-
-def _ring():
-    return jg.InternalGearPair(
-        jg.Member(teeth=21, face_width=0.03, profile_shift=0.4),
-        jg.Member(teeth=-72, face_width=0.03, profile_shift=0.0),
-        normal_module=0.004,
         normal_pressure_angle=math.radians(20.0),
     )
 
@@ -91,7 +83,7 @@ def test_corner_gap_vanishes_at_the_path_ends_quadratically():
 
 
 def test_internal_corner_gap_positive_and_quadratic():
-    ring = _ring()
+    ring = ring_pair()
     g, pb = ring.path_of_contact, ring.base_pitch
     span, table = jg.extension_table(ring)
     assert min(span) > 0.02 * pb
@@ -176,7 +168,7 @@ def test_loaded_path_ends_and_the_relief_that_clears_them():
 
 
 def test_internal_mesh_and_the_smooth_law_reach_beyond_the_path():
-    ring = _ring()
+    ring = ring_pair()
     mesh = _mesh(ring, True, stiffness=jg.ISO6336())
     lp = jg.loaded_path(mesh, None, np.array([50.0, 600.0]), positions_per_pitch=128)
     assert float(lp.start[-1]) < -0.01 * ring.base_pitch

@@ -13,6 +13,7 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 import scipy.linalg
+from _corner import ring_pair
 
 import jaxgear as jg
 from jaxgear.scenes import Bearing, ShaftSpec, lumped_pair
@@ -25,15 +26,6 @@ def _pair(z1=20, z2=40, m=0.004, b=0.02, beta=0.0):
         normal_module=m,
         normal_pressure_angle=math.radians(20.0),
         helix_angle=beta,
-    )
-
-
-def _ring():
-    return jg.InternalGearPair(
-        jg.Member(teeth=21, face_width=0.03, profile_shift=0.4),
-        jg.Member(teeth=-72, face_width=0.03, profile_shift=0.0),
-        normal_module=0.004,
-        normal_pressure_angle=math.radians(20.0),
     )
 
 
@@ -128,7 +120,7 @@ def test_lumped_and_torsional_vectors_are_the_corner_gap_derivative(side):
 
 
 def test_internal_mesh_torsional_vectors_are_the_corner_gap_derivative():
-    ring = _ring()
+    ring = ring_pair()
     mesh = _mesh(ring, stiffness=jg.ISO6336())
     span = np.asarray(mesh.extension_span)
     for s in (-0.5 * span[0], float(mesh.path_of_contact) + 0.5 * span[1]):
