@@ -4,8 +4,9 @@
 * the coupled dynamic model (:func:`gearbox_dynamics`, :func:`gearbox_speed_sweep`,
   :func:`gearbox_coupled_modes`): every stage's contact cells at once in one Newmark run
   (docs/gearbox.md);
-* a stage kind added on the stage interface alone: :class:`CompoundPlanetaryStage` (stepped
-  planets) in ``_compound``.
+* stage kinds added on the stage interface alone: :class:`CompoundPlanetaryStage` (stepped
+  planets) in ``_compound``, :class:`LumpedPairGearboxStage` (a parallel pair in lumped 3D
+  form: shafts and bearings) in ``_lumped``.
 * what an NVH engineer reads off it (:func:`campbell_crossings`, :func:`housing_spectrum`): every
   stage's mesh orders against the coupled modes, and the force spectrum at a housing-fixed point
   (a ring mount, McFadden & Smith 1985; a parallel stage's bearing).
@@ -23,6 +24,7 @@ from ._compound import (
     CompoundPlanetaryStage as CompoundPlanetaryStage,
     stepped_planet_phases as stepped_planet_phases,
 )
+from ._lumped import LumpedPairGearboxStage as LumpedPairGearboxStage
 from ._coupled import (
     CoupledModes as CoupledModes,
     GearboxDynamics as GearboxDynamics,
