@@ -207,3 +207,53 @@ def test_guyan_view_against_a_dense_reduction():
     rigid = np.array([pair.base_radii[1], -pair.base_radii[0]])
     assert np.abs(k @ rigid).max() < 1e-6 * np.abs(k).max() * pair.base_radii[1]
     assert m.shape == (2, 2) and np.all(np.linalg.eigvalsh(m) > 0)
+
+
+def _housed_one_stage(tmp_path):
+    """The accessory-spur pair's lumped scene as a one-stage gearbox, grounded and in a box
+    housing of 1000 x steel's modulus (steel's density; Tet4, 40 mm, condensed to 5 kHz)."""
+    from _housing import HOUSING_BOX, housed_case
+
+    table = (HOUSING_BOX.replace("youngs_modulus_GPa = 7.0", "youngs_modulus_GPa = 210000.0")
+             .replace("density_kg_m3 = 2700.0", "density_kg_m3 = 7800.0")
+             + "cutoff_Hz = 5000.0\n")
+    case = housed_case(tmp_path, table=table)
+    housing = case.housing_body(cache=False).housing
+    s = case.scene
+    chains = []
+    for h in (None, housing):
+        scene = lumped_pair(case.pair, case.mesh_model(), s.pinion_shaft, s.gear_shaft,
+                            masses=(1.0, 2.5), inertias=((1e-3, 2e-3), (4e-3, 8e-3)), housing=h)
+        chains.append(gb.GearboxTorsional((gb.LumpedPairGearboxStage(scene),), []))
+    run = gb.GearboxRun(case.torque, 1e4, steps_per_period=32, periods=40, keep_periods=2)
+    return chains, run
+
+
+def test_stage_in_a_stiff_housing_is_the_grounded_stage(tmp_path):
+    """The stage's scene built with a housing (its bearings on the seats, the housing's
+    coordinates in the stage): in a box 1000 x stiffer than steel the one-stage gearbox's
+    coupled modes below 5 kHz are the grounded stage's (1e-3)."""
+    (grounded, housed), run = _housed_one_stage(tmp_path)
+    stage = housed.stages[0]
+    assert len(stage.coordinates()) > len(grounded.stages[0].coordinates())
+    assert stage.coordinate_ends() == grounded.stages[0].coordinate_ends()
+    f0 = _elastic(gb.gearbox_coupled_modes(grounded, run))
+    f0 = f0[f0 < 5000.0]
+    f = _elastic(gb.gearbox_coupled_modes(housed, run))[: f0.size]
+    print("stiff housing: modes below 5 kHz, max relative difference", np.abs(f / f0 - 1).max())
+    np.testing.assert_allclose(f, f0, rtol=1e-3)
+
+
+@pytest.mark.slow
+def test_stage_in_a_stiff_housing_runs_as_the_grounded_stage(tmp_path):
+    """The same pair of gearboxes at 300 rad/s: the housed stage's mesh force over the recorded
+    window is the grounded stage's within 1e-3 of the static force."""
+    (grounded, housed), run = _housed_one_stage(tmp_path)
+    a = gb.gearbox_dynamics(grounded, run, 300.0)
+    b = gb.gearbox_dynamics(housed, run, 300.0)
+    assert int(a.result) == 0 and int(b.result) == 0
+    f_s = float(a.static_forces[0])
+    print("stiff housing: mesh force, max difference / static",
+          np.abs(np.asarray(b.mesh_forces) - np.asarray(a.mesh_forces)).max() / f_s)
+    np.testing.assert_allclose(np.asarray(b.mesh_forces), np.asarray(a.mesh_forces),
+                               atol=1e-3 * f_s)
