@@ -11,8 +11,7 @@ import scipy.linalg
 from _examples import load_example
 
 import jaxgear as jg
-from jaxgear import dynamics as jd
-from jaxgear import gearbox as gb
+from jaxgear import dynamics as jd, gearbox as gb
 from jaxgear.dynamics import ModalDamping, Newmark, SteadyState
 from jaxgear.scenes import Bearing, ShaftSpec, lumped_pair
 
@@ -199,10 +198,20 @@ def test_guyan_view_against_a_dense_reduction():
     kk = ks + km
     e = list(scene.torque_dofs)
     i = [j for j in range(kk.shape[0]) if j not in e]
-    # condensed stiffness K_ee - K_ei K_ii^-1 K_ie; its null vector the rigid turn (r_2, -r_1)
+    # condensed stiffness K_ee - K_ei K_ii^-1 K_ie; the mass through the static shapes
+    # (the internal coordinates' response to a unit end rotation, the other end held)
     k_ref = kk[np.ix_(e, e)] - kk[np.ix_(e, i)] @ scipy.linalg.solve(kk[np.ix_(i, i)],
                                                                      kk[np.ix_(i, e)])
     np.testing.assert_allclose(k, k_ref, rtol=1e-9, atol=1e-9 * np.abs(k_ref).max())
+    shapes = np.zeros((kk.shape[0], 2))
+    for c, end in enumerate(e):
+        u = np.zeros(kk.shape[0])
+        u[end] = 1.0
+        f = -kk @ u  # the internal coordinates in equilibrium with the end rotation
+        u[i] = scipy.linalg.solve(kk[np.ix_(i, i)], f[i])
+        shapes[:, c] = u
+    np.testing.assert_allclose(m, shapes.T @ mm @ shapes, rtol=1e-9,
+                               atol=1e-12 * np.abs(m).max())
     pair, _ = _pair()
     rigid = np.array([pair.base_radii[1], -pair.base_radii[0]])
     assert np.abs(k @ rigid).max() < 1e-6 * np.abs(k).max() * pair.base_radii[1]

@@ -24,7 +24,6 @@ from ._compound import (
     CompoundPlanetaryStage as CompoundPlanetaryStage,
     stepped_planet_phases as stepped_planet_phases,
 )
-from ._lumped import LumpedPairGearboxStage as LumpedPairGearboxStage
 from ._coupled import (
     CoupledModes as CoupledModes,
     GearboxDynamics as GearboxDynamics,
@@ -36,6 +35,7 @@ from ._coupled import (
     gearbox_speed_sweep as gearbox_speed_sweep,
     mesh_names as mesh_names,
 )
+from ._lumped import LumpedPairGearboxStage as LumpedPairGearboxStage
 from ._spectrum import (
     HousingSignals as HousingSignals,
     HousingSpectrum as HousingSpectrum,

@@ -33,7 +33,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from .._baseplane import CellRow, on_the_path
+from .._baseplane import on_the_path
 from .._modifications import Modifications
 from .._quasi_static import separation
 from .._util import as_float, check_instance
