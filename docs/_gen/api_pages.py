@@ -99,6 +99,7 @@ SECTIONS = {
         ("The stages and the torsional chain", ("_chain",)),
         ("The coupled dynamic model", ("_coupled",)),
         ("A stage kind: the compound planetary stage (stepped planets)", ("_compound",)),
+        ("A stage kind: a parallel pair in lumped 3D form", ("_lumped",)),
         ("Campbell diagram and housing spectrum", ("_spectrum",)),
     ),
     "jaxgear.tribology": (

@@ -4,8 +4,9 @@
 * the coupled dynamic model (:func:`gearbox_dynamics`, :func:`gearbox_speed_sweep`,
   :func:`gearbox_coupled_modes`): every stage's contact cells at once in one Newmark run
   (docs/gearbox.md);
-* a stage kind added on the stage interface alone: :class:`CompoundPlanetaryStage` (stepped
-  planets) in ``_compound``.
+* stage kinds added on the stage interface alone: :class:`CompoundPlanetaryStage` (stepped
+  planets) in ``_compound``, :class:`LumpedPairGearboxStage` (a parallel pair in lumped 3D
+  form: shafts and bearings) in ``_lumped``.
 * what an NVH engineer reads off it (:func:`campbell_crossings`, :func:`housing_spectrum`): every
   stage's mesh orders against the coupled modes, and the force spectrum at a housing-fixed point
   (a ring mount, McFadden & Smith 1985; a parallel stage's bearing).
@@ -34,6 +35,7 @@ from ._coupled import (
     gearbox_speed_sweep as gearbox_speed_sweep,
     mesh_names as mesh_names,
 )
+from ._lumped import LumpedPairGearboxStage as LumpedPairGearboxStage
 from ._spectrum import (
     HousingSignals as HousingSignals,
     HousingSpectrum as HousingSpectrum,
