@@ -17,7 +17,10 @@ u_p = R u_c + (R θ) × (p − c). Its energy ½ dᵀ K_b d adds K_b on the shaf
 −Gᵀ K_b between shaft node and seat, and Gᵀ K_b G on the seat; its damping C_b likewise. The
 bearing's force rows (:attr:`~jaxgear.scenes.Structure.reaction`) become K_b[:3] d: the force the
 bearing transmits between shaft and housing. With a rigid, massless housing (q = 0) this is the
-grounded bearing of :class:`~jaxgear.scenes.Bearing` exactly.
+grounded bearing of :class:`~jaxgear.scenes.Bearing` exactly. A shaft whose coordinates are
+taken in a frame turned by φ about z (a hybrid scene's condensed body's shaft, at its body
+frame's angle at θ = 0) sees the seat through Q(φ)ᵀ G (its axisymmetric bearing acts in its own
+frame; :func:`couple_housing`'s ``frames``).
 
 Source: Craig & Bampton, AIAA J. 6 (1968); the seat coupling is the rigid-link (RBE2) relation of
 the condensed bodies' bearing masters (:func:`fem_prep.couple_masters`).
