@@ -168,7 +168,7 @@ RUNS = {  # name: (argv after the command, output file(s) to compare, in the def
         False,
     ),
     "run-example-two-gear-body": (["run", "examples/two-gear-body.toml"], SUMMARY, False),
-    # a pair with a condensed wheel in a flexible housing: the pinion's bearings in its seats
+    # a pair with a condensed wheel in a flexible housing: both shafts' bearings in its seats
     "run-example-hybrid-pair-housed": (
         ["run", "examples/hybrid-pair-housed.toml"],
         SUMMARY,

@@ -258,7 +258,7 @@ def hybrid_seats_section(case) -> dict | None:
     """The ``housing`` entry of a hybrid case's quasi-static summary (a case with condensed
     bodies and ``[housing]``; None otherwise): the condensed housing's size, modes and cut-off,
     and where each bearing sits (:meth:`jaxgear.io.Case.hybrid_housing`: the rigid gears'
-    shafts in the nearest seats, a condensed body's shaft on the ground, ``seat`` None)."""
+    every shaft's bearings in the nearest seats, a condensed body's shaft's too)."""
     if case.housing is None or case.scene is None or not case.scene.hybrid:
         return None
     kw = case.hybrid_housing()
@@ -289,5 +289,5 @@ def hybrid_seats_line(section: dict | None) -> list[str]:
     n = section["housing_modes"]
     line = (f"  on a flexible housing ({n} mode{'' if n == 1 else 's'} to "
             f"{section['cutoff_Hz']:.0f} Hz): {seated} of {len(section['bearings'])} bearings in "
-            "its seats, a condensed body's shaft's on the ground")
+            "its seats")
     return [line]

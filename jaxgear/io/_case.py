@@ -554,24 +554,14 @@ class Case(MeshSettings):
     def hybrid_housing(self, *, cache=True) -> dict:
         """The ``housing`` and ``seats`` keywords of the case's hybrid scene
         (:func:`jaxgear.scenes.hybrid_pair`, :meth:`hybrid_train`) from its ``[housing]``
-        (:meth:`housing_body`); ``{}`` without one. Each bearing of a rigid gear's shaft sits
-        in the housing's nearest seat; a shaft that carries a condensed body turns with the
-        body frame, so its bearings stay on the ground (seat ``None``; docs/housing.md,
-        "Hybrid scenes")."""
+        (:meth:`housing_body`); ``{}`` without one. Each bearing sits in the housing's
+        nearest seat, a condensed body's shaft's too (it meets its seats at its body frame's
+        angle at θ = 0; docs/housing.md, "Hybrid scenes")."""
         if self.housing is None:
             return {}
         housing = self.housing_body(cache=cache).housing
         _, positions = self._bearing_layout(self.scene)
-        refs = self.scene.bodies
-        if isinstance(self.form, TrainForm):
-            turning = {self.shaft_of[g] for g, ref in enumerate(refs) if ref is not None}
-        else:
-            turning = {m for m, ref in enumerate(refs) if ref is not None}
-        seats = [
-            None if i in turning else housing.nearest_seat(p)
-            for i, ps in enumerate(positions)
-            for p in ps
-        ]
+        seats = [housing.nearest_seat(p) for ps in positions for p in ps]
         return {"housing": housing, "seats": seats}
 
     def hybrid_train(
@@ -591,7 +581,7 @@ class Case(MeshSettings):
             bodies: each gear's condensed body or ``None`` (rigid), (n,)
                 (:func:`jaxgear.io.load_bodies` of the case's scene).
             tooth_mass: lump the teeth's mass on the rim masters (default).
-            housing, seats: a :class:`jaxgear.scenes.Housing` the rigid gears' shafts sit in
+            housing, seats: a :class:`jaxgear.scenes.Housing` the shafts sit in
                 and each bearing's seat, None for a bearing on the ground
                 (:func:`~jaxgear.scenes.hybrid_train`; docs/housing.md, "Hybrid scenes").
 

@@ -525,9 +525,8 @@ def parse_case(data: dict, default_name: str = "case", base_dir: str | None = No
 
 def case_housing(data: dict, scene, base_dir, material):
     """``[housing]`` of a case (:func:`parse_housing`), or None; it needs a lumped 3D scene,
-    whose bearings it carries: with condensed bodies (a hybrid scene) those of the rigid gears'
-    shafts, a condensed body's shaft keeping its bearings on the ground (it turns with the
-    body frame; :meth:`Case.hybrid_housing`). Also refuses ``[whine]`` with condensed bodies
+    whose bearings it carries, with condensed bodies (a hybrid scene) too
+    (:meth:`Case.hybrid_housing`). Also refuses ``[whine]`` with condensed bodies
     (the harmonic balance takes lumped models without them), before anything is built."""
     if "whine" in data and scene is not None and scene.hybrid:
         raise sc.fail(
@@ -545,8 +544,7 @@ def case_housing(data: dict, scene, base_dir, material):
             "housing",
             None,
             "a housing carries the bearings of a lumped 3D scene: allowed with [scene] "
-            "model = 'lumped3d' (rigid gears, or condensed bodies whose own shafts' bearings "
-            "stay on the ground)",
+            "model = 'lumped3d' (rigid gears or condensed bodies)",
         )
     return parse_housing(table, base_dir, material)
 

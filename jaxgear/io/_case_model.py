@@ -248,7 +248,7 @@ def static_scene(
     A pair's: ``lumped3d`` without bodies, the lumped scene with the load rotation grounded;
     with ``[scene.pinion_body]``/``[scene.gear_body]``, the hybrid scene
     (:func:`jaxgear.scenes.hybrid_pair`), its flexible members' tooth stiffness without the
-    foundation term, with ``[housing]`` its rigid gears' shafts on the housing's seats
+    foundation term, with ``[housing]`` its shafts on the housing's seats
     (:meth:`Case.hybrid_housing`). A train's: :meth:`Case.static_train` (the lumped 3D train,
     the output shaft's rotation held; with ``[scene.bodies]`` its hybrid train, the bodies
     default to the scene's), the scene ``jaxgear run`` solves. The scene holds no operating
@@ -294,7 +294,7 @@ def _pair_static_scene(form: PairForm, case: Case, slices, bodies):
         masses=masses,
         inertias=inertias,
         material=Material(case.youngs_modulus, case.poisson_ratio, case.density),
-        **case.hybrid_housing(),  # [housing]: the rigid gears' shafts on its seats
+        **case.hybrid_housing(),  # [housing]: the shafts on its seats
     )
     return scene, bodies
 

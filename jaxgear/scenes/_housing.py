@@ -17,7 +17,10 @@ u_p = R u_c + (R θ) × (p − c). Its energy ½ dᵀ K_b d adds K_b on the shaf
 −Gᵀ K_b between shaft node and seat, and Gᵀ K_b G on the seat; its damping C_b likewise. The
 bearing's force rows (:attr:`~jaxgear.scenes.Structure.reaction`) become K_b[:3] d: the force the
 bearing transmits between shaft and housing. With a rigid, massless housing (q = 0) this is the
-grounded bearing of :class:`~jaxgear.scenes.Bearing` exactly.
+grounded bearing of :class:`~jaxgear.scenes.Bearing` exactly. A shaft whose coordinates are
+taken in a frame turned by φ about z (a hybrid scene's condensed body's shaft, at its body
+frame's angle at θ = 0) sees the seat through Q(φ)ᵀ G (its axisymmetric bearing acts in its own
+frame; :func:`couple_housing`'s ``frames``).
 
 Source: Craig & Bampton, AIAA J. 6 (1968); the seat coupling is the rigid-link (RBE2) relation of
 the condensed bodies' bearing masters (:func:`fem_prep.couple_masters`).
@@ -39,6 +42,14 @@ __all__ = ["Housing", "bearing_positions"]
 def _skew(a) -> np.ndarray:
     x, y, z = a
     return np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
+
+
+def _turn_z(phi: float) -> np.ndarray:
+    """Q(φ) (6, 6): the rotation by φ (rad) about +z on a node's translations and rotation
+    vector."""
+    c, s = math.cos(phi), math.sin(phi)
+    r = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+    return np.kron(np.eye(2), r)
 
 
 def _rotation(value) -> np.ndarray:
@@ -191,7 +202,9 @@ def bearing_positions(shafts, centres, gear_z) -> list[list[np.ndarray]]:
     return out
 
 
-def couple_housing(d: dict, shafts, positions, housing: Housing | None, seats=None) -> dict:
+def couple_housing(
+    d: dict, shafts, positions, housing: Housing | None, seats=None, frames=None
+) -> dict:
     """The shafts' NumPy parts (:func:`~jaxgear.scenes._shaft._shaft_arrays`) with ``housing``
     appended after the shaft coordinates and every bearing re-seated from the ground onto a
     seat (module docstring): M, the stiffness parts (a ``housing`` part appended; the
@@ -199,6 +212,11 @@ def couple_housing(d: dict, shafts, positions, housing: Housing | None, seats=No
     force rows, grown to n' = n + h. ``positions``: :func:`bearing_positions`; ``seats``: the
     seat index of every bearing (shaft after shaft, as ``positions``; None: the nearest), an
     entry None leaving that bearing on the ground. ``housing`` None returns ``d`` unchanged.
+    ``frames``: per shaft, the angle φ (rad) about +z of the frame its coordinates are taken in
+    (a hybrid scene's condensed body turns its shaft's frame, docs/housing.md, "Hybrid
+    scenes"), or None: every shaft in the scene frame. A bearing of a shaft at φ acts on
+    d = u_s − Q(φ)ᵀ G q (Q(φ) the rotation by φ about z on the translations and on the rotation
+    vector): its relative motion in the shaft's frame, the bearing being axisymmetric there.
 
     Raises:
         ValueError: ``seats`` of another length than the bearings, or a seat index out of range.
@@ -254,6 +272,8 @@ def couple_housing(d: dict, shafts, positions, housing: Housing | None, seats=No
         if s is not None:  # None: the bearing stays on the ground
             q = slice(n + 6 * s, n + 6 * s + 6)
             G = housing.seat_transform(s, p)
+            if frames is not None and frames[i]:
+                G = _turn_z(-float(frames[i])) @ G  # Q(φ)ᵀ G: the seat seen from the shaft
             for target, a in ((parts[-2], b.stiffness_matrix()), (C, b.damping_matrix())):
                 target[u, q] -= a @ G
                 target[q, u] -= G.T @ a

@@ -158,16 +158,15 @@ class HybridScene(AssembledScene):
             tooth_mass: add the teeth's mass and centrifugal load on the rim masters.
             housing, seats: a flexible :class:`~jaxgear.scenes.Housing` and each bearing's
                 seat (shaft after shaft), as :meth:`~jaxgear.scenes.LumpedTrain.of`'s, its
-                coordinates after the shafts' (before the bodies'), with the restriction of
-                :func:`hybrid_pair`: the bearings of a shaft carrying a flexible body stay on
-                the ground (their ``seats`` entries None).
+                coordinates after the shafts' (before the bodies'); a shaft carrying a
+                flexible body meets its seats as in :func:`hybrid_pair`.
 
         Raises:
             ValueError (one line, lengths in mm): a shaft carrying a flexible gear and a rigid one or
                 two bodies (the shaft turns with the body frame); a body's rims not matching its
                 gears (count, rim taken twice), a gear position that is not where the body puts its
-                rim, a rim width that is not the face width of the gear's meshes; a bearing of a
-                flexible body's shaft given a seat; what :func:`hybrid_pair` and
+                rim, a rim width that is not the face width of the gear's meshes; what
+                :func:`hybrid_pair` and
                 :meth:`~jaxgear.scenes.LumpedTrain.of` refuse.
         """
         return _hybrid_train(cls, spec, tooth_mass, housing, seats)
@@ -349,36 +348,6 @@ class HybridScene(AssembledScene):
 # builders (NumPy, once per scene)
 
 
-def _housing_seats(housing, seats, shafts, turning, names) -> list | None:
-    """The ``seats`` of a hybrid scene's bearings on ``housing`` (shaft after shaft; None: the
-    nearest seat), checked against the shafts that turn with a flexible body (``turning``,
-    their indices; ``names``: each shaft's label): a bearing of those stays on the ground.
-
-    A flexible body's shaft is taken in the body's turning frame (its bearings are
-    axisymmetric, so their stiffness does not change); a housing seat is fixed, and a bearing
-    joining the two would couple them through the shaft's angle (a stiffness periodic in time,
-    which the scene's constant matrices cannot hold).
-
-    Raises:
-        ValueError: a seat given (or defaulted) to a bearing of a turning shaft (one line)."""
-    if housing is None:
-        return None
-    flat = [(i, k) for i, spec in enumerate(shafts) for k in range(len(spec.bearings))]
-    given = [0] * len(flat) if seats is None else list(seats)
-    for j, ((i, k), s_) in enumerate(zip(flat, given)):
-        if i in turning and s_ is not None:
-            what = "seats = None (the nearest seat)" if seats is None else f"seats[{j}] = {s_!r}"
-            raise ValueError(
-                f"{what}: bearing {k} of shaft {names[i]!r} holds a flexible body's shaft, "
-                "which turns with the body frame while a housing seat stands still (a coupling "
-                "periodic in the shaft angle, not modelled); allowed: None for its entries "
-                "(those bearings stay on the ground)"
-            )
-    if seats is None:
-        return None
-    return list(seats)
-
-
 def _hybrid_train(cls, spec: TrainSpec, tooth_mass: bool, housing=None, seats=None) -> HybridScene:
     """:meth:`HybridScene.train`."""
     bodies, layout, on = spec.gear_bodies, spec.layout, spec.shaft_gears
@@ -386,13 +355,26 @@ def _hybrid_train(cls, spec: TrainSpec, tooth_mass: bool, housing=None, seats=No
     masses = [None if b is not None else m for b, m in zip(bodies, spec.masses, strict=True)]
     t = _train_arrays(spec, masses, tuple(map(tuple, bodies_z)))
     n0 = t["d"]["M"].shape[0]
+    role = _gear_roles(spec.meshes)
+    frames = None
+    if housing is not None:  # a turning shaft meets its seats at its frame's angle at θ = 0
+        _check_rim_widths(spec)
+        stand_in = {s_: _no_dofs(body) for s_, (body, _) in shaft_body.items()}
+        built = _train_members(
+            spec, train_meshes(spec.meshes, layout, t["first"], n0), t["first"], stand_in, role
+        )
+        frames = [0.0] * spec.n_shafts
+        for g, body in enumerate(bodies):
+            if body is not None:
+                frames[spec.shaft_of[g]] = float(built[g].frame_angle(0.0))
     t["d"] = _housed(
         dict(t["d"], nodes=t["nodes"]),
         spec.shafts,
         [layout.centres[on[i][0]] for i in range(spec.n_shafts)],
         [sh.gear_positions[0] for sh in spec.shafts],
         housing,
-        _housing_seats(housing, seats, spec.shafts, set(shaft_body), spec.names),
+        seats,
+        frames,
     )
     t["nodes"] = t["d"].pop("nodes")
     t["f_torque"] = np.concatenate([t["f_torque"], np.zeros(t["d"]["M"].shape[0] - n0)])
@@ -400,7 +382,6 @@ def _hybrid_train(cls, spec: TrainSpec, tooth_mass: bool, housing=None, seats=No
     n_sh = d["M"].shape[0]
     spin = np.asarray(layout.spins, float)
     ratio = np.asarray(layout.ratios, float)
-    role = _gear_roles(spec.meshes)
     _check_rim_widths(spec)
     places, body_shafts = [], []
     for s_, (body, origin) in shaft_body.items():
@@ -531,16 +512,17 @@ def hybrid_pair(
             the bodies'; the structure's nodes ``housing <seat>``; the same scene frame), or
             None: the bearings hold the shafts to the ground.
         seats: with ``housing``, each bearing's seat index (pinion's bearings, then the
-            gear's), None for a bearing that stays on the ground; None: the nearest seat. The
-            bearings of a flexible member's shaft stay on the ground (that shaft turns with the
-            body frame, a seat does not: docs/housing.md, "Hybrid scenes").
+            gear's), None for a bearing that stays on the ground; None: the nearest seat. A
+            flexible member's shaft turns with its body frame, a seat does not: its bearings
+            meet their seats at the body frame's angle at θ = 0 (:func:`couple_housing`'s
+            ``frames``; docs/housing.md, "Hybrid scenes").
 
     Raises:
         ValueError: body/gear mismatch (teeth, root radius), a bearing node off the axis or
             outside its shaft, a structure with a rigid-body mode other than the drive rotation,
             a bearing stiffness or damping matrix on a flexible body's shaft that is not
-            axisymmetric about z (that shaft turns with the body frame); a seat for a bearing
-            of that shaft; what :func:`~jaxgear.scenes.lumped_pair` refuses of ``seats``.
+            axisymmetric about z (that shaft turns with the body frame); what
+            :func:`~jaxgear.scenes.lumped_pair` refuses of ``seats``.
     """
     shafts = (pinion_shaft, gear_shaft)
     where = ("scene.pinion_shaft", "scene.gear_shaft")
@@ -558,15 +540,32 @@ def hybrid_pair(
     masses = tuple(None if b is not None else ms for b, ms in zip(bodies, masses, strict=True))
     d = _lumped_arrays(pair, pinion_shaft, gear_shaft, masses, inertias, *material, extra_z=extra)
     line = line_of_action(pair)
-    turning = {m for m, body in enumerate(bodies) if body is not None}
-    d = _housed(
-        d,
-        shafts,
-        line["centres"],
-        (pinion_shaft.gear_positions[0], gear_shaft.gear_positions[0]),
-        housing,
-        _housing_seats(housing, seats, shafts, turning, ("pinion", "gear")),
+    zone = mesh_line(
+        line["tangent_point"], line["direction"], line["normal"], line["roll_start"], mesh
     )
+    zone = {k: np.asarray(v) for k, v in zone.items()}
+
+    def member(m, gidx):
+        body, centre = bodies[m], jnp.asarray(line["centres"][m])
+        if body is None:
+            g = d["gear_dofs"][m]
+            return RigidMember(centre, tuple(range(g, g + 6)))
+        return flexible_member(pair, m, body, gidx, zone, mesh, GearPlace(centre))
+
+    if housing is not None:  # a turning shaft meets its seats at its frame's angle at θ = 0
+        frames = [
+            0.0 if body is None else float(member(m, _no_dofs(body)).frame_angle(0.0))
+            for m, body in enumerate(bodies)
+        ]
+        d = _housed(
+            d,
+            shafts,
+            line["centres"],
+            (pinion_shaft.gear_positions[0], gear_shaft.gear_positions[0]),
+            housing,
+            seats,
+            frames,
+        )
     ratio = pair.pinion.teeth / pair.gear.teeth
     placed = _place_bodies(
         d,
@@ -589,18 +588,7 @@ def hybrid_pair(
     # the drive rotation (pinion chain), scaled to a unit base-plane approach
     Nv = _shaft_rotation(d, 0, n, bodies[0], gidxs[0]) / rb1
     G = _drive_compliance(placed["K"], Nv[:, None], t_out)
-    zone = mesh_line(
-        line["tangent_point"], line["direction"], line["normal"], line["roll_start"], mesh
-    )
-    zone = {k: np.asarray(v) for k, v in zone.items()}
-    members = []
-    for m, body in enumerate(bodies):
-        centre = jnp.asarray(line["centres"][m])
-        if body is None:
-            g = d["gear_dofs"][m]
-            members.append(RigidMember(centre, tuple(range(g, g + 6))))
-        else:
-            members.append(flexible_member(pair, m, body, gidxs[m], zone, mesh, GearPlace(centre)))
+    members = [member(m, gidxs[m]) for m in range(2)]
     meshes = (pair_mesh(mesh, line, te),)
     return HybridScene(
         structure=_body_structure(d, placed, d["nodes"]),
@@ -617,6 +605,12 @@ def hybrid_pair(
     )
 
 
+def _no_dofs(body) -> np.ndarray:
+    """Stand-in global DOFs of a condensed body's DOFs (its own order), for a member built only
+    to read its frame angle before the body is placed."""
+    return np.arange(np.asarray(body.dof_map).shape[0])
+
+
 def _free_rotation(rotations: list, te_rows: list) -> np.ndarray:
     """The scene's free drive rotation (n, 1): the combination of the shafts' rigid rotations
     ``rotations`` (each (n,), :func:`_shaft_rotation`) that moves no mesh's TE vector
@@ -631,8 +625,8 @@ def _free_rotation(rotations: list, te_rows: list) -> np.ndarray:
 def hybrid_train(
     spec: TrainSpec, *, tooth_mass: bool = True, housing: Housing | None = None, seats=None
 ) -> HybridScene:
-    """The hybrid scene of the train ``spec`` (with ``housing``: the bearings of its rigid
-    gears' shafts on the housing's seats): :meth:`HybridScene.train`.
+    """The hybrid scene of the train ``spec`` (with ``housing``: its shafts' bearings on the
+    housing's seats): :meth:`HybridScene.train`.
 
     Raises:
         ValueError: what :meth:`HybridScene.train` refuses.

@@ -191,13 +191,15 @@ def lumped_pair(
     )
 
 
-def _housed(d: dict, shafts, centres, gear_z, housing, seats) -> dict:
-    """``d`` with ``housing`` coupled (:func:`couple_housing`): the rigid rotation padded, the
-    seats' nodes named."""
+def _housed(d: dict, shafts, centres, gear_z, housing, seats, frames=None) -> dict:
+    """``d`` with ``housing`` coupled (:func:`couple_housing`, each shaft's frame angle
+    ``frames``): the rigid rotation padded, the seats' nodes named."""
     if housing is None:
         return d
     n = d["M"].shape[0]
-    out = couple_housing(d, shafts, bearing_positions(shafts, centres, gear_z), housing, seats)
+    out = couple_housing(
+        d, shafts, bearing_positions(shafts, centres, gear_z), housing, seats, frames
+    )
     out["nodes"] = (*d["nodes"], *housing_nodes(housing, n))
     if "rigid" in d:
         out["rigid"] = np.concatenate([d["rigid"], np.zeros(housing.size)])
