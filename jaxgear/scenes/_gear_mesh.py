@@ -377,7 +377,7 @@ def mesh_zone_load(scene, k: int, theta, first: int = 0) -> Float[Array, " m"]:
         )
     if not 0 <= first <= n:
         raise ValueError(f"mesh_zone_load: first = {first}: out of range, allowed [0, {n}]")
-    return _zone_load(scene, k, as_float(theta), first)
+    return _zone_load(scene, k, jnp.asarray(theta), first)
 
 
 @eqx.filter_jit
