@@ -27,7 +27,7 @@ from jaxtyping import Array, Bool, Float, Int
 from ._backlash import cell_flank, coast_phase
 from ._extended import corner_table, extension_table, line_range
 from ._geometry import GearPair
-from ._util import as_float
+from ._util import as_float, compiled_when_eager
 
 __all__ = [
     "CellRow",
@@ -346,6 +346,10 @@ class MeshModel(eqx.Module):
         ``coast`` the coast lines follow the drive lines: rows ``n_drive_lines`` on, at the
         layout's angle θ_c − θ in the second base plane (``flank`` −1; docs/backlash.md).
         """
+        return _compiled_cells(self, jnp.asarray(theta))
+
+    def _cells(self, theta) -> Cells:
+        """:meth:`cells` (traced, or compiled once per mesh layout when called eagerly)."""
         dz = self.face_width / self.n_slices
         z = (jnp.arange(self.n_slices) + 0.5) * dz
         L = self.n_drive_lines
@@ -459,6 +463,11 @@ class MeshModel(eqx.Module):
     def normal_load(self, torque: Float[Array, ""]) -> Float[Array, ""]:
         """Flank-normal mesh force F_n = T / (r_b1 cos β_b) (N) for pinion torque T (N·m)."""
         return torque / (self.base_radius_pinion * jnp.cos(self.base_helix_angle))
+
+
+#: :meth:`MeshModel.cells` in one program when called on concrete values (eagerly its few
+#: dozen operations compile one by one for each new layout)
+_compiled_cells = compiled_when_eager(lambda mesh, theta: mesh._cells(theta))
 
 
 def on_the_path(tree):

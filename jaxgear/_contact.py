@@ -47,7 +47,7 @@ import jax
 import jax.numpy as jnp
 from jaxtyping import Array, Bool, Float, Int
 
-from ._util import check_integer, is_traced, only_where_needed
+from ._util import check_integer, compiled_when_eager, is_traced, only_where_needed
 
 __all__ = [
     "AbstractContactLaw",
@@ -373,6 +373,7 @@ def _finish(x, gap, k, kl, mask, law, iterations, result):
     )
 
 
+@compiled_when_eager
 def solve_contact(
     Ks: Float[Array, "n n"],
     F: Float[Array, " n"],
@@ -500,6 +501,7 @@ def _smooth_newton(law_static, max_iterations: int):
     return fn
 
 
+@compiled_when_eager
 def solve_contact_cells(
     C: Float[Array, "c c"],
     a: Float[Array, " c"],

@@ -39,7 +39,7 @@ from ._contact import ContactLaw, ExactContact
 from ._deviations import Deviations, GearDeviations, iso1328_tolerances
 from ._modifications import Modifications
 from ._quasi_static import quasi_static
-from ._util import NamedKind
+from ._util import NamedKind, compiled_when_eager
 from .scenes import Scene
 
 __all__ = [
@@ -234,6 +234,7 @@ class GearSampler(eqx.Module):
             _check_kinds(kinds),
         )
 
+    @compiled_when_eager
     def __call__(self, key) -> GearDeviations:
         """One gear's deviations drawn from ``key`` (a ``jax.random`` key)."""
         z, t = self.teeth, self.tolerances
@@ -308,6 +309,7 @@ class DeviationSampler(eqx.Module):
             out[tag] = GearSampler.of(tol, member.teeth, pair.transverse_pressure_angle, kinds)
         return cls(**out)
 
+    @compiled_when_eager
     def __call__(self, key) -> Deviations:
         """A realisation drawn from ``key``."""
         kp, kg = jax.random.split(key)

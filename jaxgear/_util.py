@@ -16,6 +16,7 @@ __all__ = [
     "check_integer",
     "check_real",
     "closest_circles",
+    "compiled_when_eager",
     "is_traced",
     "of_the_one_mesh",
     "only_one_mesh",
@@ -51,6 +52,24 @@ def check_integer(name: str, value, lo: int) -> None:
         ok = False
     if not ok:
         raise ValueError(f"{name} = {value!r} is out of range: allowed an integer >= {lo}")
+
+
+def compiled_when_eager(fn):
+    """``fn`` run as one compiled program (``eqx.filter_jit``: array leaves traced, the rest
+    static) when it is called on concrete values, and traced inline when an argument is a
+    tracer (the caller's ``jit``, ``vmap`` or ``grad`` compiles it with the rest). Called
+    eagerly, a function of a few hundred JAX operations otherwise dispatches and compiles
+    each on its own (a new small program for each new shape). Same results; the arguments
+    are those of ``fn``."""
+    compiled = eqx.filter_jit(fn)
+
+    @functools.wraps(fn)
+    def call(*args, **kwargs):
+        if is_traced((args, kwargs)):
+            return fn(*args, **kwargs)
+        return compiled(*args, **kwargs)
+
+    return call
 
 
 def is_traced(value) -> bool:

@@ -289,7 +289,7 @@ def _pair_stiffness(mesh, theta, pair):
             jnp.where(c.mask & ~(c.line == k - pair), c.stiffness * c.length, 0.0)
         )
 
-    kn, km = jax.vmap(one)(jnp.asarray(theta))
+    kn, km = jax.jit(jax.vmap(one))(jnp.asarray(theta))  # one program (eager vmap: op by op)
     return np.asarray(kn), np.asarray(km)
 
 

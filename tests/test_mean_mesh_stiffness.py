@@ -25,6 +25,11 @@ def lumped():
     return case, scene
 
 
+def _cells_and_vectors(scene, theta):
+    cells = scene.mesh.cells(theta)
+    return cells, scene.cell_vectors(cells)
+
+
 def _reference(scene, mods, torque):
     """⟨Σ_c k l V Vᵀ⟩ over the loaded cells (line load > 0) at θ_j = (j + ½) Δθ / SPP, written
     out cell by cell from the scene's structure vectors."""
@@ -32,8 +37,9 @@ def _reference(scene, mods, torque):
     theta = (np.arange(SPP) + 0.5) * period / SPP
     qs = jg.quasi_static(scene, mods, torque, jnp.asarray(theta))
     line_load = np.asarray(qs.meshes[0].line_load)
-    cells = jax.vmap(scene.mesh.cells)(jnp.asarray(theta))
-    V = np.asarray(jax.vmap(scene.cell_vectors)(cells))  # (P, L, N, n)
+    # one compiled program (an eager vmap compiles the cells' operations one by one)
+    cells, V = jax.jit(jax.vmap(lambda t: _cells_and_vectors(scene, t)))(jnp.asarray(theta))
+    V = np.asarray(V)  # (P, L, N, n)
     k, length, mask = (np.asarray(a) for a in (cells.stiffness, cells.length, cells.mask))
     n = V.shape[-1]
     K, kbar = np.zeros((n, n)), 0.0

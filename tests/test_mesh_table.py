@@ -265,7 +265,9 @@ def _static_reference(model, steps: int, periods: int):
         r = long.at(j)
         return jg.solve_contact(K, F, r.V, r.k, r.length, r.delta0, r.mask)
 
-    sol = jax.vmap(one)(jnp.arange(long.span))
+    # one compiled program (an eager vmap dispatches and compiles the solve's operations one
+    # by one)
+    sol = jax.jit(jax.vmap(one))(jnp.arange(long.span))
     assert np.all(np.asarray(sol.result) == 0)
     return np.asarray(sol.x), np.asarray(sol.force_density)
 

@@ -12,6 +12,7 @@ import os
 import sys
 from pathlib import Path
 
+import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
@@ -33,6 +34,13 @@ def spur():
 
 
 def _draws(sampler, n, seed=0):
+    return _draws_compiled(sampler, n, jnp.asarray(seed))
+
+
+@eqx.filter_jit
+def _draws_compiled(sampler, n, seed):
+    """n draws of ``sampler`` in one compiled program (the seed traced: one program for every
+    seed; an eager vmap would dispatch and compile the sampler's operations one by one)."""
     keys = jax.vmap(lambda i: jax.random.fold_in(jax.random.key(seed), i))(jnp.arange(n))
     return jax.vmap(sampler)(keys)
 

@@ -16,7 +16,7 @@ import numpy as np
 from jaxtyping import Array, Float
 
 from .._contact import ContactLaw, ExactContact, SmoothContact, contact_law
-from .._util import check_real
+from .._util import check_real, compiled_when_eager
 from ._modal import ModalAnalysis, excited_omega, steps_for_mode
 from ._model import AbstractDynamicModel
 from ._result import SweepResult, checked, thinned
@@ -286,6 +286,18 @@ def _flip(r):
     return jax.tree_util.tree_map(lambda a: a[::-1], r)
 
 
+#: :func:`_flip` of a result on the device, in one program (not one per leaf)
+_flip_on_device = compiled_when_eager(_flip)
+
+
+@compiled_when_eager
+def _split_scans(both):
+    """Two scans side by side (leading axis 2) cut into the ascending and the descending pass,
+    the latter in the order of the speeds (one program, not one per leaf)."""
+    up = jax.tree_util.tree_map(lambda a: a[0], both)
+    return up, jax.tree_util.tree_map(lambda a: a[1][::-1], both)
+
+
 def speed_sweep(
     model: Model,
     speeds,
@@ -515,12 +527,11 @@ class _Whole(_Passes):
         return self.sweep.scan(self.speeds, self.start)
 
     def descending(self):
-        return _flip(self.sweep.scan(self.speeds[::-1], self.start))
+        return _flip_on_device(self.sweep.scan(self.speeds[::-1], self.start))
 
     def both(self) -> tuple:
         both = self.sweep.scan(jnp.stack([self.speeds, self.speeds[::-1]]), self.start)
-        up = jax.tree_util.tree_map(lambda a: a[0], both)
-        return up, jax.tree_util.tree_map(lambda a: a[1][::-1], both)
+        return _split_scans(both)
 
 
 class _Chunked(_Passes):

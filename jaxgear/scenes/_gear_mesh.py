@@ -377,9 +377,17 @@ def mesh_zone_load(scene, k: int, theta, first: int = 0) -> Float[Array, " m"]:
         )
     if not 0 <= first <= n:
         raise ValueError(f"mesh_zone_load: first = {first}: out of range, allowed [0, {n}]")
-    mesh = meshes[k]
+    return _zone_load(scene, k, jnp.asarray(theta), first)
+
+
+@eqx.filter_jit
+def _zone_load(scene, k: int, theta, first: int):
+    """:func:`mesh_zone_load` in one compiled program (``k``, ``first`` static, the angle
+    traced: one program per scene for every angle; eagerly its few hundred operations would
+    each compile on their own)."""
+    mesh = scene.meshes[k]
     cells = mesh.base_plane.cells(mesh.angle(theta))
-    V = mesh.cell_vectors(scene.members, cells, n)[..., first:]
+    V = mesh.cell_vectors(scene.members, cells, scene.structure.size)[..., first:]
     on = (cells.s >= 0.0) & (cells.s <= mesh.base_plane.path_of_contact)
     w = jnp.where(cells.mask & (cell_flank(cells) > 0) & on, cells.length, 0.0)
     return jnp.einsum("ij,ijm->m", w / jnp.sum(w), V)
