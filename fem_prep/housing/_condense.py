@@ -42,6 +42,7 @@ from .._kinds import BearingCoupling
 from .._solver import (
     SolverError,
     SolverWarning,
+    blas_threads,
     eigenvalue_count,
     factorize,
     phase_bar,
@@ -354,6 +355,12 @@ def prepare_housing(
     """
     coupling = Rigid() if coupling is None else coupling
     _check(housing, material, cutoff_hz, coupling)
+    # the BLAS/OpenMP threads (MKL PARDISO's factorisations too) the machine's load leaves
+    with blas_threads():
+        return _prepare_housing(housing, material, cutoff_hz, coupling, progress)
+
+
+def _prepare_housing(housing, material, cutoff_hz, coupling, progress) -> PreparedHousing:
     timings: dict[str, float] = {}
     # the steps; the bar names the running one, the condensation's inner bars count its long
     # calls (factorisations, the eigen-solve's solves, column blocks) and vanish when done
