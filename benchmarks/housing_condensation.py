@@ -123,18 +123,26 @@ def _machine() -> dict:
         mem = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES") / 2**30
     except (ValueError, OSError):
         pass
-    versions = {"python": platform.python_version(), "numpy": numpy.__version__,
-                "scipy": scipy.__version__, "scikit-fem": skfem.__version__}
+    versions = {
+        "python": platform.python_version(),
+        "numpy": numpy.__version__,
+        "scipy": scipy.__version__,
+        "scikit-fem": skfem.__version__,
+    }
+    from importlib.metadata import PackageNotFoundError, version
+
     for name in ("pypardiso", "mkl", "cholespy"):
         try:
-            from importlib.metadata import version
-
             versions[name] = version(name)
-        except Exception:  # noqa: BLE001 - not installed
-            pass
-    return {"cpu": cpu, "cpus": os.cpu_count(), "memory_gib": round(mem, 1),
-            "shared": "2 cores shared with other processes (load average per size)",
-            "versions": versions}
+        except PackageNotFoundError:
+            versions[name] = None
+    return {
+        "cpu": cpu,
+        "cpus": os.cpu_count(),
+        "memory_gib": round(mem, 1),
+        "shared": "2 cores shared with other processes (load average per size)",
+        "versions": versions,
+    }
 
 
 def chart(res: dict) -> None:
@@ -147,8 +155,15 @@ def chart(res: dict) -> None:
     before = res.get("before", [])
     n = [r["dofs"] / 1e3 for r in rows]
     fig, ax = plt.subplots(1, 3, figsize=(14, 4.2))
-    steps = ("assembly", "coupling", "mode_count", "factorisation", "eigen", "constraint_modes",
-             "projection")
+    steps = (
+        "assembly",
+        "coupling",
+        "mode_count",
+        "factorisation",
+        "eigen",
+        "constraint_modes",
+        "projection",
+    )
     bottom = [r["mesh_cpu_s"] for r in rows]
     ax[0].bar(n, bottom, width=16, label="meshing", color="0.8")
     for s in steps:
@@ -156,28 +171,44 @@ def chart(res: dict) -> None:
         ax[0].bar(n, v, width=16, bottom=bottom, label=s.replace("_", " "))
         bottom = [b + x for b, x in zip(bottom, v)]
     for r in before:
-        ax[0].plot(r["dofs"] / 1e3, r["total_cpu_s"], "x", color="k", ms=9,
-                   label="before (16, 32, 64 modes)")
+        ax[0].plot(
+            r["dofs"] / 1e3,
+            r["total_cpu_s"],
+            "x",
+            color="k",
+            ms=9,
+            label="before (16, 32, 64 modes)",
+        )
     ax[0].axhline(TARGET_S, color="r", lw=0.8, ls=":", label=f"target {TARGET_S:.0f} s")
-    ax[0].set(xlabel="housing DOFs (thousands)", ylabel="CPU seconds",
-              title=f"condensation to {CUTOFF_HZ:.0f} Hz: CPU s by step")
+    ax[0].set(
+        xlabel="housing DOFs (thousands)",
+        ylabel="CPU seconds",
+        title=f"condensation to {CUTOFF_HZ:.0f} Hz: CPU s by step",
+    )
     ax[0].legend(fontsize=7)
     ax[1].plot(n, [r["total_wall_s"] for r in rows], "^-", label="wall, meshing included")
     for x, r in zip(n, rows):
-        ax[1].annotate(f"load {r['load_average_before']:.0f}", (x, r["total_wall_s"]),
-                       fontsize=7, xytext=(-12, 6), textcoords="offset points")
+        ax[1].annotate(
+            f"load {r['load_average_before']:.0f}",
+            (x, r["total_wall_s"]),
+            fontsize=7,
+            xytext=(-12, 6),
+            textcoords="offset points",
+        )
     for r in before:
         ax[1].plot(r["dofs"] / 1e3, r["prepare_wall_s"], "x", color="k", ms=9, label="before")
     ax[1].axhline(TARGET_S, color="r", lw=0.8, ls=":", label=f"target {TARGET_S:.0f} s")
-    ax[1].set(xlabel="housing DOFs (thousands)", ylabel="wall seconds",
-              title="wall time on the shared 2-core machine")
+    ax[1].set(
+        xlabel="housing DOFs (thousands)",
+        ylabel="wall seconds",
+        title="wall time on the shared 2-core machine",
+    )
     ax[1].legend(fontsize=7)
     ax[2].plot(n, [r["peak_rss_gib"] for r in rows], "o-", label="peak resident set")
     for r in before:
         ax[2].plot(r["dofs"] / 1e3, r["peak_rss_gib"], "x", color="k", ms=9, label="before")
     ax[2].axhline(TARGET_GIB, color="r", lw=0.8, ls=":", label=f"target {TARGET_GIB:.0f} GiB")
-    ax[2].set(xlabel="housing DOFs (thousands)", ylabel="GiB", ylim=(0, None),
-              title="peak memory")
+    ax[2].set(xlabel="housing DOFs (thousands)", ylabel="GiB", ylim=(0, None), title="peak memory")
     ax[2].legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(PNG, dpi=110)
@@ -201,11 +232,27 @@ def main() -> None:
             out = subprocess.run(
                 [sys.executable, "-m", "benchmarks.housing_condensation", "--one", str(s)]
                 + (["--progress"] if a.progress else []),
-                cwd=ROOT, env=env, check=True, stdout=subprocess.PIPE, text=True,
+                cwd=ROOT,
+                env=env,
+                check=True,
+                stdout=subprocess.PIPE,
+                text=True,
             ).stdout
             rows[s] = json.loads(out.strip().splitlines()[-1])
-            print(json.dumps({k: rows[s][k] for k in ("dofs", "modes_found", "total_wall_s",
-                                                      "total_cpu_s", "peak_rss_gib")}))
+            print(
+                json.dumps(
+                    {
+                        k: rows[s][k]
+                        for k in (
+                            "dofs",
+                            "modes_found",
+                            "total_wall_s",
+                            "total_cpu_s",
+                            "peak_rss_gib",
+                        )
+                    }
+                )
+            )
         res["cutoff_hz"] = CUTOFF_HZ
         res["target"] = {"dofs": 300000, "wall_s": TARGET_S, "memory_gib": TARGET_GIB}
         res["sizes"] = sorted(rows.values(), key=lambda r: r["dofs"])

@@ -325,7 +325,9 @@ def eigenvalue_count(K: sp.spmatrix, M: sp.spmatrix, sigma: float) -> int:
     """
     pypardiso = _optional_module("pypardiso")
     if pypardiso is None:
-        raise ImportError("fem_prep.eigenvalue_count needs pypardiso (Intel MKL): pip install pypardiso")
+        raise ImportError(
+            "fem_prep.eigenvalue_count needs pypardiso (Intel MKL): pip install pypardiso"
+        )
     A = sp.triu(sp.csr_matrix(K, dtype=np.float64) - sigma * sp.csr_matrix(M), format="csr")
     A.sort_indices()
     n = A.shape[0]

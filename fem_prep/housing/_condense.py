@@ -270,9 +270,7 @@ def _modes_below(K, M, i, cutoff_hz, progress) -> int | None:
     where it cannot be had (no ``pypardiso``, or an eigenvalue at the cut-off itself)."""
     with phase_bar(f"modes below the cut-off: LDL^T (n = {len(i)})", progress):
         try:
-            return eigenvalue_count(
-                K[i][:, i], M[i][:, i], (2 * math.pi * cutoff_hz) ** 2
-            )
+            return eigenvalue_count(K[i][:, i], M[i][:, i], (2 * math.pi * cutoff_hz) ** 2)
         except (ImportError, SolverError):
             return None
 
@@ -294,9 +292,7 @@ def _condense_to_cutoff(K, M, b, cutoff_hz, progress, timings) -> Condensed:
     n_i = len(i)
     with _step(timings, "mode_count"):  # before K_ii's factor: one factor held at a time
         count = _modes_below(K, M, i, cutoff_hz, progress)
-    with _step(timings, "factorisation"), phase_bar(
-        f"factorisation of K_ii (n = {n_i})", progress
-    ):
+    with _step(timings, "factorisation"), phase_bar(f"factorisation of K_ii (n = {n_i})", progress):
         Fii = factorize(K[i][:, i].tocsr())
     k = min(16, n_i) if count is None else min(count, n_i)
     while True:
@@ -369,9 +365,7 @@ def _prepare_housing(housing, material, cutoff_hz, coupling, progress) -> Prepar
     with _step(timings, "assembly"):
         rings = tuple(housing.seat_nodes(s) for s in housing.seats)
         held_nodes = np.unique(
-            np.concatenate(
-                [housing.foot_nodes(f) for f in housing.feet] or [np.zeros(0, np.int64)]
-            )
+            np.concatenate([housing.foot_nodes(f) for f in housing.feet] or [np.zeros(0, np.int64)])
         )
         for s, r in zip(housing.seats, rings):
             if np.isin(r, held_nodes).any():
