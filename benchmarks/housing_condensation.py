@@ -13,7 +13,7 @@ machine and the library versions. The machine is shared: the CPU seconds are the
 figure; the load average before and after each size is recorded.
 
 Writes docs/bench/housing_condensation.json and docs/img/housing_condensation.png. From the
-repository root: ``python -m benchmarks.housing_condensation`` (all sizes, about 15 min of CPU),
+repository root: ``python -m benchmarks.housing_condensation`` (all sizes, about 3 min of CPU),
 ``--sizes 0.05 0.025`` (some), ``--one SIZE`` (one size, JSON on stdout: what each process runs).
 """
 
