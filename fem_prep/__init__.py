@@ -132,6 +132,7 @@ from ._solver import (
     SolverWarning as SolverWarning,
     SparseFactor as SparseFactor,
     SupernodalFactor as SupernodalFactor,
+    eigenvalue_count as eigenvalue_count,
     factorize as factorize,
     shift_invert_modes as shift_invert_modes,
 )

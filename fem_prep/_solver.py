@@ -49,6 +49,7 @@ __all__ = [
     "SparseFactor",
     "SupernodalFactor",
     "blas_threads",
+    "eigenvalue_count",
     "factorize",
     "phase_bar",
     "shift_invert_modes",
@@ -281,23 +282,71 @@ class PardisoFactor(_Factor):
 _MKL_RT: list[str] = []
 
 
-def _pardiso_solver(pypardiso):
+def _pardiso_solver(pypardiso, mtype: int = 2):
     """``pypardiso.PyPardisoSolver(mtype=2)`` with MKL located once per process: pypardiso looks
     for ``mkl_rt`` at each construction and, where the linker does not find it (the ``mkl``
     wheel in a virtual environment), searches the environment's library folders recursively
     (0.2-0.4 s of CPU per handle; 25 handles took 6 of the 24 CPU s of three fem_prep test
-    files). The handles get the library of the one pypardiso makes as it is imported
+    files). ``mtype``: PARDISO's matrix type (2: symmetric positive definite; -2: symmetric
+    indefinite). The handles get the library of the one pypardiso makes as it is imported
     (``pypardiso.ps``) through ``PYPARDISO_MKL_RT``, set only while they are made; a
     ``PYPARDISO_MKL_RT`` of the caller's is left as it is and used."""
     if not _MKL_RT:
         _MKL_RT.append(pypardiso.ps.libmkl._name)
     if os.environ.get("PYPARDISO_MKL_RT"):
-        return pypardiso.PyPardisoSolver(mtype=2)
+        return pypardiso.PyPardisoSolver(mtype=mtype)
     os.environ["PYPARDISO_MKL_RT"] = _MKL_RT[0]
     try:
-        return pypardiso.PyPardisoSolver(mtype=2)
+        return pypardiso.PyPardisoSolver(mtype=mtype)
     finally:
         del os.environ["PYPARDISO_MKL_RT"]
+
+
+def eigenvalue_count(K: sp.spmatrix, M: sp.spmatrix, sigma: float) -> int:
+    """The number of eigenvalues of ``K φ = λ M φ`` below ``sigma`` (``M`` positive definite):
+    by Sylvester's law of inertia, the number of negative pivots of the ``L D Lᵀ``
+    factorisation of ``K − σ M`` (the Sturm sequence check of FE eigen-solvers). The
+    factorisation is MKL PARDISO's for real symmetric indefinite matrices (``pypardiso``, matrix
+    type −2: Bunch–Kaufman pivoting, METIS ordering); PARDISO reports the inertia
+    (``iparm(23)``: negative eigenvalues). The factor is released before the return.
+
+    Args:
+        K, M: sparse symmetric ``(n, n)``.
+        sigma: the shift ((rad/s)²).
+
+    Returns:
+        The count, ``0 <= count <= n``.
+
+    Raises:
+        ImportError: ``pypardiso`` is not installed (one line).
+        SolverError: PARDISO failed, ``K − σ M`` is singular to working precision (a pivot
+            was perturbed: an eigenvalue at ``sigma``), or the inertia does not add up to
+            ``n``.
+    """
+    pypardiso = _optional_module("pypardiso")
+    if pypardiso is None:
+        raise ImportError(
+            "fem_prep.eigenvalue_count needs pypardiso (Intel MKL): pip install pypardiso"
+        )
+    A = sp.triu(sp.csr_matrix(K, dtype=np.float64) - sigma * sp.csr_matrix(M), format="csr")
+    A.sort_indices()
+    n = A.shape[0]
+    ps = _pardiso_solver(pypardiso, mtype=-2)
+    try:
+        ps.factorize(A)  # phases 1-2: analysis and numerical factorisation
+    except pypardiso.pardiso_wrapper.PyPardisoError as exc:
+        raise SolverError(f"PARDISO LDL^T factorisation failed ({exc})") from exc
+    finally:
+        del A
+        ps.remove_stored_factorization()
+    positive, negative, perturbed = (int(ps.get_iparm(i)) for i in (22, 23, 14))
+    ps.free_memory(everything=True)
+    if perturbed or positive + negative != n:
+        raise SolverError(
+            f"PARDISO LDL^T of K - sigma M: {perturbed} perturbed pivots, inertia "
+            f"({positive}, {negative}) of n = {n}: an eigenvalue at sigma = {sigma:g}?"
+        )
+    return negative
 
 
 def _optional_module(name: str):

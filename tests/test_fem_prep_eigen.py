@@ -143,3 +143,13 @@ def test_craig_bampton_defaults_to_the_block_solver(beam):
         warnings.simplefilter("error", SolverWarning)
         c = condense(K, M, beam["fixed"], n_modes=K_MODES)
     np.testing.assert_allclose(c.modes_hz, np.sqrt(beam["lam"][:K_MODES]) / (2 * np.pi), rtol=1e-8)
+
+
+def test_eigenvalue_count_is_the_number_of_dense_eigenvalues_below(beam):
+    # Sylvester's inertia of K - sigma M (PARDISO's L D L^T) against the dense eigh's count, at
+    # shifts midway between consecutive eigenvalues, below the first and past the tenth
+    pytest.importorskip("pypardiso")
+    lam = beam["lam"]
+    shifts = np.r_[0.5 * lam[0], 0.5 * (lam[:10] + lam[1:11])]
+    counts = [fem_prep.eigenvalue_count(beam["K"], beam["M"], s) for s in shifts]
+    assert counts == [int(np.sum(lam < s)) for s in shifts] == list(range(11))

@@ -3,6 +3,7 @@ Craig–Bampton housing against its full FE model at the seats, the cache, the V
 (issue 65, item 1)."""
 
 import math
+import sys
 
 import numpy as np
 import pytest
@@ -157,6 +158,22 @@ def test_interior_modes_are_those_below_the_cutoff(prepared):
     f = np.sqrt(lam) / (2 * math.pi)
     assert c.n_modes == int(np.sum(f <= fc)) and c.n_modes > 0
     np.testing.assert_allclose(c.modes_hz, f[: c.n_modes], rtol=1e-8)
+
+
+def test_interior_modes_without_the_mode_count(prepared, monkeypatch):
+    # without pypardiso (no L D L^T inertia) the number of modes doubles until one lies above
+    # the cut-off: the same modes, against the same independent eigen-solve
+    monkeypatch.setitem(sys.modules, "pypardiso", None)  # import fails
+    with pytest.raises(ImportError, match="pypardiso"):
+        fem_prep.eigenvalue_count(prepared.K, prepared.M, 1.0)
+    p = prepare_housing(prepared.mesh, STEEL, 5000.0)  # 19 modes: two passes (16, 32)
+    assert "mode_count_s" in p.timings and p.timings["eigen_cpu_s"] > 0
+    keep = np.setdiff1d(np.arange(prepared.K.shape[0]), prepared.seat_dofs.ravel())
+    K, M = prepared.K[keep][:, keep], prepared.M[keep][:, keep]
+    lam, _ = fem_prep.shift_invert_modes(K, M, p.condensed.n_modes + 2)
+    f = np.sqrt(lam) / (2 * math.pi)
+    assert p.condensed.n_modes == int(np.sum(f <= 5000.0)) > 16
+    np.testing.assert_allclose(p.condensed.modes_hz, f[: p.condensed.n_modes], rtol=1e-8)
 
 
 def test_free_seat_modes_converge_with_the_cutoff(prepared):

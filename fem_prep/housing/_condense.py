@@ -21,13 +21,17 @@ from __future__ import annotations
 import dataclasses
 import hashlib
 import math
-from dataclasses import dataclass
+import time
+import warnings
+from contextlib import contextmanager
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 import scipy.linalg as sla
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
+from tqdm import tqdm
 
 from .._assemble import Operators, assemble_operators
 from .._body import Material
@@ -35,7 +39,15 @@ from .._condense import Condensed, CraigBampton, condense
 from .._couplings import Coupled, MasterSet, Nodal, Rigid, couple_masters
 from .._fe_cache import cache_key, load_entry, store_entry, table_dir
 from .._kinds import BearingCoupling
-from .._solver import SolverError, factorize, shift_invert_modes
+from .._solver import (
+    SolverError,
+    SolverWarning,
+    blas_threads,
+    eigenvalue_count,
+    factorize,
+    phase_bar,
+    shift_invert_modes,
+)
 from ..files import atomic_write
 from ._mesh import HousingMesh
 
@@ -156,6 +168,11 @@ class PreparedHousing:
         seat_dofs: ``(n_seats, 6)`` indices into ``kept`` of the seat masters' DOFs.
         condensed: the Craig–Bampton model (:class:`~fem_prep.Condensed`, seat DOFs first).
         cutoff_hz: the cut-off (Hz).
+        timings: wall seconds of the steps (``assembly_s``: the basis and the operators;
+            ``coupling_s``: the seats' coupling and the feet's clamping; ``factorisation_s``
+            of ``K_ii``; ``mode_count_s``: the number of interior modes below the cut-off;
+            ``eigen_s``; ``constraint_modes_s``; ``projection_s``) and the process's CPU
+            seconds of each (``..._cpu_s``, all threads).
     """
 
     mesh: HousingMesh
@@ -169,6 +186,7 @@ class PreparedHousing:
     seat_dofs: np.ndarray
     condensed: Condensed
     cutoff_hz: float
+    timings: dict[str, float] = field(default_factory=dict)
 
     def full_field(self, x_kept: np.ndarray) -> np.ndarray:
         """Full FE displacements ``(n_full, ...)`` of values on ``kept`` ``(n_kept, ...)``."""
@@ -234,25 +252,69 @@ def _check(mesh, material, cutoff_hz, coupling):
         raise ValueError("housing has no seats; give it at least one bore (Seat)")
 
 
-def _condense_to_cutoff(K, M, b, cutoff_hz, progress) -> Condensed:
-    """Craig–Bampton on ``b`` with every fixed-interface mode at or below ``cutoff_hz``: the
-    number of modes doubles (from 16) until one lies above the cut-off (or all are taken), the
-    factor of ``K_ii`` reused, and the modal columns above the cut-off are dropped (the first n
-    modal columns of the basis are Craig–Bampton with the lowest n modes)."""
+@contextmanager
+def _step(timings: dict[str, float], name: str):
+    """Record the wall and CPU seconds of a step as ``timings[name + "_s"]`` and
+    ``timings[name + "_cpu_s"]`` (added to what is there)."""
+    t0, c0 = time.perf_counter(), time.process_time()
+    try:
+        yield
+    finally:
+        timings[f"{name}_s"] = timings.get(f"{name}_s", 0.0) + time.perf_counter() - t0
+        timings[f"{name}_cpu_s"] = timings.get(f"{name}_cpu_s", 0.0) + time.process_time() - c0
+
+
+def _modes_below(K, M, i, cutoff_hz, progress) -> int | None:
+    """The number of fixed-interface modes (of ``K_ii``, ``M_ii``) at or below the cut-off, by
+    the inertia of ``K_ii - (2 pi f_c)^2 M_ii`` (:func:`~fem_prep.eigenvalue_count`); ``None``
+    where it cannot be had (no ``pypardiso``, or an eigenvalue at the cut-off itself)."""
+    with phase_bar(f"modes below the cut-off: LDL^T (n = {len(i)})", progress):
+        try:
+            return eigenvalue_count(K[i][:, i], M[i][:, i], (2 * math.pi * cutoff_hz) ** 2)
+        except (ImportError, SolverError):
+            return None
+
+
+def _condense_to_cutoff(K, M, b, cutoff_hz, progress, timings) -> Condensed:
+    """Craig–Bampton on ``b`` with every fixed-interface mode at or below ``cutoff_hz``.
+
+    The number of those modes is counted first, by the inertia of ``K_ii - (2 pi f_c)^2 M_ii``
+    (Sylvester: the negative pivots of its ``L D L^T``, :func:`~fem_prep.eigenvalue_count`), and
+    one eigen-solve takes exactly them; a mode the eigen-solver misses shows as a last mode above
+    the cut-off (a :class:`~fem_prep.SolverWarning`, and the columns above the cut-off are
+    dropped). Without the count (no ``pypardiso``) the number of modes doubles from 16 until one
+    lies above the cut-off (or all are taken), the factor of ``K_ii`` reused. The modal columns
+    above the cut-off are dropped: the first n modal columns of the basis are Craig–Bampton
+    with the lowest n modes."""
     mask = np.ones(K.shape[0], dtype=bool)
     mask[b] = False
     i = np.nonzero(mask)[0]
-    Fii = factorize(K[i][:, i].tocsr())
     n_i = len(i)
-    k = min(16, n_i)
+    with _step(timings, "mode_count"):  # before K_ii's factor: one factor held at a time
+        count = _modes_below(K, M, i, cutoff_hz, progress)
+    with _step(timings, "factorisation"), phase_bar(f"factorisation of K_ii (n = {n_i})", progress):
+        Fii = factorize(K[i][:, i].tocsr())
+    k = min(16, n_i) if count is None else min(count, n_i)
     while True:
         c = condense(
             K, M, b, method=CraigBampton(), n_modes=k, interior_factor=Fii, progress=progress
         )
-        if k >= n_i or (c.modes_hz.size and c.modes_hz[-1] > cutoff_hz):
+        for name in ("static_modes", "eigen", "projection"):
+            step = "constraint_modes" if name == "static_modes" else name
+            for suffix in ("_s", "_cpu_s"):
+                key = f"{step}{suffix}"
+                timings[key] = timings.get(key, 0.0) + c.timings[f"{name}{suffix}"]
+        if count is not None or k >= n_i or (c.modes_hz.size and c.modes_hz[-1] > cutoff_hz):
             break
         k = min(2 * k, n_i)
     n = int(np.sum(c.modes_hz <= cutoff_hz))
+    if count is not None and n < count:
+        warnings.warn(
+            f"housing: {n} fixed-interface modes found below the cut-off {cutoff_hz:g} Hz, "
+            f"{count} counted (the eigen-solver missed {count - n}); condensed without them",
+            SolverWarning,
+            stacklevel=3,
+        )
     m = len(b) + n
     return dataclasses.replace(
         c, K=c.K[:m, :m], M=c.M[:m, :m], basis=c.basis[:, :m], n_modes=n, modes_hz=c.modes_hz[:n]
@@ -289,34 +351,54 @@ def prepare_housing(
     """
     coupling = Rigid() if coupling is None else coupling
     _check(housing, material, cutoff_hz, coupling)
-    rings = tuple(housing.seat_nodes(s) for s in housing.seats)
-    held_nodes = np.unique(
-        np.concatenate([housing.foot_nodes(f) for f in housing.feet] or [np.zeros(0, np.int64)])
-    )
-    for s, r in zip(housing.seats, rings):
-        if np.isin(r, held_nodes).any():
-            raise ValueError(f"seat {s.name or s.centre}: its bore touches a foot; move it")
-    ops = assemble_operators(housing.basis, material)
-    masters = MasterSet(
-        rim_nodes=np.zeros((0, 1), dtype=np.int64),
-        bearing_positions=np.array([s.centre for s in housing.seats]),
-        bearing_rings=rings,
-        couplings=(coupling,) * len(rings),
-        rim_coupling=Nodal(),
-    )
-    cp = couple_masters(housing, ops, masters)
-    held = (3 * held_nodes[:, None] + np.arange(3)).ravel()
-    mask = np.ones(cp.T.shape[1], dtype=bool)
-    mask[cp.full_to_red[held]] = False
-    kept = np.nonzero(mask)[0]
-    K = cp.K[kept][:, kept].tocsr()
-    M = cp.M[kept][:, kept].tocsr()
-    red_to_kept = -np.ones(cp.T.shape[1], dtype=np.int64)
-    red_to_kept[kept] = np.arange(len(kept))
-    seat_dofs = red_to_kept[cp.bearing_dofs]
-    c = _condense_to_cutoff(K, M, seat_dofs.ravel(), float(cutoff_hz), progress)
+    # the BLAS/OpenMP threads (MKL PARDISO's factorisations too) the machine's load leaves
+    with blas_threads():
+        return _prepare_housing(housing, material, cutoff_hz, coupling, progress)
+
+
+def _prepare_housing(housing, material, cutoff_hz, coupling, progress) -> PreparedHousing:
+    timings: dict[str, float] = {}
+    # the steps; the bar names the running one, the condensation's inner bars count its long
+    # calls (factorisations, the eigen-solve's solves, column blocks) and vanish when done
+    steps = tqdm(total=3, desc="housing", disable=not progress, unit="step")
+    steps.set_postfix_str(f"assembly ({housing.n_dofs} DOFs)...")
+    with _step(timings, "assembly"):
+        rings = tuple(housing.seat_nodes(s) for s in housing.seats)
+        held_nodes = np.unique(
+            np.concatenate([housing.foot_nodes(f) for f in housing.feet] or [np.zeros(0, np.int64)])
+        )
+        for s, r in zip(housing.seats, rings):
+            if np.isin(r, held_nodes).any():
+                raise ValueError(f"seat {s.name or s.centre}: its bore touches a foot; move it")
+        # the scalar basis (the vector basis would hold 3x its functions: 1.9 GB at 300 k DOFs)
+        ops = assemble_operators(housing.scalar_basis, material)
+    steps.update()
+    steps.set_postfix_str("seat couplings, feet...")
+    with _step(timings, "coupling"):
+        masters = MasterSet(
+            rim_nodes=np.zeros((0, 1), dtype=np.int64),
+            bearing_positions=np.array([s.centre for s in housing.seats]),
+            bearing_rings=rings,
+            couplings=(coupling,) * len(rings),
+            rim_coupling=Nodal(),
+        )
+        cp = couple_masters(housing, ops, masters)
+        held = (3 * held_nodes[:, None] + np.arange(3)).ravel()
+        mask = np.ones(cp.T.shape[1], dtype=bool)
+        mask[cp.full_to_red[held]] = False
+        kept = np.nonzero(mask)[0]
+        K = cp.K[kept][:, kept].tocsr()
+        M = cp.M[kept][:, kept].tocsr()
+        red_to_kept = -np.ones(cp.T.shape[1], dtype=np.int64)
+        red_to_kept[kept] = np.arange(len(kept))
+        seat_dofs = red_to_kept[cp.bearing_dofs]
+    steps.update()
+    steps.set_postfix_str(f"condensation ({K.shape[0]} DOFs, cut-off {cutoff_hz:g} Hz)...")
+    c = _condense_to_cutoff(K, M, seat_dofs.ravel(), float(cutoff_hz), progress, timings)
+    steps.update()
+    steps.close()
     return PreparedHousing(
-        housing, material, coupling, ops, cp, kept, K, M, seat_dofs, c, float(cutoff_hz)
+        housing, material, coupling, ops, cp, kept, K, M, seat_dofs, c, float(cutoff_hz), timings
     )
 
 
