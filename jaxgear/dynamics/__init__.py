@@ -148,3 +148,4 @@ from ._whine import (
     harmonic_balance as harmonic_balance,
     whine_response as whine_response,
 )
+from ._whine_qp import quasi_periodic_balance as quasi_periodic_balance

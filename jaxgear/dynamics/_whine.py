@@ -39,7 +39,14 @@ from .._contact import ContactLaw, ExactContact, contact_law
 from .._util import check_integer, is_traced
 from ._lumped import DynamicModel, _prep
 from ._model import AbstractDynamicModel, _rigid_penalty, deviation_periods, mesh_table
-from ._whine_qp import _torus_static, harmonic_set, mesh_groups, multi_balance, torus_coefficients, torus_grid
+from ._whine_qp import (
+    _torus_static,
+    harmonic_set,
+    mesh_groups,
+    quasi_periodic_balance,
+    torus_coefficients,
+    torus_grid,
+)
 
 __all__ = [
     "AbstractWhineMethod",
@@ -579,7 +586,7 @@ def _whine_torus(model, table, law, spec, rows, idx, speeds, basis):
         omega = 2 * jnp.pi * speed / (dtheta * jnp.asarray(R, x.dtype))  # (G,)
         nu = jnp.asarray(hs, x.dtype) @ omega  # (Nh,)
         F = (nu**2)[:, None] * (Xh @ M.T) - 1j * nu[:, None] * (Xh @ C.T)
-        Y = multi_balance(M, C, Ks, coupling, F, nu, gauge, basis)  # (Nh, n)
+        Y = quasi_periodic_balance(M, C, Ks, coupling, F, nu, gauge=gauge, basis=basis)  # (Nh, n)
         yb = jnp.real(E @ (Y @ basis))  # (N, r) the vibration on the basis over the grid
         vy = jnp.einsum("scr,sr->sc", Vg, yb)
         f, _ = table.mesh_forces(fs_density + kl * vy)  # (N, m)

@@ -31,12 +31,13 @@ import itertools
 import jax
 import jax.numpy as jnp
 import numpy as np
+from jaxtyping import Array, Complex
 
 from .._contact import solve_contact
 from ._model import _k_ref, _rigid_penalty
 from ._newmark import contact_coordinates, static_condensation
 
-__all__ = ["harmonic_set", "mesh_groups", "multi_balance", "torus_coefficients", "torus_grid"]
+__all__ = ["quasi_periodic_balance"]
 
 
 def mesh_groups(model) -> tuple[tuple[int, ...], tuple[fractions.Fraction, ...]]:
@@ -111,17 +112,39 @@ def torus_coefficients(samples, R, wanted) -> jnp.ndarray:
     return out * jnp.asarray(shift).reshape(shift.shape + (1,) * (out.ndim - shift.ndim))
 
 
-def multi_balance(M, C, K, coupling, F, nu, gauge, basis):
-    """The balance over a symmetric multi-index set (N harmonics, index N−1−i the harmonic −h of
-    index i, (N−1)/2 the mean), real in time: (K + B K̂_0 Bᵀ − ν_h² M + i ν_h C) Y_h
-    + B Σ_{j≠h} 𝕂_hj Bᵀ Y_j = F_h with ``coupling`` 𝕂 (N, N, r, r) (its diagonal blocks K̂_0),
-    ``nu`` ν_h (N,), F (N, n), ``gauge`` (n, n) added at the mean, ``basis`` B (n, r): the
-    algebra of :func:`~jaxgear.dynamics.harmonic_balance` (D_h factored for h >= 0 only, the
-    rest their conjugates; (I + G 𝕂) Z = Bᵀ D⁻¹ F on the N r unknowns Z = Bᵀ Y). Returns Y
-    (N, n) complex."""
+def quasi_periodic_balance(
+    M, C, K, stiffness_harmonics, force_harmonics, frequencies, *, gauge=None, basis=None
+) -> Complex[Array, "N n"]:
+    """The quasi-periodic solution y = Σ_i Y_i e^{i ν_i t} of M ÿ + C ẏ + (K + K_m(t)) y = f(t)
+    over N multi-index harmonics h_i (frequencies ν_i = h_i·ω of G base frequencies ω), with
+    K_m(t) = Σ_k K̂_k e^{i (k·ω) t} and f(t) = Σ_i F̂_i e^{i ν_i t}, truncated to the set:
+
+        (K − ν_i² M + i ν_i C) Y_i + Σ_j K̂_{h_i − h_j} Y_j = F̂_i.
+
+    The set is symmetric (index N − 1 − i the harmonic −h_i, index (N − 1)/2 the mean) and the
+    system real in time (K̂_{−k} = conj K̂_k, F̂ likewise): D_i = K + B K̂_0 Bᵀ − ν_i² M + i ν_i C
+    is factored for i >= (N − 1)/2 only, and the coupling solved on the N r unknowns Z = Bᵀ Y
+    (the algebra of :func:`~jaxgear.dynamics.harmonic_balance` with G-dimensional harmonics).
+
+    Args:
+        M, C, K: (n, n) mass, damping, time-invariant stiffness (SI).
+        stiffness_harmonics: K̂_{h_i − h_j}, (N, N, n, n), or (N, N, r, r) on ``basis`` (its
+            diagonal blocks K̂_0).
+        force_harmonics: F̂_i, (N, n). frequencies: ν_i (rad/s), (N,).
+        gauge: None or an (n, n) matrix added to the mean's block (pins rigid-body modes).
+        basis: None or B (n, r) with K_m(t) = B K_r(t) Bᵀ.
+
+    Returns:
+        Y_i, (N, n) complex.
+
+    Source: quasi-periodic harmonic balance, Kim & Noah, J. Appl. Mech. 58 (1991).
+    """
+    F = jnp.asarray(force_harmonics)
     N, n = F.shape
+    nu = jnp.asarray(frequencies)
+    coupling = jnp.asarray(stiffness_harmonics)
+    B = jnp.eye(n, dtype=M.dtype) if basis is None else jnp.asarray(basis)
     mid = (N - 1) // 2
-    B = basis
     r = B.shape[1]
     K0 = coupling[mid, mid]
     w = nu[mid:]
@@ -130,9 +153,10 @@ def multi_balance(M, C, K, coupling, F, nu, gauge, basis):
         - (w**2)[:, None, None] * M[None]
         + 1j * w[:, None, None] * C[None]
     )
-    D = D.at[0].add(gauge)
-    rhs = jnp.concatenate([F[mid:, :, None], jnp.broadcast_to(B.astype(F.dtype), (N - mid, n, r))], -1)
-    half = jnp.linalg.solve(D, rhs)
+    if gauge is not None:
+        D = D.at[0].add(gauge)
+    Bc = jnp.broadcast_to(B.astype(F.dtype), (N - mid, n, r))
+    half = jnp.linalg.solve(D, jnp.concatenate([F[mid:, :, None], Bc], -1))
     sol = jnp.concatenate([jnp.conj(half[1:][::-1]), half], axis=0)  # (N, n, 1 + r)
     DF, DB = sol[..., 0], sol[..., 1:]
     Gm = jnp.einsum("nr,hns->hrs", B, DB)  # (N, r, r)
