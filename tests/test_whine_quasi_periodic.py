@@ -130,3 +130,51 @@ def test_two_stage_against_newmark_mesh_by_mesh():
             np.testing.assert_allclose(np.degrees(np.angle(got / ref)), 0.0, atol=1.0)
     span = whine_response(model, speed, HarmonicBalance(16), positions=140)
     assert float(np.max(np.asarray(span.orders))) < 0.2
+
+
+def test_whine_table_quasi_periodic():
+    """``[whine] method = "quasi-periodic"`` maps to QuasiPeriodicBalance with its sidebands;
+    sidebands out of range, or with another method, is a one-line error."""
+    good = {"speed_min_rad_s": 10.0, "speed_max_rad_s": 100.0, "harmonics": 6,
+            "positions_per_period": 35}
+    w = jio.parse_whine(good | {"method": "quasi-periodic", "sidebands": 2})
+    assert isinstance(w.method, QuasiPeriodicBalance)
+    assert (w.method.harmonics, w.method.sidebands) == (6, 2)
+    assert jio.parse_whine(good | {"method": "quasi-periodic"}).method.sidebands == 1
+    for extra, match in (({"method": "quasi-periodic", "sidebands": 7}, "sidebands.*6"),
+                         ({"sidebands": 1}, "sidebands.*quasi-periodic")):
+        with pytest.raises(ValueError, match=match) as e:
+            jio.parse_whine(good | extra)
+        assert "\n" not in str(e.value)
+
+
+@pytest.mark.slow
+def test_run_writes_each_meshs_orders(tmp_path):
+    """``jaxgear run``'s whine on the ``two-stage`` case (4 slices) with ``[whine] method =
+    "quasi-periodic"``: whine.json names each output's mesh-frequency group and order, the
+    orders of the second mesh are 35/127 of the first's, whine.csv has a row per speed and
+    output, and each mesh has its own order plot."""
+    import csv
+    import json
+
+    from jaxgear.cli.run import whine_outputs
+
+    text = jio.embedded_case_text("two-stage").replace("slices = 20", "slices = 4")
+    text += ('\n[whine]\nspeed_min_rad_s = 40.0\nspeed_max_rad_s = 80.0\nspeeds = 3\n'
+             'harmonics = 4\nmethod = "quasi-periodic"\nsidebands = 0\n'
+             'positions_per_period = 35\n')
+    path = tmp_path / "two-stage-whine.toml"
+    path.write_text(text)
+    case = jio.load_case(str(path))
+    section = whine_outputs(case, str(tmp_path))
+    data = json.loads((tmp_path / "whine" / "whine.json").read_text())
+    assert data["order_group"] == [0] + [0] * 4 + [1] * 4
+    assert data["group_order"] == [0, 1, 2, 3, 4, 1, 2, 3, 4]
+    assert data["mesh_group"] == [0, 1]
+    np.testing.assert_allclose(data["orders"][5:], np.arange(1, 5) * 35 / 127, rtol=1e-12)
+    with (tmp_path / "whine" / "whine.csv").open() as f:
+        rows = list(csv.DictReader(f))
+    assert len(rows) == 3 * 9 and "mesh_frequency_group" in rows[0]
+    for name in data["meshes"]:
+        assert (tmp_path / "whine" / f"te_orders_{name}.png").stat().st_size > 10_000
+    assert section["method"] == "QuasiPeriodicBalance"

@@ -576,7 +576,7 @@ def _whine_torus(model, table, law, spec, rows, idx, speeds, basis):
     k_ref = jnp.trace(jnp.real(coupling[(len(hs) - 1) // 2, (len(hs) - 1) // 2])) / basis.shape[1]
     gauge = _rigid_penalty(scene, k_ref)
     dtheta = table.period_angle / table.steps_per_period
-    s = (idx.astype(x.dtype) + 0.5) / jnp.asarray(R, x.dtype)  # (N, G) the grid's phases
+    s = (idx.astype(x.dtype) + 0.5) / jnp.asarray(R, x.dtype)[None, :]  # (N, G) grid phases
     E = jnp.exp(2j * jnp.pi * (s @ jnp.asarray(hs.T, x.dtype)))  # (N, Nh)
     Eo = jnp.conj(E[:, out_index]).T / N  # (h_out, N): the coefficients at the outputs
     gap = jnp.where(mask, jnp.einsum("sci,si->sc", take(table.V), x) - take(table.delta0), 0.0)
