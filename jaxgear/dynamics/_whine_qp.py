@@ -124,7 +124,8 @@ def quasi_periodic_balance(
     The set is symmetric (index N − 1 − i the harmonic −h_i, index (N − 1)/2 the mean) and the
     system real in time (K̂_{−k} = conj K̂_k, F̂ likewise): D_i = K + B K̂_0 Bᵀ − ν_i² M + i ν_i C
     is factored for i >= (N − 1)/2 only, and the coupling solved on the N r unknowns Z = Bᵀ Y
-    (the algebra of :func:`~jaxgear.dynamics.harmonic_balance` with G-dimensional harmonics).
+    (the algebra of :func:`~jaxgear.dynamics.harmonic_balance` with G-dimensional harmonics),
+    with Z_{−h} = conj Z_h: a real system of (N + 1) r unknowns.
 
     Args:
         M, C, K: (n, n) mass, damping, time-invariant stiffness (SI).
@@ -159,10 +160,24 @@ def quasi_periodic_balance(
     half = jnp.linalg.solve(D, jnp.concatenate([F[mid:, :, None], Bc], -1))
     sol = jnp.concatenate([jnp.conj(half[1:][::-1]), half], axis=0)  # (N, n, 1 + r)
     DF, DB = sol[..., 0], sol[..., 1:]
-    Gm = jnp.einsum("nr,hns->hrs", B, DB)  # (N, r, r)
-    g = (DF @ B).reshape(-1)
+    Gm = jnp.einsum("nr,hns->hrs", B, DB)[mid:]  # (P, r, r), P = N − mid rows h >= 0
+    g = (DF[mid:] @ B).reshape(-1)
     Kc = coupling * (1.0 - jnp.eye(N, dtype=coupling.real.dtype))[:, :, None, None]
-    GK = jnp.einsum("hrs,hjsx->hrjx", Gm, Kc).reshape(N * r, N * r)
-    Z = jnp.linalg.solve(jnp.eye(N * r, dtype=GK.dtype) + GK, g).reshape(N, r)
+    A = jnp.einsum("hrs,hjsx->hrjx", Gm, Kc[mid:])  # (P, r, N, r): G 𝕂 on the rows h >= 0
+    # Z_−h = conj Z_h: A Z = A1 Z_P + A2 conj Z_P (A2: the columns −h, h > 0, in the order of
+    # P; none for the mean), solved as a real system of size 2 P r (a quarter of the complex
+    # system's work)
+    P = N - mid
+    A1 = A[:, :, mid:, :].reshape(P * r, P * r)
+    A2 = jnp.concatenate(
+        [jnp.zeros((P, r, 1, r), A.dtype), A[:, :, :mid, :][:, :, ::-1, :]], axis=2
+    ).reshape(P * r, P * r)
+    eye = jnp.eye(P * r, dtype=A1.real.dtype)
+    top = jnp.concatenate([eye + A1.real + A2.real, A2.imag - A1.imag], axis=1)
+    bottom = jnp.concatenate([A1.imag + A2.imag, eye + A1.real - A2.real], axis=1)
+    ab = jnp.linalg.solve(jnp.concatenate([top, bottom], axis=0),
+                          jnp.concatenate([g.real, g.imag]))
+    ZP = (ab[: P * r] + 1j * ab[P * r :]).reshape(P, r)
+    Z = jnp.concatenate([jnp.conj(ZP[1:][::-1]), ZP], axis=0)
     KZ = jnp.einsum("hjrs,js->hr", Kc, Z)
     return DF - jnp.einsum("hnr,hr->hn", DB, KZ)
