@@ -92,6 +92,12 @@ def test_bad_inputs():
         QuasiPeriodicBalance(4, 5)
     with pytest.raises(ValueError, match="harmonics"):
         QuasiPeriodicBalance(0, 0)
+    model, _ = jio.build_dynamic_model(jio.load_case("two-stage"), slices=2)
+    for positions, match in ((36, "positions = 36.*multiple of 35"),
+                             (35, "positions = 35.*>= 4 harmonics \\+ 1 = 41")):
+        with pytest.raises(ValueError, match=match) as e:
+            whine_response(model, 50.0, QuasiPeriodicBalance(10, 0), positions=positions)
+        assert "\n" not in str(e.value)
 
 
 def _time_orders(t, x, freqs):

@@ -97,7 +97,7 @@ def whine_outputs(case, out_dir: str) -> dict | None:
     for k, n in enumerate(planetary["moments"] if planetary else ()):
         cols[f"support_{_key(n)}_Nm"] = planetary["moment_amp"][:, :, k].ravel()
         cols[f"support_{_key(n)}_phase_deg"] = planetary["moment_phase"][:, :, k].ravel()
-    quasi = w.order_group is not None  # QuasiPeriodicBalance: orders of each mesh's frequency
+    quasi = getattr(w, "order_group", None) is not None  # QuasiPeriodicBalance: orders of each mesh's frequency
     if quasi:
         cols["mesh_frequency_group"] = np.tile(np.asarray(w.order_group, dtype=float), S)
         cols["group_order"] = np.tile(np.asarray(w.group_order, dtype=float), S)
@@ -110,7 +110,7 @@ def whine_outputs(case, out_dir: str) -> dict | None:
     te_total = np.sqrt(np.sum(te_a**2, axis=2))  # (S, h): every mesh's TE, root-sum-square
     title = f"{case.name}: gear whine ({type(inputs.method).__name__}, H = "
     title += f"{inputs.method.harmonics})"
-    if w.order_group is not None:
+    if getattr(w, "order_group", None) is not None:
         title = title[:-1] + f", S = {inputs.method.sidebands})"
     te_what = "TE" if n_meshes == 1 else f"TE, root-sum-square of the {n_meshes} meshes"
     whine_order_plot(

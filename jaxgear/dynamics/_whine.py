@@ -351,8 +351,13 @@ def whine_response(
         model: a lumped :class:`~jaxgear.dynamics.DynamicModel` without coast flanks.
         speeds: pinion speeds Ω (rad/s) > 0, scalar or (S,).
         method: :class:`HarmonicBalance` (default, the parametric coupling) or
-            :class:`TransmissionErrorSource` (the mean stiffness alone), with its H.
-        positions: positions per mesh period (int >= 4H + 1 over the span).
+            :class:`TransmissionErrorSource` (the mean stiffness alone), with its H, both over
+            the span; or :class:`QuasiPeriodicBalance` (a train whose meshes run at several
+            mesh frequencies: each mesh's orders of its own frequency, the static solve on the
+            torus grid of the mesh phases).
+        positions: positions per mesh period (int >= 4H + 1 over the span; with
+            :class:`QuasiPeriodicBalance` a multiple of the model's ``steps_multiple()`` giving
+            every mesh period >= 4H + 1 positions).
         contact: the contact law of the static solve (its tangent weights make K_m).
 
     Returns:
@@ -360,9 +365,15 @@ def whine_response(
 
     Raises:
         TypeError: another model kind or method. ValueError: coast flanks, a speed <= 0,
-            too few positions.
+            too few positions; with :class:`QuasiPeriodicBalance`, manufacturing deviations or
+            positions that are not a multiple of ``steps_multiple()``.
     """
     whine = getattr(model, "whine", None)
+    if isinstance(method, QuasiPeriodicBalance) and not isinstance(model, DynamicModel):
+        raise TypeError(
+            f"model: {type(model).__name__}: QuasiPeriodicBalance is for a lumped "
+            "jaxgear.dynamics.DynamicModel (a train of several mesh frequencies)"
+        )
     if isinstance(model, AbstractDynamicModel) and not isinstance(model, DynamicModel) and whine:
         # a model with its own linearisation (a planetary stage: its PlanetaryModel.whine)
         return whine(speeds, method, positions=positions, contact=contact)
@@ -373,7 +384,8 @@ def whine_response(
         )
     if not isinstance(method, AbstractWhineMethod):
         raise TypeError(
-            f"method = {method!r}: allowed HarmonicBalance(...) or TransmissionErrorSource(...)"
+            f"method = {method!r}: allowed HarmonicBalance(...), TransmissionErrorSource(...) or "
+            "QuasiPeriodicBalance(...)"
         )
     if model.coast_flanks():
         raise ValueError(
