@@ -10,7 +10,9 @@ Newmark sweep is priced at those settings, which the test suite shows agree with
 140 positions to 0.15 % and 0.1° on orders 1-2. The Newmark sweep is timed on NEWMARK_SPEEDS of the
 200 speeds (each speed an independent run of the same fixed number of steps: the same cost), and
 its 200-speed cost is that mean times 200 (stated in the JSON). Wall and CPU seconds (the machine
-is shared). From the repository root: ``python -m benchmarks.whine_two_stage``.
+is shared). From the repository root: ``python -m benchmarks.whine_two_stage``;
+``python -m benchmarks.whine_two_stage --figure`` draws docs/img/whine_two_stage_spectrum.png
+only (each mesh's TE spectrum of the Newmark run at the check speed, the balance's lines on it).
 """
 
 from __future__ import annotations
@@ -57,6 +59,44 @@ def _newmark(model, speed):
 def _time_orders(t, x, freqs):
     t, x = np.asarray(t), np.asarray(x)
     return np.array([2 * np.mean(x * np.exp(-1j * f * t)) for f in freqs])
+
+
+def figure() -> None:
+    """docs/img/whine_two_stage_spectrum.png: the Newmark TE of each mesh over the kept span
+    (its DFT, one-sided) and the balance's orders 1-5 of each mesh's own frequency."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    model, _ = jio.build_dynamic_model(jio.load_case("two-stage"))
+    w = whine_response(model, CHECK_SPEED, METHOD, positions=POSITIONS)
+    r = _newmark(model, CHECK_SPEED)
+    f1 = float(w.frequency[0])
+    groups, orders, rel = (np.asarray(a) for a in (w.order_group, w.group_order, w.orders))
+    fig = Figure(figsize=(9, 6.5))
+    FigureCanvasAgg(fig)
+    t = np.asarray(r.time)
+    for k, mesh in enumerate(r.meshes):
+        ax = fig.add_subplot(2, 1, k + 1)
+        x = np.asarray(mesh.transmission_error)
+        spec = 2 * np.abs(np.fft.rfft(x - x.mean())) / x.size
+        freq = np.fft.rfftfreq(x.size, t[1] - t[0]) / f1
+        keep = freq <= 5.5
+        ax.semilogy(freq[keep], spec[keep] * 1e6, "-", color="0.6", lw=0.8,
+                    label="Newmark, 140 steps per first-mesh period (DFT of the kept span)")
+        for g, mark in ((0, "o"), (1, "s")):
+            pick = (groups == g) & (orders >= 1) & (orders <= ORDERS)
+            ax.semilogy(rel[pick], np.abs(np.asarray(w.transmission_error[0, pick, k])) * 1e6,
+                        mark, mfc="none", ms=7,
+                        label=f"QuasiPeriodicBalance, orders 1-{ORDERS} of mesh {g + 1}")
+        ax.set_ylim(1e-5, 2.0)
+        ax.set_ylabel(f"TE of mesh {k + 1} (µm)")
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=7, loc="upper right")
+    ax.set_xlabel("frequency / first mesh frequency")
+    fig.suptitle(f"two-stage at {CHECK_SPEED:.1f} rad/s (first mesh {f1:.0f} Hz, second "
+                 f"{f1 * 35 / 127:.1f} Hz): time domain and quasi-periodic balance", fontsize=10)
+    fig.tight_layout()
+    fig.savefig(ROOT / "docs" / "img" / "whine_two_stage_spectrum.png", dpi=100)
 
 
 def main() -> dict:
@@ -138,4 +178,6 @@ def main() -> dict:
 
 
 if __name__ == "__main__":
-    main()
+    import sys
+
+    figure() if "--figure" in sys.argv[1:] else main()

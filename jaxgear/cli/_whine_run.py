@@ -97,7 +97,7 @@ def whine_outputs(case, out_dir: str) -> dict | None:
     for k, n in enumerate(planetary["moments"] if planetary else ()):
         cols[f"support_{_key(n)}_Nm"] = planetary["moment_amp"][:, :, k].ravel()
         cols[f"support_{_key(n)}_phase_deg"] = planetary["moment_phase"][:, :, k].ravel()
-    quasi = getattr(w, "order_group", None) is not None  # QuasiPeriodicBalance: orders of each mesh's frequency
+    quasi = getattr(w, "order_group", None) is not None  # QuasiPeriodicBalance: each mesh's
     if quasi:
         cols["mesh_frequency_group"] = np.tile(np.asarray(w.order_group, dtype=float), S)
         cols["group_order"] = np.tile(np.asarray(w.group_order, dtype=float), S)

@@ -568,7 +568,6 @@ def _whine_torus(model, table, law, spec, rows, idx, speeds, basis):
     R, hs, out, out_index, group, order, of_mesh = spec
     hs, out, out_index = np.asarray(hs), np.asarray(out), np.asarray(out_index)
     scene = model.scene
-    G = len(R)
     N = rows.shape[0]
     x, weight, force_density, _ = _torus_static(model.scene, table, model.torque, law, rows)
     cells = jnp.arange(table.V.shape[1])

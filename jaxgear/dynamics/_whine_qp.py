@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import fractions
 import itertools
+
 import jax
 import jax.numpy as jnp
 import numpy as np
