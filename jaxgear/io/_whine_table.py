@@ -95,14 +95,14 @@ def parse_whine(table: dict) -> WhineInputs:
                       f"out of range, allowed >= 4 harmonics + 1 = {4 * H + 1}", P)
     speeds = [lo + (hi - lo) * k / (n - 1) for k in range(n)]
     assert all(math.isfinite(s) for s in speeds)
+    S = sc.number(table, "sidebands", WHERE, None, allowed="[0, 256]", integer=True)
     if name != "quasi-periodic":
-        if "sidebands" in table:
+        if S is not None:
             raise sc.fail(WHERE, "sidebands", f"is for method = \"quasi-periodic\" only "
-                          f"(method = \"{name}\")", table["sidebands"])
+                          f"(method = \"{name}\")", S)
         return WhineInputs(speeds, WHINE_METHODS[name](H), P)
-    S = int(sc.number(table, "sidebands", WHERE, 1, allowed="[0, 256]",
-                      integer=True))
-    if not 0 <= S <= H:
+    S = 1 if S is None else int(S)
+    if S > H:
         raise sc.fail(WHERE, "sidebands", f"out of range, allowed [0, harmonics = {H}]", S)
     return WhineInputs(speeds, QuasiPeriodicBalance(H, S), P)
 
