@@ -97,6 +97,10 @@ def whine_outputs(case, out_dir: str) -> dict | None:
     for k, n in enumerate(planetary["moments"] if planetary else ()):
         cols[f"support_{_key(n)}_Nm"] = planetary["moment_amp"][:, :, k].ravel()
         cols[f"support_{_key(n)}_phase_deg"] = planetary["moment_phase"][:, :, k].ravel()
+    quasi = getattr(w, "order_group", None) is not None  # QuasiPeriodicBalance: each mesh's
+    if quasi:
+        cols["mesh_frequency_group"] = np.tile(np.asarray(w.order_group, dtype=float), S)
+        cols["group_order"] = np.tile(np.asarray(w.group_order, dtype=float), S)
     cols["contact_loss"] = np.repeat(invalid.astype(float), h)
     cols["nonlinearity"] = np.repeat(nonlin.max(axis=1), h)
     write_csv(os.path.join(folder, "whine.csv"), list(cols), list(cols.values()))
@@ -106,6 +110,8 @@ def whine_outputs(case, out_dir: str) -> dict | None:
     te_total = np.sqrt(np.sum(te_a**2, axis=2))  # (S, h): every mesh's TE, root-sum-square
     title = f"{case.name}: gear whine ({type(inputs.method).__name__}, H = "
     title += f"{inputs.method.harmonics})"
+    if getattr(w, "order_group", None) is not None:
+        title = title[:-1] + f", S = {inputs.method.sidebands})"
     te_what = "TE" if n_meshes == 1 else f"TE, root-sum-square of the {n_meshes} meshes"
     whine_order_plot(
         os.path.join(folder, "te_orders.png"), speeds, te_total[:, drawn] * 1e6,
@@ -134,6 +140,8 @@ def whine_outputs(case, out_dir: str) -> dict | None:
     if planetary is not None:  # the supports' lines in the fixed frame (a housing's view)
         _fixed_frame_waterfall(folder, case.name, speeds, f1, planetary["section"], invalid)
     files = [f"whine/{n}" for n in FILES if os.path.exists(os.path.join(folder, n))]
+    if quasi:  # each mesh's TE at its own frequency's orders
+        files += _mesh_order_plots(folder, w, mesh_names, speeds, te_a, title, invalid)
     housing = None if housed is None else housing_outputs(housed, case, w, folder, invalid)
     valid_note = (
         "contact loss at the flagged speeds: the linear (frequency-domain) result does not hold "
@@ -149,6 +157,16 @@ def whine_outputs(case, out_dir: str) -> dict | None:
         "orders": orders.tolist(),
         "meshes": mesh_names,
         "bearing_components": names,
+        **({} if not quasi else {
+            "order_group": np.asarray(w.order_group).tolist(),
+            "group_order": np.asarray(w.group_order).tolist(),
+            "mesh_group": list(w.mesh_group),
+            "sidebands": inputs.method.sidebands,
+            "frame": ("quasi-periodic balance: the meshes run at several mesh frequencies; "
+                      "'orders' are each output's frequency over the first mesh's "
+                      "(fundamental_Hz), 'order_group' its mesh-frequency group ('mesh_group' "
+                      "each mesh's) and 'group_order' its order of that group's frequency"),
+        }),
         "transmission_error_m": {"amplitude": te_a.tolist(), "phase_deg": te_p.tolist()},
         "mesh_force_N": {"amplitude": fm_a.tolist(), "phase_deg": fm_p.tolist()},
         "bearing_force_N": {"amplitude": br_a.tolist(), "phase_deg": br_p.tolist()},
@@ -178,6 +196,27 @@ def whine_outputs(case, out_dir: str) -> dict | None:
         "max_te_order_1_um": float(te_total[peak, 1] * 1e6) if h > 1 else 0.0,
         "speed_of_max_te_order_1_rad_s": float(speeds[peak]),
     }
+
+
+def _mesh_order_plots(folder, w, mesh_names, speeds, te_a, title, invalid) -> list[str]:
+    """``te_orders_<mesh>.png``: each mesh's TE at orders 1-4 of its own mesh frequency (a
+    :class:`~jaxgear.dynamics.QuasiPeriodicBalance` response); the files written."""
+    groups, orders = np.asarray(w.order_group), np.asarray(w.group_order)
+    rel = np.asarray(w.orders, dtype=float)
+    out = []
+    for k, name in enumerate(mesh_names):
+        g = w.mesh_group[k]
+        pick = [int(np.flatnonzero((groups == g) & (orders == o))[0])
+                for o in range(1, ORDERS_DRAWN + 1) if o <= orders.max()]
+        path = os.path.join(folder, f"te_orders_{_key(name)}.png")
+        whine_order_plot(
+            path, speeds, te_a[:, pick, k] * 1e6, orders[pick], ylabel=f"TE of {name} (µm)",
+            title=title, invalid=invalid,
+            note=(f"orders of {name}'s own mesh frequency ({rel[pick[0]]:.4g} x the first "
+                  "mesh's); one-sided amplitudes"),
+        )
+        out.append(f"whine/te_orders_{_key(name)}.png")
+    return out
 
 
 def _key(name: str) -> str:

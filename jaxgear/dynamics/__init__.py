@@ -23,7 +23,7 @@ them step with :func:`newmark`, the one Newmark loop with unilateral contact, wh
 integrates any M, C, K, F and cells given by hand.
 :func:`whine_response` gives a lumped model's steady state in the frequency domain instead:
 linearised about its quasi-static solution, a harmonic balance over the time-varying mesh
-stiffness (:class:`HarmonicBalance`, :class:`TransmissionErrorSource`; docs/whine.md).
+stiffness (:class:`HarmonicBalance`, :class:`TransmissionErrorSource`; a train of several mesh frequencies: :class:`QuasiPeriodicBalance`; docs/whine.md).
 :func:`jaxgear.io.build_dynamic_model` does it from a case's ``[scene]``
 (:class:`jaxgear.io.SceneSpec`): the model takes objects, never a case.
 """
@@ -141,9 +141,11 @@ from ._sweep import (
 from ._whine import (
     AbstractWhineMethod as AbstractWhineMethod,
     HarmonicBalance as HarmonicBalance,
+    QuasiPeriodicBalance as QuasiPeriodicBalance,
     TransmissionErrorSource as TransmissionErrorSource,
     WhineResponse as WhineResponse,
     fourier_coefficients as fourier_coefficients,
     harmonic_balance as harmonic_balance,
     whine_response as whine_response,
 )
+from ._whine_qp import quasi_periodic_balance as quasi_periodic_balance

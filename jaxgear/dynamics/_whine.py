@@ -33,16 +33,25 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
-from jaxtyping import Array, Bool, Complex, Float
+from jaxtyping import Array, Bool, Complex, Float, Int
 
 from .._contact import ContactLaw, ExactContact, contact_law
 from .._util import check_integer, is_traced
 from ._lumped import DynamicModel, _prep
-from ._model import AbstractDynamicModel, _rigid_penalty
+from ._model import AbstractDynamicModel, _rigid_penalty, deviation_periods, mesh_table
+from ._whine_qp import (
+    _torus_static,
+    harmonic_set,
+    mesh_groups,
+    quasi_periodic_balance,
+    torus_coefficients,
+    torus_grid,
+)
 
 __all__ = [
     "AbstractWhineMethod",
     "HarmonicBalance",
+    "QuasiPeriodicBalance",
     "TransmissionErrorSource",
     "WhineResponse",
     "fourier_coefficients",
@@ -72,6 +81,36 @@ class HarmonicBalance(AbstractWhineMethod):
 
     harmonics: int = eqx.field(static=True, default=16)
     parametric: ClassVar[bool] = True
+
+
+class QuasiPeriodicBalance(AbstractWhineMethod):
+    """The quasi-periodic multi-harmonic method, for a model whose meshes run at G > 1 distinct
+    mesh frequencies ω_1..ω_G (a two-stage train; docs/whine.md, "Trains of several mesh
+    frequencies"): the quasi-static solution and the tangent mesh stiffness sampled on the torus
+    of the G mesh phases, and the response balanced over the multi-index harmonics h = (h_1..h_G)
+    at the frequencies Σ_g h_g ω_g with, for one group g, |h_g| <= ``harmonics`` (its own
+    orders, coupled parametrically) and every other group's |h_g'| <= ``sidebands`` (the
+    sidebands h_g ω_g ± h_g' ω_g'). It neglects the combination tones with more than
+    ``sidebands`` orders of two groups at once (e.g. 2 ω_1 + 2 ω_2 at sidebands 1) and every
+    harmonic beyond ``harmonics``. With G = 1 the set is |h| <= H and the method is
+    :class:`HarmonicBalance` over one mesh period.
+
+    Args:
+        harmonics: H, each group's own orders kept (int >= 1, static).
+        sidebands: S, the orders of the other groups around them (int, 0 <= S <= H, static).
+    """
+
+    harmonics: int = eqx.field(static=True, default=10)
+    sidebands: int = eqx.field(static=True, default=1)
+    parametric: ClassVar[bool] = True
+
+    def __check_init__(self):
+        check_integer("sidebands", self.sidebands, 0)
+        if self.sidebands > self.harmonics:
+            raise ValueError(
+                f"sidebands = {self.sidebands}: allowed 0 <= sidebands <= harmonics = "
+                f"{self.harmonics}"
+            )
 
 
 class TransmissionErrorSource(AbstractWhineMethod):
@@ -258,6 +297,12 @@ class WhineResponse(eqx.Module):
             force of cells that the vibration would bring into or out of contact (relieved
             cells engaging early or late). The linear result is the time domain's to about this
             fraction of F_s in the mesh force; a few per cent and more: not linear.
+        order_group, group_order: :class:`QuasiPeriodicBalance` only (else None): the
+            mesh-frequency group of each output order and its order within it, (h,) ints; the
+            outputs are the mean (group 0, order 0), then orders 1..H of group 0, of group 1,
+            ...; :attr:`orders` their frequencies over :attr:`frequency` (the first mesh's).
+        mesh_group: :class:`QuasiPeriodicBalance` only: each mesh's group (static, m ints;
+            group g's meshes share one mesh period, group 0 is the first mesh's).
     """
 
     speed: Float[Array, " S"]
@@ -272,6 +317,9 @@ class WhineResponse(eqx.Module):
     min_mesh_force: Float[Array, "S m"]
     contact_loss: Bool[Array, "S m"]
     nonlinearity: Float[Array, "S m"]
+    order_group: Int[Array, " h"] | None = None
+    group_order: Int[Array, " h"] | None = None
+    mesh_group: tuple | None = eqx.field(static=True, default=None)
 
 
 def _one_sided(c, H):
@@ -303,8 +351,13 @@ def whine_response(
         model: a lumped :class:`~jaxgear.dynamics.DynamicModel` without coast flanks.
         speeds: pinion speeds Ω (rad/s) > 0, scalar or (S,).
         method: :class:`HarmonicBalance` (default, the parametric coupling) or
-            :class:`TransmissionErrorSource` (the mean stiffness alone), with its H.
-        positions: positions per mesh period (int >= 4H + 1 over the span).
+            :class:`TransmissionErrorSource` (the mean stiffness alone), with its H, both over
+            the span; or :class:`QuasiPeriodicBalance` (a train whose meshes run at several
+            mesh frequencies: each mesh's orders of its own frequency, the static solve on the
+            torus grid of the mesh phases).
+        positions: positions per mesh period (int >= 4H + 1 over the span; with
+            :class:`QuasiPeriodicBalance` a multiple of the model's ``steps_multiple()`` giving
+            every mesh period >= 4H + 1 positions).
         contact: the contact law of the static solve (its tangent weights make K_m).
 
     Returns:
@@ -312,9 +365,15 @@ def whine_response(
 
     Raises:
         TypeError: another model kind or method. ValueError: coast flanks, a speed <= 0,
-            too few positions.
+            too few positions; with :class:`QuasiPeriodicBalance`, manufacturing deviations or
+            positions that are not a multiple of ``steps_multiple()``.
     """
     whine = getattr(model, "whine", None)
+    if isinstance(method, QuasiPeriodicBalance) and not isinstance(model, DynamicModel):
+        raise TypeError(
+            f"model: {type(model).__name__}: QuasiPeriodicBalance is for a lumped "
+            "jaxgear.dynamics.DynamicModel (a train of several mesh frequencies)"
+        )
     if isinstance(model, AbstractDynamicModel) and not isinstance(model, DynamicModel) and whine:
         # a model with its own linearisation (a planetary stage: its PlanetaryModel.whine)
         return whine(speeds, method, positions=positions, contact=contact)
@@ -325,7 +384,8 @@ def whine_response(
         )
     if not isinstance(method, AbstractWhineMethod):
         raise TypeError(
-            f"method = {method!r}: allowed HarmonicBalance(...) or TransmissionErrorSource(...)"
+            f"method = {method!r}: allowed HarmonicBalance(...), TransmissionErrorSource(...) or "
+            "QuasiPeriodicBalance(...)"
         )
     if model.coast_flanks():
         raise ValueError(
@@ -347,6 +407,8 @@ def whine_response(
         if not np.all(np.isfinite(sp)) or np.any(sp <= 0):
             raise ValueError(f"speeds = {speeds!r}: allowed finite pinion speeds > 0 rad/s")
     law = contact_law(contact, model.dtype)
+    if isinstance(method, QuasiPeriodicBalance):
+        return _quasi_periodic(model, speeds, method, int(positions), law)
     prep = _prep(model, law, int(positions))
     speeds = jnp.atleast_1d(jnp.asarray(speeds, model.dtype))
     basis = _mesh_basis(prep.table.V, prep.table.mask)
@@ -438,4 +500,141 @@ def _whine(model, prep, speeds, method, basis) -> WhineResponse:
         min_mesh_force=fmin,
         contact_loss=fmin <= 0.0,
         nonlinearity=misplaced / fs[None, :],
+    )
+
+
+def _quasi_periodic(model, speeds, method, positions, law) -> WhineResponse:
+    """:func:`whine_response` with :class:`QuasiPeriodicBalance`: checks, the table over each
+    group's own period, the torus grid, the basis; then :func:`_whine_torus`."""
+    of_mesh, periods = mesh_groups(model)
+    if deviation_periods(model.mods) > 1:
+        raise ValueError(
+            "model: manufacturing deviations: QuasiPeriodicBalance needs each mesh to repeat "
+            "every mesh period (allowed mods without Deviations)"
+        )
+    multiple = int(model.steps_multiple())
+    if positions % multiple:
+        raise ValueError(
+            f"positions = {positions}: QuasiPeriodicBalance needs every mesh's period in whole "
+            f"steps: allowed a multiple of {multiple}"
+        )
+    H, Sb = int(method.harmonics), int(method.sidebands)
+    table = mesh_table(model.scene, model.mods, positions, int(model.scene.scene_periods()))
+    R = []
+    for p in periods:
+        k = of_mesh.index(periods.index(p))
+        R.append(int(table.rows[k]))
+        if fractions_of(positions, p) != R[-1] or R[-1] < 4 * H + 1:
+            raise ValueError(
+                f"positions = {positions}: allowed a multiple of {multiple} giving every mesh "
+                f"period >= 4 harmonics + 1 = {4 * H + 1} steps (a period {p} of the first "
+                f"mesh's has {R[-1]})"
+            )
+    idx, rows = torus_grid(table, of_mesh, R)
+    basis = _mesh_basis(table.V, table.mask)
+    if basis is None:
+        basis = _contact_basis(model.scene)
+    n = model.scene.mass().shape[0]
+    basis = np.eye(n) if basis is None else basis
+    hs = harmonic_set(len(R), H, Sb)
+    out = [np.zeros(len(R), int)] + [
+        np.eye(len(R), dtype=int)[g] * k for g in range(len(R)) for k in range(1, H + 1)
+    ]
+    out = np.asarray(out)
+    where = {tuple(h): i for i, h in enumerate(hs)}
+    out_index = np.asarray([where[tuple(h)] for h in out])
+    group = np.concatenate([[0], np.repeat(np.arange(len(R)), H)])
+    order = np.concatenate([[0], np.tile(np.arange(1, H + 1), len(R))])
+    spec = (tuple(R), _as_tuple(hs), _as_tuple(out), tuple(int(i) for i in out_index),
+            tuple(int(g) for g in group), tuple(int(o) for o in order), tuple(of_mesh))
+    return _whine_torus(model, table, law, spec, jnp.asarray(rows), jnp.asarray(idx),
+                        jnp.atleast_1d(jnp.asarray(speeds, model.dtype)),
+                        jnp.asarray(basis, model.dtype))
+
+
+def _as_tuple(a) -> tuple:
+    return tuple(tuple(int(v) for v in row) for row in np.asarray(a))
+
+
+def fractions_of(positions: int, period) -> int:
+    """The steps of a mesh period of ``period`` first-mesh periods at ``positions`` steps per
+    first-mesh period (a whole number: checked by the caller)."""
+    steps = positions * period
+    return int(steps) if steps.denominator == 1 else -1
+
+
+@eqx.filter_jit
+def _whine_torus(model, table, law, spec, rows, idx, speeds, basis):
+    R, hs, out, out_index, group, order, of_mesh = spec
+    hs, out, out_index = np.asarray(hs), np.asarray(out), np.asarray(out_index)
+    scene = model.scene
+    N = rows.shape[0]
+    x, weight, force_density, _ = _torus_static(model.scene, table, model.torque, law, rows)
+    cells = jnp.arange(table.V.shape[1])
+
+    def take(f):
+        return f[rows, cells]
+
+    k, length, mask = take(table.k), take(table.length), take(table.mask)
+    kl = jnp.where(mask, weight * k * length, 0.0)  # (N, c)
+    Vb = table.V @ basis  # (rows, c, r)
+    Vg = take(Vb)  # (N, c, r)
+    Km = jnp.einsum("sc,sci,scj->sij", kl, Vg, Vg)  # (N, r, r)
+    diff = hs[:, None, :] - hs[None, :, :]
+    coupling = torus_coefficients(Km, R, diff)  # (Nh, Nh, r, r)
+    Xh = torus_coefficients(x, R, hs)  # (Nh, n)
+    M, Ks, C = scene.mass(), scene.stiffness(), model.damping
+    k_ref = jnp.trace(jnp.real(coupling[(len(hs) - 1) // 2, (len(hs) - 1) // 2])) / basis.shape[1]
+    gauge = _rigid_penalty(scene, k_ref)
+    dtheta = table.period_angle / table.steps_per_period
+    s = (idx.astype(x.dtype) + 0.5) / jnp.asarray(R, x.dtype)[None, :]  # (N, G) grid phases
+    E = jnp.exp(2j * jnp.pi * (s @ jnp.asarray(hs.T, x.dtype)))  # (N, Nh)
+    Eo = jnp.conj(E[:, out_index]).T / N  # (h_out, N): the coefficients at the outputs
+    gap = jnp.where(mask, jnp.einsum("sci,si->sc", take(table.V), x) - take(table.delta0), 0.0)
+    fs_density = force_density * length
+
+    def at(speed):
+        omega = 2 * jnp.pi * speed / (dtheta * jnp.asarray(R, x.dtype))  # (G,)
+        nu = jnp.asarray(hs, x.dtype) @ omega  # (Nh,)
+        F = (nu**2)[:, None] * (Xh @ M.T) - 1j * nu[:, None] * (Xh @ C.T)
+        Y = quasi_periodic_balance(M, C, Ks, coupling, F, nu, gauge=gauge, basis=basis)  # (Nh, n)
+        yb = jnp.real(E @ (Y @ basis))  # (N, r) the vibration on the basis over the grid
+        vy = jnp.einsum("scr,sr->sc", Vg, yb)
+        f, _ = table.mesh_forces(fs_density + kl * vy)  # (N, m)
+        g = gap + vy
+        kl_all = jnp.where(mask, k * length, 0.0)
+        misplaced, _ = table.mesh_forces(kl_all * jnp.maximum(g, 0.0) - kl * g)
+        return omega[0], Y[out_index], Eo @ f.astype(E.dtype), jnp.min(f, axis=0), jnp.max(
+            jnp.abs(misplaced), axis=0)
+
+    omega, Y, fh, fmin, misplaced = jax.lax.map(at, speeds)
+    mean = jnp.concatenate([jnp.ones(1), 2.0 * jnp.ones(out.shape[0] - 1)]).astype(Xh.dtype)
+    X = (Xh[out_index][None] + Y) * mean[None, :, None]  # (S, h, n) one-sided
+    fh = fh * mean[None, :, None]
+    U = scene.te_vectors()
+    cb = jnp.stack([jnp.cos(p.base_helix_angle) for p in scene.base_planes])
+    e_ref = table.e_max[0]
+    te = jnp.einsum("shn,mn->shm", X, U.astype(X.dtype)) / cb[None, None, :]
+    te = te.at[:, 0, :].add(-e_ref / cb)
+    bearing = jnp.einsum("shn,rn->shr", X, scene.reaction_matrix().astype(X.dtype))
+    fm_qs, _ = table.mesh_forces(fs_density)
+    fs = jnp.mean(fm_qs, axis=0)
+    R_ = jnp.asarray(R, x.dtype)
+    orders = (out @ (R_[0] / R_)).astype(x.dtype)
+    return WhineResponse(
+        speed=speeds,
+        frequency=omega / (2 * jnp.pi),
+        orders=orders,
+        coordinates=X,
+        quasi_static=Xh[out_index] * mean[:, None],
+        transmission_error=te,
+        mesh_force=fh,
+        bearing_force=bearing,
+        static_force=fs,
+        min_mesh_force=fmin,
+        contact_loss=fmin <= 0.0,
+        nonlinearity=misplaced / fs[None, :],
+        order_group=jnp.asarray(group),
+        group_order=jnp.asarray(order),
+        mesh_group=of_mesh,
     )

@@ -11,7 +11,11 @@ Keys (file units; ranges as checked)::
     speeds = 48                     # speeds, equally spaced, [2, 2000]; default 48
     harmonics = 16                  # H, the orders of the span's fundamental kept, [1, 256]
     method = "harmonic-balance"     # or "te-source" (the mean stiffness: TE as a displacement
-                                    # source); default "harmonic-balance"
+                                    # source), or "quasi-periodic" (a train of several mesh
+                                    # frequencies: H orders of each mesh's own frequency);
+                                    # default "harmonic-balance"
+    sidebands = 1                   # "quasi-periodic" only: the other meshes' orders around
+                                    # each mesh's, [0, harmonics]; default 1
     positions_per_period = 256      # quasi-static positions per mesh period, [4, 8192], and
                                     # at least 4 harmonics + 1 over the model's span
 
@@ -29,13 +33,22 @@ from typing import NamedTuple
 
 from fem_prep import schema as sc
 
-from ..dynamics import AbstractWhineMethod, HarmonicBalance, TransmissionErrorSource
+from ..dynamics import (
+    AbstractWhineMethod,
+    HarmonicBalance,
+    QuasiPeriodicBalance,
+    TransmissionErrorSource,
+)
 
 __all__ = ["WHINE_KEYS", "WHINE_METHODS", "WhineInputs", "parse_whine", "whine_of"]
 
 WHERE = "whine"
 #: ``[whine] method`` names
-WHINE_METHODS = {"harmonic-balance": HarmonicBalance, "te-source": TransmissionErrorSource}
+WHINE_METHODS = {
+    "harmonic-balance": HarmonicBalance,
+    "te-source": TransmissionErrorSource,
+    "quasi-periodic": QuasiPeriodicBalance,
+}
 WHINE_KEYS = {
     "speed_min_rad_s",
     "speed_max_rad_s",
@@ -43,6 +56,7 @@ WHINE_KEYS = {
     "harmonics",
     "method",
     "positions_per_period",
+    "sidebands",
 }
 
 
@@ -81,7 +95,16 @@ def parse_whine(table: dict) -> WhineInputs:
                       f"out of range, allowed >= 4 harmonics + 1 = {4 * H + 1}", P)
     speeds = [lo + (hi - lo) * k / (n - 1) for k in range(n)]
     assert all(math.isfinite(s) for s in speeds)
-    return WhineInputs(speeds, WHINE_METHODS[name](H), P)
+    S = sc.number(table, "sidebands", WHERE, None, allowed="[0, 256]", integer=True)
+    if name != "quasi-periodic":
+        if S is not None:
+            raise sc.fail(WHERE, "sidebands", f"is for method = \"quasi-periodic\" only "
+                          f"(method = \"{name}\")", S)
+        return WhineInputs(speeds, WHINE_METHODS[name](H), P)
+    S = 1 if S is None else int(S)
+    if S > H:
+        raise sc.fail(WHERE, "sidebands", f"out of range, allowed [0, harmonics = {H}]", S)
+    return WhineInputs(speeds, QuasiPeriodicBalance(H, S), P)
 
 
 def whine_of(case) -> WhineInputs | None:
