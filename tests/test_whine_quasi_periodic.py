@@ -100,6 +100,21 @@ def test_bad_inputs():
         assert "\n" not in str(e.value)
 
 
+def test_a_failed_static_solve_on_the_torus_grid_is_an_error():
+    """The torque turned against the drive flanks (the flanks open: no contact anywhere on the
+    grid): the balance raises, one line, instead of returning a response about a wrong
+    operating point."""
+    import equinox as eqx
+
+    model, _ = jio.build_dynamic_model(jio.load_case("two-stage"), slices=2)
+    opened = eqx.tree_at(lambda m: m.torque, model, -model.torque)
+    with pytest.raises(eqx.EquinoxRuntimeError, match="torus grid") as e:
+        whine_response(opened, 50.0, QuasiPeriodicBalance(2, 0), positions=35)
+    assert "\n" not in str(e.value)
+    assert np.all(np.isfinite(np.asarray(
+        whine_response(model, 50.0, QuasiPeriodicBalance(2, 0), positions=35).mesh_force)))
+
+
 def _time_orders(t, x, freqs):
     """One-sided amplitudes at the angular frequencies ``freqs``: 2 ⟨x e^{−iνt}⟩ over a window
     of whole periods of every line (the rectangle rule on the uniform samples)."""

@@ -547,9 +547,19 @@ def _quasi_periodic(model, speeds, method, positions, law) -> WhineResponse:
     order = np.concatenate([[0], np.tile(np.arange(1, H + 1), len(R))])
     spec = (tuple(R), _as_tuple(hs), _as_tuple(out), tuple(int(i) for i in out_index),
             tuple(int(g) for g in group), tuple(int(o) for o in order), tuple(of_mesh))
-    return _whine_torus(model, table, law, spec, jnp.asarray(rows), jnp.asarray(idx),
-                        jnp.atleast_1d(jnp.asarray(speeds, model.dtype)),
-                        jnp.asarray(basis, model.dtype))
+    response, failed = _whine_torus(model, table, law, spec, jnp.asarray(rows),
+                                    jnp.asarray(idx),
+                                    jnp.atleast_1d(jnp.asarray(speeds, model.dtype)),
+                                    jnp.asarray(basis, model.dtype))
+    message = ("whine_response: the static contact solve failed at some points of the torus "
+               "grid (no contact or no convergence): check the load and the modifications")
+    # read on the host where concrete (an eqx.error_if on concrete values compiles a program
+    # holding a Python callback, which the persistent compilation cache does not store)
+    if not is_traced(failed):
+        if bool(failed):
+            raise eqx.EquinoxRuntimeError(message)
+        return response
+    return eqx.error_if(response, failed, message)
 
 
 def _as_tuple(a) -> tuple:
@@ -569,7 +579,7 @@ def _whine_torus(model, table, law, spec, rows, idx, speeds, basis):
     hs, out, out_index = np.asarray(hs), np.asarray(out), np.asarray(out_index)
     scene = model.scene
     N = rows.shape[0]
-    x, weight, force_density, _ = _torus_static(model.scene, table, model.torque, law, rows)
+    x, weight, force_density, result = _torus_static(model.scene, table, model.torque, law, rows)
     cells = jnp.arange(table.V.shape[1])
 
     def take(f):
@@ -637,4 +647,4 @@ def _whine_torus(model, table, law, spec, rows, idx, speeds, basis):
         order_group=jnp.asarray(group),
         group_order=jnp.asarray(order),
         mesh_group=of_mesh,
-    )
+    ), jnp.any(result != 0)
