@@ -1,7 +1,7 @@
 """The acoustic path of a housed case: what the acoustic objectives of ``jaxgear optimise``
 ("erp", "sound_power"; :mod:`optimise`'s :class:`~optimise.AcousticPath` and
-:class:`~optimise.SurfaceRadiation`) run on, built from a pair case's ``[housing]``, ``[whine]``
-and (sound power) ``[acoustics]`` as ``jaxgear run``'s housed whine builds them
+:class:`~optimise.SurfaceRadiation`) run on, built from a pair or train case's ``[housing]``,
+``[whine]`` and (sound power) ``[acoustics]`` as ``jaxgear run``'s housed whine builds them
 (docs/acoustics.md, "Optimising for noise").
 
 - :func:`housed_acoustics`: the housing body (condensed, cached), its outer skin with the named
@@ -91,16 +91,28 @@ def _refuse(objective: str, why: str):
     return sc.fail("optimise", "objective", why, objective)
 
 
+def _order_frequencies(case, model, speeds, orders) -> np.ndarray:
+    """The frequencies (Hz, (S, O)) the whine gives the orders (indices h of its harmonics) at
+    the pinion ``speeds`` (rad/s): its fundamental times the order, f = (Ω z₁ / 2π q) (h / q)
+    with z₁ the first mesh's driving gear and q the model's span in its periods
+    (:class:`jaxgear.dynamics.WhineResponse`'s ``frequency`` times ``orders``; h Ω z₁ / 2π for a
+    pair and an idler train)."""
+    q = int(model.span_periods())
+    f1 = np.asarray(speeds, dtype=float) * case.pairs[0].pinion.teeth / (2 * math.pi * q)
+    return f1[:, None] * (np.asarray(orders, dtype=float)[None, :] / q)
+
+
 def case_acoustic_path(case, objective: str = "erp", model=None,
                        housed: HousedAcoustics | None = None) -> op.AcousticPath:
-    """The :class:`optimise.AcousticPath` of a housed pair case: its lumped 3D scene with the
-    housing (coupled; ``model``: default :func:`jaxgear.io.build_dynamic_model` of the case), the
-    ``[whine]`` speeds, method and positions per period, the orders h of the mesh frequency
-    f_m = Ω z₁ / 2π whose h f_m at the highest speed lies within the housing's band limit
+    """The :class:`optimise.AcousticPath` of a housed pair or train case: its lumped 3D scene
+    with the housing (coupled; ``model``: default :func:`jaxgear.io.build_dynamic_model` of the
+    case), the ``[whine]`` speeds, method and positions per period, the orders h of the mesh
+    frequency f_m = Ω z₁ / 2π (a train's: its first mesh's, z₁ its input's teeth) whose h f_m at
+    the highest speed lies within the housing's band limit
     (:attr:`HousedAcoustics.band_limit_hz`).
 
     Args:
-        case: a pair :class:`~jaxgear.io.Case` with ``[housing]`` and ``[whine]``.
+        case: a pair or train :class:`~jaxgear.io.Case` with ``[housing]`` and ``[whine]``.
         objective: the objective's name, for the errors.
         model, housed: already built (default: built here).
 
@@ -122,9 +134,10 @@ def case_acoustic_path(case, objective: str = "erp", model=None,
                       f"is a {type(model).__name__}")
     housed = housed_acoustics(case) if housed is None else housed
     speeds = np.asarray(whine.speeds, dtype=float)
-    f_mesh = speeds.max() * case.pair.pinion.teeth / (2 * math.pi)
     H = int(whine.method.harmonics)
-    orders = tuple(h for h in range(1, H + 1) if h * f_mesh <= housed.band_limit_hz)
+    top = _order_frequencies(case, model, speeds.max()[None], range(1, H + 1))[0]
+    f_mesh = float(top[0])
+    orders = tuple(h for h in range(1, H + 1) if top[h - 1] <= housed.band_limit_hz)
     if not orders:
         raise _refuse(objective, f"no order of [whine] lies below the housing's band limit at "
                       f"every speed ({housed.band_limit_hz:.0f} Hz = cut-off / {HOUSING_BAND:g}, "
@@ -179,8 +192,7 @@ def case_radiation(case, path: op.AcousticPath, housed: HousedAcoustics | None =
         raise _refuse("sound_power", "radiates by the case's [acoustics] table (its method, band "
                       "and grid; e.g. [acoustics] method = 'bem'): the case has none")
     housed = housed_acoustics(case) if housed is None else housed
-    f1 = np.asarray(path.speeds) * case.pair.pinion.teeth / (2 * math.pi)
-    freq = f1[:, None] * np.asarray(path.orders, dtype=float)[None, :]
+    freq = _order_frequencies(case, path.model, path.speeds, path.orders)
     band, grid = radiation_grid(inputs, freq)
     if freq.min() < grid[0] * (1 - 1e-9) or freq.max() > grid[-1] * (1 + 1e-9):
         raise sc.fail("acoustics", "band_Hz", "must span the order frequencies the objective "
