@@ -236,6 +236,9 @@ max_iterations = 3
 @pytest.mark.parametrize(
     ("optimise", "match"),
     [
+        (TRAIN_ERP.replace("vars", "# two stages\nvars"),
+         r"\[optimise\] objective = 'erp': runs on a train whose meshes share one mesh "
+         r"frequency .*every 2 periods"),
         ('\n[optimise]\nobjective = "te_rms"\n',
          r"\[optimise\] objective = 'te_rms': a train case optimises its housing's noise"),
         ('\n[optimise]\nvars = ["tip_relief.depth"]\n', r"\[optimise\] objective = 'te_rms'"),
@@ -248,12 +251,15 @@ max_iterations = 3
     ],
 )
 def test_train_optimise_settings_refused_one_line(tmp_path, optimise, match):
-    """A train case's [optimise]: an acoustic objective only (given), variables without a
-    member prefix, no [modifications.<gear>], sound power with [acoustics]: one line naming the
-    key when the case loads (before the housing is condensed)."""
+    """A train case's [optimise]: an acoustic objective only (given), on meshes of one mesh
+    frequency (an idler train, not the two-stage train whose meshes repeat together every 2
+    periods of the first), variables without a member prefix, no [modifications.<gear>], sound
+    power with [acoustics]: one line naming the key when the case loads (before the housing is
+    condensed)."""
     from _kinds import KINDS
 
-    text = KINDS["train-lumped3d"] + HOUSING_TABLE[: HOUSING_TABLE.index("[housing.points_mm]")]
+    kind = "train-two-stage" if "# two stages" in optimise else "train-lumped3d"
+    text = KINDS[kind] + HOUSING_TABLE[: HOUSING_TABLE.index("[housing.points_mm]")]
     with pytest.raises(jio.SchemaError, match=match) as e:
         jio.load_case(str(_write(tmp_path, text + WHINE_TABLE + optimise)))
     assert "\n" not in str(e.value)

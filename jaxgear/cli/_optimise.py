@@ -651,7 +651,7 @@ def _check_train(case: Case, settings: dict) -> None:
         )
     # variables without a member prefix, [modifications] common to every gear
     check_train_design(settings["objective"], settings["vars"], case.raw.get("modifications"),
-                       case.gear_names)
+                       case.gear_names, case.span_periods)
 
 
 def _case_text(name_or_path: str) -> str:

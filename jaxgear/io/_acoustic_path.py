@@ -91,15 +91,12 @@ def _refuse(objective: str, why: str):
     return sc.fail("optimise", "objective", why, objective)
 
 
-def _order_frequencies(case, model, speeds, orders) -> np.ndarray:
-    """The frequencies (Hz, (S, O)) the whine gives the orders (indices h of its harmonics) at
-    the pinion ``speeds`` (rad/s): its fundamental times the order, f = (Ω z₁ / 2π q) (h / q)
-    with z₁ the first mesh's driving gear and q the model's span in its periods
-    (:class:`jaxgear.dynamics.WhineResponse`'s ``frequency`` times ``orders``; h Ω z₁ / 2π for a
-    pair and an idler train)."""
-    q = int(model.span_periods())
-    f1 = np.asarray(speeds, dtype=float) * case.pairs[0].pinion.teeth / (2 * math.pi * q)
-    return f1[:, None] * (np.asarray(orders, dtype=float)[None, :] / q)
+def _order_frequencies(case, speeds, orders) -> np.ndarray:
+    """The frequencies (Hz, (S, O)) of the ``orders`` h of the mesh frequency at the pinion
+    ``speeds`` (rad/s): h Ω z₁ / 2π, z₁ the teeth of the first mesh's driving gear (a train's
+    input)."""
+    f1 = np.asarray(speeds, dtype=float) * case.pairs[0].pinion.teeth / (2 * math.pi)
+    return f1[:, None] * np.asarray(orders, dtype=float)[None, :]
 
 
 def case_acoustic_path(case, objective: str = "erp", model=None,
@@ -117,14 +114,19 @@ def case_acoustic_path(case, objective: str = "erp", model=None,
         model, housed: already built (default: built here).
 
     Raises:
-        SchemaError: no ``[housing]`` or ``[whine]``, a model that is not lumped, no order in the
-            band (one line naming ``[optimise] objective`` and what is missing).
+        SchemaError: no ``[housing]`` or ``[whine]``, a model that is not lumped, a train whose
+            meshes have different frequencies (its span more than one period of the first), no
+            order in the band (one line naming ``[optimise] objective`` and what is missing).
     """
     whine = whine_of(case)
     for table, given in (("housing", case.housing), ("whine", whine)):
         if given is None:
             raise _refuse(objective, f"runs on a housed gearbox's whine: the case needs "
                           f"[{table}] ([housing] and [whine] both; docs/acoustics.md)")
+    if case.span_periods != 1:
+        raise _refuse(objective, f"runs on a pair or on a train whose meshes share one mesh "
+                      f"frequency (an idler train); this train's meshes repeat together every "
+                      f"{case.span_periods} periods of the first")
     if model is None:
         from ._case_model import build_dynamic_model
 
@@ -135,7 +137,7 @@ def case_acoustic_path(case, objective: str = "erp", model=None,
     housed = housed_acoustics(case) if housed is None else housed
     speeds = np.asarray(whine.speeds, dtype=float)
     H = int(whine.method.harmonics)
-    top = _order_frequencies(case, model, speeds.max()[None], range(1, H + 1))[0]
+    top = _order_frequencies(case, speeds.max()[None], range(1, H + 1))[0]
     f_mesh = float(top[0])
     orders = tuple(h for h in range(1, H + 1) if top[h - 1] <= housed.band_limit_hz)
     if not orders:
@@ -192,7 +194,7 @@ def case_radiation(case, path: op.AcousticPath, housed: HousedAcoustics | None =
         raise _refuse("sound_power", "radiates by the case's [acoustics] table (its method, band "
                       "and grid; e.g. [acoustics] method = 'bem'): the case has none")
     housed = housed_acoustics(case) if housed is None else housed
-    freq = _order_frequencies(case, path.model, path.speeds, path.orders)
+    freq = _order_frequencies(case, path.speeds, path.orders)
     band, grid = radiation_grid(inputs, freq)
     if freq.min() < grid[0] * (1 - 1e-9) or freq.max() > grid[-1] * (1 + 1e-9):
         raise sc.fail("acoustics", "band_Hz", "must span the order frequencies the objective "

@@ -81,12 +81,14 @@ def check_acoustic_tables(data: dict, optimise: dict | None) -> None:
 
 
 def check_train_design(objective: str | None, variables, modifications: dict | None,
-                       gear_names) -> None:
+                       gear_names, span_periods: int = 1) -> None:
     """What a train case's design can be: an acoustic objective (``objective``: "erp" or
     "sound_power"; the housed train's whine), design variables without a member prefix (each
     acts on every gear: ``tip_relief.depth``, not ``pinion.tip_relief.depth``), and a
     ``[modifications]`` table (``modifications``, the case file's) whose entries are common to
-    every gear (no ``[modifications.<gear>]``), the design the variables are written into.
+    every gear (no ``[modifications.<gear>]``), the design the variables are written into; its
+    meshes of one mesh frequency (``span_periods``, the periods of the first mesh after which
+    they repeat together, 1: an idler train).
 
     Raises:
         SchemaError: one line naming the key (``[optimise] objective``, ``[optimise] vars``,
@@ -95,6 +97,10 @@ def check_train_design(objective: str | None, variables, modifications: dict | N
         raise sc.fail("optimise", "objective", "a train case optimises its housing's noise: "
                       "allowed 'erp' or 'sound_power' (with [housing] and [whine])",
                       objective or OPTIMISE_DEFAULTS["objective"])
+    if span_periods != 1:
+        raise sc.fail("optimise", "objective", "runs on a train whose meshes share one mesh "
+                      "frequency (an idler train); this train's meshes repeat together every "
+                      f"{span_periods} periods of the first", objective)
     names = variables.split(",") if isinstance(variables, str) else list(variables)
     for name in names:
         if name.strip().split(".")[0] in _MEMBER_PREFIXES:

@@ -305,7 +305,8 @@ def case_problem(
     if unknown:
         raise TypeError(f"case_problem() got an unexpected keyword argument {unknown[0]!r}")
     if isinstance(case.form, TrainForm):  # its housing's noise, one modification on every gear
-        check_train_design(objective, variables, case.raw.get("modifications"), case.gear_names)
+        check_train_design(objective, variables, case.raw.get("modifications"), case.gear_names,
+                           case.span_periods)
     smoothing = {k: settings.pop(k, None) for k in ("contact", "relief_blend", "end_relief_blend")}
     problem_settings = {k: settings.pop(k) for k in ("bounds", "speed") if k in settings}
     progress = bool(settings.pop("progress", False))

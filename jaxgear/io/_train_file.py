@@ -654,10 +654,6 @@ def parse_train(data: dict, default_name: str = "train", base_dir: str | None = 
             raise sc.fail("", "optimise", "not in a train with an internal mesh (allowed: a "
                           "pair's case, or a housed train of external meshes)", "[optimise]")
         optimise = parse_optimise(data["optimise"])
-        check_train_design(optimise.get("objective"),
-                           optimise.get("vars", OPTIMISE_DEFAULTS["vars"]),
-                           data.get("modifications"), names)
-        check_acoustic_tables(data, optimise)
     case = Case(
         name=name,
         gear_names=tuple(names),
@@ -692,6 +688,11 @@ def parse_train(data: dict, default_name: str = "train", base_dir: str | None = 
         return case
     _check_overlap(case)
     _check_power(case)
+    if optimise is not None:
+        check_train_design(optimise.get("objective"),
+                           optimise.get("vars", OPTIMISE_DEFAULTS["vars"]),
+                           data.get("modifications"), names, case.span_periods)
+        check_acoustic_tables(data, optimise)
     check_train_rating(data, case)  # [rating]: every mesh (ISO 6336)
     _check_lubricant(data, case)
     q = case.span_periods
