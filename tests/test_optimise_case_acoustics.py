@@ -237,8 +237,8 @@ max_iterations = 3
     ("optimise", "match"),
     [
         (TRAIN_ERP.replace("vars", "# two stages\nvars"),
-         r"\[optimise\] objective = 'erp': runs on a train whose meshes share one mesh "
-         r"frequency .*every 2 periods"),
+         (r"\[optimise\] objective = 'erp': runs on a train whose meshes share one mesh "
+          r"frequency .*every 2 periods")),
         ('\n[optimise]\nobjective = "te_rms"\n',
          r"\[optimise\] objective = 'te_rms': a train case optimises its housing's noise"),
         ('\n[optimise]\nvars = ["tip_relief.depth"]\n', r"\[optimise\] objective = 'te_rms'"),
@@ -273,8 +273,8 @@ def test_cli_train_takes_the_acoustic_objectives_only(tmp_path, capsys):
     housing = HOUSING_TABLE[: HOUSING_TABLE.index("[housing.points_mm]")]
     path = _write(tmp_path, KINDS["train-lumped3d"] + housing + WHINE_TABLE)
     out = tmp_path / "o"
-    for args, want in ((["--objective", "te_rms"], "--objective te_rms: 'train-lumped3d' is a "
-                        "train case"),
+    for args, want in ((["--objective", "te_rms"], ("--objective te_rms: 'train-lumped3d' is "
+                                                     "a train case")),
                        (["--objective", "erp", "--vars", "gear.crowning.depth"],
                         "acts on every gear")):
         assert main(["optimise", str(path), "--out", str(out), *args]) == 2
