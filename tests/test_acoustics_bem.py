@@ -7,8 +7,8 @@ Slow: bempp-cl's numba back end compiles its kernels once per process (about 60 
 the four Helmholtz operators, more on a loaded machine) and the finest sphere (1026 vertices)
 is a dense solve; the fast checks of the acoustic chain (Rayleigh, JAX) are in
 tests/test_acoustics.py. The sphere of level 5 (4098 vertices), where the oscillating sphere
-comes within 1 %, is opt-in (``JAXGEAR_TEST_FINE_BEM=1``): its dense assembly took 8 min of CPU
-(46 min on the loaded 2-core host) and 3.3 GB.
+comes within 1 %, is opt-in (``JAXGEAR_TEST_FINE_BEM=1``): its test (levels 4 and 5, bempp's
+compile included) took 10 min of CPU (18 min of wall time on the shared 2-core host) and 3.5 GB.
 """
 
 from __future__ import annotations
@@ -78,8 +78,8 @@ def test_pulsating_and_oscillating_sphere_converge(spheres):
 
 @pytest.mark.skipif(
     not os.environ.get("JAXGEAR_TEST_FINE_BEM"),
-    reason="the level-5 sphere (4098 vertices) takes 8 min of CPU of dense BEM (46 min on the "
-    "loaded 2-core host) and 3.3 GB: "
+    reason="the level-5 sphere (4098 vertices) takes 10 min of CPU of dense BEM (18 min on the "
+    "shared 2-core host) and 3.5 GB: "
     "set JAXGEAR_TEST_FINE_BEM=1",
 )
 def test_oscillating_sphere_within_one_percent_at_level_5():
