@@ -186,8 +186,12 @@ class AcousticPath(eqx.Module):
         return self.seats is None
 
     def with_design(self, mods: jg.Modifications, torque) -> DynamicModel:
-        """The model with the design's modifications and torque (its damping held)."""
+        """The model with the design's modifications and torque (its damping held). A train's
+        model (one :class:`~jaxgear.Modifications` per mesh) takes ``mods`` on every mesh: the
+        same modification on each gear's loaded flank."""
         t = jnp.asarray(torque, self.model.torque.dtype)
+        if isinstance(self.model.mods, tuple) and isinstance(mods, jg.Modifications):
+            mods = (mods,) * len(self.model.mods)
         return eqx.tree_at(lambda m: (m.mods, m.torque), self.model, (mods, t))
 
     def frequencies(self) -> np.ndarray:

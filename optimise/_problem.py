@@ -144,7 +144,8 @@ class Problem(eqx.Module):
             condensed bodies, 0 at rest).
         torques: torques of the objective (N·m), shape (T,) (``objective.torques``: one entry
             for single-load objectives).
-        design_torque: N·m. delta_m: mean static deflection δ_m (m) at the design torque.
+        design_torque: N·m. delta_m: mean static deflection δ_m (m) at the design torque (a
+            train's: its first mesh's, the input's).
         scale: the objective's scale (``objective.scale``: its unmodified value at the design
             torque, in its units; ``CENTROID_SCALE`` for ``LoadCentroid``).
         lower, upper: bounds in normalised units, shape (n,).
@@ -249,7 +250,8 @@ class Problem(eqx.Module):
         self, x, torques, contact: jg.ContactLaw | None = EXACT
     ) -> Float[Array, " T"]:
         """TE RMS (m) of design ``x`` at each of ``torques`` (N·m), vmapped: a Harris-map view
-        (``contact``: the exact law by default, None the problem's smooth law)."""
+        (``contact``: the exact law by default, None the problem's smooth law); a scene of
+        several meshes (a train): its first mesh's."""
         mods = self.modifications(x)
         return jax.vmap(
             lambda t: (
@@ -260,7 +262,7 @@ class Problem(eqx.Module):
                     speed=self.speed,
                     contact=self._law(contact),
                     positions_per_pitch=self.positions_per_pitch,
-                ).te_rms
+                ).meshes[0].te_rms
             )
         )(jnp.asarray(torques))
 
@@ -268,7 +270,8 @@ class Problem(eqx.Module):
         """Every objective's quantity at the design torque for design ``x``, unscaled, as a dict:
         ``te_rms_m``, ``te_ptp_m``, ``max_line_load_N_per_m``, ``line_load_lp_N_per_m`` (order
         ``lp_order``) and the signed ``load_centroid`` (fraction of b, see :func:`load_centroid`),
-        in the ``contact`` law (the exact law by default, None the problem's smooth law).
+        in the ``contact`` law (the exact law by default, None the problem's smooth law); a
+        scene of several meshes (a train): its first mesh's.
         """
         r = jg.quasi_static(
             self.mesh,
@@ -277,7 +280,7 @@ class Problem(eqx.Module):
             speed=self.speed,
             contact=self._law(contact),
             positions_per_pitch=self.positions_per_pitch,
-        )
+        ).meshes[0]
         return {
             "te_rms_m": r.te_rms,
             "te_ptp_m": r.te_ptp,
@@ -383,7 +386,7 @@ def make_problem(
     ppp = int(positions_per_pitch)
     mesh = objective.prepare(scene, ppp)
     unmod = jg.quasi_static(mesh, None, torque, speed=speed, positions_per_pitch=ppp)
-    k_mean = float(jnp.mean(unmod.mesh_stiffness))
+    k_mean = float(jnp.mean(unmod.meshes[0].mesh_stiffness))  # a train's: its first mesh's
     plane = base_plane(mesh)
     delta_m = float(plane.normal_load(torque)) / k_mean
     # round the relief starts over one position step so that the sampled objective is smooth in

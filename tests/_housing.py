@@ -19,6 +19,7 @@ __all__ = [
     "WHINE_TABLE",
     "accessory_box",
     "housed_case",
+    "housed_train",
     "one_way_seats",
 ]
 
@@ -68,6 +69,26 @@ def housed_case(tmp_path, table=HOUSING_TABLE, whine="", damping=None, extra="")
         text = text.replace('[scene.damping]\nmodel = "composite"', f"[scene.damping]\n{damping}")
     path = tmp_path / "housed.toml"
     path.write_text(text + table + whine + extra)
+    return jio.load_case(str(path))
+
+
+def housed_train(tmp_path, loss_factor=0.0, extra=""):
+    """The lumped 3D idler train of tests/_kinds.py (20 → 30 → 24 teeth, 2 slices, three
+    shafts on six bearings; its [modifications] a tip relief common to every gear), undamped
+    ([scene.damping] model "none"), in a 200 x 200 mm box of HOUSING_TABLE's material, 27 mm
+    bores, 20 mm Tet4 cells, cut-off 6 kHz, ``loss_factor``, no named points, with WHINE_TABLE
+    and ``extra`` appended, written to ``tmp_path/train.toml`` and loaded."""
+    from _kinds import KINDS
+
+    table = (HOUSING_TABLE.replace("width_mm = 250.0", "width_mm = 200.0")
+             .replace("height_mm = 160.0", "height_mm = 200.0")
+             .replace("bore_diameter_mm = 50.0", "bore_diameter_mm = 27.0")
+             .replace("mesh_size_mm = 40.0", "mesh_size_mm = 20.0")
+             .replace("loss_factor = 0.0", f"loss_factor = {loss_factor!r}"))
+    table = table[: table.index("[housing.points_mm]")]
+    path = tmp_path / "train.toml"
+    path.write_text(KINDS["train-lumped3d"] + '[scene.damping]\nmodel = "none"\n' + table
+                    + WHINE_TABLE + extra)
     return jio.load_case(str(path))
 
 

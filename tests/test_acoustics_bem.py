@@ -6,10 +6,14 @@ the BEM against the Rayleigh integral on a thin baffled panel.
 Slow: bempp-cl's numba back end compiles its kernels once per process (about 60 s of CPU for
 the four Helmholtz operators, more on a loaded machine) and the finest sphere (1026 vertices)
 is a dense solve; the fast checks of the acoustic chain (Rayleigh, JAX) are in
-tests/test_acoustics.py.
+tests/test_acoustics.py. The sphere of level 5 (4098 vertices), where the oscillating sphere
+comes within 1 %, is opt-in (``JAXGEAR_TEST_FINE_BEM=1``): its test (levels 4 and 5, bempp's
+compile included) took 10 min of CPU (18 min of wall time on the shared 2-core host) and 3.5 GB.
 """
 
 from __future__ import annotations
+
+import os
 
 import numpy as np
 import pytest
@@ -50,7 +54,8 @@ def spheres():
 def test_pulsating_and_oscillating_sphere_converge(spheres):
     """At ka = 1, a = 1 m, v₀ = 1 mm/s in air: the pulsating sphere's W = 1.304e-3 W and the
     oscillating sphere's, each error shrinking about fourfold per refinement (the flat
-    triangles' O(h²); measured: pulsating -6.7, -1.7, -0.44 %; oscillating -18, -4.9, -1.26 %).
+    triangles' O(h²); measured: pulsating -6.7, -1.7, -0.44 %; oscillating -18, -4.9, -1.26 %;
+    level 5, test_oscillating_sphere_within_one_percent_at_level_5: -0.11 %, -0.32 %).
     The pulsating sphere is within 1 % at the finest mesh (1026 vertices); the oscillating one,
     whose power goes as the sixth power of the radius at low ka and so feels the inscribed
     polyhedron more, is within 1.5 % there and its Richardson extrapolation of the last two
@@ -69,6 +74,31 @@ def test_pulsating_and_oscillating_sphere_converge(spheres):
         assert abs(richardson) < 0.01, (name, richardson)
     assert abs(errors["pulsating"][2]) < 0.01
     assert abs(errors["oscillating"][2]) < 0.015
+
+
+@pytest.mark.skipif(
+    not os.environ.get("JAXGEAR_TEST_FINE_BEM"),
+    reason="the level-5 sphere (4098 vertices) takes 10 min of CPU of dense BEM (18 min on the "
+    "shared 2-core host) and 3.5 GB: "
+    "set JAXGEAR_TEST_FINE_BEM=1",
+)
+def test_oscillating_sphere_within_one_percent_at_level_5():
+    """The finest mesh of the issue's evidence: on the octahedral sphere of level 5 (4098
+    vertices) at ka = 1 the oscillating sphere's power is within 1 % of
+    ½ (4πa²ρc/3) (ka)⁴/(4 + (ka)⁴) v₀² (measured -0.32 %) and the pulsating sphere's within
+    0.25 % of 1.304e-3 W (measured -0.11 %), each error a quarter of level 4's within 20 %
+    (the flat triangles' O(h²))."""
+    errors = []
+    for level in (4, 5):
+        s = fa.sphere_surface(A, level)
+        R = fa.radiation_resistance(s, [F_KA1], cache=False, progress=True).matrix(0)
+        uniform = np.full(s.n_vertices, V0 + 0j)
+        along_z = V0 * s.vertices[:, 2] / A + 0j
+        errors.append((float(ja.radiated_power(along_z, R)) / _oscillating(1.0) - 1,
+                       float(ja.radiated_power(uniform, R)) / _pulsating(1.0) - 1))
+    (o4, p4), (o5, p5) = errors
+    assert abs(o5) < 0.01 and abs(p5) < 0.0025, errors
+    assert 0.2 < o5 / o4 < 0.3 and 0.2 < p5 / p4 < 0.3, errors
 
 
 def test_burton_miller_through_the_irregular_frequency():

@@ -17,7 +17,7 @@ import math
 import numpy as np
 import pytest
 import scipy.sparse.linalg as spla
-from _housing import HOUSING_TABLE, WHINE_TABLE, housed_case
+from _housing import HOUSING_TABLE, WHINE_TABLE, housed_case, housed_train
 
 import fem_prep
 import jaxgear.io as jio
@@ -248,19 +248,10 @@ def test_run_erp_and_points_against_the_full_fe_model(housed_run):
 def test_train_run_erp_against_the_full_fe_model(tmp_path):
     """The same on a lumped 3D idler train (three shafts, six bearings, tests/_kinds.py) in a
     box: the run's housing files, and its ERP against the full FE model up to f_c / 8."""
-    from _kinds import KINDS
-
     from jaxgear.cli.run import whine_outputs
     from jaxgear.dynamics import whine_response
 
-    table = (TABLE.replace("width_mm = 250.0", "width_mm = 200.0")
-             .replace("height_mm = 160.0", "height_mm = 200.0")
-             .replace("bore_diameter_mm = 50.0", "bore_diameter_mm = 27.0")
-             .replace("mesh_size_mm = 40.0", "mesh_size_mm = 20.0"))
-    table = table[: table.index("[housing.points_mm]")]
-    path = tmp_path / "train.toml"
-    path.write_text(KINDS["train-lumped3d"] + '[scene.damping]\nmodel = "none"\n' + table + WHINE)
-    case = jio.load_case(str(path))
+    case = housed_train(tmp_path)
     section = whine_outputs(case, str(tmp_path))
     assert {"whine/housing.json", "whine/erp_orders.png", "whine/housing_ods.vtu"} <= set(
         section["housing"]["files"])

@@ -528,6 +528,14 @@ def case_samples() -> Iterator[tuple[dict, str | None]]:
     data.update(tomllib.loads(SAMPLE_OVERLAYS["whine"]))
     data.update(tomllib.loads(SAMPLE_OVERLAYS["acoustics"]))
     yield copy.deepcopy(data), None
+    # jaxgear optimise on a housed idler train's noise: [optimise] beside [housing], [whine]
+    data = tomllib.loads((ROOT / "examples" / "idler-train-lumped3d.toml").read_text("utf-8"))
+    for overlay in ("housing", "whine", "acoustics"):
+        data[overlay] = tomllib.loads(SAMPLE_OVERLAYS[overlay])[overlay]
+    data["optimise"] = tomllib.loads(SAMPLE_OVERLAYS["optimise acoustic"])["optimise"] | {
+        "vars": ["tip_relief.depth", "crowning.depth"], "method": "lbfgs",
+        "max_iterations": 10, "bounds": {"tip_relief.depth": [0.0, 2.0]}}
+    yield data, str(ROOT / "examples")
     # both members condensed: the flexible case with a condensed pinion too
     data = tomllib.loads(jio.embedded_case_text("accessory-spur-flexible"))
     data["scene"]["pinion_body"] = {"body": "accessory-pinion"}

@@ -49,6 +49,8 @@ from ..io import (
     atomic_open,
     case_problem,
     case_text_with_modifications,
+    check_train_design,
+    design_modifications,
     embedded_case_text,
     load_case,
     optimiser_from_name,
@@ -324,7 +326,7 @@ def _optimise(case: Case, settings: dict, out_dir: str, progress: bool):
     )
     solver = optimiser_from_name(settings["method"])
     sharp = problem.sharp()  # sharp relief starts: the design as the case file writes it
-    start = problem.case_values(case.modifications)
+    start = problem.case_values(design_modifications(case))
     _warn_idle_extents(case, problem.variables)
     # start 5 % of the interval inside the bounds: the reparametrisation's sigmoid is flat at a
     # bound (a depth of 0, no modification yet, would leave the optimiser almost no gradient)
@@ -500,7 +502,8 @@ def _warn_idle_extents(case: Case, variables: tuple[Variable, ...]) -> None:
         if any(d.base == depth and members & set(d.members) for d in variables):
             continue  # the depth is a design variable too
         field = VARIABLES[depth][0]
-        if all(float(getattr(getattr(case.modifications, m), field)) == 0 for m in var.members):
+        mods = design_modifications(case)
+        if all(float(getattr(getattr(mods, m), field)) == 0 for m in var.members):
             warnings.warn(
                 f"--vars {var.name}: the case's {depth} is 0 for the "
                 f"{' and '.join(var.members)}, so the extent has no effect; add {depth} to --vars "
@@ -621,16 +624,34 @@ def check_settings(settings: dict, case: Case | None = None) -> dict:
     return settings
 
 
-def _pair_case(name_or_path: str, command: str):
-    """The pair case a command optimises; a train case is refused in one line."""
+def _pair_case(name_or_path: str, command: str, trains: bool = False):
+    """The pair case a command optimises; a train case is refused in one line (``trains``:
+    taken, for the checks of its objective, :func:`_check_train`)."""
     case = load_case(name_or_path)
     refuse_stages(case, command)
-    if isinstance(case.form, TrainForm):
+    if isinstance(case.form, TrainForm) and not trains:
         raise ValueError(
             f"jaxgear {command} optimises a gear pair; {case.name!r} is a train case: run "
             "it with jaxgear run or jaxgear sweep, or optimise one of its meshes as a pair case"
         )
     return case
+
+
+def _check_train(case: Case, settings: dict) -> None:
+    """A train case optimises its housing's noise: an acoustic objective (on a housed train),
+    one modification on every gear. Raises ValueError: one line naming the option."""
+    if not isinstance(case.form, TrainForm):
+        return
+    if settings["objective"] not in ACOUSTIC_OBJECTIVES:
+        raise ValueError(
+            f"--objective {settings['objective']}: {case.name!r} is a train case, whose housing's "
+            "noise jaxgear optimise minimises (allowed --objective erp or sound_power on a "
+            "train with [housing] and [whine]); optimise one of its meshes as a pair case for "
+            "the others"
+        )
+    # variables without a member prefix, [modifications] common to every gear
+    check_train_design(settings["objective"], settings["vars"], case.raw.get("modifications"),
+                       case.gear_names, case.span_periods)
 
 
 def _case_text(name_or_path: str) -> str:
@@ -662,8 +683,9 @@ def check_write(path: str | None, name_or_path: str) -> str | None:
 def run_optimise(args) -> int:
     """``jaxgear optimise``: the entry point (``args`` from the parser of
     :func:`add_optimise_arguments`); returns the exit status."""
-    case = _pair_case(args.case, "optimise")
+    case = _pair_case(args.case, "optimise", trains=True)
     settings = check_settings(settings_from_case(case, args), case)
+    _check_train(case, settings)
     write_to = check_write(args.write, args.case)
     out = check_output_dir(args.out or os.path.join("jaxgear-out", case.name, "optimise"))
     clear_outputs(out, "optimise")  # e.g. path.png of an earlier 2-variable run

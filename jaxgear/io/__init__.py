@@ -86,6 +86,7 @@ from ._optimise_table import (
     ACOUSTIC_OBJECTIVES as ACOUSTIC_OBJECTIVES,
     OPTIMISE_DEFAULTS as OPTIMISE_DEFAULTS,
     TORQUE_RANGE_OBJECTIVES as TORQUE_RANGE_OBJECTIVES,
+    check_train_design as check_train_design,
     parse_optimise as parse_optimise,
 )
 from ._plausibility import CaseWarning as CaseWarning, plausibility as plausibility
@@ -100,6 +101,7 @@ from ._problem import (
     STATISTICS as STATISTICS,
     case_problem as case_problem,
     design_case_text as design_case_text,
+    design_modifications as design_modifications,
     objective_from_name as objective_from_name,
     optimiser_from_name as optimiser_from_name,
     write_design_case as write_design_case,

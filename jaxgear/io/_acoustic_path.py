@@ -1,7 +1,7 @@
 """The acoustic path of a housed case: what the acoustic objectives of ``jaxgear optimise``
 ("erp", "sound_power"; :mod:`optimise`'s :class:`~optimise.AcousticPath` and
-:class:`~optimise.SurfaceRadiation`) run on, built from a pair case's ``[housing]``, ``[whine]``
-and (sound power) ``[acoustics]`` as ``jaxgear run``'s housed whine builds them
+:class:`~optimise.SurfaceRadiation`) run on, built from a pair or train case's ``[housing]``,
+``[whine]`` and (sound power) ``[acoustics]`` as ``jaxgear run``'s housed whine builds them
 (docs/acoustics.md, "Optimising for noise").
 
 - :func:`housed_acoustics`: the housing body (condensed, cached), its outer skin with the named
@@ -91,28 +91,42 @@ def _refuse(objective: str, why: str):
     return sc.fail("optimise", "objective", why, objective)
 
 
+def _order_frequencies(case, speeds, orders) -> np.ndarray:
+    """The frequencies (Hz, (S, O)) of the ``orders`` h of the mesh frequency at the pinion
+    ``speeds`` (rad/s): h Ω z₁ / 2π, z₁ the teeth of the first mesh's driving gear (a train's
+    input)."""
+    f1 = np.asarray(speeds, dtype=float) * case.pairs[0].pinion.teeth / (2 * math.pi)
+    return f1[:, None] * np.asarray(orders, dtype=float)[None, :]
+
+
 def case_acoustic_path(case, objective: str = "erp", model=None,
                        housed: HousedAcoustics | None = None) -> op.AcousticPath:
-    """The :class:`optimise.AcousticPath` of a housed pair case: its lumped 3D scene with the
-    housing (coupled; ``model``: default :func:`jaxgear.io.build_dynamic_model` of the case), the
-    ``[whine]`` speeds, method and positions per period, the orders h of the mesh frequency
-    f_m = Ω z₁ / 2π whose h f_m at the highest speed lies within the housing's band limit
+    """The :class:`optimise.AcousticPath` of a housed pair or train case: its lumped 3D scene
+    with the housing (coupled; ``model``: default :func:`jaxgear.io.build_dynamic_model` of the
+    case), the ``[whine]`` speeds, method and positions per period, the orders h of the mesh
+    frequency f_m = Ω z₁ / 2π (a train's: its first mesh's, z₁ its input's teeth) whose h f_m at
+    the highest speed lies within the housing's band limit
     (:attr:`HousedAcoustics.band_limit_hz`).
 
     Args:
-        case: a pair :class:`~jaxgear.io.Case` with ``[housing]`` and ``[whine]``.
+        case: a pair or train :class:`~jaxgear.io.Case` with ``[housing]`` and ``[whine]``.
         objective: the objective's name, for the errors.
         model, housed: already built (default: built here).
 
     Raises:
-        SchemaError: no ``[housing]`` or ``[whine]``, a model that is not lumped, no order in the
-            band (one line naming ``[optimise] objective`` and what is missing).
+        SchemaError: no ``[housing]`` or ``[whine]``, a model that is not lumped, a train whose
+            meshes have different frequencies (its span more than one period of the first), no
+            order in the band (one line naming ``[optimise] objective`` and what is missing).
     """
     whine = whine_of(case)
     for table, given in (("housing", case.housing), ("whine", whine)):
         if given is None:
             raise _refuse(objective, f"runs on a housed gearbox's whine: the case needs "
                           f"[{table}] ([housing] and [whine] both; docs/acoustics.md)")
+    if case.span_periods != 1:
+        raise _refuse(objective, f"runs on a pair or on a train whose meshes share one mesh "
+                      f"frequency (an idler train); this train's meshes repeat together every "
+                      f"{case.span_periods} periods of the first")
     if model is None:
         from ._case_model import build_dynamic_model
 
@@ -122,9 +136,10 @@ def case_acoustic_path(case, objective: str = "erp", model=None,
                       f"is a {type(model).__name__}")
     housed = housed_acoustics(case) if housed is None else housed
     speeds = np.asarray(whine.speeds, dtype=float)
-    f_mesh = speeds.max() * case.pair.pinion.teeth / (2 * math.pi)
     H = int(whine.method.harmonics)
-    orders = tuple(h for h in range(1, H + 1) if h * f_mesh <= housed.band_limit_hz)
+    top = _order_frequencies(case, speeds.max()[None], range(1, H + 1))[0]
+    f_mesh = float(top[0])
+    orders = tuple(h for h in range(1, H + 1) if top[h - 1] <= housed.band_limit_hz)
     if not orders:
         raise _refuse(objective, f"no order of [whine] lies below the housing's band limit at "
                       f"every speed ({housed.band_limit_hz:.0f} Hz = cut-off / {HOUSING_BAND:g}, "
@@ -179,8 +194,7 @@ def case_radiation(case, path: op.AcousticPath, housed: HousedAcoustics | None =
         raise _refuse("sound_power", "radiates by the case's [acoustics] table (its method, band "
                       "and grid; e.g. [acoustics] method = 'bem'): the case has none")
     housed = housed_acoustics(case) if housed is None else housed
-    f1 = np.asarray(path.speeds) * case.pair.pinion.teeth / (2 * math.pi)
-    freq = f1[:, None] * np.asarray(path.orders, dtype=float)[None, :]
+    freq = _order_frequencies(case, path.speeds, path.orders)
     band, grid = radiation_grid(inputs, freq)
     if freq.min() < grid[0] * (1 - 1e-9) or freq.max() > grid[-1] * (1 + 1e-9):
         raise sc.fail("acoustics", "band_Hz", "must span the order frequencies the objective "

@@ -23,7 +23,7 @@ from ._deviations_table import parse_deviations
 from ._lubricant_table import parse_lubricant
 from ._modifications_table import parse_modifications
 from ._names import FOUNDATIONS, STIFFNESS_MODELS, stiffness_from_name
-from ._optimise_table import ACOUSTIC_OBJECTIVES, parse_optimise
+from ._optimise_table import check_acoustic_tables, parse_optimise
 from ._plausibility import MIN_LINE_LOAD_N_PER_MM, CaseWarning, plausibility
 from ._rating_table import MATERIAL_RATING_KEYS, OPERATING_RATING_KEYS, check_rating
 from ._robust_table import parse_robust
@@ -471,13 +471,7 @@ def parse_case(data: dict, default_name: str = "case", base_dir: str | None = No
     scene = parse_scene(data["scene"], base_dir) if "scene" in data else None
     housing = case_housing(data, scene, base_dir, (E, nu, rho))
     optimise = parse_optimise(data["optimise"]) if "optimise" in data else None
-    goal = (optimise or {}).get("objective")
-    if goal in ACOUSTIC_OBJECTIVES:  # the housing's whine, radiated ([acoustics]: its R)
-        for needed in ("housing", "whine") + (("acoustics",) if goal == "sound_power" else ()):
-            if needed not in data:
-                raise sc.fail("optimise", "objective", f"runs on a housed gearbox's whine: "
-                              f"needs [{needed}] too (allowed with [housing] and [whine]"
-                              f"{' and [acoustics]' if goal == 'sound_power' else ''})", goal)
+    check_acoustic_tables(data, optimise)
     if optimise is not None and "speeds" in optimise and (scene is None or not scene.hybrid):
         raise sc.fail(
             "optimise",

@@ -9,7 +9,14 @@ from typing import Any
 from fem_prep import schema as sc
 from optimise import OBJECTIVES, VARIABLES
 
-__all__ = ["ACOUSTIC_OBJECTIVES", "OPTIMISE_DEFAULTS", "TORQUE_RANGE_OBJECTIVES", "parse_optimise"]
+__all__ = [
+    "ACOUSTIC_OBJECTIVES",
+    "OPTIMISE_DEFAULTS",
+    "TORQUE_RANGE_OBJECTIVES",
+    "check_acoustic_tables",
+    "check_train_design",
+    "parse_optimise",
+]
 
 #: the objectives that take a torque range (``torques``) and its statistic (``reduce``): the TE
 #: RMS and the tribology objectives (:mod:`jaxgear.io._problem` maps the names to objects)
@@ -54,6 +61,57 @@ _OPTIMISE_KEYS = {
 }
 #: the objectives over the speeds of a housed case's [whine] (jaxgear.io's acoustic path)
 ACOUSTIC_OBJECTIVES = ("erp", "sound_power")
+_MEMBER_PREFIXES = ("pinion", "gear")
+
+
+def check_acoustic_tables(data: dict, optimise: dict | None) -> None:
+    """An acoustic objective in ``[optimise]`` runs on the housed gearbox's whine: the case file
+    ``data`` needs ``[housing]`` and ``[whine]`` (and ``[acoustics]`` for "sound_power").
+
+    Raises:
+        SchemaError: one line naming ``[optimise] objective`` and the missing table."""
+    goal = (optimise or {}).get("objective")
+    if goal not in ACOUSTIC_OBJECTIVES:  # the housing's whine, radiated ([acoustics]: its R)
+        return
+    for needed in ("housing", "whine") + (("acoustics",) if goal == "sound_power" else ()):
+        if needed not in data:
+            raise sc.fail("optimise", "objective", f"runs on a housed gearbox's whine: "
+                          f"needs [{needed}] too (allowed with [housing] and [whine]"
+                          f"{' and [acoustics]' if goal == 'sound_power' else ''})", goal)
+
+
+def check_train_design(objective: str | None, variables, modifications: dict | None,
+                       gear_names, span_periods: int = 1) -> None:
+    """What a train case's design can be: an acoustic objective (``objective``: "erp" or
+    "sound_power"; the housed train's whine), design variables without a member prefix (each
+    acts on every gear: ``tip_relief.depth``, not ``pinion.tip_relief.depth``), and a
+    ``[modifications]`` table (``modifications``, the case file's) whose entries are common to
+    every gear (no ``[modifications.<gear>]``), the design the variables are written into; its
+    meshes of one mesh frequency (``span_periods``, the periods of the first mesh after which
+    they repeat together, 1: an idler train).
+
+    Raises:
+        SchemaError: one line naming the key (``[optimise] objective``, ``[optimise] vars``,
+            ``[modifications] <gear>``)."""
+    if objective not in ACOUSTIC_OBJECTIVES:
+        raise sc.fail("optimise", "objective", "a train case optimises its housing's noise: "
+                      "allowed 'erp' or 'sound_power' (with [housing] and [whine])",
+                      objective or OPTIMISE_DEFAULTS["objective"])
+    if span_periods != 1:
+        raise sc.fail("optimise", "objective", "runs on a train whose meshes share one mesh "
+                      "frequency (an idler train); this train's meshes repeat together every "
+                      f"{span_periods} periods of the first", objective)
+    names = variables.split(",") if isinstance(variables, str) else list(variables)
+    for name in names:
+        if name.strip().split(".")[0] in _MEMBER_PREFIXES:
+            raise sc.fail("optimise", "vars", "a train's design variable acts on every gear: "
+                          f"allowed without a member prefix ({name.strip().split('.', 1)[1]!r})",
+                          name.strip())
+    for gear in gear_names:
+        if gear in (modifications or {}):
+            raise sc.fail("modifications", gear, "a train's design is one modification on "
+                          "every gear: allowed the entries common to every gear, directly under "
+                          "[modifications], when the train is optimised", "{...}")
 _DEFAULT_VARS = tuple(OPTIMISE_DEFAULTS["vars"].split(","))
 
 

@@ -23,11 +23,11 @@ from fem_prep.schema import atomic_write
 from optimise import Problem, make_problem
 
 from ._acoustic_path import case_acoustic_path, case_radiation, housed_acoustics
-from ._case import Case
+from ._case import Case, TrainForm
 from ._load import load_case
 from ._lubricant_table import tribology_of
 from ._modifications_table import case_text_with_modifications, modifications_with
-from ._optimise_table import ACOUSTIC_OBJECTIVES
+from ._optimise_table import ACOUSTIC_OBJECTIVES, check_train_design
 from ._rating_table import RatingCase, rating_of
 
 __all__ = [
@@ -36,6 +36,7 @@ __all__ = [
     "STATISTICS",
     "case_problem",
     "design_case_text",
+    "design_modifications",
     "objective_from_name",
     "optimiser_from_name",
     "write_design_case",
@@ -245,6 +246,16 @@ def optimiser_from_name(name: str, **settings):
     return _lookup(OPTIMISERS, "method", name)(**settings)
 
 
+def design_modifications(case: Case) -> jg.Modifications:
+    """The :class:`jaxgear.Modifications` a case's design starts from and the design variables
+    are written into: a pair's own; a train's one modification on every gear (its
+    ``[modifications]`` common to every gear) as both members of every mesh."""
+    if not isinstance(case.form, TrainForm):
+        return case.modifications
+    first = case.gear_modifications[0]
+    return jg.Modifications(pinion=first, gear=first)
+
+
 def case_problem(
     case: Case,
     variables,
@@ -263,7 +274,9 @@ def case_problem(
     housed case's own (:func:`case_acoustic_path`: its lumped 3D scene with the housing, the
     ``[whine]`` speeds and the orders in the housing's band; that scene is the structure),
     "sound_power" with the radiation of its ``[acoustics]`` (:func:`case_radiation`;
-    ``progress``: a bar over its BEM solves).
+    ``progress``: a bar over its BEM solves). A housed train case takes the acoustic objectives
+    only, on its lumped 3D scene with the housing: its design is one modification on every gear
+    (:func:`design_modifications`; variables without a member prefix).
 
     Args:
         case: a :class:`Case` (:func:`jaxgear.io.load_case`).
@@ -284,11 +297,16 @@ def case_problem(
     Raises:
         ValueError: an unknown objective name, "least_safety" on a case without ``[rating]``,
             an acoustic objective on a case without ``[housing]`` and ``[whine]`` ("sound_power":
-            or without ``[acoustics]``), as :func:`optimise.make_problem` otherwise.
+            or without ``[acoustics]``), a train case with another objective, a prefixed
+            variable or a ``[modifications.<gear>]`` table, as
+            :func:`optimise.make_problem` otherwise.
     """
     unknown = sorted(set(settings) - _SETTINGS)
     if unknown:
         raise TypeError(f"case_problem() got an unexpected keyword argument {unknown[0]!r}")
+    if isinstance(case.form, TrainForm):  # its housing's noise, one modification on every gear
+        check_train_design(objective, variables, case.raw.get("modifications"), case.gear_names,
+                           case.span_periods)
     smoothing = {k: settings.pop(k, None) for k in ("contact", "relief_blend", "end_relief_blend")}
     problem_settings = {k: settings.pop(k) for k in ("bounds", "speed") if k in settings}
     progress = bool(settings.pop("progress", False))
@@ -300,15 +318,17 @@ def case_problem(
                                                    progress=progress)
     if objective in ACOUSTIC_OBJECTIVES and scene is None:
         scene = settings["acoustic_path"].model.scene  # the path's own structure
+    train = isinstance(case.form, TrainForm)  # rated and lubricated per pair only
     goal = objective_from_name(
-        objective, case.torque, rating=rating_of(case), lubrication=_lubrication(case), **settings
+        objective, case.torque, rating=None if train else rating_of(case),
+        lubrication=None if train else _lubrication(case), **settings
     )
     if smoothing["contact"] is None:
         smoothing["contact"] = goal.default_contact(case.smooth_width)
     mesh = case.mesh_model(slices=slices) if scene is None else scene
     return make_problem(
         mesh,
-        case.modifications,
+        design_modifications(case),
         case.torque,
         variables,
         goal,

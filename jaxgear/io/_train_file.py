@@ -54,6 +54,9 @@
     moment_Nm = [10.0, 0.0, 0.0]     # z must be 0: a torque about the axis is a load
     [scene.damping]                  # as a pair case
     [scene.integration]              # as a pair case
+    [optimise]                       # a housed train ([housing], [whine]): its noise only,
+    objective = "erp"                # "erp" or "sound_power"; variables on every gear (no
+    vars = ["tip_relief.depth"]      # pinion./gear. prefix), [modifications] common to all
 
 An internal gear (a ring) has a negative ``teeth`` (ISO 21771, e.g. ``teeth = -56``; its
 ``profile_shift`` in ISO 21771's sign, its tip and root keys as an external gear's): it may be
@@ -129,6 +132,12 @@ from ._rating_table import (
 )
 from ._train_scene import check_table_size, shaft_of_table, train_scene
 from ._acoustics_table import parse_case_acoustics
+from ._optimise_table import (
+    OPTIMISE_DEFAULTS,
+    check_acoustic_tables,
+    check_train_design,
+    parse_optimise,
+)
 from ._whine_table import parse_whine
 
 __all__ = ["is_train", "parse_train"]
@@ -149,6 +158,7 @@ _TOP_KEYS = {
     "lubricant",  # every mesh's film, loss and the efficiency (jaxgear/io/_lubricant_table.py)
     "whine",  # a train's gear whine (jaxgear/io/_whine_table.py)
     "acoustics",  # the housing's radiated sound (jaxgear/io/_acoustics_table.py)
+    "optimise",  # jaxgear optimise on the housed train's noise (jaxgear/io/_optimise_table.py)
 }
 _GEAR_KEYS = {
     "name",
@@ -493,6 +503,9 @@ def parse_train(data: dict, default_name: str = "train", base_dir: str | None = 
     sc.subtable(data, "operating", "", op_keys, required=True)
     if "whine" in data:  # a train's or a planetary stage's gear whine
         parse_whine(data["whine"])
+    if "optimise" in data and is_planetary(data):
+        raise sc.fail("", "optimise", "not in a planetary stage's case (allowed: a pair's case, "
+                      "or a housed train's)", "[optimise]")
     if is_planetary(data):
         return _planetary_case(data, name)
     if "acoustics" in data:
@@ -635,6 +648,12 @@ def parse_train(data: dict, default_name: str = "train", base_dir: str | None = 
     )
     wrenches = _wrenches(op, shaft_list, None if scene is None else scene.shafts)
     housing = case_housing(data, scene, base_dir, (E, nu, rho))
+    optimise = None
+    if "optimise" in data:  # the housed train's noise (an acoustic objective only)
+        if internal:
+            raise sc.fail("", "optimise", "not in a train with an internal mesh (allowed: a "
+                          "pair's case, or a housed train of external meshes)", "[optimise]")
+        optimise = parse_optimise(data["optimise"])
     case = Case(
         name=name,
         gear_names=tuple(names),
@@ -658,6 +677,7 @@ def parse_train(data: dict, default_name: str = "train", base_dir: str | None = 
         shaft_names=tuple(shaft_list),
         scene=scene,
         housing=housing,
+        optimise=optimise,
         raw=data,
         form=InternalMeshForm() if internal else TrainForm(),
     )
@@ -668,6 +688,11 @@ def parse_train(data: dict, default_name: str = "train", base_dir: str | None = 
         return case
     _check_overlap(case)
     _check_power(case)
+    if optimise is not None:
+        check_train_design(optimise.get("objective"),
+                           optimise.get("vars", OPTIMISE_DEFAULTS["vars"]),
+                           data.get("modifications"), names, case.span_periods)
+        check_acoustic_tables(data, optimise)
     check_train_rating(data, case)  # [rating]: every mesh (ISO 6336)
     _check_lubricant(data, case)
     q = case.span_periods
