@@ -372,3 +372,23 @@ def test_gradient_wrt_speed_under_jit():
     step = 1e-6 * s0
     fd = float(order_one(s0 + step) - order_one(s0 - step)) / (2 * step)
     np.testing.assert_allclose(grad, fd, rtol=1e-5)
+
+
+def test_a_train_spanning_several_mesh_periods_reports_the_first_meshs_frequency(tmp_path):
+    """A train whose meshes repeat together every q = 2 periods of the first (20 → 30, then
+    15 → 24 on the intermediate shaft): the span's harmonics are orders h / 2 of the first
+    mesh, and ``frequency`` is the first mesh's, z_1 Ω / 2π, so that ``frequency * orders`` is
+    each output's frequency in Hz (the run's CSV, the housing's iω and the acoustic band read
+    it so)."""
+    from _kinds import KINDS
+
+    path = tmp_path / "train-two-stage.toml"
+    path.write_text(KINDS["train-two-stage"])
+    model, _ = jio.build_dynamic_model(jio.load_case(str(path)))
+    speed = 50.0
+    w = whine_response(model, speed, HarmonicBalance(4), positions=16)
+    np.testing.assert_allclose(np.asarray(w.orders), np.arange(5) / 2.0)
+    np.testing.assert_allclose(float(w.frequency[0]), 20 * speed / (2 * np.pi), rtol=1e-12)
+    # order 1 of the first mesh at its mesh frequency
+    np.testing.assert_allclose(float(w.frequency[0] * w.orders[2]), 20 * speed / (2 * np.pi),
+                               rtol=1e-12)

@@ -275,8 +275,9 @@ class WhineResponse(eqx.Module):
     :func:`~jaxgear.dynamics.simulate`, ``DynamicResponse.time``); q_0 the mean.
 
     Attributes:
-        speed: pinion speeds Ω (rad/s), (S,). frequency: the fundamental f = ω/2π (Hz), (S,)
-            (the mesh frequency of a pair).
+        speed: pinion speeds Ω (rad/s), (S,). frequency: the first mesh's frequency (Hz),
+            (S,): q ω/2π over a span of q of its periods (ω the span's fundamental; the mesh
+            frequency of a pair); an output's frequency is ``frequency * orders``.
         orders: the harmonics' orders of the first mesh's frequency, (H + 1,): h / q over a
             span of q mesh periods (h for a pair).
         coordinates: X_h (SI units of the coordinates), (S, H + 1, n), complex.
@@ -486,10 +487,11 @@ def _whine(model, prep, speeds, method, basis) -> WhineResponse:
     if fm_qs.shape[1] == 1:
         fs = scene.base_planes[0].normal_load(model.torque)[None]
     fmin = jnp.min(f, axis=1)
-    orders = jnp.arange(H + 1, dtype=model.dtype) / (S / table.step_count)
+    q = S / table.step_count  # the span in first-mesh periods
+    orders = jnp.arange(H + 1, dtype=model.dtype) / q
     return WhineResponse(
         speed=speeds,
-        frequency=omega / (2 * jnp.pi),
+        frequency=q * omega / (2 * jnp.pi),  # the first mesh's: frequency x orders in Hz
         orders=orders,
         coordinates=X,
         quasi_static=_one_sided(Xh, H),
