@@ -228,10 +228,9 @@ def hybrid_whine(
     dtype = model.scene.structure.K.dtype
     law = contact_law(contact, dtype)
     speeds = jnp.atleast_1d(jnp.asarray(speeds, dtype))
-    parts = [
-        _at_speed(model, w, law, int(positions), method, shift, _null_space(model.scene, shift))
-        for w in speeds
-    ]
+    null = _null_space(model.scene, shift)
+    window = _window(model.scene, int(positions), shift.keep)
+    parts = [_at_speed(model, w, law, int(positions), method, shift, null, window) for w in speeds]
     out = jax.tree.map(lambda *a: jnp.stack(a), *parts)
     H = int(method.harmonics)
     return WhineResponse(
@@ -260,8 +259,24 @@ def _null_space(scene, shift: CyclicShift) -> np.ndarray:
     return v[:, np.abs(w) < 1e-9 * np.abs(w).max()]
 
 
+def _window(scene, positions: int, keep) -> np.ndarray:
+    """The kept coordinates (indices into ``keep``) that any cell of the first mesh period's
+    ``positions`` reaches (the union of the windows; concrete)."""
+    T = float(scene.base_planes[0].mesh_period_angle)
+    theta = jnp.asarray((np.arange(positions) + 0.5) * T / positions)
+
+    def idx(th):
+        cells = scene.mesh_cells(th)
+        return scene.window_row(cells, tuple(jnp.zeros_like(c.s) for c in cells)).idx
+
+    every = np.unique(np.asarray(jax.jit(jax.vmap(idx))(theta)))
+    at = np.full(scene.structure.K.shape[0], -1)
+    at[np.asarray(keep)] = np.arange(len(keep))
+    return at[every]
+
+
 @eqx.filter_jit
-def _at_speed(model, speed, law, positions: int, method, shift: CyclicShift, null):
+def _at_speed(model, speed, law, positions: int, method, shift: CyclicShift, null, window):
     scene, mods = model.scene, model.mods
     planes = scene.base_planes
     H = method.harmonics
@@ -293,7 +308,8 @@ def _at_speed(model, speed, law, positions: int, method, shift: CyclicShift, nul
     s = (jnp.arange(Pn, dtype=dtype) + 0.5) / Pn
     tw = jnp.exp(2j * jnp.pi * s[:, None] * nu[None, :])  # (P, k)
     Vk = V[:, :, keep]
-    Vt = jnp.einsum("pck,kl,pl,ml->pcm", Vk, U, tw, U.conj())  # Ṽ = V e^{2πiΦs} (P, c, k)
+    outside = jnp.sum(jnp.abs(Vk)) - jnp.sum(jnp.abs(Vk[:, :, window]))
+    Vk = eqx.error_if(Vk, outside > 1e-9 * jnp.sum(jnp.abs(Vk)), "cells outside the window")
     xk = x_qs[:, keep]
     zqs = jnp.einsum("kl,pl,ml,pm->pk", U, tw.conj(), U.conj(), xk)  # e^{−2πiΦs} x_qs
     Xh = fourier_coefficients(zqs, H)  # (2H+1, k)
@@ -324,7 +340,7 @@ def _at_speed(model, speed, law, positions: int, method, shift: CyclicShift, nul
     dyn = jax.vmap(inertia)(h)  # (2H+1, k, k)
     D = (Kk[None] + dyn).at[H].add(gauge + kref * MN @ MN.T)
     F = -jnp.einsum("hkl,hl->hk", dyn, Xh)  # −(C S + M S²) Ẑ_qs
-    Y = _balance(D, F, Vt, kl / Pn, s, MN, kref, method.parametric, H)  # (2H+1, k)
+    Y = _balance(D, F, Vk, kl / Pn, s, U, nu, window, MN, kref, method.parametric, H)
 
     # the vibration at the samples, on every coordinate (the dropped ones held at 0)
     ph = jnp.exp(2j * jnp.pi * h[:, None] * s[None, :])  # (2H+1, P)
@@ -358,40 +374,69 @@ def _at_speed(model, speed, law, positions: int, method, shift: CyclicShift, nul
     }
 
 
-def _balance(D, F, Vt, G, s, MN, kappa, parametric: bool, H: int):
-    """Z_h of (D_h) Z_h + Σ_j K̃_{h−j} Z_j − [h = 0] κ MN MNᵀ Z_0 = F_h with K̃_{h−j} =
-    Σ_p e^{−2πi(h−j)s_p} Ṽ_pᴴ G_p Ṽ_p (G already over P): the coupling through the cells of
-    the samples (q = their approach and the penalty's coordinates), by Woodbury."""
-    Pn, c, k = Vt.shape
+def _balance(D, F, Vk, G, s, U, nu, window, MN, kappa, parametric: bool, H: int):
+    """Z_h of D_h Z_h + Σ_j K̃_{h−j} Z_j − [h = 0] κ MN MNᵀ Z_0 = F_h, K̃_{h−j} = Σ_p
+    e^{−2πi(h−j)s_p} Ṽ_pᴴ G_p Ṽ_p (G already over P), Ṽ_p = V_p e^{2πiΦs_p}: the coupling
+    through the cells of the samples (their approach q, and the penalty's coordinates), by
+    Woodbury. D_h commutes with the twist, so the cells' dynamic compliance between samples p
+    and p' is V_p [Σ_h e^{2πih(s_p − s_p')} D_h⁻¹ e^{2πiΦ(s_p − s_p')}] V_p'ᵀ: a w × w matrix
+    per sample offset on the ``window`` (w coordinates every cell of the period reaches)."""
+    Pn, c, k = Vk.shape
     h = jnp.arange(-H, H + 1)
-    Va = Vt.reshape(Pn * c, k)
+    cdt = D.dtype
     g = G.reshape(-1)
-    ph = jnp.exp(2j * jnp.pi * h[:, None] * s[None, :])  # (2H+1, P)
-    phc = jnp.repeat(ph, c, axis=1)  # (2H+1, P c)
+    U = U.astype(cdt)
+    tw = jnp.exp(2j * jnp.pi * s[:, None] * nu[None, :])  # (P, k)
+
+    def untwist(x, sign):  # e^{±2πiΦs_p} x_p for x (P, k)
+        e = tw if sign > 0 else tw.conj()
+        return jnp.einsum("kl,pl,ml,pm->pk", U, e, U.conj(), x)
+
     if not parametric:  # the mean stiffness alone: K̃_0 on each harmonic
-        K0 = (
-            jnp.einsum("qk,q,ql->kl", Va.conj(), g, Va)
-            - kappa * MN @ MN.T * (h == 0)[:, None, None]
-        )
+        Vt = jnp.einsum("pck,kl,pl,ml->pcm", Vk, U, tw, U.conj())
+        K0 = jnp.einsum("pck,pc,pcl->kl", Vt.conj(), G, Vt)
+        K0 = K0[None] - kappa * (MN @ MN.T)[None] * (h == 0)[:, None, None]
         return jax.vmap(jnp.linalg.solve)(D + K0, F)
     r0 = MN.shape[1]
+    w = window.shape[0]
+    Vw = Vk[:, :, window]  # (P, c, w)
+    Bw = jnp.eye(k, dtype=cdt)[:, window]  # (k, w)
     DF = jax.vmap(jnp.linalg.solve)(D, F)  # (h, k)
+    XU = (
+        jnp.swapaxes(
+            jax.vmap(jnp.linalg.solve)(jnp.swapaxes(D, 1, 2), jnp.broadcast_to(Bw, (h.size, k, w))),
+            1,
+            2,
+        )
+        @ U
+    )  # Bᵀ D_h⁻¹ U (h, w, k)
+    Y = U.conj().T @ Bw  # (k, w)
+    delta = jnp.arange(-(Pn - 1), Pn) / Pn  # the sample offsets s_p − s_p'
 
-    def per_h(acc, inputs):
-        Dh, p = inputs
-        DV = jnp.linalg.solve(Dh, Va.conj().T)  # (k, Pc)
-        A = (Va @ DV) * p[:, None] * p.conj()[None, :]
-        return acc + A, DV
+    def compliance(d):  # Σ_h e^{2πihΔ} Bᵀ D_h⁻¹ e^{2πiΦΔ} B (w, w)
+        X = jnp.einsum("h,hwk->wk", jnp.exp(2j * jnp.pi * h * d), XU)
+        return (X * jnp.exp(2j * jnp.pi * nu * d)[None, :]) @ Y
 
-    Acc, DV = jax.lax.scan(per_h, jnp.zeros((Pn * c, Pn * c), Vt.dtype), (D, phc))
-    D0N = jnp.linalg.solve(D[H], MN.astype(Vt.dtype))  # (k, r0)
-    Acn = Va @ D0N
-    Anc = MN.T @ DV[H]
+    S = jax.lax.map(compliance, delta)[::-1]  # index P − 1 − p + p'
+
+    def row(p):
+        Sp = jax.lax.dynamic_slice(S, (Pn - 1 - p, 0, 0), (Pn, w, w))
+        return jnp.einsum("ca,qab,qdb->cqd", Vw[p].astype(cdt), Sp, Vw.astype(cdt))
+
+    Acc = jax.lax.map(row, jnp.arange(Pn)).reshape(Pn * c, Pn * c)
+    D0N = jnp.linalg.solve(D[H], MN.astype(cdt))  # (k, r0); the ν = 0 class: untwisted
+    Acn = jnp.einsum("pck,kr->pcr", Vk, D0N).reshape(Pn * c, r0)
+    D0tN = jnp.linalg.solve(D[H].T, MN.astype(cdt))  # D_0⁻ᵀ MN
+    Anc = jnp.einsum("kr,pck->rpc", D0tN, Vk).reshape(r0, Pn * c)
     Ann = MN.T @ D0N
     A = jnp.block([[Acc, Acn], [Anc, Ann]])
-    weights = jnp.concatenate([g.astype(Vt.dtype), -kappa * jnp.ones(r0, Vt.dtype)])
-    rhs = jnp.concatenate([jnp.einsum("hq,qk,hk->q", phc, Va, DF), MN.T @ DF[H]])
-    q = jnp.linalg.solve(jnp.eye(A.shape[0], dtype=A.dtype) + A * weights[None, :], rhs)
+    weights = jnp.concatenate([g.astype(cdt), -kappa * jnp.ones(r0, cdt)])
+    ph = jnp.exp(2j * jnp.pi * h[:, None] * s[None, :])  # (2H+1, P)
+    zF = untwist(jnp.einsum("hp,hk->pk", ph, DF), +1)  # e^{2πiΦs_p} Σ_h e^{2πihs_p} D_h⁻¹F_h
+    rhs = jnp.concatenate([jnp.einsum("pck,pk->pc", Vk, zF).reshape(-1), MN.T @ DF[H]])
+    q = jnp.linalg.solve(jnp.eye(A.shape[0], dtype=cdt) + A * weights[None, :], rhs)
     wq = weights * q
-    Z = DF - jnp.einsum("hkq,hq->hk", DV, phc.conj() * wq[None, : Pn * c])
+    f = untwist(jnp.einsum("pck,pc->pk", Vk, wq[: Pn * c].reshape(Pn, c)), -1)  # Ṽ_pᴴ (g q)_p
+    fh = jnp.einsum("hp,pk->hk", ph.conj(), f)
+    Z = DF - jax.vmap(jnp.linalg.solve)(D, fh)
     return Z.at[H].add(-D0N @ wq[Pn * c :])
