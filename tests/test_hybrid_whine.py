@@ -173,3 +173,30 @@ def test_jaxgear_run_on_a_hybrid_case_with_whine(tmp_path, fem_prep_cache):
     assert len(w["bearing_components"]) == np.asarray(w["bearing_force_N"]["amplitude"]).shape[2]
     for name in ("te_orders", "bearing_orders", "te_waterfall", "bearing_waterfall"):
         assert (out / "whine" / f"{name}.png").stat().st_size > 1000
+
+
+def test_a_hybrid_train_with_whine_is_a_one_line_error(tmp_path):
+    """``[whine]`` in a train case with a condensed idler: the hybrid frequency domain takes a
+    pair; one line naming ``[whine]`` when the case is loaded."""
+    text = (DATA / "hybrid-test-train.toml").read_text()
+    text = text.replace('"hybrid-test-wheel.toml"', repr(str(DATA / "hybrid-test-wheel.toml")))
+    path = tmp_path / "train-whine.toml"
+    path.write_text(text + "\n[whine]\nspeed_min_rad_s = 100.0\nspeed_max_rad_s = 200.0\n")
+    with pytest.raises(ValueError, match=r"^\[whine\].*condensed bodies of a train") as err:
+        jio.load_case(path)
+    assert "\n" not in str(err.value)
+
+
+def test_hybrid_whine_refuses_what_it_does_not_cover(setup):
+    """The turning frames' terms and a method that is not a whine method: one line each,
+    naming the argument."""
+    case, scene = setup
+    model = dynamic_model(scene, case.modifications, case.torque, rotating_frame=True)
+    with pytest.raises(ValueError, match="rotating_frame") as err:
+        whine_response(model, 100.0, HarmonicBalance(2), positions=16)
+    assert "\n" not in str(err.value)
+    model = dynamic_model(scene, case.modifications, case.torque)
+    with pytest.raises(TypeError, match="method"):
+        whine_response(model, 100.0, "harmonic-balance", positions=16)
+    with pytest.raises(ValueError, match="positions"):
+        whine_response(model, 100.0, HarmonicBalance(8), positions=16)
