@@ -14,7 +14,7 @@ import os
 
 import numpy as np
 
-from ..dynamics import DynamicModel, whine_response
+from ..dynamics import DynamicModel, HybridModel, whine_response
 from ..io import build_dynamic_model, whine_of, write_csv, write_json
 from ..planetary import PlanetaryModel
 from ._housing_run import housed_run, housing_outputs, housing_run_line
@@ -51,10 +51,10 @@ def whine_outputs(case, out_dir: str) -> dict | None:
     if inputs is None:
         return None
     model, _ = build_dynamic_model(case)
-    if not isinstance(model, (DynamicModel, PlanetaryModel)):
+    if not isinstance(model, (DynamicModel, HybridModel, PlanetaryModel)):
         raise ValueError(
             f"[whine]: the case's model is a {type(model).__name__}: allowed a lumped scene "
-            "(torsional or lumped 3D; no condensed bodies) or a planetary stage's"
+            "(torsional or lumped 3D), a pair with condensed bodies or a planetary stage's"
         )
     housed = housed_run(case, model)  # [housing]: its points checked before the whine
     w = whine_response(model, np.asarray(inputs.speeds), inputs.method,

@@ -52,6 +52,11 @@ from ._hybrid_free import (
     hybrid_free_vibration as hybrid_free_vibration,
 )
 from ._hybrid_mesh import mean_mesh_stiffness as mean_mesh_stiffness
+from ._hybrid_whine import (
+    CyclicShift as CyclicShift,
+    cyclic_shift as cyclic_shift,
+    hybrid_whine as hybrid_whine,
+)
 from ._lumped import (
     DynamicModel as DynamicModel,
     LumpedRun as LumpedRun,

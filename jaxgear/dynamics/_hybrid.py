@@ -55,11 +55,11 @@ from ._damping import AbstractDamping
 from ._devices import several_devices, shard_speeds
 from ._hybrid_damping import _speed_damping
 from ._hybrid_mesh import (
+    CellSystem,
+    SceneCells,
     _joined,
     _loaded,
     _mesh_block,
-    CellSystem,
-    SceneCells,
     _newmark_cells,
     _period_statics,
     _reference_shift,
@@ -68,6 +68,7 @@ from ._hybrid_mesh import (
     _revolution_periods,
     mean_mesh_stiffness,
 )
+from ._hybrid_whine import hybrid_whine
 from ._modal import excited_omega, modal_analysis
 from ._modal_basis import ModalSpace, modal_space_of, reduced_structure
 from ._model import (
@@ -157,6 +158,12 @@ class HybridModel(AbstractDynamicModel):
             self.scene, self.mods, self.torque, int(positions_per_pitch), contact, speed=speed
         )
         return modal_analysis(self.scene, Km)
+
+    def whine(self, speeds, method, *, positions: int = 64, contact=ExactContact()):
+        """The frequency-domain steady state (:func:`~jaxgear.dynamics.whine_response`) of the
+        pair in the twisted coordinates of its cyclic bodies (:func:`._hybrid_whine.hybrid_whine`;
+        docs/whine.md, "Hybrid model")."""
+        return hybrid_whine(self, speeds, method, positions=positions, contact=contact)
 
     def prepare(self, integrator, law, window, steps_per_period, outputs, modes=None):
         """The run's settings (:func:`run_config`) and its modal basis, if the integrator has

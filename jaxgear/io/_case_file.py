@@ -517,18 +517,21 @@ def parse_case(data: dict, default_name: str = "case", base_dir: str | None = No
     return case
 
 
-def case_housing(data: dict, scene, base_dir, material):
+def case_housing(data: dict, scene, base_dir, material, *, pair: bool = True):
     """``[housing]`` of a case (:func:`parse_housing`), or None; it needs a lumped 3D scene,
     whose bearings it carries, with condensed bodies (a hybrid scene) too
-    (:meth:`Case.hybrid_housing`). Also refuses ``[whine]`` with condensed bodies
-    (the harmonic balance takes lumped models without them), before anything is built."""
-    if "whine" in data and scene is not None and scene.hybrid:
+    (:meth:`Case.hybrid_housing`). Also refuses ``[whine]`` with condensed bodies where the
+    harmonic balance does not take them (a train's, ``pair`` False, or with a ``[housing]``;
+    a pair's runs in the twisted coordinates of its cyclic bodies), before anything is
+    built."""
+    if "whine" in data and scene is not None and scene.hybrid and (not pair or "housing" in data):
+        where = "with a [housing]" if pair else "of a train"
         raise sc.fail(
             "whine",
             None,
-            "the gear whine (harmonic balance) takes a scene without condensed bodies: allowed "
-            "with [scene] model = 'lumped3d' or 'torsional' and rigid gears (drop [whine], or "
-            "the scene's condensed bodies; the time-domain sweep, jaxgear sweep, takes them)",
+            f"the gear whine (harmonic balance) of condensed bodies {where} is not there yet: "
+            "allowed a pair with condensed bodies and no [housing], or rigid gears (drop "
+            "[whine]; the time-domain sweep, jaxgear sweep, takes them)",
         )
     if "housing" not in data:
         return None

@@ -647,7 +647,7 @@ def parse_train(data: dict, default_name: str = "train", base_dir: str | None = 
         else train_scene(data["scene"], names, shafts, shaft_list, base_dir)
     )
     wrenches = _wrenches(op, shaft_list, None if scene is None else scene.shafts)
-    housing = case_housing(data, scene, base_dir, (E, nu, rho))
+    housing = case_housing(data, scene, base_dir, (E, nu, rho), pair=False)
     optimise = None
     if "optimise" in data:  # the housed train's noise (an acoustic objective only)
         if internal:
