@@ -39,25 +39,9 @@ TARGET_S, TARGET_GIB = 120.0, 6.0
 
 
 def _box():
-    from fem_prep.housing import Bore, Foot, HousingBox
+    from benchmarks.housing_evidence import evidence_box
 
-    return HousingBox(
-        0.3,
-        0.2,
-        0.2,
-        0.008,
-        bores=(
-            Bore("y-", (0.1, 0.12), 0.03),
-            Bore("y+", (0.1, 0.12), 0.03),
-            Bore("y-", (0.21, 0.12), 0.025),
-        ),
-        feet=(
-            Foot((0.0, 0.05), (0.0, 0.05)),
-            Foot((0.25, 0.3), (0.0, 0.05)),
-            Foot((0.0, 0.05), (0.15, 0.2)),
-            Foot((0.25, 0.3), (0.15, 0.2)),
-        ),
-    )
+    return evidence_box()
 
 
 def one(size: float, progress: bool = False) -> dict:
