@@ -475,13 +475,7 @@ def _whine(model, prep, speeds, method, basis) -> WhineResponse:
     omega, Y, f, misplaced = jax.vmap(at)(speeds)
     X = jax.vmap(lambda y: _one_sided(Xh + y, H))(Y)  # (S_sp, H+1, n)
     fh = jax.vmap(lambda ff: _one_sided(fourier_coefficients(ff, H), H))(f)
-    U = scene.te_vectors()
-    cb = jnp.stack([jnp.cos(p.base_helix_angle) for p in scene.base_planes])
-    e_ref = table.e_max[0]
-    te = jnp.einsum("shn,mn->shm", X, U.astype(X.dtype)) / cb[None, None, :]
-    te = te.at[:, 0, :].add(-e_ref / cb)
-    R = scene.reaction_matrix()
-    bearing = jnp.einsum("shn,rn->shr", X, R.astype(X.dtype))
+    te, bearing = _te_and_bearings(scene, table, X)
     fm_qs, _ = table.mesh_forces(prep.static_force_density * length)
     fs = jnp.mean(fm_qs, axis=0)
     if fm_qs.shape[1] == 1:
@@ -503,6 +497,16 @@ def _whine(model, prep, speeds, method, basis) -> WhineResponse:
         contact_loss=fmin <= 0.0,
         nonlinearity=misplaced / fs[None, :],
     )
+
+
+def _te_and_bearings(scene, table, X):
+    """Each mesh's dynamic TE (u·X − e_ref)/cos β_b (m), (S, h, m), and the bearing forces R X
+    (N), (S, h, r), of the one-sided coordinate harmonics X (S, h, n; h = 0 the mean)."""
+    U = scene.te_vectors()
+    cb = jnp.stack([jnp.cos(p.base_helix_angle) for p in scene.base_planes])
+    te = jnp.einsum("shn,mn->shm", X, U.astype(X.dtype)) / cb[None, None, :]
+    te = te.at[:, 0, :].add(-table.e_max[0] / cb)
+    return te, jnp.einsum("shn,rn->shr", X, scene.reaction_matrix().astype(X.dtype))
 
 
 def _quasi_periodic(model, speeds, method, positions, law) -> WhineResponse:
@@ -623,12 +627,7 @@ def _whine_torus(model, table, law, spec, rows, idx, speeds, basis):
     mean = jnp.concatenate([jnp.ones(1), 2.0 * jnp.ones(out.shape[0] - 1)]).astype(Xh.dtype)
     X = (Xh[out_index][None] + Y) * mean[None, :, None]  # (S, h, n) one-sided
     fh = fh * mean[None, :, None]
-    U = scene.te_vectors()
-    cb = jnp.stack([jnp.cos(p.base_helix_angle) for p in scene.base_planes])
-    e_ref = table.e_max[0]
-    te = jnp.einsum("shn,mn->shm", X, U.astype(X.dtype)) / cb[None, None, :]
-    te = te.at[:, 0, :].add(-e_ref / cb)
-    bearing = jnp.einsum("shn,rn->shr", X, scene.reaction_matrix().astype(X.dtype))
+    te, bearing = _te_and_bearings(scene, table, X)
     fm_qs, _ = table.mesh_forces(fs_density)
     fs = jnp.mean(fm_qs, axis=0)
     R_ = jnp.asarray(R, x.dtype)
