@@ -15,6 +15,8 @@ from :mod:`jaxgear` too; the rest lives here only. Modules:
   :class:`CraigBamptonRing`);
 - ``_runout``: eccentricities and unbalances; ``_hunting``: per-tooth deviations and the
   hunting period;
+- ``_housed``: :class:`HousedPlanetary` (a model kind whose members' supports about and
+  along the axis join a condensed housing's seat);
 - ``_analysis``: modes, mode types, Campbell diagram, mesh phasing, load sharing;
 - ``_dynamics``: :func:`planetary_dynamics`, :func:`planetary_speed_sweep`,
   :func:`planetary_mesh_modes`, the dynamic load sharing factor (:func:`dynamic_load_sharing`),
@@ -58,6 +60,7 @@ from ._dynamics import (
     planetary_stage_system as planetary_stage_system,
     ring_transducer_signal as ring_transducer_signal,
 )
+from ._housed import HousedPlanetary as HousedPlanetary
 from ._hunting import (
     DeviationMeshes as DeviationMeshes,
     PlanetaryDeviations as PlanetaryDeviations,

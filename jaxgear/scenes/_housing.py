@@ -176,6 +176,20 @@ class Housing(eqx.Module):
         G[:3, 3:] = -_skew(np.asarray(point, float) - c) @ R
         return G
 
+    def seat_spring(self, seat: int, point, stiffness, frame: float = 0.0) -> tuple:
+        """The blocks of a spring K_b (6, 6) (SI per coordinate pair) between a node u (6: its
+        translations and rotation vector, in a frame turned by ``frame`` φ (rad) about +z from
+        the scene frame) at ``point`` (3,) (m, scene frame) and seat ``seat``'s coordinates q
+        (6): the energy ½ dᵀ K_b d of d = u − Q(φ)ᵀ G q (module docstring) is
+        ½ [u; q]ᵀ [[A, B], [Bᵀ, D]] [u; q] with (A, B, D) = (K_b, −K_b G', G'ᵀ K_b G'),
+        G' = Q(φ)ᵀ G. Returns (A, B, D, G'), each (6, 6). The one seat coupling of the lumped,
+        hybrid and planetary scenes (a damping C_b takes the same blocks)."""
+        G = self.seat_transform(seat, point)
+        if frame:
+            G = _turn_z(-float(frame)) @ G  # Q(φ)ᵀ G: the seat seen from the node's frame
+        a = np.asarray(stiffness, float)
+        return a, -a @ G, G.T @ a @ G, G
+
     def nearest_seat(self, point) -> int:
         """The seat whose centre is nearest ``point`` (3,) (m, scene frame)."""
         d = np.linalg.norm(np.asarray(self.seat_positions) - np.asarray(point, float), axis=1)
@@ -271,13 +285,12 @@ def couple_housing(
         u = slice(offsets[i] + 6 * node, offsets[i] + 6 * node + 6)
         if s is not None:  # None: the bearing stays on the ground
             q = slice(n + 6 * s, n + 6 * s + 6)
-            G = housing.seat_transform(s, p)
-            if frames is not None and frames[i]:
-                G = _turn_z(-float(frames[i])) @ G  # Q(φ)ᵀ G: the seat seen from the shaft
+            phi = 0.0 if frames is None else float(frames[i] or 0.0)
             for target, a in ((parts[-2], b.stiffness_matrix()), (C, b.damping_matrix())):
-                target[u, q] -= a @ G
-                target[q, u] -= G.T @ a
-                target[q, q] += G.T @ a @ G
+                _, B, D, G = housing.seat_spring(s, p, a, phi)  # the shaft's A is there already
+                target[u, q] += B
+                target[q, u] += B.T
+                target[q, q] += D
         kb = b.stiffness_matrix()
         for k in range(3):  # the rows _shaft_arrays made, in its order
             if np.any(kb[k] != 0):
