@@ -36,6 +36,7 @@ from ..dynamics import (
     newmark_modal,
     reduced_structure,
 )
+from ._housed import check_carrier_speed
 from ._meshes import (
     AbstractPlanetaryMeshes,
     held_structure,
@@ -517,6 +518,7 @@ def planetary_dynamics(
     check_instance("ring", ring, AbstractRingModel,
                    "a jaxgear ring model (RigidRing, CondensedRing, CraigBamptonRing)",
                    "planetary_dynamics")
+    check_carrier_speed(model, carrier_speed, "planetary_dynamics")
     v = _mesh_speed(stage, carrier_speed, mesh_speed)
     return _run(model, stage, meshes, run, carrier_speed, v, law, ring)
 
@@ -536,6 +538,7 @@ def planetary_speed_sweep(
     check_instance("ring", ring, AbstractRingModel,
                    "a jaxgear ring model (RigidRing, CondensedRing, CraigBamptonRing)",
                    "planetary_speed_sweep")
+    check_carrier_speed(model, 1.0, "planetary_speed_sweep (the ring held, the carrier turns)")
     speeds = jnp.reshape(as_float(carrier_speeds), (-1,))
 
     def one(omega):

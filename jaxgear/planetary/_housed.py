@@ -38,11 +38,11 @@ import equinox as eqx
 import jax.numpy as jnp
 import numpy as np
 
+from .._util import check_instance, is_traced
 from ..scenes import Housing
-from .._util import check_instance
 from ._stage import AbstractPlanetaryModel, PlanetaryStage
 
-__all__ = ["HousedPlanetary"]
+__all__ = ["HousedPlanetary", "check_carrier_speed"]
 
 #: the central members' coordinate suffixes (their names in ``dof_names``)
 _SUFFIX = {"carrier": "c", "ring": "r", "sun": "s"}
@@ -265,3 +265,22 @@ class HousedPlanetary(AbstractPlanetaryModel):
 
     def spring_cos(self, stage):
         return self.model.spring_cos(stage)
+
+
+def check_carrier_speed(model, carrier_speed, where: str) -> None:
+    """Refuse (one line) a turning carrier (``carrier_speed`` (rad/s) != 0, where concrete; a
+    traced speed passes) for a :class:`HousedPlanetary` with ``carrier_held``: its in-plane
+    supports join a seat fixed in space, which the turning carrier frame would see through
+    cos Ωt and sin Ωt blocks; any other model kind passes."""
+    if not (isinstance(model, HousedPlanetary) and model.carrier_held):
+        return
+    if carrier_speed is None or is_traced(carrier_speed):
+        return
+    speed = np.asarray(carrier_speed, dtype=float)
+    if np.any(speed != 0.0):
+        raise ValueError(
+            f"{where}: carrier speed = {speed.tolist()!r} rad/s with HousedPlanetary("
+            "carrier_held=True), allowed 0 (a star stage): its in-plane supports join a seat "
+            "fixed in space, and a turning carrier frame would join them through blocks "
+            "carrying cos Ωt and sin Ωt, which the constant structure matrices cannot hold"
+        )

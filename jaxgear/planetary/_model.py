@@ -46,6 +46,7 @@ from ._dynamics import (
     planetary_mesh_modes,
     planetary_stage_system,
 )
+from ._housed import check_carrier_speed
 from ._meshes import AbstractPlanetaryMeshes
 from ._plan import (
     KEEP_OTHER,
@@ -166,6 +167,8 @@ class PlanetaryModel(AbstractDynamicModel):
         check_instance("run", self.run, PlanetaryRun, "a jaxgear.planetary.PlanetaryRun", where)
         check_instance("ring", self.ring, AbstractRingModel,
                        "a jaxgear ring model (RigidRing, CondensedRing, CraigBamptonRing)", where)
+        check_carrier_speed(self.kind, self.carrier_per_input,
+                            "PlanetaryModel (carrier_per_input times the input speed)")
         v = self.mesh_speed_per_input
         if v is None and not float(self.carrier_per_input) != 0.0:
             raise ValueError(

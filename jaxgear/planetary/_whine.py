@@ -36,6 +36,7 @@ from ..dynamics import (
     harmonic_balance,
 )
 from ._dynamics import PlanetaryRun, planetary_cell_row, planetary_stage_system
+from ._housed import check_carrier_speed
 from ._meshes import AbstractPlanetaryMeshes, pin_terms, structure_stiffness
 from ._plan import carrier_periodic
 from ._ring import AbstractRingModel, RigidRing, modal_damping
@@ -278,6 +279,7 @@ def planetary_whine(
             "stage that repeats every mesh period in the carrier frame (allowed a rigid ring, "
             "no eccentricities, no unbalances)"
         )
+    check_carrier_speed(model, carrier_speeds, "planetary_whine")
     check_integer("positions", positions, 4)
     H = int(method.harmonics)
     if positions < 4 * H + 1:
