@@ -86,6 +86,7 @@ SECTIONS = {
         ("Dynamics and the engine model", ("_dynamics", "_model")),
         ("Gear whine in the frequency domain", ("_whine",)),
         ("Time plan of a sweep", ("_plan",)),
+        ("On a housing", ("_housed",)),
     ),
     "jaxgear.rating": (
         ("Rating", ("_rate", "_settings", "_material")),
