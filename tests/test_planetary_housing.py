@@ -322,3 +322,30 @@ def test_a_turning_carrier_is_refused_with_in_plane_joints():
         with pytest.raises(ValueError, match="cos Ωt"):
             call()
     jp.PlanetaryModel(housed, st, meshes, run, carrier_per_input=0.0, mesh_speed_per_input=0.1)
+
+
+@pytest.mark.slow  # 40-160 s on the shared 2-core host (two Newmark runs compiled)
+def test_newmark_at_a_near_rigid_housing():
+    """planetary_dynamics (Newmark) runs on the housed stage unchanged; with the box E x 1000
+    its mesh forces over the kept period are the grounded stage's within 1e-4 of the nominal
+    force, and the ring's reaction torque from its support row likewise (of T_s r_br/r_bs)."""
+    kind = jg.TorsionalPlanetary()
+    st = _stage()
+    meshes = jg.ContactMeshes.from_geometry(geometry(**SEQ), st.planet_angles, jg.Uniform(K0))
+    run = jp.PlanetaryRun(1000.0, steps_per_period=32, periods=6, keep_periods=2,
+                          damping_ratio=0.05)
+    out = []
+    for model in (kind, jp.HousedPlanetary(kind, _housing(1000.0))):
+        r = jp.planetary_dynamics(model, st, meshes, run, jnp.asarray(50.0))
+        assert int(r.result) == 0
+        sup = jp.support_reactions(model, st)
+        j = list(sup.moment_names).index("ring torque")
+        torque = np.asarray(r.displacement) @ np.asarray(sup.moments[j])
+        out.append((np.asarray(r.sun_mesh_forces), np.asarray(r.ring_mesh_forces), torque,
+                    float(r.static_force)))
+    (s0, r0, t0, f0), (s1, r1, t1, _) = out
+    print(np.max(np.abs(s1 - s0)) / f0, np.max(np.abs(r1 - r0)) / f0,
+          np.max(np.abs(t1 - t0)) / np.max(np.abs(t0)))
+    np.testing.assert_allclose(s1, s0, rtol=0, atol=1e-4 * f0)
+    np.testing.assert_allclose(r1, r0, rtol=0, atol=1e-4 * f0)
+    np.testing.assert_allclose(t1, t0, rtol=0, atol=1e-4 * np.max(np.abs(t0)))
