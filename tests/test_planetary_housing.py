@@ -349,3 +349,65 @@ def test_newmark_at_a_near_rigid_housing():
     np.testing.assert_allclose(s1, s0, rtol=0, atol=1e-4 * f0)
     np.testing.assert_allclose(r1, r0, rtol=0, atol=1e-4 * f0)
     np.testing.assert_allclose(t1, t0, rtol=0, atol=1e-4 * np.max(np.abs(t0)))
+
+
+# -- in a case file: [housing] round a planetary stage, [planetary] housing_seat -------------
+
+HOUSING_CASE = """
+[housing]
+width_mm = 500.0
+height_mm = 500.0
+wall_thickness_mm = 10.0
+length_mm = 200.0
+bore_diameter_mm = 300.0
+mesh_size_mm = 60.0
+element = "tet4"
+youngs_modulus_GPa = {E}
+cutoff_Hz = {fc}
+"""
+
+
+def _case(tmp_path, table="", seat=None, name="housed"):
+    import jaxgear.io as jio
+
+    text = jio.embedded_case_text("lin-parker-1999")
+    if seat is not None:
+        text = text.replace('fixed = "ring"', f'fixed = "ring"\nhousing_seat = {seat}')
+    path = tmp_path / f"{name}.toml"
+    path.write_text(text + table)
+    return jio.load_case(str(path))
+
+
+def test_case_file_housing_round_the_stage(tmp_path):
+    """lin-parker-1999 with a [housing] box round the stage (its end walls' bores round the
+    axis, 1000 x stiffer than steel): the case's dynamic model is a HousedPlanetary with the
+    held ring on seat ``housing_seat``, and its modes are the grounded case's within 1e-4 (the
+    ring's torsional support 1e9 N/m on u, in series with the box)."""
+    import jaxgear.io as jio
+
+    grounded, _ = jio.build_dynamic_model(_case(tmp_path, name="grounded"))
+    case = _case(tmp_path, HOUSING_CASE.format(E=210e3, fc=5e4), seat=1)
+    model, _ = jio.build_dynamic_model(case)
+    kind = model.kind
+    assert isinstance(kind, jp.HousedPlanetary) and kind.seats == (("ring", 1),)
+    assert not kind.carrier_held and kind.housing.n_seats == 2
+    assert kind.housing.seat_positions[1][2] > 0 > kind.housing.seat_positions[0][2]
+    f0 = np.asarray(jp.planetary_modes(grounded.kind, grounded.stage).frequencies)
+    f = np.sort(np.asarray(jp.planetary_modes(kind, model.stage).frequencies))[: f0.size]
+    keep = f0 < 2e4
+    np.testing.assert_allclose(f[keep], np.sort(f0)[keep], rtol=1e-4)
+
+
+def test_case_file_housing_bad_keys(tmp_path):
+    import jaxgear.io as jio
+
+    table = HOUSING_CASE.format(E=210.0, fc=3000.0)
+    with pytest.raises(ValueError, match="housing_seat"):
+        _case(tmp_path, table, seat=2)
+    with pytest.raises(ValueError, match="housing_seat"):
+        _case(tmp_path, "", seat=0)
+    with pytest.raises(ValueError, match="length_mm"):
+        _case(tmp_path, table.replace("length_mm = 200.0\n", ""))
+    with pytest.raises(ValueError, match="bore_diameter_mm"):
+        _case(tmp_path, table.replace("bore_diameter_mm = 300.0\n", ""))
+    assert jio  # the io layer's errors, one line each

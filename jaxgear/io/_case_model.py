@@ -14,6 +14,7 @@ from .._quasi_static import QuasiStaticResult, quasi_static
 from ..dynamics import bearing_forces, dynamic_model
 from ..planetary import (
     ConstantMeshes,
+    HousedPlanetary,
     PlanetaryModel,
     PlanetaryRun,
     SpatialPlanetary,
@@ -103,7 +104,9 @@ def _planetary_model(form: PlanetaryForm, case: Case, spec: SceneSpec, slices, b
     spur stage, else the case's), the lumped model kind
     :func:`~jaxgear.planetary.planetary_model_for` picks (a 3D model's constant springs, in
     the lumped form, at its Gauss points across the face), the case's pin errors and ring
-    model (``[planetary.ring]``), the damping ratio 0.05; its speed is the input member's
+    model (``[planetary.ring]``), the damping ratio 0.05, and with a ``[housing]`` the held
+    member bolted to its seat ``[planetary] housing_seat``
+    (:class:`~jaxgear.planetary.HousedPlanetary`); its speed is the input member's
     (the carrier's and the mesh travel's per input speed from Willis). ``spec`` and
     ``bodies`` are not used (a stage has no ``[scene]``)."""
     p = form.spec
@@ -113,6 +116,12 @@ def _planetary_model(form: PlanetaryForm, case: Case, spec: SceneSpec, slices, b
     kind = planetary_model_for(stage)
     if isinstance(kind, SpatialPlanetary) and not case.pairs:
         meshes = ConstantMeshes(meshes.base_pitch, face_points=kind.face_points)
+    if case.housing is not None:  # [housing]: the held member bolted to a seat
+        from ._housing_table import stage_housing
+
+        held = p.fixed.name.lower()
+        kind = HousedPlanetary(kind, stage_housing(case.housing).housing,
+                               seats=((held, p.housing_seat),), carrier_held=held == "carrier")
     run = PlanetaryRun(
         abs(p.torques(case.torque)["sun"]),
         tangential_pin_errors=np.asarray(p.tangential_pin_errors),

@@ -52,6 +52,8 @@ __all__ = [
     "housing_body",
     "housing_surface",
     "parse_housing",
+    "stage_housing",
+    "stage_housing_spec",
 ]
 
 _KEYS = {
@@ -357,6 +359,27 @@ def housing_body(spec: HousingSpec, shafts, positions, *, cache=True,
         condensed, loss_factor=spec.loss_factor, rotation=np.array(ROTATION), offset=offset
     )
     return HousingBody(mesh, condensed, housing, np.asarray(offset, dtype=float))
+
+
+def stage_housing_spec(data: dict, base_dir, material) -> HousingSpec:
+    """``[housing]`` of a planetary stage's case (:func:`parse_housing`): the box round the
+    stage axis has no shafts to size it from, so it needs ``length_mm`` and
+    ``bore_diameter_mm`` (a mesh file its seats, as elsewhere)."""
+    spec = parse_housing(sc.subtable(data, "housing", ""), base_dir, material)
+    if spec.mesh_file is None:
+        for key, value in (("length_mm", spec.length), ("bore_diameter_mm", spec.bore_diameter)):
+            if value is None:
+                raise sc.fail("housing", key, "required round a planetary stage (its box has no "
+                              "shafts to size it from)")
+    return spec
+
+
+def stage_housing(spec: HousingSpec, *, cache=True, progress=False) -> HousingBody:
+    """The housing of a planetary stage's case round the stage axis (scene z through the
+    origin, the stage's mid-plane z = 0): a box's end walls at z = ±length/2 with a bore round
+    the axis in each (seat 0 the x- wall's, at −z; seat 1 the x+ wall's), or a mesh file placed
+    by its ``offset_mm``; meshed, condensed (cached) and damped as :func:`housing_body`."""
+    return housing_body(spec, (), [[np.zeros(3)]], cache=cache, progress=progress)
 
 
 def housing_surface(spec: HousingSpec, body: HousingBody):

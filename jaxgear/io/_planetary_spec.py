@@ -145,6 +145,9 @@ class PlanetarySpec:
         mesh_tilt_stiffness: (sun mesh, ring mesh) tilting stiffness (N m/rad) or None each
             (k b² cos²β_b/12 from the face width), :class:`~jaxgear.PlanetaryStage`'s
             ``sun_mesh_tilt_stiffness``, ``ring_mesh_tilt_stiffness``.
+        housing_seat: the seat of the case's ``[housing]`` the held member is bolted to
+            (``[planetary] housing_seat``; its supports about and along the axis there, every
+            support of a held carrier: :class:`~jaxgear.planetary.HousedPlanetary`).
     """
 
     teeth: tuple
@@ -165,6 +168,7 @@ class PlanetarySpec:
     helix_angle: float = 0.0
     face_width: float = 0.0
     mesh_tilt_stiffness: tuple = (None, None)
+    housing_seat: int = 0
 
     @property
     def eccentric(self) -> bool:

@@ -30,6 +30,7 @@ gears (ISO 6336-1 c_γα b, or the mean of the ``[mesh]`` stiffness model) or gi
     sun_eccentricity_phase_deg = 0.0   # its direction at the start, from planet 1's
     planet_runout_um = [12.0, 0.0, 0.0]          # optional, one per planet (radial runout)
     planet_runout_phase_deg = [0.0, 0.0, 0.0]    # from each planet's radial direction
+    housing_seat = 0                   # with [housing]: the seat the held member is bolted to
     sun_unbalance_g_mm = 50.0          # optional: sun, ring, carrier (m e; the dynamics)
     sun_unbalance_phase_deg = 0.0      # planet_unbalance_g_mm = [...]: one per planet
     [planetary.sun]                    # and ring, carrier, planet
@@ -155,6 +156,7 @@ PLANETARY_KEYS = {
     *(f"{m}_eccentricity{q}" for m in ("sun", "ring", "carrier") for q in ("_um", "_phase_deg")),
     "planet_runout_um",
     "planet_runout_phase_deg",
+    "housing_seat",
     *(f"{m}_unbalance{q}" for m in (*MEMBERS, "planet") for q in ("_g_mm", "_phase_deg")),
 }
 _BODY_KEYS = {
@@ -540,6 +542,7 @@ def parse_planetary(data: dict, base: dict, gears: dict, index: dict) -> Case:
         mesh_tilt_stiffness=tuple(
             sc.number(t, k, "planetary", None, allowed="[0, 1e+15]") for k in MESH_TILT_KEYS
         ),
+        housing_seat=_housing_seat(data, t),
     )
     _check_torque(data["operating"], spec, pairs)
     mods = base.pop("gear_modifications", ())
@@ -553,6 +556,21 @@ def parse_planetary(data: dict, base: dict, gears: dict, index: dict) -> Case:
         form=PlanetaryForm(spec),
         **base,
     )
+
+
+def _housing_seat(data: dict, t: dict) -> int:
+    """``[planetary] housing_seat``: the seat of ``[housing]`` the held member is bolted to
+    (default 0); refused without a ``[housing]``, or past its seats (a box: two, its end walls'
+    bores round the axis; a mesh file: its ``[[housing.seats]]``)."""
+    if "housing" not in data:
+        if "housing_seat" in t:
+            raise sc.fail("planetary", "housing_seat", "allowed only with a [housing]",
+                          t["housing_seat"])
+        return 0
+    h = data["housing"]
+    n = len(h.get("seats", [])) if isinstance(h, dict) and "mesh_file" in h else 2
+    return int(sc.number(t, "housing_seat", "planetary", 0, allowed=f"[0, {max(n - 1, 0)}]",
+                         integer=True, note=" (a box: 0 its x- wall's bore, 1 its x+ wall's)"))
 
 
 def _check_held(table: dict, member: PlanetaryMember, name: str) -> None:

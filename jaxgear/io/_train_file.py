@@ -109,6 +109,7 @@ from ._case_file import (
     parse_mesh_settings,
     parse_torque,
 )
+from ._housing_table import stage_housing_spec
 from ._lubricant_table import parse_lubricant
 from ._modifications_table import _MOD_KEYS, _member_mods
 from ._planetary_deviations_table import parse_planetary_deviations
@@ -422,7 +423,7 @@ def _check_overlap(case: Case) -> None:
         )
 
 
-def _planetary_case(data: dict, name: str) -> Case:
+def _planetary_case(data: dict, name: str, base_dir: str | None = None) -> Case:
     """A planetary stage's case (``[planetary]``, :func:`jaxgear.io._planetary_table.
     parse_planetary`): its ``[[gears]]`` (none in the lumped form), material, mesh settings,
     modifications and input torque and speed read as a train's."""
@@ -470,6 +471,8 @@ def _planetary_case(data: dict, name: str) -> Case:
         case = case.replace(stiffness=case.stiffness.with_ring_cutter(older))
     check_internal_stiffness(case, "[planetary]")
     _check_lubricant(data, case)
+    if "housing" in data:  # the held member bolted to it (docs/planetary.md, "On a housing")
+        case = dataclasses.replace(case, housing=stage_housing_spec(data, base_dir, (E, nu, rho)))
     return case
 
 
@@ -507,7 +510,7 @@ def parse_train(data: dict, default_name: str = "train", base_dir: str | None = 
         raise sc.fail("", "optimise", "not in a planetary stage's case (allowed: a pair's case, "
                       "or a housed train's)", "[optimise]")
     if is_planetary(data):
-        return _planetary_case(data, name)
+        return _planetary_case(data, name, base_dir)
     if "acoustics" in data:
         parse_case_acoustics(data)
     if "deviations" in data:
