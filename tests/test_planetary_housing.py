@@ -382,7 +382,7 @@ def test_case_file_housing_round_the_stage(tmp_path):
     """lin-parker-1999 with a [housing] box round the stage (its end walls' bores round the
     axis, 1000 x stiffer than steel): the case's dynamic model is a HousedPlanetary with the
     held ring on seat ``housing_seat``, and its modes are the grounded case's within 1e-4 (the
-    ring's torsional support 1e9 N/m on u, in series with the box)."""
+    ring's torsional support 1e9 N/m on u, in series with the box; measured 7.2e-5)."""
     import jaxgear.io as jio
 
     grounded, _ = jio.build_dynamic_model(_case(tmp_path, name="grounded"))
