@@ -462,3 +462,19 @@ def test_nrel_planetary_stage_in_a_box(tmp_path):
     assert abs(f1[0] / f0[0] - 1) > 0.1  # the box's own mode, far below the stage's first
     keep = f0 < 2000
     assert np.max(np.abs(f2[: f0.size][keep] / f0[keep] - 1)) < 5e-4
+
+
+def test_bad_inputs_more():
+    """Lists are taken as tuples; a member twice, a bad centre or a housed kind inside another
+    are refused in one line."""
+    kind = jg.TorsionalPlanetary()
+    hs = _housing(1.0)
+    assert jp.HousedPlanetary(kind, hs, seats=[["ring", 0]]).seats == (("ring", 0),)
+    with pytest.raises(ValueError, match="one each"):
+        jp.HousedPlanetary(kind, hs, seats=(("ring", 0), ("ring", 0)))
+    with pytest.raises(ValueError, match="centre"):
+        jp.HousedPlanetary(kind, hs, centre=(0.0, 0.0))
+    with pytest.raises(ValueError, match="unhoused"):
+        jp.HousedPlanetary(jp.HousedPlanetary(kind, hs), hs)
+    with pytest.raises(ValueError, match="carrier_held"):
+        jp.HousedPlanetary(kind, hs, carrier_held=1)

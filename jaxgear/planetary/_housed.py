@@ -61,6 +61,22 @@ def _pad(a, h: int, rows: bool = False):
     return out
 
 
+def _entries(value):
+    """``seats`` as a tuple of tuples (hashable: a static field); anything else as given, for
+    the check to name."""
+    try:
+        return tuple(tuple(e) if isinstance(e, (list, tuple)) else e for e in value)
+    except TypeError:
+        return value
+
+
+def _point(value):
+    try:
+        return tuple(float(x) for x in value)
+    except (TypeError, ValueError):
+        return value
+
+
 class HousedPlanetary(AbstractPlanetaryModel):
     """A planetary model kind on a condensed housing (module docstring): ``model``'s
     coordinates (n) then the housing's (h), the joined supports of ``seats``' members between
@@ -90,8 +106,8 @@ class HousedPlanetary(AbstractPlanetaryModel):
 
     model: AbstractPlanetaryModel
     housing: Housing
-    seats: tuple = eqx.field(static=True, default=(("ring", 0),))
-    centre: tuple = eqx.field(static=True, default=(0.0, 0.0, 0.0))
+    seats: tuple = eqx.field(static=True, default=(("ring", 0),), converter=_entries)
+    centre: tuple = eqx.field(static=True, default=(0.0, 0.0, 0.0), converter=_point)
     carrier_held: bool = eqx.field(static=True, default=False)
 
     def __check_init__(self):
