@@ -215,8 +215,8 @@ def test_star_stage_stiff_housing_and_hand_assembly():
     5 mm off the stage's plane: the lever couples the seat's tilts into the in-plane springs),
     gives the same stiffness and natural frequencies to 1e-9; (2) as the box grows stiff (E x
     100, 1000) the modes between 1 Hz and 20 kHz tend to the grounded star stage's as 1/E,
-    within 5e-4 at E x 1000 (measured 2.4e-3, 2.4e-4; the ring's free rotation is a rigid-body mode in
-    both; the held carrier's in-plane springs, 1e13 N/m, are in series with the seat's
+    within 5e-4 at E x 1000 (measured 2.4e-3, 2.4e-4; the ring's free rotation is a rigid-body
+    mode in both; the held carrier's in-plane springs, 1e13 N/m, are in series with the seat's
     in-plane stiffness, hence a larger error than the axis joints')."""
     kind = jg.PlanarPlanetary()
     st = _star()
