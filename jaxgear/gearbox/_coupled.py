@@ -16,6 +16,11 @@ stage), C the modal damping on the modes of (M, K + K̄_m), K̄_m every mesh's c
 averaged over its own mesh period (block-diagonal). Each stage's flanks are the ones the input
 torque loads: a stage whose meshes the torque would open is taken on its other flanks (its rows'
 sign flipped; a spur stage's flanks are alike).
+
+With a housing the stages share (:attr:`~jaxgear.gearbox.GearboxTorsional.housing`), the h
+coordinates that end each housed stage's are one set, kept once after every stage's own
+(:func:`_layout`): each stage's matrices are added on it (its bearings' seat couplings), and the
+housing's own K_h, M_h and C_h, which each housed stage carries, once.
 """
 
 from __future__ import annotations
