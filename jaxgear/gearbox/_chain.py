@@ -41,6 +41,7 @@ from ..planetary import (
     planetary_cell_row,
     planetary_stage_system,
 )
+from ..scenes import Housing
 
 __all__ = [
     "AbstractGearboxStage",
@@ -134,6 +135,13 @@ class AbstractGearboxStage(eqx.Module):
         n = len(self.coordinates())
         z = jnp.zeros((n, n))
         return z, z
+
+    def housing(self) -> tuple[Float[Array, "h h"], Float[Array, "h h"]] | None:
+        """(K_h, M_h): the stiffness and mass of the flexible housing whose h coordinates end
+        :meth:`coordinates` (its seats' 6 each, then its modal ones), which a gearbox-level
+        :attr:`GearboxTorsional.housing` shares with the other stages; None (the default): the
+        stage stands on the ground (a torsional or planetary stage)."""
+        return None
 
 
 class PlanetaryGearboxStage(AbstractGearboxStage):
@@ -378,10 +386,28 @@ class PairGearboxStage(AbstractGearboxStage):
 class GearboxTorsional(eqx.Module):
     """Stages in series (:class:`AbstractGearboxStage`), stage k's output member joined to stage
     k+1's input member by a shaft of torsional stiffness ``shaft_stiffnesses[k]`` (N m/rad,
-    shape (n_stages - 1,)). The chain's coordinates are the stages' in order."""
+    shape (n_stages - 1,)). The chain's coordinates are the stages' in order.
+
+    ``housing``: one flexible :class:`~jaxgear.scenes.Housing` that the stages share
+    (docs/gearbox.md, "One housing for several stages"), or None. Each stage that sits in it is
+    a :class:`~jaxgear.gearbox.LumpedPairGearboxStage` whose scene was built with this same
+    condensed housing (``lumped_pair(..., housing=, seats=)``, the housing placed in that
+    scene's frame, with the same loss factor): its bearings are joined to its seats there, by
+    the scenes' one seat coupling. The coupled model (:func:`gearbox_coupled_modes`,
+    :func:`gearbox_dynamics`) then keeps the housing's coordinates once, after every stage's
+    own, and its K_h, M_h and damping C_h once. Stages without a housing (torsional, planetary,
+    a grounded lumped stage) stay on the ground. The torsional chain's view
+    (:meth:`matrices`, :func:`gearbox_modes`) does not take a shared housing.
+
+    Raises:
+        ValueError: no stages; ``shaft_stiffnesses`` of another shape; ``housing`` not a
+            :class:`~jaxgear.scenes.Housing`, carried by no stage, or another housing than a
+            stage's (its size, stiffness or mass differ) (one line each).
+    """
 
     stages: tuple[AbstractGearboxStage, ...]
     shaft_stiffnesses: Float[Array, " n_shafts"] = eqx.field(converter=as_float)
+    housing: Housing | None = None
 
     def __check_init__(self):
         if len(self.stages) < 1:
@@ -391,6 +417,8 @@ class GearboxTorsional(eqx.Module):
                 f"shaft_stiffnesses: shape {self.shaft_stiffnesses.shape}, allowed "
                 f"({len(self.stages) - 1},) (one per pair of consecutive stages)"
             )
+        if self.housing is not None:
+            _check_housing(self.stages, self.housing)
 
     def offsets(self) -> tuple[int, ...]:
         """Where each stage's rotations start in the chain's coordinates."""
@@ -425,6 +453,35 @@ class GearboxTorsional(eqx.Module):
         return mass, stiff
 
 
+def _check_housing(stages, housing):
+    """Refuse a gearbox-level ``housing`` that no stage carries or that is not each carrying
+    stage's own (its K_h and M_h, compared where the arrays are concrete)."""
+    check_instance("housing", housing, Housing, "a jaxgear.scenes.Housing or None",
+                   "GearboxTorsional")
+    h = housing.size
+    carried = 0
+    for k, s in enumerate(stages):
+        own = s.housing()
+        if own is None:
+            continue
+        carried += 1
+        if own[0].shape != (h, h):
+            raise ValueError(f"GearboxTorsional: housing has {h} coordinates, stage {k + 1}'s "
+                             f"scene's housing {own[0].shape[0]}: allowed the same housing")
+        concrete = not any(isinstance(a, jax.core.Tracer)
+                           for a in (*own, housing.K, housing.M))
+        if concrete and not all(
+                np.allclose(np.asarray(a), np.asarray(b), rtol=1e-12, atol=1e-12 * scale)
+                for a, b, scale in ((own[0], housing.K, float(np.abs(housing.K).max())),
+                                    (own[1], housing.M, float(np.abs(housing.M).max())))):
+            raise ValueError(f"GearboxTorsional: housing's stiffness or mass differs from stage "
+                             f"{k + 1}'s scene's housing: allowed the same condensed housing")
+    if carried == 0:
+        raise ValueError("GearboxTorsional: housing is given but no stage sits in it: allowed "
+                         "None, or a LumpedPairGearboxStage whose scene is built with "
+                         "housing= (torsional and planetary stages stay on the ground)")
+
+
 class GearboxModes(eqx.Module):
     """The chain's natural modes: ``frequencies`` (Hz, ascending, shape (n,)), ``shapes``
     (rad, (n, n), column j mass-normalised: phi^T M phi = I) and ``stage_energy`` ((n_stages, n):
@@ -445,6 +502,10 @@ def gearbox_modes(chain: GearboxTorsional) -> GearboxModes:
         ValueError: ``chain`` not a :class:`GearboxTorsional` (one line)."""
     check_instance("chain", chain, GearboxTorsional, "a jaxgear.GearboxTorsional",
                    "gearbox_modes")
+    if chain.housing is not None:
+        raise ValueError("gearbox_modes: chain.housing is set: the torsional chain's view "
+                         "condenses each stage alone and cannot share a housing; allowed a "
+                         "chain without one (the coupled modes: gearbox_coupled_modes)")
 
     m, k = chain.matrices()
     modes = matrix_modal_analysis(m, k, jnp.zeros_like(k))

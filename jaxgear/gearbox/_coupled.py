@@ -16,6 +16,11 @@ stage), C the modal damping on the modes of (M, K + K̄_m), K̄_m every mesh's c
 averaged over its own mesh period (block-diagonal). Each stage's flanks are the ones the input
 torque loads: a stage whose meshes the torque would open is taken on its other flanks (its rows'
 sign flipped; a spur stage's flanks are alike).
+
+With a housing the stages share (:attr:`~jaxgear.gearbox.GearboxTorsional.housing`), the h
+coordinates that end each housed stage's are one set, kept once after every stage's own
+(:func:`_layout`): each stage's matrices are added on it (its bearings' seat couplings), and the
+housing's own K_h, M_h and C_h, which each housed stage carries, once.
 """
 
 from __future__ import annotations
@@ -148,20 +153,43 @@ def mesh_names(chain: GearboxTorsional) -> tuple[str, ...]:
 
 
 def coordinate_names(chain: GearboxTorsional) -> tuple[str, ...]:
-    """``"<k>:<coordinate>"`` per coordinate of the coupled model."""
-    return tuple(f"{k + 1}:{n}" for k, s in enumerate(chain.stages) for n in s.coordinates())
+    """``"<k>:<coordinate>"`` per coordinate of the coupled model; with a shared housing
+    (:attr:`~jaxgear.gearbox.GearboxTorsional.housing`) its coordinates last, once:
+    ``"housing:<seat> <dof>"`` (6 per seat), then ``"housing:mode <j>"`` (its modal ones)."""
+    h = _shared(chain.stages, chain.housing)
+    own = tuple(f"{k + 1}:{n}" for k, s in enumerate(chain.stages)
+                for n in s.coordinates()[:len(s.coordinates()) - h[k]])
+    if chain.housing is None:
+        return own
+    dofs = ("u_x", "u_y", "u_z", "phi_x", "phi_y", "phi_z")
+    seats = tuple(f"housing:{name} {d}" for name in chain.housing.seat_names for d in dofs)
+    return own + seats + tuple(f"housing:mode {j + 1}"
+                               for j in range(chain.housing.size - len(seats)))
+
+
+def _shared(stages, housing) -> list[int]:
+    """Per stage, how many of its last coordinates are the shared housing's (0 without)."""
+    if housing is None:
+        return [0] * len(stages)
+    return [0 if s.housing() is None else housing.size for s in stages]
+
+
+def _layout(stages, housing=None):
+    """(per stage, the coupled coordinate of each of its coordinates (NumPy ints), n): the
+    stages' own coordinates block after block, then a shared housing's once (the h
+    coordinates that end each housed stage's, :meth:`AbstractGearboxStage.housing`)."""
+    h = _shared(stages, housing)
+    widths = [len(s.coordinates()) - hk for s, hk in zip(stages, h, strict=True)]
+    n_own = sum(widths)
+    starts = np.cumsum([0, *widths[:-1]])
+    idx = [np.concatenate([np.arange(a, a + w), n_own + np.arange(hk)]).astype(int)
+           for a, w, hk in zip(starts, widths, h, strict=True)]
+    return idx, n_own + (0 if housing is None else housing.size)
 
 
 def _offsets(chain):
-    return _offsets_of(chain.stages)
-
-
-def _offsets_of(stages):
-    out, n = [], 0
-    for s in stages:
-        out.append(n)
-        n += len(s.coordinates())
-    return out, n
+    idx, n = _layout(chain.stages, chain.housing)
+    return [int(i[0]) for i in idx], n
 
 
 def _kinematics(chain, input_speed, input_torque):
@@ -180,14 +208,25 @@ def _assemble(chain, run, input_speed):
     """The coupled system's parts at one input speed: (M, K (structure, shafts, hold, rotating
     frame), C_Omega, F, K̄_m, the stages' kinematics (:func:`_kinematics`), the stages' mesh
     speeds, the static forces)."""
-    offsets, n = _offsets(chain)
+    idx, n = _layout(chain.stages, chain.housing)
     blocks = [s.dynamic_parts(run.mean_positions) for s in chain.stages]
     dtype = blocks[0][0].dtype
-    embed = lambda mats: jax.scipy.linalg.block_diag(*mats)
+    if chain.housing is None:  # the stages' blocks one after the other
+        embed = lambda mats: jax.scipy.linalg.block_diag(*mats)
+        f = jnp.concatenate([b[3] for b in blocks])
+    else:  # a shared housing's coordinates are several stages' at once
+        def embed(mats):
+            out = jnp.zeros((n, n), dtype)
+            for a, i in zip(mats, idx, strict=True):
+                out = out.at[np.ix_(i, i)].add(a)
+            return out
+
+        f = jnp.zeros(n, dtype)
+        for b_k, i in zip(blocks, idx, strict=True):
+            f = f.at[i].add(b_k[3])
     m = embed([b[0] for b in blocks])
     k_s = embed([b[1] for b in blocks])
     k_mean = embed([b[2] for b in blocks])
-    f = jnp.concatenate([b[3] for b in blocks])
     kin = _kinematics(chain, input_speed, run.input_torque)
     c_w, k_w = [], []
     for s, (w, _, _) in zip(chain.stages, kin, strict=True):
@@ -195,16 +234,17 @@ def _assemble(chain, run, input_speed):
         c_w.append(c_k)
         k_w.append(k_k)
     c_omega, k_omega = embed(c_w), embed(k_w)
-    # shafts: twist b q, b = e_out(k) - e_in(k + 1); the hold: the last output member
-    b = np.zeros((len(chain.stages), n))
-    for j in range(len(chain.stages) - 1):
-        b[j, offsets[j] + chain.stages[j].coordinate_ends()[1]] = 1.0
-        b[j, offsets[j + 1] + chain.stages[j + 1].coordinate_ends()[0]] = -1.0
-    b[-1, offsets[-1] + chain.stages[-1].coordinate_ends()[1]] = 1.0
-    b = jnp.asarray(b, dtype)
+    if chain.housing is not None:  # each housed stage brought the housing's own parts: once
+        extra = 1 - sum(1 for s in chain.stages if s.housing() is not None)
+        hh = np.arange(n - chain.housing.size, n)
+        at = np.ix_(hh, hh)
+        m = m.at[at].add(extra * chain.housing.M)
+        k_s = k_s.at[at].add(extra * chain.housing.K)
+        c_omega = c_omega.at[at].add(extra * chain.housing.C)
+    b = _joints(chain, idx, n, dtype)
     springs = jnp.concatenate([chain.shaft_stiffnesses, run.output_stiffness[None]])
     k_joint = b.T @ (springs[:, None] * b)
-    i_in = offsets[0] + chain.stages[0].coordinate_ends()[0]
+    i_in = idx[0][chain.stages[0].coordinate_ends()[0]]
     f = f.at[i_in].add(jnp.abs(run.input_torque))
     k = k_s + k_joint + k_omega
     speeds = jnp.stack([v for _, v, _ in kin])
@@ -213,16 +253,27 @@ def _assemble(chain, run, input_speed):
     return m, k, k_s + k_joint, c_omega, f, k_mean, kin, speeds, static
 
 
-def _cells(stages, kin):
+def _joints(chain, idx, n, dtype):
+    """b (n_stages, n): the shafts' twists b q, b = e_out(k) - e_in(k + 1), then the hold's (the
+    last output member)."""
+    b = np.zeros((len(chain.stages), n))
+    for j in range(len(chain.stages) - 1):
+        b[j, idx[j][chain.stages[j].coordinate_ends()[1]]] = 1.0
+        b[j, idx[j + 1][chain.stages[j + 1].coordinate_ends()[0]]] = -1.0
+    b[-1, idx[-1][chain.stages[-1].coordinate_ends()[1]]] = 1.0
+    return jnp.asarray(b, dtype)
+
+
+def _cells(stages, kin, housing=None):
     """The cells' function of time (s): each stage's cell row at its own mesh travel v_k t, on
-    the coupled coordinates."""
-    offsets, n = _offsets_of(stages)
+    the coupled coordinates (``housing``: the chain's shared housing, :func:`_layout`)."""
+    idx, n = _layout(stages, housing)
 
     def cells(t):
         rows = []
-        for s, off, (_, v, _) in zip(stages, offsets, kin, strict=True):
+        for s, i, (_, v, _) in zip(stages, idx, kin, strict=True):
             r = s.cell_row(v * t)
-            V = jnp.zeros((r.V.shape[0], n), r.V.dtype).at[:, off:off + r.V.shape[1]].set(r.V)
+            V = jnp.zeros((r.V.shape[0], n), r.V.dtype).at[:, i].set(r.V)
             rows.append(r._replace(V=V))
         return rows
 
@@ -294,10 +345,12 @@ def _run(chain, run, input_speed, law, S, block, fast, B):
     mphi = m @ phi
     c = mphi @ ((2.0 * run.damping_ratio * w)[:, None] * mphi.T)
     dt = fast / (S * jnp.abs(as_float(input_speed)))
-    signs = _flank_signs(chain, k, f, k_mean, _cells(chain.stages, kin)(0.5 * dt))
+    signs = _flank_signs(chain, k, f, k_mean,
+                         _cells(chain.stages, kin, chain.housing)(0.5 * dt))
     # each stage's cells for its loaded flanks (a planetary stage whose planets drive the sun:
     # its sun-ring phase, ContactMeshes.other_flanks), the rows' sign flipped below
-    cells = _cells([s.on_flanks(g) for s, g in zip(chain.stages, signs, strict=True)], kin)
+    cells = _cells([s.on_flanks(g) for s, g in zip(chain.stages, signs, strict=True)], kin,
+                   chain.housing)
 
     def row(i):
         return _signed(cells((i + 0.5) * dt), signs)
@@ -399,12 +452,16 @@ class CoupledModes(eqx.Module):
         mesh_energy: each mesh's share of each mode's strain energy (-), (m, n).
         joint_energy: each shaft's (then the output hold's) share (-), (n_stages, n).
         stage_energy: each stage's share of each mode's kinetic energy (-), (n_stages, n).
+        housing_energy: with a shared housing (:attr:`~jaxgear.gearbox.GearboxTorsional.housing`)
+            its coordinates' share of each mode's kinetic energy (-), (n,) (the stages' shares
+            then sum to 1 minus it); None without one.
     """
 
     analysis: ModalAnalysis  # jaxgear.dynamics.ModalAnalysis
     mesh_energy: Float[Array, "m n"]
     joint_energy: Float[Array, "j n"]
     stage_energy: Float[Array, "s n"]
+    housing_energy: Float[Array, " n"] | None = None
 
 
 def _coupled_modes(chain, run):
@@ -421,35 +478,37 @@ def _modes_compiled(chain, run):
     speed = jnp.ones(())
     m, _, k, _, _, k_mean, _, _, _ = _assemble(chain, run, speed)
     # the per-mesh mean stiffness: each stage's rows over its own mesh period
-    offsets, n = _offsets(chain)
+    idx, n = _layout(chain.stages, chain.housing)
     modes = matrix_modal_analysis(m, k, k_mean)
     phi = modes.shapes
     strain = jnp.einsum("in,ij,jn->n", phi, k + k_mean, phi)
     strain = jnp.where(modes.rigid, 1.0, strain)
     mesh_e = []
-    for s, off in zip(chain.stages, offsets, strict=True):
+    for s, i in zip(chain.stages, idx, strict=True):
         P = run.mean_positions
         x = s.mesh_period() * (jnp.arange(P) + 0.5) / P
         rows = jax.vmap(on_the_path(s).cell_row)(x)  # K̄_m's cells (on the path)
         kl = jnp.where(rows.mask, rows.k * rows.length, 0.0)  # (p, c)
-        d = jnp.einsum("pci,in->pcn", rows.V, phi[off:off + rows.V.shape[-1]])
+        d = jnp.einsum("pci,in->pcn", rows.V, phi[i])
         cell_e = jnp.mean(kl[..., None] * d**2, axis=0)  # (c, n)
         member = jax.jacobian(s.mesh_forces)(jnp.zeros(kl.shape[1], kl.dtype)) != 0  # (m, c)
         mesh_e.append(member.astype(kl.dtype) @ cell_e)
     mesh_e = jnp.concatenate(mesh_e) / strain[None]
     # joints: the shafts and the hold, b q twist
-    b = np.zeros((len(chain.stages), n))
-    for j in range(len(chain.stages) - 1):
-        b[j, offsets[j] + chain.stages[j].coordinate_ends()[1]] = 1.0
-        b[j, offsets[j + 1] + chain.stages[j + 1].coordinate_ends()[0]] = -1.0
-    b[-1, offsets[-1] + chain.stages[-1].coordinate_ends()[1]] = 1.0
+    b = _joints(chain, idx, n, phi.dtype)
     springs = jnp.concatenate([chain.shaft_stiffnesses, run.output_stiffness[None]])
-    joint_e = springs[:, None] * (jnp.asarray(b, phi.dtype) @ phi) ** 2 / strain[None]
-    owner = np.repeat(np.arange(len(chain.stages)), [len(s.coordinates()) for s in chain.stages])
+    joint_e = springs[:, None] * (b @ phi) ** 2 / strain[None]
+    owner = np.full(n, -1)  # a shared housing's coordinates belong to no stage
+    for k, i in enumerate(idx):
+        owner[i[:len(i) - _shared(chain.stages, chain.housing)[k]]] = k
     belongs = jnp.asarray(owner[None, :] == np.arange(len(chain.stages))[:, None], phi.dtype)
-    kinetic = belongs @ (phi * (m @ phi))
-    kinetic = kinetic / kinetic.sum(axis=0, keepdims=True)
-    return CoupledModes(modes, mesh_e, joint_e, kinetic)
+    energy = phi * (m @ phi)
+    kinetic = belongs @ energy
+    if chain.housing is None:
+        return CoupledModes(modes, mesh_e, joint_e, kinetic / kinetic.sum(axis=0, keepdims=True))
+    total = energy.sum(axis=0)
+    housing_e = jnp.sum(jnp.where(owner[:, None] < 0, energy, 0.0), axis=0) / total
+    return CoupledModes(modes, mesh_e, joint_e, kinetic / total[None], housing_e)
 
 
 def gearbox_coupled_modes(chain: GearboxTorsional, run: GearboxRun) -> CoupledModes:
@@ -471,7 +530,9 @@ def coupled_mode_table(chain: GearboxTorsional, modes: CoupledModes) -> list[dic
     the meshes hold most of its strain energy, ``"shaft <k>-<k+1>"`` or ``"output hold"``
     where a joint does, else ``"structure"``), ``mesh`` (the mesh holding most strain energy,
     :func:`mesh_names`), ``mesh_energy`` (its share), ``mesh_total`` (every mesh's), ``stage``
-    (the stage holding most kinetic energy, from 1)."""
+    (the stage holding most kinetic energy, from 1); with a shared housing a mode of neither
+    rigid, mesh nor joint type whose kinetic energy lies mostly (> 1/2) in the housing's
+    coordinates is ``"housing"``."""
     names = mesh_names(chain)
     joints = [f"shaft {j + 1}-{j + 2}" for j in range(len(chain.stages) - 1)] + ["output hold"]
     f = np.asarray(modes.analysis.frequency)
@@ -487,6 +548,8 @@ def coupled_mode_table(chain: GearboxTorsional, modes: CoupledModes) -> list[dic
             kind = "mesh"
         elif je[joint_best, j] >= 1.0 - mesh_total - je[:, j].sum():
             kind = joints[joint_best]
+        elif modes.housing_energy is not None and float(modes.housing_energy[j]) > 0.5:
+            kind = "housing"
         else:
             kind = "structure"
         best = int(np.argmax(me[:, j]))

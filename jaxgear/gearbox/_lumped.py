@@ -149,6 +149,15 @@ class LumpedPairGearboxStage(AbstractGearboxStage):
         c = self.scene.bearing_damping()
         return c, jnp.zeros_like(c)
 
+    def housing(self):
+        """(K_h, M_h) of the scene's flexible housing (its part ``housing`` and its mass block
+        on the housing's coordinates, which end the scene's), or None: a grounded scene."""
+        st = self.scene.structure
+        if "housing" not in st.part_names:
+            return None
+        first = min(i for name, i in st.nodes if name.startswith("housing "))
+        return (st.stiffness_parts()["housing"][first:, first:], st.M[first:, first:])
+
     # -- the torsional chain's view ---------------------------------------------------------
     def dof_names(self):
         return ("theta_pinion", "theta_wheel")

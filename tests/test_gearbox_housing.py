@@ -1,0 +1,257 @@
+"""One housing shared by several stages of the coupled gearbox (jaxgear.gearbox.GearboxTorsional's
+``housing``; docs/gearbox.md, "One housing for several stages"): two lumped 3D parallel stages
+in one box, their bearings on their own seats. Evidence against a hand assembly written here
+(the grounded stages' matrices, the condensed housing's K and M and the seats' rigid levers), the
+stiff-housing limit (the grounded gearbox), the balance of the bearing forces, and bad input."""
+
+import math
+import types
+
+import numpy as np
+import pytest
+import scipy.linalg as sla
+from _examples import load_example
+
+import fem_prep
+import jaxgear as jg
+from fem_prep.housing import Bore, Foot, HousingBox, Tet4, mesh_box, prepare_housing
+from jaxgear import gearbox as gb
+from jaxgear.scenes import Bearing, Housing, ShaftSpec, lumped_pair
+
+EX = load_example("gearbox_two_stage")
+L, D = 0.12, 0.06  # each shaft: length, diameter (m); bearings at both ends, the gear mid-way
+T_WALL, Y0, Z1, Z2 = 0.01, 0.07, 0.08, 0.21  # wall; first axis (housing y); stages' heights
+# housing frame -> each stage's scene frame: scene z (the shafts) along the box's length
+# (housing x), scene x (between the centres) its width (housing y), scene y its height (z)
+R = np.array([[0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]])
+MASSES, INERTIAS = (1.5, 2.5), ((2e-3, 4e-3), (7.7e-3, 1.53e-2))
+SHAFT, HOLD, TORQUE = 2e5, 1e4, 500.0  # inter-stage shaft, output hold (N m/rad), input (N m)
+
+
+def _pair(z1, z2):
+    pair = jg.GearPair(jg.Member(z1, face_width=0.06), jg.Member(z2, face_width=0.06),
+                       EX.MODULE, EX.ALPHA)
+    return pair, jg.MeshModel.from_pair(pair, *jg.stiffness_table(pair, jg.Uniform(EX.K_U)), 1)
+
+
+PAIRS = (_pair(24, 32), _pair(20, 36))  # stage 1, stage 2 (centre distances 112, 112 mm)
+A = PAIRS[0][0].center_distance
+HEIGHTS = (Z1, Z2)
+
+
+def _shaft():
+    return ShaftSpec(length=L, diameter=D, gear_z=0.5 * L, torque_z=0.5 * L, elements=2,
+                     bearings=(Bearing(0.0, 2e8, 1e8, 0.0), Bearing(L, 2e8, 0.0, 0.0)))
+
+
+def _condensed(E, density, cutoff_hz=5000.0):
+    """The box (length L + wall along the shafts, the end walls' mid-planes at the bearings),
+    a bore round each of the four axes in both end walls: seat 2 j + w, j = stage 1's pinion,
+    gear, stage 2's pinion, gear, w = 0 the wall x = 0 (the bearing at z = 0), 1 the other."""
+    W, H, Lb = A + 2 * Y0, Z2 + 0.07, L + T_WALL
+    bores = tuple(Bore(w, (Y0 + dy, z), 0.025) for z in HEIGHTS for dy in (0.0, A)
+                  for w in ("x-", "x+"))
+    f = 0.03
+    feet = tuple(Foot((x0, x0 + f), (y0, y0 + f)) for x0 in (0.0, Lb - f) for y0 in (0.0, W - f))
+    box = HousingBox(Lb, W, H, T_WALL, bores=bores, feet=feet)
+    ph = prepare_housing(mesh_box(box, 0.05, element=Tet4()), fem_prep.Material(E, 0.3, density),
+                         cutoff_hz)
+    return ph.condensed_housing()
+
+
+def _offset(k):
+    """t: stage k's scene frame from the housing frame, x_scene = R x_housing + t (its pinion's
+    axis the scene z axis, its gear's centre at z = 0)."""
+    return -R @ np.array([0.5 * (L + T_WALL), Y0, HEIGHTS[k]])
+
+
+def _scene(k, housing=None, seats=None):
+    pair, mesh = PAIRS[k]
+    return lumped_pair(pair, mesh, _shaft(), _shaft(), masses=MASSES, inertias=INERTIAS,
+                       housing=housing, seats=seats)
+
+
+def _seats(k):
+    return tuple(range(4 * k, 4 * k + 4))
+
+
+def _chains(ch, loss_factor=0.0):
+    """(the gearbox with both stages in the one housing, the grounded gearbox, the housings
+    placed in each stage's frame)."""
+    housings = [Housing.of(ch, loss_factor=loss_factor, rotation=R, offset=_offset(k))
+                for k in range(2)]
+    housed = tuple(gb.LumpedPairGearboxStage(_scene(k, housings[k], _seats(k))) for k in range(2))
+    grounded = tuple(gb.LumpedPairGearboxStage(_scene(k)) for k in range(2))
+    return (gb.GearboxTorsional(housed, [SHAFT], housing=housings[0]),
+            gb.GearboxTorsional(grounded, [SHAFT]), housings)
+
+
+RUN = gb.GearboxRun(TORQUE, HOLD, steps_per_period=16, periods=6, keep_periods=2)
+
+
+@pytest.fixture(scope="module")
+def steel():
+    return _condensed(210e9, 7800.0, 8000.0)  # 6 interior modes kept (5.1 to 8 kHz)
+
+
+def _skew(a):
+    return np.array([[0, -a[2], a[1]], [a[2], 0, -a[0]], [-a[1], a[0], 0]])
+
+
+def _bearings(scene):
+    """Each bearing of a grounded scene: (its shaft node's first DOF, K_b (6, 6)), the pinion
+    shaft's first, each shaft's in its bearings' order (z ascending): read off the scene's
+    ``bearings`` stiffness part (one bearing per node)."""
+    part = np.asarray(scene.structure.stiffness_parts()["bearings"])
+    out = []
+    for u in range(0, part.shape[0], 6):
+        block = part[u:u + 6, u:u + 6]
+        if np.any(block != 0):
+            out.append((u, block))
+    return out
+
+
+def _hand_assembly(ch, grounded):
+    """The coupled gearbox's (M, K + K̄_m) written out here: the grounded stages' structure and
+    mean mesh stiffness, the housing once, each bearing's energy ½ dᵀ K_b d with
+    d = u − G q, G = [[R, −S(p − c) R], [0, R]] (p the bearing, c its seat's centre, both in
+    its stage's frame), the inter-stage shaft and the output hold."""
+    scenes = [s.scene for s in grounded.stages]
+    sizes = [s.structure.size for s in scenes]
+    h = ch.K.shape[0]
+    n = sum(sizes) + h
+    K, M = np.zeros((n, n)), np.zeros((n, n))
+    offs = [0, sizes[0]]
+    q0 = sum(sizes)
+    K[q0:, q0:] = ch.K
+    M[q0:, q0:] = ch.M
+    for k, (stage, scene) in enumerate(zip(grounded.stages, scenes, strict=True)):
+        o, w = offs[k], sizes[k]
+        K[o:o + w, o:o + w] += np.asarray(scene.structure.K)
+        K[o:o + w, o:o + w] += np.asarray(stage.dynamic_parts(RUN.mean_positions)[2])
+        M[o:o + w, o:o + w] += np.asarray(scene.structure.M)
+        positions = [np.array([x, 0.0, z]) for x in (0.0, A) for z in (-0.5 * L, 0.5 * L)]
+        for (u, kb), p, s in zip(_bearings(scene), positions, _seats(k), strict=True):
+            c = R @ np.asarray(ch.seat_positions[s]) + _offset(k)
+            G = np.zeros((6, 6))
+            G[:3, :3] = G[3:, 3:] = R
+            G[:3, 3:] = -_skew(p - c) @ R
+            iu = slice(o + u, o + u + 6)
+            iq = slice(q0 + 6 * s, q0 + 6 * s + 6)
+            K[iu, iq] -= kb @ G
+            K[iq, iu] -= G.T @ kb
+            K[iq, iq] += G.T @ kb @ G
+    out1 = offs[0] + scenes[0].torque_dofs[1]
+    in2, out2 = (offs[1] + t for t in scenes[1].torque_dofs)
+    for i, j, kt in ((out1, in2, SHAFT), (out2, None, HOLD)):
+        K[i, i] += kt
+        if j is not None:
+            K[j, j] += kt
+            K[i, j] -= kt
+            K[j, i] -= kt
+    return M, K
+
+
+def _elastic(modes):
+    f = np.asarray(modes.analysis.frequency)
+    return f[~np.asarray(modes.analysis.rigid)]
+
+
+def test_two_stages_in_one_housing_match_a_hand_assembly(steel):
+    """Both stages' bearings on their seats of one steel box: the housing's coordinates appear
+    once (after both stages' own), and the coupled natural frequencies are those of the system
+    assembled in this test (1e-8)."""
+    housed, grounded, _ = _chains(steel)
+    h = steel.K.shape[0]
+    names = gb.coordinate_names(housed)
+    n1, n2 = (s.scene.structure.size for s in grounded.stages)
+    assert len(names) == n1 + n2 + h
+    assert names[n1 + n2] == "housing:seat0 u_x" and names[-1].startswith("housing:mode")
+    M, K = _hand_assembly(steel, grounded)
+    w2 = sla.eigh(K, M, eigvals_only=True)
+    f_ref = np.sqrt(np.maximum(w2, 0.0)) / (2 * math.pi)
+    modes = gb.gearbox_coupled_modes(housed, RUN)
+    f = np.asarray(modes.analysis.frequency)
+    assert f.size == f_ref.size
+    keep = f_ref > 1.0
+    print("shared housing vs hand assembly: max relative difference",
+          np.abs(f[keep] / f_ref[keep] - 1).max(), "; modes", f.size)
+    np.testing.assert_allclose(f[keep], f_ref[keep], rtol=1e-8)
+    # the kinetic energy: the stages' and the housing's shares make up each mode
+    total = np.asarray(modes.stage_energy).sum(axis=0) + np.asarray(modes.housing_energy)
+    np.testing.assert_allclose(total[~np.asarray(modes.analysis.rigid)], 1.0, atol=1e-9)
+    table = gb.coupled_mode_table(housed, modes)
+    assert any(r["type"] == "housing" for r in table)  # the box's own modes are in the band
+
+
+def test_stiff_shared_housing_is_the_grounded_gearbox():
+    """The box 100 and 1000 x stiffer than steel (steel's density): the coupled modes below
+    5 kHz tend to the grounded gearbox's as the box's compliance (the difference falls about
+    tenfold), within 3e-4 at x 1000 (measured 1.7e-4)."""
+    grounded = _chains(_condensed(210e9, 7800.0))[1]
+    f0 = _elastic(gb.gearbox_coupled_modes(grounded, RUN))
+    f0 = f0[f0 < 5000.0]
+    errs = []
+    for scale in (1e2, 1e3):
+        housed = _chains(_condensed(210e9 * scale, 7800.0))[0]
+        f = _elastic(gb.gearbox_coupled_modes(housed, RUN))[: f0.size]
+        errs.append(np.abs(f / f0 - 1).max())
+    print("stiff shared housing: modes below 5 kHz", f0.size, ", max relative difference at "
+          "E x 100, x 1000", errs)
+    assert errs[0] / errs[1] > 8.0 and errs[1] < 3e-4
+
+
+def test_shared_housing_run_balances_the_bearing_forces(steel):
+    """A Newmark run of the housed gearbox at a low speed (quasi-static: the mesh frequencies
+    far below the modes) completes with finite values, each shaft's two bearings carry its
+    mesh's force, and the housing feels no net force: the eight bearings' forces (K_b d,
+    d = u − G q as in the hand assembly) sum to zero against the mesh forces."""
+    housed, grounded, housings = _chains(steel, loss_factor=0.02)
+    out = gb.gearbox_dynamics(housed, RUN, 2.0)
+    assert int(out.result) == 0
+    X = np.asarray(out.displacement)
+    assert np.all(np.isfinite(X))
+    x = X.mean(axis=0)
+    F = np.asarray(out.mesh_forces).mean(axis=0)  # each stage's mesh force (N)
+    np.testing.assert_allclose(F, np.asarray(out.static_forces), rtol=1e-3)
+    n1, n2 = (s.scene.structure.size for s in grounded.stages)
+    q0 = n1 + n2
+    total = np.zeros(3)
+    for k, stage in enumerate(grounded.stages):
+        o = (0, n1)[k]
+        positions = [np.array([xx, 0.0, z]) for xx in (0.0, A) for z in (-0.5 * L, 0.5 * L)]
+        shafts = [np.zeros(3), np.zeros(3)]
+        for b, ((u, kb), p, s) in enumerate(zip(_bearings(stage.scene), positions, _seats(k),
+                                                strict=True)):
+            G = housings[k].seat_transform(s, p)
+            d = x[o + u:o + u + 6] - G @ x[q0 + 6 * s:q0 + 6 * s + 6]
+            force = (kb @ d)[:3]
+            shafts[b // 2] += force
+            total += force
+        for f_shaft in shafts:  # each shaft's bearings hold its gear's mesh force
+            np.testing.assert_allclose(np.linalg.norm(f_shaft), F[k], rtol=1e-3)
+    print("shared housing: net bearing force / mesh force", np.linalg.norm(total) / F.max())
+    assert np.linalg.norm(total) < 1e-4 * F.max()
+
+
+def test_shared_housing_bad_input_one_line(steel):
+    housed, grounded, housings = _chains(steel)
+    with pytest.raises(ValueError, match=r"seats\[0\] = 8") as err:  # 8 seats: 0..7
+        _scene(0, housings[0], (8, 1, 2, 3))
+    assert "\n" not in str(err.value)
+    stiffer = types.SimpleNamespace(K=2.0 * steel.K, M=steel.M, seat_names=steel.seat_names,
+                                    seat_positions=steel.seat_positions)
+    other = Housing.of(stiffer, rotation=R, offset=_offset(0))
+    for chain, match in (
+        (lambda: gb.GearboxTorsional(grounded.stages, [SHAFT], housing=housings[0]),
+         "no stage sits in it"),
+        (lambda: gb.GearboxTorsional(housed.stages, [SHAFT], housing=other),
+         "differs from stage 1"),
+        (lambda: gb.GearboxTorsional((EX.two_stage()[0].stages[1], housed.stages[1]), [SHAFT],
+                                     housing=steel), "housing ="),
+    ):
+        with pytest.raises(ValueError, match=match) as err:
+            chain()
+        assert "\n" not in str(err.value)
+    with pytest.raises(ValueError, match="gearbox_modes: chain.housing"):
+        gb.gearbox_modes(housed)
