@@ -17,6 +17,7 @@ from ._contact import ContactLaw, ExactContact
 from ._modifications import Modifications
 from ._quasi_static import QuasiStaticResult, at_torques, per_mesh_modifications, separation
 from ._results import ContactResult, raise_if_failed
+from ._util import compiled_when_eager
 from .scenes import cache_window_compliance
 
 __all__ = ["LoadedPath", "harris_map", "load_map", "loaded_path"]
@@ -193,10 +194,11 @@ def loaded_path(
     )
 
 
-@eqx.filter_jit
+@compiled_when_eager
 def _corner_relief(mesh, mods, theta, te):
     """The extra tip relief at the start and at the end that keeps every corner cell open at
-    each torque (one compiled program: the separations at every position, then the maxima)."""
+    each torque (one compiled program when called eagerly: the separations at every position,
+    then the maxima; traced inline under a caller's transformation)."""
     cells, e_max, delta0 = jax.vmap(lambda t: separation(mesh, mods, t))(theta)
     beyond = cells.mask & ((cells.s < 0) | (cells.s > mesh.path_of_contact))
     # the approach of the theoretical model u = TE cos β_b + max e, against each corner cell's

@@ -49,7 +49,7 @@ from .._contact import ContactLaw, ExactContact
 from .._modifications import Modifications
 from .._quasi_static import per_mesh_modifications
 from .._results import DynamicsResult
-from .._util import check_integer
+from .._util import check_integer, compiled_when_eager
 from ..scenes import HybridPair
 from ._damping import AbstractDamping
 from ._devices import several_devices, shard_speeds
@@ -181,13 +181,20 @@ class HybridModel(AbstractDynamicModel):
         law, cfg, omega, space = prepared.law, prepared.cfg, prepared.omega, prepared.space
         if jnp.ndim(speeds) == 0:
             r = sweep(self, jnp.reshape(speeds, (1,)), law, cfg, omega, space)
-            return jax.tree.map(lambda x: x[0], r)
+            return _first(r)
         if not several_devices(shard, speeds):
             return sweep(self, speeds, law, cfg, omega, space)
         # one row of speeds per device, each row one speed after the other
         rows, _ = shard_speeds(speeds, rows=True)
         r = sweep(self, rows, law, cfg, omega, space)
         return jax.tree.map(lambda a: a.reshape((-1,) + a.shape[2:])[: speeds.shape[0]], r)
+
+
+@compiled_when_eager
+def _first(r):
+    """The first speed's entry of every array of a sweep's result (one compiled program when
+    called eagerly: each leaf's indexing compiled on its own otherwise)."""
+    return jax.tree.map(lambda x: x[0], r)
 
 
 class HybridRun(eqx.Module):

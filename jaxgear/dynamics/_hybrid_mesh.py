@@ -17,7 +17,7 @@ from jaxtyping import Array, Float
 from .._baseplane import CellRow
 from .._contact import ContactLaw, ExactContact, contact_law
 from .._quasi_static import mesh_separations, per_mesh_modifications, quasi_static
-from .._util import safe_max
+from .._util import compiled_when_eager, safe_max
 from ..scenes import HybridPair, HybridScene
 from ._model import cell_stiffness, cells_from_reference, mesh_te
 from ._newmark import LinearSystem, MeshDamping, ModalSystem, newmark, newmark_modal
@@ -164,8 +164,10 @@ def _reference_shift(scene: HybridScene, d):
     return scene.N @ alpha
 
 
+@compiled_when_eager
 def _loaded(qs):
-    """The loaded cells (line load > 0) of every mesh at each position, joined: (P, c)."""
+    """The loaded cells (line load > 0) of every mesh at each position, joined: (P, c) (one
+    compiled program when called eagerly)."""
     return _joined(qs, "line_load") > 0
 
 
@@ -236,7 +238,12 @@ def _period_statics(scene: HybridPair, mods, torque, speed, spp, law: ContactLaw
         contact=law,
         throw=False,
     )
-    n = scene.structure.size
     U, B, _ = _mesh_block(scene, theta, _loaded(qs))
-    Km = jnp.zeros((n, n), scene.structure.K.dtype).at[U[:, None], U[None, :]].add(B)
-    return qs, Km
+    return qs, _scattered(U, B, scene.structure.size)
+
+
+@compiled_when_eager
+def _scattered(U, B, n: int):
+    """The block ``B`` (w, w) on the coordinates ``U`` (w,) as an (n, n) matrix (the entries
+    of a coordinate that ``U`` holds twice added; one compiled program when called eagerly)."""
+    return jnp.zeros((n, n), B.dtype).at[U[:, None], U[None, :]].add(B)

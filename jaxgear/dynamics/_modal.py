@@ -17,6 +17,7 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Float
 
+from .._util import compiled_when_eager
 from ..scenes import DynamicScene, HybridPair
 from ._settings import MAX_STEPS_PER_SPEED, MESH_ENERGY_MIN, MIN_STEPS_PER_PERIOD, STEPS_PER_MODE
 
@@ -74,8 +75,17 @@ def modal_analysis(scene: DynamicScene, mesh_stiffness: Float[Array, "n n"]) -> 
     Returns:
         :class:`ModalAnalysis` (strain-energy shares as in the seed's Tab. IV-8).
     """
-    M = scene.mass()
     parts = {"mesh": mesh_stiffness, **scene.stiffness_parts()}
+    return _modal_analysis(scene.mass(), mesh_stiffness, tuple(parts), tuple(parts.values()))
+
+
+@compiled_when_eager
+def _modal_analysis(M, mesh_stiffness, names: tuple, stiffness: tuple) -> ModalAnalysis:
+    """:func:`modal_analysis` of the mass ``M`` and the stiffness parts ``stiffness`` named
+    ``names`` (the mesh's first): one compiled program per size when called eagerly (the
+    Cholesky factor, the eigen-solution and the energy shares; eagerly each of its some 20
+    operations compiled on its own), traced inline under a caller's ``jit``."""
+    parts = dict(zip(names, stiffness, strict=True))
     K = sum(parts.values())
     L = jnp.linalg.cholesky(M)
     Linv = jnp.linalg.inv(L)

@@ -39,7 +39,7 @@ from jaxtyping import Array, Bool, Float, Int
 from .._backlash import cell_flank, coast_line
 from .._baseplane import Cells, MeshModel
 from .._geometry import GearPair
-from .._util import as_float
+from .._util import as_float, compiled_when_eager
 from ._scene import Grounded
 
 __all__ = [
@@ -380,11 +380,11 @@ def mesh_zone_load(scene, k: int, theta, first: int = 0) -> Float[Array, " m"]:
     return _zone_load(scene, k, jnp.asarray(theta), first)
 
 
-@eqx.filter_jit
+@compiled_when_eager
 def _zone_load(scene, k: int, theta, first: int):
-    """:func:`mesh_zone_load` in one compiled program (``k``, ``first`` static, the angle
-    traced: one program per scene for every angle; eagerly its few hundred operations would
-    each compile on their own)."""
+    """:func:`mesh_zone_load` in one compiled program when called eagerly (``k``, ``first``
+    static, the angle traced: one program per scene for every angle; eagerly its few hundred
+    operations would each compile on their own); traced inline under a caller's ``jit``."""
     mesh = scene.meshes[k]
     cells = mesh.base_plane.cells(mesh.angle(theta))
     V = mesh.cell_vectors(scene.members, cells, scene.structure.size)[..., first:]
