@@ -76,10 +76,12 @@ def _embedded(stages, sign_of, rows_of):
 def _repeats(stage, dtype) -> bool:
     """Whether the stage's cells repeat after one mesh period (host side): the cells' stiffness
     matrix Σ k l V Vᵀ, load Σ k l δ0 V and Σ k l δ0² (invariant under a renumbering of the
-    contact lines) at three travels x and x + p_b."""
+    contact lines) at 16 travels x and x + p_b."""
     p = float(stage.mesh_period())
-    for x in (0.137 * p, 0.512 * p, 0.871 * p):
-        a, b = (stage.cell_row(jnp.asarray(v, dtype)) for v in (x, x + p))
+    xs = (np.arange(16) + 0.37) * p / 16
+    rows = jax.vmap(stage.cell_row)(jnp.asarray(np.concatenate([xs, xs + p]), dtype))
+    for i in range(16):
+        a, b = (jax.tree.map(lambda f, j=j: f[j], rows) for j in (i, i + 16))
         prints = []
         for r in (a, b):
             kl = np.where(np.asarray(r.mask), np.asarray(r.k * r.length), 0.0)
