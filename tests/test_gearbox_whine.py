@@ -106,7 +106,7 @@ def test_uncoupled_limit_is_each_pairs_own_whine():
     (unrelieved: every cell on the path loaded, so that both models average the same mean
     stiffness for the modal damping) equals the single-pair whine of its TorsionalDynamics
     scene at its own pinion speed and torque, ModalDamping(0.05), HarmonicBalance(8) on the same
-    48 positions: TE orders 0-8 within 1e-5 of order 1 and mesh force within 1e-5 of the static
+    48 positions: TE orders 1-8 within 1e-5 of order 1 and mesh force within 1e-5 of the static
     force (measured 1.4e-6 and 1.5e-6)."""
     soft, H, P = 1e-3, 8, 48
     stages = [_stage(*t) for t in TEETH]
@@ -123,7 +123,8 @@ def test_uncoupled_limit_is_each_pairs_own_whine():
         te, te_ref = np.asarray(w.transmission_error[0, pick, k]), np.asarray(
             ref.transmission_error[0, :, 0])
         f, f_ref = np.asarray(w.mesh_force[0, pick, k]), np.asarray(ref.mesh_force[0, :, 0])
-        assert np.max(np.abs(te - te_ref)) < 1e-5 * abs(te_ref[1])
+        # orders 1-8 (the mean differs by the single pair's TE reference e_ref)
+        assert np.max(np.abs(te[1:] - te_ref[1:])) < 1e-5 * abs(te_ref[1])
         assert np.max(np.abs(f - f_ref)) < 1e-5 * abs(f_ref[0])
         # the next stage: pinion speed and torque through this stage's ratio
         speed, torque = speed * TEETH[k][0] / TEETH[k][1], torque * TEETH[k][1] / TEETH[k][0]
