@@ -258,7 +258,7 @@ def _gearbox_whine(chain, run, law, spec, xs, speeds, basis, idx):
     def operating(speed):
         """The static grid and its Fourier coefficients at one speed (the rotating frames'
         stiffness), with the coupled matrices."""
-        m, k, _, c_omega, f, k_mean, kin, _, _ = _assemble(chain, run, speed)
+        m, k, _, c_omega, f, k_mean, _, _, _ = _assemble(chain, run, speed)
         first = _embedded(chain.stages, [1.0] * len(chain.stages),
                           [x[:1] for x in xs])
         rows0 = [CellRow(None, V[0], kk[0], ln[0], d[0], mk[0]) for V, kk, ln, d, mk in first]
