@@ -102,6 +102,7 @@ SECTIONS = {
         ("A stage kind: the compound planetary stage (stepped planets)", ("_compound",)),
         ("A stage kind: a parallel pair in lumped 3D form", ("_lumped",)),
         ("Campbell diagram and housing spectrum", ("_spectrum",)),
+        ("Gear whine of the whole gearbox", ("_whine",)),
     ),
     "jaxgear.tribology": (
         ("Lubricant", ("_lubricant",)),

@@ -153,4 +153,9 @@ from ._whine import (
     harmonic_balance as harmonic_balance,
     whine_response as whine_response,
 )
-from ._whine_qp import quasi_periodic_balance as quasi_periodic_balance
+from ._whine import _mesh_basis as mesh_basis  # noqa: F401  (its public name)
+from ._whine_qp import (
+    harmonic_set as harmonic_set,
+    quasi_periodic_balance as quasi_periodic_balance,
+    torus_coefficients as torus_coefficients,
+)

@@ -10,6 +10,8 @@
 * what an NVH engineer reads off it (:func:`campbell_crossings`, :func:`housing_spectrum`): every
   stage's mesh orders against the coupled modes, and the force spectrum at a housing-fixed point
   (a ring mount, McFadden & Smith 1985; a parallel stage's bearing).
+* its gear whine in the frequency domain (:func:`gearbox_whine`): each stage's mesh orders from
+  the quasi-periodic balance on the torus of the stages' mesh phases (docs/whine.md).
 """
 
 from ._chain import (
@@ -49,3 +51,4 @@ from ._spectrum import (
     mesh_frequencies as mesh_frequencies,
     window_share as window_share,
 )
+from ._whine import gearbox_whine as gearbox_whine
