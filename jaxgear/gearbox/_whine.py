@@ -54,21 +54,22 @@ from ._coupled import (
     _check,
     _flank_signs,
     _kinematics,
-    _offsets_of,
+    _layout,
     _split_forces,
 )
 
 __all__ = ["gearbox_whine"]
 
 
-def _embedded(stages, sign_of, rows_of):
-    """Each stage's cell rows at its grid positions embedded in the coupled coordinates:
-    per stage (V (R, c, n) signed, k, length, delta0, mask (R, c))."""
-    offsets, n = _offsets_of(stages)
+def _embedded(stages, housing, sign_of, rows_of):
+    """Each stage's cell rows at its grid positions embedded in the coupled coordinates (a
+    shared ``housing``'s once, :func:`_layout`): per stage (V (R, c, n) signed, k, length,
+    delta0, mask (R, c))."""
+    idx, n = _layout(stages, housing)
     out = []
-    for s, off, sign, x in zip(stages, offsets, sign_of, rows_of, strict=True):
+    for s, i, sign, x in zip(stages, idx, sign_of, rows_of, strict=True):
         r = jax.vmap(s.cell_row)(x)
-        V = jnp.zeros(r.V.shape[:2] + (n,), r.V.dtype).at[:, :, off:off + r.V.shape[2]].set(r.V)
+        V = jnp.zeros(r.V.shape[:2] + (n,), r.V.dtype).at[:, :, i].set(r.V)
         out.append((sign * V, r.k, r.length, r.delta0, r.mask))
     return out
 
@@ -186,7 +187,7 @@ def gearbox_whine(
     Vs = []
     for sign in (1.0, -1.0):
         st = [s.on_flanks(jnp.asarray(sign, dtype)) for s in chain.stages]
-        for V, _, _, _, mask in _embedded(st, [1.0] * len(st), xs):
+        for V, _, _, _, mask in _embedded(st, chain.housing, [1.0] * len(st), xs):
             Vs.append((np.asarray(V), np.asarray(mask)))
     n = Vs[0][0].shape[-1]
     basis = mesh_basis(np.concatenate([v.reshape(-1, n) for v, _ in Vs]),
@@ -259,12 +260,12 @@ def _gearbox_whine(chain, run, law, spec, xs, speeds, basis, idx):
         """The static grid and its Fourier coefficients at one speed (the rotating frames'
         stiffness), with the coupled matrices."""
         m, k, _, c_omega, f, k_mean, _, _, _ = _assemble(chain, run, speed)
-        first = _embedded(chain.stages, [1.0] * len(chain.stages),
+        first = _embedded(chain.stages, chain.housing, [1.0] * len(chain.stages),
                           [x[:1] for x in xs])
         rows0 = [CellRow(None, V[0], kk[0], ln[0], d[0], mk[0]) for V, kk, ln, d, mk in first]
         signs = _flank_signs(chain, k, f, k_mean, rows0)
         stages = [s.on_flanks(g) for s, g in zip(chain.stages, signs, strict=True)]
-        per_stage = _embedded(stages, signs, xs)
+        per_stage = _embedded(stages, chain.housing, signs, xs)
         cols = [idx[:, g] if g >= 0 else jnp.zeros(N, idx.dtype) for g in group_of]
 
         def gather(i):
