@@ -162,19 +162,6 @@ def test_against_the_hybrid_newmark(setup):
 
 
 @pytest.mark.slow
-def test_against_the_hybrid_newmark_with_corner_cells(fem_prep_cache):
-    """(Slow: about 6 min.) With contact beyond the theoretical path (corner cells, the case
-    default): orders 1-2 within 1 % and 0.5° of the hybrid Newmark (measured CORNER),
-    order 3 within 10 % (measured ORDER3: some corner cells change state at the samples,
-    ``nonlinearity`` 0.066, which the linearisation about the static contact state holds)."""
-    case = jio.load_case(DATA / "hybrid-test-case.toml")
-    assert case.extended_contact
-    body = fem_prep.condensed(DATA / "hybrid-test-wheel.toml")
-    scene = static_scene(case, bodies=(None, body))[0]
-    _against_newmark(case, scene, 1e-2, 0.1)
-
-
-@pytest.mark.slow
 def test_jaxgear_run_on_a_hybrid_case_with_whine(tmp_path, fem_prep_cache):
     """(Slow: about 3 min.) `jaxgear run` on the hybrid test pair with a `[whine]` table
     writes the whine outputs of a lumped case: whine.json/csv with the TE, mesh force and
