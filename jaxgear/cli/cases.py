@@ -131,6 +131,14 @@ CASE_INDEX: dict[str, tuple[str, str, float, float, bool]] = {
         25,
         False,
     ),
+    "two-stage-housed": (
+        "train z 28/127/35/68, m_n 1.5/2.5 mm, T 70 N·m (input), weber stiffness, lumped3d scene "
+        "on a flexible housing (hst = high-speed train, stage 1, lst = low-speed train, stage 2)",
+        "-",
+        RUN1_FIRST,
+        RUN1_SECOND,
+        False,
+    ),
     "two-stage": (
         "train z 28/127/35/68, m_n 1.5/2.5 mm, T 70 N·m (input), weber stiffness, lumped3d scene "
         "(hst = high-speed train, stage 1, lst = low-speed train, stage 2)",
