@@ -156,6 +156,14 @@ RUNS = {  # name: (argv after the command, output file(s) to compare, in the def
         ("summary.json", "whine/whine.json", "whine/housing.json"),
         False,
     ),
+    # the two-stage train in a cast aluminium box: its summary, the quasi-periodic whine's
+    # orders of each mesh and the housing's ERP and point velocities (not sweep/sweep.json,
+    # as the NREL stage's above)
+    "run-two-stage-housed": (
+        ["run", "two-stage-housed"],
+        ("summary.json", "whine/whine.json", "whine/housing.json"),
+        False,
+    ),
     # the example case files
     "run-example-accessory-lumped3d": (
         ["run", "examples/accessory-lumped3d.toml"],
