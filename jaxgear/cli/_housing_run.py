@@ -71,6 +71,29 @@ def _file_key(name: str) -> str:
     return re.sub(r"[^A-Za-z0-9_-]+", "_", name).strip("_") or "point"
 
 
+def _drawn_orders(w, keep, orders):
+    """The lines the housing's figures draw, as indices into ``orders`` (the whine's orders
+    above the mean, ``keep``): the order plots' (:data:`ORDERS_DRAWN`) and the waterfalls'
+    (:data:`WATERFALL_ORDERS`), with their legend and waterfall names (None: by the order).
+    A response of one mesh frequency: its first integer orders. One of several mesh-frequency
+    groups (``order_group``, :class:`~jaxgear.dynamics.QuasiPeriodicBalance`): each group's
+    orders 1 to ORDERS_DRAWN of its own frequency (the waterfalls' count shared among the
+    groups), named by the group (from 1) and the order."""
+    groups = getattr(w, "order_group", None)
+    K = orders.size
+    if groups is None or len(set(np.asarray(groups)[keep].tolist())) < 2:
+        drawn = [j for j in range(K) if orders[j] == round(orders[j])][:ORDERS_DRAWN]
+        return drawn, list(range(min(K, WATERFALL_ORDERS))), None, None
+    g = np.asarray(groups)[keep]
+    o = np.asarray(w.group_order)[keep]
+    n = len(set(g.tolist()))
+    drawn = [j for j in range(K) if o[j] <= ORDERS_DRAWN]
+    wf = [j for j in range(K) if o[j] <= max(1, WATERFALL_ORDERS // n)]
+    labels = [f"mesh frequency {g[j] + 1}, order {o[j]}" for j in range(K)]
+    tags = [f"f{g[j] + 1} {o[j]}x" for j in range(K)]
+    return drawn, wf, labels, tags
+
+
 def housing_outputs(run: HousedRun, case, w, folder: str, invalid) -> dict:
     """The housing's files of the whine response ``w`` (of the housed scene) into ``folder``;
     returns the ``housing`` section of the whine summary. ``invalid``: (S,) the speeds with
@@ -127,9 +150,11 @@ def housing_outputs(run: HousedRun, case, w, folder: str, invalid) -> dict:
         cols[f"point_{key}_phase_deg"] = np.degrees(np.angle(pv[:, :, k])).ravel()
     cols["contact_loss"] = np.repeat(np.asarray(invalid, dtype=float), K)
     write_csv(os.path.join(folder, "housing.csv"), list(cols), list(cols.values()))
-    # the figures: the first integer orders, in the band
-    drawn = [j for j in range(K) if orders[j] == round(orders[j])][:ORDERS_DRAWN]
-    wf = slice(0, WATERFALL_ORDERS)
+    # the figures: the first integer orders, in the band; a whine of several mesh-frequency
+    # groups (QuasiPeriodicBalance): each group's first orders of its own frequency, named
+    drawn, wf, labels, tags = _drawn_orders(w, keep, orders)
+    named = None if labels is None else [labels[j] for j in drawn]
+    marks = None if tags is None else [tags[j] for j in wf]
     files = []
     title = f"{case.name}: housing ERP ({len(body.condensed.modes_hz)} housing modes to "
     title += f"{body.condensed.cutoff_hz:.0f} Hz)"
@@ -138,10 +163,11 @@ def housing_outputs(run: HousedRun, case, w, folder: str, invalid) -> dict:
     if in_band.any():
         whine_level_plot(os.path.join(folder, "erp_orders.png"), speeds, shown[:, drawn],
                          orders[drawn], overall_db, ylabel="ERP level (dB re 1 pW)", title=title,
-                         invalid=invalid, note=note)
+                         invalid=invalid, note=note, order_labels=named)
         whine_waterfall_plot(os.path.join(folder, "erp_waterfall.png"), speeds, f1, orders[wf],
                              np.where(in_band, power, np.nan)[:, wf], label="ERP (W)",
-                             title=case.name, invalid=invalid, power=True, limit_hz=band)
+                             title=case.name, invalid=invalid, power=True, limit_hz=band,
+                             order_labels=marks)
         files += ["erp_orders.png", "erp_waterfall.png"]
         for k, name in enumerate(names):
             key = _file_key(name)
@@ -150,10 +176,11 @@ def housing_outputs(run: HousedRun, case, w, folder: str, invalid) -> dict:
                              v[:, drawn], orders[drawn], ylabel="normal velocity (mm/s)",
                              title=f"{case.name}: housing point {name!r}", invalid=invalid,
                              note="outward normal velocity at the skin node nearest the point; "
-                             "one-sided amplitudes")
+                             "one-sided amplitudes", order_labels=named)
             whine_waterfall_plot(os.path.join(folder, f"point_{key}_waterfall.png"), speeds, f1,
                                  orders[wf], v[:, wf], label=f"{name} velocity (mm/s)",
-                                 title=case.name, invalid=invalid, limit_hz=band)
+                                 title=case.name, invalid=invalid, limit_hz=band,
+                                 order_labels=marks)
             files += [f"point_{key}_orders.png", f"point_{key}_waterfall.png"]
     # the operating deflection shapes: each drawn order at its loudest speed in the band
     from fem_prep.housing import write_housing_ods_vtu  # lazy: meshio, for this file only
@@ -163,7 +190,8 @@ def housing_outputs(run: HousedRun, case, w, folder: str, invalid) -> dict:
         if not in_band[:, j].any():
             continue
         s = int(np.nanargmax(shown[:, j]))
-        label = f"order{orders[j]:g}_{speeds[s]:.0f}rad_s"
+        label = f"order{orders[j]:g}" if tags is None else tags[j].replace(" ", "_")
+        label += f"_{speeds[s]:.0f}rad_s"
         shapes[label] = np.asarray(r.coordinates[s, j])
         ods.append({"label": label, "order": float(orders[j]), "speed_rad_s": float(speeds[s]),
                     "frequency_Hz": float(freq[s, j]), "erp_dB": float(level[s, j])})

@@ -30,19 +30,20 @@ def _shade(ax, speeds, invalid) -> bool:
 
 
 def whine_order_plot(path, speeds, amplitudes, orders, *, ylabel, title, invalid=None,
-                     note=None) -> None:
+                     note=None, order_labels=None) -> None:
     """Each order's amplitude against the speed, log scale.
 
     Args:
         speeds: (S,) input speeds (rad/s). amplitudes: (S, k) one-sided amplitudes (in the
             units ``ylabel`` states) of the orders ``orders`` (k,).
         invalid: None or (S,) booleans: speeds where the linear result does not hold (shaded).
+        order_labels: None (each line named "order <o>") or (k,) the legend's names.
     """
     fig, ax = new_figure()
     a = np.asarray(amplitudes, dtype=float)
     for j, o in enumerate(orders):
         ax.semilogy(speeds, np.maximum(a[:, j], 1e-300), "-", lw=1.3, marker=".", ms=3,
-                    label=f"order {o:g}")
+                    label=f"order {o:g}" if order_labels is None else order_labels[j])
     top = float(np.nanmax(a)) if a.size else 1.0
     ax.set_ylim(max(top * 1e-4, float(np.nanmin(a[a > 0])) if (a > 0).any() else top * 1e-4),
                 top * 2.0)
@@ -109,7 +110,7 @@ def whine_waterfall_plot(path, speeds, fundamental_hz, orders, amplitudes, *, la
 
 
 def whine_level_plot(path, speeds, levels_db, orders, overall_db=None, *, ylabel, title,
-                     invalid=None, note=None, span_db=70.0) -> None:
+                     invalid=None, note=None, span_db=70.0, order_labels=None) -> None:
     """Each order's level (dB) against the speed, and the orders' overall level as a heavy
     line (NaN levels: not drawn, an order NaN at every speed left out of the legend; the axis
     spans ``span_db`` below the highest level).
@@ -117,12 +118,14 @@ def whine_level_plot(path, speeds, levels_db, orders, overall_db=None, *, ylabel
     Args:
         speeds: (S,) input speeds (rad/s). levels_db: (S, k) of the orders ``orders`` (k,).
         overall_db: None or (S,). invalid: None or (S,) booleans (shaded, as the order plot).
+        order_labels: None (each line named "order <o>") or (k,) the legend's names.
     """
     fig, ax = new_figure()
     lv = np.asarray(levels_db, dtype=float)
     for j, o in enumerate(orders):
         if np.isfinite(lv[:, j]).any():  # an order out of the band at every speed: no entry
-            ax.plot(speeds, lv[:, j], "-", lw=1.3, marker=".", ms=3, label=f"order {o:g}")
+            ax.plot(speeds, lv[:, j], "-", lw=1.3, marker=".", ms=3,
+                    label=f"order {o:g}" if order_labels is None else order_labels[j])
     if overall_db is not None:
         ax.plot(speeds, overall_db, "k-", lw=2.0, label="overall")
         lv = np.column_stack([lv, overall_db])
