@@ -181,7 +181,7 @@ class Housing(eqx.Module):
         translations and rotation vector, in a frame turned by ``frame`` φ (rad) about +z from
         the scene frame) at ``point`` (3,) (m, scene frame) and seat ``seat``'s coordinates q
         (6): the energy ½ dᵀ K_b d of d = u − Q(φ)ᵀ G q (module docstring) is
-        ½ [u; q]ᵀ [[A, B], [Bᵀ, D]] [u; q] with (A, B, D) = (K_b, −K_b G', G'ᵀ K_b G'),
+        ``½ [u; q]ᵀ [[A, B], [Bᵀ, D]] [u; q]`` with (A, B, D) = (K_b, −K_b G', G'ᵀ K_b G'),
         G' = Q(φ)ᵀ G. Returns (A, B, D, G'), each (6, 6). The one seat coupling of the lumped,
         hybrid and planetary scenes (a damping C_b takes the same blocks)."""
         G = self.seat_transform(seat, point)
