@@ -78,6 +78,24 @@ def is_traced(value) -> bool:
     return any(isinstance(x, jax.core.Tracer) for x in jax.tree_util.tree_leaves(value))
 
 
+def checked_on_host(value, failed, message: str):
+    """``value``, raising ``eqx.EquinoxRuntimeError(message)`` where the boolean ``failed`` is
+    true: on the host when ``failed`` is concrete (an ``eqx.error_if`` on concrete values
+    compiles a program holding a Python callback, which the persistent compilation cache does
+    not store), else riding on ``value`` through ``eqx.error_if`` (under a caller's trace)."""
+    if not is_traced(failed):
+        if bool(failed):
+            raise eqx.EquinoxRuntimeError(message)
+        return value
+    return eqx.error_if(value, failed, message)
+
+
+def int_rows(a) -> tuple:
+    """The rows of an integer array as a tuple of tuples of Python ints (hashable: a static
+    argument of a compiled program)."""
+    return tuple(tuple(int(v) for v in row) for row in np.asarray(a))
+
+
 @functools.singledispatch
 def _show(v) -> str:
     """A value for a one-line message: a number as ``%g``, an integer as is, anything else

@@ -36,7 +36,7 @@ import numpy as np
 from jaxtyping import Array, Bool, Complex, Float, Int
 
 from .._contact import ContactLaw, ExactContact, contact_law
-from .._util import check_integer, is_traced
+from .._util import check_integer, checked_on_host, int_rows, is_traced
 from ._lumped import DynamicModel, _prep
 from ._model import AbstractDynamicModel, _rigid_penalty, deviation_periods, mesh_table
 from ._whine_qp import (
@@ -551,7 +551,7 @@ def _quasi_periodic(model, speeds, method, positions, law) -> WhineResponse:
     out_index = np.asarray([where[tuple(h)] for h in out])
     group = np.concatenate([[0], np.repeat(np.arange(len(R)), H)])
     order = np.concatenate([[0], np.tile(np.arange(1, H + 1), len(R))])
-    spec = (tuple(R), _as_tuple(hs), _as_tuple(out), tuple(int(i) for i in out_index),
+    spec = (tuple(R), int_rows(hs), int_rows(out), tuple(int(i) for i in out_index),
             tuple(int(g) for g in group), tuple(int(o) for o in order), tuple(of_mesh))
     response, failed = _whine_torus(model, table, law, spec, jnp.asarray(rows),
                                     jnp.asarray(idx),
@@ -559,17 +559,7 @@ def _quasi_periodic(model, speeds, method, positions, law) -> WhineResponse:
                                     jnp.asarray(basis, model.dtype))
     message = ("whine_response: the static contact solve failed at some points of the torus "
                "grid (no contact or no convergence): check the load and the modifications")
-    # read on the host where concrete (an eqx.error_if on concrete values compiles a program
-    # holding a Python callback, which the persistent compilation cache does not store)
-    if not is_traced(failed):
-        if bool(failed):
-            raise eqx.EquinoxRuntimeError(message)
-        return response
-    return eqx.error_if(response, failed, message)
-
-
-def _as_tuple(a) -> tuple:
-    return tuple(tuple(int(v) for v in row) for row in np.asarray(a))
+    return checked_on_host(response, failed, message)
 
 
 def fractions_of(positions: int, period) -> int:

@@ -36,7 +36,7 @@ import numpy as np
 
 from .._baseplane import CellRow
 from .._contact import AbstractContactLaw, ExactContact, solve_contact
-from .._util import as_float, check_integer, is_traced
+from .._util import as_float, check_integer, checked_on_host, int_rows, is_traced
 from ..dynamics import (
     QuasiPeriodicBalance,
     WhineResponse,
@@ -204,7 +204,7 @@ def gearbox_whine(
     # the static part depends on the speed only through the rotating frames' stiffness
     per_speed = any(bool(np.any(np.asarray(s.speed_terms(as_float(1.0))[1]) != 0.0))
                     for s in chain.stages)
-    spec = (R, _ints(hs), _ints(out), out_index, group_of, per_speed)
+    spec = (R, int_rows(hs), int_rows(out), out_index, group_of, per_speed)
     speeds = jnp.atleast_1d(jnp.asarray(input_speeds, dtype))
     idx = np.stack(np.meshgrid(*[np.arange(r) for r in R], indexing="ij"), -1).reshape(-1, G)
     response, failed = _gearbox_whine(chain, run, law, spec, xs, speeds,
@@ -213,15 +213,9 @@ def gearbox_whine(
                                    group_order=jnp.asarray(order), mesh_group=mesh_group)
     message = ("gearbox_whine: the static contact solve failed at some points of the torus grid "
                "(no contact or no convergence): check the torque and the modifications")
-    if not is_traced(failed):
-        if bool(failed):
-            raise eqx.EquinoxRuntimeError(message)
-        return response
-    return eqx.error_if(response, failed, message)
+    return checked_on_host(response, failed, message)
 
 
-def _ints(a) -> tuple:
-    return tuple(tuple(int(v) for v in row) for row in np.asarray(a))
 
 
 def _travels(stage, R, dtype):
