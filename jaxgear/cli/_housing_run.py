@@ -27,6 +27,7 @@ from ..io import (
     write_csv,
     write_json,
 )
+from ..planetary import PlanetaryModel
 from ._plots import whine_level_plot, whine_order_plot, whine_waterfall_plot
 
 __all__ = ["HousedRun", "housed_run", "housing_outputs", "housing_run_line", "hybrid_seats_line",
@@ -63,7 +64,10 @@ def housed_run(case, model) -> HousedRun | None:
     if housed is None:
         return None
     body = housed.body
-    first = model.scene.structure.node(f"housing {body.condensed.seat_names[0]}")
+    if isinstance(model, PlanetaryModel):  # a housed stage's: the housing's h follow the stage's
+        first = len(model.kind.dof_names(model.stage)) - model.kind.housing.size
+    else:
+        first = model.scene.structure.node(f"housing {body.condensed.seat_names[0]}")
     return HousedRun(body, housed.surface, housed.acoustics, int(first))
 
 

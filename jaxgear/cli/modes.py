@@ -169,7 +169,7 @@ def _(form: case_io.PlanetaryForm, case) -> dict:
         "model": "planetary (lumped)",
         "classification": "Lin & Parker 1999: rotational, translational, planet; 3D (helical): "
         "Eritenel & Parker 2009: rotational-axial, translational-tilting, planet",
-        **{name: mode_list(model, stage) for name, model in mode_models(stage).items()},
+        **{name: mode_list(model, stage) for name, model in mode_models(stage, case).items()},
     }
 
 

@@ -25,6 +25,7 @@ import fem_prep
 from .. import contact_pressure, quasi_static
 from ..planetary import (
     ConstantMeshes,
+    HousedPlanetary,
     ModeType,
     PlanarPlanetary,
     SpatialPlanetary,
@@ -39,7 +40,7 @@ from ..planetary import (
     planetary_quasi_static,
     ring_resonances,
 )
-from ..io import ratings_of, write_csv, write_json
+from ..io import planetary_kind, ratings_of, write_csv, write_json
 from ._planetary_hunting_run import hunting_line, hunting_section
 from ._planetary_rating import (
     K_GAMMA_SOURCE,
@@ -71,6 +72,8 @@ __all__ = [
     "measured_k_h_alpha",
     "measured_k_v",
     "mesh_sections",
+    "housing_modes_summary",
+    "housing_shares",
     "mode_list",
     "mode_models",
     "phases_summary",
@@ -98,32 +101,45 @@ __all__ = [
 MODELS = {"planar": PlanarPlanetary(), "torsional": TorsionalPlanetary()}
 
 
-def mode_models(stage) -> dict:
+def _of_case(models: dict, case) -> dict:
+    """``models`` ({name: kind}) as ``case`` runs them (:func:`jaxgear.io.planetary_kind`: on
+    its ``[housing]`` where it has one); ``case`` None: as given."""
+    if case is None:
+        return models
+    return {name: planetary_kind(case, model) for name, model in models.items()}
+
+
+def mode_models(stage, case=None) -> dict:
     """The models whose modes a run lists, by name: :data:`MODELS`, and for a helical stage
     (``stage.helix_angle`` != 0) also ``"spatial"``, the 3D lumped model
     (:class:`jaxgear.SpatialPlanetary`: axial and tilting modes, which the planar model lacks).
     Its load sharing, face load and sweep: :func:`spatial_model` (where its supports hold the
-    stage, where the rating takes its K_γ too: :func:`rating_k_gamma`)."""
+    stage, where the rating takes its K_γ too: :func:`rating_k_gamma`). With ``case``, each as
+    the case runs it (:func:`jaxgear.io.planetary_kind`: a housed case's on its housing)."""
     if float(stage.helix_angle) == 0.0:
-        return MODELS
-    return {**MODELS, "spatial": SpatialPlanetary()}
+        return _of_case(MODELS, case)
+    return _of_case({**MODELS, "spatial": SpatialPlanetary()}, case)
 
 
-def spatial_model(spec, stage) -> SpatialPlanetary | None:
+def spatial_model(spec, stage, case=None):
     """The 3D lumped model (:class:`jaxgear.SpatialPlanetary`) for a helical stage whose axial
     and tilting supports hold the load-sharing stage (:meth:`~jaxgear.io.PlanetarySpec.
     sharing_stage`; the model's choice, :func:`jaxgear.planetary.planetary_model_for`); None
     for a spur stage or one whose supports are not given (the case keys ``axial_N_per_um``,
-    ``tilt_Nm_per_rad``, ``pin_axial_N_per_um``, ``pin_tilt_Nm_per_rad``)."""
+    ``tilt_Nm_per_rad``, ``pin_axial_N_per_um``, ``pin_tilt_Nm_per_rad``). With ``case``, as
+    the case runs it (:func:`jaxgear.io.planetary_kind`: a housed case's on its housing)."""
     model = planetary_model_for(spec.sharing_stage(stage))
-    return model if isinstance(model, SpatialPlanetary) else None
+    if not isinstance(model, SpatialPlanetary):
+        return None
+    return model if case is None else planetary_kind(case, model)
 
 
-def sharing_models(spec, stage) -> dict:
+def sharing_models(spec, stage, case=None) -> dict:
     """The models of the run's load sharing, by name: :data:`MODELS`, and ``"spatial"`` where
-    :func:`spatial_model` gives it."""
+    :func:`spatial_model` gives it; with ``case``, each as the case runs it
+    (:func:`jaxgear.io.planetary_kind`: a housed case's on its housing)."""
     model = spatial_model(spec, stage)
-    return MODELS if model is None else {**MODELS, "spatial": model}
+    return _of_case(MODELS if model is None else {**MODELS, "spatial": model}, case)
 
 
 #: the mesh-frequency harmonics drawn on the Campbell diagram
@@ -145,7 +161,7 @@ def planetary_files(form, case, out: str, args, complete: bool,
     speeds = spec.speeds(case.speed)
     torques = spec.torques(case.torque)
     k_s, k_r = (float(np.max(np.asarray(k))) for k in stage.mesh_stiffnesses())
-    models = sharing_models(spec, stage)
+    models = sharing_models(spec, stage, case)  # a housed case's on its housing
     summary = {
         "case": case.name,
         "complete": bool(complete),
@@ -179,14 +195,15 @@ def planetary_files(form, case, out: str, args, complete: bool,
     if spec.unbalanced:
         summary["unbalances"] = unbalance_summary(spec)
     if float(stage.helix_angle) != 0.0:  # a helical stage: the 3D model's face load
-        summary["face_load"] = face_load_section(spec, stage, torques)
-    modes = {name: mode_list(model, stage) for name, model in mode_models(stage).items()}
+        summary["face_load"] = face_load_section(spec, stage, torques, case)
+    modes = {name: mode_list(model, stage) for name, model in mode_models(stage, case).items()}
     write_json(os.path.join(out, "modes.json"), {"case": case.name, **modes})
     summary["modes"] = {
         "file": "modes.json",
         **{f"{name}_lowest_Hz": lowest_frequency(v) for name, v in modes.items()},
         **{f"{name}_type_counts": type_counts(modes[name]) for name in ("planar", "spatial")
            if name in modes},
+        **housing_modes_summary(modes),
     }
     summary["campbell"] = campbell_section(case, spec, stage, os.path.join(out, "campbell.png"))
     if spec.ring_model.flexible:
@@ -260,14 +277,15 @@ def sharing_summary(spec, stage, torques: dict, models: dict = MODELS) -> dict:
     return out
 
 
-def face_load_section(spec, stage, torques: dict) -> dict:
+def face_load_section(spec, stage, torques: dict, case=None) -> dict:
     """A helical stage's face load (``summary.json``'s ``face_load``): the 3D model
     (:class:`jaxgear.SpatialPlanetary`) solved with one unilateral spring per mesh spread over
     the face (:class:`jaxgear.ConstantMeshes` at two Gauss points, the stage's mesh stiffness),
     the stage of the load sharing, the sun's torque and the pin errors, at the mesh travel 0:
     each mesh's transverse force, its face load factor K_Hβ (ISO 6336-1's linear distribution
-    across the face, from the members' tilts and the helical meshes' axial forces) and K_γ."""
-    model = spatial_model(spec, stage)
+    across the face, from the members' tilts and the helical meshes' axial forces) and K_γ.
+    ``case``: the 3D model as the case runs it (:func:`spatial_model`)."""
+    model = spatial_model(spec, stage, case)
     if model is None:
         return {"skipped": "the 3D model's axial and tilting supports do not hold the stage: "
                 "give every member's axial_N_per_um and tilt_Nm_per_rad and the planets' "
@@ -478,12 +496,55 @@ def phases_summary(spec) -> dict:
 
 
 def mode_list(model, stage) -> list:
+    """``modes.json``'s list of ``model``'s modes of ``stage``: each one's frequency, type and
+    multiplicity (:func:`jaxgear.planetary.classify_modes`); a
+    :class:`~jaxgear.planetary.HousedPlanetary`'s also ``housing_kinetic_energy_share``
+    (:func:`housing_shares`), and a mode whose share exceeds :data:`HOUSING_DOMINATED` is
+    typed ``"housing"`` (the classifier's types are the stage's symmetry classes, which a
+    mode of the box alone has not)."""
     m = planetary_modes(model, stage)
     types = classify_modes(m, model, stage)
+    share = housing_shares(model, stage, m.shapes)
     return [
-        {"frequency_Hz": float(f), "type": t.value, "multiplicity": int(k)}
-        for f, (t, k) in zip(np.asarray(m.frequencies), types, strict=True)
+        {"frequency_Hz": float(f), "multiplicity": int(k),
+         "type": "housing" if share is not None and share[i] > HOUSING_DOMINATED else t.value,
+         **({} if share is None else {"housing_kinetic_energy_share": float(share[i])})}
+        for i, (f, (t, k)) in enumerate(zip(np.asarray(m.frequencies), types, strict=True))
     ]
+
+
+def housing_shares(model, stage, shapes) -> np.ndarray | None:
+    """Each mode's (columns of ``shapes``, (n + h, m)) share of its kinetic energy in the
+    housing of a :class:`~jaxgear.planetary.HousedPlanetary` ``model``: e_i = Σ_{j ∈ housing}
+    φ_ji (M φ_i)_j / φ_iᵀ M φ_i over the housing's h coordinates (the last h: its seats' and
+    its modal ones), M the model's mass matrix (the stage's and the housing's M_h, which do not
+    couple: their coupling is in K); None for an unhoused kind."""
+    if not isinstance(model, HousedPlanetary):
+        return None
+    phi = np.asarray(shapes)
+    energy = phi * (np.asarray(model.mass_matrix(stage)) @ phi)
+    h = int(model.housing.size)
+    return energy[-h:].sum(axis=0) / energy.sum(axis=0)
+
+
+#: a mode is the housing's where its kinetic energy share there exceeds this
+HOUSING_DOMINATED = 0.5
+
+
+def housing_modes_summary(modes: dict) -> dict:
+    """``summary.json``'s ``modes`` keys of a housed stage (``modes``: {name: mode list} with
+    ``housing_kinetic_energy_share``; {} without): per model the number of modes whose
+    kinetic energy lies mostly in the housing (share > :data:`HOUSING_DOMINATED`) and the
+    lowest of them (Hz; None where none)."""
+    out = {}
+    for name, v in modes.items():
+        if not any("housing_kinetic_energy_share" in m for m in v):
+            continue
+        housed = [m["frequency_Hz"] for m in v
+                  if m["housing_kinetic_energy_share"] > HOUSING_DOMINATED]
+        out[f"{name}_housing_dominated"] = len(housed)
+        out[f"{name}_lowest_housing_dominated_Hz"] = min(housed, default=None)
+    return out
 
 
 def lowest_frequency(modes: list) -> float | None:
@@ -499,6 +560,7 @@ def type_counts(modes: list) -> dict:
     out = {t.value: 0 for t in ModeType}
     seen = set()
     for m in modes:
+        out.setdefault(m["type"], 0)  # "housing": a housed stage's (mode_list)
         key = (m["type"], round(m["frequency_Hz"], 6))
         if key not in seen:
             seen.add(key)
@@ -510,16 +572,20 @@ def campbell_section(case, spec, stage, path: str) -> dict:
     """The planar model's frequencies in the carrier frame against the input speed (Coriolis
     and centripetal terms at the carrier speed), the output held in rotation
     (:meth:`~jaxgear.io.PlanetarySpec.held_stage`: the free mechanism mode would diverge under
-    the centripetal term), with the mesh orders k z_s |ω_s − ω_c|/(2π); drawn into ``path``."""
+    the centripetal term), with the mesh orders k z_s |ω_s − ω_c|/(2π); drawn into ``path``.
+    The planar model as the case runs it (:func:`jaxgear.io.planetary_kind`: a housed case's on
+    its housing, whose coordinates do not turn)."""
     per_input = spec.speeds(1.0)  # every speed per rad/s of the input
     f_mesh = spec.mesh_frequency(1.0)  # Hz per rad/s of the input
-    f0 = np.asarray(planetary_modes(MODELS["planar"], stage).frequencies)
+    model = planetary_kind(case, MODELS["planar"])
+    housed = model is not MODELS["planar"]
+    f0 = np.asarray(planetary_modes(model, stage).frequencies)
     nonzero = f0[f0 > RIGID_SHARE * max(f0.max(), 1.0)]
     reach = nonzero[min(1, nonzero.size - 1)] * 1.2 / f_mesh if nonzero.size else 1.0
     top = max(1.5 * case.speed, reach)
     inputs = np.linspace(0.0, top, CAMPBELL_SPEEDS)
     held = spec.held_stage(stage)
-    freqs = np.asarray(campbell(MODELS["planar"], held, inputs * per_input["carrier"]))
+    freqs = np.asarray(campbell(model, held, inputs * per_input["carrier"]))
     fig, ax = new_figure()
     for j in range(freqs.shape[1]):
         ax.plot(
@@ -527,7 +593,8 @@ def campbell_section(case, spec, stage, path: str) -> dict:
             freqs[:, j],
             color="0.3",
             lw=0.8,
-            label="natural frequencies (planar)" if j == 0 else None,
+            label=(f"natural frequencies (planar{', on the housing' if housed else ''})"
+                   if j == 0 else None),
         )
     for k in MESH_ORDERS:
         ax.plot(
@@ -556,6 +623,7 @@ def campbell_section(case, spec, stage, path: str) -> dict:
         "carrier_speeds_rad_s": (inputs * per_input["carrier"]).tolist(),
         "mesh_frequency_per_input_rad_s_Hz": f_mesh,
         "held": spec.output.name.lower(),
+        "model": "planar" + (" on the housing" if housed else ""),
     }
 
 
@@ -623,7 +691,11 @@ def planetary_lines(form, case, summary: dict) -> list[str]:
         f"lowest natural frequency: planar {m['planar_lowest_Hz']:.5g} Hz, torsional "
         f"{m['torsional_lowest_Hz']:.5g} Hz; planar mode types "
         + ", ".join(f"{k} {v}" for k, v in m["planar_type_counts"].items() if v)
-        + " (modes.json, campbell.png)",
+        + " (modes.json, campbell.png)"
+        + ("" if "planar_housing_dominated" not in m else
+           f"; on the housing: {m['planar_housing_dominated']} planar modes mostly the "
+           "housing's" + ("" if m["planar_lowest_housing_dominated_Hz"] is None else
+                          f", the lowest {m['planar_lowest_housing_dominated_Hz']:.5g} Hz")),
     ]
     fl = summary.get("face_load", {})
     if fl.get("k_h_beta") is not None:

@@ -28,8 +28,8 @@ from ._planetary_rating import (
 from ._stress_outputs import fillet_table
 from .planetary import sharing_models
 from .planetary_sweep import (
-    MODEL_WORDS,
     _plan,
+    model_words,
     planetary_run,
     planetary_run_files,
 )
@@ -66,9 +66,9 @@ def run_at_speed(form, case, speed: float, steps_per_period: int | None = None,
                    outputs=Outputs(cell_loads=True))
     meshes = model.meshes
     full = spec.stage(case)
-    words = {"model": MODEL_WORDS[type(model.kind)], "ring": spec.ring_model.words(),
+    words = {"model": model_words(model.kind), "ring": spec.ring_model.words(),
              "periods": window.periods, "keep": window.keep_periods, "speed": float(speed)}
-    return stage_at_speed(case, spec, full, sharing_models(spec, full), dyn, meshes, words,
+    return stage_at_speed(case, spec, full, sharing_models(spec, full, case), dyn, meshes, words,
                           spec.ring_model.ring())
 
 

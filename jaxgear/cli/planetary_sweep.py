@@ -60,6 +60,7 @@ from ..dynamics import (
 from ..io import CaseWarning, build_dynamic_model, write_json
 from ..planetary import (
     NO_EXCITATION_TOL,
+    HousedPlanetary,
     PlanarPlanetary,
     PlanetaryModel,
     PlanetaryRun,
@@ -96,6 +97,7 @@ __all__ = [
     "RUN_SWEEP_FILES",
     "SPECTRUM_SIDEBANDS",
     "SWEEP_FILES",
+    "model_words",
     "planetary_run",
     "planetary_run_files",
     "planetary_run_lines",
@@ -135,6 +137,14 @@ MODEL_WORDS = {
     PlanarPlanetary: "planar (carrier frame)",
     SpatialPlanetary: "3D lumped (carrier frame, the spin's gyroscopic moments)",
 }
+
+
+def model_words(kind) -> str:
+    """The sweep's model kind in words (:data:`MODEL_WORDS`; a
+    :class:`~jaxgear.planetary.HousedPlanetary`'s: its base kind's, on the housing)."""
+    if isinstance(kind, HousedPlanetary):
+        return MODEL_WORDS[type(kind.model)] + ", the held member on the housing's seat"
+    return MODEL_WORDS[type(kind)]
 
 
 def run_speeds(case) -> np.ndarray:
@@ -340,7 +350,7 @@ def sweep_summary(
     summary = {
         "case": case.name,
         "kind": "planetary",
-        "model": MODEL_WORDS[type(model)],
+        "model": model_words(model),
         "ring_model": spec.ring_model.words(),
         "meshes": type(meshes).__name__,
         "speed_of": f"input ({spec.input.name.lower()})",

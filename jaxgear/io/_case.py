@@ -521,9 +521,10 @@ class Case(MeshSettings):
         """The case's ``[housing]`` (:attr:`housing`) round the bearings of its lumped 3D scene
         (a pair's ``scene``, default ``[scene]``: its two shafts' axes through the line of
         action's centres; a train's ``[[scene.shafts]]``, each axis through its first gear's
-        layout centre), as a :class:`~jaxgear.io.HousingBody`: the mesh, the
-        condensed housing (cached) and the scene's :class:`jaxgear.scenes.Housing`
-        (docs/housing.md).
+        layout centre; a planetary stage's, which has no scene, the box round the stage axis,
+        docs/planetary.md "In a case file"), as a
+        :class:`~jaxgear.io.HousingBody`: the mesh, the condensed housing (cached) and the
+        scene's :class:`jaxgear.scenes.Housing` (docs/housing.md).
 
         Raises:
             ValueError: the case has no ``[housing]``.
@@ -532,6 +533,10 @@ class Case(MeshSettings):
 
         if self.housing is None:
             raise ValueError(f"case {self.name!r}: no [housing] table")
+        if scene is None and self.scene is None:  # a planetary stage's (no [scene] to hold
+            from ._housing_table import stage_housing  # a housing otherwise: case_housing)
+
+            return stage_housing(self.housing, cache=cache)
         shafts, positions = self._bearing_layout(self.scene if scene is None else scene)
         return housing_body(self.housing, shafts, positions, cache=cache)
 

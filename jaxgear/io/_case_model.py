@@ -32,7 +32,8 @@ from ._case import Case, PairForm, TrainForm
 from ._planetary_spec import InternalMeshForm, PlanetaryForm
 from ._scene_spec import SceneSpec, load_bodies, spec_damping
 
-__all__ = ["PAIR_SCENES", "build_dynamic_model", "quasi_static_scene", "static_scene"]
+__all__ = ["PAIR_SCENES", "build_dynamic_model", "planetary_kind", "quasi_static_scene",
+           "static_scene"]
 
 
 def build_dynamic_model(
@@ -116,12 +117,7 @@ def _planetary_model(form: PlanetaryForm, case: Case, spec: SceneSpec, slices, b
     kind = planetary_model_for(stage)
     if isinstance(kind, SpatialPlanetary) and not case.pairs:
         meshes = ConstantMeshes(meshes.base_pitch, face_points=kind.face_points)
-    if case.housing is not None:  # [housing]: the held member bolted to a seat
-        from ._housing_table import stage_housing
-
-        held = p.fixed.name.lower()
-        kind = HousedPlanetary(kind, stage_housing(case.housing).housing,
-                               seats=((held, p.housing_seat),), carrier_held=held == "carrier")
+    kind = planetary_kind(case, kind)  # [housing]: the held member bolted to a seat
     run = PlanetaryRun(
         abs(p.torques(case.torque)["sun"]),
         tangential_pin_errors=np.asarray(p.tangential_pin_errors),
@@ -136,6 +132,32 @@ def _planetary_model(form: PlanetaryForm, case: Case, spec: SceneSpec, slices, b
         mesh_speed_per_input=p.mesh_speed(1.0),
         ring=p.ring_model.dynamic_ring(),
     )
+
+
+def planetary_kind(case: Case, kind):
+    """The planetary model kind ``kind`` (:class:`~jaxgear.TorsionalPlanetary`,
+    :class:`~jaxgear.PlanarPlanetary`, :class:`~jaxgear.SpatialPlanetary`) as a planetary
+    case runs it: unchanged without a ``[housing]``; with one, a
+    :class:`~jaxgear.planetary.HousedPlanetary` of it on the case's housing
+    (:meth:`Case.housing_body`: the box round the stage axis), the held member (``[planetary]
+    fixed``) bolted to the seat ``[planetary] housing_seat`` (a held carrier by every support:
+    ``carrier_held``). The one place a planetary case's kinds get their housing: the dynamic
+    model (:func:`build_dynamic_model`) and ``jaxgear run``'s modes, load sharing and Campbell
+    diagram all take theirs from here.
+
+    Raises:
+        TypeError: ``case`` not a planetary stage's (its form not a
+            :class:`~jaxgear.io.PlanetaryForm`).
+    """
+    if not isinstance(case.form, PlanetaryForm):
+        raise TypeError(f"planetary_kind: case {case.name!r} is a "
+                        f"{type(case.form).__name__} case, allowed a planetary stage's")
+    if case.housing is None:
+        return kind
+    held = case.form.spec.fixed.name.lower()
+    return HousedPlanetary(kind, case.housing_body().housing,
+                           seats=((held, case.form.spec.housing_seat),),
+                           carrier_held=held == "carrier")
 
 
 #: a planetary stage's refusal of the scene-based static solves (:func:`static_scene`), one
