@@ -1,0 +1,137 @@
+"""``jaxgear run`` on a housed planetary case (a planetary case with ``[housing]``): its
+modes.json, load sharing and Campbell diagram come from the case's HousedPlanetary kinds
+(jaxgear.io.planetary_kind), not the grounded ones. Evidence, on lin-parker-1999 in a small box
+round the stage: (1) the run's planar and torsional modes are those of a HousedPlanetary built
+here from the public API, solved by SciPy's generalized eigensolver, and each mode's housing
+kinetic energy share is that eigensolver's φ_hᵀ M_hh φ_h; (2) the same box 1000 x stiffer gives
+the grounded case's modes (below 20 kHz) within 1e-4 (the ring's 1e9 N/m torsional support in
+series with the box), and the static load sharing is the grounded one's in any box; (3) the steel box adds modes whose kinetic energy is
+mostly the housing's, which the grounded run has not."""
+
+import argparse
+import json
+
+import numpy as np
+import pytest
+import scipy.linalg as sla
+
+import jaxgear as jg
+import jaxgear.io as jio
+import jaxgear.planetary as jp
+from jaxgear.cli.planetary import planetary_files
+
+# a 500 x 500 x 200 mm box of 10 mm walls round the stage, a 300 mm bore in each end wall,
+# coarse Tet4 cells (tests/test_planetary_housing.py's case-file box)
+HOUSING = """
+[housing]
+width_mm = 500.0
+height_mm = 500.0
+wall_thickness_mm = 10.0
+length_mm = 200.0
+bore_diameter_mm = 300.0
+mesh_size_mm = 60.0
+element = "tet4"
+youngs_modulus_GPa = {E}
+cutoff_Hz = {fc}
+"""
+STEEL = HOUSING.format(E=210.0, fc=3000.0)
+STIFF = HOUSING.format(E=210e3, fc=3000.0 * np.sqrt(1000.0))  # the same kept modes
+PIN = "tangential_pin_errors_um = [10.0, 0.0, 0.0]\n"
+
+
+def _case(tmp_path, name, table=""):
+    text = jio.embedded_case_text("lin-parker-1999").replace(
+        'fixed = "ring"\n', 'fixed = "ring"\n' + PIN)
+    path = tmp_path / f"{name}.toml"
+    path.write_text(text + table)
+    return jio.load_case(str(path))
+
+
+def _run(tmp_path, name, table=""):
+    """The planetary run's files of the case (the writer ``jaxgear run`` calls after its
+    sweep): (case, summary, modes.json)."""
+    case = _case(tmp_path, name, table)
+    out = tmp_path / name
+    out.mkdir()
+    summary = planetary_files(case.form, case, str(out), argparse.Namespace(quiet=True), True)
+    return case, summary, json.loads((out / "modes.json").read_text())
+
+
+@pytest.fixture(scope="module")
+def runs(tmp_path_factory):
+    tmp = tmp_path_factory.mktemp("housed_run")
+    return {name: _run(tmp, name, table)
+            for name, table in (("grounded", ""), ("steel", STEEL), ("stiff", STIFF))}
+
+
+def test_run_modes_are_the_housed_models(runs):
+    """modes.json of the housed run against an independent solve: the HousedPlanetary of the
+    base kinds on the case's housing (the ring on seat 0), K and M handed to
+    scipy.linalg.eigh; frequencies to 1e-8 (above 1 Hz), and each non-degenerate mode's housing
+    kinetic energy share (the M-normalised shape's φ_hᵀ M_hh φ_h) to 1e-6."""
+    case, summary, modes = runs["steel"]
+    housing = case.housing_body().housing
+    stage = case.form.spec.stage(case)
+    for name, base in (("planar", jg.PlanarPlanetary()), ("torsional", jg.TorsionalPlanetary())):
+        kind = jp.HousedPlanetary(base, housing, seats=(("ring", 0),))
+        M = np.asarray(kind.mass_matrix(stage))
+        K = np.asarray(kind.stiffness_matrix(stage))
+        lam, phi = sla.eigh(K, M)
+        f = np.sqrt(np.clip(lam, 0.0, None)) / (2 * np.pi)
+        h = housing.size
+        share = np.einsum("ji,ji->i", phi[-h:], M[-h:, -h:] @ phi[-h:])
+        listed = modes[name]
+        got = np.array([m["frequency_Hz"] for m in listed])
+        assert got.size == f.size == K.shape[0]
+        above = f > 1.0
+        np.testing.assert_allclose(got[above], f[above], rtol=1e-8)
+        gap = np.diff(f)
+        single = above & np.r_[gap > 1e-6 * f[1:], True] & np.r_[True, gap > 1e-6 * f[1:]]
+        shares = np.array([m["housing_kinetic_energy_share"] for m in listed])
+        np.testing.assert_allclose(shares[single], share[single], atol=1e-6)
+        assert all((m["type"] == "housing") == (m["housing_kinetic_energy_share"] > 0.5)
+                   for m in listed)
+    assert summary["campbell"]["model"] == "planar on the housing"
+
+
+def test_stiff_box_gives_the_grounded_run(runs):
+    """The box 1000 x stiffer: every grounded mode below 20 kHz (planar and torsional) is met
+    by a housed one within 1e-4 (measured 3.9e-5 planar, 4.4e-5 torsional: the box in series
+    with the ring's 1e9 N/m support). The load sharing with a 10 µm pin error is the grounded
+    one's to 1e-9 of the nominal force in either box: the housing only lets the ring turn about
+    the axis (its in-plane supports stay grounded), and a rigid turn of the ring moves every
+    planet's meshes alike, so the static split among the planets cannot change (measured
+    2e-15)."""
+    _, g_sum, g_modes = runs["grounded"]
+    _, s_sum, s_modes = runs["stiff"]
+    steel = runs["steel"][1]
+    for name in ("planar", "torsional"):
+        f0 = np.array([m["frequency_Hz"] for m in g_modes[name]])
+        f1 = np.array([m["frequency_Hz"] for m in s_modes[name]])
+        for f in f0[(f0 > 1.0) & (f0 < 2e4)]:
+            assert np.min(np.abs(f1 / f - 1)) < 1e-4, (name, f)
+        assert "housing_kinetic_energy_share" not in g_modes[name][0]
+    for name in ("planar", "torsional"):
+        g = g_sum["load_sharing"][name]
+        nominal = np.mean(g["sun_mesh_forces_N"])
+        for s in (s_sum["load_sharing"][name], steel["load_sharing"][name]):
+            for key in ("sun_mesh_forces_N", "ring_mesh_forces_N"):
+                np.testing.assert_allclose(s[key], g[key], rtol=0, atol=1e-9 * nominal)
+            assert abs(s["k_gamma"] - g["k_gamma"]) < 1e-9
+        assert g["k_gamma"] > 1.01  # the pin error shows
+
+
+def test_steel_box_adds_housing_modes(runs):
+    """The steel box: modes whose kinetic energy is mostly the housing's (share > 0.5, typed
+    "housing") below the box's cut-off, which the grounded run has not; the summary counts
+    them and the grounded stage's own modes keep their types."""
+    _, g_sum, g_modes = runs["grounded"]
+    _, s_sum, s_modes = runs["steel"]
+    housing = [m for m in s_modes["planar"] if m["type"] == "housing"]
+    assert len(housing) >= 3 and min(m["frequency_Hz"] for m in housing) < 3000.0
+    assert all(m["housing_kinetic_energy_share"] > 0.5 for m in housing)
+    assert not any(m["type"] == "housing" for m in g_modes["planar"])
+    assert s_sum["modes"]["planar_housing_dominated"] == len(housing)
+    assert "planar_housing_dominated" not in g_sum["modes"]
+    assert s_sum["modes"]["planar_type_counts"]["housing"] == len(
+        {round(m["frequency_Hz"], 6) for m in housing})
