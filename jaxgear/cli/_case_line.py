@@ -61,6 +61,7 @@ def _(form: PlanetaryForm, case: Case) -> str:
         f"planetary z {teeth}, {form.spec.n_planets} planets, {form.spec.fixed.name.lower()} "
         f"fixed, {form.spec.input.name.lower()} → {form.spec.output.name.lower()}, "
         f"T {case.torque:g} N·m (input)"
+        + (" on a flexible housing" if case.housing is not None else "")
     )
 
 

@@ -88,6 +88,14 @@ CASE_INDEX: dict[str, tuple[str, str, float, float, bool]] = {
         37,
         False,
     ),
+    "nrel-5mw-planetary-housed": (
+        "planetary z 19/17/-56, 3 planets, ring fixed, carrier → sun, T 3.946e+06 N·m (input) "
+        "on a flexible housing",
+        "-",
+        77,
+        45,
+        False,
+    ),
     "nrel-5mw-stage2": (
         "planetary z 18/36/-93, 3 planets, ring fixed, carrier → sun, T 999650 N·m (input)",
         "yes",

@@ -28,6 +28,7 @@ from ..planetary import (
     HousedPlanetary,
     ModeType,
     PlanarPlanetary,
+    PlanetaryModes,
     SpatialPlanetary,
     TorsionalPlanetary,
     Unbalances,
@@ -503,7 +504,7 @@ def mode_list(model, stage) -> list:
     typed ``"housing"`` (the classifier's types are the stage's symmetry classes, which a
     mode of the box alone has not)."""
     m = planetary_modes(model, stage)
-    types = classify_modes(m, model, stage)
+    types = classify_modes(*_stage_part(m, model, stage), stage)
     share = housing_shares(model, stage, m.shapes)
     return [
         {"frequency_Hz": float(f), "multiplicity": int(k),
@@ -511,6 +512,19 @@ def mode_list(model, stage) -> list:
          **({} if share is None else {"housing_kinetic_energy_share": float(share[i])})}
         for i, (f, (t, k)) in enumerate(zip(np.asarray(m.frequencies), types, strict=True))
     ]
+
+
+def _stage_part(modes, model, stage) -> tuple:
+    """(modes, kind) that :func:`~jaxgear.planetary.classify_modes` types: ``model``'s own,
+    or a :class:`~jaxgear.planetary.HousedPlanetary`'s shapes on the stage's coordinates with
+    its base kind. The housing joins the held member's rotation about the axis (and motion
+    along it), coordinates of the rotational class, so a mode's stage part keeps the class of
+    the whole; a mode that is mostly the housing's is typed ``"housing"`` after
+    (:func:`mode_list`)."""
+    if not isinstance(model, HousedPlanetary):
+        return modes, model
+    n = len(model.model.dof_names(stage))
+    return PlanetaryModes(modes.frequencies, modes.shapes[:n]), model.model
 
 
 def housing_shares(model, stage, shapes) -> np.ndarray | None:
@@ -623,7 +637,7 @@ def campbell_section(case, spec, stage, path: str) -> dict:
         "carrier_speeds_rad_s": (inputs * per_input["carrier"]).tolist(),
         "mesh_frequency_per_input_rad_s_Hz": f_mesh,
         "held": spec.output.name.lower(),
-        "model": "planar" + (" on the housing" if housed else ""),
+        **({"model": "planar on the housing"} if housed else {}),
     }
 
 
