@@ -135,3 +135,18 @@ def test_steel_box_adds_housing_modes(runs):
     assert "planar_housing_dominated" not in g_sum["modes"]
     assert s_sum["modes"]["planar_type_counts"]["housing"] == len(
         {round(m["frequency_Hz"], 6) for m in housing})
+
+
+def test_planetary_kind(runs):
+    """jaxgear.io.planetary_kind: a grounded case's kind as given; a housed case's a
+    HousedPlanetary of it with the held ring on seat ``housing_seat`` (its axis rows only); a
+    case that is not a planetary stage's refused in one line."""
+    kind = jg.SpatialPlanetary()
+    grounded, steel = runs["grounded"][0], runs["steel"][0]
+    assert jio.planetary_kind(grounded, kind) is kind
+    housed = jio.planetary_kind(steel, kind)
+    assert isinstance(housed, jp.HousedPlanetary) and housed.model is kind
+    assert housed.seats == (("ring", 0),) and not housed.carrier_held
+    with pytest.raises(TypeError, match="planetary_kind") as e:
+        jio.planetary_kind(jio.load_case("power-helical"), kind)
+    assert "\n" not in str(e.value)

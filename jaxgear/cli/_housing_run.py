@@ -1,6 +1,7 @@
-"""``jaxgear run``'s housing outputs, for a pair or train case with ``[housing]`` and
+"""``jaxgear run``'s housing outputs, for a pair, train or planetary case with ``[housing]`` and
 ``[whine]`` (docs/housing.md, "In jaxgear run"): the housing is a body of the case's lumped 3D
-scene, so the whine response holds its condensed coordinates; their full-field recovery on the
+scene (a planetary stage's: of its :class:`~jaxgear.planetary.HousedPlanetary` kind, its
+coordinates after the stage's), so the whine response holds its condensed coordinates; their full-field recovery on the
 outer skin (:func:`jaxgear.acoustics.housing_vibration`, the path the one-way
 :func:`~jaxgear.acoustics.housing_response` ends in) gives the normal velocity at the named
 points of ``[housing.points_mm]`` and the equivalent radiated power per order and speed. Into
