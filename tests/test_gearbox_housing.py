@@ -167,7 +167,7 @@ def test_two_stages_in_one_housing_match_a_hand_assembly(steel):
     names = gb.coordinate_names(housed)
     n1, n2 = (s.scene.structure.size for s in grounded.stages)
     assert len(names) == n1 + n2 + h
-    assert names[n1 + n2] == "housing:seat0 u_x" and names[-1].startswith("housing:mode")
+    assert names[n1 + n2] == "housing seat0 u_x" and names[-1].startswith("housing mode")
     M, K = _hand_assembly(steel, grounded)
     w2 = sla.eigh(K, M, eigvals_only=True)
     f_ref = np.sqrt(np.maximum(w2, 0.0)) / (2 * math.pi)
@@ -233,6 +233,31 @@ def test_shared_housing_run_balances_the_bearing_forces(steel):
             np.testing.assert_allclose(np.linalg.norm(f_shaft), F[k], rtol=1e-3)
     print("shared housing: net bearing force / mesh force", np.linalg.norm(total) / F.max())
     assert np.linalg.norm(total) < 1e-4 * F.max()
+
+
+def test_housing_coordinates_have_one_name_on_every_path(steel):
+    """The housing's coordinates are named alike by the housing itself
+    (``Housing.coordinate_names``), a lumped scene's structure nodes (``"housing <seat>"`` at
+    each seat's first coordinate), a housed planetary stage's ``dof_names`` and the coupled
+    gearbox's ``coordinate_names``; the spelling checked here word by word."""
+    housed, grounded, housings = _chains(steel)
+    h = housings[0]
+    names = h.coordinate_names()
+    n_seats = len(steel.seat_names)
+    expected = tuple(f"housing {s} {d}" for s in steel.seat_names
+                     for d in ("u_x", "u_y", "u_z", "phi_x", "phi_y", "phi_z"))
+    expected += tuple(f"housing mode {k}" for k in range(1, steel.K.shape[0] - 6 * n_seats + 1))
+    assert names == expected
+    n_own = sum(s.scene.structure.size for s in grounded.stages)
+    assert gb.coordinate_names(housed)[n_own:] == names
+    st = housed.stages[0].scene.structure
+    nodes = {key: first for key, first in st.nodes if key.startswith("housing ")}
+    first = st.size - h.size
+    assert nodes == {names[6 * k].rsplit(" ", 1)[0]: first + 6 * k for k in range(n_seats)}
+    planetary = EX.two_stage()[0].stages[0].stage
+    model = jg.planetary.HousedPlanetary(jg.TorsionalPlanetary(), h)
+    own = jg.TorsionalPlanetary().dof_names(planetary)
+    assert model.dof_names(planetary) == tuple(own) + names
 
 
 def test_shared_housing_bad_input_one_line(steel):

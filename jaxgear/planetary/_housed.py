@@ -94,8 +94,9 @@ class HousedPlanetary(AbstractPlanetaryModel):
             Ω = 0): every support of the joined members joins its seat. False (default): only
             the torsional support (θ_z) and, in the 3D model, the axial one (z).
 
-    Coordinates: ``model.dof_names`` then ``"housing <seat> u_x" .. "housing <seat>
-    theta_z"`` per seat and ``"housing mode <k>"`` per kept interior mode. The joined springs'
+    Coordinates: ``model.dof_names`` then the housing's
+    (:meth:`~jaxgear.scenes.Housing.coordinate_names`: ``"housing <seat> u_x" .. "housing
+    <seat> phi_z"`` per seat and ``"housing mode <k>"`` per kept interior mode). The joined springs'
     reactions (:func:`~jaxgear.planetary.support_reactions`) are what the member puts on its
     seat: the ring's reaction torque k_θ (θ_r − θ_seat) about the axis.
 
@@ -222,11 +223,7 @@ class HousedPlanetary(AbstractPlanetaryModel):
         return _pad(self.model.reduction(stage), self.housing.size)
 
     def dof_names(self, stage):
-        h = self.housing
-        seats = tuple(f"housing {name} {c}" for name in h.seat_names
-                      for c in ("u_x", "u_y", "u_z", "theta_x", "theta_y", "theta_z"))
-        modes = tuple(f"housing mode {k + 1}" for k in range(h.size - 6 * h.n_seats))
-        return tuple(self.model.dof_names(stage)) + seats + modes
+        return tuple(self.model.dof_names(stage)) + self.housing.coordinate_names()
 
     def central_translations(self, stage):
         return self.model.central_translations(stage)
