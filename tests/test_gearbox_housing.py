@@ -1,8 +1,12 @@
 """One housing shared by several stages of the coupled gearbox (jaxgear.gearbox.GearboxTorsional's
 ``housing``; docs/gearbox.md, "One housing for several stages"): two lumped 3D parallel stages
-in one box, their bearings on their own seats. Evidence against a hand assembly written here
-(the grounded stages' matrices, the condensed housing's K and M and the seats' rigid levers), the
-stiff-housing limit (the grounded gearbox), the balance of the bearing forces, and bad input."""
+in one box, their bearings on their own seats; then a planetary stage whose held ring is bolted
+to a seat of the same box as a lumped pair's bearings (a PlanetaryGearboxStage with a
+HousedPlanetary model; docs/gearbox.md, "A planetary stage in the shared housing"). Evidence
+against a hand assembly written here (the grounded stages' matrices, the condensed housing's K
+and M and the seats' rigid levers), the stiff-housing limit (the grounded gearbox), the balance
+of the bearing forces, the ring seat's reaction against the ring torque of the stage's torque
+balance, the whine against Newmark, the one name of the housing's coordinates, and bad input."""
 
 import math
 import types
@@ -313,8 +317,9 @@ def test_stiff_shared_housing_whine_is_the_grounded_gearbox_whine():
 # in, sun out; 4 planets on contact cells) whose sun drives the 36-tooth wheel of the lumped
 # 20/36 pair through a shaft. One box: the pair's four bearings on seats 0..3 (bores round its
 # two axes in both end walls, at height Z2) and the ring's flange bolted round a bore of its own
-# in the x- wall (seat 4, "seat4", at height Z1), the planetary stage ahead of that wall.
+# in the x- wall (seat 4, "seat4", at height Z_RING), the planetary stage ahead of that wall.
 X_PLANET = -0.06  # the planetary stage's plane along the box's x (housing frame, m)
+Z_RING, R_RING = 0.08, 0.05  # the ring's bore: its height and radius (m)
 RING_SEAT = 4
 P_TORQUE = 2000.0  # on the carrier (N m)
 
@@ -322,7 +327,7 @@ P_TORQUE = 2000.0  # on the carrier (N m)
 def _planetary_box(E, cutoff_hz=8000.0):
     W, H, Lb = A + 2 * Y0, Z2 + 0.07, L + T_WALL
     bores = tuple(Bore(w, (Y0 + dy, Z2), 0.025) for dy in (0.0, A) for w in ("x-", "x+"))
-    bores += (Bore("x-", (0.5 * W, Z1), 0.04),)
+    bores += (Bore("x-", (0.5 * W, Z_RING), R_RING),)
     f = 0.03
     feet = tuple(Foot((x0, x0 + f), (y0, y0 + f)) for x0 in (0.0, Lb - f) for y0 in (0.0, W - f))
     box = HousingBox(Lb, W, H, T_WALL, bores=bores, feet=feet)
@@ -333,7 +338,7 @@ def _planetary_box(E, cutoff_hz=8000.0):
 
 def _planet_offset():
     """The planetary stage's frame (its axis scene z, its centre the origin) from the box's."""
-    return -R @ np.array([X_PLANET, 0.5 * (A + 2 * Y0), Z1])
+    return -R @ np.array([X_PLANET, 0.5 * (A + 2 * Y0), Z_RING])
 
 
 def _pair_offset():
@@ -357,7 +362,7 @@ def _planetary_chains(ch, loss_factor=0.0, ring_seat="seat4", **run):
                                  [SHAFT], housing=hl)
     grounded = gb.GearboxTorsional((planetary, gb.LumpedPairGearboxStage(scenes[1], input=1)),
                                    [SHAFT])
-    opts = dict(steps_per_period=16, periods=6, keep_periods=2) | run
+    opts = {"steps_per_period": 16, "periods": 6, "keep_periods": 2} | run
     return housed, grounded, (hp, hl), gb.GearboxRun(P_TORQUE, HOLD, **opts)
 
 
@@ -416,8 +421,8 @@ def _planetary_hand_assembly(ch, grounded, run):
 def test_planetary_ring_in_the_shared_housing_matches_a_hand_assembly(planetary_box):
     """The planetary stage's ring on its own seat of the box the lumped pair's bearings sit in
     (seat given by name): the housing's coordinates once, after both stages' own, and the
-    coupled natural frequencies those of the system assembled in this test within 1e-9; the
-    kinetic shares (stages + housing) sum to 1."""
+    coupled natural frequencies those of the system assembled in this test within 1e-9
+    (measured 2.3e-12); the kinetic shares (stages + housing) sum to 1."""
     housed, grounded, _, run = _planetary_chains(planetary_box)
     h = planetary_box.K.shape[0]
     n1 = len(grounded.stages[0].coordinates())
@@ -443,9 +448,9 @@ def test_stiff_box_with_a_planetary_ring_is_the_grounded_gearbox(planetary_box):
     """The box 1000 and 10 000 x stiffer than steel (steel's density): the coupled modes below
     5 kHz tend to those of the gearbox whose ring is held by its torsional spring to the ground
     and whose pair's bearings are grounded, as the box's compliance (the difference falls about
-    tenfold), within 2e-3 at x 10 000 (measured 1.6e-2 and 1.6e-3). The ring's spring
-    (1e9 N m/rad, a held ring) is far stiffer than the 40 mm bore's twist in a 10 mm steel wall
-    (about 4π G t r² = 1.6e7 N m/rad), so that the modes in which the ring turns on its seat
+    tenfold), within 2e-3 at x 10 000 (measured 1.0e-2 and 1.0e-3). The ring's spring
+    (1e9 N m/rad, a held ring) is far stiffer than the 50 mm bore's twist in a 10 mm steel wall
+    (about 4π G t r² = 2.5e7 N m/rad), so that the modes in which the ring turns on its seat
     are the last to come to the grounded ones."""
     _, grounded, _, run = _planetary_chains(planetary_box)
     f0 = _elastic(gb.gearbox_coupled_modes(grounded, run))
@@ -468,7 +473,7 @@ def test_planetary_ring_seat_carries_the_ring_torque(planetary_box):
     rotations, R's last row), is the ring's torque from the torque balance of the stage,
     T_c r_br / (r_bs + r_br) (Willis), within 1e-4, equal to the ring spring's
     k_t (θ_r − θ_seat); the seat's other force and moment components stay below 1e-4 of it
-    (measured 2.5e-5, 1.8e-7 and 2.8e-5: the window's dynamic residue)."""
+    (measured 2.8e-5, 4.4e-8 and 2.8e-5: the window's dynamic residue)."""
     housed, _, _, run = _planetary_chains(planetary_box, loss_factor=0.02)
     out = gb.gearbox_dynamics(housed, run, 2.0)
     assert int(out.result) == 0
@@ -499,16 +504,21 @@ def _ring_torque_check(housed, ch, x, rtol):
 
 @pytest.mark.slow
 def test_planetary_ring_in_the_shared_housing_whine_against_newmark(planetary_box):
-    """``gearbox_whine`` on the chain in the box (QuasiPeriodicBalance(8, 1), 72 positions per
-    mesh period of each stage) at a carrier speed of 10 rad/s (planetary mesh 127 Hz, pair
-    286 Hz: 80 and 180 carrier-speed units, 4 planetary periods hold 9 of the pair's): no
-    contact loss; its quasi-static mean puts the ring's torque on the ring seat to 1e-9; each
-    mesh's order 1 is Newmark's (``gearbox_dynamics``, 256 steps per pair period, the last 8
-    planetary periods of 40) within 2 % and 2°."""
-    housed, _, _, run = _planetary_chains(planetary_box, steps_per_period=256, periods=40,
+    """``gearbox_whine`` on the chain in the box (QuasiPeriodicBalance(8, 1), 144 positions per
+    mesh period of each stage) at a carrier speed of 2.5 rad/s (planetary mesh 31.8 Hz, pair
+    71.6 Hz: 80 and 180 carrier-speed units, 4 planetary periods hold 9 of the pair's; the
+    lowest coupled mode, the output hold's, at 108 Hz): no contact loss; its quasi-static mean
+    puts the ring's torque on the ring seat to 1e-9; each mesh's order 1 is Newmark's
+    (``gearbox_dynamics``, 256 steps per pair period, the last 8 planetary periods of 16)
+    within 1.5 % and 1° (measured: the planetary meshes' 0.7 % and 0.35°, their order 1 only
+    2e-4 of their static force; the pair's 0.05 % and 0.01°; at 72 positions the planetary
+    meshes' were 5.5 % and 3.4° off, the sampled engagement of their unrelieved cells). (At
+    10 rad/s the ring meshes lose contact in Newmark: the planetary mesh's order 4, 509 Hz,
+    meets the 495 Hz mode in which the ring turns on its seat.)"""
+    housed, _, _, run = _planetary_chains(planetary_box, steps_per_period=256, periods=16,
                                           keep_periods=8)
-    speed = 10.0
-    w = gb.gearbox_whine(housed, run, speed, QuasiPeriodicBalance(8, 1), positions=72)
+    speed = 2.5
+    w = gb.gearbox_whine(housed, run, speed, QuasiPeriodicBalance(8, 1), positions=144)
     assert not np.any(np.asarray(w.contact_loss))
     _ring_torque_check(housed, planetary_box, np.real(np.asarray(w.quasi_static)[0]), 1e-9)
     r = gb.gearbox_dynamics(housed, run, speed)
@@ -524,7 +534,7 @@ def test_planetary_ring_in_the_shared_housing_whine_against_newmark(planetary_bo
         worst = [max(worst[0], abs(abs(got) / abs(ref) - 1)),
                  max(worst[1], abs(math.degrees(np.angle(got / ref))))]
     print("planetary in the shared housing, whine vs Newmark order 1: amplitude, phase", worst)
-    assert worst[0] < 0.02 and worst[1] < 2.0
+    assert worst[0] < 0.015 and worst[1] < 1.0
 
 
 def test_planetary_ring_in_the_shared_housing_bad_input_one_line(planetary_box):

@@ -195,10 +195,10 @@ class PlanetaryGearboxStage(AbstractGearboxStage):
                              "either in a HousedPlanetary)")
         if (isinstance(self.model, HousedPlanetary) and self.model.carrier_held
                 and Central.CARRIER in (self.input, self.output)):
+            role = "input" if self.input == Central.CARRIER else "output"
             raise ValueError("PlanetaryGearboxStage: model HousedPlanetary(carrier_held=True) "
-                             f"with the carrier the {'input' if self.input == Central.CARRIER else 'output'}"
-                             " member: allowed a star stage (sun and ring the shafts' members, "
-                             "the carrier held)")
+                             f"with the carrier the {role} member: allowed a star stage (sun "
+                             "and ring the shafts' members, the carrier held)")
 
     # -- the coupled model: the stage's model in its carrier frame, its rotations u = r theta
     # scaled to theta (rad) so that the shafts join rotations; translations stay in m

@@ -170,9 +170,10 @@ class Housing(eqx.Module):
 
     def coordinate_names(self) -> tuple[str, ...]:
         """The name of each of the h coordinates, in order: ``"housing <seat> <dof>"`` per
-        seat (``<seat>`` its name in :attr:`seat_names`, ``<dof>`` u_x, u_y, u_z (m),
-        phi_x, phi_y, phi_z (rad), housing frame: a lumped scene's node DOFs), then ``"housing mode <k>"``
-        (k = 1 .. h − 6 n_seats) per interior modal coordinate. The one spelling of the
+        seat (``<seat>`` its name in :attr:`seat_names`, ``<dof>`` u_x, u_y, u_z (m), phi_x,
+        phi_y, phi_z (rad), housing frame: a lumped scene's node DOFs), then
+        ``"housing mode <k>"`` (k = 1 .. h − 6 n_seats) per interior modal coordinate.
+        Returns a tuple of h strings. The one spelling of the
         housing's coordinates wherever they are named: a scene's structure nodes
         (``"housing <seat>"``, its seat's first coordinate), a housed planetary stage's
         ``dof_names`` and the coupled gearbox's ``coordinate_names``."""
