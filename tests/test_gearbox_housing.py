@@ -449,7 +449,7 @@ def test_stiff_box_with_a_planetary_ring_is_the_grounded_gearbox(planetary_box):
     5 kHz tend to those of the gearbox whose ring is held by its torsional spring to the ground
     and whose pair's bearings are grounded, as the box's compliance (the difference falls about
     tenfold), within 2e-3 at x 10 000 (measured 1.0e-2 and 1.0e-3). The ring's spring
-    (1e9 N m/rad, a held ring) is far stiffer than the 50 mm bore's twist in a 10 mm steel wall
+    (1e9 N m/rad, a held ring) is far stiffer than the 100 mm bore's twist in a 10 mm steel wall
     (about 4π G t r² = 2.5e7 N m/rad), so that the modes in which the ring turns on its seat
     are the last to come to the grounded ones."""
     _, grounded, _, run = _planetary_chains(planetary_box)
