@@ -35,6 +35,7 @@ from ..planetary import (
     AbstractPlanetaryModel,
     Central,
     ConstantMeshes,
+    HousedPlanetary,
     PlanetaryRun,
     PlanetaryStage,
     TorsionalPlanetary,
@@ -140,15 +141,35 @@ class AbstractGearboxStage(eqx.Module):
         """(K_h, M_h): the stiffness and mass of the flexible housing whose h coordinates end
         :meth:`coordinates` (its seats' 6 each, then its modal ones), which a gearbox-level
         :attr:`GearboxTorsional.housing` shares with the other stages; None (the default): the
-        stage stands on the ground (a torsional or planetary stage)."""
+        stage stands on the ground (a torsional stage, a planetary stage of an unhoused model
+        kind)."""
         return None
+
+    def housing_seats(self) -> tuple[int, ...]:
+        """The seats (indices) of :meth:`housing` that the stage's bearings or members join, in
+        ascending order; () (the default) for a stage on the ground."""
+        return ()
 
 
 class PlanetaryGearboxStage(AbstractGearboxStage):
     """A planetary stage in the chain (:class:`~jaxgear.TorsionalPlanetary`, Kahraman 1994:
     rotations of carrier, ring, sun and the N planets); ``input``/``output``: which central
     members (:class:`~jaxgear.Central`) the shafts join. A fixed member is held by its
-    ``torsional_stiffness`` in ``stage``."""
+    ``torsional_stiffness`` in ``stage``.
+
+    ``model`` a :class:`~jaxgear.planetary.HousedPlanetary` (of a torsional or planar kind):
+    the stage on a condensed housing, its held member's torsional support (about the stage
+    axis) joining a seat instead of the ground through the housing's seat coupling; the
+    housing's coordinates end :meth:`coordinates` (:meth:`housing`), so that a gearbox-level
+    :attr:`GearboxTorsional.housing` shares them with the other housed stages
+    (docs/gearbox.md, "A planetary stage in the shared housing"). Its damping C_h rides in
+    :meth:`speed_terms`, as a lumped stage's does.
+
+    Raises:
+        ValueError: ``input`` = ``output``; ``meshes`` or ``model`` of another kind, or a model
+            without contact cells; a ``HousedPlanetary`` with ``carrier_held`` whose carrier is
+            the input or output member (it turns) (one line each).
+    """
 
     stage: PlanetaryStage
     input: Central = eqx.field(static=True)
@@ -170,7 +191,14 @@ class PlanetaryGearboxStage(AbstractGearboxStage):
                        "PlanetaryGearboxStage")
         if not self.model.contact_solve:
             raise ValueError(f"PlanetaryGearboxStage: model {type(self.model).__name__} has no "
-                             "contact cells: allowed TorsionalPlanetary, PlanarPlanetary")
+                             "contact cells: allowed TorsionalPlanetary, PlanarPlanetary (or "
+                             "either in a HousedPlanetary)")
+        if (isinstance(self.model, HousedPlanetary) and self.model.carrier_held
+                and Central.CARRIER in (self.input, self.output)):
+            role = "input" if self.input == Central.CARRIER else "output"
+            raise ValueError("PlanetaryGearboxStage: model HousedPlanetary(carrier_held=True) "
+                             f"with the carrier the {role} member: allowed a star stage (sun "
+                             "and ring the shafts' members, the carrier held)")
 
     # -- the coupled model: the stage's model in its carrier frame, its rotations u = r theta
     # scaled to theta (rad) so that the shafts join rotations; translations stay in m
@@ -268,11 +296,30 @@ class PlanetaryGearboxStage(AbstractGearboxStage):
         return out_speed, out_torque, v, jnp.full((2 * st.n_planets,), f)
 
     def speed_terms(self, carrier_speed):
+        """(C_Omega, K_Omega) of the model at ``carrier_speed`` (rad/s), with a housed model
+        the housing's damping C_h on its coordinates added to C_Omega (the coupled model's
+        constant damping term, which carries a lumped stage's housing damping as well)."""
         r = self._scale()
         rr = r[:, None] * r[None, :]
         st = self.stage
-        return (carrier_speed * rr * self.model.gyroscopic_matrix(st),
-                -carrier_speed**2 * rr * self.model.centripetal_matrix(st))
+        c = carrier_speed * rr * self.model.gyroscopic_matrix(st)
+        if isinstance(self.model, HousedPlanetary):
+            h = self.model.housing.size
+            c = c.at[-h:, -h:].add(jnp.asarray(self.model.housing.C, c.dtype))
+        return c, -carrier_speed**2 * rr * self.model.centripetal_matrix(st)
+
+    def housing(self):
+        """(K_h, M_h) of a :class:`~jaxgear.planetary.HousedPlanetary` model's housing (its
+        coordinates end :meth:`coordinates`), or None: the stage on the ground."""
+        if not isinstance(self.model, HousedPlanetary):
+            return None
+        return self.model.housing.K, self.model.housing.M
+
+    def housing_seats(self):
+        """The seats the housed model's members join (indices, ascending), () unhoused."""
+        if not isinstance(self.model, HousedPlanetary):
+            return ()
+        return tuple(sorted({seat for _, seat in self.model.seat_indices()}))
 
     def carrier_speed(self, input_speed):
         """The carrier's speed (rad/s) at the input member's ``input_speed``."""
@@ -393,16 +440,21 @@ class GearboxTorsional(eqx.Module):
     a :class:`~jaxgear.gearbox.LumpedPairGearboxStage` whose scene was built with this same
     condensed housing (``lumped_pair(..., housing=, seats=)``, the housing placed in that
     scene's frame, with the same loss factor): its bearings are joined to its seats there, by
-    the scenes' one seat coupling. The coupled model (:func:`gearbox_coupled_modes`,
-    :func:`gearbox_dynamics`) then keeps the housing's coordinates once, after every stage's
-    own, and its K_h, M_h and damping C_h once. Stages without a housing (torsional, planetary,
-    a grounded lumped stage) stay on the ground. The torsional chain's view
-    (:meth:`matrices`, :func:`gearbox_modes`) does not take a shared housing.
+    the scenes' one seat coupling; or a :class:`PlanetaryGearboxStage` whose model is a
+    :class:`~jaxgear.planetary.HousedPlanetary` on this same condensed housing (placed in the
+    stage's frame, the stage axis its +z): its held member's torsional support joined to its
+    seat by the same coupling. The coupled model (:func:`gearbox_coupled_modes`,
+    :func:`gearbox_dynamics`, :func:`gearbox_whine`) then keeps the housing's coordinates
+    once, after every stage's own, and its K_h, M_h and damping C_h once. Stages without a
+    housing (torsional, an unhoused planetary model, a grounded lumped stage) stay on the
+    ground. The torsional chain's view (:meth:`matrices`, :func:`gearbox_modes`) does not take
+    a shared housing.
 
     Raises:
         ValueError: no stages; ``shaft_stiffnesses`` of another shape; ``housing`` not a
             :class:`~jaxgear.scenes.Housing`, carried by no stage, or another housing than a
-            stage's (its size, stiffness or mass differ) (one line each).
+            stage's (its size, stiffness or mass differ); a seat a planetary stage's member
+            joins that another stage joins too (one line each).
     """
 
     stages: tuple[AbstractGearboxStage, ...]
@@ -479,7 +531,19 @@ def _check_housing(stages, housing):
     if carried == 0:
         raise ValueError("GearboxTorsional: housing is given but no stage sits in it: allowed "
                          "None, or a LumpedPairGearboxStage whose scene is built with "
-                         "housing= (torsional and planetary stages stay on the ground)")
+                         "housing=, or a PlanetaryGearboxStage whose model is a "
+                         "HousedPlanetary (torsional stages stay on the ground)")
+    # a seat a planetary stage's member is bolted to is that member's alone
+    for k, s in enumerate(stages):
+        if not isinstance(s, PlanetaryGearboxStage):
+            continue
+        for seat in s.housing_seats():
+            for j, other in enumerate(stages):
+                if j != k and seat in other.housing_seats():
+                    raise ValueError(
+                        f"GearboxTorsional: seat {housing.seat_names[seat]!r} ({seat}) is used "
+                        f"twice, by stage {k + 1}'s planetary member and by stage {j + 1}: "
+                        "allowed a seat of its own for each planetary member")
 
 
 class GearboxModes(eqx.Module):

@@ -154,17 +154,15 @@ def mesh_names(chain: GearboxTorsional) -> tuple[str, ...]:
 
 def coordinate_names(chain: GearboxTorsional) -> tuple[str, ...]:
     """``"<k>:<coordinate>"`` per coordinate of the coupled model; with a shared housing
-    (:attr:`~jaxgear.gearbox.GearboxTorsional.housing`) its coordinates last, once:
-    ``"housing:<seat> <dof>"`` (6 per seat), then ``"housing:mode <j>"`` (its modal ones)."""
+    (:attr:`~jaxgear.gearbox.GearboxTorsional.housing`) its coordinates last, once, named by
+    :meth:`~jaxgear.scenes.Housing.coordinate_names` (``"housing <seat> <dof>"``, 6 per seat,
+    then ``"housing mode <j>"``: no stage prefix)."""
     h = _shared(chain.stages, chain.housing)
     own = tuple(f"{k + 1}:{n}" for k, s in enumerate(chain.stages)
                 for n in s.coordinates()[:len(s.coordinates()) - h[k]])
     if chain.housing is None:
         return own
-    dofs = ("u_x", "u_y", "u_z", "phi_x", "phi_y", "phi_z")
-    seats = tuple(f"housing:{name} {d}" for name in chain.housing.seat_names for d in dofs)
-    return own + seats + tuple(f"housing:mode {j + 1}"
-                               for j in range(chain.housing.size - len(seats)))
+    return own + chain.housing.coordinate_names()
 
 
 def _shared(stages, housing) -> list[int]:

@@ -36,7 +36,7 @@ import numpy as np
 from .._baseplane import on_the_path
 from .._modifications import Modifications
 from .._quasi_static import separation
-from .._util import as_float, check_instance
+from .._util import as_float, check_instance, is_traced
 from ..scenes import LumpedPair
 from ._chain import AbstractGearboxStage
 
@@ -157,6 +157,22 @@ class LumpedPairGearboxStage(AbstractGearboxStage):
             return None
         first = min(i for name, i in st.nodes if name.startswith("housing "))
         return (st.stiffness_parts()["housing"][first:, first:], st.M[first:, first:])
+
+    def housing_seats(self):
+        """The seats (indices) the scene's bearings join: those whose coordinates the
+        ``bearings`` stiffness part couples to the shafts' (host side; () for a grounded scene
+        or traced arrays)."""
+        st = self.scene.structure
+        if "housing" not in st.part_names:
+            return ()
+        part = st.stiffness_parts()["bearings"]
+        if is_traced(part):
+            return ()
+        first = min(i for name, i in st.nodes if name.startswith("housing "))
+        n_seats = sum(1 for name, _ in st.nodes if name.startswith("housing "))
+        cross = np.asarray(part)[:first, first:first + 6 * n_seats]
+        used = np.any(cross.reshape(first, n_seats, 6) != 0.0, axis=(0, 2))
+        return tuple(int(k) for k in np.flatnonzero(used))
 
     # -- the torsional chain's view ---------------------------------------------------------
     def dof_names(self):

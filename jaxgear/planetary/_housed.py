@@ -88,20 +88,23 @@ class HousedPlanetary(AbstractPlanetaryModel):
         housing: the :class:`~jaxgear.scenes.Housing` (placed in the stage's scene frame: the
             stage axis is +z through ``centre``).
         seats: static, ``((member, seat), ...)``: ``member`` "ring", "carrier" or "sun", ``seat``
-            the housing's seat index (0 .. n_seats − 1) its supports join.
+            the housing's seat its supports join: its index (0 .. n_seats − 1) or its name
+            (one of :attr:`~jaxgear.scenes.Housing.seat_names`; :meth:`seat_indices`).
         centre: static, the stage centre (m, scene frame), (3,).
         carrier_held: static, the stage's carrier does not turn (a star stage; the dynamics at
             Ω = 0): every support of the joined members joins its seat. False (default): only
             the torsional support (θ_z) and, in the 3D model, the axial one (z).
 
-    Coordinates: ``model.dof_names`` then ``"housing <seat> u_x" .. "housing <seat>
-    theta_z"`` per seat and ``"housing mode <k>"`` per kept interior mode. The joined springs'
+    Coordinates: ``model.dof_names`` then the housing's
+    (:meth:`~jaxgear.scenes.Housing.coordinate_names`: ``"housing <seat> u_x" .. "housing
+    <seat> phi_z"`` per seat and ``"housing mode <k>"`` per kept interior mode). The joined springs'
     reactions (:func:`~jaxgear.planetary.support_reactions`) are what the member puts on its
     seat: the ring's reaction torque k_θ (θ_r − θ_seat) about the axis.
 
     Raises:
-        ValueError: a base kind or housing of another type, a member or seat out of range, a
-            member twice, ``carrier_held`` not a bool (one line).
+        ValueError: a base kind or housing of another type, a member or seat out of range (a
+            seat name the housing has not), a member twice, ``carrier_held`` not a bool (one
+            line).
     """
 
     model: AbstractPlanetaryModel
@@ -134,12 +137,26 @@ class HousedPlanetary(AbstractPlanetaryModel):
                     "'sun'"
                 )
             members.append(member)
-            if (isinstance(seat, bool) or not isinstance(seat, (int, np.integer))
+            if isinstance(seat, str):
+                if seat not in self.housing.seat_names:
+                    raise ValueError(
+                        f"{where}: seat of {member} = {seat!r}, allowed a seat name of the "
+                        f"housing ({', '.join(map(repr, self.housing.seat_names))}) or an index "
+                        f"0 to {self.housing.n_seats - 1}"
+                    )
+            elif (isinstance(seat, bool) or not isinstance(seat, (int, np.integer))
                     or not 0 <= seat < self.housing.n_seats):
                 raise ValueError(
                     f"{where}: seat of {member} = {seat!r}, allowed a seat index 0 to "
-                    f"{self.housing.n_seats - 1}"
+                    f"{self.housing.n_seats - 1} or a seat name of the housing"
                 )
+
+    def seat_indices(self) -> tuple:
+        """``((member, seat index), ...)``: :attr:`seats` with each seat name replaced by its
+        index in the housing's :attr:`~jaxgear.scenes.Housing.seat_names`."""
+        names = self.housing.seat_names
+        return tuple((member, names.index(seat) if isinstance(seat, str) else int(seat))
+                     for member, seat in self.seats)
 
     # -- the coupling ----------------------------------------------------------------------
 
@@ -195,7 +212,7 @@ class HousedPlanetary(AbstractPlanetaryModel):
         h = self.housing.size
         dtype = stage.planet_angles.dtype
         out = jnp.zeros((n + h, n + h), dtype)
-        for member, seat in self.seats:
+        for member, seat in self.seat_indices():
             T, k_b = self._joint(stage, member)
             q = slice(n + 6 * seat, n + 6 * seat + 6)
             for r in self._rows():
@@ -222,11 +239,7 @@ class HousedPlanetary(AbstractPlanetaryModel):
         return _pad(self.model.reduction(stage), self.housing.size)
 
     def dof_names(self, stage):
-        h = self.housing
-        seats = tuple(f"housing {name} {c}" for name in h.seat_names
-                      for c in ("u_x", "u_y", "u_z", "theta_x", "theta_y", "theta_z"))
-        modes = tuple(f"housing mode {k + 1}" for k in range(h.size - 6 * h.n_seats))
-        return tuple(self.model.dof_names(stage)) + seats + modes
+        return tuple(self.model.dof_names(stage)) + self.housing.coordinate_names()
 
     def central_translations(self, stage):
         return self.model.central_translations(stage)

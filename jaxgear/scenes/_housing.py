@@ -2,7 +2,7 @@
 housing's seats instead of the ground (docs/housing.md).
 
 The housing is condensed at its bearing seats by Craig–Bampton (:mod:`fem_prep.housing`): its
-``h`` coordinates are the seats' 6-DOF masters (u_x, u_y, u_z, θ_x, θ_y, θ_z in the housing's
+``h`` coordinates are the seats' 6-DOF masters (u_x, u_y, u_z, φ_x, φ_y, φ_z in the housing's
 frame) and its interior fixed-interface modal coordinates, with the condensed stiffness K_h and
 mass M_h (the feet clamped). :class:`Housing` places it in the scene's frame (a rotation R and
 an offset t: x_scene = R x_housing + t) and gives it a damping C_h.
@@ -38,6 +38,10 @@ from jaxtyping import Array, Float
 
 __all__ = ["Housing", "bearing_positions"]
 
+#: a seat's six coordinates, in the housing's frame (m, rad): the names' last word (the lumped
+#: scenes' node DOFs' spelling)
+_SEAT_DOFS = ("u_x", "u_y", "u_z", "phi_x", "phi_y", "phi_z")
+
 
 def _skew(a) -> np.ndarray:
     x, y, z = a
@@ -72,7 +76,7 @@ class Housing(eqx.Module):
 
     Attributes:
         K, M: the condensed stiffness (SI per coordinate pair) and mass (kg, kg·m²), (h, h);
-            rows ``6 s .. 6 s + 5`` seat ``s``'s master (u_x, u_y, u_z (m), θ_x, θ_y, θ_z
+            rows ``6 s .. 6 s + 5`` seat ``s``'s master (u_x, u_y, u_z (m), φ_x, φ_y, φ_z
             (rad), housing frame), then the interior modal coordinates.
         C: the damping (units of K·s), (h, h): modal, ζ_k = η/2 on each free-seat mode k of
             (K, M) (:meth:`of`), the viscous equivalent of the loss factor η at resonance.
@@ -163,6 +167,18 @@ class Housing(eqx.Module):
             modes_hz=tuple(float(f) for f in np.asarray(getattr(condensed, "modes_hz", ()))),
             cutoff_hz=float(getattr(condensed, "cutoff_hz", math.inf)),
         )
+
+    def coordinate_names(self) -> tuple[str, ...]:
+        """The name of each of the h coordinates, in order: ``"housing <seat> <dof>"`` per
+        seat (``<seat>`` its name in :attr:`seat_names`, ``<dof>`` u_x, u_y, u_z (m), phi_x,
+        phi_y, phi_z (rad), housing frame: a lumped scene's node DOFs), then
+        ``"housing mode <k>"`` (k = 1 .. h − 6 n_seats) per interior modal coordinate.
+        Returns a tuple of h strings. The one spelling of the
+        housing's coordinates wherever they are named: a scene's structure nodes
+        (``"housing <seat>"``, its seat's first coordinate), a housed planetary stage's
+        ``dof_names`` and the coupled gearbox's ``coordinate_names``."""
+        seats = tuple(f"housing {name} {d}" for name in self.seat_names for d in _SEAT_DOFS)
+        return seats + tuple(f"housing mode {k + 1}" for k in range(self.size - len(seats)))
 
     def seat_transform(self, seat: int, point) -> np.ndarray:
         """G (6, 6) of the module docstring: the scene-frame motion (u, θ) of the point
@@ -302,7 +318,10 @@ def couple_housing(
 
 def housing_nodes(housing: Housing | None, offset: int) -> tuple:
     """The structure's named nodes of the housing's seats, ``("housing <seat>", first DOF)``
-    (its modal coordinates follow the last seat's six)."""
+    (its modal coordinates follow the last seat's six): each seat's first coordinate's name
+    (:meth:`Housing.coordinate_names`) without its DOF."""
     if housing is None:
         return ()
-    return tuple((f"housing {name}", offset + 6 * k) for k, name in enumerate(housing.seat_names))
+    names = housing.coordinate_names()
+    return tuple((names[6 * k].rsplit(" ", 1)[0], offset + 6 * k)
+                 for k in range(housing.n_seats))
