@@ -111,16 +111,11 @@ def _orders(t, q, omega, count=4):
     return c
 
 
-@pytest.mark.slow
-def test_against_the_hybrid_newmark(setup):
-    """(Slow: about 6 min.) At 600 rad/s (mesh frequency 1.9 kHz; modal damping 5 %, which has
-    no mesh share), the harmonic balance (H = 32 on 256 positions) against the hybrid Newmark
-    (256 steps per mesh period, 30 periods, 4 kept; within 0.03 % and 0.07° of 1024 steps):
-    the TE's and the mesh force's order 1 within 1 % and 1° (measured 0.16 %, 0.07°), order 2
-    within 2 % and 1° (measured −1.5 %, 0.07°: it converges with the positions, −5 % on 128),
-    order 3 reported (measured 1.6 %, 0.5°); the bearing force's largest component likewise.
-    The mean-stiffness model (TE as a displacement source) is reported beside it."""
-    case, scene = setup
+def _against_newmark(case, scene, tol, order3):
+    """The harmonic balance (H = 32 on 256 positions) and the mean-stiffness model against the
+    hybrid Newmark (256 steps per mesh period, 30 periods, 4 kept) at 600 rad/s, modal damping
+    5 %: TE, mesh force and the largest bearing force component, orders 1-2 within ``tol``
+    (relative) and 0.5°, order 3 within ``order3``."""
     model = dynamic_model(scene, case.modifications, case.torque, ModalDamping(0.05))
     speed = 600.0
     w = whine_response(model, speed, HarmonicBalance(32), positions=256)
@@ -128,7 +123,7 @@ def test_against_the_hybrid_newmark(setup):
     r = simulate(model, speed, integrator=Newmark(256), window=SteadyState(30, 4))
     t = np.asarray(r.time)
     om = 2 * np.pi * float(w.frequency[0])
-    assert not bool(w.contact_loss.any()) and float(w.nonlinearity.max()) < 5e-3
+    assert not bool(w.contact_loss.any())
     bearing = _orders(t, np.asarray(r.bearing_force), om)
     i = int(np.argmax(np.abs(bearing[1])))
     for name, ref, got, src in (
@@ -147,8 +142,23 @@ def test_against_the_hybrid_newmark(setup):
             np.abs(src[1:]) / np.abs(ref[1:]) - 1,
             np.angle(src[1:] / ref[1:], deg=True),
         )
-        assert abs(amp[1]) < 1e-2 and abs(amp[2]) < 2e-2, (name, amp)
-        assert np.all(np.abs(phase[1:3]) < 1.0), (name, phase)
+        assert np.all(np.abs(amp[1:3]) < tol), (name, amp)
+        assert np.all(np.abs(phase[1:3]) < 0.5), (name, phase)
+        assert abs(amp[3]) < order3, (name, amp)
+    return w
+
+
+@pytest.mark.slow
+def test_against_the_hybrid_newmark(setup):
+    """(Slow: about 6 min.) On the theoretical path: orders 1-2 of the TE, the mesh force and
+    the largest bearing force component within 0.5 % and 0.5° of the hybrid Newmark (measured
+    within 0.05 % and 0.07° of the 256-step run, 0.02 % and 0.02° of 1024 steps; the Newmark's
+    own 256-to-1024 change is below 0.03 % on orders 1-2), order 3 within 0.5 % (0.16 %).
+    Before the harmonics beyond H were completed (docs/whine.md, "Hybrid model") order 2 was
+    −1.5 % here, falling only as 1/H. The mean-stiffness model is reported beside it."""
+    case, scene = setup
+    w = _against_newmark(case, scene, 5e-3, 5e-3)
+    assert float(w.nonlinearity.max()) < 5e-3
 
 
 @pytest.mark.slow
