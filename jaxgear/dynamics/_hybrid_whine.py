@@ -346,7 +346,7 @@ def _at_speed(model, speed, law, positions: int, method, shift: CyclicShift, nul
     F = -jnp.einsum("hkl,hl->hk", dyn, Xh)  # −(C S + M S²) Ẑ_qs
     y_high = jnp.zeros_like(xk)
     if method.parametric:  # the harmonics beyond H (mean stiffness) and their coupling back
-        y_high, F = _completion(F, Kk, inertia, zqs, Vk, kl, s, U, tw, H)
+        y_high, F = _completion(F, Kk, Ck, Mk, Phi, omega, zqs, Vk, kl, s, U, tw, H)
     Y = _balance(D, F, Vk, kl / Pn, s, U, nu, window, MN, kref, method.parametric, H)
 
     # the vibration at the samples, on every coordinate (the dropped ones held at 0)
@@ -381,11 +381,12 @@ def _at_speed(model, speed, law, positions: int, method, shift: CyclicShift, nul
     }
 
 
-def _completion(F, Kk, inertia, zqs, Vk, kl, s, U, tw, H: int):
+def _completion(F, Kk, Ck, Mk, Phi, omega, zqs, Vk, kl, s, U, tw, H: int, chunk: int = 16):
     """The harmonics H < |j| <= P/2 of the vibration from the mean-stiffness model,
-    Y_j = −(K + K̃_0 + C S_j + M S_j²)⁻¹ (C S_j + M S_j²) Ẑ_qs,j, and their coupling back into
-    the kept harmonics through the sampled stiffness. Returns y_high (P, k) (real, body frame,
-    at the samples) and F_h − Σ_{|j|>H} K̃_{h−j} Y_j (2H+1, k), the forcing of the kept ones.
+    Y_j = −(K + K̃_0 + C S_j + M S_j²)⁻¹ (C S_j + M S_j²) Ẑ_qs,j, S_j = iω(j + Φ), and their
+    coupling back into the kept harmonics through the sampled stiffness. Returns y_high (P, k)
+    (real, body frame, at the samples) and F_h − Σ_{|j|>H} K̃_{h−j} Y_j (2H+1, k), the forcing
+    of the kept ones.
 
     Why: the quasi-static motion jumps where a contact line enters or leaves (Ẑ_qs,j ~ 1/j),
     while the true motion is smooth (its acceleration jumps, X_j ~ 1/j³). Above the structure's
@@ -394,19 +395,37 @@ def _completion(F, Kk, inertia, zqs, Vk, kl, s, U, tw, H: int):
     that falls only as 1/H (order 2 of the test pair: −1.5 % at H = 32 on 256 positions, −2.7 %
     on 384). With the completion the error is that of the high harmonics' own parametric terms,
     which are smaller by the same 1/j (docs/whine.md, "Hybrid model"). At low speed Y_j → 0 and
-    the balance is the one without it."""
+    the balance is the one without it.
+
+    The solves go as batched LU solves of ``chunk`` harmonics each, unrolled here (no loop in
+    the compiled program): a ``lax.map`` over them (a while loop of one complex solve each)
+    left XLA's CPU runtime waiting on an idle intra-op thread pool now and then."""
     Pn = zqs.shape[0]
-    j = jnp.asarray([q for q in range(-(Pn // 2) + 1, Pn // 2 + 1) if abs(q) > H])
+    j_all = [q for q in range(-(Pn // 2) + 1, Pn // 2 + 1) if abs(q) > H]
+    j = jnp.asarray(j_all)
     E = jnp.exp(-2j * jnp.pi * j[:, None] * s[None, :])  # (J, P)
     Zj = E @ zqs / Pn  # (J, k)
     Vt = jnp.einsum("pck,kl,pl,ml->pcm", Vk, U, tw, U.conj())  # Ṽ_p
     K0 = jnp.einsum("pck,pc,pcl->kl", Vt.conj(), kl / Pn, Vt)  # K̃_0
+    # C S_j + M S_j² = iω(j C + CΦ) − ω²(j² M + 2j MΦ + MΦ²): no product per harmonic
+    CPhi, MPhi = Ck @ Phi, Mk @ Phi
+    MPhi2 = MPhi @ Phi
+    Kc = Kk + K0
 
-    def one(jj, z):
-        A = inertia(jj)
-        return -jnp.linalg.solve(Kk + K0 + A, A @ z)
+    def solves(*arrays):  # on the host (NumPy), (J, k)
+        Kc, Ck, CPhi, Mk, MPhi, MPhi2, omega, Zj = (np.asarray(a) for a in arrays)
+        out = np.empty(Zj.shape, Kc.dtype)
+        for a in range(0, len(j_all), chunk):
+            jf = np.asarray(j_all[a : a + chunk], float)[:, None, None]
+            A = 1j * omega * (jf * Ck + CPhi) - omega**2 * (jf**2 * Mk + 2 * jf * MPhi + MPhi2)
+            rhs = np.einsum("bkl,bl->bk", A, Zj[a : a + chunk])
+            out[a : a + chunk] = -np.linalg.solve(Kc + A, rhs[..., None])[..., 0]
+        return out
 
-    Yj = jax.lax.map(lambda a: one(*a), (j, Zj))  # (J, k)
+    Yj = jax.pure_callback(
+        solves, jax.ShapeDtypeStruct(Zj.shape, Kc.dtype), Kc, Ck, CPhi, Mk.astype(Kc.dtype),
+        MPhi, MPhi2, omega.astype(Kc.dtype), Zj,
+    )
     zy = E.conj().T @ Yj  # (P, k), twisted
     yb = jnp.real(jnp.einsum("kl,pl,ml,pm->pk", U, tw, U.conj(), zy))  # body frame
     f = jnp.einsum("pck,pc,pcl,pl->pk", Vk, kl, Vk, yb)  # K_m(s_p) y_high(s_p)
