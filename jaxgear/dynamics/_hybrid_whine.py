@@ -36,7 +36,8 @@ the Newmark changes period by period, is taken as its mean in the twisted frame;
 Craig–Bampton mode whose partner of the same nodal diameter the condensation's mode count cut
 off breaks the symmetry: its coordinate is held at zero (it couples to the rim only through
 the mass, at the frequency of an interface-fixed mode); turning frames' inertia
-(``rotating_frame``), housings and trains are refused.
+(``rotating_frame``), housings and trains are refused. No derivative: the completion's
+solves run on the host (:func:`_completion`), so ``jax.grad`` through this raises.
 
 Sources: the twisted (Bloch–Floquet) periodicity of a cyclic structure under a travelling
 load (D. L. Thomas, Int. J. Numer. Meth. Eng. 14 (1979) 81; the rotating load of a cyclic
@@ -397,9 +398,15 @@ def _completion(F, Kk, Ck, Mk, Phi, omega, zqs, Vk, kl, s, U, tw, H: int, chunk:
     which are smaller by the same 1/j (docs/whine.md, "Hybrid model"). At low speed Y_j → 0 and
     the balance is the one without it.
 
-    The solves go as batched LU solves of ``chunk`` harmonics each, unrolled here (no loop in
-    the compiled program): a ``lax.map`` over them (a while loop of one complex solve each)
-    left XLA's CPU runtime waiting on an idle intra-op thread pool now and then."""
+    The J = P − 2H − 1 solves (k × k, complex) run on the host, NumPy's batched LU in chunks of
+    ``chunk`` harmonics, through :func:`jax.pure_callback` (so this part has no derivative:
+    the hybrid whine is not differentiated). Computed in the compiled program (a ``lax.map``
+    of one solve each, batched solves, or the systems built and divided by their diagonal),
+    the program's execution stalled now and then on the 2-core host, XLA's CPU runtime
+    waiting with every pool thread idle, with or without ``xla_cpu_multi_thread_eigen``
+    (within the first two calls of the 2 rad/s test in each of eight tries; the callback:
+    none in 8 calls and in the fast tests' runs, docs/whine.md). The cause inside XLA is not
+    known."""
     Pn = zqs.shape[0]
     j_all = [q for q in range(-(Pn // 2) + 1, Pn // 2 + 1) if abs(q) > H]
     j = jnp.asarray(j_all)
