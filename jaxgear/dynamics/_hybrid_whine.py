@@ -36,8 +36,7 @@ the Newmark changes period by period, is taken as its mean in the twisted frame;
 Craig–Bampton mode whose partner of the same nodal diameter the condensation's mode count cut
 off breaks the symmetry: its coordinate is held at zero (it couples to the rim only through
 the mass, at the frequency of an interface-fixed mode); turning frames' inertia
-(``rotating_frame``), housings and trains are refused. No derivative: the completion's
-solves run on the host (:func:`_completion`), so ``jax.grad`` through this raises.
+(``rotating_frame``), housings and trains are refused.
 
 Sources: the twisted (Bloch–Floquet) periodicity of a cyclic structure under a travelling
 load (D. L. Thomas, Int. J. Numer. Meth. Eng. 14 (1979) 81; the rotating load of a cyclic
@@ -382,7 +381,7 @@ def _at_speed(model, speed, law, positions: int, method, shift: CyclicShift, nul
     }
 
 
-def _completion(F, Kk, Ck, Mk, Phi, omega, zqs, Vk, kl, s, U, tw, H: int, chunk: int = 16):
+def _completion(F, Kk, Ck, Mk, Phi, omega, zqs, Vk, kl, s, U, tw, H: int):
     """The harmonics H < |j| <= P/2 of the vibration from the mean-stiffness model,
     Y_j = −(K + K̃_0 + C S_j + M S_j²)⁻¹ (C S_j + M S_j²) Ẑ_qs,j, S_j = iω(j + Φ), and their
     coupling back into the kept harmonics through the sampled stiffness. Returns y_high (P, k)
@@ -396,20 +395,9 @@ def _completion(F, Kk, Ck, Mk, Phi, omega, zqs, Vk, kl, s, U, tw, H: int, chunk:
     that falls only as 1/H (order 2 of the test pair: −1.5 % at H = 32 on 256 positions, −2.7 %
     on 384). With the completion the error is that of the high harmonics' own parametric terms,
     which are smaller by the same 1/j (docs/whine.md, "Hybrid model"). At low speed Y_j → 0 and
-    the balance is the one without it.
-
-    The J = P − 2H − 1 solves (k × k, complex) run on the host, NumPy's batched LU in chunks of
-    ``chunk`` harmonics, through :func:`jax.pure_callback` (so this part has no derivative:
-    the hybrid whine is not differentiated). Computed in the compiled program (a ``lax.map``
-    of one solve each, batched solves, or the systems built and divided by their diagonal),
-    the program's execution stalled now and then on the 2-core host, XLA's CPU runtime
-    waiting with every pool thread idle, with or without ``xla_cpu_multi_thread_eigen``
-    (within the first two calls of the 2 rad/s test in each of eight tries; the callback:
-    none in 8 calls and in the fast tests' runs, docs/whine.md). The cause inside XLA is not
-    known."""
+    the balance is the one without it."""
     Pn = zqs.shape[0]
-    j_all = [q for q in range(-(Pn // 2) + 1, Pn // 2 + 1) if abs(q) > H]
-    j = jnp.asarray(j_all)
+    j = jnp.asarray([q for q in range(-(Pn // 2) + 1, Pn // 2 + 1) if abs(q) > H])
     E = jnp.exp(-2j * jnp.pi * j[:, None] * s[None, :])  # (J, P)
     Zj = E @ zqs / Pn  # (J, k)
     Vt = jnp.einsum("pck,kl,pl,ml->pcm", Vk, U, tw, U.conj())  # Ṽ_p
@@ -419,20 +407,13 @@ def _completion(F, Kk, Ck, Mk, Phi, omega, zqs, Vk, kl, s, U, tw, H: int, chunk:
     MPhi2 = MPhi @ Phi
     Kc = Kk + K0
 
-    def solves(*arrays):  # on the host (NumPy), (J, k)
-        Kc, Ck, CPhi, Mk, MPhi, MPhi2, omega, Zj = (np.asarray(a) for a in arrays)
-        out = np.empty(Zj.shape, Kc.dtype)
-        for a in range(0, len(j_all), chunk):
-            jf = np.asarray(j_all[a : a + chunk], float)[:, None, None]
-            A = 1j * omega * (jf * Ck + CPhi) - omega**2 * (jf**2 * Mk + 2 * jf * MPhi + MPhi2)
-            rhs = np.einsum("bkl,bl->bk", A, Zj[a : a + chunk])
-            out[a : a + chunk] = -np.linalg.solve(Kc + A, rhs[..., None])[..., 0]
-        return out
+    def one(jz):  # (), (k,) -> Y_j (k,)
+        jj, z = jz
+        jf = jj.astype(Kc.dtype)
+        A = 1j * omega * (jf * Ck + CPhi) - omega**2 * (jf**2 * Mk + 2 * jf * MPhi + MPhi2)
+        return -jnp.linalg.solve(Kc + A, A @ z)
 
-    Yj = jax.pure_callback(
-        solves, jax.ShapeDtypeStruct(Zj.shape, Kc.dtype), Kc, Ck, CPhi, Mk.astype(Kc.dtype),
-        MPhi, MPhi2, omega.astype(Kc.dtype), Zj,
-    )
+    Yj = jax.lax.map(one, (j, Zj))  # (J, k): one unbatched solve per harmonic (_each_solve)
     zy = E.conj().T @ Yj  # (P, k), twisted
     yb = jnp.real(jnp.einsum("kl,pl,ml,pm->pk", U, tw, U.conj(), zy))  # body frame
     f = jnp.einsum("pck,pc,pcl,pl->pk", Vk, kl, Vk, yb)  # K_m(s_p) y_high(s_p)
@@ -440,6 +421,18 @@ def _completion(F, Kk, Ck, Mk, Phi, omega, zqs, Vk, kl, s, U, tw, H: int, chunk:
     h = jnp.arange(-H, H + 1)
     Eh = jnp.exp(-2j * jnp.pi * h[:, None] * s[None, :])
     return yb, F - Eh @ ft / Pn
+
+
+def _each_solve(A, B):
+    """A_i⁻¹ B_i for a stack (m, k, k), (m, k[, r]): one unbatched solve per member in a loop,
+    never a batched one. jaxlib's batched LU (the LAPACK custom call behind a vmapped
+    ``jnp.linalg.solve``) hands its members to XLA's CPU intra-op pool and waits for them;
+    when the runtime happens to run that call on a thread of the same pool (after a parallel
+    kernel), the members queue behind the waiting thread and the program never ends (seen on
+    the 2-core host: the pool's thread in ``ParallelBatchMap`` → ``BlockingCounter::Wait``,
+    every other thread idle; ``xla_cpu_multi_thread_eigen=false`` does not change it). An
+    unbatched LU runs inline."""
+    return jax.lax.map(lambda ab: jnp.linalg.solve(ab[0], ab[1]), (A, B))
 
 
 def _balance(D, F, Vk, G, s, U, nu, window, MN, kappa, parametric: bool, H: int):
@@ -464,15 +457,15 @@ def _balance(D, F, Vk, G, s, U, nu, window, MN, kappa, parametric: bool, H: int)
         Vt = jnp.einsum("pck,kl,pl,ml->pcm", Vk, U, tw, U.conj())
         K0 = jnp.einsum("pck,pc,pcl->kl", Vt.conj(), G, Vt)
         K0 = K0[None] - kappa * (MN @ MN.T)[None] * (h == 0)[:, None, None]
-        return jax.vmap(jnp.linalg.solve)(D + K0, F)
+        return _each_solve(D + K0, F)
     r0 = MN.shape[1]
     w = window.shape[0]
     Vw = Vk[:, :, window]  # (P, c, w)
     Bw = jnp.eye(k, dtype=cdt)[:, window]  # (k, w)
-    DF = jax.vmap(jnp.linalg.solve)(D, F)  # (h, k)
+    DF = _each_solve(D, F)  # (h, k)
     XU = (
         jnp.swapaxes(
-            jax.vmap(jnp.linalg.solve)(jnp.swapaxes(D, 1, 2), jnp.broadcast_to(Bw, (h.size, k, w))),
+            _each_solve(jnp.swapaxes(D, 1, 2), jnp.broadcast_to(Bw, (h.size, k, w))),
             1,
             2,
         )
@@ -506,5 +499,5 @@ def _balance(D, F, Vk, G, s, U, nu, window, MN, kappa, parametric: bool, H: int)
     wq = weights * q
     f = untwist(jnp.einsum("pck,pc->pk", Vk, wq[: Pn * c].reshape(Pn, c)), -1)  # Ṽ_pᴴ (g q)_p
     fh = jnp.einsum("hp,pk->hk", ph.conj(), f)
-    Z = DF - jax.vmap(jnp.linalg.solve)(D, fh)
+    Z = DF - _each_solve(D, fh)
     return Z.at[H].add(-D0N @ wq[Pn * c :])
