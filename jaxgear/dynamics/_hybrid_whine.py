@@ -36,7 +36,8 @@ the Newmark changes period by period, is taken as its mean in the twisted frame;
 Craig–Bampton mode whose partner of the same nodal diameter the condensation's mode count cut
 off breaks the symmetry: its coordinate is held at zero (it couples to the rim only through
 the mass, at the frequency of an interface-fixed mode); turning frames' inertia
-(``rotating_frame``), housings and trains are refused.
+(``rotating_frame``), trains and a condensed body's shaft in a housing's seats are refused
+(a housing round the other shafts is taken: the shift is the identity on its coordinates).
 
 Sources: the twisted (Bloch–Floquet) periodicity of a cyclic structure under a travelling
 load (D. L. Thomas, Int. J. Numer. Meth. Eng. 14 (1979) 81; the rotating load of a cyclic
