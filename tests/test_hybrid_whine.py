@@ -111,16 +111,11 @@ def _orders(t, q, omega, count=4):
     return c
 
 
-@pytest.mark.slow
-def test_against_the_hybrid_newmark(setup):
-    """(Slow: about 6 min.) At 600 rad/s (mesh frequency 1.9 kHz; modal damping 5 %, which has
-    no mesh share), the harmonic balance (H = 32 on 256 positions) against the hybrid Newmark
-    (256 steps per mesh period, 30 periods, 4 kept; within 0.03 % and 0.07° of 1024 steps):
-    the TE's and the mesh force's order 1 within 1 % and 1° (measured 0.16 %, 0.07°), order 2
-    within 2 % and 1° (measured −1.5 %, 0.07°: it converges with the positions, −5 % on 128),
-    order 3 reported (measured 1.6 %, 0.5°); the bearing force's largest component likewise.
-    The mean-stiffness model (TE as a displacement source) is reported beside it."""
-    case, scene = setup
+def _against_newmark(case, scene, tol, order3):
+    """The harmonic balance (H = 32 on 256 positions) and the mean-stiffness model against the
+    hybrid Newmark (256 steps per mesh period, 30 periods, 4 kept) at 600 rad/s, modal damping
+    5 %: TE, mesh force and the largest bearing force component, orders 1-2 within ``tol``
+    (relative) and 0.5°, order 3 within ``order3``."""
     model = dynamic_model(scene, case.modifications, case.torque, ModalDamping(0.05))
     speed = 600.0
     w = whine_response(model, speed, HarmonicBalance(32), positions=256)
@@ -128,7 +123,7 @@ def test_against_the_hybrid_newmark(setup):
     r = simulate(model, speed, integrator=Newmark(256), window=SteadyState(30, 4))
     t = np.asarray(r.time)
     om = 2 * np.pi * float(w.frequency[0])
-    assert not bool(w.contact_loss.any()) and float(w.nonlinearity.max()) < 5e-3
+    assert not bool(w.contact_loss.any())
     bearing = _orders(t, np.asarray(r.bearing_force), om)
     i = int(np.argmax(np.abs(bearing[1])))
     for name, ref, got, src in (
@@ -147,8 +142,23 @@ def test_against_the_hybrid_newmark(setup):
             np.abs(src[1:]) / np.abs(ref[1:]) - 1,
             np.angle(src[1:] / ref[1:], deg=True),
         )
-        assert abs(amp[1]) < 1e-2 and abs(amp[2]) < 2e-2, (name, amp)
-        assert np.all(np.abs(phase[1:3]) < 1.0), (name, phase)
+        assert np.all(np.abs(amp[1:3]) < tol), (name, amp)
+        assert np.all(np.abs(phase[1:3]) < 0.5), (name, phase)
+        assert abs(amp[3]) < order3, (name, amp)
+    return w
+
+
+@pytest.mark.slow
+def test_against_the_hybrid_newmark(setup):
+    """(Slow: about 6 min.) On the theoretical path: orders 1-2 of the TE, the mesh force and
+    the largest bearing force component within 0.5 % and 0.5° of the hybrid Newmark (measured
+    within 0.05 % and 0.07° of the 256-step run, 0.02 % and 0.02° of 1024 steps; the Newmark's
+    own 256-to-1024 change is below 0.03 % on orders 1-2), order 3 within 0.5 % (0.16 %).
+    Before the harmonics beyond H were completed (docs/whine.md, "Hybrid model") order 2 was
+    −1.5 % here, falling only as 1/H. The mean-stiffness model is reported beside it."""
+    case, scene = setup
+    w = _against_newmark(case, scene, 5e-3, 5e-3)
+    assert float(w.nonlinearity.max()) < 5e-3
 
 
 @pytest.mark.slow
@@ -202,3 +212,54 @@ def test_hybrid_whine_refuses_what_it_does_not_cover(setup):
         whine_response(model, 100.0, "harmonic-balance", positions=16)
     with pytest.raises(ValueError, match="positions"):
         whine_response(model, 100.0, HarmonicBalance(8), positions=16)
+
+
+@pytest.mark.slow
+def test_a_housed_hybrid_pair_on_a_stiff_box_tends_to_the_grounded_pair(setup):
+    """(Slow: about 2 min.) The pinion's shaft in the two seats of a box housing 1000 × stiffer
+    than steel, the condensed wheel's shaft on the ground: the cyclic shift is the identity on
+    the housing's coordinates, and the whine at 300 rad/s (H = 8 on 64 positions) is the
+    grounded pair's: TE and mesh force orders 1-2 within 1e-4 and 0.01° (measured 1.5e-5,
+    4e-4°), order 3 within 2e-3 (3.9e-4)."""
+    from fem_prep.housing import Bore, Foot, HousingBox, Tet4, mesh_box, prepare_housing
+    from jaxgear.scenes import Housing, hybrid_pair
+
+    case = jio.load_case(DATA / "hybrid-test-case.toml")  # corner cells on, as measured
+    body = fem_prep.condensed(DATA / "hybrid-test-wheel.toml")
+    a, t, width, height = case.pair.center_distance, 0.008, 0.16, 0.12
+    length = 0.08 + t  # the end walls' mid-planes at the pinion's bearings (±40 mm)
+    off = np.array([-(width / 2 - a / 2), -height / 2, -length / 2])
+    bores = tuple(Bore(w, (-off[0], height / 2), 0.014) for w in ("x-", "x+"))
+    f = 0.025
+    feet = tuple(
+        Foot((x0, x0 + f), (y0, y0 + f)) for x0 in (0.0, length - f) for y0 in (0.0, width - f)
+    )
+    box = HousingBox(length, width, height, t, bores=bores, feet=feet)
+    ph = prepare_housing(
+        mesh_box(box, 0.03, element=Tet4()), fem_prep.Material(210e12, 0.3, 7800.0), 5000.0
+    )
+    rot = np.array([[0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]])
+    housing = Housing.of(ph.condensed_housing(), rotation=rot, offset=off)
+
+    def scene(seats):
+        s = case.scene
+        return hybrid_pair(
+            case.pair,
+            case.mesh_model(flexible=(False, True)),
+            s.pinion_shaft,
+            s.gear_shaft,
+            bodies=(None, body),
+            masses=(0.3, 1.0),
+            inertias=((1e-4, 2e-4), (1e-3, 1e-3)),
+            housing=None if seats is None else housing,
+            seats=seats,
+        )
+
+    out = []
+    for seats in (None, [0, 1, None, None]):
+        model = dynamic_model(scene(seats), case.modifications, case.torque, ModalDamping(0.05))
+        out.append(whine_response(model, 300.0, HarmonicBalance(8), positions=64))
+    for name in ("transmission_error", "mesh_force"):
+        g, h = (np.asarray(getattr(w, name))[0, 1:4, 0] for w in out)
+        rel, phase = np.abs(h / g - 1), np.degrees(np.abs(np.angle(h / g)))
+        assert np.all(rel[:2] < 1e-4) and rel[2] < 2e-3 and np.all(phase < 0.01), (name, rel)
