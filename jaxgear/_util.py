@@ -90,6 +90,21 @@ def checked_on_host(value, failed, message: str):
     return eqx.error_if(value, failed, message)
 
 
+def each_solve(A, B):
+    """``A_i⁻¹ B_i`` for a stack ``A`` (m, k, k), ``B`` (m, k) or (m, k, r): one unbatched
+    solve per member in a ``jax.lax.map``, never one batched LAPACK call.
+
+    jaxlib's batched LU (the custom call behind ``jnp.linalg.solve`` on a stack, or a vmapped
+    one) hands its members to XLA's CPU intra-op thread pool and waits for them; when the
+    runtime runs that call on a thread of the same pool, the members queue behind the waiting
+    thread and the program never returns (seen on a 2-core host in the whine balances: the
+    pool's thread in ``ParallelBatchMap`` → ``BlockingCounter::Wait``, every other thread
+    idle; ``--xla_cpu_multi_thread_eigen=false`` did not prevent it). An unbatched LU runs
+    inline. Under an outer ``jax.vmap`` the loop's body is batched again: call it where the
+    outer loop is a ``lax.map``. Differentiable (``lax.map`` and ``solve`` are)."""
+    return jax.lax.map(lambda ab: jnp.linalg.solve(ab[0], ab[1]), (A, B))
+
+
 def int_rows(a) -> tuple:
     """The rows of an integer array as a tuple of tuples of Python ints (hashable: a static
     argument of a compiled program)."""

@@ -56,7 +56,7 @@ import scipy.sparse.csgraph as csg
 
 from .._contact import ContactLaw, ExactContact, contact_law
 from .._quasi_static import per_mesh_modifications
-from .._util import check_integer
+from .._util import check_integer, each_solve
 from ._hybrid_damping import _speed_damping
 from ._hybrid_mesh import SceneCells, _joined, _reference_shift, _references
 from ._model import mesh_forces, mesh_te, static_mesh_forces
@@ -414,7 +414,7 @@ def _completion(F, Kk, Ck, Mk, Phi, omega, zqs, Vk, kl, s, U, tw, H: int):
         A = 1j * omega * (jf * Ck + CPhi) - omega**2 * (jf**2 * Mk + 2 * jf * MPhi + MPhi2)
         return -jnp.linalg.solve(Kc + A, A @ z)
 
-    Yj = jax.lax.map(one, (j, Zj))  # (J, k): one unbatched solve per harmonic (_each_solve)
+    Yj = jax.lax.map(one, (j, Zj))  # (J, k): one unbatched solve per harmonic (each_solve)
     zy = E.conj().T @ Yj  # (P, k), twisted
     yb = jnp.real(jnp.einsum("kl,pl,ml,pm->pk", U, tw, U.conj(), zy))  # body frame
     f = jnp.einsum("pck,pc,pcl,pl->pk", Vk, kl, Vk, yb)  # K_m(s_p) y_high(s_p)
@@ -422,18 +422,6 @@ def _completion(F, Kk, Ck, Mk, Phi, omega, zqs, Vk, kl, s, U, tw, H: int):
     h = jnp.arange(-H, H + 1)
     Eh = jnp.exp(-2j * jnp.pi * h[:, None] * s[None, :])
     return yb, F - Eh @ ft / Pn
-
-
-def _each_solve(A, B):
-    """A_i⁻¹ B_i for a stack (m, k, k), (m, k[, r]): one unbatched solve per member in a loop,
-    never a batched one. jaxlib's batched LU (the LAPACK custom call behind a vmapped
-    ``jnp.linalg.solve``) hands its members to XLA's CPU intra-op pool and waits for them;
-    when the runtime happens to run that call on a thread of the same pool (after a parallel
-    kernel), the members queue behind the waiting thread and the program never ends (seen on
-    the 2-core host: the pool's thread in ``ParallelBatchMap`` → ``BlockingCounter::Wait``,
-    every other thread idle; ``xla_cpu_multi_thread_eigen=false`` does not change it). An
-    unbatched LU runs inline."""
-    return jax.lax.map(lambda ab: jnp.linalg.solve(ab[0], ab[1]), (A, B))
 
 
 def _balance(D, F, Vk, G, s, U, nu, window, MN, kappa, parametric: bool, H: int):
@@ -458,15 +446,15 @@ def _balance(D, F, Vk, G, s, U, nu, window, MN, kappa, parametric: bool, H: int)
         Vt = jnp.einsum("pck,kl,pl,ml->pcm", Vk, U, tw, U.conj())
         K0 = jnp.einsum("pck,pc,pcl->kl", Vt.conj(), G, Vt)
         K0 = K0[None] - kappa * (MN @ MN.T)[None] * (h == 0)[:, None, None]
-        return _each_solve(D + K0, F)
+        return each_solve(D + K0, F)
     r0 = MN.shape[1]
     w = window.shape[0]
     Vw = Vk[:, :, window]  # (P, c, w)
     Bw = jnp.eye(k, dtype=cdt)[:, window]  # (k, w)
-    DF = _each_solve(D, F)  # (h, k)
+    DF = each_solve(D, F)  # (h, k)
     XU = (
         jnp.swapaxes(
-            _each_solve(jnp.swapaxes(D, 1, 2), jnp.broadcast_to(Bw, (h.size, k, w))),
+            each_solve(jnp.swapaxes(D, 1, 2), jnp.broadcast_to(Bw, (h.size, k, w))),
             1,
             2,
         )
@@ -500,5 +488,5 @@ def _balance(D, F, Vk, G, s, U, nu, window, MN, kappa, parametric: bool, H: int)
     wq = weights * q
     f = untwist(jnp.einsum("pck,pc->pk", Vk, wq[: Pn * c].reshape(Pn, c)), -1)  # Ṽ_pᴴ (g q)_p
     fh = jnp.einsum("hp,pk->hk", ph.conj(), f)
-    Z = DF - _each_solve(D, fh)
+    Z = DF - each_solve(D, fh)
     return Z.at[H].add(-D0N @ wq[Pn * c :])

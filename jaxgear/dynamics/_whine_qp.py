@@ -35,6 +35,7 @@ import numpy as np
 from jaxtyping import Array, Complex
 
 from .._contact import solve_contact
+from .._util import each_solve
 from ._model import _k_ref, _rigid_penalty
 from ._newmark import contact_coordinates, static_condensation
 
@@ -158,7 +159,7 @@ def quasi_periodic_balance(
     if gauge is not None:
         D = D.at[0].add(gauge)
     Bc = jnp.broadcast_to(B.astype(F.dtype), (N - mid, n, r))
-    half = jnp.linalg.solve(D, jnp.concatenate([F[mid:, :, None], Bc], -1))
+    half = each_solve(D, jnp.concatenate([F[mid:, :, None], Bc], -1))  # not one batched LU
     sol = jnp.concatenate([jnp.conj(half[1:][::-1]), half], axis=0)  # (N, n, 1 + r)
     DF, DB = sol[..., 0], sol[..., 1:]
     Gm = jnp.einsum("nr,hns->hrs", B, DB)[mid:]  # (P, r, r), P = N − mid rows h >= 0
