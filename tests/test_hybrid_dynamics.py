@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import functools
 import json
+import logging
 import pathlib
 import textwrap
 
@@ -840,13 +841,14 @@ def test_nodal_diameter_resonances_appear_at_the_predicted_speeds(fem_prep_cache
     )
 
 
-def test_failures_use_the_one_result_enumeration(setup):
+def test_failures_use_the_one_result_enumeration(setup, caplog):
     """The hybrid path reports with the lumped path's :class:`jaxgear.DynamicsResult` codes and,
     as the lumped one, raises with ``throw`` (a sweep reports; one simulation raises by
     default). One Newton step from the exact solution does not solve a smooth contact whose
     ramp (50 µm) is wider than the deflection, and does solve one of a 10 nm ramp (the width is
     data: one compiled program for both). The energy check (code 3) bounds the mesh force by
-    ``blowup`` F_s: a bound of half the static force stops a converged run."""
+    ``blowup`` F_s: a bound of half the static force stops a converged run (the bound is data:
+    the converged run's program, nothing compiled again)."""
     case, scene = setup
     kw = {
         "integrator": Newmark(16),
@@ -867,17 +869,21 @@ def test_failures_use_the_one_result_enumeration(setup):
     r = _simulate(scene, case.modifications, case.torque, 900.0, throw=False, **kw)
     assert int(r.result) == 1
     # the energy check (code 3) of the lumped models: a bound below the static mesh force
-    # (blowup 0.5: mesh force > F_s / 2 at the first step) stops a converged run
-    low = _simulate(
-        scene,
-        case.modifications,
-        case.torque,
-        900.0,
-        throw=False,
-        outputs=Outputs(blowup=0.5),
-        **ok_kw,
-    )
+    # (blowup 0.5: mesh force > F_s / 2 at the first step) stops a converged run; the bound is
+    # an argument of the program of ``r`` above (JAX logs no new compilation of the sweep)
+    caplog.clear()
+    with jax.log_compiles(True), caplog.at_level(logging.WARNING):
+        low = _simulate(
+            scene,
+            case.modifications,
+            case.torque,
+            900.0,
+            throw=False,
+            outputs=Outputs(blowup=0.5),
+            **ok_kw,
+        )
     assert int(low.result) == jg.DynamicsResult.blow_up == 3
+    assert not [m for m in caplog.messages if m.startswith("Compiling jit(sweep)")]
     with pytest.raises(ValueError, match=r"blowup = 0\.0: allowed > 0"):
         _simulate(
             scene, case.modifications, case.torque, 900.0, outputs=Outputs(blowup=0.0), **ok_kw

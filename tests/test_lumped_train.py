@@ -107,22 +107,34 @@ def _nominal_force(case, k: int, hands: dict) -> np.ndarray:
     return np.array([*(ft * line_direction(case, k)), sign * ft * math.tan(pair.base_helix_angle)])
 
 
+@pytest.fixture(scope="module")
+def two_stage_solved():
+    """The default two-stage case (the low-speed pinion right-handed), its quasi-static solve
+    over the span and its bearing forces: read by the right-handed bearing balance and the
+    wrench test (one solve of the 127-period span, not two)."""
+    data = _two_stage()
+    case = jio.parse_train(copy.deepcopy(data))
+    return data, case, *_solve(case)
+
+
 @pytest.mark.parametrize("lst_hand", ["right", "left"])
-def test_each_shaft_bearings_balance_the_nominal_mesh_forces(lst_hand):
+def test_each_shaft_bearings_balance_the_nominal_mesh_forces(lst_hand, request):
     """Two-stage helical case: the bearings of each shaft carry the mesh forces on its gears
     (to 1e-6 of the largest), summed from the cells' contact loads along their normals and
     within 1e-4 of the nominal forces written from the gear data alone; the low-speed pinion
     right-handed as the wheel on its shaft (the default), the two axial forces on the
     intermediate shaft oppose (|F_a1 − F_a2|), left-handed they add."""
-    data = _two_stage()
     hands = {"input": -1, "hst-wheel": 1, "lst-pinion": 1, "output": -1}
     if lst_hand == "left":
+        data = _two_stage()
         _gear(data, "lst-pinion")["hand"] = "left"
         _gear(data, "output")["hand"] = "right"
         hands.update({"lst-pinion": -1, "output": 1})
-    case = jio.parse_train(data)
+        case = jio.parse_train(data)
+        res, forces = _solve(case)
+    else:  # the default hands: the module's solve
+        _, case, res, forces = request.getfixturevalue("two_stage_solved")
     assert [int(h) for h in case.layout().hands] == list(hands.values())
-    res, forces = _solve(case)
     nominal = [_nominal_force(case, k, hands) for k in (0, 1)]
     scale = max(np.abs(nominal).max(), 1.0)
     # the mesh forces the bearings balance: the mean over the positions of the cells' contact
@@ -207,7 +219,7 @@ def _hst_with_wrench(data: dict, force, moment) -> dict:
     return hst
 
 
-def test_second_stage_as_a_wrench_gives_the_intermediate_bearing_loads():
+def test_second_stage_as_a_wrench_gives_the_intermediate_bearing_loads(two_stage_solved):
     """The seed's Tab. III-10 logic: the low-speed stage replaced by its wrench on the
     intermediate shaft. The nominal wrench (F_n at the centre of the contact zone) gives the
     input shaft's bearing loads to 1e-4 and the intermediate shaft's to 3 % of its largest
@@ -215,9 +227,7 @@ def test_second_stage_as_a_wrench_gives_the_intermediate_bearing_loads():
     142 N; the high-speed TE mean moves by 1.3 %, as docs/trains-evidence.md states). The difference is
     the load centre: the mean contact wrench, summed here from the full model's line loads at
     their base-plane points, gives every bearing load to 1e-6."""
-    data = _two_stage()
-    full = jio.parse_train(copy.deepcopy(data))
-    res, forces = _solve(full)
+    data, full, res, forces = two_stage_solved
     layout, plane = full.layout(), full.mesh_models()[1]
     pinion = full.gear_names.index("lst-pinion")
     fn = full.mesh_torques[1] / (full.pairs[1].base_radii[0] * math.cos(plane.base_helix_angle))
@@ -236,14 +246,17 @@ def test_second_stage_as_a_wrench_gives_the_intermediate_bearing_loads():
         shaft: max(abs(v) for k, v in forces.items() if k.startswith(shaft + " "))
         for shaft in ("input", "intermediate")
     }
-    for wrench, tol in ((nominal, {"input": 1e-4, "intermediate": 3e-2}), (contact, None)):
-        _, got = _solve(jio.parse_train(_hst_with_wrench(data, *wrench)))
+    # each wrench's solve of the high-speed stage alone: (result, bearing forces)
+    by_nominal, by_contact = (
+        _solve(jio.parse_train(_hst_with_wrench(data, *w))) for w in (nominal, contact)
+    )
+    for (_, got), tol in ((by_nominal, {"input": 1e-4, "intermediate": 3e-2}), (by_contact, None)):
         for key, value in got.items():
             shaft = key.split(" ")[0]
             rtol = 1e-6 if tol is None else tol[shaft]
             assert abs(value - forces[key]) <= rtol * scale[shaft], key
     # the nominal wrench misses the intermediate shaft's loads by more than 1 % of the largest
-    hst, got = _solve(jio.parse_train(_hst_with_wrench(data, *nominal)))
+    hst, got = by_nominal
     worst = max(abs(got[k] - forces[k]) for k in got if k.startswith("intermediate"))
     assert worst > 1e-2 * scale["intermediate"]
     assert round(worst) == 57 and round(forces["intermediate z=0mm Fy"]) == 142

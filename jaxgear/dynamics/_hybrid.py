@@ -205,7 +205,7 @@ class HybridRun(eqx.Module):
     law: ContactLaw
     omega: Float[Array, ""]
     space: ModalSpace | None
-    cfg: _Config = eqx.field(static=True)
+    cfg: _Config  # static settings, and the divergence bound as data
 
 
 def modal_space(model: HybridModel, law: ContactLaw, cfg: _Config) -> ModalSpace | None:

@@ -201,7 +201,7 @@ class LumpedRun(eqx.Module):
 
     prep: _Prepared
     law: ContactLaw
-    cfg: _Config = eqx.field(static=True)
+    cfg: _Config  # static settings, and the divergence bound as data
 
 
 # --------------------------------------------------------------------------------------------

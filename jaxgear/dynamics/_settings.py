@@ -438,7 +438,9 @@ class Outputs:
             and without ``cell_loads`` keeps no per-cell record); None: not tracked.
         blowup: divergence bound (> 0), result code 3: mesh force > blowup·F_s or kinetic
             energy > blowup² · F_s²/2k̄ (k̄ the mean mesh stiffness: of the model for a lumped
-            one, of the quasi-static positions at the speed for a hybrid one).
+            one, of the quasi-static positions at the speed for a hybrid one). Data in the
+            compiled run (not a setting of it): runs that differ only in ``blowup`` share one
+            program.
     """
 
     states: bool = False
@@ -495,25 +497,25 @@ def check_batching(batching) -> Batching:
     return batching.checked()
 
 
-@dataclasses.dataclass(frozen=True)
-class _Config:
-    """The resolved settings of one run (static under jit): the integrator with its step count
-    fixed, the window, the divergence bound, whether the states and the cell loads are
-    recorded, and the Hertz pressure tracked (or None)."""
+class _Config(eqx.Module):
+    """The resolved settings of one run: the integrator with its step count fixed, the window,
+    whether the states and the cell loads are recorded and the Hertz pressure tracked (or None),
+    all static under jit, and the divergence bound ``blowup``, data (a weakly typed scalar
+    array: the programs of every bound are one, the comparison rounds as with a Python float)."""
 
-    integrator: Integrator
-    steps_per_period: int
-    periods: int
-    keep_periods: int
-    max_steps: int
-    blowup: float
-    states: bool = False
-    cell_loads: bool = False
-    pressure: HertzPressure | None = None
+    integrator: Integrator = eqx.field(static=True)
+    steps_per_period: int = eqx.field(static=True)
+    periods: int = eqx.field(static=True)
+    keep_periods: int = eqx.field(static=True)
+    max_steps: int = eqx.field(static=True)
+    blowup: jax.Array
+    states: bool = eqx.field(static=True, default=False)
+    cell_loads: bool = eqx.field(static=True, default=False)
+    pressure: HertzPressure | None = eqx.field(static=True, default=None)
     #: None, or a run whose N_s is an argument of its compiled program (a sweep over several
     #: automatic N_s; ``steps_per_period`` is then the largest, the record buffer's size): the
     #: smallest N_s of the sweep, the resolution its histories are returned at
-    history_steps: int | None = None
+    history_steps: int | None = eqx.field(static=True, default=None)
 
     @property
     def newmark(self) -> bool:
@@ -609,7 +611,7 @@ def _config(
         int(window.periods),
         int(window.keep_periods),
         int(max_steps),
-        float(blowup),
+        jnp.asarray(float(blowup)),  # weakly typed: rounds to the model's dtype as a float
         bool(outputs.states),
         bool(cell_loads),
         outputs.pressure,
