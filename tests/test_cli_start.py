@@ -8,7 +8,6 @@ asserted here (benchmarks/_startup.py measures it). ``jaxgear cases`` lists rati
 time; every subcommand's help has an example; speeds are taken in rpm too."""
 
 import math
-import os
 import pathlib
 import re
 import subprocess
@@ -265,38 +264,3 @@ def test_the_installed_script_is_the_deferring_one():
     assert project["project"]["scripts"]["jaxgear"] == "jaxgear_start:entry"
     assert "jaxgear_start" in project["tool"]["setuptools"]["py-modules"]
     assert (ROOT / "jaxgear_start.py").is_file()
-
-
-@pytest.mark.parametrize("given", [None, "OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS"])
-def test_the_script_runs_openblas_single_threaded_unless_told(given):
-    """The script sets ``OPENBLAS_NUM_THREADS=1`` before numpy loads OpenBLAS (a dense LU of a
-    housed scene's 152 unknowns was ~500 times slower multi-threaded on a loaded machine), and
-    leaves a thread count the user gave alone: read back from the OpenBLAS numpy loaded
-    (threadpoolctl) and from the environment."""
-    pytest.importorskip("threadpoolctl")
-    probe = (
-        "import os, sys, jaxgear_start\n"
-        "try:\n"
-        "    jaxgear_start.entry()\n"
-        "except SystemExit:\n"
-        "    pass\n"
-        "import numpy, threadpoolctl\n"
-        "n = [p['num_threads'] for p in threadpoolctl.threadpool_info()"
-        " if p['internal_api'] == 'openblas']\n"
-        "print('BLAS', os.environ.get('OPENBLAS_NUM_THREADS'), min(n) if n else None)\n"
-    )
-    env = {k: v for k, v in os.environ.items()
-           if k not in ("OPENBLAS_NUM_THREADS", "GOTO_NUM_THREADS", "OMP_NUM_THREADS")}
-    if given is not None:
-        env[given] = "2"
-    out = subprocess.run([sys.executable, "-c", probe, "cases"], check=False, capture_output=True,
-                         text=True,
-                         cwd=ROOT, env=env, timeout=300)
-    line = [s for s in out.stdout.splitlines() if s.startswith("BLAS")][-1].split()
-    if given is None:
-        assert line[1:] == ["1", "1"]
-    elif given == "OMP_NUM_THREADS":
-        assert line[1] == "None"  # not forced: OpenBLAS takes the user's count
-        assert line[2] == "2"
-    else:
-        assert line[1:] == ["2", "2"]
