@@ -64,7 +64,7 @@ def _one_blas_thread():
     SciPy's OpenBLAS, which splits an LU of more than about 128 unknowns over threads that wait
     for each other busily: on the loaded 2-core host one 152 x 152 solve (a housed train's
     static contact) took 200 ms on OpenBLAS's two threads, 0.4 ms on one (docs/housing.md,
-    "Run time")."""
+    "A two-stage train")."""
     if any(os.environ.get(name) for name in BLAS_THREAD_VARIABLES):
         return contextlib.nullcontext()
     import scipy.linalg  # noqa: F401  (loads SciPy's OpenBLAS, the one JAX's LAPACK calls use)
