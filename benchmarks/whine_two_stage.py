@@ -15,6 +15,10 @@ its 200-speed cost is that mean times 200 (stated in the JSON). Wall and CPU sec
 is shared). From the repository root: ``python -m benchmarks.whine_two_stage`` (``--housed``:
 the same in the box housing of the embedded ``two-stage-housed``,
 docs/bench/whine_two_stage_housed.json);
+``--housed --timing-only``: the costs alone on the housed case (no accuracy check: its converged
+Newmark reference takes most of an hour on a loaded host), the balance's 200 speeds with
+OpenBLAS on one thread and on its default threads (threadpoolctl, where installed) in the same
+run, into docs/bench/whine_two_stage_housed_timing.json;
 ``python -m benchmarks.whine_two_stage --figure`` draws docs/img/whine_two_stage_spectrum.png
 only (each mesh's TE spectrum of the Newmark run at the check speed, the balance's lines on it).
 """
@@ -196,7 +200,85 @@ def main(housed: bool = False) -> dict:
     return out
 
 
+def timing_only(housed: bool = True) -> dict:
+    """The balance's 200 speeds (first call, then again) and Newmark at NEWMARK_SPEEDS speeds, in
+    one run: the ratio without the accuracy check; the balance again with OpenBLAS's threads
+    limited to one and left at its default (threadpoolctl), paired, when it is installed."""
+    import os
+
+    env = environment()
+    model, _ = jio.build_dynamic_model(_case(housed))
+    c = _clock()
+    jax.block_until_ready(whine_response(model, SPEEDS, METHOD, positions=POSITIONS).coordinates)
+    first = _since(c)
+    print("balance first call", first, flush=True)
+    balance = {}
+    try:
+        from threadpoolctl import threadpool_info, threadpool_limits
+    except ImportError:  # pragma: no cover - optional
+        threadpool_limits = None
+    variants = [("default", None)] + ([("one_thread", 1)] if threadpool_limits else [])
+    for name, limit in variants:
+        ctx = threadpool_limits(limits=limit, user_api="blas") if limit else _Null()
+        with ctx:
+            c = _clock()
+            jax.block_until_ready(
+                whine_response(model, SPEEDS, METHOD, positions=POSITIONS).coordinates)
+            wall, cpu = _since(c)
+        balance[name] = {"wall": wall, "cpu": cpu, "load_average_after": list(os.getloadavg())}
+        print("balance sweep", name, wall, cpu, flush=True)
+    picks = np.linspace(0, len(SPEEDS) - 1, NEWMARK_SPEEDS).round().astype(int)
+    jax.block_until_ready(_newmark(model, SPEEDS[picks[0]]).meshes[0].transmission_error)
+    walls, cpus = [], []
+    for j in picks:
+        c = _clock()
+        jax.block_until_ready(_newmark(model, SPEEDS[j]).meshes[0].transmission_error)
+        wall, cpu = _since(c)
+        walls.append(wall)
+        cpus.append(cpu)
+        print("newmark speed", SPEEDS[j], wall, cpu, flush=True)
+    nm_wall, nm_cpu = float(np.mean(walls)) * len(SPEEDS), float(np.mean(cpus)) * len(SPEEDS)
+    blas = [] if threadpool_limits is None else [
+        {k: p.get(k) for k in ("internal_api", "num_threads", "version")}
+        for p in threadpool_info() if p.get("user_api") == "blas"]
+    out = {
+        "case": "two-stage-housed (the embedded case's 360 mm box), lumped 3D",
+        "coordinates": int(model.scene.mass().shape[0]),
+        "speeds": len(SPEEDS),
+        "method": f"QuasiPeriodicBalance(harmonics={METHOD.harmonics}, "
+        f"sidebands={METHOD.sidebands}), positions={POSITIONS}",
+        "newmark": f"Newmark({STEPS}), SteadyState({3 * 127}, 127) per speed (compiled first)",
+        "balance_first_call_s": {"wall": first[0], "cpu": first[1]},
+        "balance_sweep_s": balance,
+        "newmark_per_speed_s": {"wall": float(np.mean(walls)), "cpu": float(np.mean(cpus)),
+                                "speeds_timed": len(walls)},
+        "newmark_sweep_s_priced": {"wall": nm_wall, "cpu": nm_cpu},
+        "ratio_wall": {k: nm_wall / v["wall"] for k, v in balance.items()},
+        "ratio_cpu": {k: nm_cpu / v["cpu"] for k, v in balance.items()},
+        "blas": blas,
+        "load_average_at_end": list(os.getloadavg()),
+        "environment": env,
+    }
+    path = ROOT / "docs" / "bench" / "whine_two_stage_housed_timing.json"
+    path.write_text(json.dumps(out, indent=1) + "\n")
+    print(json.dumps({k: out[k] for k in out if k != "environment"}, indent=1))
+    return out
+
+
+class _Null:
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *a):
+        return False
+
+
 if __name__ == "__main__":
     import sys
 
-    figure() if "--figure" in sys.argv[1:] else main(housed="--housed" in sys.argv[1:])
+    if "--figure" in sys.argv[1:]:
+        figure()
+    elif "--timing-only" in sys.argv[1:]:
+        timing_only(housed=True)
+    else:
+        main(housed="--housed" in sys.argv[1:])

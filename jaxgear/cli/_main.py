@@ -15,6 +15,7 @@ exit status 130, a closed pipe (``jaxgear run | head``) a quiet exit.
 
 from __future__ import annotations
 
+import contextlib
 import importlib
 import os
 import re
@@ -47,7 +48,29 @@ def _dispatch(args) -> int:
 
         jax.config.update("jax_enable_x64", True)
         enable_xla_cache()
+        with _one_blas_thread():
+            return _command(args.command)(args)
     return _command(args.command)(args)
+
+
+#: the variables OpenBLAS reads its thread count from: a count the user set is left alone
+BLAS_THREAD_VARIABLES = ("OPENBLAS_NUM_THREADS", "GOTO_NUM_THREADS", "OMP_NUM_THREADS")
+
+
+def _one_blas_thread():
+    """A command computing with JAX runs the BLAS libraries on one thread (``threadpoolctl``;
+    fem_prep's builds set their own count inside, :mod:`fem_prep`'s ``blas_threads``), unless
+    the user set one of :data:`BLAS_THREAD_VARIABLES`. JAX's dense solves on the CPU go through
+    SciPy's OpenBLAS, which splits an LU of more than about 128 unknowns over threads that wait
+    for each other busily: on the loaded 2-core host one 152 x 152 solve (a housed train's
+    static contact) took 200 ms on OpenBLAS's two threads, 0.4 ms on one (docs/housing.md,
+    "A two-stage train")."""
+    if any(os.environ.get(name) for name in BLAS_THREAD_VARIABLES):
+        return contextlib.nullcontext()
+    import scipy.linalg  # noqa: F401  (loads SciPy's OpenBLAS, the one JAX's LAPACK calls use)
+    from threadpoolctl import threadpool_limits
+
+    return threadpool_limits(limits=1, user_api="blas")
 
 
 def _equinox_runtime_error(err: BaseException) -> bool:
