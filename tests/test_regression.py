@@ -257,6 +257,30 @@ def _table_scales(ref: dict) -> dict:
     }
 
 
+def _lines_differ(got: dict, ref: dict, path: str) -> list[str]:
+    """Spectral lines recorded as amplitude and phase compare as the complex numbers
+    ``A e^{i phi}``, relative to the largest line: a line 1e-9 of the largest has no phase to
+    round-off (its phase moves by degrees when its value moves by 1e-9 of the largest), so
+    its phase counts in proportion to its amplitude. The amplitudes compare on their own
+    (:func:`differences`)."""
+    try:
+        a_got, a_ref = np.asarray(got["amplitude"], float), np.asarray(ref["amplitude"], float)
+        p_got, p_ref = np.asarray(got["phase_deg"], float), np.asarray(ref["phase_deg"], float)
+    except ValueError:
+        return [f"{path}: amplitude/phase lists of uneven shape"]
+    if a_got.shape != a_ref.shape or p_got.shape != p_ref.shape or a_ref.shape != p_ref.shape:
+        return [f"{path}.phase_deg: shape {p_got.shape} != {p_ref.shape}"]
+    z_got = a_got * np.exp(1j * np.deg2rad(p_got))
+    z_ref = a_ref * np.exp(1j * np.deg2rad(p_ref))
+    scale = float(np.max(np.abs(a_ref), initial=0.0))
+    bad = np.argwhere(~(np.abs(z_got - z_ref) <= RTOL * scale))
+    return [
+        f"{path}.phase_deg{list(map(int, i))}: {p_got[tuple(i)]!r} != {p_ref[tuple(i)]!r} "
+        f"(line {np.abs(z_got - z_ref)[tuple(i)] / max(scale, 1e-300):.2e} of the largest)"
+        for i in bad
+    ]
+
+
 def differences(got, ref, path: str = "", scale: float | None = None) -> list[str]:
     """Where ``got`` differs from the recorded ``ref``: a list of one-line descriptions.
 
@@ -278,6 +302,9 @@ def differences(got, ref, path: str = "", scale: float | None = None) -> list[st
             inner = _table_scales(ref)
         else:
             inner = dict.fromkeys(ref, max(_numbers(ref), default=0.0))
+        if {"amplitude", "phase_deg"} <= set(ref) and {"amplitude", "phase_deg"} <= set(got):
+            out += _lines_differ(got, ref, path)
+            keys = keys - {"phase_deg"}
         for k in sorted(keys - SKIPPED):
             if k not in got or k not in ref:
                 out.append(f"{path}.{k}: {'missing' if k not in got else 'not recorded'}")
@@ -388,6 +415,12 @@ def test_differences_sees_a_change():
     phases = {"phase_deg": [180.0 - 1e-10, 10.0]}
     assert differences({"phase_deg": [-180.0 + 1e-10, 10.0]}, phases) == []
     assert differences({"phase_deg": [180.0 - 1e-10, 11.0]}, phases) != []
+    # lines as amplitude and phase: a line 4e-9 of the largest may turn by 1e-6 degrees (its
+    # value moves 1e-16 of the largest), the largest may not; nor may the small line turn by 90°
+    lines = {"amplitude": [1.0, 4e-9], "phase_deg": [30.0, -30.0]}
+    assert differences({"amplitude": [1.0, 4e-9], "phase_deg": [30.0, -30.000001]}, lines) == []
+    assert differences({"amplitude": [1.0, 4e-9], "phase_deg": [30.000001, -30.0]}, lines) != []
+    assert differences({"amplitude": [1.0, 4e-9], "phase_deg": [30.0, 60.0]}, lines) != []
 
 
 def test_a_changed_recorded_number_is_reported(tmp_path):
