@@ -803,7 +803,12 @@ references), the torsional stiffness of the shaft joining each stage to the prev
 the operating point once, on the first stage's input; a pair stage also states which gear the
 previous stage drives, its gears' polar inertias and its mean mesh stiffness (see *Planetary
 stages*, "A gearbox of stages in series"). A stage is rated to ISO 6336 by its own case's
-`[rating]`, at the operating point the gearbox carries to it. Unknown keys are errors."""
+`[rating]`, at the operating point the gearbox carries to it. A `[whine]` table asks for the
+whole coupled gearbox's gear whine (docs/whine.md, "A gearbox"): the pair's `[whine]` keys and
+units (see the pair reference), its speeds the first stage's input member's, `method`
+`"quasi-periodic"` (the default here; another method is refused), `positions_per_period` per
+stage with at most 10⁶ points on the stages' torus grid (positions^stages). Unknown keys are
+errors."""
 
 #: what the gearbox page says of a table beyond its keys
 GEARBOX_NOTES = {

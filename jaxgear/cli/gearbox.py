@@ -11,7 +11,9 @@ with their type and the mesh holding most strain energy (``summary.json``'s ``co
 against the coupled modes, ``campbell.json``, ``campbell.png``) and the force spectrum at two
 housing-fixed points, stage 1's ring mount and the parallel stage's bearing, from one coupled
 run at the rated input speed (``housing_spectrum.json``, ``housing_spectrum.png``; the
-summary's ``campbell`` and ``housing_spectrum``)."""
+summary's ``campbell`` and ``housing_spectrum``); with ``[whine]``, the whole coupled gearbox's
+gear whine (:func:`jaxgear.gearbox.gearbox_whine` on the coupled chain) into ``whine/``
+through the pair's writers (:func:`jaxgear.cli._whine_run.whine_outputs`)."""
 
 from __future__ import annotations
 
@@ -28,6 +30,7 @@ from ..gearbox import (
     coupled_mode_table,
     gearbox_coupled_modes,
     gearbox_speed_sweep,
+    gearbox_whine,
     housing_lines,
     housing_spectrum,
     line_amplitudes,
@@ -38,9 +41,10 @@ from ..gearbox import (
 from ..io import write_json
 from ._plots import gearbox_campbell_plot, housing_spectrum_plot, new_figure, savefig
 from ._tribology_run import efficiency_run_line, gearbox_tribology
+from ._whine_run import SolvedWhine, whine_outputs, whine_run_line
 
 __all__ = ["chain_modes", "coupled_campbell", "coupled_sweep", "gearbox_run_files",
-           "gearbox_run_lines", "housing_point_spectrum", "least_safety"]
+           "gearbox_run_lines", "gearbox_whine_outputs", "housing_point_spectrum", "least_safety"]
 
 #: the coupled sweep's input speeds, as fractions of the operating point's input speed
 COUPLED_SPEEDS = np.linspace(0.2, 1.2, 6)
@@ -308,6 +312,29 @@ def housing_point_spectrum(form, case, out: str) -> dict:
     }
 
 
+def whine_mesh_names(chain) -> list[str]:
+    """Each coupled mesh's name in the whine's files: ``stage<k>_<the stage's mesh name>``."""
+    return [f"stage{k + 1}_{n}" for k, s in enumerate(chain.stages) for n in s.mesh_names()]
+
+
+def gearbox_whine_outputs(form, case, out: str) -> dict | None:
+    """The whole coupled gearbox's whine over its ``[whine]`` speeds (the first stage's input
+    member's, rad/s): :func:`jaxgear.gearbox.gearbox_whine` on the coupled chain and run of the
+    coupled sweep (:func:`_coupled_setup`: the gearbox's torque, the last shaft's stiffness as
+    the output hold, :data:`COUPLED_RUN`'s modal damping and mean positions), the table's
+    :class:`~jaxgear.dynamics.QuasiPeriodicBalance` and positions per stage; written into
+    ``out/whine`` by the pair's writers (whine.json, whine.csv, the order plots and waterfalls,
+    each mesh's orders of its own mesh frequency). Returns the summary's ``whine`` section,
+    None without ``[whine]``."""
+    inputs = form.whine
+    if inputs is None:
+        return None
+    chain, run, _, _ = _coupled_setup(form)
+    w = gearbox_whine(chain, run, np.asarray(inputs.speeds), inputs.method,
+                      positions=inputs.positions)
+    return whine_outputs(case, out, SolvedWhine(inputs, w, tuple(whine_mesh_names(chain))))
+
+
 def least_safety(stage_summary: dict) -> str:
     """The words a gearbox's stage line ends with when the stage is rated (its ``[rating]``,
     at the carried operating point): the least S_H and S_F over its meshes and gears, and where
@@ -377,4 +404,5 @@ def gearbox_run_lines(form, case, summary: dict) -> list[str]:
             f"planet pass {hs['planet_pass_Hz']:.4g} Hz, lines {ms} beside the mesh frequency "
             f"{hs['ring_mesh_Hz']:.4g} Hz ({hs['ring_mesh_line_N']:.3g} N); stage "
             f"{hs['bearing_stage']}'s bearing at its mesh harmonics {own} (housing_spectrum.png)")
-    return lines + efficiency_run_line(summary.get("tribology"))
+    return (lines + efficiency_run_line(summary.get("tribology"))
+            + whine_run_line(summary.get("whine")))

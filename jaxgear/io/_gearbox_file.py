@@ -19,6 +19,12 @@ point given on the first stage's input and carried stage to stage by the stages'
     gear_inertia_kg_m2 = 921.0
     mesh_stiffness_N_per_um = 7668.0
 
+A ``[whine]`` table (the keys and units of a pair's, :mod:`jaxgear.io._whine_table`; its
+method ``"quasi-periodic"``, the default here: every stage meshes at its own frequency) asks
+``jaxgear run`` for the whole coupled gearbox's whine (:func:`jaxgear.gearbox.gearbox_whine`), its
+speeds the first stage's input member's, its ``positions_per_period`` per stage (the torus grid
+has positions^G static solves, G the stages: at most :data:`MAX_WHINE_GRID`).
+
 A planetary stage's input and output are its ``[planetary]`` table's; each stage's own
 ``[operating]`` is replaced by the carried one (a pair's torque and speed are its pinion's), also
 for its ``[rating]``: ``jaxgear run`` rates every mesh of every stage that has one, each at the
@@ -40,14 +46,18 @@ from ..gearbox import (
     PairGearboxStage,
     PlanetaryGearboxStage,
 )
+from ..dynamics import QuasiPeriodicBalance
 from ._case import Case, CaseForm, PairForm
 from ._planetary_spec import PlanetaryForm
 from ._planetary_table import MESH_STIFFNESS_N_PER_UM, torque_floor
 from ._plausibility import MIN_LINE_LOAD_N_PER_MM
+from ._whine_table import WhineInputs, parse_whine
 
 __all__ = ["GearboxForm", "GearboxStage", "is_gearbox", "parse_gearbox"]
 
-_KEYS = ("name", "operating", "stages")
+_KEYS = ("name", "operating", "stages", "whine")
+#: the gearbox whine's torus grid: at most this many static solves (positions_per_period^G)
+MAX_WHINE_GRID = 1_000_000
 _STAGE_KEYS = (
     "case",
     "shaft_Nm_per_rad",
@@ -88,9 +98,12 @@ class GearboxStage:
 class GearboxForm(CaseForm):
     """A gearbox case file (``[[stages]]``): stages in series; its meshes (the case's
     ``pairs``) are its stages' meshes in order, each named ``stage<i>:<the stage's name of it>``
-    (i from 1) and given as a pair case by its stage (:meth:`mesh_case`)."""
+    (i from 1) and given as a pair case by its stage (:meth:`mesh_case`); ``whine``: its
+    ``[whine]`` (:class:`~jaxgear.io.WhineInputs`, a
+    :class:`~jaxgear.dynamics.QuasiPeriodicBalance`) or None."""
 
     stages: tuple[GearboxStage, ...]
+    whine: WhineInputs | None = None
 
     def stage_name(self, i: int) -> str:
         """Stage ``i``'s name in the outputs: ``stage<i + 1>``."""
@@ -230,6 +243,27 @@ def _stage_case(value: str, base: str | None, load_case, where: str) -> Case:
         raise sc.fail(where, "case", str(err)) from None
 
 
+def _whine(table, n_stages: int) -> WhineInputs:
+    """A gearbox's ``[whine]``: the pair's table (:func:`parse_whine`), its method
+    ``"quasi-periodic"`` (the default here), the torus grid positions^G <= :data:`MAX_WHINE_GRID`
+    (G the stages: every stage of the coupled chain is on its contact cells)."""
+    if isinstance(table, dict) and "method" not in table:
+        table = {**table, "method": "quasi-periodic"}
+    inputs = parse_whine(table)
+    if not isinstance(inputs.method, QuasiPeriodicBalance):
+        raise sc.fail("whine", "method", 'allowed "quasi-periodic" in a gearbox (each stage '
+                      "meshes at its own frequency)", table["method"])
+    P = inputs.positions
+    if P**n_stages > MAX_WHINE_GRID:
+        top = int(math.floor(MAX_WHINE_GRID ** (1.0 / n_stages) + 1e-9))
+        low = 4 * inputs.method.harmonics + 1
+        raise sc.fail("whine", "positions_per_period",
+                      f"out of range for {n_stages} stages: allowed [{low}, {top}] "
+                      f"(positions^{n_stages} static solves on the torus grid, at most "
+                      f"{MAX_WHINE_GRID:.0e})", P)
+    return inputs
+
+
 def parse_gearbox(data: dict, default_name: str, base: str | None, load_case) -> Case:
     """Validate a gearbox case file (module docstring) and build its :class:`Case`: the first
     stage's case, named by the file, of form :class:`GearboxForm`. ``load_case``: how a stage's
@@ -239,7 +273,8 @@ def parse_gearbox(data: dict, default_name: str, base: str | None, load_case) ->
         SchemaError: an unknown key, a stage without ``case``, a pair key on a planetary stage,
             a shaft stiffness out of (0, 1e15] N·m/rad (the first stage has none), a stage that
             is not a planetary stage or a pair, a stage ``case`` that is neither a file nor an
-            embedded case; one line each.
+            embedded case, a ``[whine]`` key out of range (its method not "quasi-periodic",
+            its torus grid over :data:`MAX_WHINE_GRID`); one line each.
     """
     sc.check_keys(data, _KEYS, "")
     name = sc.name(data, "name", "", default_name)
@@ -261,7 +296,8 @@ def parse_gearbox(data: dict, default_name: str, base: str | None, load_case) ->
         stages.append(GearboxStage(staged, ratio, speed, torque, shaft, model))
         speed, torque = stages[-1].output_speed, stages[-1].output_torque
     _check_torque(op, stages)
+    whine = _whine(data["whine"], len(stages)) if "whine" in data else None
     first = stages[0].case
     pairs = tuple(p for s in stages for p in s.case.pairs)
-    form = GearboxForm(tuple(stages))
+    form = GearboxForm(tuple(stages), whine)
     return first.replace(name=name, form=form, raw=data, scene=None, pairs=pairs)
