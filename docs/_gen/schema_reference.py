@@ -816,7 +816,10 @@ GEARBOX_NOTES = {
     "`shaft_Nm_per_rad` on every stage but the first (refused there: no shaft before it); "
     "`input`, `pinion_inertia_kg_m2`, `gear_inertia_kg_m2` and `mesh_stiffness_N_per_um` on a "
     "gear-pair stage only (refused on a planetary stage, whose input and output are its "
-    "`[planetary]` table's).",
+    "`[planetary]` table's). `model` (a gear-pair stage: `\"torsional\"`, the default, or "
+    "`\"lumped3d\"`: the stage case's lumped 3D `[scene]`, shafts, bearings and gear bodies, "
+    "as `jaxgear.gearbox.LumpedPairGearboxStage`; the inertia and mesh stiffness keys are "
+    "refused with it, and so is a stage case without such a scene).",
 }
 
 #: what the train page says of a table beyond its keys

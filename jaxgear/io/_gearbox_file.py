@@ -19,6 +19,12 @@ point given on the first stage's input and carried stage to stage by the stages'
     gear_inertia_kg_m2 = 921.0
     mesh_stiffness_N_per_um = 7668.0
 
+A pair stage is torsional (two rotations, the inertias and mean mesh stiffness above) unless
+``model = "lumped3d"``: then it is its case's lumped 3D scene (the pair case's ``[scene]`` with
+``model = "lumped3d"``: its shafts, bearings and gear bodies, its own ``[housing]`` if any) as a
+:class:`~jaxgear.gearbox.LumpedPairGearboxStage`, the gearbox's shafts joined at its shafts'
+torque nodes; its inertias and mesh stiffness are the scene's (the three keys refused).
+
 A ``[whine]`` table (the keys and units of a pair's, :mod:`jaxgear.io._whine_table`; its
 method ``"quasi-periodic"``, the default here: every stage meshes at its own frequency) asks
 ``jaxgear run`` for the whole coupled gearbox's whine (:func:`jaxgear.gearbox.gearbox_whine`), its
@@ -43,11 +49,13 @@ from fem_prep import schema as sc
 from ..gearbox import (
     AbstractGearboxStage,
     GearboxTorsional,
+    LumpedPairGearboxStage,
     PairGearboxStage,
     PlanetaryGearboxStage,
 )
 from ..dynamics import QuasiPeriodicBalance
 from ._case import Case, CaseForm, PairForm
+from ._case_model import PAIR_SCENES
 from ._planetary_spec import PlanetaryForm
 from ._planetary_table import MESH_STIFFNESS_N_PER_UM, torque_floor
 from ._plausibility import MIN_LINE_LOAD_N_PER_MM
@@ -65,10 +73,15 @@ _STAGE_KEYS = (
     "pinion_inertia_kg_m2",
     "gear_inertia_kg_m2",
     "mesh_stiffness_N_per_um",
+    "model",
 )
 _PAIR_KEYS = _STAGE_KEYS[2:]
 #: a pair stage's ``input``: which gear the previous stage drives
 PAIR_INPUTS = {"pinion": 0, "gear": 1}
+#: a pair stage's ``model``: the torsional pair or its case's lumped 3D scene
+PAIR_MODELS = ("torsional", "lumped3d")
+#: the keys of a torsional pair stage only
+_TORSIONAL_KEYS = ("pinion_inertia_kg_m2", "gear_inertia_kg_m2", "mesh_stiffness_N_per_um")
 
 
 @dataclasses.dataclass(frozen=True)
@@ -154,6 +167,8 @@ class GearboxForm(CaseForm):
             if isinstance(t, PlanetaryGearboxStage):
                 meshes = s.case.form.spec.dynamic_meshes(s.case, slices)
                 stages.append(PlanetaryGearboxStage(t.stage, t.input, t.output, meshes))
+            elif isinstance(t, LumpedPairGearboxStage):
+                stages.append(lumped_stage(s.case, t.input, slices))
             else:
                 stages.append(PairGearboxStage(t.inertias, t.base_radii, t.mesh_stiffness,
                                                t.input, s.case.mesh_model(slices),
@@ -182,19 +197,51 @@ def _(form: PlanetaryForm, case: Case, table: dict, where: str, speed: float, to
     return _carried(case, speed, torque), spec.ratio(), model
 
 
+def lumped_stage(case: Case, side: int, slices: int | None = None) -> LumpedPairGearboxStage:
+    """A pair case's lumped 3D scene (its ``[scene]``, ``model = "lumped3d"``; its
+    ``[housing]`` if any) as a :class:`~jaxgear.gearbox.LumpedPairGearboxStage` driven on
+    ``side`` (0 the pinion shaft), its mesh at ``slices`` slices (None: the case's), its
+    cells' separations the case's modifications."""
+    scene = PAIR_SCENES["lumped3d"](case, case.scene, case.mesh_model(slices))
+    return LumpedPairGearboxStage(scene, input=side, modifications=case.modifications)
+
+
+def _lumped(case: Case, table: dict, where: str, side: int) -> LumpedPairGearboxStage:
+    """``model = "lumped3d"``: the torsional keys refused, the case's scene required."""
+    for key in _TORSIONAL_KEYS:
+        if key in table:
+            raise sc.fail(where, key, 'only for model = "torsional" (a lumped 3D stage\'s '
+                          "inertias and mesh stiffness are its case's [scene] and [mesh])",
+                          table[key])
+    if case.scene is None or not case.lumped or case.flexible:
+        has = ("no [scene]" if case.scene is None else f"[scene] model = {case.scene.model!r}"
+               + (" with condensed bodies" if case.flexible else ""))
+        raise sc.fail(where, "model", "allowed with a stage case whose [scene] has model = "
+                      f'"lumped3d" without condensed bodies (case {case.name!r}: {has})',
+                      "lumped3d")
+    try:
+        return lumped_stage(case, side)
+    except ValueError as err:  # coast flanks, a seat the scene refuses
+        raise sc.fail(where, "model", str(err), "lumped3d") from None
+
+
 @_stage.register
 def _(form: PairForm, case: Case, table: dict, where: str, speed: float, torque: float):
     side = PAIR_INPUTS[sc.choice(table, "input", where, tuple(PAIR_INPUTS))]
-    inertias = [
-        sc.number(table, f"{g}_inertia_kg_m2", where, allowed="[1e-12, 1e+09]")
-        for g in ("pinion", "gear")
-    ]
-    k_mesh = sc.number(table, "mesh_stiffness_N_per_um", where, allowed=MESH_STIFFNESS_N_PER_UM)
+    kind = sc.choice(table, "model", where, PAIR_MODELS, "torsional")
     pair = case.pair
     z = (pair.pinion.teeth, pair.gear.teeth)
     ratio = z[1 - side] / z[side]  # ω_in/ω_out
     # the pair's own operating point is its pinion's
     pinion = (speed, torque) if side == 0 else (speed / ratio, torque * ratio)
+    if kind == "lumped3d":
+        staged = _carried(case, *pinion)
+        return staged, ratio, _lumped(staged, table, where, side)
+    inertias = [
+        sc.number(table, f"{g}_inertia_kg_m2", where, allowed="[1e-12, 1e+09]")
+        for g in ("pinion", "gear")
+    ]
+    k_mesh = sc.number(table, "mesh_stiffness_N_per_um", where, allowed=MESH_STIFFNESS_N_PER_UM)
     model = PairGearboxStage(inertias, pair.base_radii, k_mesh * 1e6, input=side)
     return _carried(case, *pinion), ratio, model
 
@@ -271,6 +318,8 @@ def parse_gearbox(data: dict, default_name: str, base: str | None, load_case) ->
 
     Raises:
         SchemaError: an unknown key, a stage without ``case``, a pair key on a planetary stage,
+            ``model`` not one of :data:`PAIR_MODELS`, ``"lumped3d"`` with a torsional key or
+            a stage case without a lumped 3D ``[scene]``,
             a shaft stiffness out of (0, 1e15] N·m/rad (the first stage has none), a stage that
             is not a planetary stage or a pair, a stage ``case`` that is neither a file nor an
             embedded case, a ``[whine]`` key out of range (its method not "quasi-periodic",
