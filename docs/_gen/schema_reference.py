@@ -807,8 +807,10 @@ stages*, "A gearbox of stages in series"). A stage is rated to ISO 6336 by its o
 whole coupled gearbox's gear whine (docs/whine.md, "A gearbox"): the pair's `[whine]` keys and
 units (see the pair reference), its speeds the first stage's input member's, `method`
 `"quasi-periodic"` (the default here; another method is refused), `positions_per_period` per
-stage with at most 10⁶ points on the stages' torus grid (positions^stages). Unknown keys are
-errors."""
+stage with at most 10⁶ points on the stages' torus grid (positions^stages). A `[housing]`
+table (the pair's `[housing]` keys, see the pair reference) is one housing shared by the
+`model = "lumped3d"` stages (docs/gearbox.md, "One housing for several stages"). Unknown keys
+are errors."""
 
 #: what the gearbox page says of a table beyond its keys
 GEARBOX_NOTES = {
@@ -819,7 +821,10 @@ GEARBOX_NOTES = {
     "`[planetary]` table's). `model` (a gear-pair stage: `\"torsional\"`, the default, or "
     "`\"lumped3d\"`: the stage case's lumped 3D `[scene]`, shafts, bearings and gear bodies, "
     "as `jaxgear.gearbox.LumpedPairGearboxStage`; the inertia and mesh stiffness keys are "
-    "refused with it, and so is a stage case without such a scene).",
+    "refused with it, and so is a stage case without such a scene). `housing_position_mm` "
+    "and `housing_seats`: a `\"lumped3d\"` stage of a gearbox with `[housing]` only (its "
+    "scene origin in the gearbox frame, the first stage's scene frame; each bearing's seat, "
+    "-1 on the ground; docs/gearbox.md, \"One housing for several stages\").",
 }
 
 #: what the train page says of a table beyond its keys

@@ -13,7 +13,11 @@ housing-fixed points, stage 1's ring mount and the parallel stage's bearing, fro
 run at the rated input speed (``housing_spectrum.json``, ``housing_spectrum.png``; the
 summary's ``campbell`` and ``housing_spectrum``); with ``[whine]``, the whole coupled gearbox's
 gear whine (:func:`jaxgear.gearbox.gearbox_whine` on the coupled chain) into ``whine/``
-through the pair's writers (:func:`jaxgear.cli._whine_run.whine_outputs`)."""
+through the pair's writers (:func:`jaxgear.cli._whine_run.whine_outputs`). With a
+gearbox-level ``[housing]`` (its lumped 3D stages in one box) ``modes.json`` holds the coupled
+modes with the housing's share of each mode's kinetic energy instead of the torsional chain's
+(which refuses a shared housing), and the whine writes the housing's ERP and named points
+(:mod:`jaxgear.cli._housing_run`)."""
 
 from __future__ import annotations
 
@@ -27,6 +31,7 @@ from ..gearbox import (
     PairGearboxStage,
     PlanetaryGearboxStage,
     campbell_crossings,
+    coordinate_names,
     coupled_mode_table,
     gearbox_coupled_modes,
     gearbox_speed_sweep,
@@ -38,7 +43,9 @@ from ..gearbox import (
     mesh_names,
     window_share,
 )
-from ..io import write_json
+from ..acoustics import housing_acoustics
+from ..io import housing_surface, write_json
+from ._housing_run import HousedRun
 from ._plots import gearbox_campbell_plot, housing_spectrum_plot, new_figure, savefig
 from ._tribology_run import efficiency_run_line, gearbox_tribology
 from ._whine_run import SolvedWhine, whine_outputs, whine_run_line
@@ -64,7 +71,10 @@ RIGID = 1e-6
 
 def chain_modes(form) -> list[dict]:
     """The chain's modes: ``frequency_Hz``, ``type`` ("rigid body", or ``stage<k>``: the stage
-    with the largest share of the mode's kinetic energy) and ``stage_energy`` (the shares)."""
+    with the largest share of the mode's kinetic energy) and ``stage_energy`` (the shares).
+    With the gearbox's ``[housing]``: :func:`housed_modes`."""
+    if form.housing is not None:
+        return housed_modes(form)
     chain = form.torsional()
     modes = gearbox_modes(chain)
     f = np.asarray(modes.frequencies)
@@ -80,6 +90,20 @@ def chain_modes(form) -> list[dict]:
             }
         )
     return rows
+
+
+def housed_modes(form) -> list[dict]:
+    """The coupled modes of a gearbox with ``[housing]`` (:func:`jaxgear.gearbox.gearbox_coupled_modes`
+    on its chain with the shared housing, the coupled sweep's run; the mesh stiffness averaged,
+    at rest): each :func:`~jaxgear.gearbox.coupled_mode_table` row with ``stage_energy`` (each
+    stage's share of the mode's kinetic energy) and ``housing_energy`` (the housing
+    coordinates'), which sum to 1."""
+    chain, run, _, _ = _coupled_setup(form)
+    modes = gearbox_coupled_modes(chain, run)
+    shares, box = np.asarray(modes.stage_energy), np.asarray(modes.housing_energy)
+    return [dict(row, stage_energy=[float(v) for v in shares[:, j]],
+                 housing_energy=float(box[j]))
+            for j, row in enumerate(coupled_mode_table(chain, modes))]
 
 
 def gearbox_run_files(form, case, out: str, args, complete: bool, run_stage) -> dict:
@@ -105,7 +129,8 @@ def gearbox_run_files(form, case, out: str, args, complete: bool, run_stage) -> 
         )
     tribology = gearbox_tribology(stages, out)  # every stage with [lubricant]: in series
     modes = chain_modes(form)
-    write_json(os.path.join(out, "modes.json"), {"case": case.name, "torsional_chain": modes})
+    key = "torsional_chain" if form.housing is None else "coupled_with_housing"
+    write_json(os.path.join(out, "modes.json"), {"case": case.name, key: modes})
     coupled = coupled_sweep(form, out)
     campbell = coupled_campbell(form, case, out)
     spectrum = housing_point_spectrum(form, case, out)
@@ -330,9 +355,17 @@ def gearbox_whine_outputs(form, case, out: str) -> dict | None:
     if inputs is None:
         return None
     chain, run, _, _ = _coupled_setup(form)
+    housed = None
+    if chain.housing is not None:  # [housing]: its named points checked before the whine
+        body, spec = form.housing_body, form.housing
+        surface = housing_surface(spec, body)
+        acoustics = housing_acoustics(body.condensed, surface, loss_factor=spec.loss_factor)
+        n = len(coordinate_names(chain))
+        housed = HousedRun(body, surface, acoustics, n - int(chain.housing.size))
     w = gearbox_whine(chain, run, np.asarray(inputs.speeds), inputs.method,
                       positions=inputs.positions)
-    return whine_outputs(case, out, SolvedWhine(inputs, w, tuple(whine_mesh_names(chain))))
+    return whine_outputs(case, out, SolvedWhine(inputs, w, tuple(whine_mesh_names(chain)),
+                                                housed))
 
 
 def least_safety(stage_summary: dict) -> str:
@@ -361,9 +394,12 @@ def gearbox_run_lines(form, case, summary: dict) -> list[str]:
             f"{s['output_torque_Nm']:.6g} N·m ({s['folder']}/)" + least_safety(s["summary"])
         )
     elastic = [m for m in summary["torsional_modes"] if m["type"] != "rigid body"]
+    housed = bool(elastic) and "housing_energy" in elastic[0]
     lines.append(
-        "torsional chain: "
-        + ", ".join(f"{m['frequency_Hz']:.4g} Hz ({m['type']})" for m in elastic[:6])
+        ("coupled modes with the housing: " if housed else "torsional chain: ")
+        + ", ".join(f"{m['frequency_Hz']:.4g} Hz ({m['type']}"
+                    + (f", housing {m['housing_energy']:.0%}" if housed else "") + ")"
+                    for m in elastic[:6])
         + (" ..." if len(elastic) > 6 else "")
         + " (modes.json)"
     )
