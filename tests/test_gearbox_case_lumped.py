@@ -15,7 +15,7 @@ import pathlib
 
 import numpy as np
 import pytest
-from test_gearbox_whine import B, TEETH, _stage
+from test_gearbox_whine import TEETH, B, _stage
 
 import jaxgear as jg
 import jaxgear.io as jio

@@ -26,6 +26,7 @@ import os
 import numpy as np
 
 from .. import gearbox_modes
+from ..acoustics import housing_acoustics
 from ..gearbox import (
     GearboxRun,
     PairGearboxStage,
@@ -43,7 +44,6 @@ from ..gearbox import (
     mesh_names,
     window_share,
 )
-from ..acoustics import housing_acoustics
 from ..io import housing_surface, write_json
 from ._housing_run import HousedRun
 from ._plots import gearbox_campbell_plot, housing_spectrum_plot, new_figure, savefig

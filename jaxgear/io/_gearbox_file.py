@@ -59,6 +59,7 @@ import numpy as np
 
 from fem_prep import schema as sc
 
+from ..dynamics import QuasiPeriodicBalance
 from ..gearbox import (
     AbstractGearboxStage,
     GearboxTorsional,
@@ -66,7 +67,6 @@ from ..gearbox import (
     PairGearboxStage,
     PlanetaryGearboxStage,
 )
-from ..dynamics import QuasiPeriodicBalance
 from ..scenes import Housing
 from ._case import Case, CaseForm, PairForm
 from ._case_model import PAIR_SCENES
@@ -374,7 +374,7 @@ def _whine(table, n_stages: int) -> WhineInputs:
                       "meshes at its own frequency)", table["method"])
     P = inputs.positions
     if P**n_stages > MAX_WHINE_GRID:
-        top = int(math.floor(MAX_WHINE_GRID ** (1.0 / n_stages) + 1e-9))
+        top = math.floor(MAX_WHINE_GRID ** (1.0 / n_stages) + 1e-9)
         low = 4 * inputs.method.harmonics + 1
         raise sc.fail("whine", "positions_per_period",
                       f"out of range for {n_stages} stages: allowed [{low}, {top}] "
