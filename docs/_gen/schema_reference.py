@@ -822,9 +822,11 @@ GEARBOX_NOTES = {
     "`\"lumped3d\"`: the stage case's lumped 3D `[scene]`, shafts, bearings and gear bodies, "
     "as `jaxgear.gearbox.LumpedPairGearboxStage`; the inertia and mesh stiffness keys are "
     "refused with it, and so is a stage case without such a scene). `housing_position_mm` "
-    "and `housing_seats`: a `\"lumped3d\"` stage of a gearbox with `[housing]` only (its "
-    "scene origin in the gearbox frame, the first stage's scene frame; each bearing's seat, "
-    "-1 on the ground; docs/gearbox.md, \"One housing for several stages\").",
+    "(an array of 3 numbers, mm) and `housing_seats` (an array of integers >= -1, one per "
+    "bearing): a `\"lumped3d\"` stage of a gearbox with `[housing]` only (its scene origin in "
+    "the gearbox frame, the first stage's scene frame; each bearing's seat, its pinion shaft's "
+    "then its gear shaft's, -1 on the ground; docs/gearbox.md, \"One housing for several "
+    "stages\"); the table below lists both as tables, as the generator finds them.",
 }
 
 #: what the train page says of a table beyond its keys
