@@ -826,7 +826,7 @@ GEARBOX_NOTES = {
     "bearing): a `\"lumped3d\"` stage of a gearbox with `[housing]` only (its scene origin in "
     "the gearbox frame, the first stage's scene frame; each bearing's seat, its pinion shaft's "
     "then its gear shaft's, -1 on the ground; docs/gearbox.md, \"One housing for several "
-    "stages\"); the table below lists both as tables, as the generator finds them.",
+    "stages\").",
 }
 
 #: what the train page says of a table beyond its keys
