@@ -51,7 +51,8 @@ from ._tribology_run import efficiency_run_line, gearbox_tribology
 from ._whine_run import SolvedWhine, whine_outputs, whine_run_line
 
 __all__ = ["chain_modes", "coupled_campbell", "coupled_sweep", "gearbox_run_files",
-           "gearbox_run_lines", "gearbox_whine_outputs", "housing_point_spectrum", "least_safety"]
+           "gearbox_run_lines", "gearbox_whine_outputs", "housed_modes", "housing_point_spectrum",
+           "least_safety", "whine_mesh_names"]
 
 #: the coupled sweep's input speeds, as fractions of the operating point's input speed
 COUPLED_SPEEDS = np.linspace(0.2, 1.2, 6)
