@@ -803,7 +803,14 @@ references), the torsional stiffness of the shaft joining each stage to the prev
 the operating point once, on the first stage's input; a pair stage also states which gear the
 previous stage drives, its gears' polar inertias and its mean mesh stiffness (see *Planetary
 stages*, "A gearbox of stages in series"). A stage is rated to ISO 6336 by its own case's
-`[rating]`, at the operating point the gearbox carries to it. Unknown keys are errors."""
+`[rating]`, at the operating point the gearbox carries to it. A `[whine]` table asks for the
+whole coupled gearbox's gear whine (docs/whine.md, "A gearbox"): the pair's `[whine]` keys and
+units (see the pair reference), its speeds the first stage's input member's, `method`
+`"quasi-periodic"` (the default here; another method is refused), `positions_per_period` per
+stage with at most 10⁶ points on the stages' torus grid (positions^stages). A `[housing]`
+table (the pair's `[housing]` keys, see the pair reference) is one housing shared by the
+`model = "lumped3d"` stages (docs/gearbox.md, "One housing for several stages"). Unknown keys
+are errors."""
 
 #: what the gearbox page says of a table beyond its keys
 GEARBOX_NOTES = {
@@ -811,7 +818,15 @@ GEARBOX_NOTES = {
     "`shaft_Nm_per_rad` on every stage but the first (refused there: no shaft before it); "
     "`input`, `pinion_inertia_kg_m2`, `gear_inertia_kg_m2` and `mesh_stiffness_N_per_um` on a "
     "gear-pair stage only (refused on a planetary stage, whose input and output are its "
-    "`[planetary]` table's).",
+    "`[planetary]` table's). `model` (a gear-pair stage: `\"torsional\"`, the default, or "
+    "`\"lumped3d\"`: the stage case's lumped 3D `[scene]`, shafts, bearings and gear bodies, "
+    "as `jaxgear.gearbox.LumpedPairGearboxStage`; the inertia and mesh stiffness keys are "
+    "refused with it, and so is a stage case without such a scene). `housing_position_mm` "
+    "(an array of 3 numbers, mm) and `housing_seats` (an array of integers >= -1, one per "
+    "bearing): a `\"lumped3d\"` stage of a gearbox with `[housing]` only (its scene origin in "
+    "the gearbox frame, the first stage's scene frame; each bearing's seat, its pinion shaft's "
+    "then its gear shaft's, -1 on the ground; docs/gearbox.md, \"One housing for several "
+    "stages\").",
 }
 
 #: what the train page says of a table beyond its keys

@@ -11,6 +11,7 @@ from the same response (:mod:`jaxgear.cli._housing_run`)."""
 from __future__ import annotations
 
 import os
+from typing import NamedTuple
 
 import numpy as np
 
@@ -20,7 +21,7 @@ from ..planetary import PlanetaryModel
 from ._housing_run import housed_run, housing_outputs, housing_run_line
 from ._plots import whine_order_plot, whine_waterfall_plot
 
-__all__ = ["whine_outputs", "whine_run_line"]
+__all__ = ["SolvedWhine", "whine_outputs", "whine_run_line"]
 
 #: orders drawn in the order plots (the first, by the model's span: 1, 2, 3, 4 of a pair's mesh)
 ORDERS_DRAWN = 4
@@ -39,26 +40,42 @@ def _amp_phase(z):
     return np.abs(z), np.degrees(np.angle(z))
 
 
-def whine_outputs(case, out_dir: str) -> dict | None:
+class SolvedWhine(NamedTuple):
+    """A whine solved elsewhere, for :func:`whine_outputs` to write (a gearbox's,
+    :mod:`jaxgear.cli.gearbox`): its ``[whine]`` inputs, the
+    :class:`~jaxgear.dynamics.WhineResponse`, each mesh's name and the :class:`HousedRun` of
+    its housing (None: none)."""
+
+    inputs: object
+    response: object
+    meshes: tuple
+    housed: object = None
+
+
+def whine_outputs(case, out_dir: str, solved: SolvedWhine | None = None) -> dict | None:
     """The whine of ``case`` over its ``[whine]`` speeds into ``out_dir/whine``; None without
-    the table. Returns the summary section.
+    the table. Returns the summary section. ``solved``: the whine already solved (written
+    only).
 
     Raises:
         ValueError: a case whose model is not lumped (condensed bodies, a planetary stage), or
             with coast flanks (one line each).
     """
-    inputs = whine_of(case)
+    inputs = whine_of(case) if solved is None else solved.inputs
     if inputs is None:
         return None
-    model, _ = build_dynamic_model(case)
-    if not isinstance(model, (DynamicModel, HybridModel, PlanetaryModel)):
-        raise ValueError(
-            f"[whine]: the case's model is a {type(model).__name__}: allowed a lumped scene "
-            "(torsional or lumped 3D), a pair with condensed bodies or a planetary stage's"
-        )
-    housed = housed_run(case, model)  # [housing]: its points checked before the whine
-    w = whine_response(model, np.asarray(inputs.speeds), inputs.method,
-                       positions=inputs.positions)
+    if solved is None:
+        model, _ = build_dynamic_model(case)
+        if not isinstance(model, (DynamicModel, HybridModel, PlanetaryModel)):
+            raise ValueError(
+                f"[whine]: the case's model is a {type(model).__name__}: allowed a lumped scene "
+                "(torsional or lumped 3D), a pair with condensed bodies or a planetary stage's"
+            )
+        housed = housed_run(case, model)  # [housing]: its points checked before the whine
+        w = whine_response(model, np.asarray(inputs.speeds), inputs.method,
+                           positions=inputs.positions)
+    else:
+        w, housed = solved.response, solved.housed
     folder = os.path.join(out_dir, "whine")
     os.makedirs(folder, exist_ok=True)
     speeds = np.asarray(w.speed, dtype=float)
@@ -68,6 +85,8 @@ def whine_outputs(case, out_dir: str) -> dict | None:
     planetary = _planetary_parts(w)  # a planetary stage's meshes, supports and torques
     if planetary is not None:
         mesh_names, names = planetary["meshes"], planetary["bearings"]
+    elif solved is not None:  # its own names; no bearing rows (a gearbox's)
+        mesh_names, names = list(solved.meshes), []
     else:
         mesh_names = [case.mesh_name(k) for k in range(n_meshes)] if n_meshes > 1 else ["mesh"]
         names = list(getattr(model.scene, "reaction_names", ()))

@@ -11,7 +11,13 @@ with their type and the mesh holding most strain energy (``summary.json``'s ``co
 against the coupled modes, ``campbell.json``, ``campbell.png``) and the force spectrum at two
 housing-fixed points, stage 1's ring mount and the parallel stage's bearing, from one coupled
 run at the rated input speed (``housing_spectrum.json``, ``housing_spectrum.png``; the
-summary's ``campbell`` and ``housing_spectrum``)."""
+summary's ``campbell`` and ``housing_spectrum``); with ``[whine]``, the whole coupled gearbox's
+gear whine (:func:`jaxgear.gearbox.gearbox_whine` on the coupled chain) into ``whine/``
+through the pair's writers (:func:`jaxgear.cli._whine_run.whine_outputs`). With a
+gearbox-level ``[housing]`` (its lumped 3D stages in one box) ``modes.json`` holds the coupled
+modes with the housing's share of each mode's kinetic energy instead of the torsional chain's
+(which refuses a shared housing), and the whine writes the housing's ERP and named points
+(:mod:`jaxgear.cli._housing_run`)."""
 
 from __future__ import annotations
 
@@ -20,14 +26,17 @@ import os
 import numpy as np
 
 from .. import gearbox_modes
+from ..acoustics import housing_acoustics
 from ..gearbox import (
     GearboxRun,
     PairGearboxStage,
     PlanetaryGearboxStage,
     campbell_crossings,
+    coordinate_names,
     coupled_mode_table,
     gearbox_coupled_modes,
     gearbox_speed_sweep,
+    gearbox_whine,
     housing_lines,
     housing_spectrum,
     line_amplitudes,
@@ -35,12 +44,15 @@ from ..gearbox import (
     mesh_names,
     window_share,
 )
-from ..io import write_json
+from ..io import housing_surface, write_json
+from ._housing_run import HousedRun
 from ._plots import gearbox_campbell_plot, housing_spectrum_plot, new_figure, savefig
 from ._tribology_run import efficiency_run_line, gearbox_tribology
+from ._whine_run import SolvedWhine, whine_outputs, whine_run_line
 
 __all__ = ["chain_modes", "coupled_campbell", "coupled_sweep", "gearbox_run_files",
-           "gearbox_run_lines", "housing_point_spectrum", "least_safety"]
+           "gearbox_run_lines", "gearbox_whine_outputs", "housed_modes", "housing_point_spectrum",
+           "least_safety", "whine_mesh_names"]
 
 #: the coupled sweep's input speeds, as fractions of the operating point's input speed
 COUPLED_SPEEDS = np.linspace(0.2, 1.2, 6)
@@ -60,7 +72,10 @@ RIGID = 1e-6
 
 def chain_modes(form) -> list[dict]:
     """The chain's modes: ``frequency_Hz``, ``type`` ("rigid body", or ``stage<k>``: the stage
-    with the largest share of the mode's kinetic energy) and ``stage_energy`` (the shares)."""
+    with the largest share of the mode's kinetic energy) and ``stage_energy`` (the shares).
+    With the gearbox's ``[housing]``: :func:`housed_modes`."""
+    if form.housing is not None:
+        return housed_modes(form)
     chain = form.torsional()
     modes = gearbox_modes(chain)
     f = np.asarray(modes.frequencies)
@@ -76,6 +91,20 @@ def chain_modes(form) -> list[dict]:
             }
         )
     return rows
+
+
+def housed_modes(form) -> list[dict]:
+    """The coupled modes of a gearbox with ``[housing]`` (:func:`jaxgear.gearbox.gearbox_coupled_modes`
+    on its chain with the shared housing, the coupled sweep's run; the mesh stiffness averaged,
+    at rest): each :func:`~jaxgear.gearbox.coupled_mode_table` row with ``stage_energy`` (each
+    stage's share of the mode's kinetic energy) and ``housing_energy`` (the housing
+    coordinates'), which sum to 1."""
+    chain, run, _, _ = _coupled_setup(form)
+    modes = gearbox_coupled_modes(chain, run)
+    shares, box = np.asarray(modes.stage_energy), np.asarray(modes.housing_energy)
+    return [dict(row, stage_energy=[float(v) for v in shares[:, j]],
+                 housing_energy=float(box[j]))
+            for j, row in enumerate(coupled_mode_table(chain, modes))]
 
 
 def gearbox_run_files(form, case, out: str, args, complete: bool, run_stage) -> dict:
@@ -101,7 +130,8 @@ def gearbox_run_files(form, case, out: str, args, complete: bool, run_stage) -> 
         )
     tribology = gearbox_tribology(stages, out)  # every stage with [lubricant]: in series
     modes = chain_modes(form)
-    write_json(os.path.join(out, "modes.json"), {"case": case.name, "torsional_chain": modes})
+    key = "torsional_chain" if form.housing is None else "coupled_with_housing"
+    write_json(os.path.join(out, "modes.json"), {"case": case.name, key: modes})
     coupled = coupled_sweep(form, out)
     campbell = coupled_campbell(form, case, out)
     spectrum = housing_point_spectrum(form, case, out)
@@ -308,6 +338,37 @@ def housing_point_spectrum(form, case, out: str) -> dict:
     }
 
 
+def whine_mesh_names(chain) -> list[str]:
+    """Each coupled mesh's name in the whine's files: ``stage<k>_<the stage's mesh name>``."""
+    return [f"stage{k + 1}_{n}" for k, s in enumerate(chain.stages) for n in s.mesh_names()]
+
+
+def gearbox_whine_outputs(form, case, out: str) -> dict | None:
+    """The whole coupled gearbox's whine over its ``[whine]`` speeds (the first stage's input
+    member's, rad/s): :func:`jaxgear.gearbox.gearbox_whine` on the coupled chain and run of the
+    coupled sweep (:func:`_coupled_setup`: the gearbox's torque, the last shaft's stiffness as
+    the output hold, :data:`COUPLED_RUN`'s modal damping and mean positions), the table's
+    :class:`~jaxgear.dynamics.QuasiPeriodicBalance` and positions per stage; written into
+    ``out/whine`` by the pair's writers (whine.json, whine.csv, the order plots and waterfalls,
+    each mesh's orders of its own mesh frequency). Returns the summary's ``whine`` section,
+    None without ``[whine]``."""
+    inputs = form.whine
+    if inputs is None:
+        return None
+    chain, run, _, _ = _coupled_setup(form)
+    housed = None
+    if chain.housing is not None:  # [housing]: its named points checked before the whine
+        body, spec = form.housing_body, form.housing
+        surface = housing_surface(spec, body)
+        acoustics = housing_acoustics(body.condensed, surface, loss_factor=spec.loss_factor)
+        n = len(coordinate_names(chain))
+        housed = HousedRun(body, surface, acoustics, n - int(chain.housing.size))
+    w = gearbox_whine(chain, run, np.asarray(inputs.speeds), inputs.method,
+                      positions=inputs.positions)
+    return whine_outputs(case, out, SolvedWhine(inputs, w, tuple(whine_mesh_names(chain)),
+                                                housed))
+
+
 def least_safety(stage_summary: dict) -> str:
     """The words a gearbox's stage line ends with when the stage is rated (its ``[rating]``,
     at the carried operating point): the least S_H and S_F over its meshes and gears, and where
@@ -334,9 +395,12 @@ def gearbox_run_lines(form, case, summary: dict) -> list[str]:
             f"{s['output_torque_Nm']:.6g} N·m ({s['folder']}/)" + least_safety(s["summary"])
         )
     elastic = [m for m in summary["torsional_modes"] if m["type"] != "rigid body"]
+    housed = bool(elastic) and "housing_energy" in elastic[0]
     lines.append(
-        "torsional chain: "
-        + ", ".join(f"{m['frequency_Hz']:.4g} Hz ({m['type']})" for m in elastic[:6])
+        ("coupled modes with the housing: " if housed else "torsional chain: ")
+        + ", ".join(f"{m['frequency_Hz']:.4g} Hz ({m['type']}"
+                    + (f", housing {m['housing_energy']:.0%}" if housed else "") + ")"
+                    for m in elastic[:6])
         + (" ..." if len(elastic) > 6 else "")
         + " (modes.json)"
     )
@@ -377,4 +441,5 @@ def gearbox_run_lines(form, case, summary: dict) -> list[str]:
             f"planet pass {hs['planet_pass_Hz']:.4g} Hz, lines {ms} beside the mesh frequency "
             f"{hs['ring_mesh_Hz']:.4g} Hz ({hs['ring_mesh_line_N']:.3g} N); stage "
             f"{hs['bearing_stage']}'s bearing at its mesh harmonics {own} (housing_spectrum.png)")
-    return lines + efficiency_run_line(summary.get("tribology"))
+    return (lines + efficiency_run_line(summary.get("tribology"))
+            + whine_run_line(summary.get("whine")))

@@ -70,7 +70,7 @@ from ._tribology_run import (
     tribology_run_line,
 )
 from ._whine_run import whine_outputs, whine_run_line
-from .gearbox import gearbox_run_files, gearbox_run_lines
+from .gearbox import gearbox_run_files, gearbox_run_lines, gearbox_whine_outputs
 from .planetary_speed import planetary_rated_run_files
 from .planetary_sweep import planetary_run_lines
 from .scene import SCENE_LABELS
@@ -460,7 +460,8 @@ def run_kind(case: Case, out: str, args, settings) -> dict:
         }
         write_json(summary_path, summary)
     if whine:
-        summary["whine"] = whine_outputs(case, out)
+        summary["whine"] = (gearbox_whine_outputs(case.form, case, out)  # the coupled chain's
+                            if isinstance(case.form, GearboxForm) else whine_outputs(case, out))
         write_json(summary_path, summary)
     if not last:
         # rating.md once, of the final section (a planetary stage's: written by its own files)

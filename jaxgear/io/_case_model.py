@@ -210,14 +210,15 @@ def _inertias(case: Case, spec: SceneSpec) -> tuple[float, float]:
     return i1, i2
 
 
-def _lumped3d_pair(case: Case, spec: SceneSpec, mesh):
-    """``[scene] model = "lumped3d"``: the 3D lumped pair on its shafts and bearings."""
+def _lumped3d_pair(case: Case, spec: SceneSpec, mesh, housing=None, seats=None):
+    """``[scene] model = "lumped3d"``: the 3D lumped pair on its shafts and bearings;
+    ``housing``, ``seats``: a housing placed by the caller (a gearbox's) and each bearing's seat
+    (:func:`~jaxgear.scenes.lumped_pair`'s), instead of the case's ``[housing]``."""
     i1, i2 = _inertias(case, spec)
     masses, inertias = _gear_bodies(case, spec, i1, i2)
     shafts = (spec.pinion_shaft, spec.gear_shaft)
-    housing = None
-    if case.housing is not None:  # [housing]: the bearings on its seats (docs/housing.md)
-        housing = case.housing_body(spec).housing
+    if housing is None and case.housing is not None:  # [housing]: the bearings on its seats
+        housing = case.housing_body(spec).housing  # (docs/housing.md)
     return lumped_pair(
         case.pair,
         mesh,
@@ -228,6 +229,7 @@ def _lumped3d_pair(case: Case, spec: SceneSpec, mesh):
         poisson_ratio=case.poisson_ratio,
         density=case.density,
         housing=housing,
+        seats=seats,
     )
 
 

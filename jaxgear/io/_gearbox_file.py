@@ -19,6 +19,29 @@ point given on the first stage's input and carried stage to stage by the stages'
     gear_inertia_kg_m2 = 921.0
     mesh_stiffness_N_per_um = 7668.0
 
+A pair stage is torsional (two rotations, the inertias and mean mesh stiffness above) unless
+``model = "lumped3d"``: then it is its case's lumped 3D scene (the pair case's ``[scene]`` with
+``model = "lumped3d"``: its shafts, bearings and gear bodies, its own ``[housing]`` if any) as a
+:class:`~jaxgear.gearbox.LumpedPairGearboxStage`, the gearbox's shafts joined at its shafts'
+torque nodes; its inertias and mesh stiffness are the scene's (the three keys refused).
+
+A gearbox-level ``[housing]`` (the keys of a pair's ``[housing]``,
+:mod:`jaxgear.io._housing_table`) is one housing shared by every lumped 3D pair stage
+(``model = "lumped3d"``), in the gearbox's frame: the first stage's scene frame, each stage's
+scene origin at its ``housing_position_mm`` (3 numbers, mm; default the origin, the scene axes
+parallel). A box is built round all those stages' bearings (a bore round each shaft in both end
+walls: seats 0..A-1 in the -z wall, A..2A-1 in the +z wall, the A shafts in stage order,
+pinion shaft first); ``housing_seats`` lists each of a stage's bearings' seat (its pinion
+shaft's bearings, then its gear shaft's; -1 keeps one on the ground; default the nearest seat).
+Torsional and planetary stages stay on the ground. The stages' coupled chain then has the
+housing's coordinates once (:class:`~jaxgear.gearbox.GearboxTorsional`'s ``housing``).
+
+A ``[whine]`` table (the keys and units of a pair's, :mod:`jaxgear.io._whine_table`; its
+method ``"quasi-periodic"``, the default here: every stage meshes at its own frequency) asks
+``jaxgear run`` for the whole coupled gearbox's whine (:func:`jaxgear.gearbox.gearbox_whine`), its
+speeds the first stage's input member's, its ``positions_per_period`` per stage (the torus grid
+has positions^G static solves, G the stages: at most :data:`MAX_WHINE_GRID`).
+
 A planetary stage's input and output are its ``[planetary]`` table's; each stage's own
 ``[operating]`` is replaced by the carried one (a pair's torque and speed are its pinion's), also
 for its ``[rating]``: ``jaxgear run`` rates every mesh of every stage that has one, each at the
@@ -32,22 +55,32 @@ import functools
 import math
 import os
 
+import numpy as np
+
 from fem_prep import schema as sc
 
+from ..dynamics import QuasiPeriodicBalance
 from ..gearbox import (
     AbstractGearboxStage,
     GearboxTorsional,
+    LumpedPairGearboxStage,
     PairGearboxStage,
     PlanetaryGearboxStage,
 )
+from ..scenes import Housing
 from ._case import Case, CaseForm, PairForm
+from ._case_model import PAIR_SCENES
+from ._housing_table import ROTATION, HousingBody, HousingSpec, housing_body, parse_housing
 from ._planetary_spec import PlanetaryForm
 from ._planetary_table import MESH_STIFFNESS_N_PER_UM, torque_floor
 from ._plausibility import MIN_LINE_LOAD_N_PER_MM
+from ._whine_table import WhineInputs, parse_whine
 
 __all__ = ["GearboxForm", "GearboxStage", "is_gearbox", "parse_gearbox"]
 
-_KEYS = ("name", "operating", "stages")
+_KEYS = ("name", "operating", "stages", "whine", "housing")
+#: the gearbox whine's torus grid: at most this many static solves (positions_per_period^G)
+MAX_WHINE_GRID = 1_000_000
 _STAGE_KEYS = (
     "case",
     "shaft_Nm_per_rad",
@@ -55,10 +88,17 @@ _STAGE_KEYS = (
     "pinion_inertia_kg_m2",
     "gear_inertia_kg_m2",
     "mesh_stiffness_N_per_um",
+    "model",
+    "housing_position_mm",
+    "housing_seats",
 )
 _PAIR_KEYS = _STAGE_KEYS[2:]
 #: a pair stage's ``input``: which gear the previous stage drives
 PAIR_INPUTS = {"pinion": 0, "gear": 1}
+#: a pair stage's ``model``: the torsional pair or its case's lumped 3D scene
+PAIR_MODELS = ("torsional", "lumped3d")
+#: the keys of a torsional pair stage only
+_TORSIONAL_KEYS = ("pinion_inertia_kg_m2", "gear_inertia_kg_m2", "mesh_stiffness_N_per_um")
 
 
 @dataclasses.dataclass(frozen=True)
@@ -66,7 +106,10 @@ class GearboxStage:
     """One stage as the gearbox holds it: its case (its operating point the carried one),
     the ratio ω_in/ω_out, the input speed (rad/s) and torque (N·m) of its input member, the
     torsional stiffness of the shaft from the previous stage (N·m/rad; 0 for the first) and its
-    torsional model in the chain (:class:`~jaxgear.AbstractGearboxStage`)."""
+    torsional model in the chain (:class:`~jaxgear.AbstractGearboxStage`; a lumped 3D stage on
+    the ground); a lumped 3D stage in the gearbox's ``[housing]``: its scene origin in the
+    gearbox frame ``housing_position`` (m) and its bearings' seats ``housing_seats`` (None:
+    the nearest; an entry None: on the ground)."""
 
     case: Case
     ratio: float
@@ -74,6 +117,8 @@ class GearboxStage:
     input_torque: float
     shaft_stiffness: float
     torsional: AbstractGearboxStage
+    housing_position: tuple = (0.0, 0.0, 0.0)
+    housing_seats: tuple | None = None
 
     @property
     def output_speed(self) -> float:
@@ -88,9 +133,14 @@ class GearboxStage:
 class GearboxForm(CaseForm):
     """A gearbox case file (``[[stages]]``): stages in series; its meshes (the case's
     ``pairs``) are its stages' meshes in order, each named ``stage<i>:<the stage's name of it>``
-    (i from 1) and given as a pair case by its stage (:meth:`mesh_case`)."""
+    (i from 1) and given as a pair case by its stage (:meth:`mesh_case`); ``whine``: its
+    ``[whine]`` (:class:`~jaxgear.io.WhineInputs`, a
+    :class:`~jaxgear.dynamics.QuasiPeriodicBalance`) or None; ``housing``: its ``[housing]``
+    (:class:`~jaxgear.io.HousingSpec`, shared by its lumped 3D stages) or None."""
 
     stages: tuple[GearboxStage, ...]
+    whine: WhineInputs | None = None
+    housing: HousingSpec | None = None
 
     def stage_name(self, i: int) -> str:
         """Stage ``i``'s name in the outputs: ``stage<i + 1>``."""
@@ -129,23 +179,71 @@ class GearboxForm(CaseForm):
         )
 
 
+    def housed(self) -> tuple[int, ...]:
+        """The stages seated in the gearbox's ``[housing]``: its lumped 3D stages (none
+        without one)."""
+        if self.housing is None:
+            return ()
+        return tuple(k for k, s in enumerate(self.stages)
+                     if isinstance(s.torsional, LumpedPairGearboxStage))
+
+    @functools.cached_property
+    def housing_body(self) -> HousingBody:
+        """The gearbox's ``[housing]`` round its housed stages' bearings in the gearbox frame
+        (the first stage's scene frame): meshed, condensed (fem_prep's cache) and damped
+        (:func:`jaxgear.io._housing_table.housing_body`); built once per form.
+
+        Raises:
+            ValueError: the gearbox has no ``[housing]``.
+        """
+        if self.housing is None:
+            raise ValueError("GearboxForm.housing_body: the gearbox has no [housing] table")
+        shafts, positions = _housed_bearings(self)
+        return housing_body(self.housing, shafts, positions)
+
     def coupled(self, slices: int = 1) -> GearboxTorsional:
         """The chain with every stage on its contact cells, for the coupled dynamic model
         (:func:`jaxgear.gearbox.gearbox_dynamics`): a planetary stage's
         :meth:`~jaxgear.io.PlanetaryForm`'s dynamic meshes (its pairs' own models, phased per
         planet; the torsional model), a pair's :meth:`~jaxgear.io.Case.mesh_model` and its
-        modifications, ``slices`` slices per contact line."""
-        stages = []
-        for s in self.stages:
+        modifications, ``slices`` slices per contact line; a lumped 3D stage its case's scene,
+        with ``[housing]`` on the shared housing (placed in its scene frame: x_stage =
+        R x_housing + t − its ``housing_position``), which the chain keeps once."""
+        stages, shared = [], None
+        housed = self.housed()
+        for k, s in enumerate(self.stages):
             t = s.torsional
             if isinstance(t, PlanetaryGearboxStage):
                 meshes = s.case.form.spec.dynamic_meshes(s.case, slices)
                 stages.append(PlanetaryGearboxStage(t.stage, t.input, t.output, meshes))
+            elif isinstance(t, LumpedPairGearboxStage):
+                housing = None
+                if k in housed:
+                    body = self.housing_body
+                    housing = Housing.of(body.condensed, loss_factor=self.housing.loss_factor,
+                                         rotation=np.array(ROTATION),
+                                         offset=body.offset - np.asarray(s.housing_position))
+                    shared = housing if shared is None else shared
+                stages.append(lumped_stage(s.case, t.input, slices, housing, s.housing_seats))
             else:
                 stages.append(PairGearboxStage(t.inertias, t.base_radii, t.mesh_stiffness,
                                                t.input, s.case.mesh_model(slices),
                                                s.case.modifications))
-        return GearboxTorsional(tuple(stages), self.torsional().shaft_stiffnesses)
+        return GearboxTorsional(tuple(stages), self.torsional().shaft_stiffnesses,
+                                housing=shared)
+
+
+def _housed_bearings(form: GearboxForm):
+    """(shafts, bearing positions) of the housed stages in the gearbox frame, shaft after
+    shaft in stage order (:meth:`jaxgear.io.Case._bearing_layout` moved by each stage's
+    ``housing_position``)."""
+    shafts, positions = [], []
+    for k in form.housed():
+        s = form.stages[k]
+        sh, pos = s.case._bearing_layout(s.case.scene)
+        shafts += list(sh)
+        positions += [[np.asarray(p) + np.asarray(s.housing_position) for p in ps] for ps in pos]
+    return shafts, positions
 
 
 def is_gearbox(data: dict) -> bool:
@@ -169,19 +267,53 @@ def _(form: PlanetaryForm, case: Case, table: dict, where: str, speed: float, to
     return _carried(case, speed, torque), spec.ratio(), model
 
 
+def lumped_stage(case: Case, side: int, slices: int | None = None, housing=None,
+                 seats=None) -> LumpedPairGearboxStage:
+    """A pair case's lumped 3D scene (its ``[scene]``, ``model = "lumped3d"``; on ``housing``
+    with ``seats`` (:func:`~jaxgear.scenes.lumped_pair`'s), else on its ``[housing]`` if any) as
+    a :class:`~jaxgear.gearbox.LumpedPairGearboxStage` driven on ``side`` (0 the pinion shaft),
+    its mesh at ``slices`` slices (None: the case's), its cells' separations the case's
+    modifications."""
+    scene = PAIR_SCENES["lumped3d"](case, case.scene, case.mesh_model(slices), housing, seats)
+    return LumpedPairGearboxStage(scene, input=side, modifications=case.modifications)
+
+
+def _lumped(case: Case, table: dict, where: str, side: int) -> LumpedPairGearboxStage:
+    """``model = "lumped3d"``: the torsional keys refused, the case's scene required."""
+    for key in _TORSIONAL_KEYS:
+        if key in table:
+            raise sc.fail(where, key, 'only for model = "torsional" (a lumped 3D stage\'s '
+                          "inertias and mesh stiffness are its case's [scene] and [mesh])",
+                          table[key])
+    if case.scene is None or not case.lumped or case.flexible:
+        has = ("no [scene]" if case.scene is None else f"[scene] model = {case.scene.model!r}"
+               + (" with condensed bodies" if case.flexible else ""))
+        raise sc.fail(where, "model", "allowed with a stage case whose [scene] has model = "
+                      f'"lumped3d" without condensed bodies (case {case.name!r}: {has})',
+                      "lumped3d")
+    try:
+        return lumped_stage(case, side)
+    except ValueError as err:  # coast flanks, a seat the scene refuses
+        raise sc.fail(where, "model", str(err), "lumped3d") from None
+
+
 @_stage.register
 def _(form: PairForm, case: Case, table: dict, where: str, speed: float, torque: float):
     side = PAIR_INPUTS[sc.choice(table, "input", where, tuple(PAIR_INPUTS))]
-    inertias = [
-        sc.number(table, f"{g}_inertia_kg_m2", where, allowed="[1e-12, 1e+09]")
-        for g in ("pinion", "gear")
-    ]
-    k_mesh = sc.number(table, "mesh_stiffness_N_per_um", where, allowed=MESH_STIFFNESS_N_PER_UM)
+    kind = sc.choice(table, "model", where, PAIR_MODELS, "torsional")
     pair = case.pair
     z = (pair.pinion.teeth, pair.gear.teeth)
     ratio = z[1 - side] / z[side]  # ω_in/ω_out
     # the pair's own operating point is its pinion's
     pinion = (speed, torque) if side == 0 else (speed / ratio, torque * ratio)
+    if kind == "lumped3d":
+        staged = _carried(case, *pinion)
+        return staged, ratio, _lumped(staged, table, where, side)
+    inertias = [
+        sc.number(table, f"{g}_inertia_kg_m2", where, allowed="[1e-12, 1e+09]")
+        for g in ("pinion", "gear")
+    ]
+    k_mesh = sc.number(table, "mesh_stiffness_N_per_um", where, allowed=MESH_STIFFNESS_N_PER_UM)
     model = PairGearboxStage(inertias, pair.base_radii, k_mesh * 1e6, input=side)
     return _carried(case, *pinion), ratio, model
 
@@ -230,6 +362,27 @@ def _stage_case(value: str, base: str | None, load_case, where: str) -> Case:
         raise sc.fail(where, "case", str(err)) from None
 
 
+def _whine(table, n_stages: int) -> WhineInputs:
+    """A gearbox's ``[whine]``: the pair's table (:func:`parse_whine`), its method
+    ``"quasi-periodic"`` (the default here), the torus grid positions^G <= :data:`MAX_WHINE_GRID`
+    (G the stages: every stage of the coupled chain is on its contact cells)."""
+    if isinstance(table, dict) and "method" not in table:
+        table = {**table, "method": "quasi-periodic"}
+    inputs = parse_whine(table)
+    if not isinstance(inputs.method, QuasiPeriodicBalance):
+        raise sc.fail("whine", "method", 'allowed "quasi-periodic" in a gearbox (each stage '
+                      "meshes at its own frequency)", table["method"])
+    P = inputs.positions
+    if P**n_stages > MAX_WHINE_GRID:
+        top = math.floor(MAX_WHINE_GRID ** (1.0 / n_stages) + 1e-9)
+        low = 4 * inputs.method.harmonics + 1
+        raise sc.fail("whine", "positions_per_period",
+                      f"out of range for {n_stages} stages: allowed [{low}, {top}] "
+                      f"(positions^{n_stages} static solves on the torus grid, at most "
+                      f"{MAX_WHINE_GRID:.0e})", P)
+    return inputs
+
+
 def parse_gearbox(data: dict, default_name: str, base: str | None, load_case) -> Case:
     """Validate a gearbox case file (module docstring) and build its :class:`Case`: the first
     stage's case, named by the file, of form :class:`GearboxForm`. ``load_case``: how a stage's
@@ -237,9 +390,12 @@ def parse_gearbox(data: dict, default_name: str, base: str | None, load_case) ->
 
     Raises:
         SchemaError: an unknown key, a stage without ``case``, a pair key on a planetary stage,
+            ``model`` not one of :data:`PAIR_MODELS`, ``"lumped3d"`` with a torsional key or
+            a stage case without a lumped 3D ``[scene]``,
             a shaft stiffness out of (0, 1e15] N·m/rad (the first stage has none), a stage that
             is not a planetary stage or a pair, a stage ``case`` that is neither a file nor an
-            embedded case; one line each.
+            embedded case, a ``[whine]`` key out of range (its method not "quasi-periodic",
+            its torus grid over :data:`MAX_WHINE_GRID`); one line each.
     """
     sc.check_keys(data, _KEYS, "")
     name = sc.name(data, "name", "", default_name)
@@ -258,10 +414,64 @@ def parse_gearbox(data: dict, default_name: str, base: str | None, load_case) ->
             raise sc.fail(where, "shaft_Nm_per_rad", "the first stage has no shaft before it")
         shaft = 0.0 if k == 0 else sc.number(t, "shaft_Nm_per_rad", where, allowed="(0, 1e+15]")
         staged, ratio, model = _stage(case.form, case, t, where, speed, torque)
-        stages.append(GearboxStage(staged, ratio, speed, torque, shaft, model))
+        place = _placement(t, where, "housing" in data, staged, model)
+        stages.append(GearboxStage(staged, ratio, speed, torque, shaft, model, *place))
         speed, torque = stages[-1].output_speed, stages[-1].output_torque
     _check_torque(op, stages)
+    whine = _whine(data["whine"], len(stages)) if "whine" in data else None
     first = stages[0].case
+    housing = None
+    if "housing" in data:
+        housing = parse_housing(data["housing"], base,
+                                (first.youngs_modulus, first.poisson_ratio, first.density))
+        _check_seats(stages, housing)
     pairs = tuple(p for s in stages for p in s.case.pairs)
-    form = GearboxForm(tuple(stages))
-    return first.replace(name=name, form=form, raw=data, scene=None, pairs=pairs)
+    form = GearboxForm(tuple(stages), whine, housing)
+    return first.replace(name=name, form=form, raw=data, scene=None, pairs=pairs,
+                         housing=housing)
+
+
+def _placement(table: dict, where: str, has_housing: bool, case: Case, model) -> tuple:
+    """A stage's ``housing_position_mm`` (m) and ``housing_seats`` (None for -1): only on a
+    lumped 3D stage of a gearbox with ``[housing]``, whose case has no ``[housing]`` of its
+    own; the seats one per bearing of the stage's scene, each an integer >= -1."""
+    keys = [key for key in ("housing_position_mm", "housing_seats") if key in table]
+    lumped = isinstance(model, LumpedPairGearboxStage)
+    if keys and not (has_housing and lumped):
+        raise sc.fail(where, keys[0], 'allowed on a model = "lumped3d" stage of a gearbox with '
+                      "[housing] only", table[keys[0]])
+    if not (has_housing and lumped):
+        return (0.0, 0.0, 0.0), None
+    if case.housing is not None:
+        raise sc.fail(where, "case", "the stage case has its own [housing]: allowed without it "
+                      "in a gearbox with [housing] (its lumped stages share the gearbox's)",
+                      case.name)
+    position = (0.0, 0.0, 0.0)
+    if "housing_position_mm" in table:
+        position = tuple(float(x) * 1e-3 for x in
+                         sc.number_list(table, "housing_position_mm", where, length=3))
+    if "housing_seats" not in table:
+        return position, None
+    seats = table["housing_seats"]
+    n = sum(len(sh.bearings) for sh in (case.scene.pinion_shaft, case.scene.gear_shaft))
+    if not (isinstance(seats, list) and len(seats) == n and all(
+            isinstance(v, int) and not isinstance(v, bool) and v >= -1 for v in seats)):
+        raise sc.fail(where, "housing_seats", f"allowed {n} integers >= -1 (a seat index per "
+                      "bearing, pinion shaft's then gear shaft's; -1 on the ground)", seats)
+    return position, tuple(None if v < 0 else v for v in seats)
+
+
+def _check_seats(stages, spec: HousingSpec) -> None:
+    """Every ``housing_seats`` index below the housing's seats: a box's 2 per housed shaft
+    (its two end walls), a mesh file's ``[[housing.seats]]``; one line."""
+    lumped = [s for s in stages if isinstance(s.torsional, LumpedPairGearboxStage)]
+    if not lumped:
+        raise sc.fail("housing", None, 'allowed with at least one model = "lumped3d" stage (the '
+                      "torsional and planetary stages stay on the ground)")
+    n = len(spec.seats) if spec.mesh_file is not None else 2 * sum(
+        len((s.case.scene.pinion_shaft, s.case.scene.gear_shaft)) for s in lumped)
+    for k, s in enumerate(stages):
+        bad = [v for v in (s.housing_seats or ()) if v is not None and v >= n]
+        if bad:
+            raise sc.fail(f"stages[{k}]", "housing_seats", f"out of range, allowed -1..{n - 1} "
+                          f"(the housing's {n} seats)", list(s.housing_seats))
