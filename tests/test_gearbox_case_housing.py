@@ -119,7 +119,8 @@ def test_gearbox_housing_keys_errors_one_line(tmp_path):
     torsional = (DATA / "two-pair-whine.toml").read_text()
     bad = {
         no_housing: r"\[stages\[1\]\] housing_position_mm = \[0(\.0)?, 150(\.0)?, 0(\.0)?\]: "
-        r"allowed on a model = \"lumped3d\" stage of a gearbox with \[housing\] only",
+        r"allowed on a model = \"lumped3d\" or a planetary stage of a gearbox with "
+        r"\[housing\] only",
         text.replace("housing_seats = [2, 6, 3, 7]", "housing_seats = [2, 6, 3]"): (
             r"\[stages\[1\]\] housing_seats = \[2, 6, 3\]: allowed 4 integers >= -1"),
         text.replace("housing_seats = [2, 6, 3, 7]", "housing_seats = [2, 6, 3, 8]"): (
@@ -264,3 +265,35 @@ def test_file_planetary_ring_seat_carries_the_ring_torque():
     print("file's ring seat moment", moment, "ring torque", expected,
           "relative", abs(abs(moment) / expected - 1))
     np.testing.assert_allclose(abs(moment), expected, rtol=1e-3)
+
+
+def test_planetary_housing_seat_errors_one_line(tmp_path):
+    """``housing_seat`` out of the box's 6 seats, on a seat the pair's bearings take (their
+    nearest: 1, 2, 4, 5), negative, without a gearbox [housing], on a pair stage; a planetary
+    stage's ``housing_position_mm`` without it: one line each, naming the key and value."""
+    for name in ("two-stage-gearbox-planetary.toml", "two-pair-lumped-stage2.toml"):
+        (tmp_path / name).write_text((DATA / name).read_text())
+    text = PLANETARY_CASE.read_text()
+    seat = "housing_seat = 0 "
+    no_housing = text[:text.index("\n[housing]\n")]
+    bad = {
+        text.replace(seat, "housing_seat = 6 "): (
+            r"\[stages\[0\]\] housing_seat = 6: out of range, allowed 0\.\.5"),
+        text.replace(seat, "housing_seat = 4 "): (
+            r"\[stages\[0\]\] housing_seat = 4: a seat a lumped stage's bearing takes"),
+        text.replace(seat, "housing_seat = -1 "): (
+            r"\[stages\[0\]\] housing_seat = -1: allowed an integer >= 0"),
+        no_housing: (r"\[stages\[0\]\] housing_seat = 0: allowed on a model = \"lumped3d\" or "
+                     r"a planetary stage of a gearbox with \[housing\] only"),
+        text.replace(seat, 'housing_position_mm = [0.0, 0.0, 10.0] '): (
+            r"\[stages\[0\]\] housing_position_mm = .*: allowed on a planetary stage with "
+            r"housing_seat only"),
+        text.replace('input = "gear"', 'input = "gear"\nhousing_seat = 5'): (
+            r"\[stages\[1\]\] housing_seat = 5: allowed on a planetary stage only"),
+    }
+    for t, needle in bad.items():
+        path = tmp_path / "box.toml"
+        path.write_text(t)
+        with pytest.raises(SchemaError, match=needle) as err:
+            jio.load_case(str(path))
+        assert "\n" not in str(err.value)

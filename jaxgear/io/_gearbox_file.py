@@ -33,7 +33,12 @@ parallel). A box is built round all those stages' bearings (a bore round each sh
 walls: seats 0..A-1 in the -z wall, A..2A-1 in the +z wall, the A shafts in stage order,
 pinion shaft first); ``housing_seats`` lists each of a stage's bearings' seat (its pinion
 shaft's bearings, then its gear shaft's; -1 keeps one on the ground; default the nearest seat).
-Torsional and planetary stages stay on the ground. The stages' coupled chain then has the
+A planetary stage whose ring is held joins the box with ``housing_seat`` (the seat its ring is
+bolted to) and ``housing_position_mm`` (its centre; its axis the gearbox frame's z): one more
+axis of the box (a bore round it in both end walls, in stage order, all bores of the one
+``bore_diameter_mm``), the stage a :class:`~jaxgear.planetary.HousedPlanetary` of the
+torsional kind, its ring's torsional support on that seat. Torsional stages, and planetary
+stages without ``housing_seat``, stay on the ground. The stages' coupled chain then has the
 housing's coordinates once (:class:`~jaxgear.gearbox.GearboxTorsional`'s ``housing``).
 
 A ``[whine]`` table (the keys and units of a pair's, :mod:`jaxgear.io._whine_table`; its
@@ -418,7 +423,9 @@ def parse_gearbox(data: dict, default_name: str, base: str | None, load_case) ->
             a shaft stiffness out of (0, 1e15] N·m/rad (the first stage has none), a stage that
             is not a planetary stage or a pair, a stage ``case`` that is neither a file nor an
             embedded case, a ``[whine]`` key out of range (its method not "quasi-periodic",
-            its torus grid over :data:`MAX_WHINE_GRID`); one line each.
+            its torus grid over :data:`MAX_WHINE_GRID`), a housing key without ``[housing]`` or
+            on a stage that cannot take it, ``housing_seats`` of the wrong count, a seat beyond
+            the box's, a ring's ``housing_seat`` a lumped stage's bearing takes; one line each.
     """
     sc.check_keys(data, _KEYS, "")
     name = sc.name(data, "name", "", default_name)
