@@ -148,7 +148,8 @@ class GearboxForm(CaseForm):
     (i from 1) and given as a pair case by its stage (:meth:`mesh_case`); ``whine``: its
     ``[whine]`` (:class:`~jaxgear.io.WhineInputs`, a
     :class:`~jaxgear.dynamics.QuasiPeriodicBalance`) or None; ``housing``: its ``[housing]``
-    (:class:`~jaxgear.io.HousingSpec`, shared by its lumped 3D stages) or None."""
+    (:class:`~jaxgear.io.HousingSpec`, shared by its lumped 3D stages and its planetary
+    stages with ``housing_seat``) or None."""
 
     stages: tuple[GearboxStage, ...]
     whine: WhineInputs | None = None
