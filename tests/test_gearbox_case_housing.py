@@ -18,6 +18,7 @@ import pathlib
 
 import numpy as np
 import pytest
+from _examples import load_example
 from test_gearbox_whine import TEETH, B, _stage
 
 import fem_prep
@@ -118,7 +119,8 @@ def test_gearbox_housing_keys_errors_one_line(tmp_path):
     torsional = (DATA / "two-pair-whine.toml").read_text()
     bad = {
         no_housing: r"\[stages\[1\]\] housing_position_mm = \[0(\.0)?, 150(\.0)?, 0(\.0)?\]: "
-        r"allowed on a model = \"lumped3d\" stage of a gearbox with \[housing\] only",
+        r"allowed on a model = \"lumped3d\" or a planetary stage of a gearbox with "
+        r"\[housing\] only",
         text.replace("housing_seats = [2, 6, 3, 7]", "housing_seats = [2, 6, 3]"): (
             r"\[stages\[1\]\] housing_seats = \[2, 6, 3\]: allowed 4 integers >= -1"),
         text.replace("housing_seats = [2, 6, 3, 7]", "housing_seats = [2, 6, 3, 8]"): (
@@ -161,3 +163,137 @@ def test_jaxgear_run_whine_of_the_housed_gearbox(tmp_path):
     assert erp.shape == (2, len(data["orders"]) - 1) and np.all(np.isfinite(erp))
     assert np.all(erp >= 0.0)
     assert housing["points"]["top"]["moved_mm"] < 50.0  # a skin node within a cell (50 mm)
+
+
+# -- a planetary stage's held ring in the gearbox's [housing] --------------------------------
+# tests/data/gearbox/planetary-pair-housed.toml: examples/gearbox_two_stage.py's planetary
+# stage (ring held, carrier in, sun out; the same stage as tests/data/gearbox/
+# two-stage-gearbox-planetary.toml) whose sun drives the 41-tooth wheel of the lumped 25/41 pair
+# (stage 2 of two-pair-housed.toml), its scene 150 mm above the planetary's axis; the ring on
+# seat 0 (the -z wall's bore round the planetary's axis), the pair's bearings on the nearest.
+PLANETARY_CASE = DATA / "planetary-pair-housed.toml"
+P_TORQUE, P_SHAFT, RING_SEAT = 2000.0, 2e5, 0
+
+
+def _planetary_box():
+    """The box the file asks for, in numbers: 130 x 220 x 280 mm round the axes (0, 0) (the
+    planetary's), (0, 150) and (99, 150) mm (the pair's pinion and gear shafts), its origin at
+    scene (-60.5, -65, -65) mm; bores of 50 mm round the three axes, the -z wall's first."""
+    off = np.array([-0.0605, -0.065, -0.065])
+    axes = [(0.0, 0.0), (0.0, 0.15), (0.099, 0.15)]
+    bores = tuple(Bore(w, (x - off[0], y - off[1]), 0.025) for w in ("x-", "x+") for x, y in axes)
+    feet = tuple(Foot(xr, yr) for xr in ((0.0, 0.03), (0.1, 0.13))
+                 for yr in ((0.0, 0.03), (0.19, 0.22)))
+    box = HousingBox(0.13, 0.22, 0.28, 0.01, bores=bores, feet=feet)
+    mesh = mesh_box(box, 0.05, layers=1, element=Tet4())
+    return condensed_housing(mesh, fem_prep.Material(210e9, 0.3, 7800.0), 6000.0,
+                             coupling=fem_prep.Rigid()), off
+
+
+def _planetary_by_hand(ch, off, **run):
+    """The file's gearbox built here: the example's planetary stage as a HousedPlanetary of
+    the torsional kind (ring on seat 0), the pair's lumped scene on the nearest seats."""
+    planetary = load_example("gearbox_two_stage").two_stage()[0].stages[0]
+    hp = Housing.of(ch, loss_factor=0.02, rotation=R, offset=off)
+    hl = Housing.of(ch, loss_factor=0.02, rotation=R, offset=off - STAGE2)
+    model = jg.planetary.HousedPlanetary(jg.TorsionalPlanetary(), hp,
+                                         seats=(("ring", RING_SEAT),))
+    housed = gb.PlanetaryGearboxStage(planetary.stage, planetary.input, planetary.output,
+                                      planetary.meshes, model=model)
+    s, mesh = _stage(*TEETH[1], 10e-6)
+    pair = jg.GearPair(jg.Member(TEETH[1][0], face_width=B), jg.Member(TEETH[1][1], face_width=B),
+                       3e-3, math.radians(20.0))
+
+    def shaft(torque_z):
+        return ShaftSpec(0.12, 0.06, 0.06, (Bearing(0.0, 2e8, 1e8, 0.0),
+                                            Bearing(0.12, 2e8, 0.0, 0.0)),
+                         torque_z=torque_z, elements=2)
+
+    inertias = tuple((ip / 2 + m * B * B / 12, ip) for ip, m in zip(POLAR[1], MASSES,
+                                                                    strict=True))
+    scene = lumped_pair(pair, mesh, shaft(0.0), shaft(0.12), masses=MASSES, inertias=inertias,
+                        housing=hl)
+    lumped = gb.LumpedPairGearboxStage(scene, input=1, modifications=s.modifications)
+    opts = {"mean_positions": COUPLED_RUN["mean_positions"]} | run
+    return (gb.GearboxTorsional((housed, lumped), [P_SHAFT], housing=hp),
+            gb.GearboxRun(P_TORQUE, P_SHAFT, **opts))
+
+
+def test_the_file_builds_the_hand_built_planetary_in_the_box():
+    """A planetary stage with ``housing_seat``: the reader's coupled chain (the ring on seat 0
+    of the box round the planetary's axis and the pair's shafts, the pair's bearings on seats
+    1, 2, 4, 5) has the hand-built chain's coordinates, coupled modes (1e-10) and housing
+    energies (1e-8); ``jaxgear run``'s modes (chain_modes) are these, with the kinetic shares
+    (stages + housing) summing to 1."""
+    case = jio.load_case(str(PLANETARY_CASE))
+    assert case.form.housed() == (0, 1)
+    coupled = case.form.coupled()
+    assert [s.housing_seats() for s in coupled.stages] == [(0,), (1, 2, 4, 5)]
+    chain, run = _planetary_by_hand(*_planetary_box())
+    assert gb.coordinate_names(coupled) == gb.coordinate_names(chain)
+    got, ref = (gb.gearbox_coupled_modes(c, run) for c in (coupled, chain))
+    np.testing.assert_allclose(np.asarray(got.analysis.frequency),
+                               np.asarray(ref.analysis.frequency), rtol=1e-10)
+    np.testing.assert_allclose(np.asarray(got.housing_energy), np.asarray(ref.housing_energy),
+                               atol=1e-8)
+    rows = chain_modes(case.form)
+    np.testing.assert_allclose([r["frequency_Hz"] for r in rows],
+                               np.asarray(ref.analysis.frequency), rtol=1e-10)
+    for r in rows:
+        assert sum(r["stage_energy"]) + r["housing_energy"] == pytest.approx(1.0, abs=1e-9)
+
+
+def test_file_planetary_ring_seat_carries_the_ring_torque():
+    """A Newmark run (``gearbox_dynamics``) of the file's coupled chain at a carrier speed of
+    2 rad/s (quasi-static: the planetary mesh at 25 Hz, the lowest mode at 257 Hz): over the
+    recorded window the box's elastic moment at the ring's seat about the stage axis (K_h q at
+    the seat's rotations, along R's last row) is the ring torque of the stage's torque balance,
+    T_c r_br / (r_bs + r_br) (Willis), within 1e-3 (measured 2.2e-4: the window's residue)."""
+    case = jio.load_case(str(PLANETARY_CASE))
+    chain = case.form.coupled()
+    ch = case.form.housing_body.condensed
+    run = gb.GearboxRun(P_TORQUE, P_SHAFT, steps_per_period=16, periods=6, keep_periods=2)
+    out = gb.gearbox_dynamics(chain, run, 2.0)
+    assert int(out.result) == 0
+    x = np.asarray(out.displacement).mean(axis=0)
+    q = x[len(gb.coordinate_names(chain)) - ch.K.shape[0]:]
+    seat = (np.asarray(ch.K) @ q)[6 * RING_SEAT:6 * RING_SEAT + 6]
+    moment = float(R[2] @ seat[3:])
+    st = chain.stages[0].stage
+    r_s, r_r = float(st.sun.base_radius), float(st.ring.base_radius)
+    expected = P_TORQUE * r_r / (r_s + r_r)
+    print("file's ring seat moment", moment, "ring torque", expected,
+          "relative", abs(abs(moment) / expected - 1))
+    np.testing.assert_allclose(abs(moment), expected, rtol=1e-3)
+
+
+def test_planetary_housing_seat_errors_one_line(tmp_path):
+    """``housing_seat`` out of the box's 6 seats, on a seat the pair's bearings take (their
+    nearest: 1, 2, 4, 5), negative, without a gearbox [housing], on a pair stage; a planetary
+    stage's ``housing_position_mm`` without it: one line each, naming the key and value."""
+    for name in ("two-stage-gearbox-planetary.toml", "two-pair-lumped-stage2.toml"):
+        (tmp_path / name).write_text((DATA / name).read_text())
+    text = PLANETARY_CASE.read_text()
+    seat = "housing_seat = 0 "
+    no_housing = text[:text.index("\n[housing]\n")]
+    bad = {
+        text.replace(seat, "housing_seat = 6 "): (
+            r"\[stages\[0\]\] housing_seat = 6: out of range, allowed 0\.\.5"),
+        text.replace(seat, "housing_seat = 4 "): (
+            r"\[stages\[0\]\] housing_seat = 4: a seat a lumped stage's bearing takes"),
+        text.replace(seat, "housing_seat = -1 "): (
+            r"\[stages\[0\]\] housing_seat = -1: allowed an integer >= 0"),
+        no_housing: (r"\[stages\[0\]\] housing_seat = 0: allowed on a model = \"lumped3d\" or "
+                     r"a planetary stage of a gearbox with \[housing\] only"),
+        text.replace(seat, 'housing_position_mm = [0.0, 0.0, 10.0] '): (
+            r"\[stages\[0\]\] housing_position_mm = .*: allowed on a planetary stage with "
+            r"housing_seat only"),
+        text.replace('input = "gear"', 'input = "gear"\nhousing_seat = 5'): (
+            r"\[stages\[1\]\] housing_seat = 5: allowed on a planetary stage only"),
+    }
+    for t, needle in bad.items():
+        path = tmp_path / "box.toml"
+        path.write_text(t)
+        with pytest.raises(SchemaError, match=needle) as err:
+            jio.load_case(str(path))
+        assert "\n" not in str(err.value)

@@ -809,7 +809,7 @@ units (see the pair reference), its speeds the first stage's input member's, `me
 `"quasi-periodic"` (the default here; another method is refused), `positions_per_period` per
 stage with at most 10⁶ points on the stages' torus grid (positions^stages). A `[housing]`
 table (the pair's `[housing]` keys, see the pair reference) is one housing shared by the
-`model = "lumped3d"` stages (docs/gearbox.md, "One housing for several stages"). Unknown keys
+`model = "lumped3d"` stages and the planetary stages with `housing_seat` (docs/gearbox.md, "One housing for several stages"). Unknown keys
 are errors."""
 
 #: what the gearbox page says of a table beyond its keys
@@ -826,7 +826,10 @@ GEARBOX_NOTES = {
     "bearing): a `\"lumped3d\"` stage of a gearbox with `[housing]` only (its scene origin in "
     "the gearbox frame, the first stage's scene frame; each bearing's seat, its pinion shaft's "
     "then its gear shaft's, -1 on the ground; docs/gearbox.md, \"One housing for several "
-    "stages\").",
+    "stages\"). `housing_seat` (an integer >= 0): a planetary stage whose ring is held, of a "
+    "gearbox with `[housing]` only: the seat its ring is bolted to (a bore round its axis in "
+    "both end walls of the box), `housing_position_mm` then its centre (its axis the gearbox "
+    "frame's z); refused beyond the box's seats or on a seat a lumped stage's bearing takes.",
 }
 
 #: what the train page says of a table beyond its keys

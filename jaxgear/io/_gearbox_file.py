@@ -33,7 +33,12 @@ parallel). A box is built round all those stages' bearings (a bore round each sh
 walls: seats 0..A-1 in the -z wall, A..2A-1 in the +z wall, the A shafts in stage order,
 pinion shaft first); ``housing_seats`` lists each of a stage's bearings' seat (its pinion
 shaft's bearings, then its gear shaft's; -1 keeps one on the ground; default the nearest seat).
-Torsional and planetary stages stay on the ground. The stages' coupled chain then has the
+A planetary stage whose ring is held joins the box with ``housing_seat`` (the seat its ring is
+bolted to) and ``housing_position_mm`` (its centre; its axis the gearbox frame's z): one more
+axis of the box (a bore round it in both end walls, in stage order, all bores of the one
+``bore_diameter_mm``), the stage a :class:`~jaxgear.planetary.HousedPlanetary` of the
+torsional kind, its ring's torsional support on that seat. Torsional stages, and planetary
+stages without ``housing_seat``, stay on the ground. The stages' coupled chain then has the
 housing's coordinates once (:class:`~jaxgear.gearbox.GearboxTorsional`'s ``housing``).
 
 A ``[whine]`` table (the keys and units of a pair's, :mod:`jaxgear.io._whine_table`; its
@@ -67,6 +72,7 @@ from ..gearbox import (
     PairGearboxStage,
     PlanetaryGearboxStage,
 )
+from ..planetary import HousedPlanetary
 from ..scenes import Housing
 from ._case import Case, CaseForm, PairForm
 from ._case_model import PAIR_SCENES
@@ -91,8 +97,11 @@ _STAGE_KEYS = (
     "model",
     "housing_position_mm",
     "housing_seats",
+    "housing_seat",
 )
-_PAIR_KEYS = _STAGE_KEYS[2:]
+#: the keys a planetary stage refuses (a pair stage's only)
+_PAIR_KEYS = ("input", "pinion_inertia_kg_m2", "gear_inertia_kg_m2", "mesh_stiffness_N_per_um",
+              "model", "housing_seats")
 #: a pair stage's ``input``: which gear the previous stage drives
 PAIR_INPUTS = {"pinion": 0, "gear": 1}
 #: a pair stage's ``model``: the torsional pair or its case's lumped 3D scene
@@ -109,7 +118,9 @@ class GearboxStage:
     torsional model in the chain (:class:`~jaxgear.AbstractGearboxStage`; a lumped 3D stage on
     the ground); a lumped 3D stage in the gearbox's ``[housing]``: its scene origin in the
     gearbox frame ``housing_position`` (m) and its bearings' seats ``housing_seats`` (None:
-    the nearest; an entry None: on the ground)."""
+    the nearest; an entry None: on the ground); a planetary stage in it: its centre
+    ``housing_position`` (m; its axis the gearbox's z) and its held ring's seat ``housing_seat``
+    (None: the ring on the ground)."""
 
     case: Case
     ratio: float
@@ -119,6 +130,7 @@ class GearboxStage:
     torsional: AbstractGearboxStage
     housing_position: tuple = (0.0, 0.0, 0.0)
     housing_seats: tuple | None = None
+    housing_seat: int | None = None
 
     @property
     def output_speed(self) -> float:
@@ -136,7 +148,8 @@ class GearboxForm(CaseForm):
     (i from 1) and given as a pair case by its stage (:meth:`mesh_case`); ``whine``: its
     ``[whine]`` (:class:`~jaxgear.io.WhineInputs`, a
     :class:`~jaxgear.dynamics.QuasiPeriodicBalance`) or None; ``housing``: its ``[housing]``
-    (:class:`~jaxgear.io.HousingSpec`, shared by its lumped 3D stages) or None."""
+    (:class:`~jaxgear.io.HousingSpec`, shared by its lumped 3D stages and its planetary
+    stages with ``housing_seat``) or None."""
 
     stages: tuple[GearboxStage, ...]
     whine: WhineInputs | None = None
@@ -180,12 +193,11 @@ class GearboxForm(CaseForm):
 
 
     def housed(self) -> tuple[int, ...]:
-        """The stages seated in the gearbox's ``[housing]``: its lumped 3D stages (none
-        without one)."""
+        """The stages seated in the gearbox's ``[housing]``: its lumped 3D stages and its
+        planetary stages with ``housing_seat`` (none without one)."""
         if self.housing is None:
             return ()
-        return tuple(k for k, s in enumerate(self.stages)
-                     if isinstance(s.torsional, LumpedPairGearboxStage))
+        return tuple(k for k, s in enumerate(self.stages) if _in_housing(s))
 
     @functools.cached_property
     def housing_body(self) -> HousingBody:
@@ -208,22 +220,29 @@ class GearboxForm(CaseForm):
         planet; the torsional model), a pair's :meth:`~jaxgear.io.Case.mesh_model` and its
         modifications, ``slices`` slices per contact line; a lumped 3D stage its case's scene,
         with ``[housing]`` on the shared housing (placed in its scene frame: x_stage =
-        R x_housing + t − its ``housing_position``), which the chain keeps once."""
+        R x_housing + t − its ``housing_position``), which the chain keeps once; a planetary
+        stage with ``housing_seat`` a :class:`~jaxgear.planetary.HousedPlanetary` of the
+        torsional kind on the shared housing (placed alike, the stage centre its frame's origin),
+        its ring's torsional support joined to that seat."""
         stages, shared = [], None
         housed = self.housed()
         for k, s in enumerate(self.stages):
             t = s.torsional
+            housing = None
+            if k in housed:
+                body = self.housing_body
+                housing = Housing.of(body.condensed, loss_factor=self.housing.loss_factor,
+                                     rotation=np.array(ROTATION),
+                                     offset=body.offset - np.asarray(s.housing_position))
+                shared = housing if shared is None else shared
             if isinstance(t, PlanetaryGearboxStage):
                 meshes = s.case.form.spec.dynamic_meshes(s.case, slices)
-                stages.append(PlanetaryGearboxStage(t.stage, t.input, t.output, meshes))
+                model = t.model
+                if housing is not None:
+                    model = HousedPlanetary(model, housing, seats=(("ring", s.housing_seat),))
+                stages.append(PlanetaryGearboxStage(t.stage, t.input, t.output, meshes,
+                                                    model=model))
             elif isinstance(t, LumpedPairGearboxStage):
-                housing = None
-                if k in housed:
-                    body = self.housing_body
-                    housing = Housing.of(body.condensed, loss_factor=self.housing.loss_factor,
-                                         rotation=np.array(ROTATION),
-                                         offset=body.offset - np.asarray(s.housing_position))
-                    shared = housing if shared is None else shared
                 stages.append(lumped_stage(s.case, t.input, slices, housing, s.housing_seats))
             else:
                 stages.append(PairGearboxStage(t.inertias, t.base_radii, t.mesh_stiffness,
@@ -233,13 +252,23 @@ class GearboxForm(CaseForm):
                                 housing=shared)
 
 
+def _in_housing(stage: GearboxStage) -> bool:
+    """A stage seated in its gearbox's ``[housing]``: a lumped 3D stage, a planetary stage
+    with ``housing_seat``."""
+    return (isinstance(stage.torsional, LumpedPairGearboxStage)
+            or stage.housing_seat is not None)
+
+
 def _housed_bearings(form: GearboxForm):
-    """(shafts, bearing positions) of the housed stages in the gearbox frame, shaft after
-    shaft in stage order (:meth:`jaxgear.io.Case._bearing_layout` moved by each stage's
-    ``housing_position``)."""
+    """(shafts, bearing positions) of the housed stages in the gearbox frame, axis after
+    axis in stage order (:meth:`jaxgear.io.Case._bearing_layout` moved by each stage's
+    ``housing_position``; a housed planetary stage one axis, its centre, and no shaft)."""
     shafts, positions = [], []
     for k in form.housed():
         s = form.stages[k]
+        if s.housing_seat is not None:  # a planetary stage: its axis through its centre
+            positions.append([np.asarray(s.housing_position, dtype=float)])
+            continue
         sh, pos = s.case._bearing_layout(s.case.scene)
         shafts += list(sh)
         positions += [[np.asarray(p) + np.asarray(s.housing_position) for p in ps] for ps in pos]
@@ -395,7 +424,9 @@ def parse_gearbox(data: dict, default_name: str, base: str | None, load_case) ->
             a shaft stiffness out of (0, 1e15] N·m/rad (the first stage has none), a stage that
             is not a planetary stage or a pair, a stage ``case`` that is neither a file nor an
             embedded case, a ``[whine]`` key out of range (its method not "quasi-periodic",
-            its torus grid over :data:`MAX_WHINE_GRID`); one line each.
+            its torus grid over :data:`MAX_WHINE_GRID`), a housing key without ``[housing]`` or
+            on a stage that cannot take it, ``housing_seats`` of the wrong count, a seat beyond
+            the box's, a ring's ``housing_seat`` a lumped stage's bearing takes; one line each.
     """
     sc.check_keys(data, _KEYS, "")
     name = sc.name(data, "name", "", default_name)
@@ -432,46 +463,91 @@ def parse_gearbox(data: dict, default_name: str, base: str | None, load_case) ->
 
 
 def _placement(table: dict, where: str, has_housing: bool, case: Case, model) -> tuple:
-    """A stage's ``housing_position_mm`` (m) and ``housing_seats`` (None for -1): only on a
-    lumped 3D stage of a gearbox with ``[housing]``, whose case has no ``[housing]`` of its
-    own; the seats one per bearing of the stage's scene, each an integer >= -1."""
-    keys = [key for key in ("housing_position_mm", "housing_seats") if key in table]
+    """A stage's ``housing_position_mm`` (m), ``housing_seats`` (None for -1) and
+    ``housing_seat``: only in a gearbox with ``[housing]``, on a stage whose case has no
+    ``[housing]`` of its own; ``housing_seats`` on a lumped 3D stage (one per bearing of its
+    scene, each an integer >= -1), ``housing_seat`` on a planetary stage whose ring is held (an
+    integer >= 0; ``housing_position_mm`` there only with it)."""
     lumped = isinstance(model, LumpedPairGearboxStage)
-    if keys and not (has_housing and lumped):
+    planetary = isinstance(model, PlanetaryGearboxStage)
+    keys = [key for key in ("housing_position_mm", "housing_seats", "housing_seat")
+            if key in table]
+    if "housing_seat" in table and not planetary:
+        raise sc.fail(where, "housing_seat", "allowed on a planetary stage only (a lumped 3D "
+                      "stage's bearings take housing_seats)", table["housing_seat"])
+    if planetary and keys and "housing_seat" not in table:
+        raise sc.fail(where, keys[0], "allowed on a planetary stage with housing_seat only",
+                      table[keys[0]])
+    if keys and not has_housing:
+        raise sc.fail(where, keys[0], 'allowed on a model = "lumped3d" or a planetary stage of '
+                      "a gearbox with [housing] only", table[keys[0]])
+    if keys and not (lumped or planetary):
         raise sc.fail(where, keys[0], 'allowed on a model = "lumped3d" stage of a gearbox with '
                       "[housing] only", table[keys[0]])
-    if not (has_housing and lumped):
-        return (0.0, 0.0, 0.0), None
+    if not has_housing or not (lumped or keys):
+        return (0.0, 0.0, 0.0), None, None
     if case.housing is not None:
         raise sc.fail(where, "case", "the stage case has its own [housing]: allowed without it "
-                      "in a gearbox with [housing] (its lumped stages share the gearbox's)",
+                      "in a gearbox with [housing] (its housed stages share the gearbox's)",
                       case.name)
     position = (0.0, 0.0, 0.0)
     if "housing_position_mm" in table:
         position = tuple(float(x) * 1e-3 for x in
                          sc.number_list(table, "housing_position_mm", where, length=3))
+    if planetary:
+        seat = table["housing_seat"]
+        if not (isinstance(seat, int) and not isinstance(seat, bool) and seat >= 0):
+            raise sc.fail(where, "housing_seat", "allowed an integer >= 0 (the seat index of "
+                          "the gearbox's [housing] the held ring is bolted to)", seat)
+        fixed = case.form.spec.fixed.name.lower()
+        if fixed != "ring":
+            raise sc.fail(where, "housing_seat", "allowed on a stage whose ring is held (this "
+                          f"stage's [planetary] fixed = {fixed!r})", seat)
+        return position, None, seat
     if "housing_seats" not in table:
-        return position, None
+        return position, None, None
     seats = table["housing_seats"]
     n = sum(len(sh.bearings) for sh in (case.scene.pinion_shaft, case.scene.gear_shaft))
     if not (isinstance(seats, list) and len(seats) == n and all(
             isinstance(v, int) and not isinstance(v, bool) and v >= -1 for v in seats)):
         raise sc.fail(where, "housing_seats", f"allowed {n} integers >= -1 (a seat index per "
                       "bearing, pinion shaft's then gear shaft's; -1 on the ground)", seats)
-    return position, tuple(None if v < 0 else v for v in seats)
+    return position, tuple(None if v < 0 else v for v in seats), None
 
 
 def _check_seats(stages, spec: HousingSpec) -> None:
-    """Every ``housing_seats`` index below the housing's seats: a box's 2 per housed shaft
-    (its two end walls), a mesh file's ``[[housing.seats]]``; one line."""
+    """Every ``housing_seats`` and ``housing_seat`` index below the housing's seats: a box's 2
+    per housed axis (its two end walls; a lumped stage's two shafts, a housed planetary stage's
+    one), a mesh file's ``[[housing.seats]]``; a planetary ring's seat not one a lumped stage's
+    bearing takes (its ``housing_seats``, else, in a box, its shafts' own bores); one line."""
     lumped = [s for s in stages if isinstance(s.torsional, LumpedPairGearboxStage)]
     if not lumped:
         raise sc.fail("housing", None, 'allowed with at least one model = "lumped3d" stage (the '
-                      "torsional and planetary stages stay on the ground)")
-    n = len(spec.seats) if spec.mesh_file is not None else 2 * sum(
-        len((s.case.scene.pinion_shaft, s.case.scene.gear_shaft)) for s in lumped)
+                      "box is sized round its shafts; torsional stages stay on the ground)")
+    axes, own = 0, []  # the box's axes: a lumped stage's two shafts, a planetary's one
+    for s in stages:
+        if isinstance(s.torsional, LumpedPairGearboxStage):
+            own.append((s, (axes, axes + 1)))
+            axes += 2
+        elif s.housing_seat is not None:
+            axes += 1
+    n = len(spec.seats) if spec.mesh_file is not None else 2 * axes
+    taken = set()
+    for s, shafts in own:
+        if s.housing_seats is not None:
+            taken |= {v for v in s.housing_seats if v is not None}
+        elif spec.mesh_file is None:  # the nearest: its shafts' own bores in both walls
+            taken |= {a + w * axes for a in shafts for w in (0, 1)}
     for k, s in enumerate(stages):
         bad = [v for v in (s.housing_seats or ()) if v is not None and v >= n]
         if bad:
             raise sc.fail(f"stages[{k}]", "housing_seats", f"out of range, allowed -1..{n - 1} "
                           f"(the housing's {n} seats)", list(s.housing_seats))
+        if s.housing_seat is not None:
+            if s.housing_seat >= n:
+                raise sc.fail(f"stages[{k}]", "housing_seat", f"out of range, allowed "
+                              f"0..{n - 1} (the housing's {n} seats)", s.housing_seat)
+            if s.housing_seat in taken:
+                raise sc.fail(f"stages[{k}]", "housing_seat", "a seat a lumped stage's bearing "
+                              "takes: allowed a seat of its own (a bore round this stage's "
+                              "axis)", s.housing_seat)
