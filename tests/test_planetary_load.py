@@ -110,7 +110,12 @@ def test_k_gamma_gradient_against_finite_difference():
 
 def test_load_sharing_refuses_a_free_stage_and_a_wrong_error_shape():
     free = stage(3, carrier_u=0.0)  # the carrier free to turn: a mechanism
-    with pytest.raises(eqx.EquinoxRuntimeError, match="stiffness is singular"):
+    with pytest.raises(eqx.EquinoxRuntimeError, match="stiffness is singular") as e:
         jg.load_sharing(jg.TorsionalPlanetary(), free, 100.0, np.zeros(3))
+    # the message names the mechanism's coordinates: the free carrier's rotation
+    coords = jg.TorsionalPlanetary().dof_names(free)
+    carrier = [n for n in coords if n.endswith("_c")]
+    assert carrier and all(n in str(e.value) for n in carrier)
+    assert "\n" not in str(e.value).strip()
     with pytest.raises(ValueError, match=r"tangential_pin_errors must have shape \(3,\)"):
         jg.load_sharing(jg.PlanarPlanetary(), stage(3), 100.0, np.zeros(4))

@@ -444,7 +444,7 @@ def load_sharing(
     if is_traced(singular):
         return eqx.error_if(r, jnp.any(singular), _SINGULAR)
     if bool(singular):
-        raise eqx.EquinoxRuntimeError(_SINGULAR)
+        raise eqx.EquinoxRuntimeError(_free_coordinates(model, stage))
     return r
 
 
@@ -452,6 +452,18 @@ _SINGULAR = (
     "load_sharing: the stiffness is singular (or too ill-conditioned for this precision): "
     "hold the ring or the carrier"
 )
+
+
+def _free_coordinates(model, stage) -> str:
+    """The one-line refusal of a singular load-sharing stiffness on the host, naming the
+    coordinates of its softest mode (the mechanism: e.g. ``theta_c``, a carrier free to turn,
+    or ``x_r, y_r``, a ring without bearings in the planar model)."""
+    lam, vec = np.linalg.eigh(np.asarray(model.stiffness_matrix(stage), dtype=float))
+    v = np.abs(vec[:, 0])
+    names = model.dof_names(stage)
+    free = ", ".join(names[i] for i in np.flatnonzero(v >= 0.3 * v.max()))
+    return (f"{_SINGULAR}, or give the member a support: the softest mode moves {free} "
+            "(a rotation needs a torsional stiffness, a translation a bearing)")
 
 
 @eqx.filter_jit
