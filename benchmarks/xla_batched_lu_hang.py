@@ -10,8 +10,9 @@ flight on a two-thread pool leave no thread for the members they wait for.
 
 Each variant runs in a fresh subprocess that calls the compiled program ``--calls`` times on new
 random inputs; the parent watches the child's CPU time (``/proc/<pid>/stat``) and its progress:
-when neither advances for ``--stall`` seconds (60 by default) the child is counted hung, killed,
-and a new child continues with the calls left. Variants:
+when no call completes and the CPU time gains under half a second for ``--stall`` seconds (60
+by default) the child is counted hung (its threads' stacks written with gdb under ``--gdb``),
+killed, and a new child continues with the calls left. Variants:
 
 * ``batched``: ``jnp.linalg.solve`` on the stacks (one batched LAPACK call each);
 * ``each``: one unbatched solve per member in a ``jax.lax.map`` (``jaxgear._util.each_solve``'s
@@ -19,8 +20,8 @@ and a new child continues with the calls left. Variants:
 * ``flag``: ``batched`` with ``XLA_FLAGS=--xla_cpu_multi_thread_eigen=false``.
 
 From the repository root: ``python -m benchmarks.xla_batched_lu_hang [--calls 2000] [--m 32]
-[--k 100] [--variants batched,each,flag] [--gdb /tmp/hang]``. Prints one line per variant (calls, hangs, seconds)
-and the jax/jaxlib versions, and the same as JSON at the end.
+[--k 100] [--variants batched,each,flag] [--gdb /tmp/hang]``. Prints one line per variant
+(calls, hangs, seconds) and the jax/jaxlib versions, and the same as JSON at the end.
 """
 
 from __future__ import annotations
@@ -39,7 +40,8 @@ jax.config.update("jax_enable_x64", True)
 import jax.numpy as jnp
 import numpy as np
 
-variant, calls, m, k, progress = sys.argv[1], int(sys.argv[2]), int(sys.argv[3]), int(sys.argv[4]), sys.argv[5]
+variant, progress = sys.argv[1], sys.argv[5]
+calls, m, k = (int(a) for a in sys.argv[2:5])
 
 def solve(A, b):
     if variant == "each":
@@ -80,7 +82,7 @@ def _backtrace(pid: int, path: str) -> None:
     try:
         with open(path, "w") as f:
             subprocess.run(["gdb", "-p", str(pid), "-batch", "-ex", "thread apply all bt"],
-                           stdout=f, stderr=subprocess.STDOUT, timeout=120)
+                           check=False, stdout=f, stderr=subprocess.STDOUT, timeout=120)
     except (OSError, subprocess.TimeoutExpired):
         pass
 
@@ -89,7 +91,8 @@ def run_variant(variant: str, calls: int, m: int, k: int, stall: float, gdb: str
     """``calls`` calls of the program in as many children as hangs need; returns the counts."""
     env = dict(os.environ)
     if variant == "flag":
-        env["XLA_FLAGS"] = (env.get("XLA_FLAGS", "") + " --xla_cpu_multi_thread_eigen=false").strip()
+        flags = env.get("XLA_FLAGS", "") + " --xla_cpu_multi_thread_eigen=false"
+        env["XLA_FLAGS"] = flags.strip()
     progress = f"/tmp/xla_batched_lu_hang_{os.getpid()}_{variant}"
     done, hangs, children, failures = 0, 0, 0, 0
     t0 = time.time()
@@ -102,15 +105,17 @@ def run_variant(variant: str, calls: int, m: int, k: int, stall: float, gdb: str
             env=env,
         )
         children += 1
-        last = (-2, "")
-        last_change = time.time()
+        ref_ticks, ref_text, ref_time = -1, "", time.time()
         while child.poll() is None:
             time.sleep(1.0)
+            ticks = _cpu_ticks(child.pid)
             with open(progress) as f:
-                state = (_cpu_ticks(child.pid), f.read())
-            if state != last:
-                last, last_change = state, time.time()
-            elif time.time() - last_change > stall:
+                text = f.read()
+            # a wedged child still gains a tick now and then (idle threads): progress is a new
+            # call done or half a second of CPU since the last progress
+            if text != ref_text or ticks - ref_ticks > 50 or ticks < 0:
+                ref_ticks, ref_text, ref_time = ticks, text, time.time()
+            elif time.time() - ref_time > stall:
                 if gdb:
                     _backtrace(child.pid, f"{gdb}_{variant}_{hangs}.txt")
                 child.kill()
