@@ -22,6 +22,11 @@ killed, and a new child continues with the calls left. Variants:
 From the repository root: ``python -m benchmarks.xla_batched_lu_hang [--calls 2000] [--m 32]
 [--k 100] [--variants batched,each,flag] [--gdb /tmp/hang]``. Prints one line per variant
 (calls, hangs, seconds) and the jax/jaxlib versions, and the same as JSON at the end.
+
+Measured (jax and jaxlib 0.10.2, the 2-core host under load, default sizes): ``batched`` 7 hangs
+in 450 calls, ``flag`` 4 in 287, ``each`` none in 450; each hung child's stacks (gdb): both
+``tf_XLAEigen`` threads in ``lapack_zgetrf_ffi`` → ``ParallelBatchMap`` →
+``BlockingCounter::Wait``, every other thread idle.
 """
 
 from __future__ import annotations
