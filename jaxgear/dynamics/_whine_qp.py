@@ -89,7 +89,9 @@ def _torus_static(scene, table, torque, law, grid_rows):
         x = sol.x if dofs is None else reduced.expand(sol.x, y)
         return x, sol.weight, sol.force_density, sol.result
 
-    return jax.lax.map(solve, grid_rows, batch_size=512)
+    # one grid point at a time: a batch of points would run solve_contact's LU as one batched
+    # LAPACK call, which can deadlock XLA's CPU thread pool (jaxgear._util.each_solve)
+    return jax.lax.map(solve, grid_rows)
 
 
 def torus_grid(table, of_mesh, R) -> tuple[np.ndarray, np.ndarray]:

@@ -272,7 +272,9 @@ def _gearbox_whine(chain, run, law, spec, xs, speeds, basis, idx):
             sol = solve_contact(k, f, *a, law)
             return sol.x, sol.weight, sol.force_density, sol.result
 
-        x, weight, fd, result = jax.lax.map(solve, (V, kc, ln, d0, mask), batch_size=512)
+        # one grid point at a time: a batch would run the contact solve's LU as one batched
+        # LAPACK call, which can deadlock XLA's CPU thread pool (see _util.each_solve)
+        x, weight, fd, result = jax.lax.map(solve, (V, kc, ln, d0, mask))
         kl = jnp.where(mask, weight * kc * ln, 0.0)  # (N, c)
         Vb = V @ basis  # (N, c, r)
         Km = jnp.einsum("sc,sci,scj->sij", kl, Vb, Vb)
