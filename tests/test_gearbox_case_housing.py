@@ -27,6 +27,7 @@ import jaxgear.io as jio
 from fem_prep.housing import Bore, Foot, HousingBox, Tet4, condensed_housing, mesh_box
 from fem_prep.schema import SchemaError
 from jaxgear import gearbox as gb
+from jaxgear.cli import main
 from jaxgear.cli.gearbox import COUPLED_RUN, chain_modes, gearbox_whine_outputs
 from jaxgear.dynamics import QuasiPeriodicBalance
 from jaxgear.scenes import Bearing, Housing, ShaftSpec, lumped_pair
@@ -84,11 +85,11 @@ def _by_hand(**run):
             gb.GearboxRun(TORQUE, SHAFT, mean_positions=COUPLED_RUN["mean_positions"], **run))
 
 
-def test_the_file_builds_the_hand_built_housed_gearbox():
+def test_the_file_builds_the_hand_built_housed_gearbox(tmp_path):
     """The reader's coupled chain (both stages in the one box, its coordinates once) has the
     hand-built chain's coupled modes to 1e-10 and housing energies to 1e-8; ``jaxgear run``'s
-    modes (chain_modes) are these, each with the stages' and the housing's kinetic shares
-    summing to 1."""
+    modes (chain_modes) and ``jaxgear modes``' are these, each with the stages' and the
+    housing's kinetic shares summing to 1."""
     case = jio.load_case(str(CASE))
     assert case.form.housed() == (0, 1)
     coupled = case.form.coupled()
@@ -105,6 +106,11 @@ def test_the_file_builds_the_hand_built_housed_gearbox():
                                np.asarray(ref.analysis.frequency), rtol=1e-10)
     for r in rows:
         assert sum(r["stage_energy"]) + r["housing_energy"] == pytest.approx(1.0, abs=1e-9)
+    assert main(["modes", str(CASE), "--out", str(tmp_path)]) == 0
+    written = json.loads((tmp_path / "modes.json").read_text())
+    assert "torsional_chain" not in written
+    np.testing.assert_allclose([r["frequency_Hz"] for r in written["coupled_with_housing"]],
+                               np.asarray(ref.analysis.frequency), rtol=1e-10)
 
 
 def test_gearbox_housing_keys_errors_one_line(tmp_path):

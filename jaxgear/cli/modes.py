@@ -175,6 +175,13 @@ def _(form: case_io.PlanetaryForm, case) -> dict:
 
 @case_modes.register
 def _(form: case_io.GearboxForm, case) -> dict:
+    if form.housing is not None:  # the coupled modes on the shared housing (jaxgear run's)
+        return {
+            "case": case.name,
+            "model": "coupled gearbox on its housing",
+            "classification": "the stage or the housing holding most of the kinetic energy",
+            "coupled_with_housing": chain_modes(form),
+        }
     return {
         "case": case.name,
         "model": "gearbox torsional chain",
