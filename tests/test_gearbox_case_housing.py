@@ -85,6 +85,25 @@ def _by_hand(**run):
             gb.GearboxRun(TORQUE, SHAFT, mean_positions=COUPLED_RUN["mean_positions"], **run))
 
 
+def _same_coupled_modes(form, coupled, chain, run):
+    """The file's coupled chain against the hand-built one: the same coordinate names, coupled
+    modes to 1e-10 and housing energies to 1e-8; ``jaxgear run``'s rows (chain_modes) the same
+    frequencies, each row's stage and housing kinetic shares summing to 1. Returns the
+    hand-built chain's coupled modes."""
+    assert gb.coordinate_names(coupled) == gb.coordinate_names(chain)
+    got, ref = (gb.gearbox_coupled_modes(c, run) for c in (coupled, chain))
+    np.testing.assert_allclose(np.asarray(got.analysis.frequency),
+                               np.asarray(ref.analysis.frequency), rtol=1e-10)
+    np.testing.assert_allclose(np.asarray(got.housing_energy), np.asarray(ref.housing_energy),
+                               atol=1e-8)
+    rows = chain_modes(form)
+    np.testing.assert_allclose([r["frequency_Hz"] for r in rows],
+                               np.asarray(ref.analysis.frequency), rtol=1e-10)
+    for r in rows:
+        assert sum(r["stage_energy"]) + r["housing_energy"] == pytest.approx(1.0, abs=1e-9)
+    return ref
+
+
 def test_the_file_builds_the_hand_built_housed_gearbox(tmp_path):
     """The reader's coupled chain (both stages in the one box, its coordinates once) has the
     hand-built chain's coupled modes to 1e-10 and housing energies to 1e-8; ``jaxgear run``'s
@@ -95,17 +114,7 @@ def test_the_file_builds_the_hand_built_housed_gearbox(tmp_path):
     coupled = case.form.coupled()
     assert coupled.housing is not None
     chain, run = _by_hand()
-    assert gb.coordinate_names(coupled) == gb.coordinate_names(chain)
-    got, ref = (gb.gearbox_coupled_modes(c, run) for c in (coupled, chain))
-    np.testing.assert_allclose(np.asarray(got.analysis.frequency),
-                               np.asarray(ref.analysis.frequency), rtol=1e-10)
-    np.testing.assert_allclose(np.asarray(got.housing_energy), np.asarray(ref.housing_energy),
-                               atol=1e-8)
-    rows = chain_modes(case.form)
-    np.testing.assert_allclose([r["frequency_Hz"] for r in rows],
-                               np.asarray(ref.analysis.frequency), rtol=1e-10)
-    for r in rows:
-        assert sum(r["stage_energy"]) + r["housing_energy"] == pytest.approx(1.0, abs=1e-9)
+    ref = _same_coupled_modes(case.form, coupled, chain, run)
     assert main(["modes", str(CASE), "--out", str(tmp_path)]) == 0
     written = json.loads((tmp_path / "modes.json").read_text())
     assert "torsional_chain" not in written
@@ -236,17 +245,7 @@ def test_the_file_builds_the_hand_built_planetary_in_the_box():
     coupled = case.form.coupled()
     assert [s.housing_seats() for s in coupled.stages] == [(0,), (1, 2, 4, 5)]
     chain, run = _planetary_by_hand(*_planetary_box())
-    assert gb.coordinate_names(coupled) == gb.coordinate_names(chain)
-    got, ref = (gb.gearbox_coupled_modes(c, run) for c in (coupled, chain))
-    np.testing.assert_allclose(np.asarray(got.analysis.frequency),
-                               np.asarray(ref.analysis.frequency), rtol=1e-10)
-    np.testing.assert_allclose(np.asarray(got.housing_energy), np.asarray(ref.housing_energy),
-                               atol=1e-8)
-    rows = chain_modes(case.form)
-    np.testing.assert_allclose([r["frequency_Hz"] for r in rows],
-                               np.asarray(ref.analysis.frequency), rtol=1e-10)
-    for r in rows:
-        assert sum(r["stage_energy"]) + r["housing_energy"] == pytest.approx(1.0, abs=1e-9)
+    _same_coupled_modes(case.form, coupled, chain, run)
 
 
 def test_file_planetary_ring_seat_carries_the_ring_torque():
