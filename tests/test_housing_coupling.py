@@ -416,3 +416,44 @@ youngs_modulus_GPa = {E}
         assert st.size == grounded.size + 6 * 6 and st.part_names[-1] == "housing"
         errs.append(np.abs(freqs(st)[: f0.size] / f0 - 1).max())
     assert errs[1] < errs[0] / 8 and errs[1] < 1e-3
+
+
+def test_case_mesh_file_gives_the_boxs_housing(tmp_path, monkeypatch):
+    """``[housing] mesh_file`` (a gmsh ``.msh`` in mm, its ``[[housing.seats]]``,
+    ``[[housing.feet]]`` and ``offset_mm``) gives the housing the parametric box of the same
+    case gives when that box's own mesh is the file: the same condensed modes (to 1e-8) and
+    the case's scene the same M and K (to 1e-8 of their largest). The box is gmsh's (round
+    bores: its seats are the same facets whichever of the two seat tolerances reads them)."""
+    pytest.importorskip("gmsh")
+    meshio = pytest.importorskip("meshio")
+    monkeypatch.setenv("FEM_PREP_CACHE", str(tmp_path / "cache"))
+    table = _TABLE.replace('element = "tet4"', 'element = "tet4"\nmesher = "gmsh"')
+    box_case = _case_with(tmp_path, table)
+    body = box_case.housing_body()
+    hm = body.mesh
+    path = tmp_path / "housing.msh"
+    meshio.write(path, meshio.Mesh(hm.mesh.p.T * 1e3, [("tetra", hm.mesh.t.T)]),
+                 file_format="gmsh22", binary=False)
+    lines = [f'mesh_file = "{path.name}"', 'mesh_unit = "mm"',
+             f"offset_mm = {[float(x) * 1e3 for x in body.offset]}"]
+    for s in hm.seats:
+        lines += ["[[housing.seats]]", f"centre_mm = {[float(x) * 1e3 for x in s.centre]}",
+                  f"axis = {[float(x) for x in s.axis]}", f"diameter_mm = {2e3 * s.radius}",
+                  f"width_mm = {1e3 * s.width}", f'name = "{s.name}"']
+    for f in hm.feet:
+        lines += ["[[housing.feet]]", f"x_mm = {[float(x) * 1e3 for x in f.x_range]}",
+                  f"y_mm = {[float(x) * 1e3 for x in f.y_range]}"]
+    keep = [ln for ln in table.splitlines()
+            if not ln.startswith(("width_mm", "height_mm", "wall_thickness_mm",
+                                  "bore_diameter_mm", "mesh_size_mm", "mesher"))]
+    file_case = _case_with(tmp_path, "\n".join(keep) + "\n" + "\n".join(lines) + "\n")
+    assert file_case.housing.mesh_file == str(path)
+    got = file_case.housing_body()
+    for s, t in zip(hm.seats, got.mesh.seats):
+        np.testing.assert_array_equal(np.sort(got.mesh.seat_nodes(t)), np.sort(hm.seat_nodes(s)))
+    np.testing.assert_allclose(got.condensed.modes_hz, body.condensed.modes_hz, rtol=1e-8)
+    a = jio.static_scene(box_case, slices=4)[0].base.structure
+    b = jio.static_scene(file_case, slices=4)[0].base.structure
+    for name in ("M", "K"):
+        x, y = np.asarray(getattr(a, name)), np.asarray(getattr(b, name))
+        np.testing.assert_allclose(y, x, rtol=0, atol=1e-8 * np.abs(x).max(), err_msg=name)
