@@ -34,8 +34,11 @@ def draw(case_name: str, run: str, png: str, label: str | None = None) -> dict:
     folder = pathlib.Path(run) / "whine"
     info = json.loads((folder / "housing.json").read_text())
     shapes = info["operating_deflection_shapes"]
-    pick = (max(shapes, key=lambda s: s["erp_dB"]) if label is None
-            else next(s for s in shapes if s["label"] == label))
+    pick = (
+        max(shapes, key=lambda s: s["erp_dB"])
+        if label is None
+        else next(s for s in shapes if s["label"] == label)
+    )
     m = meshio.read(folder / "housing_ods.vtu")
     u = m.point_data[f"{pick['label']}_real"] + 1j * m.point_data[f"{pick['label']}_imag"]
     body = jio.load_case(case_name).housing_body()
@@ -59,12 +62,20 @@ def draw(case_name: str, run: str, png: str, label: str | None = None) -> dict:
     poly.set_array(colour)
     ax.add_collection3d(poly)
     lo, hi = x.min(axis=0), x.max(axis=0)
-    corners = np.array([[a, b, c] for a in (lo[0], hi[0]) for b in (lo[1], hi[1])
-                        for c in (lo[2], hi[2])])
-    edges = [(i, j) for i in range(8) for j in range(i + 1, 8)
-             if np.count_nonzero(corners[i] != corners[j]) == 1]
-    ax.add_collection3d(Line3DCollection([corners[[i, j]] for i, j in edges], colors="0.5",
-                                         linewidths=0.8, linestyles="--"))
+    corners = np.array(
+        [[a, b, c] for a in (lo[0], hi[0]) for b in (lo[1], hi[1]) for c in (lo[2], hi[2])]
+    )
+    edges = [
+        (i, j)
+        for i in range(8)
+        for j in range(i + 1, 8)
+        if np.count_nonzero(corners[i] != corners[j]) == 1
+    ]
+    ax.add_collection3d(
+        Line3DCollection(
+            [corners[[i, j]] for i, j in edges], colors="0.5", linewidths=0.8, linestyles="--"
+        )
+    )
     ax.set_xlim(lo[0], hi[0])
     ax.set_ylim(lo[1], hi[1])
     ax.set_zlim(lo[2], hi[2])
