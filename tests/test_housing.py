@@ -331,7 +331,9 @@ def test_averaging_seats_are_softer_than_rigid_ones(coarse):
     the minimum energy under more constraints is higher), and strictly larger where the bore
     deforms (the 100 mm box: each seat's translational diagonal terms 12-85 % lower)."""
     hm, rigid = coarse
-    avg = condensed_housing(hm, STEEL, 2500.0, coupling=fem_prep.Averaging(), cache=False)
+    # (the static seat stiffness does not depend on the cut-off: a low one, no interior modes)
+    avg = condensed_housing(hm, STEEL, 10.0, coupling=fem_prep.Averaging(), cache=False)
+    assert len(avg.modes_hz) == 0
     Kr, Ka = rigid.seat_stiffness(), avg.seat_stiffness()
     lam = np.linalg.eigvalsh(0.5 * (Kr - Ka + (Kr - Ka).T))
     assert lam.min() > -1e-9 * np.abs(Kr).max(), lam.min()
