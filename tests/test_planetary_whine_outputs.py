@@ -167,7 +167,8 @@ def test_run_writes_a_planetary_stages_whine(tmp_path, capsys):
                                  "speeds = 4\nharmonics = 4\npositions_per_period = 32\n")
     out = tmp_path / "o"
     assert main(["run", str(path), "--out", str(out), "--quiet"]) == 0
-    assert "whine (HarmonicBalance, H = 4, 4 speeds" in capsys.readouterr().out
+    printed = capsys.readouterr().out
+    assert "whine (HarmonicBalance, H = 4, 4 speeds" in printed
     for name in ("whine.json", "whine.csv", "te_orders.png", "te_waterfall.png",
                  "bearing_orders.png", "bearing_waterfall.png",
                  "support_fixed_frame_waterfall.png"):
@@ -179,6 +180,9 @@ def test_run_writes_a_planetary_stages_whine(tmp_path, capsys):
     assert d["support_moment_components"] == ["carrier torque", "ring torque"]
     assert 0.01 not in d["linear_result_invalid_at_rad_s"]
     assert d["linear_result_invalid_at_rad_s"] and "carrier frame" in d["frame"]
+    # the output says where the linear result does not hold (issue 65, item 3)
+    assert "the linear (frequency-domain) result does not hold there" in d["validity"]
+    assert "the linear result does not hold there" in printed
     ff = d["support_fixed_frame"]
     assert ff["members"] == ["carrier", "ring", "sun"] and len(ff["carrier_frame_order"]) == 9
     assert np.shape(ff["amplitude_N"]) == (4, 9, 3)

@@ -307,3 +307,53 @@ def test_readme_default_case_figures():
     case = jio.load_case("accessory-spur")
     assert case.torque == 80.0
     assert (case.pair.pinion.teeth, case.pair.gear.teeth) == (45, 86)
+
+
+def test_readme_jaxgear_run_defaults_to_the_default_case_and_folder(monkeypatch):
+    """README: "The first command installs jaxgear and runs the main job on the embedded
+    default case (`accessory-spur`, …) into `jaxgear-out/accessory-spur/`": ``jaxgear run``
+    without arguments loads that case and takes that folder (stopped there, before any
+    computation)."""
+    import os
+
+    from jaxgear.cli import run as run_module
+    from jaxgear.cli._parser import build_parser
+
+    flat = " ".join((ROOT / "README.md").read_text(encoding="utf-8").split())
+    assert "runs the main job on the embedded default case (`accessory-spur`" in flat
+    assert "into `jaxgear-out/accessory-spur/`" in flat
+    args = build_parser("run").parse_args(["run"])
+    seen = []
+
+    class Stop(Exception):
+        pass
+
+    def folder(path):
+        seen.append(path)
+        raise Stop
+
+    monkeypatch.setattr(run_module, "check_output_dir", folder)
+    with pytest.raises(Stop):
+        run_module.run_command(args)
+    assert seen == [os.path.join("jaxgear-out", "accessory-spur")]
+
+
+def test_readme_command_lines_parse_and_check():
+    """README "Command line": every ``jaxgear`` line of its block is a valid command line (the
+    parser and the options' checks accept it, as ``jaxgear`` would before touching a case),
+    and the speeds it gives read as stated ("200:3000:60": 60 speeds, 200 to 3000 rad/s)."""
+    from jaxgear.cli import range_values
+    from jaxgear.cli._main import check_options
+    from jaxgear.cli._parser import build_parser, command_of
+
+    text = (ROOT / "README.md").read_text(encoding="utf-8")
+    block = text.split("## Command line", 1)[1].split("```bash\n", 1)[1].split("```", 1)[0]
+    lines = [ln.split("#", 1)[0].split() for ln in block.splitlines() if ln.strip()]
+    assert len(lines) == 5 and all(ln[0] == "jaxgear" for ln in lines)
+    for words in lines:
+        argv = words[1:]
+        args = build_parser(command_of(argv)).parse_args(argv)
+        check_options(args)
+        if "--speeds" in argv:
+            speeds = np.asarray(range_values(args.speeds, "--speeds"))
+            assert speeds.size == 60 and speeds[0] == 200.0 and speeds[-1] == 3000.0
