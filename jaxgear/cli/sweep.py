@@ -498,12 +498,13 @@ def housing_band_lines(case, speeds) -> list[str]:
     if not above:
         return []
     band = float(case.housing.cutoff) / case_io.HOUSING_BAND
-    return [
+    line = (
         f"{len(above)} of {len(speeds)} speeds above {limit:.4g} rad/s, where the order-1 mesh "
         f"frequency leaves the housing's band ({band:.4g} Hz = cut-off / "
         f"{case_io.HOUSING_BAND:g}): the housing's modes beyond its cut-off are not in the model "
         "there (a higher [housing] cut-off holds them)"
-    ]
+    )
+    return [line]
 
 
 #: the options of a scene's sweep that a planetary stage's has not: (value, what it allows)
