@@ -615,7 +615,7 @@ def _(form: PairForm, case: Case, summary: dict) -> list[str]:
         lines.append(
             f"dynamic factor: max {d['max_dynamic_factor']:.3f} at "
             f"{d['speed_of_max_rad_s']:.0f} rad/s (pinion), sweep "
-            f"{d['speeds_rad_s'][0]:g}-{d['speeds_rad_s'][-1]:g} rad/s"
+            f"{d['speeds_rad_s'][0]:.4g}-{d['speeds_rad_s'][-1]:.4g} rad/s"
         )
         lines.extend(housing_band_lines(d))
     return (
@@ -641,8 +641,8 @@ def _(form: TrainForm, case: Case, summary: dict) -> list[str]:
         )
         lines.append(
             f"dynamic factor: max {d['max_dynamic_factor']:.3f} at {d['speed_of_max_rad_s']:.0f} "
-            f"rad/s (input), per mesh {per}; sweep {d['speeds_rad_s'][0]:g}-"
-            f"{d['speeds_rad_s'][-1]:g} rad/s"
+            f"rad/s (input), per mesh {per}; sweep {d['speeds_rad_s'][0]:.4g}-"
+            f"{d['speeds_rad_s'][-1]:.4g} rad/s"
         )
         lines.extend(housing_band_lines(d))
     if case.flexible:
