@@ -678,7 +678,8 @@ def run_sweep_speeds(form) -> np.ndarray:
     case of ``form`` (:class:`~jaxgear.io.CaseForm`): a pair's (and a train of one internal
     mesh's) 60 speeds from 100 to 3000 rad/s; a train's 30 over the same range (every 100 rad/s:
     a first look, each speed of a train integrating every mesh over the span after which they
-    repeat together; ``jaxgear sweep CASE --speeds 100:3000:60`` runs more)."""
+    repeat together; ``jaxgear sweep CASE --speeds 100:3000:60`` runs more). A housed case
+    runs those within its housing's band (:func:`first_look_speeds`)."""
     return np.linspace(100.0, 3000.0, 60)
 
 
