@@ -77,8 +77,10 @@ from .scene import SCENE_LABELS
 from .train import format_train_table, run_train
 
 __all__ = [
+    "HOUSED_MIN_SPEEDS",
     "RUN_SWEEP_SLICES",
     "acoustic_outputs",
+    "first_look_speeds",
     "format_table",
     "rating_run_line",
     "result_summary",
@@ -90,6 +92,8 @@ __all__ = [
 
 # slices per contact line of the dynamic sweep that `jaxgear run` adds for a lumped scene
 RUN_SWEEP_SLICES = 8
+#: the fewest speeds of a housed case's first-look sweep (:func:`first_look_speeds`)
+HOUSED_MIN_SPEEDS = 5
 
 
 def run_case(
@@ -611,8 +615,9 @@ def _(form: PairForm, case: Case, summary: dict) -> list[str]:
         lines.append(
             f"dynamic factor: max {d['max_dynamic_factor']:.3f} at "
             f"{d['speed_of_max_rad_s']:.0f} rad/s (pinion), sweep "
-            f"{d['speeds_rad_s'][0]:g}-{d['speeds_rad_s'][-1]:g} rad/s"
+            f"{d['speeds_rad_s'][0]:.4g}-{d['speeds_rad_s'][-1]:.4g} rad/s"
         )
+        lines.extend(housing_band_lines(d))
     return (
         lines
         + rating_run_line(summary.get("rating"))
@@ -636,9 +641,10 @@ def _(form: TrainForm, case: Case, summary: dict) -> list[str]:
         )
         lines.append(
             f"dynamic factor: max {d['max_dynamic_factor']:.3f} at {d['speed_of_max_rad_s']:.0f} "
-            f"rad/s (input), per mesh {per}; sweep {d['speeds_rad_s'][0]:g}-"
-            f"{d['speeds_rad_s'][-1]:g} rad/s"
+            f"rad/s (input), per mesh {per}; sweep {d['speeds_rad_s'][0]:.4g}-"
+            f"{d['speeds_rad_s'][-1]:.4g} rad/s"
         )
+        lines.extend(housing_band_lines(d))
     if case.flexible:
         lines.append(
             f"speed sweep with the condensed bodies: jaxgear sweep {case.name} --speeds A:B:N "
@@ -672,7 +678,8 @@ def run_sweep_speeds(form) -> np.ndarray:
     case of ``form`` (:class:`~jaxgear.io.CaseForm`): a pair's (and a train of one internal
     mesh's) 60 speeds from 100 to 3000 rad/s; a train's 30 over the same range (every 100 rad/s:
     a first look, each speed of a train integrating every mesh over the span after which they
-    repeat together; ``jaxgear sweep CASE --speeds 100:3000:60`` runs more)."""
+    repeat together; ``jaxgear sweep CASE --speeds 100:3000:60`` runs more). A housed case
+    runs those within its housing's band (:func:`first_look_speeds`)."""
     return np.linspace(100.0, 3000.0, 60)
 
 
@@ -684,18 +691,68 @@ def _(form: TrainForm) -> np.ndarray:
 run_sweep_speeds.register(InternalMeshForm, run_sweep_speeds.dispatch(object))
 
 
+def first_look_speeds(case) -> tuple[np.ndarray, dict | None]:
+    """The speeds of the dynamic factor sweep ``jaxgear run`` adds for ``case`` and, where the
+    housing stops it, ``summary.json``'s ``dynamics.housing_band`` (else None).
+
+    Without ``[housing]``: :func:`run_sweep_speeds`. With it, the sweep keeps to the speeds
+    where the model holds: the speeds of :func:`run_sweep_speeds` up to the housing's speed
+    limit Ω_b (:func:`jaxgear.io.housing_speed_limit`: every mesh's order-1 frequency within
+    the housing's band, cut-off / 1.5; above it the housing's modes beyond the cut-off, which
+    the condensation leaves out, count); where fewer than :data:`HOUSED_MIN_SPEEDS` of them
+    lie there, that many evenly from Ω_b / HOUSED_MIN_SPEEDS to Ω_b. The section names the
+    cut-off, the band, the highest mesh order, Ω_b, the first look's range and a one-line
+    ``note`` (printed by ``jaxgear run``); ``jaxgear sweep CASE --speeds A:B:N`` runs any
+    speeds (and says how many lie above Ω_b)."""
+    speeds = run_sweep_speeds(case.form)
+    limit = case_io.housing_speed_limit(case)
+    if limit is None or speeds[-1] <= limit:
+        return speeds, None
+    kept = speeds[speeds <= limit]
+    if kept.size < HOUSED_MIN_SPEEDS:
+        kept = np.linspace(limit / HOUSED_MIN_SPEEDS, limit, HOUSED_MIN_SPEEDS)
+    cutoff = float(case.housing.cutoff)
+    band = cutoff / case_io.HOUSING_BAND
+    order = max(abs(float(o)) for o in case.mesh_orders)
+    who = "pinion" if len(case.pairs) == 1 else "input"
+    note = (
+        f"dynamic factor sweep {kept[0]:.4g}-{kept[-1]:.4g} rad/s only (of the first look's "
+        f"{speeds[0]:g}-{speeds[-1]:g}): above {limit:.4g} rad/s the order-1 mesh frequency "
+        f"({order:.4g} per {who} turn) leaves the housing's band, {band:.4g} Hz = cut-off "
+        f"{cutoff:.4g} Hz / {case_io.HOUSING_BAND:g}, and the housing's modes beyond the cut-off "
+        f"are not in the model; jaxgear sweep {case.name} --speeds A:B:N runs other speeds"
+    )
+    section = {
+        "cutoff_Hz": cutoff,
+        "band_limit_Hz": band,
+        "mesh_order": order,
+        "speed_limit_rad_s": limit,
+        "first_look_rad_s": [float(speeds[0]), float(speeds[-1])],
+        "note": note,
+    }
+    return kept, section
+
+
+def housing_band_lines(dynamics: dict) -> list[str]:
+    """What ``jaxgear run`` prints of a first-look sweep the housing stopped
+    (:func:`first_look_speeds`: its note), nothing otherwise."""
+    band = dynamics.get("housing_band")
+    return [] if band is None else [band["note"]]
+
+
 def _sweep_section(case, out: str, quiet: bool) -> dict:
     """The dynamic factor sweep ``jaxgear run`` adds for a case's scene (the speeds of
-    :func:`run_sweep_speeds` into ``out``/sweep, at no more than ``RUN_SWEEP_SLICES`` slices per
+    :func:`first_look_speeds`, a housed case's within its housing's band, into ``out``/sweep, at no more than ``RUN_SWEEP_SLICES`` slices per
     contact line; ``jaxgear sweep --slices`` runs the case's own) and ``summary.json``'s
     ``dynamics``: the dynamic factor curve and its maximum (a train's: the worst mesh per speed,
     with each mesh's under ``dynamic_factor_mesh``), and the sweep's run at the speed of the
     largest dynamic factor with its cell loads (:func:`~jaxgear.cli.sweep.sweep_case_run`; None
     when no speed ran to the end)."""
     slices = min(case.slices, RUN_SWEEP_SLICES)
+    speeds, band = first_look_speeds(case)
     sw, worst_run = cli_sweep.sweep_case_run(
         case,
-        run_sweep_speeds(case.form),
+        speeds,
         os.path.join(out, "sweep"),
         slices=slices,
         show_progress=not quiet,
@@ -711,6 +768,8 @@ def _sweep_section(case, out: str, quiet: bool) -> dict:
         "files": ", ".join(f"sweep/{name}" for name in _sweep_files(sw)),
         **mesh_dynamics(sw),
     }
+    if band is not None:
+        out["housing_band"] = band
     return out, worst_run
 
 

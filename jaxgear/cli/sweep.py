@@ -474,6 +474,8 @@ def sweep_command(form, case, speeds, args) -> int:
             f'mesh force): raise --periods, or leave periods "auto" (each speed until it '
             "settles)"
         )
+    for line in housing_band_lines(case, s["speeds_rad_s"]):  # a housed case's band
+        print(line)
     n_under = sum(s.get("under_resolved", ()))
     if n_under:
         warnings.warn(
@@ -485,6 +487,24 @@ def sweep_command(form, case, speeds, args) -> int:
         )
     print(f"written to {out}/")
     return 0
+
+
+def housing_band_lines(case, speeds) -> list[str]:
+    """One line where speeds of a housed case's sweep lie above its housing's speed limit
+    (:func:`jaxgear.io.housing_speed_limit`: a mesh's order-1 frequency beyond the housing's
+    band), nothing otherwise (no ``[housing]``, or every speed within)."""
+    limit = case_io.housing_speed_limit(case)
+    above = [] if limit is None else [v for v in speeds if v > limit]
+    if not above:
+        return []
+    band = float(case.housing.cutoff) / case_io.HOUSING_BAND
+    line = (
+        f"{len(above)} of {len(speeds)} speeds above {limit:.4g} rad/s, where the order-1 mesh "
+        f"frequency leaves the housing's band ({band:.4g} Hz = cut-off / "
+        f"{case_io.HOUSING_BAND:g}): the housing's modes beyond its cut-off are not in the model "
+        "there (a higher [housing] cut-off holds them)"
+    )
+    return [line]
 
 
 #: the options of a scene's sweep that a planetary stage's has not: (value, what it allows)

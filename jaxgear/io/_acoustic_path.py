@@ -44,6 +44,7 @@ __all__ = [
     "case_radiation",
     "closed_skin",
     "housed_acoustics",
+    "housing_speed_limit",
     "radiation_grid",
 ]
 
@@ -71,6 +72,21 @@ class HousedAcoustics(NamedTuple):
         """The highest frequency (Hz) whose response the condensed housing holds:
         cut-off / :data:`HOUSING_BAND`."""
         return float(self.body.condensed.cutoff_hz) / HOUSING_BAND
+
+
+def housing_speed_limit(case) -> float | None:
+    """The highest input speed Ω_b (rad/s; a pair's: the pinion's) at which every mesh's
+    order-1 frequency lies within the housing's band: Ω_b = 2π f_b / max_k |o_k|, f_b =
+    cut-off / :data:`HOUSING_BAND` (the band the condensed housing's response holds, the
+    whine's ``in_band``: docs/housing.md, "What the condensation keeps"), o_k each mesh's order
+    (its teeth per input turn, :attr:`~jaxgear.io.Case.mesh_orders`). Above it the meshes
+    excite the housing where its modes beyond the cut-off, left out of the model, count. From
+    the case file alone (the housing is not condensed). None without ``[housing]``."""
+    if case.housing is None:
+        return None
+    band = float(case.housing.cutoff) / HOUSING_BAND
+    order = max(abs(float(o)) for o in case.mesh_orders)
+    return 2 * math.pi * band / order
 
 
 def housed_acoustics(case) -> HousedAcoustics | None:

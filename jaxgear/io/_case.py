@@ -338,14 +338,24 @@ class Case(MeshSettings):
         """Periods of the first mesh after which every mesh's cells repeat together (exact,
         from the tooth counts): 1 when every mesh passes teeth at the first's rate (an idler
         train); a two-stage train's span (:meth:`jaxgear.scenes.Scene.scene_periods`)."""
-        shaft_ratio = {self.shaft_of[0]: fractions.Fraction(1)}
         q = 1
         z0 = self.pairs[0].pinion.teeth
+        for order in self.mesh_orders:
+            q = math.lcm(q, (z0 / order).numerator)
+        return q
+
+    @property
+    def mesh_orders(self) -> tuple:
+        """Each mesh's order: the teeth its driving gear passes per turn of the input (the first
+        mesh's driving gear), z_g ω_g / ω_0, exact (:class:`fractions.Fraction`, (m,)), from the
+        tooth counts: its mesh frequency is order × ω_0 / 2π (a pair's: the pinion's teeth)."""
+        shaft_ratio = {self.shaft_of[0]: fractions.Fraction(1)}
+        out = []
         for pair, (g, h) in zip(self.pairs, self.gears, strict=True):
             rg = shaft_ratio[self.shaft_of[g]]
             shaft_ratio[self.shaft_of[h]] = rg * pair.pinion.teeth / pair.gear.teeth
-            q = math.lcm(q, (z0 / (pair.pinion.teeth * rg)).numerator)
-        return q
+            out.append(pair.pinion.teeth * rg)
+        return tuple(out)
 
     @property
     def output(self) -> int:
