@@ -12,10 +12,13 @@ jaxgear.scenes.Housing.of, the stages' lumped_pair scenes on it and the chain's 
 the same coupled modes and housing energy (a check of the reader).
 """
 
+import dataclasses
 import json
 import math
 import pathlib
 
+import equinox as eqx
+import jax.numpy as jnp
 import numpy as np
 import pytest
 from _examples import load_example
@@ -190,13 +193,15 @@ PLANETARY_CASE = DATA / "planetary-pair-housed.toml"
 P_TORQUE, P_SHAFT, RING_SEAT = 2000.0, 2e5, 0
 
 
-def _planetary_box():
+def _planetary_box(ring_bore=0.05):
     """The box the file asks for, in numbers: 130 x 220 x 280 mm round the axes (0, 0) (the
     planetary's), (0, 150) and (99, 150) mm (the pair's pinion and gear shafts), its origin at
-    scene (-60.5, -65, -65) mm; bores of 50 mm round the three axes, the -z wall's first."""
+    scene (-60.5, -65, -65) mm; bores round the three axes, the -z wall's first: ``ring_bore``
+    (m) round the planetary's, 50 mm round the pair's shafts."""
     off = np.array([-0.0605, -0.065, -0.065])
-    axes = [(0.0, 0.0), (0.0, 0.15), (0.099, 0.15)]
-    bores = tuple(Bore(w, (x - off[0], y - off[1]), 0.025) for w in ("x-", "x+") for x, y in axes)
+    axes = [(0.0, 0.0, ring_bore), (0.0, 0.15, 0.05), (0.099, 0.15, 0.05)]
+    bores = tuple(Bore(w, (x - off[0], y - off[1]), d / 2) for w in ("x-", "x+")
+                  for x, y, d in axes)
     feet = tuple(Foot(xr, yr) for xr in ((0.0, 0.03), (0.1, 0.13))
                  for yr in ((0.0, 0.03), (0.19, 0.22)))
     box = HousingBox(0.13, 0.22, 0.28, 0.01, bores=bores, feet=feet)
@@ -205,15 +210,33 @@ def _planetary_box():
                              coupling=fem_prep.Rigid()), off
 
 
-def _planetary_by_hand(ch, off, **run):
+def _planar_supports(stage):
+    """The example's stage with the in-plane supports of two-stage-gearbox-planetary-planar.toml
+    (which the planar kind reads, the torsional one not): the carrier's and the ring's radial
+    bearings and the planets' pins (radial, tangential), all 1000 N/µm; the sun floats."""
+    for name in ("carrier", "ring", "planet"):
+        stage = eqx.tree_at(lambda s, n=name: getattr(s, n).bearing_stiffness, stage,
+                            jnp.array([1e9, 1e9]))
+    return stage
+
+
+def _planetary_by_hand(ch, off, kind=None, **run):
     """The file's gearbox built here: the example's planetary stage as a HousedPlanetary of
-    the torsional kind (ring on seat 0), the pair's lumped scene on the nearest seats."""
+    ``kind`` (default the torsional one; the planar one on the stage with its in-plane
+    supports) with the ring on seat 0, the pair's lumped scene on the nearest seats; ``ch``
+    None: the same gearbox on the ground (the ring held by its torsional spring, the pair's
+    bearings grounded)."""
     planetary = load_example("gearbox_two_stage").two_stage()[0].stages[0]
-    hp = Housing.of(ch, loss_factor=0.02, rotation=R, offset=off)
-    hl = Housing.of(ch, loss_factor=0.02, rotation=R, offset=off - STAGE2)
-    model = jg.planetary.HousedPlanetary(jg.TorsionalPlanetary(), hp,
-                                         seats=(("ring", RING_SEAT),))
-    housed = gb.PlanetaryGearboxStage(planetary.stage, planetary.input, planetary.output,
+    kind = jg.TorsionalPlanetary() if kind is None else kind
+    stage = (planetary.stage if isinstance(kind, jg.TorsionalPlanetary)
+             else _planar_supports(planetary.stage))
+    hp = hl = model = None
+    if ch is not None:
+        hp = Housing.of(ch, loss_factor=0.02, rotation=R, offset=off)
+        hl = Housing.of(ch, loss_factor=0.02, rotation=R, offset=off - STAGE2)
+    model = kind if ch is None else jg.planetary.HousedPlanetary(kind, hp,
+                                                                   seats=(("ring", RING_SEAT),))
+    housed = gb.PlanetaryGearboxStage(stage, planetary.input, planetary.output,
                                       planetary.meshes, model=model)
     s, mesh = _stage(*TEETH[1], 10e-6)
     pair = jg.GearPair(jg.Member(TEETH[1][0], face_width=B), jg.Member(TEETH[1][1], face_width=B),
@@ -302,3 +325,100 @@ def test_planetary_housing_seat_errors_one_line(tmp_path):
         with pytest.raises(SchemaError, match=needle) as err:
             jio.load_case(str(path))
         assert "\n" not in str(err.value)
+
+
+# -- a planetary stage of the planar kind, its ring's bore of its own diameter ---------------
+# tests/data/gearbox/planar-pair-housed.toml: planetary-pair-housed.toml with model = "planar"
+# on the planetary stage (its case two-stage-gearbox-planetary-planar.toml: the same stage with
+# radial bearings on carrier and ring) and housing_bore_diameter_mm = 80 on it (the ring's bore;
+# the pair's shafts' bores the [housing]'s 50 mm).
+PLANAR_CASE = DATA / "planar-pair-housed.toml"
+RING_BORE = 0.08
+
+
+@pytest.fixture(scope="module")
+def planar_box():
+    return _planetary_box(RING_BORE)
+
+
+def test_the_file_builds_the_hand_built_planar_planetary_in_the_box(planar_box):
+    """``model = "planar"`` and ``housing_bore_diameter_mm`` on a housed planetary stage: the
+    reader's coupled chain (a HousedPlanetary of the planar kind, the box with an 80 mm bore
+    round the planetary's axis and 50 mm ones round the pair's shafts) has the coordinates,
+    coupled modes (1e-10) and housing energies (1e-8) of the gearbox built here (the box in
+    numbers, the example's stage with the file's in-plane supports, HousedPlanetary(
+    PlanarPlanetary())), and ``jaxgear run``'s modes are these."""
+    case = jio.load_case(str(PLANAR_CASE))
+    assert case.form.stages[0].housing_bore_diameter == pytest.approx(RING_BORE)
+    coupled = case.form.coupled()
+    assert isinstance(coupled.stages[0].model.model, jg.PlanarPlanetary)
+    assert [s.housing_seats() for s in coupled.stages] == [(0,), (1, 2, 4, 5)]
+    chain, run = _planetary_by_hand(*planar_box, kind=jg.PlanarPlanetary())
+    ref = _same_coupled_modes(case.form, coupled, chain, run)
+    print("planar planetary in the box: coupled modes", ref.analysis.frequency.size,
+          "lowest", np.asarray(ref.analysis.frequency)[:4])
+
+
+def test_planar_ring_on_a_stiff_box_is_the_grounded_gearbox(planar_box):
+    """The file's box (80 mm ring bore) 1000 and 10 000 x stiffer (its condensed K scaled: the
+    condensation of a box of that modulus and steel's density on the same modes): the coupled
+    modes below 5 kHz of the planar planetary and the pair in it tend to those of the same
+    gearbox on the ground (ring held by its torsional spring, the pair's bearings grounded),
+    as the box's compliance: the difference falls about tenfold, within 2e-3 at x 10 000."""
+    ch, off = planar_box
+    grounded, run = _planetary_by_hand(None, off, kind=jg.PlanarPlanetary())
+    f0 = np.asarray(gb.gearbox_coupled_modes(grounded, run).analysis.frequency)
+    f0 = f0[f0 < 5000.0]
+    errs = []
+    for scale in (1e3, 1e4):
+        stiff = dataclasses.replace(ch, K=np.asarray(ch.K) * scale,
+                                    modes_hz=np.asarray(ch.modes_hz) * math.sqrt(scale))
+        chain, _ = _planetary_by_hand(stiff, off, kind=jg.PlanarPlanetary())
+        f = np.asarray(gb.gearbox_coupled_modes(chain, run).analysis.frequency)[:f0.size]
+        errs.append(float(np.abs(f / f0 - 1).max()))
+    print("planar ring on a stiff box: modes below 5 kHz", f0.size,
+          "max relative difference at x 1000, x 10 000", errs)
+    assert errs[0] / errs[1] > 8.0 and errs[1] < 2e-3
+
+
+def test_planetary_model_and_bore_diameter_errors_one_line(tmp_path):
+    """A planetary stage's ``model`` not "torsional" or "planar"; ``housing_bore_diameter_mm``
+    not positive, too large for its wall (the planetary's axis: 101 mm of room to the box's
+    inner face), on a planetary stage without ``housing_seat``, with a mesh file's
+    ``[housing]``; a gearbox ``bore_diameter_mm`` that does not fit; a bore the box's feet
+    reach (when the box is meshed): one line each, naming the key and value."""
+    for name in ("two-stage-gearbox-planetary-planar.toml", "two-pair-lumped-stage2.toml"):
+        (tmp_path / name).write_text((DATA / name).read_text())
+    text = PLANAR_CASE.read_text()
+    bore = "housing_bore_diameter_mm = 80.0 "
+    mesh_file = ('[housing]\nmesh_file = "box.msh"\ncutoff_Hz = 6000.0\n[[housing.seats]]\n'
+                 "centre_mm = [0.0, 0.0, 0.0]\ndiameter_mm = 80.0\nwidth_mm = 10.0\n")
+    bad = {
+        text.replace('model = "planar" ', 'model = "spatial" '): (
+            r"\[stages\[0\]\] model = .spatial.: .*torsional.*planar"),
+        text.replace(bore, "housing_bore_diameter_mm = -5.0 "): (
+            r"\[stages\[0\]\] housing_bore_diameter_mm = -5(\.0)?: out of range, allowed \(0, 100000\]"),
+        text.replace(bore, "housing_bore_diameter_mm = 120.0 "): (
+            r"\[stages\[0\]\] housing_bore_diameter_mm = 120(\.0)?: the bore round stage 1's "
+            r"axis at \(0, 0\) mm does not fit: allowed \(0, 101\] mm there"),
+        text.replace("housing_seat = 0 ", ""): (
+            r"\[stages\[0\]\] housing_bore_diameter_mm = 80(\.0)?: allowed on a planetary "
+            r"stage with housing_seat only"),
+        text[:text.index("\n[housing]\n") + 1] + mesh_file: (
+            r"\[stages\[0\]\] housing_bore_diameter_mm = 80(\.0)?: allowed with a box "
+            r"\[housing\] only"),
+        text.replace(bore, "").replace("bore_diameter_mm = 50.0", "bore_diameter_mm = 250.0"): (
+            r"\[housing\] bore_diameter_mm = 250(\.0)?: the bore round stage 1's axis"),
+    }
+    for t, needle in bad.items():
+        path = tmp_path / "box.toml"
+        path.write_text(t)
+        with pytest.raises(SchemaError, match=needle) as err:
+            jio.load_case(str(path))
+        assert "\n" not in str(err.value)
+    path = tmp_path / "box.toml"  # 90 mm: within the wall, but its seat reaches a foot
+    path.write_text(text.replace(bore, "housing_bore_diameter_mm = 90.0 "))
+    with pytest.raises(SchemaError, match=r"\[housing\]: seat seat0: its bore touches a foot"
+                       ) as err:
+        jio.load_case(str(path)).form.coupled()
+    assert "\n" not in str(err.value)
