@@ -47,14 +47,17 @@ R = np.array([[0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]])
 STAGE2 = np.array([0.0, 0.15, 0.0])  # stage 2's scene origin in stage 1's frame (m)
 
 
-def _box():
+def _box(stage2_bore=0.05):
     """The box the file asks for, in numbers: 130 x 220 x 280 mm (length: the bearings' span
     120 mm + the 10 mm wall), centred across on the axes (x 0..99 mm, y 0..150 mm: the box's
-    origin at scene (-60.5, -65, -65) mm); bores of 50 mm round the four axes, the -z wall's
-    first (seats 0-3: stage 1's pinion and gear shafts, then stage 2's), then the +z wall's."""
+    origin at scene (-60.5, -65, -65) mm); bores round the four axes (50 mm round stage 1's,
+    ``stage2_bore`` (m) round stage 2's), the -z wall's first (seats 0-3: stage 1's pinion and
+    gear shafts, then stage 2's), then the +z wall's."""
     off = np.array([-0.0605, -0.065, -0.065])
-    axes = [(0.0, 0.0), (0.096, 0.0), (0.0, 0.15), (0.099, 0.15)]
-    bores = tuple(Bore(w, (x - off[0], y - off[1]), 0.025) for w in ("x-", "x+") for x, y in axes)
+    axes = [(0.0, 0.0, 0.05), (0.096, 0.0, 0.05), (0.0, 0.15, stage2_bore),
+            (0.099, 0.15, stage2_bore)]
+    bores = tuple(Bore(w, (x - off[0], y - off[1]), d / 2) for w in ("x-", "x+")
+                  for x, y, d in axes)
     feet = tuple(Foot(xr, yr) for xr in ((0.0, 0.03), (0.1, 0.13))
                  for yr in ((0.0, 0.03), (0.19, 0.22)))
     box = HousingBox(0.13, 0.22, 0.28, 0.01, bores=bores, feet=feet)
@@ -63,8 +66,8 @@ def _box():
                              coupling=fem_prep.Rigid()), off
 
 
-def _by_hand(**run):
-    ch, off = _box()
+def _by_hand(stage2_bore=0.05, **run):
+    ch, off = _box(stage2_bore)
     stages, shared = [], None
     for k, seats in ((0, None), (1, (2, 6, 3, 7))):
         s, mesh = _stage(*TEETH[k], 10e-6)
@@ -123,6 +126,27 @@ def test_the_file_builds_the_hand_built_housed_gearbox(tmp_path):
     assert "torsional_chain" not in written
     np.testing.assert_allclose([r["frequency_Hz"] for r in written["coupled_with_housing"]],
                                np.asarray(ref.analysis.frequency), rtol=1e-10)
+
+
+def test_a_pair_stage_bore_diameter_of_its_own(tmp_path):
+    """``housing_bore_diameter_mm = 40`` on stage 2 of two-pair-housed.toml: the bores round
+    its two shafts 40 mm (stage 1's the [housing]'s 50 mm); the file's coupled modes and
+    housing energies are those of the gearbox built here on that box (1e-10, 1e-8), and the
+    bores' size shows: its modes are not the 50 mm box's (by more than 1e-4)."""
+    for f in DATA.glob("two-pair-*.toml"):
+        (tmp_path / f.name).write_text(f.read_text())
+    path = tmp_path / "bores.toml"
+    path.write_text(CASE.read_text().replace(
+        "housing_seats = [2, 6, 3, 7]", "housing_seats = [2, 6, 3, 7]\nhousing_bore_diameter_mm = 40.0"))
+    case = jio.load_case(str(path))
+    assert [s.housing_bore_diameter for s in case.form.stages] == [None, pytest.approx(0.04)]
+    chain, run = _by_hand(0.04)
+    ref = _same_coupled_modes(case.form, case.form.coupled(), chain, run)
+    f50 = np.asarray(gb.gearbox_coupled_modes(_by_hand()[0], run).analysis.frequency)[:20]
+    change = np.abs(np.asarray(ref.analysis.frequency)[:20] / f50 - 1).max()
+    print("stage 2's bores 40 mm against 50 mm: max relative change of the 20 lowest coupled "
+          "modes", change)
+    assert change > 1e-4
 
 
 def test_gearbox_housing_keys_errors_one_line(tmp_path):
