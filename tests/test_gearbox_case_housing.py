@@ -295,17 +295,24 @@ def test_the_file_builds_the_hand_built_planetary_in_the_box():
     _same_coupled_modes(case.form, coupled, chain, run)
 
 
-def test_file_planetary_ring_seat_carries_the_ring_torque():
+@pytest.fixture(scope="module")
+def planetary_file_run():
+    """(case, its coupled chain, a Newmark run of it at a carrier speed of 2 rad/s:
+    quasi-static, the planetary mesh at 25 Hz, the lowest mode at 257 Hz)."""
+    case = jio.load_case(str(PLANETARY_CASE))
+    chain = case.form.coupled()
+    run = gb.GearboxRun(P_TORQUE, P_SHAFT, steps_per_period=16, periods=6, keep_periods=2)
+    return case, chain, gb.gearbox_dynamics(chain, run, 2.0)
+
+
+def test_file_planetary_ring_seat_carries_the_ring_torque(planetary_file_run):
     """A Newmark run (``gearbox_dynamics``) of the file's coupled chain at a carrier speed of
     2 rad/s (quasi-static: the planetary mesh at 25 Hz, the lowest mode at 257 Hz): over the
     recorded window the box's elastic moment at the ring's seat about the stage axis (K_h q at
     the seat's rotations, along R's last row) is the ring torque of the stage's torque balance,
     T_c r_br / (r_bs + r_br) (Willis), within 1e-3 (measured 2.2e-4: the window's residue)."""
-    case = jio.load_case(str(PLANETARY_CASE))
-    chain = case.form.coupled()
+    case, chain, out = planetary_file_run
     ch = case.form.housing_body.condensed
-    run = gb.GearboxRun(P_TORQUE, P_SHAFT, steps_per_period=16, periods=6, keep_periods=2)
-    out = gb.gearbox_dynamics(chain, run, 2.0)
     assert int(out.result) == 0
     x = np.asarray(out.displacement).mean(axis=0)
     q = x[len(gb.coordinate_names(chain)) - ch.K.shape[0]:]
@@ -317,6 +324,63 @@ def test_file_planetary_ring_seat_carries_the_ring_torque():
     print("file's ring seat moment", moment, "ring torque", expected,
           "relative", abs(abs(moment) / expected - 1))
     np.testing.assert_allclose(abs(moment), expected, rtol=1e-3)
+
+
+def _skew(a):
+    return np.array([[0, -a[2], a[1]], [a[2], 0, -a[0]], [-a[1], a[0], 0]])
+
+
+def test_housing_signals_read_the_housed_file(planetary_file_run):
+    """``housing_signals`` on the file's quasi-static run (the ring on its seat of the box, the
+    pair in lumped 3D form, driven on its gear shaft: its output the pinion shaft):
+
+    * the bearing signal is the pinion shaft's two bearings' in-plane force along its mean,
+      written out here: K_b d, d = u − G q (u the bearing's shaft node, K_b its block of the
+      scene's bearing stiffness, G = [[R, −S(p − c) R], [0, R]] the lever of its seat, the
+      nearest: 1 and 4), to 1e-9 of the static mesh force; its mean is the pair's mean mesh
+      force (the shaft's static balance) within 1e-3 (its fluctuation is not: the shaft's
+      mass lies between the mesh and the bearings);
+    * the ring's support reaction k_t (θ_r − θ_seat) / r_br is the ring meshes' summed force
+      (the ring's static balance: mean within 1e-3); θ_r alone (the ring read as if grounded)
+      would be far off, the seat turning under the 1e9 N m/rad spring's load."""
+    case, chain, out = planetary_file_run
+    sig = gb.housing_signals(chain, out, 2.0)
+    f = np.asarray(out.mesh_forces)
+    X = np.asarray(out.displacement)
+    n = chain.stages[0].stage.n_planets
+    static = float(np.mean(f[:, -1]))
+    # the pinion shaft's bearings by hand (its first two bearing blocks, z = -60, +60 mm)
+    body = case.form.housing_body
+    ch, offset = body.condensed, body.offset - STAGE2  # the box in the pair's scene frame
+    scene = chain.stages[1].scene
+    o = len(chain.stages[0].coordinates()) - ch.K.shape[0]  # the pair's first coordinate
+    q0 = X.shape[1] - ch.K.shape[0]
+    part = np.asarray(scene.structure.stiffness_parts()["bearings"])
+    blocks = [u for u in range(0, scene.structure.size - ch.K.shape[0], 6)
+              if np.any(part[u:u + 6, u:u + 6] != 0)][:2]
+    plane = np.zeros((X.shape[0], 2))
+    for u, z, seat in zip(blocks, (-0.06, 0.06), (1, 4), strict=True):
+        c = R @ np.asarray(ch.seat_positions[seat]) + offset
+        G = np.zeros((6, 6))
+        G[:3, :3] = G[3:, 3:] = R
+        G[:3, 3:] = -_skew(np.array([0.0, 0.0, z]) - c) @ R
+        d = X[:, o + u:o + u + 6] - X[:, q0 + 6 * seat:q0 + 6 * seat + 6] @ G.T
+        plane += (d @ part[u:u + 6, u:u + 6].T)[:, :2]
+    mean = plane.mean(axis=0)
+    by_hand = plane @ (mean / np.linalg.norm(mean))
+    bearing = np.asarray(sig.bearing)
+    err_hand = float(np.max(np.abs(bearing - by_hand)) / static)
+    err_mean = abs(float(np.mean(bearing)) / static - 1)
+    ring = f[:, n:2 * n].sum(axis=1)
+    err_r = abs(float(np.mean(sig.ring_support)) / float(np.mean(ring)) - 1)
+    st = chain.stages[0].stage
+    grounded = float(st.ring.torsional_stiffness) * float(np.mean(
+        X[:, gb.coordinate_names(chain).index("1:theta_r")])) / float(st.ring.base_radius)
+    print("lumped pair's bearing: vs by hand", err_hand, "; mean vs the mesh force", err_mean,
+          "; ring support vs the ring meshes", err_r, "; theta_r alone",
+          grounded / float(np.mean(ring)))
+    assert err_hand < 1e-9 and err_mean < 1e-3 and err_r < 1e-3
+    assert abs(abs(grounded) / float(np.mean(ring)) - 1) > 0.5
 
 
 def test_planetary_housing_seat_errors_one_line(tmp_path):
