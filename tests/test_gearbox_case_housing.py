@@ -383,6 +383,29 @@ def test_housing_signals_read_the_housed_file(planetary_file_run):
     assert abs(abs(grounded) / float(np.mean(ring)) - 1) > 0.5
 
 
+@pytest.mark.slow  # one Newmark run of the housed chain over two carrier revolutions: about a
+# minute on the loaded host; fast twin: test_housing_signals_read_the_housed_file
+def test_jaxgear_run_housing_spectrum_of_the_housed_file(tmp_path):
+    """``jaxgear run``'s housing spectrum (housing_point_spectrum) on the housed planetary file:
+    the ring mount of stage 1 and the lumped pair's bearing (stage 2) read from one run, every
+    line finite; the bearing signal's mean (the spectrum's DC line) is the pair's static mesh
+    force from the torque ratios, T_c / (1 + z_r/z_s) / r_b2 (the sun's torque on the 41-tooth
+    wheel's base radius), within 1e-3."""
+    from jaxgear.cli.gearbox import housing_point_spectrum
+
+    case = jio.load_case(str(PLANETARY_CASE))
+    summary = housing_point_spectrum(case.form, case, str(tmp_path))
+    assert summary["ring_stage"] == 1 and summary["bearing_stage"] == 2
+    data = json.loads((tmp_path / "housing_spectrum.json").read_text())
+    assert data["result"] == 0
+    assert all(math.isfinite(r["ring"]) and math.isfinite(r["bearing"]) for r in data["lines"])
+    r_b2 = 0.5 * 41 * 3e-3 * math.cos(math.radians(20.0))
+    static = P_TORQUE / (1 + 80 / 20) / r_b2
+    dc = data["spectrum"]["bearing_N"][0]
+    print("housed file's bearing DC", dc, "static mesh force", static)
+    assert dc == pytest.approx(static, rel=1e-3)
+
+
 def test_planetary_housing_seat_errors_one_line(tmp_path):
     """``housing_seat`` out of the box's 6 seats, on a seat the pair's bearings take (their
     nearest: 1, 2, 4, 5), negative, without a gearbox [housing], on a pair stage; a planetary
