@@ -35,10 +35,17 @@ pinion shaft first); ``housing_seats`` lists each of a stage's bearings' seat (i
 shaft's bearings, then its gear shaft's; -1 keeps one on the ground; default the nearest seat).
 A planetary stage whose ring is held joins the box with ``housing_seat`` (the seat its ring is
 bolted to) and ``housing_position_mm`` (its centre; its axis the gearbox frame's z): one more
-axis of the box (a bore round it in both end walls, in stage order, all bores of the one
-``bore_diameter_mm``), the stage a :class:`~jaxgear.planetary.HousedPlanetary` of the
-torsional kind, its ring's torsional support on that seat. Torsional stages, and planetary
-stages without ``housing_seat``, stay on the ground. The stages' coupled chain then has the
+axis of the box (a bore round it in both end walls, in stage order), the stage a
+:class:`~jaxgear.planetary.HousedPlanetary` of its kind, its ring's torsional support on that
+seat. Every bore is the ``[housing]``'s ``bore_diameter_mm`` unless its stage gives
+``housing_bore_diameter_mm`` (the bores round its axes: a lumped stage's two shafts, a
+planetary stage's ring seat), each checked to lie within the end walls' inner faces and clear
+of the other bores before the box is meshed. Torsional stages, and planetary stages without
+``housing_seat``, stay on the ground.
+
+A planetary stage's ``model`` is its kind in the coupled chain (:data:`PLANETARY_MODELS`:
+``"torsional"``, the default, or ``"planar"``, whose translations read its case's radial
+bearings and pins); the torsional chain's view is the torsional one for both. The stages' coupled chain then has the
 housing's coordinates once (:class:`~jaxgear.gearbox.GearboxTorsional`'s ``housing``).
 
 A ``[whine]`` table (the keys and units of a pair's, :mod:`jaxgear.io._whine_table`; its
@@ -444,12 +451,16 @@ def parse_gearbox(data: dict, default_name: str, base: str | None, load_case) ->
         SchemaError: an unknown key, a stage without ``case``, a pair key on a planetary stage,
             ``model`` not one of :data:`PAIR_MODELS`, ``"lumped3d"`` with a torsional key or
             a stage case without a lumped 3D ``[scene]``,
+            a planetary stage's ``model`` not one of :data:`PLANETARY_MODELS`,
             a shaft stiffness out of (0, 1e15] N·m/rad (the first stage has none), a stage that
             is not a planetary stage or a pair, a stage ``case`` that is neither a file nor an
             embedded case, a ``[whine]`` key out of range (its method not "quasi-periodic",
             its torus grid over :data:`MAX_WHINE_GRID`), a housing key without ``[housing]`` or
             on a stage that cannot take it, ``housing_seats`` of the wrong count, a seat beyond
-            the box's, a ring's ``housing_seat`` a lumped stage's bearing takes; one line each.
+            the box's, a ring's ``housing_seat`` a lumped stage's bearing takes, a
+            ``housing_bore_diameter_mm`` not positive, with a mesh file's ``[housing]`` or whose
+            bore does not fit (:func:`_check_bores`; a gearbox ``bore_diameter_mm`` alike); one
+            line each.
     """
     sc.check_keys(data, _KEYS, "")
     name = sc.name(data, "name", "", default_name)
