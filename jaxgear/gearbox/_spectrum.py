@@ -67,7 +67,6 @@ from ._coupled import (
     _kinematics,
     _layout,
     _run,
-    coordinate_names,
     coupled_mode_table,
     mesh_names,
 )

@@ -45,8 +45,9 @@ of the other bores before the box is meshed. Torsional stages, and planetary sta
 
 A planetary stage's ``model`` is its kind in the coupled chain (:data:`PLANETARY_MODELS`:
 ``"torsional"``, the default, or ``"planar"``, whose translations read its case's radial
-bearings and pins); the torsional chain's view is the torsional one for both. The stages' coupled chain then has the
-housing's coordinates once (:class:`~jaxgear.gearbox.GearboxTorsional`'s ``housing``).
+bearings and pins); the torsional chain's view is the torsional one for both. The stages'
+coupled chain then has the housing's coordinates once
+(:class:`~jaxgear.gearbox.GearboxTorsional`'s ``housing``).
 
 A ``[whine]`` table (the keys and units of a pair's, :mod:`jaxgear.io._whine_table`; its
 method ``"quasi-periodic"``, the default here: every stage meshes at its own frequency) asks
