@@ -492,6 +492,30 @@ def test_planar_ring_on_a_stiff_box_is_the_grounded_gearbox(planar_box):
     assert errs[0] / errs[1] > 8.0 and errs[1] < 2e-3
 
 
+def test_a_planar_planetary_stage_on_the_ground(tmp_path):
+    """``model = "planar"`` on a planetary stage of a gearbox without ``[housing]``
+    (two-stage-gearbox.toml with its planetary stage case the planar one): the reader's coupled
+    chain has the coupled modes of the example's gearbox (examples/gearbox_two_stage.py) with
+    its planetary stage on PlanarPlanetary and the file's in-plane supports, to 1e-10."""
+    for f in DATA.glob("two-stage-gearbox*.toml"):
+        (tmp_path / f.name).write_text(f.read_text())
+    path = tmp_path / "planar.toml"
+    path.write_text((DATA / "two-stage-gearbox.toml").read_text().replace(
+        'case = "two-stage-gearbox-planetary.toml"',
+        'case = "two-stage-gearbox-planetary-planar.toml"\nmodel = "planar"'))
+    coupled = jio.load_case(str(path)).form.coupled()
+    assert coupled.housing is None and isinstance(coupled.stages[0].model, jg.PlanarPlanetary)
+    example, run = load_example("gearbox_two_stage").two_stage()
+    p = example.stages[0]
+    planar = gb.PlanetaryGearboxStage(_planar_supports(p.stage), p.input, p.output, p.meshes,
+                                      model=jg.PlanarPlanetary())
+    chain = gb.GearboxTorsional((planar, example.stages[1]), example.shaft_stiffnesses)
+    got, ref = (np.asarray(gb.gearbox_coupled_modes(c, run).analysis.frequency)
+                for c in (coupled, chain))
+    print("planar planetary stage on the ground: coupled modes", ref.size, "lowest", ref[:3])
+    np.testing.assert_allclose(got, ref, rtol=1e-10)
+
+
 def test_planetary_model_and_bore_diameter_errors_one_line(tmp_path):
     """A planetary stage's ``model`` not "torsional" or "planar"; ``housing_bore_diameter_mm``
     not positive, too large for its wall (the planetary's axis: 101 mm of room to the box's
