@@ -334,7 +334,11 @@ def _shaft_bearings(chain, dynamics, k):
           for c in ("Fx", "Fy")]
     plane = jnp.stack([F[:, rows].sum(axis=1) for rows in xy], axis=1)  # (t, 2)
     mean = plane.mean(axis=0)
-    return plane @ (mean / jnp.linalg.norm(mean))
+    norm = jnp.linalg.norm(mean)
+    # no mean load (none carried): the scene's x direction
+    unit = jnp.where(norm > 0.0, mean / jnp.where(norm > 0.0, norm, 1.0),
+                     jnp.array([1.0, 0.0], plane.dtype))
+    return plane @ unit
 
 
 def _window(n, window):
