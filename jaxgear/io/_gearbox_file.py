@@ -321,6 +321,9 @@ def _(form: PlanetaryForm, case: Case, table: dict, where: str, speed: float, to
     if extra:
         raise sc.fail(where, extra[0], "only for a pair stage", table[extra[0]])
     spec = form.spec
+    if table.get("model") in set(PAIR_MODELS) - set(PLANETARY_MODELS):
+        raise sc.fail(where, "model", "only for a pair stage (a planetary stage's model: allowed "
+                      + ", ".join(repr(m) for m in PLANETARY_MODELS) + ")", table["model"])
     kind = PLANETARY_MODELS[sc.choice(table, "model", where, tuple(PLANETARY_MODELS),
                                       "torsional")]
     model = PlanetaryGearboxStage(spec.stage(case), spec.input, spec.output, model=kind)
