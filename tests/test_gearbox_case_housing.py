@@ -12,10 +12,13 @@ jaxgear.scenes.Housing.of, the stages' lumped_pair scenes on it and the chain's 
 the same coupled modes and housing energy (a check of the reader).
 """
 
+import dataclasses
 import json
 import math
 import pathlib
 
+import equinox as eqx
+import jax.numpy as jnp
 import numpy as np
 import pytest
 from _examples import load_example
@@ -44,14 +47,17 @@ R = np.array([[0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]])
 STAGE2 = np.array([0.0, 0.15, 0.0])  # stage 2's scene origin in stage 1's frame (m)
 
 
-def _box():
+def _box(stage2_bore=0.05):
     """The box the file asks for, in numbers: 130 x 220 x 280 mm (length: the bearings' span
     120 mm + the 10 mm wall), centred across on the axes (x 0..99 mm, y 0..150 mm: the box's
-    origin at scene (-60.5, -65, -65) mm); bores of 50 mm round the four axes, the -z wall's
-    first (seats 0-3: stage 1's pinion and gear shafts, then stage 2's), then the +z wall's."""
+    origin at scene (-60.5, -65, -65) mm); bores round the four axes (50 mm round stage 1's,
+    ``stage2_bore`` (m) round stage 2's), the -z wall's first (seats 0-3: stage 1's pinion and
+    gear shafts, then stage 2's), then the +z wall's."""
     off = np.array([-0.0605, -0.065, -0.065])
-    axes = [(0.0, 0.0), (0.096, 0.0), (0.0, 0.15), (0.099, 0.15)]
-    bores = tuple(Bore(w, (x - off[0], y - off[1]), 0.025) for w in ("x-", "x+") for x, y in axes)
+    axes = [(0.0, 0.0, 0.05), (0.096, 0.0, 0.05), (0.0, 0.15, stage2_bore),
+            (0.099, 0.15, stage2_bore)]
+    bores = tuple(Bore(w, (x - off[0], y - off[1]), d / 2) for w in ("x-", "x+")
+                  for x, y, d in axes)
     feet = tuple(Foot(xr, yr) for xr in ((0.0, 0.03), (0.1, 0.13))
                  for yr in ((0.0, 0.03), (0.19, 0.22)))
     box = HousingBox(0.13, 0.22, 0.28, 0.01, bores=bores, feet=feet)
@@ -60,8 +66,8 @@ def _box():
                              coupling=fem_prep.Rigid()), off
 
 
-def _by_hand(**run):
-    ch, off = _box()
+def _by_hand(stage2_bore=0.05, **run):
+    ch, off = _box(stage2_bore)
     stages, shared = [], None
     for k, seats in ((0, None), (1, (2, 6, 3, 7))):
         s, mesh = _stage(*TEETH[k], 10e-6)
@@ -120,6 +126,27 @@ def test_the_file_builds_the_hand_built_housed_gearbox(tmp_path):
     assert "torsional_chain" not in written
     np.testing.assert_allclose([r["frequency_Hz"] for r in written["coupled_with_housing"]],
                                np.asarray(ref.analysis.frequency), rtol=1e-10)
+
+
+def test_a_pair_stage_bore_diameter_of_its_own(tmp_path):
+    """``housing_bore_diameter_mm = 40`` on stage 2 of two-pair-housed.toml: the bores round
+    its two shafts 40 mm (stage 1's the [housing]'s 50 mm); the file's coupled modes and
+    housing energies are those of the gearbox built here on that box (1e-10, 1e-8), and the
+    bores' size shows: its modes are not the 50 mm box's (by more than 1e-4)."""
+    for f in DATA.glob("two-pair-*.toml"):
+        (tmp_path / f.name).write_text(f.read_text())
+    path = tmp_path / "bores.toml"
+    path.write_text(CASE.read_text().replace(
+        "housing_seats = [2, 6, 3, 7]", "housing_seats = [2, 6, 3, 7]\nhousing_bore_diameter_mm = 40.0"))
+    case = jio.load_case(str(path))
+    assert [s.housing_bore_diameter for s in case.form.stages] == [None, pytest.approx(0.04)]
+    chain, run = _by_hand(0.04)
+    ref = _same_coupled_modes(case.form, case.form.coupled(), chain, run)
+    f50 = np.asarray(gb.gearbox_coupled_modes(_by_hand()[0], run).analysis.frequency)[:20]
+    change = np.abs(np.asarray(ref.analysis.frequency)[:20] / f50 - 1).max()
+    print("stage 2's bores 40 mm against 50 mm: max relative change of the 20 lowest coupled "
+          "modes", change)
+    assert change > 1e-4
 
 
 def test_gearbox_housing_keys_errors_one_line(tmp_path):
@@ -190,13 +217,15 @@ PLANETARY_CASE = DATA / "planetary-pair-housed.toml"
 P_TORQUE, P_SHAFT, RING_SEAT = 2000.0, 2e5, 0
 
 
-def _planetary_box():
+def _planetary_box(ring_bore=0.05):
     """The box the file asks for, in numbers: 130 x 220 x 280 mm round the axes (0, 0) (the
     planetary's), (0, 150) and (99, 150) mm (the pair's pinion and gear shafts), its origin at
-    scene (-60.5, -65, -65) mm; bores of 50 mm round the three axes, the -z wall's first."""
+    scene (-60.5, -65, -65) mm; bores round the three axes, the -z wall's first: ``ring_bore``
+    (m) round the planetary's, 50 mm round the pair's shafts."""
     off = np.array([-0.0605, -0.065, -0.065])
-    axes = [(0.0, 0.0), (0.0, 0.15), (0.099, 0.15)]
-    bores = tuple(Bore(w, (x - off[0], y - off[1]), 0.025) for w in ("x-", "x+") for x, y in axes)
+    axes = [(0.0, 0.0, ring_bore), (0.0, 0.15, 0.05), (0.099, 0.15, 0.05)]
+    bores = tuple(Bore(w, (x - off[0], y - off[1]), d / 2) for w in ("x-", "x+")
+                  for x, y, d in axes)
     feet = tuple(Foot(xr, yr) for xr in ((0.0, 0.03), (0.1, 0.13))
                  for yr in ((0.0, 0.03), (0.19, 0.22)))
     box = HousingBox(0.13, 0.22, 0.28, 0.01, bores=bores, feet=feet)
@@ -205,15 +234,33 @@ def _planetary_box():
                              coupling=fem_prep.Rigid()), off
 
 
-def _planetary_by_hand(ch, off, **run):
+def _planar_supports(stage):
+    """The example's stage with the in-plane supports of two-stage-gearbox-planetary-planar.toml
+    (which the planar kind reads, the torsional one not): the carrier's and the ring's radial
+    bearings and the planets' pins (radial, tangential), all 1000 N/µm; the sun floats."""
+    for name in ("carrier", "ring", "planet"):
+        stage = eqx.tree_at(lambda s, n=name: getattr(s, n).bearing_stiffness, stage,
+                            jnp.array([1e9, 1e9]))
+    return stage
+
+
+def _planetary_by_hand(ch, off, kind=None, **run):
     """The file's gearbox built here: the example's planetary stage as a HousedPlanetary of
-    the torsional kind (ring on seat 0), the pair's lumped scene on the nearest seats."""
+    ``kind`` (default the torsional one; the planar one on the stage with its in-plane
+    supports) with the ring on seat 0, the pair's lumped scene on the nearest seats; ``ch``
+    None: the same gearbox on the ground (the ring held by its torsional spring, the pair's
+    bearings grounded)."""
     planetary = load_example("gearbox_two_stage").two_stage()[0].stages[0]
-    hp = Housing.of(ch, loss_factor=0.02, rotation=R, offset=off)
-    hl = Housing.of(ch, loss_factor=0.02, rotation=R, offset=off - STAGE2)
-    model = jg.planetary.HousedPlanetary(jg.TorsionalPlanetary(), hp,
-                                         seats=(("ring", RING_SEAT),))
-    housed = gb.PlanetaryGearboxStage(planetary.stage, planetary.input, planetary.output,
+    kind = jg.TorsionalPlanetary() if kind is None else kind
+    stage = (planetary.stage if isinstance(kind, jg.TorsionalPlanetary)
+             else _planar_supports(planetary.stage))
+    hp = hl = model = None
+    if ch is not None:
+        hp = Housing.of(ch, loss_factor=0.02, rotation=R, offset=off)
+        hl = Housing.of(ch, loss_factor=0.02, rotation=R, offset=off - STAGE2)
+    model = kind if ch is None else jg.planetary.HousedPlanetary(kind, hp,
+                                                                   seats=(("ring", RING_SEAT),))
+    housed = gb.PlanetaryGearboxStage(stage, planetary.input, planetary.output,
                                       planetary.meshes, model=model)
     s, mesh = _stage(*TEETH[1], 10e-6)
     pair = jg.GearPair(jg.Member(TEETH[1][0], face_width=B), jg.Member(TEETH[1][1], face_width=B),
@@ -248,17 +295,24 @@ def test_the_file_builds_the_hand_built_planetary_in_the_box():
     _same_coupled_modes(case.form, coupled, chain, run)
 
 
-def test_file_planetary_ring_seat_carries_the_ring_torque():
+@pytest.fixture(scope="module")
+def planetary_file_run():
+    """(case, its coupled chain, a Newmark run of it at a carrier speed of 2 rad/s:
+    quasi-static, the planetary mesh at 25 Hz, the lowest mode at 257 Hz)."""
+    case = jio.load_case(str(PLANETARY_CASE))
+    chain = case.form.coupled()
+    run = gb.GearboxRun(P_TORQUE, P_SHAFT, steps_per_period=16, periods=6, keep_periods=2)
+    return case, chain, gb.gearbox_dynamics(chain, run, 2.0)
+
+
+def test_file_planetary_ring_seat_carries_the_ring_torque(planetary_file_run):
     """A Newmark run (``gearbox_dynamics``) of the file's coupled chain at a carrier speed of
     2 rad/s (quasi-static: the planetary mesh at 25 Hz, the lowest mode at 257 Hz): over the
     recorded window the box's elastic moment at the ring's seat about the stage axis (K_h q at
     the seat's rotations, along R's last row) is the ring torque of the stage's torque balance,
     T_c r_br / (r_bs + r_br) (Willis), within 1e-3 (measured 2.2e-4: the window's residue)."""
-    case = jio.load_case(str(PLANETARY_CASE))
-    chain = case.form.coupled()
+    case, chain, out = planetary_file_run
     ch = case.form.housing_body.condensed
-    run = gb.GearboxRun(P_TORQUE, P_SHAFT, steps_per_period=16, periods=6, keep_periods=2)
-    out = gb.gearbox_dynamics(chain, run, 2.0)
     assert int(out.result) == 0
     x = np.asarray(out.displacement).mean(axis=0)
     q = x[len(gb.coordinate_names(chain)) - ch.K.shape[0]:]
@@ -270,6 +324,86 @@ def test_file_planetary_ring_seat_carries_the_ring_torque():
     print("file's ring seat moment", moment, "ring torque", expected,
           "relative", abs(abs(moment) / expected - 1))
     np.testing.assert_allclose(abs(moment), expected, rtol=1e-3)
+
+
+def _skew(a):
+    return np.array([[0, -a[2], a[1]], [a[2], 0, -a[0]], [-a[1], a[0], 0]])
+
+
+def test_housing_signals_read_the_housed_file(planetary_file_run):
+    """``housing_signals`` on the file's quasi-static run (the ring on its seat of the box, the
+    pair in lumped 3D form, driven on its gear shaft: its output the pinion shaft):
+
+    * the bearing signal is the pinion shaft's two bearings' in-plane force along its mean,
+      written out here: K_b d, d = u − G q (u the bearing's shaft node, K_b its block of the
+      scene's bearing stiffness, G = [[R, −S(p − c) R], [0, R]] the lever of its seat, the
+      nearest: 1 and 4), to 1e-9 of the static mesh force; its mean is the pair's mean mesh
+      force (the shaft's static balance) within 1e-3 (its fluctuation is not: the shaft's
+      mass lies between the mesh and the bearings);
+    * the ring's support reaction k_t (θ_r − θ_seat) / r_br is the ring meshes' summed force
+      (the ring's static balance: mean within 1e-3); θ_r alone (the ring read as if grounded)
+      would be far off, the seat turning under the 1e9 N m/rad spring's load."""
+    case, chain, out = planetary_file_run
+    sig = gb.housing_signals(chain, out, 2.0)
+    f = np.asarray(out.mesh_forces)
+    X = np.asarray(out.displacement)
+    n = chain.stages[0].stage.n_planets
+    static = float(np.mean(f[:, -1]))
+    # the pinion shaft's bearings by hand (its first two bearing blocks, z = -60, +60 mm)
+    body = case.form.housing_body
+    ch, offset = body.condensed, body.offset - STAGE2  # the box in the pair's scene frame
+    scene = chain.stages[1].scene
+    o = len(chain.stages[0].coordinates()) - ch.K.shape[0]  # the pair's first coordinate
+    q0 = X.shape[1] - ch.K.shape[0]
+    part = np.asarray(scene.structure.stiffness_parts()["bearings"])
+    blocks = [u for u in range(0, scene.structure.size - ch.K.shape[0], 6)
+              if np.any(part[u:u + 6, u:u + 6] != 0)][:2]
+    plane = np.zeros((X.shape[0], 2))
+    for u, z, seat in zip(blocks, (-0.06, 0.06), (1, 4), strict=True):
+        c = R @ np.asarray(ch.seat_positions[seat]) + offset
+        G = np.zeros((6, 6))
+        G[:3, :3] = G[3:, 3:] = R
+        G[:3, 3:] = -_skew(np.array([0.0, 0.0, z]) - c) @ R
+        d = X[:, o + u:o + u + 6] - X[:, q0 + 6 * seat:q0 + 6 * seat + 6] @ G.T
+        plane += (d @ part[u:u + 6, u:u + 6].T)[:, :2]
+    mean = plane.mean(axis=0)
+    by_hand = plane @ (mean / np.linalg.norm(mean))
+    bearing = np.asarray(sig.bearing)
+    err_hand = float(np.max(np.abs(bearing - by_hand)) / static)
+    err_mean = abs(float(np.mean(bearing)) / static - 1)
+    ring = f[:, n:2 * n].sum(axis=1)
+    err_r = abs(float(np.mean(sig.ring_support)) / float(np.mean(ring)) - 1)
+    st = chain.stages[0].stage
+    grounded = float(st.ring.torsional_stiffness) * float(np.mean(
+        X[:, gb.coordinate_names(chain).index("1:theta_r")])) / float(st.ring.base_radius)
+    print("lumped pair's bearing: vs by hand", err_hand, "; mean vs the mesh force", err_mean,
+          "; ring support vs the ring meshes", err_r, "; theta_r alone",
+          grounded / float(np.mean(ring)))
+    assert err_hand < 1e-9 and err_mean < 1e-3 and err_r < 1e-3
+    assert abs(abs(grounded) / float(np.mean(ring)) - 1) > 0.5
+
+
+@pytest.mark.slow  # one Newmark run of the housed chain over two carrier revolutions: about a
+# minute on the loaded host; fast twin: test_housing_signals_read_the_housed_file
+def test_jaxgear_run_housing_spectrum_of_the_housed_file(tmp_path):
+    """``jaxgear run``'s housing spectrum (housing_point_spectrum) on the housed planetary file:
+    the ring mount of stage 1 and the lumped pair's bearing (stage 2) read from one run, every
+    line finite; the bearing signal's mean (the spectrum's DC line) is the pair's static mesh
+    force from the torque ratios, T_c / (1 + z_r/z_s) / r_b2 (the sun's torque on the 41-tooth
+    wheel's base radius), within 1e-3."""
+    from jaxgear.cli.gearbox import housing_point_spectrum
+
+    case = jio.load_case(str(PLANETARY_CASE))
+    summary = housing_point_spectrum(case.form, case, str(tmp_path))
+    assert summary["ring_stage"] == 1 and summary["bearing_stage"] == 2
+    data = json.loads((tmp_path / "housing_spectrum.json").read_text())
+    assert data["result"] == 0
+    assert all(math.isfinite(r["ring"]) and math.isfinite(r["bearing"]) for r in data["lines"])
+    r_b2 = 0.5 * 41 * 3e-3 * math.cos(math.radians(20.0))
+    static = P_TORQUE / (1 + 80 / 20) / r_b2
+    dc = data["spectrum"]["bearing_N"][0]
+    print("housed file's bearing DC", dc, "static mesh force", static)
+    assert dc == pytest.approx(static, rel=1e-3)
 
 
 def test_planetary_housing_seat_errors_one_line(tmp_path):
@@ -302,3 +436,124 @@ def test_planetary_housing_seat_errors_one_line(tmp_path):
         with pytest.raises(SchemaError, match=needle) as err:
             jio.load_case(str(path))
         assert "\n" not in str(err.value)
+
+
+# -- a planetary stage of the planar kind, its ring's bore of its own diameter ---------------
+# tests/data/gearbox/planar-pair-housed.toml: planetary-pair-housed.toml with model = "planar"
+# on the planetary stage (its case two-stage-gearbox-planetary-planar.toml: the same stage with
+# radial bearings on carrier and ring) and housing_bore_diameter_mm = 80 on it (the ring's bore;
+# the pair's shafts' bores the [housing]'s 50 mm).
+PLANAR_CASE = DATA / "planar-pair-housed.toml"
+RING_BORE = 0.08
+
+
+@pytest.fixture(scope="module")
+def planar_box():
+    return _planetary_box(RING_BORE)
+
+
+def test_the_file_builds_the_hand_built_planar_planetary_in_the_box(planar_box):
+    """``model = "planar"`` and ``housing_bore_diameter_mm`` on a housed planetary stage: the
+    reader's coupled chain (a HousedPlanetary of the planar kind, the box with an 80 mm bore
+    round the planetary's axis and 50 mm ones round the pair's shafts) has the coordinates,
+    coupled modes (1e-10) and housing energies (1e-8) of the gearbox built here (the box in
+    numbers, the example's stage with the file's in-plane supports, HousedPlanetary(
+    PlanarPlanetary())), and ``jaxgear run``'s modes are these."""
+    case = jio.load_case(str(PLANAR_CASE))
+    assert case.form.stages[0].housing_bore_diameter == pytest.approx(RING_BORE)
+    coupled = case.form.coupled()
+    assert isinstance(coupled.stages[0].model.model, jg.PlanarPlanetary)
+    assert [s.housing_seats() for s in coupled.stages] == [(0,), (1, 2, 4, 5)]
+    chain, run = _planetary_by_hand(*planar_box, kind=jg.PlanarPlanetary())
+    ref = _same_coupled_modes(case.form, coupled, chain, run)
+    print("planar planetary in the box: coupled modes", ref.analysis.frequency.size,
+          "lowest", np.asarray(ref.analysis.frequency)[:4])
+
+
+def test_planar_ring_on_a_stiff_box_is_the_grounded_gearbox(planar_box):
+    """The file's box (80 mm ring bore) 1000 and 10 000 x stiffer (its condensed K scaled: the
+    condensation of a box of that modulus and steel's density on the same modes): the coupled
+    modes below 5 kHz of the planar planetary and the pair in it tend to those of the same
+    gearbox on the ground (ring held by its torsional spring, the pair's bearings grounded),
+    as the box's compliance: the difference falls about tenfold, within 2e-3 at x 10 000."""
+    ch, off = planar_box
+    grounded, run = _planetary_by_hand(None, off, kind=jg.PlanarPlanetary())
+    f0 = np.asarray(gb.gearbox_coupled_modes(grounded, run).analysis.frequency)
+    f0 = f0[f0 < 5000.0]
+    errs = []
+    for scale in (1e3, 1e4):
+        stiff = dataclasses.replace(ch, K=np.asarray(ch.K) * scale,
+                                    modes_hz=np.asarray(ch.modes_hz) * math.sqrt(scale))
+        chain, _ = _planetary_by_hand(stiff, off, kind=jg.PlanarPlanetary())
+        f = np.asarray(gb.gearbox_coupled_modes(chain, run).analysis.frequency)[:f0.size]
+        errs.append(float(np.abs(f / f0 - 1).max()))
+    print("planar ring on a stiff box: modes below 5 kHz", f0.size,
+          "max relative difference at x 1000, x 10 000", errs)
+    assert errs[0] / errs[1] > 8.0 and errs[1] < 2e-3
+
+
+def test_a_planar_planetary_stage_on_the_ground(tmp_path):
+    """``model = "planar"`` on a planetary stage of a gearbox without ``[housing]``
+    (two-stage-gearbox.toml with its planetary stage case the planar one): the reader's coupled
+    chain has the coupled modes of the example's gearbox (examples/gearbox_two_stage.py) with
+    its planetary stage on PlanarPlanetary and the file's in-plane supports, to 1e-10."""
+    for f in DATA.glob("two-stage-gearbox*.toml"):
+        (tmp_path / f.name).write_text(f.read_text())
+    path = tmp_path / "planar.toml"
+    path.write_text((DATA / "two-stage-gearbox.toml").read_text().replace(
+        'case = "two-stage-gearbox-planetary.toml"',
+        'case = "two-stage-gearbox-planetary-planar.toml"\nmodel = "planar"'))
+    coupled = jio.load_case(str(path)).form.coupled()
+    assert coupled.housing is None and isinstance(coupled.stages[0].model, jg.PlanarPlanetary)
+    example, run = load_example("gearbox_two_stage").two_stage()
+    p = example.stages[0]
+    planar = gb.PlanetaryGearboxStage(_planar_supports(p.stage), p.input, p.output, p.meshes,
+                                      model=jg.PlanarPlanetary())
+    chain = gb.GearboxTorsional((planar, example.stages[1]), example.shaft_stiffnesses)
+    got, ref = (np.asarray(gb.gearbox_coupled_modes(c, run).analysis.frequency)
+                for c in (coupled, chain))
+    print("planar planetary stage on the ground: coupled modes", ref.size, "lowest", ref[:3])
+    np.testing.assert_allclose(got, ref, rtol=1e-10)
+
+
+def test_planetary_model_and_bore_diameter_errors_one_line(tmp_path):
+    """A planetary stage's ``model`` not "torsional" or "planar"; ``housing_bore_diameter_mm``
+    not positive, too large for its wall (the planetary's axis: 101 mm of room to the box's
+    inner face), on a planetary stage without ``housing_seat``, with a mesh file's
+    ``[housing]``; a gearbox ``bore_diameter_mm`` that does not fit; a bore the box's feet
+    reach (when the box is meshed): one line each, naming the key and value."""
+    for name in ("two-stage-gearbox-planetary-planar.toml", "two-pair-lumped-stage2.toml"):
+        (tmp_path / name).write_text((DATA / name).read_text())
+    text = PLANAR_CASE.read_text()
+    bore = "housing_bore_diameter_mm = 80.0 "
+    mesh_file = ('[housing]\nmesh_file = "box.msh"\ncutoff_Hz = 6000.0\n[[housing.seats]]\n'
+                 "centre_mm = [0.0, 0.0, 0.0]\ndiameter_mm = 80.0\nwidth_mm = 10.0\n")
+    bad = {
+        text.replace('model = "planar" ', 'model = "spatial" '): (
+            r"\[stages\[0\]\] model = .spatial.: .*torsional.*planar"),
+        text.replace(bore, "housing_bore_diameter_mm = -5.0 "): (
+            r"\[stages\[0\]\] housing_bore_diameter_mm = -5(\.0)?: out of range, allowed \(0, 100000\]"),
+        text.replace(bore, "housing_bore_diameter_mm = 120.0 "): (
+            r"\[stages\[0\]\] housing_bore_diameter_mm = 120(\.0)?: the bore round stage 1's "
+            r"axis at \(0, 0\) mm does not fit: allowed \(0, 101\] mm there"),
+        text.replace("housing_seat = 0 ", ""): (
+            r"\[stages\[0\]\] housing_bore_diameter_mm = 80(\.0)?: allowed on a planetary "
+            r"stage with housing_seat only"),
+        text[:text.index("\n[housing]\n") + 1] + mesh_file: (
+            r"\[stages\[0\]\] housing_bore_diameter_mm = 80(\.0)?: allowed with a box "
+            r"\[housing\] only"),
+        text.replace(bore, "").replace("bore_diameter_mm = 50.0", "bore_diameter_mm = 250.0"): (
+            r"\[housing\] bore_diameter_mm = 250(\.0)?: the bore round stage 1's axis"),
+    }
+    for t, needle in bad.items():
+        path = tmp_path / "box.toml"
+        path.write_text(t)
+        with pytest.raises(SchemaError, match=needle) as err:
+            jio.load_case(str(path))
+        assert "\n" not in str(err.value)
+    path = tmp_path / "box.toml"  # 90 mm: within the wall, but its seat reaches a foot
+    path.write_text(text.replace(bore, "housing_bore_diameter_mm = 90.0 "))
+    with pytest.raises(SchemaError, match=r"\[housing\]: seat seat0: its bore touches a foot"
+                       ) as err:
+        jio.load_case(str(path)).form.coupled()
+    assert "\n" not in str(err.value)

@@ -821,7 +821,9 @@ GEARBOX_NOTES = {
     "`[planetary]` table's). `model` (a gear-pair stage: `\"torsional\"`, the default, or "
     "`\"lumped3d\"`: the stage case's lumped 3D `[scene]`, shafts, bearings and gear bodies, "
     "as `jaxgear.gearbox.LumpedPairGearboxStage`; the inertia and mesh stiffness keys are "
-    "refused with it, and so is a stage case without such a scene). `housing_position_mm` "
+    "refused with it, and so is a stage case without such a scene; a planetary stage: "
+    "`\"torsional\"`, the default, or `\"planar\"`, its kind in the coupled chain, whose "
+    "translations read the stage case's radial bearings and pins). `housing_position_mm` "
     "(an array of 3 numbers, mm) and `housing_seats` (an array of integers >= -1, one per "
     "bearing): a `\"lumped3d\"` stage of a gearbox with `[housing]` only (its scene origin in "
     "the gearbox frame, the first stage's scene frame; each bearing's seat, its pinion shaft's "
@@ -829,7 +831,12 @@ GEARBOX_NOTES = {
     "stages\"). `housing_seat` (an integer >= 0): a planetary stage whose ring is held, of a "
     "gearbox with `[housing]` only: the seat its ring is bolted to (a bore round its axis in "
     "both end walls of the box), `housing_position_mm` then its centre (its axis the gearbox "
-    "frame's z); refused beyond the box's seats or on a seat a lumped stage's bearing takes.",
+    "frame's z); refused beyond the box's seats or on a seat a lumped stage's bearing takes. "
+    "`housing_bore_diameter_mm` (mm, > 0): on a housed stage of a box `[housing]`, the "
+    "diameter of the bores round its axes (a lumped stage's two shafts, a planetary stage's "
+    "ring seat; default the `[housing]`'s `bore_diameter_mm`), refused where a bore would "
+    "leave the end walls' inner faces or meet another bore (the message gives the largest "
+    "that fits) and with a mesh file's `[housing]`.",
 }
 
 #: what the train page says of a table beyond its keys

@@ -29,6 +29,7 @@ from .. import gearbox_modes
 from ..acoustics import housing_acoustics
 from ..gearbox import (
     GearboxRun,
+    LumpedPairGearboxStage,
     PairGearboxStage,
     PlanetaryGearboxStage,
     campbell_crossings,
@@ -274,10 +275,13 @@ def housing_point_spectrum(form, case, out: str) -> dict:
     their frequencies (:func:`jaxgear.gearbox.housing_lines`). Written to
     ``housing_spectrum.json`` and ``housing_spectrum.png``; returns the summary's
     ``housing_spectrum`` section (None for a gearbox without a planetary and a parallel
-    stage)."""
+    stage). The parallel stage's bearing: a torsional pair's mesh force, a lumped 3D pair's
+    output-shaft bearings (:func:`jaxgear.gearbox.housing_signals`); a ring on the gearbox's
+    ``[housing]`` is read on its seat (k_t (θ_r − θ_seat))."""
     chain, run, first, _ = _coupled_setup(form)
     planetary = [i for i, s in enumerate(chain.stages) if isinstance(s, PlanetaryGearboxStage)]
-    pairs = [i for i, s in enumerate(chain.stages) if isinstance(s, PairGearboxStage)]
+    pairs = [i for i, s in enumerate(chain.stages)
+             if isinstance(s, (PairGearboxStage, LumpedPairGearboxStage))]
     if not planetary or not pairs:
         return None
     w = float(first.input_speed)

@@ -35,7 +35,13 @@ absent unless z_r = 0 (mod N).
 
 A parallel pair's bearing: its gears' centres are held (the torsional pair), so each gear's
 bearing carries the mesh force; its component along the line of action equals the pair's
-transverse mesh force F(t) (N; a helical pair's axial component is not modelled).
+transverse mesh force F(t) (N; a helical pair's axial component is not modelled). A pair in
+lumped 3D form (:class:`~jaxgear.gearbox.LumpedPairGearboxStage`) has its bearings: the signal
+is the elastic force its output shaft's bearings carry (the scene's bearing force rows,
+:attr:`~jaxgear.scenes.Structure.reaction`: k u, on a housing k d with d the shaft node's
+displacement relative to its seat), summed over that shaft's bearings, in the plane normal to
+the shaft, along the direction of its mean over the record (for a spur pair the line of action,
+the sense of the mesh force: quasi-statically it is F(t)).
 """
 
 from __future__ import annotations
@@ -49,7 +55,7 @@ from jaxtyping import Array, Float
 
 from .._contact import AbstractContactLaw, ExactContact
 from .._util import as_float, check_instance, check_integer, check_real
-from ..planetary import Central, ring_transducer_signal
+from ..planetary import Central, HousedPlanetary, ring_transducer_signal
 from ._chain import GearboxTorsional, PairGearboxStage, PlanetaryGearboxStage
 from ._coupled import (
     SETTLE,
@@ -59,11 +65,12 @@ from ._coupled import (
     _check,
     _coupled_modes,
     _kinematics,
+    _layout,
     _run,
-    coordinate_names,
     coupled_mode_table,
     mesh_names,
 )
+from ._lumped import LumpedPairGearboxStage
 
 __all__ = [
     "HousingSignals",
@@ -182,9 +189,11 @@ class HousingSignals(eqx.Module):
             mesh forces plus the window's share of the ring's support reaction.
         ring_meshes: the windowed ring-planet mesh forces alone (N, (t,)).
         ring_support: the ring's torsional support reaction R = k_t theta_r / r_br (N, (t,),
-            sign: its mean that of the ring meshes' forces).
-        bearing: the parallel stage's bearing force along its line of action (N, (t,)): its
-            mesh force.
+            sign: its mean that of the ring meshes' forces); a ring on a housing's seat
+            (:class:`~jaxgear.planetary.HousedPlanetary`): k_t (theta_r − theta_seat) / r_br.
+        bearing: the parallel stage's bearing force along its line of action (N, (t,)): a
+            torsional pair's mesh force; a lumped 3D pair's output-shaft bearings' in-plane
+            elastic force along its mean's direction (module docstring).
     """
 
     time: Float[Array, " t"]
@@ -201,9 +210,14 @@ def window_share(window_power: int) -> float:
     return math.comb(2 * window_power, window_power) / 4.0**window_power
 
 
+#: the stage kinds whose bearing the housing signals read (the torsional pair's is its mesh
+#: force; a lumped 3D pair's its output shaft's bearings)
+BEARING_STAGES = (PairGearboxStage, LumpedPairGearboxStage)
+
+
 def _defaults(chain, ring_stage, bearing_stage, where):
     planetary = [k for k, s in enumerate(chain.stages) if isinstance(s, PlanetaryGearboxStage)]
-    pairs = [k for k, s in enumerate(chain.stages) if isinstance(s, PairGearboxStage)]
+    pairs = [k for k, s in enumerate(chain.stages) if isinstance(s, BEARING_STAGES)]
     if ring_stage is None:
         if not planetary:
             raise ValueError(f"{where}: chain has no planetary stage: allowed a chain with one "
@@ -212,7 +226,7 @@ def _defaults(chain, ring_stage, bearing_stage, where):
     if bearing_stage is None:
         if not pairs:
             raise ValueError(f"{where}: chain has no parallel stage: allowed a chain with one "
-                             "(the bearing)")
+                             "(the bearing: a PairGearboxStage or a LumpedPairGearboxStage)")
         bearing_stage = pairs[-1]
     ring_stage = _stage_index(chain, ring_stage, "ring_stage")
     bearing_stage = _stage_index(chain, bearing_stage, "bearing_stage")
@@ -224,9 +238,10 @@ def _defaults(chain, ring_stage, bearing_stage, where):
         raise ValueError(f"{where}: ring_stage = {ring_stage}: its ring turns (input or output)"
                          ": allowed a stage whose ring is held (the housing mount)")
     b = chain.stages[bearing_stage]
-    if not isinstance(b, PairGearboxStage):
+    if not isinstance(b, BEARING_STAGES):
         raise TypeError(f"{where}: bearing_stage = {bearing_stage} is a {type(b).__name__}: "
-                         "allowed a parallel pair stage")
+                         "allowed a parallel pair stage (PairGearboxStage, "
+                         "LumpedPairGearboxStage)")
     return ring_stage, bearing_stage
 
 
@@ -252,7 +267,8 @@ def housing_signals(
             the carrier's angle 0 at t = 0.
         ring_stage: the planetary stage with the ring mount (index; None: the first planetary
             stage); its ring must be held.
-        bearing_stage: the parallel stage with the bearing (index; None: the last pair).
+        bearing_stage: the parallel stage with the bearing (index; None: the last pair, a
+            :class:`PairGearboxStage` or a :class:`~jaxgear.gearbox.LumpedPairGearboxStage`).
 
     Returns:
         :class:`HousingSignals`.
@@ -275,11 +291,54 @@ def housing_signals(
     f_ring = dynamics.mesh_forces[:, cols]  # (t, N)
     meshes = ring_transducer_signal(f_ring, omega_c * t, st.planet_angles, sensor_angle,
                                     window_power)
-    i_r = coordinate_names(chain).index(f"{ring_stage + 1}:theta_r")
-    support = st.ring.torsional_stiffness * dynamics.displacement[:, i_r] / st.ring.base_radius
+    support = (st.ring.torsional_stiffness * _ring_twist(chain, dynamics, ring_stage)
+               / st.ring.base_radius)
     support = support * jnp.sign(jnp.mean(support)) * jnp.sign(jnp.mean(jnp.sum(f_ring, 1)))
-    bearing = dynamics.mesh_forces[:, _stage_meshes(chain, bearing_stage)[0]]
+    if isinstance(chain.stages[bearing_stage], LumpedPairGearboxStage):
+        bearing = _shaft_bearings(chain, dynamics, bearing_stage)
+    else:
+        bearing = dynamics.mesh_forces[:, _stage_meshes(chain, bearing_stage)[0]]
     return HousingSignals(t, meshes + share * support, meshes, support, bearing)
+
+
+def _ring_twist(chain, dynamics, k):
+    """The ring's turn on its torsional support (rad, (t,)): θ_r, or on a housing's seat
+    (a :class:`~jaxgear.planetary.HousedPlanetary` whose ring is joined) θ_r − θ_seat, θ_seat
+    the seat's rotation about the stage axis at the stage's centre (the last row of
+    :meth:`~jaxgear.scenes.Housing.seat_transform` on the seat's coordinates)."""
+    stage = chain.stages[k]
+    x = dynamics.displacement[:, _layout(chain.stages, chain.housing)[0][k]]
+    names = stage.coordinates()
+    twist = x[:, names.index("theta_r")]
+    model = stage.model
+    if isinstance(model, HousedPlanetary):
+        n = len(model.model.dof_names(stage.stage))
+        for member, seat in model.seat_indices():
+            if member == "ring":
+                g = jnp.asarray(model.housing.seat_transform(seat, model.centre)[5], x.dtype)
+                twist = twist - x[:, n + 6 * seat:n + 6 * seat + 6] @ g
+    return twist
+
+
+def _shaft_bearings(chain, dynamics, k):
+    """A lumped 3D pair stage's output-shaft bearings' force (N, (t,)): the scene's bearing
+    force rows (k u, on a housing k d) of that shaft's bearings on the stage's coordinates of
+    the run, summed per in-plane direction (x, y), along the direction of their mean."""
+    stage = chain.stages[k]
+    st = stage.scene.structure
+    shaft = 1 - stage.input
+    x = dynamics.displacement[:, _layout(chain.stages, chain.housing)[0][k]]
+    F = x @ jnp.asarray(st.reaction).T  # (t, r)
+    xy = [[i for i, (name, m) in enumerate(zip(st.reaction_names, st.reaction_member,
+                                                strict=True)) if m == shaft and name.endswith(c)]
+          for c in ("Fx", "Fy")]
+    plane = jnp.stack([F[:, rows].sum(axis=1) for rows in xy], axis=1)  # (t, 2)
+    mean = plane.mean(axis=0)
+    norm = jnp.linalg.norm(mean)
+    # no mean load (none carried): the scene's x direction
+    unit = jnp.where(norm > 0.0, mean / jnp.where(norm > 0.0, norm, 1.0),
+                     jnp.array([1.0, 0.0], plane.dtype))
+    return plane @ unit
 
 
 def _window(n, window):

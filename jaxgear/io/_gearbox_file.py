@@ -35,11 +35,19 @@ pinion shaft first); ``housing_seats`` lists each of a stage's bearings' seat (i
 shaft's bearings, then its gear shaft's; -1 keeps one on the ground; default the nearest seat).
 A planetary stage whose ring is held joins the box with ``housing_seat`` (the seat its ring is
 bolted to) and ``housing_position_mm`` (its centre; its axis the gearbox frame's z): one more
-axis of the box (a bore round it in both end walls, in stage order, all bores of the one
-``bore_diameter_mm``), the stage a :class:`~jaxgear.planetary.HousedPlanetary` of the
-torsional kind, its ring's torsional support on that seat. Torsional stages, and planetary
-stages without ``housing_seat``, stay on the ground. The stages' coupled chain then has the
-housing's coordinates once (:class:`~jaxgear.gearbox.GearboxTorsional`'s ``housing``).
+axis of the box (a bore round it in both end walls, in stage order), the stage a
+:class:`~jaxgear.planetary.HousedPlanetary` of its kind, its ring's torsional support on that
+seat. Every bore is the ``[housing]``'s ``bore_diameter_mm`` unless its stage gives
+``housing_bore_diameter_mm`` (the bores round its axes: a lumped stage's two shafts, a
+planetary stage's ring seat), each checked to lie within the end walls' inner faces and clear
+of the other bores before the box is meshed. Torsional stages, and planetary stages without
+``housing_seat``, stay on the ground.
+
+A planetary stage's ``model`` is its kind in the coupled chain (:data:`PLANETARY_MODELS`:
+``"torsional"``, the default, or ``"planar"``, whose translations read its case's radial
+bearings and pins); the torsional chain's view is the torsional one for both. The stages'
+coupled chain then has the housing's coordinates once
+(:class:`~jaxgear.gearbox.GearboxTorsional`'s ``housing``).
 
 A ``[whine]`` table (the keys and units of a pair's, :mod:`jaxgear.io._whine_table`; its
 method ``"quasi-periodic"``, the default here: every stage meshes at its own frequency) asks
@@ -72,11 +80,18 @@ from ..gearbox import (
     PairGearboxStage,
     PlanetaryGearboxStage,
 )
-from ..planetary import HousedPlanetary
+from ..planetary import HousedPlanetary, PlanarPlanetary, TorsionalPlanetary
 from ..scenes import Housing
 from ._case import Case, CaseForm, PairForm
 from ._case_model import PAIR_SCENES
-from ._housing_table import ROTATION, HousingBody, HousingSpec, housing_body, parse_housing
+from ._housing_table import (
+    ROTATION,
+    HousingBody,
+    HousingSpec,
+    box_bores,
+    housing_body,
+    parse_housing,
+)
 from ._planetary_spec import PlanetaryForm
 from ._planetary_table import MESH_STIFFNESS_N_PER_UM, torque_floor
 from ._plausibility import MIN_LINE_LOAD_N_PER_MM
@@ -98,14 +113,21 @@ _STAGE_KEYS = (
     "housing_position_mm",
     "housing_seats",
     "housing_seat",
+    "housing_bore_diameter_mm",
 )
 #: the keys a planetary stage refuses (a pair stage's only)
 _PAIR_KEYS = ("input", "pinion_inertia_kg_m2", "gear_inertia_kg_m2", "mesh_stiffness_N_per_um",
-              "model", "housing_seats")
+              "housing_seats")
 #: a pair stage's ``input``: which gear the previous stage drives
 PAIR_INPUTS = {"pinion": 0, "gear": 1}
 #: a pair stage's ``model``: the torsional pair or its case's lumped 3D scene
 PAIR_MODELS = ("torsional", "lumped3d")
+#: a planetary stage's ``model``: its kind in the coupled chain (the torsional chain's view,
+#: :meth:`~jaxgear.gearbox.PlanetaryGearboxStage.matrices`, is the torsional one for both)
+PLANETARY_MODELS = {"torsional": TorsionalPlanetary(), "planar": PlanarPlanetary()}
+#: the stage keys that seat a stage in the gearbox's ``[housing]``
+_HOUSING_KEYS = ("housing_position_mm", "housing_seats", "housing_seat",
+                 "housing_bore_diameter_mm")
 #: the keys of a torsional pair stage only
 _TORSIONAL_KEYS = ("pinion_inertia_kg_m2", "gear_inertia_kg_m2", "mesh_stiffness_N_per_um")
 
@@ -120,7 +142,8 @@ class GearboxStage:
     gearbox frame ``housing_position`` (m) and its bearings' seats ``housing_seats`` (None:
     the nearest; an entry None: on the ground); a planetary stage in it: its centre
     ``housing_position`` (m; its axis the gearbox's z) and its held ring's seat ``housing_seat``
-    (None: the ring on the ground)."""
+    (None: the ring on the ground); a housed stage's ``housing_bore_diameter`` (m): the box's
+    bores round its axes (None: the ``[housing]``'s ``bore_diameter_mm``)."""
 
     case: Case
     ratio: float
@@ -131,6 +154,7 @@ class GearboxStage:
     housing_position: tuple = (0.0, 0.0, 0.0)
     housing_seats: tuple | None = None
     housing_seat: int | None = None
+    housing_bore_diameter: float | None = None
 
     @property
     def output_speed(self) -> float:
@@ -210,8 +234,8 @@ class GearboxForm(CaseForm):
         """
         if self.housing is None:
             raise ValueError("GearboxForm.housing_body: the gearbox has no [housing] table")
-        shafts, positions = _housed_bearings(self)
-        return housing_body(self.housing, shafts, positions)
+        shafts, positions, diameters, _ = _housed_bearings(self)
+        return housing_body(self.housing, shafts, positions, diameters=diameters)
 
     def coupled(self, slices: int = 1) -> GearboxTorsional:
         """The chain with every stage on its contact cells, for the coupled dynamic model
@@ -221,9 +245,9 @@ class GearboxForm(CaseForm):
         modifications, ``slices`` slices per contact line; a lumped 3D stage its case's scene,
         with ``[housing]`` on the shared housing (placed in its scene frame: x_stage =
         R x_housing + t − its ``housing_position``), which the chain keeps once; a planetary
-        stage with ``housing_seat`` a :class:`~jaxgear.planetary.HousedPlanetary` of the
-        torsional kind on the shared housing (placed alike, the stage centre its frame's origin),
-        its ring's torsional support joined to that seat."""
+        stage with ``housing_seat`` a :class:`~jaxgear.planetary.HousedPlanetary` of its
+        ``model`` kind (:data:`PLANETARY_MODELS`) on the shared housing (placed alike, the stage
+        centre its frame's origin), its ring's torsional support joined to that seat."""
         stages, shared = [], None
         housed = self.housed()
         for k, s in enumerate(self.stages):
@@ -260,19 +284,24 @@ def _in_housing(stage: GearboxStage) -> bool:
 
 
 def _housed_bearings(form: GearboxForm):
-    """(shafts, bearing positions) of the housed stages in the gearbox frame, axis after
-    axis in stage order (:meth:`jaxgear.io.Case._bearing_layout` moved by each stage's
-    ``housing_position``; a housed planetary stage one axis, its centre, and no shaft)."""
-    shafts, positions = [], []
+    """(shafts, bearing positions, bore diameters, stage indices) of the housed stages in the
+    gearbox frame, axis after axis in stage order (:meth:`jaxgear.io.Case._bearing_layout`
+    moved by each stage's ``housing_position``; a housed planetary stage one axis, its centre,
+    and no shaft), each axis's bore diameter its stage's ``housing_bore_diameter`` (None: the
+    ``[housing]``'s) and its stage's index."""
+    shafts, positions, diameters, owners = [], [], [], []
     for k in form.housed():
         s = form.stages[k]
         if s.housing_seat is not None:  # a planetary stage: its axis through its centre
-            positions.append([np.asarray(s.housing_position, dtype=float)])
-            continue
-        sh, pos = s.case._bearing_layout(s.case.scene)
-        shafts += list(sh)
-        positions += [[np.asarray(p) + np.asarray(s.housing_position) for p in ps] for ps in pos]
-    return shafts, positions
+            pos = [[np.asarray(s.housing_position, dtype=float)]]
+        else:
+            sh, pos = s.case._bearing_layout(s.case.scene)
+            shafts += list(sh)
+            pos = [[np.asarray(p) + np.asarray(s.housing_position) for p in ps] for ps in pos]
+        positions += pos
+        diameters += [s.housing_bore_diameter] * len(pos)
+        owners += [k] * len(pos)
+    return shafts, positions, diameters, owners
 
 
 def is_gearbox(data: dict) -> bool:
@@ -292,7 +321,12 @@ def _(form: PlanetaryForm, case: Case, table: dict, where: str, speed: float, to
     if extra:
         raise sc.fail(where, extra[0], "only for a pair stage", table[extra[0]])
     spec = form.spec
-    model = PlanetaryGearboxStage(spec.stage(case), spec.input, spec.output)
+    if table.get("model") in set(PAIR_MODELS) - set(PLANETARY_MODELS):
+        raise sc.fail(where, "model", "only for a pair stage (a planetary stage's model: allowed "
+                      + ", ".join(repr(m) for m in PLANETARY_MODELS) + ")", table["model"])
+    kind = PLANETARY_MODELS[sc.choice(table, "model", where, tuple(PLANETARY_MODELS),
+                                      "torsional")]
+    model = PlanetaryGearboxStage(spec.stage(case), spec.input, spec.output, model=kind)
     return _carried(case, speed, torque), spec.ratio(), model
 
 
@@ -421,12 +455,16 @@ def parse_gearbox(data: dict, default_name: str, base: str | None, load_case) ->
         SchemaError: an unknown key, a stage without ``case``, a pair key on a planetary stage,
             ``model`` not one of :data:`PAIR_MODELS`, ``"lumped3d"`` with a torsional key or
             a stage case without a lumped 3D ``[scene]``,
+            a planetary stage's ``model`` not one of :data:`PLANETARY_MODELS`,
             a shaft stiffness out of (0, 1e15] N·m/rad (the first stage has none), a stage that
             is not a planetary stage or a pair, a stage ``case`` that is neither a file nor an
             embedded case, a ``[whine]`` key out of range (its method not "quasi-periodic",
             its torus grid over :data:`MAX_WHINE_GRID`), a housing key without ``[housing]`` or
             on a stage that cannot take it, ``housing_seats`` of the wrong count, a seat beyond
-            the box's, a ring's ``housing_seat`` a lumped stage's bearing takes; one line each.
+            the box's, a ring's ``housing_seat`` a lumped stage's bearing takes, a
+            ``housing_bore_diameter_mm`` not positive, with a mesh file's ``[housing]`` or whose
+            bore does not fit (:func:`_check_bores`; a gearbox ``bore_diameter_mm`` alike); one
+            line each.
     """
     sc.check_keys(data, _KEYS, "")
     name = sc.name(data, "name", "", default_name)
@@ -458,20 +496,22 @@ def parse_gearbox(data: dict, default_name: str, base: str | None, load_case) ->
         _check_seats(stages, housing)
     pairs = tuple(p for s in stages for p in s.case.pairs)
     form = GearboxForm(tuple(stages), whine, housing)
+    if housing is not None:
+        _check_bores(form)
     return first.replace(name=name, form=form, raw=data, scene=None, pairs=pairs,
                          housing=housing)
 
 
 def _placement(table: dict, where: str, has_housing: bool, case: Case, model) -> tuple:
-    """A stage's ``housing_position_mm`` (m), ``housing_seats`` (None for -1) and
-    ``housing_seat``: only in a gearbox with ``[housing]``, on a stage whose case has no
-    ``[housing]`` of its own; ``housing_seats`` on a lumped 3D stage (one per bearing of its
+    """A stage's ``housing_position_mm`` (m), ``housing_seats`` (None for -1),
+    ``housing_seat`` and ``housing_bore_diameter_mm`` (m; in (0, 1e5] mm, whether it fits
+    is :func:`_check_bores`'): only in a gearbox with ``[housing]``, on a stage whose case has
+    no ``[housing]`` of its own; ``housing_seats`` on a lumped 3D stage (one per bearing of its
     scene, each an integer >= -1), ``housing_seat`` on a planetary stage whose ring is held (an
-    integer >= 0; ``housing_position_mm`` there only with it)."""
+    integer >= 0; the other keys there only with it)."""
     lumped = isinstance(model, LumpedPairGearboxStage)
     planetary = isinstance(model, PlanetaryGearboxStage)
-    keys = [key for key in ("housing_position_mm", "housing_seats", "housing_seat")
-            if key in table]
+    keys = [key for key in _HOUSING_KEYS if key in table]
     if "housing_seat" in table and not planetary:
         raise sc.fail(where, "housing_seat", "allowed on a planetary stage only (a lumped 3D "
                       "stage's bearings take housing_seats)", table["housing_seat"])
@@ -485,7 +525,7 @@ def _placement(table: dict, where: str, has_housing: bool, case: Case, model) ->
         raise sc.fail(where, keys[0], 'allowed on a model = "lumped3d" stage of a gearbox with '
                       "[housing] only", table[keys[0]])
     if not has_housing or not (lumped or keys):
-        return (0.0, 0.0, 0.0), None, None
+        return (0.0, 0.0, 0.0), None, None, None
     if case.housing is not None:
         raise sc.fail(where, "case", "the stage case has its own [housing]: allowed without it "
                       "in a gearbox with [housing] (its housed stages share the gearbox's)",
@@ -494,6 +534,9 @@ def _placement(table: dict, where: str, has_housing: bool, case: Case, model) ->
     if "housing_position_mm" in table:
         position = tuple(float(x) * 1e-3 for x in
                          sc.number_list(table, "housing_position_mm", where, length=3))
+    bore = None
+    if "housing_bore_diameter_mm" in table:
+        bore = sc.number(table, "housing_bore_diameter_mm", where, allowed="(0, 1e+05]") * 1e-3
     if planetary:
         seat = table["housing_seat"]
         if not (isinstance(seat, int) and not isinstance(seat, bool) and seat >= 0):
@@ -503,16 +546,16 @@ def _placement(table: dict, where: str, has_housing: bool, case: Case, model) ->
         if fixed != "ring":
             raise sc.fail(where, "housing_seat", "allowed on a stage whose ring is held (this "
                           f"stage's [planetary] fixed = {fixed!r})", seat)
-        return position, None, seat
+        return position, None, seat, bore
     if "housing_seats" not in table:
-        return position, None, None
+        return position, None, None, bore
     seats = table["housing_seats"]
     n = sum(len(sh.bearings) for sh in (case.scene.pinion_shaft, case.scene.gear_shaft))
     if not (isinstance(seats, list) and len(seats) == n and all(
             isinstance(v, int) and not isinstance(v, bool) and v >= -1 for v in seats)):
         raise sc.fail(where, "housing_seats", f"allowed {n} integers >= -1 (a seat index per "
                       "bearing, pinion shaft's then gear shaft's; -1 on the ground)", seats)
-    return position, tuple(None if v < 0 else v for v in seats), None
+    return position, tuple(None if v < 0 else v for v in seats), None, bore
 
 
 def _check_seats(stages, spec: HousingSpec) -> None:
@@ -551,3 +594,34 @@ def _check_seats(stages, spec: HousingSpec) -> None:
                 raise sc.fail(f"stages[{k}]", "housing_seat", "a seat a lumped stage's bearing "
                               "takes: allowed a seat of its own (a bore round this stage's "
                               "axis)", s.housing_seat)
+
+
+def _check_bores(form: GearboxForm) -> None:
+    """Each housed axis's bore (its stage's ``housing_bore_diameter_mm``, else the
+    ``[housing]``'s ``bore_diameter_mm``) within the end walls' inner faces and clear of the
+    other axes' bores (:func:`~jaxgear.io._housing_table.box_bores`), before the box is meshed;
+    ``housing_bore_diameter_mm`` with a mesh file's ``[housing]`` refused; one line naming the
+    key whose diameter does not fit and the largest that does."""
+    spec = form.housing
+    if spec.mesh_file is not None:
+        for k, s in enumerate(form.stages):
+            if s.housing_bore_diameter is not None:
+                raise sc.fail(f"stages[{k}]", "housing_bore_diameter_mm", "allowed with a box "
+                              "[housing] only (a mesh file's [[housing.seats]] give their own "
+                              "diameter_mm)", s.housing_bore_diameter * 1e3)
+        return
+    shafts, positions, diameters, owners = _housed_bearings(form)
+    _, _, _, d, room = box_bores(spec, shafts, positions, diameters)
+    axes = [(k, v, ps[0]) for k, v, ps in zip(owners, diameters, positions, strict=True) if ps]
+    for i, (k, given, at) in enumerate(axes):
+        if d[i] > room[i] * (1.0 + 1e-12):
+            problem = (f"the bore round stage {k + 1}'s axis at ({at[0] * 1e3:.4g}, "
+                       f"{at[1] * 1e3:.4g}) mm does not fit: allowed (0, {room[i] * 1e3:.4g}] "
+                       "mm there (within the box's end walls' inner faces, clear of the other "
+                       "axes' bores)")
+            if given is not None:
+                raise sc.fail(f"stages[{k}]", "housing_bore_diameter_mm", problem,
+                              float(f"{d[i] * 1e3:.6g}"))
+            if spec.bore_diameter is None:
+                problem += " (its default: 1.5 x the largest shaft diameter)"
+            raise sc.fail("housing", "bore_diameter_mm", problem, float(f"{d[i] * 1e3:.6g}"))

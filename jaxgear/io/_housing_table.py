@@ -249,13 +249,16 @@ def parse_housing(table, base_dir: str | None = None, material=None) -> HousingS
     )
 
 
-def _box(spec: HousingSpec, shafts, positions):
-    """The :class:`fem_prep.housing.HousingBox` round the bearings (module docstring) and the
-    scene position of its origin (m)."""
-    from fem_prep.housing import Bore, Foot, HousingBox
-
+def box_bores(spec: HousingSpec, shafts, positions, diameters=None):
+    """The box's bores round the housed axes (module docstring): (the box's length (m), the
+    scene position of its origin (3,) (m), each axis's bore centre in the end walls' plane
+    (A, 2) (m), its bore diameter (A,) (m), the largest diameter that fits there (A,) (m):
+    within the walls' inner faces and clear of every other axis's bore at its own diameter).
+    ``diameters``: one per entry of ``positions`` (None: the default, ``bore_diameter_mm`` or
+    1.5 x the largest shaft diameter); an axis is an entry with a position."""
     P = np.array([p for ps in positions for p in ps]).reshape(-1, 3)
-    axes = np.array([ps[0][:2] for ps in positions if ps])
+    keep = [k for k, ps in enumerate(positions) if ps]
+    axes = np.array([positions[k][0][:2] for k in keep])
     t = spec.wall_thickness
     z0, z1 = float(P[:, 2].min()), float(P[:, 2].max())
     length = spec.length if spec.length is not None else (z1 - z0) + t
@@ -263,9 +266,30 @@ def _box(spec: HousingSpec, shafts, positions):
     off = np.array(
         [mid[0] - spec.width / 2, mid[1] - spec.height / 2, 0.5 * (z0 + z1) - length / 2]
     )
-    d = spec.bore_diameter or 1.5 * max(s.diameter for s in shafts)
+    default = spec.bore_diameter or 1.5 * max(s.diameter for s in shafts)
+    given = [None] * len(positions) if diameters is None else list(diameters)
+    d = np.array([default if given[k] is None else float(given[k]) for k in keep])
+    centres = axes - off[:2]
+    u, v = centres[:, 0], centres[:, 1]
+    room = 2.0 * np.minimum.reduce([u - t, spec.width - t - u, v - t, spec.height - t - v])
+    for i in range(len(keep)):
+        for j in range(len(keep)):
+            if i != j:
+                gap = float(np.linalg.norm(centres[i] - centres[j])) - d[j] / 2
+                room[i] = min(room[i], 2.0 * gap)
+    return length, off, centres, d, room
+
+
+def _box(spec: HousingSpec, shafts, positions, diameters=None):
+    """The :class:`fem_prep.housing.HousingBox` round the bearings (module docstring) and the
+    scene position of its origin (m); ``diameters``: :func:`box_bores`'."""
+    from fem_prep.housing import Bore, Foot, HousingBox
+
+    length, off, centres, d, _ = box_bores(spec, shafts, positions, diameters)
+    t = spec.wall_thickness
     bores = tuple(
-        Bore(wall, (a[0] - off[0], a[1] - off[1]), d / 2) for wall in ("x-", "x+") for a in axes
+        Bore(wall, (c[0], c[1]), dk / 2)
+        for wall in ("x-", "x+") for c, dk in zip(centres, d, strict=True)
     )
     f = spec.foot_size or 3 * t
     # each foot's ranges end exactly on the bottom's edges (x + f may round past them)
@@ -300,8 +324,8 @@ def build_housing(spec: HousingSpec, shafts, positions, *, cache=True, progress=
     return housing_body(spec, shafts, positions, cache=cache, progress=progress).housing
 
 
-def housing_body(spec: HousingSpec, shafts, positions, *, cache=True,
-                 progress=False) -> HousingBody:
+def housing_body(spec: HousingSpec, shafts, positions, *, cache=True, progress=False,
+                 diameters=None) -> HousingBody:
     """The housing of ``spec`` placed round the scene's bearings: meshed, condensed
     (:func:`fem_prep.housing.condensed_housing`, cached) and damped, as a :class:`HousingBody`.
 
@@ -309,10 +333,14 @@ def housing_body(spec: HousingSpec, shafts, positions, *, cache=True,
         spec: the case's ``[housing]``. shafts: each shaft's :class:`~jaxgear.scenes.ShaftSpec`.
         positions: each shaft's bearings' scene positions
             (:func:`jaxgear.scenes.bearing_positions`). cache: as ``condensed_housing``'s.
+        diameters: a box's bore diameter (m) round each entry of ``positions`` (None, or an
+            entry None: ``spec``'s ``bore_diameter``, else 1.5 x the largest shaft diameter;
+            a gearbox stage's ``housing_bore_diameter_mm``).
 
     Raises:
         SchemaError: a box that does not fit round the shafts (a bore through a wall's edge),
-            a mesh file that does not exist (before anything is meshed).
+            a mesh file that does not exist (before anything is meshed), a bore whose seat
+            reaches a foot (when the box is meshed).
     """
     import fem_prep
     from fem_prep.housing import (
@@ -340,21 +368,27 @@ def housing_body(spec: HousingSpec, shafts, positions, *, cache=True,
         )
         offset = np.asarray(spec.offset)
     else:
-        box, off = _box(spec, shafts, positions)
+        box, off = _box(spec, shafts, positions, diameters)
         size = spec.mesh_size or min(box.width, box.height, box.length) / 4
         if spec.mesher == "gmsh":
             mesh = mesh_box_gmsh(box, size, element=element)
         else:
             mesh = mesh_box(box, size, layers=spec.layers, element=element)
         offset = off  # the scene position of the housing's origin
-    condensed = condensed_housing(
-        mesh,
-        fem_prep.Material(*spec.material),
-        spec.cutoff,
-        coupling=coupling,
-        cache=cache,
-        progress=progress,
-    )
+    try:
+        condensed = condensed_housing(
+            mesh,
+            fem_prep.Material(*spec.material),
+            spec.cutoff,
+            coupling=coupling,
+            cache=cache,
+            progress=progress,
+        )
+    except ValueError as err:  # a bore whose seat ring reaches a foot's held nodes
+        if "touches a foot" not in str(err):
+            raise
+        raise sc.SchemaError(f"[housing]: {err} (allowed a bore clear of the feet: a smaller "
+                             "bore diameter, a taller box or smaller feet)") from None
     housing = Housing.of(
         condensed, loss_factor=spec.loss_factor, rotation=np.array(ROTATION), offset=offset
     )
