@@ -27,10 +27,8 @@ from ..planetary import (
     ConstantMeshes,
     HousedPlanetary,
     ModeType,
-    PlanarPlanetary,
     PlanetaryModes,
     SpatialPlanetary,
-    TorsionalPlanetary,
     Unbalances,
     campbell,
     classify_modes,
@@ -41,7 +39,7 @@ from ..planetary import (
     planetary_quasi_static,
     ring_resonances,
 )
-from ..io import planetary_kind, ratings_of, write_csv, write_json
+from ..io import PLANETARY_MODELS, planetary_kind, ratings_of, write_csv, write_json
 from ._planetary_hunting_run import hunting_line, hunting_section
 from ._planetary_rating import (
     K_GAMMA_SOURCE,
@@ -98,8 +96,9 @@ __all__ = [
     "type_counts",
 ]
 
-#: the lumped models run, by their name in the outputs
-MODELS = {"planar": PlanarPlanetary(), "torsional": TorsionalPlanetary()}
+#: the lumped models run, by their name in the outputs (in this order; the kinds are
+#: :data:`jaxgear.io.PLANETARY_MODELS`, the names a case file gives a stage's ``model``)
+MODELS = {name: PLANETARY_MODELS[name] for name in ("planar", "torsional")}
 
 
 def _of_case(models: dict, case) -> dict:

@@ -81,6 +81,7 @@ from ._names import (
 )
 from ._gearbox_file import (
     PAIR_INPUTS as PAIR_INPUTS,
+    PLANETARY_MODELS as PLANETARY_MODELS,
     GearboxForm as GearboxForm,
     GearboxStage as GearboxStage,
 )
