@@ -652,7 +652,7 @@ def test_rotating_frame_needs_a_condensed_body(tmp_path):
 
 
 @pytest.mark.slow
-def test_jaxgear_sweep_rotating_frame_from_the_case_file(tmp_path, setup):
+def test_jaxgear_sweep_rotating_frame_from_the_case_file(tmp_path, setup, no_figures):
     """``[scene.integration] rotating_frame = true`` reaches the hybrid Newmark: `jaxgear sweep`
     gives the dynamic factors of ``_sweep(..., rotating_frame=True)`` with the same
     settings (and not those without it), and records the flag."""
