@@ -28,6 +28,7 @@ from jaxgear import io as jio
 from jaxgear.dynamics import (
     Batching,
     DiffraxIntegrator,
+    HertzPressure,
     Newmark,
     Outputs,
     SteadyState,
@@ -687,6 +688,10 @@ def test_jaxgear_sweep_rotating_frame_from_the_case_file(tmp_path, setup, no_fig
     scene = static_scene(case)[0]
     kw = dict(integrator=Newmark(16), window=SteadyState(3, 2), damping=spec_damping(case.scene))
     kw.update(contact=case.contact_law(case.scene.contact))
+    # the command's other settings too (a hybrid sweep: one speed per call, the Hertzian
+    # pressure tracked): the rotating run below is the command's compiled sweep program
+    hertz = HertzPressure(tuple(case.pairs), case.youngs_modulus, case.poisson_ratio)
+    kw.update(batching=Batching(chunk_size=1), outputs=Outputs(pressure=hertz))
     speeds = [1500.0, 2100.0]
     on = _sweep(scene, case.modifications, case.torque, speeds, rotating_frame=True, **kw)
     off = _sweep(scene, case.modifications, case.torque, speeds, **kw)
