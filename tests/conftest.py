@@ -233,6 +233,18 @@ def fem_prep_cache(tmp_path_factory):
         yield path
 
 
+@pytest.fixture
+def no_figures(monkeypatch):
+    """The CLI runs of a test that never reads a figure write none
+    (``$JAXGEAR_TEST_NO_FIGURES``, :func:`jaxgear.cli._plots._figure.figures_off`): drawing and
+    encoding a PNG costs about 0.14 CPU s, 10-25 % of the small runs of the tests. Its runs in this process and in
+    the subprocesses it starts (the environment carries it); a run's other files, its printed
+    lines and its ``summary.json`` numbers are unchanged (its lists of files lack the PNGs). A
+    module whose tests never look at figures or at lists of output files takes it for all of
+    them: ``pytestmark = pytest.mark.usefixtures("no_figures")``."""
+    monkeypatch.setenv("JAXGEAR_TEST_NO_FIGURES", "1")
+
+
 def _family(module) -> str:
     """A module's family: ``test_hybrid_dynamics`` → ``hybrid`` (modules of one family compile
     the same programs: the same cases, scenes and settings)."""

@@ -253,7 +253,7 @@ def test_a_train_gear_has_no_allowance_key():
     assert "\n" not in str(err.value)
 
 
-def test_run_summary_has_the_backlash(tmp_path):
+def test_run_summary_has_the_backlash(tmp_path, no_figures):
     import json
 
     from jaxgear.cli import main

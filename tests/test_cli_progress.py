@@ -42,7 +42,7 @@ def _estimated(states: list[str], total: int) -> set[int]:
     return seen
 
 
-def test_run_bar_has_a_total_an_estimate_and_stage_labels(tmp_path, capsys):
+def test_run_bar_has_a_total_an_estimate_and_stage_labels(tmp_path, capsys, no_figures):
     """A pair without a scene: the run's bar over its 7 steps shows the remaining time from
     the first step on, and names each stage (quasi-static solves, Harris map, files)."""
     path = tmp_path / "small.toml"

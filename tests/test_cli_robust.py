@@ -305,7 +305,7 @@ def test_sigint_gives_one_line_and_exit_130(khk, tmp_path, keep_partial):
 # -- a complete run: stored values against independent figures -----------------------------------
 
 
-def test_run_stores_values_that_agree_with_independent_figures(khk, tmp_path, capsys):
+def test_run_stores_values_that_agree_with_independent_figures(khk, tmp_path, capsys, no_figures):
     out = tmp_path / "out"
     out.mkdir()
     (out / "notes.txt").write_text("mine")  # a user's file is never touched

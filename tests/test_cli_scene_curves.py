@@ -27,7 +27,7 @@ def small_lumped3d(tmp_path, capsys):
 
 
 def test_run_writes_the_scene_te_and_stiffness_beside_the_rigid_mesh(
-    small_lumped3d, tmp_path, monkeypatch, capsys
+    small_lumped3d, tmp_path, monkeypatch, capsys, no_figures
 ):
     def no_sweep(case, speeds, out_dir, *, slices, **kw):
         return {"speeds_rad_s": [100.0, 200.0], "dynamic_factor": [1.0, 1.1]}, None

@@ -285,7 +285,7 @@ def test_example_tip_relief_lowers_the_peak_and_removes_the_jump(tmp_path):
     assert (tmp_path / "speed_sweep.png").exists()
 
 
-def test_cli_sweep_lumped3d_scene(tmp_path):
+def test_cli_sweep_lumped3d_scene(tmp_path, no_figures):
     text = CASE + textwrap.dedent("""
         [scene.pinion_shaft]
         length_mm = 100.0

@@ -28,6 +28,7 @@ from jaxgear import io as jio
 from jaxgear.dynamics import (
     Batching,
     DiffraxIntegrator,
+    HertzPressure,
     Newmark,
     Outputs,
     SteadyState,
@@ -652,7 +653,7 @@ def test_rotating_frame_needs_a_condensed_body(tmp_path):
 
 
 @pytest.mark.slow
-def test_jaxgear_sweep_rotating_frame_from_the_case_file(tmp_path, setup):
+def test_jaxgear_sweep_rotating_frame_from_the_case_file(tmp_path, setup, no_figures):
     """``[scene.integration] rotating_frame = true`` reaches the hybrid Newmark: `jaxgear sweep`
     gives the dynamic factors of ``_sweep(..., rotating_frame=True)`` with the same
     settings (and not those without it), and records the flag."""
@@ -671,7 +672,9 @@ def test_jaxgear_sweep_rotating_frame_from_the_case_file(tmp_path, setup):
     )
     (tmp_path / "hybrid-test-wheel.toml").write_text((DATA / "hybrid-test-wheel.toml").read_text())
     out = tmp_path / "sweep"
-    argv = ["sweep", str(case_file), "--speeds", "1500:2100:2", "--periods", "3"]
+    # 4 periods, 2 kept: the window of test_jaxgear_sweep_on_a_hybrid_case's sweep, whose
+    # compiled program the run without the flag below is
+    argv = ["sweep", str(case_file), "--speeds", "1500:2100:2", "--periods", "4"]
     argv += ["--keep-periods", "2", "--steps-per-period", "16", "--out", str(out), "--quiet"]
     assert main(argv) == 0
     s = json.loads((out / "sweep.json").read_text())
@@ -685,8 +688,12 @@ def test_jaxgear_sweep_rotating_frame_from_the_case_file(tmp_path, setup):
         assert c["frequency_Hz"] == pytest.approx(f, rel=1e-9)
     case = jio.load_case(case_file)
     scene = static_scene(case)[0]
-    kw = dict(integrator=Newmark(16), window=SteadyState(3, 2), damping=spec_damping(case.scene))
+    kw = dict(integrator=Newmark(16), window=SteadyState(4, 2), damping=spec_damping(case.scene))
     kw.update(contact=case.contact_law(case.scene.contact))
+    # the command's other settings too (a hybrid sweep: one speed per call, the Hertzian
+    # pressure tracked): the rotating run below is the command's compiled sweep program
+    hertz = HertzPressure(tuple(case.pairs), case.youngs_modulus, case.poisson_ratio)
+    kw.update(batching=Batching(chunk_size=1), outputs=Outputs(pressure=hertz))
     speeds = [1500.0, 2100.0]
     on = _sweep(scene, case.modifications, case.torque, speeds, rotating_frame=True, **kw)
     off = _sweep(scene, case.modifications, case.torque, speeds, **kw)

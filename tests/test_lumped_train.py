@@ -305,7 +305,7 @@ def test_lumped_train_refusals_are_one_line():
             jio.parse_train(data)
 
 
-def test_jaxgear_run_on_the_two_stage_case_writes_bearing_forces(tmp_path):
+def test_jaxgear_run_on_the_two_stage_case_writes_bearing_forces(tmp_path, no_figures):
     """``jaxgear run`` on the lumped two-stage case (coarse settings): per-mesh summary over the
     127-period span and the mean bearing forces of every shaft, which balance the mesh forces."""
     data = _two_stage(slices=2)

@@ -139,7 +139,7 @@ def small_case(tmp_path_factory):
     return jio.load_case(str(path))
 
 
-def test_the_spectrum_turn_is_one_settled_period_repeated(small_case, tmp_path):
+def test_the_spectrum_turn_is_one_settled_period_repeated(small_case, tmp_path, no_figures):
     """The small contact-cell stage (19/17/-53, 3 planets, a 10 um pin error: periodic in the
     carrier frame) at 30 rad/s, 96 steps per mesh period: the ring-mesh forces integrated over
     a whole carrier turn (z_r = 53 mesh periods after a transient of 1e-9 by the damping,

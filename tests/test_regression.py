@@ -44,6 +44,10 @@ from _kinds import KINDS
 
 from jaxgear.cli import main
 
+# the records are JSON files whose lists of written files are not compared (SKIPPED): the
+# runs here draw no figures (tests/conftest.py's no_figures)
+pytestmark = pytest.mark.usefixtures("no_figures")
+
 DATA = Path(__file__).parent / "data" / "regression"
 ROOT = Path(__file__).resolve().parents[1]  # the checkout (examples/)
 RTOL = 1e-9

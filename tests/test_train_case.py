@@ -569,7 +569,7 @@ def test_two_stage_refusals():
             jio.parse_train(data)
 
 
-def test_jaxgear_run_on_the_two_stage_example_solves_over_the_span(tmp_path):
+def test_jaxgear_run_on_the_two_stage_example_solves_over_the_span(tmp_path, no_figures):
     data = _two_stage_data()
     data["mesh"].update(slices=2, positions_per_pitch=PPP)
     data["scene"]["integration"] = {"steps_per_period": 16, "periods": 12, "keep_periods": 8}

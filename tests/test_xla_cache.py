@@ -109,7 +109,7 @@ def test_second_planetary_run_compiles_nothing_again(tmp_path):
     assert sweeps[0] == sweeps[1]
 
 
-def test_second_planetary_sweep_compiles_nothing_again(tmp_path):
+def test_second_planetary_sweep_compiles_nothing_again(tmp_path, no_figures):
     """``jaxgear sweep`` on lin-parker-1999 (2 speeds, an explicit plan of 4 periods of 64
     steps: the cache's behaviour does not depend on the plan's size, and the under-resolution
     warning on stderr does not matter here): the carrier-frame sweep, its Campbell diagram and
