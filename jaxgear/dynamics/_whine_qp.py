@@ -42,6 +42,23 @@ from ._newmark import contact_coordinates, static_condensation
 __all__ = ["quasi_periodic_balance"]
 
 
+def group_positions(positions, groups: int, where: str = "positions") -> tuple[int, ...]:
+    """``positions`` as one positive int per mesh-frequency group: an int for every group, or
+    a sequence of ``groups`` ints (static). One-line ValueError otherwise (before any
+    computation); the ranges each group needs are the caller's to check."""
+    if isinstance(positions, (int, np.integer)) and not isinstance(positions, bool):
+        items = (positions,) * groups
+    elif isinstance(positions, (tuple, list)) and len(positions) == groups:
+        items = tuple(positions)
+    else:
+        items = ()
+    if not items or any(isinstance(p, bool) or not isinstance(p, (int, np.integer)) or p < 1
+                        for p in items):
+        raise ValueError(f"{where} = {positions!r}: allowed a positive int, or {groups} positive "
+                         "ints (one per mesh-frequency group)")
+    return tuple(int(p) for p in items)
+
+
 def mesh_groups(model) -> tuple[tuple[int, ...], tuple[fractions.Fraction, ...]]:
     """Each mesh's mesh-frequency group (static), numbered in the order of the meshes (the
     first mesh's group is 0), and each group's period in periods of the first mesh."""
