@@ -94,7 +94,11 @@ def test_bad_inputs():
         QuasiPeriodicBalance(0, 0)
     model, _ = jio.build_dynamic_model(jio.load_case("two-stage"), slices=2)
     for positions, match in ((36, "positions = 36.*multiple of 35"),
-                             (35, "positions = 35.*>= 4 harmonics \\+ 1 = 41")):
+                             (35, "positions = 35.*>= 4 harmonics \\+ 1 = 41"),
+                             ((140,), "positions = \\(140,\\).*2 positive ints"),
+                             ((140, 0), "positions = \\(140, 0\\).*2 positive ints"),
+                             ((140, 36), "group 1's .*127/35.*multiple of 35"),
+                             ((40, 35), "group 0's .*>= 4 harmonics \\+ 1 = 41")):
         with pytest.raises(ValueError, match=match) as e:
             whine_response(model, 50.0, QuasiPeriodicBalance(10, 0), positions=positions)
         assert "\n" not in str(e.value)
@@ -113,6 +117,18 @@ def test_a_failed_static_solve_on_the_torus_grid_is_an_error():
     assert "\n" not in str(e.value)
     assert np.all(np.isfinite(np.asarray(
         whine_response(model, 50.0, QuasiPeriodicBalance(2, 0), positions=35).mesh_force)))
+
+
+def test_positions_per_group_join_the_groups_tables():
+    """``positions=(35, 35)`` (each group's table of its own, joined) gives the grid of
+    ``positions=35`` (one table for every mesh): the same lines to 1e-12."""
+    model, _ = jio.build_dynamic_model(jio.load_case("two-stage"), slices=2)
+    method = QuasiPeriodicBalance(2, 0)
+    one = whine_response(model, 50.0, method, positions=35)
+    joined = whine_response(model, 50.0, method, positions=(35, 35))
+    for name in ("coordinates", "transmission_error", "mesh_force", "bearing_force"):
+        a, b = np.asarray(getattr(one, name)), np.asarray(getattr(joined, name))
+        np.testing.assert_allclose(b, a, rtol=0, atol=1e-12 * np.max(np.abs(a)))
 
 
 def _time_orders(t, x, freqs):
@@ -201,8 +217,16 @@ def test_whine_table_quasi_periodic():
     assert isinstance(w.method, QuasiPeriodicBalance)
     assert (w.method.harmonics, w.method.sidebands) == (6, 2)
     assert jio.parse_whine(good | {"method": "quasi-periodic"}).method.sidebands == 1
+    per_group = jio.parse_whine(good | {"method": "quasi-periodic",
+                                        "positions_per_period": [140, 35]})
+    assert per_group.positions == (140, 35)
     for extra, match in (({"method": "quasi-periodic", "sidebands": 7}, "sidebands.*6"),
-                         ({"sidebands": 1}, "sidebands.*quasi-periodic")):
+                         ({"sidebands": 1}, "sidebands.*quasi-periodic"),
+                         ({"positions_per_period": [140, 35]},
+                          "positions_per_period = \\[140, 35\\].*quasi-periodic\" only"),
+                         ({"method": "quasi-periodic", "positions_per_period": [140, 0]},
+                          "positions_per_period = \\[140, 0\\]: entry 2 = 0.*\\[1, 8192\\]"),
+                         ({"method": "quasi-periodic", "positions_per_period": []}, "empty")):
         with pytest.raises(ValueError, match=match) as e:
             jio.parse_whine(good | extra)
         assert "\n" not in str(e.value)
