@@ -368,7 +368,10 @@ def whine_response(
             torus grid of the mesh phases).
         positions: positions per mesh period (int >= 4H + 1 over the span; with
             :class:`QuasiPeriodicBalance` a multiple of the model's ``steps_multiple()`` giving
-            every mesh period >= 4H + 1 positions).
+            every mesh period >= 4H + 1 positions, or a tuple of one int per mesh-frequency
+            group: N_g steps per first-mesh period of group g's own table, a multiple of the
+            denominator of its period ratio T_g/T_1, its period N_g T_g/T_1 >= 4H + 1 steps;
+            the torus grid is the product of those, e.g. (140, 35) for the two-stage: 140 × 127).
         contact: the contact law of the static solve (its tangent weights make K_m).
 
     Returns:
@@ -377,7 +380,8 @@ def whine_response(
     Raises:
         TypeError: another model kind or method. ValueError: coast flanks, a speed <= 0,
             too few positions; with :class:`QuasiPeriodicBalance`, manufacturing deviations or
-            positions that are not a multiple of ``steps_multiple()``.
+            positions that are not a multiple of ``steps_multiple()`` (a tuple: not one
+            positive int per group, or an entry not a multiple of its group's denominator).
     """
     whine = getattr(model, "whine", None)
     if isinstance(method, QuasiPeriodicBalance) and not isinstance(model, DynamicModel):

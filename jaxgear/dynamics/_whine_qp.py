@@ -8,8 +8,9 @@ its phase is s_g = θ/(Δθ R_g) (θ = Ω t the scene angle, Δθ the table's st
 solution and the tangent mesh stiffness are functions of the G phases, x_qs(s_1..s_G) and
 K_m(s_1..s_G): the static contact problem is solved on the torus grid of every combination of
 the rows of each group (Π_g R_g solves, each cell at the row of its group's phase; the span of a
-two-stage train at N_s = lcm of the period denominators visits exactly this grid), and their
-G-dimensional Fourier coefficients X̂_k, K̂_k taken. With y = Σ_{h ∈ 𝓗} Y_h e^{i ν_h t},
+two-stage train at N_s = lcm of the period denominators visits exactly this grid; with one
+N_g per group, group g's rows are R_g = N_g T_g/T_1 of its own table: each axis its own
+resolution), and their G-dimensional Fourier coefficients X̂_k, K̂_k taken. With y = Σ_{h ∈ 𝓗} Y_h e^{i ν_h t},
 ν_h = Σ_g h_g ω_g, the balance over the multi-index set 𝓗
 
     (K_s − ν_h² M + i ν_h C) Y_h + Σ_{j ∈ 𝓗} K̂_{h−j} Y_j = (ν_h² M − i ν_h C) X̂_h,   h ∈ 𝓗,
