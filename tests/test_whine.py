@@ -122,7 +122,7 @@ def test_multi_dof_balance_on_a_basis_equals_the_dense_system_over_a_speed_map()
     C = 1e-3 * K + 0.5 * M
     B = np.linalg.qr(rng.standard_normal((n, r)))[0]
     Kr = np.zeros((4 * H + 1, r, r), complex)
-    for k in range(0, 2 * H + 1):
+    for k in range(2 * H + 1):
         S = rng.standard_normal((r, r)) + 1j * rng.standard_normal((r, r))
         Kr[2 * H + k] = (S + S.T) * 300.0 / (1 + k) ** 2
         Kr[2 * H - k] = np.conj(Kr[2 * H + k])

@@ -412,6 +412,7 @@ def whine_response(
         positions = group_positions(positions, len(mesh_groups(model)[1]))
     else:
         check_integer("positions", positions, 4)
+        positions = int(positions)
     span = int(model.span_periods())
     H = int(method.harmonics)
     if isinstance(positions, int) and positions * span < 4 * H + 1:
