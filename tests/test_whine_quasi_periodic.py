@@ -292,8 +292,9 @@ def test_whine_table_quasi_periodic():
 @pytest.mark.slow
 def test_run_writes_each_meshs_orders(tmp_path):
     """``jaxgear run``'s whine on the ``two-stage`` case (4 slices) with ``[whine] method =
-    "quasi-periodic"``: whine.json names each output's mesh-frequency group and order, the
-    orders of the second mesh are 35/127 of the first's, whine.csv has a row per speed and
+    "quasi-periodic"`` and each group's positions (``positions_per_period = [70, 35]``):
+    whine.json names each output's mesh-frequency group and order, the orders of the second
+    mesh are 35/127 of the first's, whine.csv has a row per speed and
     output, and each mesh has its own order plot."""
     import csv
     import json
@@ -303,7 +304,7 @@ def test_run_writes_each_meshs_orders(tmp_path):
     text = jio.embedded_case_text("two-stage").replace("slices = 20", "slices = 4")
     text += ('\n[whine]\nspeed_min_rad_s = 40.0\nspeed_max_rad_s = 80.0\nspeeds = 3\n'
              'harmonics = 4\nmethod = "quasi-periodic"\nsidebands = 0\n'
-             'positions_per_period = 35\n')
+             'positions_per_period = [70, 35]\n')  # the first mesh's axis at 70
     path = tmp_path / "two-stage-whine.toml"
     path.write_text(text)
     case = jio.load_case(str(path))
@@ -319,3 +320,4 @@ def test_run_writes_each_meshs_orders(tmp_path):
     for name in data["meshes"]:
         assert (tmp_path / "whine" / f"te_orders_{name}.png").stat().st_size > 10_000
     assert section["method"] == "QuasiPeriodicBalance"
+    assert data["positions_per_period"] == [70, 35]
