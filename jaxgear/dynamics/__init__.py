@@ -28,12 +28,6 @@ stiffness (:class:`HarmonicBalance`, :class:`TransmissionErrorSource`; a train o
 (:class:`jaxgear.io.SceneSpec`): the model takes objects, never a case.
 """
 
-from ._bearings import bearing_forces as bearing_forces
-from ._build import (
-    dynamic_model as dynamic_model,
-    mesh_energy_shares as mesh_energy_shares,
-    mesh_stiffness_means as mesh_stiffness_means,
-)
 from ._damping import (
     AbstractDamping as AbstractDamping,
     CompositeDamping as CompositeDamping,
@@ -41,6 +35,12 @@ from ._damping import (
     NoDamping as NoDamping,
     RayleighDamping as RayleighDamping,
     damping_matrix as damping_matrix,
+)
+from ._bearings import bearing_forces as bearing_forces
+from ._build import (
+    dynamic_model as dynamic_model,
+    mesh_energy_shares as mesh_energy_shares,
+    mesh_stiffness_means as mesh_stiffness_means,
 )
 from ._hybrid import HybridModel as HybridModel, HybridRun as HybridRun
 from ._hybrid_damping import (
@@ -75,7 +75,6 @@ from ._modal import (
     nodal_diameter_resonances as nodal_diameter_resonances,
     steps_for_mode as steps_for_mode,
 )
-from ._modal_basis import ModalSpace as ModalSpace, reduced_structure as reduced_structure
 from ._model import (
     AbstractDynamicModel as AbstractDynamicModel,
     MeshTable as MeshTable,
@@ -85,6 +84,7 @@ from ._model import (
     mesh_table as mesh_table,
     span_periods as span_periods,
 )
+from ._modal_basis import ModalSpace as ModalSpace, reduced_structure as reduced_structure
 from ._newmark import (
     LinearSystem as LinearSystem,
     MeshDamping as MeshDamping,
@@ -102,8 +102,6 @@ from ._result import (
     SweepResult as SweepResult,
     steady_state as steady_state,
 )
-from ._rim import rim_stations as rim_stations, rim_waves as rim_waves
-from ._robust import DynamicMetrics as DynamicMetrics, DynamicRobustMetrics as DynamicRobustMetrics
 from ._settings import (
     DIFFRAX_ADJOINTS as DIFFRAX_ADJOINTS,
     DIFFRAX_SOLVERS as DIFFRAX_SOLVERS,
@@ -112,14 +110,16 @@ from ._settings import (
     MIN_STEPS_PER_PERIOD as MIN_STEPS_PER_PERIOD,
     STEPS_PER_MODE as STEPS_PER_MODE,
     UNDER_RESOLVED_STEPS as UNDER_RESOLVED_STEPS,
-    Batching as Batching,
     DiffraxIntegrator as DiffraxIntegrator,
     HertzPressure as HertzPressure,
+    Batching as Batching,
     ModalBasis as ModalBasis,
     Newmark as Newmark,
     Outputs as Outputs,
     SteadyState as SteadyState,
 )
+from ._rim import rim_stations as rim_stations, rim_waves as rim_waves
+from ._robust import DynamicMetrics as DynamicMetrics, DynamicRobustMetrics as DynamicRobustMetrics
 from ._settle import (
     SETTLE_TOL as SETTLE_TOL,
     SETTLED_TOL as SETTLED_TOL,
@@ -149,11 +149,11 @@ from ._whine import (
     QuasiPeriodicBalance as QuasiPeriodicBalance,
     TransmissionErrorSource as TransmissionErrorSource,
     WhineResponse as WhineResponse,
-    _mesh_basis as mesh_basis,  # noqa: F401  (its public name)
     fourier_coefficients as fourier_coefficients,
     harmonic_balance as harmonic_balance,
     whine_response as whine_response,
 )
+from ._whine import _mesh_basis as mesh_basis  # noqa: F401  (its public name)
 from ._whine_qp import (
     group_positions as group_positions,
     harmonic_set as harmonic_set,
