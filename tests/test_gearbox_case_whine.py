@@ -68,13 +68,16 @@ def _with(text, tmp_path):
 
 
 def test_whine_table_defaults_and_errors_one_line(tmp_path):
-    """Without ``method`` a gearbox's [whine] is quasi-periodic; a single-frequency method, a
-    torus grid beyond 1e6 static solves, the pair table's own range errors and an unknown key:
+    """Without ``method`` a gearbox's [whine] is quasi-periodic; positions_per_period as a list
+    is one per stage; a single-frequency method, a torus grid beyond 1e6 static solves, a list
+    of another length or an entry below 4H + 1, the pair table's own range errors and an unknown key:
     one line naming the key, its value and the allowed range."""
     text = CASE.read_text()
     plain = text.replace('method = "quasi-periodic"\n', "").replace("sidebands = 1\n", "")
     w = jio.load_case(_with(plain, tmp_path)).form.whine
     assert isinstance(w.method, QuasiPeriodicBalance) and w.method.sidebands == 1
+    per_stage = text.replace("positions_per_period = 24", "positions_per_period = [24, 20]")
+    assert jio.load_case(_with(per_stage, tmp_path)).form.whine.positions == (24, 20)
     bad = {
         text.replace('"quasi-periodic"', '"harmonic-balance"').replace("sidebands = 1\n", ""): (
             r"\[whine\] method = 'harmonic-balance': allowed \"quasi-periodic\" in a gearbox"),
@@ -83,6 +86,14 @@ def test_whine_table_defaults_and_errors_one_line(tmp_path):
             r"\[17, 1000\]"),
         text.replace("positions_per_period = 24", "positions_per_period = 12"): (
             r"positions_per_period = 12: out of range, allowed >= 4 harmonics \+ 1 = 17"),
+        text.replace("positions_per_period = 24", "positions_per_period = [24]"): (
+            r"\[whine\] positions_per_period = \[24\]: allowed one integer, or a list of 2 "
+            r"\(one per stage\)"),
+        text.replace("positions_per_period = 24", "positions_per_period = [24, 12]"): (
+            r"positions_per_period = \[24, 12\]: out of range, allowed >= 4 harmonics \+ 1 = "
+            r"17 per stage's mesh period"),
+        text.replace("positions_per_period = 24", "positions_per_period = [2000, 1000]"): (
+            r"positions_per_period = \[2000, 1000\]: out of range: 2000000 static solves"),
         text.replace("speeds = 2", "speeds = 1"): r"\[whine\] speeds = 1",
         text.replace("speeds = 2", "speedz = 2"): r"unknown key 'speedz'",
     }

@@ -807,7 +807,8 @@ stages*, "A gearbox of stages in series"). A stage is rated to ISO 6336 by its o
 whole coupled gearbox's gear whine (docs/whine.md, "A gearbox"): the pair's `[whine]` keys and
 units (see the pair reference), its speeds the first stage's input member's, `method`
 `"quasi-periodic"` (the default here; another method is refused), `positions_per_period` per
-stage with at most 10⁶ points on the stages' torus grid (positions^stages). A `[housing]`
+stage's own mesh period, one integer for every stage or a list of one per stage (a slow stage on
+a coarser axis), with at most 10⁶ points on the stages' torus grid (their product). A `[housing]`
 table (the pair's `[housing]` keys, see the pair reference) is one housing shared by the
 `model = "lumped3d"` stages and the planetary stages with `housing_seat` (docs/gearbox.md, "One housing for several stages"). Unknown keys
 are errors."""

@@ -155,6 +155,7 @@ from ._whine import (
 )
 from ._whine import _mesh_basis as mesh_basis  # noqa: F401  (its public name)
 from ._whine_qp import (
+    group_positions as group_positions,
     harmonic_set as harmonic_set,
     quasi_periodic_balance as quasi_periodic_balance,
     torus_coefficients as torus_coefficients,

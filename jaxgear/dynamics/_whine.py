@@ -27,6 +27,7 @@ harmonic balance of a parametrically excited mesh: Blankenship & Kahraman, J. So
 
 from __future__ import annotations
 
+import fractions
 from typing import ClassVar
 
 import equinox as eqx
@@ -36,11 +37,18 @@ import numpy as np
 from jaxtyping import Array, Bool, Complex, Float, Int
 
 from .._contact import ContactLaw, ExactContact, contact_law
-from .._util import check_integer, checked_on_host, int_rows, is_traced
+from .._util import check_integer, checked_on_host, each_solve, int_rows, is_traced
 from ._lumped import DynamicModel, _prep
-from ._model import AbstractDynamicModel, _rigid_penalty, deviation_periods, mesh_table
+from ._model import (
+    AbstractDynamicModel,
+    MeshTable,
+    _rigid_penalty,
+    deviation_periods,
+    mesh_table,
+)
 from ._whine_qp import (
     _torus_static,
+    group_positions,
     harmonic_set,
     mesh_groups,
     quasi_periodic_balance,
@@ -184,7 +192,8 @@ def harmonic_balance(
         stiffness_harmonics: K̂_k, k = −2H..2H, shape (4H + 1, n, n) (index k + 2H), or
             (4H + 1, r, r) on ``basis``.
         force_harmonics: F̂_h, shape (2H + 1, n) (index h + H).
-        omega: ω (rad/s), scalar (vmap it for a sweep).
+        omega: ω (rad/s), scalar (map it over a sweep with ``jax.lax.map``: its harmonic
+            solves are unbatched LUs, which a ``vmap`` would batch again).
         parametric: False keeps only K̂_0 (each harmonic alone).
         gauge: None, or an (n, n) matrix added to the h = 0 block (pins rigid-body modes of
             K + K̂_0 that the forcing does not load).
@@ -219,7 +228,7 @@ def harmonic_balance(
         return jnp.concatenate([jnp.conj(x[1:][::-1]), x], axis=0) if real else x
 
     if not parametric:
-        return both_sides(jax.vmap(jnp.linalg.solve)(D, F[H:] if real else F))
+        return both_sides(each_solve(D, F[H:] if real else F))
     # 𝕂: the stiffness harmonics K̂_{h−j} off the diagonal (the diagonal's K̂_0 is in D)
     diff = h[:, None] - h[None, :] + 2 * H  # (2H+1, 2H+1)
     coupling = jnp.where((diff == 2 * H)[..., None, None], 0.0, Kh[diff])  # (h, j, r, r)
@@ -227,7 +236,8 @@ def harmonic_balance(
     n_own = own.shape[0]
     Fo = F[H:] if real else F
     rhs = jnp.concatenate([Fo[:, :, None], jnp.broadcast_to(B.astype(F.dtype), (n_own, n, r))], -1)
-    sol = both_sides(jnp.linalg.solve(D, rhs))  # (h, n, 1 + r): D⁻¹F, D⁻¹B
+    # (h, n, 1 + r): D⁻¹F, D⁻¹B, one unbatched LU per harmonic (jaxgear._util.each_solve)
+    sol = both_sides(each_solve(D, rhs))
     DF, DB = sol[..., 0], sol[..., 1:]
     G = jnp.einsum("nr,hns->hrs", B, DB)  # (h, r, r)
     g = (DF @ B).reshape(-1)  # (h r,)
@@ -358,7 +368,10 @@ def whine_response(
             torus grid of the mesh phases).
         positions: positions per mesh period (int >= 4H + 1 over the span; with
             :class:`QuasiPeriodicBalance` a multiple of the model's ``steps_multiple()`` giving
-            every mesh period >= 4H + 1 positions).
+            every mesh period >= 4H + 1 positions, or a tuple of one int per mesh-frequency
+            group: N_g steps per first-mesh period of group g's own table, a multiple of the
+            denominator of its period ratio T_g/T_1, its period N_g T_g/T_1 >= 4H + 1 steps;
+            the torus grid is the product of those, e.g. (140, 35) for the two-stage: 140 × 127).
         contact: the contact law of the static solve (its tangent weights make K_m).
 
     Returns:
@@ -367,7 +380,8 @@ def whine_response(
     Raises:
         TypeError: another model kind or method. ValueError: coast flanks, a speed <= 0,
             too few positions; with :class:`QuasiPeriodicBalance`, manufacturing deviations or
-            positions that are not a multiple of ``steps_multiple()``.
+            positions that are not a multiple of ``steps_multiple()`` (a tuple: not one
+            positive int per group, or an entry not a multiple of its group's denominator).
     """
     whine = getattr(model, "whine", None)
     if isinstance(method, QuasiPeriodicBalance) and not isinstance(model, DynamicModel):
@@ -393,10 +407,15 @@ def whine_response(
             "model: coast flanks (backlash): the linearised whine holds on the drive flanks "
             "only (allowed a scene without coast flanks)"
         )
-    check_integer("positions", positions, 4)
+    quasi = isinstance(method, QuasiPeriodicBalance)
+    if quasi and isinstance(positions, (tuple, list)):  # one per group: checked by the method
+        positions = group_positions(positions, len(mesh_groups(model)[1]))
+    else:
+        check_integer("positions", positions, 4)
+        positions = int(positions)
     span = int(model.span_periods())
     H = int(method.harmonics)
-    if positions * span < 4 * H + 1:
+    if isinstance(positions, int) and positions * span < 4 * H + 1:
         raise ValueError(
             f"positions = {positions}: allowed >= (4 harmonics + 1) / span periods = "
             f"{-(-(4 * H + 1) // span)} for harmonics = {H}"
@@ -408,8 +427,8 @@ def whine_response(
         if not np.all(np.isfinite(sp)) or np.any(sp <= 0):
             raise ValueError(f"speeds = {speeds!r}: allowed finite pinion speeds > 0 rad/s")
     law = contact_law(contact, model.dtype)
-    if isinstance(method, QuasiPeriodicBalance):
-        return _quasi_periodic(model, speeds, method, int(positions), law)
+    if quasi:
+        return _quasi_periodic(model, speeds, method, positions, law)
     prep = _prep(model, law, int(positions))
     speeds = jnp.atleast_1d(jnp.asarray(speeds, model.dtype))
     basis = _mesh_basis(prep.table.V, prep.table.mask)
@@ -472,7 +491,9 @@ def _whine(model, prep, speeds, method, basis) -> WhineResponse:
         misplaced, _ = table.mesh_forces(wrong)
         return omega, Y, f, jnp.max(jnp.abs(misplaced), axis=0)
 
-    omega, Y, f, misplaced = jax.vmap(at)(speeds)
+    # one speed at a time: vmapped, every LU of the balance would run as one batched LAPACK
+    # call, which can deadlock XLA's CPU thread pool (jaxgear._util.each_solve)
+    omega, Y, f, misplaced = jax.lax.map(at, speeds)
     X = jax.vmap(lambda y: _one_sided(Xh + y, H))(Y)  # (S_sp, H+1, n)
     fh = jax.vmap(lambda ff: _one_sided(fourier_coefficients(ff, H), H))(f)
     te, bearing = _te_and_bearings(scene, table, X)
@@ -511,31 +532,46 @@ def _te_and_bearings(scene, table, X):
 
 def _quasi_periodic(model, speeds, method, positions, law) -> WhineResponse:
     """:func:`whine_response` with :class:`QuasiPeriodicBalance`: checks, the table over each
-    group's own period, the torus grid, the basis; then :func:`_whine_torus`."""
+    group's own period, the torus grid, the basis; then :func:`_whine_torus`. ``positions``:
+    an int (every group's steps per first-mesh period), or one int per group."""
     of_mesh, periods = mesh_groups(model)
     if deviation_periods(model.mods) > 1:
         raise ValueError(
             "model: manufacturing deviations: QuasiPeriodicBalance needs each mesh to repeat "
             "every mesh period (allowed mods without Deviations)"
         )
-    multiple = int(model.steps_multiple())
-    if positions % multiple:
-        raise ValueError(
-            f"positions = {positions}: QuasiPeriodicBalance needs every mesh's period in whole "
-            f"steps: allowed a multiple of {multiple}"
-        )
     H, Sb = int(method.harmonics), int(method.sidebands)
-    table = mesh_table(model.scene, model.mods, positions, int(model.scene.scene_periods()))
-    R = []
-    for p in periods:
-        k = of_mesh.index(periods.index(p))
-        R.append(int(table.rows[k]))
-        if fractions_of(positions, p) != R[-1] or R[-1] < 4 * H + 1:
+    if isinstance(positions, tuple):  # one per group: each a multiple of its own denominator
+        Ns = positions
+        R = []
+        for g, (N, p) in enumerate(zip(Ns, periods, strict=True)):
+            R.append(fractions_of(N, p))
+            if R[-1] < 0 or R[-1] < 4 * H + 1:
+                raise ValueError(
+                    f"positions = {positions!r}: group {g}'s (period {p} of the first mesh's) "
+                    f"allowed a multiple of {p.denominator} giving its period >= 4 harmonics + "
+                    f"1 = {4 * H + 1} steps"
+                )
+        table = _group_table(model, of_mesh, periods, Ns)
+    else:
+        multiple = int(model.steps_multiple())
+        if positions % multiple:
             raise ValueError(
-                f"positions = {positions}: allowed a multiple of {multiple} giving every mesh "
-                f"period >= 4 harmonics + 1 = {4 * H + 1} steps (a period {p} of the first "
-                f"mesh's has {R[-1]})"
+                f"positions = {positions}: QuasiPeriodicBalance needs every mesh's period in "
+                f"whole steps: allowed a multiple of {multiple}"
             )
+        Ns = (int(positions),) * len(periods)
+        table = mesh_table(model.scene, model.mods, positions, int(model.scene.scene_periods()))
+        R = []
+        for p in periods:
+            k = of_mesh.index(periods.index(p))
+            R.append(int(table.rows[k]))
+            if fractions_of(positions, p) != R[-1] or R[-1] < 4 * H + 1:
+                raise ValueError(
+                    f"positions = {positions}: allowed a multiple of {multiple} giving every "
+                    f"mesh period >= 4 harmonics + 1 = {4 * H + 1} steps (a period {p} of the "
+                    f"first mesh's has {R[-1]})"
+                )
     idx, rows = torus_grid(table, of_mesh, R)
     basis = _mesh_basis(table.V, table.mask)
     if basis is None:
@@ -552,7 +588,8 @@ def _quasi_periodic(model, speeds, method, positions, law) -> WhineResponse:
     group = np.concatenate([[0], np.repeat(np.arange(len(R)), H)])
     order = np.concatenate([[0], np.tile(np.arange(1, H + 1), len(R))])
     spec = (tuple(R), int_rows(hs), int_rows(out), tuple(int(i) for i in out_index),
-            tuple(int(g) for g in group), tuple(int(o) for o in order), tuple(of_mesh))
+            tuple(int(g) for g in group), tuple(int(o) for o in order), tuple(of_mesh),
+            tuple(Ns))
     response, failed = _whine_torus(model, table, law, spec, jnp.asarray(rows),
                                     jnp.asarray(idx),
                                     jnp.atleast_1d(jnp.asarray(speeds, model.dtype)),
@@ -560,6 +597,38 @@ def _quasi_periodic(model, speeds, method, positions, law) -> WhineResponse:
     message = ("whine_response: the static contact solve failed at some points of the torus "
                "grid (no contact or no convergence): check the load and the modifications")
     return checked_on_host(response, failed, message)
+
+
+def _group_table(model, of_mesh, periods, Ns) -> MeshTable:
+    """One table whose group-g meshes hold their rows at N_g = ``Ns[g]`` steps per first-mesh
+    period (mesh k uses its first R_g = N_g T_g/T_1 rows, :attr:`MeshTable.rows`): each group's
+    meshes from the table of its own N_g over a span of the numerator of T_g/T_1 first-mesh
+    periods (whole periods of the group; the other meshes of that table are not read). Its
+    ``theta`` and ``steps_per_period`` are group 0's (the step differs by group)."""
+    tables = {g: mesh_table(model.scene, model.mods, Ns[g], periods[g].numerator)
+              for g in range(len(periods))}
+    R = [fractions_of(Ns[g], periods[g]) for g in range(len(periods))]
+    top = max(R)
+
+    def rows(a):  # a table's first ``top`` rows (its last repeated where it has fewer: unread)
+        a = a[:top]
+        return jnp.concatenate([a, jnp.repeat(a[-1:], top - a.shape[0], axis=0)], axis=0)
+
+    sizes = tables[0].sizes
+    start = np.cumsum([0] + [L * N for L, N in sizes])
+    fields = {}
+    for name in ("V", "k", "length", "delta0", "mask", "flank"):
+        if getattr(tables[0], name) is None:
+            fields[name] = None
+            continue
+        fields[name] = jnp.concatenate(
+            [rows(getattr(tables[g], name))[:, start[k]:start[k + 1]] for k, g in
+             enumerate(of_mesh)], axis=1)
+    e_max = jnp.stack([rows(tables[g].e_max)[:, k] for k, g in enumerate(of_mesh)], axis=1)
+    return MeshTable(rows(tables[0].theta), fields["V"], fields["k"], fields["length"],
+                     fields["delta0"], fields["mask"], e_max, tables[0].period_angle,
+                     sizes=sizes, rows=tuple(R[g] for g in of_mesh),
+                     steps_per_period=Ns[0], flank=fields["flank"])
 
 
 def fractions_of(positions: int, period) -> int:
@@ -571,7 +640,7 @@ def fractions_of(positions: int, period) -> int:
 
 @eqx.filter_jit
 def _whine_torus(model, table, law, spec, rows, idx, speeds, basis):
-    R, hs, out, out_index, group, order, of_mesh = spec
+    R, hs, out, out_index, group, order, of_mesh, Ns = spec
     hs, out, out_index = np.asarray(hs), np.asarray(out), np.asarray(out_index)
     scene = model.scene
     N = rows.shape[0]
@@ -592,7 +661,7 @@ def _whine_torus(model, table, law, spec, rows, idx, speeds, basis):
     M, Ks, C = scene.mass(), scene.stiffness(), model.damping
     k_ref = jnp.trace(jnp.real(coupling[(len(hs) - 1) // 2, (len(hs) - 1) // 2])) / basis.shape[1]
     gauge = _rigid_penalty(scene, k_ref)
-    dtheta = table.period_angle / table.steps_per_period
+    dtheta = table.period_angle / jnp.asarray(Ns, x.dtype)  # (G,) each group's step
     s = (idx.astype(x.dtype) + 0.5) / jnp.asarray(R, x.dtype)[None, :]  # (N, G) grid phases
     E = jnp.exp(2j * jnp.pi * (s @ jnp.asarray(hs.T, x.dtype)))  # (N, Nh)
     Eo = jnp.conj(E[:, out_index]).T / N  # (h_out, N): the coefficients at the outputs
@@ -620,8 +689,10 @@ def _whine_torus(model, table, law, spec, rows, idx, speeds, basis):
     te, bearing = _te_and_bearings(scene, table, X)
     fm_qs, _ = table.mesh_forces(fs_density)
     fs = jnp.mean(fm_qs, axis=0)
-    R_ = jnp.asarray(R, x.dtype)
-    orders = (out @ (R_[0] / R_)).astype(x.dtype)
+    # T_1/T_g = (R_1/N_1)/(R_g/N_g): each group's frequency over group 0's
+    ratio = jnp.asarray([float(fractions.Fraction(R[0] * n, Ns[0] * r))
+                         for r, n in zip(R, Ns, strict=True)], x.dtype)
+    orders = (out @ ratio).astype(x.dtype)
     return WhineResponse(
         speed=speeds,
         frequency=omega / (2 * jnp.pi),

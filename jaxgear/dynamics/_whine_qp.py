@@ -8,8 +8,9 @@ its phase is s_g = θ/(Δθ R_g) (θ = Ω t the scene angle, Δθ the table's st
 solution and the tangent mesh stiffness are functions of the G phases, x_qs(s_1..s_G) and
 K_m(s_1..s_G): the static contact problem is solved on the torus grid of every combination of
 the rows of each group (Π_g R_g solves, each cell at the row of its group's phase; the span of a
-two-stage train at N_s = lcm of the period denominators visits exactly this grid), and their
-G-dimensional Fourier coefficients X̂_k, K̂_k taken. With y = Σ_{h ∈ 𝓗} Y_h e^{i ν_h t},
+two-stage train at N_s = lcm of the period denominators visits exactly this grid; with one
+N_g per group, group g's rows are R_g = N_g T_g/T_1 of its own table: each axis its own
+resolution), and their G-dimensional Fourier coefficients X̂_k, K̂_k taken. With y = Σ_{h ∈ 𝓗} Y_h e^{i ν_h t},
 ν_h = Σ_g h_g ω_g, the balance over the multi-index set 𝓗
 
     (K_s − ν_h² M + i ν_h C) Y_h + Σ_{j ∈ 𝓗} K̂_{h−j} Y_j = (ν_h² M − i ν_h C) X̂_h,   h ∈ 𝓗,
@@ -40,6 +41,23 @@ from ._model import _k_ref, _rigid_penalty
 from ._newmark import contact_coordinates, static_condensation
 
 __all__ = ["quasi_periodic_balance"]
+
+
+def group_positions(positions, groups: int, where: str = "positions") -> tuple[int, ...]:
+    """``positions`` as one positive int per mesh-frequency group: an int for every group, or
+    a sequence of ``groups`` ints (static). One-line ValueError otherwise (before any
+    computation); the ranges each group needs are the caller's to check."""
+    if isinstance(positions, (int, np.integer)) and not isinstance(positions, bool):
+        items = (positions,) * groups
+    elif isinstance(positions, (tuple, list)) and len(positions) == groups:
+        items = tuple(positions)
+    else:
+        items = ()
+    if not items or any(isinstance(p, bool) or not isinstance(p, (int, np.integer)) or p < 1
+                        for p in items):
+        raise ValueError(f"{where} = {positions!r}: allowed a positive int, or {groups} positive "
+                         "ints (one per mesh-frequency group)")
+    return tuple(int(p) for p in items)
 
 
 def mesh_groups(model) -> tuple[tuple[int, ...], tuple[fractions.Fraction, ...]]:

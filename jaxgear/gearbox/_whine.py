@@ -40,6 +40,7 @@ from .._util import as_float, check_integer, checked_on_host, int_rows, is_trace
 from ..dynamics import (
     QuasiPeriodicBalance,
     WhineResponse,
+    group_positions,
     harmonic_set,
     matrix_modal_analysis,
     mesh_basis,
@@ -125,8 +126,10 @@ def gearbox_whine(
             or (S,).
         method: :class:`~jaxgear.dynamics.QuasiPeriodicBalance` (H each stage's own orders, S
             the sidebands of the other stages' orders).
-        positions: grid points per mesh period of each excited stage (int >= 4H + 1; the grid
-            has positions^G points, each a static contact solve).
+        positions: grid points per mesh period of each excited stage: an int >= 4H + 1 for
+            every stage, or a tuple of G such ints (one per excited stage, in stage order: a
+            slow stage on a coarser axis); the grid has their product of points, each a static
+            contact solve.
         law: the static solve's contact law (its tangent weights make K_m).
 
     Returns:
@@ -143,7 +146,7 @@ def gearbox_whine(
 
     Raises:
         ValueError: an argument of another kind; a speed zero or not finite; positions below
-            4H + 1; a chain without contact cells; a stage whose cells do not repeat every mesh
+            4H + 1, or a tuple not of G positive ints; a chain without contact cells; a stage whose cells do not repeat every mesh
             period (a stepped-planet stage with z_p1 != z_p2, per-tooth deviations), named.
         TypeError: ``method`` not a QuasiPeriodicBalance.
         eqx.EquinoxRuntimeError: the static contact solve failed at some grid point.
@@ -152,9 +155,10 @@ def gearbox_whine(
     if not isinstance(method, QuasiPeriodicBalance):
         raise TypeError(f"gearbox_whine: method = {method!r}: allowed "
                         "jaxgear.dynamics.QuasiPeriodicBalance(harmonics, sidebands)")
-    check_integer("positions", positions, 4)
     H, Sb = int(method.harmonics), int(method.sidebands)
-    if positions < 4 * H + 1:
+    if not isinstance(positions, (tuple, list)):
+        check_integer("positions", positions, 4)
+    if not isinstance(positions, (tuple, list)) and positions < 4 * H + 1:
         raise ValueError(f"gearbox_whine: positions = {positions}: allowed >= 4 harmonics + 1 = "
                          f"{4 * H + 1} per mesh period")
     if np.ndim(input_speeds) > 1 or np.size(input_speeds) == 0:
@@ -180,9 +184,12 @@ def gearbox_whine(
                     "deviations): allowed stages whose meshes repeat every mesh period")
     group_of = tuple(excited.index(k) if k in excited else -1 for k in range(len(chain.stages)))
     G = len(excited)
-    R = (positions,) * G
+    R = group_positions(positions, G, "gearbox_whine: positions")
+    if min(R) < 4 * H + 1:
+        raise ValueError(f"gearbox_whine: positions = {positions!r}: allowed >= 4 harmonics + 1 "
+                         f"= {4 * H + 1} per mesh period of each excited stage")
     # the mesh basis: every cell's structure vector on both flanks at the grid positions
-    xs = tuple(_travels(s, positions if g >= 0 else 1, dtype)
+    xs = tuple(_travels(s, R[g] if g >= 0 else 1, dtype)
                for s, g in zip(chain.stages, group_of, strict=True))
     Vs = []
     for sign in (1.0, -1.0):

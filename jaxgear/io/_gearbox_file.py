@@ -436,6 +436,19 @@ def _whine(table, n_stages: int) -> WhineInputs:
         raise sc.fail("whine", "method", 'allowed "quasi-periodic" in a gearbox (each stage '
                       "meshes at its own frequency)", table["method"])
     P = inputs.positions
+    if isinstance(P, tuple):  # one per stage: the torus grid is their product
+        if len(P) != n_stages:
+            raise sc.fail("whine", "positions_per_period", f"allowed one integer, or a list of "
+                          f"{n_stages} (one per stage)", list(P))
+        low = 4 * inputs.method.harmonics + 1
+        if min(P) < low:
+            raise sc.fail("whine", "positions_per_period", f"out of range, allowed >= 4 harmonics "
+                          f"+ 1 = {low} per stage's mesh period", list(P))
+        if math.prod(P) > MAX_WHINE_GRID:
+            raise sc.fail("whine", "positions_per_period",
+                          f"out of range: {math.prod(P)} static solves on the torus grid, allowed "
+                          f"at most {MAX_WHINE_GRID:.0e}", list(P))
+        return inputs
     if P**n_stages > MAX_WHINE_GRID:
         top = math.floor(MAX_WHINE_GRID ** (1.0 / n_stages) + 1e-9)
         low = 4 * inputs.method.harmonics + 1

@@ -17,7 +17,11 @@ Keys (file units; ranges as checked)::
     sidebands = 1                   # "quasi-periodic" only: the other meshes' orders around
                                     # each mesh's, [0, harmonics]; default 1
     positions_per_period = 256      # quasi-static positions per mesh period, [4, 8192], and
-                                    # at least 4 harmonics + 1 over the model's span
+                                    # at least 4 harmonics + 1 over the model's span; with
+                                    # "quasi-periodic" also a list, one per mesh-frequency
+                                    # group, each [1, 8192] (a train's: steps per first-mesh
+                                    # period of that group's table; a gearbox's: points per
+                                    # that stage's own mesh period), e.g. [140, 35]
 
 ``jaxgear run`` on a pair or train case with a lumped scene (torsional or lumped 3D; a pair
 without ``[scene]``: the torsional one) or on a planetary stage's case (its lumped stage: the
@@ -62,11 +66,12 @@ WHINE_KEYS = {
 
 class WhineInputs(NamedTuple):
     """``[whine]`` in SI: ``speeds`` (rad/s, a list), the ``method`` object with its H, and
-    ``positions`` per mesh period."""
+    ``positions`` per mesh period (an int, or with :class:`QuasiPeriodicBalance` a tuple of
+    ints, one per mesh-frequency group)."""
 
     speeds: list[float]
     method: AbstractWhineMethod
-    positions: int
+    positions: int | tuple[int, ...]
 
 
 def parse_whine(table: dict) -> WhineInputs:
@@ -88,11 +93,24 @@ def parse_whine(table: dict) -> WhineInputs:
     n = int(sc.number(table, "speeds", WHERE, 48, allowed="[2, 2000]", integer=True))
     H = int(sc.number(table, "harmonics", WHERE, 16, allowed="[1, 256]", integer=True))
     name = sc.choice(table, "method", WHERE, tuple(WHINE_METHODS), "harmonic-balance")
-    P = int(sc.number(table, "positions_per_period", WHERE, 256, allowed="[4, 8192]",
-                      integer=True))
-    if P < 4 * H + 1:
-        raise sc.fail(WHERE, "positions_per_period",
-                      f"out of range, allowed >= 4 harmonics + 1 = {4 * H + 1}", P)
+    raw = table.get("positions_per_period")
+    if isinstance(raw, list):  # one per mesh-frequency group: the groups' ranges at the solve
+        if name != "quasi-periodic" or not raw:
+            raise sc.fail(WHERE, "positions_per_period", "a list (one per mesh-frequency group) "
+                          f"is for method = \"quasi-periodic\" only (method = \"{name}\"): "
+                          "allowed an integer in [4, 8192]" if raw else "empty: allowed one "
+                          "integer in [1, 8192] per mesh-frequency group", raw)
+        for i, v in enumerate(raw):
+            if isinstance(v, bool) or not isinstance(v, int) or not 1 <= v <= 8192:
+                raise sc.fail(WHERE, "positions_per_period", f"entry {i + 1} = {v!r}: allowed "
+                              "integers in [1, 8192] (one per mesh-frequency group)", raw)
+        P = tuple(raw)
+    else:
+        P = int(sc.number(table, "positions_per_period", WHERE, 256, allowed="[4, 8192]",
+                          integer=True))
+        if P < 4 * H + 1:
+            raise sc.fail(WHERE, "positions_per_period",
+                          f"out of range, allowed >= 4 harmonics + 1 = {4 * H + 1}", P)
     speeds = [lo + (hi - lo) * k / (n - 1) for k in range(n)]
     assert all(math.isfinite(s) for s in speeds)
     S = sc.number(table, "sidebands", WHERE, None, allowed="[0, 256]", integer=True)
