@@ -267,7 +267,8 @@ def test_a_run_split_at_a_mesh_position_follows_the_unsplit_run():
 
 @pytest.mark.slow
 def test_the_default_case_settles_through_its_shaft_mode_resonance():
-    # jaxgear run's sweep of the embedded default case (README's first command), its first six
+    # jaxgear run's sweep of the embedded default case (README's first command, 8 slices as
+    # jaxgear run's sweep), its first six
     # speeds: at 296.6 rad/s the mesh frequency (2124 Hz) drives its 1933 Hz shaft mode (3.8 %
     # of its strain energy in the mesh, ξ 1.2 %), which decays 18 times slower than the mesh
     # mode that sets the rule; the speed settles within its cap (it reached a cap of 20 periods
@@ -275,7 +276,7 @@ def test_the_default_case_settles_through_its_shaft_mode_resonance():
     # every dynamic factor agrees with an independent run of 200 periods from rest (settled:
     # its last two kept periods agree to 1e-7 of the static force)
     case = jio.load_case("accessory-spur")
-    model = build_dynamic_model(case)[0]
+    model = build_dynamic_model(case, slices=8)[0]
     law = case.contact_law("exact")
     speeds = np.linspace(100.0, 3000.0, 60)[:6]
     s = jd.settled_sweep(model, speeds, contact=law)
