@@ -192,7 +192,10 @@ def check_output_file(path, option: str = "--json") -> str:
     try:
         check_output_dir(folder, option)
     except ValueError as err:
-        raise ValueError(f"{option} {path}: {str(err).split(': ', 1)[1]}") from None
+        why = str(err).split(": ", 1)[1]
+        if why.startswith("is a file"):  # the folder itself: name it (the path is a file name)
+            why = f"{folder} {why}"
+        raise ValueError(f"{option} {path}: {why}") from None
     if os.path.exists(path) and not os.access(path, os.W_OK):
         raise ValueError(f"{option} {path}: file is not writable")
     return path

@@ -228,6 +228,8 @@ def test_a_failure_inside_the_bar_starts_a_fresh_line(tmp_path, capsys, monkeypa
         (["sweep", "accessory-spur", "--speeds", "100:3000:3", "--periods", "forty"],
          ["--periods", "'forty'", "allowed an integer in [2, 1e+06] or auto"]),
         (["sweep", "accessory-spur"], ["--speeds", "required"]),
+        # the top parser reports a subcommand's unknown option: the hint names that command
+        (["run", "--bogus"], ["unrecognized arguments: --bogus", "(jaxgear run --help"]),
         # a range below zero reaches the range check (argparse read it as an option before)
         (["sweep", "accessory-spur", "--speeds", "-100:3000:5"],
          ["--speeds '-100:3000:5'", "must be > 0"]),
@@ -270,6 +272,10 @@ def test_an_output_folder_that_is_a_file(tmp_path, capsys):
     status, err = _run(["run", "--out", str(tmp_path / "afile"), "--quiet"], capsys)
     assert status == 2 and err == [f"jaxgear: error: --out {tmp_path / 'afile'}: is a file, not a folder"]
     assert (tmp_path / "afile").read_text() == "mine"
+    # a --json file under it: the file that is in the way named, not the path given
+    status, err = _run(["run", "--json", str(tmp_path / "afile" / "s.json"), "--quiet"], capsys)
+    assert status == 2 and len(err) == 1
+    assert err[0].endswith(f"s.json: {tmp_path / 'afile'} is a file, not a folder"), err[0]
 
 
 def test_output_folder_is_said_without_a_doubled_slash(tmp_path):

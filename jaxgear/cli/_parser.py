@@ -119,10 +119,15 @@ class _Parser(argparse.ArgumentParser):
     --periods: ... (jaxgear sweep --help lists the options)``, exit status 2 (argparse prints
     the whole usage first)."""
 
+    #: the command whose ``--help`` the hint names (``jaxgear optimise``: the top parser reports
+    #: a subcommand's unrecognized arguments)
+    help_of: str | None = None
+
     def error(self, message: str):
         if message.endswith("required: COMMAND"):  # a bare ``jaxgear``: its help, as --help
             self.print_help(sys.stderr)
-        self.exit(2, f"{self.prog}: error: {message} ({self.prog} --help lists the options)\n")
+        hint = f"{self.help_of or self.prog} --help lists the options"
+        self.exit(2, f"{self.prog}: error: {message} ({hint})\n")
 
 
 def periods_value(text: str) -> int | str:
@@ -173,6 +178,8 @@ def build_parser(command: str | None = ALL) -> argparse.ArgumentParser:
         "  jaxgear COMMAND --help         # a command's options, with an example",
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
+    if command in COMMANDS:
+        p.help_of = f"jaxgear {command}"
     p.add_argument("--version", action="version", version=f"jaxgear {_version()}")
     p.set_defaults(out=None, json=None)
     sub = p.add_subparsers(dest="command", required=True, metavar="COMMAND")
@@ -358,7 +365,10 @@ _HELP = {
         "benchmark runs (speed vs a baseline, speed-vs-accuracy charts; from a source "
         "checkout)",
     ),
-    "prep": ("fem_prep: mesh and condense a gear body (= fem-prep build)",),
+    "prep": (
+        "fem_prep: mesh and condense a gear body (= fem-prep build)",
+        "Mesh and condense a gear body with fem_prep (= fem-prep build).",
+    ),
     "sweep": (
         "dynamic factor vs speed (Newmark/diffrax, [scene] table)",
         "Dynamic factor vs speed (Newmark/diffrax, the case's [scene] table). Speeds in rad/s "
