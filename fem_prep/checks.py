@@ -291,14 +291,21 @@ def _(allowed: None) -> Interval:
 # checks
 
 
+def did_you_mean(name: str, names: Iterable[str]) -> str:
+    """`` (did you mean 'x'?)`` naming the one of ``names`` closest to a mistyped ``name``
+    (difflib's ratio >= 0.7), or ``""`` where none is close: the hint of an unknown key
+    (:func:`check_keys`) or an unknown embedded case or body name."""
+    close = difflib.get_close_matches(str(name), list(names), n=1, cutoff=0.7)
+    return f" (did you mean {close[0]!r}?)" if close else ""
+
+
 def check_keys(table: dict, allowed: Iterable[str], where: str) -> None:
     """Unknown keys are errors:
     ``[mesh] unknown key 'slice' (did you mean 'slices'?), allowed: foundation, ...``."""
     allowed = sorted(allowed)
     for key in table:
         if key not in allowed:
-            close = difflib.get_close_matches(str(key), allowed, n=1, cutoff=0.7)
-            hint = f" (did you mean {close[0]!r}?)" if close else ""
+            hint = did_you_mean(str(key), allowed)
             shown = str(key) if len(str(key)) <= 40 else str(key)[:37] + "..."
             head = f"[{where}] " if where else ""
             raise SchemaError(

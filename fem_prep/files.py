@@ -14,6 +14,8 @@ import tempfile
 from collections.abc import Callable, Iterator
 from pathlib import Path
 
+from .checks import did_you_mean
+
 __all__ = [
     "OUTPUT_MANIFEST",
     "atomic_open",
@@ -152,6 +154,9 @@ def check_output_dir(path, option: str = "--out") -> str:
     """Check that ``path`` can be the output folder of a command, without creating anything
     (the writers create it when the first file is written: bad input leaves no folder behind).
 
+    Returns the path, normalised (``results/`` → ``results``: the commands print ``written to
+    PATH/``).
+
     Raises:
         ValueError: one-line message ``{option} PATH: why`` when ``path`` is a file, lies under
             a file, or its nearest existing folder is not writable.
@@ -171,7 +176,7 @@ def check_output_dir(path, option: str = "--out") -> str:
     except OSError:
         where = "folder" if existing == os.path.abspath(path) else f"parent folder {existing}"
         raise ValueError(f"{option} {path}: {where} is not writable") from None
-    return path
+    return os.path.normpath(path)
 
 
 def check_output_file(path, option: str = "--json") -> str:
@@ -187,7 +192,10 @@ def check_output_file(path, option: str = "--json") -> str:
     try:
         check_output_dir(folder, option)
     except ValueError as err:
-        raise ValueError(f"{option} {path}: {str(err).split(': ', 1)[1]}") from None
+        why = str(err).split(": ", 1)[1]
+        if why.startswith("is a file"):  # the folder itself: name it (the path is a file name)
+            why = f"{folder} {why}"
+        raise ValueError(f"{option} {path}: {why}") from None
     if os.path.exists(path) and not os.access(path, os.W_OK):
         raise ValueError(f"{option} {path}: file is not writable")
     return path
@@ -229,7 +237,8 @@ def embedded_text(folder, name: str, kind: str) -> str:
     if name not in names:
         kinds = kind[:-1] + "ies" if kind.endswith("y") else kind + "s"
         raise FileNotFoundError(
-            f"no embedded {kind} {name!r} (embedded {kinds}: {', '.join(names)})"
+            f"no embedded {kind} {name!r}{did_you_mean(name, names)} (embedded {kinds}: "
+            f"{', '.join(names)})"
         )
     return (folder / f"{name}.toml").read_text("utf-8")
 

@@ -53,6 +53,7 @@ from .checks import (  # noqa: F401
     boolean as boolean,
     check_keys as check_keys,
     choice as choice,
+    did_you_mean as did_you_mean,
     fail as fail,
     finite as finite,
     fmt as fmt,
@@ -561,7 +562,8 @@ def load_body(source: str | Path) -> Body:
             embedded_body_text(name), default_name=name, label=f"embedded body {name!r}"
         )
     raise FileNotFoundError(
-        f"body file {str(source)!r} not found (and it is not an embedded body; embedded bodies: "
+        f"body file {str(source)!r} not found (and it is not an embedded body"
+        f"{sc.did_you_mean(name, embedded_bodies())}; embedded bodies: "
         f"{', '.join(embedded_bodies())})"
     )
 

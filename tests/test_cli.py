@@ -86,7 +86,7 @@ def test_run_bad_input_exits_2_with_a_message(tmp_path, capsys):
     err = capsys.readouterr().err
     assert "depth_um" in err and "-8" in err and "allowed [0, 2000]" in err
     assert main(["run", str(tmp_path / "missing.toml"), "--quiet"]) == 2
-    assert "neither a file nor an embedded case" in capsys.readouterr().err
+    assert "missing.toml': no such file" in capsys.readouterr().err
     assert not (tmp_path / "o" / "summary.json").exists()
 
 

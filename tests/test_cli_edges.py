@@ -212,3 +212,85 @@ def test_a_failure_inside_the_bar_starts_a_fresh_line(tmp_path, capsys, monkeypa
     assert "\njaxgear: error: a late failure (injected)\n" in err
     assert err.count("jaxgear: error:") == 1
     assert not out.exists()
+
+
+# a new user's first mistakes on the default case: each refused before any work with one line
+# naming what was wrong (the option or key, the value, what is allowed), nothing written
+@pytest.mark.parametrize(
+    ("argv", "needles"),
+    [
+        # a typo in a case name: the closest embedded case offered
+        (["run", "accesory-spur"], ["'accesory-spur'", "did you mean 'accessory-spur'?"]),
+        (["cases", "accesory-spur"], ["'accesory-spur'", "did you mean 'accessory-spur'?"]),
+        # a case file that is not there: said as a file, not as an unknown embedded case
+        (["run", "my-case.toml"], ["case file 'my-case.toml': no such file"]),
+        # argparse's own errors: one line with the option, not the whole usage
+        (["sweep", "accessory-spur", "--speeds", "100:3000:3", "--periods", "forty"],
+         ["--periods", "'forty'", "allowed an integer in [2, 1e+06] or auto"]),
+        (["sweep", "accessory-spur"], ["--speeds", "required"]),
+        # the top parser reports a subcommand's unknown option: the hint names that command
+        (["run", "--bogus"], ["unrecognized arguments: --bogus", "(jaxgear run --help"]),
+        # a range below zero reaches the range check (argparse read it as an option before)
+        (["sweep", "accessory-spur", "--speeds", "-100:3000:5"],
+         ["--speeds '-100:3000:5'", "must be > 0"]),
+        (["sweep", "accessory-spur", "--speeds", "100-3000-60"], ["--speeds", "START:STOP:N"]),
+        (["sweep", "accessory-spur", "--speeds", "3000:100:5"], ["--speeds", "START must be"]),
+    ],
+)
+def test_first_mistakes_are_one_line(tmp_path, capsys, monkeypatch, argv, needles):
+    monkeypatch.chdir(tmp_path)
+    status, err = _run([*argv, "--quiet"] if argv[0] != "cases" else argv, capsys)
+    assert status == 2 and len(err) == 1, err
+    assert all(n in err[0] for n in needles), err[0]
+    assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "needles"),
+    [
+        ("torque_Nm = 80.0", "torque_Nm = -80.0", ["[operating] torque_Nm = -80", "allowed >="]),
+        ("teeth = 45\n", "teeth = 45\ntooth_count = 3\n", ["[pinion] unknown key 'tooth_count'"]),
+        ("[scene.damping]", "[scene.dampin]", ["did you mean 'damping'?"]),
+        ("slices = 40", 'slices = "forty"', ["[mesh] slices = 'forty'", "integer"]),
+        ('periods = "auto"', "periods = 0", ["[scene.integration] periods = 0", "[2, 1e+06]"]),
+    ],
+)
+def test_a_copied_case_file_with_a_mistake_is_one_line(tmp_path, capsys, old, new, needles):
+    text = jaxgear.io.embedded_case_text("accessory-spur")
+    assert old in text
+    path = tmp_path / "my-case.toml"
+    path.write_text(text.replace(old, new, 1))
+    out = tmp_path / "out"
+    status, err = _run(["run", str(path), "--out", str(out), "--quiet"], capsys)
+    assert status == 2 and len(err) == 1, err
+    assert all(n in err[0] for n in needles), err[0]
+    assert not out.exists()
+
+
+def test_an_output_folder_that_is_a_file(tmp_path, capsys):
+    (tmp_path / "afile").write_text("mine")
+    status, err = _run(["run", "--out", str(tmp_path / "afile"), "--quiet"], capsys)
+    assert status == 2 and err == [f"jaxgear: error: --out {tmp_path / 'afile'}: is a file, not a folder"]
+    assert (tmp_path / "afile").read_text() == "mine"
+    # a --json file under it: the file that is in the way named, not the path given
+    status, err = _run(["run", "--json", str(tmp_path / "afile" / "s.json"), "--quiet"], capsys)
+    assert status == 2 and len(err) == 1
+    assert err[0].endswith(f"s.json: {tmp_path / 'afile'} is a file, not a folder"), err[0]
+
+
+def test_output_folder_is_said_without_a_doubled_slash(tmp_path):
+    # jaxgear run --out results/ said "written to results//"
+    from jaxgear.cli._paths import check_output_dir
+
+    assert check_output_dir(f"{tmp_path}/results/") == f"{tmp_path}/results"
+
+
+def test_periods_auto_on_the_command_line_replaces_a_case_files_fixed_periods():
+    # --periods auto: the settled sweep (spec periods None), whatever the case file fixes
+    from jaxgear.cli.sweep import sweep_spec
+
+    case = jaxgear.io.load_case("accessory-spur")
+    fixed = sweep_spec(case, periods=40)
+    assert fixed.periods == 40
+    assert sweep_spec(case.replace(scene=fixed), periods="auto").periods is None
+    assert sweep_spec(case.replace(scene=fixed)).periods == 40  # None keeps the case's

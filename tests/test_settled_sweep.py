@@ -40,6 +40,9 @@ def test_settling_time_is_the_slowest_decay_of_the_modes_the_meshes_excite():
     assert (w, t_s) == (2000.0, pytest.approx(math.log(1000.0) / 40.0, rel=1e-12))
     # undamped: never settles
     assert jd.settling_time(modes, 0.0)[0] == math.inf
+    # a settled sweep's cap also counts the modes with >= 1 % share: the slow 3 % mode sets it
+    t_c, w = jd.settling_time(modes, xi, 1e-2)
+    assert (w, t_c) == (100.0, pytest.approx(math.log(1000.0) / 0.1, rel=1e-12))
 
 
 def test_modal_damping_ratios_of_a_rayleigh_damping():
@@ -91,6 +94,36 @@ def test_settled_dynamic_factor_agrees_with_a_run_four_times_longer(pair_model):
     z1 = case.pairs[0].pinion.teeth
     rule = 4 + np.ceil(s.settle_s * speeds * z1 / (2 * math.pi))
     assert (s.cap >= 2 * rule).all()
+    # and the span that lets every mode with >= 1 % of its strain energy in the meshes decay to
+    # 1e-3, t_c = ln(1000) / min(ξ ω) over those modes (ξ = φᵀCφ / 2ω, from the modes here)
+    modes = model.averaged_modes()
+    omega, share = np.asarray(modes.omega), np.asarray(modes.mesh_energy)
+    phi = np.asarray(modes.shapes)
+    c = np.einsum("ji,jk,ki->i", phi, np.asarray(model.damping), phi)
+    xi = c / (2 * np.where(omega > 0, omega, 1.0))
+    counted = ~np.asarray(modes.rigid) & (share >= 1e-2)
+    t_c = math.log(1000.0) / float(np.min((xi * omega)[counted]))
+    assert (s.cap >= 4 + np.ceil(t_c * speeds * z1 / (2 * math.pi))).all()
+
+
+def test_a_speed_that_never_settles_runs_to_its_cap_and_is_named_on_stderr(
+    pair_model, monkeypatch, capsys
+):
+    # a bound no run meets (1e-12 of the static force): the speed runs every window of its cap,
+    # comes back unsettled, and jaxgear sweep's settled pass prints one line naming it
+    from functools import partial
+
+    from jaxgear.cli.sweep import settled_sweeps
+
+    model, case = pair_model
+    spec = parse_scene({"integration": {"steps_per_period": 32}})
+    monkeypatch.setattr(jd, "settled_sweep", partial(jd.settled_sweep, tol=1e-12))
+    _, (s,) = settled_sweeps(
+        model, np.array([600.0]), spec, case.contact_law("exact"), None, "up", lambda n: None
+    )
+    assert not s.settled[0] and s.periods[0] == s.cap[0] and s.change[0] > 1e-12
+    (line,) = capsys.readouterr().err.strip().splitlines()
+    assert line.startswith(f"jaxgear: warning: speed 600 rad/s: not settled after {s.cap[0]} ")
 
 
 def test_settled_sweep_refuses_speeds_not_ascending(pair_model):
@@ -230,3 +263,25 @@ def test_a_run_split_at_a_mesh_position_follows_the_unsplit_run():
             state0=first.final_state[:2],
             start_period=-1,
         )
+
+
+@pytest.mark.slow
+def test_the_default_case_settles_through_its_shaft_mode_resonance():
+    # jaxgear run's sweep of the embedded default case (README's first command, 8 slices as
+    # jaxgear run's sweep), its first six
+    # speeds: at 296.6 rad/s the mesh frequency (2124 Hz) drives its 1933 Hz shaft mode (3.8 %
+    # of its strain energy in the mesh, ξ 1.2 %), which decays 18 times slower than the mesh
+    # mode that sets the rule; the speed settles within its cap (it reached a cap of 20 periods
+    # unsettled, 0.04 of the static force, when the cap counted only the rule's modes) and
+    # every dynamic factor agrees with an independent run of 200 periods from rest (settled:
+    # its last two kept periods agree to 1e-7 of the static force)
+    case = jio.load_case("accessory-spur")
+    model = build_dynamic_model(case, slices=8)[0]
+    law = case.contact_law("exact")
+    speeds = np.linspace(100.0, 3000.0, 60)[:6]
+    s = jd.settled_sweep(model, speeds, contact=law)
+    assert s.settled.all() and (s.change <= 1e-2).all() and (s.periods <= s.cap).all()
+    long = jd.speed_sweep(model, speeds, contact=law, window=SteadyState(200, 4)).results
+    assert float(np.max(np.asarray(long.periodicity))) < 1e-6
+    df = np.asarray(s.sweep.results.dynamic_factor)
+    np.testing.assert_allclose(df, np.asarray(long.dynamic_factor), atol=1e-2, rtol=0)

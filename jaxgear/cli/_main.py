@@ -130,6 +130,23 @@ def _show_warning(message, category, filename, lineno, file=None, line=None) -> 
         pass
 
 
+#: a value that argparse would take for an option: a range starting below zero (``-100:3000:5``)
+_NEGATIVE_RANGE = re.compile(r"^-[0-9.][^:]*:")
+
+
+def _glued_ranges(argv: list[str]) -> list[str]:
+    """``--speeds -100:3000:5`` as ``--speeds=-100:3000:5``: argparse reads a value that begins
+    with ``-`` and is not a plain number as an option (its message: "expected one argument"),
+    so a range starting below zero reaches the range's own check, which names it."""
+    out: list[str] = []
+    for a in argv:
+        if out and _NEGATIVE_RANGE.match(a) and out[-1].startswith("--") and "=" not in out[-1]:
+            out[-1] = f"{out[-1]}={a}"
+        else:
+            out.append(a)
+    return out
+
+
 def main(
     argv: list[str] | None = None, load_model: Callable[[str], None] | None = None
 ) -> int:
@@ -144,7 +161,7 @@ def main(
     """
     saved = warnings.showwarning
     warnings.showwarning = _show_warning
-    argv = sys.argv[1:] if argv is None else list(argv)
+    argv = _glued_ranges(sys.argv[1:] if argv is None else list(argv))
     try:
         try:
             args = build_parser(command_of(argv)).parse_args(argv)

@@ -172,10 +172,10 @@ def _check_sweep(args) -> None:
         ("slices", 1, 10**4),
     ):
         v = getattr(args, opt)
-        if v is not None and not lo <= v <= hi:
+        if v is not None and v != "auto" and not lo <= v <= hi:
             raise ValueError(f"--{opt.replace('_', '-')} {v}: out of range, allowed [{lo}, {hi:g}]")
     p, k = args.periods, args.keep_periods
-    if p is not None and k is not None and k > p:
+    if p not in (None, "auto") and k is not None and k > p:
         raise ValueError(f"--keep-periods {k}: out of range, allowed <= --periods {p}")
     vtu, v, vtu_unit, vtu_scale = _speed_option(args, "vtu_speed")
     if v is not None and not (math.isfinite(v) and a * scale <= v * vtu_scale <= b * scale):

@@ -14,6 +14,7 @@ subcommand's ``--help`` need nothing else. Speeds: ``--speeds``/``--speed`` in r
 from __future__ import annotations
 
 import argparse
+import sys
 import dataclasses
 import textwrap
 from importlib.metadata import PackageNotFoundError, version
@@ -113,6 +114,35 @@ EXAMPLES = {
 }
 
 
+class _Parser(argparse.ArgumentParser):
+    """An argument parser whose usage errors are one line: ``jaxgear sweep: error: argument
+    --periods: ... (jaxgear sweep --help lists the options)``, exit status 2 (argparse prints
+    the whole usage first)."""
+
+    #: the command whose ``--help`` the hint names (``jaxgear optimise``: the top parser reports
+    #: a subcommand's unrecognized arguments)
+    help_of: str | None = None
+
+    def error(self, message: str):
+        if message.endswith("required: COMMAND"):  # a bare ``jaxgear``: its help, as --help
+            self.print_help(sys.stderr)
+        hint = f"{self.help_of or self.prog} --help lists the options"
+        self.exit(2, f"{self.prog}: error: {message} ({hint})\n")
+
+
+def periods_value(text: str) -> int | str:
+    """``--periods``: an integer, or ``auto`` (each speed until it settles, as the case files'
+    ``[scene.integration] periods = "auto"``); the range is checked with the other options."""
+    if text.strip().lower() == "auto":
+        return "auto"
+    try:
+        return int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(
+            f"{text!r}: allowed an integer in [2, 1e+06] or auto"
+        ) from None
+
+
 def command_of(argv: list[str]) -> str | None:
     """The subcommand a command line names: its first word (``jaxgear``'s own options,
     ``--help`` and ``--version``, take no value), or None when it names none."""
@@ -136,7 +166,7 @@ def build_parser(command: str | None = ALL) -> argparse.ArgumentParser:
     the subcommand's name; ``args.out`` and ``args.json`` are None where a command has no such
     option. ``command``: the subcommand whose options are added (:func:`command_of` of the
     command line; None: none, for ``jaxgear --help``); :data:`ALL` (default) every one's."""
-    p = argparse.ArgumentParser(
+    p = _Parser(
         prog="jaxgear",
         description=textwrap.fill(
             "Differentiable gear dynamics in JAX. Speeds: --speeds/--speed in rad/s, "
@@ -148,6 +178,8 @@ def build_parser(command: str | None = ALL) -> argparse.ArgumentParser:
         "  jaxgear COMMAND --help         # a command's options, with an example",
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
+    if command in COMMANDS:
+        p.help_of = f"jaxgear {command}"
     p.add_argument("--version", action="version", version=f"jaxgear {_version()}")
     p.set_defaults(out=None, json=None)
     sub = p.add_subparsers(dest="command", required=True, metavar="COMMAND")
@@ -236,7 +268,8 @@ def _add_sweep(s) -> None:
         "--direction",
         default="independent",
         choices=["independent", "up", "down", "both"],
-        help="independent speeds (vmap) or continuation sweeps (default: independent)",
+        help="independent speeds (vmap) or continuation sweeps (default: independent; with "
+        "periods auto a lumped scene's speeds continue upwards, each until it settles)",
     )
     s.add_argument(
         "--solver",
@@ -249,7 +282,10 @@ def _add_sweep(s) -> None:
         help="contact law (default: [scene] contact, else exact)",
     )
     s.add_argument(
-        "--periods", type=int, help="mesh periods per speed (default: [scene.integration])"
+        "--periods",
+        type=periods_value,
+        help="mesh periods per speed, or auto: each speed until it settles (default: "
+        "[scene.integration] periods, else auto)",
     )
     s.add_argument(
         "--keep-periods",
@@ -329,7 +365,10 @@ _HELP = {
         "benchmark runs (speed vs a baseline, speed-vs-accuracy charts; from a source "
         "checkout)",
     ),
-    "prep": ("fem_prep: mesh and condense a gear body (= fem-prep build)",),
+    "prep": (
+        "fem_prep: mesh and condense a gear body (= fem-prep build)",
+        "Mesh and condense a gear body with fem_prep (= fem-prep build).",
+    ),
     "sweep": (
         "dynamic factor vs speed (Newmark/diffrax, [scene] table)",
         "Dynamic factor vs speed (Newmark/diffrax, the case's [scene] table). Speeds in rad/s "

@@ -59,13 +59,14 @@ def sweep_spec(
     direction: str = "independent",
     solver: str | None = None,
     contact: str | None = None,
-    periods: int | None = None,
+    periods: int | str | None = None,
     steps_per_period: int | None = None,
     keep_periods: int | None = None,
     vtu_speed: float | None = None,
 ):
     """The :class:`~jaxgear.io.SceneSpec` a sweep of ``case`` runs (its ``[scene]``, the
-    options given replacing its settings), checked before any work: one-line ``ValueError``
+    options given replacing its settings; ``periods`` ``"auto"``: each speed until it settles,
+    whatever the case's), checked before any work: one-line ``ValueError``
     naming the option (``--periods``) or the case-file key (``[scene.integration] periods``),
     its value and the allowed range."""
     # MAX_STEPS_PER_SPEED: jaxgear.dynamics' bound (its runs refuse more, but only once the
@@ -79,6 +80,8 @@ def sweep_spec(
         keep_periods=keep_periods,
     )
     over = {k: v for k, v in given.items() if v is not None}
+    if periods == "auto":  # the case's fixed periods replaced by the settled sweep's
+        over["periods"] = None
     spec = dataclasses.replace(spec, **over)
 
     def name(key: str) -> str:
@@ -535,7 +538,7 @@ def planetary_sweep_command(form: case_io.PlanetaryForm, case, speeds, args) -> 
     out = check_output_dir(args.out or default_sweep_dir(case.name, speeds))
     options = dict(
         steps_per_period=args.steps_per_period,
-        periods=args.periods,
+        periods=None if args.periods == "auto" else args.periods,  # its time plan's own
         keep_periods=args.keep_periods,
     )
     planetary_run(form, case, **options)  # every check before any file is touched

@@ -121,6 +121,7 @@ from ._settings import (
 from ._rim import rim_stations as rim_stations, rim_waves as rim_waves
 from ._robust import DynamicMetrics as DynamicMetrics, DynamicRobustMetrics as DynamicRobustMetrics
 from ._settle import (
+    CAP_ENERGY_MIN as CAP_ENERGY_MIN,
     SETTLE_TOL as SETTLE_TOL,
     SETTLED_TOL as SETTLED_TOL,
     SettledSweep as SettledSweep,

@@ -27,6 +27,7 @@ from ._settings import MAX_STEPS_PER_SPEED, MESH_ENERGY_MIN, Newmark, Outputs, S
 from ._sweep import _host, _subsample, auto_steps_per_period, resolve_settings
 
 __all__ = [
+    "CAP_ENERGY_MIN",
     "CAP_FACTOR",
     "SETTLED_TOL",
     "SETTLE_TOL",
@@ -47,6 +48,12 @@ SETTLED_TOL = 1e-2
 #: a speed of a settled sweep runs at most CAP_FACTOR times the span of an independent run
 #: (:func:`settled_sweep`)
 CAP_FACTOR = 2
+#: the cap of a settled sweep's speed also lets the slowest decaying elastic mode with at least
+#: this share of its strain energy in the meshes settle (:func:`settling_time` over those modes):
+#: a mode under the rule's 5 % share but lighter damped rings for longer than the rule's modes,
+#: and a speed whose mesh frequency is near it drives it (accessory-spur at 296.6 rad/s: its
+#: 1933 Hz shaft mode, 3.8 % share, ξ = 1.2 %, decays 18 times slower than its mesh mode)
+CAP_ENERGY_MIN = 1e-2
 #: where a window holds one scene period (judged by its return), a continued speed first runs
 #: block // LEAD_DIVISOR mesh periods (at least 1) unrecorded, its windows then from that mesh
 #: position (:func:`settled_sweep`)
@@ -65,19 +72,22 @@ def modal_damping_ratios(modes: ModalAnalysis, damping) -> np.ndarray:
     return np.where(rigid, np.nan, c / (2.0 * np.where(rigid, 1.0, omega)))
 
 
-def settling_time(modes, damping_ratio) -> tuple[float, float]:
+def settling_time(
+    modes, damping_ratio, energy_min: float = MESH_ENERGY_MIN
+) -> tuple[float, float]:
     """(t_s (s), ω (rad/s) of the mode that sets it): t_s = ln(1 / :data:`SETTLE_TOL`) /
-    min_i(ξ_i ω_i) over the modes the meshes excite (elastic, >= :data:`MESH_ENERGY_MIN` of
-    their strain energy in the meshes; where none does, the one
+    min_i(ξ_i ω_i) over the modes the meshes excite (elastic, >= ``energy_min`` of their
+    strain energy in the meshes, default :data:`MESH_ENERGY_MIN`; where none does, the one
     :func:`~jaxgear.dynamics.excited_omega` picks). ``modes``: any modal analysis with
     ``omega`` (rad/s), ``rigid`` and ``mesh_energy`` ((n,) each: a pair's or train's
     :class:`ModalAnalysis`, a planetary stage's mesh modes); ``damping_ratio``: ξ, one for every
-    mode (a float) or per mode ((n,), :func:`modal_damping_ratios`). Undamped (ξ ω = 0): t_s =
-    inf. The planetary sweep's span (:func:`jaxgear.cli.planetary_sweep.time_plan`) and the
+    mode (a float) or per mode ((n,), :func:`modal_damping_ratios`); ``energy_min``: the
+    share in [0, 1] (a settled sweep's cap reads :data:`CAP_ENERGY_MIN`). Undamped (ξ ω = 0):
+    t_s = inf. The planetary sweep's span (:func:`jaxgear.cli.planetary_sweep.time_plan`) and the
     pairs' and trains' (:func:`settled_sweep`) both read it."""
     omega = np.asarray(modes.omega, dtype=float)
     rigid = np.asarray(modes.rigid)
-    excited = ~rigid & (np.asarray(modes.mesh_energy) >= MESH_ENERGY_MIN)
+    excited = ~rigid & (np.asarray(modes.mesh_energy) >= energy_min)
     if not np.any(excited):
         excited = omega == float(excited_omega(modes))
     ratio = np.broadcast_to(np.asarray(damping_ratio, dtype=float), omega.shape)
@@ -154,9 +164,10 @@ class SettledSweep(NamedTuple):
             (:func:`settled_sweep`); NaN where the speed failed.
         settled: ``change`` <= ``tol``, bool (S,).
         cap: the most periods a speed may run, int (S,): :data:`CAP_FACTOR` times the span of
-            an independent run at that speed (``keep + ceil(t_s f_mesh)``), in whole windows,
-            at least four, plus the lead (:func:`settled_sweep`; 0 where windows are judged
-            by their periodicity).
+            an independent run at that speed (``keep + ceil(t_s f_mesh)``) or, where longer,
+            ``keep + ceil(t_c f_mesh)`` (t_c the settling time of the modes with
+            :data:`CAP_ENERGY_MIN` of their strain energy in the meshes), in whole windows, at
+            least four, plus the lead (:func:`settled_sweep`).
         settle_s: the settling time t_s (s) (:func:`settling_time`).
         f_min_Hz: the frequency of the mode that sets it (Hz).
         window: the periods of one window (a whole number of the scene's period), the last
@@ -216,7 +227,10 @@ def settled_sweep(
     the lead and two windows rather than three (the next window is judged by its own return:
     the estimate decides only how many windows run); or until its cap: :data:`CAP_FACTOR`
     times the span an independent run needs (``keep +
-    ceil(t_s f_mesh)``, :func:`settling_time` with the model's modal damping ratios), at least
+    ceil(t_s f_mesh)``, :func:`settling_time` with the model's modal damping ratios) or, where
+    longer, ``keep + ceil(t_c f_mesh)``, t_c the settling time of every mode with at least
+    :data:`CAP_ENERGY_MIN` of its strain energy in the meshes (a lighter coupled, lighter damped
+    mode that a speed near its resonance drives rings longer than the rule's modes), at least
     four windows. A speed at its cap unsettled has ``settled`` False (``jaxgear sweep`` and
     ``jaxgear run`` print one warning line per such speed, naming its change and the
     ``periods`` that run it longer; :func:`unsettled_lines`). So
@@ -263,15 +277,19 @@ def settled_sweep(
     modes = model.averaged_modes()
     ratios = modal_damping_ratios(modes, model.damping)
     t_s, w_min = settling_time(modes, ratios)
+    # the modes a cap must let settle: the rule's and the lighter coupled ones (>= 1 % share)
+    t_c = max(settling_time(modes, ratios, CAP_ENERGY_MIN)[0], t_s)
     angle = float(model.mesh_period_angle())
     if integrator.steps_per_period is None:
         ns = np.asarray(auto_steps_per_period(model, sp, modes), dtype=int)
     else:
         ns = np.full(sp.shape, int(integrator.steps_per_period))
     rule = keep + np.ceil(np.minimum(t_s * sp / angle, 1e9)).astype(np.int64)
+    slow = keep + np.ceil(np.minimum(t_c * sp / angle, 1e9)).astype(np.int64)
     # the cap: twice an independent run's span (a continued speed starts closer than the rest
-    # state does; modes under the 5 % share, lighter damped, may still ring), >= 4 windows
-    blocks = np.maximum(-(-(CAP_FACTOR * rule) // block), 4)
+    # state does) or the span that lets the modes with >= 1 % share settle, where longer
+    # (lighter damped, they ring longest where the mesh frequency is near theirs), >= 4 windows
+    blocks = np.maximum(-(-np.maximum(CAP_FACTOR * rule, slow) // block), 4)
     # bounded as one run's steps are: a speed's windows together at most MAX_STEPS_PER_SPEED
     blocks = np.maximum(np.minimum(blocks, MAX_STEPS_PER_SPEED // (block * ns)), 2)
     steps_of = None

@@ -90,10 +90,15 @@ def _load(name_or_path: str | os.PathLike, chain: tuple) -> Case:
         raw = embedded_case_text(str(name_or_path))
         default = str(name_or_path)
         base = None
+    elif label.endswith(".toml") or os.sep in label or "/" in label:  # meant as a file
+        raise FileNotFoundError(
+            f"case file {label!r}: no such file (in {os.path.abspath(os.path.dirname(label))}; "
+            "an embedded case is named without .toml: jaxgear cases lists them)"
+        )
     else:
         raise FileNotFoundError(
-            f"case {label!r} is neither a file nor an embedded case "
-            f"(embedded: {', '.join(list_cases())})"
+            f"case {label!r} is neither a file nor an embedded case"
+            f"{sc.did_you_mean(label, list_cases())} (embedded: {', '.join(list_cases())})"
         )
     data = sc.load_toml(raw, f"case file {label!r}")
     if is_gearbox(data):
