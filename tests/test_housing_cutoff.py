@@ -17,7 +17,7 @@ import jaxgear.io as jio
 from jaxgear.io import SchemaError
 
 DATA = pathlib.Path(__file__).parent / "data" / "gearbox"
-KEYS = re.compile(r"^(cutoff_Hz|highest_mesh_frequency_Hz) = .*$", re.M)
+KEYS = re.compile(r"^(cutoff_Hz|highest_mesh_frequency_Hz) = .*$", re.MULTILINE)
 
 
 def _without_cutoff(tmp_path, text, name="case.toml"):
