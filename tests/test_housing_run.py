@@ -166,6 +166,7 @@ def test_run_files_are_complete(housed_run):
     for n in names:
         assert (folder / n).stat().st_size > 0, n
     d = json.loads((folder / "housing.json").read_text())
+    assert d["cutoff_source"] == "cutoff_Hz"  # the table's key (HOUSING_TABLE's cutoff_Hz)
     S, K = 3, 2
     assert d["orders"] == [1.0, 2.0] and d["speeds_rad_s"] == [40.0, 100.0, 160.0]
     for key in ("frequency_Hz", "in_band", "erp_W", "erp_level_dB"):

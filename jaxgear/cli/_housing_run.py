@@ -208,6 +208,8 @@ def housing_outputs(run: HousedRun, case, w, folder: str, invalid) -> dict:
     peak = int(np.nanargmax(np.where(np.isfinite(overall_db), overall_db, -np.inf)))
     section = {
         "cutoff_Hz": float(body.condensed.cutoff_hz),
+        # the key that gave it, or the [whine] it was derived from (docs/housing.md)
+        "cutoff_source": getattr(case.housing, "cutoff_source", "cutoff_Hz"),
         "band_limit_Hz": band,
         "housing_modes": len(body.condensed.modes_hz),
         "housing_dofs": int(body.mesh.n_dofs),

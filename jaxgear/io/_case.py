@@ -37,7 +37,30 @@ from ..scenes import (
     train_layout,
 )
 
-__all__ = ["Case", "CaseForm", "MeshSettings", "PairForm", "TrainCase", "TrainForm"]
+__all__ = ["Case", "CaseForm", "MeshSettings", "PairForm", "TrainCase", "TrainForm",
+           "mesh_teeth_per_turn", "teeth_span"]
+
+
+def mesh_teeth_per_turn(pairs, gears, shaft_of) -> tuple[fractions.Fraction, ...]:
+    """Each mesh's teeth per turn of the input (exact): its driving gear's (``pair.pinion``)
+    teeth times the turns its shaft makes per turn of the first gear's shaft, the input; the
+    mesh's frequency is this times the input speed Ω / 2π (the magnitudes: an internal mesh's
+    sense is not kept). ``pairs``, ``gears`` ((driving, driven) per mesh, the meshes from the
+    input outwards) and ``shaft_of`` (each gear's shaft) as :class:`Case`'s."""
+    ratio = {shaft_of[0]: fractions.Fraction(1)}
+    out = []
+    for pair, (g, h) in zip(pairs, gears, strict=True):
+        rg = ratio[shaft_of[g]]
+        ratio[shaft_of[h]] = rg * pair.pinion.teeth / pair.gear.teeth
+        out.append(rg * pair.pinion.teeth)
+    return tuple(out)
+
+
+def teeth_span(teeth) -> int:
+    """Periods of the first mesh after which meshes of ``teeth`` (each one's teeth per input
+    turn, exact: :func:`mesh_teeth_per_turn`) repeat together: the least common multiple of
+    the numerators of t_0 / t_k."""
+    return math.lcm(*((teeth[0] / t).numerator for t in teeth))
 
 
 @dataclasses.dataclass(frozen=True, kw_only=True)
@@ -338,24 +361,15 @@ class Case(MeshSettings):
         """Periods of the first mesh after which every mesh's cells repeat together (exact,
         from the tooth counts): 1 when every mesh passes teeth at the first's rate (an idler
         train); a two-stage train's span (:meth:`jaxgear.scenes.Scene.scene_periods`)."""
-        q = 1
-        z0 = self.pairs[0].pinion.teeth
-        for order in self.mesh_orders:
-            q = math.lcm(q, (z0 / order).numerator)
-        return q
+        return teeth_span(self.mesh_orders)
 
     @property
     def mesh_orders(self) -> tuple:
         """Each mesh's order: the teeth its driving gear passes per turn of the input (the first
         mesh's driving gear), z_g ω_g / ω_0, exact (:class:`fractions.Fraction`, (m,)), from the
-        tooth counts: its mesh frequency is order × ω_0 / 2π (a pair's: the pinion's teeth)."""
-        shaft_ratio = {self.shaft_of[0]: fractions.Fraction(1)}
-        out = []
-        for pair, (g, h) in zip(self.pairs, self.gears, strict=True):
-            rg = shaft_ratio[self.shaft_of[g]]
-            shaft_ratio[self.shaft_of[h]] = rg * pair.pinion.teeth / pair.gear.teeth
-            out.append(pair.pinion.teeth * rg)
-        return tuple(out)
+        tooth counts (:func:`mesh_teeth_per_turn`): its mesh frequency is order × ω_0 / 2π (a
+        pair's: the pinion's teeth)."""
+        return mesh_teeth_per_turn(self.pairs, self.gears, self.shaft_of)
 
     @property
     def output(self) -> int:

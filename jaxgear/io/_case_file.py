@@ -30,7 +30,7 @@ from ._robust_table import parse_robust
 from ._housing_table import parse_housing
 from ._scene_table import parse_scene
 from ._acoustics_table import parse_case_acoustics
-from ._whine_table import parse_whine
+from ._whine_table import highest_order_frequency, parse_whine
 
 __all__ = [
     "check_member_size",
@@ -469,7 +469,7 @@ def parse_case(data: dict, default_name: str = "case", base_dir: str | None = No
             grade_from_deviations=(deviation_settings or {}).get("grade"),
         )
     scene = parse_scene(data["scene"], base_dir) if "scene" in data else None
-    housing = case_housing(data, scene, base_dir, (E, nu, rho))
+    housing = case_housing(data, scene, base_dir, (E, nu, rho), teeth=(pair.pinion.teeth,))
     optimise = parse_optimise(data["optimise"]) if "optimise" in data else None
     check_acoustic_tables(data, optimise)
     if optimise is not None and "speeds" in optimise and (scene is None or not scene.hybrid):
@@ -517,13 +517,16 @@ def parse_case(data: dict, default_name: str = "case", base_dir: str | None = No
     return case
 
 
-def case_housing(data: dict, scene, base_dir, material, *, pair: bool = True):
+def case_housing(data: dict, scene, base_dir, material, *, pair: bool = True, teeth=(),
+                 span: int = 1, names=None):
     """``[housing]`` of a case (:func:`parse_housing`), or None; it needs a lumped 3D scene,
     whose bearings it carries, with condensed bodies (a hybrid scene) too
     (:meth:`Case.hybrid_housing`). Also refuses ``[whine]`` with condensed bodies where the
     harmonic balance does not take them (a train's, ``pair`` False, or with a ``[housing]``;
     a pair's runs in the twisted coordinates of its cyclic bodies), before anything is
-    built."""
+    built. ``teeth``: each mesh's teeth per input turn and ``span`` the span in first-mesh
+    periods (``names`` the meshes'), from which a table without a cut-off takes it from ``[whine]``
+    (:func:`~jaxgear.io._whine_table.highest_order_frequency`)."""
     if "whine" in data and scene is not None and scene.hybrid and (not pair or "housing" in data):
         where = "with a [housing]" if pair else "of a train"
         raise sc.fail(
@@ -543,7 +546,9 @@ def case_housing(data: dict, scene, base_dir, material, *, pair: bool = True):
             "a housing carries the bearings of a lumped 3D scene: allowed with [scene] "
             "model = 'lumped3d' (rigid gears or condensed bodies)",
         )
-    return parse_housing(table, base_dir, material)
+    whine = (highest_order_frequency(parse_whine(data["whine"]), teeth, span, names)
+             if "whine" in data else None)
+    return parse_housing(table, base_dir, material, whine)
 
 
 def _refuse_with_backlash(data: dict, deviations: bool, scene) -> None:

@@ -95,7 +95,7 @@ from ._housing_table import (
 from ._planetary_spec import PlanetaryForm
 from ._planetary_table import MESH_STIFFNESS_N_PER_UM, torque_floor
 from ._plausibility import MIN_LINE_LOAD_N_PER_MM
-from ._whine_table import WhineInputs, parse_whine
+from ._whine_table import WhineInputs, highest_order_frequency, parse_whine
 
 __all__ = ["GearboxForm", "GearboxStage", "is_gearbox", "parse_gearbox"]
 
@@ -504,8 +504,12 @@ def parse_gearbox(data: dict, default_name: str, base: str | None, load_case) ->
     first = stages[0].case
     housing = None
     if "housing" in data:
+        top = None
+        if whine is not None:  # the whine's groups: orders 1..H of each stage's frequency
+            top = highest_order_frequency(whine, _stage_teeth(stages, data["operating"]),
+                                          names=[f"stage{k + 1}" for k in range(len(stages))])
         housing = parse_housing(data["housing"], base,
-                                (first.youngs_modulus, first.poisson_ratio, first.density))
+                                (first.youngs_modulus, first.poisson_ratio, first.density), top)
         _check_seats(stages, housing)
     pairs = tuple(p for s in stages for p in s.case.pairs)
     form = GearboxForm(tuple(stages), whine, housing)
@@ -513,6 +517,22 @@ def parse_gearbox(data: dict, default_name: str, base: str | None, load_case) ->
         _check_bores(form)
     return first.replace(name=name, form=form, raw=data, scene=None, pairs=pairs,
                          housing=housing)
+
+
+def _stage_teeth(stages, op: dict) -> list[float]:
+    """Each stage's mesh frequency per turn of the gearbox's input (its teeth per input turn,
+    :func:`jaxgear.gearbox.mesh_frequencies` at 2π rad/s): a planetary stage's in its carrier's
+    frame (:meth:`~jaxgear.io.PlanetarySpec.mesh_frequency` at its carried input speed), a
+    pair's its pinion's teeth at its carried pinion speed; over the gearbox's input speed."""
+    out = []
+    for s in stages:
+        c = s.case
+        if isinstance(c.form, PlanetaryForm):
+            f = c.form.spec.mesh_frequency(s.input_speed)
+        else:
+            f = c.pair.pinion.teeth * c.speed / (2 * math.pi)
+        out.append(2 * math.pi * f / op["speed_rad_s"])
+    return out
 
 
 def _placement(table: dict, where: str, has_housing: bool, case: Case, model) -> tuple:

@@ -18,7 +18,8 @@ bearings join the shafts to, condensed by :mod:`fem_prep.housing` (built once, t
     poisson_ratio = 0.3
     density_kg_m3 = 7800.0
     cutoff_Hz = 3000.0           # the interior modes kept; or highest_mesh_frequency_Hz
-                                 # (cut-off 1.5 x it)
+                                 # (cut-off 1.5 x it); neither: 1.5 x the highest order's
+                                 # frequency of the case's [whine] at its top speed
     loss_factor = 0.02           # modal damping zeta = loss_factor / 2 on the housing's modes
     coupling = "rigid"           # the seats' coupling: "rigid" or "averaging"
     [housing.points_mm]          # accelerometer points (scene frame, mm): each read at the
@@ -99,6 +100,8 @@ COUPLINGS = ("rigid", "averaging")
 #: the housing frame -> the scene frame: housing x (length) along the shafts (scene z), housing
 #: y (width) along scene x, housing z (height, feet at z = 0) along scene y
 ROTATION = ((0.0, 1.0, 0.0), (0.0, 0.0, 1.0), (1.0, 0.0, 0.0))
+#: the relative margin of a cut-off derived from ``[whine]`` above 1.5 x its top order
+EDGE = 1e-9
 
 
 @dataclasses.dataclass(frozen=True)
@@ -106,7 +109,9 @@ class HousingSpec:
     """A case's ``[housing]`` in SI (m, Pa, kg/m³, Hz); ``None``: the default (module
     docstring). ``seats``: (centre (3,), axis (3,), diameter, width, name) per seat and
     ``feet``: ((x_min, x_max), (y_min, y_max)) per foot, of a mesh file (housing frame, m);
-    ``points``: ((name, (x, y, z)), ...) the named points (scene frame, m)."""
+    ``points``: ((name, (x, y, z)), ...) the named points (scene frame, m);
+    ``cutoff_source``: where the cut-off came from (the key, or the ``[whine]`` it was derived
+    from: :func:`parse_housing`)."""
 
     cutoff: float
     width: float | None = None
@@ -128,6 +133,7 @@ class HousingSpec:
     seats: tuple = ()
     feet: tuple = ()
     points: tuple = ()
+    cutoff_source: str = "cutoff_Hz"
 
 
 def _vec(table, key, where, n, default=None):
@@ -145,27 +151,51 @@ def _vec(table, key, where, n, default=None):
     return tuple(float(x) for x in v)
 
 
-def parse_housing(table, base_dir: str | None = None, material=None) -> HousingSpec:
+def parse_housing(table, base_dir: str | None = None, material=None,
+                  whine: tuple[float, str] | None = None) -> HousingSpec:
     """Check ``[housing]`` (one-line errors naming the key, its value and the allowed range,
     before anything is built) into a :class:`HousingSpec`; ``material`` the case's (E, ν, ρ),
-    the default.
+    the default. ``whine``: the highest frequency (Hz) of the orders the case's ``[whine]``
+    computes at its top speed and the words that say which
+    (:func:`jaxgear.io._whine_table.highest_order_frequency`), None without ``[whine]``: the
+    cut-off when the table gives neither ``cutoff_Hz`` nor ``highest_mesh_frequency_Hz`` is
+    :func:`fem_prep.housing.housing_cutoff_hz` of it (1.5 x), recorded in
+    :attr:`HousingSpec.cutoff_source`.
 
     Raises:
         SchemaError: an unknown key, a value out of range, a box key with ``mesh_file`` or a
-            file key without it, neither or both of ``cutoff_Hz`` and
-            ``highest_mesh_frequency_Hz`` (a mesh file that does not exist: when the housing
-            is built, :func:`build_housing`).
+            file key without it, both of ``cutoff_Hz`` and ``highest_mesh_frequency_Hz``, or
+            neither without ``whine`` (a mesh file that does not exist: when the housing is
+            built, :func:`build_housing`).
     """
+    from fem_prep.housing import housing_cutoff_hz
+
     w = "housing"
     if not isinstance(table, dict):
         raise sc.SchemaError(f"[housing] must be a table, not {type(table).__name__}")
     sc.check_keys(table, _KEYS, w)
-    if ("cutoff_Hz" in table) == ("highest_mesh_frequency_Hz" in table):
+    if "cutoff_Hz" in table and "highest_mesh_frequency_Hz" in table:
         raise sc.fail(w, "cutoff_Hz", "give exactly one of cutoff_Hz and highest_mesh_frequency_Hz")
     if "cutoff_Hz" in table:
         cutoff = sc.number(table, "cutoff_Hz", w, allowed="(0, 1e+06]")
+        source = "cutoff_Hz"
+    elif "highest_mesh_frequency_Hz" in table:
+        top = sc.number(table, "highest_mesh_frequency_Hz", w, allowed="(0, 1e+06]")
+        cutoff = housing_cutoff_hz(top)
+        source = f"1.5 x highest_mesh_frequency_Hz = {top:g} Hz"
+    elif whine is not None:
+        top, which = whine
+        # the top order sits on the band's edge (f_c / 1.5): raised by EDGE, so that round-off
+        # in the band's test (the orders' frequencies recomputed) keeps it in
+        cutoff = housing_cutoff_hz(top * (1 + EDGE))
+        if not cutoff <= 1e6:
+            raise sc.fail(w, "cutoff_Hz", f"the cut-off derived from [whine] (1.5 x {which}, "
+                          f"{top:.4g} Hz) is out of range, allowed (0, 1e+06]: give cutoff_Hz",
+                          cutoff)
+        source = f"[whine]: 1.5 x {top:.6g} Hz, {which}"
     else:
-        cutoff = 1.5 * sc.number(table, "highest_mesh_frequency_Hz", w, allowed="(0, 1e+06]")
+        raise sc.fail(w, "cutoff_Hz", "required: give cutoff_Hz, highest_mesh_frequency_Hz (the "
+                      "cut-off 1.5 x it) or a [whine] table to derive it from")
     E0, nu0, rho0 = material or (210e9, 0.3, 7800.0)
     E = sc.number(table, "youngs_modulus_GPa", w, E0 * 1e-9, allowed="[0.1, 1e+07]") * 1e9
     nu = sc.number(table, "poisson_ratio", w, nu0, allowed="[0, 0.5)")
@@ -177,6 +207,7 @@ def parse_housing(table, base_dir: str | None = None, material=None) -> HousingS
     common = {
         "points": tuple(points),
         "cutoff": cutoff,
+        "cutoff_source": source,
         "material": (E, nu, rho),
         "loss_factor": sc.number(table, "loss_factor", w, 0.0, allowed="[0, 1]"),
         "coupling": sc.choice(table, "coupling", w, COUPLINGS, "rigid"),
@@ -395,11 +426,11 @@ def housing_body(spec: HousingSpec, shafts, positions, *, cache=True, progress=F
     return HousingBody(mesh, condensed, housing, np.asarray(offset, dtype=float))
 
 
-def stage_housing_spec(data: dict, base_dir, material) -> HousingSpec:
-    """``[housing]`` of a planetary stage's case (:func:`parse_housing`): the box round the
-    stage axis has no shafts to size it from, so it needs ``length_mm`` and
+def stage_housing_spec(data: dict, base_dir, material, whine=None) -> HousingSpec:
+    """``[housing]`` of a planetary stage's case (:func:`parse_housing`, ``whine`` its): the
+    box round the stage axis has no shafts to size it from, so it needs ``length_mm`` and
     ``bore_diameter_mm`` (a mesh file its seats, as elsewhere)."""
-    spec = parse_housing(sc.subtable(data, "housing", ""), base_dir, material)
+    spec = parse_housing(sc.subtable(data, "housing", ""), base_dir, material, whine)
     if spec.mesh_file is None:
         for key, value in (("length_mm", spec.length), ("bore_diameter_mm", spec.bore_diameter)):
             if value is None:

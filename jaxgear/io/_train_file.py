@@ -95,7 +95,7 @@ from .._geometry import GearPair
 from .._internal import InternalGearPair
 from .._util import closest_circles
 from ..scenes import train_hands
-from ._case import Case, TrainForm
+from ._case import Case, TrainForm, mesh_teeth_per_turn, teeth_span
 from ._case_file import (
     _MEMBER_KEYS,
     _SCHEMA,
@@ -139,7 +139,7 @@ from ._optimise_table import (
     check_train_design,
     parse_optimise,
 )
-from ._whine_table import parse_whine
+from ._whine_table import highest_order_frequency, parse_whine
 
 __all__ = ["is_train", "parse_train"]
 
@@ -472,7 +472,12 @@ def _planetary_case(data: dict, name: str, base_dir: str | None = None) -> Case:
     check_internal_stiffness(case, "[planetary]")
     _check_lubricant(data, case)
     if "housing" in data:  # the held member bolted to it (docs/planetary.md, "On a housing")
-        case = dataclasses.replace(case, housing=stage_housing_spec(data, base_dir, (E, nu, rho)))
+        # a stage's whine: orders of its mesh frequency (carrier frame) z_s |ω_s − ω_c| / 2π
+        teeth = (2 * math.pi * case.form.spec.mesh_frequency(1.0),)
+        whine = (highest_order_frequency(parse_whine(data["whine"]), teeth)
+                 if "whine" in data else None)
+        case = dataclasses.replace(case, housing=stage_housing_spec(data, base_dir, (E, nu, rho),
+                                                                    whine))
     return case
 
 
@@ -650,7 +655,10 @@ def parse_train(data: dict, default_name: str = "train", base_dir: str | None = 
         else train_scene(data["scene"], names, shafts, shaft_list, base_dir)
     )
     wrenches = _wrenches(op, shaft_list, None if scene is None else scene.shafts)
-    housing = case_housing(data, scene, base_dir, (E, nu, rho), pair=False)
+    teeth = mesh_teeth_per_turn(pairs, links, shafts)
+    housing = case_housing(data, scene, base_dir, (E, nu, rho), pair=False, teeth=teeth,
+                           span=teeth_span(teeth),
+                           names=[f"{names[g]}-{names[h]}" for g, h in links])
     optimise = None
     if "optimise" in data:  # the housed train's noise (an acoustic objective only)
         if internal:

@@ -44,7 +44,8 @@ from ..dynamics import (
     TransmissionErrorSource,
 )
 
-__all__ = ["WHINE_KEYS", "WHINE_METHODS", "WhineInputs", "parse_whine", "whine_of"]
+__all__ = ["WHINE_KEYS", "WHINE_METHODS", "WhineInputs", "highest_order_frequency", "parse_whine",
+           "whine_of"]
 
 WHERE = "whine"
 #: ``[whine] method`` names
@@ -131,3 +132,37 @@ def whine_of(case) -> WhineInputs | None:
     if "whine" not in raw:
         return None
     return parse_whine(raw["whine"])
+
+
+def highest_order_frequency(inputs: WhineInputs, teeth_per_turn, span: int = 1,
+                            names=None) -> tuple[float, str]:
+    """The highest frequency (Hz) among the orders the whine's outputs hold
+    (:class:`~jaxgear.dynamics.WhineResponse`'s ``orders`` times its ``frequency``) at the top
+    of its speed range, and a few words saying which order of which mesh it is.
+
+    ``"quasi-periodic"``: every mesh's own orders 1..H (H = ``harmonics``), so the largest of
+    H f_k over the meshes k. ``"harmonic-balance"``, ``"te-source"``: the orders h / q of the
+    first mesh's frequency, h <= H, over a span of q = ``span`` first-mesh periods (1 for a
+    pair, for a train whose meshes pass teeth at the first's rate, for a planetary stage's
+    mesh frequency), so H f_1 / q.
+
+    Args:
+        inputs: the parsed ``[whine]`` (:func:`parse_whine`).
+        teeth_per_turn: each mesh's teeth per turn of the input member (its mesh frequency
+            over Ω / 2π at input speed Ω; a pair's: the pinion's teeth), the first mesh first.
+        span: q, the model's span in first-mesh periods (``Case.span_periods``).
+        names: each mesh's name in the words (default "mesh 1", "mesh 2", ...).
+    """
+    H = int(inputs.method.harmonics)
+    top = max(inputs.speeds)
+    t = [float(x) for x in teeth_per_turn]
+    if isinstance(inputs.method, QuasiPeriodicBalance):
+        k = max(range(len(t)), key=t.__getitem__)
+        name = f"mesh {k + 1}" if names is None else names[k]
+        which = f"order {H} of {name}'s mesh frequency"
+        f = H * t[k] * top / (2 * math.pi)
+    else:
+        which = f"order {H}/{span} of the first mesh's frequency" if span > 1 else (
+            f"order {H} of the mesh frequency")
+        f = H * t[0] / span * top / (2 * math.pi)
+    return f, f"{which} at {top:g} rad/s"
