@@ -28,7 +28,7 @@ of 35) replace POSITIONS and STEPS in any mode; ``--out PATH`` names the JSON.
 ``--accuracy`` (on the unhoused ``two-stage`` unless ``--housed``; the accuracy at the check
 speed is the same physics, the housed reference far dearer): at CHECK_SPEED, every line of the
 10 (TE and mesh force) by the balance at each of the comma-separated ``--positions`` and by
-Newmark at each of the ``--steps``, against Newmark at CHECK_STEPS, into
+Newmark at each of the ``--steps``, against Newmark at CHECK_STEPS (``--reference-steps``), into
 docs/bench/whine_two_stage_accuracy.json: the grid and steps that hold every line within 1 %
 and 1 degree of the converged reference. ``--one-thread`` (with ``--timing-only``): the balance
 on one OpenBLAS thread only (first call included), as ``jaxgear`` commands run it. The figures
@@ -321,26 +321,32 @@ def timing_only(housed: bool = True, positions: int = POSITIONS, steps: int = ST
 
 
 def accuracy(housed: bool = False, positions=(POSITIONS,), steps=(STEPS,),
-             out: str | None = None) -> dict:
+             out: str | None = None, reference: int = CHECK_STEPS) -> dict:
     """At CHECK_SPEED, every line of the 10 (TE and mesh force of orders 1-ORDERS of each mesh)
     by the balance at each of ``positions`` and by Newmark at each of ``steps``, against Newmark
-    at CHECK_STEPS (the converged reference): per-line errors and the worst over all lines."""
+    at ``reference`` steps (CHECK_STEPS: the converged reference): per-line errors and the
+    worst over all lines; each balance call's seconds (its first: with compilation)."""
     import os
 
     env = environment()
     model, _ = jio.build_dynamic_model(_case(housed))
     c = _clock()
-    fine = _newmark(model, CHECK_SPEED, CHECK_STEPS)
+    fine = _newmark(model, CHECK_SPEED, reference)
     jax.block_until_ready(fine.meshes[0].transmission_error)
     print("reference", _since(c), flush=True)
-    balances = {p: whine_response(model, CHECK_SPEED, METHOD, positions=p) for p in positions}
+    balances, seconds = {}, {}
+    for p in positions:
+        c = _clock()
+        balances[p] = whine_response(model, CHECK_SPEED, METHOD, positions=p)
+        jax.block_until_ready(balances[p].coordinates)
+        seconds[p] = dict(zip(("wall", "cpu"), _since(c)))
     w = balances[positions[0]]
     ref = _lines(w, fine)
     record = {"case": "two-stage-housed (360 mm box)" if housed else "two-stage (20 slices)",
               "coordinates": int(model.scene.mass().shape[0]),
               "accuracy_at_rad_s": CHECK_SPEED,
               "first_mesh_hz": float(w.frequency[0]),
-              "reference": f"Newmark({CHECK_STEPS}), SteadyState({3 * 127}, 127)",
+              "reference": f"Newmark({reference}), SteadyState({3 * 127}, 127)",
               "lines": f"orders 1-{ORDERS} of each mesh's own frequency, TE and mesh force",
               "contact_loss": bool(np.asarray(w.contact_loss).any()),
               "balance": {}, "newmark": {}}
@@ -348,7 +354,7 @@ def accuracy(housed: bool = False, positions=(POSITIONS,), steps=(STEPS,),
         e = _errors(_lines(wp, wp), ref)
         record["balance"][f"positions_{p}"] = {
             "method": f"QuasiPeriodicBalance({METHOD.harmonics}, {METHOD.sidebands})",
-            "worst": _worst(e), "lines": e}
+            "worst": _worst(e), "one_speed_call_s_with_compilation": seconds[p], "lines": e}
         print("balance", p, _worst(e), flush=True)
     for n in steps:
         c = _clock()
@@ -386,25 +392,27 @@ def _cli(argv=None) -> None:
                     help="positions per first-mesh period (--accuracy: comma-separated)")
     ap.add_argument("--steps", default=str(STEPS),
                     help="Newmark steps per first-mesh period (--accuracy: comma-separated)")
+    ap.add_argument("--reference-steps", type=int, default=CHECK_STEPS,
+                    help="--accuracy: the reference Newmark's steps (default the converged 560)")
     ap.add_argument("--out", default=None, help="the JSON's path")
     a = ap.parse_args(argv)
     positions = [int(v) for v in a.positions.split(",")]
-    steps = [int(v) for v in a.steps.split(",")]
-    for name, vals in (("positions", positions), ("steps", steps)):
+    steps = [int(v) for v in a.steps.split(",") if v]  # --accuracy --steps "": none
+    for name, vals in (("positions", positions), ("steps", steps or [STEPS]),
+                       ("reference-steps", [a.reference_steps])):
         bad = [v for v in vals if v < 35 or v % 35]
         if bad:
             ap.error(f"--{name} = {bad[0]}: a multiple of 35 (the period ratio 35/127's), >= 35")
         if len(vals) > 1 and not a.accuracy:
-            ap.error(f"--{name} = {a.positions if name == 'positions' else a.steps}: "
-                     "one value (lists only with --accuracy)")
+            ap.error(f"--{name} = {vals}: one value (lists only with --accuracy)")
     if a.figure:
         figure()
     elif a.accuracy:
-        accuracy(a.housed, positions, steps, a.out)
+        accuracy(a.housed, positions, steps, a.out, a.reference_steps)
     elif a.timing_only:
-        timing_only(True, positions[0], steps[0], a.out, a.one_thread)
+        timing_only(True, positions[0], (steps or [STEPS])[0], a.out, a.one_thread)
     else:
-        main(a.housed, positions[0], steps[0], a.out)
+        main(a.housed, positions[0], (steps or [STEPS])[0], a.out)
 
 
 if __name__ == "__main__":
