@@ -15,8 +15,8 @@ its 200-speed cost is that mean times 200 (stated in the JSON). Wall and CPU sec
 is shared). From the repository root: ``python -m benchmarks.whine_two_stage`` (``--housed``:
 the same in the box housing of the embedded ``two-stage-housed``,
 docs/bench/whine_two_stage_housed.json);
-``--housed --timing-only``: the costs alone on the housed case (no accuracy check: its converged
-Newmark reference takes most of an hour on a loaded host), the balance's 200 speeds with
+``--housed --timing-only``: the costs alone on the housed case (no accuracy check: see
+``--accuracy --housed`` below), the balance's 200 speeds with
 OpenBLAS on one thread and on its default threads (threadpoolctl, where installed) in the same
 run, into docs/bench/whine_two_stage_housed_timing.json;
 ``python -m benchmarks.whine_two_stage --figure`` draws docs/img/whine_two_stage_spectrum.png
@@ -25,15 +25,17 @@ only (each mesh's TE spectrum of the Newmark run at the check speed, the balance
 Equal accuracy on all 10 lines: ``--positions N`` (the balance's positions per first-mesh
 period, a multiple of 35) and ``--steps N`` (Newmark's steps per first-mesh period, a multiple
 of 35) replace POSITIONS and STEPS in any mode; ``--out PATH`` names the JSON.
-``--accuracy`` (on the unhoused ``two-stage`` unless ``--housed``; the accuracy at the check
-speed is the same physics, the housed reference far dearer): at CHECK_SPEED, every line of the
-10 (TE and mesh force) by the balance at each of the comma-separated ``--positions`` and by
-Newmark at each of the ``--steps``, against Newmark at CHECK_STEPS (``--reference-steps``), into
-docs/bench/whine_two_stage_accuracy.json: the grid and steps that hold every line within 1 %
-and 1 degree of the converged reference. ``--one-thread`` (with ``--timing-only``): the balance
-on one OpenBLAS thread only (first call included), as ``jaxgear`` commands run it. The figures
-at 140 positions vs 280 steps: ``python -m benchmarks.whine_two_stage --housed --timing-only
---one-thread --positions 140 --steps 280 --out
+``--accuracy`` (on the unhoused ``two-stage`` unless ``--housed``): at CHECK_SPEED, every line
+of the 10 (TE and mesh force) by the balance at each of the comma-separated ``--positions`` and
+by Newmark at each of the ``--steps``, against Newmark at CHECK_STEPS (``--reference-steps``),
+into docs/bench/whine_two_stage_accuracy.json (``--housed``: ..._housed_accuracy.json): the
+grid and steps that hold every line within 1 % and 1 degree of the converged reference.
+Without the box 140 positions and 280 steps; with it Newmark needs 560 (its first-mesh order 5
+sits where the box responds; reference 1120 steps: ``--accuracy --housed --positions 140,35
+--steps 560,420,280 --reference-steps 1120``). ``--one-thread`` (with ``--timing-only``): the
+balance on one OpenBLAS thread only (first call included), as ``jaxgear`` commands run it. The
+housed figures at equal accuracy: ``python -m benchmarks.whine_two_stage --housed --timing-only
+--one-thread --positions 140 --steps 560 --out
 docs/bench/whine_two_stage_housed_timing_equal_accuracy.json``.
 """
 
