@@ -665,7 +665,10 @@ def _whine_torus(model, table, law, spec, rows, idx, speeds, basis):
     s = (idx.astype(x.dtype) + 0.5) / jnp.asarray(R, x.dtype)[None, :]  # (N, G) grid phases
     E = jnp.exp(2j * jnp.pi * (s @ jnp.asarray(hs.T, x.dtype)))  # (N, Nh)
     Eo = jnp.conj(E[:, out_index]).T / N  # (h_out, N): the coefficients at the outputs
-    gap = jnp.where(mask, jnp.einsum("sci,si->sc", take(table.V), x) - take(table.delta0), 0.0)
+    # V x one grid point at a time: take(table.V) would be (N, c, n), 15 GB for the housed
+    # two-stage at 140 positions (71 120 points, 180 cells, 152 coordinates)
+    vx = jax.lax.map(lambda a: table.V[a[0], cells] @ a[1], (rows, x))
+    gap = jnp.where(mask, vx - take(table.delta0), 0.0)
     fs_density = force_density * length
 
     def at(speed):
