@@ -23,7 +23,8 @@ run, into docs/bench/whine_two_stage_housed_timing.json;
 only (each mesh's TE spectrum of the Newmark run at the check speed, the balance's lines on it).
 
 Equal accuracy on all 10 lines: ``--positions N`` (the balance's positions per first-mesh
-period, a multiple of 35) and ``--steps N`` (Newmark's steps per first-mesh period, a multiple
+period, a multiple of 35; ``N1/N2``: each mesh-frequency group's own, the first mesh's axis of
+the torus grid on N1 and the second's on N2, ``QuasiPeriodicBalance``'s per-group positions) and ``--steps N`` (Newmark's steps per first-mesh period, a multiple
 of 35) replace POSITIONS and STEPS in any mode; ``--out PATH`` names the JSON.
 ``--accuracy`` (on the unhoused ``two-stage`` unless ``--housed``): at CHECK_SPEED, every line
 of the 10 (TE and mesh force) by the balance at each of the comma-separated ``--positions`` and
@@ -354,7 +355,8 @@ def accuracy(housed: bool = False, positions=(POSITIONS,), steps=(STEPS,),
               "balance": {}, "newmark": {}}
     for p, wp in balances.items():
         e = _errors(_lines(wp, wp), ref)
-        record["balance"][f"positions_{p}"] = {
+        name = "/".join(map(str, p)) if isinstance(p, tuple) else p
+        record["balance"][f"positions_{name}"] = {
             "method": f"QuasiPeriodicBalance({METHOD.harmonics}, {METHOD.sidebands})",
             "worst": _worst(e), "one_speed_call_s_with_compilation": seconds[p], "lines": e}
         print("balance", p, _worst(e), flush=True)
@@ -398,15 +400,20 @@ def _cli(argv=None) -> None:
                     help="--accuracy: the reference Newmark's steps (default the converged 560)")
     ap.add_argument("--out", default=None, help="the JSON's path")
     a = ap.parse_args(argv)
-    positions = [int(v) for v in a.positions.split(",")]
+    # "140/35": each mesh-frequency group's own positions (per first-mesh period), first mesh first
+    positions = [tuple(int(g) for g in v.split("/")) if "/" in v else int(v)
+                 for v in a.positions.split(",")]
+    flat = [g for v in positions for g in (v if isinstance(v, tuple) else (v,))]
     steps = [int(v) for v in a.steps.split(",") if v]  # --accuracy --steps "": none
-    for name, vals in (("positions", positions), ("steps", steps or [STEPS]),
+    for name, vals in (("positions", flat), ("steps", steps or [STEPS]),
                        ("reference-steps", [a.reference_steps])):
         bad = [v for v in vals if v < 35 or v % 35]
         if bad:
             ap.error(f"--{name} = {bad[0]}: a multiple of 35 (the period ratio 35/127's), >= 35")
-        if len(vals) > 1 and not a.accuracy:
+        if len(vals) > 1 and not a.accuracy and name != "positions":
             ap.error(f"--{name} = {vals}: one value (lists only with --accuracy)")
+    if len(positions) > 1 and not a.accuracy:
+        ap.error(f"--positions = {a.positions}: one value (lists only with --accuracy)")
     if a.figure:
         figure()
     elif a.accuracy:
