@@ -30,6 +30,17 @@ def seq():
     return st, meshes, run, jp.PlanetaryModel(jg.TorsionalPlanetary(), st, meshes, run)
 
 
+def _direct(st, meshes, run, speed):
+    """planetary_dynamics at the input speed ``speed`` (rad/s, a float64: the carrier's, the
+    ring held) with every argument spelled out: the mesh speed v = r_br |Ω| by hand, the exact
+    law, the rigid ring (the arguments' form of the model's own calls, so that simulate at one
+    speed reruns this compiled program instead of compiling its own)."""
+    carrier = jnp.asarray(speed, jnp.float64)
+    mesh_speed = st.ring.base_radius * jnp.abs(carrier)
+    return jp.planetary_dynamics(jg.TorsionalPlanetary(), st, meshes, run, carrier, mesh_speed,
+                                 jg.ExactContact(), jp.RigidRing())
+
+
 def test_simulate_at_a_very_low_speed_is_the_quasi_static_solve(seq):
     """At 1e-3 rad/s (the carrier the input, the ring held: a mesh period lasts 119 s) the
     inertia is nil: every mesh's median force over the kept period equals the median of the
@@ -71,12 +82,13 @@ def test_simulate_and_speed_sweep_are_planetary_dynamics(seq):
     speeds = np.array([80.0, 160.0])
     window = jd.SteadyState(4, 2)
     # N_s = 384 over 4 periods: the direct run of test_a_sweep_of_several_automatic_steps_runs_
-    # each_at_its_own at N_s = 384 (one compiled planetary_dynamics for both)
+    # each_at_its_own at N_s = 384 (one compiled planetary_dynamics for both), and simulate's
+    # one-speed run below (_direct's arguments: simulate compiles nothing of its own)
     sweep = jd.speed_sweep(model, speeds, integrator=jd.Newmark(384), window=window)
     direct = jp.PlanetaryRun(TORQUE, steps_per_period=384, periods=4, keep_periods=2,
                              damping_ratio=0.05, ring_cell_space=True)
     for k, w in enumerate(speeds):
-        want = jp.planetary_dynamics(jg.TorsionalPlanetary(), st, meshes, direct, jnp.asarray(w))
+        want = _direct(st, meshes, direct, w)
         np.testing.assert_allclose(sweep.results.sun_mesh_forces[k], want.sun_mesh_forces,
                                    rtol=1e-9)
         np.testing.assert_allclose(sweep.results.ring_mesh_forces[k], want.ring_mesh_forces,
@@ -142,8 +154,7 @@ def test_a_sweep_of_several_automatic_steps_runs_each_at_its_own(seq):
         direct = jp.PlanetaryRun(TORQUE, steps_per_period=n, periods=4 * top // n,
                                  keep_periods=2 * top // n, damping_ratio=0.05,
                                  ring_cell_space=True)
-        want = jp.planetary_dynamics(jg.TorsionalPlanetary(), st, meshes, direct,
-                                     jnp.asarray(speeds[k]))
+        want = _direct(st, meshes, direct, speeds[k])
         got = np.asarray(sweep.results.sun_mesh_forces[k])
         assert got.shape == want.sun_mesh_forces.shape
         assert np.max(np.abs(got - np.asarray(want.sun_mesh_forces))) < 1e-3 * fs

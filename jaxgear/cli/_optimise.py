@@ -231,6 +231,27 @@ def _(objective: LeastSafetyFactor, problem, designs: dict) -> dict:
     return {"rating": rated}
 
 
+@eqx.filter_jit
+def _exact_value(problem, x):
+    """The objective of ``problem`` at ``x`` in exact contact (one compiled program per
+    problem's structure: a second run on the same problem reuses it)."""
+    return problem.value(x, jg.ExactContact())
+
+
+@eqx.filter_jit
+def _exact_metrics(problem, x):
+    """``problem.metrics`` at ``x`` in exact contact (one compiled program, as
+    :func:`_exact_value`)."""
+    return problem.metrics(x, jg.ExactContact())
+
+
+@eqx.filter_jit
+def _te_rms_vs_torque(problem, x, torques: tuple):
+    """The TE RMS of ``problem``'s design ``x`` at each of ``torques`` (N m, a tuple: static,
+    the Harris map's torques a constant of the program)."""
+    return problem.te_rms_vs_torque(x, jnp.asarray(torques))
+
+
 @functools.singledispatch
 def _model_name(objective, scene) -> str:
     """The report's ``model``: what the objective was optimised on."""
@@ -369,12 +390,12 @@ def _optimise(case: Case, settings: dict, out_dir: str, progress: bool):
     scale = float(problem.scale)
     units = objective.units
     # each evaluation compiled once and called for the start and the optimum (eager calls of the
-    # vmapped solve would trace it again each time)
-    metrics = eqx.filter_jit(lambda x: sharp.metrics(x, jg.ExactContact()))
-    exact_value = eqx.filter_jit(lambda x: sharp.value(x, jg.ExactContact()))
+    # vmapped solve would trace it again each time); module-level programs with the problem an
+    # argument, so that a second run of the same problem in one process compiles nothing again
+    exact_value = functools.partial(_exact_value, sharp)
 
     def exact_metrics(x):
-        m = {k: float(v) for k, v in metrics(jnp.asarray(x)).items()}
+        m = {k: float(v) for k, v in _exact_metrics(sharp, jnp.asarray(x)).items()}
         m["load_centroid_mm"] = m["load_centroid"] * float(problem.face_width) * 1e3
         return m
 
@@ -429,8 +450,9 @@ def _optimise(case: Case, settings: dict, out_dir: str, progress: bool):
     t_design = float(problem.design_torque)
     harris_t = _harris_torques(objective, t_design)
     lower = np.asarray(problem.lower, dtype=float)
-    te_jit = eqx.filter_jit(lambda x: sharp.te_rms_vs_torque(x, jnp.asarray(harris_t)))
-    te_of = lambda x: np.asarray(te_jit(jnp.asarray(x, dtype=float)))  # noqa: E731
+    harris_key = tuple(float(t) for t in harris_t)  # static: the torques a constant, as before
+    te_of = lambda x: np.asarray(  # noqa: E731
+        _te_rms_vs_torque(sharp, jnp.asarray(x, dtype=float), harris_key))
     harris = {
         "torque_Nm": harris_t.tolist(),
         "te_rms_initial_m": te_of(res.x0).tolist(),
