@@ -172,8 +172,8 @@ def test_receptance_in_the_band_converges_with_the_cutoff():
     # them (a relative shift delta of a resonance moves the receptance there by about
     # 2 delta / eta), so the reference is taken at each resonance and a quarter loss factor
     # above it (where the condensed resonance, shifted up, lies), and between them.
-    # Measured on a 101-point grid (docs/fem_prep.md): largest error 44 % (cut-off 1.5 x the
-    # band), 16 % (3 x), 1.4 % (8 x), 0.94 % (10 x).
+    # Measured on a 101-point grid (docs/fem_prep.md; benchmarks/housing_receptance_cutoff.py):
+    # largest error 44 % (cut-off 1.5 x the band), 16 % (3 x), 1.4 % (8 x), 0.94 % (10 x).
     hm = mesh_box(_box(), 0.1)
     eta = 0.02
     ref = prepare_housing(hm, STEEL, 1.5 * BAND_HZ)
