@@ -264,7 +264,11 @@ def test_installed_modules_neither_name_benchmarks_nor_read_tests():
 PROJECT = ("jaxgear", "fem_prep", "optimise", "benchmarks")
 # The private names tests still reach, as (test file, dotted name or the private module it is
 # reached through): each a white-box check with no public way to the same assertion.
-PRIVATE_IN_TESTS: set[tuple[str, str]] = set()  # none since session 41
+PRIVATE_IN_TESTS: set[tuple[str, str]] = {
+    # jaxgear run's sweep section with the sweep stubbed: the speeds it hands the sweep and the
+    # dynamics section it writes on a housed case, without a whole run (minutes a case)
+    ("test_housed_first_look.py", "jaxgear.cli.run._sweep_section"),
+}
 
 
 def _private(dotted: str) -> bool:

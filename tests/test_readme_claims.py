@@ -324,13 +324,12 @@ def test_readme_jaxgear_run_defaults_to_the_default_case_and_folder(monkeypatch)
     computation)."""
     import os
 
+    import jaxgear.cli
     from jaxgear.cli import run as run_module
-    from jaxgear.cli._parser import build_parser
 
     flat = " ".join((ROOT / "README.md").read_text(encoding="utf-8").split())
     assert "runs the main job on the embedded default case (`accessory-spur`" in flat
     assert "into `jaxgear-out/accessory-spur/`" in flat
-    args = build_parser("run").parse_args(["run"])
     seen = []
 
     class Stop(Exception):
@@ -342,26 +341,37 @@ def test_readme_jaxgear_run_defaults_to_the_default_case_and_folder(monkeypatch)
 
     monkeypatch.setattr(run_module, "check_output_dir", folder)
     with pytest.raises(Stop):
-        run_module.run_command(args)
+        jaxgear.cli.main(["run"])
     assert seen == [os.path.join("jaxgear-out", "accessory-spur")]
 
 
-def test_readme_command_lines_parse_and_check():
+def test_readme_command_lines_parse_and_check(monkeypatch, tmp_path):
     """README "Command line": every ``jaxgear`` line of its block is a valid command line (the
     parser and the options' checks accept it, as ``jaxgear`` would before touching a case),
     and the speeds it gives read as stated ("200:3000:60": 60 speeds, 200 to 3000 rad/s)."""
+    import jaxgear.cli
     from jaxgear.cli import range_values
-    from jaxgear.cli._main import check_options
-    from jaxgear.cli._parser import build_parser, command_of
 
     text = (ROOT / "README.md").read_text(encoding="utf-8")
     block = text.split("## Command line", 1)[1].split("```bash\n", 1)[1].split("```", 1)[0]
     lines = [ln.split("#", 1)[0].split() for ln in block.splitlines() if ln.strip()]
     assert len(lines) == 5 and all(ln[0] == "jaxgear" for ln in lines)
+    monkeypatch.chdir(tmp_path)  # `jaxgear cases ... --write my-case.toml` writes here
+
+    class Checked(Exception):
+        pass
+
+    def stop(command):  # called once the options are checked, before the model or the case
+        raise Checked(command)
+
     for words in lines:
         argv = words[1:]
-        args = build_parser(command_of(argv)).parse_args(argv)
-        check_options(args)
+        try:
+            status = jaxgear.cli.main(argv, load_model=stop)
+        except Checked as done:
+            status = 0
+            assert str(done) == argv[0]
+        assert status == 0, argv  # a command that needs no model (cases) ran to the end
         if "--speeds" in argv:
-            speeds = np.asarray(range_values(args.speeds, "--speeds"))
+            speeds = np.asarray(range_values(argv[argv.index("--speeds") + 1], "--speeds"))
             assert speeds.size == 60 and speeds[0] == 200.0 and speeds[-1] == 3000.0
