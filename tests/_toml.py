@@ -88,3 +88,19 @@ def case_toml(data: dict) -> str:
         elif isinstance(v, dict):
             table(key, v)
     return "\n".join(lines) + "\n"
+
+
+def assert_one_line_errors(bad: dict, folder, name: str = "box.toml") -> None:
+    """Each case text of ``bad`` ({TOML text: regular expression}), written to ``folder``/``name``,
+    is refused by :func:`jaxgear.io.load_case` with a ``SchemaError`` of one line that matches
+    its expression."""
+    import pytest
+
+    import jaxgear.io as jio
+
+    path = folder / name
+    for text, needle in bad.items():
+        path.write_text(text)
+        with pytest.raises(jio.SchemaError, match=needle) as err:
+            jio.load_case(str(path))
+        assert "\n" not in str(err.value), str(err.value)

@@ -15,6 +15,7 @@ import pathlib
 
 import numpy as np
 import pytest
+from _toml import assert_one_line_errors
 from test_gearbox_whine import TEETH, B, _stage
 
 import jaxgear as jg
@@ -88,12 +89,7 @@ def test_lumped_stage_keys_errors_one_line(tmp_path):
             r"\[stages\[1\]\] model = 'lumped3d': allowed with a stage case whose \[scene\] has "
             r"model = \"lumped3d\".*no \[scene\]"),
     }
-    for t, needle in bad.items():
-        path = tmp_path / "box.toml"
-        path.write_text(t)
-        with pytest.raises(SchemaError, match=needle) as err:
-            jio.load_case(str(path))
-        assert "\n" not in str(err.value)
+    assert_one_line_errors(bad, tmp_path)
     planetary = (DATA / "two-stage-gearbox.toml").read_text().replace(
         'case = "two-stage-gearbox-planetary.toml"',
         'case = "two-stage-gearbox-planetary.toml"\nmodel = "lumped3d"')
