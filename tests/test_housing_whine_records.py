@@ -59,7 +59,13 @@ def test_whine_two_stage_sweep_figures_are_the_records():
     assert f"**{one['wall']:.1f} s wall ({one['cpu']:.1f} s CPU)**" in text
     rw, rc = d["ratio_wall"]["one_thread"], d["ratio_cpu"]["one_thread"]
     assert f"**{rw:.0f} times faster in wall time, {rc:.0f} in CPU time** at equal" in text
-    assert rw >= 50.0 and one["cpu"] > 10.0  # the page: ">= 50", "not yet under 10 s"
+    assert rw >= 50.0  # the page: ">= 50 times"
+    d = _record("whine_two_stage_housed_timing_per_group_idle.json")
+    one = d["balance_sweep_s"]["one_thread"]
+    rw, rc = d["ratio_wall"]["one_thread"], d["ratio_cpu"]["one_thread"]
+    assert f"**{one['wall']:.1f} s wall ({one['cpu']:.1f} s CPU)** for the 200" in text
+    assert f"**{rw:.0f} times faster in wall time, {rc:.0f} in CPU time**" in text
+    assert one["wall"] > 10.0 and f"not at equal accuracy on every line ({one['wall']:.1f} s idle)" in text
 
 
 def test_housing_condensation_target_is_the_records():
