@@ -23,7 +23,8 @@ import numpy as np
 import pytest
 from _examples import load_example
 from _toml import assert_one_line_errors
-from test_gearbox_whine import TEETH, B, _stage
+from test_gearbox_case_lumped import lumped_pair_stage
+from test_gearbox_whine import TEETH
 
 import fem_prep
 import jaxgear as jg
@@ -34,12 +35,11 @@ from jaxgear import gearbox as gb
 from jaxgear.cli import main
 from jaxgear.cli.gearbox import COUPLED_RUN, chain_modes, gearbox_whine_outputs
 from jaxgear.dynamics import QuasiPeriodicBalance
-from jaxgear.scenes import Bearing, Housing, ShaftSpec, lumped_pair
+from jaxgear.scenes import Housing
 
 DATA = pathlib.Path(__file__).parent / "data" / "gearbox"
 CASE = DATA / "two-pair-housed.toml"
 TORQUE, SHAFT = 200.0, 2e5
-MASSES = (1.5, 2.5)
 POLAR = ((0.0006213278084797084, 0.004794196053084167),
          (0.0007315362629828136, 0.005291895403577801))
 # the housing frame -> the scene frame: housing x (length) along scene z, y along scene x, z
@@ -71,23 +71,9 @@ def _by_hand(stage2_bore=0.05, **run):
     ch, off = _box(stage2_bore)
     stages, shared = [], None
     for k, seats in ((0, None), (1, (2, 6, 3, 7))):
-        s, mesh = _stage(*TEETH[k], 10e-6)
-        z1, z2 = TEETH[k]
-        pair = jg.GearPair(jg.Member(z1, face_width=B), jg.Member(z2, face_width=B), 3e-3,
-                           math.radians(20.0))
-
-        def shaft(torque_z):
-            return ShaftSpec(0.12, 0.06, 0.06, (Bearing(0.0, 2e8, 1e8, 0.0),
-                                                Bearing(0.12, 2e8, 0.0, 0.0)),
-                             torque_z=torque_z, elements=2)
-
-        inertias = tuple((ip / 2 + m * B * B / 12, ip) for ip, m in zip(POLAR[k], MASSES,
-                                                                        strict=True))
         h = Housing.of(ch, loss_factor=0.02, rotation=R, offset=off - (STAGE2 if k else 0.0))
         shared = h if shared is None else shared
-        scene = lumped_pair(pair, mesh, shaft(0.0), shaft(0.12), masses=MASSES,
-                            inertias=inertias, housing=h, seats=seats)
-        stages.append(gb.LumpedPairGearboxStage(scene, input=0, modifications=s.modifications))
+        stages.append(lumped_pair_stage(TEETH[k], POLAR[k], housing=h, seats=seats))
     return (gb.GearboxTorsional(tuple(stages), [SHAFT], housing=shared),
             gb.GearboxRun(TORQUE, SHAFT, mean_positions=COUPLED_RUN["mean_positions"], **run))
 
@@ -258,20 +244,7 @@ def _planetary_by_hand(ch, off, kind=None, **run):
                                                                    seats=(("ring", RING_SEAT),))
     housed = gb.PlanetaryGearboxStage(stage, planetary.input, planetary.output,
                                       planetary.meshes, model=model)
-    s, mesh = _stage(*TEETH[1], 10e-6)
-    pair = jg.GearPair(jg.Member(TEETH[1][0], face_width=B), jg.Member(TEETH[1][1], face_width=B),
-                       3e-3, math.radians(20.0))
-
-    def shaft(torque_z):
-        return ShaftSpec(0.12, 0.06, 0.06, (Bearing(0.0, 2e8, 1e8, 0.0),
-                                            Bearing(0.12, 2e8, 0.0, 0.0)),
-                         torque_z=torque_z, elements=2)
-
-    inertias = tuple((ip / 2 + m * B * B / 12, ip) for ip, m in zip(POLAR[1], MASSES,
-                                                                    strict=True))
-    scene = lumped_pair(pair, mesh, shaft(0.0), shaft(0.12), masses=MASSES, inertias=inertias,
-                        housing=hl)
-    lumped = gb.LumpedPairGearboxStage(scene, input=1, modifications=s.modifications)
+    lumped = lumped_pair_stage(TEETH[1], POLAR[1], input=1, housing=hl)
     opts = {"mean_positions": COUPLED_RUN["mean_positions"]} | run
     return (gb.GearboxTorsional((housed, lumped), [P_SHAFT], housing=hp),
             gb.GearboxRun(P_TORQUE, P_SHAFT, **opts))

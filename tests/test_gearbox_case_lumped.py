@@ -34,14 +34,15 @@ POLAR = (0.0007315362629828136, 0.005291895403577801)  # the file's pinion and g
 TOL_ORDER1 = 0.015  # measured 0.77 % (and 0.66 deg) at H = 4, 24 positions
 
 
-def _by_hand(**run):
-    """Stage 1 torsional (tests/test_gearbox_whine.py's), stage 2 the 25/41 pair on its two
-    120 mm, 60 mm steel shafts (2 elements), bearings of 2e8 N/m radial at both ends and 1e8
-    N/m axial at the first, the pinion shaft driven at z = 0, the gear shaft's output at its
-    end."""
-    s1 = _stage(*TEETH[0], 10e-6)[0]
-    s2, mesh = _stage(*TEETH[1], 10e-6)
-    pair = jg.GearPair(jg.Member(TEETH[1][0], face_width=B), jg.Member(TEETH[1][1], face_width=B),
+def lumped_pair_stage(teeth, polar, *, input=0, housing=None, seats=None):
+    """The pair ``teeth`` (tests/test_gearbox_whine.py's, 10 µm tip relief) as the gearbox files'
+    lumped 3D stage, built by hand: its two 120 mm, 60 mm steel shafts (2 elements), bearings of
+    2e8 N/m radial at both ends and 1e8 N/m axial at the first, the pinion shaft driven at z = 0,
+    the gear shaft's output at its end; ``polar``: the pinion's and the gear's polar moments
+    (kg m^2, the file's); ``input``: the member driven; ``housing``/``seats``: the bearings'
+    seats (:func:`jaxgear.scenes.lumped_pair`)."""
+    s, mesh = _stage(*teeth, 10e-6)
+    pair = jg.GearPair(jg.Member(teeth[0], face_width=B), jg.Member(teeth[1], face_width=B),
                        3e-3, math.radians(20.0))
 
     def shaft(torque_z):
@@ -49,9 +50,17 @@ def _by_hand(**run):
                                             Bearing(0.12, 2e8, 0.0, 0.0)),
                          torque_z=torque_z, elements=2)
 
-    inertias = tuple((ip / 2 + m * B * B / 12, ip) for ip, m in zip(POLAR, MASSES, strict=True))
-    scene = lumped_pair(pair, mesh, shaft(0.0), shaft(0.12), masses=MASSES, inertias=inertias)
-    lumped = gb.LumpedPairGearboxStage(scene, input=0, modifications=s2.modifications)
+    inertias = tuple((ip / 2 + m * B * B / 12, ip) for ip, m in zip(polar, MASSES, strict=True))
+    scene = lumped_pair(pair, mesh, shaft(0.0), shaft(0.12), masses=MASSES, inertias=inertias,
+                        housing=housing, seats=seats)
+    return gb.LumpedPairGearboxStage(scene, input=input, modifications=s.modifications)
+
+
+def _by_hand(**run):
+    """Stage 1 torsional (tests/test_gearbox_whine.py's), stage 2 the 25/41 pair as the lumped
+    stage of :func:`lumped_pair_stage`."""
+    s1 = _stage(*TEETH[0], 10e-6)[0]
+    lumped = lumped_pair_stage(TEETH[1], POLAR)
     return (gb.GearboxTorsional((s1, lumped), [SHAFT]),
             gb.GearboxRun(TORQUE, SHAFT, mean_positions=COUPLED_RUN["mean_positions"], **run))
 
