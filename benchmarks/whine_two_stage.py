@@ -170,6 +170,19 @@ def _case(housed: bool):
     return jio.load_case("two-stage-housed" if housed else "two-stage")
 
 
+def _newmark_timed(model, picks, steps):
+    """(wall seconds, CPU seconds) of the Newmark run at each speed ``SPEEDS[picks]``."""
+    walls, cpus = [], []
+    for j in picks:
+        c = _clock()
+        jax.block_until_ready(_newmark(model, SPEEDS[j], steps).meshes[0].transmission_error)
+        wall, cpu = _since(c)
+        walls.append(wall)
+        cpus.append(cpu)
+        print("newmark speed", SPEEDS[j], wall, cpu, flush=True)
+    return walls, cpus
+
+
 def main(housed: bool = False, positions: int = POSITIONS, steps: int = STEPS,
          out: str | None = None) -> dict:
     env = environment()
@@ -198,14 +211,7 @@ def main(housed: bool = False, positions: int = POSITIONS, steps: int = STEPS,
     loss = int(np.asarray(sweep.contact_loss).any(axis=1).sum())
     # Newmark on a few of the speeds (the first compiles), priced for 200
     picks = np.linspace(0, len(SPEEDS) - 1, NEWMARK_SPEEDS).round().astype(int)
-    walls, cpus = [], []
-    for j in picks:
-        c = _clock()
-        jax.block_until_ready(_newmark(model, SPEEDS[j], steps).meshes[0].transmission_error)
-        wall, cpu = _since(c)
-        walls.append(wall)
-        cpus.append(cpu)
-        print("newmark speed", SPEEDS[j], wall, cpu, flush=True)
+    walls, cpus = _newmark_timed(model, picks, steps)
     nm_wall, nm_cpu = float(np.mean(walls)) * len(SPEEDS), float(np.mean(cpus)) * len(SPEEDS)
     record = {
         "case": "two-stage (lumped 3D, its own 20 slices)" + (
@@ -285,14 +291,7 @@ def timing_only(housed: bool = True, positions: int = POSITIONS, steps: int = ST
     jax.block_until_ready(_newmark(model, SPEEDS[picks[0]], steps).meshes[0].transmission_error)
     nm_first = _since(c)
     print("newmark first call", nm_first, flush=True)
-    walls, cpus = [], []
-    for j in picks:
-        c = _clock()
-        jax.block_until_ready(_newmark(model, SPEEDS[j], steps).meshes[0].transmission_error)
-        wall, cpu = _since(c)
-        walls.append(wall)
-        cpus.append(cpu)
-        print("newmark speed", SPEEDS[j], wall, cpu, flush=True)
+    walls, cpus = _newmark_timed(model, picks, steps)
     nm_wall, nm_cpu = float(np.mean(walls)) * len(SPEEDS), float(np.mean(cpus)) * len(SPEEDS)
     blas = [] if threadpool_limits is None else [
         {k: p.get(k) for k in ("internal_api", "num_threads", "version")}
