@@ -16,6 +16,7 @@ import pathlib
 import numpy as np
 import pytest
 from _toml import assert_one_line_errors
+from test_gearbox_case_whine import assert_order1_as_newmark, whine_lines
 from test_gearbox_whine import TEETH, B, _stage
 
 import jaxgear as jg
@@ -110,11 +111,6 @@ def test_lumped_stage_keys_errors_one_line(tmp_path):
         jio.load_case(str(path))
 
 
-def _lines(section, key):
-    a = np.asarray(section[key]["amplitude"])
-    return a * np.exp(1j * np.radians(np.asarray(section[key]["phase_deg"])))
-
-
 @pytest.mark.slow  # the torus grid's solves and their compilation, twice, and Newmark: about a
 # minute on the loaded host; fast twins: the two tests above
 def test_jaxgear_run_whine_of_the_lumped_stage_gearbox(tmp_path):
@@ -128,17 +124,7 @@ def test_jaxgear_run_whine_of_the_lumped_stage_gearbox(tmp_path):
     data = json.loads((tmp_path / "whine" / "whine.json").read_text())
     chain, run = _by_hand(steps_per_period=160, periods=40, keep_periods=5)
     w = gb.gearbox_whine(chain, run, [30.0, 80.0], QuasiPeriodicBalance(4, 1), positions=24)
-    got, ref = _lines(data, "mesh_force_N"), np.asarray(w.mesh_force)
+    got, ref = whine_lines(data, "mesh_force_N"), np.asarray(w.mesh_force)
     assert np.max(np.abs(got - ref)) < 1e-10 * np.max(np.abs(ref))
-    g, o = np.asarray(data["order_group"]), np.asarray(data["group_order"])
-    for i, speed in enumerate((30.0, 80.0)):
-        r = gb.gearbox_dynamics(chain, run, speed)
-        assert int(r.result) == 0
-        t, f = np.asarray(r.time), np.asarray(r.mesh_forces)
-        for mesh in (0, 1):
-            j = int(np.flatnonzero((g == mesh) & (o == 1))[0])
-            nu = 2 * math.pi * data["fundamental_Hz"][i] * data["orders"][j]
-            ref = 2 * np.mean(f[:, mesh] * np.exp(-1j * nu * t))
-            assert abs(abs(got[i, j, mesh]) / abs(ref) - 1) < TOL_ORDER1, (speed, mesh)
-            assert abs(math.degrees(np.angle(got[i, j, mesh] / ref))) < 1.5, (speed, mesh)
+    assert_order1_as_newmark(data, chain, run, (30.0, 80.0), TOL_ORDER1)
 

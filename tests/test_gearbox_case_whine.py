@@ -103,9 +103,29 @@ def test_whine_table_defaults_and_errors_one_line(tmp_path):
         assert "\n" not in str(err.value)
 
 
-def _lines(section, key):
+def whine_lines(section, key):
+    """The complex lines of ``whine.json``'s ``key`` (amplitude at its phase)."""
     a = np.asarray(section[key]["amplitude"])
     return a * np.exp(1j * np.radians(np.asarray(section[key]["phase_deg"])))
+
+
+def assert_order1_as_newmark(data, chain, run, speeds, tol):
+    """Each mesh's order 1 of ``whine.json`` (``data``) at each of ``speeds`` is the mesh
+    force's Fourier coefficient at that frequency over the kept periods of a Newmark run
+    (``gearbox_dynamics`` of ``chain``, ``run``) within ``tol`` in amplitude and 1.5°."""
+    fm = whine_lines(data, "mesh_force_N")
+    g, o = np.asarray(data["order_group"]), np.asarray(data["group_order"])
+    for i, speed in enumerate(speeds):
+        r = gb.gearbox_dynamics(chain, run, speed)
+        assert int(r.result) == 0
+        t, f = np.asarray(r.time), np.asarray(r.mesh_forces)
+        for mesh in (0, 1):
+            j = int(np.flatnonzero((g == mesh) & (o == 1))[0])
+            nu = 2 * math.pi * data["fundamental_Hz"][i] * data["orders"][j]
+            ref = 2 * np.mean(f[:, mesh] * np.exp(-1j * nu * t))
+            got = fm[i, j, mesh]
+            assert abs(abs(got) / abs(ref) - 1) < tol, (speed, mesh, got, ref)
+            assert abs(math.degrees(np.angle(got / ref))) < 1.5, (speed, mesh)
 
 
 @pytest.mark.slow  # the torus grid's static solves and their compilation, twice, and Newmark:
@@ -131,28 +151,17 @@ def test_jaxgear_run_writes_the_gearbox_whine(tmp_path):
     w = gb.gearbox_whine(chain, run, [30.0, 80.0], QuasiPeriodicBalance(4, 1), positions=24)
     for key, ref in (("mesh_force_N", w.mesh_force), ("transmission_error_m",
                                                       w.transmission_error)):
-        got, ref = _lines(data, key), np.asarray(ref)
+        got, ref = whine_lines(data, key), np.asarray(ref)
         assert np.max(np.abs(got - ref)) < 1e-10 * np.max(np.abs(ref)), key
     np.testing.assert_allclose(data["orders"], np.asarray(w.orders), rtol=1e-12)
     rb = [0.5 * MODULE * z * math.cos(ALPHA) for z in (TEETH[0][0], TEETH[1][0])]
     np.testing.assert_allclose(data["static_force_N"], [TORQUE / rb[0],
                                                         TORQUE * TEETH[0][1] / TEETH[0][0]
                                                         / rb[1]], rtol=1e-9)
-    fm = _lines(data, "mesh_force_N")
-    g, o = np.asarray(data["order_group"]), np.asarray(data["group_order"])
     for i, speed in enumerate((30.0, 80.0)):
         np.testing.assert_allclose(data["fundamental_Hz"][i], TEETH[0][0] * speed / (2 * math.pi),
                                    rtol=1e-12)
-        r = gb.gearbox_dynamics(chain, run, speed)
-        assert int(r.result) == 0
-        t, f = np.asarray(r.time), np.asarray(r.mesh_forces)
-        for mesh in (0, 1):
-            j = int(np.flatnonzero((g == mesh) & (o == 1))[0])
-            nu = 2 * math.pi * data["fundamental_Hz"][i] * data["orders"][j]
-            ref = 2 * np.mean(f[:, mesh] * np.exp(-1j * nu * t))
-            got = fm[i, j, mesh]
-            assert abs(abs(got) / abs(ref) - 1) < 0.015, (speed, mesh, got, ref)
-            assert abs(math.degrees(np.angle(got / ref))) < 1.5, (speed, mesh)
+    assert_order1_as_newmark(data, chain, run, (30.0, 80.0), 0.015)
 
 
 @pytest.mark.slow  # the whole command: each stage's own run, the chain's modes, the coupled
