@@ -48,15 +48,12 @@ R = np.array([[0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]])
 STAGE2 = np.array([0.0, 0.15, 0.0])  # stage 2's scene origin in stage 1's frame (m)
 
 
-def _box(stage2_bore=0.05):
-    """The box the file asks for, in numbers: 130 x 220 x 280 mm (length: the bearings' span
-    120 mm + the 10 mm wall), centred across on the axes (x 0..99 mm, y 0..150 mm: the box's
-    origin at scene (-60.5, -65, -65) mm); bores round the four axes (50 mm round stage 1's,
-    ``stage2_bore`` (m) round stage 2's), the -z wall's first (seats 0-3: stage 1's pinion and
-    gear shafts, then stage 2's), then the +z wall's."""
+def _box_round(axes):
+    """The files' box in numbers: 130 x 220 x 280 mm, its origin at scene (-60.5, -65, -65)
+    mm, steel, 10 mm walls, Tet4 50 mm cells, four feet, condensed to 6 kHz with rigid seats;
+    a bore of diameter d round each axis (x, y, d) of ``axes`` (m) in both end walls, the -z
+    wall's first. Returns (the condensed housing, the origin)."""
     off = np.array([-0.0605, -0.065, -0.065])
-    axes = [(0.0, 0.0, 0.05), (0.096, 0.0, 0.05), (0.0, 0.15, stage2_bore),
-            (0.099, 0.15, stage2_bore)]
     bores = tuple(Bore(w, (x - off[0], y - off[1]), d / 2) for w in ("x-", "x+")
                   for x, y, d in axes)
     feet = tuple(Foot(xr, yr) for xr in ((0.0, 0.03), (0.1, 0.13))
@@ -65,6 +62,17 @@ def _box(stage2_bore=0.05):
     mesh = mesh_box(box, 0.05, layers=1, element=Tet4())
     return condensed_housing(mesh, fem_prep.Material(210e9, 0.3, 7800.0), 6000.0,
                              coupling=fem_prep.Rigid()), off
+
+
+def _box(stage2_bore=0.05):
+    """The box the file asks for, in numbers: 130 x 220 x 280 mm (length: the bearings' span
+    120 mm + the 10 mm wall), centred across on the axes (x 0..99 mm, y 0..150 mm: the box's
+    origin at scene (-60.5, -65, -65) mm); bores round the four axes (50 mm round stage 1's,
+    ``stage2_bore`` (m) round stage 2's), the -z wall's first (seats 0-3: stage 1's pinion and
+    gear shafts, then stage 2's), then the +z wall's."""
+    axes = [(0.0, 0.0, 0.05), (0.096, 0.0, 0.05), (0.0, 0.15, stage2_bore),
+            (0.099, 0.15, stage2_bore)]
+    return _box_round(axes)
 
 
 def _by_hand(stage2_bore=0.05, **run):
@@ -204,16 +212,8 @@ def _planetary_box(ring_bore=0.05):
     planetary's), (0, 150) and (99, 150) mm (the pair's pinion and gear shafts), its origin at
     scene (-60.5, -65, -65) mm; bores round the three axes, the -z wall's first: ``ring_bore``
     (m) round the planetary's, 50 mm round the pair's shafts."""
-    off = np.array([-0.0605, -0.065, -0.065])
     axes = [(0.0, 0.0, ring_bore), (0.0, 0.15, 0.05), (0.099, 0.15, 0.05)]
-    bores = tuple(Bore(w, (x - off[0], y - off[1]), d / 2) for w in ("x-", "x+")
-                  for x, y, d in axes)
-    feet = tuple(Foot(xr, yr) for xr in ((0.0, 0.03), (0.1, 0.13))
-                 for yr in ((0.0, 0.03), (0.19, 0.22)))
-    box = HousingBox(0.13, 0.22, 0.28, 0.01, bores=bores, feet=feet)
-    mesh = mesh_box(box, 0.05, layers=1, element=Tet4())
-    return condensed_housing(mesh, fem_prep.Material(210e9, 0.3, 7800.0), 6000.0,
-                             coupling=fem_prep.Rigid()), off
+    return _box_round(axes)
 
 
 def _planar_supports(stage):
