@@ -697,7 +697,7 @@ def first_look_speeds(case) -> tuple[np.ndarray, dict | None]:
 
     Without ``[housing]``: :func:`run_sweep_speeds`. With it, the sweep keeps to the speeds
     where the model holds: the speeds of :func:`run_sweep_speeds` up to the housing's speed
-    limit Ω_b (:func:`jaxgear.io.housing_speed_limit`: every mesh's order-1 frequency within
+    limit Ω_b (:func:`jaxgear.io.housing_band`: every mesh's order-1 frequency within
     the housing's band, cut-off / 1.5; above it the housing's modes beyond the cut-off, which
     the condensation leaves out, count); where fewer than :data:`HOUSED_MIN_SPEEDS` of them
     lie there, that many evenly from Ω_b / HOUSED_MIN_SPEEDS to Ω_b. The section names the
@@ -705,27 +705,26 @@ def first_look_speeds(case) -> tuple[np.ndarray, dict | None]:
     ``note`` (printed by ``jaxgear run``); ``jaxgear sweep CASE --speeds A:B:N`` runs any
     speeds (and says how many lie above Ω_b)."""
     speeds = run_sweep_speeds(case.form)
-    limit = case_io.housing_speed_limit(case)
-    if limit is None or speeds[-1] <= limit:
+    hb = case_io.housing_band(case)
+    if hb is None or speeds[-1] <= hb.speed_limit:
         return speeds, None
+    limit = hb.speed_limit
     kept = speeds[speeds <= limit]
     if kept.size < HOUSED_MIN_SPEEDS:
         kept = np.linspace(limit / HOUSED_MIN_SPEEDS, limit, HOUSED_MIN_SPEEDS)
-    cutoff = float(case.housing.cutoff)
-    band = cutoff / case_io.HOUSING_BAND
-    order = max(abs(float(o)) for o in case.mesh_orders)
     who = "pinion" if len(case.pairs) == 1 else "input"
     note = (
         f"dynamic factor sweep {kept[0]:.4g}-{kept[-1]:.4g} rad/s only (of the first look's "
         f"{speeds[0]:g}-{speeds[-1]:g}): above {limit:.4g} rad/s the order-1 mesh frequency "
-        f"({order:.4g} per {who} turn) leaves the housing's band, {band:.4g} Hz = cut-off "
-        f"{cutoff:.4g} Hz / {case_io.HOUSING_BAND:g}, and the housing's modes beyond the cut-off "
-        f"are not in the model; jaxgear sweep {case.name} --speeds A:B:N runs other speeds"
+        f"({hb.mesh_order:.4g} per {who} turn) leaves the housing's band, {hb.band_hz:.4g} Hz = "
+        f"cut-off {hb.cutoff_hz:.4g} Hz / {case_io.HOUSING_BAND:g}, and the housing's modes "
+        f"beyond the cut-off are not in the model; jaxgear sweep {case.name} --speeds A:B:N runs "
+        "other speeds"
     )
     section = {
-        "cutoff_Hz": cutoff,
-        "band_limit_Hz": band,
-        "mesh_order": order,
+        "cutoff_Hz": hb.cutoff_hz,
+        "band_limit_Hz": hb.band_hz,
+        "mesh_order": hb.mesh_order,
         "speed_limit_rad_s": limit,
         "first_look_rad_s": [float(speeds[0]), float(speeds[-1])],
         "note": note,

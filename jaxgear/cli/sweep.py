@@ -494,16 +494,15 @@ def sweep_command(form, case, speeds, args) -> int:
 
 def housing_band_lines(case, speeds) -> list[str]:
     """One line where speeds of a housed case's sweep lie above its housing's speed limit
-    (:func:`jaxgear.io.housing_speed_limit`: a mesh's order-1 frequency beyond the housing's
+    (:func:`jaxgear.io.housing_band`: a mesh's order-1 frequency beyond the housing's
     band), nothing otherwise (no ``[housing]``, or every speed within)."""
-    limit = case_io.housing_speed_limit(case)
-    above = [] if limit is None else [v for v in speeds if v > limit]
+    hb = case_io.housing_band(case)
+    above = [] if hb is None else [v for v in speeds if v > hb.speed_limit]
     if not above:
         return []
-    band = float(case.housing.cutoff) / case_io.HOUSING_BAND
     line = (
-        f"{len(above)} of {len(speeds)} speeds above {limit:.4g} rad/s, where the order-1 mesh "
-        f"frequency leaves the housing's band ({band:.4g} Hz = cut-off / "
+        f"{len(above)} of {len(speeds)} speeds above {hb.speed_limit:.4g} rad/s, where the "
+        f"order-1 mesh frequency leaves the housing's band ({hb.band_hz:.4g} Hz = cut-off / "
         f"{case_io.HOUSING_BAND:g}): the housing's modes beyond its cut-off are not in the model "
         "there (a higher [housing] cut-off holds them)"
     )

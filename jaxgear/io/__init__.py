@@ -16,7 +16,8 @@ from ._acoustic_path import (
     case_radiation as case_radiation,
     closed_skin as closed_skin,
     housed_acoustics as housed_acoustics,
-    housing_speed_limit as housing_speed_limit,
+    HousingBand as HousingBand,
+    housing_band as housing_band,
     radiation_grid as radiation_grid,
 )
 from ._acoustics_table import (

@@ -40,11 +40,12 @@ __all__ = [
     "FACTOR_BYTES",
     "HOUSING_BAND",
     "HousedAcoustics",
+    "HousingBand",
     "case_acoustic_path",
     "case_radiation",
     "closed_skin",
     "housed_acoustics",
-    "housing_speed_limit",
+    "housing_band",
     "radiation_grid",
 ]
 
@@ -74,19 +75,32 @@ class HousedAcoustics(NamedTuple):
         return float(self.body.condensed.cutoff_hz) / HOUSING_BAND
 
 
-def housing_speed_limit(case) -> float | None:
-    """The highest input speed Ω_b (rad/s; a pair's: the pinion's) at which every mesh's
-    order-1 frequency lies within the housing's band: Ω_b = 2π f_b / max_k |o_k|, f_b =
-    cut-off / :data:`HOUSING_BAND` (the band the condensed housing's response holds, the
-    whine's ``in_band``: docs/housing.md, "What the condensation keeps"), o_k each mesh's order
-    (its teeth per input turn, :attr:`~jaxgear.io.Case.mesh_orders`). Above it the meshes
-    excite the housing where its modes beyond the cut-off, left out of the model, count. From
-    the case file alone (the housing is not condensed). None without ``[housing]``."""
+class HousingBand(NamedTuple):
+    """Where a housed case's model holds (:func:`housing_band`): ``cutoff_hz`` the housing's
+    cut-off (Hz), ``band_hz`` its band f_b = cut-off / :data:`HOUSING_BAND` (Hz), ``mesh_order``
+    the fastest mesh's order max_k |o_k| (its teeth per input turn), ``speed_limit`` Ω_b
+    (rad/s), the highest input speed at which every mesh's order-1 frequency lies in the band."""
+
+    cutoff_hz: float
+    band_hz: float
+    mesh_order: float
+    speed_limit: float
+
+
+def housing_band(case) -> HousingBand | None:
+    """The band a housed case's model holds and its speed limit Ω_b (rad/s; a pair's: the
+    pinion's) = 2π f_b / max_k |o_k|, f_b = cut-off / :data:`HOUSING_BAND` (the band the
+    condensed housing's response holds, the whine's ``in_band``: docs/housing.md, "What the
+    condensation keeps"), o_k each mesh's order (its teeth per input turn,
+    :attr:`~jaxgear.io.Case.mesh_orders`). Above Ω_b the meshes excite the housing where its
+    modes beyond the cut-off, left out of the model, count. From the case file alone (the
+    housing is not condensed). None without ``[housing]``."""
     if case.housing is None:
         return None
-    band = float(case.housing.cutoff) / HOUSING_BAND
+    cutoff = float(case.housing.cutoff)
+    band = cutoff / HOUSING_BAND
     order = max(abs(float(o)) for o in case.mesh_orders)
-    return 2 * math.pi * band / order
+    return HousingBand(cutoff, band, order, 2 * math.pi * band / order)
 
 
 def housed_acoustics(case) -> HousedAcoustics | None:
