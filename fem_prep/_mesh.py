@@ -134,6 +134,7 @@ def arc_hex2(p: np.ndarray, t: np.ndarray, dth: float) -> skfem.MeshHex2:
     """The quadratic hexahedra of vertices ``p`` (3, m) and corners ``t`` (8, n) of a revolved grid
     of sector angle ``dth`` (rad), with the circumferential mid-nodes (at mid-angle, on the chords
     of the linear mesh) pushed out to the arcs."""
+    t = np.ascontiguousarray(t)  # scikit-fem copies (and logs a warning for) any other layout
     loc = skfem.MeshHex2.from_mesh(skfem.MeshHex1(p, t, validate=False)).doflocs.copy()
     phi = np.mod(np.arctan2(loc[1], loc[0]), 2 * math.pi) / dth
     mid = np.abs(phi - np.floor(phi) - 0.5) < 1e-6

@@ -384,7 +384,7 @@ def _structured(x, y, z, keep_cell) -> skfem.MeshTet1:
     used = np.unique(t)
     new = -np.ones(m.p.shape[1], dtype=np.int64)
     new[used] = np.arange(len(used))
-    return skfem.MeshTet1(np.ascontiguousarray(m.p[:, used]), new[t])
+    return skfem.MeshTet1(np.ascontiguousarray(m.p[:, used]), np.ascontiguousarray(new[t]))
 
 
 def _check_element(element):

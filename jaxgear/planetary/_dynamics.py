@@ -151,7 +151,7 @@ def dynamic_load_sharing(sun_mesh_forces) -> DynamicLoadSharing:
       sun-mesh force peaks at k_after/k_before ≈ 2 F_0 when its entering pair takes its share
       (the planets at different instants), the others at F_0, so it gives 3 DF/(DF + 2) ≈ 1.5
       for three planets at quasi-static speeds where every path carries the same load and the
-      same peak (issue 68's diagnostic); the peak-based one gives 1 there;
+      same peak (the diagnostic that showed the double count); the peak-based one gives 1 there;
     * the mean-load K_γ = max_j M_j / mean_j M_j, M_j = mean_t F_j(t): the time-mean shares.
 
     Both equal the quasi-static K_γ where the forces are constant in time (constant mesh

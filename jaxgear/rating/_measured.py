@@ -10,7 +10,7 @@ results of a run, not traced.
 A measured factor is reported as a :class:`MeasuredFactor`, which cannot be made without the
 words of the contact model that produced it (:func:`contact_model`: the theoretical path of
 contact, the extended one, or mesh springs without tooth contact), so that no measured factor
-is shown beside ISO's without that caveat (issue 68)."""
+is shown beside ISO's without that caveat."""
 
 from __future__ import annotations
 
