@@ -18,7 +18,11 @@ steel, σ_HP1 = 1500 × Z_NT,static 1.6 = 2400).
 
 import copy
 import math
+import pathlib
+import re
+import tomllib
 
+import equinox as eqx
 import numpy as np
 import pytest
 
@@ -314,3 +318,48 @@ def test_wind_spectrum_example_counts_the_rayleigh_hours_and_writes_its_figure(t
     assert np.allclose(rated, 5e6 / (1165.9 * RPM), rtol=2e-4)
     for name, damage in rec["damage_share_at_S"].items():
         assert sum(damage) == pytest.approx(1.0, rel=1e-9), name
+
+
+def _guide_spectrum_case(keep_modifications: bool):
+    """docs/guide/rating.md's spectrum tables put into ``power-helical`` in place of its own
+    [material], [operating] and [rating], with or without its [modifications]."""
+    page = pathlib.Path(__file__).resolve().parents[1] / "docs" / "guide" / "rating.md"
+    block = [b for b in re.findall(r"^```toml\n(.*?)^```", page.read_text("utf-8"), re.S | re.M)
+             if "[rating.spectrum]" in b][0]
+    data = tomllib.loads(jio.embedded_case_text("power-helical"))
+    data.update(tomllib.loads(block))
+    if not keep_modifications:
+        del data["modifications"]
+    return jio.rating_of(jio.parse_case(data, "guide"))
+
+
+def test_guide_spectrum_figures():
+    """The guide's figures: its tables on the bare ``power-helical`` rate as its Python example
+    (the API's spectrum on RatingGeometry.of(pair), K_A = 1, accuracy class 6: the same S_F to
+    1e-9), the gear's root just under 1 with a bending life of about 15 500 h; with the case's
+    modifications kept (tip relief C_a lowers K_v) S_F is 1.06 / 1.04 as the page says."""
+    rc = _guide_spectrum_case(keep_modifications=False)
+    settings = jg.RatingSettings(
+        material=jg.RatingMaterial(1500e6, 500e6, 210e9, 0.3, 7800.0, jg.CaseHardened()),
+        lubrication=jg.Lubrication(220e-6, 4.8e-6, 20e-6),
+        accuracy=jg.GearAccuracy.from_grade(jio.load_case("power-helical").pair, 6),
+        life=20_000 * 3600.0,
+        application_factor=1.0,
+    )
+    spectrum = jr.LoadSpectrum(
+        torque=[1250.0, 620.0, 310.0, 200.0, 0.0],
+        speed=np.array([3000.0, 3000.0, 3000.0, 2400.0, 0.0]) * RPM,
+        duration=np.array([200.0, 2_000.0, 12_000.0, 4_300.0, 1_500.0]) * 3600.0,
+    )
+    api = jr.rate_spectrum(jg.RatingGeometry.of(jio.load_case("power-helical").pair), spectrum,
+                           settings)
+    case = jr.rate_spectrum(rc.geometry, rc.spectrum,
+                            eqx.tree_at(lambda s: s.application_factor, rc.settings, 1.0))
+    np.testing.assert_allclose(np.asarray(case.S_F), np.asarray(api.S_F), rtol=1e-9)
+    np.testing.assert_allclose(np.asarray(case.S_H), np.asarray(api.S_H), rtol=1e-9)
+    assert 0.98 < float(case.S_F[1]) < 1.0 < float(case.S_F[0]) < 1.02
+    assert abs(float(case.life_F[1]) / 3600 - 15_500) < 100
+    rc = _guide_spectrum_case(keep_modifications=True)
+    kept = jr.rate_spectrum(rc.geometry, rc.spectrum,
+                            eqx.tree_at(lambda s: s.application_factor, rc.settings, 1.0))
+    np.testing.assert_allclose(np.asarray(kept.S_F), [1.06, 1.04], atol=0.005)
