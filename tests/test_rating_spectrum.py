@@ -324,8 +324,8 @@ def _guide_spectrum_case(keep_modifications: bool):
     """docs/guide/rating.md's spectrum tables put into ``power-helical`` in place of its own
     [material], [operating] and [rating], with or without its [modifications]."""
     page = pathlib.Path(__file__).resolve().parents[1] / "docs" / "guide" / "rating.md"
-    block = [b for b in re.findall(r"^```toml\n(.*?)^```", page.read_text("utf-8"), re.S | re.M)
-             if "[rating.spectrum]" in b][0]
+    blocks = re.findall(r"^```toml\n(.*?)^```", page.read_text("utf-8"), re.DOTALL | re.MULTILINE)
+    block = next(b for b in blocks if "[rating.spectrum]" in b)
     data = tomllib.loads(jio.embedded_case_text("power-helical"))
     data.update(tomllib.loads(block))
     if not keep_modifications:
