@@ -241,3 +241,16 @@ def test_units_are_read_from_the_whole_suffix(key, printed):
 
 def test_train_reference_says_k_gamma_is_for_planetary_stages():
     assert "planetary stages only" in sr.TRAIN_NOTES["rating"]
+
+
+def test_committed_reference_pages_are_the_validators():
+    """docs/reference/{case,train,gearbox,body}-file.md are committed (the docs link to them in
+    the repository, not only on the built site) and must be what the validators declare today:
+    after a change to a validator, ``python -m docs._gen.schema_reference docs/reference``."""
+    folder = sr.ROOT / "docs" / "reference"
+    for name, text in sr.pages().items():
+        committed = (folder / name).read_text(encoding="utf-8")
+        assert committed == text, (
+            f"docs/reference/{name} is stale: run python -m docs._gen.schema_reference "
+            "docs/reference"
+        )

@@ -1,8 +1,12 @@
-"""mkdocs hooks: the generated reference pages (``reference/case-file.md``, ``train-file.md``,
-``body-file.md``) added to the site at build time from the validators
-(:mod:`docs._gen.schema_reference`), so that they cannot drift from them; and the API pages, one
-entry per public name (:mod:`docs._gen.api_pages`); and a page per example
-(:mod:`docs._gen.example_pages`), listed under Examples in the navigation."""
+"""mkdocs hooks: the API pages, one entry per public name (:mod:`docs._gen.api_pages`), and a
+page per example (:mod:`docs._gen.example_pages`), listed under Examples in the navigation.
+
+The case-file and body-file references (``docs/reference/case-file.md``, ``train-file.md``,
+``gearbox-file.md``, ``body-file.md``) are generated from the validators by
+:mod:`docs._gen.schema_reference` and committed, so that the pages' links to them work in the
+repository as well as on the site; ``tests/test_docs_reference.py`` fails when they differ from
+what the validators declare (``python -m docs._gen.schema_reference docs/reference`` writes them
+again)."""
 
 from __future__ import annotations
 
@@ -15,7 +19,7 @@ ROOT = pathlib.Path(__file__).resolve().parents[2]
 if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))
 
-from docs._gen import api_pages, example_pages, schema_reference  # noqa: E402
+from docs._gen import api_pages, example_pages  # noqa: E402
 
 
 def on_config(config):
@@ -28,8 +32,6 @@ def on_config(config):
 
 
 def on_files(files, config):
-    for name, text in schema_reference.pages().items():
-        files.append(File.generated(config, f"reference/{name}", content=text))
     for path, text in api_pages.pages().items():
         files.append(File.generated(config, path, content=text))
     for path, (_, text) in example_pages.pages().items():

@@ -14,8 +14,10 @@ The sample files are the embedded cases and bodies, the example case files, and 
 (a face width in normal modules, a depth up to one module) differs between samples and is shown
 with the words "depends on the case", with the samples' values.
 
-``python -m docs._gen.schema_reference OUT_DIR`` writes ``case-file.md`` and ``body-file.md``;
-the mkdocs hook (``docs/_gen/hooks.py``) generates the same pages at build time.
+``python -m docs._gen.schema_reference docs/reference`` writes ``case-file.md``,
+``train-file.md``, ``gearbox-file.md`` and ``body-file.md``, which are committed (the pages link
+to them in the repository as on the site); ``tests/test_docs_reference.py`` fails when the
+committed pages differ from what the validators declare.
 """
 
 from __future__ import annotations
