@@ -446,3 +446,26 @@ def test_the_case_file_reference_shows_the_optimise_defaults():
     for key in ("objective", "method", "reduce", "max_iterations"):
         if key not in case_table:
             assert repr(settings[key]) == rows[key][2] or str(settings[key]) == rows[key][2]
+
+
+def test_modes_table_says_where_it_merges_repeated_modes():
+    """Two modes of one type at one frequency (a symmetric train's repeated mode) share a row
+    numbered with both (3-4, × 2) and the table says so under it; a planetary pair whose rows
+    carry their multiplicity reads the same; distinct modes keep their own numbers."""
+    from jaxgear.cli.modes import mode_table
+
+    rows = [{"frequency_Hz": f, "type": t} for f, t in
+            [(0.0, "rigid"), (900.0, "torsional"), (1500.0, "bending"), (1500.0, "bending"),
+             (1500.0, "axial"), (2100.0, "bending")]]
+    table = mode_table({"case": "x", "classification": "c", "modes": rows})
+    body = [r.split() for r in table[2:] if r.split()[0][0].isdigit()]
+    assert [b[0] for b in body] == ["1", "2", "3-4", "5", "6"]
+    assert body[2] == ["3-4", "1500", "bending", "×", "2"]
+    assert "repeated or degenerate" in table[-1]
+    # a planetary stage's degenerate pair (each row says multiplicity 2)
+    pair = [{"frequency_Hz": 700.0, "type": "translational", "multiplicity": 2}] * 2
+    table = mode_table({"case": "p", "classification": "c", "planar": pair})
+    assert any(r.split()[0] == "1-2" and r.endswith("translational × 2") for r in table)
+    # nothing merged: no note
+    table = mode_table({"case": "x", "classification": "c", "modes": rows[:3]})
+    assert "repeated" not in table[-1]

@@ -26,6 +26,7 @@ By the case's form (:class:`jaxgear.io.CaseForm`, :func:`case_modes`):
 from __future__ import annotations
 
 import functools
+import itertools
 import os
 
 import numpy as np
@@ -191,22 +192,33 @@ def _(form: case_io.GearboxForm, case) -> dict:
 
 
 def mode_table(data: dict) -> list[str]:
-    """The printed table of ``modes.json``'s content: one row per mode (a planetary stage's:
-    per model, a degenerate pair on one row with its multiplicity)."""
+    """The printed table of ``modes.json``'s content: one row per mode, except that the modes of
+    one type at one frequency (to 1e-6 Hz: a planetary stage's degenerate pairs, a symmetric
+    train's repeated modes) share a row that gives their numbers (``5-6``) and their count
+    (``× 2``, or the classifier's multiplicity where it says more), with a note under the
+    table saying so; ``modes.json`` keeps every mode."""
     lists = {k: v for k, v in data.items() if isinstance(v, list)}
     lines = [f"{data['case']}: natural frequencies ({data['classification']}; # from 1, "
              "as the sweep's figures number the modes)"]
+    merged = False
     for name, rows in lists.items():
         lines.append(f"{name}:" if len(lists) > 1 else "")
-        lines.append(f"{'#':>4} {'frequency (Hz)':>16}  type")
-        seen = set()
-        for i, m in enumerate(rows, start=1):
-            key = (m["type"], round(m["frequency_Hz"], 6))
-            if key in seen:
-                continue
-            seen.add(key)
-            extra = f" × {m['multiplicity']}" if m.get("multiplicity", 1) > 1 else ""
-            lines.append(f"{i:>4} {m['frequency_Hz']:>16.6g}  {m['type']}{extra}")
+        lines.append(f"{'#':>7} {'frequency (Hz)':>16}  type")
+        numbered = list(enumerate(rows, start=1))
+        groups = itertools.groupby(
+            numbered, key=lambda im: (im[1]["type"], round(im[1]["frequency_Hz"], 6))
+        )
+        for _, group in groups:
+            group = list(group)
+            (i, m), last = group[0], group[-1][0]
+            count = max(len(group), m.get("multiplicity", 1))
+            merged |= len(group) > 1
+            number = f"{i}" if last == i else f"{i}-{last}"
+            extra = f" × {count}" if count > 1 else ""
+            lines.append(f"{number:>7} {m['frequency_Hz']:>16.6g}  {m['type']}{extra}")
+    if merged:
+        lines.append("(a row numbered i-j holds the modes of one type at one frequency: a "
+                     "repeated or degenerate mode, × its count; modes.json lists each)")
     return [line for line in lines if line]
 
 
