@@ -186,6 +186,17 @@ def test_run_writes_a_planetary_stages_whine(tmp_path, capsys):
     ff = d["support_fixed_frame"]
     assert ff["members"] == ["carrier", "ring", "sun"] and len(ff["carrier_frame_order"]) == 9
     assert np.shape(ff["amplitude_N"]) == (4, 9, 3)
+    # the headline says what it sums and gives the largest single mesh, read off whine.json
+    te1 = np.array(d["transmission_error_m"]["amplitude"])[:, 1, :]
+    one = json.loads((out / "summary.json").read_text())["whine"]
+    assert one["te_order_1_is_root_sum_square_of_meshes"] == 6
+    np.testing.assert_allclose(one["max_te_order_1_one_mesh_um"], te1.max() * 1e6, rtol=1e-12)
+    np.testing.assert_allclose(one["max_te_order_1_um"],
+                               np.sqrt((te1**2).sum(axis=1)).max() * 1e6, rtol=1e-12)
+    k = int(np.argmax(te1.max(axis=0)))
+    assert one["max_te_order_1_one_mesh"] == d["meshes"][k]
+    assert f"root-sum-square of the 6 meshes, max {one['max_te_order_1_um']:.3g} µm" in printed
+    assert f"one mesh max {one['max_te_order_1_one_mesh_um']:.3g} µm ({d['meshes'][k]}" in printed
     model, _ = jio.build_dynamic_model(jio.load_case(str(path)))
     run = model.run
     qs = jp.planetary_quasi_static(model.kind, model.stage, model.meshes, run.sun_torque,

@@ -47,7 +47,11 @@ from ..gearbox import (
 )
 from ..io import housing_surface, write_json
 from ._housing_run import HousedRun
-from ._plots import gearbox_campbell_plot, housing_spectrum_plot, new_figure, savefig
+from ._plots import (
+    coupled_dynamic_factor_plot,
+    gearbox_campbell_plot,
+    housing_spectrum_plot,
+)
 from ._tribology_run import efficiency_run_line, gearbox_tribology
 from ._whine_run import SolvedWhine, whine_outputs, whine_run_line
 
@@ -211,15 +215,7 @@ def coupled_sweep(form, out: str) -> dict:
     result["window_halves_spread"] = np.max(np.abs(peak[0] - peak[1])
                                             / np.maximum(peak[0], peak[1]), axis=1).tolist()
     write_json(os.path.join(out, "coupled.json"), result)
-    fig, ax = new_figure()
-    for j, name in enumerate(names):
-        ax.plot(speeds, df[:, j], "o-" if "sun" in name else ("s--" if "ring" in name else "^-"),
-                ms=3, lw=1.0, label=name)
-    ax.set_xlabel("input speed (rad/s)")
-    ax.set_ylabel("dynamic factor (max / static)")
-    ax.set_title("coupled gearbox: every mesh in one run")
-    ax.legend(fontsize=6, ncol=2)
-    savefig(fig, os.path.join(out, "coupled.png"))
+    coupled_dynamic_factor_plot(os.path.join(out, "coupled.png"), speeds, df, names)
     return result
 
 

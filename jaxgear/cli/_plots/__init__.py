@@ -24,6 +24,7 @@ from ._figure import (
     wrap_titles as wrap_titles,
 )
 from ._gearbox import (
+    coupled_dynamic_factor_plot as coupled_dynamic_factor_plot,
     gearbox_campbell_plot as gearbox_campbell_plot,
     housing_spectrum_plot as housing_spectrum_plot,
 )

@@ -11,12 +11,40 @@ from matplotlib.figure import Figure
 
 from ._figure import new_figure, savefig
 
-__all__ = ["gearbox_campbell_plot", "housing_spectrum_plot"]
+__all__ = ["coupled_dynamic_factor_plot", "gearbox_campbell_plot", "housing_spectrum_plot"]
 
 #: the stages' colours (stage k: the k-th, cycled)
 STAGE_COLOURS = ("tab:blue", "tab:orange", "tab:green", "tab:purple", "tab:brown")
 #: the harmonics' line styles (h = 1, 2, 3, ...)
 HARMONIC_STYLES = ("-", "--", ":", "-.")
+
+
+#: a mesh's marker by its kind (the coupled model's mesh names: "<stage>:<kind> <planet>")
+KIND_MARKERS = {"sun-planet": "o", "ring-planet": "s", "pair": "^"}
+
+
+def mesh_style(name: str) -> dict:
+    """The line of mesh ``name`` (``"<k>:<mesh>"``, k the stage from 1) in the coupled
+    gearbox's figures: its stage's colour (:data:`STAGE_COLOURS`, so that no two stages share
+    one), a marker by its kind (:data:`KIND_MARKERS`: sun ○, ring □, parallel pair △) and, for
+    a stage's planets, solid for the sun meshes and dashed for the ring meshes."""
+    stage, _, mesh = name.partition(":")
+    kind = mesh.rsplit(" ", 1)[0] if mesh[-1:].isdigit() else mesh
+    return {"color": STAGE_COLOURS[(int(stage) - 1) % len(STAGE_COLOURS)],
+            "marker": KIND_MARKERS.get(kind, "d"), "ls": "--" if kind == "ring-planet" else "-"}
+
+
+def coupled_dynamic_factor_plot(path, speeds, df, names) -> None:
+    """``coupled.png``: every mesh's dynamic factor (max / static, ``df`` (speeds, meshes))
+    against the input speed (rad/s), a mesh drawn in its stage's colour (:func:`mesh_style`)."""
+    fig, ax = new_figure((9, 4.8))
+    for j, name in enumerate(names):
+        ax.plot(speeds, df[:, j], ms=3, lw=1.0, label=name, mfc="none", **mesh_style(name))
+    ax.set_xlabel("input speed (rad/s)")
+    ax.set_ylabel("dynamic factor (max / static)")
+    ax.set_title("coupled gearbox: every mesh in one run (colour: stage)")
+    ax.legend(fontsize=6, loc="upper left", bbox_to_anchor=(1.01, 1.0))  # beside the curves
+    savefig(fig, path)
 
 
 def _spread(freqs, lo, hi, gap=0.06):
