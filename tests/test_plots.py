@@ -504,8 +504,41 @@ def test_dynamic_factor_names_at_most_three_peaks_without_overlap(tmp_path, figu
     for i, b in enumerate(boxes):
         assert inside.x0 <= b.x0 and b.x1 <= inside.x1 and b.y1 <= inside.y1
         assert not any(b.overlaps(o) for o in boxes[i + 1 :])
+    _assert_labels_hide_no_curve(ax, boxes)
     marked = [ln for ln in ax.get_lines() if ln.get_marker() == "v"]
     assert len(marked) == 1 and len(marked[0].get_xdata()) == 2
+
+
+def _assert_labels_hide_no_curve(ax, boxes):
+    """The peak labels' opaque boxes hide no part of the curves (each sampled every pixel)."""
+    for line in ax.get_lines():
+        x, y = np.asarray(line.get_xdata(), float), np.asarray(line.get_ydata(), float)
+        if len(x) < 3:
+            continue
+        t = np.linspace(x.min(), x.max(), 4000)
+        px = ax.transData.transform(np.column_stack([t, np.interp(t, x, y)]))
+        for b in boxes:
+            assert not b.count_contains(px), line.get_label()
+
+
+def test_peak_labels_of_clustered_resonances_hide_no_curve(tmp_path, figures):
+    """Three resonances 30 rad/s apart: each lower peak's label, first tried just above it,
+    would sit on the higher neighbour's flank (its white box hid 173 pixels of the curve):
+    every label is placed clear of the curves."""
+    summary = _sweep_summary()
+    sp = np.asarray(summary["speeds_rad_s"])
+    df = np.asarray(summary["dynamic_factor"])
+    for c, h in zip((500.0, 530.0, 560.0), (0.9, 0.6, 0.4), strict=True):
+        df = df + h / (1 + ((sp - c) / 12.0) ** 2)
+    summary["dynamic_factor"] = df.tolist()
+    plots.dynamic_factor_plot(tmp_path / "df.png", summary)
+    (fig,) = figures
+    ax = fig.axes[0]
+    fig.canvas.draw()
+    r = fig.canvas.get_renderer()
+    boxes = [t.get_window_extent(r) for t in ax.texts if "\nDF " in t.get_text()]
+    assert len(boxes) == 3
+    _assert_labels_hide_no_curve(ax, boxes)
 
 
 def test_every_critical_speed_line_is_labelled(tmp_path, monkeypatch):

@@ -4,6 +4,7 @@ the nearest mode × mesh-harmonic coincidence, and the largest Hertzian pressure
 from __future__ import annotations
 
 import dataclasses
+import itertools
 import math
 
 import numpy as np
@@ -318,6 +319,23 @@ def dynamic_factor_plot(path, summary: dict) -> list[dict]:
     return peaks
 
 
+def _curve_points(ax, step_px: float = 2.0) -> np.ndarray:
+    """Points (display pixels, (n, 2)) along every data curve of ``ax`` (its lines of more
+    than two points), at most ``step_px`` apart along each straight segment."""
+    out = [np.zeros((0, 2))]
+    for line in ax.get_lines():
+        xy = np.column_stack([np.asarray(line.get_xdata(), float),
+                              np.asarray(line.get_ydata(), float)])
+        xy = xy[np.all(np.isfinite(xy), axis=1)]
+        if len(xy) < 3:
+            continue
+        px = ax.transData.transform(xy)
+        for a, b in itertools.pairwise(px):
+            n = max(2, int(np.hypot(*(b - a)) / step_px) + 1)
+            out.append(a + np.linspace(0.0, 1.0, n)[:, None] * (b - a))
+    return np.concatenate(out)
+
+
 #: the highest peaks of a dynamic factor curve that are named on the plot
 PEAKS_NAMED = 3
 
@@ -335,6 +353,7 @@ def _label_peaks(ax, peaks: list[dict], s_lo: float, s_hi: float, avoid=()) -> N
     renderer = fig.canvas.get_renderer()
     inside = ax.get_window_extent(renderer)
     placed = [t.get_window_extent(renderer).padded(2) for t in avoid]
+    curves = _curve_points(ax)  # a label's box must not hide the curves (it is opaque)
     for p in top:  # the highest first: it gets the place nearest its peak
         f = (p["speed_rad_s"] - s_lo) / ((s_hi - s_lo) or 1.0)
         has = ["left", "center", "right"] if f < 0.25 else ["right", "center", "left"]
@@ -367,6 +386,7 @@ def _label_peaks(ax, peaks: list[dict], s_lo: float, s_hi: float, avoid=()) -> N
                 and box.x1 <= inside.x1
                 and box.y1 <= inside.y1
                 and not any(box.overlaps(b) for b in placed)
+                and not box.count_contains(curves)
             ):
                 break
             ann.remove()
