@@ -150,6 +150,24 @@ def test_a_wrapped_title_keeps_units_with_their_numbers():
         assert not any(line.rstrip().endswith("≥") for line in lines)
 
 
+def test_a_title_of_several_lines_is_wrapped_line_by_line():
+    """A title of several lines whose first is wider than its axes (the train's TE plot: "...
+    lumped 3D train (shafts, bearings ...)" ran past both edges) and a long suptitle are
+    wrapped, each line of the result within the width the wrap allows; short lines stay."""
+    fig, ax = plots.new_figure()
+    first = ("two-stage: transmission error per mesh at 70 N·m (input), modified, lumped 3D "
+             "train (shafts, bearings, housing)")
+    ax.set_title(first + "\nfirst 7.26 of 127 input mesh periods")
+    fig.suptitle("a suptitle " * 20)
+    plots.wrap_titles(fig)
+    chars = int(fig.get_figwidth() * 72 * ax.get_position().width / (0.55 * ax.title.get_fontsize()))
+    lines = ax.get_title().splitlines()
+    assert len(lines) >= 3 and lines[-1] == "first 7.26 of 127 input mesh periods"
+    assert all(len(line) <= chars for line in lines)
+    assert " ".join(" ".join(lines[:-1]).split()) == " ".join(first.replace("\u00a0", " ").split())
+    assert len(fig._suptitle.get_text().splitlines()) >= 2
+
+
 def test_the_planetary_campbell_title_says_what_is_held(lin_parker, tmp_path, monkeypatch):
     """The Campbell diagram's title: the fixed member and the output held in rotation for the
     modes, the input free (today "ring fixed, carrier (output) held", which reads as a

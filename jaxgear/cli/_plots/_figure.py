@@ -64,19 +64,25 @@ NO_BREAK = (
 
 
 def wrap_titles(fig) -> None:
-    """Break each axes title wider than its axes into lines (a long case name or model
-    description would otherwise run past the figure's edges, which constrained layout does
-    not prevent): about 0.55 em per character of the title's font. A unit or a sign keeps to
-    its number (``5 %``, ``≥ 5``, ``20 µm``: no-break spaces, :data:`NO_BREAK`)."""
+    """Break each axes title, and the figure's suptitle, wider than its axes (the figure) into
+    lines, each line of a title of several on its own (a long case name or model description
+    would otherwise run past the figure's edges, which constrained layout does not prevent):
+    about 0.55 em per character of the title's font. A unit or a sign keeps to its number
+    (``5 %``, ``≥ 5``, ``20 µm``: no-break spaces, :data:`NO_BREAK`)."""
     width_pt = fig.get_figwidth() * 72.0
-    for ax in fig.axes:
-        title = ax.title
-        text = title.get_text()
-        chars = int(width_pt * ax.get_position().width / (0.55 * title.get_fontsize()))
-        if len(text.splitlines()) == 1 and len(text) > chars > 20:
-            for before, after in NO_BREAK:
-                text = re.sub(before, after, text)
-            title.set_text(textwrap.fill(text, chars))
+    titles = [(ax.title, ax.get_position().width) for ax in fig.axes]
+    if fig._suptitle is not None:  # matplotlib keeps its Text there (no public getter)
+        titles.append((fig._suptitle, 1.0))
+    for title, width in titles:
+        chars = int(width_pt * width / (0.55 * title.get_fontsize()))
+        lines = title.get_text().splitlines()
+        if chars > 20 and any(len(line) > chars for line in lines):
+            wrapped = []
+            for line in lines:
+                for before, after in NO_BREAK:
+                    line = re.sub(before, after, line)
+                wrapped.append(textwrap.fill(line, chars))
+            title.set_text("\n".join(wrapped))
 
 
 def savefig(fig, path) -> None:

@@ -383,8 +383,9 @@ def train_phasing_plot(path, layout, pairs, gears, mesh_names, x, stiffness, *, 
         together = [
             n for j, n in enumerate(names) if np.allclose(layout.centres[j], layout.centres[i])
         ]
+        label = " +\n".join(together)  # a compound shaft's gears one under the other
         lay.annotate(
-            f"{' + '.join(together)} {spin}",
+            f"{label} {spin}",
             c[:2],
             ha="center",
             va="center",
@@ -463,7 +464,8 @@ def te_spectrum_plot(path, theta_rev, te, spectrum, *, title: str, mesh_harmonic
 
 def root_stress_plot(path: str, maps, title: str, names=("pinion", "gear")) -> None:
     """The pinion's and the gear's root-stress maps (:class:`jaxgear.rating.RootStressMap`, MPa) over the
-    line of action and the face width, side by side, each map's largest stress marked, saved to
+    line of action and the face width, side by side (a surface interpolated linearly between the
+    cells), each map's largest stress marked, saved to
     ``path``; ``names`` the two members' (a map ``None``: its panel says why, e.g. "ring: not
     computed (no ring cutter)")."""
     fig = Figure(figsize=(9, 3.8), layout="constrained")
@@ -478,7 +480,9 @@ def root_stress_plot(path: str, maps, title: str, names=("pinion", "gear")) -> N
         s = np.asarray(rmap.cell_s)[m] * 1e3
         z = np.asarray(rmap.cell_z)[m] * 1e3
         stress = np.asarray(rmap.stress)[m] / 1e6
-        sc = ax.scatter(s, z, c=stress, s=6, cmap="viridis")
+        # a surface over the cells (their s, z lie on the inclined contact lines, not on a
+        # grid): Gouraud-shaded triangles between them, so no gaps draw stripes
+        sc = ax.tripcolor(s, z, stress, shading="gouraud", cmap="viridis")
         k = int(np.argmax(stress))
         ax.plot(s[k], z[k], "r*", ms=10)
         ax.set_title(f"{tag} root stress (MPa), largest {stress[k]:.1f} (★)")
