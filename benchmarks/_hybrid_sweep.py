@@ -64,7 +64,7 @@ _TEST_CASE = (
 )
 _METHODS = ("model", "woodbury", "refactor")
 _MODAL_MODES = 160  # the modal-basis sweep's modes (docs/bench/modal_basis.png: DF within 0.06 %)
-_MODAL_TARGET_S = 60.0  # issue 21: 100 speeds below 60 s, DF within 1 % of the cell space
+_MODAL_TARGET_S = 60.0  # the aim: 100 speeds below 60 s, DF within 1 % of the cell space
 
 
 # ------------------------------------------------------------------------------------------

@@ -1,4 +1,4 @@
-"""Benchmark and chart of the hybrid dynamics in the modal basis (issue 21 §3): the time of a
+"""Benchmark and chart of the hybrid dynamics in the modal basis: the time of a
 speed sweep and the largest dynamic-factor error against the cell-space result, against the
 number of modes m.
 
@@ -32,7 +32,7 @@ __all__ = ["bench_modal_basis", "modal_basis_chart"]
 
 _SPEED_RANGE = (100.0, 3000.0)
 _RESONANCE = 866.0  # the pair's torsional resonance (rad/s), docs/hybrid.md
-_TARGET_S = 60.0  # issue 21: 100 speeds below 60 s on the 2-core CPU
+_TARGET_S = 60.0  # the aim: 100 speeds below 60 s on the 2-core CPU
 _DF_TOL = 0.01  # and the dynamic factor within 1 % of the cell-space one
 
 

@@ -1,4 +1,4 @@
-"""Contact beyond the theoretical path (issue 68, docs/extended-contact.md): what it changes in
+"""Contact beyond the theoretical path (docs/extended-contact.md): what it changes in
 the dynamic factor, and what it costs.
 
 Part ``df`` -- the dynamic factor against speed with the extended contact off and on

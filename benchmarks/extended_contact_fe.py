@@ -1,4 +1,4 @@
-"""Issue 68's independent reference: a 2-D plane-strain FE contact model of a loaded spur pair
+"""The independent reference: a 2-D plane-strain FE contact model of a loaded spur pair
 (several teeth, exact frictionless unilateral contact) that finds where loaded teeth touch
 beyond the theoretical path of contact: premature engagement (the driven gear's tip corner on
 the driving flank before the theoretical start) and late disengagement (the driving tip corner
@@ -746,7 +746,7 @@ def _run(args) -> int:
     print("3 teeth meshed:", n3, flush=True)
     p1, p2 = pair.pinion, pair.gear
     data = {
-        "what": "issue 68: independent 2-D plane-strain FE contact reference of the unmodified "
+        "what": "independent 2-D plane-strain FE contact reference of the unmodified "
                 "accessory-spur pair (benchmarks/extended_contact_fe.py): loaded start and end "
                 "of contact beyond the theoretical path, load shares and TE",
         "method": "scikit-fem P2 triangles on fem_prep.mesh_sector (5 teeth per member, the "

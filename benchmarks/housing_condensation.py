@@ -1,10 +1,10 @@
-"""The housing's condensation at growing sizes (issue 65: "a 300 k-DOF housing under 2 min and
+"""The housing's condensation at growing sizes (the aim: "a 300 k-DOF housing under 2 min and
 6 GiB").
 
 The box of benchmarks/housing_evidence.py (0.3 x 0.2 x 0.2 m steel, 8 mm walls, three bores,
 four feet) meshed by the structured mesher (Tet10, two cells through each wall) at cell sizes
 from 50 mm down to 8.5 mm (39 k to 296 k DOFs), condensed at its three seats by
-``fem_prep.housing.prepare_housing`` with every fixed-interface mode up to 6 kHz (issue 65's rule
+``fem_prep.housing.prepare_housing`` with every fixed-interface mode up to 6 kHz (the rule
 for a highest mesh frequency of 4 kHz). Each size runs in its own process (its peak resident
 memory is its own): the wall and CPU seconds of the meshing and of each step of
 ``PreparedHousing.timings`` (assembly, coupling, mode count, factorisation, eigen-solve,

@@ -1,4 +1,4 @@
-"""The housing's evidence (issue 65, item 1; docs/fem_prep.md, "Housing"), measured:
+"""The housing's evidence (docs/fem_prep.md, "Housing"), measured:
 
 1. Leissa's simply supported plate (0.3 m x 0.2 m x 4 mm steel) meshed by the housing's
    structured mesher, Tet10, 6 x 4, 12 x 8 and 24 x 16 cells: the first five frequencies and
@@ -6,7 +6,7 @@
 2. The box housing of tests/test_housing.py (0.3 x 0.2 x 0.2 m, 8 mm walls, three bores, four
    feet; 50 mm cells, Tet10): the seats' receptance of the Craig–Bampton housing against the full
    FE model's, relative Frobenius error per frequency from 50 Hz to 3 kHz, undamped and with a
-   structural loss factor of 0.03 (every other frequency), for the cut-off of issue 65's rule
+   structural loss factor of 0.03 (every other frequency), for the cut-off of the rule
    with a highest mesh frequency of 2 kHz (3 kHz) and twice it (6 kHz); the free-seat
    frequencies' errors; the wall and CPU time of the condensation.
 

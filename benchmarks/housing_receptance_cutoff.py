@@ -1,4 +1,4 @@
-"""The housing's receptance in the band against the cut-off (issue 65; docs/fem_prep.md,
+"""The housing's receptance in the band against the cut-off (docs/fem_prep.md,
 "Receptance in the band against the cut-off"), measured:
 
 The box housing of tests/test_housing.py (0.3 x 0.2 x 0.2 m, 8 mm walls, three bores, four feet;

@@ -1,4 +1,4 @@
-"""Issue 68's first diagnostic: which part of the dynamic K_γ and DF of ``nrel-5mw-planetary``
+"""The first diagnostic: which part of the dynamic K_γ and DF of ``nrel-5mw-planetary``
 at quasi-static speeds is the engagement stiffness step's ringing and which is not.
 
 At one low input speed (default 0.25 rad/s) :func:`jaxgear.planetary.planetary_dynamics` runs

@@ -1,11 +1,11 @@
-"""``jaxgear run`` on every embedded pair and train case whose sweep settles (issue 69 §5,
-docs/dynamics.md "Settled sweeps"), in two source trees (before: the fixed 60, 30 or, for
+"""``jaxgear run`` on every embedded pair and train case whose sweep settles
+(docs/dynamics.md "Settled sweeps"), in two source trees (before: the fixed 60, 30 or, for
 two-stage, 160 periods; after: ``periods = "auto"``, each speed by continuation until it
 settles), each run a fresh process with an empty compilation cache of its own: wall and CPU seconds (user + system of the
 child, ``resource.getrusage``) and the 1-minute load average before and after each run (the
 machine may be shared: CPU seconds are the comparable figure). Writes
 the JSON given by ``--json`` (machine, dtype, JAX version; docs/bench/bench_settled_sweeps.json
-holds the figures measured by hand for issue 69).
+holds the figures measured by hand before).
 
     python benchmarks/settled_sweeps.py --before /tmp/base --after . [--cases a b ...]
 

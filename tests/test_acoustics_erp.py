@@ -1,5 +1,5 @@
-"""jaxgear.acoustics: the housing's response to its seat loads and the equivalent radiated power
-(issue 65, item 4): a piston-like uniform normal velocity against ½ ρ c v² A, the static
+"""jaxgear.acoustics: the housing's response to its seat loads and the equivalent radiated power:
+a piston-like uniform normal velocity against ½ ρ c v² A, the static
 response against a separate SciPy solve of the full FE model, and the gradient of the ERP with
 respect to tip relief against central differences."""
 

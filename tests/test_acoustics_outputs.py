@@ -1,4 +1,4 @@
-"""Radiated noise from a housing (issue 66, items 2 and 4): the housing's outer skin closed by
+"""Radiated noise from a housing: the housing's outer skin closed by
 caps over its bores (fem_prep.housing.closed_outer_surface) against the box's analytic area and
 volume, and the acoustic outputs of ``jaxgear run`` (jaxgear.cli's acoustic_outputs, the
 ``[acoustics]`` table) on radiators whose power is known: a baffled rigid piston (Rayleigh),

@@ -1,4 +1,4 @@
-"""The Python API's own inputs (issue 42 §4): the public constructors and entry points refuse a
+"""The Python API's own inputs: the public constructors and entry points refuse a
 wrong shape, a wrong type, NaN/inf or a value outside its documented range in one
 ``ValueError`` line naming the argument, its value (or shape) and the allowed range, raised
 before any tracing (no JAX frame in the traceback), never an error deep inside JAX; and the

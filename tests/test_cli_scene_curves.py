@@ -1,5 +1,5 @@
 """``jaxgear run`` on a case with a scene: ``te.csv``, ``mesh_stiffness.csv`` and their plots
-hold the scene model's own curves beside the rigid mesh's (issue 42 §6: a flexible case's files
+hold the scene model's own curves beside the rigid mesh's (a flexible case's files
 were the rigid case's under its name), each column and legend named by its model."""
 
 import csv

@@ -1,4 +1,4 @@
-"""The dynamics engines as objects (issue 43): every engine implements the abstract interface
+"""The dynamics engines as objects: every engine implements the abstract interface
 that :func:`~jaxgear.dynamics.simulate` and :func:`~jaxgear.dynamics.speed_sweep` are written
 over; damping models are classes, the case file's names mapped to them at the edge; the
 steady-state statistics come from one :class:`~jaxgear.dynamics.Records` pytree."""

@@ -1,4 +1,4 @@
-"""Issue 42 §3, case files: bad input refused at load with one line naming the key path, the
+"""Case files: bad input refused at load with one line naming the key path, the
 value as written and the allowed range, before any computation or file (round 4 of the edges)."""
 
 import importlib.resources

@@ -1,4 +1,4 @@
-"""Issue 69 §2, planetary inputs held to the pairs' standard (round 5 of the edges): geometry that
+"""Planetary inputs held to the pairs' standard (round 5 of the edges): geometry that
 cannot exist (overlapping or coinciding planets, a ring inside its sun, a planet circle of a
 millimetre), absurd values (stiffnesses, pressure angles, torques, denormals), messages that name
 the right key and unit, and the sweep's memory/time bounds, each refused in one line before any

@@ -1,4 +1,4 @@
-"""Issue 69 §3, rating inputs (round 5 of the edges): a material's and a surface's values in the
+"""Rating inputs (round 5 of the edges): a material's and a surface's values in the
 ranges they can have (ISO 6336-5's material lines, finished flanks' roughness; case file and
 API alike), keys that nothing
 reads refused, ``use_measured`` a stage cannot measure refused before work, the rating objects of

@@ -257,7 +257,7 @@ def test_against_the_plane_strain_fe_contact_reference():
             np.testing.assert_allclose(_entering_share(mesh, pair, T, s), share, atol=tol)
 
 
-# --- the dynamic factor of unmodified teeth at quasi-static speeds (issue 68's evidence) -------
+# --- the dynamic factor of unmodified teeth at quasi-static speeds (the evidence) -------
 # References: at a mesh frequency far below the first mode the response is quasi-static, DF = 1
 # (the issue's criterion: within 15 % below a fifth of the first mode); a load that steps onto a
 # lightly damped oscillator overshoots to twice its static deflection (the undamped step

@@ -1,4 +1,4 @@
-"""Issue 68's FE contact reference (benchmarks/extended_contact_fe.py) checked against analytic
+"""The FE contact reference (benchmarks/extended_contact_fe.py) checked against analytic
 facts, so that its record (docs/bench/extended_contact_fe.json) can serve as the evidence for
 contact beyond the theoretical path.
 

@@ -1,5 +1,4 @@
-"""Flash temperature and scuffing along the path of contact (jaxgear.tribology.mesh_scuffing,
-issue 67 item 4).
+"""Flash temperature and scuffing along the path of contact (jaxgear.tribology.mesh_scuffing).
 
 References: Jaeger's surface temperature of a moving band source at high Péclet number,
 integrated here by quadrature (Blok's constant 1.11 is its maximum under a Hertzian flux);

@@ -1,5 +1,5 @@
 """The scuffing keys of ``[lubricant]`` (jaxgear.io) and ``jaxgear run``'s flash temperature in
-the tribology files (issue 67 items 4, 6), on examples/fzg-c14-lubricated.toml with an FZG load
+the tribology files, on examples/fzg-c14-lubricated.toml with an FZG load
 stage added. The references: the scuffing temperature of ISO/TS 6336-20 written here from the
 load stage (θ_S = 80 + 2.25 S_FZG² for X_W = X_L = 1), S_B from the files' own temperatures,
 and the CSV's cells against the summary."""

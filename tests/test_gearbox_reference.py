@@ -1,5 +1,5 @@
-"""The coupled gearbox against the independent reference of the two-stage example (issue 64's
-evidence: "a two-stage pair+planetary example against an independent reference you write
+"""The coupled gearbox against the independent reference of the two-stage example (the
+aim: "a two-stage pair+planetary example against an independent reference you write
 separately, per-mesh DF within 2 %").
 
 The reference (benchmarks/_two_stage_reference.py: NumPy/SciPy only, no jaxgear) derives the

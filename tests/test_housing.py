@@ -1,6 +1,5 @@
 """fem_prep.housing: the housing mesher against Leissa's plate and under refinement, the
-Craig–Bampton housing against its full FE model at the seats, the cache, the VTU and bad input
-(issue 65, item 1)."""
+Craig–Bampton housing against its full FE model at the seats, the cache, the VTU and bad input."""
 
 import math
 import sys

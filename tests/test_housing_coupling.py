@@ -250,7 +250,7 @@ def test_stiff_housing_dynamics_tend_to_the_grounded_ones():
 @pytest.mark.slow
 def test_soft_housing_whine_against_newmark():
     """The harmonic balance of the coupled model against Newmark on the same model, where the
-    housing matters (issue 65, "Evidence": each order within 1 % and 1°). The pair on a soft
+    housing matters (each order within 1 % and 1°). The pair on a soft
     box (E = 7 GPa, Tet4 40 mm, fixed-interface modes to 6 kHz, the first at 1.38 kHz, loss
     factor 0.02) at 95 rad/s (mesh 680 Hz; no contact loss, ``nonlinearity`` 1e-16): the
     housing moves the mesh force's orders 1-3 by +48, −69, +61 % from the grounded pair's,

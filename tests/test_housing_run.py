@@ -1,4 +1,4 @@
-"""``jaxgear run`` with ``[housing]`` and ``[whine]`` (issue 65, items 4 and 5): the housing's
+"""``jaxgear run`` with ``[housing]`` and ``[whine]``: the housing's
 outputs from the coupled whine response (docs/housing.md, "In jaxgear run").
 
 References: the one path (a housing's coordinates to its skin velocity and ERP) against a NumPy

@@ -1,4 +1,4 @@
-"""Every condensed gear first-class, whichever member it is (issue 20 §4): a pair's flexible
+"""Every condensed gear first-class, whichever member it is: a pair's flexible
 pinion, both members flexible, and a train's flexible gears (docs/hybrid.md, docs/trains.md).
 
 References: the mirror symmetry of a pair (the test wheel as the wheel of the test pair and as

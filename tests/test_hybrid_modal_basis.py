@@ -1,4 +1,4 @@
-"""Hybrid dynamics in the modal basis of the assembled structure (issue 21 §3): m modes of
+"""Hybrid dynamics in the modal basis of the assembled structure: m modes of
 (M, K + K̄) plus the static correction of the cells (docs/hybrid.md, "Modal basis"), on the
 small test wheel. References: the cell-space Newmark of the same model (every coordinate) and
 the quasi-static solution at a very low speed."""

@@ -1,4 +1,4 @@
-"""A gear train with a flexible idler (issue 20): a condensed FE body meshing twice, its two
+"""A gear train with a flexible idler: a condensed FE body meshing twice, its two
 contact zones on one rim through the mortar interface (docs/trains.md, "Flexible gears in a
 train").
 
@@ -200,7 +200,7 @@ def test_rigidified_idler_train_dynamics_equal_the_rigid_node_train(case):
     recorded): each mesh's dynamic factor within 2 % at 1000 rad/s (near a coincidence, DF
     1.89 and 1.70) and 2000 rad/s (measured 0.03 to 0.7 %; after 30 periods 0.05 to 0.7 %)."""
     stiff = stiffened_body(DATA / "hybrid-test-wheel.toml", 1000.0)
-    # on the theoretical path (open, issue 68): beyond it the two scenes' corner rows differ by
+    # on the theoretical path (an open question): beyond it the two scenes' corner rows differ by
     # the drive-rotation step, which takes a corner cell's part along the free rotation off
     # along M r on the mesh's window coordinates: a rigid node's whole gear, a condensed body's
     # rim masters under the contact; with the case file's default the dynamic factors at

@@ -1,4 +1,4 @@
-"""A condensed FE body carrying two gears (issue 20 §1: the seed's intermediate shaft, III-3,
+"""A condensed FE body carrying two gears (the seed's intermediate shaft, III-3,
 whose high-speed wheel and low-speed pinion are condensed together, Fig. III-29): fem_prep's
 ``[pinion_rim]`` and a train case's ``[scene.bodies.<shaft>]`` (docs/trains.md, "A body
 carrying two gears").

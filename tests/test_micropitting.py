@@ -1,5 +1,5 @@
-"""ISO/TS 6336-22 micropitting along jaxgear's path of contact (jaxgear.tribology.mesh_micropitting,
-issue 67 item 2).
+"""ISO/TS 6336-22 micropitting along jaxgear's path of contact
+(jaxgear.tribology.mesh_micropitting).
 
 References: the TS's film formula, bulk temperature and pressure–viscosity law written again here
 in the TS's own units (mm, µm, N/mm², kW; ISO/TR 15144-1:2014 formulae (4), (8), (12), (22),

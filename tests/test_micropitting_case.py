@@ -1,5 +1,5 @@
 """The micropitting keys of ``[lubricant]`` (jaxgear.io) and what ``jaxgear run`` writes of
-ISO/TS 6336-22 (issue 67 items 2, 6), on examples/fzg-c14-lubricated.toml with the keys added.
+ISO/TS 6336-22, on examples/fzg-c14-lubricated.toml with the keys added.
 The references: λ_GFP read from the TS's Figure A.1 (jaxgear.tribology.figure_a1_permissible_film,
 tests/test_micropitting.py) or given, S_λ from the CSV's per-cell λ. The full ``jaxgear run``
 (tribology.json, summary.json, the run line) rides on tests/test_flash_case.py's run."""

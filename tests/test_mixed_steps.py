@@ -1,4 +1,4 @@
-"""One Newmark program for every automatic step count of a speed sweep (issue 47 §2).
+"""One Newmark program for every automatic step count of a speed sweep.
 
 A sweep whose speeds get several automatic N_s (:func:`jaxgear.dynamics.auto_steps_per_period`)
 runs them through one compiled program (N_s an argument of it: the mesh table of the largest

@@ -1,4 +1,4 @@
-"""The embedded ``nrel-5mw-stage3-housed`` (issue 65, item 5): the NREL 5 MW gearbox's parallel
+"""The embedded ``nrel-5mw-stage3-housed``: the NREL 5 MW gearbox's parallel
 helical stage (``nrel-5mw-stage3``) on its published bearings in a ductile-iron box housing.
 
 References written here: the published bearing table (Nejad et al. 2016, Tables VI and IX, as

@@ -1,4 +1,4 @@
-"""The acoustic objectives of optimise (issue 66, item 3): the equivalent radiated power and the
+"""The acoustic objectives of optimise: the equivalent radiated power and the
 radiated sound power of a housed gearbox over speeds, and the gradient of the whole chain
 (tip relief → quasi-static TE → whine → housing → surface velocity → power) against central
 differences.

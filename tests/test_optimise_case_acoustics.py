@@ -1,4 +1,4 @@
-"""``jaxgear optimise`` on a housed case (issue 66, item 3): the acoustic objectives "erp" and
+"""``jaxgear optimise`` on a housed case: the acoustic objectives "erp" and
 "sound_power" from a case file's ``[housing]``, ``[whine]`` and ``[acoustics]``
 (docs/acoustics.md, "Optimising for noise").
 

@@ -1,5 +1,5 @@
-"""Robust tooth-modification design against sampled ISO 1328-1 deviations (issue 22 §3,
-docs/robust.md, "Robust optimisation"): the gradient of the sampled objective through the
+"""Robust tooth-modification design against sampled ISO 1328-1 deviations
+(docs/robust.md, "Robust optimisation"): the gradient of the sampled objective through the
 realisations against central finite differences; the robust optimum beats the nominal optimum
 on the sampled objective (and on fresh realisations); one-line errors."""
 

@@ -1,4 +1,4 @@
-"""The tribology objectives of optimise (issue 67 item 5): mesh power loss, loss of efficiency,
+"""The tribology objectives of optimise: mesh power loss, loss of efficiency,
 minimum specific film thickness and maximum flash temperature along the path of contact, on the
 FZG C14 case (examples/fzg-c14-lubricated.toml).
 

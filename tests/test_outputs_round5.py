@@ -1,4 +1,4 @@
-"""What the outputs say (issue 69 §6): a sweep with nothing to excite says so (lin-parker-1999:
+"""What the outputs say: a sweep with nothing to excite says so (lin-parker-1999:
 constant mesh springs, no pin errors, DF = 1, not round-off); sweep.csv's column names in snake
 case; titles that keep a unit with its number when wrapped; the planetary Campbell title; every
 critical-speed line labelled; no "modified" rows when a case has none; which stiffness each

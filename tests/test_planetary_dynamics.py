@@ -388,7 +388,7 @@ def _integrate(k_eff, c_eff, m, f, kmesh, x0, speed, cuts, t_keep, size, n):
 
 
 def test_quasi_static_speed_resolved_engagement_jump_floating_sun():
-    """Issue 68's diagnostic on a floating sun (planar model, no sun bearing, a 10 µm pin
+    """The diagnostic on a floating sun (planar model, no sun bearing, a 10 µm pin
     error) at a mesh frequency of 40 Hz, far below the stage's mesh modes (2.9 to 12 kHz), the
     step resolving them (dt f = 12 kHz / (40 Hz x 9000) = 1/30). Constant meshes: the dynamic
     K_γ is 1 (a floating sun between equally spaced planets balances only equal mesh forces, so

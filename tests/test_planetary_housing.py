@@ -1,5 +1,5 @@
 """A planetary stage whose held ring is bolted to a condensed housing
-(jaxgear.planetary.HousedPlanetary, issue 65 item 2): the ring's torsional support (and, in the
+(jaxgear.planetary.HousedPlanetary): the ring's torsional support (and, in the
 3D model, its axial one) joins a seat of a small box instead of the ground. Evidence: the
 grounded stage's modes as the housing grows stiff (E x 10, 100, 1000), the same modes from a
 hand assembly written here, the ring's reaction torque reaching the seat in the quasi-static
@@ -484,7 +484,7 @@ def test_bad_inputs_more():
 def test_housed_stage_whine_against_newmark():
     """The whine of the housed stage (its ring's torsional support on the seat of the box at a
     tenth of steel's E, 21 GPa, fixed-interface modes to 2.5 kHz) against Newmark on the same
-    model (issue 65, "Evidence": each order within 1 % and 1°, on a planetary stage), at a
+    model (each order within 1 % and 1°, on a planetary stage), at a
     mesh frequency of 0.1 of the mode the meshes excite most (1.21 kHz), no contact loss:
     every sun and ring mesh's force orders 1-3 (measured within 0.65 % and 0.27°, Newmark's
     first-order error across the stiffness jumps, as grounded), and the ring's reaction torque

@@ -1,5 +1,5 @@
 """Gear whine of a planetary stage in the frequency domain (jaxgear.dynamics.whine_response of a
-PlanetaryModel, issue 65 item 3): against the time-domain Newmark of
+PlanetaryModel): against the time-domain Newmark of
 jaxgear.planetary.planetary_dynamics on the same model in its linear regime (no contact loss),
 each order's amplitude within 1 % and phase within 1° (the pair's twin is
 tests/test_whine.py::test_pair_against_newmark_in_its_linear_regime); its bad inputs."""

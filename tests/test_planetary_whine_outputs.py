@@ -1,4 +1,4 @@
-"""The planetary whine's outputs (issue 65, item 4, for a planetary stage): each mesh's TE and
+"""The planetary whine's outputs (for a planetary stage): each mesh's TE and
 the central members' support reactions per order. At a low speed the orders are the Fourier
 coefficients of the separate quasi-static contact solve (jaxgear.planetary_quasi_static at the
 same mid-point travels), and the ring's support reaction is its meshes' forces by the ring's
@@ -180,7 +180,7 @@ def test_run_writes_a_planetary_stages_whine(tmp_path, capsys):
     assert d["support_moment_components"] == ["carrier torque", "ring torque"]
     assert 0.01 not in d["linear_result_invalid_at_rad_s"]
     assert d["linear_result_invalid_at_rad_s"] and "carrier frame" in d["frame"]
-    # the output says where the linear result does not hold (issue 65, item 3)
+    # the output says where the linear result does not hold
     assert "the linear (frequency-domain) result does not hold there" in d["validity"]
     assert "the linear result does not hold there" in printed
     ff = d["support_fixed_frame"]

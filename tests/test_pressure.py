@@ -1,4 +1,4 @@
-"""Hertzian contact pressure on the flanks (jaxgear.contact_pressure, issue 21 §2).
+"""Hertzian contact pressure on the flanks (jaxgear.contact_pressure).
 
 References: ISO 6336-2's nominal contact stress σ_H0 = Z_H Z_E Z_ε √(F_t (u + 1)/(d₁ b u)) computed
 here by hand from the standard's factors (Z_ε = 1 in single-pair contact); Hertz's half-width of

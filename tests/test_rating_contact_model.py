@@ -1,4 +1,4 @@
-"""Issue 68, item 4: the measured K_v, K_Hβ, K_Hα and K_γ rows of the rating state which contact
+"""The measured K_v, K_Hβ, K_Hα and K_γ rows of the rating state which contact
 model produced them, and a measured factor is never shown beside ISO's without that caveat.
 
 References: the contact model's words as the issue's decision writes them (the theoretical path

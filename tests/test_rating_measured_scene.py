@@ -1,4 +1,4 @@
-"""Measured K_Hβ and K_Hα of the model a case runs (issue 45 item 3): ``jaxgear run`` reads them
+"""Measured K_Hβ and K_Hα of the model a case runs: ``jaxgear run`` reads them
 on its scene's quasi-static load map (a lumped scene: shafts and bearings; a hybrid scene:
 condensed bodies) or its coupled train solve, passed through from the run (nothing solved twice),
 and keeps the rigid mesh's beside them (``rating.measured.K_Hbeta_rigid_mesh``).

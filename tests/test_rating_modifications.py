@@ -1,4 +1,4 @@
-"""One design for the rating and the optimiser (issue 69, §3b): the rating reads ISO 6336-1's
+"""One design for the rating and the optimiser: the rating reads ISO 6336-1's
 tip relief C_a (K_v) and crowning C_β (K_Hβ) from the case's ``[modifications]`` (``[rating]
 tip_relief_um`` an override), states them and their source in ``rating.md``; the least_safety
 objective rates each design with its own relief and crowning and ISO's K_Hα, so that on

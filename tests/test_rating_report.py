@@ -1,4 +1,4 @@
-"""``rating.md`` as a rating report a reviewer signs (issue 69 §3, §6): its rows and numbers
+"""``rating.md`` as a rating report a reviewer signs: its rows and numbers
 against independent values (the case file's inputs and ISO 6336's formulas written here), a
 clause on every row of the rating's tables, the edition and its unconfirmed factors, S_H and
 S_F against S_Hmin and S_Fmin with their verdicts, the NREL stages' published column against

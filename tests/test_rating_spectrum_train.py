@@ -1,4 +1,4 @@
-"""Load spectra of trains and planetary stages (ISO 6336-6:2019; issue 67 item 1): the input's
+"""Load spectra of trains and planetary stages (ISO 6336-6:2019): the input's
 bins carried to every mesh (jaxgear.rating.rate_train_spectrum, ``[rating.spectrum]`` of a train
 or a stage file), each bin rated as the mesh's single-point rating is.
 

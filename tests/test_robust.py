@@ -1,4 +1,4 @@
-"""Monte Carlo over ISO 1328-1 deviation realisations (issue 22 §3, docs/robust.md): the JAX
+"""Monte Carlo over ISO 1328-1 deviation realisations (docs/robust.md): the JAX
 sampler's draws meet the tolerances and have the stated statistics; a runout realisation's TE RMS
 equals its closed form; the sampled mean and percentiles converge as 1/√N to the known
 distribution; the percentile intervals cover; two processes on the loopback address give what

@@ -1,4 +1,4 @@
-"""Dynamics over whole revolutions with manufacturing deviations (issue 22 §3, docs/robust.md,
+"""Dynamics over whole revolutions with manufacturing deviations (docs/robust.md,
 "Dynamics with deviations"): the mesh table spans the deviations' period with one
 time-constant reference; a single pitch deviation at low speed reproduces the quasi-static TE
 step; a pinion runout gives mesh-order ± shaft-order sidebands in the dynamic TE (absent from the

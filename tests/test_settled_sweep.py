@@ -1,4 +1,4 @@
-"""Sweeps that settle before they are read (issue 69 §5, docs/dynamics.md "Settled sweeps"): the
+"""Sweeps that settle before they are read (docs/dynamics.md "Settled sweeps"): the
 settling time of the slowest decaying mode the meshes excite, the modal damping ratios it reads,
 a pair's settled sweep against runs four times longer, and the case file's ``periods = "auto"``
 with sweep.json's ``settled`` per speed."""

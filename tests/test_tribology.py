@@ -1,5 +1,4 @@
-"""EHL film, friction and mesh power loss along the path of contact (jaxgear.tribology, issue 67
-items 2, 3).
+"""EHL film, friction and mesh power loss along the path of contact (jaxgear.tribology).
 
 References: GEARpie's FZG reports (cfernandesFEUP/GEARpie, REPORT/C14.txt at commit 039d496 and
 REPORT/H501.txt at 45f9b44; their inputs from the same commits' GEAR_LIBRARY and

@@ -1,5 +1,5 @@
-"""The ``[lubricant]`` table (jaxgear.io) and ``jaxgear run``'s film and loss files
-(issue 67 items 2, 3, 6), on examples/fzg-c14-lubricated.toml: GEARpie's FZG C14 inputs, whose
+"""The ``[lubricant]`` table (jaxgear.io) and ``jaxgear run``'s film and loss files,
+on examples/fzg-c14-lubricated.toml: GEARpie's FZG C14 inputs, whose
 Schlenk μ (0.0483) and Ohlendorf H_V (0.1950) its report gives (REPORT/C14.txt, commit 039d496)."""
 
 from __future__ import annotations

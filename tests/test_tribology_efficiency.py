@@ -1,5 +1,5 @@
 """Efficiency of a gear train, a planetary stage and a gearbox from each mesh's own sliding loss
-(jaxgear.tribology.train_efficiency, planetary_efficiency, gearbox_efficiency; issue 67 item 3).
+(jaxgear.tribology.train_efficiency, planetary_efficiency, gearbox_efficiency).
 
 References written here: the product of the meshes' efficiencies of a series chain and the
 energy balance (input − Σ losses = output); for a planetary stage with the sun driving, the

@@ -1,4 +1,4 @@
-"""The embedded ``two-stage-housed`` (issue 65, item 5): the embedded ``two-stage`` train in a
+"""The embedded ``two-stage-housed``: the embedded ``two-stage`` train in a
 cast aluminium box round its three shafts, with the quasi-periodic whine to the housing's
 surface (docs/housing.md, "In jaxgear run"; docs/whine.md, "Trains of several mesh
 frequencies").

@@ -1,4 +1,4 @@
-"""``[whine]`` in ``jaxgear run`` (issue 65, item 4): the table's one-line errors, and the files
+"""``[whine]`` in ``jaxgear run``: the table's one-line errors, and the files
 of a run, whose low-speed orders are the quasi-static TE's Fourier coefficients."""
 
 import csv
