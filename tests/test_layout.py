@@ -344,3 +344,19 @@ def test_tests_use_public_names_only():
     assert not bad, f"tests reach private names (use the public API): {bad}"
     unused = sorted(e for e in PRIVATE_IN_TESTS if not any(covers(e, h) for h in found))
     assert not unused, f"PRIVATE_IN_TESTS entries no test needs: {unused}"
+
+
+def test_source_cites_no_issue_numbers():
+    """The repository stands alone: no source, test, benchmark or example file refers to the
+    tracker's numbering (the word issue and a number), which means nothing to a reader of the code; it
+    says what a check is for instead. (The changelog, development history, may.)"""
+    pattern = re.compile(r"\bissues? ?#?\d+", re.IGNORECASE)
+    found = []
+    for folder in ("jaxgear", "fem_prep", "optimise", "tests", "benchmarks", "examples"):
+        for path in sorted((ROOT / folder).rglob("*")):
+            if path.suffix not in {".py", ".toml", ".md", ".ipynb"} or not path.is_file():
+                continue
+            for i, line in enumerate(path.read_text(encoding="utf-8").splitlines(), 1):
+                if pattern.search(line):
+                    found.append(f"{path.relative_to(ROOT)}:{i}")
+    assert not found, found
