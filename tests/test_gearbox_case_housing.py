@@ -172,6 +172,67 @@ def test_gearbox_housing_keys_errors_one_line(tmp_path):
     assert_one_line_errors(bad, tmp_path)
 
 
+def test_gearbox_box_refused_at_load_in_the_files_words(tmp_path):
+    """two-pair-housed.toml's box (220 x 280 mm, 10 mm walls, 70 mm bores round 60 mm shafts;
+    stage 1's axes at x = 0 and 96 mm, stage 2's 150 mm above at 0 and 99 mm) refused at load,
+    naming the file's key: stage 2 5 m above (the axes' span 5000 mm + two walls + a bore:
+    height_mm >= 5090 mm), stage 2 on stage 1's axes (its housing_position_mm), stage 2's own
+    500 mm bores (limited by its two axes 99 mm apart: (60, 99] mm), a [housing] bore of 20 mm
+    below the shafts (stage 1's axes 96 mm apart: (60, 96] mm), walls too thick for the default
+    length (the span 120 mm + a wall), a length without room for two walls, the named point
+    10 m away or in the cavity, a cut-off whose band (cut-off / 1.5) leaves out stage 1's
+    mesh frequency at 30 rad/s, 24 x 30 / 2π = 114.6 Hz (allowed >= 171.9 Hz): one line each,
+    before anything is meshed."""
+    for f in DATA.glob("two-pair-*.toml"):
+        (tmp_path / f.name).write_text(f.read_text())
+    text = CASE.read_text()
+
+    def swap(old, new):
+        assert old in text
+        return text.replace(old, new)
+
+    f1 = 24 * 30.0 / (2 * math.pi)
+    assert f"{f1:.4g}" == "114.6" and f"{1.5 * f1:.4g}" == "171.9"
+    seats = "housing_seats = [2, 6, 3, 7]"
+    bad = {
+        swap("[0.0, 150.0, 0.0]", "[0.0, 5000.0, 0.0]"): (
+            r"^\[housing\] height_mm = 280: the housed axes span 5000 mm along scene y \(stage "
+            r"1's pinion shaft axis at 0 mm to stage 2's pinion shaft axis at 5000 mm\): allowed "
+            r">= 5090 mm .*; or move \[stages\[1\]\] housing_position_mm$"),
+        swap("[0.0, 150.0, 0.0]", "[0.0, 0.0, 0.0]"): (
+            r"^\[stages\[1\]\] housing_position_mm = \[0, 0, 0\]: puts stage 2's pinion shaft "
+            r"axis at \(0, 0\) mm, on stage 1's pinion shaft axis"),
+        swap(seats, seats + "\nhousing_bore_diameter_mm = 500.0"): (
+            r"^\[stages\[1\]\] housing_bore_diameter_mm = 500: the bore round stage 2's pinion "
+            r"shaft axis at \(0, 150\) mm does not fit: allowed \(60, 99\] mm there \(two bores "
+            r"of one diameter round stage 2's pinion shaft axis and stage 2's gear shaft axis, "
+            r"99 mm apart\)$"),
+        swap("bore_diameter_mm = 70.0", "bore_diameter_mm = 20.0"): (
+            r"^\[housing\] bore_diameter_mm = 20: the bore round stage 1's pinion shaft axis "
+            r"does not clear its 60 mm shaft: allowed \(60, 96\] mm$"),
+        swap("wall_thickness_mm = 10.0", "wall_thickness_mm = 130.0"): (
+            r"^\[housing\] wall_thickness_mm = 130: allowed < 120 mm \(the box's default "
+            r"length, the bearings' span 120 mm \+ a wall"),
+        swap("wall_thickness_mm = 10.0", "wall_thickness_mm = 10.0\nlength_mm = 10.0"): (
+            r"^\[housing\] length_mm = 10: allowed > 20 mm"),
+        swap("top = [50.0, 215.0, 0.0]", "top = [50.0, 10215.0, 0.0]"): (
+            r"^\[housing\.points_mm\] top = \[50, 10215, 0\]: outside the housing, 1e\+04 mm "
+            r"from its outer faces"),
+        swap("top = [50.0, 215.0, 0.0]", "top = [50.0, 100.0, 0.0]"): (
+            r"^\[housing\.points_mm\] top = \[50, 100, 0\]: in the housing's cavity"),
+        swap("cutoff_Hz = 6000.0", "cutoff_Hz = 1.0"): (
+            r"^\[housing\] cutoff_Hz = 1: the housing's band, cut-off / 1\.5 = 0\.6667 Hz, "
+            r"leaves out stage 1's mesh frequency at \[operating\] speed_rad_s = 30, 114\.6 Hz "
+            r".*: allowed >= 171\.9 Hz"),
+        swap("cutoff_Hz = 6000.0", "highest_mesh_frequency_Hz = 100.0"): (
+            r"^\[housing\] highest_mesh_frequency_Hz = 100: .*: allowed >= 114\.6 Hz$"),
+    }
+    assert_one_line_errors(bad, tmp_path)
+    path = tmp_path / "edge.toml"  # the band's edge: 1.5 x 114.6 Hz loads
+    path.write_text(swap("cutoff_Hz = 6000.0", f"cutoff_Hz = {1.5 * f1 * (1 + 1e-9)!r}"))
+    assert jio.load_case(str(path)).housing.cutoff == pytest.approx(1.5 * f1)
+
+
 @pytest.mark.slow  # the box's condensation, the torus grid with the housing's coordinates, twice:
 # a few minutes on the loaded host; fast twins: the two tests above
 def test_jaxgear_run_whine_of_the_housed_gearbox(tmp_path):

@@ -658,7 +658,8 @@ def read_housing_mesh(
         element: :class:`Tet10` (``None``: the default) or :class:`Tet4`.
 
     Raises:
-        FileNotFoundError: no such file. ValueError: no tetrahedra in it, a bad ``scale``.
+        FileNotFoundError: no such file. ValueError: a file meshio does not read (its reason
+            in the message), no tetrahedra in it, a bad ``scale``.
     """
     import meshio  # lazy: only when a file is read
 
@@ -668,7 +669,12 @@ def read_housing_mesh(
     _positive("read_housing_mesh", "scale", scale)
     element = Tet10() if element is None else element
     _check_element(element)
-    m = meshio.read(path)
+    try:
+        m = meshio.read(path)
+    except Exception as err:  # meshio's readers raise what their parsers meet  # noqa: BLE001
+        reason = " ".join(str(err).split())[:160] or type(err).__name__
+        raise ValueError(f"read_housing_mesh: {str(path)!r} is not a mesh meshio reads "
+                         f"({reason})") from None
     tets = [c.data[:, :4] for c in m.cells if c.type in ("tetra", "tetra10")]
     if not tets:
         kinds = sorted({c.type for c in m.cells})

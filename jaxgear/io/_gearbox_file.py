@@ -513,6 +513,7 @@ def parse_gearbox(data: dict, default_name: str, base: str | None, load_case) ->
         housing = parse_housing(data["housing"], base,
                                 (first.youngs_modulus, first.poisson_ratio, first.density), top)
         _check_seats(stages, housing)
+        _check_band(stages, data["operating"], housing, data["housing"])
     pairs = tuple(p for s in stages for p in s.case.pairs)
     form = GearboxForm(tuple(stages), whine, housing)
     if housing is not None:
@@ -535,6 +536,33 @@ def _stage_teeth(stages, op: dict) -> list[float]:
             f = c.pair.pinion.teeth * c.speed / (2 * math.pi)
         out.append(2 * math.pi * f / op["speed_rad_s"])
     return out
+
+
+def _check_band(stages, op: dict, spec: HousingSpec, table: dict) -> None:
+    """The housing's band, cut-off / :data:`~jaxgear.io.HOUSING_BAND`, holds every stage's
+    mesh frequency at the gearbox's operating speed (order 1; :func:`_stage_teeth`): the
+    housing modes the meshes excite are in the condensed model (a cut-off below it keeps
+    none of them). One line naming the key the cut-off came from, its value and the least
+    cut-off allowed."""
+    from ._acoustic_path import HOUSING_BAND
+
+    f = [t * op["speed_rad_s"] / (2 * math.pi) for t in _stage_teeth(stages, op)]
+    k = max(range(len(f)), key=f.__getitem__)
+    need = HOUSING_BAND * f[k]
+    if spec.cutoff >= need * (1 - 1e-12):
+        return
+    why = (f"the housing's band, cut-off / {HOUSING_BAND:g} = {spec.cutoff / HOUSING_BAND:.4g} "
+           f"Hz, leaves out stage {k + 1}'s mesh frequency at [operating] speed_rad_s = "
+           f"{op['speed_rad_s']:g}, {f[k]:.4g} Hz (the housing's modes it excites would be "
+           "missing from the model)")
+    if "cutoff_Hz" in table:
+        raise sc.fail("housing", "cutoff_Hz", f"{why}: allowed >= {need:.4g} Hz "
+                      f"({HOUSING_BAND:g} x it)", spec.cutoff)
+    if "highest_mesh_frequency_Hz" in table:
+        raise sc.fail("housing", "highest_mesh_frequency_Hz", f"{why}: allowed >= {f[k]:.4g} "
+                      "Hz", table["highest_mesh_frequency_Hz"])
+    raise sc.fail("housing", "cutoff_Hz", f"{why}; the cut-off derived from {spec.cutoff_source}"
+                  f" is {spec.cutoff:.4g} Hz: give cutoff_Hz >= {need:.4g} Hz")
 
 
 def _placement(table: dict, where: str, has_housing: bool, case: Case, model) -> tuple:

@@ -40,6 +40,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import os
+import re
 from typing import Any, NamedTuple
 
 import numpy as np
@@ -385,9 +386,15 @@ def housing_body(spec: HousingSpec, shafts, positions, *, cache=True, progress=F
             raise sc.fail("housing", "mesh_file", "no such file", spec.mesh_file)
         seats = tuple(Seat(c, a, d / 2, wd, name) for c, a, d, wd, name in spec.seats)
         feet = tuple(Foot(x, y) for x, y in spec.feet)
-        mesh = read_housing_mesh(
-            spec.mesh_file, seats, feet, scale=spec.mesh_scale, element=element
-        )
+        try:
+            mesh = read_housing_mesh(
+                spec.mesh_file, seats, feet, scale=spec.mesh_scale, element=element
+            )
+        except ValueError as err:  # not a mesh meshio reads, or no tetrahedra in it
+            why = re.sub(r"^read_housing_mesh: '.*?' ", "", str(err))
+            raise sc.fail("housing", "mesh_file", f"the file {why}: allowed a tetrahedral mesh "
+                          "meshio reads (gmsh .msh, .vtu, .inp, ...)", spec.mesh_file) from None
+        _check_mesh_file(spec, mesh)
         offset = np.asarray(spec.offset)
     else:
         box, off = _box(spec, shafts, positions, diameters)
@@ -415,6 +422,45 @@ def housing_body(spec: HousingSpec, shafts, positions, *, cache=True, progress=F
         condensed, loss_factor=spec.loss_factor, rotation=np.array(ROTATION), offset=offset
     )
     return HousingBody(mesh, condensed, housing, np.asarray(offset, dtype=float))
+
+
+def _check_mesh_file(spec: HousingSpec, mesh) -> None:
+    """A mesh file's seats and feet found on its mesh before it is condensed (the facets
+    :meth:`fem_prep.housing.HousingMesh.seat_nodes` and ``foot_nodes`` take), one line naming
+    the seat's or foot's key, the mesh's extent as read with ``mesh_unit`` and, where the
+    other unit would put the seats within it, that unit."""
+    p = mesh.mesh.p  # (3, n) m, the housing frame
+    lo, hi = p.min(axis=1), p.max(axis=1)
+    unit = "mm" if spec.mesh_scale == 1e-3 else "m"
+    other, ratio = ("m", 1e3) if unit == "mm" else ("mm", 1e-3)
+    extent = (f"the mesh, read with mesh_unit = {unit!r}, spans " + ", ".join(
+        f"{a} [{_mm(lo[k])}, {_mm(hi[k])}]" for k, a in enumerate("xyz")) + " mm")
+
+    def found(m, seat) -> bool:
+        try:
+            m.seat_nodes(seat)
+        except ValueError:
+            return False
+        return True
+
+    for k, seat in enumerate(mesh.seats):
+        if not found(mesh, seat):
+            rescaled = dataclasses.replace(mesh, mesh=type(mesh.mesh)(p * ratio, mesh.mesh.t))
+            hint = (f"; read with mesh_unit = {other!r} it would hold the seat"
+                    if found(rescaled, seat) else "")
+            raise sc.fail(f"housing.seats[{k}]", "centre_mm", f"no bore facet of the mesh "
+                          f"within diameter_mm / 2 = {_mm(seat.radius)} mm of this seat's axis "
+                          f"({extent}{hint}): allowed a seat on a bore of the mesh (check "
+                          "mesh_unit, the file's length unit)", [float(f"{x * 1e3:.6g}")
+                                                                 for x in seat.centre]) from None
+    for k, foot in enumerate(mesh.feet):
+        try:
+            mesh.foot_nodes(foot)
+        except ValueError:
+            raise sc.fail(f"housing.feet[{k}]", "x_mm", f"no facet of the mesh's lowest plane "
+                          f"in this foot's rectangle ({extent}): allowed a foot on it (check "
+                          "mesh_unit, the file's length unit)",
+                          [float(f"{x * 1e3:.6g}") for x in foot.x_range]) from None
 
 
 def stage_housing_spec(data: dict, base_dir, material, whine=None) -> HousingSpec:
@@ -507,7 +553,8 @@ def _check_box_size(spec: HousingSpec, span: float) -> float:
     length = spec.length if spec.length is not None else span + t
     for key, size in (("width_mm", spec.width), ("height_mm", spec.height)):
         if not size > 2 * t:
-            raise _fail_wall(spec, size / 2, f"half of {key} = {_mm(size)}: its two walls")
+            raise _fail_wall(spec, size / 2, f"half of {key} = {_mm(size)}: its two walls; or "
+                             f"a larger {key}")
     foot = spec.foot_size or 3 * t
     room = min(length, spec.width)
     if foot > room:
@@ -606,10 +653,11 @@ def check_box(spec: HousingSpec, shafts, positions, axes, diameters=None) -> Non
         raise sc.fail(table, key, f"the bore round {axes[i].label} at ({_mm(at[i][0])}, "
                       f"{_mm(at[i][1])}) mm does not fit: allowed ({_mm(lo)}, "
                       f"{_mm(limit.diameter)}] mm there ({where}){default}", value)
-    shaft = f"its {_mm(lo)} mm shaft" if lo > 0 else "a bore"
-    raise sc.fail(table, key, f"no bore round {axes[i].label} at ({_mm(at[i][0])}, "
-                  f"{_mm(at[i][1])}) mm both clears {shaft} and lies {where}: the room there "
-                  f"is {_mm(max(limit.diameter, 0.0))} mm{default}", value)
+    k = max(groups[g], key=lambda m: axes[m].shaft)
+    need = f"it must exceed the {_mm(lo)} mm shaft on {axes[k].label}, and " if lo > 0 else ""
+    raise sc.fail(table, key, f"no diameter fits: {need}the room {where} is "
+                  f"{_mm(max(limit.diameter, 0.0))} mm (round {axes[i].label} at "
+                  f"({_mm(at[i][0])}, {_mm(at[i][1])}) mm){default}", value)
 
 
 def check_housing_points(spec: HousingSpec, shafts, positions, diameters=None,
