@@ -279,3 +279,19 @@ def test_every_shipped_housing_loads():
         assert jio.load_case(name).housing is not None
     example = pathlib.Path(__file__).parents[1] / "examples" / "hybrid-pair-housed.toml"
     assert jio.load_case(str(example)).housing is not None
+
+
+def test_seats_sharing_nodes_one_line(tmp_path, monkeypatch):
+    """Bores of 90 mm round the accessory pair's axes 99.45 mm apart fit the box (loaded), but
+    on its 40 mm cells (a bore's seat takes the facets within one cell diagonal of its
+    radius: 90 / 4 = 22.5 mm cells across it) the two seats share nodes: one line naming
+    [housing] when the box is meshed, before the condensation's eigensolve."""
+    monkeypatch.setenv("FEM_PREP_CACHE", str(tmp_path / "cache"))
+    path = tmp_path / "near.toml"
+    path.write_text(ACCESSORY + HOUSING_TABLE.replace("bore_diameter_mm = 50.0",
+                                                      "bore_diameter_mm = 90.0"))
+    case = jio.load_case(str(path))
+    with pytest.raises(SchemaError, match=r"^\[housing\]: two seats' bores share nodes of the "
+                       r"mesh .*a finer mesh_size_mm$") as err:
+        case.housing_body()
+    assert "\n" not in str(err.value)

@@ -413,11 +413,16 @@ def housing_body(spec: HousingSpec, shafts, positions, *, cache=True, progress=F
             cache=cache,
             progress=progress,
         )
-    except ValueError as err:  # a bore whose seat ring reaches a foot's held nodes
-        if "touches a foot" not in str(err):
-            raise
-        raise sc.SchemaError(f"[housing]: {err} (allowed a bore clear of the feet: a smaller "
-                             "bore diameter, a taller box or smaller feet)") from None
+    except ValueError as err:  # a bore whose seat ring reaches a foot's or another seat's
+        if "touches a foot" in str(err):
+            raise sc.SchemaError(f"[housing]: {err} (allowed a bore clear of the feet: a "
+                                 "smaller bore diameter, a taller box or smaller feet)") from None
+        if "share bore nodes" in str(err):
+            raise sc.SchemaError("[housing]: two seats' bores share nodes of the mesh (their "
+                                 "bores less than about a cell apart): allowed bores farther "
+                                 "apart, a smaller bore diameter or a finer mesh_size_mm"
+                                 ) from None
+        raise
     housing = Housing.of(
         condensed, loss_factor=spec.loss_factor, rotation=np.array(ROTATION), offset=offset
     )
