@@ -234,7 +234,8 @@ def test_mesh_file_errors_before_condensing(tmp_path, monkeypatch):
     """``mesh_file``: a corrupt .msh (meshio cannot parse it) refused naming mesh_file; the
     accessory box's own mesh written in mm and read with mesh_unit = "m": its first seat
     refused naming centre_mm, the mesh's extent as read (in m: 1000 x the box) and the unit
-    that would hold the seat, before anything is condensed (the cache stays empty)."""
+    that would hold the seat, and a named point 10 m off its skin, before anything is condensed
+    (the cache stays empty)."""
     meshio = pytest.importorskip("meshio")
     monkeypatch.setenv("FEM_PREP_CACHE", str(tmp_path / "cache"))
     bores = tuple(Bore(w, (x, 80e-3), 25e-3) for w in ("x-", "x+") for x in (75.27e-3, 174.7e-3))
@@ -268,8 +269,15 @@ def test_mesh_file_errors_before_condensing(tmp_path, monkeypatch):
             case.housing_body()
         assert "\n" not in str(err.value)
         assert not any((tmp_path / "cache").rglob("*.npz")), "condensed before the check"
-    path.write_text(ACCESSORY + table.format("box.vtu", "mm"))
-    assert len(jio.load_case(str(path)).housing.seats) == 4
+    path.write_text(ACCESSORY + table.format("box.vtu", "mm")
+                    + "[housing.points_mm]\nfar = [0.0, 10000.0, 0.0]\n")
+    case = jio.load_case(str(path))
+    assert len(case.housing.seats) == 4
+    with pytest.raises(SchemaError, match=r"^\[housing\.points_mm\] far = \[0, 10000, 0\]: "
+                       r".* mm from the housing's outer surface") as err:
+        case.housing_body()  # a mesh file's points: on its skin once read, before condensing
+    assert "\n" not in str(err.value)
+    assert not any((tmp_path / "cache").rglob("*.npz")), "condensed before the check"
 
 
 def test_every_shipped_housing_loads():

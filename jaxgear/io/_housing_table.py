@@ -396,6 +396,7 @@ def housing_body(spec: HousingSpec, shafts, positions, *, cache=True, progress=F
                           "meshio reads (gmsh .msh, .vtu, .inp, ...)", spec.mesh_file) from None
         _check_mesh_file(spec, mesh)
         offset = np.asarray(spec.offset)
+        _skin(spec, mesh, offset)  # its named points, before it is condensed
     else:
         box, off = _box(spec, shafts, positions, diameters)
         size = spec.mesh_size or min(box.width, box.height, box.length) / 4
@@ -498,13 +499,19 @@ def housing_surface(spec: HousingSpec, body: HousingBody):
         SchemaError: a point farther from the nearest skin node than 0.6 of the skin's longest
             facet edge (outside the housing, or inside its cavity), naming the point's key.
     """
+    return _skin(spec, body.mesh, body.offset)
+
+
+def _skin(spec: HousingSpec, mesh, offset):
+    """:func:`housing_surface` of the housing ``mesh`` (housing frame) placed at ``offset``
+    (m): a mesh file's points are checked by it as soon as the file is read."""
     from fem_prep.housing import outer_surface
 
-    R = np.asarray(body.housing.rotation)
-    local = {name: R.T @ (np.asarray(x) - body.offset) for name, x in spec.points}
-    surface = outer_surface(body.mesh, local)
+    R = np.asarray(ROTATION)
+    local = {name: R.T @ (np.asarray(x) - offset) for name, x in spec.points}
+    surface = outer_surface(mesh, local)
     if spec.points:
-        v = body.mesh.mesh.p[:, body.mesh.mesh.facets[:, surface.facets]]  # (3, 3, F)
+        v = mesh.mesh.p[:, mesh.mesh.facets[:, surface.facets]]  # (3, 3, F)
         # a point on a facet lies within 0.58 of its longest edge of one of its vertices
         tol = 0.6 * float(np.linalg.norm(v - np.roll(v, 1, axis=1), axis=0).max())
         for k, (name, x) in enumerate(spec.points):
