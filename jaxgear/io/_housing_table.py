@@ -630,13 +630,13 @@ def check_box(spec: HousingSpec, shafts, positions, axes, diameters=None) -> Non
     for i in range(len(at)):
         for j in range(i):
             if np.linalg.norm(at[i] - at[j]) <= 1e-9:
-                problem = (f"puts {axes[i].label} at ({_mm(at[i][0])}, {_mm(at[i][1])}) mm, "
-                           f"on {axes[j].label}: allowed a place where each housed axis has "
-                           "a bore of its own")
+                where = (f"{axes[i].label} at ({_mm(at[i][0])}, {_mm(at[i][1])}) mm, on "
+                         f"{axes[j].label}: allowed a place where each housed axis has a bore "
+                         "of its own")
                 if axes[i].place is not None:
                     table, key, value = axes[i].place
-                    raise sc.fail(table, key, problem, value)
-                raise sc.fail("housing", None, f"{axes[i].label} {problem[5:]}")
+                    raise sc.fail(table, key, f"puts {where}", value)
+                raise sc.fail("housing", None, f"the box has {where}")
     keys = list(dict.fromkeys(a.bore for a in axes))
     groups = [[i for i, a in enumerate(axes) if a.bore == k] for k in keys]
     limits = bore_limits(spec.width, spec.height, t, centres, d, groups)
