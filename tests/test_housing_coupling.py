@@ -367,7 +367,8 @@ def test_case_housing_seats_hold_the_bearings(tmp_path):
         (_TABLE + "loss_factor_x = 0.1\n", "loss_factor_x"),
         (_TABLE.replace("loss_factor = 0.02", "loss_factor = 3.0"), r"loss_factor.*\[0, 1\]"),
         (_TABLE + 'mesh_file = "nowhere.msh"\n', "wall|mesh_file"),
-        (_TABLE.replace("width_mm = 250.0", "width_mm = 60.0"), "does not fit"),
+        (_TABLE.replace("width_mm = 250.0", "width_mm = 60.0"),
+         r"width_mm = 60: the housed axes span 99\.45 mm along scene x .*allowed >= 169\.5 mm"),
     ],
 )
 def test_housing_table_errors_one_line(tmp_path, table, match):

@@ -14,6 +14,11 @@ from ._condense import (
     prepare_housing as prepare_housing,
     write_housing_vtu as write_housing_vtu,
 )
+from ._fit import (
+    BoreLimit as BoreLimit,
+    bore_limits as bore_limits,
+    cavity_room as cavity_room,
+)
 from ._mesh import (
     Bore as Bore,
     Foot as Foot,
@@ -22,6 +27,7 @@ from ._mesh import (
     Seat as Seat,
     Tet4 as Tet4,
     Tet10 as Tet10,
+    box_skin_edge as box_skin_edge,
     mesh_box as mesh_box,
     mesh_box_gmsh as mesh_box_gmsh,
     mesh_plate as mesh_plate,

@@ -216,6 +216,23 @@ class HousingBox:
                     f"[0, {self.width}] m"
                 )
 
+    def outer_distance(self, points) -> np.ndarray:
+        """The signed distance (m) of each point ``(n, 3)`` (m, the box's frame) to the box's
+        outer faces, (n,): positive outside the box, negative inside it (in a wall or in the
+        cavity), zero on its outer skin."""
+        p = np.asarray(points, dtype=float).reshape(-1, 3)
+        half = 0.5 * np.array([self.length, self.width, self.height])
+        q = np.abs(p - half) - half
+        return np.linalg.norm(np.maximum(q, 0.0), axis=1) + np.minimum(q.max(axis=1), 0.0)
+
+    def in_cavity(self, points) -> np.ndarray:
+        """Whether each point ``(n, 3)`` (m, the box's frame) lies in the box's cavity, within
+        its walls' inner faces, (n,) bool."""
+        p = np.asarray(points, dtype=float).reshape(-1, 3)
+        t = self.wall_thickness
+        size = np.array([self.length, self.width, self.height])
+        return np.all((p > t) & (p < size - t), axis=1)
+
     def _wall_extent(self, wall: str):
         L, W, H = self.length, self.width, self.height
         return {"x": ((0, W), (0, H)), "y": ((0, L), (0, H)), "z": ((0, L), (0, W))}[wall[0]]
@@ -433,6 +450,48 @@ def _check_size(fn: str, size, layers=1):
         raise ValueError(f"{fn}: layers = {layers!r}, allowed an integer >= 1")
 
 
+def _box_grids(box: HousingBox, size: float, layers: int) -> tuple[list, float]:
+    """:func:`mesh_box`'s tensor grid lines along x, y, z (m) and the largest cell across a
+    bore (m)."""
+    t = box.wall_thickness
+    dims = (box.length, box.width, box.height)
+    seats = box.seats()
+    grids = []
+    h_bore = 0.0
+    for i, L in enumerate(dims):
+        br = [0.0, t, L - t, L]
+        fixed = [(0.0, t, layers), (L - t, L, layers)]
+        for f in box.feet:
+            if i < 2:
+                br += list((f.x_range, f.y_range)[i])
+        for bore, s in zip(box.bores, seats):
+            if "xyz".index(bore.wall[0]) != i:
+                # across the bore: lines at its edges and at least 4 cells over its diameter
+                c, r = s.centre[i], bore.radius
+                n = max(4, math.ceil(2 * r / size - 1e-9))
+                br += [c - r, c + r]
+                fixed.append((c - r, c + r, n))
+                h_bore = max(h_bore, 2 * r / n)
+        grids.append(_grid(br, size, fixed))
+    return grids, h_bore
+
+
+def box_skin_edge(box: HousingBox, size: float, *, layers: int = 1) -> float:
+    """The longest facet edge (m) of the outer faces of :func:`mesh_box`'s mesh of ``box``
+    (``size``, ``layers`` as there), from its grid lines alone (nothing is meshed): each face
+    cell is split along a diagonal, so the longest edge is the diagonal of the face's widest
+    cell, sqrt(max Δu² + max Δv²) over the face's two grid directions.
+
+    Raises:
+        ValueError/TypeError: bad ``box``, ``size`` or ``layers`` (as :func:`mesh_box`).
+    """
+    if not isinstance(box, HousingBox):
+        raise TypeError(f"box_skin_edge: box = {box!r}, allowed a fem_prep.housing.HousingBox")
+    _check_size("box_skin_edge", size, layers)
+    widest = [float(np.diff(g).max()) for g in _box_grids(box, size, layers)[0]]
+    return max(math.hypot(widest[j], widest[k]) for j, k in ((1, 2), (0, 2), (0, 1)))
+
+
 def mesh_box(
     box: HousingBox, size: float, *, layers: int = 1, element: TetElement | None = None
 ) -> HousingMesh:
@@ -465,23 +524,7 @@ def mesh_box(
     t = box.wall_thickness
     dims = (box.length, box.width, box.height)
     seats = box.seats()
-    grids = []
-    h_bore = 0.0
-    for i, L in enumerate(dims):
-        br = [0.0, t, L - t, L]
-        fixed = [(0.0, t, layers), (L - t, L, layers)]
-        for f in box.feet:
-            if i < 2:
-                br += list((f.x_range, f.y_range)[i])
-        for bore, s in zip(box.bores, seats):
-            if "xyz".index(bore.wall[0]) != i:
-                # across the bore: lines at its edges and at least 4 cells over its diameter
-                c, r = s.centre[i], bore.radius
-                n = max(4, math.ceil(2 * r / size - 1e-9))
-                br += [c - r, c + r]
-                fixed.append((c - r, c + r, n))
-                h_bore = max(h_bore, 2 * r / n)
-        grids.append(_grid(br, size, fixed))
+    grids, h_bore = _box_grids(box, size, layers)
 
     def keep(c):
         inside = np.ones(c.shape[1], bool)
@@ -615,7 +658,8 @@ def read_housing_mesh(
         element: :class:`Tet10` (``None``: the default) or :class:`Tet4`.
 
     Raises:
-        FileNotFoundError: no such file. ValueError: no tetrahedra in it, a bad ``scale``.
+        FileNotFoundError: no such file. ValueError: a file meshio does not read (its reason
+            in the message), no tetrahedra in it, a bad ``scale``.
     """
     import meshio  # lazy: only when a file is read
 
@@ -625,7 +669,12 @@ def read_housing_mesh(
     _positive("read_housing_mesh", "scale", scale)
     element = Tet10() if element is None else element
     _check_element(element)
-    m = meshio.read(path)
+    try:
+        m = meshio.read(path)
+    except Exception as err:  # meshio's readers raise what their parsers meet  # noqa: BLE001
+        reason = " ".join(str(err).split())[:160] or type(err).__name__
+        raise ValueError(f"read_housing_mesh: {str(path)!r} is not a mesh meshio reads "
+                         f"({reason})") from None
     tets = [c.data[:, :4] for c in m.cells if c.type in ("tetra", "tetra10")]
     if not tets:
         kinds = sorted({c.type for c in m.cells})

@@ -86,9 +86,11 @@ from ._case import Case, CaseForm, PairForm
 from ._case_model import PAIR_SCENES
 from ._housing_table import (
     ROTATION,
+    HousedAxis,
     HousingBody,
     HousingSpec,
-    box_bores,
+    check_box,
+    check_housing_points,
     housing_body,
     parse_housing,
 )
@@ -511,6 +513,7 @@ def parse_gearbox(data: dict, default_name: str, base: str | None, load_case) ->
         housing = parse_housing(data["housing"], base,
                                 (first.youngs_modulus, first.poisson_ratio, first.density), top)
         _check_seats(stages, housing)
+        _check_band(stages, data["operating"], housing, data["housing"])
     pairs = tuple(p for s in stages for p in s.case.pairs)
     form = GearboxForm(tuple(stages), whine, housing)
     if housing is not None:
@@ -533,6 +536,33 @@ def _stage_teeth(stages, op: dict) -> list[float]:
             f = c.pair.pinion.teeth * c.speed / (2 * math.pi)
         out.append(2 * math.pi * f / op["speed_rad_s"])
     return out
+
+
+def _check_band(stages, op: dict, spec: HousingSpec, table: dict) -> None:
+    """The housing's band, cut-off / :data:`~jaxgear.io.HOUSING_BAND`, holds every stage's
+    mesh frequency at the gearbox's operating speed (order 1; :func:`_stage_teeth`): the
+    housing modes the meshes excite are in the condensed model (a cut-off below it keeps
+    none of them). One line naming the key the cut-off came from, its value and the least
+    cut-off allowed."""
+    from ._acoustic_path import HOUSING_BAND
+
+    f = [t * op["speed_rad_s"] / (2 * math.pi) for t in _stage_teeth(stages, op)]
+    k = max(range(len(f)), key=f.__getitem__)
+    need = HOUSING_BAND * f[k]
+    if spec.cutoff >= need * (1 - 1e-12):
+        return
+    why = (f"the housing's band, cut-off / {HOUSING_BAND:g} = {spec.cutoff / HOUSING_BAND:.4g} "
+           f"Hz, leaves out stage {k + 1}'s mesh frequency at [operating] speed_rad_s = "
+           f"{op['speed_rad_s']:g}, {f[k]:.4g} Hz (the housing's modes it excites would be "
+           "missing from the model)")
+    if "cutoff_Hz" in table:
+        raise sc.fail("housing", "cutoff_Hz", f"{why}: allowed >= {need:.4g} Hz "
+                      f"({HOUSING_BAND:g} x it)", spec.cutoff)
+    if "highest_mesh_frequency_Hz" in table:
+        raise sc.fail("housing", "highest_mesh_frequency_Hz", f"{why}: allowed >= {f[k]:.4g} "
+                      "Hz", table["highest_mesh_frequency_Hz"])
+    raise sc.fail("housing", "cutoff_Hz", f"{why}; the cut-off derived from {spec.cutoff_source}"
+                  f" is {spec.cutoff:.4g} Hz: give cutoff_Hz >= {need:.4g} Hz")
 
 
 def _placement(table: dict, where: str, has_housing: bool, case: Case, model) -> tuple:
@@ -630,11 +660,14 @@ def _check_seats(stages, spec: HousingSpec) -> None:
 
 
 def _check_bores(form: GearboxForm) -> None:
-    """Each housed axis's bore (its stage's ``housing_bore_diameter_mm``, else the
-    ``[housing]``'s ``bore_diameter_mm``) within the end walls' inner faces and clear of the
-    other axes' bores (:func:`~jaxgear.io._housing_table.box_bores`), before the box is meshed;
-    ``housing_bore_diameter_mm`` with a mesh file's ``[housing]`` refused; one line naming the
-    key whose diameter does not fit and the largest that does."""
+    """The gearbox's box ``[housing]`` round its housed axes, before anything is meshed
+    (:func:`~jaxgear.io._housing_table.check_box`: its sizes, the axes within it and apart,
+    each bore, its stage's ``housing_bore_diameter_mm`` or the ``[housing]``'s
+    ``bore_diameter_mm``, clear of its shafts, within the end walls and clear of the other
+    bores; then its named points on its skin,
+    :func:`~jaxgear.io._housing_table.check_housing_points`);
+    ``housing_bore_diameter_mm`` with a mesh file's ``[housing]`` refused; one line naming
+    the key, its value and the allowed range."""
     spec = form.housing
     if spec.mesh_file is not None:
         for k, s in enumerate(form.stages):
@@ -644,17 +677,31 @@ def _check_bores(form: GearboxForm) -> None:
                               "diameter_mm)", s.housing_bore_diameter * 1e3)
         return
     shafts, positions, diameters, owners = _housed_bearings(form)
-    _, _, _, d, room = box_bores(spec, shafts, positions, diameters)
-    axes = [(k, v, ps[0]) for k, v, ps in zip(owners, diameters, positions, strict=True) if ps]
-    for i, (k, given, at) in enumerate(axes):
-        if d[i] > room[i] * (1.0 + 1e-12):
-            problem = (f"the bore round stage {k + 1}'s axis at ({at[0] * 1e3:.4g}, "
-                       f"{at[1] * 1e3:.4g}) mm does not fit: allowed (0, {room[i] * 1e3:.4g}] "
-                       "mm there (within the box's end walls' inner faces, clear of the other "
-                       "axes' bores)")
-            if given is not None:
-                raise sc.fail(f"stages[{k}]", "housing_bore_diameter_mm", problem,
-                              float(f"{d[i] * 1e3:.6g}"))
-            if spec.bore_diameter is None:
-                problem += " (its default: 1.5 x the largest shaft diameter)"
-            raise sc.fail("housing", "bore_diameter_mm", problem, float(f"{d[i] * 1e3:.6g}"))
+    axes = []
+    for k, ps, shaft in zip(owners, positions, _axis_shafts(form), strict=True):
+        if not ps:
+            continue
+        s = form.stages[k]
+        bore = (("housing", "bore_diameter_mm") if s.housing_bore_diameter is None
+                else (f"stages[{k}]", "housing_bore_diameter_mm"))
+        place = (f"stages[{k}]", "housing_position_mm",
+                 [float(f"{x * 1e3:.6g}") for x in s.housing_position])
+        label = f"stage {k + 1}'s axis" if shaft is None else f"stage {k + 1}'s {shaft[0]} axis"
+        axes.append(HousedAxis(label, 0.0 if shaft is None else shaft[1], bore, place))
+    check_box(spec, shafts, positions, axes, diameters)
+    check_housing_points(spec, shafts, positions, diameters)
+
+
+def _axis_shafts(form: GearboxForm) -> list:
+    """Each entry of :func:`_housed_bearings`' positions: (the shaft's name, its diameter (m)),
+    or None for a housed planetary stage's axis (no shaft through its bore)."""
+    out = []
+    for k in form.housed():
+        s = form.stages[k]
+        if s.housing_seat is not None:
+            out.append(None)
+        else:
+            sh, _ = s.case._bearing_layout(s.case.scene)
+            out += [(f"{name} shaft", float(x.diameter))
+                    for name, x in zip(("pinion", "gear"), sh, strict=True)]
+    return out

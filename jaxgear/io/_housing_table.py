@@ -40,6 +40,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import os
+import re
 from typing import Any, NamedTuple
 
 import numpy as np
@@ -283,8 +284,7 @@ def parse_housing(table, base_dir: str | None = None, material=None,
 def box_bores(spec: HousingSpec, shafts, positions, diameters=None):
     """The box's bores round the housed axes (module docstring): (the box's length (m), the
     scene position of its origin (3,) (m), each axis's bore centre in the end walls' plane
-    (A, 2) (m), its bore diameter (A,) (m), the largest diameter that fits there (A,) (m):
-    within the walls' inner faces and clear of every other axis's bore at its own diameter).
+    (A, 2) (m), its bore diameter (A,) (m)); whether they fit: :func:`check_box`.
     ``diameters``: one per entry of ``positions`` (None: the default, ``bore_diameter_mm`` or
     1.5 x the largest shaft diameter); an axis is an entry with a position."""
     P = np.array([p for ps in positions for p in ps]).reshape(-1, 3)
@@ -297,18 +297,10 @@ def box_bores(spec: HousingSpec, shafts, positions, diameters=None):
     off = np.array(
         [mid[0] - spec.width / 2, mid[1] - spec.height / 2, 0.5 * (z0 + z1) - length / 2]
     )
-    default = spec.bore_diameter or 1.5 * max(s.diameter for s in shafts)
+    default = spec.bore_diameter or 1.5 * max((s.diameter for s in shafts), default=0.0)
     given = [None] * len(positions) if diameters is None else list(diameters)
     d = np.array([default if given[k] is None else float(given[k]) for k in keep])
-    centres = axes - off[:2]
-    u, v = centres[:, 0], centres[:, 1]
-    room = 2.0 * np.minimum.reduce([u - t, spec.width - t - u, v - t, spec.height - t - v])
-    for i in range(len(keep)):
-        for j in range(len(keep)):
-            if i != j:
-                gap = float(np.linalg.norm(centres[i] - centres[j])) - d[j] / 2
-                room[i] = min(room[i], 2.0 * gap)
-    return length, off, centres, d, room
+    return length, off, axes - off[:2], d
 
 
 def _box(spec: HousingSpec, shafts, positions, diameters=None):
@@ -316,7 +308,7 @@ def _box(spec: HousingSpec, shafts, positions, diameters=None):
     scene position of its origin (m); ``diameters``: :func:`box_bores`'."""
     from fem_prep.housing import Bore, Foot, HousingBox
 
-    length, off, centres, d, _ = box_bores(spec, shafts, positions, diameters)
+    length, off, centres, d = box_bores(spec, shafts, positions, diameters)
     t = spec.wall_thickness
     bores = tuple(
         Bore(wall, (c[0], c[1]), dk / 2)
@@ -394,10 +386,17 @@ def housing_body(spec: HousingSpec, shafts, positions, *, cache=True, progress=F
             raise sc.fail("housing", "mesh_file", "no such file", spec.mesh_file)
         seats = tuple(Seat(c, a, d / 2, wd, name) for c, a, d, wd, name in spec.seats)
         feet = tuple(Foot(x, y) for x, y in spec.feet)
-        mesh = read_housing_mesh(
-            spec.mesh_file, seats, feet, scale=spec.mesh_scale, element=element
-        )
+        try:
+            mesh = read_housing_mesh(
+                spec.mesh_file, seats, feet, scale=spec.mesh_scale, element=element
+            )
+        except ValueError as err:  # not a mesh meshio reads, or no tetrahedra in it
+            why = re.sub(r"^read_housing_mesh: '.*?' ", "", str(err))
+            raise sc.fail("housing", "mesh_file", f"the file {why}: allowed a tetrahedral mesh "
+                          "meshio reads (gmsh .msh, .vtu, .inp, ...)", spec.mesh_file) from None
+        _check_mesh_file(spec, mesh)
         offset = np.asarray(spec.offset)
+        _skin(spec, mesh, offset)  # its named points, before it is condensed
     else:
         box, off = _box(spec, shafts, positions, diameters)
         size = spec.mesh_size or min(box.width, box.height, box.length) / 4
@@ -415,15 +414,59 @@ def housing_body(spec: HousingSpec, shafts, positions, *, cache=True, progress=F
             cache=cache,
             progress=progress,
         )
-    except ValueError as err:  # a bore whose seat ring reaches a foot's held nodes
-        if "touches a foot" not in str(err):
-            raise
-        raise sc.SchemaError(f"[housing]: {err} (allowed a bore clear of the feet: a smaller "
-                             "bore diameter, a taller box or smaller feet)") from None
+    except ValueError as err:  # a bore whose seat ring reaches a foot's or another seat's
+        if "touches a foot" in str(err):
+            raise sc.SchemaError(f"[housing]: {err} (allowed a bore clear of the feet: a "
+                                 "smaller bore diameter, a taller box or smaller feet)") from None
+        if "share bore nodes" in str(err):
+            raise sc.SchemaError("[housing]: two seats' bores share nodes of the mesh (their "
+                                 "bores less than about a cell apart): allowed bores farther "
+                                 "apart, a smaller bore diameter or a finer mesh_size_mm"
+                                 ) from None
+        raise
     housing = Housing.of(
         condensed, loss_factor=spec.loss_factor, rotation=np.array(ROTATION), offset=offset
     )
     return HousingBody(mesh, condensed, housing, np.asarray(offset, dtype=float))
+
+
+def _check_mesh_file(spec: HousingSpec, mesh) -> None:
+    """A mesh file's seats and feet found on its mesh before it is condensed (the facets
+    :meth:`fem_prep.housing.HousingMesh.seat_nodes` and ``foot_nodes`` take), one line naming
+    the seat's or foot's key, the mesh's extent as read with ``mesh_unit`` and, where the
+    other unit would put the seats within it, that unit."""
+    p = mesh.mesh.p  # (3, n) m, the housing frame
+    lo, hi = p.min(axis=1), p.max(axis=1)
+    unit = "mm" if spec.mesh_scale == 1e-3 else "m"
+    other, ratio = ("m", 1e3) if unit == "mm" else ("mm", 1e-3)
+    extent = (f"the mesh, read with mesh_unit = {unit!r}, spans " + ", ".join(
+        f"{a} [{_mm(lo[k])}, {_mm(hi[k])}]" for k, a in enumerate("xyz")) + " mm")
+
+    def found(m, seat) -> bool:
+        try:
+            m.seat_nodes(seat)
+        except ValueError:
+            return False
+        return True
+
+    for k, seat in enumerate(mesh.seats):
+        if not found(mesh, seat):
+            rescaled = dataclasses.replace(mesh, mesh=type(mesh.mesh)(p * ratio, mesh.mesh.t))
+            hint = (f"; read with mesh_unit = {other!r} it would hold the seat"
+                    if found(rescaled, seat) else "")
+            raise sc.fail(f"housing.seats[{k}]", "centre_mm", f"no bore facet of the mesh "
+                          f"within diameter_mm / 2 = {_mm(seat.radius)} mm of this seat's axis "
+                          f"({extent}{hint}): allowed a seat on a bore of the mesh (check "
+                          "mesh_unit, the file's length unit)", [float(f"{x * 1e3:.6g}")
+                                                                 for x in seat.centre]) from None
+    for k, foot in enumerate(mesh.feet):
+        try:
+            mesh.foot_nodes(foot)
+        except ValueError:
+            raise sc.fail(f"housing.feet[{k}]", "x_mm", f"no facet of the mesh's lowest plane "
+                          f"in this foot's rectangle ({extent}): allowed a foot on it (check "
+                          "mesh_unit, the file's length unit)",
+                          [float(f"{x * 1e3:.6g}") for x in foot.x_range]) from None
 
 
 def stage_housing_spec(data: dict, base_dir, material, whine=None) -> HousingSpec:
@@ -456,13 +499,19 @@ def housing_surface(spec: HousingSpec, body: HousingBody):
         SchemaError: a point farther from the nearest skin node than 0.6 of the skin's longest
             facet edge (outside the housing, or inside its cavity), naming the point's key.
     """
+    return _skin(spec, body.mesh, body.offset)
+
+
+def _skin(spec: HousingSpec, mesh, offset):
+    """:func:`housing_surface` of the housing ``mesh`` (housing frame) placed at ``offset``
+    (m): a mesh file's points are checked by it as soon as the file is read."""
     from fem_prep.housing import outer_surface
 
-    R = np.asarray(body.housing.rotation)
-    local = {name: R.T @ (np.asarray(x) - body.offset) for name, x in spec.points}
-    surface = outer_surface(body.mesh, local)
+    R = np.asarray(ROTATION)
+    local = {name: R.T @ (np.asarray(x) - offset) for name, x in spec.points}
+    surface = outer_surface(mesh, local)
     if spec.points:
-        v = body.mesh.mesh.p[:, body.mesh.mesh.facets[:, surface.facets]]  # (3, 3, F)
+        v = mesh.mesh.p[:, mesh.mesh.facets[:, surface.facets]]  # (3, 3, F)
         # a point on a facet lies within 0.58 of its longest edge of one of its vertices
         tol = 0.6 * float(np.linalg.norm(v - np.roll(v, 1, axis=1), axis=0).max())
         for k, (name, x) in enumerate(spec.points):
@@ -475,3 +524,222 @@ def housing_surface(spec: HousingSpec, body: HousingBody):
                     "longest skin cell edge)", [x_ * 1e3 for x_ in x],
                 )
     return surface
+
+
+# -- the box's geometry checked at load, in the case file's words ------------------------------
+
+
+class HousedAxis(NamedTuple):
+    """One axis a box's end walls have a bore round, as :func:`check_box` names it: its
+    ``label`` ("the pinion shaft's axis", "stage 2's axis"), the ``shaft`` diameter through
+    its bore (m; 0: none, a planetary stage's ring seat), the ``bore`` key that sizes it
+    ((table, key) of the case file) and the ``place`` key that puts it there ((table, key,
+    value in mm) or None: the case's own layout)."""
+
+    label: str
+    shaft: float
+    bore: tuple[str, str] = ("housing", "bore_diameter_mm")
+    place: tuple | None = None
+
+
+def _mm(x: float) -> str:
+    return f"{x * 1e3:.4g}"
+
+
+def _fail_wall(spec: HousingSpec, limit: float, why: str):
+    return sc.fail("housing", "wall_thickness_mm", f"allowed < {_mm(limit)} mm ({why})",
+                   float(f"{spec.wall_thickness * 1e3:.6g}"))
+
+
+def _check_box_size(spec: HousingSpec, span: float) -> float:
+    """The box's own sizes: its length (``length_mm``, else the bearings' ``span`` + a wall)
+    holds its two end walls, its width and height two walls each, its feet (``foot_size_mm``,
+    else 3 walls) fit its bottom. Returns the length (m)."""
+    t = spec.wall_thickness
+    if spec.length is not None and not spec.length > 2 * t:
+        raise sc.fail("housing", "length_mm", f"allowed > {_mm(2 * t)} mm (the two end walls "
+                      f"of wall_thickness_mm = {_mm(t)})", float(f"{spec.length * 1e3:.6g}"))
+    if spec.length is None and not span > t:
+        raise _fail_wall(spec, span, f"the box's default length, the bearings' span "
+                         f"{_mm(span)} mm + a wall, holds its two end walls; or give length_mm")
+    length = spec.length if spec.length is not None else span + t
+    for key, size in (("width_mm", spec.width), ("height_mm", spec.height)):
+        if not size > 2 * t:
+            raise _fail_wall(spec, size / 2, f"half of {key} = {_mm(size)}: its two walls; or "
+                             f"a larger {key}")
+    foot = spec.foot_size or 3 * t
+    room = min(length, spec.width)
+    if foot > room:
+        where = "length" if length <= spec.width else "width_mm"
+        if spec.foot_size is not None:
+            raise sc.fail("housing", "foot_size_mm", f"allowed (0, {_mm(room)}] mm (the box's "
+                          f"{where}, {_mm(room)} mm: the feet stand on its bottom's corners)",
+                          float(f"{spec.foot_size * 1e3:.6g}"))
+        raise _fail_wall(spec, room / 3, f"the default feet, 3 walls square, exceed the box's "
+                         f"{where}, {_mm(room)} mm; or give foot_size_mm")
+    return length
+
+
+def _fit_problem(axes, at, d, limit, groups, keys) -> str:
+    """The words of what limits a group of bores (:func:`check_box`)."""
+    kind, i = limit.by[:2]
+    if kind == "wall":
+        return "within the box's end walls' inner faces"
+    j = limit.by[2]
+    s = float(np.linalg.norm(at[i] - at[j]))
+    if kind == "axes":
+        return (f"two bores of one diameter round {axes[i].label} and {axes[j].label}, "
+                f"{_mm(s)} mm apart")
+    table, key = keys[next(g for g, members in enumerate(groups) if j in members)]
+    return (f"clear of the {_mm(d[j])} mm bore round {axes[j].label} at ({_mm(at[j][0])}, "
+            f"{_mm(at[j][1])}) mm, {_mm(s)} mm away ([{table}] {key})")
+
+
+def check_box(spec: HousingSpec, shafts, positions, axes, diameters=None) -> None:
+    """A box ``[housing]`` checked round its axes before anything is meshed, one line naming
+    the case file's key, its value and the allowed range: the box's sizes (``length_mm``,
+    ``wall_thickness_mm``, ``foot_size_mm``), every axis within its cavity (``width_mm``,
+    ``height_mm``), no two axes at one place (the ``place`` key), each bore clear of its shaft,
+    within the walls and clear of the other bores (:func:`fem_prep.housing.bore_limits`; the
+    key that sizes it, with the range the others leave it, or, where none is left, what
+    conflicts). ``shafts``, ``positions``, ``diameters``: :func:`box_bores`'; ``axes``: one
+    :class:`HousedAxis` per entry of ``positions`` with a position. A mesh file's housing is
+    not checked here."""
+    from fem_prep.housing import bore_limits
+
+    if spec.mesh_file is not None:
+        return
+    P = np.array([p for ps in positions for p in ps]).reshape(-1, 3)
+    _check_box_size(spec, float(np.ptp(P[:, 2])))
+    _, _, centres, d = box_bores(spec, shafts, positions, diameters)
+    at = np.array([ps[0][:2] for ps in positions if ps])  # the axes in the scene (x, y)
+    t = spec.wall_thickness
+    # every axis within the cavity: the box is centred on them across
+    for n, (key, size) in enumerate((("width_mm", spec.width), ("height_mm", spec.height))):
+        lo_k, hi_k = int(np.argmin(at[:, n])), int(np.argmax(at[:, n]))
+        span = float(at[hi_k, n] - at[lo_k, n])
+        if not span + 2 * t < size:
+            need = span + 2 * t + max(d[lo_k], d[hi_k])
+            moved = [a.place for a in (axes[lo_k], axes[hi_k]) if a.place is not None]
+            hint = f"; or move [{moved[-1][0]}] {moved[-1][1]}" if moved else ""
+            raise sc.fail("housing", key, f"the housed axes span {_mm(span)} mm along scene "
+                          f"{'xy'[n]} ({axes[lo_k].label} at {_mm(at[lo_k, n])} mm to "
+                          f"{axes[hi_k].label} at {_mm(at[hi_k, n])} mm): allowed >= "
+                          f"{_mm(need)} mm (the span, two walls of {_mm(t)} mm and the bores "
+                          f"round the outermost axes){hint}", float(f"{size * 1e3:.6g}"))
+    for i in range(len(at)):
+        for j in range(i):
+            if np.linalg.norm(at[i] - at[j]) <= 1e-9:
+                where = (f"{axes[i].label} at ({_mm(at[i][0])}, {_mm(at[i][1])}) mm, on "
+                         f"{axes[j].label}: allowed a place where each housed axis has a bore "
+                         "of its own")
+                if axes[i].place is not None:
+                    table, key, value = axes[i].place
+                    raise sc.fail(table, key, f"puts {where}", value)
+                raise sc.fail("housing", None, f"the box has {where}")
+    keys = list(dict.fromkeys(a.bore for a in axes))
+    groups = [[i for i, a in enumerate(axes) if a.bore == k] for k in keys]
+    limits = bore_limits(spec.width, spec.height, t, centres, d, groups)
+    bad = []
+    for g, (members, limit) in enumerate(zip(groups, limits, strict=True)):
+        lo = max(axes[i].shaft for i in members)
+        dg = float(d[members[0]])
+        if lo < dg <= limit.diameter * (1.0 + 1e-12):
+            continue
+        bad.append((limit.diameter <= lo, g, lo, dg, limit))
+    if not bad:
+        return
+    empty, g, lo, dg, limit = min(bad, key=lambda b: b[:2])  # a range left first
+    table, key = keys[g]
+    i = limit.by[1]
+    default = (" (its default: 1.5 x the largest shaft diameter)"
+               if table == "housing" and spec.bore_diameter is None else "")
+    value = float(f"{dg * 1e3:.6g}")
+    where = _fit_problem(axes, at, d, limit, groups, keys)
+    if not empty and dg <= lo:
+        k = max(groups[g], key=lambda m: axes[m].shaft)
+        raise sc.fail(table, key, f"the bore round {axes[k].label} does not clear its "
+                      f"{_mm(lo)} mm shaft: allowed ({_mm(lo)}, {_mm(limit.diameter)}] mm"
+                      f"{default}", value)
+    if not empty:
+        raise sc.fail(table, key, f"the bore round {axes[i].label} at ({_mm(at[i][0])}, "
+                      f"{_mm(at[i][1])}) mm does not fit: allowed ({_mm(lo)}, "
+                      f"{_mm(limit.diameter)}] mm there ({where}){default}", value)
+    k = max(groups[g], key=lambda m: axes[m].shaft)
+    need = f"it must exceed the {_mm(lo)} mm shaft on {axes[k].label}, and " if lo > 0 else ""
+    raise sc.fail(table, key, f"no diameter fits: {need}the room {where} is "
+                  f"{_mm(max(limit.diameter, 0.0))} mm (round {axes[i].label} at "
+                  f"({_mm(at[i][0])}, {_mm(at[i][1])}) mm){default}", value)
+
+
+def check_housing_points(spec: HousingSpec, shafts, positions, diameters=None,
+                         microphones=()) -> None:
+    """A box ``[housing]``'s named points on its outer skin and ``[acoustics]``'s
+    ``microphones`` ((name, (x, y, z) m), scene frame) outside it, before anything is meshed
+    (the box placed as :func:`housing_body` places it; after :func:`check_box`): a point
+    within 0.6 of the skin's longest cell edge (:func:`fem_prep.housing.box_skin_edge`) of the
+    box's outer faces and not in its cavity (:meth:`fem_prep.housing.HousingBox.outer_distance`,
+    ``in_cavity``), a microphone farther than that outside them; one line naming the key.
+    A mesh file's points are checked when its housing is built (:func:`housing_surface`)."""
+    from fem_prep.housing import box_skin_edge
+
+    if spec.mesh_file is not None or not (spec.points or microphones):
+        return
+    box, off = _box(spec, shafts, positions, diameters)
+    size = spec.mesh_size or min(box.width, box.height, box.length) / 4
+    edge = (box_skin_edge(box, size, layers=spec.layers) if spec.mesher == "structured"
+            else 2.0 * size)  # gmsh's cells: about size, a margin of 2
+    tol = 0.6 * edge
+    R = np.asarray(ROTATION)
+    corners = off[:, None] + R @ np.array([[0.0, box.length], [0.0, box.width],
+                                           [0.0, box.height]])
+    lo, hi = corners.min(axis=1), corners.max(axis=1)
+    extent = ("the box spans " + ", ".join(f"{a} [{_mm(lo[k])}, {_mm(hi[k])}]"
+                                           for k, a in enumerate("xyz")) + " mm")
+    for kind, named in (("points", spec.points), ("microphones", microphones)):
+        for k, (name, x) in enumerate(named):
+            local = R.T @ (np.asarray(x) - off)
+            dist = float(box.outer_distance(local)[0])
+            cavity = bool(box.in_cavity(local)[0])
+            mm = [float(f"{v * 1e3:.6g}") for v in x]
+            if kind == "points":
+                if cavity or abs(dist) > tol:
+                    side = ("in the housing's cavity" if cavity else
+                            f"outside the housing, {_mm(dist)} mm from its outer faces"
+                            if dist > 0 else f"in the housing's wall, {_mm(-dist)} mm under "
+                            "its outer faces")
+                    raise sc.fail("housing.points_mm", name, f"{side}: allowed on its outer "
+                                  f"skin, within {_mm(tol)} mm of its outer faces (0.6 of its "
+                                  f"longest skin cell edge; {extent}, scene frame)", mm)
+            elif not dist > tol:
+                side = ("inside the housing" if dist < 0 else
+                        f"on the housing's skin, {_mm(dist)} mm from its outer faces")
+                raise sc.fail(f"acoustics.microphones[{k}]", "position_mm", f"{side} "
+                              f"(microphone {name!r}): allowed outside it, more than "
+                              f"{_mm(tol)} mm from its outer faces (0.6 of its longest skin "
+                              f"cell edge; {extent}, scene frame)", mm)
+
+
+def check_case_housing(case) -> None:
+    """A pair's, a train's or a planetary stage's box ``[housing]`` checked at load, before
+    anything is meshed (:func:`check_box`, :func:`check_housing_points` with its
+    ``[acoustics]`` microphones): round its scene's shafts (a pair's pinion and gear shafts, a
+    train's ``[[scene.shafts]]``), or a planetary stage's axis (no shaft; its bore
+    ``bore_diameter_mm``). Nothing without a box ``[housing]``."""
+    from ._acoustics_table import acoustics_of
+
+    spec = case.housing
+    if spec is None or spec.mesh_file is not None:
+        return
+    if case.scene is None:  # a planetary stage's box round its axis (stage_housing)
+        shafts, positions = (), [[np.zeros(3)]]
+        axes = [HousedAxis("the stage's axis", 0.0)]
+    else:
+        shafts, positions = case._bearing_layout(case.scene)
+        names = case.shaft_names or ("pinion", "gear")  # a train's, else a pair's two
+        axes = [HousedAxis(f"the {name} shaft's axis", float(s.diameter))
+                for name, s, ps in zip(names, shafts, positions, strict=True) if ps]
+    check_box(spec, shafts, positions, axes)
+    acoustics = acoustics_of(case)
+    check_housing_points(spec, shafts, positions,
+                         microphones=() if acoustics is None else acoustics.microphones)

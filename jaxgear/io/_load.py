@@ -12,6 +12,7 @@ from fem_prep import schema as sc
 from ._case import Case
 from ._case_file import parse_case
 from ._gearbox_file import is_gearbox, parse_gearbox
+from ._housing_table import check_case_housing
 from ._train_file import is_train, parse_train
 
 __all__ = ["embedded_case_text", "list_cases", "load_case", "published_rating"]
@@ -103,6 +104,6 @@ def _load(name_or_path: str | os.PathLike, chain: tuple) -> Case:
     data = sc.load_toml(raw, f"case file {label!r}")
     if is_gearbox(data):
         return parse_gearbox(data, default, base, functools.partial(_load, chain=(*chain, key)))
-    if is_train(data):
-        return parse_train(data, default, base)
-    return parse_case(data, default, base)
+    case = parse_train(data, default, base) if is_train(data) else parse_case(data, default, base)
+    check_case_housing(case)  # the box round its shafts and its points, before any meshing
+    return case

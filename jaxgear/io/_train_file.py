@@ -514,10 +514,10 @@ def parse_train(data: dict, default_name: str = "train", base_dir: str | None = 
     if "optimise" in data and is_planetary(data):
         raise sc.fail("", "optimise", "not in a planetary stage's case (allowed: a pair's case, "
                       "or a housed train's)", "[optimise]")
+    if "acoustics" in data:  # a housed train's or planetary stage's radiated sound
+        parse_case_acoustics(data)
     if is_planetary(data):
         return _planetary_case(data, name, base_dir)
-    if "acoustics" in data:
-        parse_case_acoustics(data)
     if "deviations" in data:
         raise sc.fail("", "deviations", "not in a gear train's case (allowed: a pair's case, or "
                       "a planetary stage's with [[gears]])", "[deviations]")
