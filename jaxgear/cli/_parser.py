@@ -218,8 +218,12 @@ def _add_run(r) -> None:
     )
     r.add_argument("--out", help="output folder (default: jaxgear-out/<case>/)")
     r.add_argument(
-        "--json", help="also write the summary to this file (its folder is created if missing)"
+        "--json",
+        metavar="FILE",
+        help="also write the summary to this new file (its folder is created if missing; never "
+        "the case file or a file it names)",
     )
+    r.add_argument("--force", action="store_true", help="replace the --json FILE if it exists")
     r.add_argument("--quiet", action="store_true", help="no progress bar")
     r.add_argument(
         "--keep-partial",
