@@ -1,0 +1,236 @@
+"""No command writes over an input of its run or, without ``--force``, over an existing file.
+
+Every option that names an output file (``run --json``, ``optimise --write``, ``cases --write``,
+``fem-prep bodies --write``) refuses the case file and the files it names (a body file, a
+housing mesh file, a gearbox's stage files: ``Case.input_files``) even with ``--force``, and an
+existing file without it, in one line naming the option and the path, before any work; an
+output folder refuses an input where the command writes. The inputs' list is checked against
+the files written into the case by hand (an independent list), the refusals by the files'
+bytes left as they were.
+"""
+
+import os
+import pathlib
+import time
+
+import pytest
+
+import fem_prep
+import fem_prep.cli as fem_cli  # only to patch the build it calls (tests/test_layout.py)
+import jaxgear.cli._optimise as optimise_module  # its work replaced: the paths are under test
+import jaxgear.cli.run as run_module  # its steps replaced by quick fakes (tests/test_manifest.py)
+import jaxgear.io as jio
+from jaxgear.cli import main
+from jaxgear.io import embedded_case_text, write_json
+
+CASES = pathlib.Path(jio.__file__).resolve().parents[1] / "cases"
+
+
+class Reached(Exception):
+    """Raised where a command's work starts: its output checks have passed."""
+
+
+def _reached(*args, **kw):
+    raise Reached
+
+
+def _fake_run_case(case, out, **kw):
+    summary = {"case": case.name, "complete": True}
+    write_json(os.path.join(out, "summary.json"), summary)
+    return summary
+
+
+@pytest.fixture
+def quick_run(monkeypatch):
+    monkeypatch.setattr(run_module, "run_case", _fake_run_case)
+    monkeypatch.setattr(run_module, "format_table", lambda summary, stiffness, *modified: "")
+
+
+def _case_file(tmp_path, name="power-helical") -> pathlib.Path:
+    p = tmp_path / "c.toml"
+    p.write_text(embedded_case_text(name))
+    return p
+
+
+def _one_line(capsys, *needles) -> str:
+    err = [ln for ln in capsys.readouterr().err.splitlines() if ln.strip()]
+    assert len(err) == 1 and err[0].startswith(("jaxgear: error: ", "fem-prep: error: ")), err
+    for n in needles:
+        assert n in err[0], err
+    return err[0]
+
+
+# -- the files a case reads ----------------------------------------------------------------------
+
+
+def test_input_files_are_the_case_file_and_the_files_it_names(tmp_path):
+    """A pair with a body file, a housed pair with a mesh file, a gearbox with a stage file:
+    ``input_files`` lists exactly the files written here (absolute), and an embedded case
+    none (its bodies are embedded names, not files)."""
+    (tmp_path / "wheel.toml").write_text(fem_prep.embedded_body_text("accessory-wheel"))
+    flexible = tmp_path / "flexible.toml"
+    flexible.write_text(
+        embedded_case_text("accessory-spur-flexible").replace(
+            'body = "accessory-wheel"', 'body = "wheel.toml"'
+        )
+    )
+    assert jio.load_case(flexible).input_files == (str(flexible), str(tmp_path / "wheel.toml"))
+
+    (tmp_path / "box.msh").write_text("read when the housing is built, not at load")
+    text = embedded_case_text("power-helical-housed")
+    head, rest = text.split("\n[housing]", 1)
+    housed = tmp_path / "housed.toml"
+    housed.write_text(
+        head + '\n[housing]\nmesh_file = "box.msh"\ncutoff_Hz = 6000.0\n[[housing.seats]]\n'
+        "centre_mm = [0.0, 0.0, 20.0]\ndiameter_mm = 60.0\nwidth_mm = 12.0\n"
+        "[whine]" + rest.split("[whine]", 1)[1]
+    )
+    assert jio.load_case(housed).input_files == (str(housed), str(tmp_path / "box.msh"))
+
+    (tmp_path / "sub").mkdir()
+    stage = tmp_path / "sub" / "stage3.toml"
+    stage.write_text(embedded_case_text("nrel-5mw-stage3"))
+    gearbox = tmp_path / "sub" / "gearbox.toml"
+    gearbox.write_text(
+        embedded_case_text("nrel-5mw-gearbox").replace(
+            'case = "nrel-5mw-stage3"', 'case = "stage3.toml"'
+        )
+    )
+    assert jio.load_case(gearbox).input_files == (str(gearbox), str(stage))
+    assert jio.load_case("accessory-spur-flexible").input_files == ()
+
+
+# -- file options ----------------------------------------------------------------------------
+
+
+def test_run_json_refuses_the_case_file_and_an_existing_file(tmp_path, capsys, quick_run):
+    case = _case_file(tmp_path)
+    before = case.read_bytes()
+    mine = tmp_path / "notes.json"
+    mine.write_text("my own notes")
+    out = str(tmp_path / "out")
+    for path, force, why in (
+        (case, False, "is the case file of this run"),
+        (case, True, "is the case file of this run"),  # --force never replaces an input
+        (mine, False, "exists (add --force to replace it)"),
+    ):
+        t0 = time.perf_counter()
+        argv = ["run", str(case), "--out", out, "--json", str(path), "--quiet"]
+        assert main(argv + ["--force"] * force) == 2
+        assert time.perf_counter() - t0 < 5  # before the model is loaded
+        _one_line(capsys, f"--json {path}: {why}")
+    assert case.read_bytes() == before and mine.read_text() == "my own notes"
+    assert not os.path.exists(out)
+    # another spelling of the case file (a link to it) is the case file
+    link = tmp_path / "link.json"
+    link.symlink_to(case)
+    assert main(["run", str(case), "--out", out, "--json", str(link), "--force", "--quiet"]) == 2
+    _one_line(capsys, f"--json {link}: is the case file of this run")
+    # with --force an existing file of the user's is replaced by the summary
+    assert main(["run", str(case), "--out", out, "--json", str(mine), "--force", "--quiet"]) == 0
+    assert '"complete": true' in mine.read_text()
+
+
+def test_run_json_refuses_a_file_the_case_names(tmp_path, capsys, quick_run):
+    (tmp_path / "wheel.toml").write_text(fem_prep.embedded_body_text("accessory-wheel"))
+    before = (tmp_path / "wheel.toml").read_bytes()
+    case = tmp_path / "c.toml"
+    case.write_text(
+        embedded_case_text("accessory-spur-flexible").replace(
+            'body = "accessory-wheel"', 'body = "wheel.toml"'
+        )
+    )
+    wheel = tmp_path / "wheel.toml"
+    argv = ["run", str(case), "--out", str(tmp_path / "o"), "--json", str(wheel), "--force"]
+    assert main(argv) == 2
+    _one_line(capsys, f"--json {wheel}: is a file the case names of this run ({wheel})")
+    assert wheel.read_bytes() == before
+
+
+def test_optimise_write_refuses_its_case_and_an_existing_file(tmp_path, capsys, monkeypatch):
+    monkeypatch.setattr(optimise_module, "_optimise", _reached)
+    case = _case_file(tmp_path)
+    before = case.read_bytes()
+    mine = tmp_path / "notes.toml"
+    mine.write_text("my own notes")
+    out = str(tmp_path / "out")
+    for path, force, why in (
+        (case, False, "is the case file of this run"),
+        (case, True, "is the case file of this run"),
+        (mine, False, "exists (add --force to replace it)"),
+    ):
+        argv = ["optimise", str(case), "--out", out, "--write", str(path), "--quiet"]
+        assert main(argv + ["--force"] * force) == 2  # refused before the optimiser starts
+        _one_line(capsys, f"--write {path}: {why}")
+    assert case.read_bytes() == before and mine.read_text() == "my own notes"
+    with pytest.raises(Reached):  # with --force the checks pass and the work starts
+        main(["optimise", str(case), "--out", out, "--write", str(mine), "--force", "--quiet"])
+
+
+@pytest.mark.parametrize("command", ["cases", "bodies"])
+def test_write_of_a_starting_file_needs_force(tmp_path, capsys, command):
+    """``jaxgear cases NAME --write`` and ``fem-prep bodies NAME --write`` (their inputs are
+    embedded: only an existing file to refuse)."""
+    mine = tmp_path / "mine.toml"
+    mine.write_text("my own work")
+    if command == "cases":
+        run, argv = main, ["cases", "power-helical", "--write", str(mine)]
+    else:
+        run, argv = fem_prep.main, ["bodies", "accessory-wheel", "--write", str(mine)]
+    assert run(argv) == 2
+    _one_line(capsys, f"--write {mine}: exists (add --force to replace it)")
+    assert mine.read_text() == "my own work"
+    assert run([*argv, "--force"]) == 0
+    assert mine.read_text() != "my own work"
+
+
+# -- output folders ----------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("command", "extra", "name"),
+    [
+        ("run", [], "summary.json"),
+        ("modes", [], "modes.json"),
+        ("sweep", ["--speeds", "100:200:3"], "sweep.json"),
+        ("optimise", [], "optimum.json"),
+        ("master-curve", [], "master_curve.json"),
+        ("robust", ["--grade", "6"], "robust.json"),
+    ],
+)
+def test_out_folder_refuses_an_input_where_the_command_writes(
+    tmp_path, capsys, monkeypatch, command, extra, name
+):
+    """The case file lying in the output folder under a name the command writes there: refused
+    naming ``--out``, the file and the name, before any work; the case file as it was."""
+    for module, fn in ((run_module, "run_kind"), (optimise_module, "_optimise"),
+                       (optimise_module, "master_curve_case")):
+        monkeypatch.setattr(module, fn, _reached)
+    out = tmp_path / "out"
+    out.mkdir()
+    case = out / name
+    case.write_text(embedded_case_text("accessory-spur"))
+    before = case.read_bytes()
+    assert main([command, str(case), "--out", str(out), "--quiet", *extra]) == 2
+    _one_line(capsys, f"--out {out}: {case} is the case file of this run", f"writes {name} there")
+    assert case.read_bytes() == before and os.listdir(out) == [name]
+
+
+def test_out_folder_keeps_an_input_that_is_not_an_output_name(tmp_path, quick_run):
+    out = tmp_path / "out"
+    out.mkdir()
+    case = out / "c.toml"
+    case.write_text(embedded_case_text("power-helical"))
+    before = case.read_bytes()
+    assert main(["run", str(case), "--out", str(out), "--quiet"]) == 0
+    assert case.read_bytes() == before and (out / "summary.json").is_file()
+
+
+def test_fem_prep_build_refuses_its_body_file_in_its_folder(tmp_path, capsys, monkeypatch):
+    monkeypatch.setattr(fem_cli, "build", lambda *a, **k: pytest.fail("the build started"))
+    body = tmp_path / "summary.json"  # where the build writes its summary
+    body.write_text(fem_prep.embedded_body_text("accessory-wheel"))
+    before = body.read_bytes()
+    assert fem_prep.main(["build", str(body), "--out", str(tmp_path), "--quiet"]) == 2
+    _one_line(capsys, f"--out {body}: is the body file of this run")
+    assert body.read_bytes() == before
