@@ -234,3 +234,80 @@ def test_fem_prep_build_refuses_its_body_file_in_its_folder(tmp_path, capsys, mo
     assert fem_prep.main(["build", str(body), "--out", str(tmp_path), "--quiet"]) == 2
     _one_line(capsys, f"--out {body}: is the body file of this run")
     assert body.read_bytes() == before
+
+
+# -- SIGTERM: an interruption, as Ctrl-C -----------------------------------------------------------
+
+#: a ``jaxgear run`` whose work writes one file, says so and then waits (the SIGTERM comes while
+#: it waits): the signal's path through the real console entry, without the cost of a real run
+_WAITING_RUN = """
+import os, sys, time
+import jaxgear.cli.run as run_module
+from jaxgear.io import write_json
+
+def run_case(case, out, **kw):
+    write_json(os.path.join(out, "te.csv"), [1.0])  # a finished part
+    print("finished a part", flush=True)
+    time.sleep(600)
+
+run_module.run_case = run_case
+from jaxgear.cli import entry
+sys.argv = ["jaxgear", *sys.argv[1:]]
+entry()
+"""
+
+
+def test_sigterm_mid_run_is_an_interruption_with_exit_143(tmp_path):
+    """``timeout``/a job scheduler's SIGTERM while ``jaxgear run`` works (a real process, its
+    console entry): one line, exit status 143 (128 + 15), the earlier results as they were and
+    no hidden staging folder left (what Ctrl-C gives: tests/test_cli_robust.py)."""
+    import signal
+    import subprocess
+    import sys
+
+    case = _case_file(tmp_path)
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "harris_map.png").write_bytes(b"earlier")  # an earlier run's file, listed as such
+    (out / ".jaxgear-outputs").write_text("harris_map.png\n")
+    p = subprocess.Popen(
+        [sys.executable, "-c", _WAITING_RUN, "run", str(case), "--out", str(out), "--quiet"],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+    )
+    try:
+        assert p.stdout.readline().strip() == "finished a part", p.stderr.read()
+        assert [n for n in os.listdir(out) if n.startswith(".jaxgear-staging-")]  # mid-run
+        p.send_signal(signal.SIGTERM)
+        _, err = p.communicate(timeout=120)
+    finally:
+        p.kill()
+    assert p.returncode == 143, err
+    assert err.strip().splitlines() == ["jaxgear: terminated (SIGTERM)"], err
+    assert sorted(os.listdir(out)) == [".jaxgear-outputs", "harris_map.png"]
+    assert (out / "harris_map.png").read_bytes() == b"earlier"
+
+
+def test_sigterm_keeps_the_finished_parts_of_a_keep_partial_run(tmp_path, capsys, monkeypatch):
+    """The same SIGTERM (sent to this process while ``main`` runs) on ``--keep-partial``: the
+    finished file kept where the user sees it, ``summary.json`` saying the run is incomplete,
+    exit status 143; SIGTERM's own handler back after."""
+    import json
+    import signal
+
+    def run_case(case, out, **kw):
+        write_json(os.path.join(out, "te.csv"), [1.0])  # a finished part
+        os.kill(os.getpid(), signal.SIGTERM)
+        time.sleep(60)  # (the handler raises at once)
+        pytest.fail("SIGTERM did not stop the run")
+
+    monkeypatch.setattr(run_module, "run_case", run_case)
+    before = signal.getsignal(signal.SIGTERM)
+    case = _case_file(tmp_path)
+    out = tmp_path / "out"
+    assert main(["run", str(case), "--out", str(out), "--quiet", "--keep-partial"]) == 143
+    assert capsys.readouterr().err.strip() == "jaxgear: terminated (SIGTERM)"
+    assert signal.getsignal(signal.SIGTERM) == before
+    assert json.loads((out / "summary.json").read_text()) == {"case": "power-helical",
+                                                              "complete": False}
+    assert json.loads((out / "te.csv").read_text()) == [1.0]
+    assert sorted(os.listdir(out)) == [".jaxgear-outputs", "summary.json", "te.csv"]
