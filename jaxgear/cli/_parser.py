@@ -363,7 +363,8 @@ _HELP = {
         "its [scene] and [optimise] ask for",
     ),
     "cases": (
-        "list the embedded cases (kind, rated or not, run time), or print / write one",
+        "list the embedded cases (kind, rated or not, run time, and a first run's with its "
+        "FE bodies and housing still to build), or print / write one",
     ),
     "bench": (
         "benchmark runs (speed vs a baseline, speed-vs-accuracy charts; from a source "
