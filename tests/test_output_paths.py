@@ -216,6 +216,52 @@ def test_out_folder_refuses_an_input_where_the_command_writes(
     assert case.read_bytes() == before and os.listdir(out) == [name]
 
 
+@pytest.mark.parametrize(
+    ("command", "extra", "name"),
+    [
+        ("run", [], "te.csv"),
+        ("modes", [], "modes.json"),
+        ("sweep", ["--speeds", "100:200:3"], "sweep.csv"),
+        ("optimise", [], "convergence.png"),
+        ("master-curve", [], "master_curve.png"),
+        ("robust", ["--grade", "6"], "samples.csv"),
+        ("bench", [], "bench_dynamics.json"),
+    ],
+)
+def test_out_folder_refuses_a_users_file_with_an_output_name_without_force(
+    tmp_path, capsys, monkeypatch, command, extra, name
+):
+    """A file of the user's (not in the folder's list of what jaxgear wrote) under a name the
+    command writes: refused naming ``--out`` and the file, before any work; with ``--force``
+    the work starts. A file jaxgear wrote there (listed) is replaced without ``--force``."""
+    import jaxgear.cli.bench as bench_module
+    import jaxgear.cli.modes as modes_module
+    import jaxgear.cli.robust as robust_module
+    import jaxgear.cli.sweep as sweep_module
+
+    for module, fn in ((run_module, "run_kind"), (optimise_module, "_optimise"),
+                       (optimise_module, "master_curve_case"), (modes_module, "case_modes"),
+                       (sweep_module, "sweep_case"), (bench_module, "_load_benchmarks")):
+        monkeypatch.setattr(module, fn, _reached)
+    monkeypatch.setattr(robust_module.DeviationSampler, "for_grade", _reached)
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / name).write_text("the user's own")
+    if command == "bench":
+        argv = ["bench", "dynamics", "--quick", "--out", str(out)]
+    else:
+        argv = [command, "accessory-spur", "--out", str(out), "--quiet", *extra]
+    assert main(argv) == 2
+    _one_line(capsys, f"--out {out}: {out / name} exists and jaxgear did not write it",
+              "add --force")
+    assert (out / name).read_text() == "the user's own"
+    with pytest.raises(Reached):
+        main([*argv, "--force"])
+    (out / ".jaxgear-outputs").write_text(f"{name}\n")  # an earlier run's: no --force needed
+    with pytest.raises(Reached):
+        main(argv)
+
+
 def test_out_folder_keeps_an_input_that_is_not_an_output_name(tmp_path, quick_run):
     out = tmp_path / "out"
     out.mkdir()

@@ -714,7 +714,8 @@ def run_optimise(args) -> int:
     _check_train(case, settings)
     write_to = check_write(args.write, args.case, case, force=args.force)
     out = check_case_outputs(case, "optimise",
-                             args.out or os.path.join("jaxgear-out", case.name, "optimise"))
+                             args.out or os.path.join("jaxgear-out", case.name, "optimise"),
+                             force=args.force)
     clear_outputs(out, "optimise")  # e.g. path.png of an earlier 2-variable run
     rep, problem = _optimise(case, settings, out, progress=not args.quiet)
     where = "" if rep["speed_rad_s"] is None else f" (hybrid scene at {rep['speed_rad_s']:g} rad/s)"
@@ -824,7 +825,8 @@ def run_master_curve(args) -> int:
     extents = range_values(args.extents, "--extents")
     case = _pair_case(args.case, "master-curve")
     out = check_case_outputs(case, "master-curve",
-                             args.out or os.path.join("jaxgear-out", case.name, "master-curve"))
+                             args.out or os.path.join("jaxgear-out", case.name, "master-curve"),
+                             force=args.force)
     clear_outputs(out, "master-curve")
     rep = master_curve_case(case, extents, out, progress=not args.quiet)
     for row in rep["master_curve"]:

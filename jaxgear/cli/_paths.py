@@ -7,7 +7,8 @@ The rule of every command's outputs: a file option (``--json``, ``--write``) nev
 input of the run (the case file or a file it names: :attr:`jaxgear.io.Case.input_files`) nor,
 without ``--force``, an existing file (:func:`fem_prep.files.check_output_file`); an output
 folder (``--out``) never holds an input of the run where the command writes
-(:func:`check_out_inputs`) and is written only inside (:func:`check_no_link_out`). Each is
+(:func:`check_out_inputs`) nor, without ``--force``, a file jaxgear did not write under a name
+it writes (:func:`check_foreign_files`), and is written only inside (:func:`check_no_link_out`). Each is
 refused in one line naming the option and the path, before any work.
 """
 
@@ -29,6 +30,7 @@ __all__ = [
     "TRAIN_FILES",
     "case_inputs",
     "check_case_outputs",
+    "check_foreign_files",
     "check_no_link_out",
     "check_not_input",
     "check_out_inputs",
@@ -301,12 +303,38 @@ def check_out_inputs(folder, command: str, inputs, option: str = "--out") -> Non
             )
 
 
+def check_foreign_files(folder, command: str, *, force: bool = False,
+                        option: str = "--out") -> None:
+    """Refuse, unless ``force``, an output folder holding a file that jaxgear did not write
+    there (not in the folder's manifest, :func:`clear_outputs`) under a name ``command`` writes
+    (a name of :data:`OUTPUT_FILES` without a wildcard): the run would replace it. A file
+    behind a link out of the folder is left to :func:`check_no_link_out`.
+
+    Raises:
+        ValueError: one line ``{option} FOLDER: PATH exists and jaxgear did not write it; jaxgear
+            COMMAND writes that name (add --force to replace it, or choose another {option})``.
+    """
+    if force or not os.path.isdir(folder):
+        return
+    listed = set(sc.recorded_outputs(folder))
+    for name in OUTPUT_FILES[command]:
+        if "*" in name or name in listed or _inside(folder, name) is None:
+            continue
+        path = os.path.join(folder, name)
+        if os.path.isfile(path) or os.path.islink(path):
+            raise ValueError(
+                f"{option} {folder}: {path} exists and jaxgear did not write it; jaxgear "
+                f"{command} writes that name (add --force to replace it, or choose another "
+                f"{option})"
+            )
+
+
 def check_case_outputs(case, command: str, folder, files=(), *, force: bool = False) -> str:
     """The outputs of ``command`` run on the loaded ``case``, checked before any work (the
-    module's rule): the output folder (:func:`check_output_dir`, :func:`check_out_inputs`)
-    and each ``(option, path)`` of ``files`` whose path is not None
-    (:func:`check_output_file`: no input of the run; an existing file only with ``force``).
-    Returns the folder, normalised.
+    module's rule): the output folder (:func:`check_output_dir`, :func:`check_out_inputs`,
+    :func:`check_foreign_files`) and each ``(option, path)`` of ``files`` whose path is not
+    None (:func:`check_output_file`: no input of the run; an existing file only with
+    ``force``). Returns the folder, normalised.
 
     Raises:
         ValueError: one line naming the option and the path."""
@@ -316,6 +344,7 @@ def check_case_outputs(case, command: str, folder, files=(), *, force: bool = Fa
             check_output_file(path, option, inputs=inputs, force=force)
     folder = check_output_dir(folder)
     check_out_inputs(folder, command, inputs)
+    check_foreign_files(folder, command, force=force)
     return folder
 
 

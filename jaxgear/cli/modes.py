@@ -218,7 +218,8 @@ def default_modes_dir(case_name: str) -> str:
 def run_modes(args) -> int:
     """Run ``jaxgear modes`` (float64 on: the CLI does it). Returns 0."""
     case = case_io.load_case(args.case)
-    out = check_case_outputs(case, "modes", args.out or default_modes_dir(case.name))
+    out = check_case_outputs(case, "modes", args.out or default_modes_dir(case.name),
+                             force=args.force)
     data = case_modes(case.form, case)
     with staged_outputs(out, "modes") as work:
         write_json(os.path.join(work, "modes.json"), data)

@@ -137,7 +137,7 @@ def run_robust(args) -> int:
     out_dir = args.out or os.path.join("jaxgear-out", case.name, "robust")
     writer = jax.process_index() == 0
     if writer:
-        check_case_outputs(case, "robust", out_dir)
+        check_case_outputs(case, "robust", out_dir, force=args.force)
     try:
         sampler = DeviationSampler.for_grade(
             case.pair,
