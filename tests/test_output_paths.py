@@ -131,6 +131,16 @@ def test_run_json_refuses_the_case_file_and_an_existing_file(tmp_path, capsys, q
     assert '"complete": true' in mine.read_text()
 
 
+def test_run_json_never_lands_on_another_output(tmp_path, capsys, quick_run):
+    """``--json out/te.csv``: the summary would replace the run's own te.csv."""
+    case = _case_file(tmp_path)
+    out = tmp_path / "out"
+    assert main(["run", str(case), "--out", str(out), "--json", str(out / "te.csv")]) == 2
+    _one_line(capsys, f"--out {out}: {out / 'te.csv'} is the --json file of this run",
+              "writes te.csv there")
+    assert not out.exists()
+
+
 def test_run_json_refuses_a_file_the_case_names(tmp_path, capsys, quick_run):
     (tmp_path / "wheel.toml").write_text(fem_prep.embedded_body_text("accessory-wheel"))
     before = (tmp_path / "wheel.toml").read_bytes()

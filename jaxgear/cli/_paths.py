@@ -334,7 +334,8 @@ def check_case_outputs(case, command: str, folder, files=(), *, force: bool = Fa
     module's rule): the output folder (:func:`check_output_dir`, :func:`check_out_inputs`,
     :func:`check_foreign_files`) and each ``(option, path)`` of ``files`` whose path is not
     None (:func:`check_output_file`: no input of the run; an existing file only with
-    ``force``). Returns the folder, normalised.
+    ``force``; not at a name the command writes into the folder). Returns the folder,
+    normalised.
 
     Raises:
         ValueError: one line naming the option and the path."""
@@ -344,6 +345,8 @@ def check_case_outputs(case, command: str, folder, files=(), *, force: bool = Fa
             check_output_file(path, option, inputs=inputs, force=force)
     folder = check_output_dir(folder)
     check_out_inputs(folder, command, inputs)
+    # nor a file option at a name the command writes into its folder (one output over another)
+    check_out_inputs(folder, command, {p: f"the {o} file" for o, p in files if p is not None})
     check_foreign_files(folder, command, force=force)
     return folder
 
