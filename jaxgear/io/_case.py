@@ -244,7 +244,7 @@ class Case(MeshSettings):
             files it names (body files, a ring body file, a housing's ``mesh_file``, a
             gearbox's stage case files and theirs), set by :func:`jaxgear.io.load_case`; () for
             an embedded case or one built in Python. No command writes over one of them
-            (:func:`jaxgear.cli._paths.check_not_inputs`).
+            (:func:`jaxgear.cli._paths.check_case_outputs`).
     """
 
     name: str
