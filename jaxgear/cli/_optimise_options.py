@@ -10,8 +10,6 @@ from __future__ import annotations
 
 import argparse
 
-from ._parser import FORCE_HELP
-
 __all__ = [
     "OBJECTIVE_NAMES",
     "OPTIMISER_NAMES",
@@ -144,7 +142,6 @@ def add_optimise_arguments(o) -> None:
         "the optimum (every other line kept), loadable by jaxgear run NEW.toml (a new file: "
         "never the case file or a file it names)",
     )
-    o.add_argument("--force", action="store_true", help=FORCE_HELP + " and the --write file")
     o.add_argument(
         "--quiet", action="store_true", help="no progress bar (the result lines are printed)"
     )
@@ -160,5 +157,4 @@ def add_master_curve_arguments(m) -> None:
         help="START:STOP:N relief extents Γ (default: 0.05:0.6:12)",
     )
     m.add_argument("--out", help="output folder (default jaxgear-out/<case>/master-curve)")
-    m.add_argument("--force", action="store_true", help=FORCE_HELP)
     m.add_argument("--quiet", action="store_true", help="no progress bar")

@@ -201,12 +201,14 @@ def _add_optimise(o) -> None:
     from ._optimise_options import add_optimise_arguments
 
     add_optimise_arguments(o)
+    o.add_argument("--force", action="store_true", help=FORCE_HELP + " and the --write file")
 
 
 def _add_master_curve(m) -> None:
     from ._optimise_options import add_master_curve_arguments
 
     add_master_curve_arguments(m)
+    m.add_argument("--force", action="store_true", help=FORCE_HELP)
 
 
 def _add_run(r) -> None:

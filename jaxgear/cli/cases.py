@@ -172,7 +172,7 @@ FE_BUILD_MEASURED = (
     "EPYC on 2026-11-27 (bodies_s of docs/bench/bench_run_cases_idle_flexible.json, the "
     "bodies built in a process of their own, the runs of RUN's figures after them); its "
     "housing, estimated as 1.7 x the CPU seconds of its build measured under load (1-minute "
-    "load average 12-16) on 2026-11-29 (benchmarks/cold_builds.py, "
+    "load average 12-16) on 2026-11-29 (the cold-builds benchmark, "
     "docs/bench/bench_cold_builds.json), 1.7 the ratio of the idle wall time to those CPU "
     "seconds of the three bodies' builds measured both ways (1.68-1.71). Not counted: the "
     "tooth and fillet FE tables of the fe2d stiffness and of [rating], cached alike "
