@@ -37,6 +37,7 @@ __all__ = [
     "cache_key",
     "condensed",
     "load_condensed",
+    "output_names",
     "save_condensed",
     "summary_dict",
     "write_vtu",
@@ -506,7 +507,7 @@ def _(o) -> Any:
 def _cached(body: Body, *, use_cache: bool, progress: bool, out: Path) -> tuple[Path, bool]:
     """Directory holding the body's three output files (the cache entry, or ``out`` without the
     cache) and whether they came from the cache."""
-    names = _names(body)
+    names = output_names(body)
     cdir = cache_dir() / _cache_key(body)
     if use_cache and all((cdir / n).is_file() for n in names.values()):
         try:
@@ -524,7 +525,9 @@ def _cached(body: Body, *, use_cache: bool, progress: bool, out: Path) -> tuple[
     return target, False
 
 
-def _names(body: Body) -> dict[str, str]:
+def output_names(body: Body) -> dict[str, str]:
+    """The names of the files :func:`build` writes into its folder for ``body``:
+    ``{"npz": <name>.npz, "vtu": <name>.vtu, "summary": summary.json}``."""
     return {"npz": f"{body.name}.npz", "vtu": f"{body.name}.vtu", "summary": "summary.json"}
 
 
@@ -549,7 +552,7 @@ def _condensed(source: str | Path, progress: bool) -> CondensedBody:
 @_condensed.register
 def _(source: Body, progress: bool) -> CondensedBody:
     where, _ = _cached(source, use_cache=True, progress=progress, out=cache_dir())
-    return load_condensed(where / _names(source)["npz"])
+    return load_condensed(where / output_names(source)["npz"])
 
 
 @functools.singledispatch
@@ -587,7 +590,7 @@ def build(
     """
     body = _as_body(source)
     out = Path(out_dir) if out_dir is not None else Path("fem-prep-out") / body.name
-    names = _names(body)
+    names = output_names(body)
     where, hit = _cached(body, use_cache=use_cache, progress=progress, out=out)
     summary = json.loads((where / names["summary"]).read_text())
     if where != out:

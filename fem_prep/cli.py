@@ -17,8 +17,8 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from ._bench import run_bench
-from ._io import build
-from .files import check_output_dir, print_or_write
+from ._io import build, output_names
+from .files import check_not_input, check_output_dir, print_or_write
 from .schema import embedded_bodies, embedded_body_text, load_body
 
 __all__ = ["add_build_arguments", "main", "run_build"]
@@ -44,6 +44,9 @@ def run_build(args, prog: str = "fem-prep") -> int:
     try:
         body = load_body(args.body)
         out = Path(check_output_dir(args.out or Path("fem-prep-out") / body.name))
+        if os.path.isfile(args.body):  # the build writes over none of its inputs
+            for name in output_names(body).values():
+                check_not_input(out / name, "--out", {args.body: "the body file"})
     except (FileNotFoundError, ValueError) as exc:
         return _fail(prog, exc)
     summary = build(body, out, use_cache=not args.no_cache, progress=not args.quiet)

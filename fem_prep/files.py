@@ -20,6 +20,7 @@ __all__ = [
     "OUTPUT_MANIFEST",
     "atomic_open",
     "atomic_write",
+    "check_not_input",
     "check_output_dir",
     "check_output_file",
     "embedded_names",
@@ -179,15 +180,34 @@ def check_output_dir(path, option: str = "--out") -> str:
     return os.path.normpath(path)
 
 
-def check_output_file(path, option: str = "--json") -> str:
-    """Check that a file can be written at ``path`` (a missing folder is created on writing).
+def check_output_file(path, option: str = "--json", *, inputs=None, force: bool = False) -> str:
+    """Check, before any work, that a command may write the file ``path`` (a missing folder is
+    created on writing): the rule of every option that names an output file (``jaxgear run
+    --json``, ``jaxgear optimise --write``, ``jaxgear cases --write``, ``fem-prep bodies
+    --write``): never over an input of the run, never over an existing file unless ``force``
+    (the option's ``--force``).
+
+    Args:
+        path: the file the option names.
+        option: the option, as the message names it.
+        inputs: {path: what it is (``"the case file"``)} of the files the run reads
+            (:func:`check_not_input`); None: none.
+        force: replace an existing file (never an input).
+
+    Returns:
+        ``path``.
 
     Raises:
-        ValueError: ``path`` is a folder, or its folder cannot be created or written.
+        ValueError: one line ``{option} PATH: why``: a folder, an input of the run, an existing
+            file without ``force``, a folder that cannot be created or written, a file that
+            cannot be written.
     """
     path = os.fspath(path)
     if path.endswith(os.sep) or os.path.isdir(path):
         raise ValueError(f"{option} {path}: is a folder, expected a file name")
+    check_not_input(path, option, inputs)
+    if os.path.lexists(path) and not force:
+        raise ValueError(f"{option} {path}: exists (add --force to replace it)")
     folder = os.path.dirname(os.path.abspath(path))
     try:
         check_output_dir(folder, option)
@@ -201,6 +221,25 @@ def check_output_file(path, option: str = "--json") -> str:
     return path
 
 
+def check_not_input(path, option: str, inputs) -> None:
+    """Refuse an output ``path`` that is one of the run's ``inputs`` ({path: what it is}): the
+    same file (links and other spellings of it followed), with or without ``--force``.
+
+    Raises:
+        ValueError: one line ``{option} PATH: is WHAT of this run (INPUT), which it reads:
+            choose another file``.
+    """
+    if not inputs or not os.path.exists(path):
+        return
+    for source, what in inputs.items():
+        with contextlib.suppress(OSError):
+            if os.path.samefile(path, source):
+                raise ValueError(
+                    f"{option} {path}: is {what} of this run ({source}), which it reads: "
+                    "choose another file"
+                )
+
+
 def write_new_file(path, text: str, *, force: bool = False, option: str = "--write") -> Path:
     """Write ``text`` to ``path`` atomically, refusing to replace a file unless ``force``
     (``jaxgear cases NAME --write FILE``, ``fem-prep bodies NAME --write FILE``).
@@ -210,9 +249,7 @@ def write_new_file(path, text: str, *, force: bool = False, option: str = "--wri
             ``force``, or a folder that cannot be written.
     """
     path = os.fspath(path)
-    if os.path.exists(path) and not os.path.isdir(path) and not force:
-        raise ValueError(f"{option} {path}: exists (add --force to replace it)")
-    check_output_file(path, option)
+    check_output_file(path, option, force=force)
     with atomic_open(path, "w", encoding="utf-8") as f:
         f.write(text)
     return Path(path)

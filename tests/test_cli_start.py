@@ -173,6 +173,50 @@ def test_cases_lines_are_the_loaded_cases():
         assert CASE_INDEX[name][1] == (expect if expect != "0 of 0 stages" else "-"), name
 
 
+def test_cases_cold_column_is_the_recorded_builds_of_the_cases_with_fe_parts(capsys):
+    """``jaxgear cases``' COLD: a figure for exactly the cases whose files ask for condensed
+    FE bodies or a housing (read from the loaded cases), each RUN's first run plus the build
+    its benchmark recorded: the bodies' idle wall seconds (bench_run_cases_idle_flexible.json,
+    whose first runs are RUN's too), the housings' 1.7 x their CPU seconds under load
+    (bench_cold_builds.json); 1.7 lies within the ratios of the bodies measured both ways."""
+    import json
+
+    import jaxgear.io as jio
+    from jaxgear.cli import main
+    from jaxgear.cli.cases import CASE_INDEX, FE_BUILD
+
+    def fe_parts(case):
+        gearbox = isinstance(case.form, jio.GearboxForm) and case.form.housing is not None
+        return (case.scene is not None and case.scene.hybrid) or case.housing is not None or (
+            gearbox)
+
+    assert sorted(FE_BUILD) == sorted(n for n in jio.list_cases() if fe_parts(jio.load_case(n)))
+    bench = ROOT / "docs" / "bench"
+    idle = {r["case"]: r for r in
+            json.loads((bench / "bench_run_cases_idle_flexible.json").read_text())["results"]}
+    loaded = {r["case"]: r for r in
+              json.loads((bench / "bench_cold_builds.json").read_text())["results"]}
+    ratios = [idle[n]["bodies_s"] / loaded[n]["cpu_s"] for n in idle]
+    assert min(ratios) <= 1.7 <= max(ratios) and max(ratios) / min(ratios) < 1.05, ratios
+    for name, (seconds, measured) in FE_BUILD.items():
+        if measured:
+            assert seconds == pytest.approx(idle[name]["bodies_s"], abs=0.05), name
+            assert CASE_INDEX[name][2] == round(idle[name]["first"]["wall_s"]), name
+        else:
+            assert seconds == pytest.approx(1.7 * loaded[name]["cpu_s"], abs=0.05), name
+    assert main(["cases"]) == 0
+    out = capsys.readouterr().out.splitlines()
+    assert out[0].split()[:5] == ["NAME", "RATED", "RUN", "1st/2nd", "COLD"]
+    for line in out[1:-1]:
+        name = line.split()[0]
+        found = re.search(r"  ~?(\d+)/\d+ s  +(~?(\d+) s|-)  ", line)
+        assert found, line
+        if name in FE_BUILD:
+            assert int(found[3]) == round(CASE_INDEX[name][2] + FE_BUILD[name][0]), line
+        else:
+            assert found[2] == "-", line
+
+
 @pytest.mark.parametrize(
     "command",
     ["run", "cases", "bench", "prep", "sweep", "modes", "robust", "optimise", "master-curve"],

@@ -10,7 +10,9 @@ persistent compilation cache (:mod:`.xla_cache`: ``~/.cache/jaxgear/xla``, ``$JA
 to move it or ``off``). Every command
 validates its whole input (case file, options, output folder) before it computes; bad input gives
 one line ``jaxgear: error: …`` and exit status 2, Ctrl-C one line ``jaxgear: interrupted`` and
-exit status 130, a closed pipe (``jaxgear run | head``) a quiet exit.
+exit status 130, SIGTERM (``timeout``, a job scheduler, ``kill``) the same clean-up as Ctrl-C
+(:class:`Terminated`), one line ``jaxgear: terminated (SIGTERM)`` and exit status 143 (128 + 15),
+a closed pipe (``jaxgear run | head``) a quiet exit.
 """
 
 from __future__ import annotations
@@ -19,6 +21,7 @@ import contextlib
 import importlib
 import os
 import re
+import signal
 import sys
 import warnings
 from collections.abc import Callable
@@ -26,7 +29,42 @@ from collections.abc import Callable
 from ._options import check_options
 from ._parser import COMMANDS, build_parser, command_of
 
-__all__ = ["main", "runtime_message"]
+__all__ = ["Terminated", "main", "runtime_message"]
+
+#: the exit statuses of a run stopped by Ctrl-C (SIGINT) and by SIGTERM: 128 + the signal's number
+INTERRUPTED, TERMINATED = 130, 143
+
+
+class Terminated(KeyboardInterrupt):
+    """SIGTERM received by the command line's main thread (:func:`_sigterm_interrupts`): an
+    interruption like Ctrl-C's ``KeyboardInterrupt`` (of which it is one), so that whatever
+    cleans up after Ctrl-C cleans up after it alike: a staged run's hidden staging folder is
+    removed and the earlier results stay (:func:`jaxgear.cli._paths.staged_outputs`), a
+    ``--keep-partial`` run keeps its finished files with ``summary.json`` saying ``"complete":
+    false``, temporary files are deleted. Like Ctrl-C it takes effect when the main thread is
+    back in Python (between compiled calls)."""
+
+
+@contextlib.contextmanager
+def _sigterm_interrupts():
+    """While the block runs, SIGTERM raises :class:`Terminated` in the main thread (once: a
+    second SIGTERM during the clean-up is ignored, so that the clean-up completes); the
+    previous handler is restored after. Called from another thread (where no handler can be
+    set), the block runs with SIGTERM as it was."""
+
+    def handler(signum, frame):
+        signal.signal(signal.SIGTERM, signal.SIG_IGN)
+        raise Terminated
+
+    try:
+        previous = signal.signal(signal.SIGTERM, handler)
+    except ValueError:  # not the main thread
+        yield
+        return
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous)
 
 
 def _command(name: str):
@@ -150,7 +188,8 @@ def _glued_ranges(argv: list[str]) -> list[str]:
 def main(
     argv: list[str] | None = None, load_model: Callable[[str], None] | None = None
 ) -> int:
-    """Run the CLI; returns the exit status (0 ok, 2 bad input, 130 interrupted).
+    """Run the CLI; returns the exit status (0 ok, 2 bad input, 130 interrupted by Ctrl-C, 143
+    by SIGTERM).
 
     ``load_model(command)``: called once a command that needs the model
     (:attr:`~jaxgear.cli._parser.Command.model`) has its options checked; the console script
@@ -162,6 +201,27 @@ def main(
     saved = warnings.showwarning
     warnings.showwarning = _show_warning
     argv = _glued_ranges(sys.argv[1:] if argv is None else list(argv))
+    try:
+        with _sigterm_interrupts():
+            return _main(argv, load_model)
+    except KeyboardInterrupt as err:  # Ctrl-C, or SIGTERM (Terminated)
+        return _interrupted(err)
+    finally:
+        warnings.showwarning = saved
+
+
+def _interrupted(err: KeyboardInterrupt) -> int:
+    """The line and exit status of a command stopped by Ctrl-C or SIGTERM (:class:`Terminated`)."""
+    _close_bars()
+    if isinstance(err, Terminated):
+        print("\njaxgear: terminated (SIGTERM)", file=sys.stderr)
+        return TERMINATED
+    print("\njaxgear: interrupted", file=sys.stderr)
+    return INTERRUPTED
+
+
+def _main(argv: list[str], load_model) -> int:
+    """:func:`main`'s body, SIGTERM an interruption (:func:`_sigterm_interrupts`)."""
     try:
         try:
             args = build_parser(command_of(argv)).parse_args(argv)
@@ -183,23 +243,17 @@ def main(
             if _equinox_runtime_error(err):
                 return fail(runtime_message(err))
             raise
-    except KeyboardInterrupt:
-        _close_bars()
-        print("\njaxgear: interrupted", file=sys.stderr)
-        return 130
     except BrokenPipeError:
         # the reader went away (``jaxgear run | head``): exit quietly, no traceback
         devnull = os.open(os.devnull, os.O_WRONLY)
         os.dup2(devnull, sys.stdout.fileno())
         return 0
-    finally:
-        warnings.showwarning = saved
 
 
 def entry(load_model: Callable[[str], None] | None = None) -> None:  # pragma: no cover
     """The console script's body: :func:`main` on ``sys.argv``, then exit with its status."""
     status = main(None, load_model)
-    if status == 130:
+    if status in (INTERRUPTED, TERMINATED):
         # interrupted: XLA may still run threads of the abandoned computation, and tearing the
         # interpreter down under them can crash; the files are closed and complete, so leave now
         for stream in (sys.stdout, sys.stderr):
@@ -207,7 +261,7 @@ def entry(load_model: Callable[[str], None] | None = None) -> None:  # pragma: n
                 stream.flush()
             except (OSError, ValueError):
                 pass
-        os._exit(130)
+        os._exit(status)
     sys.exit(status)
 
 

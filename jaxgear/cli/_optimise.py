@@ -64,7 +64,7 @@ from . import _plots
 from ._case_kinds import refuse_stages
 from ._optimise_options import add_master_curve_arguments, add_optimise_arguments
 from ._options import parse_range, range_values
-from ._paths import check_output_dir, check_output_file, clear_outputs
+from ._paths import case_inputs, check_case_outputs, check_output_file, clear_outputs
 from ._progress import inner_bars, progress as progress_bar
 
 __all__ = [
@@ -684,9 +684,12 @@ def _case_text(name_or_path: str) -> str:
     return embedded_case_text(name_or_path)
 
 
-def check_write(path: str | None, name_or_path: str) -> str | None:
+def check_write(path: str | None, name_or_path: str, case: Case | None = None, *,
+                force: bool = False) -> str | None:
     """``--write PATH``, checked before any work: a ``.toml`` file name whose folder can be
-    written, and a case whose ``[modifications]`` can be rewritten. Returns ``path``.
+    written, neither an input of the run (the case file, a file ``case`` names) nor, without
+    ``force``, an existing file (:func:`~jaxgear.cli._paths.check_output_file`), and a case
+    whose ``[modifications]`` can be rewritten. Returns ``path``.
 
     Raises:
         ValueError: one line naming ``--write`` and the path."""
@@ -697,7 +700,8 @@ def check_write(path: str | None, name_or_path: str) -> str | None:
     folder = os.path.dirname(os.path.abspath(path))
     if os.path.exists(folder) and not os.path.isdir(folder):
         raise ValueError(f"--write {path}: its folder {folder} is a file")
-    check_output_file(path, "--write")
+    inputs = case_inputs(case) if case is not None else None
+    check_output_file(path, "--write", inputs=inputs, force=force)
     case_text_with_modifications(_case_text(name_or_path), {})  # the form can be rewritten
     return path
 
@@ -708,8 +712,10 @@ def run_optimise(args) -> int:
     case = _pair_case(args.case, "optimise", trains=True)
     settings = check_settings(settings_from_case(case, args), case)
     _check_train(case, settings)
-    write_to = check_write(args.write, args.case)
-    out = check_output_dir(args.out or os.path.join("jaxgear-out", case.name, "optimise"))
+    write_to = check_write(args.write, args.case, case, force=args.force)
+    out = check_case_outputs(case, "optimise",
+                             args.out or os.path.join("jaxgear-out", case.name, "optimise"),
+                             force=args.force)
     clear_outputs(out, "optimise")  # e.g. path.png of an earlier 2-variable run
     rep, problem = _optimise(case, settings, out, progress=not args.quiet)
     where = "" if rep["speed_rad_s"] is None else f" (hybrid scene at {rep['speed_rad_s']:g} rad/s)"
@@ -818,7 +824,9 @@ def run_master_curve(args) -> int:
     :func:`add_master_curve_arguments`); returns the exit status."""
     extents = range_values(args.extents, "--extents")
     case = _pair_case(args.case, "master-curve")
-    out = check_output_dir(args.out or os.path.join("jaxgear-out", case.name, "master-curve"))
+    out = check_case_outputs(case, "master-curve",
+                             args.out or os.path.join("jaxgear-out", case.name, "master-curve"),
+                             force=args.force)
     clear_outputs(out, "master-curve")
     rep = master_curve_case(case, extents, out, progress=not args.quiet)
     for row in rep["master_curve"]:

@@ -139,7 +139,8 @@ def add_optimise_arguments(o) -> None:
         "--write",
         metavar="NEW.toml",
         help="also write the optimum as a case file: the case with its [modifications] set to "
-        "the optimum (every other line kept), loadable by jaxgear run NEW.toml",
+        "the optimum (every other line kept), loadable by jaxgear run NEW.toml (a new file: "
+        "never the case file or a file it names)",
     )
     o.add_argument(
         "--quiet", action="store_true", help="no progress bar (the result lines are printed)"

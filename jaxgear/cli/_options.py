@@ -5,6 +5,7 @@ checks (fem_prep) are imported where used: ``jaxgear cases`` imports this module
 from __future__ import annotations
 
 import math
+import os
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
@@ -209,5 +210,6 @@ def check_options(args) -> None:
         from ._paths import check_output_dir, check_output_file
     if args.out is not None:
         check_output_dir(args.out)
-    if args.json is not None:
-        check_output_file(args.json)
+    if args.json is not None:  # the files the case names: once it is loaded (check_case_outputs)
+        inputs = {args.case: "the case file"} if os.path.isfile(args.case) else None
+        check_output_file(args.json, inputs=inputs, force=args.force)

@@ -201,12 +201,14 @@ def _add_optimise(o) -> None:
     from ._optimise_options import add_optimise_arguments
 
     add_optimise_arguments(o)
+    o.add_argument("--force", action="store_true", help=FORCE_HELP + " and the --write file")
 
 
 def _add_master_curve(m) -> None:
     from ._optimise_options import add_master_curve_arguments
 
     add_master_curve_arguments(m)
+    m.add_argument("--force", action="store_true", help=FORCE_HELP)
 
 
 def _add_run(r) -> None:
@@ -218,8 +220,12 @@ def _add_run(r) -> None:
     )
     r.add_argument("--out", help="output folder (default: jaxgear-out/<case>/)")
     r.add_argument(
-        "--json", help="also write the summary to this file (its folder is created if missing)"
+        "--json",
+        metavar="FILE",
+        help="also write the summary to this new file (its folder is created if missing; never "
+        "the case file or a file it names)",
     )
+    r.add_argument("--force", action="store_true", help=FORCE_HELP + " and the --json FILE")
     r.add_argument("--quiet", action="store_true", help="no progress bar")
     r.add_argument(
         "--keep-partial",
@@ -229,6 +235,13 @@ def _add_run(r) -> None:
         "its input still leaves the earlier results; default: the files appear when the run "
         "completes; a failed run leaves the earlier results)",
     )
+
+
+#: the help of ``--force`` on the commands that write into an output folder
+FORCE_HELP = (
+    "replace files in the output folder that jaxgear did not write there but that bear names "
+    "it writes (refused without it)"
+)
 
 
 def _add_cases(c) -> None:
@@ -244,6 +257,7 @@ def _add_bench(b) -> None:
     b.add_argument(
         "--out", default="jaxgear-out/bench", help="output folder (default: jaxgear-out/bench)"
     )
+    b.add_argument("--force", action="store_true", help=FORCE_HELP)
     b.add_argument("--quick", action="store_true", help="a small, fast version (smoke test)")
     b.add_argument(
         "--cases",
@@ -317,12 +331,14 @@ def _add_sweep(s) -> None:
         help="output folder (default: jaxgear-out/<case>/sweep-START-STOP-N/, apart from the "
         "sweep/ of jaxgear run, which its summary.json describes)",
     )
+    s.add_argument("--force", action="store_true", help=FORCE_HELP)
     s.add_argument("--quiet", action="store_true", help="no progress bar")
 
 
 def _add_modes(m) -> None:
     m.add_argument("case", help="TOML case file or embedded case name")
     m.add_argument("--out", help="output folder (default: jaxgear-out/<case>/modes/)")
+    m.add_argument("--force", action="store_true", help=FORCE_HELP)
     m.add_argument("--quiet", action="store_true", help="no progress output")
 
 
@@ -343,6 +359,7 @@ def _add_robust(r) -> None:
         "--seed", type=int, help="random seed, >= 0 (default: [robust] seed, else 0)"
     )
     r.add_argument("--out", help="output folder (default: jaxgear-out/<case>/robust/)")
+    r.add_argument("--force", action="store_true", help=FORCE_HELP)
     r.add_argument(
         "--coordinator-address",
         help="jax.distributed coordinator HOST:PORT (process 0's host), with --num-processes",
@@ -359,7 +376,8 @@ _HELP = {
         "its [scene] and [optimise] ask for",
     ),
     "cases": (
-        "list the embedded cases (kind, rated or not, run time), or print / write one",
+        "list the embedded cases (kind, rated or not, run time, and a first run's with its "
+        "FE bodies and housing still to build), or print / write one",
     ),
     "bench": (
         "benchmark runs (speed vs a baseline, speed-vs-accuracy charts; from a source "

@@ -1,7 +1,15 @@
 """Output paths of the commands: checked before anything is computed, stale files cleared.
 
 Imports no JAX, so the CLI can check ``--out``/``--json`` before it loads the model; the folder
-and file checks are fem_prep's (:mod:`fem_prep.schema`), shared with ``fem-prep``.
+and file checks are fem_prep's (:mod:`fem_prep.files`), shared with ``fem-prep``.
+
+The rule of every command's outputs: a file option (``--json``, ``--write``) never names an
+input of the run (the case file or a file it names: :attr:`jaxgear.io.Case.input_files`) nor,
+without ``--force``, an existing file (:func:`fem_prep.files.check_output_file`); an output
+folder (``--out``) never holds an input of the run where the command writes
+(:func:`check_out_inputs`) nor, without ``--force``, a file jaxgear did not write under a name
+it writes (:func:`check_foreign_files`), and is written only inside (:func:`check_no_link_out`). Each is
+refused in one line naming the option and the path, before any work.
 """
 
 from __future__ import annotations
@@ -14,13 +22,18 @@ import shutil
 import tempfile
 
 from fem_prep import schema as sc
-from fem_prep.schema import check_output_dir, check_output_file
+from fem_prep.files import check_not_input, check_output_dir, check_output_file
 
 __all__ = [
     "OUTPUT_FILES",
     "PLANETARY_FILES",
     "TRAIN_FILES",
+    "case_inputs",
+    "check_case_outputs",
+    "check_foreign_files",
     "check_no_link_out",
+    "check_not_input",
+    "check_out_inputs",
     "check_output_dir",
     "check_output_file",
     "clear_outputs",
@@ -253,6 +266,89 @@ def check_no_link_out(folder, command: str, option: str = "--out") -> None:
                     "folder (jaxgear writes only inside it, never through a link): remove the "
                     f"link or choose another {option}"
                 )
+
+
+def case_inputs(case) -> dict[str, str]:
+    """{path: what it is} of the files a loaded case was read from
+    (:attr:`jaxgear.io.Case.input_files`: its case file first, then the files it names), as
+    :func:`check_out_inputs` and :func:`fem_prep.files.check_output_file` take them."""
+    files = case.input_files
+    return {f: "the case file" if k == 0 else "a file the case names" for k, f in
+            enumerate(files)}
+
+
+def check_out_inputs(folder, command: str, inputs, option: str = "--out") -> None:
+    """Refuse an output folder in which an input of the run (``inputs``: {path: what it is},
+    :func:`case_inputs`) lies where ``command`` writes: a name of its outputs
+    (:data:`OUTPUT_FILES`, in its subfolders too, and in a gearbox's ``stage<k>/``), which the
+    run would replace. An input elsewhere in the folder is left alone (the run writes only its
+    own names).
+
+    Raises:
+        ValueError: one line ``{option} FOLDER: INPUT is WHAT of this run, and jaxgear writes
+            NAME there: choose another {option}``.
+    """
+    root = os.path.realpath(folder)
+    patterns = OUTPUT_FILES[command]
+    patterns += tuple(f"{e}/{p}" for e in EXTRA_SUBFOLDERS.get(command, ()) for p in patterns)
+    for source, what in (inputs or {}).items():
+        real = os.path.realpath(source)
+        if not _within(real, root) or real == root:
+            continue
+        name = os.path.relpath(real, root).replace(os.sep, "/")
+        if any(_matches(name, p) for p in patterns):
+            raise ValueError(
+                f"{option} {folder}: {source} is {what} of this run, and jaxgear {command} "
+                f"writes {name} there: choose another {option}"
+            )
+
+
+def check_foreign_files(folder, command: str, *, force: bool = False,
+                        option: str = "--out") -> None:
+    """Refuse, unless ``force``, an output folder holding a file that jaxgear did not write
+    there (not in the folder's manifest, :func:`clear_outputs`) under a name ``command`` writes
+    (a name of :data:`OUTPUT_FILES` without a wildcard): the run would replace it. A file
+    behind a link out of the folder is left to :func:`check_no_link_out`.
+
+    Raises:
+        ValueError: one line ``{option} FOLDER: PATH exists and jaxgear did not write it; jaxgear
+            COMMAND writes that name (add --force to replace it, or choose another {option})``.
+    """
+    if force or not os.path.isdir(folder):
+        return
+    listed = set(sc.recorded_outputs(folder))
+    for name in OUTPUT_FILES[command]:
+        if "*" in name or name in listed or _inside(folder, name) is None:
+            continue
+        path = os.path.join(folder, name)
+        if os.path.isfile(path) or os.path.islink(path):
+            raise ValueError(
+                f"{option} {folder}: {path} exists and jaxgear did not write it; jaxgear "
+                f"{command} writes that name (add --force to replace it, or choose another "
+                f"{option})"
+            )
+
+
+def check_case_outputs(case, command: str, folder, files=(), *, force: bool = False) -> str:
+    """The outputs of ``command`` run on the loaded ``case``, checked before any work (the
+    module's rule): the output folder (:func:`check_output_dir`, :func:`check_out_inputs`,
+    :func:`check_foreign_files`) and each ``(option, path)`` of ``files`` whose path is not
+    None (:func:`check_output_file`: no input of the run; an existing file only with
+    ``force``; not at a name the command writes into the folder). Returns the folder,
+    normalised.
+
+    Raises:
+        ValueError: one line naming the option and the path."""
+    inputs = case_inputs(case)
+    for option, path in files:
+        if path is not None:
+            check_output_file(path, option, inputs=inputs, force=force)
+    folder = check_output_dir(folder)
+    check_out_inputs(folder, command, inputs)
+    # nor a file option at a name the command writes into its folder (one output over another)
+    check_out_inputs(folder, command, {p: f"the {o} file" for o, p in files if p is not None})
+    check_foreign_files(folder, command, force=force)
+    return folder
 
 
 def clear_outputs(folder, command: str) -> list[str]:

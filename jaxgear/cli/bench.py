@@ -11,7 +11,7 @@ from fem_prep import run_build
 import jaxgear
 
 from ._parser import BENCHMARKS
-from ._paths import clear_outputs
+from ._paths import check_foreign_files, clear_outputs
 
 __all__ = ["run_bench", "run_prep"]
 
@@ -73,6 +73,7 @@ def run_bench(args) -> int:
     (``--cases``: xla-cache's only) into ``--out``, cleared first."""
     if args.cases is not None and args.what != "xla-cache":
         raise ValueError(f"--cases is an option of bench xla-cache, not of bench {args.what}")
+    check_foreign_files(args.out, f"bench {args.what}", force=args.force)
     bench = _load_benchmarks()  # before clearing: no checkout, no outputs touched
     clear_outputs(args.out, f"bench {args.what}")
     options = {}

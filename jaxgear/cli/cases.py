@@ -4,13 +4,16 @@ or one case's file (printed or written).
 The listing reads the case folder's names only (no model, no JAX: it answers at once); what
 each case is (:func:`jaxgear.cli.case_line` of the loaded case), whether it is rated and how
 long its ``jaxgear run`` takes are stored in :data:`CASE_INDEX` (the lines and ratings are
-checked against the case files by the tests; the times are measured: :data:`MEASURED`)."""
+checked against the case files by the tests; the times are measured: :data:`MEASURED`), and how
+long a first run takes longer when the case's FE bodies and housing are not built yet in
+:data:`FE_BUILD` (:data:`FE_BUILD_MEASURED`; the tests check it against its benchmark's record
+and that exactly the cases with FE bodies or a housing have one)."""
 
 from __future__ import annotations
 
 import importlib.resources
 
-__all__ = ["CASE_INDEX", "MEASURED", "case_table", "run_cases"]
+__all__ = ["CASE_INDEX", "FE_BUILD", "FE_BUILD_MEASURED", "MEASURED", "case_table", "run_cases"]
 
 #: where :data:`CASE_INDEX`'s run times come from
 MEASURED = (
@@ -161,6 +164,35 @@ CASE_INDEX: dict[str, tuple[str, str, float, float, bool]] = {
 }
 
 
+#: where :data:`FE_BUILD`'s seconds come from
+FE_BUILD_MEASURED = (
+    "the seconds of building the case's FE parts that fem_prep caches ($FEM_PREP_CACHE, "
+    "default ~/.cache/jaxgear/fem_prep), which a first run on a fresh install builds before its "
+    "own work (RUN assumes them built): its condensed bodies, measured idle on the 2-core AMD "
+    "EPYC on 2026-11-27 (bodies_s of docs/bench/bench_run_cases_idle_flexible.json, the "
+    "bodies built in a process of their own, the runs of RUN's figures after them); its "
+    "housing, estimated as 1.7 x the CPU seconds of its build measured under load (1-minute "
+    "load average 12-16) on 2026-11-29 (the cold-builds benchmark, "
+    "docs/bench/bench_cold_builds.json), 1.7 the ratio of the idle wall time to those CPU "
+    "seconds of the three bodies' builds measured both ways (1.68-1.71). Not counted: the "
+    "tooth and fillet FE tables of the fe2d stiffness and of [rating], cached alike "
+    "(power-helical's: 1.4 CPU s in the same record)"
+)
+
+#: name -> (seconds of building the case's condensed bodies and housing on an empty fem_prep
+#: cache, measured idle (True) or estimated (False): :data:`FE_BUILD_MEASURED`); a case not
+#: named has none
+FE_BUILD: dict[str, tuple[float, bool]] = {
+    "accessory-spur-flexible": (62.9, True),
+    "flexible-idler": (26.3, True),
+    "power-helical-flexible": (136.5, True),
+    "power-helical-housed": (2.9, False),
+    "nrel-5mw-stage3-housed": (4.4, False),
+    "nrel-5mw-planetary-housed": (0.7, False),
+    "two-stage-housed": (6.7, False),
+}
+
+
 def _folder():
     """The embedded cases' folder (as :func:`jaxgear.io.list_cases` reads it)."""
     return importlib.resources.files("jaxgear") / "cases"
@@ -172,17 +204,22 @@ def case_table() -> list[str]:
     in it, ``?``), and a note on where the times come from. Reads the folder's names only."""
     # fem_prep.schema.embedded_names' rule (fem_prep itself not imported: seconds)
     names = sorted(p.name[:-5] for p in _folder().iterdir() if p.name.endswith(".toml"))
-    rows = [("NAME", "RATED", "RUN 1st/2nd", "WHAT")]
+    rows = [("NAME", "RATED", "RUN 1st/2nd", "COLD", "WHAT")]
     for name in names:
         what, rated, first, second, measured = CASE_INDEX.get(name, ("?", "?", 0, 0, False))
         run = ("" if measured else "~") + f"{first:.0f}/{second:.0f} s"
-        rows.append((name, rated, run, what))
-    widths = [max(len(r[k]) for r in rows) for k in range(3)]
-    lines = ["  ".join(c.ljust(w) for c, w in zip(r[:3], widths)) + "  " + r[3] for r in rows]
+        build, build_measured = FE_BUILD.get(name, (None, True))
+        mark = "" if measured and build_measured else "~"
+        cold = "-" if build is None else f"{mark}{first + build:.0f} s"
+        rows.append((name, rated, run, cold, what))
+    widths = [max(len(r[k]) for r in rows) for k in range(4)]
+    lines = ["  ".join(c.ljust(w) for c, w in zip(r[:4], widths)) + "  " + r[4] for r in rows]
     lines.append(
         "RUN: jaxgear run CASE, first run / second run (compilation cache filled), wall seconds "
-        "on an idle 2-core CPU (several times longer on a loaded one); '~' an estimate from CPU "
-        "seconds measured under load. RATED: writes rating.md."
+        "on an idle 2-core CPU (several times longer on a loaded one), the case's FE bodies and "
+        "housing built already; '~' an estimate from CPU seconds measured under load. COLD: the "
+        "first run when they are not (a fresh install: the run builds them first), RUN's first "
+        "plus the build's time; '-': the case has none. RATED: writes rating.md."
     )
     return lines
 

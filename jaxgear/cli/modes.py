@@ -34,7 +34,7 @@ import numpy as np
 from .. import dynamics, io as case_io
 from ..dynamics import DynamicModel, HybridModel
 from ..io import write_json
-from ._paths import check_output_dir, staged_outputs
+from ._paths import check_case_outputs, staged_outputs
 from .gearbox import chain_modes
 from .planetary import mode_list, mode_models
 
@@ -230,7 +230,8 @@ def default_modes_dir(case_name: str) -> str:
 def run_modes(args) -> int:
     """Run ``jaxgear modes`` (float64 on: the CLI does it). Returns 0."""
     case = case_io.load_case(args.case)
-    out = check_output_dir(args.out or default_modes_dir(case.name))
+    out = check_case_outputs(case, "modes", args.out or default_modes_dir(case.name),
+                             force=args.force)
     data = case_modes(case.form, case)
     with staged_outputs(out, "modes") as work:
         write_json(os.path.join(work, "modes.json"), data)

@@ -31,7 +31,7 @@ from .. import io as case_io
 from ..io import SchemaError, TrainForm, build_dynamic_model, parse_robust, write_csv, write_json
 from ..scenes import TorsionalDynamics, disc_inertia
 from ._case_kinds import refuse_stages
-from ._paths import OUTPUT_FILES, check_output_dir, staged_outputs
+from ._paths import OUTPUT_FILES, check_case_outputs, staged_outputs
 from ._plots import new_figure, savefig
 
 __all__ = ["ROBUST_FILES", "run_robust"]
@@ -137,7 +137,7 @@ def run_robust(args) -> int:
     out_dir = args.out or os.path.join("jaxgear-out", case.name, "robust")
     writer = jax.process_index() == 0
     if writer:
-        check_output_dir(out_dir)
+        check_case_outputs(case, "robust", out_dir, force=args.force)
     try:
         sampler = DeviationSampler.for_grade(
             case.pair,

@@ -33,7 +33,7 @@ from . import scene as cli_scene, sweep as cli_sweep
 from ._acoustics_run import acoustic_outputs, acoustics_run_line  # noqa: F401 (the hook)
 from ._deviation_run import deviation_line, deviation_outputs
 from ._optimise import check_settings, optimise_case, settings_from_case
-from ._paths import check_output_dir, staged_outputs
+from ._paths import check_case_outputs, staged_outputs
 from ._plots import (
     LUMPED_STIFFNESS_NOTE,
     SCENE_STIFFNESS_NOTE,
@@ -397,7 +397,8 @@ def run_command(args) -> int:
     what a failed run wrote, with ``summary.json`` saying ``"complete": false`` (but a run
     refused for its input, whose earlier results come back as they were)."""
     case = case_io.load_case(args.case)
-    out = check_output_dir(args.out or os.path.join("jaxgear-out", case.name))
+    out = check_case_outputs(case, "run", args.out or os.path.join("jaxgear-out", case.name),
+                             [("--json", args.json)], force=args.force)
     settings = optimise_settings(case)  # checked before anything is computed
     check_run_case(case)
     with staged_outputs(out, "run", keep_partial=args.keep_partial) as work:

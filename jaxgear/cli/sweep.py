@@ -21,7 +21,7 @@ import numpy as np
 from .. import DynamicsResult, dynamics, io as case_io
 from ..io import Case
 from ._options import range_values
-from ._paths import check_output_dir, staged_outputs
+from ._paths import check_case_outputs, staged_outputs
 from ._progress import inner_bars, progress as progress_bar
 from ._sweep_json import (
     ND_MODES,
@@ -439,7 +439,8 @@ def sweep_command(form, case, speeds, args) -> int:
     """``jaxgear sweep`` on a case of ``form`` (:class:`~jaxgear.io.CaseForm`): a case's
     ``[scene]`` (pairs and trains, :func:`sweep_case`); a planetary stage registers its own
     (:func:`planetary_sweep_command`). Returns 0."""
-    out = check_output_dir(args.out or default_sweep_dir(case.name, speeds))
+    out = check_case_outputs(case, "sweep", args.out or default_sweep_dir(case.name, speeds),
+                             force=args.force)
     options = dict(
         direction=args.direction,
         solver=args.solver,
@@ -534,7 +535,8 @@ def planetary_sweep_command(form: case_io.PlanetaryForm, case, speeds, args) -> 
             f"--direction = {args.direction}: a planetary stage's sweep runs independent speeds "
             "(allowed: independent)"
         )
-    out = check_output_dir(args.out or default_sweep_dir(case.name, speeds))
+    out = check_case_outputs(case, "sweep", args.out or default_sweep_dir(case.name, speeds),
+                             force=args.force)
     options = dict(
         steps_per_period=args.steps_per_period,
         periods=None if args.periods == "auto" else args.periods,  # its time plan's own

@@ -240,6 +240,11 @@ class Case(MeshSettings):
             (:class:`jaxgear.rating.AbstractRatingStandard`), given in Python
             (``case.replace(rating_standard=...)``); None: the one ``[rating] edition`` names
             (:func:`jaxgear.io.ratings_of`).
+        input_files: the files the case was read from, absolute paths: its case file and the
+            files it names (body files, a ring body file, a housing's ``mesh_file``, a
+            gearbox's stage case files and theirs), set by :func:`jaxgear.io.load_case`; () for
+            an embedded case or one built in Python. No command writes over one of them
+            (:func:`jaxgear.cli._paths.check_case_outputs`).
     """
 
     name: str
@@ -267,6 +272,7 @@ class Case(MeshSettings):
     optimise: dict | None = None
     form: CaseForm = TrainForm()
     rating_standard: Any = None
+    input_files: tuple = dataclasses.field(default=(), repr=False, compare=False)
 
     @classmethod
     def of_pair(cls, *, name: str, pair: GearPair, modifications: Modifications, **fields) -> Case:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import importlib.resources
 import os
@@ -11,8 +12,10 @@ from fem_prep import schema as sc
 
 from ._case import Case
 from ._case_file import parse_case
-from ._gearbox_file import is_gearbox, parse_gearbox
+from ._gearbox_file import GearboxForm, is_gearbox, parse_gearbox
 from ._housing_table import check_case_housing
+from ._planetary_ring_spec import CondensedRingSpec
+from ._planetary_spec import PlanetaryForm
 from ._train_file import is_train, parse_train
 
 __all__ = ["embedded_case_text", "list_cases", "load_case", "published_rating"]
@@ -103,7 +106,29 @@ def _load(name_or_path: str | os.PathLike, chain: tuple) -> Case:
         )
     data = sc.load_toml(raw, f"case file {label!r}")
     if is_gearbox(data):
-        return parse_gearbox(data, default, base, functools.partial(_load, chain=(*chain, key)))
-    case = parse_train(data, default, base) if is_train(data) else parse_case(data, default, base)
-    check_case_housing(case)  # the box round its shafts and its points, before any meshing
-    return case
+        case = parse_gearbox(data, default, base, functools.partial(_load, chain=(*chain, key)))
+    else:
+        case = parse_train(data, default, base) if is_train(data) else parse_case(data, default, base)
+        check_case_housing(case)  # the box round its shafts and its points, before any meshing
+    own = (os.path.abspath(name_or_path),) if base is not None else ()
+    return dataclasses.replace(case, input_files=_input_files(case, own))
+
+
+def _input_files(case: Case, own: tuple) -> tuple:
+    """The files ``case`` was read from (:attr:`Case.input_files`): ``own`` (its case file, or
+    none), the files its tables name (resolved as they were read: ``[scene]`` bodies against
+    the case file's folder, ``[planetary.ring] body`` as given), a gearbox's stages' files."""
+    named = list(case.scene.bodies) if case.scene is not None else []
+    housings = [case.housing]
+    stages = ()
+    if isinstance(case.form, GearboxForm):
+        housings.append(case.form.housing)
+        stages = case.form.stages
+    named += [h.mesh_file for h in housings if h is not None]
+    if isinstance(case.form, PlanetaryForm) and isinstance(case.form.spec.ring_model,
+                                                           CondensedRingSpec):
+        named.append(case.form.spec.ring_model.source)
+    files = [*own, *(os.path.abspath(f) for f in named if f is not None and os.path.isfile(f))]
+    for stage in stages:
+        files.extend(stage.case.input_files)
+    return tuple(dict.fromkeys(files))
