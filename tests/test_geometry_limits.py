@@ -195,3 +195,24 @@ def test_case_file_accepts_large_shifts_and_refuses_impossible_gears_in_its_word
         with pytest.raises(ValueError, match=match) as err:
             jio.parse_case(_case_data(**change))
         assert "\n" not in str(err.value), change
+
+
+def test_thin_tip_warns_with_the_normal_tip_thickness_written_here():
+    """A tip thinner than 0.2 m_n (not pointed) is built, with a one-line CaseWarning naming the
+    keys and s_an = s_at cos β_a, both written here (tan β_a = tan β d_a/d)."""
+    data = _case_data("power-helical", **{"pinion/profile_shift": 0.9,
+                                          "pinion/addendum_coeff": 1.1,
+                                          "gear/addendum_coeff": 0.6})
+    mn, beta = 2.5e-3, 12 * DEG
+    s_at = _tip_thickness(35, 0.9, 1.1, beta, mn, 25 * DEG)
+    r = 35 * mn / math.cos(beta) / 2
+    r_a = r + mn * 2.0
+    s_an = s_at * math.cos(math.atan(math.tan(beta) * r_a / r))
+    assert 0 < s_an < 0.2 * mn
+    with pytest.warns(jio.CaseWarning):
+        case = jio.parse_case(data)
+    (msg,) = jio.plausibility(case)
+    assert msg.startswith("[pinion] addendum_coeff = 1.1, profile_shift = 0.9: normal tip "
+                          f"thickness {s_an * 1e3:.4g} mm is below 0.2 m_n = 0.5 mm")
+    assert "\n" not in msg
+    assert jio.plausibility(jio.parse_case(_case_data("power-helical"))) == []
