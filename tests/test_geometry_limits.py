@@ -10,6 +10,7 @@ Z_ε 1.03); ISO 21771's tip clearance c = a_w − r_a1 − r_f2 and tip thicknes
 from __future__ import annotations
 
 import math
+import re
 import tomllib
 
 import numpy as np
@@ -216,3 +217,22 @@ def test_thin_tip_warns_with_the_normal_tip_thickness_written_here():
                           f"thickness {s_an * 1e3:.4g} mm is below 0.2 m_n = 0.5 mm")
     assert "\n" not in msg
     assert jio.plausibility(jio.parse_case(_case_data("power-helical"))) == []
+
+
+@pytest.mark.slow
+def test_h951_runs_end_to_end(tmp_path):
+    """``jaxgear run fzg-h951``: the contact solve, the ISO 6336 rating and the tribology with
+    scuffing on a pair with ε_α < 1, every output finite (no NaN or Infinity in its files)."""
+    from jaxgear.cli.run import run_case
+
+    case = jio.load_case("fzg-h951")
+    summary = run_case(case, str(tmp_path), show_progress=False)
+    assert summary["geometry"]["transverse_contact_ratio"] == pytest.approx(0.93, abs=0.005)
+    s_h = summary["rating"]["pitting"]["S_H"]
+    assert all(1.0 < s < 2.0 for s in s_h)
+    trib = summary["tribology"]
+    assert 0.99 < trib["efficiency"] < 1.0 and trib["scuffing"]["scuffing_safety_factor"] > 1
+    for f in tmp_path.iterdir():
+        if f.suffix in (".json", ".csv", ".md"):
+            text = f.read_text(encoding="utf-8")
+            assert not re.search(r"\b(NaN|nan|-?Infinity|-?inf)\b", text), f.name
