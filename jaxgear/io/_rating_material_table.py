@@ -18,8 +18,8 @@ from ..rating import RATING_RANGES
 
 __all__ = [
     "MATERIAL_RANGES",
-    "material_identity",
     "TREATMENTS",
+    "material_identity",
     "pair_of",
     "refuse_unread_material",
     "treatment_names",
