@@ -482,7 +482,9 @@ class GearPair(AbstractGearPair):
     External: a_w = (r1 + r2) cos α_t/cos α_wt; the tangent points T1, T2 on either side of the
     pitch point, g_α = √(r_a1² − r_b1²) + √(r_a2² − r_b2²) − a_w sin α_wt and ``start_roll`` =
     T1T2 − √(r_a2² − r_b2²); interference checked both ways (each member's active profile
-    starts above its form circle, ``form_roll`` (ρ_F1, ρ_F2)).
+    starts above its form circle, ``form_roll`` (ρ_F1, ρ_F2)) and each tip inside the mating
+    root circle, ``tip_root_clearances`` (c1, c2) = (a_w − r_a1 − r_f2, a_w − r_a2 − r_f1) >= 0
+    (m).
 
     Backlash (ISO 21771 / DIN 3967; docs/backlash.md) from the operating centre distance and the
     members' ``tooth_thickness_allowance`` A_sn (m, negative thins): ``transverse_backlash``
