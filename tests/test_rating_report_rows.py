@@ -12,7 +12,11 @@ import pytest
 
 import jaxgear.io as jio
 from jaxgear import cli
-from jaxgear.cli._tribology_run import tribology_rating_lines, tribology_run_line
+from jaxgear.cli._tribology_run import (
+    efficiency_run_line,
+    tribology_rating_lines,
+    tribology_run_line,
+)
 
 
 def _cells(md: str, quantity_start: str) -> list[str]:
@@ -142,3 +146,14 @@ def test_material_identity_keys_refused_in_one_line(change, match):
     with pytest.raises(ValueError, match=match) as err:
         jio.parse_case(data)
     assert "\n" not in str(err.value)
+
+
+def test_train_efficiency_line_names_the_hottest_mesh():
+    flow = {"efficiency": 0.99, "total_loss_W": 10.0, "input_power_W": 1000.0,
+            "names": ["a-b", "b-c"], "efficiency_each": [0.995, 0.995]}
+    meshes = {"a-b": {"max_flash_temperature_K": 12.25},
+              "b-c": {"scuffing": {"max_flash_temperature_K": 30.5}}}
+    (line,) = efficiency_run_line({"overall": flow, "meshes": meshes})
+    assert ", max flash temperature 30.5 K (b-c) (tribology.json)" in line
+    (bare,) = efficiency_run_line(flow)
+    assert "flash" not in bare

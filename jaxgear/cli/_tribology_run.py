@@ -296,9 +296,24 @@ def efficiency_run_line(section: dict | None) -> list[str]:
                     zip(flow["names"], flow["efficiency_each"], strict=True))
     line = (
         f"efficiency {100 * flow['efficiency']:.2f} % (loss {flow['total_loss_W']:.4g} W of "
-        f"{flow['input_power_W']:.4g} W; {per}) (tribology.json)"
+        f"{flow['input_power_W']:.4g} W; {per}){_hottest_mesh(section)} (tribology.json)"
     )
     return [line]
+
+
+def _hottest_mesh(section: dict) -> str:
+    """``, max flash temperature X K (mesh)``: Blok's largest flash temperature over a train's
+    or a stage's meshes (``section["meshes"]``; their scuffing sections' where they have one),
+    or "" without meshes."""
+    flashes = {
+        name: m.get("scuffing", m).get("max_flash_temperature_K")
+        for name, m in section.get("meshes", {}).items()
+    }
+    flashes = {n: f for n, f in flashes.items() if f is not None}
+    if not flashes:
+        return ""
+    name = max(flashes, key=flashes.get)
+    return f", max flash temperature {flashes[name]:.1f} K ({name})"
 
 
 def tribology_run_line(section: dict | None) -> list[str]:
