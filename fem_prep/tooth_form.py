@@ -105,7 +105,8 @@ class ToothGeometry:
         normal_module: m_n (m), > 0.
         normal_pressure_angle: α_n (rad), in (0, 45°).
         helix_angle: β (rad), in [0, 45°); the transverse rack is used (exact, see module doc).
-        profile_shift: x (multiplies m_n), in (-1.5, 1.5).
+        profile_shift: x (multiplies m_n), finite: no fixed range (what a shift makes impossible,
+            a pointed tip, an undercut, is the pair geometry's check, jaxgear.GearPair).
         addendum_coeff: h_a* > 0 (tip radius r_a = r + m_n (h_a* + x)).
         dedendum_coeff: h_f* = rack addendum h_fP / m_n > 0 (root radius r_f = r − m_n (h_f* − x)).
         fillet_radius_coeff: ρ_fP / m_n, the rack tip radius (0: sharp rack corner, whose own
@@ -131,7 +132,7 @@ class ToothGeometry:
         _check("normal_pressure_angle", an, 0 < an < math.radians(45), "(0, 45) deg in rad")
         _check("helix_angle", beta, 0 <= beta < math.radians(45), "[0, 45) deg in rad")
         x = self.profile_shift
-        _check("profile_shift", x, -1.5 < x < 1.5, "(-1.5, 1.5)")
+        _check("profile_shift", x, math.isfinite(x), "a finite number")
         _check("addendum_coeff", self.addendum_coeff, self.addendum_coeff > 0, "> 0")
         _check("dedendum_coeff", self.dedendum_coeff, self.dedendum_coeff > 0, "> 0")
         rho = self.fillet_radius_coeff
@@ -208,7 +209,7 @@ class InternalToothGeometry:
             <= -16 with ``helix_angle`` 0 for a virtual spur gear).
         normal_module, normal_pressure_angle, helix_angle: as :class:`ToothGeometry`.
         profile_shift: x in ISO 21771's sign (positive thickens the ring's teeth, moving its tip
-            circle inwards), in (-1.5, 1.5).
+            circle inwards), finite (as :class:`ToothGeometry`).
         addendum_coeff: h_a* > 0: tip radius r_a = |r| − m_n (h_a* + x) (inside).
         dedendum_coeff: h_f* > 0: root radius r_f = |r| + m_n (h_f* − x) (outside).
         fillet_radius_coeff: ρ_fP / m_n of the basic rack (>= 0).

@@ -122,10 +122,11 @@ def _require(name: str, value: float, ok: bool, allowed: str) -> None:
 
 def check_member_ranges(tag: str, m: Member, mn: float, require=_require) -> None:
     """The range checks of one :class:`Member`'s fields but its tooth count (face width,
-    addendum, dedendum, fillet radius, profile shift, web and rim, tooth-thickness allowance
-    against the normal module ``mn``, m), shared by :class:`GearPair` and
-    :class:`~jaxgear.InternalGearPair`; ``require(name, value, ok, allowed)`` raises the pair's
-    one-line ``ValueError``."""
+    addendum, dedendum, fillet radius, web and rim, tooth-thickness allowance against the normal
+    module ``mn``, m), shared by :class:`GearPair` and :class:`~jaxgear.InternalGearPair`;
+    ``require(name, value, ok, allowed)`` raises the pair's one-line ``ValueError``. The profile
+    shift has no fixed range: what it makes impossible (a pointed tip, an undercut, interference,
+    a root below the centre, too little contact) is checked on the pair's geometry."""
     require(f"{tag}.face_width", m.face_width, m.face_width > 0, "> 0")
     require(f"{tag}.addendum_coeff", m.addendum_coeff, m.addendum_coeff > 0, "> 0")
     require(f"{tag}.dedendum_coeff", m.dedendum_coeff, m.dedendum_coeff > 0, "> 0")
@@ -135,7 +136,6 @@ def check_member_ranges(tag: str, m: Member, mn: float, require=_require) -> Non
         0 <= m.fillet_radius_coeff < m.dedendum_coeff,
         "[0, dedendum_coeff)",
     )
-    require(f"{tag}.profile_shift", m.profile_shift, -1.5 < m.profile_shift < 1.5, "(-1.5, 1.5)")
     for name in ("web_thickness", "rim_thickness"):
         v = getattr(m, name)
         require(f"{tag}.{name}", v, v is None or v > 0, "> 0 or None (solid blank)")
@@ -195,7 +195,11 @@ class AbstractGearPair(abc.ABC):
     Shared checks: types and finite numbers; sizes and coefficients (:func:`check_member_ranges`);
     inv α_wt > 0; root radius > 0, tip radius > base radius (both members: an internal gear's
     involute exists only outside its base circle), a bore inside the root circle; no pointed
-    tip; no undercut of a rack-generated member; ε_α >= 1.
+    tip (s_a > 0); no undercut of a rack-generated member; ε_α > 0 and the total contact ratio
+    ε_γ = ε_α + ε_β >= 1 (a helical pair with ε_α < 1 transmits through its overlap). The
+    profile shift has no fixed range: these are what it makes impossible. The kind adds
+    involute interference and the tip-to-root clearances (each tip inside the mating root
+    circle).
 
     What a kind supplies (the physics that differs): ``_gear_sign`` σ2; ``_check_member`` (the
     kind's tooth-count rules); ``_centre_lever`` a_w cos α_wt (r_b1 ± r_b2 in its rounding) and
@@ -318,7 +322,8 @@ class AbstractGearPair(abc.ABC):
             aa = math.acos(rb[i] / ra[i])
             sa = 2 * ra[i] * (st[i] / (2 * r[i]) + sign[i] * involute(at) - sign[i] * involute(aa))
             self._require(
-                f"{tag}.addendum_coeff (tip thickness {sa * 1e3:.4f} mm: pointed tooth)",
+                f"{tag}.addendum_coeff (tip thickness {sa * 1e3:.4f} mm: pointed tooth; lower "
+                f"{tag}.addendum_coeff or {tag}.profile_shift)",
                 m.addendum_coeff,
                 sa > 0,
                 "a tip tooth thickness > 0",
@@ -347,8 +352,17 @@ class AbstractGearPair(abc.ABC):
         start, g_alpha = self._contact(line, roll_tip, form_roll, a, ra, rf)
         pbt = math.pi * mt * math.cos(at)
         eps_a = g_alpha / pbt
-        self._require("transverse contact ratio", eps_a, eps_a >= 1.0, ">= 1 (increase addenda)")
+        self._require("transverse contact ratio", eps_a, eps_a > 0.0, "> 0 (the tips must reach)")
         b = min(self.pinion.face_width, self.gear.face_width)
+        # a helical pair transmits with ε_α < 1 when the overlap carries it: ε_γ = ε_α + ε_β >= 1
+        eps_g = eps_a + b * math.sin(beta) / (math.pi * mn)
+        self._require(
+            "total contact ratio",
+            eps_g,
+            eps_g >= 1.0,
+            f">= 1 (ε_α = {eps_a:.4f} + ε_β = {eps_g - eps_a:.4f}: increase the addenda, the face "
+            "width or the helix angle)",
+        )
         beta_b = math.atan(math.tan(beta) * math.cos(at))
         sb, jbt = self._backlash(r, rb, st, mt, at, awt, inv_awtA)
         set_ = lambda k, v: object.__setattr__(self, k, v)
@@ -468,7 +482,9 @@ class GearPair(AbstractGearPair):
     External: a_w = (r1 + r2) cos α_t/cos α_wt; the tangent points T1, T2 on either side of the
     pitch point, g_α = √(r_a1² − r_b1²) + √(r_a2² − r_b2²) − a_w sin α_wt and ``start_roll`` =
     T1T2 − √(r_a2² − r_b2²); interference checked both ways (each member's active profile
-    starts above its form circle, ``form_roll`` (ρ_F1, ρ_F2)).
+    starts above its form circle, ``form_roll`` (ρ_F1, ρ_F2)) and each tip inside the mating
+    root circle, ``tip_root_clearances`` (c1, c2) = (a_w − r_a1 − r_f2, a_w − r_a2 − r_f1) >= 0
+    (m).
 
     Backlash (ISO 21771 / DIN 3967; docs/backlash.md) from the operating centre distance and the
     members' ``tooth_thickness_allowance`` A_sn (m, negative thins): ``transverse_backlash``
@@ -483,8 +499,9 @@ class GearPair(AbstractGearPair):
     Raises:
         ValueError: non-positive sizes, tip below the base circle, pointed tips, undercut
             (involute form circle below the base circle), interference (active profile
-            starting below the form circle), transverse contact ratio below 1, a centre
-            distance below the zero-backlash distance; one line naming the parameter, its
+            starting below the form circle), a tip cutting into the mating root (tip-to-root
+            clearance below 0), a total contact ratio ε_γ below 1, a centre distance below the
+            zero-backlash distance; one line naming the parameter, its
             value and the allowed range.
     """
 
@@ -528,6 +545,19 @@ class GearPair(AbstractGearPair):
                 start[i] >= form_roll[i] - 1e-12,
                 "small enough to avoid interference",
             )
+        # each tip inside the mating root circle: c = a_w − r_a − r_f (mating) >= 0
+        clear = (a - ra[0] - rf[1], a - ra[1] - rf[0])
+        for i, tag in enumerate(_TAGS):
+            other = _TAGS[1 - i]
+            self._require(
+                f"tip-to-root clearance c{i + 1} ({tag} tip to {other} root, a_w − r_a{i + 1} − "
+                f"r_f{2 - i}, m)",
+                clear[i],
+                clear[i] >= -1e-12,
+                f">= 0 (the {tag} tip would cut into the {other} root: lower "
+                f"{tag}.addendum_coeff or raise {other}.dedendum_coeff)",
+            )
+        object.__setattr__(self, "tip_root_clearances", clear)
         return start[0], roll_tip[0] + roll_tip[1] - line
 
     def _backlash(self, r, rb, st, mt, at, awt, inv_awtA):

@@ -118,6 +118,61 @@ def test_blok_against_separate_evaluation(mu, w, v1, v2, b, b1, b2):
     assert got == pytest.approx(ref, rel=1e-3)
 
 
+# -- two flank materials: each flank's own B_M with its own speed --------------------------------
+
+B_OTHER = 9000.0  # W s^½/(m² K): a gear flank of another material than the steel pinion
+
+
+def _hand_flash(pair, s, w, mu, b1, b2):
+    """Blok's θ_fl at base-plane coordinate s (m) and line load w (N/m) of the spur FZG C pair,
+    written here from the pair's centre distance, base and tip radii: ρ₁ from the gear's tip
+    (point A), each flank's speed v_i = ω_i ρ_i, the heat split q₁/q₂ = B₁√v₁/(B₂√v₂) so that
+    both flanks reach one temperature, θ = 0.785 q₁/(B₁ √(v₁ b_H)) (the pinion's side)."""
+    rb1, rb2 = pair.base_radii
+    t1t2 = math.sqrt(pair.center_distance**2 - (rb1 + rb2) ** 2)
+    rho1 = t1t2 - math.sqrt(pair.tip_radii[1] ** 2 - rb2**2) + s
+    rho2 = t1t2 - rho1
+    v1 = SPEED * rho1
+    v2 = SPEED * pair.pinion.teeth / pair.gear.teeth * rho2
+    radius = rho1 * rho2 / (rho1 + rho2)
+    e_star = 1.0 / (2.0 * (1.0 - NU**2) / E)
+    b_h = math.sqrt(4.0 * w * radius / (math.pi * e_star))
+    q = mu * w * abs(v1 - v2)
+    q1 = q * b1 * math.sqrt(v1) / (b1 * math.sqrt(v1) + b2 * math.sqrt(v2))
+    return 1.11 / math.sqrt(2.0) * q1 / (b1 * math.sqrt(v1 * b_h))
+
+
+@pytest.mark.parametrize("coefficients", [(B_STEEL, B_OTHER), (B_OTHER, B_STEEL)])
+def test_flash_temperature_with_two_flank_materials_against_a_hand_evaluation(coefficients):
+    """FZG C14 (spur) with dissimilar B_M: at positions in the approach (the gear flank the
+    faster) and the recess (the pinion flank the faster) jaxgear's θ_fl equals Blok's formula
+    evaluated by hand with each flank's own B_M and own speed (1e-9)."""
+    pair, res = _spur()
+    _, out = _scuff(pair, res, thermal_coefficients=coefficients)
+    loaded = np.asarray(out.loaded)
+    s = np.asarray(res.cell_s)
+    w = np.asarray(res.line_load)
+    fl = np.asarray(out.flash_temperature)
+    g = pair.path_of_contact
+    for fraction in (0.08, 0.2, 0.35, 0.65, 0.8, 0.92):  # approach below the pitch point ≈ 0.46
+        idx = np.unravel_index(np.argmin(np.where(loaded, abs(s - fraction * g), np.inf)), s.shape)
+        assert abs(s[idx] / g - fraction) < 0.02
+        want = _hand_flash(pair, float(s[idx]), float(w[idx]), 0.05, *coefficients)
+        assert float(fl[idx]) == pytest.approx(want, rel=1e-9), fraction
+
+
+def test_equal_coefficients_unchanged_by_the_flank_order():
+    """One material on both flanks: the flank order does not matter (the formula is symmetric);
+    the hand evaluation agrees on the whole path."""
+    pair, res = _spur()
+    _, out = _scuff(pair, res)
+    loaded = np.asarray(out.loaded)
+    s = np.asarray(res.cell_s)[loaded]
+    w = np.asarray(res.line_load)[loaded]
+    want = [_hand_flash(pair, float(a), float(b), 0.05, B_STEEL, B_STEEL) for a, b in zip(s, w)]
+    np.testing.assert_allclose(np.asarray(out.flash_temperature)[loaded], want, rtol=1e-9)
+
+
 def test_thermal_contact_coefficient_and_steel_thermo_elastic_factor():
     # λ 45 W/(m K), ρ 7850 kg/m³, c 440 J/(kg K)
     assert float(tr.thermal_contact_coefficient(45.0, 7850.0, 440.0)) == pytest.approx(

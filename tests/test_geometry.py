@@ -187,7 +187,7 @@ def _pair(p1=None, p2=None, **kw):
         ),
         (
             dict(p1=Member(20, 0.0, 0.45, 1.25), p2=Member(40, 0.0, 0.45, 1.25)),
-            r"transverse contact ratio = 0\.8\d* is out of range: allowed >= 1",
+            r"total contact ratio = 0\.8\d* is out of range: allowed >= 1",
         ),
         (dict(p1=Member(20, -1.0, 0.05, 1.25)), r"pinion\.tip radius .* allowed > base radius"),
         (dict(normal_module=0.0), r"normal_module = 0\.0 is out of range: allowed > 0"),

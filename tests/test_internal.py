@@ -279,7 +279,7 @@ def test_trochoid_check_agrees_with_a_kinematic_simulation(z1, dz, ha1, ha2, x2)
         ({"x1": 1.4}, "pointed tooth"),
         (
             {"p1": {"addendum_coeff": 0.5}, "p2": {"addendum_coeff": 0.4}},
-            "transverse contact ratio",
+            "total contact ratio",
         ),
         ({"z2": -24, "x1": 0.1}, "profile_shift (x1 + x2) = 0.1 is out of range: allowed < 0.08"),
         ({"p2": {"bore_radius": 0.1}}, "gear.bore_radius = 0.1 is out of range: allowed None"),
@@ -529,7 +529,7 @@ def test_planetary_geometry_at_one_centre_distance():
     # thicker ring teeth: no common distance (one mesh jams)
     with pytest.raises(ValueError, match="ring.profile_shift = -0.8 is out of range"):
         jg.planetary_geometry(sun, planet, jg.Member(-53, -0.8, face_width=0.02), M, ALPHA)
-    with pytest.raises(ValueError, match="transverse contact ratio"):  # far from concentric
+    with pytest.raises(ValueError, match="total contact ratio"):  # far from concentric
         jg.planetary_geometry(sun, planet, jg.Member(-56, -0.3, face_width=0.02), M, ALPHA)
 
 

@@ -104,6 +104,9 @@ def test_run_writes_film_and_loss_files(tmp_path):
     # the line are the transverse ones; R from p₀ = √(w E*/(π R)), b_H = √(4 w R/(π E*)))
     fl = np.array([float(r["flash_temperature_K"]) for r in rows])
     assert fl.max() == pytest.approx(section["max_flash_temperature_K"], rel=1e-9)
+    # the printed line names it (no scuffing keys here: the film line carries it)
+    (film_line,) = [ln for ln in run_lines(case.form, case, summary) if "film and loss" in ln]
+    assert f"max flash temperature {fl.max():.1f} K" in film_line
     hot = rows[int(np.argmax(fl))]
     w, p0 = float(hot["line_load_N_per_m"]), float(hot["max_pressure_Pa"])
     u, vg = float(hot["entrainment_speed_m_s"]), float(hot["sliding_speed_m_s"])

@@ -240,7 +240,7 @@ def test_geometry_errors_are_in_file_units():
     assert msg.startswith("[pinion] addendum_coeff = 1.6: out of range (tip thickness")
     assert "pointed tooth" in msg and " mm" in msg and _max_significant_digits(msg) <= 6
     msg = _error(_case(**{"pinion/addendum_coeff": 0.3, "gear/addendum_coeff": 0.3}))
-    assert "transverse contact ratio" in msg and ">= 1" in msg
+    assert "total contact ratio ε_γ = " in msg and ">= 1" in msg
     msg = _error(_case(**{"pinion/fillet_radius_coeff": 1.5}))
     assert (
         msg

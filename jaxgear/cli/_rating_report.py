@@ -393,7 +393,7 @@ def write_rating_table(
     per-mesh lists), written atomically into ``out_dir``: ``jaxgear run`` writes it once, after
     every step that adds to the section (the measured K_v, the root stress at speed); with the
     run's ``tribology`` section, its scuffing and micropitting lines after the rating's."""
-    lines, extra = rating_table_lines(case, section), tribology_rating_lines(tribology)
+    lines, extra = rating_table_lines(case, section), tribology_rating_lines(tribology, case)
     if extra and lines and not lines[-1]:
         extra = extra[1:]  # one blank line between
     write_rating_md(out_dir, lines + extra)

@@ -19,7 +19,7 @@ import equinox as eqx
 import numpy as np
 
 from .. import GivenFactors, PairTreatment, rate
-from ..io import RatingCase, published_rating
+from ..io import RatingCase, published_rating, tribology_of
 from ..rating import (
     EXTENDED_CONTACT,
     FACTOR_CLAUSES,
@@ -146,6 +146,32 @@ def reference(key: str, method: str) -> str:
     return own
 
 
+def oil_warning(rating_viscosity_40, oil) -> str | None:
+    """A warning line where the pitting rating's oil (``[rating] viscosity_40C_mm2_s``, its Z_L)
+    is not the ``[lubricant]`` oil ``oil`` (the film, loss and scuffing), else None (no
+    ``[lubricant]``, or the same ν₄₀ within 1e-6)."""
+    if oil is None:
+        return None
+    nu_r, nu_l = float(rating_viscosity_40) * 1e6, float(oil.viscosity_40) * 1e6
+    if abs(nu_r - nu_l) <= 1e-6 * nu_l:
+        return None
+    return (f"**Warning: two oils.** The pitting rating's Z_L uses ν₄₀ = {number(nu_r)} mm²/s "
+            f"([rating] viscosity_40C_mm2_s); the film, the loss and the scuffing use the "
+            f"[lubricant] oil's ν₄₀ = {number(nu_l)} mm²/s. Give one oil to both.")
+
+
+#: where the default S_Hmin = S_Fmin = 1 come from and what practice asks (rating.md)
+MINIMUM_SAFETY_NOTE = (
+    "S_Hmin and S_Fmin are `[rating] min_safety_pitting` and `min_safety_bending`; without them "
+    "jaxgear takes 1.0, the limit itself: ISO 6336 rates σ_HG and σ_FG at the 1 % failure "
+    "probability of ISO 6336-5's strength numbers and leaves the minimum safety factors to "
+    "agreement between purchaser and manufacturer. Practice asks more: the NREL 5 MW KISSsoft "
+    "reports (jaxgear/cases/published/kisssoft-nrel-5mw.toml; wind-turbine gearboxes) use "
+    "S_Hmin = 1.25 and S_Fmin = 1.56, with bending kept further from its limit than pitting "
+    "(a broken tooth ends the gear's life, pitting progresses)."
+)
+
+
 def verdict(s, s_min: float) -> str:
     """"pass" per gear where the safety factor ``s`` is at least ``s_min``, else "FAIL"."""
     return " / ".join("pass" if float(x) >= s_min else "FAIL" for x in np.atleast_1d(s))
@@ -168,6 +194,8 @@ class ReportInputs(NamedTuple):
         rating: the :class:`jaxgear.Rating` whose summary the section is (its given and
             measured factors in it), for the intermediate values of K_v and K_Hβ; None: rated
             again from the section (a report written from ``summary.json``'s section alone).
+        oil: the case's ``[lubricant]`` oil (:class:`jaxgear.tribology.Lubricant`: the film,
+            loss and scuffing of ``jaxgear run``), or None without the table.
     """
 
     rc: RatingCase
@@ -176,6 +204,7 @@ class ReportInputs(NamedTuple):
     published: dict | None = None
     report: str | None = None
     rating: object = None
+    oil: object = None
 
 
 def _treatments(t) -> list:
@@ -287,6 +316,19 @@ def _inputs_tables(inputs: ReportInputs, section: dict, rating, heading: str) ->
           "°", geo)
     t.row("centre distance", "a", number(float(d.center_distance) * 1e3), "mm", geo)
     t.row("gear ratio z₂/z₁", "u", number(float(d.gear_ratio)), "", geo)
+    rack = "ISO 21771 (input; the basic rack of ISO 53)"
+    t.row("basic rack (tool): pressure angle", "α_P",
+          number(math.degrees(float(g.normal_pressure_angle))), "°", rack)
+    t.row("basic rack (tool): dedendum h_fP/m_n (the tool's addendum)", "h_fP*",
+          _values(np.asarray(g.dedendum_coeff)), "", rack)
+    t.row("basic rack (tool): root radius ρ_fP/m_n (the tool's tip radius)", "ρ_fP*",
+          _values(np.asarray(g.fillet_radius_coeff)), "", rack)
+    t.row("addendum coefficient (after any tip shortening)", "h_a*",
+          _values(np.asarray(g.addendum_coeff)), "", rack)
+    t.row("tip diameter", "d_a", _values(np.abs(np.asarray(d.tip_diameter)), 1e3), "mm",
+          "ISO 21771 (d_a = d + 2 m_n (h_a* + x))")
+    t.row("root diameter", "d_f", _values(np.abs(np.asarray(d.root_diameter)), 1e3), "mm",
+          "ISO 21771 (d_f = d − 2 m_n (h_fP* − x))")
     t.row("transverse contact ratio", "ε_α", number(float(d.transverse_contact_ratio)), "",
           f"{ref('Z_epsilon')}, Z_ε", "eps_alpha")
     t.row("overlap ratio", "ε_β", number(float(d.overlap_ratio)), "",
@@ -296,8 +338,14 @@ def _inputs_tables(inputs: ReportInputs, section: dict, rating, heading: str) ->
     mat, lub, acc = s.material, s.lubrication, s.accuracy
     t = _Table(None)
     tr = _treatments(mat.treatment)
+    t.row("material designation ([material] designation)", "",
+          "— (not given)" if rc.designation is None else " / ".join(rc.designation), "",
+          "reported only (σ_Hlim, σ_Flim carry the material)")
     t.row("heat treatment", "", " / ".join(_treatment_name(x) for x in tr), "",
           f"ISO 6336-5; its life curves: {ref('Z_NT')}, {ref('Y_NT')}")
+    t.row("surface hardness ([material] surface_hardness_HV)", "HV",
+          "— (not given)" if rc.surface_hardness is None else _values(
+              np.asarray(rc.surface_hardness)), "", "reported only (ISO 6336-5 grades it in HV)")
     hb = [getattr(x, "brinell_hardness", None) for x in tr]
     t.row("Brinell hardness (through hardened)", "HB",
           " / ".join("—" if h is None else number(h) for h in hb), "", f"{ref('Z_W')}, Z_W")
@@ -312,13 +360,24 @@ def _inputs_tables(inputs: ReportInputs, section: dict, rating, heading: str) ->
     out += t.lines("Material", heading)
 
     t = _Table(None)
-    t.row("kinematic viscosity at 40 °C", "ν₄₀", number(float(lub.viscosity_40) * 1e6), "mm²/s",
-          f"{ref('Z_L')}, Z_L")
+    t.row("kinematic viscosity at 40 °C ([rating])", "ν₄₀", number(float(lub.viscosity_40) * 1e6),
+          "mm²/s", f"{ref('Z_L')}, Z_L")
+    oil = inputs.oil
+    if oil is not None:
+        lub_ref = "[lubricant]: film, loss, scuffing (docs/tribology.md)"
+        t.row("oil ([lubricant]): kinematic viscosity at 40 °C", "ν₄₀",
+              number(float(oil.viscosity_40) * 1e6), "mm²/s", lub_ref)
+        t.row("oil ([lubricant]): kinematic viscosity at 100 °C", "ν₁₀₀",
+              number(float(oil.viscosity_100) * 1e6), "mm²/s", lub_ref)
+        t.row("oil temperature", "θ_oil", number(float(oil.oil_temperature)), "°C", lub_ref)
     t.row("flank roughness", "R_z", _values(np.asarray(lub.roughness_flank), 1e6), "µm",
           f"{ref('Z_R')}, Z_R")
     t.row("root roughness", "R_z", _values(np.asarray(lub.roughness_root), 1e6), "µm",
           f"{ref('Y_R_rel_T')}, Y_RrelT")
     out += t.lines("Lubrication and roughness", heading)
+    warning = oil_warning(lub.viscosity_40, oil)
+    if warning:
+        out += [warning, ""]
 
     t = _Table(None)
     iso1328 = "ISO 1328-1:2013 tolerance"
@@ -649,7 +708,8 @@ def rating_lines(section: dict, case_name: str, heading: str = "#",
                 f"| S_H | {_values(p['S_H'])} | S_Hmin = {number(s_h)} | "
                 f"{verdict(p['S_H'], s_h)} | {reference('S_H', method)} |",
                 f"| S_F | {_values(b['S_F'])} | S_Fmin = {number(s_f)} | "
-                f"{verdict(b['S_F'], s_f)} | {reference('S_F', method)} |", ""]
+                f"{verdict(b['S_F'], s_f)} | {reference('S_F', method)} |", "",
+                MINIMUM_SAFETY_NOTE, ""]
     out += _measured_lines(section, h)
     out += _root_stress_lines(section, h)
     return out
@@ -704,5 +764,6 @@ def inputs_of(case, k: int, rc: RatingCase, settings=None, rating=None) -> Repor
     pub = published_rating(case.name)
     mesh = None if pub is None else pub.get(case.mesh_name(k), pub.get("mesh"))
     gears = tuple(case.gear_names[g] for g in case.gears[k])
+    tribology = tribology_of(case)
     return ReportInputs(rc, gears, settings, mesh, None if mesh is None else pub["report"],
-                        rating)
+                        rating, None if tribology is None else tribology.lubricant)

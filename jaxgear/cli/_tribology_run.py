@@ -31,6 +31,7 @@ from ..tribology import (
     train_efficiency,
 )
 from ._plots import path_of_contact_plot
+from ._rating_sheet import oil_warning, verdict
 from ._sweep_json import column_tag
 
 __all__ = [
@@ -295,9 +296,24 @@ def efficiency_run_line(section: dict | None) -> list[str]:
                     zip(flow["names"], flow["efficiency_each"], strict=True))
     line = (
         f"efficiency {100 * flow['efficiency']:.2f} % (loss {flow['total_loss_W']:.4g} W of "
-        f"{flow['input_power_W']:.4g} W; {per}) (tribology.json)"
+        f"{flow['input_power_W']:.4g} W; {per}){_hottest_mesh(section)} (tribology.json)"
     )
     return [line]
+
+
+def _hottest_mesh(section: dict) -> str:
+    """``, max flash temperature X K (mesh)``: Blok's largest flash temperature over a train's
+    or a stage's meshes (``section["meshes"]``; their scuffing sections' where they have one),
+    or "" without meshes."""
+    flashes = {
+        name: m.get("scuffing", m).get("max_flash_temperature_K")
+        for name, m in section.get("meshes", {}).items()
+    }
+    flashes = {n: f for n, f in flashes.items() if f is not None}
+    if not flashes:
+        return ""
+    name = max(flashes, key=flashes.get)
+    return f", max flash temperature {flashes[name]:.1f} K ({name})"
 
 
 def tribology_run_line(section: dict | None) -> list[str]:
@@ -321,32 +337,56 @@ def tribology_run_line(section: dict | None) -> list[str]:
             f"{mp['permissible_specific_film']:.3f} ({mp['permissible_source']}), S_λ "
             f"{mp['safety_factor']:.2f}, θ_M {mp['bulk_temperature_C']:.1f} °C (tribology.json)"
         )
+    # Blok's largest flash temperature: the scuffing line's where there is one, else here
+    flash = (
+        f", max flash temperature {section['max_flash_temperature_K']:.1f} K"
+        if "max_flash_temperature_K" in section and "scuffing" not in section
+        else ""
+    )
     film = (
         f"film and loss ({section['film_formula']}, μ {section['friction_coefficient']:.4f} "
         f"{section['friction']}): min λ {section['min_specific_film']:.2f}, P_VZP "
         f"{section['mean_power_loss_W']:.1f} W, mesh efficiency "
         f"{100 * section['efficiency']:.2f} %, H_V {section['loss_factor_integrated']:.4f} "
-        f"(Ohlendorf {section['loss_factor_ohlendorf']:.4f}) (tribology.json)"
+        f"(Ohlendorf {section['loss_factor_ohlendorf']:.4f}){flash} (tribology.json)"
     )
     return [film, *lines]
 
 
-def tribology_rating_lines(section: dict | None) -> list[str]:
+#: the scuffing safety factors' minimum in rating.md: the limit itself (no minimum is read from
+#: the case; the TSs' own recommendations were not available to check)
+SCUFFING_MIN_SAFETY = 1.0
+
+
+def tribology_rating_lines(section: dict | None, case=None) -> list[str]:
     """``rating.md``'s tribology lines (the scuffing and micropitting safety factors of
-    ``jaxgear run``'s ``tribology`` section; nothing without them)."""
+    ``jaxgear run``'s ``tribology`` section; nothing without them): the scuffing safety factors
+    with their minimum (:data:`SCUFFING_MIN_SAFETY`) and verdicts, and the oil they are rated
+    with, against the pitting rating's (``case``'s ``[rating] viscosity_40C_mm2_s``; a warning
+    where they differ)."""
     if section is None or not ({"scuffing", "micropitting"} & set(section)):
         return []
     lines = ["", "## Scuffing and micropitting (jaxgear's line loads; docs/tribology.md)", ""]
     if "scuffing" in section:
         sc = section["scuffing"]
-        lines.append(
-            f"- Scuffing, flash-temperature method (ISO/TS 6336-20): θ_B,max "
-            f"{sc['max_contact_temperature_C']:.1f} °C, θ_S {sc['scuffing_temperature_C']:.0f} °C,"
-            f" S_B {sc['scuffing_safety_factor']:.2f}; integral-temperature method (ISO/TS"
-            f" 6336-21): θ_int {sc['integral_temperature_C']:.1f} °C, θ_intS"
-            f" {sc['integral_scuffing_temperature_C']:.0f} °C, S_intS"
-            f" {sc['integral_scuffing_safety_factor']:.2f}"
-        )
+        s_min = SCUFFING_MIN_SAFETY
+        lines += [
+            "| safety factor | value | required minimum | verdict | method |",
+            "|---|---|---|---|---|",
+            f"| S_B | {sc['scuffing_safety_factor']:.2f} | S_Bmin = {s_min:g} | "
+            f"{verdict(sc['scuffing_safety_factor'], s_min)} | flash temperature (ISO/TS "
+            f"6336-20): θ_B,max {sc['max_contact_temperature_C']:.1f} °C, θ_S "
+            f"{sc['scuffing_temperature_C']:.0f} °C, max θ_fl {sc['max_flash_temperature_K']:.1f}"
+            " K |",
+            f"| S_intS | {sc['integral_scuffing_safety_factor']:.2f} | S_intSmin = {s_min:g} | "
+            f"{verdict(sc['integral_scuffing_safety_factor'], s_min)} | integral temperature "
+            f"(ISO/TS 6336-21): θ_int {sc['integral_temperature_C']:.1f} °C, θ_intS "
+            f"{sc['integral_scuffing_temperature_C']:.0f} °C |",
+            "",
+            f"The scuffing minimum {s_min:g} is the limit itself: no minimum is read from the "
+            "case; agree one as for S_Hmin and S_Fmin.",
+        ]
+        lines += _oil_lines(case)
     if "micropitting" in section:
         mp = section["micropitting"]
         lines.append(
@@ -355,3 +395,23 @@ def tribology_rating_lines(section: dict | None) -> list[str]:
             f"{mp['safety_factor']:.2f} (θ_M {mp['bulk_temperature_C']:.1f} °C)"
         )
     return lines
+
+
+def _oil_lines(case) -> list[str]:
+    """The oil the scuffing is rated with (``[lubricant]``: ν₄₀, ν₁₀₀, θ_oil) and whether the
+    pitting rating's Z_L uses the same (``[rating] viscosity_40C_mm2_s``; a warning where not)."""
+    inputs = None if case is None else tribology_of(case)
+    if inputs is None:
+        return []
+    oil = inputs.lubricant
+    out = [
+        "",
+        f"Oil ([lubricant]): ν₄₀ {float(oil.viscosity_40) * 1e6:.6g} mm²/s, ν₁₀₀ "
+        f"{float(oil.viscosity_100) * 1e6:.6g} mm²/s at θ_oil {float(oil.oil_temperature):.6g} °C.",
+    ]
+    rating = (getattr(case, "raw", None) or {}).get("rating", {})
+    if "viscosity_40C_mm2_s" in rating:
+        warning = oil_warning(rating["viscosity_40C_mm2_s"] * 1e-6, oil)
+        out.append(warning or "The pitting rating's Z_L uses the same oil ([rating] "
+                   "viscosity_40C_mm2_s).")
+    return out

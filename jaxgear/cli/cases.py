@@ -30,6 +30,7 @@ MEASURED = (
     "power-helical-housed estimated alike from its runs on 2026-11-28 under load "
     "(59 s and 29 s of CPU), nrel-5mw-stage3-housed alike on 2026-11-28 (78 s and 36 s of "
     "CPU); nrel-5mw-planetary-housed alike on 2026-11-29 (101 s and 68 s of CPU); "
+    "fzg-h951 alike on 2026-11-29 (23 s and 9 s of CPU); "
     "two-stage-housed from one first run under load on 2026-11-28 (300 s of CPU; "
     "its second run taken at two-stage's ratio of second to first, not measured). Under load, "
     "wall time is "
@@ -68,6 +69,13 @@ CASE_INDEX: dict[str, tuple[str, str, float, float, bool]] = {
         16,
         10,
         True,
+    ),
+    "fzg-h951": (
+        "z 38/57, m_n 1.75 mm, β 15.0°, T 200 N·m, weber stiffness",
+        "yes",
+        18,
+        8,
+        False,
     ),
     "lin-parker-1999": (
         "planetary z sun 28, ring 92 (lumped), 3 planets, ring fixed, sun → carrier, T 100 N·m "

@@ -154,6 +154,22 @@ def _geometry_error(err: Exception, data: dict) -> sc.SchemaError:
             f"[pinion]/[gear] addendum_coeff: transverse contact ratio = {sc.g6(value)}: out of "
             f"range, allowed {allowed}"
         )
+    if name == "total contact ratio":
+        return sc.SchemaError(
+            f"[pinion]/[gear] addendum_coeff, face_width_mm, [pair] helix_angle_deg: total "
+            f"contact ratio ε_γ = {sc.g6(value)}: out of range, allowed {allowed}"
+        )
+    clearance = re.match(
+        r"tip-to-root clearance c\d \((pinion|gear) tip to (pinion|gear) root", name
+    )
+    if clearance:
+        tip, root = clearance.groups()
+        return sc.SchemaError(
+            f"[{tip}] addendum_coeff = {sc.fmt(file_value(tip, 'addendum_coeff'))}, [{tip}] "
+            f"profile_shift = {sc.fmt(file_value(tip, 'profile_shift'))}: the {tip} tip cuts "
+            f"into the {root} root (tip-to-root clearance {float(value) * 1e3:.4g} mm), allowed "
+            f"a clearance >= 0 (lower [{tip}] addendum_coeff or raise [{root}] dedendum_coeff)"
+        )
     radius = re.match(r"(pinion|gear)\.(root|tip) radius \(from (\w+) and profile_shift\)$", name)
     if radius:
         tag, which, key = radius.groups()
@@ -265,7 +281,7 @@ def _member(data: dict, tag: str, keys=_MEMBER_KEYS) -> Member:
         )
     return Member(
         teeth=sc.number(t, "teeth", tag, allowed="[5, 10000]", integer=True),
-        profile_shift=sc.number(t, "profile_shift", tag, 0.0, allowed="(-1.5, 1.5)"),
+        profile_shift=sc.number(t, "profile_shift", tag, 0.0),  # the geometry checks it
         addendum_coeff=sc.number(t, "addendum_coeff", tag, 1.0, allowed="(0, 3]"),
         dedendum_coeff=dedendum,
         face_width=sc.number(t, "face_width_mm", tag, allowed="> 0") * 1e-3,

@@ -33,6 +33,7 @@ MAX_LINE_LOAD_N_PER_MM = 2000.0  # F_n / b above what case-hardened steel teeth 
 MAX_DEFLECTION_MODULE = 0.05  # δ_m above 5 % of the normal module
 SMOOTH_WIDTH_WARN = 1.0  # CaseWarning: w above δ_m
 MAX_DAMPING_RATIO = 1.0  # CaseWarning: Rayleigh ξ above critical at a mesh mode's frequency
+MIN_TIP_THICKNESS_MODULE = 0.2  # CaseWarning: a normal tip thickness below 0.2 m_n (thin tip)
 
 
 def mean_static_deflection(case: Case) -> float:
@@ -127,7 +128,9 @@ def _mesh_plausibility(case: Case) -> list[str]:
     * ``foundation = "sainsot"`` on a member whose h_f = r_f/r_int, θ_f give Sainsot coefficients
       outside the span of the published fit (extrapolation);
     * a Rayleigh damping whose ratio ξ = α/(2ω) + β ω/2 exceeds ``MAX_DAMPING_RATIO`` (1) at the
-      natural frequency ω of a mode the mesh excites (:func:`_mesh_mode_frequencies`).
+      natural frequency ω of a mode the mesh excites (:func:`_mesh_mode_frequencies`);
+    * a normal tip thickness s_an below ``MIN_TIP_THICKNESS_MODULE`` (0.2) m_n (a tip that
+      thin chips or hardens through; a pointed one, s_a <= 0, the geometry refuses).
 
     Raises:
         SchemaError: see :func:`mean_static_deflection`.
@@ -172,6 +175,7 @@ def _mesh_plausibility(case: Case) -> list[str]:
                 f"mode's natural frequency ({w_n:.4g} rad/s) is ξ = {xi:.3g} (above critical, "
                 f"{MAX_DAMPING_RATIO:g}); usual ξ are 0.01 to 0.1"
             )
+    out.extend(_thin_tips(case))
     if d_um >= MIN_DEFLECTION_UM:
         raw = case.raw.get("modifications", {})  # validated: tables (parse_modifications)
         for tag in ("pinion", "gear"):
@@ -198,3 +202,23 @@ def _mesh_plausibility(case: Case) -> list[str]:
                     f"({coeffs} beyond the fitted span); [mesh] foundation = 'sainsot' extrapolates"
                 )
     return list(dict.fromkeys(out))
+
+
+def _thin_tips(case: Case) -> list[str]:
+    """A warning per member whose normal tip thickness s_an = s_at cos β_a (the pair's
+    transverse ``tip_thickness``, β_a the helix angle at the tip: tan β_a = tan β r_a/r) is
+    below ``MIN_TIP_THICKNESS_MODULE`` m_n. The 0.2 m_n is a common design rule; surface-hardened
+    teeth are usually kept at 0.4 m_n or more."""
+    pair, out = case.pair, []
+    mn, beta = pair.normal_module, pair.helix_angle
+    for i, (tag, member) in enumerate((("pinion", pair.pinion), ("gear", pair.gear))):
+        beta_a = math.atan(math.tan(beta) * pair.tip_radii[i] / pair.pitch_radii[i])
+        s_an = pair.tip_thickness[i] * math.cos(beta_a)
+        if s_an < MIN_TIP_THICKNESS_MODULE * mn:
+            out.append(
+                f"[{tag}] addendum_coeff = {member.addendum_coeff:.6g}, profile_shift = "
+                f"{member.profile_shift:.6g}: normal tip thickness {s_an * 1e3:.4g} mm is below "
+                f"{MIN_TIP_THICKNESS_MODULE:g} m_n = {MIN_TIP_THICKNESS_MODULE * mn * 1e3:.4g} mm "
+                "(a thin tip chips or hardens through; shorten the addendum or lower the shift)"
+            )
+    return out

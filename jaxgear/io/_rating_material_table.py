@@ -19,6 +19,7 @@ from ..rating import RATING_RANGES
 __all__ = [
     "MATERIAL_RANGES",
     "TREATMENTS",
+    "material_identity",
     "pair_of",
     "refuse_unread_material",
     "treatment_names",
@@ -66,6 +67,31 @@ def pair_of(table: dict, key: str, where: str) -> list[float]:
     allowed, note = MATERIAL_RANGES[key]
     return _per_gear(table.get(key), table, key, where, allowed, note)
 
+
+
+def material_identity(mat: dict, where: str = "material") -> tuple:
+    """The report-only keys of ``[material]``: ``designation`` (a non-empty string of at most
+    60 characters, e.g. "18CrNiMo7-6", or a [pinion, gear] list of two) and
+    ``surface_hardness_HV`` (Vickers, [100, 1000], as ISO 6336-5 grades surface-hardened steels;
+    or [pinion, gear]). Returns ``(designations, hardnesses)``, each a (pinion, gear) tuple or
+    None where the key is absent. The rating does not read them (the strength numbers σ_Hlim,
+    σ_Flim carry the material); ``rating.md`` prints them."""
+    names = None
+    if "designation" in mat:
+        value = mat["designation"]
+        items = value if isinstance(value, list) else [value, value]
+        ok = len(items) == 2 and all(
+            isinstance(v, str) and v.strip() and len(v) <= 60 for v in items
+        )
+        if not ok:
+            raise sc.fail(where, "designation", "a material name (1 to 60 characters, e.g. "
+                          "'18CrNiMo7-6') or a [pinion, gear] list of two", value)
+        names = (items[0].strip(), items[1].strip())
+    hv = None
+    if "surface_hardness_HV" in mat:
+        hv = tuple(_per_gear(mat["surface_hardness_HV"], mat, "surface_hardness_HV", where,
+                             "[100, 1000]", " (Vickers: ISO 6336-5's surface hardness)"))
+    return names, hv
 
 
 def refuse_unread_material(mat: dict, meshes: list) -> None:

@@ -15,6 +15,8 @@ Keys (file units; ranges as checked)::
     brinell_hardness_HB = 240.0     # surface hardness HB, [100, 700]; or [pinion, gear]; read
                                     # for a through-hardened gear's Z_W against a surface-
                                     # hardened mate only: refused where no mesh has one
+    designation = "18CrNiMo7-6"     # optional, reported only: the steel, or [pinion, gear]
+    surface_hardness_HV = 700.0     # optional, reported only: HV, [100, 1000]; or [pinion, gear]
     proof_stress_MPa = 1000.0       # 0.2 % proof stress σ_0.2, [500, 1000] N/mm²; or [pinion,
                                     # gear]; read for a through-hardened gear's slip-layer
                                     # thickness ρ' (ISO 6336-3's table; default its 500 N/mm²
@@ -102,6 +104,7 @@ from ._planetary_table import CUTTER_KEYS, cutter_values
 from ._rating_inputs import modification_inputs
 from ._rating_material_table import (
     TREATMENTS,
+    material_identity,
     pair_of,
     refuse_unread_material,
     treatment_names,
@@ -158,6 +161,8 @@ MATERIAL_RATING_KEYS = {
     "treatment",
     "brinell_hardness_HB",
     "proof_stress_MPa",
+    "designation",
+    "surface_hardness_HV",
 }
 OPERATING_RATING_KEYS = {"speed_rpm"}
 GIVEN = ("K_v", "K_Hbeta", "K_Fbeta", "K_Halpha", "K_Falpha")
@@ -201,6 +206,10 @@ class RatingCase:
     #: :meth:`jaxgear.rating.LoadSpectrum.carried`), or ``None``: ``jaxgear run`` then rates
     #: the spectrum too (:func:`jaxgear.rating.rate_spectrum`, ISO 6336-6)
     spectrum: LoadSpectrum | None = None
+    #: the gears' material names (``[material] designation``, reported only) or None
+    designation: tuple[str, str] | None = None
+    #: the gears' surface hardness HV (``[material] surface_hardness_HV``, reported only) or None
+    surface_hardness: tuple[float, float] | None = None
 
 
 def _need(table: dict, key: str, where: str) -> None:
@@ -271,6 +280,7 @@ def _mesh_rating(
         _need(rt, key, "rating")
     s_h = pair_of(mat, "sigma_H_lim_MPa", "material")
     s_f = pair_of(mat, "sigma_F_lim_MPa", "material")
+    designation, hardness = material_identity(mat)
     treatment = treatment_of(mat)
     speed = rating_speed(op)
     ka = sc.number(rt, "application_factor", "rating", 1.0, allowed="[1, 10]")
@@ -318,6 +328,8 @@ def _mesh_rating(
         settings,
         use,
         modification_inputs=inputs,
+        designation=designation,
+        surface_hardness=hardness,
     )
 
 
@@ -400,6 +412,8 @@ PER_GEAR = {
     "treatment",
     "brinell_hardness_HB",
     "proof_stress_MPa",
+    "designation",
+    "surface_hardness_HV",
 }
 
 

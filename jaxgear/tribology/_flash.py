@@ -544,18 +544,24 @@ def mesh_flash_temperature(
 
 
 def cell_flash_temperature(pair, trib: MeshTribology, e_star, b_m) -> Float[Array, "P L N"]:
-    """Blok's θ_fl (K) at every loaded cell of ``trib`` (0 elsewhere): the flanks' speeds normal
-    to the contact line, Hertz's b_H from E* (Pa), (B_M1, B_M2) ``b_m``. Traced; shared by
-    :func:`mesh_scuffing` and :func:`jaxgear.tribology.mesh_micropitting`."""
+    """Blok's θ_fl (K) at every loaded cell of ``trib`` (0 elsewhere): each flank's own speed
+    normal to the contact line with its own B_M (the pinion's v₁ with B_M1, the gear's v₂ with
+    B_M2: the pinion flank is the faster one in the recess, the slower one in the approach),
+    Hertz's b_H from E* (Pa), (B_M1, B_M2) ``b_m``. Traced; shared by :func:`mesh_scuffing`
+    and :func:`jaxgear.tribology.mesh_micropitting`."""
     dtype = trib.line_load.dtype
     loaded = trib.loaded
     w = jnp.where(loaded, trib.line_load, 1.0)
     R = jnp.where(loaded, trib.radius, 1.0)
     cb = jnp.cos(pair.base_helix_angle)
     u, vg = trib.entrainment_speed, trib.sliding_speed
-    # the flanks' speeds normal to the contact line; √ symmetric in v₁, v₂, so u ± v_g/2 suffice
-    v1 = jnp.where(loaded, (u + 0.5 * vg) * cb, 1.0)
-    v2 = jnp.where(loaded, jnp.maximum((u - 0.5 * vg) * cb, 1e-9), 1.0)
+    # which flank is faster: v₁ = ω₁ ρ₁ against v₂ = ω₁ ρ₂/|u| (MeshTribology's kinematics),
+    # from the cells' roll distances; then v₁, v₂ = u ± v_g/2 with the sign of v₁ − v₂
+    s = jnp.where(loaded, trib.cell_s, 0.5 * pair.path_of_contact)
+    pinion_faster = pair.roll_distance(s, 0) * abs(pair.gear_ratio) >= pair.roll_distance(s, 1)
+    half = jnp.where(pinion_faster, 0.5, -0.5) * vg
+    v1 = jnp.where(loaded, jnp.maximum((u + half) * cb, 1e-9), 1.0)
+    v2 = jnp.where(loaded, jnp.maximum((u - half) * cb, 1e-9), 1.0)
     b_h = jnp.sqrt(4.0 * w * R / (jnp.pi * e_star))
     mu = trib.friction_coefficient
     fl = blok_flash_temperature(mu, w, v1, v2, b_h, b_m[0], b_m[1])
