@@ -134,7 +134,7 @@ def test_printed_line_names_the_max_flash_temperature():
 @pytest.mark.parametrize(
     "change, match",
     [
-        ({"designation": ""}, r"^\[material\] designation = '': a material name"),
+        ({"designation": ""}, r"^\[material\] designation = '': must be a material name"),
         ({"designation": ["16MnCr5"]}, r"^\[material\] designation = \['16MnCr5'\]: a material"),
         ({"surface_hardness_HV": 50.0},
          r"^\[material\] surface_hardness_HV = 50: out of range, allowed \[100, 1000\]"),

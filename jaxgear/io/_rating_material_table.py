@@ -84,7 +84,7 @@ def material_identity(mat: dict, where: str = "material") -> tuple:
             isinstance(v, str) and v.strip() and len(v) <= 60 for v in items
         )
         if not ok:
-            raise sc.fail(where, "designation", "a material name (1 to 60 characters, e.g. "
+            raise sc.fail(where, "designation", "must be a material name (1 to 60 characters, e.g. "
                           "'18CrNiMo7-6') or a [pinion, gear] list of two", value)
         names = (items[0].strip(), items[1].strip())
     hv = None
