@@ -14,6 +14,14 @@ from ._condense import (
     prepare_housing as prepare_housing,
     write_housing_vtu as write_housing_vtu,
 )
+from ._estimate import (
+    MAX_HOUSING_MODES as MAX_HOUSING_MODES,
+    BoxEstimate as BoxEstimate,
+    box_modes_below as box_modes_below,
+    check_housing_modes as check_housing_modes,
+    condensation_bytes as condensation_bytes,
+    estimate_box as estimate_box,
+)
 from ._mesh import (
     Bore as Bore,
     Foot as Foot,

@@ -6,6 +6,7 @@ import functools
 import json
 import math
 import os
+import sys
 
 import numpy as np
 
@@ -400,6 +401,9 @@ def run_command(args) -> int:
     out = check_output_dir(args.out or os.path.join("jaxgear-out", case.name))
     settings = optimise_settings(case)  # checked before anything is computed
     check_run_case(case)
+    size = case.housing_size()  # refused at load if too large; else its estimate printed
+    if size is not None and not args.quiet:
+        print(size.line(), file=sys.stderr)
     with staged_outputs(out, "run", keep_partial=args.keep_partial) as work:
         # an interrupted --keep-partial run leaves complete files and a summary saying it is
         # not complete

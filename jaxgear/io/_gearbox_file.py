@@ -89,13 +89,20 @@ from ._housing_table import (
     HousingBody,
     HousingSpec,
     box_bores,
+    check_housing_band,
     housing_body,
+    housing_size,
     parse_housing,
 )
 from ._planetary_spec import PlanetaryForm
 from ._planetary_table import MESH_STIFFNESS_N_PER_UM, torque_floor
 from ._plausibility import MIN_LINE_LOAD_N_PER_MM
-from ._whine_table import WhineInputs, highest_order_frequency, parse_whine
+from ._whine_table import (
+    WhineInputs,
+    highest_order_frequency,
+    lowest_order_frequency,
+    parse_whine,
+)
 
 __all__ = ["GearboxForm", "GearboxStage", "is_gearbox", "parse_gearbox"]
 
@@ -236,6 +243,17 @@ class GearboxForm(CaseForm):
             raise ValueError("GearboxForm.housing_body: the gearbox has no [housing] table")
         shafts, positions, diameters, _ = _housed_bearings(self)
         return housing_body(self.housing, shafts, positions, diameters=diameters)
+
+    def housing_size(self):
+        """The estimated sizes of the gearbox's ``[housing]`` round its housed stages'
+        bearings (:func:`jaxgear.io._housing_table.housing_size`), None without one or with a
+        mesh file.
+
+        Raises:
+            SchemaError: a housing this machine cannot build (one line)."""
+        if self.housing is None:
+            return None
+        return housing_size(self.housing, *_housed_bearings(self)[:3])
 
     def coupled(self, slices: int = 1) -> GearboxTorsional:
         """The chain with every stage on its contact cells, for the coupled dynamic model
@@ -504,17 +522,22 @@ def parse_gearbox(data: dict, default_name: str, base: str | None, load_case) ->
     first = stages[0].case
     housing = None
     if "housing" in data:
-        top = None
+        top = low = None
         if whine is not None:  # the whine's groups: orders 1..H of each stage's frequency
-            top = highest_order_frequency(whine, _stage_teeth(stages, data["operating"]),
-                                          names=[f"stage{k + 1}" for k in range(len(stages))])
+            teeth = _stage_teeth(stages, data["operating"])
+            names = [f"stage{k + 1}" for k in range(len(stages))]
+            top = highest_order_frequency(whine, teeth, names=names)
+            low = lowest_order_frequency(whine, teeth, names=names)
         housing = parse_housing(data["housing"], base,
                                 (first.youngs_modulus, first.poisson_ratio, first.density), top)
+        if low is not None:
+            check_housing_band(housing, low)
         _check_seats(stages, housing)
     pairs = tuple(p for s in stages for p in s.case.pairs)
     form = GearboxForm(tuple(stages), whine, housing)
     if housing is not None:
         _check_bores(form)
+        form.housing_size()  # refused here if too large to build
     return first.replace(name=name, form=form, raw=data, scene=None, pairs=pairs,
                          housing=housing)
 

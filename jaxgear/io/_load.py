@@ -103,6 +103,6 @@ def _load(name_or_path: str | os.PathLike, chain: tuple) -> Case:
     data = sc.load_toml(raw, f"case file {label!r}")
     if is_gearbox(data):
         return parse_gearbox(data, default, base, functools.partial(_load, chain=(*chain, key)))
-    if is_train(data):
-        return parse_train(data, default, base)
-    return parse_case(data, default, base)
+    case = parse_train(data, default, base) if is_train(data) else parse_case(data, default, base)
+    case.housing_size()  # a housing too large for this machine refused before any work
+    return case
