@@ -72,7 +72,7 @@ import numpy as np
 
 from fem_prep import schema as sc
 
-from ..dynamics import QuasiPeriodicBalance
+from ..dynamics import MAX_WHINE_GRID, QuasiPeriodicBalance
 from ..gearbox import (
     AbstractGearboxStage,
     GearboxTorsional,
@@ -107,8 +107,6 @@ from ._whine_table import (
 __all__ = ["GearboxForm", "GearboxStage", "is_gearbox", "parse_gearbox"]
 
 _KEYS = ("name", "operating", "stages", "whine", "housing")
-#: the gearbox whine's torus grid: at most this many static solves (positions_per_period^G)
-MAX_WHINE_GRID = 1_000_000
 _STAGE_KEYS = (
     "case",
     "shaft_Nm_per_rad",

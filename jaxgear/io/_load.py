@@ -11,6 +11,7 @@ from fem_prep import schema as sc
 
 from ._case import Case
 from ._case_file import parse_case
+from ._case_model import check_case_whine
 from ._gearbox_file import is_gearbox, parse_gearbox
 from ._train_file import is_train, parse_train
 
@@ -105,4 +106,5 @@ def _load(name_or_path: str | os.PathLike, chain: tuple) -> Case:
         return parse_gearbox(data, default, base, functools.partial(_load, chain=(*chain, key)))
     case = parse_train(data, default, base) if is_train(data) else parse_case(data, default, base)
     case.housing_size()  # a housing too large for this machine refused before any work
+    check_case_whine(case)  # [whine]: its method for the model kind, its groups, its size
     return case
