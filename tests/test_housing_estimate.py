@@ -140,21 +140,27 @@ def _case(tmp_path, name, old, new, source="power-helical-housed"):
 HMF = "highest_mesh_frequency_Hz = 4500.0"
 
 
-@pytest.mark.parametrize(("old", "new", "message"), [
-    # below the first mesh frequency: no order of [whine] (order 1 at 100 rad/s: 557 Hz) in
-    # the band cut-off / 1.5
-    (HMF, "cutoff_Hz = 10.0", r"^\[housing\] cutoff_Hz = 10: out of range: its band \(cut-off "
-     r"/ 1.5 = 6.667 Hz\) lies below every order of \[whine\] \(order 1 of the mesh frequency "
-     r"at 100 rad/s: 557 Hz\).*allowed cutoff_Hz >= 835.6"),
-    (HMF, "highest_mesh_frequency_Hz = 100.0", r"^\[housing\] highest_mesh_frequency_Hz = 100 "
-     r"\(cut-off 150 Hz\): out of range: .*allowed highest_mesh_frequency_Hz >= 557"),
-    # inside the documented ranges, beyond this machine
-    (HMF, "cutoff_Hz = 1e6", r"^\[housing\] cutoff_Hz = 1e\+06: out of range: 6727 interior "
-     r"housing modes below the cut-off \(estimated from the walls as plates\), allowed <= 1000"),
-    ("mesh_size_mm = 40.0", "mesh_size_mm = 0.5", r"^\[housing\] mesh_size_mm = 0.5: out of "
-     r"range: the mesh's 6.01e\+07 grid cells need about .* GB, allowed <= .* GB \(half this "
-     r"machine's memory\): a larger mesh_size_mm$"),
-])
+# below the first mesh frequency: no order of [whine] (order 1 at 100 rad/s: 557 Hz) in the
+# band cut-off / 1.5; inside the documented ranges, beyond this machine
+REFUSED = {
+    "cutoff 10 Hz": (HMF, "cutoff_Hz = 10.0", (
+        r"^\[housing\] cutoff_Hz = 10: out of range: its band \(cut-off / 1.5 = 6.667 Hz\) "
+        r"lies below every order of \[whine\] \(order 1 of the mesh frequency at 100 rad/s: "
+        r"557 Hz\).*allowed cutoff_Hz >= 835.6")),
+    "highest mesh frequency 100 Hz": (HMF, "highest_mesh_frequency_Hz = 100.0", (
+        r"^\[housing\] highest_mesh_frequency_Hz = 100 \(cut-off 150 Hz\): out of range: "
+        r".*allowed highest_mesh_frequency_Hz >= 557")),
+    "cutoff 1e6 Hz": (HMF, "cutoff_Hz = 1e6", (
+        r"^\[housing\] cutoff_Hz = 1e\+06: out of range: 6727 interior housing modes below "
+        r"the cut-off \(estimated from the walls as plates\), allowed <= 1000")),
+    "mesh 0.5 mm": ("mesh_size_mm = 40.0", "mesh_size_mm = 0.5", (
+        r"^\[housing\] mesh_size_mm = 0.5: out of range: the mesh's 6.01e\+07 grid cells "
+        r"need about .* GB, allowed <= .* GB \(half this machine's memory\): a larger "
+        r"mesh_size_mm$")),
+}
+
+
+@pytest.mark.parametrize(("old", "new", "message"), REFUSED.values(), ids=REFUSED)
 def test_a_housing_beyond_the_machine_is_refused_at_load(tmp_path, monkeypatch, old, new,
                                                          message):
     monkeypatch.setattr(fem_prep.resources, "memory_bytes", lambda: 64e9)  # a 64 GB machine

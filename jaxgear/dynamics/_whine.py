@@ -134,11 +134,12 @@ def whine_size(speeds: int, method: AbstractWhineMethod, static_points: int,
     n = int(coordinates)
     hs = balance_harmonics(method, groups)
     own = hs if isinstance(method, QuasiPeriodicBalance) else int(method.harmonics) + 1
-    if method.parametric:
+    if method.parametric:  # the coupled balance, and each harmonic's n x n factor
         u = hs * min(int(mesh_coordinates), n)
-    else:
+        work = float(speeds) * (float(u) ** 3 + own * float(n) ** 3)
+    else:  # each harmonic alone
         u = n
-    work = float(speeds) * (float(u) ** 3 * (1 if method.parametric else own) + own * n**3)
+        work = float(speeds) * own * float(n) ** 3
     mem = 16.0 * (own * n * n + u * u + 3 * speeds * own * n) + 16.0 * static_points * n
     return WhineSize(int(speeds), hs, u, int(static_points), work, mem)
 

@@ -48,7 +48,7 @@ from ._scene_spec import SceneSpec, load_bodies, spec_damping
 from ._whine_table import WHINE_METHODS, whine_of
 
 __all__ = ["PAIR_SCENES", "build_dynamic_model", "check_case_whine", "dynamic_model_kind",
-           "planetary_kind", "quasi_static_scene", "static_scene"]
+           "mesh_frequency_periods", "planetary_kind", "quasi_static_scene", "static_scene"]
 
 
 def build_dynamic_model(
@@ -125,6 +125,14 @@ def _mesh_coordinates(case: Case, kind) -> int:
     return meshes + 1 if isinstance(case.form, TrainForm) else 2
 
 
+def mesh_frequency_periods(case: Case) -> tuple[fractions.Fraction, ...]:
+    """Each mesh-frequency group's period in periods of the first mesh, exact, in the order of
+    the meshes, from the tooth counts alone (the case's :attr:`~Case.mesh_orders` o_k: mesh
+    k's period is o_1 / o_k): what :func:`jaxgear.dynamics.mesh_groups` finds on the model."""
+    orders = [fractions.Fraction(o) for o in case.mesh_orders]
+    return tuple(dict.fromkeys(orders[0] / o for o in orders))
+
+
 def check_case_whine(case: Case) -> WhineSize | None:
     """Check a case's ``[whine]`` against its model before any work: the method its model kind
     takes (:attr:`~jaxgear.dynamics.AbstractDynamicModel.whine_methods`), with
@@ -154,8 +162,7 @@ def check_case_whine(case: Case) -> WhineSize | None:
     r = _mesh_coordinates(case, kind)
     try:
         if isinstance(method, QuasiPeriodicBalance):
-            orders = [fractions.Fraction(o) for o in case.mesh_orders]
-            periods = list(dict.fromkeys(orders[0] / o for o in orders))
+            periods = mesh_frequency_periods(case)
             where = "[whine] positions_per_period"
             if isinstance(P, tuple):
                 group_positions(list(P), len(periods), where)
