@@ -193,3 +193,21 @@ def test_the_embedded_housings_estimates_equal_their_meshes():
                         element=element)
         assert (size.cells, size.dofs) == (mesh.mesh.t.shape[1], mesh.n_dofs), name
         assert size.line().startswith(f"housing: about {size.cells} cells, {size.dofs} DOFs")
+
+
+def test_the_condensation_estimates_against_the_benchmarks_measurements():
+    """The memory and CPU time estimated for each housing of the condensation benchmark
+    (docs/bench/housing_condensation.json: 39 k to 296 k DOFs, 26 to 38 modes, its peak
+    resident memory and CPU seconds) within 20 % (the time's rate is the largest one's, so the
+    others test its growth with the DOFs)."""
+    import json
+    import pathlib
+
+    from fem_prep.housing import condensation_bytes, condensation_seconds
+
+    bench = pathlib.Path(__file__).parents[1] / "docs" / "bench" / "housing_condensation.json"
+    for row in json.loads(bench.read_text())["sizes"]:
+        n, k, seats = row["dofs"], row["modes_found"], row["seat_dofs"] // 6
+        assert condensation_bytes(n, k, seats) == pytest.approx(row["peak_rss_gib"] * 2**30,
+                                                                rel=0.2)
+        assert condensation_seconds(n, k) == pytest.approx(row["total_cpu_s"], rel=0.2)

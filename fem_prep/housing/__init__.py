@@ -20,6 +20,7 @@ from ._estimate import (
     box_modes_below as box_modes_below,
     check_housing_modes as check_housing_modes,
     condensation_bytes as condensation_bytes,
+    condensation_seconds as condensation_seconds,
     estimate_box as estimate_box,
 )
 from ._mesh import (

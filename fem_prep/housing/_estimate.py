@@ -11,11 +11,11 @@ sizes").
   each wall as a clamped plate, Weyl's law with its edge term,
   N(k) ≈ A k² / 4π − P k / 2π, k = (ω² ρ t / D)^¼ the bending wavenumber, D = E t³ / 12(1 − ν²)
   (Courant & Hilbert; Xie, Thompson & Jones 2004 for plates), summed over the six walls.
-* The condensation's peak memory (:func:`condensation_bytes`): a measured rate per FE DOF of
-  the assembly and the sparse factor (:data:`CONDENSE_BYTES_PER_DOF`, measured on the
-  structured Tet10 boxes of tests/test_housing_estimate.py), plus the dense arrays that grow
-  with the modes: the Lanczos basis (2k + 1 vectors of the interior DOFs), the constraint and
-  modal columns and their full-field recovery (6 per seat + k, each of every DOF).
+* The condensation's peak memory (:func:`condensation_bytes`): the benchmark's rate per FE DOF
+  of the assembly and the sparse factors (:data:`CONDENSE_BYTES_PER_DOF`), plus the dense
+  arrays that grow with the modes: the Lanczos basis (2k + 1 vectors of the interior DOFs),
+  the constraint and modal columns and their full-field recovery (6 per seat + k, each of
+  every DOF); its CPU time (:func:`condensation_seconds`) from the benchmark's rates too.
 """
 
 from __future__ import annotations
@@ -29,6 +29,7 @@ import numpy as np
 from ..resources import check_memory
 
 __all__ = [
+    "BENCH_CONDENSATION",
     "CONDENSE_BYTES_PER_DOF",
     "MAX_HOUSING_MODES",
     "MESHER_BYTES_PER_GRID_CELL",
@@ -36,6 +37,7 @@ __all__ = [
     "box_modes_below",
     "check_housing_modes",
     "condensation_bytes",
+    "condensation_seconds",
     "estimate_box",
 ]
 
@@ -44,9 +46,16 @@ __all__ = [
 #: cells are kept or dropped); checked against the traced peak in the tests
 MESHER_BYTES_PER_GRID_CELL = 2048
 #: the condensation's bytes per FE DOF (the scalar basis and operators, the coupled and clamped
-#: matrices, the sparse factors of the mode count and of K_ii): about 12 kB measured (the
-#: process's peak resident memory on the 15.6 k and 33 k DOF Tet10 boxes), rounded up
+#: matrices, the sparse factors of the mode count and of K_ii): the benchmark's peak resident
+#: memory over its DOFs, 16.1 kB at 296 k DOFs to 19 kB at 39 k (the process's own included;
+#: docs/bench/housing_condensation.json), 11-13 kB more than the process held before on the
+#: 15.6 k to 179 k DOF single-layer boxes of the embedded cases
 CONDENSE_BYTES_PER_DOF = 16_000
+#: the benchmark's condensation (docs/bench/housing_condensation.json, the idle 2-core
+#: machine): CPU seconds at DOFs, with modes, and of its eigen-solve; the time grows as
+#: DOFs^1.3 (its two sparse factorisations) and the eigen-solve's as DOFs × modes^1.4 (measured
+#: side by side on the 15.6 k DOF box at 12, 112 and 326 modes)
+BENCH_CONDENSATION = {"dofs": 295_755, "modes": 38, "cpu_s": 98.7, "eigen_cpu_s": 39.8}
 #: the most interior modes a housing keeps: the eigen-solve's time grows as n k² and every
 #: scene that carries the housing holds dense matrices of its 6 s + k coordinates
 MAX_HOUSING_MODES = 1000
@@ -217,6 +226,17 @@ def condensation_bytes(dofs: int, modes: float, seats: int) -> float:
     8 bytes × DOFs × ((2 modes + 1) Lanczos vectors + 2 (6 seats + modes) columns)."""
     k = max(float(modes), 0.0)
     return float(dofs) * (CONDENSE_BYTES_PER_DOF + 8.0 * ((2 * k + 1) + 2 * (6 * seats + k)))
+
+
+def condensation_seconds(dofs: int, modes: float) -> float:
+    """The condensation's CPU seconds estimated from the benchmark's rates
+    (:data:`BENCH_CONDENSATION`): t (n / n_b)^1.3 + t_eig (n / n_b) ((k / k_b)^1.4 − 1)^+, n
+    the DOFs and k the modes; an order of magnitude (a loaded machine takes longer in wall
+    time)."""
+    b = BENCH_CONDENSATION
+    x = float(dofs) / b["dofs"]
+    more = max((max(float(modes), 0.0) / b["modes"]) ** 1.4 - 1.0, 0.0)
+    return b["cpu_s"] * x**1.3 + b["eigen_cpu_s"] * x * more
 
 
 def check_housing_modes(subject: str, modes: float, dofs: int, seats: int, how: str,

@@ -357,18 +357,21 @@ def _cutoff_subject(spec: HousingSpec) -> str:
 class HousingSize(NamedTuple):
     """A box housing's sizes before it is built (:func:`housing_size`): its tetrahedra and FE
     DOFs (the structured mesher's, exact; gmsh's about them), the interior modes estimated below
-    the cut-off (:func:`fem_prep.housing.box_modes_below`) and the condensation's peak memory
-    (bytes, :func:`fem_prep.housing.condensation_bytes`)."""
+    the cut-off (:func:`fem_prep.housing.box_modes_below`), the condensation's peak memory
+    (bytes, :func:`fem_prep.housing.condensation_bytes`) and CPU seconds
+    (:func:`fem_prep.housing.condensation_seconds`, the benchmark's rates)."""
 
     cells: int
     dofs: int
     modes: float
     bytes: float
+    seconds: float
 
     def line(self) -> str:
         """One printed line of the estimate."""
         return (f"housing: about {self.cells} cells, {self.dofs} DOFs, {self.modes:.0f} modes "
-                f"below the cut-off, {self.bytes / 1e9:.2g} GB to condense (estimate)")
+                f"below the cut-off, {self.bytes / 1e9:.2g} GB and {self.seconds:.2g} CPU s to "
+                "condense (estimate; read from fem_prep's cache once built)")
 
 
 def housing_size(spec: HousingSpec, shafts, positions, diameters=None) -> HousingSize | None:
@@ -411,7 +414,8 @@ def housing_size(spec: HousingSpec, shafts, positions, diameters=None) -> Housin
     except ValueError as err:  # the estimate over a limit: the file's words, one line
         raise sc.SchemaError(str(err)) from None
     bytes_ = fem_prep.housing.condensation_bytes(est.dofs, modes, len(box.bores))
-    return HousingSize(est.cells, est.dofs, modes, bytes_)
+    seconds = fem_prep.housing.condensation_seconds(est.dofs, modes)
+    return HousingSize(est.cells, est.dofs, modes, bytes_, seconds)
 
 
 def check_housing_band(spec: HousingSpec, lowest: tuple[float, str]) -> None:
