@@ -401,9 +401,11 @@ def run_command(args) -> int:
     out = check_output_dir(args.out or os.path.join("jaxgear-out", case.name))
     settings = optimise_settings(case)  # checked before anything is computed
     check_run_case(case)
-    size = case.housing_size()  # refused at load if too large; else its estimate printed
-    if size is not None and not args.quiet:
-        print(size.line(), file=sys.stderr)
+    # refused at load where too large; else their estimates printed
+    sizes = (case.housing_size(), case_io.check_case_whine(case))
+    for size in sizes if not args.quiet else ():
+        if size is not None:
+            print(size.line(), file=sys.stderr)
     with staged_outputs(out, "run", keep_partial=args.keep_partial) as work:
         # an interrupted --keep-partial run leaves complete files and a summary saying it is
         # not complete

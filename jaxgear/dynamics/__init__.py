@@ -147,6 +147,7 @@ from ._sweep import (
 from ._whine import (
     MAX_WHINE_GRID as MAX_WHINE_GRID,
     MAX_WHINE_WORK as MAX_WHINE_WORK,
+    WHINE_WORK_PER_CPU_S as WHINE_WORK_PER_CPU_S,
     AbstractWhineMethod as AbstractWhineMethod,
     HarmonicBalance as HarmonicBalance,
     QuasiPeriodicBalance as QuasiPeriodicBalance,

@@ -67,6 +67,7 @@ from ._whine_qp import (
 __all__ = [
     "MAX_WHINE_GRID",
     "MAX_WHINE_WORK",
+    "WHINE_WORK_PER_CPU_S",
     "AbstractWhineMethod",
     "HarmonicBalance",
     "QuasiPeriodicBalance",
@@ -86,9 +87,13 @@ __all__ = [
 #: the most static solves a whine's table may hold: positions over its span (with
 #: :class:`QuasiPeriodicBalance` the torus grid, the product of the groups' periods)
 MAX_WHINE_GRID = 1_000_000
+#: the whine's work (:func:`whine_size`) per CPU second, measured: benchmarks/whine_two_stage
+#: (docs/bench/whine_two_stage.json) balances 200 speeds of the two-stage train (33 harmonics
+#: × its 24 mesh coordinates' bound: 200 × 792³) in 10.2 CPU s on the 2-core machine
+WHINE_WORK_PER_CPU_S = 200 * 792**3 / 10.2
 #: the most work a whine may plan (:func:`whine_size`): speeds × the coupled balance's
-#: unknowns³, its LU's cost per speed (8/3 u³ real flops), which grows fastest: about 3e12
-#: flops, minutes to tens of minutes on a 2-core CPU
+#: unknowns³, its LU's cost per speed, which grows fastest: about 100 CPU s at
+#: :data:`WHINE_WORK_PER_CPU_S` (more where the memory is the bound)
 MAX_WHINE_WORK = 1e12
 
 
@@ -107,11 +112,17 @@ class WhineSize(NamedTuple):
     work: float
     bytes: float
 
+    @property
+    def seconds(self) -> float:
+        """The balance's CPU seconds at the measured rate :data:`WHINE_WORK_PER_CPU_S`."""
+        return self.work / WHINE_WORK_PER_CPU_S
+
     def line(self) -> str:
         """One printed line of the estimate."""
         return (f"whine: {self.speeds} speeds x {self.harmonics} harmonics, "
                 f"{self.static_points} static positions, a balance of {self.unknowns} "
-                f"unknowns per speed ({self.work:.2g} work, {self.bytes / 1e9:.2g} GB; estimate)")
+                f"unknowns per speed (about {self.seconds:.2g} CPU s, {self.bytes / 1e9:.2g} GB; "
+                "estimate)")
 
 
 def balance_harmonics(method: AbstractWhineMethod, groups: int = 1) -> int:
@@ -159,8 +170,9 @@ def check_whine_size(size: WhineSize, names: tuple[str, str, str], values: tuple
         raise ValueError(
             f"{sp}, {harm}: out of range: {size.speeds} speeds x a balance of {size.unknowns} "
             f"unknowns ({size.harmonics} harmonics) is about {size.work:.3g} work (speeds x "
-            f"unknowns^3), allowed <= {MAX_WHINE_WORK:.0e} (minutes to tens of minutes on a "
-            "2-core CPU): fewer speeds or harmonics"
+            f"unknowns^3, about {size.seconds:.2g} CPU s at the measured rate), allowed <= "
+            f"{MAX_WHINE_WORK:.0e} (about {MAX_WHINE_WORK / WHINE_WORK_PER_CPU_S:.0f} CPU s): "
+            "fewer speeds or harmonics"
         )
     check_memory(f"{sp}, {harm}", size.bytes,
                  f"{size.speeds} speeds x a balance of {size.unknowns} unknowns",
