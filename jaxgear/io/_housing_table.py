@@ -349,8 +349,9 @@ def _cutoff_subject(spec: HousingSpec) -> str:
     src = spec.cutoff_source
     if src == "cutoff_Hz":
         return f"[housing] cutoff_Hz = {spec.cutoff:g}"
-    if src.startswith("1.5 x highest_mesh_frequency_Hz"):
-        return f"[housing] highest_mesh_frequency_Hz = {spec.cutoff / 1.5:g} (cut-off {spec.cutoff:g} Hz)"
+    if src.startswith("1.5 x highest_mesh_frequency_Hz"):  # "... = <value> Hz": as given
+        given = src.split(" = ")[1].removesuffix(" Hz")
+        return f"[housing] highest_mesh_frequency_Hz = {given} (cut-off {spec.cutoff:g} Hz)"
     return f"[housing] cutoff_Hz (not given: {spec.cutoff:.4g} Hz from {src})"
 
 
@@ -394,7 +395,8 @@ def housing_size(spec: HousingSpec, shafts, positions, diameters=None) -> Housin
         return None
     box, _ = _box(spec, shafts, positions, diameters)
     size = _mesh_size(spec, box)
-    given = "mesh_size_mm" if spec.mesh_size else "mesh_size_mm (default: a quarter of the box's smallest side)"
+    given = ("mesh_size_mm" if spec.mesh_size else
+             "mesh_size_mm (default: a quarter of the box's smallest side)")
     subject = f"[housing] {given} = {size * 1e3:g}"
     quadratic = spec.element == "tet10"
     layers = spec.layers if spec.mesher == "structured" else 1
@@ -424,14 +426,17 @@ def check_housing_band(spec: HousingSpec, lowest: tuple[float, str]) -> None:
     frequency (Hz) and the words naming it, :func:`~jaxgear.io._whine_table.lowest_order_frequency`):
     no order of the whine would lie in the band at any speed. One line naming the cut-off's
     key, the band and the lowest order's frequency."""
+    from ._acoustic_path import HOUSING_BAND
+
     f, which = lowest
-    band = spec.cutoff / 1.5
+    band = spec.cutoff / HOUSING_BAND
     if band < f:
         hmf = spec.cutoff_source.startswith("1.5 x highest_mesh_frequency_Hz")
         allowed = (f"allowed highest_mesh_frequency_Hz >= {f:.4g}" if hmf else
-                   f"allowed cutoff_Hz >= {1.5 * f:.4g} (1.5 x it)")
+                   f"allowed cutoff_Hz >= {HOUSING_BAND * f:.4g} ({HOUSING_BAND:g} x it)")
         raise sc.SchemaError(
-            f"{_cutoff_subject(spec)}: out of range: its band (cut-off / 1.5 = {band:.4g} Hz) "
+            f"{_cutoff_subject(spec)}: out of range: its band (cut-off / {HOUSING_BAND:g} = "
+            f"{band:.4g} Hz) "
             f"lies below every order of [whine] ({which}: {f:.4g} Hz), so no order would be in "
             f"the housing's model: {allowed}, or leave it out (1.5 x the highest order)"
         )
