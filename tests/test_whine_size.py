@@ -10,6 +10,7 @@ import pytest
 
 import jaxgear.dynamics._whine as whine_module
 import jaxgear.io as jio
+from jaxgear import Uniform
 from jaxgear.cli import main
 from jaxgear.dynamics import (
     HarmonicBalance,
@@ -21,7 +22,6 @@ from jaxgear.dynamics import (
     whine_response,
     whine_size,
 )
-from jaxgear import Uniform
 from jaxgear.io import SchemaError
 from jaxgear.planetary import PlanetaryModel
 from jaxgear.scenes import TorsionalDynamics, disc_inertia
@@ -134,3 +134,24 @@ def test_the_cli_refuses_a_whine_beyond_the_limit_in_one_line_before_any_output(
     err = capsys.readouterr().err.strip().splitlines()
     assert err[-1].startswith("jaxgear: error: [whine] speeds = 2000, harmonics = 256: out of")
     assert not (tmp_path / "out").exists()
+
+
+def test_a_gearbox_whine_beyond_the_limit_is_refused_at_load(tmp_path):
+    """The two-pair gearbox's quasi-periodic whine at 2 000 speeds x 100 harmonics (401
+    positions per stage: the fewest 4 H + 1 allows): 3 (3 + 4 x 99) = 1 197 harmonics of its 2
+    mesh-frequency groups x 4 torsional coordinates."""
+    import pathlib
+    import shutil
+
+    data = pathlib.Path(__file__).parent / "data" / "gearbox"
+    for name in ("two-pair-whine-stage1.toml", "two-pair-whine-stage2.toml"):
+        shutil.copy(data / name, tmp_path)
+    text = (data / "two-pair-whine.toml").read_text()
+    for old, new in (("speeds = 2\nharmonics = 4", "speeds = 2000\nharmonics = 100"),
+                     ("positions_per_period = 24", "positions_per_period = 401")):
+        assert old in text
+        text = text.replace(old, new)
+    (tmp_path / "gearbox.toml").write_text(text)
+    with pytest.raises(SchemaError, match=r"^\[whine\] speeds = 2000, harmonics = 100: out of "
+                       r"range: 2000 speeds x a balance of 4788 unknowns \(1197 harmonics\)"):
+        jio.load_case(str(tmp_path / "gearbox.toml"))

@@ -72,7 +72,7 @@ import numpy as np
 
 from fem_prep import schema as sc
 
-from ..dynamics import MAX_WHINE_GRID, QuasiPeriodicBalance
+from ..dynamics import MAX_WHINE_GRID, QuasiPeriodicBalance, check_whine_size, whine_size
 from ..gearbox import (
     AbstractGearboxStage,
     GearboxTorsional,
@@ -475,6 +475,29 @@ def _whine(table, n_stages: int) -> WhineInputs:
     return inputs
 
 
+def _check_whine_size(inputs: WhineInputs, stages) -> None:
+    """The gearbox whine's size before any work (:func:`jaxgear.dynamics.whine_size`: G = the
+    stages' mesh-frequency groups, the torus grid of their periods, the coordinates its meshes
+    span bounded per stage: 12 for a lumped 3D pair, 3 per member (sun, carrier, ring,
+    planets) for a planetary stage, 2 for a torsional pair), refused in one line as a pair's
+    (:func:`jaxgear.dynamics.check_whine_size`)."""
+    r = 0
+    for s in stages:
+        if isinstance(s.torsional, PlanetaryGearboxStage):
+            r += 3 * (s.case.form.spec.n_planets + 3)
+        else:
+            r += 12 if isinstance(s.torsional, LumpedPairGearboxStage) else 2
+    P, G = inputs.positions, len(stages)
+    grid = math.prod(P) if isinstance(P, tuple) else P**G
+    size = whine_size(len(inputs.speeds), inputs.method, grid, r, r, G)
+    try:
+        check_whine_size(size, ("[whine] speeds", "harmonics", "positions_per_period"),
+                         (len(inputs.speeds), inputs.method.harmonics,
+                          list(P) if isinstance(P, tuple) else P))
+    except ValueError as err:
+        raise sc.SchemaError(str(err)) from None
+
+
 def parse_gearbox(data: dict, default_name: str, base: str | None, load_case) -> Case:
     """Validate a gearbox case file (module docstring) and build its :class:`Case`: the first
     stage's case, named by the file, of form :class:`GearboxForm`. ``load_case``: how a stage's
@@ -517,6 +540,8 @@ def parse_gearbox(data: dict, default_name: str, base: str | None, load_case) ->
         speed, torque = stages[-1].output_speed, stages[-1].output_torque
     _check_torque(op, stages)
     whine = _whine(data["whine"], len(stages)) if "whine" in data else None
+    if whine is not None:
+        _check_whine_size(whine, stages)
     first = stages[0].case
     housing = None
     if "housing" in data:
