@@ -82,7 +82,6 @@ from ._model import (
     static_mesh_forces,
 )
 from ._newmark import MeshDamping, ModalSystem
-from ._whine_methods import HarmonicBalance, TransmissionErrorSource
 from ._result import Records, steady_state
 from ._rim import _rim_of
 from ._settings import (
@@ -96,6 +95,7 @@ from ._settings import (
     _energy_code,
     _force_code,
 )
+from ._whine_methods import HarmonicBalance, TransmissionErrorSource
 
 __all__ = ["HybridModel"]
 

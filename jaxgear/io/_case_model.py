@@ -90,7 +90,6 @@ def dynamic_model_kind(form, case: Case):
     """The :class:`~jaxgear.dynamics.AbstractDynamicModel` kind (the class)
     :func:`build_dynamic_model` builds for a case of ``form``, without building it; None where
     the case has no dynamic model (an internal mesh)."""
-    return None
 
 
 @dynamic_model_kind.register
