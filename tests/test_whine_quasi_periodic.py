@@ -31,6 +31,8 @@ from jaxgear.dynamics import (
     simulate,
     whine_response,
 )
+from jaxgear.dynamics._whine_qp import mesh_groups
+from jaxgear.io._case_model import mesh_frequency_periods
 
 M1, K0, ZETA = 2.0, 8.0e6, 0.03
 C1 = 2 * ZETA * math.sqrt(K0 * M1)
@@ -92,7 +94,11 @@ def test_bad_inputs():
         QuasiPeriodicBalance(4, 5)
     with pytest.raises(ValueError, match="harmonics"):
         QuasiPeriodicBalance(0, 0)
-    model, _ = jio.build_dynamic_model(jio.load_case("two-stage"), slices=2)
+    case = jio.load_case("two-stage")
+    model, _ = jio.build_dynamic_model(case, slices=2)
+    # the groups a case file's [whine] is checked against at load, from its tooth counts: the
+    # model's
+    assert mesh_frequency_periods(case) == mesh_groups(model)[1]
     for positions, match in ((36, "positions = 36.*multiple of 35"),
                              (35, "positions = 35.*>= 4 harmonics \\+ 1 = 41"),
                              ((140,), "positions = \\(140,\\).*2 positive ints"),

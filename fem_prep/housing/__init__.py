@@ -14,6 +14,15 @@ from ._condense import (
     prepare_housing as prepare_housing,
     write_housing_vtu as write_housing_vtu,
 )
+from ._estimate import (
+    MAX_HOUSING_MODES as MAX_HOUSING_MODES,
+    BoxEstimate as BoxEstimate,
+    box_modes_below as box_modes_below,
+    check_housing_modes as check_housing_modes,
+    condensation_bytes as condensation_bytes,
+    condensation_seconds as condensation_seconds,
+    estimate_box as estimate_box,
+)
 from ._fit import (
     BoreLimit as BoreLimit,
     bore_limits as bore_limits,

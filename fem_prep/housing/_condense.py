@@ -51,6 +51,8 @@ from .._solver import (
     shift_invert_modes,
 )
 from ..files import atomic_write
+from ..resources import check_memory
+from ._estimate import MAX_HOUSING_MODES, check_housing_modes, condensation_bytes
 from ._mesh import HousingMesh
 
 __all__ = [
@@ -317,6 +319,9 @@ def _condense_to_cutoff(K, M, b, cutoff_hz, progress, timings) -> Condensed:
     n_i = len(i)
     with _step(timings, "mode_count"):  # before K_ii's factor: one factor held at a time
         count = _modes_below(K, M, i, cutoff_hz, progress)
+    if count is not None:  # the eigen-solve's size known: refused before it if too large
+        check_housing_modes(f"cutoff_hz = {cutoff_hz:g}", count, K.shape[0], len(b) // 6,
+                            "counted", "a lower cut-off")
     with _step(timings, "factorisation"), phase_bar(f"factorisation of K_ii (n = {n_i})", progress):
         Fii = factorize(K[i][:, i].tocsr())
     k = min(16, n_i) if count is None else min(count, n_i)
@@ -332,6 +337,9 @@ def _condense_to_cutoff(K, M, b, cutoff_hz, progress, timings) -> Condensed:
         if count is not None or k >= n_i or (c.modes_hz.size and c.modes_hz[-1] > cutoff_hz):
             break
         k = min(2 * k, n_i)
+        if k > MAX_HOUSING_MODES:  # without the count: refused once the doubling passes it
+            check_housing_modes(f"cutoff_hz = {cutoff_hz:g}", k, K.shape[0], len(b) // 6,
+                                "at least", "a lower cut-off")
     n = int(np.sum(c.modes_hz <= cutoff_hz))
     if count is not None and n < count:
         warnings.warn(
@@ -381,8 +389,30 @@ def prepare_housing(
         return _prepare_housing(housing, material, cutoff_hz, coupling, progress)
 
 
+def fe_dofs(housing: HousingMesh) -> int:
+    """The housing's FE DOFs counted from its mesh without building the basis: 3 × (vertices,
+    plus the edges' midpoints with Tet10)."""
+    m = housing.mesh
+    nodes = m.p.shape[1]
+    if housing.element.name == "tet10":
+        pairs = np.sort(_edge_pairs(m.t), axis=0)
+        nodes += np.unique(pairs[0].astype(np.int64) * nodes + pairs[1]).size
+    return 3 * int(nodes)
+
+
+def _edge_pairs(t: np.ndarray) -> np.ndarray:
+    """Each tetrahedron's six edges as vertex pairs (2, 6 n_tets)."""
+    a = (0, 0, 0, 1, 1, 2)
+    b = (1, 2, 3, 2, 3, 3)
+    return np.stack([t[list(a)].ravel(), t[list(b)].ravel()])
+
+
 def _prepare_housing(housing, material, cutoff_hz, coupling, progress) -> PreparedHousing:
     timings: dict[str, float] = {}
+    dofs = fe_dofs(housing)  # the mesh's size checked before the basis and the assembly
+    check_memory(f"housing: a mesh of {dofs} DOFs",
+                 condensation_bytes(dofs, 0, len(housing.seats)),
+                 f"the assembly and factors of {dofs} DOFs", "a coarser mesh (a larger size)")
     # the steps; the bar names the running one, the condensation's inner bars count its long
     # calls (factorisations, the eigen-solve's solves, column blocks) and vanish when done
     steps = tqdm(total=3, desc="housing", disable=not progress, unit="step")

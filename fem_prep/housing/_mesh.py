@@ -15,7 +15,6 @@ boundary facets of the lowest plane ``z = z_min`` of the mesh whose centroid lie
 
 from __future__ import annotations
 
-import itertools
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -25,6 +24,8 @@ import numpy as np
 import skfem
 
 from .._kinds import TetElement
+from ..resources import check_memory
+from ._estimate import box_grids, estimate_box, grid_points
 
 __all__ = [
     "Bore",
@@ -367,21 +368,6 @@ class HousingMesh:
         return self._facet_nodes(f[sel])
 
 
-def _grid(breaks, size: float, layers_between=()) -> np.ndarray:
-    """Grid lines through every break, each interval cut in ``ceil(length / size)`` parts, or
-    finer inside an interval ``(lo, hi, k)`` of ``layers_between`` (cells of at most ``(hi - lo)
-    / k`` there: the wall's layers, the cells across a bore)."""
-    b = np.unique(np.round(np.asarray(breaks, dtype=float), 12))
-    pts = [b[:1]]
-    for lo, hi in itertools.pairwise(b):
-        n = max(1, math.ceil((hi - lo) / size - 1e-9))
-        for a, c, k in layers_between:
-            if a - 1e-12 <= lo and hi <= c + 1e-12:  # inside a fixed interval: its cell size
-                n = max(n, math.ceil((hi - lo) / (c - a) * k - 1e-9))
-        pts.append(np.linspace(lo, hi, n + 1)[1:])
-    return np.concatenate(pts)
-
-
 def _structured(x, y, z, keep_cell) -> skfem.MeshTet1:
     """The tensor grid's hexahedra for which ``keep_cell(centroids (3, n_cells))`` is true, each
     split into six tetrahedra along its main diagonal (scikit-fem's ``init_tensor``: the same
@@ -452,28 +438,9 @@ def _check_size(fn: str, size, layers=1):
 
 def _box_grids(box: HousingBox, size: float, layers: int) -> tuple[list, float]:
     """:func:`mesh_box`'s tensor grid lines along x, y, z (m) and the largest cell across a
-    bore (m)."""
-    t = box.wall_thickness
-    dims = (box.length, box.width, box.height)
-    seats = box.seats()
-    grids = []
-    h_bore = 0.0
-    for i, L in enumerate(dims):
-        br = [0.0, t, L - t, L]
-        fixed = [(0.0, t, layers), (L - t, L, layers)]
-        for f in box.feet:
-            if i < 2:
-                br += list((f.x_range, f.y_range)[i])
-        for bore, s in zip(box.bores, seats):
-            if "xyz".index(bore.wall[0]) != i:
-                # across the bore: lines at its edges and at least 4 cells over its diameter
-                c, r = s.centre[i], bore.radius
-                n = max(4, math.ceil(2 * r / size - 1e-9))
-                br += [c - r, c + r]
-                fixed.append((c - r, c + r, n))
-                h_bore = max(h_bore, 2 * r / n)
-        grids.append(_grid(br, size, fixed))
-    return grids, h_bore
+    bore (m): :func:`~fem_prep.housing.box_grids`' counts built into points."""
+    counts, h_bore = box_grids(box, size, layers)
+    return [grid_points(b, c) for b, c in counts], h_bore
 
 
 def box_skin_edge(box: HousingBox, size: float, *, layers: int = 1) -> float:
@@ -514,7 +481,9 @@ def mesh_box(
         The :class:`HousingMesh` with the box's seats and feet.
 
     Raises:
-        ValueError/TypeError: bad ``size``, ``layers`` or ``element``.
+        ValueError/TypeError: bad ``size``, ``layers`` or ``element``; a ``size`` whose tensor
+            grid needs more than half this machine's memory (:func:`estimate_box`, before any
+            array is built; one line with the estimate and the limit).
     """
     if not isinstance(box, HousingBox):
         raise TypeError(f"mesh_box: box = {box!r}, allowed a fem_prep.housing.HousingBox")
@@ -524,6 +493,12 @@ def mesh_box(
     t = box.wall_thickness
     dims = (box.length, box.width, box.height)
     seats = box.seats()
+    # the grid's size first (its counts alone): a grid this machine cannot hold is refused
+    size_of = estimate_box(box, size, layers=layers, quadratic=element.name == "tet10",
+                           bores=False)
+    check_memory(f"mesh_box: size = {size!r} m", size_of.mesher_bytes,
+                 f"the structured mesher's {size_of.grid_cells:.3g} grid cells (about "
+                 f"{size_of.cells:.3g} tetrahedra, {size_of.dofs:.3g} DOFs)", "a larger size")
     grids, h_bore = _box_grids(box, size, layers)
 
     def keep(c):
@@ -551,6 +526,11 @@ def mesh_box(
     )
 
 
+#: gmsh's memory per tetrahedron while it meshes and this module reads the mesh back (its own
+#: mesh data and the node and element arrays): an order of magnitude, for the size check
+GMSH_BYTES_PER_CELL = 1024
+
+
 def _gmsh():
     try:
         import gmsh
@@ -571,13 +551,19 @@ def mesh_box_gmsh(
 
     Raises:
         ImportError: gmsh is not installed (one line naming the extra).
-        ValueError/TypeError: bad ``size`` or ``element``.
+        ValueError/TypeError: bad ``size`` or ``element``; a ``size`` whose mesh would need
+            more than half this machine's memory (the structured mesher's count of the same
+            box, :func:`estimate_box`, at :data:`GMSH_BYTES_PER_CELL`: an order of magnitude).
     """
     if not isinstance(box, HousingBox):
         raise TypeError(f"mesh_box_gmsh: box = {box!r}, allowed a fem_prep.housing.HousingBox")
     _check_size("mesh_box_gmsh", size)
     element = Tet10() if element is None else element
     _check_element(element)
+    size_of = estimate_box(box, size, quadratic=element.name == "tet10", bores=False)
+    check_memory(f"mesh_box_gmsh: size = {size!r} m", size_of.cells * GMSH_BYTES_PER_CELL,
+                 f"about {size_of.cells:.3g} tetrahedra ({size_of.dofs:.3g} DOFs)",
+                 "a larger size")
     gmsh = _gmsh()
     t = box.wall_thickness
     L, W, H = box.length, box.width, box.height

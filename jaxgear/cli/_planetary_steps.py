@@ -5,10 +5,11 @@ refused naming the option, and the warning of an under-resolved step naming
 
 from __future__ import annotations
 
-import os
 import warnings
 
 import numpy as np
+
+from fem_prep.resources import check_memory
 
 from ..dynamics import MAX_STEPS_PER_SPEED
 from ..io import CaseWarning
@@ -38,14 +39,6 @@ def resolution_checked(plan: TimePlan, f_mesh, n_planets: int) -> dict:
     return r
 
 
-def _memory_bytes() -> float:
-    """The machine's physical memory (bytes); inf where the platform does not tell."""
-    try:
-        return float(os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
-    except (ValueError, OSError, AttributeError):  # pragma: no cover - non-POSIX
-        return float("inf")
-
-
 def check_plan_size(plan: TimePlan, speeds, groups, values: int, given: dict) -> None:
     """Refuse, before any integration, a sweep that cannot finish: the Newmark steps a speed
     takes in its program (:func:`steps_sweep`: the group's longest settling plus ``keep``
@@ -70,10 +63,6 @@ def check_plan_size(plan: TimePlan, speeds, groups, values: int, given: dict) ->
                 f"mesh periods of {int(plan.steps[k])} steps at {sp[k]:.6g} rad/s), allowed <= "
                 f"{MAX_STEPS_PER_SPEED:.3g} (fewer --periods or --steps-per-period, or leave them "
                 "out: the automatic plan)")
-        need = 8.0 * plan.keep * top * len(idx) * values
-        have = 0.5 * _memory_bytes()
-        if need > have:
-            raise ValueError(
-                f"{blame}: out of range: the kept records of {len(idx)} speeds need about "
-                f"{need / 1e9:.3g} GB, allowed <= {have / 1e9:.3g} GB (half this machine's "
-                "memory): fewer --keep-periods, --steps-per-period or speeds")
+        check_memory(blame, 8.0 * plan.keep * top * len(idx) * values,
+                     f"the kept records of {len(idx)} speeds",
+                     "fewer --keep-periods, --steps-per-period or speeds")

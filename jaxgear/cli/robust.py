@@ -17,17 +17,19 @@ import jax.numpy as jnp
 import numpy as np
 from matplotlib.ticker import MaxNLocator
 
+from fem_prep.resources import memory_allowed
+
 from .. import (
     DeviationSampler,
     Modifications,
     QuasiStaticMetrics,
+    io as case_io,
     mesh_positions,
     quasi_static,
     robust_samples,
     sample_statistics,
 )
 from ..dynamics import DynamicMetrics, Newmark, SteadyState, dynamic_model
-from .. import io as case_io
 from ..io import SchemaError, TrainForm, build_dynamic_model, parse_robust, write_csv, write_json
 from ..scenes import TorsionalDynamics, disc_inertia
 from ._case_kinds import refuse_stages
@@ -82,20 +84,12 @@ def robust_bytes_per_sample(speeds: int) -> int:
     return 8 * 4 * values + 40 * columns + 120
 
 
-def _memory_bytes() -> float:
-    """The machine's physical memory (bytes); inf where the platform does not tell."""
-    try:
-        return float(os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
-    except (ValueError, OSError, AttributeError):  # pragma: no cover - non-POSIX
-        return float("inf")
-
-
 def check_robust_size(st: dict, name: str) -> None:
     """Refuse, before any work, a run whose realisations need more than half this machine's
     memory (:func:`robust_bytes_per_sample`): one line naming ``name`` (``--samples`` or
     ``[robust] samples``), its value and the most realisations allowed."""
     per = robust_bytes_per_sample(len(st["speeds_rad_s"]))
-    have = 0.5 * _memory_bytes()
+    have = memory_allowed()
     need = float(st["samples"]) * per
     if need > have:
         most = int(have // per)

@@ -6,6 +6,7 @@ import functools
 import json
 import math
 import os
+import sys
 
 import numpy as np
 
@@ -401,6 +402,11 @@ def run_command(args) -> int:
                              [("--json", args.json)], force=args.force)
     settings = optimise_settings(case)  # checked before anything is computed
     check_run_case(case)
+    # refused at load where too large; else their estimates printed
+    sizes = (case.housing_size(), case_io.check_case_whine(case))
+    for size in sizes if not args.quiet else ():
+        if size is not None:
+            print(size.line(), file=sys.stderr)
     with staged_outputs(out, "run", keep_partial=args.keep_partial) as work:
         # an interrupted --keep-partial run leaves complete files and a summary saying it is
         # not complete

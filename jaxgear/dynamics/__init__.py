@@ -145,14 +145,22 @@ from ._sweep import (
     steps_multiple as steps_multiple,
 )
 from ._whine import (
+    MAX_WHINE_GRID as MAX_WHINE_GRID,
+    MAX_WHINE_WORK as MAX_WHINE_WORK,
+    WHINE_WORK_PER_CPU_S as WHINE_WORK_PER_CPU_S,
     AbstractWhineMethod as AbstractWhineMethod,
     HarmonicBalance as HarmonicBalance,
     QuasiPeriodicBalance as QuasiPeriodicBalance,
     TransmissionErrorSource as TransmissionErrorSource,
     WhineResponse as WhineResponse,
+    WhineSize as WhineSize,
+    balance_harmonics as balance_harmonics,
+    check_whine_size as check_whine_size,
     fourier_coefficients as fourier_coefficients,
+    group_rows as group_rows,
     harmonic_balance as harmonic_balance,
     whine_response as whine_response,
+    whine_size as whine_size,
 )
 from ._whine import _mesh_basis as mesh_basis  # noqa: F401  (its public name)
 from ._whine_qp import (

@@ -95,6 +95,7 @@ from ._settings import (
     _energy_code,
     _force_code,
 )
+from ._whine_methods import HarmonicBalance, TransmissionErrorSource
 
 __all__ = ["HybridModel"]
 
@@ -127,6 +128,8 @@ class HybridModel(AbstractDynamicModel):
     rotating_frame: bool = eqx.field(default=False, static=True)
 
     continues: ClassVar[bool] = False
+    #: the harmonic balance over one mesh period (no torus of several mesh frequencies)
+    whine_methods: ClassVar[tuple[type, ...]] = (HarmonicBalance, TransmissionErrorSource)
 
     def default_settings(self):
         """Newmark with the seed's 64 steps per mesh period (IV-27), the exact law (50

@@ -41,6 +41,7 @@ from ._model import (
 from ._newmark import LinearSystem, StepCells, newmark, newmark_counted
 from ._result import Records, steady_state, thinned
 from ._settings import Newmark, SteadyState, _Config, _config, _divergence_code
+from ._whine_methods import HarmonicBalance, QuasiPeriodicBalance, TransmissionErrorSource
 
 __all__ = ["DynamicModel", "static_start"]
 
@@ -84,6 +85,8 @@ class DynamicModel(AbstractDynamicModel):
     held: _HeldTable | None = None
 
     continues: ClassVar[bool] = True
+    whine_methods: ClassVar[tuple[type, ...]] = (
+        HarmonicBalance, TransmissionErrorSource, QuasiPeriodicBalance)
 
     def critical_speeds(self, harmonic: int = 1) -> Float[Array, " n"]:
         """Pinion speeds (rad/s) where the ``harmonic``-th mesh harmonic meets each natural

@@ -619,6 +619,10 @@ class AbstractDynamicModel(eqx.Module):
     #: whether a sweep may continue from one speed's steady state to the next
     #: (:meth:`continuation`); a model without it sweeps independent speeds only
     continues: ClassVar[bool] = False
+    #: the gear whine methods (:class:`~jaxgear.dynamics.AbstractWhineMethod` kinds)
+    #: :func:`~jaxgear.dynamics.whine_response` solves for this kind; another is refused
+    #: before any work (a case file's ``[whine] method`` at load)
+    whine_methods: ClassVar[tuple[type, ...]] = ()
 
     @property
     def mesh(self) -> MeshModel:

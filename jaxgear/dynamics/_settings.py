@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import os
 from collections.abc import Callable
 from typing import TYPE_CHECKING, ClassVar
 
@@ -18,6 +17,8 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 import optimistix
+
+from fem_prep.resources import check_memory
 
 from .._geometry import GearPair
 from .._util import check_integer
@@ -117,14 +118,6 @@ def _by_name(table: dict, key):
         return None
 
 
-def _memory_bytes() -> float:
-    """The machine's physical memory (bytes); inf where the platform does not tell."""
-    try:
-        return float(os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
-    except (ValueError, OSError, AttributeError):  # pragma: no cover - non-POSIX
-        return float("inf")
-
-
 def check_run_size(periods: int, steps_per_period: int, recorded_steps: int, values: int) -> None:
     """Refuse, before any work, a run that cannot finish: more than
     :data:`MAX_STEPS_PER_SPEED` time steps per speed, or records (``recorded_steps`` ×
@@ -137,14 +130,9 @@ def check_run_size(periods: int, steps_per_period: int, recorded_steps: int, val
             f"time steps per speed: allowed <= {MAX_STEPS_PER_SPEED:.3g} (fewer periods, or "
             "fewer steps per period)"
         )
-    need = 8.0 * int(recorded_steps) * int(values)
-    have = 0.5 * _memory_bytes()
-    if need > have:
-        raise ValueError(
-            f"periods = {int(periods)}: the records of one speed need about {need / 1e9:.3g} GB, "
-            f"allowed <= {have / 1e9:.3g} GB (half this machine's memory): fewer periods (or "
-            "keep_periods), steps per period or slices"
-        )
+    check_memory(f"periods = {int(periods)}", 8.0 * int(recorded_steps) * int(values),
+                 "the records of one speed", "fewer periods (or keep_periods), steps per period "
+                 "or slices")
 
 
 def _check_steps(steps_per_period) -> None:

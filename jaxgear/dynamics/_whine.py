@@ -28,13 +28,15 @@ harmonic balance of a parametrically excited mesh: Blankenship & Kahraman, J. So
 from __future__ import annotations
 
 import fractions
-from typing import ClassVar
+from typing import NamedTuple
 
 import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Bool, Complex, Float, Int
+
+from fem_prep.resources import check_memory
 
 from .._contact import ContactLaw, ExactContact, contact_law
 from .._util import check_integer, checked_on_host, each_solve, int_rows, is_traced
@@ -45,6 +47,12 @@ from ._model import (
     _rigid_penalty,
     deviation_periods,
     mesh_table,
+)
+from ._whine_methods import (
+    AbstractWhineMethod,
+    HarmonicBalance,
+    QuasiPeriodicBalance,
+    TransmissionErrorSource,
 )
 from ._whine_qp import (
     _torus_static,
@@ -57,78 +65,118 @@ from ._whine_qp import (
 )
 
 __all__ = [
+    "MAX_WHINE_GRID",
+    "MAX_WHINE_WORK",
+    "WHINE_WORK_PER_CPU_S",
     "AbstractWhineMethod",
     "HarmonicBalance",
     "QuasiPeriodicBalance",
     "TransmissionErrorSource",
     "WhineResponse",
+    "WhineSize",
+    "balance_harmonics",
+    "check_whine_size",
     "fourier_coefficients",
+    "group_rows",
     "harmonic_balance",
     "whine_response",
+    "whine_size",
 ]
 
 
-class AbstractWhineMethod(eqx.Module):
-    """How :func:`whine_response` couples the harmonics of the response: a kind passed as an
-    object. ``harmonics``: H, the harmonics of the span's fundamental kept (h = −H..H; an int
-    >= 1, static)."""
-
-    harmonics: eqx.AbstractVar[int]
-    #: whether the stiffness harmonics K̂_{h≠0} couple the response harmonics
-    parametric: ClassVar[bool]
-
-    def __check_init__(self):
-        check_integer("harmonics", self.harmonics, 1)
-
-
-class HarmonicBalance(AbstractWhineMethod):
-    """The multi-harmonic method: every stiffness harmonic K̂_{h−j}, |h−j| <= 2H, couples
-    response harmonic j into h (the parametric excitation: sidebands, the coupling of the mesh
-    orders, parametric resonances). One complex linear system of (2H+1) n unknowns per speed.
-    Exact for the linear periodic system as H grows (the only truncation)."""
-
-    harmonics: int = eqx.field(static=True, default=16)
-    parametric: ClassVar[bool] = True
+#: the most static solves a whine's table may hold: positions over its span (with
+#: :class:`QuasiPeriodicBalance` the torus grid, the product of the groups' periods)
+MAX_WHINE_GRID = 1_000_000
+#: the whine's work (:func:`whine_size`) per CPU second, measured: benchmarks/whine_two_stage
+#: (docs/bench/whine_two_stage.json) balances 200 speeds of the two-stage train (33 harmonics
+#: × its 24 mesh coordinates' bound: 200 × 792³) in 10.2 CPU s on the 2-core machine
+WHINE_WORK_PER_CPU_S = 200 * 792**3 / 10.2
+#: the most work a whine may plan (:func:`whine_size`): speeds × the coupled balance's
+#: unknowns³, its LU's cost per speed, which grows fastest: about 100 CPU s at
+#: :data:`WHINE_WORK_PER_CPU_S` (more where the memory is the bound)
+MAX_WHINE_WORK = 1e12
 
 
-class QuasiPeriodicBalance(AbstractWhineMethod):
-    """The quasi-periodic multi-harmonic method, for a model whose meshes run at G > 1 distinct
-    mesh frequencies ω_1..ω_G (a two-stage train; docs/whine.md, "Trains of several mesh
-    frequencies"): the quasi-static solution and the tangent mesh stiffness sampled on the torus
-    of the G mesh phases, and the response balanced over the multi-index harmonics h = (h_1..h_G)
-    at the frequencies Σ_g h_g ω_g with, for one group g, |h_g| <= ``harmonics`` (its own
-    orders, coupled parametrically) and every other group's |h_g'| <= ``sidebands`` (the
-    sidebands h_g ω_g ± h_g' ω_g'). It neglects the combination tones with more than
-    ``sidebands`` orders of two groups at once (e.g. 2 ω_1 + 2 ω_2 at sidebands 1) and every
-    harmonic beyond ``harmonics``. With G = 1 the set is |h| <= H and the method is
-    :class:`HarmonicBalance` over one mesh period.
+class WhineSize(NamedTuple):
+    """A whine's size before any work (:func:`whine_size`): ``speeds``; ``harmonics`` the
+    balance's harmonics (2H + 1; with :class:`QuasiPeriodicBalance` its multi-index set);
+    ``unknowns`` the coupled system's (harmonics × the mesh coordinates; each harmonic alone
+    for :class:`TransmissionErrorSource`: the n coordinates); ``static_points`` the static
+    solves of its table; ``work`` speeds × unknowns³ (+ each harmonic's n³ factor) and
+    ``bytes`` its peak memory (the factors, the coupled matrix, the outputs), estimated."""
 
-    Args:
-        harmonics: H, each group's own orders kept (int >= 1, static).
-        sidebands: S, the orders of the other groups around them (int, 0 <= S <= H, static).
-    """
+    speeds: int
+    harmonics: int
+    unknowns: int
+    static_points: int
+    work: float
+    bytes: float
 
-    harmonics: int = eqx.field(static=True, default=10)
-    sidebands: int = eqx.field(static=True, default=1)
-    parametric: ClassVar[bool] = True
+    @property
+    def seconds(self) -> float:
+        """The balance's CPU seconds at the measured rate :data:`WHINE_WORK_PER_CPU_S`."""
+        return self.work / WHINE_WORK_PER_CPU_S
 
-    def __check_init__(self):
-        check_integer("sidebands", self.sidebands, 0)
-        if self.sidebands > self.harmonics:
-            raise ValueError(
-                f"sidebands = {self.sidebands}: allowed 0 <= sidebands <= harmonics = "
-                f"{self.harmonics}"
-            )
+    def line(self) -> str:
+        """One printed line of the estimate."""
+        return (f"whine: {self.speeds} speeds x {self.harmonics} harmonics, "
+                f"{self.static_points} static positions, a balance of {self.unknowns} "
+                f"unknowns per speed (about {self.seconds:.2g} CPU s, {self.bytes / 1e9:.2g} GB; "
+                "estimate)")
 
 
-class TransmissionErrorSource(AbstractWhineMethod):
-    """The time-invariant model: the mean stiffness K_s + K̂_0 excited by the quasi-static
-    motion x_qs(θ) (whose mesh component is the loaded static TE); each harmonic solved alone,
-    (K_s + K̂_0 − (hω)² M + i hω C) Y_h = ((hω)² M − i hω C) X̂_h. It neglects the modulation
-    of the dynamic part by the varying stiffness (docs/whine.md)."""
+def balance_harmonics(method: AbstractWhineMethod, groups: int = 1) -> int:
+    """The harmonics the balance couples: 2H + 1; with :class:`QuasiPeriodicBalance` over G
+    groups the multi-indices with one group's |h_g| <= H and the others' <= S
+    (:func:`harmonic_set`'s size, counted: (2S + 1)^(G−1) ((2S + 1) + 2 G (H − S)))."""
+    H = int(method.harmonics)
+    if not isinstance(method, QuasiPeriodicBalance):
+        return 2 * H + 1
+    S, G = int(method.sidebands), int(groups)
+    return (2 * S + 1) ** (G - 1) * ((2 * S + 1) + 2 * G * (H - S))
 
-    harmonics: int = eqx.field(static=True, default=16)
-    parametric: ClassVar[bool] = False
+
+def whine_size(speeds: int, method: AbstractWhineMethod, static_points: int,
+               coordinates: int, mesh_coordinates: int, groups: int = 1) -> WhineSize:
+    """The size of a whine (:class:`WhineSize`) of ``speeds`` speeds by ``method`` on a model
+    of ``coordinates`` n coordinates whose meshes span ``mesh_coordinates`` r of them (the
+    mesh stiffness's basis, at most 12 per mesh of a lumped 3D scene), a table of
+    ``static_points`` static solves and ``groups`` mesh-frequency groups."""
+    n = int(coordinates)
+    hs = balance_harmonics(method, groups)
+    own = hs if isinstance(method, QuasiPeriodicBalance) else int(method.harmonics) + 1
+    if method.parametric:  # the coupled balance, and each harmonic's n x n factor
+        u = hs * min(int(mesh_coordinates), n)
+        work = float(speeds) * (float(u) ** 3 + own * float(n) ** 3)
+    else:  # each harmonic alone
+        u = n
+        work = float(speeds) * own * float(n) ** 3
+    mem = 16.0 * (own * n * n + u * u + 3 * speeds * own * n) + 16.0 * static_points * n
+    return WhineSize(int(speeds), hs, u, int(static_points), work, mem)
+
+
+def check_whine_size(size: WhineSize, names: tuple[str, str, str], values: tuple) -> None:
+    """Refuse, before any work, a whine over :data:`MAX_WHINE_GRID` static solves, over
+    :data:`MAX_WHINE_WORK` or over half this machine's memory: one-line ``ValueError`` naming
+    ``names`` (the speeds', harmonics' and positions' keys or arguments) with their
+    ``values``, the estimate and the limit."""
+    sp, harm, pos = (f"{k} = {v}" for k, v in zip(names, values, strict=True))
+    if size.static_points > MAX_WHINE_GRID:
+        raise ValueError(
+            f"{pos}: out of range: {size.static_points} static solves in the whine's table, "
+            f"allowed <= {MAX_WHINE_GRID:.0e}: fewer positions per period"
+        )
+    if size.work > MAX_WHINE_WORK:
+        raise ValueError(
+            f"{sp}, {harm}: out of range: {size.speeds} speeds x a balance of {size.unknowns} "
+            f"unknowns ({size.harmonics} harmonics) is about {size.work:.3g} work (speeds x "
+            f"unknowns^3, about {size.seconds:.2g} CPU s at the measured rate), allowed <= "
+            f"{MAX_WHINE_WORK:.0e} (about {MAX_WHINE_WORK / WHINE_WORK_PER_CPU_S:.0f} CPU s): "
+            "fewer speeds or harmonics"
+        )
+    check_memory(f"{sp}, {harm}", size.bytes,
+                 f"{size.speeds} speeds x a balance of {size.unknowns} unknowns",
+                 "fewer speeds or harmonics")
 
 
 def fourier_coefficients(samples, harmonics: int, offset: float = 0.5) -> Complex[Array, "h ..."]:
@@ -384,10 +432,12 @@ def whine_response(
             positive int per group, or an entry not a multiple of its group's denominator).
     """
     whine = getattr(model, "whine", None)
-    if isinstance(method, QuasiPeriodicBalance) and not isinstance(model, DynamicModel):
+    if (isinstance(model, AbstractDynamicModel) and isinstance(method, AbstractWhineMethod)
+            and not isinstance(method, model.whine_methods)):  # what the model kind declares
+        allowed = ", ".join(f"{c.__name__}(...)" for c in model.whine_methods) or "none"
         raise TypeError(
-            f"model: {type(model).__name__}: QuasiPeriodicBalance is for a lumped "
-            "jaxgear.dynamics.DynamicModel (a train of several mesh frequencies)"
+            f"method = {type(method).__name__}(...): not for a {type(model).__name__} "
+            f"(its whine methods: {allowed})"
         )
     if isinstance(model, AbstractDynamicModel) and not isinstance(model, DynamicModel) and whine:
         # a model with its own linearisation (a planetary stage: its PlanetaryModel.whine)
@@ -426,6 +476,16 @@ def whine_response(
         sp = np.asarray(speeds, dtype=float)
         if not np.all(np.isfinite(sp)) or np.any(sp <= 0):
             raise ValueError(f"speeds = {speeds!r}: allowed finite pinion speeds > 0 rad/s")
+    # the size estimated and refused before the static solves (one line)
+    n, m = int(model.scene.mass().shape[0]), len(model.scene.base_planes)
+    if quasi:
+        periods = mesh_groups(model)[1]
+        rows = group_rows(positions, periods, H, int(model.steps_multiple()))
+        size = whine_size(np.size(speeds), method, int(np.prod(rows)), n, 12 * m, len(periods))
+    else:
+        size = whine_size(np.size(speeds), method, positions * span, n, 12 * m)
+    check_whine_size(size, ("len(speeds)", "method.harmonics", "positions"),
+                     (np.size(speeds), H, positions))
     law = contact_law(contact, model.dtype)
     if quasi:
         return _quasi_periodic(model, speeds, method, positions, law)
@@ -541,25 +601,12 @@ def _quasi_periodic(model, speeds, method, positions, law) -> WhineResponse:
             "every mesh period (allowed mods without Deviations)"
         )
     H, Sb = int(method.harmonics), int(method.sidebands)
+    multiple = int(model.steps_multiple())
+    R = group_rows(positions, periods, H, multiple)  # refused here, before the table
     if isinstance(positions, tuple):  # one per group: each a multiple of its own denominator
         Ns = positions
-        R = []
-        for g, (N, p) in enumerate(zip(Ns, periods, strict=True)):
-            R.append(fractions_of(N, p))
-            if R[-1] < 0 or R[-1] < 4 * H + 1:
-                raise ValueError(
-                    f"positions = {positions!r}: group {g}'s (period {p} of the first mesh's) "
-                    f"allowed a multiple of {p.denominator} giving its period >= 4 harmonics + "
-                    f"1 = {4 * H + 1} steps"
-                )
         table = _group_table(model, of_mesh, periods, Ns)
     else:
-        multiple = int(model.steps_multiple())
-        if positions % multiple:
-            raise ValueError(
-                f"positions = {positions}: QuasiPeriodicBalance needs every mesh's period in "
-                f"whole steps: allowed a multiple of {multiple}"
-            )
         Ns = (int(positions),) * len(periods)
         table = mesh_table(model.scene, model.mods, positions, int(model.scene.scene_periods()))
         R = []
@@ -629,6 +676,42 @@ def _group_table(model, of_mesh, periods, Ns) -> MeshTable:
                      fields["delta0"], fields["mask"], e_max, tables[0].period_angle,
                      sizes=sizes, rows=tuple(R[g] for g in of_mesh),
                      steps_per_period=Ns[0], flank=fields["flank"])
+
+
+def group_rows(positions, periods, harmonics: int, multiple: int,
+               where: str = "positions") -> list[int]:
+    """The steps of each mesh-frequency group's own period (:class:`QuasiPeriodicBalance`),
+    checked before any table is built: ``positions`` an int (steps per first-mesh period for
+    every group: a multiple of ``multiple``, the model's ``steps_multiple()``) or one int per
+    group (each a multiple of the denominator of its group's period ``periods[g]``, in
+    first-mesh periods); every group's period >= 4 ``harmonics`` + 1 steps. One-line
+    ValueError naming ``where`` otherwise."""
+    H = int(harmonics)
+    if isinstance(positions, tuple):
+        R = []
+        for g, (N, p) in enumerate(zip(positions, periods, strict=True)):
+            R.append(fractions_of(N, p))
+            if R[-1] < 0 or R[-1] < 4 * H + 1:
+                raise ValueError(
+                    f"{where} = {list(positions)!r}: group {g}'s (period {p} of the first "
+                    f"mesh's) allowed a multiple of {p.denominator} giving its period >= 4 "
+                    f"harmonics + 1 = {4 * H + 1} steps"
+                )
+        return R
+    if positions % multiple:
+        raise ValueError(
+            f"{where} = {positions}: QuasiPeriodicBalance needs every mesh's period in "
+            f"whole steps: allowed a multiple of {multiple}"
+        )
+    R = [fractions_of(positions, p) for p in periods]
+    if min(R) < 4 * H + 1:
+        g = R.index(min(R))
+        raise ValueError(
+            f"{where} = {positions}: allowed a multiple of {multiple} giving every mesh period "
+            f">= 4 harmonics + 1 = {4 * H + 1} steps (a period {periods[g]} of the first "
+            f"mesh's has {R[g]})"
+        )
+    return R
 
 
 def fractions_of(positions: int, period) -> int:

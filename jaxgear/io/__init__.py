@@ -39,6 +39,8 @@ from ._case_file import SchemaError as SchemaError, parse_case as parse_case
 from ._case_model import (
     PAIR_SCENES as PAIR_SCENES,
     build_dynamic_model as build_dynamic_model,
+    check_case_whine as check_case_whine,
+    dynamic_model_kind as dynamic_model_kind,
     planetary_kind as planetary_kind,
     quasi_static_scene as quasi_static_scene,
     static_scene as static_scene,

@@ -570,6 +570,27 @@ class Case(MeshSettings):
         shafts, positions = self._bearing_layout(self.scene if scene is None else scene)
         return housing_body(self.housing, shafts, positions, cache=cache)
 
+    def housing_size(self):
+        """The estimated sizes of the case's ``[housing]`` before it is built
+        (:func:`jaxgear.io._housing_table.housing_size`: cells, DOFs, modes, memory), laid out
+        as :meth:`housing_body` lays it (a gearbox's: :meth:`GearboxForm.housing_size`); None
+        without ``[housing]`` or with a mesh file.
+
+        Raises:
+            SchemaError: a housing this machine cannot build (one line naming the key, the
+                estimate and the limit).
+        """
+        from ._gearbox_file import GearboxForm
+        from ._housing_table import housing_size
+
+        if self.housing is None:
+            return None
+        if isinstance(self.form, GearboxForm):  # round the housed stages' bearings
+            return self.form.housing_size()
+        if self.scene is None:  # a planetary stage's: the box round the stage axis
+            return housing_size(self.housing, (), [[(0.0, 0.0, 0.0)]])
+        return housing_size(self.housing, *self._bearing_layout(self.scene))
+
     def _bearing_layout(self, scene) -> tuple:
         """(shafts, positions): the lumped 3D ``scene``'s shafts (a pair's two, a train's
         ``[[scene.shafts]]``) and each one's bearings' scene positions

@@ -27,10 +27,10 @@ from ._optimise_table import check_acoustic_tables, parse_optimise
 from ._plausibility import MIN_LINE_LOAD_N_PER_MM, CaseWarning, plausibility
 from ._rating_table import MATERIAL_RATING_KEYS, OPERATING_RATING_KEYS, check_rating
 from ._robust_table import parse_robust
-from ._housing_table import parse_housing
+from ._housing_table import check_housing_band, parse_housing
 from ._scene_table import parse_scene
 from ._acoustics_table import parse_case_acoustics
-from ._whine_table import highest_order_frequency, parse_whine
+from ._whine_table import highest_order_frequency, lowest_order_frequency, parse_whine
 
 __all__ = [
     "check_member_size",
@@ -562,9 +562,13 @@ def case_housing(data: dict, scene, base_dir, material, *, pair: bool = True, te
             "a housing carries the bearings of a lumped 3D scene: allowed with [scene] "
             "model = 'lumped3d' (rigid gears or condensed bodies)",
         )
-    whine = (highest_order_frequency(parse_whine(data["whine"]), teeth, span, names)
-             if "whine" in data else None)
-    return parse_housing(table, base_dir, material, whine)
+    if "whine" not in data:
+        return parse_housing(table, base_dir, material, None)
+    inputs = parse_whine(data["whine"])
+    spec = parse_housing(table, base_dir, material,
+                         highest_order_frequency(inputs, teeth, span, names))
+    check_housing_band(spec, lowest_order_frequency(inputs, teeth, span, names))
+    return spec
 
 
 def _refuse_with_backlash(data: dict, deviations: bool, scene) -> None:

@@ -4,14 +4,28 @@ scene of its quasi-static solve."""
 
 from __future__ import annotations
 
+import fractions
 import functools
 import math
 
 import numpy as np
 
+from fem_prep import schema as sc
+
 from .._contact import ContactLaw, ExactContact
 from .._quasi_static import QuasiStaticResult, quasi_static
-from ..dynamics import bearing_forces, dynamic_model
+from ..dynamics import (
+    DynamicModel,
+    HybridModel,
+    QuasiPeriodicBalance,
+    WhineSize,
+    bearing_forces,
+    check_whine_size,
+    dynamic_model,
+    group_positions,
+    group_rows,
+    whine_size,
+)
 from ..planetary import (
     ConstantMeshes,
     HousedPlanetary,
@@ -31,9 +45,10 @@ from ..scenes import (
 from ._case import Case, PairForm, TrainForm
 from ._planetary_spec import InternalMeshForm, PlanetaryForm
 from ._scene_spec import SceneSpec, load_bodies, spec_damping
+from ._whine_table import WHINE_METHODS, whine_of
 
-__all__ = ["PAIR_SCENES", "build_dynamic_model", "planetary_kind", "quasi_static_scene",
-           "static_scene"]
+__all__ = ["PAIR_SCENES", "build_dynamic_model", "check_case_whine", "dynamic_model_kind",
+           "mesh_frequency_periods", "planetary_kind", "quasi_static_scene", "static_scene"]
 
 
 def build_dynamic_model(
@@ -68,6 +83,100 @@ def build_dynamic_model(
 def _case_model(form, case: Case, spec: SceneSpec, slices: int | None, bodies: tuple | None):
     """The dynamic model of a case of ``form`` (:class:`~jaxgear.io.CaseForm`)."""
     raise TypeError(f"no dynamic model for a case of form {type(form).__name__}")
+
+
+@functools.singledispatch
+def dynamic_model_kind(form, case: Case):
+    """The :class:`~jaxgear.dynamics.AbstractDynamicModel` kind (the class)
+    :func:`build_dynamic_model` builds for a case of ``form``, without building it; None where
+    the case has no dynamic model (an internal mesh)."""
+
+
+@dynamic_model_kind.register
+def _(form: PairForm, case: Case):
+    return HybridModel if case.scene is not None and case.scene.hybrid else DynamicModel
+
+
+@dynamic_model_kind.register
+def _(form: TrainForm, case: Case):
+    return HybridModel if case.flexible else DynamicModel
+
+
+@dynamic_model_kind.register
+def _(form: PlanetaryForm, case: Case):
+    return PlanetaryModel
+
+
+@dynamic_model_kind.register
+def _(form: InternalMeshForm, case: Case):
+    return None
+
+
+def _mesh_coordinates(case: Case, kind) -> int:
+    """An upper bound of the coordinates the case's meshes span (the whine's balance basis):
+    12 per mesh (two 6-DOF nodes) of a lumped 3D or hybrid scene, a planetary stage's 6 per
+    member (sun, carrier, ring and planets), else (torsional) one per gear."""
+    if kind is PlanetaryModel:
+        return 6 * (case.form.spec.n_planets + 3)
+    meshes = len(case.pairs)
+    if case.scene is not None and (case.scene.lumped or case.scene.hybrid):
+        return 12 * meshes
+    return meshes + 1 if isinstance(case.form, TrainForm) else 2
+
+
+def mesh_frequency_periods(case: Case) -> tuple[fractions.Fraction, ...]:
+    """Each mesh-frequency group's period in periods of the first mesh, exact, in the order of
+    the meshes, from the tooth counts alone (the case's :attr:`~Case.mesh_orders` o_k: mesh
+    k's period is o_1 / o_k): what :func:`jaxgear.dynamics.mesh_groups` finds on the model."""
+    orders = [fractions.Fraction(o) for o in case.mesh_orders]
+    return tuple(dict.fromkeys(orders[0] / o for o in orders))
+
+
+def check_case_whine(case: Case) -> WhineSize | None:
+    """Check a case's ``[whine]`` against its model before any work: the method its model kind
+    takes (:attr:`~jaxgear.dynamics.AbstractDynamicModel.whine_methods`), with
+    ``"quasi-periodic"`` a ``positions_per_period`` list of one entry per mesh-frequency
+    group and each group's period in whole steps >= 4 harmonics + 1
+    (:func:`~jaxgear.dynamics.group_rows`), and its size (:func:`~jaxgear.dynamics.whine_size`,
+    the mesh coordinates bounded by :func:`_mesh_coordinates`) within
+    :func:`~jaxgear.dynamics.check_whine_size`'s limits. Returns the size (None without
+    ``[whine]``, or for a gearbox, whose ``[whine]`` its file checks).
+
+    Raises:
+        SchemaError: one line naming the ``[whine]`` key, its value and what is allowed.
+    """
+    inputs = whine_of(case)
+    kind = dynamic_model_kind(case.form, case)
+    if inputs is None or kind is None:
+        return None
+    method = inputs.method
+    name = next(k for k, c in WHINE_METHODS.items() if isinstance(method, c))
+    if not isinstance(method, kind.whine_methods):
+        allowed = ", ".join(f'"{k}"' for k, c in WHINE_METHODS.items() if c in kind.whine_methods)
+        what = {PlanetaryModel: "a planetary stage", HybridModel: "condensed gear bodies"}.get(
+            kind, "this case's model")
+        raise sc.fail("whine", "method", f"not for {what} ({kind.__name__}): allowed {allowed}",
+                      name)
+    H, P = int(method.harmonics), inputs.positions
+    r = _mesh_coordinates(case, kind)
+    try:
+        if isinstance(method, QuasiPeriodicBalance):
+            periods = mesh_frequency_periods(case)
+            where = "[whine] positions_per_period"
+            if isinstance(P, tuple):
+                group_positions(list(P), len(periods), where)
+            multiple = math.lcm(*(p.denominator for p in periods))
+            rows = group_rows(P, periods, H, multiple, where)
+            size = whine_size(len(inputs.speeds), method, math.prod(rows), r, r, len(periods))
+        else:
+            size = whine_size(len(inputs.speeds), method, P * case.span_periods, r, r)
+        check_whine_size(size, ("[whine] speeds", "harmonics", "positions_per_period"),
+                         (len(inputs.speeds), H, P if not isinstance(P, tuple) else list(P)))
+    except sc.SchemaError:
+        raise
+    except ValueError as err:  # the dynamics' one line, in the file's words
+        raise sc.SchemaError(str(err)) from None
+    return size
 
 
 @_case_model.register

@@ -72,7 +72,7 @@ import numpy as np
 
 from fem_prep import schema as sc
 
-from ..dynamics import QuasiPeriodicBalance
+from ..dynamics import MAX_WHINE_GRID, QuasiPeriodicBalance, check_whine_size, whine_size
 from ..gearbox import (
     AbstractGearboxStage,
     GearboxTorsional,
@@ -90,20 +90,25 @@ from ._housing_table import (
     HousingBody,
     HousingSpec,
     check_box,
+    check_housing_band,
     check_housing_points,
     housing_body,
+    housing_size,
     parse_housing,
 )
 from ._planetary_spec import PlanetaryForm
 from ._planetary_table import MESH_STIFFNESS_N_PER_UM, torque_floor
 from ._plausibility import MIN_LINE_LOAD_N_PER_MM
-from ._whine_table import WhineInputs, highest_order_frequency, parse_whine
+from ._whine_table import (
+    WhineInputs,
+    highest_order_frequency,
+    lowest_order_frequency,
+    parse_whine,
+)
 
 __all__ = ["GearboxForm", "GearboxStage", "is_gearbox", "parse_gearbox"]
 
 _KEYS = ("name", "operating", "stages", "whine", "housing")
-#: the gearbox whine's torus grid: at most this many static solves (positions_per_period^G)
-MAX_WHINE_GRID = 1_000_000
 _STAGE_KEYS = (
     "case",
     "shaft_Nm_per_rad",
@@ -238,6 +243,17 @@ class GearboxForm(CaseForm):
             raise ValueError("GearboxForm.housing_body: the gearbox has no [housing] table")
         shafts, positions, diameters, _ = _housed_bearings(self)
         return housing_body(self.housing, shafts, positions, diameters=diameters)
+
+    def housing_size(self):
+        """The estimated sizes of the gearbox's ``[housing]`` round its housed stages'
+        bearings (:func:`jaxgear.io._housing_table.housing_size`), None without one or with a
+        mesh file.
+
+        Raises:
+            SchemaError: a housing this machine cannot build (one line)."""
+        if self.housing is None:
+            return None
+        return housing_size(self.housing, *_housed_bearings(self)[:3])
 
     def coupled(self, slices: int = 1) -> GearboxTorsional:
         """The chain with every stage on its contact cells, for the coupled dynamic model
@@ -461,6 +477,29 @@ def _whine(table, n_stages: int) -> WhineInputs:
     return inputs
 
 
+def _check_whine_size(inputs: WhineInputs, stages) -> None:
+    """The gearbox whine's size before any work (:func:`jaxgear.dynamics.whine_size`: G = the
+    stages' mesh-frequency groups, the torus grid of their periods, the coordinates its meshes
+    span bounded per stage: 12 for a lumped 3D pair, 3 per member (sun, carrier, ring,
+    planets) for a planetary stage, 2 for a torsional pair), refused in one line as a pair's
+    (:func:`jaxgear.dynamics.check_whine_size`)."""
+    r = 0
+    for s in stages:
+        if isinstance(s.torsional, PlanetaryGearboxStage):
+            r += 3 * (s.case.form.spec.n_planets + 3)
+        else:
+            r += 12 if isinstance(s.torsional, LumpedPairGearboxStage) else 2
+    P, G = inputs.positions, len(stages)
+    grid = math.prod(P) if isinstance(P, tuple) else P**G
+    size = whine_size(len(inputs.speeds), inputs.method, grid, r, r, G)
+    try:
+        check_whine_size(size, ("[whine] speeds", "harmonics", "positions_per_period"),
+                         (len(inputs.speeds), inputs.method.harmonics,
+                          list(P) if isinstance(P, tuple) else P))
+    except ValueError as err:
+        raise sc.SchemaError(str(err)) from None
+
+
 def parse_gearbox(data: dict, default_name: str, base: str | None, load_case) -> Case:
     """Validate a gearbox case file (module docstring) and build its :class:`Case`: the first
     stage's case, named by the file, of form :class:`GearboxForm`. ``load_case``: how a stage's
@@ -503,21 +542,28 @@ def parse_gearbox(data: dict, default_name: str, base: str | None, load_case) ->
         speed, torque = stages[-1].output_speed, stages[-1].output_torque
     _check_torque(op, stages)
     whine = _whine(data["whine"], len(stages)) if "whine" in data else None
+    if whine is not None:
+        _check_whine_size(whine, stages)
     first = stages[0].case
     housing = None
     if "housing" in data:
-        top = None
+        top = low = None
         if whine is not None:  # the whine's groups: orders 1..H of each stage's frequency
-            top = highest_order_frequency(whine, _stage_teeth(stages, data["operating"]),
-                                          names=[f"stage{k + 1}" for k in range(len(stages))])
+            teeth = _stage_teeth(stages, data["operating"])
+            names = [f"stage{k + 1}" for k in range(len(stages))]
+            top = highest_order_frequency(whine, teeth, names=names)
+            low = lowest_order_frequency(whine, teeth, names=names)
         housing = parse_housing(data["housing"], base,
                                 (first.youngs_modulus, first.poisson_ratio, first.density), top)
+        if low is not None:
+            check_housing_band(housing, low)
         _check_seats(stages, housing)
         _check_band(stages, data["operating"], housing, data["housing"])
     pairs = tuple(p for s in stages for p in s.case.pairs)
     form = GearboxForm(tuple(stages), whine, housing)
     if housing is not None:
         _check_bores(form)
+        form.housing_size()  # refused here if too large to build
     return first.replace(name=name, form=form, raw=data, scene=None, pairs=pairs,
                          housing=housing)
 

@@ -49,9 +49,12 @@ from fem_prep import schema as sc
 
 __all__ = [
     "HousingBody",
+    "HousingSize",
     "HousingSpec",
     "build_housing",
+    "check_housing_band",
     "housing_body",
+    "housing_size",
     "housing_surface",
     "parse_housing",
     "stage_housing",
@@ -328,6 +331,109 @@ def _box(spec: HousingSpec, shafts, positions, diameters=None):
     return box, off
 
 
+def _mesh_size(spec: HousingSpec, box) -> float:
+    """The box's mesh size (m): ``mesh_size_mm``, else a quarter of the smallest side."""
+    return spec.mesh_size or min(box.width, box.height, box.length) / 4
+
+
+def _cutoff_subject(spec: HousingSpec) -> str:
+    """The words naming the cut-off's key and value, as the file gave it."""
+    src = spec.cutoff_source
+    if src == "cutoff_Hz":
+        return f"[housing] cutoff_Hz = {spec.cutoff:g}"
+    if src.startswith("1.5 x highest_mesh_frequency_Hz"):  # "... = <value> Hz": as given
+        given = src.split(" = ")[1].removesuffix(" Hz")
+        return f"[housing] highest_mesh_frequency_Hz = {given} (cut-off {spec.cutoff:g} Hz)"
+    return f"[housing] cutoff_Hz (not given: {spec.cutoff:.4g} Hz from {src})"
+
+
+class HousingSize(NamedTuple):
+    """A box housing's sizes before it is built (:func:`housing_size`): its tetrahedra and FE
+    DOFs (the structured mesher's, exact; gmsh's about them), the interior modes estimated below
+    the cut-off (:func:`fem_prep.housing.box_modes_below`), the condensation's peak memory
+    (bytes, :func:`fem_prep.housing.condensation_bytes`) and CPU seconds
+    (:func:`fem_prep.housing.condensation_seconds`, the benchmark's rates)."""
+
+    cells: int
+    dofs: int
+    modes: float
+    bytes: float
+    seconds: float
+
+    def line(self) -> str:
+        """One printed line of the estimate."""
+        return (f"housing: about {self.cells} cells, {self.dofs} DOFs, {self.modes:.0f} modes "
+                f"below the cut-off, {self.bytes / 1e9:.2g} GB and {self.seconds:.2g} CPU s to "
+                "condense (estimate; read from fem_prep's cache once built)")
+
+
+def housing_size(spec: HousingSpec, shafts, positions, diameters=None) -> HousingSize | None:
+    """Estimate a box housing before it is meshed and condensed, and refuse in one line what
+    this machine cannot hold (:mod:`fem_prep.resources`): a mesh whose structured grid, or
+    whose condensation, needs more than half its memory (naming ``mesh_size_mm``), or more
+    than :data:`fem_prep.housing.MAX_HOUSING_MODES` interior modes estimated below the cut-off
+    (naming the cut-off's key). None for a mesh file (its sizes are known once it is read:
+    :func:`fem_prep.housing.prepare_housing` checks them before the assembly). Arguments as
+    :func:`housing_body`'s.
+
+    Raises:
+        SchemaError: the estimate over a limit; a box that does not fit round the shafts.
+    """
+    import fem_prep
+    from fem_prep.housing import box_modes_below, check_housing_modes, estimate_box
+    from fem_prep.resources import check_memory
+
+    if spec.mesh_file is not None:
+        return None
+    box, _ = _box(spec, shafts, positions, diameters)
+    size = _mesh_size(spec, box)
+    given = ("mesh_size_mm" if spec.mesh_size else
+             "mesh_size_mm (default: a quarter of the box's smallest side)")
+    subject = f"[housing] {given} = {size * 1e3:g}"
+    quadratic = spec.element == "tet10"
+    layers = spec.layers if spec.mesher == "structured" else 1
+    try:
+        bound = estimate_box(box, size, layers=layers, quadratic=quadratic, bores=False)
+        check_memory(subject, bound.mesher_bytes, f"the mesh's {bound.grid_cells:.3g} grid cells",
+                     "a larger mesh_size_mm")
+        est = estimate_box(box, size, layers=layers, quadratic=quadratic)
+        check_memory(subject, fem_prep.housing.condensation_bytes(est.dofs, 0, len(box.bores)),
+                     f"about {est.cells:.3g} cells, {est.dofs:.3g} DOFs", "a larger mesh_size_mm")
+        modes = min(box_modes_below(box, fem_prep.Material(*spec.material), spec.cutoff),
+                    float(est.dofs))
+        check_housing_modes(_cutoff_subject(spec), modes, est.dofs, len(box.bores),
+                            "estimated from the walls as plates", "a lower cut-off")
+    except sc.SchemaError:
+        raise
+    except ValueError as err:  # the estimate over a limit: the file's words, one line
+        raise sc.SchemaError(str(err)) from None
+    bytes_ = fem_prep.housing.condensation_bytes(est.dofs, modes, len(box.bores))
+    seconds = fem_prep.housing.condensation_seconds(est.dofs, modes)
+    return HousingSize(est.cells, est.dofs, modes, bytes_, seconds)
+
+
+def check_housing_band(spec: HousingSpec, lowest: tuple[float, str]) -> None:
+    """Refuse a cut-off whose band (cut-off / 1.5: docs/housing.md, "What the condensation
+    keeps") lies below the lowest order the case's ``[whine]`` writes (``lowest``: its
+    frequency (Hz) and the words naming it, :func:`~jaxgear.io._whine_table.lowest_order_frequency`):
+    no order of the whine would lie in the band at any speed. One line naming the cut-off's
+    key, the band and the lowest order's frequency."""
+    from ._acoustic_path import HOUSING_BAND
+
+    f, which = lowest
+    band = spec.cutoff / HOUSING_BAND
+    if band < f:
+        hmf = spec.cutoff_source.startswith("1.5 x highest_mesh_frequency_Hz")
+        allowed = (f"allowed highest_mesh_frequency_Hz >= {f:.4g}" if hmf else
+                   f"allowed cutoff_Hz >= {HOUSING_BAND * f:.4g} ({HOUSING_BAND:g} x it)")
+        raise sc.SchemaError(
+            f"{_cutoff_subject(spec)}: out of range: its band (cut-off / {HOUSING_BAND:g} = "
+            f"{band:.4g} Hz) "
+            f"lies below every order of [whine] ({which}: {f:.4g} Hz), so no order would be in "
+            f"the housing's model: {allowed}, or leave it out (1.5 x the highest order)"
+        )
+
+
 class HousingBody(NamedTuple):
     """A case's housing: its ``mesh`` (:class:`fem_prep.housing.HousingMesh`, housing frame),
     its ``condensed`` form (:class:`fem_prep.housing.CondensedHousing`, with the full-field
@@ -398,8 +504,9 @@ def housing_body(spec: HousingSpec, shafts, positions, *, cache=True, progress=F
         offset = np.asarray(spec.offset)
         _skin(spec, mesh, offset)  # its named points, before it is condensed
     else:
+        housing_size(spec, shafts, positions, diameters)  # refused here if too large
         box, off = _box(spec, shafts, positions, diameters)
-        size = spec.mesh_size or min(box.width, box.height, box.length) / 4
+        size = _mesh_size(spec, box)
         if spec.mesher == "gmsh":
             mesh = mesh_box_gmsh(box, size, element=element)
         else:

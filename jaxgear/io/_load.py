@@ -12,6 +12,7 @@ from fem_prep import schema as sc
 
 from ._case import Case
 from ._case_file import parse_case
+from ._case_model import check_case_whine
 from ._gearbox_file import GearboxForm, is_gearbox, parse_gearbox
 from ._housing_table import check_case_housing
 from ._planetary_ring_spec import CondensedRingSpec
@@ -110,6 +111,8 @@ def _load(name_or_path: str | os.PathLike, chain: tuple) -> Case:
     else:
         case = parse_train(data, default, base) if is_train(data) else parse_case(data, default, base)
         check_case_housing(case)  # the box round its shafts and its points, before any meshing
+        case.housing_size()  # a housing too large for this machine refused before any work
+        check_case_whine(case)  # [whine]: its method for the model kind, its groups, its size
     own = (os.path.abspath(name_or_path),) if base is not None else ()
     return dataclasses.replace(case, input_files=_input_files(case, own))
 

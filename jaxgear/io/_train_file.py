@@ -109,7 +109,7 @@ from ._case_file import (
     parse_mesh_settings,
     parse_torque,
 )
-from ._housing_table import stage_housing_spec
+from ._housing_table import check_housing_band, stage_housing_spec
 from ._lubricant_table import parse_lubricant
 from ._modifications_table import _MOD_KEYS, _member_mods
 from ._planetary_deviations_table import parse_planetary_deviations
@@ -139,7 +139,7 @@ from ._optimise_table import (
     check_train_design,
     parse_optimise,
 )
-from ._whine_table import highest_order_frequency, parse_whine
+from ._whine_table import highest_order_frequency, lowest_order_frequency, parse_whine
 
 __all__ = ["is_train", "parse_train"]
 
@@ -474,10 +474,12 @@ def _planetary_case(data: dict, name: str, base_dir: str | None = None) -> Case:
     if "housing" in data:  # the held member bolted to it (docs/planetary.md, "On a housing")
         # a stage's whine: orders of its mesh frequency (carrier frame) z_s |ω_s − ω_c| / 2π
         teeth = (2 * math.pi * case.form.spec.mesh_frequency(1.0),)
-        whine = (highest_order_frequency(parse_whine(data["whine"]), teeth)
-                 if "whine" in data else None)
+        inputs = parse_whine(data["whine"]) if "whine" in data else None
+        whine = None if inputs is None else highest_order_frequency(inputs, teeth)
         case = dataclasses.replace(case, housing=stage_housing_spec(data, base_dir, (E, nu, rho),
                                                                     whine))
+        if inputs is not None:
+            check_housing_band(case.housing, lowest_order_frequency(inputs, teeth))
     return case
 
 

@@ -44,8 +44,8 @@ from ..dynamics import (
     TransmissionErrorSource,
 )
 
-__all__ = ["WHINE_KEYS", "WHINE_METHODS", "WhineInputs", "highest_order_frequency", "parse_whine",
-           "whine_of"]
+__all__ = ["WHINE_KEYS", "WHINE_METHODS", "WhineInputs", "highest_order_frequency",
+           "lowest_order_frequency", "parse_whine", "whine_of"]
 
 WHERE = "whine"
 #: ``[whine] method`` names
@@ -132,6 +132,23 @@ def whine_of(case) -> WhineInputs | None:
     if "whine" not in raw:
         return None
     return parse_whine(raw["whine"])
+
+
+def lowest_order_frequency(inputs: WhineInputs, teeth_per_turn, span: int = 1,
+                           names=None) -> tuple[float, str]:
+    """The lowest frequency (Hz) among the orders > 0 the whine's outputs hold, at the bottom
+    of its speed range, and a few words saying which (arguments as
+    :func:`highest_order_frequency`): ``"quasi-periodic"`` order 1 of the slowest mesh's own
+    frequency; ``"harmonic-balance"``, ``"te-source"`` order 1 / q of the first mesh's."""
+    low = min(inputs.speeds)
+    t = [float(x) for x in teeth_per_turn]
+    if isinstance(inputs.method, QuasiPeriodicBalance):
+        k = min(range(len(t)), key=t.__getitem__)
+        name = f"mesh {k + 1}" if names is None else names[k]
+        return t[k] * low / (2 * math.pi), f"order 1 of {name}'s mesh frequency at {low:g} rad/s"
+    which = f"order 1/{span} of the first mesh's frequency" if span > 1 else (
+        "order 1 of the mesh frequency")
+    return t[0] / span * low / (2 * math.pi), f"{which} at {low:g} rad/s"
 
 
 def highest_order_frequency(inputs: WhineInputs, teeth_per_turn, span: int = 1,

@@ -31,10 +31,12 @@ import numpy as np
 
 from ..dynamics import (
     AbstractDynamicModel,
+    HarmonicBalance,
     ModalAnalysis,
     Newmark,
     Outputs,
     SteadyState,
+    TransmissionErrorSource,
     auto_steps_per_period,
     settling_time,
     speed_sweep,
@@ -152,6 +154,8 @@ class PlanetaryModel(AbstractDynamicModel):
     #: a planetary run starts from the quasi-static state at its first travel: no
     #: continuation from one speed to the next
     continues: ClassVar[bool] = False
+    #: the harmonic balance over one mesh period (no torus of several mesh frequencies)
+    whine_methods: ClassVar[tuple[type, ...]] = (HarmonicBalance, TransmissionErrorSource)
     #: ``SteadyState(periods=None)``: the span from the stage's settling time
     #: (:meth:`resolve_window`, :func:`~jaxgear.planetary.time_plan`'s rule)
     automatic_span: ClassVar[bool] = True
