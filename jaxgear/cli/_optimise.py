@@ -889,8 +889,9 @@ def _(objective: LeastSafetyFactor, rep: dict) -> list[str]:
                f"({rated['case_start']['K_Hbeta_measured']:.4g} -> "
                f"{rated[best]['K_Hbeta_measured']:.4g}; [rating] use_measured = [\"K_Hbeta\"] "
                "rates the case so)")
-    return [f"  jaxgear run rates the case's design and the written one {how}: least safety "
-            f"factor {start['least_S']:.4g} -> {end['least_S']:.4g}"]
+    line = (f"  jaxgear run rates the case's design and the written one {how}: least safety "
+            f"factor {start['least_S']:.4g} -> {end['least_S']:.4g}")
+    return [line]
 
 
 def master_curve_case(case: Case, extents, out_dir: str, progress: bool = True) -> dict:
