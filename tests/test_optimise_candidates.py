@@ -146,6 +146,9 @@ max_iterations = 15
     assert summary["quasi_static"]["exact"]["te_rms_m"] == pytest.approx(c["case_start"],
                                                                         rel=1e-9)
     assert ("raise the TE RMS" in ran) == (c["case_start"] > c["unmodified"])
+    # the written case's [optimise] runs again within jaxgear run: the same verdict
+    assert summary["optimise"]["best"] == "case_start"
+    assert summary["optimise"]["on_bound"]["tip_relief.depth"] == "upper"
 
 
 @pytest.mark.slow  # about 4 min on a loaded 2-core host: one optimisation, two jaxgear runs
