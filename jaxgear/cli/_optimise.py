@@ -829,13 +829,19 @@ def _optimum_lines(problem, rep: dict) -> list[str]:
     gives it where the objective rates otherwise."""
     lines = []
     lower, upper = (problem.to_physical(b) for b in (problem.lower, problem.upper))
-    for k, v in rep["final"]["parameters"].items():
+    for i, (k, v) in enumerate(rep["final"]["parameters"].items()):
         line = f"  {k} = {v:.5g}{_unit(k)}"
         side = rep["on_bound"][k]
         if side is not None:
             bound = (lower if side == "lower" else upper)[k]
-            line += (f"  ON ITS {side.upper()} BOUND ({bound:.5g}{_unit(k)}): not an interior "
-                     "optimum, the objective still falls beyond it (widen [optimise] bounds)")
+            line += f"  ON ITS {side.upper()} BOUND ({bound:.5g}{_unit(k)}): not an interior optimum"
+            kind = problem.variables[i].kind  # a modification's amount: none at its lower bound
+            amount = (kind.unmodified_at(float(problem.lower[i]))
+                      and not kind.unmodified_at(float(problem.upper[i])))
+            if side == "lower" and amount:
+                line += ", none of this modification is best"
+            else:
+                line += ", the objective still falls beyond it (widen [optimise] bounds)"
         lines.append(line)
     if not rep["converged"]:
         lines.append(
