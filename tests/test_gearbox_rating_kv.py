@@ -70,13 +70,13 @@ def test_jaxgear_run_prints_the_coupled_factor_beside_the_rated_k_v():
                               types.SimpleNamespace(name="box"), summary)
     kv = [line for line in lines if "rated with K_v" in line]
     assert kv == [
-        "stage1 sun1-planet1: rated with K_v 1.05 (ISO 6336-1 method B); the coupled gearbox's "
-        "dynamic factor 1.31 (at the rated input speed) is not rated with (coupled.json "
-        "rating_dynamic_factors)",
-        "stage1 planet1-ring1: rated with K_v 1.03 (ISO 6336-1 method B); the coupled "
-        "gearbox's dynamic factor 1.12 (at the rated input speed) is not rated with "
-        "(coupled.json rating_dynamic_factors)",
-        "stage3 helical: rated with K_v 1.092 (given); the coupled gearbox's dynamic factor "
-        "1.89 (at the rated input speed) is not rated with (coupled.json "
-        "rating_dynamic_factors)",
+        ("stage1 sun1-planet1: rated with K_v 1.05 (ISO 6336-1 method B); the coupled "
+         "gearbox's dynamic factor 1.31 (at the rated input speed) is not rated with "
+         "(coupled.json rating_dynamic_factors)"),
+        ("stage1 planet1-ring1: rated with K_v 1.03 (ISO 6336-1 method B); the coupled "
+         "gearbox's dynamic factor 1.12 (at the rated input speed) is not rated with "
+         "(coupled.json rating_dynamic_factors)"),
+        ("stage3 helical: rated with K_v 1.092 (given); the coupled gearbox's dynamic factor "
+         "1.89 (at the rated input speed) is not rated with (coupled.json "
+         "rating_dynamic_factors)"),
     ]

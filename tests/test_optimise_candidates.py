@@ -162,7 +162,7 @@ def test_least_safety_round_trip_one_verdict(tmp_path, capsys):
     jaxgear run with the optimiser's own S_H and S_F (1e-9)."""
     table = {"objective": "least_safety", "vars": ["pinion.crowning.depth"],
              "max_iterations": 3}
-    case, rep, printed, written = _optimise(tmp_path, case_toml(_data(3, 8, table)), capsys)
+    _, rep, printed, written = _optimise(tmp_path, case_toml(_data(3, 8, table)), capsys)
     best = "final" if rep["best"] == "optimum" else rep["best"]
     mine, iso = rep["rating"][best], rep["rating"][best]["as_jaxgear_run"]
     assert "jaxgear run rates the case's design and the written one with ISO 6336-1's K_Hβ" \
