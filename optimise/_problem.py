@@ -44,7 +44,7 @@ from ._objectives import (
 )
 from ._safety import LeastSafetyFactor
 from ._tribology import EfficiencyLoss, MaxFlashTemperature, MeshPowerLoss, MinSpecificFilm
-from ._variables import Variable, variables_of
+from ._variables import VARIABLES, Variable, variables_of
 
 __all__ = [
     "OBJECTIVES",
@@ -242,9 +242,73 @@ class Problem(eqx.Module):
         ``LoadCentroid``: (c/0.1)²), in the ``contact`` law (default None: the problem's smooth
         law, whose gradients the optimiser follows; :class:`jaxgear.ExactContact` for the
         design as the exact law sees it)."""
-        mods = self.modifications(x)
-        vals = jax.vmap(lambda t: self._single(mods, t, contact))(self.torques)
+        return self.design_value(self.modifications(x), contact)
+
+    def design_value(
+        self, modifications: jg.Modifications, contact: jg.ContactLaw | None = None
+    ) -> Float[Array, ""]:
+        """Scaled objective of the design ``modifications`` (a whole
+        :class:`jaxgear.Modifications`, e.g. :meth:`unmodified`, or the base design) as
+        :meth:`value` scales it, in the ``contact`` law (None: the problem's smooth law)."""
+        vals = jax.vmap(lambda t: self._single(modifications, t, contact))(self.torques)
         return self.objective.reduce(vals) / self.scale
+
+    def unmodified(self) -> jg.Modifications:
+        """The base design without flank modifications: every tip, root and end relief and
+        crowning depth 0 on both members (extents, shapes, blends, helix slope and profile
+        deviations and per-tooth deviations kept: they are errors of manufacture or mounting,
+        not the design's), whatever the variables: the bare flanks a design is compared with."""
+        depths = tuple(f for f, kind in VARIABLES.values() if kind == "depth")
+        mods = self.base
+        for m in ("pinion", "gear"):
+            for f in depths:
+                mods = eqx.tree_at(
+                    lambda t, m=m, f=f: getattr(getattr(t, m), f), mods,
+                    jnp.zeros_like(getattr(getattr(mods, m), f)),
+                )
+        return mods
+
+    def on_bounds(self, x, tolerance: float = 1e-3) -> dict:
+        """Which variables of the normalised design ``x`` sit on a bound: ``{name: "lower" |
+        "upper" | None}``, a value within ``tolerance`` × (upper − lower) of the bound. The
+        reparametrisation reaches a bound only in the limit, so an optimum there is one the
+        optimiser was pushing beyond the interval: not an interior (stationary) optimum."""
+        x = np.asarray(x, dtype=float)
+        lo, hi = np.asarray(self.lower, dtype=float), np.asarray(self.upper, dtype=float)
+        tol = tolerance * (hi - lo)
+        out = {}
+        for i, name in enumerate(self.names):
+            out[name] = "lower" if x[i] <= lo[i] + tol[i] else (
+                "upper" if x[i] >= hi[i] - tol[i] else None)
+        return out
+
+    def held(self) -> dict:
+        """The base design's modifications that no variable sets and that act (a relief or
+        crowning of non-zero depth, or whose depth is a variable), held at the case's values:
+        ``{name: value}`` in case-file units (depths in µm, extents as fractions), named as the
+        variables are (unprefixed where both members hold the same value)."""
+        per = {}
+        for base, (field, _kind) in VARIABLES.items():
+            var = Variable.parse(base)
+            depth_base = base.split(".")[0] + ".depth"
+            depth_field = VARIABLES[depth_base][0]
+            for m in ("pinion", "gear"):
+                if any(v.base == base and m in v.members for v in self.variables):
+                    continue
+                member = getattr(self.base, m)
+                designed = any(v.base == depth_base and m in v.members for v in self.variables)
+                if float(getattr(member, depth_field)) == 0 and not designed:
+                    continue  # no such modification: nothing held
+                per[m, base] = var.kind.file_value(float(getattr(member, field)))
+        out = {}
+        for base in VARIABLES:
+            p, g = per.get(("pinion", base)), per.get(("gear", base))
+            if p is not None and p == g:
+                out[base] = p
+            else:
+                out.update({f"{m}.{base}": v for m, v in (("pinion", p), ("gear", g))
+                            if v is not None})
+        return out
 
     def te_rms_vs_torque(
         self, x, torques, contact: jg.ContactLaw | None = EXACT

@@ -286,6 +286,23 @@ def test_jaxgear_runs_coupled_section(tmp_path, monkeypatch):
     assert c["highest_excited_mode_Hz"] == pytest.approx(11036.06, rel=1e-2)
     assert {m["type"] for m in c["modes"]} <= {"mesh", "structure", "shaft 1-2", "output hold",
                                                "rigid body"}
+    # the stages' K_v beside these meshes (jaxgear.cli.gearbox.rating_dynamic_factors; the
+    # matching by hand-made ratings in tests/test_gearbox_rating_kv.py): the planetary stage's
+    # two rated meshes read its four sun-planet and four ring-planet meshes, the pair its one;
+    # the rated speed lies between the two speeds run here: interpolated linearly
+    kv = {"value": [1.1, 1.2], "source": ["ISO 6336-1 method B"] * 2}
+    stages = [{"stage": "stage1", "case": "p", "summary": {"rating": {
+                  "meshes": ["sun-planet", "planet-ring"], "factors": {"K_v": kv}}}},
+              {"stage": "stage2", "case": "q", "summary": {"rating": {
+                  "factors": {"K_v": {"value": 1.3, "source": "given"}}}}}]
+    rated = case.form.stages[0].input_speed
+    rows = cli_gearbox.rating_dynamic_factors(stages, c, rated)
+    assert [r["coupled_meshes"] for r in rows] == [c["mesh_names"][:4], c["mesh_names"][4:8],
+                                                   ["2:pair"]]
+    speeds, df = np.asarray(c["input_speeds_rad_s"]), np.asarray(c["dynamic_factor_mesh"])
+    at = [np.interp(rated, speeds, df[:, j]) for j in range(9)]
+    np.testing.assert_allclose([r["coupled_dynamic_factor"] for r in rows],
+                               [max(at[:4]), max(at[4:8]), at[8]], rtol=1e-14)
 
 
 def test_planar_stage_soft_shaft_limit():

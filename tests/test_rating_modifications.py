@@ -200,7 +200,8 @@ def test_least_safety_and_te_rms_both_keep_the_tip_relief_of_power_helical():
 @pytest.mark.filterwarnings("ignore:optimiser stopped at the iteration cap")  # 2 iterations
 def test_optimise_write_saves_the_optimum_as_a_case_file_that_loads_back(tmp_path, capsys):
     """``jaxgear optimise CASE --write NEW.toml`` (2 iterations, tip relief depth and extent on
-    a coarse power-helical): NEW.toml loads (jio.load_case), its tip relief is the report's
+    a coarse power-helical at 1200 N·m, where the optimum beats the case's design and the bare
+    flanks): NEW.toml loads (jio.load_case), its tip relief is the report's
     optimum to the written precision (1e-12 relative), its crowning and every other table
     the case's, its comments kept; ``jaxgear run`` would read it (its rating reads the new
     relief). Refused before any work in one line, nothing written: a name not ending in
@@ -210,6 +211,9 @@ def test_optimise_write_saves_the_optimum_as_a_case_file_that_loads_back(tmp_pat
         jio.embedded_case_text("power-helical")
         .replace("slices = 40", "slices = 4")
         .replace("positions_per_pitch = 64", "positions_per_pitch = 8")
+        # at 310 N·m the bare flanks beat a 2-iteration optimum (the case's crowning held) and
+        # --write would write them (tests/test_optimise_candidates.py); loaded 4× the relief pays
+        .replace("torque_Nm = 310.0", "torque_Nm = 1200.0")
     )
     src.write_text(text, encoding="utf-8")
     new = tmp_path / "designs" / "new.toml"
@@ -217,6 +221,7 @@ def test_optimise_write_saves_the_optimum_as_a_case_file_that_loads_back(tmp_pat
     argv = ["optimise", str(src), "--max-iterations", "2", "--quiet", "--out", str(tmp_path / "o")]
     assert main([*argv, "--write", str(new)]) == 0
     rep = json.loads((tmp_path / "o" / "optimum.json").read_text())
+    assert rep["best"] == "optimum"
     final = rep["final"]["parameters"]
     loaded = jio.load_case(str(new))
     for member in (loaded.modifications.pinion, loaded.modifications.gear):

@@ -54,6 +54,7 @@ from ..io import (
     embedded_case_text,
     load_case,
     optimiser_from_name,
+    parse_rating,
     rating_of,
     static_scene,
     tribology_of,
@@ -66,6 +67,7 @@ from ._optimise_options import add_master_curve_arguments, add_optimise_argument
 from ._options import parse_range, range_values
 from ._paths import case_inputs, check_case_outputs, check_output_file, clear_outputs
 from ._progress import inner_bars, progress as progress_bar
+from ._rating_report import measured_factors, measured_rating
 
 __all__ = [
     "PARTIAL",
@@ -180,8 +182,9 @@ def _(objective: LeastSafetyFactor, rep: dict) -> str:
 
 
 @functools.singledispatch
-def _objective_report(objective, problem, designs: dict) -> dict:
-    """The report's sections of one objective beyond those of every objective: none."""
+def _objective_report(objective, problem, designs: dict, case: Case) -> dict:
+    """The report's sections of one objective beyond those of every objective: none.
+    ``designs``: ``{label: jaxgear.Modifications}`` (sharp relief starts)."""
     return {}
 
 
@@ -192,16 +195,40 @@ def _path_of_contact(mesh) -> float:
     return float(plane.path_of_contact)
 
 
+def _as_run_rates(case: Case, mods, res, mesh) -> dict:
+    """The rating of design ``mods`` as ``jaxgear run`` rates the case file with that design
+    (:func:`jaxgear.io.parse_rating` on the case's ``[rating]``: ISO 6336-1's K_Hβ and K_Hα
+    unless ``[rating] use_measured`` names them, then those measured on ``res``, the design's
+    exact-contact load map on ``mesh``: :func:`jaxgear.cli._rating_report.measured_rating`)."""
+    rc = parse_rating(case.raw, case.pair,
+                      (case.youngs_modulus, case.poisson_ratio, case.density), mods)
+    rating = jg.rate(rc.geometry, rc.operating, rc.settings)
+    if rc.use_measured:
+        section = {"measured": measured_factors(res, None, 0, mesh)}
+        rating = measured_rating(rc, section, rating)[1]
+    s_h = np.asarray(rating.pitting.S_H, dtype=float)
+    s_f = np.asarray(rating.bending.S_F, dtype=float)
+    return {
+        "S_H": s_h.tolist(),
+        "S_F": s_f.tolist(),
+        "least_S": float(min(s_h.min(), s_f.min())),
+        "K_Hbeta": float(np.max(np.asarray(rating.factors.K_Hbeta))),
+        "use_measured": list(rc.use_measured),
+    }
+
+
 @_objective_report.register
-def _(objective: LeastSafetyFactor, problem, designs: dict) -> dict:
-    """``rating``: the start's and the optimum's rating in exact contact (sharp relief starts),
-    with the K_Hβ measured on the load map and the design's C_a, C_β (the objective's
-    rating), and the TE limit.
+def _(objective: LeastSafetyFactor, problem, designs: dict, case: Case) -> dict:
+    """``rating``: the rating in exact contact (sharp relief starts) of the designs, the case's
+    own start (``case_start``) and its bare flanks (``unmodified``), with the K_Hβ measured on
+    the load map and the design's C_a, C_β (the objective's rating), and the TE limit; each
+    with ``as_jaxgear_run``, the rating ``jaxgear run`` gives the case file with that design
+    (ISO's K_Hβ unless the case's ``[rating] use_measured`` names it: :func:`_as_run_rates`).
     """
     sharp = problem.sharp()
     rated = {}
-    for label, x in designs.items():
-        mods = sharp.modifications(jnp.asarray(x))
+    every = dict(designs) | {"case_start": sharp.base, "unmodified": sharp.unmodified()}
+    for label, mods in every.items():
         res = jg.quasi_static(
             sharp.mesh,
             mods,
@@ -221,12 +248,17 @@ def _(objective: LeastSafetyFactor, problem, designs: dict) -> dict:
                 res, path_of_contact=_path_of_contact(sharp.mesh))),
             "te_rms_m": float(res.te_rms),
         }
+        if isinstance(sharp.mesh, jg.MeshModel) and not isinstance(case.form, TrainForm):
+            rated[label]["as_jaxgear_run"] = _as_run_rates(case, mods, res, sharp.mesh)
     limit = objective.te_limit
     rated["te_limit_m"] = None if limit is None else float(limit)
     rated["notes"] = (
         "ISO 6336:2019 method B with K_Hbeta measured on the exact-contact load map at the "
         "design torque, the design's tip relief and crowning as ISO's C_a and C_beta, K_Halpha "
-        "ISO's (K_Halpha_measured is reported, not rated with); S_H, S_F as [pinion, gear]"
+        "ISO's (K_Halpha_measured is reported, not rated with); S_H, S_F as [pinion, gear]; "
+        "as_jaxgear_run: the rating jaxgear run gives the case file with that design (its "
+        "[rating] as written: ISO 6336-1's K_Hbeta unless use_measured names K_Hbeta), which "
+        "differs from the optimiser's by the K_Hbeta"
     )
     return {"rating": rated}
 
@@ -236,6 +268,14 @@ def _exact_value(problem, x):
     """The objective of ``problem`` at ``x`` in exact contact (one compiled program per
     problem's structure: a second run on the same problem reuses it)."""
     return problem.value(x, jg.ExactContact())
+
+
+@eqx.filter_jit
+def _exact_design_value(problem, mods):
+    """The objective of ``problem`` for the design ``mods`` (a whole
+    :class:`jaxgear.Modifications`) in exact contact (one compiled program, as
+    :func:`_exact_value`)."""
+    return problem.design_value(mods, jg.ExactContact())
 
 
 @eqx.filter_jit
@@ -275,7 +315,7 @@ def _(objective: AbstractAcousticObjective, rep: dict) -> str:
 
 
 @_objective_report.register
-def _(objective: AbstractAcousticObjective, problem, designs: dict) -> dict:
+def _(objective: AbstractAcousticObjective, problem, designs: dict, case: Case) -> dict:
     """``acoustics``: the path (speeds, orders, the whine's method), the statistic, the
     weighting and, at the start and the optimum (exact contact, sharp relief starts), the power
     at each speed (W and dB re 1 pW; the orders summed, weighted as the objective weights
@@ -283,8 +323,7 @@ def _(objective: AbstractAcousticObjective, problem, designs: dict) -> dict:
     sharp = problem.sharp()
     path = objective.path
     per = eqx.filter_jit(
-        lambda x: objective.per_speed(sharp.modifications(x), sharp.design_torque,
-                                      jg.ExactContact()))
+        lambda mods: objective.per_speed(mods, sharp.design_torque, jg.ExactContact()))
     section = {
         "speeds_rad_s": np.asarray(path.speeds).tolist(),
         "orders": list(path.orders),
@@ -296,8 +335,8 @@ def _(objective: AbstractAcousticObjective, problem, designs: dict) -> dict:
     }
     if isinstance(objective, RadiatedSoundPower):
         section["radiation_grid_Hz"] = np.asarray(objective.radiation.grid_hz).tolist()
-    for label, x in designs.items():
-        w = np.asarray(per(jnp.asarray(x)), dtype=float)
+    for label, mods in designs.items():
+        w = np.asarray(per(mods), dtype=float)
         section[label] = {"power_W": w.tolist(), "level_dB": [_db(v) for v in w]}
     return {"acoustics": section}
 
@@ -307,6 +346,25 @@ def _(objective: LoadCentroid, rep: dict) -> str:
     # the signed centroid reads better than c²
     a, b = (rep[k]["exact"]["load_centroid"] for k in ("initial", "final"))
     return f"centroid {a:+.4g} -> {b:+.4g} face widths from mid-face (+: towards z = b)"
+
+
+#: the designs an optimisation compares (``optimum.json``'s ``candidates``), in words
+CANDIDATES = {
+    "optimum": "the optimiser's optimum",
+    "case_start": "the case's own design (the start)",
+    "unmodified": "the bare flanks (no relief, no crowning)",
+}
+
+
+def _best(values: dict) -> str:
+    """The label of the lowest of ``values`` (``{label: objective}``, :data:`CANDIDATES`' order
+    breaking ties: the optimum unless another is lower by more than 1e-9 relative)."""
+    best = "optimum"
+    for label in ("case_start", "unmodified"):
+        v, b = values[label], values[best]
+        if v < b - 1e-9 * abs(b):
+            best = label
+    return best
 
 
 def optimise_case(case: Case, settings: dict, out_dir: str, progress: bool = True) -> dict:
@@ -436,9 +494,35 @@ def _optimise(case: Case, settings: dict, out_dir: str, progress: bool):
         "'exact' values use sharp relief starts, the smooth optimisation rounds them over "
         "one position step (relief_blend) and, when end_relief.extent is a variable, the end "
         "relief start over one slice (end_relief_blend); 'exact' holds every objective's quantity at the design torque: "
-        "load_centroid is (z̄ − b/2)/b, positive towards the z = b edge of the face",
+        "load_centroid is (z̄ − b/2)/b, positive towards the z = b edge of the face; "
+        "candidates: the optimum, the case's own design and its bare flanks (every relief and "
+        "crowning depth 0) by the same objective in exact contact, best the lowest (the one "
+        "--write writes); on_bound: a variable within 0.1 % of the interval of a bound, where "
+        "the optimiser was pushing beyond it (widen [optimise] bounds), even when converged; "
+        "held: the case's modifications no variable sets, kept at their values",
     }
-    report.update(_objective_report(objective, problem, {"initial": res.x0, "final": res.x}))
+    # the optimum beside the case's own design and its bare flanks, by the same objective in
+    # exact contact: the best of the three is what --write writes
+    exact_design = functools.partial(_exact_design_value, sharp)
+    key = f"objective_exact_{units}"
+    designs = {"optimum": sharp.modifications(jnp.asarray(res.x)), "case_start": sharp.base,
+               "unmodified": sharp.unmodified()}
+    values = {
+        "optimum": report["final"][key],
+        "case_start": float(exact_design(designs["case_start"])) * scale,
+        "unmodified": float(exact_design(designs["unmodified"])) * scale,
+    }
+    best = _best(values)
+    report["candidates"] = {
+        label: {key: values[label], "design": CANDIDATES[label]} for label in values
+    }
+    report["best"] = best
+    report["on_bound"] = problem.on_bounds(res.x)
+    report["held"] = problem.held()
+    shown = {"initial": sharp.modifications(jnp.asarray(res.x0)), "final": designs["optimum"]}
+    if best != "optimum":
+        shown[best] = designs[best]
+    report.update(_objective_report(objective, problem, shown, case))
     post.update()
     os.makedirs(out_dir, exist_ok=True)
     _plots.convergence_plot(
@@ -724,20 +808,102 @@ def run_optimise(args) -> int:
         f"{rep['objective']}{where}: {value} (exact contact), "
         f"{rep['iterations']} iterations, {rep['evaluations']} evaluations, {rep['wall_time_s']:.1f} s"
     )
-    for k, v in rep["final"]["parameters"].items():
-        print(f"  {k} = {v:.5g}{' µm' if k.endswith('depth') else ''}")
-    if not rep["converged"]:
-        print(f"  not converged: stopped at the iteration cap ({rep['iterations']} iterations)")
+    for line in _optimum_lines(problem, rep):
+        print(line)
     print(f"written to {out}/")
     if write_to is not None:
+        best = rep["best"]
         try:
             write_design_case(
-                write_to, _case_text(args.case), case, problem, rep["final"]["parameters"]
+                write_to, _case_text(args.case), case, problem,
+                rep["final"]["parameters"] if best == "optimum" else None,
+                unmodified=best == "unmodified",
             )
         except ValueError as err:
             raise ValueError(f"--write {write_to}: {err}") from None
-        print(f"the optimum written as a case file: {write_to} (jaxgear run {write_to})")
+        print(f"{CANDIDATES[best]} written as a case file: {write_to} (jaxgear run {write_to})")
     return 0
+
+
+def _unit(name: str) -> str:
+    return " µm" if name.endswith("depth") else ""
+
+
+def _optimum_lines(problem, rep: dict) -> list[str]:
+    """The terminal lines under the objective's: each variable (and whether it sits on a bound),
+    the held modifications, the candidates and which is best, the rating as ``jaxgear run``
+    gives it where the objective rates otherwise."""
+    lines = []
+    lower, upper = (problem.to_physical(b) for b in (problem.lower, problem.upper))
+    for i, (k, v) in enumerate(rep["final"]["parameters"].items()):
+        line = f"  {k} = {v:.5g}{_unit(k)}"
+        side = rep["on_bound"][k]
+        if side is not None:
+            bound = (lower if side == "lower" else upper)[k]
+            line += f"  ON ITS {side.upper()} BOUND ({bound:.5g}{_unit(k)}): not an interior optimum"
+            kind = problem.variables[i].kind  # a modification's amount: none at its lower bound
+            amount = (kind.unmodified_at(float(problem.lower[i]))
+                      and not kind.unmodified_at(float(problem.upper[i])))
+            if side == "lower" and amount:
+                line += ", none of this modification is best"
+            else:
+                line += ", the objective still falls beyond it (widen [optimise] bounds)"
+        lines.append(line)
+    if not rep["converged"]:
+        lines.append(
+            f"  not converged: stopped at the iteration cap ({rep['iterations']} iterations)")
+    if rep["held"]:
+        held = ", ".join(f"{k} = {v:.5g}{_unit(k)}" for k, v in rep["held"].items())
+        lines.append(f"  held at the case's values (not optimised): {held}")
+    lines.append(f"  candidates (exact contact): {_candidates(problem.objective, rep)}; best: "
+                 f"{CANDIDATES[rep['best']]}")
+    if rep["best"] != "optimum":
+        lines.append(f"  the optimiser's optimum is no better than {CANDIDATES[rep['best']]}: "
+                     "that is the design --write writes")
+    lines += _rating_lines(problem.objective, rep)
+    return lines
+
+
+@functools.singledispatch
+def _candidates(objective, rep: dict) -> str:
+    """The candidates' objective values, in words, for the terminal line."""
+    key = f"objective_exact_{objective.units}"
+    return ", ".join(f"{label.replace('_', ' ')} {c[key]:.4g} {objective.units}"
+                     for label, c in rep["candidates"].items())
+
+
+@_candidates.register
+def _(objective: LeastSafetyFactor, rep: dict) -> str:
+    return ", ".join(f"{label.replace('_', ' ')} least S {rep['rating'][r]['least_S']:.4g}"
+                     for label, r in (("optimum", "final"), ("case_start", "case_start"),
+                                      ("unmodified", "unmodified")))
+
+
+@functools.singledispatch
+def _rating_lines(objective, rep: dict) -> list[str]:
+    """Lines on how ``jaxgear run`` rates the written design where the objective rates it
+    otherwise: none."""
+    return []
+
+
+@_rating_lines.register
+def _(objective: LeastSafetyFactor, rep: dict) -> list[str]:
+    rated = rep["rating"]
+    best = "final" if rep["best"] == "optimum" else rep["best"]
+    if "as_jaxgear_run" not in rated[best]:
+        return []
+    start, end = rated["case_start"]["as_jaxgear_run"], rated[best]["as_jaxgear_run"]
+    if "K_Hbeta" in end["use_measured"]:
+        how = "with the measured K_Hβ ([rating] use_measured), as the optimiser does"
+    else:
+        how = (f"with ISO 6336-1's K_Hβ ({start['K_Hbeta']:.4g} -> {end['K_Hbeta']:.4g}), the "
+               f"optimiser with the K_Hβ measured on the load map "
+               f"({rated['case_start']['K_Hbeta_measured']:.4g} -> "
+               f"{rated[best]['K_Hbeta_measured']:.4g}; [rating] use_measured = [\"K_Hbeta\"] "
+               "rates the case so)")
+    line = (f"  jaxgear run rates the case's design and the written one {how}: least safety "
+            f"factor {start['least_S']:.4g} -> {end['least_S']:.4g}")
+    return [line]
 
 
 def master_curve_case(case: Case, extents, out_dir: str, progress: bool = True) -> dict:

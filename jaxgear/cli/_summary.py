@@ -138,7 +138,8 @@ def format_table(summary: dict, stiffness: AbstractStiffness, modified: bool = T
     if modified and worse > 1.0:  # say it: a reader takes "modified" for "improved"
         lines.append(
             f"note: the case's modifications raise the TE RMS {worse:.2f}× over the unmodified "
-            f"flanks at {summary['operating']['torque_Nm']:g} N·m (exact contact): not an "
-            "optimised design (jaxgear optimise finds one)"
+            f"flanks at {summary['operating']['torque_Nm']:g} N·m (exact contact): they do "
+            "not lower the TE (a design for another goal, or none: jaxgear optimise --objective "
+            "te_rms --write writes the lower of its optimum, this design and the bare flanks)"
         )
     return "\n".join(lines)

@@ -57,7 +57,7 @@ from ._whine_run import SolvedWhine, whine_outputs, whine_run_line
 
 __all__ = ["chain_modes", "coupled_campbell", "coupled_sweep", "gearbox_run_files",
            "gearbox_run_lines", "gearbox_whine_outputs", "housed_modes", "housing_point_spectrum",
-           "least_safety", "whine_mesh_names"]
+           "least_safety", "rating_dynamic_factors", "whine_mesh_names"]
 
 #: the coupled sweep's input speeds, as fractions of the operating point's input speed
 COUPLED_SPEEDS = np.linspace(0.2, 1.2, 6)
@@ -138,6 +138,9 @@ def gearbox_run_files(form, case, out: str, args, complete: bool, run_stage) -> 
     key = "torsional_chain" if form.housing is None else "coupled_with_housing"
     write_json(os.path.join(out, "modes.json"), {"case": case.name, key: modes})
     coupled = coupled_sweep(form, out)
+    coupled["rating_dynamic_factors"] = rating_dynamic_factors(stages, coupled,
+                                                               form.stages[0].input_speed)
+    write_json(os.path.join(out, "coupled.json"), coupled)  # with the stages' K_v beside
     campbell = coupled_campbell(form, case, out)
     spectrum = housing_point_spectrum(form, case, out)
     result = {
@@ -217,6 +220,70 @@ def coupled_sweep(form, out: str) -> dict:
     write_json(os.path.join(out, "coupled.json"), result)
     coupled_dynamic_factor_plot(os.path.join(out, "coupled.png"), speeds, df, names)
     return result
+
+
+def _mesh_kinds(names: list[str], k: int) -> dict[str, list[int]]:
+    """Stage ``k``'s (from 1) meshes in the coupled model's ``names`` (``"<k>:<mesh>"``) by
+    kind (a planetary stage's ``sun-planet``, ``ring-planet``, each over its planets; a pair's
+    ``pair``), in the order the model names them: ``{kind: [columns]}``."""
+    kinds: dict[str, list[int]] = {}
+    for j, name in enumerate(names):
+        stage, _, mesh = name.partition(":")
+        if stage == str(k):
+            kinds.setdefault(mesh.rsplit(" ", 1)[0] if mesh[-1].isdigit() else mesh,
+                             []).append(j)
+    return kinds
+
+
+def rating_dynamic_factors(stages: list[dict], coupled: dict, rated_speed: float) -> list[dict]:
+    """The coupled model's dynamic factor at the rated input speed beside the K_v each rated
+    stage's rating uses, one row per rated mesh (a planetary stage's two: its sun-planet and
+    planet-ring ratings against the coupled model's sun-planet and ring-planet meshes, the
+    largest over the planets; a pair's one): ``stage``, ``mesh`` (the rating's name),
+    ``K_v_rated`` and ``K_v_source`` (what the rating used: ISO 6336-1 method B, given, or the
+    measured one that ``[rating] use_measured`` names), ``coupled_dynamic_factor`` (largest mesh
+    force over its static one in the coupled run at ``rated_speed``, rad/s, the first stage's
+    input; interpolated linearly in the sweep's speeds when none is the rated one, and said so),
+    ``coupled_meshes`` and ``rated_with`` ("K_v": the coupled factor is reported, not rated
+    with). ``stages``: the gearbox summary's ``stages`` (each with its run's ``summary``);
+    ``coupled``: :func:`coupled_sweep`'s section."""
+    speeds = np.asarray(coupled["input_speeds_rad_s"], dtype=float)
+    df = np.asarray(coupled["dynamic_factor_mesh"], dtype=float)
+    at = np.flatnonzero(np.isclose(speeds, rated_speed, rtol=1e-9))
+    if at.size:
+        rated, how = df[at[0]], "at the rated input speed"
+    else:
+        rated = np.array([np.interp(rated_speed, speeds, df[:, j]) for j in range(df.shape[1])])
+        how = "interpolated linearly to the rated input speed between the sweep's speeds"
+    rows = []
+    for k, stage in enumerate(stages, start=1):
+        rating = (stage.get("summary") or {}).get("rating")
+        if rating is None:
+            continue
+        kv = rating["factors"]["K_v"]
+        names = rating.get("meshes")
+        values, sources = kv["value"], kv["source"]
+        if names is None:  # one rated mesh
+            names, values, sources = [stage["case"]], [values], [sources]
+        kinds = _mesh_kinds(coupled["mesh_names"], k)
+        if len(kinds) != len(names):  # no one-to-one match: the stage's meshes, all of them
+            kinds = {"all": [j for cols in kinds.values() for j in cols]}
+            pairs = [(n, v, s, "all") for n, v, s in zip(names, values, sources, strict=True)]
+        else:
+            pairs = list(zip(names, values, sources, kinds, strict=True))
+        for name, value, source, kind in pairs:
+            cols = kinds[kind]
+            rows.append({
+                "stage": stage["stage"],
+                "mesh": name,
+                "K_v_rated": float(value),
+                "K_v_source": source,
+                "coupled_dynamic_factor": float(np.max(rated[cols])),
+                "coupled_meshes": [coupled["mesh_names"][j] for j in cols],
+                "coupled_at": how,
+                "rated_with": "K_v",
+            })
+    return rows
 
 
 #: the Campbell diagram's mesh harmonics
@@ -419,6 +486,12 @@ def gearbox_run_lines(form, case, summary: dict) -> list[str]:
                                  for m in c["modes"][:4] if m["type"] != "rigid body")
             + " (coupled.json, coupled.png)"
         )
+    for r in (c or {}).get("rating_dynamic_factors", []):
+        lines.append(
+            f"{r['stage']} {r['mesh']}: rated with K_v {r['K_v_rated']:.4g} ({r['K_v_source']}); "
+            f"the coupled gearbox's dynamic factor {r['coupled_dynamic_factor']:.4g} "
+            f"({r['coupled_at']}) is not rated with "
+            "(coupled.json rating_dynamic_factors)")
     cb = summary.get("campbell")
     if cb is not None:
         near = cb["nearest_to_rated"]

@@ -467,6 +467,10 @@ def run_kind(case: Case, out: str, args, settings) -> dict:
                 "iterations",
                 "evaluations",
                 "converged",
+                "on_bound",
+                "held",
+                "candidates",
+                "best",
             )
         }
         write_json(summary_path, summary)

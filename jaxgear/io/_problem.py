@@ -339,30 +339,48 @@ def case_problem(
 
 
 # -- a design written back as a case file ------------------------------------------------------
-def design_case_text(text: str, case: Case, problem: Problem, parameters: dict) -> str:
+#: the flank modifications a design is made of (their ``depth_um`` 0: the bare flanks)
+_DESIGN_MODIFICATIONS = ("tip_relief", "root_relief", "crowning", "end_relief")
+
+
+def design_case_text(
+    text: str, case: Case, problem: Problem, parameters: dict | None, *, unmodified: bool = False
+) -> str:
     """The case file ``text`` (of ``case``) with the design ``parameters`` (case-file units by
     variable name, :meth:`optimise.Problem.to_physical`: ``depth_um`` for depths, fractions
-    for extents) written into its ``[modifications]`` (each variable on its members; every
-    other entry and line, comments included, kept: :func:`case_text_with_modifications`)."""
+    for extents; None: the case's own values) written into its ``[modifications]`` (each
+    variable on its members; every other entry and line, comments included, kept:
+    :func:`case_text_with_modifications`). ``unmodified``: every relief's and crowning's
+    ``depth_um`` the case gives written 0 (the bare flanks, :meth:`optimise.Problem.unmodified`:
+    extents, shapes and deviations kept)."""
     values = {}
-    for var in problem.variables:
+    for var in problem.variables if parameters is not None else ():
         mod, quantity = var.base.split(".")
         key = "depth_um" if quantity == "depth" else "extent"
         values[(var.members, mod, key)] = parameters[var.name]
-    table = modifications_with(case.raw.get("modifications"), values)
-    return case_text_with_modifications(text, table)
+    table = case.raw.get("modifications") or {}
+    if unmodified:
+        given = {*table, *table.get("pinion", {}), *table.get("gear", {})}
+        for mod in _DESIGN_MODIFICATIONS:
+            if mod in given:
+                values[(("pinion", "gear"), mod, "depth_um")] = 0.0
+    return case_text_with_modifications(text, modifications_with(table, values))
 
 
-def write_design_case(path, text: str, case: Case, problem: Problem, parameters: dict) -> Case:
+def write_design_case(
+    path, text: str, case: Case, problem: Problem, parameters: dict | None, *,
+    unmodified: bool = False,
+) -> Case:
     """Write the case file ``text`` (of ``case``) with the design ``parameters`` as its
-    ``[modifications]`` (:func:`design_case_text`; full precision) to ``path``, atomically:
+    ``[modifications]`` (:func:`design_case_text`, with ``unmodified``; full precision) to
+    ``path``, atomically:
     the new file is loaded (:func:`load_case`, relative paths from its own folder) before it
     replaces anything at ``path``. Returns the loaded case, whose modifications are the design.
 
     Raises:
         ValueError: the case's modifications cannot be rewritten, or the written case does not
             load (one line): nothing is left at ``path``."""
-    new = design_case_text(text, case, problem, parameters)
+    new = design_case_text(text, case, problem, parameters, unmodified=unmodified)
     loaded = []
 
     def write(tmp):
