@@ -303,3 +303,25 @@ def test_seats_sharing_nodes_one_line(tmp_path, monkeypatch):
                        r"mesh .*a finer mesh_size_mm$") as err:
         case.housing_body()
     assert "\n" not in str(err.value)
+
+
+def test_a_band_below_the_first_looks_speeds_refused_before_work(tmp_path, capsys):
+    """``cutoff_Hz = 10`` (no [whine]): the band (cut-off / 1.5) lies below order 1 of the mesh
+    frequency at the lowest speed of ``jaxgear run``'s dynamic factor sweep, which keeps to the
+    band and would crawl at speeds whose time plans do not fit: refused in one line before any
+    work, naming the least cut-off (1.5 z1 Ω_0 / 2π from the case's teeth and that speed)."""
+    from jaxgear.cli import main
+    from jaxgear.cli.run import run_sweep_speeds
+
+    path = tmp_path / "low.toml"
+    path.write_text(ACCESSORY + HOUSING_BOX + "cutoff_Hz = 10.0\n")
+    case = jio.load_case(str(path))  # the file alone is valid: only the sweep needs the band
+    low = float(run_sweep_speeds(case.form)[0])
+    least = 1.5 * case.pair.pinion.teeth * low / (2 * math.pi)
+    out = tmp_path / "out"
+    assert main(["run", str(path), "--out", str(out), "--quiet"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1, err
+    assert err.endswith(f"allowed cutoff_Hz >= {least:.4g} (1.5 x it)"), err
+    assert "[housing] cutoff_Hz = 10: out of range: its band (cut-off / 1.5 = 6.667 Hz)" in err
+    assert not out.exists()

@@ -422,10 +422,21 @@ def check_run_case(case) -> None:
     """Refuse, before any work, a case whose dynamic sweep (``jaxgear run`` sweeps a lumped
     scene) cannot run (:func:`~jaxgear.cli.sweep.sweep_spec`: e.g. ``[scene.integration]
     periods`` × steps per period above what one speed may integrate; one line naming the key,
-    its value and the allowed range)."""
+    its value and the allowed range); a housed case whose housing's band lies below the sweep's
+    lowest speed (the first look keeps to the band: it would sweep crawling speeds whose time
+    plans do not fit, :func:`first_look_speeds`)."""
     if case.scene is None or case.scene.hybrid:  # (a train's flexible gears: a hybrid scene)
         return
     cli_sweep.sweep_spec(case)
+    hb = case_io.housing_band(case)
+    if hb is not None:  # the first look's sweep keeps to the band: it must hold its lowest speed
+        low = float(run_sweep_speeds(case.form)[0])
+        case_io.check_housing_band(
+            case.housing,
+            (hb.mesh_order * low / (2 * math.pi),
+             f"order 1 of the mesh frequency at its lowest speed, {low:g} rad/s"),
+            what="the speeds of jaxgear run's dynamic factor sweep",
+        )
 
 
 def optimise_settings(case) -> dict | None:

@@ -52,6 +52,7 @@ from ._deviations_table import (
 from ._housing_table import (
     HousingBody as HousingBody,
     HousingSpec as HousingSpec,
+    check_housing_band as check_housing_band,
     housing_surface as housing_surface,
 )
 from ._load import (

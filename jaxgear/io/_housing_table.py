@@ -412,12 +412,14 @@ def housing_size(spec: HousingSpec, shafts, positions, diameters=None) -> Housin
     return HousingSize(est.cells, est.dofs, modes, bytes_, seconds)
 
 
-def check_housing_band(spec: HousingSpec, lowest: tuple[float, str]) -> None:
+def check_housing_band(spec: HousingSpec, lowest: tuple[float, str],
+                       what: str = "every order of [whine]") -> None:
     """Refuse a cut-off whose band (cut-off / 1.5: docs/housing.md, "What the condensation
-    keeps") lies below the lowest order the case's ``[whine]`` writes (``lowest``: its
-    frequency (Hz) and the words naming it, :func:`~jaxgear.io._whine_table.lowest_order_frequency`):
-    no order of the whine would lie in the band at any speed. One line naming the cut-off's
-    key, the band and the lowest order's frequency."""
+    keeps") lies below the lowest frequency the run asks of the housing's model (``lowest``:
+    that frequency (Hz) and the words naming it; by default the lowest order the case's
+    ``[whine]`` writes, :func:`~jaxgear.io._whine_table.lowest_order_frequency`; ``what``:
+    what it is the lowest of): nothing the run computes would lie in the band. One line naming
+    the cut-off's key, the band and that frequency."""
     from ._acoustic_path import HOUSING_BAND
 
     f, which = lowest
@@ -429,8 +431,9 @@ def check_housing_band(spec: HousingSpec, lowest: tuple[float, str]) -> None:
         raise sc.SchemaError(
             f"{_cutoff_subject(spec)}: out of range: its band (cut-off / {HOUSING_BAND:g} = "
             f"{band:.4g} Hz) "
-            f"lies below every order of [whine] ({which}: {f:.4g} Hz), so no order would be in "
-            f"the housing's model: {allowed}, or leave it out (1.5 x the highest order)"
+            f"lies below {what} ({which}: {f:.4g} Hz), so none of it would be in "
+            f"the housing's model: {allowed}"
+            + (", or leave it out (1.5 x the highest order)" if "[whine]" in what else "")
         )
 
 
