@@ -271,6 +271,25 @@ PRIVATE_IN_TESTS: set[tuple[str, str]] = {
     # jaxgear optimise's and master-curve's work stubbed: their output checks shown to pass
     # with --force (the work reached) without an optimisation
     ("test_output_paths.py", "jaxgear.cli._optimise"),
+    # the housing's estimates before work: the mesher's, the condensation's and the eigen
+    # solve's modules patched with functions that fail if reached (the refusal comes first),
+    # the mode limit lowered, the FE DOF count and a case's laid-out box read to compare the
+    # estimates with what is built
+    ("test_housing_estimate.py", "fem_prep.housing._condense"),
+    ("test_housing_estimate.py", "fem_prep.housing._estimate"),
+    ("test_housing_estimate.py", "fem_prep.housing._mesh"),
+    ("test_housing_estimate.py", "jaxgear.io._housing_table._box"),
+    ("test_housing_estimate.py", "jaxgear.io._housing_table._mesh_size"),
+    # the whine's size check shown to come before its static solves (a function patched that
+    # fails if reached)
+    ("test_whine_size.py", "jaxgear.dynamics._whine"),
+    # the mesh-frequency groups read from a case file's teeth at load against those the
+    # quasi-periodic balance finds on the model
+    ("test_whine_quasi_periodic.py", "jaxgear.dynamics._whine_qp.mesh_groups"),
+    ("test_whine_quasi_periodic.py", "jaxgear.io._case_model.mesh_frequency_periods"),
+    # the printed tribology and efficiency lines from summary sections, without a lubricated
+    # run of each kind (a train, a planetary stage: minutes each)
+    ("test_rating_report_rows.py", "jaxgear.cli._tribology_run"),
 }
 
 

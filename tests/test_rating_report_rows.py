@@ -135,7 +135,7 @@ def test_printed_line_names_the_max_flash_temperature():
     "change, match",
     [
         ({"designation": ""}, r"^\[material\] designation = '': must be a material name"),
-        ({"designation": ["16MnCr5"]}, r"^\[material\] designation = \['16MnCr5'\]: a material"),
+        ({"designation": ["16MnCr5"]}, r"^\[material\] designation = \['16MnCr5'\]: must be a material"),
         ({"surface_hardness_HV": 50.0},
          r"^\[material\] surface_hardness_HV = 50: out of range, allowed \[100, 1000\]"),
     ],

@@ -87,7 +87,7 @@ __all__ = [
 #: the most static solves a whine's table may hold: positions over its span (with
 #: :class:`QuasiPeriodicBalance` the torus grid, the product of the groups' periods)
 MAX_WHINE_GRID = 1_000_000
-#: the whine's work (:func:`whine_size`) per CPU second, measured: benchmarks/whine_two_stage
+#: the whine's work (:func:`whine_size`) per CPU second, measured: the two-stage whine benchmark
 #: (docs/bench/whine_two_stage.json) balances 200 speeds of the two-stage train (33 harmonics
 #: × its 24 mesh coordinates' bound: 200 × 792³) in 10.2 CPU s on the 2-core machine
 WHINE_WORK_PER_CPU_S = 200 * 792**3 / 10.2

@@ -137,6 +137,12 @@ class CaseForm(abc.ABC):
     def mesh_case(self, case: Case, k: int) -> Case:
         """Mesh ``k`` as a one-mesh case (a :class:`PairForm` case)."""
 
+    def own_housing_size(self):
+        """The sizes of a ``[housing]`` this form lays out itself (a gearbox's, round its
+        housed stages), else None: the case lays it out round its scene's bearings
+        (:meth:`Case.housing_size`)."""
+        return None
+
 
 @dataclasses.dataclass(frozen=True)
 class PairForm(CaseForm):
@@ -573,20 +579,20 @@ class Case(MeshSettings):
     def housing_size(self):
         """The estimated sizes of the case's ``[housing]`` before it is built
         (:func:`jaxgear.io._housing_table.housing_size`: cells, DOFs, modes, memory), laid out
-        as :meth:`housing_body` lays it (a gearbox's: :meth:`GearboxForm.housing_size`); None
+        as :meth:`housing_body` lays it (a gearbox's: :meth:`CaseForm.own_housing_size`); None
         without ``[housing]`` or with a mesh file.
 
         Raises:
             SchemaError: a housing this machine cannot build (one line naming the key, the
                 estimate and the limit).
         """
-        from ._gearbox_file import GearboxForm
         from ._housing_table import housing_size
 
         if self.housing is None:
             return None
-        if isinstance(self.form, GearboxForm):  # round the housed stages' bearings
-            return self.form.housing_size()
+        own = self.form.own_housing_size()  # a gearbox's: round its housed stages' bearings
+        if own is not None:
+            return own
         if self.scene is None:  # a planetary stage's: the box round the stage axis
             return housing_size(self.housing, (), [[(0.0, 0.0, 0.0)]])
         return housing_size(self.housing, *self._bearing_layout(self.scene))

@@ -169,7 +169,9 @@ def check_case_whine(case: Case) -> WhineSize | None:
             rows = group_rows(P, periods, H, multiple, where)
             size = whine_size(len(inputs.speeds), method, math.prod(rows), r, r, len(periods))
         else:
-            size = whine_size(len(inputs.speeds), method, P * case.span_periods, r, r)
+            # a planetary stage (no pairs: its meshes share one mesh frequency) spans one period
+            span = case.span_periods if case.pairs else 1
+            size = whine_size(len(inputs.speeds), method, P * span, r, r)
         check_whine_size(size, ("[whine] speeds", "harmonics", "positions_per_period"),
                          (len(inputs.speeds), H, P if not isinstance(P, tuple) else list(P)))
     except sc.SchemaError:

@@ -244,7 +244,7 @@ class GearboxForm(CaseForm):
         shafts, positions, diameters, _ = _housed_bearings(self)
         return housing_body(self.housing, shafts, positions, diameters=diameters)
 
-    def housing_size(self):
+    def own_housing_size(self):
         """The estimated sizes of the gearbox's ``[housing]`` round its housed stages'
         bearings (:func:`jaxgear.io._housing_table.housing_size`), None without one or with a
         mesh file.
@@ -555,15 +555,17 @@ def parse_gearbox(data: dict, default_name: str, base: str | None, load_case) ->
             low = lowest_order_frequency(whine, teeth, names=names)
         housing = parse_housing(data["housing"], base,
                                 (first.youngs_modulus, first.poisson_ratio, first.density), top)
+        _check_seats(stages, housing)
+        # the band must hold every stage's mesh frequency at the operating speed, and so (a
+        # weaker rule) the lowest order the [whine] writes
+        _check_band(stages, data["operating"], housing, data["housing"])
         if low is not None:
             check_housing_band(housing, low)
-        _check_seats(stages, housing)
-        _check_band(stages, data["operating"], housing, data["housing"])
     pairs = tuple(p for s in stages for p in s.case.pairs)
     form = GearboxForm(tuple(stages), whine, housing)
     if housing is not None:
         _check_bores(form)
-        form.housing_size()  # refused here if too large to build
+        form.own_housing_size()  # refused here if too large to build
     return first.replace(name=name, form=form, raw=data, scene=None, pairs=pairs,
                          housing=housing)
 

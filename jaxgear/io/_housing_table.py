@@ -48,6 +48,7 @@ import numpy as np
 from fem_prep import schema as sc
 
 __all__ = [
+    "HOUSING_BAND",
     "HousingBody",
     "HousingSize",
     "HousingSpec",
@@ -60,6 +61,11 @@ __all__ = [
     "stage_housing",
     "stage_housing_spec",
 ]
+
+#: the condensed housing's band: orders at frequencies up to cut-off / HOUSING_BAND count
+#: (docs/housing.md, "What the condensation keeps": the default cut-off is 1.5 x the highest
+#: mesh order's)
+HOUSING_BAND = 1.5
 
 _KEYS = {
     "width_mm",
@@ -420,8 +426,6 @@ def check_housing_band(spec: HousingSpec, lowest: tuple[float, str],
     ``[whine]`` writes, :func:`~jaxgear.io._whine_table.lowest_order_frequency`; ``what``:
     what it is the lowest of): nothing the run computes would lie in the band. One line naming
     the cut-off's key, the band and that frequency."""
-    from ._acoustic_path import HOUSING_BAND
-
     f, which = lowest
     band = spec.cutoff / HOUSING_BAND
     if band < f:
