@@ -847,7 +847,7 @@ def _chart(out, path, matplotlib, atomic_open) -> None:
     ax, ax2 = axes[0], axes[-1]
     ppp = sorted({p["positions_per_pitch"] for p in ex})
     cmap = plt.get_cmap("viridis")
-    exact_panels = [(ax, ex, "beyond the path" if extended else "theoretical path")]
+    exact_panels = [(ax, ex, "contact beyond the path" if extended else "theoretical path")]
     if ex_th:
         exact_panels.append((axes[1], ex_th, "theoretical path"))
     for a, points, what in exact_panels:
@@ -878,7 +878,7 @@ def _chart(out, path, matplotlib, atomic_open) -> None:
                     color=col,
                 )
         a.set_title(
-            f"exact, contact {what} (both codes):\nN slices × P positions per pitch", fontsize=9
+            f"exact, {what} (both codes):\nN slices × P positions per pitch", fontsize=9
         )
     if sm:
         disc = f"{sm[0]['slices']}×{sm[0]['positions_per_pitch']}"
@@ -938,8 +938,8 @@ def _chart(out, path, matplotlib, atomic_open) -> None:
         a.grid(True, which="both", alpha=0.3)
         a.legend(fontsize=6)
     ax.set_ylabel(
-        f"relative TE RMS error vs exact {r['slices']} slices × "
-        f"{r['positions_per_pitch']} positions (of the same contact model)"
+        f"rel. TE RMS error vs exact {r['slices']} × {r['positions_per_pitch']} "
+        "(same contact model)"
     )
     m = out["machine"]
     fig.suptitle(
