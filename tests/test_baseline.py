@@ -175,10 +175,17 @@ def test_bench_quick(tmp_path):
     assert (tmp_path / "speed_accuracy_quasi_static.png").stat().st_size > 1000
     saved = json.loads((tmp_path / "bench_quasi_static.json").read_text())
     assert saved["targets"]["agreement_1e-9"] and out["targets"]["agreement_1e-9"]
-    for mode in ("exact", "smooth"):
-        pc = saved["per_te_curve"][mode]
-        assert pc["jaxgear_s"] > 0 and pc["baseline_s"] > 0
-        assert max(pc["max_rel_diff"].values()) <= RTOL
+    # like with like: the case's contact beyond the path and the theoretical path, each in both
+    assert saved["settings"]["extended_contact"]
+    assert set(saved["per_te_curve_by_contact_model"]) == {"case", "theoretical_path"}
+    for rec in saved["per_te_curve_by_contact_model"].values():
+        for mode in ("exact", "smooth"):
+            pc = rec[mode]
+            assert pc["jaxgear_s"] > 0 and pc["baseline_s"] > 0
+            assert max(pc["max_rel_diff"].values()) <= RTOL
+    assert {p["contact_model"] for p in saved["speed_accuracy"]["points"]} == set(
+        saved["speed_accuracy"]["references"]
+    )
     assert saved["dtype"] == "float64"
     assert np.asarray(saved["grid"]["te_rms_m"]).shape == (5, 5)
     for mode in ("exact", "smooth"):
@@ -191,6 +198,7 @@ def test_bench_quick(tmp_path):
         assert rec["public_free_tip_max_rel_diff_te_to_quasi_static"] <= 1e-12
         assert rec["anatomy"]["program_executions_per_call"] == 1.0
         assert rec["anatomy"]["program_ran_on"] == where
+        assert rec["ratio_baseline_over_public_free_tip_theoretical_path"]["median"] > 0
     assert not list(tmp_path.glob(".tmp-*"))
 
 
