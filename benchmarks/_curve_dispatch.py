@@ -397,6 +397,10 @@ def paired_dispatch_modes(case: str = "accessory-spur", quick: bool = False) -> 
         rec["ratio_baseline_over_public_free_tip_cpu"] = _stats(
             cpu["baseline"] / cpu["public_free_tip"]
         )
+        if "baseline_theoretical_path" in cpu:
+            rec["ratio_baseline_over_public_free_tip_theoretical_path_cpu"] = _stats(
+                cpu["baseline_theoretical_path"] / cpu["public_free_tip_theoretical_path"]
+            )
         ratio = np.asarray(rec["ratio_baseline_over_public_free_tip"]["per_block"])
         over = np.asarray(rec["public_free_tip_over_compute"]["per_block"])
         rec["blocks_meeting_50x"] = int(np.sum(ratio >= 50.0))
