@@ -19,6 +19,18 @@ with φ(Δ) = max(0, Δ) (exact) or φ_w(Δ) = w log(1 + exp(Δ/w)) (smooth). It
 by :func:`scipy.optimize.brentq` on a bracket where f changes sign. The transverse transmission
 error is TE = (δ − max e)/cos β_b.
 
+With contact beyond the theoretical path (``BaselineMesh.extension_span`` > 0; docs/
+extended-contact.md) the cells run from s = −S_a to g_α + S_r. A cell beyond the path has the
+stiffness of the path's end (the table clamped), the deviation of the path's end, and the
+tip-corner gap g(s) cos β_b added to its δ0; after the end of the path the pinion's tip corner
+touches with the lever arm λ(s) r_b1, so the cell's approach is λ δ and its force acts with
+λ on the pinion's torque:
+
+    f(δ) = Σ_cells V k l φ(V δ − δ0) − F_n,   V = λ(s) after the end, 1 elsewhere.
+
+The gap and λ tables are geometry (:func:`jaxgear.extension_table`,
+:func:`jaxgear._extended.corner_table`: NumPy, evaluated once), interpolated here linearly.
+
 Everything is plain NumPy: vectorised over the cells of one position, a Python loop over
 positions.
 """
@@ -46,6 +58,12 @@ class BaselineMesh:
         base_radius_pinion: r_b1 (m). base_helix_angle: β_b (rad).
         stiffness_s, stiffness_k: table k(s) (m, N/m²), shape (n_table,), s ascending.
         n_slices: slices N per contact line.
+        extension_span: (S_a, S_r) (m), how far the cells reach beyond the path's start and
+            end; (0, 0): the theoretical path only.
+        extension_gap: the tip-corner gaps (m, transverse), shape (2, n_ext): row 0 at s =
+            −S_a u, row 1 at s = g_α + S_r u, u = linspace(0, 1, n_ext); None without.
+        extension_lever: the pinion tip corner's lever ratio λ after the end of the path, on
+            row 1's grid, shape (n_ext,); None without.
     """
 
     path_of_contact: float
@@ -56,26 +74,45 @@ class BaselineMesh:
     stiffness_s: np.ndarray
     stiffness_k: np.ndarray
     n_slices: int
+    extension_span: tuple = (0.0, 0.0)
+    extension_gap: np.ndarray | None = None
+    extension_lever: np.ndarray | None = None
+
+    @property
+    def extended(self) -> bool:
+        """Whether the cells reach beyond the theoretical path."""
+        return self.extension_gap is not None
 
     def line_indices(self) -> np.ndarray:
-        """Tooth-pair indices i whose line can reach [0, g_α] at some roll in [0, p_bt).
+        """Tooth-pair indices i whose line can reach [−S_a, g_α + S_r] at some roll in
+        [0, p_bt).
 
-        s = roll + i p_bt − z tan β_b with roll ∈ [0, p_bt) and z tan β_b ∈ [0, b tan β_b]: a line
-        with i < 0 has s < 0 everywhere, and one with i p_bt − b tan β_b > g_α has s > g_α
-        everywhere, so i runs over 0 … ceil((g_α + b tan β_b)/p_bt) = ceil(ε_α + ε_β).
+        s = roll + i p_bt − z tan β_b with roll ∈ [0, p_bt) and z tan β_b ∈ [0, b tan β_b]: a
+        line with (i + 1) p_bt <= −S_a has s < −S_a everywhere, and one with i p_bt − b tan β_b
+        > g_α + S_r has s > g_α + S_r everywhere, so i runs over floor(−S_a/p_bt) …
+        ceil((g_α + S_r + b tan β_b)/p_bt) (0 … ceil(ε_α + ε_β) on the theoretical path).
         """
         lead = self.face_width * math.tan(self.base_helix_angle)
-        hi = math.ceil((self.path_of_contact + lead) / self.base_pitch)
-        return np.arange(0, hi + 1, dtype=float)
+        lo = math.floor(-self.extension_span[0] / self.base_pitch)
+        hi = math.ceil((self.path_of_contact + self.extension_span[1] + lead) / self.base_pitch)
+        return np.arange(lo, hi + 1, dtype=float)
 
 
-def baseline_mesh(case, slices: int | None = None, torque: float | None = None) -> BaselineMesh:
+def baseline_mesh(
+    case,
+    slices: int | None = None,
+    torque: float | None = None,
+    extended_contact: bool | None = None,
+) -> BaselineMesh:
     """:class:`BaselineMesh` of a :class:`jaxgear.io.Case` (geometry and k(s) table in NumPy).
 
     The stiffness table is the same one :meth:`jaxgear.io.Case.mesh_model` uses (evaluated at the
-    nominal line load of ``torque``, default the case torque).
+    nominal line load of ``torque``, default the case torque). ``extended_contact``: the cells
+    beyond the theoretical path (the corner gap and lever tables of the pair's geometry);
+    None: as the case has it.
     """
-    from jaxgear import stiffness_table  # NumPy only
+    from jaxgear import extension_table, stiffness_table  # NumPy only
+    from jaxgear._extended import corner_table
 
     pair = case.pair
     s, k = stiffness_table(
@@ -85,6 +122,15 @@ def baseline_mesh(case, slices: int | None = None, torque: float | None = None) 
         poisson_ratio=case.poisson_ratio,
         line_load=case.nominal_line_load(torque),
     )
+    extended = case.extended_contact if extended_contact is None else bool(extended_contact)
+    ext = {}
+    if extended:
+        span, gap = extension_table(pair)
+        ext = {
+            "extension_span": (float(span[0]), float(span[1])),
+            "extension_gap": np.asarray(gap, dtype=float),
+            "extension_lever": np.asarray(corner_table(pair, span)[1, 0], dtype=float),
+        }
     return BaselineMesh(
         path_of_contact=float(pair.path_of_contact),
         base_pitch=float(pair.base_pitch),
@@ -94,6 +140,7 @@ def baseline_mesh(case, slices: int | None = None, torque: float | None = None) 
         stiffness_s=np.asarray(s, dtype=float),
         stiffness_k=np.asarray(k, dtype=float),
         n_slices=int(case.slices if slices is None else slices),
+        **ext,
     )
 
 
@@ -198,16 +245,44 @@ def _positions(mesh: BaselineMesh, positions_per_pitch: int, periods: int) -> np
     return (np.arange(positions_per_pitch * periods) + 0.5) * period / positions_per_pitch
 
 
-def _residual_exact(delta: float, delta0: np.ndarray, kl: np.ndarray, force: float) -> float:
-    """Σ k l max(0, δ − δ0) − F_n (N)."""
-    return float(np.dot(kl, np.maximum(delta - delta0, 0.0))) - force
+def _residual_exact(
+    delta: float, delta0: np.ndarray, kl: np.ndarray, force: float, v: np.ndarray | None = None
+) -> float:
+    """Σ V k l max(0, V δ − δ0) − F_n (N) (V = 1: ``v`` None)."""
+    if v is None:
+        return float(np.dot(kl, np.maximum(delta - delta0, 0.0))) - force
+    return float(np.dot(v * kl, np.maximum(v * delta - delta0, 0.0))) - force
 
 
 def _residual_smooth(
-    delta: float, delta0: np.ndarray, kl: np.ndarray, force: float, width: float
+    delta: float,
+    delta0: np.ndarray,
+    kl: np.ndarray,
+    force: float,
+    width: float,
+    v: np.ndarray | None = None,
 ) -> float:
-    """Σ k l w log(1 + exp((δ − δ0)/w)) − F_n (N), overflow-safe."""
-    return float(np.dot(kl, width * np.logaddexp(0.0, (delta - delta0) / width))) - force
+    """Σ V k l w log(1 + exp((V δ − δ0)/w)) − F_n (N), overflow-safe (V = 1: ``v`` None)."""
+    if v is None:
+        return float(np.dot(kl, width * np.logaddexp(0.0, (delta - delta0) / width))) - force
+    return float(np.dot(v * kl, width * np.logaddexp(0.0, (v * delta - delta0) / width))) - force
+
+
+def _beyond_path(mesh: BaselineMesh, s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The flank-normal corner gap (m) and the lever V of cells at ``s`` (m): 0 and 1 on the
+    path [0, g_α]; before it the gap of row 0 (V = 1: the pinion owns the flank); after it
+    row 1's gap and λ."""
+    g_alpha = mesh.path_of_contact
+    span, table = mesh.extension_span, mesh.extension_gap
+    u = np.linspace(0.0, 1.0, table.shape[1])
+    gap = np.zeros_like(s)
+    v = np.ones_like(s)
+    before, after = s < 0.0, s > g_alpha
+    gap[before] = np.interp(-s[before] / span[0], u, table[0])
+    ua = (s[after] - g_alpha) / span[1]
+    gap[after] = np.interp(ua, u, table[1])
+    v[after] = np.interp(ua, u, mesh.extension_lever)
+    return gap * math.cos(mesh.base_helix_angle), v
 
 
 def te_curve_numpy(
@@ -264,33 +339,46 @@ def te_curve_numpy(
     n = theta.shape[0]
     te, approach = np.empty(n), np.empty(n)
     stiff, clen, evals = np.empty(n), np.empty(n), np.empty(n, dtype=int)
+    lo_s, hi_s = -mesh.extension_span[0], g_alpha + mesh.extension_span[1]
     for j, th in enumerate(theta):
         s = np.mod(mesh.base_radius_pinion * th, pb) + offset
-        on = (s >= 0.0) & (s <= g_alpha)
+        on = (s >= lo_s) & (s <= hi_s)
         if not on.any():
             raise ValueError(f"no contact cell at theta = {th!r} rad")
         s_on, zeta_on = s[on], zeta[on]
+        # beyond the path: the table clamped (the end's stiffness) and the end's deviation
         kl = np.interp(s_on, mesh.stiffness_s, mesh.stiffness_k) * cell_length
-        u = s_on / g_alpha
+        u = np.clip(s_on, 0.0, g_alpha) / g_alpha
         e = _member_deviation(pin, u, zeta_on) + _member_deviation(gear, 1.0 - u, zeta_on)
         e_max = e.max()
         delta0 = e_max - e
-        sum_kl = kl.sum()
-        # f(lo) < 0 < f(hi): at hi every cell is compressed by more than F/Σkl (the margin keeps
-        # f(hi) > 0 through rounding when every cell is loaded equally)
-        hi = delta0.max() + force / sum_kl * (1.0 + 1e-6)
+        v = None
+        if mesh.extended:
+            corner_gap, v = _beyond_path(mesh, s_on)
+            delta0 = delta0 + corner_gap
+        vv = np.ones_like(kl) if v is None else v
+        # f(lo) < 0 < f(hi): at hi every cell is compressed by more than V F/Σ V² kl (the margin
+        # keeps f(hi) > 0 through rounding when every cell is loaded equally)
+        hi = np.max(delta0 / vv) + force / np.dot(vv * vv, kl) * (1.0 + 1e-6)
         if contact == "exact":
-            f, args, lo = _residual_exact, (delta0, kl, force), 0.0
+            f, args, lo = _residual_exact, (delta0, kl, force, v), 0.0
         else:
-            # Σ kl w softplus((δ − δ0)/w) <= Σ kl w exp(δ/w) < F below lo
-            f, args = _residual_smooth, (delta0, kl, force, width)
-            lo = min(0.0, width * (math.log(force / (sum_kl * width)) - 1.0))
+            # Σ V kl w softplus((V δ − δ0)/w) <= Σ V kl w exp(V δ/w) < F where every V δ is
+            # below the bound (δ < 0: the smallest V the binding one)
+            f, args = _residual_smooth, (delta0, kl, force, width, v)
+            bound = width * (math.log(force / (np.dot(vv, kl) * width)) - 1.0)
+            lo = min(0.0, bound / np.min(vv))
         d, info = brentq(
             f, lo, hi, args=args, xtol=1e-30, rtol=4 * _EPS, maxiter=500, full_output=True
         )
         if not info.converged:
             raise RuntimeError(f"brentq did not converge at theta = {th!r}: {info.flag}")
-        gap = d - delta0
+        gap = vv * d - delta0
+        if mesh.extended:  # a corner closed past the extension's end: the extension too short
+            end = mesh.extension_gap[:, -1] * cos_bb
+            reach = gap + corner_gap
+            if np.any((s_on < 0) & (reach > end[0])) or np.any((s_on > g_alpha) & (reach > end[1])):
+                raise ValueError(f"a tip corner closes beyond the extension at theta = {th!r}")
         if contact == "exact":
             weight = (gap > 0).astype(float)
         else:  # φ'_w(Δ) = sigmoid(Δ/w)

@@ -16,7 +16,10 @@ worker process of each mode (this module's :func:`worker`) and alternates blocks
 * ``dispatch_identity``: a jitted identity of the same ``(x, torque)`` (dispatch alone);
 * ``public_quasi_static`` and ``batched_256_torques`` (per curve: 256 torques in one jitted
   ``lax.map`` in chunks of 8): what the dispatch mode does to the rest of the work;
-* ``baseline``: the NumPy/brentq curve (:mod:`benchmarks._baseline`);
+* ``baseline``: the NumPy/brentq curve (:mod:`benchmarks._baseline`), with the case's contact
+  model (contact beyond the theoretical path where the case has it: like with like);
+* ``public_free_tip_theoretical_path`` and ``baseline_theoretical_path`` (a case with contact
+  beyond the path only): the same call and baseline, both on the theoretical path;
 * ``closure_<option>``: a ``jax.jit`` of the free-tip curve compiled with per-program XLA
   options (``compiler_options``), the per-program alternatives to the dispatch mode.
 
@@ -135,7 +138,7 @@ def _setup(case: str, quick: bool) -> tuple[dict, dict]:
             lambda t: quasi_static(mesh, mods, t, positions_per_pitch=P).te_rms, ts, batch_size=8
         )
     )
-    bmesh, bmods = bl.baseline_mesh(c), bl.mods_params(mods)
+    bmesh, bmods = bl.baseline_mesh(c), bl.mods_params(mods)  # the case's contact model
     reps = _reps(quick)
     block = jax.block_until_ready
     calls = {
@@ -155,6 +158,22 @@ def _setup(case: str, quick: bool) -> tuple[dict, dict]:
             1,
         ),
     }
+    if mesh.extended_contact:  # the other contact model, like with like
+        tip_th = compile_quasi_static(
+            mesh.with_extended_contact(False),
+            mods,
+            positions_per_pitch=P,
+            output=lambda r: r.transmission_error,
+        ).with_free(free)
+        bmesh_th = bl.baseline_mesh(c, extended_contact=False)
+        calls["public_free_tip_theoretical_path"] = (
+            lambda: tip_th(x, torque), reps["public"], 1
+        )
+        calls["baseline_theoretical_path"] = (
+            lambda: bl.te_curve_numpy(bmesh_th, bmods, torque, "exact", c.smooth_width, P),
+            reps["baseline"],
+            1,
+        )
     ref = np.asarray(quasi_static(mesh, mods, torque, positions_per_pitch=P).transmission_error)
     once: dict = {"options": {}}
     for name, options in OPTIONS.items():
@@ -370,10 +389,18 @@ def paired_dispatch_modes(case: str = "accessory-spur", quick: bool = False) -> 
             rec[f"ratio_baseline_over_public_whole_result{tail}"] = _stats(
                 base / per["public_whole_result"]
             )
+            if "baseline_theoretical_path" in per:  # the theoretical path in both codes
+                rec[f"ratio_baseline_over_public_free_tip_theoretical_path{tail}"] = _stats(
+                    per["baseline_theoretical_path"] / per["public_free_tip_theoretical_path"]
+                )
         cpu = {k: np.asarray([r["cpu"][k] for r in rows[m]]) for k in rows[m][0]["cpu"]}
         rec["ratio_baseline_over_public_free_tip_cpu"] = _stats(
             cpu["baseline"] / cpu["public_free_tip"]
         )
+        if "baseline_theoretical_path" in cpu:
+            rec["ratio_baseline_over_public_free_tip_theoretical_path_cpu"] = _stats(
+                cpu["baseline_theoretical_path"] / cpu["public_free_tip_theoretical_path"]
+            )
         ratio = np.asarray(rec["ratio_baseline_over_public_free_tip"]["per_block"])
         over = np.asarray(rec["public_free_tip_over_compute"]["per_block"])
         rec["blocks_meeting_50x"] = int(np.sum(ratio >= 50.0))

@@ -7,12 +7,14 @@ accessory spur pair (float64) it measures:
     cleared first);
 (b) time per TE curve after compile (``block_until_ready``, min of repeats) of jaxgear exact and
     smooth against :mod:`benchmarks._baseline`, their ratio, and the largest relative difference of
-    the results (TE, mesh stiffness, contact length; must be <= 1e-9);
+    the results (TE, mesh stiffness, contact length; must be <= 1e-9), for each contact model
+    like with like: the case's (contact beyond the theoretical path where it has it, both codes
+    with the tip corners) and the theoretical path (both codes without);
 (c) a 41×41 (Γ, E) grid of TE RMS (symmetric linear tip relief, exact mode) by ``jax.vmap``,
     time after compile, and the same grid by the baseline extrapolated from a few points;
 (d) a speed-vs-accuracy chart: time per TE curve vs TE RMS error against a converged reference,
-    for exact mode over slices × positions per pitch and smooth mode over widths, with the
-    baseline's points;
+    for exact mode over slices × positions per pitch (each contact model against its own
+    reference) and smooth mode over widths, with the baseline's points;
 and a break-down of where jaxgear's time per TE curve goes (Python preparation and dispatch, cell
 layout, deviations, contact solve), each stage jitted on its own.
 
@@ -104,7 +106,7 @@ def bench_quasi_static(
         sweep_slices, sweep_ppp = (10, 20, 40, 80), (16, 32, 64, 128)
         widths = (1e-6, 3e-7, 1e-7, 3e-8, 1e-8)
         ref_slices, ref_ppp = 160, 512
-    n_steps = 6 + 1 + 4 + 1 + 1 + 2 + len(sweep_slices) * len(sweep_ppp) + len(widths)
+    n_steps = 10 + 1 + 4 + 2 + 2 + 2 * len(sweep_slices) * len(sweep_ppp) + len(widths)
     bar = tqdm(total=n_steps, desc="bench quasi-static", disable=not progress, leave=False)
 
     def step(msg):
@@ -149,9 +151,24 @@ def bench_quasi_static(
     }
     mesh = c.mesh_model()
     mods = c.modifications
-    bmesh = bl.baseline_mesh(c)
+    bmesh = bl.baseline_mesh(c)  # the same contact model as the case's mesh model
     bmods = bl.mods_params(mods)
     width = c.smooth_width
+    # the contact models compared like with like: the case's (key "case") and, where the case
+    # has contact beyond the path, the theoretical path in both codes
+    models = {"case": (mesh, bmesh)}
+    if mesh.extended_contact:
+        models["theoretical_path"] = (
+            mesh.with_extended_contact(False),
+            bl.baseline_mesh(c, extended_contact=False),
+        )
+    out["settings"]["extended_contact"] = bool(mesh.extended_contact)
+    out["settings"]["contact_models"] = {
+        "case": "contact beyond the theoretical path (tip corners), in jaxgear and the baseline"
+        if mesh.extended_contact
+        else "the theoretical path",
+        **({"theoretical_path": "the theoretical path, in both"} if len(models) > 1 else {}),
+    }
 
     # (a) compile time ---------------------------------------------------------------------
     jax.clear_caches()
@@ -175,34 +192,25 @@ def bench_quasi_static(
         step(f"compile {mode}")
     out["compile"] = compile_
 
-    # (b) time per TE curve ------------------------------------------------------------------
-    per_curve = {}
-    for mode in ("exact", "smooth"):
-        t_jax = _min_time(calls[mode], rep_jax, block)
-        step(f"jaxgear {mode}")
-        res = calls[mode]()
-        t_np = _min_time(
-            lambda mode=mode: bl.te_curve_numpy(bmesh, bmods, torque, mode, width, P0), rep_np
+    # (b) time per TE curve, each contact model like with like ---------------------------------
+    per_model = {}
+    for model, (m_mesh, m_bmesh) in models.items():
+        m_calls = calls if model == "case" else {
+            mode: (
+                lambda mode=mode, m_mesh=m_mesh: quasi_static(
+                    m_mesh, mods, torque, contact=contact_law_from_name(mode, width),
+                    positions_per_pitch=P0,
+                )
+            )
+            for mode in ("exact", "smooth")
+        }
+        per_model[model] = _per_curve(
+            m_calls, m_bmesh, bmods, torque, width, P0, rep_jax, rep_np, bl, block, step
         )
-        ref = bl.te_curve_numpy(bmesh, bmods, torque, mode, width, P0)
-        step(f"baseline {mode}")
-        diff = {
-            "te": _rel(res.transmission_error, ref["te"]),
-            "mesh_stiffness": _rel(res.mesh_stiffness, ref["mesh_stiffness"]),
-            "contact_length": _rel(res.contact_length, ref["contact_length"]),
-            "te_rms": abs(float(res.te_rms) - bl.te_rms(ref["te"])) / bl.te_rms(ref["te"]),
-        }
-        per_curve[mode] = {
-            "jaxgear_s": t_jax,
-            "baseline_s": t_np,
-            "ratio": t_np / t_jax,
-            "max_rel_diff": diff,
-            "agree_1e-9": max(diff.values()) <= _TOL,
-            "te_rms_m": float(res.te_rms),
-            "te_mean_m": float(res.te_mean),
-            "baseline_mean_brentq_evaluations": float(np.mean(ref["evaluations"])),
-        }
+    per_curve = per_model["case"]
     out["per_te_curve"] = per_curve
+    out["per_te_curve_by_contact_model"] = per_model
+
 
     # where jaxgear's time per curve goes (each stage jitted on its own; exact mode)
     out["profile_exact"] = _profile(
@@ -308,44 +316,65 @@ def bench_quasi_static(
     out["batched"] = _batched(mesh, torque, P0, quick, per_curve)
     step("batched")
 
-    # (d) speed vs accuracy ---------------------------------------------------------------------
-    ref_mesh = c.mesh_model(slices=ref_slices)
-    ref = quasi_static(ref_mesh, mods, torque, positions_per_pitch=ref_ppp)
-    ref_rms = float(ref.te_rms)
-    ref_np = bl.te_curve_numpy(
-        bl.baseline_mesh(c, slices=ref_slices), bmods, torque, "exact", positions_per_pitch=ref_ppp
-    )
-    step("reference")
-    points = []
-    for n in sweep_slices:
-        m_n = c.mesh_model(slices=n)
-        bm_n = bl.baseline_mesh(c, slices=n)
-        for p in sweep_ppp:
-            fn = lambda m_n=m_n, p=p: quasi_static(m_n, mods, torque, positions_per_pitch=p)
-            t_j = _min_time(fn, max(3, rep_jax // 3), block)
-            rj = _rms(fn().transmission_error)
-            t_b = _min_time(
-                lambda bm_n=bm_n, p=p: bl.te_curve_numpy(
-                    bm_n, bmods, torque, "exact", positions_per_pitch=p
-                ),
-                rep_np,
-            )
-            rb = bl.te_rms(
-                bl.te_curve_numpy(bm_n, bmods, torque, "exact", positions_per_pitch=p)["te"]
-            )
-            points.append(
-                {
-                    "mode": "exact",
-                    "slices": n,
-                    "positions_per_pitch": p,
-                    "jaxgear_s": t_j,
-                    "baseline_s": t_b,
-                    "te_rms_m": rj,
-                    "error": abs(rj - ref_rms) / ref_rms,
-                    "baseline_error": abs(rb - ref_rms) / ref_rms,
-                }
-            )
-            step(f"exact N={n} P={p}")
+    # (d) speed vs accuracy: each contact model against its own converged reference ----------
+    references, points = {}, []
+    for model in models:
+        extended = model == "case" and mesh.extended_contact
+
+        def mesh_of(n, extended=extended):
+            m_n = c.mesh_model(slices=n)
+            return m_n if extended else m_n.with_extended_contact(False)
+
+        ref = quasi_static(mesh_of(ref_slices), mods, torque, positions_per_pitch=ref_ppp)
+        ref_np = bl.te_curve_numpy(
+            bl.baseline_mesh(c, slices=ref_slices, extended_contact=extended),
+            bmods,
+            torque,
+            "exact",
+            positions_per_pitch=ref_ppp,
+        )
+        references[model] = {
+            "mode": "exact",
+            "contact_model": model,
+            "slices": ref_slices,
+            "positions_per_pitch": ref_ppp,
+            "te_rms_m": float(ref.te_rms),
+            "baseline_te_rms_m": bl.te_rms(ref_np["te"]),
+            "baseline_rel_diff": _rel(ref.transmission_error, ref_np["te"]),
+        }
+        ref_rms = float(ref.te_rms)
+        step(f"reference ({model})")
+        for n in sweep_slices:
+            m_n = mesh_of(n)
+            bm_n = bl.baseline_mesh(c, slices=n, extended_contact=extended)
+            for p in sweep_ppp:
+                fn = lambda m_n=m_n, p=p: quasi_static(m_n, mods, torque, positions_per_pitch=p)
+                t_j = _min_time(fn, max(3, rep_jax // 3), block)
+                rj = _rms(fn().transmission_error)
+                t_b = _min_time(
+                    lambda bm_n=bm_n, p=p: bl.te_curve_numpy(
+                        bm_n, bmods, torque, "exact", positions_per_pitch=p
+                    ),
+                    rep_np,
+                )
+                rb = bl.te_rms(
+                    bl.te_curve_numpy(bm_n, bmods, torque, "exact", positions_per_pitch=p)["te"]
+                )
+                points.append(
+                    {
+                        "mode": "exact",
+                        "contact_model": model,
+                        "slices": n,
+                        "positions_per_pitch": p,
+                        "jaxgear_s": t_j,
+                        "baseline_s": t_b,
+                        "te_rms_m": rj,
+                        "error": abs(rj - ref_rms) / ref_rms,
+                        "baseline_error": abs(rb - ref_rms) / ref_rms,
+                    }
+                )
+                step(f"exact {model} N={n} P={p}")
+    ref_rms = references["case"]["te_rms_m"]
     exact_same = _rms(calls["exact"]().transmission_error)
     for w in widths:
         fn = lambda w=w: quasi_static(
@@ -360,6 +389,7 @@ def bench_quasi_static(
         points.append(
             {
                 "mode": "smooth",
+                "contact_model": "case",
                 "width_m": w,
                 "slices": N0,
                 "positions_per_pitch": P0,
@@ -373,15 +403,10 @@ def bench_quasi_static(
         )
         step(f"smooth w={w:g}")
     out["speed_accuracy"] = {
-        "reference": {
-            "mode": "exact",
-            "slices": ref_slices,
-            "positions_per_pitch": ref_ppp,
-            "te_rms_m": ref_rms,
-            "baseline_te_rms_m": bl.te_rms(ref_np["te"]),
-            "baseline_rel_diff": _rel(ref.transmission_error, ref_np["te"]),
-        },
-        "error": "|TE RMS − TE RMS_ref| / TE RMS_ref",
+        "reference": references["case"],
+        "references": references,
+        "error": "|TE RMS − TE RMS_ref| / TE RMS_ref, each contact model against its own "
+        "reference",
         "points": points,
         "chart": "speed_accuracy_quasi_static.png",
     }
@@ -424,8 +449,11 @@ def bench_quasi_static(
         "grid_target_s": 5.0,
         "grid_s": t_grid,
         "meets_grid": t_grid < 5.0,
-        "agreement_1e-9": all(per_curve[m]["agree_1e-9"] for m in per_curve)
-        and out["grid"]["max_rel_diff_at_baseline_points"] <= _TOL,
+        "agreement_1e-9": all(
+            rec[m]["agree_1e-9"] for rec in per_model.values() for m in rec
+        )
+        and out["grid"]["max_rel_diff_at_baseline_points"] <= _TOL
+        and all(r["baseline_rel_diff"] <= _TOL for r in references.values()),
     }
     bar.close()
     if hasattr(os, "getloadavg"):
@@ -443,6 +471,39 @@ def bench_quasi_static(
             f"see {os.path.join(out_dir, 'bench_quasi_static.json')}"
         )
     return out
+
+
+def _per_curve(calls, bmesh, bmods, torque, width, P, rep_jax, rep_np, bl, block, step) -> dict:
+    """Time per TE curve of jaxgear (``calls``: mode -> call) and of the baseline on ``bmesh``
+    (the same contact model), exact and smooth: min of repeats, their ratio and the largest
+    relative differences of TE, mesh stiffness, contact length and TE RMS."""
+    per_curve = {}
+    for mode in ("exact", "smooth"):
+        t_jax = _min_time(calls[mode], rep_jax, block)
+        step(f"jaxgear {mode}")
+        res = calls[mode]()
+        t_np = _min_time(
+            lambda mode=mode: bl.te_curve_numpy(bmesh, bmods, torque, mode, width, P), rep_np
+        )
+        ref = bl.te_curve_numpy(bmesh, bmods, torque, mode, width, P)
+        step(f"baseline {mode}")
+        diff = {
+            "te": _rel(res.transmission_error, ref["te"]),
+            "mesh_stiffness": _rel(res.mesh_stiffness, ref["mesh_stiffness"]),
+            "contact_length": _rel(res.contact_length, ref["contact_length"]),
+            "te_rms": abs(float(res.te_rms) - bl.te_rms(ref["te"])) / bl.te_rms(ref["te"]),
+        }
+        per_curve[mode] = {
+            "jaxgear_s": t_jax,
+            "baseline_s": t_np,
+            "ratio": t_np / t_jax,
+            "max_rel_diff": diff,
+            "agree_1e-9": max(diff.values()) <= _TOL,
+            "te_rms_m": float(res.te_rms),
+            "te_mean_m": float(res.te_mean),
+            "baseline_mean_brentq_evaluations": float(np.mean(ref["evaluations"])),
+        }
+    return per_curve
 
 
 def _block_targets(blocks: dict) -> dict:
@@ -774,40 +835,51 @@ def _chart(out, path, matplotlib, atomic_open) -> None:
     import matplotlib.pyplot as plt
 
     pts = out["speed_accuracy"]["points"]
-    ex = [p for p in pts if p["mode"] == "exact"]
+    model_of = lambda p: p.get("contact_model", "case")  # older records have none
+    ex = [p for p in pts if p["mode"] == "exact" and model_of(p) == "case"]
+    ex_th = [p for p in pts if p["mode"] == "exact" and model_of(p) == "theoretical_path"]
     sm = [p for p in pts if p["mode"] == "smooth"]
     floor = 1e-16
     r = out["speed_accuracy"]["reference"]
-    fig, (ax, ax2) = plt.subplots(1, 2, figsize=(11, 5), sharey=True)
+    extended = out["settings"].get("extended_contact", False)
+    panels = 3 if ex_th else 2
+    fig, axes = plt.subplots(1, panels, figsize=(5.5 * panels, 5), sharey=True)
+    ax, ax2 = axes[0], axes[-1]
     ppp = sorted({p["positions_per_pitch"] for p in ex})
     cmap = plt.get_cmap("viridis")
-    for i, p_ in enumerate(ppp):
-        col = cmap(i / max(len(ppp) - 1, 1))
-        sel = [p for p in ex if p["positions_per_pitch"] == p_]
-        ax.plot(
-            [p["jaxgear_s"] for p in sel],
-            [max(p["error"], floor) for p in sel],
-            "o-",
-            color=col,
-            label=f"jaxgear exact, P = {p_}",
-        )
-        ax.plot(
-            [p["baseline_s"] for p in sel],
-            [max(p["baseline_error"], floor) for p in sel],
-            "x--",
-            color=col,
-            label=f"baseline exact, P = {p_}",
-        )
-        for p in sel:
-            ax.annotate(
-                f"N={p['slices']}",
-                (p["jaxgear_s"], max(p["error"], floor)),
-                fontsize=6,
-                xytext=(2, 3),
-                textcoords="offset points",
+    exact_panels = [(ax, ex, "contact beyond the path" if extended else "theoretical path")]
+    if ex_th:
+        exact_panels.append((axes[1], ex_th, "theoretical path"))
+    for a, points, what in exact_panels:
+        for i, p_ in enumerate(ppp):
+            col = cmap(i / max(len(ppp) - 1, 1))
+            sel = [p for p in points if p["positions_per_pitch"] == p_]
+            a.plot(
+                [p["jaxgear_s"] for p in sel],
+                [max(p["error"], floor) for p in sel],
+                "o-",
                 color=col,
+                label=f"jaxgear exact, P = {p_}",
             )
-    ax.set_title("exact: N slices × P positions per pitch", fontsize=9)
+            a.plot(
+                [p["baseline_s"] for p in sel],
+                [max(p["baseline_error"], floor) for p in sel],
+                "x--",
+                color=col,
+                label=f"baseline exact, P = {p_}",
+            )
+            for p in sel:
+                a.annotate(
+                    f"N={p['slices']}",
+                    (p["jaxgear_s"], max(p["error"], floor)),
+                    fontsize=6,
+                    xytext=(2, 3),
+                    textcoords="offset points",
+                    color=col,
+                )
+        a.set_title(
+            f"exact, {what} (both codes):\nN slices × P positions per pitch", fontsize=9
+        )
     if sm:
         disc = f"{sm[0]['slices']}×{sm[0]['positions_per_pitch']}"
         ax2.plot(
@@ -855,16 +927,19 @@ def _chart(out, path, matplotlib, atomic_open) -> None:
                 ls="--",
                 label=f"jaxgear exact {disc} (discretisation error)",
             )
-        ax2.set_title("smooth: width w", fontsize=9)
-    for a in (ax, ax2):
+        ax2.set_title(
+            f"smooth, contact {'beyond the path' if extended else 'theoretical path'}: width w",
+            fontsize=9,
+        )
+    for a in axes:
         a.set_xscale("log")
         a.set_yscale("log")
         a.set_xlabel("time per TE curve (s, after compile)")
         a.grid(True, which="both", alpha=0.3)
         a.legend(fontsize=6)
     ax.set_ylabel(
-        f"relative TE RMS error vs exact {r['slices']} slices × "
-        f"{r['positions_per_pitch']} positions"
+        f"rel. TE RMS error vs exact {r['slices']} × {r['positions_per_pitch']} "
+        "(same contact model)"
     )
     m = out["machine"]
     fig.suptitle(
@@ -908,6 +983,7 @@ def _table(out) -> str:
             f"{'max rel diff (TE)':24s}{pc['exact']['max_rel_diff']['te']:12.1e}"
             f"{pc['smooth']['max_rel_diff']['te']:12.1e}"
         ),
+        *_model_lines(out),
         (
             f"grid {g['shape'][0]}×{g['shape'][1]} (Γ, E), exact, vmap: {g['jaxgear_s']:.3f} s "
             f"after compile ({g['jaxgear_compile_s']:.1f} s compile; target < 5 s); baseline "
@@ -969,6 +1045,25 @@ def _table(out) -> str:
         f"chart: {out['speed_accuracy']['chart']}",
     ]
     return "\n".join(lines)
+
+
+def _model_lines(out) -> list[str]:
+    """The table's line saying which contact model the rows above compare, and a line per
+    other contact model (both codes on it): per curve, ratio and largest TE difference."""
+    models = out["settings"].get("contact_models", {})
+    lines = [f"{'contact model':24s}{models.get('case', 'the case’s')}"]
+    for name, rec in out.get("per_te_curve_by_contact_model", {}).items():
+        if name == "case":
+            continue
+        e, s = rec["exact"], rec["smooth"]
+        lines.append(
+            f"{models.get(name, name)}: jaxgear {e['jaxgear_s'] * 1e3:.3f} / "
+            f"{s['jaxgear_s'] * 1e3:.3f} ms, baseline {e['baseline_s'] * 1e3:.3f} / "
+            f"{s['baseline_s'] * 1e3:.3f} ms (exact / smooth), ratio {e['ratio']:.1f} / "
+            f"{s['ratio']:.1f}, max rel diff (TE) {e['max_rel_diff']['te']:.1e} / "
+            f"{s['max_rel_diff']['te']:.1e}"
+        )
+    return lines
 
 
 def _block_lines(blocks: dict) -> list[str]:

@@ -53,6 +53,11 @@ class MeshResult(eqx.Module):
         line_load: load per unit contact length per cell (N/m), shape (P, L, N).
         cell_s, cell_z: cell coordinates in the base plane (m), shape (P, L, N).
         cell_mask: cells on the flanks, shape (P, L, N).
+        mesh_stiffness_on_path: the part of ``mesh_stiffness`` from the loaded cells on the
+            theoretical path of contact, 0 <= s <= g_α (N/m), shape (P,): all of it without
+            contact beyond the path (``MeshModel.extended_contact``); with it, the tip corners'
+            cells beyond the path are left out (docs/extended-contact.md, "Mesh stiffness on
+            and beyond the path"). ``None`` in a result built by hand.
     """
 
     transmission_error: Float[Array, " P"]
@@ -62,6 +67,7 @@ class MeshResult(eqx.Module):
     cell_s: Float[Array, "P L N"]
     cell_z: Float[Array, "P L N"]
     cell_mask: Bool[Array, "P L N"]
+    mesh_stiffness_on_path: Float[Array, " P"] | None = None
 
     @property
     def te_mean(self):
@@ -90,8 +96,8 @@ class QuasiStaticResult(eqx.Module):
     mesh, a :class:`MeshResult`.
 
     A scene of one gear mesh reads that mesh's results directly on this object
-    (``transmission_error``, ``mesh_stiffness``, ``contact_length``, ``line_load``, ``cell_s``,
-    ``cell_z``, ``cell_mask``, ``te_mean``, ``te_rms``, ``te_ptp``, ``max_line_load``: see
+    (``transmission_error``, ``mesh_stiffness``, ``mesh_stiffness_on_path``, ``contact_length``,
+    ``line_load``, ``cell_s``, ``cell_z``, ``cell_mask``, ``te_mean``, ``te_rms``, ``te_ptp``, ``max_line_load``: see
     :class:`MeshResult`); a scene of several meshes reads them from ``meshes[k]``.
 
     Attributes:
@@ -114,6 +120,7 @@ class QuasiStaticResult(eqx.Module):
 
     transmission_error = of_the_one_mesh("transmission_error")
     mesh_stiffness = of_the_one_mesh("mesh_stiffness")
+    mesh_stiffness_on_path = of_the_one_mesh("mesh_stiffness_on_path")
     contact_length = of_the_one_mesh("contact_length")
     line_load = of_the_one_mesh("line_load")
     cell_s = of_the_one_mesh("cell_s")
@@ -214,6 +221,7 @@ def _one_position(scene: Scene, mods: tuple, torque, speed, theta, law: ContactL
     meshes = []
     for k, (mesh, (c, e_max, _)) in enumerate(zip(planes, parts, strict=True)):
         kl = jnp.where(c.mask, c.stiffness * c.length, 0.0)
+        on_path = (c.s >= 0.0) & (c.s <= mesh.path_of_contact)
         meshes.append(
             MeshResult(
                 transmission_error=(u_x[k] - e_max) / jnp.cos(mesh.base_helix_angle),
@@ -223,6 +231,7 @@ def _one_position(scene: Scene, mods: tuple, torque, speed, theta, law: ContactL
                 cell_s=c.s,
                 cell_z=c.z,
                 cell_mask=c.mask,
+                mesh_stiffness_on_path=jnp.sum(jnp.where(on_path, kl * weights[k], 0.0)),
             )
         )
     # a cell approach that would close the corner gap at the far end of the cells beyond the

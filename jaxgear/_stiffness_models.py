@@ -105,6 +105,11 @@ class AbstractStiffness(eqx.Module):
         agrees with it within about 25 %)."""
         return iso6336_mesh_stiffness(pair) * pair.face_width * youngs_modulus / _E_REFERENCE
 
+    def summary_at(self, pair: AbstractGearPair, conditions: MeshConditions) -> dict:
+        """``summary.json``'s mesh-stiffness entries that depend on the pair and the conditions
+        (SI): none for a model whose k(s) follows from the tooth geometry."""
+        return {}
+
     def summary(self) -> dict:
         """``summary.json``'s mesh-stiffness entries: ``stiffness`` (:attr:`name`),
         ``foundation`` (the case file's default, "weber", for a model without one, as summaries
@@ -161,7 +166,14 @@ class Uniform(AbstractStiffness):
 class ISO6336(AbstractStiffness):
     """ISO 6336-1 method B: c_γα (:func:`~jaxgear.iso6336_mesh_stiffness`, at the conditions'
     E and specific load) as a constant per unit contact length ``k0 = c_γα / (ε_α cos β_b)``, so
-    that the mean mesh stiffness times cos² β_b equals c_γα b."""
+    that the mean mesh stiffness on the theoretical path of contact times cos² β_b equals
+    c_γα b (the standard's c_γα = c′ (0.75 ε_α + 0.25) is that path's mean).
+
+    With contact beyond the path (``MeshModel.extended_contact``) the cells there take the
+    path end's k0 like every model's, and the tip corners they hold add the load-dependent
+    contact that ISO 6336 does not model: the loaded mean mesh stiffness then exceeds
+    c_γα b / cos² β_b while its part on the path
+    (:attr:`~jaxgear.MeshResult.mesh_stiffness_on_path`) keeps it (docs/stiffness.md)."""
 
     name: ClassVar[str] = "iso6336"
     internal_teeth: ClassVar[bool] = True
@@ -171,6 +183,18 @@ class ISO6336(AbstractStiffness):
             pair.transverse_contact_ratio * math.cos(pair.base_helix_angle)
         )
         return np.full_like(s, k0)
+
+    def summary_at(self, pair, conditions):
+        """``c_gamma_alpha_N_per_m2``: c_γα at the conditions' E and specific load (N/m²,
+        i.e. N/(m·m) per unit face width), and ``mesh_stiffness_on_path_iso_N_per_m``: the mean
+        mesh stiffness on the theoretical path it prescribes, c_γα b / cos² β_b (N/m,
+        flank-normal, as ``MeshResult.mesh_stiffness_on_path``)."""
+        c = iso6336_mesh_stiffness(pair, conditions.youngs_modulus, conditions.specific_load)
+        cb = math.cos(pair.base_helix_angle)
+        return {
+            "c_gamma_alpha_N_per_m2": float(c),
+            "mesh_stiffness_on_path_iso_N_per_m": float(c * pair.face_width / cb**2),
+        }
 
     def mean_estimate(self, pair, youngs_modulus):
         """c_γα b (N/m) at the standard's steel modulus."""

@@ -1,7 +1,9 @@
 """jaxgear's quasi-static solver against the independent NumPy/brentq baseline of benchmarks/.
 
-Both compute the rigid-mesh TE curve of docs/design.md; they share only the geometry and the
-stiffness table. Exact and smooth modes must agree to 1e-9 relative in float64.
+Both compute the rigid-mesh TE curve of docs/design.md; they share only the geometry (with the
+tip-corner gap and lever tables of contact beyond the path) and the stiffness table. Exact and
+smooth modes must agree to 1e-9 relative in float64, on the theoretical path and with contact
+beyond it (docs/extended-contact.md).
 """
 
 import dataclasses
@@ -57,18 +59,21 @@ def _mods(kind: str):
 
 
 @functools.cache
-def _setup(name: str, uniform: bool = False):
-    """(case, jaxgear MeshModel, baseline mesh) with the stiffness table evaluated once."""
+def _setup(name: str, uniform: bool = False, extended: bool = False):
+    """(case, jaxgear MeshModel, baseline mesh) with the stiffness table evaluated once; with
+    ``extended`` both with contact beyond the theoretical path."""
     case = jio.load_case(name)
     if uniform:
         case = case.replace(stiffness=jg.Uniform(13e9))
-    bmesh = bl.baseline_mesh(case, slices=SLICES)
-    mesh = jg.MeshModel.from_pair(case.pair, bmesh.stiffness_s, bmesh.stiffness_k, SLICES)
+    bmesh = bl.baseline_mesh(case, slices=SLICES, extended_contact=extended)
+    mesh = jg.MeshModel.from_pair(
+        case.pair, bmesh.stiffness_s, bmesh.stiffness_k, SLICES, extended_contact=extended
+    )
     return case, mesh, bmesh
 
 
-def _compare(name, mods, contact, width=1e-7, uniform=False):
-    case, mesh, bmesh = _setup(name, uniform)
+def _compare(name, mods, contact, width=1e-7, uniform=False, extended=False):
+    case, mesh, bmesh = _setup(name, uniform, extended)
     if mods == "case":
         mods = case.modifications
     r = jg.quasi_static(
@@ -110,6 +115,32 @@ def test_agrees_with_baseline(name, mods, contact):
     assert np.all(b["te"] > 0)  # positive under load
 
 
+@pytest.mark.parametrize(
+    "name,mods,contact",
+    [("accessory-spur", "none", "exact"), ("accessory-spur", "case", "smooth"),
+     ("power-helical", "none", "smooth"), ("power-helical", "case", "exact")],
+)
+def test_agrees_with_baseline_beyond_the_path(name, mods, contact):
+    """Contact beyond the theoretical path in both codes (the case files' default): the
+    baseline lays out its own cells over [−S_a, g_α + S_r] and solves Σ V k l φ(V δ − δ0) = F_n
+    with the corner gap in δ0 and the pinion tip corner's lever V = λ after the end."""
+    r, _ = _compare(name, _mods(mods), contact, extended=True)
+    assert np.all(np.asarray(r.result) == 0)
+    if mods == "none":  # the corners touch on both sides: the comparison holds the extension
+        g_alpha = float(_setup(name, False, True)[1].path_of_contact)
+        s = np.asarray(r.cell_s)
+        loaded = np.asarray(r.line_load) > 0
+        assert np.any(loaded & (s < 0)) and np.any(loaded & (s > g_alpha))
+
+
+def test_baseline_extension_changes_the_curve():
+    """The two contact models differ where the corners touch (so comparing across them, as the
+    benchmark did, cannot agree to 1e-9): the unmodified accessory pair's TE."""
+    _, b_on = _compare("accessory-spur", None, "exact", extended=True)
+    _, b_off = _compare("accessory-spur", None, "exact")
+    assert _rel(b_on["te"], b_off["te"]) > 1e-3
+
+
 @pytest.mark.parametrize("contact", ["exact", "smooth"])
 def test_agrees_with_baseline_uniform_stiffness(contact):
     _compare("accessory-spur", "case", contact, uniform=True)
@@ -144,10 +175,17 @@ def test_bench_quick(tmp_path):
     assert (tmp_path / "speed_accuracy_quasi_static.png").stat().st_size > 1000
     saved = json.loads((tmp_path / "bench_quasi_static.json").read_text())
     assert saved["targets"]["agreement_1e-9"] and out["targets"]["agreement_1e-9"]
-    for mode in ("exact", "smooth"):
-        pc = saved["per_te_curve"][mode]
-        assert pc["jaxgear_s"] > 0 and pc["baseline_s"] > 0
-        assert max(pc["max_rel_diff"].values()) <= RTOL
+    # like with like: the case's contact beyond the path and the theoretical path, each in both
+    assert saved["settings"]["extended_contact"]
+    assert set(saved["per_te_curve_by_contact_model"]) == {"case", "theoretical_path"}
+    for rec in saved["per_te_curve_by_contact_model"].values():
+        for mode in ("exact", "smooth"):
+            pc = rec[mode]
+            assert pc["jaxgear_s"] > 0 and pc["baseline_s"] > 0
+            assert max(pc["max_rel_diff"].values()) <= RTOL
+    assert {p["contact_model"] for p in saved["speed_accuracy"]["points"]} == set(
+        saved["speed_accuracy"]["references"]
+    )
     assert saved["dtype"] == "float64"
     assert np.asarray(saved["grid"]["te_rms_m"]).shape == (5, 5)
     for mode in ("exact", "smooth"):
@@ -160,6 +198,7 @@ def test_bench_quick(tmp_path):
         assert rec["public_free_tip_max_rel_diff_te_to_quasi_static"] <= 1e-12
         assert rec["anatomy"]["program_executions_per_call"] == 1.0
         assert rec["anatomy"]["program_ran_on"] == where
+        assert rec["ratio_baseline_over_public_free_tip_theoretical_path"]["median"] > 0
     assert not list(tmp_path.glob(".tmp-*"))
 
 
@@ -182,7 +221,10 @@ def test_baseline_contact_length_wide_helical():
     pair = case.pair
     assert pair.overlap_ratio > 3
     b = bl.te_curve_numpy(
-        bl.baseline_mesh(case, slices=40), None, case.torque, positions_per_pitch=PPP
+        bl.baseline_mesh(case, slices=40, extended_contact=False),
+        None,
+        case.torque,
+        positions_per_pitch=PPP,
     )
     expected = pair.transverse_contact_ratio * pair.face_width / math.cos(pair.base_helix_angle)
     assert abs(np.mean(b["contact_length"]) / expected - 1) < 1e-3
@@ -191,7 +233,7 @@ def test_baseline_contact_length_wide_helical():
 def test_agrees_with_baseline_wide_helical():
     """ε_β = 3.2: every contact line on the flank is kept (lines i in [0, ceil(ε_α + ε_β)])."""
     case = _wide_helical(120.0)
-    bmesh = bl.baseline_mesh(case, slices=SLICES)
+    bmesh = bl.baseline_mesh(case, slices=SLICES, extended_contact=False)
     mesh = jg.MeshModel.from_pair(case.pair, bmesh.stiffness_s, bmesh.stiffness_k, SLICES)
     r = jg.quasi_static(mesh, None, case.torque, positions_per_pitch=PPP)
     b = bl.te_curve_numpy(bmesh, None, case.torque, positions_per_pitch=PPP)

@@ -18,6 +18,8 @@ __all__ = [
     "mesh_settings_summary",
     "result_summary",
     "stiffness_line",
+    "stiffness_note",
+    "stiffness_reference",
 ]
 
 
@@ -106,6 +108,50 @@ def _(model: FE2D) -> str:
     return f"mesh stiffness model: fe2d (plane-strain FE, {part}, element size {size})"
 
 
+def stiffness_reference(case, result) -> dict:
+    """``summary.json``'s ``mesh_stiffness_reference`` of a pair run: the stiffness model's own
+    reference figures at the case's pair and load (:meth:`~jaxgear.AbstractStiffness.summary_at`;
+    ``iso6336``: c_γα and c_γα b / cos² β_b) beside the means of ``result`` (the unmodified
+    flanks' exact quasi-static result, where every cell on the path is loaded): the loaded mean
+    mesh stiffness (the table's "K mean", the tip corners' contact beyond the path included
+    where the case has it) and its part on the theoretical path (N/m). Empty for a model
+    without reference figures."""
+    reference = case.stiffness.summary_at(case.pair, case.mesh_conditions())
+    if not reference:
+        return {}
+    return {
+        **reference,
+        "mesh_stiffness_mean_N_per_m": float(np.mean(result.mesh_stiffness)),
+        "mesh_stiffness_on_path_mean_N_per_m": float(np.mean(result.mesh_stiffness_on_path)),
+        "extended_contact": bool(case.extended_contact),
+        "flanks": "unmodified, exact contact",
+    }
+
+
+def stiffness_note(summary: dict) -> str | None:
+    """The printed line of a pair's ``summary`` that says which mean mesh stiffness the
+    table's "K mean" is and sets the model's reference beside it
+    (:func:`stiffness_reference`; ``iso6336``: c_γα, whose c_γα b / cos² β_b is the mean on
+    the theoretical path): None without a reference."""
+    ref = summary.get("mesh_stiffness_reference")
+    if not ref:
+        return None
+    k, on_path = ref["mesh_stiffness_mean_N_per_m"], ref["mesh_stiffness_on_path_mean_N_per_m"]
+    text = f"K mean (unmodified, exact) {k / 1e6:.2f} N/µm"
+    if ref["extended_contact"]:
+        text += (
+            f" with the tip corners' contact beyond the theoretical path, {on_path / 1e6:.2f} "
+            "N/µm on the path"
+        )
+    cga = ref.get("c_gamma_alpha_N_per_m2")
+    if cga is not None:
+        text += (
+            f"; ISO 6336-1 c_γα = {cga * 1e-9:.2f} N/(mm·µm), c_γα b/cos² β_b = "
+            f"{ref['mesh_stiffness_on_path_iso_N_per_m'] / 1e6:.2f} N/µm: the mean on the path"
+        )
+    return text
+
+
 def format_table(summary: dict, stiffness: AbstractStiffness, modified: bool = True) -> str:
     """A short plain-text table of the main figures of a pair's ``summary``, run with the mesh
     stiffness model ``stiffness`` (:func:`stiffness_line`). ``modified``: whether the case has
@@ -132,6 +178,9 @@ def format_table(summary: dict, stiffness: AbstractStiffness, modified: bool = T
                 f"{q['te_ptp_m'] * 1e6:12.4f}{q['mesh_stiffness_mean_N_per_m'] / 1e6:13.2f}"
                 f"{q['max_line_load_N_per_m'] / 1e3:10.1f}"
             )
+    note = stiffness_note(summary)
+    if note:
+        lines.append(note)
     rms, rms_flanks = (summary[k]["exact"]["te_rms_m"]
                        for k in ("quasi_static", "quasi_static_unmodified"))
     worse = rms / rms_flanks if rms_flanks > 0 else 1.0  # 0: a constant TE, nothing to raise

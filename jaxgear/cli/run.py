@@ -63,6 +63,7 @@ from ._summary import (
     mesh_settings_summary,
     result_summary,
     stiffness_line,
+    stiffness_reference,
 )
 from ._tribology_run import (
     efficiency_run_line,
@@ -194,6 +195,9 @@ def run_case(
         },
         "environment": environment_summary(mesh.base_pitch.dtype),
     }
+    reference = stiffness_reference(case, res["unmodified", "exact"])
+    if reference:  # the model's own figures (iso6336: c_γα) beside the mean they fix
+        summary["mesh_stiffness_reference"] = reference
     if path_map:
         summary["loaded_path"] = {
             "torque_Nm": torques.tolist(),

@@ -362,6 +362,21 @@ class WhineResponse(eqx.Module):
             ...; :attr:`orders` their frequencies over :attr:`frequency` (the first mesh's).
         mesh_group: :class:`QuasiPeriodicBalance` only: each mesh's group (static, m ints;
             group g's meshes share one mesh period, group 0 is the first mesh's).
+        mesh_angle: the P positions the balance samples (:class:`HarmonicBalance` and
+            :class:`TransmissionErrorSource` of a lumped model; else None): the scene angles θ
+            (rad, the first mesh's pinion), (P,), θ_r = (r + ½) Δθ over the span
+            (:func:`~jaxgear.dynamics.span_periods` mesh periods, Δθ = 2π/(z1 ``positions``)),
+            the quasi-static solution's of :func:`~jaxgear.quasi_static` at those angles.
+        mesh_stiffness: each mesh's tangent mesh stiffness at the quasi-static solution there,
+            Σ_c w_c k_c l_c over its cells (N/m, flank-normal, as
+            :attr:`~jaxgear.MeshResult.mesh_stiffness`), (P, m): the scalar of K_m(θ) = Σ_c
+            w_c k_c l_c V_c V_cᵀ, whose Fourier coefficients couple the harmonics. None where
+            :attr:`mesh_angle` is.
+        static_transmission_error: each mesh's quasi-static TE (u·x_qs − e_ref)/cos β_b (m,
+            positive under load: the driven gear lags; as
+            :attr:`~jaxgear.MeshResult.transmission_error`), (P, m): the excitation whose
+            harmonics ``transmission_error`` tends to as the speed goes to zero. None where
+            :attr:`mesh_angle` is.
     """
 
     speed: Float[Array, " S"]
@@ -379,6 +394,9 @@ class WhineResponse(eqx.Module):
     order_group: Int[Array, " h"] | None = None
     group_order: Int[Array, " h"] | None = None
     mesh_group: tuple | None = eqx.field(static=True, default=None)
+    mesh_angle: Float[Array, " P"] | None = None
+    mesh_stiffness: Float[Array, "P m"] | None = None
+    static_transmission_error: Float[Array, "P m"] | None = None
 
 
 def _one_sided(c, H):
@@ -557,6 +575,9 @@ def _whine(model, prep, speeds, method, basis) -> WhineResponse:
     X = jax.vmap(lambda y: _one_sided(Xh + y, H))(Y)  # (S_sp, H+1, n)
     fh = jax.vmap(lambda ff: _one_sided(fourier_coefficients(ff, H), H))(f)
     te, bearing = _te_and_bearings(scene, table, X)
+    cb = jnp.stack([jnp.cos(p.base_helix_angle) for p in scene.base_planes])
+    te_qs = (x_qs @ scene.te_vectors().T - table.e_max[0][None, :]) / cb[None, :]  # (S, m)
+    k_mesh, _ = table.mesh_forces(kl)  # (S, m): Σ w k l of each mesh
     fm_qs, _ = table.mesh_forces(prep.static_force_density * length)
     fs = jnp.mean(fm_qs, axis=0)
     if fm_qs.shape[1] == 1:
@@ -577,6 +598,9 @@ def _whine(model, prep, speeds, method, basis) -> WhineResponse:
         min_mesh_force=fmin,
         contact_loss=fmin <= 0.0,
         nonlinearity=misplaced / fs[None, :],
+        mesh_angle=table.angle(steps),
+        mesh_stiffness=k_mesh,
+        static_transmission_error=te_qs,
     )
 
 

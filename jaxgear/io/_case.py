@@ -23,7 +23,7 @@ from .._contact import ContactLaw
 from ._names import contact_law_from_name
 from .._geometry import GearPair
 from .._modifications import Modifications
-from .._stiffness_models import FE2D, AbstractStiffness, stiffness_table
+from .._stiffness_models import FE2D, AbstractStiffness, MeshConditions, stiffness_table
 from ..scenes import (
     TrainSpec,
     bearing_positions,
@@ -721,6 +721,17 @@ class Case(MeshSettings):
         T / (r_1 b) (N/m), K_A = 1: the load of the ISO 6336-1 low-load factor (``iso6336``)."""
         t = self.torque if torque is None else torque
         return t / self.pair.pitch_radii[0] / self.pair.face_width
+
+    def mesh_conditions(self, torque: float | None = None) -> MeshConditions:
+        """The material and load :meth:`mesh_model`'s stiffness table is evaluated at: the
+        case's E and ν, :meth:`nominal_line_load` and :meth:`specific_load` of ``torque``
+        (N·m; default the case's)."""
+        return MeshConditions(
+            self.youngs_modulus,
+            self.poisson_ratio,
+            self.nominal_line_load(torque),
+            self.specific_load(torque),
+        )
 
     def mesh_model(
         self,
