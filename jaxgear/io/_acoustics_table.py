@@ -86,14 +86,8 @@ def parse_acoustics(table: dict, progress: bool = False) -> AcousticsInputs:
     rho = sc.number(table, "density_kg_m3", WHERE, fa.AIR.density, allowed="(0, 1e+04]")
     c = sc.number(table, "sound_speed_m_s", WHERE, fa.AIR.sound_speed, allowed="(0, 1e+05]")
     mics = []
-    raw = table.get("microphones", [])
-    if not isinstance(raw, list):
-        raise sc.fail(WHERE, "microphones", "allowed [[acoustics.microphones]] tables", raw)
-    for k, m in enumerate(raw):
+    for k, m in enumerate(sc.table_array(table, "microphones", WHERE, _MIC_KEYS)):
         where = f"acoustics.microphones[{k}]"
-        if not isinstance(m, dict):
-            raise sc.fail(where, None, "allowed a table", m)
-        sc.check_keys(m, _MIC_KEYS, where)
         label = sc.string(m, "name", where, f"mic{k}")
         xyz = sc.number_list(m, "position_mm", where, length=3, allowed="[-1e+06, 1e+06]")
         if label in [x for x, _ in mics]:

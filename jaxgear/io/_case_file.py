@@ -99,6 +99,8 @@ _SCHEMA: dict[str, Any] = {
     "whine": None,  # checked by parse_whine (gear whine in the frequency domain)
     "acoustics": None,  # checked by parse_acoustics (the housing's radiated sound)
 }
+#: the case file's table-valued keys (all but its name)
+_TABLES = tuple(k for k in _SCHEMA if k != "name")
 # [mesh] keys read by some stiffness models only
 _MODEL_KEYS = {
     "stiffness_per_length_N_per_mm_per_um": ("uniform",),
@@ -394,6 +396,7 @@ def parse_case(data: dict, default_name: str = "case", base_dir: str | None = No
     if not isinstance(data, dict):
         raise sc.SchemaError(f"a case must be a table of tables, not {type(data).__name__}")
     sc.check_keys(data, _SCHEMA, "")
+    sc.subtables(data, _TABLES, "")  # every table a table before its reader takes it
     name = sc.name(data, "name", "", default_name)
     for section, allowed in _PAIR_KEY_TABLES.items():
         sc.subtable(data, section, "", allowed, required=section in ("pair", "operating"))
