@@ -11,7 +11,6 @@ objectives dispatch on the objective's type (``functools.singledispatch``).
 from __future__ import annotations
 
 import functools
-import json
 import os
 import time
 import warnings
@@ -46,7 +45,6 @@ from ..io import (
     TORQUE_RANGE_OBJECTIVES,
     Case,
     TrainForm,
-    atomic_open,
     case_problem,
     case_text_with_modifications,
     check_train_design,
@@ -507,8 +505,7 @@ def _optimise(case: Case, settings: dict, out_dir: str, progress: bool):
             "objective_smooth": float(grid[k]) * scale,
         }
     post.close()
-    with atomic_open(os.path.join(out_dir, "optimum.json"), "w") as f:
-        json.dump(report, f, indent=2)
+    write_json(os.path.join(out_dir, "optimum.json"), report)
     os.unlink(partial)
     return report, problem
 
@@ -808,8 +805,7 @@ def master_curve_case(case: Case, extents, out_dir: str, progress: bool = True) 
         family=family,
         title=f"{case.name}: TE RMS map and Master Curve at {case.torque:g} N·m",
     )
-    with atomic_open(os.path.join(out_dir, "master_curve.json"), "w") as f:
-        json.dump(report, f, indent=2)
+    write_json(os.path.join(out_dir, "master_curve.json"), report)
     return report
 
 

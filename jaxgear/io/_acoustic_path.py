@@ -33,7 +33,7 @@ from fem_prep import acoustics as fa, schema as sc
 from ..acoustics import HousingAcoustics, housing_acoustics
 from ..dynamics import DynamicModel
 from ._acoustics_table import AcousticsInputs, acoustics_of
-from ._housing_table import housing_surface
+from ._housing_table import HOUSING_BAND, housing_surface
 from ._whine_table import whine_of
 
 __all__ = [
@@ -49,10 +49,6 @@ __all__ = [
     "radiation_grid",
 ]
 
-#: the condensed housing's band: orders at frequencies up to cut-off / HOUSING_BAND count
-#: (docs/housing.md, "What the condensation keeps": the default cut-off is 1.5 x the highest
-#: mesh order's)
-HOUSING_BAND = 1.5
 #: the most memory (bytes) the radiation's factors L (G grid frequencies x n vertices x rank,
 #: complex) may take in the design loop
 FACTOR_BYTES = 2 * 1024**3

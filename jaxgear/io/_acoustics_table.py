@@ -32,7 +32,7 @@ from typing import NamedTuple
 from fem_prep import acoustics as fa, schema as sc
 
 __all__ = ["ACOUSTICS_KEYS", "ACOUSTICS_METHODS", "AcousticsInputs", "acoustics_of",
-           "parse_acoustics", "parse_case_acoustics"]
+           "check_band", "parse_acoustics", "parse_case_acoustics"]
 
 WHERE = "acoustics"
 #: ``[acoustics] method`` names
@@ -106,6 +106,27 @@ def parse_acoustics(table: dict, progress: bool = False) -> AcousticsInputs:
         fluid=fa.Fluid(rho, c),
         microphones=tuple(mics),
     )
+
+
+def check_band(table: dict, orders_hz: tuple[float, float]) -> None:
+    """``[acoustics] band_Hz`` meets the orders' frequencies ``orders_hz`` (lowest, highest Hz
+    over the ``[whine]`` speeds, :func:`~jaxgear.io._whine_table.order_frequency_range`, the
+    highest no higher than the housing's band limit, cut-off / 1.5, above which no order is
+    radiated): a band with no order in it radiates nothing the run computes (every sound power
+    would be absent).
+
+    Raises:
+        SchemaError: the band below the lowest order or above the highest, one line.
+    """
+    band = table.get("band_Hz")
+    if band is None:
+        return
+    lo, hi = orders_hz
+    if band[1] < lo or band[0] > hi:
+        raise sc.fail(WHERE, "band_Hz", f"no order of [whine] in it: the orders radiated lie at "
+                      f"{lo:.6g} to {hi:.6g} Hz (over [whine]'s speeds, up to the housing's "
+                      "cut-off / 1.5); allowed a band that meets them (or leave band_Hz out: the "
+                      "orders' range)", band)
 
 
 def acoustics_of(case, progress: bool = False) -> AcousticsInputs | None:

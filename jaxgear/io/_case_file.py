@@ -27,10 +27,10 @@ from ._optimise_table import check_acoustic_tables, parse_optimise
 from ._plausibility import MIN_LINE_LOAD_N_PER_MM, CaseWarning, plausibility
 from ._rating_table import MATERIAL_RATING_KEYS, OPERATING_RATING_KEYS, check_rating
 from ._robust_table import parse_robust
-from ._housing_table import parse_housing
+from ._housing_table import HOUSING_BAND, parse_housing
 from ._scene_table import parse_scene
-from ._acoustics_table import parse_case_acoustics
-from ._whine_table import highest_order_frequency, parse_whine
+from ._acoustics_table import check_band, parse_case_acoustics
+from ._whine_table import highest_order_frequency, order_frequency_range, parse_whine
 
 __all__ = [
     "check_member_size",
@@ -551,7 +551,11 @@ def case_housing(data: dict, scene, base_dir, material, *, pair: bool = True, te
         )
     whine = (highest_order_frequency(parse_whine(data["whine"]), teeth, span, names)
              if "whine" in data else None)
-    return parse_housing(table, base_dir, material, whine)
+    spec = parse_housing(table, base_dir, material, whine)
+    if "acoustics" in data and "whine" in data:  # its band meets the orders (before any work)
+        lo, hi = order_frequency_range(parse_whine(data["whine"]), teeth, span)
+        check_band(data["acoustics"], (lo, min(hi, spec.cutoff / HOUSING_BAND)))
+    return spec
 
 
 def _refuse_with_backlash(data: dict, deviations: bool, scene) -> None:

@@ -93,6 +93,10 @@ _BOX_ONLY = (
     "layers",
     "mesher",
 )
+#: the condensed housing's band: orders at frequencies up to cut-off / HOUSING_BAND count
+#: (docs/housing.md, "What the condensation keeps": the default cut-off is 1.5 x the highest
+#: mesh order's)
+HOUSING_BAND = 1.5
 _FILE_ONLY = ("mesh_unit", "offset_mm", "seats", "feet")
 MESHERS = ("structured", "gmsh")
 ELEMENTS = ("tet10", "tet4")

@@ -44,7 +44,8 @@ from ..dynamics import (
     TransmissionErrorSource,
 )
 
-__all__ = ["WHINE_KEYS", "WHINE_METHODS", "WhineInputs", "highest_order_frequency", "parse_whine",
+__all__ = ["WHINE_KEYS", "WHINE_METHODS", "WhineInputs", "highest_order_frequency",
+           "order_frequency_range", "parse_whine",
            "whine_of"]
 
 WHERE = "whine"
@@ -132,6 +133,17 @@ def whine_of(case) -> WhineInputs | None:
     if "whine" not in raw:
         return None
     return parse_whine(raw["whine"])
+
+
+def order_frequency_range(inputs: WhineInputs, teeth_per_turn, span: int = 1) -> tuple[float, float]:
+    """(lowest, highest) frequency (Hz) among the orders the whine's outputs hold over its
+    speeds (the mean left out): the lowest order of the slowest mesh at the lowest speed (order
+    1 of each mesh's own frequency for ``"quasi-periodic"``, 1 / q of the first mesh's for the
+    others) and :func:`highest_order_frequency`'s. Arguments as there."""
+    t = [float(x) for x in teeth_per_turn]
+    lo = min(inputs.speeds) / (2 * math.pi)
+    lo *= min(t) if isinstance(inputs.method, QuasiPeriodicBalance) else t[0] / span
+    return lo, highest_order_frequency(inputs, t, span)[0]
 
 
 def highest_order_frequency(inputs: WhineInputs, teeth_per_turn, span: int = 1,
