@@ -296,7 +296,8 @@ def _(objective: AbstractAcousticObjective, problem, designs: dict) -> dict:
         section["radiation_grid_Hz"] = np.asarray(objective.radiation.grid_hz).tolist()
     for label, x in designs.items():
         w = np.asarray(per(jnp.asarray(x)), dtype=float)
-        section[label] = {"power_W": w.tolist(), "level_dB": [_db(v) for v in w]}
+        # a speed that radiates nothing has no level (null)
+        section[label] = {"power_W": w.tolist(), "level_dB": [_db(v) if v > 0 else None for v in w]}
     return {"acoustics": section}
 
 
