@@ -8,15 +8,17 @@ from __future__ import annotations
 
 import copy
 import functools
+import pathlib
+import tempfile
 import warnings
 
 import pytest
+from _toml import case_toml
 from hypothesis import HealthCheck, given, settings, strategies as st
 
 import jaxgear.io as jio
 from fem_prep import schema as sc
 from jaxgear.cli import main
-from jaxgear.io._gearbox_file import parse_gearbox
 
 
 def _table_paths(data, path=()):
@@ -39,9 +41,16 @@ def _samples() -> tuple:
         train = sr.is_train(data)
         out.append((data, base, jio.parse_train if train else jio.parse_case, "train" * train))
     for data, base in sr.gearbox_samples():
-        read = lambda d, name, b: parse_gearbox(d, name, b, jio.load_case)
-        out.append((data, base, read, "gearbox"))
+        out.append((data, base, _load_gearbox, "gearbox"))
     return tuple(out)
+
+
+def _load_gearbox(data, name, base):
+    """A gearbox file's data loaded as a file (its stages are embedded cases' names)."""
+    with tempfile.TemporaryDirectory() as folder:
+        path = pathlib.Path(folder) / f"{name}.toml"
+        path.write_text(case_toml(data), encoding="utf-8")
+        return jio.load_case(path)
 
 
 @functools.cache
@@ -98,7 +107,9 @@ def test_every_table_given_as_a_number_bool_or_string_is_one_line():
     ),
 )
 def test_any_scalar_in_place_of_a_table_is_one_line(pick, value):
-    tables = _tables()
+    """(The case files' tables: a gearbox file is read from a file, whose text these values
+    may not survive.)"""
+    tables = [(i, p) for i, p in _tables() if _samples()[i][3] != "gearbox"]
     i, path = tables[pick % len(tables)]
     if isinstance(value, list) and value == [] and isinstance(path[-1], str):
         # an empty array where an array of tables is optional is an empty array of tables
