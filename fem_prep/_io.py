@@ -9,7 +9,6 @@ from __future__ import annotations
 import functools
 import hashlib
 import json
-import math
 import os
 import platform
 import shutil
@@ -26,7 +25,7 @@ import skfem
 from ._body import Body
 from ._modal import critical_speeds
 from ._prepare import prepare
-from .files import atomic_write, fem_prep_cache_dir
+from .files import atomic_write, fem_prep_cache_dir, write_json
 from .schema import load_body, parse_body
 
 __all__ = [
@@ -486,24 +485,6 @@ def _cache_key(body: Body) -> str:
     return hashlib.sha256(f"{body.sha256}:v{FORMAT_VERSION}{rev}".encode()).hexdigest()[:32]
 
 
-@functools.singledispatch
-def _json_default(o: Any) -> Any:
-    """What ``json.dumps`` writes for a value it does not know: NumPy scalars as Python numbers,
-    a non-finite float as ``null``; anything else is a ``TypeError``."""
-    raise TypeError(str(type(o)))
-
-
-@_json_default.register
-def _(o: float) -> Any:
-    return o if math.isfinite(o) else None
-
-
-@_json_default.register(np.floating)
-@_json_default.register(np.integer)
-def _(o) -> Any:
-    return o.item()
-
-
 def _cached(body: Body, *, use_cache: bool, progress: bool, out: Path) -> tuple[Path, bool]:
     """Directory holding the body's three output files (the cache entry, or ``out`` without the
     cache) and whether they came from the cache."""
@@ -521,7 +502,7 @@ def _cached(body: Body, *, use_cache: bool, progress: bool, out: Path) -> tuple[
     target = cdir if use_cache else out
     save_condensed(prep, target / names["npz"])
     write_vtu(prep, target / names["vtu"])
-    _atomic_text(target / names["summary"], json.dumps(summary, indent=2, default=_json_default))
+    write_json(target / names["summary"], summary)
     return target, False
 
 

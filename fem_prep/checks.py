@@ -48,6 +48,8 @@ __all__ = [
     "number_list",
     "string",
     "subtable",
+    "subtables",
+    "table_array",
 ]
 
 
@@ -334,6 +336,43 @@ def subtable(
     if allowed is not None:
         check_keys(t, allowed, inner)
     return t
+
+
+def subtables(data: dict, keys: Iterable[str], where: str) -> None:
+    """Each of ``keys`` present in ``data`` is a table (:func:`subtable`'s one line otherwise):
+    a file's table-valued keys checked at once, before the readers that take the table."""
+    for key in keys:
+        subtable(data, key, where)
+
+
+def table_array(
+    data: dict,
+    key: str,
+    where: str,
+    allowed: Iterable[str] | None = None,
+    *,
+    required: bool = False,
+) -> list[dict]:
+    """``data[key]`` as an array of tables (``[[where.key]]``; ``[]`` if absent and not
+    required): a value that is not an array, or an entry that is not a table, is one line naming
+    the key (``[housing] seats = 0: must be an array of tables ([[housing.seats]]), not a
+    number``); each entry's unknown keys checked against ``allowed``."""
+    inner = f"{where}.{_key(key)}" if where else _key(key)
+    if key not in data:
+        if required:
+            raise SchemaError(f"[[{inner}]]: missing required array of tables", f"[[{inner}]]")
+        return []
+    v = data[key]
+    if not isinstance(v, list):
+        raise fail(where, key, f"must be an array of tables ([[{inner}]]), not {_type_name(v)}", v)
+    for k, t in enumerate(v):
+        if not isinstance(t, dict):
+            raise fail(
+                where, f"{key}[{k}]", f"must be a table ([[{inner}]] entry), not {_type_name(t)}", t
+            )
+        if allowed is not None:
+            check_keys(t, allowed, f"{inner}[{k}]")
+    return v
 
 
 def number(

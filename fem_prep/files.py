@@ -3,14 +3,28 @@
 JAX-free (standard library only), so that ``jaxgear`` can import it by this public name.  A file
 written by :func:`atomic_open` / :func:`atomic_write` appears complete or not at all; the
 output-path checks raise one-line ``ValueError``s naming the option (``--out PATH: ...``).
+
+:func:`write_json` and :func:`write_csv` are the one guard of every JSON and CSV output of both
+packages' commands: a value that is NaN or infinite is written as ``null`` (JSON) or
+``nan``/``inf`` (CSV) and warned about (:class:`NonFiniteOutput`, one line naming the file and
+its fields, and the cause where the caller knows it). A value absent on purpose (a diverged
+speed, an order outside a band) is given as ``None`` by its caller: ``null`` or an empty CSV
+cell, with no warning.
 """
 
 from __future__ import annotations
 
 import contextlib
+import csv
+import functools
+import io
+import json
+import math
+import numbers
 import os
 import sys
 import tempfile
+import warnings
 from collections.abc import Callable, Iterator
 from pathlib import Path
 
@@ -18,6 +32,7 @@ from .checks import did_you_mean
 
 __all__ = [
     "OUTPUT_MANIFEST",
+    "NonFiniteOutput",
     "atomic_open",
     "atomic_write",
     "check_not_input",
@@ -29,6 +44,8 @@ __all__ = [
     "print_or_write",
     "record_outputs",
     "recorded_outputs",
+    "write_csv",
+    "write_json",
     "write_new_file",
 ]
 
@@ -288,3 +305,103 @@ def print_or_write(text: str, write, *, force: bool, what: str, next_command: st
         return
     path = write_new_file(write, text, force=force)
     print(f"wrote {path} ({what}; {next_command} {path})")
+
+
+# --------------------------------------------------------------------------------------------
+# JSON and CSV: the guard against silent NaN and infinity
+
+#: the fields a warning names before it counts the rest
+_SHOWN = 4
+
+
+class NonFiniteOutput(UserWarning):
+    """An output file holds NaN or infinite values: the message names the file, its fields
+    (JSON: ``rating.S_H``, an array's entries as ``levels_dB[]`` with their count; CSV: the
+    columns) and, where the writer's caller knows it, the input that caused them."""
+
+
+def _warn_non_finite(path, fields: dict[str, int], cause: str | None) -> None:
+    if not fields:
+        return
+    shown = [f"{k} ({n} entries)" if n > 1 else k for k, n in list(fields.items())[:_SHOWN]]
+    more = f" and {len(fields) - _SHOWN} more fields" if len(fields) > _SHOWN else ""
+    why = f": {cause}" if cause else ""
+    warnings.warn(
+        f"{os.path.basename(os.fspath(path))}: NaN or infinite values in {', '.join(shown)}"
+        f"{more}{why}",
+        NonFiniteOutput,
+        stacklevel=3,
+    )
+
+
+def write_json(path, data, *, cause: str | None = None) -> None:
+    """Write ``data`` as indented JSON to ``path`` atomically (NumPy scalars as Python numbers).
+    NaN and ±inf are written as null with a :class:`NonFiniteOutput` warning naming their
+    fields (``cause``: the input that made them, when the caller knows it); ``None`` is null
+    without one."""
+    fields: dict[str, int] = {}
+    text = json.dumps(_finite_or_none(data, "", fields), indent=2, allow_nan=False)
+    with atomic_open(path, "w") as f:
+        f.write(text)
+    _warn_non_finite(path, fields, cause)
+
+
+@functools.singledispatch
+def _finite_or_none(v, where: str, fields: dict):
+    """``v`` with every non-finite number, at any depth of its dicts, lists and tuples, as None,
+    each one's field (array entries as ``name[]``) counted in ``fields``; NumPy scalars (real
+    numbers by ``numbers.Real``) as Python numbers."""
+    return v
+
+
+@_finite_or_none.register(bool)
+@_finite_or_none.register(int)
+def _int_as_is(v, where: str, fields: dict):
+    return v
+
+
+@_finite_or_none.register(numbers.Integral)
+def _integral(v, where: str, fields: dict):
+    return int(v)
+
+
+@_finite_or_none.register(numbers.Real)
+def _real(v, where: str, fields: dict):
+    v = float(v)
+    if math.isfinite(v):
+        return v
+    key = where or "the value"
+    fields[key] = fields.get(key, 0) + 1
+    return None
+
+
+@_finite_or_none.register(dict)
+def _dict(v, where: str, fields: dict):
+    return {
+        k: _finite_or_none(x, f"{where}.{k}" if where else str(k), fields) for k, x in v.items()
+    }
+
+
+@_finite_or_none.register(list)
+@_finite_or_none.register(tuple)
+def _list(v, where: str, fields: dict):
+    return [_finite_or_none(x, f"{where}[]", fields) for x in v]
+
+
+def write_csv(path, header, columns, *, cause: str | None = None) -> None:
+    """Write columns (equal-length sequences of numbers) under ``header`` to ``path`` atomically,
+    12 significant digits; ``None`` (no value) as an empty cell. NaN and ±inf are written as
+    ``nan``/``inf`` with a :class:`NonFiniteOutput` warning naming their columns (``cause`` as
+    :func:`write_json`)."""
+    buf = io.StringIO()
+    w = csv.writer(buf)
+    w.writerow(header)
+    fields: dict[str, int] = {}
+    for row in zip(*columns):
+        for name, v in zip(header, row):
+            if v is not None and not math.isfinite(v):
+                fields[name] = fields.get(name, 0) + 1
+        w.writerow(["" if v is None else f"{v:.12g}" for v in row])
+    with atomic_open(path, "w", newline="") as f:
+        f.write(buf.getvalue())
+    _warn_non_finite(path, fields, cause)

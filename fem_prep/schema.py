@@ -66,6 +66,8 @@ from .checks import (  # noqa: F401
     number_list as number_list,
     string as string,
     subtable as subtable,
+    subtables as subtables,
+    table_array as table_array,
 )
 from .files import (  # noqa: F401
     OUTPUT_MANIFEST as OUTPUT_MANIFEST,

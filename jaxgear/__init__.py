@@ -192,3 +192,44 @@ try:
     __version__ = _version("jaxgear")
 except PackageNotFoundError:  # running from a source tree that is not installed
     __version__ = "0+unknown"
+
+
+# Names that left the top level for a subpackage: still reachable here for one release, each
+# access warning with its new home (PEP 562 module ``__getattr__``). Not in ``dir(jaxgear)``.
+_MOVED_TO = {  # new home -> the names that moved there
+    "rating": """
+        AbstractEdition AbstractRootSection AbstractTreatment Edition2006 Edition2019
+        FACTOR_CLAUSES GivenRootSection LoadFactors RootStressMap ShaperCutterSection
+        SubstituteRack ToothFormFactors face_load_factor factor_clause load_factors member_form
+        root_stress_map section_factors tooth_form_factors transverse_factor_limits
+        transverse_load_factor
+    """,
+    "planetary": """
+        AbstractPlanetaryMeshes AbstractRingModel CondensedRing CraigBamptonRing DeviationMeshes
+        Eccentricities ModeType PlanetFlanks PlanetaryDeviations PlanetaryTeeth RigidRing
+        Unbalances campbell check_assembly classify_modes mesh_phases phasing_excites
+        planetary_hunting_periods planetary_mesh_stiffness ring_contact_angles ring_excitation
+        ring_resonances sun_ring_offset
+    """,
+    "io": """
+        Case TrainCase contact_law_from_name
+    """,
+}
+_MOVED = {name: home for home, names in _MOVED_TO.items() for name in names.split()}
+
+
+def __getattr__(name: str):
+    """A moved name (``_MOVED``): its object from the new home, with a ``DeprecationWarning``."""
+    home = _MOVED.get(name)
+    if home is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    import importlib
+    import warnings
+
+    warnings.warn(
+        f"jaxgear.{name} moved to jaxgear.{home}.{name}; the top-level name will be removed in "
+        "the next release",
+        DeprecationWarning,
+        stacklevel=2,
+    )
+    return getattr(importlib.import_module(f"{__name__}.{home}"), name)

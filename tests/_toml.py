@@ -67,8 +67,11 @@ def case_toml(data: dict) -> str:
             return "[" + ", ".join(value(x) for x in v) + "]"
         return repr(v)
 
+    def tables(v) -> bool:  # an array of tables (an array of anything else is a value)
+        return isinstance(v, list) and all(isinstance(t, dict) for t in v)
+
     lines = []
-    scalars = {k: v for k, v in data.items() if not isinstance(v, dict | list)}
+    scalars = {k: v for k, v in data.items() if not isinstance(v, dict) and not tables(v)}
     lines += [f"{k} = {value(v)}" for k, v in scalars.items()]
 
     def table(name, t):
@@ -81,7 +84,7 @@ def case_toml(data: dict) -> str:
             table(f"{name}.{k}", v)
 
     for key, v in data.items():
-        if isinstance(v, list):
+        if tables(v):
             for t in v:
                 lines.append(f"[[{key}]]")
                 lines += [f"{k} = {value(x)}" for k, x in t.items()]

@@ -290,3 +290,92 @@ def test_float32_inputs_pass():
     case, mesh = _mesh()
     res = jg.quasi_static(mesh, None, np.float32(80.0), np.asarray([0.01, 0.02], np.float32))
     assert res.transmission_error.shape == (2,)
+
+
+# -- the tribology, housing-skin and planetary entries -----------------------------------------
+
+_FILM = dict(
+    radius=0.0075,
+    entrainment_speed=2.5,
+    line_load=4e5,
+    viscosity=0.046,
+    pressure_viscosity=20e-9,
+    contact_modulus=115e9,
+)
+
+
+@pytest.mark.parametrize(
+    "kw,words",
+    [
+        (
+            dict(formula="grubin"),
+            ("formula = 'grubin' (str)", "jaxgear.tribology.DowsonHigginson()"),
+        ),
+        (dict(viscosity=0.0), ("viscosity = 0 Pa·s is out of range", "allowed > 0 Pa·s")),
+        (dict(radius=-0.01), ("radius = -0.01 m is out of range", "allowed > 0 m")),
+        (dict(line_load=NAN), ("line_load = nan N/m", "allowed >= 0 N/m")),
+        (dict(line_load=np.array([1e5, -1.0])), ("line_load[1] = -1 N/m",)),
+        (dict(entrainment_speed=0.0), ("entrainment_speed = 0 m/s",)),
+        (dict(pressure_viscosity=INF), ("pressure_viscosity = inf 1/Pa",)),
+        (dict(contact_modulus="115e9"), ("contact_modulus = '115e9' is not a number",)),
+    ],
+)
+def test_film_thickness_inputs(kw, words):
+    """``film_thickness('grubin', ...)`` was an ``AttributeError``; viscosity 0, a negative
+    radius or a NaN load gave a film of 0 or NaN."""
+    import jaxgear.tribology as tr
+
+    args = dict(_FILM, formula=tr.Grubin()) | kw
+    _refused(lambda: tr.film_thickness(**args), "film_thickness: ", *words)
+
+
+def test_film_thickness_zero_load_and_traced_inputs_pass():
+    """A zero line load stays the documented floor (W = 1e-12), and traced inputs (a gradient
+    in the load, a vmap over radii) are not checked eagerly."""
+    import jaxgear.tribology as tr
+
+    f = lambda **kw: tr.film_thickness(tr.DowsonHigginson(), **(_FILM | kw)).minimum  # noqa: E731
+    assert float(f(line_load=0.0)) > 0.0
+    assert math.isfinite(float(jax.grad(lambda w: f(line_load=w))(4e5)))
+    assert jax.vmap(lambda r: f(radius=r))(jnp.array([0.005, 0.01])).shape == (2,)
+
+
+def test_outer_surface_points_inputs():
+    from fem_prep.housing import HousingBox, mesh_box, outer_surface
+
+    hm = mesh_box(HousingBox(0.3, 0.2, 0.2, 0.01), 0.1)
+    for points, words in (
+        ("top", ("outer_surface: points = 'top' (str)", "allowed a dict {name: (x, y, z)}")),
+        ([(0.1, 0.1, 0.2)], ("points = [(0.1, 0.1, 0.2)] (list)",)),
+        ({"top": ("a", "b", "c")}, ("points['top'] = ('a', 'b', 'c')", "3 finite numbers")),
+        ({"top": (0.1, NAN, 0.2)}, ("points['top']", "3 finite numbers")),
+    ):
+        _refused(lambda p=points: outer_surface(hm, p), *words)
+    assert outer_surface(hm, {"top": (0.15, 0.1, 0.2)}).point_names == ("top",)
+
+
+@functools.cache
+def _planetary():
+    case = jio.load_case("lin-parker-1999")
+    spec = case.form.spec
+    return spec.sharing_stage(spec.stage(case))
+
+
+@pytest.mark.parametrize(
+    "torque,positions,words",
+    [
+        (-100.0, [0.0, 1e-3], ("sun_torque = -100 N·m is out of range", "allowed > 0 N·m")),
+        (0.0, [0.0, 1e-3], ("sun_torque = 0 N·m",)),
+        (NAN, [0.0, 1e-3], ("sun_torque = nan N·m",)),
+        (100.0, [0.0, NAN], ("positions[1] = nan m is out of range", "a finite value")),
+        (100.0, np.zeros((2, 2)), ("positions must have shape (p,) [m], got (2, 2)",)),
+        (np.array([1.0, 2.0]), [0.0], ("sun_torque must have shape ()",)),
+    ],
+)
+def test_planetary_quasi_static_inputs(torque, positions, words):
+    """A NaN position or a negative sun torque gave NaN forces."""
+    st = _planetary()
+    fn = lambda: jg.planetary_quasi_static(  # noqa: E731
+        jg.TorsionalPlanetary(), st, jg.ConstantMeshes(), torque, positions
+    )
+    _refused(fn, "planetary_quasi_static: ", *words)

@@ -80,6 +80,17 @@ def _outward(mesh, facets: np.ndarray) -> np.ndarray:
     return (n / np.linalg.norm(n, axis=0)).T
 
 
+def _point(name, p) -> np.ndarray:
+    """A named point as a (3,) array (m), or one line naming it."""
+    try:
+        q = np.asarray(p, dtype=float) if not isinstance(p, str) else np.zeros(0)
+    except (TypeError, ValueError):
+        q = np.zeros(0)
+    if q.shape != (3,) or not np.all(np.isfinite(q)):
+        raise ValueError(f"points[{name!r}] = {p!r}, allowed (x, y, z): 3 finite numbers (m)")
+    return q
+
+
 def outer_surface(housing: HousingMesh, points: dict | None = None) -> HousingSurface:
     """The outer skin of ``housing`` (the module's rule), with the operator to each facet's
     mean outward normal displacement and the named ``points``.
@@ -93,10 +104,18 @@ def outer_surface(housing: HousingMesh, points: dict | None = None) -> HousingSu
         The :class:`HousingSurface`.
 
     Raises:
-        TypeError: not a housing mesh. ValueError: a point that is not three finite numbers.
+        TypeError: not a housing mesh. ValueError: ``points`` not a dict (or None), or a point
+            that is not three finite numbers (one line naming the argument).
     """
     if not isinstance(housing, HousingMesh):
         raise TypeError(f"housing = {housing!r}, allowed a fem_prep.housing.HousingMesh")
+    if points is not None and not isinstance(points, dict):
+        shown = repr(points) if len(repr(points)) <= 60 else repr(points)[:57] + "..."
+        raise ValueError(
+            f"outer_surface: points = {shown} ({type(points).__name__}) is out of range: allowed "
+            "a dict {name: (x, y, z)} (m) or None"
+        )
+    xyz = [_point(k, p) for k, p in (points or {}).items()]  # checked before the skin is built
     mesh = housing.mesh
     f, c, _ = housing._boundary()
     seat = np.zeros(mesh.nfacets, bool)
@@ -143,12 +162,6 @@ def outer_surface(housing: HousingMesh, points: dict | None = None) -> HousingSu
     names, pos, pop = (), None, None
     if points:
         names = tuple(str(k) for k in points)
-        xyz = []
-        for k, p in points.items():
-            q = np.asarray(p, dtype=float) if not isinstance(p, str) else np.zeros(0)
-            if q.shape != (3,) or not np.all(np.isfinite(q)):
-                raise ValueError(f"points[{k!r}] = {p!r}, allowed (x, y, z): 3 finite numbers (m)")
-            xyz.append(q)
         xyz = np.array(xyz)
         skin = np.unique(housing.scalar_basis.get_dofs(f).flatten())
         _, j = cKDTree(nodes[skin]).query(xyz)

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import math
 import os
+import warnings
 
 import jax.numpy as jnp
 import numpy as np
@@ -34,6 +35,7 @@ from ..acoustics import (
 )
 from ..io import (
     AcousticsInputs,
+    CaseWarning,
     parse_acoustics,
     radiation_grid,
     write_csv,
@@ -63,6 +65,13 @@ def _db(x, ref):
     x = np.asarray(x, dtype=float)
     with np.errstate(divide="ignore", invalid="ignore"):
         return np.where(x > 0, 10 * np.log10(np.where(x > 0, x, 1.0) / ref), np.nan)
+
+
+def _absent(a) -> list:
+    """``a`` as nested lists, NaN (an order outside the band, a level of no power) as None:
+    a value absent on purpose (null in JSON, an empty CSV cell)."""
+    a = np.asarray(a, dtype=float)
+    return np.where(np.isnan(a), None, a).tolist()
 
 
 def _vertex_areas(surface) -> np.ndarray:
@@ -164,13 +173,22 @@ def acoustic_outputs(
     title = f"{head}radiated sound power ({table.method}, {len(grid)} frequencies)"
     sound_power_plot(os.path.join(folder, "sound_power.png"), speeds, orders, LW, LWA, total,
                      total_a, title=title)
+    outside = int(np.sum(np.isnan(W)))
+    if outside:  # orders whose frequency lies outside band_Hz: no R there, no power
+        warnings.warn(
+            f"[acoustics] band_Hz = [{band[0]:g}, {band[1]:g}]: {outside} of {W.size} order "
+            "frequencies lie outside it, their sound power not computed (null in "
+            "sound_power.json, empty in the CSV files; leave band_Hz out for the orders' range)",
+            CaseWarning,
+            stacklevel=2,
+        )
     cols = {"speed_rad_s": speeds}
     for j, o in enumerate(orders):
         cols[f"order_{o:g}_frequency_Hz"] = f[:, j]
-        cols[f"order_{o:g}_W_W"] = W[:, j]
-        cols[f"order_{o:g}_LW_dB"] = LW[:, j]
-        cols[f"order_{o:g}_LWA_dBA"] = LWA[:, j]
-    cols["overall_LW_dB"], cols["overall_LWA_dBA"] = total, total_a
+        cols[f"order_{o:g}_W_W"] = _absent(W[:, j])
+        cols[f"order_{o:g}_LW_dB"] = _absent(LW[:, j])
+        cols[f"order_{o:g}_LWA_dBA"] = _absent(LWA[:, j])
+    cols["overall_LW_dB"], cols["overall_LWA_dBA"] = _absent(total), _absent(total_a)
     write_csv(os.path.join(folder, "sound_power.csv"), list(cols), list(cols.values()))
     section = {
         "method": str(table.method),
@@ -182,12 +200,12 @@ def acoustic_outputs(
         "speeds_rad_s": speeds.tolist(),
         "orders": orders.tolist(),
         "frequency_Hz": f.tolist(),
-        "power_W": W.tolist(),
-        "LW_dB": LW.tolist(),
-        "LWA_dBA": LWA.tolist(),
-        "overall_LW_dB": total.tolist(),
-        "overall_LWA_dBA": total_a.tolist(),
-        "outside_band": int(np.sum(np.isnan(W))),
+        "power_W": _absent(W),
+        "LW_dB": _absent(LW),
+        "LWA_dBA": _absent(LWA),
+        "overall_LW_dB": _absent(total),
+        "overall_LWA_dBA": _absent(total_a),
+        "outside_band": outside,
     }
     if mics:
         p2 = np.asarray(mean_square_pressure_at(vc, f, rr.transfer, grid))  # (S, O, q)
@@ -199,12 +217,12 @@ def acoustic_outputs(
         mcols = {"speed_rad_s": np.repeat(speeds, O), "order": np.tile(orders, S),
                  "frequency_Hz": f.reshape(-1)}
         for k, m in enumerate(names):
-            mcols[f"{m}_Lp_dB"] = Lp[:, :, k].reshape(-1)
-            mcols[f"{m}_LpA_dBA"] = (Lp[:, :, k] + A).reshape(-1)
+            mcols[f"{m}_Lp_dB"] = _absent(Lp[:, :, k].reshape(-1))
+            mcols[f"{m}_LpA_dBA"] = _absent((Lp[:, :, k] + A).reshape(-1))
         write_csv(os.path.join(folder, "microphones.csv"), list(mcols), list(mcols.values()))
         section["microphones"] = {
-            m: {"position_m": list(p), "Lp_dB": Lp[:, :, k].tolist(),
-                "overall_LpA_dBA": LpA[:, k].tolist()}
+            m: {"position_m": list(p), "Lp_dB": _absent(Lp[:, :, k]),
+                "overall_LpA_dBA": _absent(LpA[:, k])}
             for k, (m, p) in enumerate(mics)
         }
     # the radiated intensity at the loudest speed, every order

@@ -99,8 +99,10 @@ def refuse_stages(case, command: str) -> None:
 
     what = {PlanetaryForm: "planetary stages", GearboxForm: "gearboxes"}.get(type(case.form))
     if what is not None:
-        kind = "a planetary stage ([planetary])" if what[0] == "p" else "a gearbox ([[stages]])"
+        planetary = what[0] == "p"
+        kind = "a planetary stage ([planetary])" if planetary else "a gearbox ([[stages]])"
+        how = "jaxgear run or jaxgear sweep" if planetary else "jaxgear run"
         raise ValueError(
             f"jaxgear {command} does not take {what} yet: case {case.name!r} is {kind}; run it "
-            "with jaxgear run or jaxgear sweep (allowed: a pair case)"
+            f"with {how} (allowed: a pair case)"
         )

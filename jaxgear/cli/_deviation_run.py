@@ -3,13 +3,12 @@ the manufacturing deviations per tooth, and its order spectrum (docs/deviations.
 
 from __future__ import annotations
 
-import json
 import os
 
 import numpy as np
 
 from .. import Modifications, mesh_positions, quasi_static, te_spectrum
-from ..io import atomic_open, write_csv
+from ..io import write_csv, write_json
 from ._plots import te_spectrum_plot
 
 __all__ = ["CHUNK_POSITIONS", "deviation_line", "deviation_outputs"]
@@ -54,8 +53,10 @@ def deviation_outputs(case, mesh, out_dir: str, *, mesh_harmonics: int = 3) -> d
         ["pinion_order", "amplitude_m"],
         [spec.orders[keep], spec.amplitude[keep]],
     )
-    with atomic_open(os.path.join(out_dir, "spectrum.json"), "w") as f:
-        json.dump({"revolutions": revs, "teeth": [z1, z2], "lines": lines}, f, indent=2)
+    write_json(
+        os.path.join(out_dir, "spectrum.json"),
+        {"revolutions": revs, "teeth": [z1, z2], "lines": lines},
+    )
     te_spectrum_plot(
         os.path.join(out_dir, "te_spectrum.png"),
         theta / period / z1,

@@ -147,7 +147,8 @@ def housing_outputs(run: HousedRun, case, w, folder: str, invalid) -> dict:
         "in_band": in_band.astype(float).ravel(),
         "erp_W": power.ravel(),
         "erp_dB": level.ravel(),
-        "overall_erp_dB": np.repeat(overall_db, K),
+        # a speed with no order in the band has no overall level: an empty cell
+        "overall_erp_dB": [None if np.isnan(v) else v for v in np.repeat(overall_db, K)],
     }
     for k, name in enumerate(names):
         key = _file_key(name)
@@ -227,7 +228,7 @@ def housing_outputs(run: HousedRun, case, w, folder: str, invalid) -> dict:
         "erp_W": power.tolist(),
         "erp_level_dB": level.tolist(),
         "overall_erp_W": overall_w.tolist(),
-        "overall_erp_level_dB": overall_db.tolist(),
+        "overall_erp_level_dB": [None if np.isnan(v) else v for v in overall_db.tolist()],
         "points": points,
         "operating_deflection_shapes": ods,
         "contact_loss_at_rad_s": speeds[np.asarray(invalid, bool)].tolist(),

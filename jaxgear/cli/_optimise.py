@@ -11,7 +11,6 @@ objectives dispatch on the objective's type (``functools.singledispatch``).
 from __future__ import annotations
 
 import functools
-import json
 import os
 import time
 import warnings
@@ -46,7 +45,6 @@ from ..io import (
     TORQUE_RANGE_OBJECTIVES,
     Case,
     TrainForm,
-    atomic_open,
     case_problem,
     case_text_with_modifications,
     check_train_design,
@@ -337,7 +335,8 @@ def _(objective: AbstractAcousticObjective, problem, designs: dict, case: Case) 
         section["radiation_grid_Hz"] = np.asarray(objective.radiation.grid_hz).tolist()
     for label, mods in designs.items():
         w = np.asarray(per(mods), dtype=float)
-        section[label] = {"power_W": w.tolist(), "level_dB": [_db(v) for v in w]}
+        # a speed that radiates nothing has no level (null)
+        section[label] = {"power_W": w.tolist(), "level_dB": [_db(v) if v > 0 else None for v in w]}
     return {"acoustics": section}
 
 
@@ -591,8 +590,7 @@ def _optimise(case: Case, settings: dict, out_dir: str, progress: bool):
             "objective_smooth": float(grid[k]) * scale,
         }
     post.close()
-    with atomic_open(os.path.join(out_dir, "optimum.json"), "w") as f:
-        json.dump(report, f, indent=2)
+    write_json(os.path.join(out_dir, "optimum.json"), report)
     os.unlink(partial)
     return report, problem
 
@@ -980,8 +978,7 @@ def master_curve_case(case: Case, extents, out_dir: str, progress: bool = True) 
         family=family,
         title=f"{case.name}: TE RMS map and Master Curve at {case.torque:g} N·m",
     )
-    with atomic_open(os.path.join(out_dir, "master_curve.json"), "w") as f:
-        json.dump(report, f, indent=2)
+    write_json(os.path.join(out_dir, "master_curve.json"), report)
     return report
 
 

@@ -6,10 +6,12 @@ from __future__ import annotations
 
 import csv
 import os
+import warnings
 
 import equinox as eqx
+import numpy as np
 
-from ..io import RatingCase, atomic_open
+from ..io import CaseWarning, RatingCase, atomic_open
 from ..rating import rate_spectrum, with_load_sharing
 
 __all__ = [
@@ -42,13 +44,34 @@ def spectrum_section(rc: RatingCase, out_dir: str | None = None, name: str = "sp
     settings = eqx.tree_at(lambda s: s.application_factor, rc.settings, 1.0)
     if k_gamma != 1.0:
         settings = with_load_sharing(settings, k_gamma)
-    section = rate_spectrum(rc.geometry, rc.spectrum, settings).summary() | {"note": NOTE}
+    rated = rate_spectrum(rc.geometry, rc.spectrum, settings)
+    _warn_beyond_static(rated, rc.spectrum)
+    section = rated.summary() | {"note": NOTE}
     if out_dir is not None:
         with atomic_open(os.path.join(out_dir, name), "w") as f:
             w = csv.writer(f)
             for row in spectrum_csv_rows(section):
                 w.writerow(row)
     return section
+
+
+def _warn_beyond_static(rated, spectrum) -> None:
+    """One :class:`jaxgear.io.CaseWarning` naming the bins of ``[rating.spectrum]`` whose
+    stress is beyond the S-N line's static strength (no cycles to failure: an infinite damage,
+    null in ``summary.json``, ``inf`` in ``spectrum.csv``)."""
+    both = np.isinf(np.asarray(rated.damage_H, float)) | np.isinf(np.asarray(rated.damage_F, float))
+    bad = np.flatnonzero(both.reshape(both.shape[0], -1).any(axis=1))
+    if bad.size:
+        torque = np.asarray(spectrum.torque, float)
+        shown = ", ".join(f"bin {i + 1} at {torque[i]:.6g} N·m" for i in bad[:3])
+        more = f" and {bad.size - 3} more" if bad.size > 3 else ""
+        warnings.warn(
+            f"[rating.spectrum] torque_Nm: {shown}{more} load the flanks beyond their static "
+            "strength: no cycles to failure, an infinite damage (null in summary.json, inf in "
+            "spectrum.csv); check the bin's torque",
+            CaseWarning,
+            stacklevel=2,
+        )
 
 
 def _g(v) -> str:

@@ -378,13 +378,13 @@ def write_sweep_csv(path: str, summary: dict) -> list[str]:
     """``sweep.csv`` beside ``sweep.json``: a row per speed, a column per per-speed number of the
     summary (its key, SI units as the key says; a per-mesh or per-gear list gives a column per
     entry, ``<key>_<mesh name>`` or ``<key>_<index>``, the mesh name in snake case:
-    :func:`column_tag`); empty values (NaN) where a speed has none. Returns the header."""
+    :func:`column_tag`); an empty cell where a speed has no value. Returns the header."""
     speeds = summary["speeds_rad_s"]
     n = len(speeds)
     names = summary.get("mesh_names")
 
-    def number(v) -> float:
-        return float("nan") if v is None else float(v)
+    def number(v) -> float | None:
+        return None if v is None else float(v)
 
     header, cols = ["speed_rad_s"], [[float(v) for v in speeds]]
     for key, v in summary.items():

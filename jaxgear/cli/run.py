@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import functools
-import json
 import math
 import os
 import sys
@@ -25,7 +24,6 @@ from ..io import (
     PairForm,
     PlanetaryForm,
     TrainForm,
-    atomic_open,
     whine_of,
     write_csv,
     write_json,
@@ -356,8 +354,7 @@ def run_case(
         if complete and rating is not None:  # rating.md again, with the tribology lines
             write_rating_table(case, out_dir, rating, tribology)
 
-    with atomic_open(os.path.join(out_dir, "summary.json"), "w") as f:
-        json.dump(summary, f, indent=2)
+    write_json(os.path.join(out_dir, "summary.json"), summary)
     return summary
 
 

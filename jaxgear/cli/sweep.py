@@ -548,3 +548,15 @@ def planetary_sweep_command(form: case_io.PlanetaryForm, case, speeds, args) -> 
     print("\n".join(sweep_lines(case, s)))
     print(f"written to {out}/")
     return 0
+
+
+@sweep_command.register
+def gearbox_sweep_command(form: case_io.GearboxForm, case, speeds, args) -> int:
+    """``jaxgear sweep`` on a gearbox (``[[stages]]``): refused in one line before any work,
+    naming what sweeps it (``jaxgear run``'s coupled sweep) and the stages' own cases."""
+    stages = ", ".join(repr(s.case.name) for s in form.stages)
+    raise ValueError(
+        f"jaxgear sweep does not take a gearbox: case {case.name!r} is a gearbox ([[stages]]); "
+        "jaxgear run sweeps its coupled chain (coupled.json), or sweep a stage's own case "
+        f"({stages})"
+    )

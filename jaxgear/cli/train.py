@@ -3,14 +3,13 @@ TE, mesh stiffness and load maps, and the layout with its mesh phasing (JSON, CS
 
 from __future__ import annotations
 
-import json
 import os
 
 import numpy as np
 
 from .. import Modifications, contact_pressure, quasi_static
 from ..dynamics import bearing_forces
-from ..io import TrainCase, atomic_open, load_bodies, write_csv
+from ..io import TrainCase, load_bodies, write_csv, write_json
 from ._case_kinds import gear_glossary
 from ._housing_run import hybrid_seats_section
 from ._plots import face_maps, mesh_stiffness_plot, train_phasing_plot, transmission_error_plot
@@ -294,8 +293,7 @@ def run_train(
     )
     steps.update()
     steps.close()
-    with atomic_open(os.path.join(out_dir, "summary.json"), "w") as f:
-        json.dump(summary, f, indent=2)
+    write_json(os.path.join(out_dir, "summary.json"), summary)
     return summary
 
 

@@ -147,6 +147,7 @@ from ._whine_table import (
     whine_of as whine_of,
 )
 from ._writers import (
+    NonFiniteOutput as NonFiniteOutput,
     atomic_open as atomic_open,
     write_csv as write_csv,
     write_json as write_json,

@@ -32,7 +32,7 @@ from typing import NamedTuple
 from fem_prep import acoustics as fa, schema as sc
 
 __all__ = ["ACOUSTICS_KEYS", "ACOUSTICS_METHODS", "AcousticsInputs", "acoustics_of",
-           "parse_acoustics", "parse_case_acoustics"]
+           "check_band", "parse_acoustics", "parse_case_acoustics"]
 
 WHERE = "acoustics"
 #: ``[acoustics] method`` names
@@ -86,14 +86,8 @@ def parse_acoustics(table: dict, progress: bool = False) -> AcousticsInputs:
     rho = sc.number(table, "density_kg_m3", WHERE, fa.AIR.density, allowed="(0, 1e+04]")
     c = sc.number(table, "sound_speed_m_s", WHERE, fa.AIR.sound_speed, allowed="(0, 1e+05]")
     mics = []
-    raw = table.get("microphones", [])
-    if not isinstance(raw, list):
-        raise sc.fail(WHERE, "microphones", "allowed [[acoustics.microphones]] tables", raw)
-    for k, m in enumerate(raw):
+    for k, m in enumerate(sc.table_array(table, "microphones", WHERE, _MIC_KEYS)):
         where = f"acoustics.microphones[{k}]"
-        if not isinstance(m, dict):
-            raise sc.fail(where, None, "allowed a table", m)
-        sc.check_keys(m, _MIC_KEYS, where)
         label = sc.string(m, "name", where, f"mic{k}")
         xyz = sc.number_list(m, "position_mm", where, length=3, allowed="[-1e+06, 1e+06]")
         if label in [x for x, _ in mics]:
@@ -112,6 +106,27 @@ def parse_acoustics(table: dict, progress: bool = False) -> AcousticsInputs:
         fluid=fa.Fluid(rho, c),
         microphones=tuple(mics),
     )
+
+
+def check_band(table: dict, orders_hz: tuple[float, float]) -> None:
+    """``[acoustics] band_Hz`` meets the orders' frequencies ``orders_hz`` (lowest, highest Hz
+    over the ``[whine]`` speeds, :func:`~jaxgear.io._whine_table.order_frequency_range`, the
+    highest no higher than the housing's band limit, cut-off / 1.5, above which no order is
+    radiated): a band with no order in it radiates nothing the run computes (every sound power
+    would be absent).
+
+    Raises:
+        SchemaError: the band below the lowest order or above the highest, one line.
+    """
+    band = table.get("band_Hz")
+    if band is None:
+        return
+    lo, hi = orders_hz
+    if band[1] < lo or band[0] > hi:
+        raise sc.fail(WHERE, "band_Hz", f"no order of [whine] in it: the orders radiated lie at "
+                      f"{lo:.6g} to {hi:.6g} Hz (over [whine]'s speeds, up to the housing's "
+                      "cut-off / 1.5); allowed a band that meets them (or leave band_Hz out: the "
+                      "orders' range)", band)
 
 
 def acoustics_of(case, progress: bool = False) -> AcousticsInputs | None:

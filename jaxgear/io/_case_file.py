@@ -27,10 +27,15 @@ from ._optimise_table import check_acoustic_tables, parse_optimise
 from ._plausibility import MIN_LINE_LOAD_N_PER_MM, CaseWarning, plausibility
 from ._rating_table import MATERIAL_RATING_KEYS, OPERATING_RATING_KEYS, check_rating
 from ._robust_table import parse_robust
-from ._housing_table import check_housing_band, parse_housing
+from ._housing_table import HOUSING_BAND, check_housing_band, parse_housing
 from ._scene_table import parse_scene
-from ._acoustics_table import parse_case_acoustics
-from ._whine_table import highest_order_frequency, lowest_order_frequency, parse_whine
+from ._acoustics_table import check_band, parse_case_acoustics
+from ._whine_table import (
+    highest_order_frequency,
+    lowest_order_frequency,
+    order_frequency_range,
+    parse_whine,
+)
 
 __all__ = [
     "check_member_size",
@@ -99,6 +104,8 @@ _SCHEMA: dict[str, Any] = {
     "whine": None,  # checked by parse_whine (gear whine in the frequency domain)
     "acoustics": None,  # checked by parse_acoustics (the housing's radiated sound)
 }
+#: the case file's table-valued keys (all but its name)
+_TABLES = tuple(k for k in _SCHEMA if k != "name")
 # [mesh] keys read by some stiffness models only
 _MODEL_KEYS = {
     "stiffness_per_length_N_per_mm_per_um": ("uniform",),
@@ -410,6 +417,7 @@ def parse_case(data: dict, default_name: str = "case", base_dir: str | None = No
     if not isinstance(data, dict):
         raise sc.SchemaError(f"a case must be a table of tables, not {type(data).__name__}")
     sc.check_keys(data, _SCHEMA, "")
+    sc.subtables(data, _TABLES, "")  # every table a table before its reader takes it
     name = sc.name(data, "name", "", default_name)
     for section, allowed in _PAIR_KEY_TABLES.items():
         sc.subtable(data, section, "", allowed, required=section in ("pair", "operating"))
@@ -568,6 +576,9 @@ def case_housing(data: dict, scene, base_dir, material, *, pair: bool = True, te
     spec = parse_housing(table, base_dir, material,
                          highest_order_frequency(inputs, teeth, span, names))
     check_housing_band(spec, lowest_order_frequency(inputs, teeth, span, names))
+    if "acoustics" in data:  # its band meets the orders (before any work)
+        lo, hi = order_frequency_range(inputs, teeth, span)
+        check_band(data["acoustics"], (lo, min(hi, spec.cutoff / HOUSING_BAND)))
     return spec
 
 

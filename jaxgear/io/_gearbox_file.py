@@ -323,8 +323,11 @@ def _housed_bearings(form: GearboxForm):
 
 
 def is_gearbox(data: dict) -> bool:
-    """A gearbox case file: it has ``[[stages]]``."""
-    return "stages" in data
+    """A gearbox case file: it has ``[[stages]]``, or only a gearbox file's other keys (a
+    gearbox whose stages are missing, refused by :func:`parse_gearbox` in its own words)."""
+    return "stages" in data or (
+        isinstance(data, dict) and bool(set(data) - {"name"}) and set(data) <= set(_KEYS)
+    )
 
 
 @functools.singledispatch
@@ -521,17 +524,23 @@ def parse_gearbox(data: dict, default_name: str, base: str | None, load_case) ->
             line each.
     """
     sc.check_keys(data, _KEYS, "")
+    sc.subtables(data, ("whine", "housing"), "")  # before their readers
     name = sc.name(data, "name", "", default_name)
     op = sc.subtable(data, "operating", "", ("torque_Nm", "speed_rad_s"), required=True)
     torque = sc.number(op, "torque_Nm", "operating", allowed="(0, 1e+09]")
     speed = sc.number(op, "speed_rad_s", "operating", allowed="(0, 1e+05]")
-    tables = data["stages"]
-    if not isinstance(tables, list) or not tables or not all(isinstance(t, dict) for t in tables):
-        raise sc.fail("", "stages", "must be a non-empty array of tables ([[stages]])")
+    if "stages" not in data:
+        raise sc.SchemaError(
+            "[[stages]]: missing; a gearbox file lists its stages in order, each a [[stages]] "
+            'table with case = "<a pair case or a planetary stage>" (a pair case file has [pair], '
+            "[pinion] and [gear] instead)"
+        )
+    tables = sc.table_array(data, "stages", "", _STAGE_KEYS)
+    if not tables:
+        raise sc.fail("", "stages", "must be a non-empty array of tables ([[stages]])", tables)
     stages = []
     for k, t in enumerate(tables):
         where = f"stages[{k}]"
-        sc.check_keys(t, _STAGE_KEYS, where)
         case = _stage_case(sc.string(t, "case", where), base, load_case, where)
         if k == 0 and "shaft_Nm_per_rad" in t:
             raise sc.fail(where, "shaft_Nm_per_rad", "the first stage has no shaft before it")

@@ -103,6 +103,10 @@ _BOX_ONLY = (
     "layers",
     "mesher",
 )
+#: the condensed housing's band: orders at frequencies up to cut-off / HOUSING_BAND count
+#: (docs/housing.md, "What the condensation keeps": the default cut-off is 1.5 x the highest
+#: mesh order's)
+HOUSING_BAND = 1.5
 _FILE_ONLY = ("mesh_unit", "offset_mm", "seats", "feet")
 MESHERS = ("structured", "gmsh")
 ELEMENTS = ("tet10", "tet4")
@@ -181,9 +185,7 @@ def parse_housing(table, base_dir: str | None = None, material=None,
     from fem_prep.housing import housing_cutoff_hz
 
     w = "housing"
-    if not isinstance(table, dict):
-        raise sc.SchemaError(f"[housing] must be a table, not {type(table).__name__}")
-    sc.check_keys(table, _KEYS, w)
+    table = sc.subtable({w: table}, w, "", _KEYS)
     if "cutoff_Hz" in table and "highest_mesh_frequency_Hz" in table:
         raise sc.fail(w, "cutoff_Hz", "give exactly one of cutoff_Hz and highest_mesh_frequency_Hz")
     if "cutoff_Hz" in table:
@@ -232,11 +234,9 @@ def parse_housing(table, base_dir: str | None = None, material=None,
         path = ref if base_dir is None or os.path.isabs(ref) else os.path.join(base_dir, ref)
         unit = sc.choice(table, "mesh_unit", w, ("mm", "m"), "mm")
         seats = []
-        for k, s in enumerate(table.get("seats", [])):
+        seat_keys = {"centre_mm", "axis", "diameter_mm", "width_mm", "name"}
+        for k, s in enumerate(sc.table_array(table, "seats", w, seat_keys)):
             where = f"housing.seats[{k}]"
-            if not isinstance(s, dict):
-                raise sc.fail(where, None, "allowed a table", s)
-            sc.check_keys(s, {"centre_mm", "axis", "diameter_mm", "width_mm", "name"}, where)
             c = _vec(s, "centre_mm", where, 3)
             if c is None:
                 raise sc.fail(where, "centre_mm", "required")
@@ -255,11 +255,8 @@ def parse_housing(table, base_dir: str | None = None, material=None,
         if not seats:
             raise sc.fail(w, "seats", "a mesh file needs [[housing.seats]] (one per bore)")
         feet = []
-        for k, f in enumerate(table.get("feet", [])):
+        for k, f in enumerate(sc.table_array(table, "feet", w, {"x_mm", "y_mm"})):
             where = f"housing.feet[{k}]"
-            if not isinstance(f, dict):
-                raise sc.fail(where, None, "allowed a table", f)
-            sc.check_keys(f, {"x_mm", "y_mm"}, where)
             rx, ry = (_vec(f, key, where, 2) for key in ("x_mm", "y_mm"))
             for key, r in (("x_mm", rx), ("y_mm", ry)):
                 if r is None or not r[1] > r[0]:

@@ -4,8 +4,8 @@ the film formula of the mesh's film and sliding loss (:mod:`jaxgear.tribology`; 
 here only)::
 
     [lubricant]
-    viscosity_40C_mm2_s = 316.0          # ν₄₀, (0, 1e5]
-    viscosity_100C_mm2_s = 22.2          # ν₁₀₀, (0, ν₄₀)
+    viscosity_40C_mm2_s = 316.0          # ν₄₀, [2, 1e5] (Walther's equation from 2 mm²/s)
+    viscosity_100C_mm2_s = 22.2          # ν₁₀₀, [2, ν₄₀)
     density_kg_m3 = 902.0               # at 15 °C, (500, 2000)
     thermal_expansion_per_K = 5.8e-4      # optional (default 0), [0, 0.01)
     pressure_viscosity_per_GPa = 71.05    # Barus' α at the oil temperature, (0, 100]
@@ -46,6 +46,9 @@ from ._scuffing_table import SCUFFING_KEYS, ScuffingInputs, parse_scuffing
 
 __all__ = ["FILM_FORMULAS", "LUBRICANT_KEYS", "TribologyInputs", "parse_lubricant", "tribology_of"]
 
+#: the kinematic viscosities' range (mm²/s): ASTM D341-20's Walther equation is stated from
+#: 2 mm²/s (below 0.3 mm²/s its double logarithm has no value) to 2e7 mm²/s
+VISCOSITY_RANGE = "[2, 1e+05]"
 #: the keys of ``[lubricant]``
 LUBRICANT_KEYS = {
     "viscosity_40C_mm2_s",
@@ -93,8 +96,9 @@ def parse_lubricant(table: dict, operating: dict) -> TribologyInputs:
     """
     w = "lubricant"
     sc.check_keys(table, LUBRICANT_KEYS, w)
-    nu40 = sc.number(table, "viscosity_40C_mm2_s", w, allowed="(0, 1e+05]")
-    nu100 = sc.number(table, "viscosity_100C_mm2_s", w, allowed="(0, 1e+05]")
+    walther = " (Walther's equation, ASTM D341, holds from 2 mm²/s)"
+    nu40 = sc.number(table, "viscosity_40C_mm2_s", w, allowed=VISCOSITY_RANGE, note=walther)
+    nu100 = sc.number(table, "viscosity_100C_mm2_s", w, allowed=VISCOSITY_RANGE, note=walther)
     if nu100 >= nu40:
         raise sc.fail(
             w,

@@ -506,6 +506,7 @@ def parse_train(data: dict, default_name: str = "train", base_dir: str | None = 
             geometry; one line, in the file's units.
     """
     sc.check_keys(data, _TOP_KEYS, "")
+    sc.subtables(data, sorted(_TOP_KEYS - {"name", "gears", "meshes"}), "")  # before their readers
     name = sc.name(data, "name", "", default_name)
     sc.subtable(data, "material", "", _SCHEMA["material"] | MATERIAL_RATING_KEYS)
     sc.subtable(data, "mesh", "", _SCHEMA["mesh"])

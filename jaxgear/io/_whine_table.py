@@ -45,7 +45,7 @@ from ..dynamics import (
 )
 
 __all__ = ["WHINE_KEYS", "WHINE_METHODS", "WhineInputs", "highest_order_frequency",
-           "lowest_order_frequency", "parse_whine", "whine_of"]
+           "lowest_order_frequency", "order_frequency_range", "parse_whine", "whine_of"]
 
 WHERE = "whine"
 #: ``[whine] method`` names
@@ -149,6 +149,14 @@ def lowest_order_frequency(inputs: WhineInputs, teeth_per_turn, span: int = 1,
     which = f"order 1/{span} of the first mesh's frequency" if span > 1 else (
         "order 1 of the mesh frequency")
     return t[0] / span * low / (2 * math.pi), f"{which} at {low:g} rad/s"
+
+
+def order_frequency_range(inputs: WhineInputs, teeth_per_turn, span: int = 1) -> tuple[float, float]:
+    """(lowest, highest) frequency (Hz) among the orders the whine's outputs hold over its
+    speeds (the mean left out): :func:`lowest_order_frequency`'s and
+    :func:`highest_order_frequency`'s. Arguments as there."""
+    return (lowest_order_frequency(inputs, teeth_per_turn, span)[0],
+            highest_order_frequency(inputs, teeth_per_turn, span)[0])
 
 
 def highest_order_frequency(inputs: WhineInputs, teeth_per_turn, span: int = 1,

@@ -1,56 +1,14 @@
-"""Atomic file output: every file appears complete or not at all (temporary file, then rename)."""
+"""Atomic file output: every file appears complete or not at all (temporary file, then rename).
+
+The JSON and CSV writers are :mod:`fem_prep.files`' (one implementation for both packages): the
+one guard against silent NaN and infinity in an output file (:class:`NonFiniteOutput`)."""
 
 from __future__ import annotations
 
-import csv
-import functools
-import io
-import json
-
+from fem_prep.files import NonFiniteOutput, write_csv, write_json
 from fem_prep.schema import atomic_open, atomic_write  # one implementation for both packages
 
-__all__ = ["atomic_open", "write_csv", "write_json", "write_vtu"]
-
-
-def write_json(path, data) -> None:
-    """Write ``data`` as indented JSON to ``path`` atomically (NaN is written as null)."""
-    text = json.dumps(_nan_to_none(data), indent=2)
-    with atomic_open(path, "w") as f:
-        f.write(text)
-
-
-@functools.singledispatch
-def _nan_to_none(v):
-    """``v`` with every float NaN, at any depth of its dicts, lists and tuples, as None."""
-    return v
-
-
-@_nan_to_none.register(float)
-def _float_nan_to_none(v):
-    return None if v != v else v
-
-
-@_nan_to_none.register(dict)
-def _dict_nan_to_none(v):
-    return {k: _nan_to_none(x) for k, x in v.items()}
-
-
-@_nan_to_none.register(list)
-@_nan_to_none.register(tuple)
-def _list_nan_to_none(v):
-    return [_nan_to_none(x) for x in v]
-
-
-def write_csv(path, header, columns) -> None:
-    """Write columns (equal-length sequences of numbers) under ``header`` to ``path`` atomically,
-    12 significant digits."""
-    buf = io.StringIO()
-    w = csv.writer(buf)
-    w.writerow(header)
-    for row in zip(*columns):
-        w.writerow([f"{v:.12g}" for v in row])
-    with atomic_open(path, "w", newline="") as f:
-        f.write(buf.getvalue())
+__all__ = ["NonFiniteOutput", "atomic_open", "write_csv", "write_json", "write_vtu"]
 
 
 def write_vtu(path, points, cells, point_data) -> None:

@@ -726,10 +726,15 @@ def planetary_quasi_static(
         :class:`PlanetaryQuasiStatic`.
 
     Raises:
-        ValueError: pin errors of the wrong shape (one line).
+        ValueError: pin errors of the wrong shape, a concrete ``sun_torque`` that is not a
+            finite number > 0 (a negative one unloads the drive flanks) or ``positions`` not a
+            (p,) array of finite travels (one line naming the argument; traced values are not
+            checked).
     """
-    check_instance("meshes", meshes, AbstractPlanetaryMeshes, "a planetary meshes kind",
-                   "planetary_quasi_static")
+    where = "planetary_quasi_static"
+    check_instance("meshes", meshes, AbstractPlanetaryMeshes, "a planetary meshes kind", where)
+    check_real("sun_torque", sun_torque, "N·m", lo=0.0, lo_open=True, shape=(), where=where)
+    check_real("positions", positions, "m", shape=(None,), shape_text="(p,)", where=where)
     check_instance("ring", ring, AbstractRingModel, "a jaxgear.planetary.RigidRing or CondensedRing",
                    "planetary_quasi_static")
     f_err, d_s, d_r = pin_terms(model, stage, tangential_pin_errors, radial_pin_errors,

@@ -32,7 +32,7 @@ from typing import ClassVar, NamedTuple
 import jax.numpy as jnp
 from jaxtyping import Array, Float
 
-from .._util import NamedKind
+from .._util import NamedKind, check_instance, check_real
 
 _MIN_LOAD_PARAMETER = 1e-12
 """The smallest load group W = w/(E'R) the film formulas are evaluated at (the module docstring)."""
@@ -129,18 +129,42 @@ def film_thickness(
     """h_c and h_min (m) of a line contact by ``formula`` (arrays broadcast together).
 
     Args:
-        formula: an :class:`AbstractFilmFormula` kind.
+        formula: an :class:`AbstractFilmFormula` kind (an object: ``Grubin()``, not the case
+            file's name ``"grubin"``).
         radius: R (m) > 0, the relative radius of curvature in the section normal to the contact
-            line. entrainment_speed: u (m/s) > 0. line_load: w (N/m) > 0.
-        viscosity: η₀ (Pa·s). pressure_viscosity: α (1/Pa).
-        contact_modulus: E* (Pa) (E' = 2E* in the formulas).
+            line. entrainment_speed: u (m/s) > 0. line_load: w (N/m) >= 0.
+        viscosity: η₀ (Pa·s) > 0. pressure_viscosity: α (1/Pa) > 0.
+        contact_modulus: E* (Pa) > 0 (E' = 2E* in the formulas).
 
     Returns:
         :class:`FilmThickness` (m). W = w/(E'R) below 1e-12 (a zero
         or vanishing load) is taken as 1e-12: a finite film with a zero derivative in w (the
-        module docstring). A non-positive radius or speed gives inf or NaN; callers mask them
-        (:func:`jaxgear.tribology.mesh_tribology` does).
+        module docstring).
+
+    Raises:
+        ValueError: a formula that is not a kind, or a concrete input (any entry of an array)
+            that is NaN, infinite or out of the range above; one line naming the argument. Traced
+            values (under ``jit``, ``vmap``, ``grad``) are not checked: a non-positive radius or
+            speed there gives inf or NaN, which callers mask
+            (:func:`jaxgear.tribology.mesh_tribology` does).
     """
+    where = "film_thickness"
+    check_instance(
+        "formula",
+        formula,
+        AbstractFilmFormula,
+        "a film formula kind: jaxgear.tribology.DowsonHigginson(), PanHamrock(), Grubin(), ...",
+        where,
+    )
+    for name, value, unit, lo_open in (
+        ("radius", radius, "m", True),
+        ("entrainment_speed", entrainment_speed, "m/s", True),
+        ("line_load", line_load, "N/m", False),
+        ("viscosity", viscosity, "Pa·s", True),
+        ("pressure_viscosity", pressure_viscosity, "1/Pa", True),
+        ("contact_modulus", contact_modulus, "Pa", True),
+    ):
+        check_real(name, value, unit, lo=0.0, lo_open=lo_open, where=where)
     e_prime = 2.0 * jnp.asarray(contact_modulus)
     U = viscosity * entrainment_speed / (e_prime * radius)
     G = pressure_viscosity * e_prime

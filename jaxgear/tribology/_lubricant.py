@@ -28,8 +28,9 @@ class Lubricant(eqx.Module):
     """An oil at its operating temperature (SI units but the temperature, in °C).
 
     Args:
-        viscosity_40, viscosity_100: kinematic viscosities ν₄₀ > ν₁₀₀ > 0 (m²/s; ISO VG 320 is
-            about 320e-6 at 40 °C), at 40 °C and 100 °C.
+        viscosity_40, viscosity_100: kinematic viscosities ν₄₀ > ν₁₀₀, each in [2e-6, 0.1]
+            (m²/s; ISO VG 320 is about 320e-6 at 40 °C; Walther's equation is stated from 2e-6),
+            at 40 °C and 100 °C.
         density: ρ₁₅ (kg/m³), in (500, 2000), at 15 °C.
         pressure_viscosity: Barus' pressure–viscosity coefficient α (1/Pa), in (0, 1e-7]
             (mineral gear oils 15e-9 to 30e-9; the value at the oil temperature).
@@ -57,8 +58,9 @@ class Lubricant(eqx.Module):
         thermal_expansion=0.0,
     ):
         w = "Lubricant"
-        check_real("viscosity_40", viscosity_40, "m²/s", lo=0.0, hi=0.1, lo_open=True, where=w)
-        check_real("viscosity_100", viscosity_100, "m²/s", lo=0.0, hi=0.1, lo_open=True, where=w)
+        # Walther's equation (ASTM D341) is stated from 2 mm²/s; below 0.3 mm²/s it has no value
+        check_real("viscosity_40", viscosity_40, "m²/s", lo=2e-6, hi=0.1, where=w)
+        check_real("viscosity_100", viscosity_100, "m²/s", lo=2e-6, hi=0.1, where=w)
         try:
             bad = float(viscosity_100) >= float(viscosity_40)
         except Exception:  # noqa: BLE001 - traced: checked where used
