@@ -120,9 +120,9 @@ def test_housing_wall_cells_against_mindlin():
     (power-helical-housed's), simply supported, against Mindlin's plate (a / h = 20: shear
     lowers the first six modes 0.7-3.7 % below Kirchhoff's). The shipped mesh's cells (40 mm, one
     layer through the wall: 9 x 6 x 1) put the first six modes up to about 10 % above it; cells
-    of half the size in two layers (18 x 12 x 2, nested in it; the documented converged option's
-    20 mm cells, docs/housing.md "How fine the walls") within 1.5 % (the 3-D plate's own limit
-    lies about 0.4-1.4 % below Mindlin's k = pi^2 / 12: 34 x 24 x 2 cells)."""
+    of half the size in two layers (18 x 12 x 2, nested in it: the 20 mm cells of docs/housing.md,
+    "How fine the walls") within 1.5 % (the 3-D plate's own limit lies about 0.4-1.4 % below
+    Mindlin's with k = pi^2 / 12: 34 x 24 x 2 cells)."""
     n, plate = 6, (0.34, 0.24, 0.012)
     ref = _mindlin_ss(*plate, ALUMINIUM, n)
     coarse = _plate_frequencies((9, 6), n, plate=plate, material=ALUMINIUM)[0]
