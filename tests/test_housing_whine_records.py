@@ -4,6 +4,7 @@ whine benchmark records (docs/bench/*.json, written by ``python -m benchmarks.wh
 the digits the page gives, and the targets the pages call met are met by the records. Nothing is
 timed here: a record rewritten by a new run fails this test until its page says the same."""
 
+import itertools
 import json
 import math
 import pathlib
@@ -220,3 +221,41 @@ def test_housing_wall_convergence_figures_are_the_records():
     assert max(conv["modes_above_limit_percent_range"]) < 2.5 < max(
         ship["modes_above_limit_percent_range"])
     assert mac > 0.9
+
+
+def test_planetary_housing_walls_figures_are_the_records():
+    """docs/housing.md, "How fine the walls", docs/planetary.md and the comment of
+    nrel-5mw-planetary-housed.toml: the planetary box's lowest fixed-interface mode on its
+    shipped Tet4 mesh and on Tet10 meshes are housing_wall_convergence.json's (its
+    ``planetary`` part), and each finer wall lowers it (Rayleigh-Ritz, nearly nested)."""
+    d = _record("housing_wall_convergence.json")["planetary"]
+    text = _page("housing.md")
+    assert d["shipped"] == {"element": "tet4", "mesh_size_mm": 250.0, "layers": 1}
+    m = {(r["element"], round(r["mesh_size_mm"], 1), r["layers"]): r for r in d["meshes"]}
+    ship, same = m[("tet4", 250.0, 1)], m[("tet10", 250.0, 1)]
+    half, third = m[("tet10", 125.0, 2)], m[("tet10", 83.3, 2)]
+
+    def dofs(r):
+        return f"{r['dofs']:,}".replace(",", " ")
+
+    assert (f"(Tet4 cells of 250 mm, one layer on 60 mm walls: {dofs(ship)} DOFs) put its lowest "
+            f"fixed-interface mode at {ship['modes_hz'][0]:.1f} Hz, none below its "
+            f"{d['case_cutoff_hz']:.0f} Hz cut-off") in text
+    assert ship["modes_below_case_cutoff"] == 0 and same["modes_below_case_cutoff"] == 0
+    assert f"the same cells in Tet10 at {same['modes_hz'][0]:.1f} Hz" in text
+    assert (f"Tet10 cells of 125 mm in two layers ({dofs(half)} DOFs) at "
+            f"{half['modes_hz'][0]:.1f} Hz, of 83.3 mm ({dofs(third)} DOFs) at "
+            f"{third['modes_hz'][0]:.1f} Hz, still falling, "
+            f"two modes below the cut-off") in text
+    assert half["modes_below_case_cutoff"] == third["modes_below_case_cutoff"] == 2
+    ratio = ship["modes_hz"][0] / third["modes_hz"][0]
+    assert f"Its shipped lowest mode is {ratio:.1f} times the finest mesh's" in text
+    lowest = [r["modes_hz"][0] for r in (ship, same, half, third)]
+    assert all(b < a for a, b in itertools.pairwise(lowest)), lowest
+    planetary = _page("planetary.md")
+    assert f"the lowest near {round(third['modes_hz'][0], -1):.0f} Hz" in planetary
+    case = " ".join(
+        (ROOT / "jaxgear" / "cases" / "nrel-5mw-planetary-housed.toml").read_text()
+        .replace("#", " ").split())
+    assert (f"its lowest mode at {ship['modes_hz'][0]:.1f} Hz, against "
+            f"{third['modes_hz'][0]:.1f} Hz on Tet10 cells of 83.3 mm in two layers") in case
