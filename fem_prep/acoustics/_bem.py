@@ -18,8 +18,13 @@ D p = -(½I + K') ∂p/∂n:
     (½I - K + α D) p = -(V + α(½I + K')) ∂p/∂n,   α = i/k,
 
 which is uniquely solvable at every real k. Both sides are assembled densely in the Galerkin
-(P1 × P1) weak form by bempp-cl (its numba back end compiles the kernels on first use: about 60 s
-per process; the assembly is O(n²)).
+(P1 × P1) weak form by bempp-cl, the assembly O(n²) per frequency (the kernels hold k). With
+test and trial functions from the same space the Galerkin matrix of K' is the plain transpose
+of K's (swap x and y in ∫∫ φ_i ∂G/∂n_x φ_j: G is symmetric), so three operators are assembled
+per frequency (V, K, D), not four. Where they are assembled is a :class:`BEMBackend`:
+:class:`Numba` (the default: bempp-cl's numba kernels, compiled on first use, about 60 s per
+process) or :class:`OpenCL` (bempp-cl's OpenCL kernels on a CPU OpenCL driver; measured side by
+side in ``benchmarks/bem_backends.py`` and ``docs/acoustics.md``).
 
 NumPy and bempp-cl (imported on first use); never JAX.
 """
@@ -28,7 +33,9 @@ from __future__ import annotations
 
 import abc
 import contextlib
+import os
 import warnings
+from typing import ClassVar
 
 import numpy as np
 from tqdm import tqdm
@@ -37,12 +44,16 @@ from .._kinds import Kind
 from ._surface import AIR, Fluid, RadiatingSurface
 
 __all__ = [
+    "BEMBackend",
     "BurtonMiller",
     "Direct",
     "Formulation",
+    "Numba",
+    "OpenCL",
     "bem_field_pressure",
     "bem_field_transfer",
     "bem_impedance",
+    "bem_operators",
 ]
 
 
@@ -75,6 +86,68 @@ class BurtonMiller(Formulation):
         return 1j / k
 
 
+class BEMBackend(Kind):
+    """Where bempp-cl assembles the dense boundary operators (a kind: pass an instance; printed
+    and compared by its name). The backend changes the time, not the result (the operators
+    agree to about 1e-12 relative in double precision), so the radiation cache's key does not
+    hold it.
+
+    Attributes:
+        device_interface: bempp-cl's ``device_interface`` argument.
+    """
+
+    device_interface: ClassVar[str]
+
+    @contextlib.contextmanager
+    def session(self, bempp):
+        """The bempp-cl settings in force while this backend assembles (none by default)."""
+        yield
+
+
+class Numba(BEMBackend):
+    """bempp-cl's numba kernels: installed with fem_prep (``pyproject.toml``), compiled on
+    first use in each process (about 60 s of CPU). The default."""
+
+    name = "numba"
+    device_interface = "numba"
+
+
+class OpenCL(BEMBackend):
+    """bempp-cl's OpenCL kernels on a CPU OpenCL driver: needs ``pyopencl`` and a driver (the
+    ``pocl-binary-distribution`` package gives PoCL), neither installed by fem_prep. Double
+    precision, 4-wide vectors (AVX2's width: PoCL 3.0's 8-wide double kernels abort on CPUs
+    without AVX-512); PoCL's own kernel cache is switched off before bempp-cl first loads the
+    driver (with it on, PoCL 3.0 returns programs without their kernels on a second build).
+
+    Raises (on first use):
+        RuntimeError: no pyopencl or no CPU OpenCL driver.
+    """
+
+    name = "opencl"
+    device_interface = "opencl"
+
+    @contextlib.contextmanager
+    def session(self, bempp):
+        if not bempp.CPU_OPENCL_DRIVER_FOUND:
+            raise RuntimeError(
+                "BEM backend 'opencl': no CPU OpenCL driver found (pip install pyopencl "
+                "pocl-binary-distribution), or use the default backend Numba()"
+            )
+        old = bempp.VECTORIZATION_MODE
+        bempp.VECTORIZATION_MODE = "vec4"
+        try:
+            yield
+        finally:
+            bempp.VECTORIZATION_MODE = old
+
+
+def _check_backend(backend, fn):
+    backend = Numba() if backend is None else backend
+    if not isinstance(backend, BEMBackend):
+        raise TypeError(f"{fn}: backend must be a BEMBackend (Numba(), OpenCL()), got {backend!r}")
+    return backend
+
+
 def _check(surface, frequency_hz, fluid, formulation, fn):
     if not isinstance(surface, RadiatingSurface):
         raise TypeError(f"{fn}: surface must be a RadiatingSurface, got {type(surface).__name__}")
@@ -104,7 +177,8 @@ def _quiet():
 
 
 def _bempp():
-    """bempp_cl.api, imported on first use."""
+    """bempp_cl.api, imported on first use (PoCL's kernel cache off first: see :class:`OpenCL`)."""
+    os.environ.setdefault("POCL_KERNEL_CACHE", "0")
     with _quiet():
         import bempp_cl.api as bempp
     return bempp
@@ -131,6 +205,7 @@ def bem_impedance(
     formulation: Formulation | None = None,
     *,
     progress: bool = False,
+    backend: BEMBackend | None = None,
 ) -> np.ndarray:
     """The surface impedance matrix Z of a closed radiating surface: p = Z v on the vertices.
 
@@ -140,44 +215,71 @@ def bem_impedance(
         fluid: the medium outside.
         formulation: :class:`BurtonMiller` (default) or :class:`Direct`.
         progress: a tqdm bar over the operator assemblies and the solve.
+        backend: where bempp-cl assembles: :class:`Numba` (default) or :class:`OpenCL`.
 
     Returns:
         ``(n, n)`` complex Z (Pa s/m): the vertex pressure amplitudes (Pa, peak, e^{-iωt}) for
         vertex normal velocity amplitudes v (m/s).
 
     Raises:
-        TypeError: a surface, fluid or formulation of another type.
+        TypeError: a surface, fluid, formulation or backend of another type.
         ValueError: an open surface, ``frequency_hz`` ≤ 0.
+        RuntimeError: :class:`OpenCL` without a CPU OpenCL driver.
     """
     formulation = BurtonMiller() if formulation is None else formulation
     k = _check(surface, frequency_hz, fluid, formulation, "bem_impedance")
-    bempp, sp, dof = _space(surface)
-    b = bempp.operators.boundary
+    backend = _check_backend(backend, "bem_impedance")
+    ops = bem_operators(surface, k, with_hypersingular=formulation.coupling(k) != 0,
+                        backend=backend, progress=progress, label=f"BEM {frequency_hz:.6g} Hz")
     alpha = formulation.coupling(k)
-    ix = np.ix_(dof, dof)  # the vertex order
-    names = ["single_layer", "double_layer"]
-    if alpha != 0:
-        names += ["hypersingular", "adjoint_double_layer"]
-    bar = tqdm(total=len(names) + 2, desc=f"BEM {frequency_hz:.6g} Hz", disable=not progress)
-
-    def weak(op):
-        with _quiet():
-            a = op.weak_form().to_dense()
-        bar.update()
-        return np.asarray(a)[ix]
-
-    ident = weak(b.sparse.identity(sp, sp, sp))
-    ops = {n: weak(getattr(b.helmholtz, n)(sp, sp, sp, k)) for n in names}
-    lhs = 0.5 * ident - ops["double_layer"]
+    ident, K = ops["identity"], ops["double_layer"]
+    lhs = 0.5 * ident - K
     rhs = -ops["single_layer"]
     if alpha != 0:
         lhs = lhs + alpha * ops["hypersingular"]
-        rhs = rhs - alpha * (0.5 * ident + ops["adjoint_double_layer"])
+        rhs = rhs - alpha * (0.5 * ident + K.T)  # K' = Kᵀ (the module's note)
     omega = 2 * np.pi * frequency_hz
-    Z = 1j * omega * fluid.density * np.linalg.solve(lhs, rhs)
-    bar.update()
-    bar.close()
-    return Z
+    return 1j * omega * fluid.density * np.linalg.solve(lhs, rhs)
+
+
+def bem_operators(
+    surface: RadiatingSurface,
+    wavenumber: float,
+    *,
+    with_hypersingular: bool = True,
+    backend: BEMBackend | None = None,
+    progress: bool = False,
+    label: str = "BEM",
+) -> dict[str, np.ndarray]:
+    """The dense Galerkin (P1 × P1) matrices of the Helmholtz boundary operators on the
+    vertices of a closed surface, in the vertex order: ``"identity"`` (the mass matrix, m²),
+    ``"single_layer"`` V, ``"double_layer"`` K and (``with_hypersingular``) ``"hypersingular"``
+    D at ``wavenumber`` k (1/m), bempp-cl's definitions (the module's note; K' = Kᵀ).
+
+    Raises:
+        TypeError: a backend of another type. RuntimeError: as :func:`bem_impedance`.
+    """
+    backend = _check_backend(backend, "bem_operators")
+    bempp, sp, dof = _space(surface)
+    b = bempp.operators.boundary
+    ix = np.ix_(dof, dof)  # the vertex order
+    names = ["single_layer", "double_layer"] + (["hypersingular"] if with_hypersingular else [])
+    with tqdm(total=len(names) + 1, desc=label, disable=not progress) as bar:
+
+        def weak(op):
+            with _quiet():
+                a = op.weak_form().to_dense()
+            bar.update()
+            return np.asarray(a)[ix]
+
+        with backend.session(bempp):
+            out = {"identity": weak(b.sparse.identity(sp, sp, sp))}
+            for n in names:
+                op = getattr(b.helmholtz, n)(
+                    sp, sp, sp, wavenumber, device_interface=backend.device_interface
+                )
+                out[n] = weak(op)
+    return out
 
 
 def bem_field_pressure(
@@ -227,7 +329,8 @@ def bem_field_pressure(
     p_s, q = bempp.GridFunction(sp, coefficients=p_s), bempp.GridFunction(sp, coefficients=q)
     pot = bempp.operators.potential.helmholtz
     with _quiet():
-        p = pot.double_layer(sp, x.T, k).evaluate(p_s) - pot.single_layer(sp, x.T, k).evaluate(q)
+        p = pot.double_layer(sp, x.T, k, device_interface="numba").evaluate(p_s)
+        p = p - pot.single_layer(sp, x.T, k, device_interface="numba").evaluate(q)
     return np.asarray(p).reshape(-1)
 
 
