@@ -9,7 +9,13 @@ wall faces form a set of their own (the bores through the walls are the only pat
 them), so they are not counted. The mean normal displacement of a facet is exact for the
 element's shape functions: on a quadratic triangle the vertex functions integrate to zero and
 each edge-midpoint function to A / 3, so the mean is the average of the three edge-midpoint
-nodes (:class:`~fem_prep.housing.Tet10`); on a linear one, of the three vertices.
+nodes (:class:`~fem_prep.housing.Tet10`); on a linear one, of the three vertices. The mean
+square normal displacement is integrated exactly as well: ∫_f |u·n|² dS = wᵀ M_f w with w the
+normal displacements of the facet's nodes (six on a quadratic triangle, three on a linear one)
+and M_f the triangle's mass matrix of those shape functions (Zienkiewicz, Taylor & Zhu, *The
+Finite Element Method*, 7th ed., §6.7: A/180 · [6 on the vertices' diagonal, −1 between
+vertices, −4 between a vertex and the midside node facing it, 32 and 16 among midside nodes];
+A/12 · [2, 1] for the linear one), written as ‖C w‖² with C = √A · chol(M_f / A)ᵀ.
 
 NumPy/SciPy/scikit-fem; never imports JAX.
 """
@@ -52,6 +58,9 @@ class HousingSurface:
         point_positions: ``(P, 3)`` the skin node nearest each named point (m).
         point_operator: ``(P, n_dofs)`` sparse: the outward normal displacement (m) at those
             nodes, along the normal of the skin facet nearest each point.
+        square_operator: ``(m F, n_dofs)`` sparse (m = 6 on quadratic elements, 3 on linear):
+            ‖square_operator u‖² = ∫_skin |u·n|² dS exactly (m⁴) for the elements' shape
+            functions (the module's note; the facet means' Σ_f |ū_f|² A_f is lower).
     """
 
     facets: np.ndarray
@@ -62,6 +71,7 @@ class HousingSurface:
     point_names: tuple[str, ...] = ()
     point_positions: np.ndarray | None = None
     point_operator: sp.csr_matrix | None = None
+    square_operator: sp.csr_matrix | None = None
 
     @property
     def area(self) -> float:
@@ -140,6 +150,8 @@ def outer_surface(housing: HousingMesh, points: dict | None = None) -> HousingSu
     cols = (3 * idx[:, :, None] + np.arange(3)[None, None, :]).reshape(F, 9).ravel()
     vals = (np.repeat(normals[:, None, :], 3, axis=1) / 3.0).reshape(F, 9).ravel()
     op = sp.csr_matrix((vals, (r, cols)), shape=(F, housing.n_dofs))
+    quadratic = housing.scalar_basis.N > mesh.nvertices
+    sq = _square_operator(tree, v, idx if quadratic else None, normals, areas, housing.n_dofs)
     names, pos, pop = (), None, None
     if points:
         names = tuple(str(k) for k in points)
@@ -161,7 +173,37 @@ def outer_surface(housing: HousingMesh, points: dict | None = None) -> HousingSu
             shape=(P, housing.n_dofs),
         )
         pos = nodes[node]
-    return HousingSurface(f, centroids, normals, areas, op, names, pos, pop)
+    return HousingSurface(f, centroids, normals, areas, op, names, pos, pop, sq)
+
+
+#: the mass matrix of a triangle of unit area: quadratic (vertices 0, 1, 2, then the midside
+#: nodes of edges 01, 12, 20) and linear shape functions
+_MASS_P2 = np.array([
+    [6, -1, -1, 0, -4, 0],
+    [-1, 6, -1, 0, 0, -4],
+    [-1, -1, 6, -4, 0, 0],
+    [0, 0, -4, 32, 16, 16],
+    [-4, 0, 0, 16, 32, 16],
+    [0, -4, 0, 16, 16, 32],
+]) / 180.0
+_MASS_P1 = np.array([[2, 1, 1], [1, 2, 1], [1, 1, 2]]) / 12.0
+
+
+def _square_operator(tree, v, mids, normals, areas, n_dofs):
+    """``(m F, n_dofs)``: rows √A_f chol(M)ᵀ on the facet's nodes' normal displacements, so
+    that the squared norm of its product with u is ∫ |u·n|² dS (the module's note). ``v``
+    (3, 3, F) the facets' corners, ``mids`` (F, 3) the midside nodes or ``None`` (linear)."""
+    F = v.shape[2]
+    _, corners = tree.query(v.transpose(2, 1, 0).reshape(-1, 3))
+    nodes = corners.reshape(F, 3) if mids is None else np.hstack([corners.reshape(F, 3), mids])
+    m = nodes.shape[1]
+    C = np.linalg.cholesky(_MASS_P2 if m == 6 else _MASS_P1).T  # (m, m): M = Cᵀ C
+    # entry (f, row a, node b, direction d) = √A_f C[a, b] n_f,d
+    vals = np.sqrt(areas)[:, None, None, None] * C[None, :, :, None] * normals[:, None, None, :]
+    rows = np.broadcast_to((np.arange(F)[:, None] * m + np.arange(m))[:, :, None, None],
+                           vals.shape)
+    cols = np.broadcast_to((3 * nodes[:, None, :, None] + np.arange(3)), vals.shape)
+    return sp.csr_matrix((vals.ravel(), (rows.ravel(), cols.ravel())), shape=(m * F, n_dofs))
 
 
 @dataclass(frozen=True, eq=False)
