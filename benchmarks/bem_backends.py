@@ -7,7 +7,9 @@ skin) at one frequency, for each back end (:class:`fem_prep.acoustics.Numba`, an
 use (the kernels' compile, on a level-1 sphere), then in ``ROUNDS`` rounds, the back ends
 interleaved so that both see the same load, the time of each dense operator (the identity,
 V, K, D, and K' which the solve no longer assembles: K' = Kᵀ), the Burton–Miller solve, and
-the eigen-decomposition that :func:`fem_prep.acoustics.radiation_resistance` stores. The
+the eigen-decomposition that :func:`fem_prep.acoustics.radiation_resistance` stores, each
+assembly in wall and in CPU seconds (all the process's threads: the fairer measure on a
+shared machine). The
 operators of the two back ends are compared (relative Frobenius difference), and the power of
 the pulsating sphere against its analytic value (a check that the figures timed are right).
 
@@ -59,10 +61,10 @@ def _operators(surface, k, backend):
     bempp, sp, dof = _bem._space(surface)
     b = bempp.operators.boundary
     ix = np.ix_(dof, dof)
-    mats, secs = {}, {}
+    mats, secs, cpu = {}, {}, {}
     with backend.session(bempp), _bem._quiet():
         for name in OPERATORS:
-            t = time.perf_counter()
+            t, c = time.perf_counter(), time.process_time()
             if name == "identity":
                 op = b.sparse.identity(sp, sp, sp)
             else:
@@ -71,7 +73,8 @@ def _operators(surface, k, backend):
                 )
             mats[name] = np.asarray(op.weak_form().to_dense())[ix]
             secs[name] = time.perf_counter() - t
-    return mats, secs
+            cpu[name] = time.process_time() - c
+    return mats, secs, cpu
 
 
 def _solve(mats, k, frequency):
@@ -83,6 +86,23 @@ def _solve(mats, k, frequency):
     rhs = -mats["single_layer"] - alpha * (0.5 * ident + K.T)
     Z = 2j * np.pi * frequency * fa.AIR.density * np.linalg.solve(lhs, rhs)
     return Z, time.perf_counter() - t
+
+
+def _summary(rounds):
+    """Per back end: the least (over rounds) assembly wall and CPU seconds of the three
+    operators a frequency needs, and the ratio of numba's to each."""
+    out = {}
+    for be in sorted({r["backend"] for r in rounds}):
+        rs = [r for r in rounds if r["backend"] == be]
+        out[be] = {
+            "assembly_needed_s_min": min(r["assembly_needed_s"] for r in rs),
+            "assembly_needed_cpu_s_min": min(r["assembly_needed_cpu_s"] for r in rs),
+            "per_frequency_s_min": min(r["per_frequency_s"] for r in rs),
+        }
+    for be, d in out.items():
+        d["numba_over_this_cpu"] = round(
+            out["numba"]["assembly_needed_cpu_s_min"] / d["assembly_needed_cpu_s_min"], 2)
+    return out
 
 
 def main(argv=None):
@@ -108,25 +128,30 @@ def main(argv=None):
     }
     small = fa.sphere_surface(RADIUS, 1)
     for be in backends:  # the kernels' compile (numba) or build (OpenCL), on a small sphere
-        t = time.perf_counter()
+        t, c = time.perf_counter(), time.process_time()
         _operators(small, k, be)
         record["first_use_s"][str(be)] = round(time.perf_counter() - t, 2)
+        record.setdefault("first_use_cpu_s", {})[str(be)] = round(time.process_time() - c, 2)
         print(f"{be}: first use {record['first_use_s'][str(be)]} s", flush=True)
     mats = {}
     for r in range(args.rounds):
         for be in backends:
-            m, secs = _operators(surface, k, be)
+            m, secs, cpu = _operators(surface, k, be)
             Z, t_solve = _solve(m, k, FREQUENCY)
             t = time.perf_counter()
             MZ = surface.mass_matrix() @ Z
             np.linalg.eigh(0.25 * (MZ + MZ.conj().T))
             t_eig = time.perf_counter() - t
             needed = sum(v for n, v in secs.items() if n != "adjoint_double_layer")
+            needed_cpu = sum(v for n, v in cpu.items() if n != "adjoint_double_layer")
             row = {
                 "round": r,
                 "backend": str(be),
                 "load_average": os.getloadavg()[0],
                 "assembly_s": {n: round(v, 2) for n, v in secs.items()},
+                "assembly_cpu_s": {n: round(v, 2) for n, v in cpu.items()},
+                "assembly_needed_s": round(needed, 2),
+                "assembly_needed_cpu_s": round(needed_cpu, 2),
                 "solve_s": round(t_solve, 2),
                 "eigh_s": round(t_eig, 2),
                 "per_frequency_s": round(needed + t_solve + t_eig, 2),
@@ -137,6 +162,7 @@ def main(argv=None):
             mats[str(be)] = (m, Z)
     # checks of what was timed
     m, Z = mats["numba"]
+    record["summary"] = _summary(record["rounds"])
     rel = np.linalg.norm(m["adjoint_double_layer"] - m["double_layer"].T)
     record["adjoint_minus_transpose_rel"] = float(rel / np.linalg.norm(m["double_layer"]))
     v = np.full(surface.n_vertices, 1e-3 + 0j)
