@@ -133,12 +133,36 @@ class OpenCL(BEMBackend):
                 "BEM backend 'opencl': no CPU OpenCL driver found (pip install pyopencl "
                 "pocl-binary-distribution), or use the default backend Numba()"
             )
+        _keep_opencl_kernels()
         old = bempp.VECTORIZATION_MODE
         bempp.VECTORIZATION_MODE = "vec4"
         try:
             yield
         finally:
             bempp.VECTORIZATION_MODE = old
+
+
+def _keep_opencl_kernels():
+    """bempp-cl builds an OpenCL program at every assembly (seconds each with PoCL); its
+    kernels depend on the operator, the spaces' sizes and the precision only, not on the
+    wavenumber, so each is built once per process and kept (the same program serves every
+    frequency of a surface)."""
+    import bempp_cl.core.opencl_kernels as ok
+
+    if getattr(ok.build_program, "_jaxgear_kept", False):
+        return
+    build = ok.build_program
+    kept: dict = {}
+
+    def build_program(assembly_function, options, precision, device_type="cpu"):
+        key = (assembly_function, tuple(sorted((k, repr(v)) for k, v in options.items())),
+               precision, device_type)
+        if key not in kept:
+            kept[key] = build(assembly_function, options, precision, device_type)
+        return kept[key]
+
+    build_program._jaxgear_kept = True
+    ok.build_program = build_program
 
 
 def _check_backend(backend, fn):
