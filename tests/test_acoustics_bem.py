@@ -119,6 +119,30 @@ def test_burton_miller_through_the_irregular_frequency():
     assert worst["direct"] > 0.2
 
 
+def test_backends_agree_and_the_adjoint_is_the_transpose():
+    """On the sphere of 66 vertices at ka = 1.5: bempp-cl's adjoint double layer K' equals the
+    transpose of its double layer K (the Galerkin identity bem_impedance uses instead of a
+    fourth assembly) to its quadrature's 1e-4; the OpenCL back end's operators, where a CPU
+    OpenCL driver imports, equal numba's to 1e-12 (the backend is not in the cache key), and a
+    second frequency reuses its built kernels."""
+    s = fa.sphere_surface(A, 2)
+    k = 1.5 / A
+    ops = fa.bem_operators(s, k, backend=fa.Numba())
+    bempp, sp, dof = fa._bem._space(s)
+    with fa._bem._quiet():
+        adj = bempp.operators.boundary.helmholtz.adjoint_double_layer(
+            sp, sp, sp, k, device_interface="numba").weak_form().to_dense()
+    K = ops["double_layer"]
+    assert np.linalg.norm(np.asarray(adj)[np.ix_(dof, dof)] - K.T) < 1e-4 * np.linalg.norm(K)
+    if not fa.OpenCL().available(bempp):
+        pytest.skip("no CPU OpenCL driver (pip install pyopencl pocl-binary-distribution)")
+    for kk in (k, 0.7 * k):
+        ref = ops if kk == k else fa.bem_operators(s, kk, backend=fa.Numba())
+        cl = fa.bem_operators(s, kk, backend=fa.OpenCL())
+        for name, a in ref.items():
+            assert np.linalg.norm(cl[name] - a) <= 1e-12 * np.linalg.norm(a), name
+
+
 def _sphere_quadrature(radius, n_theta=24, n_phi=48):
     u, wu = np.polynomial.legendre.leggauss(n_theta)
     phi = 2 * np.pi * np.arange(n_phi) / n_phi

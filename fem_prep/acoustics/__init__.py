@@ -18,6 +18,7 @@ from ._bem import (
     bem_field_transfer as bem_field_transfer,
     bem_impedance as bem_impedance,
     bem_operators as bem_operators,
+    default_backend as default_backend,
 )
 from ._rayleigh import (
     rayleigh_pressure as rayleigh_pressure,

@@ -54,6 +54,7 @@ __all__ = [
     "bem_field_transfer",
     "bem_impedance",
     "bem_operators",
+    "default_backend",
 ]
 
 
@@ -98,6 +99,10 @@ class BEMBackend(Kind):
 
     device_interface: ClassVar[str]
 
+    def available(self, bempp) -> bool:
+        """Whether this backend can assemble here (``bempp``: bempp_cl.api)."""
+        return True
+
     @contextlib.contextmanager
     def session(self, bempp):
         """The bempp-cl settings in force while this backend assembles (none by default)."""
@@ -126,9 +131,12 @@ class OpenCL(BEMBackend):
     name = "opencl"
     device_interface = "opencl"
 
+    def available(self, bempp):
+        return bool(bempp.CPU_OPENCL_DRIVER_FOUND)
+
     @contextlib.contextmanager
     def session(self, bempp):
-        if not bempp.CPU_OPENCL_DRIVER_FOUND:
+        if not self.available(bempp):
             raise RuntimeError(
                 "BEM backend 'opencl': no CPU OpenCL driver found (pip install pyopencl "
                 "pocl-binary-distribution), or use the default backend Numba()"
@@ -165,8 +173,19 @@ def _keep_opencl_kernels():
     ok.build_program = build_program
 
 
+#: the backends in the order of preference of :func:`default_backend` (fastest first:
+#: ``benchmarks/bem_backends.py``)
+PREFERENCE = (Numba,)
+
+
+def default_backend() -> BEMBackend:
+    """The first of :data:`PREFERENCE` that is :meth:`~BEMBackend.available` here."""
+    bempp = _bempp()
+    return next(b() for b in PREFERENCE if b().available(bempp))
+
+
 def _check_backend(backend, fn):
-    backend = Numba() if backend is None else backend
+    backend = default_backend() if backend is None else backend
     if not isinstance(backend, BEMBackend):
         raise TypeError(f"{fn}: backend must be a BEMBackend (Numba(), OpenCL()), got {backend!r}")
     return backend
@@ -239,7 +258,8 @@ def bem_impedance(
         fluid: the medium outside.
         formulation: :class:`BurtonMiller` (default) or :class:`Direct`.
         progress: a tqdm bar over the operator assemblies and the solve.
-        backend: where bempp-cl assembles: :class:`Numba` (default) or :class:`OpenCL`.
+        backend: where bempp-cl assembles: :class:`Numba` or :class:`OpenCL` (``None``:
+            :func:`default_backend`).
 
     Returns:
         ``(n, n)`` complex Z (Pa s/m): the vertex pressure amplitudes (Pa, peak, e^{-iωt}) for

@@ -30,7 +30,7 @@ from tqdm import tqdm
 
 from .._fe_cache import cache_key, load_entry, store_entry, table_dir
 from .._kinds import Kind
-from ._bem import BEMBackend, BurtonMiller, Formulation, Numba, bem_field_transfer, bem_impedance
+from ._bem import BEMBackend, BurtonMiller, Formulation, bem_field_transfer, bem_impedance
 from ._rayleigh import rayleigh_resistance, rayleigh_transfer
 from ._surface import AIR, Fluid, RadiatingSurface
 
@@ -70,8 +70,9 @@ class RadiationMethod(Kind):
 class BEM(RadiationMethod):
     """Exterior BEM on a closed surface (bempp-cl, :func:`bem_impedance`), ``formulation``
     :class:`BurtonMiller` (default) or :class:`Direct`; ``backend`` where bempp-cl assembles,
-    :class:`Numba` (default) or :class:`OpenCL` (the same R to round-off, so not in the name
-    nor the cache key); ``progress`` shows a bar over each solve's operator assemblies."""
+    :class:`Numba` or :class:`OpenCL` (``None``: :func:`default_backend`, chosen at the first
+    solve; the same R to round-off, so not in the name nor the cache key); ``progress`` shows
+    a bar over each solve's operator assemblies."""
 
     def __init__(
         self,
@@ -84,8 +85,7 @@ class BEM(RadiationMethod):
             raise TypeError(
                 f"BEM: formulation must be BurtonMiller() or Direct(), got {formulation!r}"
             )
-        backend = Numba() if backend is None else backend
-        if not isinstance(backend, BEMBackend):
+        if backend is not None and not isinstance(backend, BEMBackend):
             raise TypeError(f"BEM: backend must be Numba() or OpenCL(), got {backend!r}")
         self.formulation = formulation
         self.backend = backend
