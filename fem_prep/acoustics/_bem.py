@@ -22,9 +22,9 @@ which is uniquely solvable at every real k. Both sides are assembled densely in 
 test and trial functions from the same space the Galerkin matrix of K' is the plain transpose
 of K's (swap x and y in ∫∫ φ_i ∂G/∂n_x φ_j: G is symmetric), so three operators are assembled
 per frequency (V, K, D), not four. Where they are assembled is a :class:`BEMBackend`:
-:class:`Numba` (the default: bempp-cl's numba kernels, compiled on first use, about 60 s per
-process) or :class:`OpenCL` (bempp-cl's OpenCL kernels on a CPU OpenCL driver; measured side by
-side in ``benchmarks/bem_backends.py`` and ``docs/acoustics.md``).
+:class:`OpenCL` (bempp-cl's OpenCL kernels on PoCL, a CPU OpenCL driver: the default where it
+imports) or :class:`Numba` (bempp-cl's numba kernels, compiled on first use in each process);
+measured side by side in ``benchmarks/bem_backends.py`` and ``docs/acoustics.md``.
 
 NumPy and bempp-cl (imported on first use); never JAX.
 """
@@ -110,17 +110,20 @@ class BEMBackend(Kind):
 
 
 class Numba(BEMBackend):
-    """bempp-cl's numba kernels: installed with fem_prep (``pyproject.toml``), compiled on
-    first use in each process (about 60 s of CPU). The default."""
+    """bempp-cl's numba kernels: installed with bempp-cl on every platform, compiled on first
+    use in each process (95 s of CPU on the benchmark's machine), then about twice OpenCL's
+    time per assembly (``benchmarks/bem_backends.py``). The default where no CPU OpenCL driver
+    imports."""
 
     name = "numba"
     device_interface = "numba"
 
 
 class OpenCL(BEMBackend):
-    """bempp-cl's OpenCL kernels on a CPU OpenCL driver: needs ``pyopencl`` and a driver (the
-    ``pocl-binary-distribution`` package gives PoCL), neither installed by fem_prep. Double
-    precision, 4-wide vectors (AVX2's width: PoCL 3.0's 8-wide double kernels abort on CPUs
+    """bempp-cl's OpenCL kernels on a CPU OpenCL driver: ``pyopencl`` and PoCL
+    (``pocl-binary-distribution``), installed with fem_prep on x86-64 Linux
+    (``pyproject.toml``). The default where they import: about half numba's time per assembly
+    and a ninth of its first use (``benchmarks/bem_backends.py``). Double precision, 4-wide vectors (AVX2's width: PoCL 3.0's 8-wide double kernels abort on CPUs
     without AVX-512); PoCL's own kernel cache is switched off before bempp-cl first loads the
     driver (with it on, PoCL 3.0 returns programs without their kernels on a second build).
 
@@ -175,7 +178,7 @@ def _keep_opencl_kernels():
 
 #: the backends in the order of preference of :func:`default_backend` (fastest first:
 #: ``benchmarks/bem_backends.py``)
-PREFERENCE = (Numba,)
+PREFERENCE = (OpenCL, Numba)
 
 
 def default_backend() -> BEMBackend:
