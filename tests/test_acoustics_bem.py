@@ -3,9 +3,9 @@ the pulsating and the oscillating sphere converging under refinement, Burton–M
 irregular frequency, the power against the far-field intensity over an enclosing sphere, and
 the BEM against the Rayleigh integral on a thin baffled panel.
 
-Slow: bempp-cl's numba back end compiles its kernels once per process (about 60 s of CPU for
-the four Helmholtz operators, more on a loaded machine) and the finest sphere (1026 vertices)
-is a dense solve; the fast checks of the acoustic chain (Rayleigh, JAX) are in
+Slow: bempp-cl builds its kernels once per process (OpenCL on PoCL, the default where it
+imports: about 20 s; numba's compile: minutes on a loaded machine) and the finest sphere (1026
+vertices) is a dense solve; the fast checks of the acoustic chain (Rayleigh, JAX) are in
 tests/test_acoustics.py. The sphere of level 5 (4098 vertices), where the oscillating sphere
 comes within 1 %, is opt-in (``JAXGEAR_TEST_FINE_BEM=1``): its test (levels 4 and 5, bempp's
 compile included) took 10 min of CPU (18 min of wall time on the shared 2-core host) and 3.5 GB.

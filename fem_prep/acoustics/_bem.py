@@ -213,12 +213,15 @@ def _check(surface, frequency_hz, fluid, formulation, fn):
 
 @contextlib.contextmanager
 def _quiet():
-    """bempp-cl's own warnings silenced: its import warns of a SciPy namespace it uses and
-    numba's compile of its kernels of non-contiguous arrays (NumbaPerformanceWarning)."""
+    """bempp-cl's own warnings silenced: its import warns of a SciPy namespace it uses,
+    numba's compile of its kernels of non-contiguous arrays (NumbaPerformanceWarning) and
+    pyopencl of PoCL's compiler remarks."""
     with warnings.catch_warnings():
         warnings.filterwarnings("ignore", module=r"bempp_cl\.")
         warnings.filterwarnings("ignore", category=DeprecationWarning, message=".*scipy")
         warnings.filterwarnings("ignore", message=".*faster on contiguous arrays")
+        # pyopencl on PoCL's remarks while building bempp-cl's kernels (vector ABI notes)
+        warnings.filterwarnings("ignore", message="Non-empty compiler output")
         yield
 
 
