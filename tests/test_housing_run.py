@@ -46,7 +46,8 @@ def _case(tmp_path, table=TABLE, whine="", damping=None):
 
 
 def test_housing_vibration_is_the_recovery_on_the_skin():
-    """v_n = iω N (recovery q) and ERP = ½ρcΣ|v_n|²A by NumPy on the full field, for random
+    """v_n = iω N (recovery q) and ERP = ½ρc ∫|v_n|² dS (the skin's square_operator) by NumPy
+    on the full field, for random
     coordinates; housing_response's result is housing_vibration of its own coordinates."""
     box = HousingBox(0.2, 0.15, 0.12, 0.01, bores=(Bore("x-", (0.07, 0.06), 0.02),),
                      feet=(Foot((0.0, 0.03), (0.0, 0.03)), Foot((0.17, 0.2), (0.12, 0.15))))
@@ -62,7 +63,8 @@ def test_housing_vibration_is_the_recovery_on_the_skin():
     u = ch.recovery @ q.T  # (n_full, 3)
     vn = (2j * math.pi * f) * (s.normal_operator @ u)  # (F, 3)
     vp = (2j * math.pi * f) * (s.point_operator @ u)
-    ref = 0.5 * AIR.density * AIR.sound_speed * np.sum(np.abs(vn) ** 2 * s.areas[:, None], 0)
+    vs = (2j * math.pi * f) * (s.square_operator @ u)  # ‖S v‖² = ∫ |v_n|² dS
+    ref = 0.5 * AIR.density * AIR.sound_speed * np.sum(np.abs(vs) ** 2, 0)
     np.testing.assert_allclose(np.asarray(r.normal_velocity), vn.T, rtol=1e-10, atol=0)
     np.testing.assert_allclose(np.asarray(r.point_velocity), vp.T, rtol=1e-10, atol=0)
     np.testing.assert_allclose(np.asarray(r.power), ref, rtol=1e-10)

@@ -24,7 +24,7 @@ of K's (swap x and y in ∫∫ φ_i ∂G/∂n_x φ_j: G is symmetric), so three 
 per frequency (V, K, D), not four. Where they are assembled is a :class:`BEMBackend`:
 :class:`OpenCL` (bempp-cl's OpenCL kernels on PoCL, a CPU OpenCL driver: the default where it
 imports) or :class:`Numba` (bempp-cl's numba kernels, compiled on first use in each process);
-measured side by side in ``benchmarks/bem_backends.py`` and ``docs/acoustics.md``.
+measured side by side in ``docs/acoustics.md``, "Time per frequency".
 
 NumPy and bempp-cl (imported on first use); never JAX.
 """
@@ -112,7 +112,7 @@ class BEMBackend(Kind):
 class Numba(BEMBackend):
     """bempp-cl's numba kernels: installed with bempp-cl on every platform, compiled on first
     use in each process (95 s of CPU on the benchmark's machine), then about twice OpenCL's
-    time per assembly (``benchmarks/bem_backends.py``). The default where no CPU OpenCL driver
+    time per assembly (``docs/acoustics.md``, "Time per frequency"). The default where no CPU OpenCL driver
     imports."""
 
     name = "numba"
@@ -123,7 +123,8 @@ class OpenCL(BEMBackend):
     """bempp-cl's OpenCL kernels on a CPU OpenCL driver: ``pyopencl`` and PoCL
     (``pocl-binary-distribution``), installed with fem_prep on x86-64 Linux
     (``pyproject.toml``). The default where they import: about half numba's time per assembly
-    and a ninth of its first use (``benchmarks/bem_backends.py``). Double precision, 4-wide vectors (AVX2's width: PoCL 3.0's 8-wide double kernels abort on CPUs
+    and a ninth of its first use (``docs/acoustics.md``). Double precision, 4-wide vectors
+    (AVX2's width: PoCL 3.0's 8-wide double kernels abort on CPUs
     without AVX-512); PoCL's own kernel cache is switched off before bempp-cl first loads the
     driver (with it on, PoCL 3.0 returns programs without their kernels on a second build).
 
@@ -177,7 +178,7 @@ def _keep_opencl_kernels():
 
 
 #: the backends in the order of preference of :func:`default_backend` (fastest first:
-#: ``benchmarks/bem_backends.py``)
+#: ``docs/acoustics.md``, "Time per frequency")
 PREFERENCE = (OpenCL, Numba)
 
 
@@ -297,6 +298,7 @@ def bem_operators(
     wavenumber: float,
     *,
     with_hypersingular: bool = True,
+    with_adjoint: bool = False,
     backend: BEMBackend | None = None,
     progress: bool = False,
     label: str = "BEM",
@@ -304,7 +306,8 @@ def bem_operators(
     """The dense Galerkin (P1 × P1) matrices of the Helmholtz boundary operators on the
     vertices of a closed surface, in the vertex order: ``"identity"`` (the mass matrix, m²),
     ``"single_layer"`` V, ``"double_layer"`` K and (``with_hypersingular``) ``"hypersingular"``
-    D at ``wavenumber`` k (1/m), bempp-cl's definitions (the module's note; K' = Kᵀ).
+    D at ``wavenumber`` k (1/m), bempp-cl's definitions (the module's note), and
+    (``with_adjoint``, for checks: the solve takes K' = Kᵀ) ``"adjoint_double_layer"`` K'.
 
     Raises:
         TypeError: a backend of another type. RuntimeError: as :func:`bem_impedance`.
@@ -314,6 +317,7 @@ def bem_operators(
     b = bempp.operators.boundary
     ix = np.ix_(dof, dof)  # the vertex order
     names = ["single_layer", "double_layer"] + (["hypersingular"] if with_hypersingular else [])
+    names += ["adjoint_double_layer"] if with_adjoint else []
     with tqdm(total=len(names) + 1, desc=label, disable=not progress) as bar:
 
         def weak(op):
