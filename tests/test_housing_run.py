@@ -287,12 +287,14 @@ def test_acoustics_table_needs_a_housed_whine_one_line(tmp_path, tables, match):
 @pytest.mark.slow  # the housed pair's whine again (about 40 s on the 2-core host)
 def test_run_acoustics_erp_only_is_the_housing_erp(tmp_path):
     """[acoustics] method 'erp-only' (R = ½ρc M on the closed skin's vertices, the caps' velocity
-    interpolated from their rims) radiates what the housing's own ERP (½ρc Σ|v_n|² A on the
-    open skin's facets) gives for the same response: two discretisations of one integral. They
-    differ at the box's edges and corners, where the closed skin's vertex normal (area-weighted,
-    between two walls) reads a wall's motion at cos 45°: on this coarse box (40 mm cells) the
-    vertex form is 0.09-0.29 dB below the facet form; asserted within 0.5 dB (12 %), which a
-    factor ½ or a lost conjugate (3 dB and more) would break."""
+    interpolated from their rims) radiates what the housing's own ERP (½ρc ∫|v_n|² dS on the
+    open skin's facets, exact for the FE field) gives for the same response: two
+    discretisations of one integral. They differ at the box's edges and corners, where the
+    closed skin's vertex normal (area-weighted, between two walls) reads a wall's motion at
+    cos 45°, and inside the facets, where the closed skin's P1 field keeps the corner nodes
+    only: on this coarse box (40 mm cells) the vertex form is 0.11-0.33 dB below the exact
+    one; asserted within 0.5 dB (12 %), which a factor ½ or a lost conjugate (3 dB and more)
+    would break."""
     from jaxgear.cli.run import whine_outputs
 
     case = _case(tmp_path, whine=WHINE + "\n[acoustics]\nmethod = 'erp-only'\nfrequencies = 8\n",
