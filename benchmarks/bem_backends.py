@@ -47,14 +47,8 @@ OPERATORS = ("identity", "single_layer", "double_layer", "hypersingular", "adjoi
 
 
 def _available():
-    backends = [fa.Numba()]
-    try:
-        bempp = _bem._bempp()
-        if bempp.CPU_OPENCL_DRIVER_FOUND:
-            backends.append(fa.OpenCL())
-    except Exception:  # noqa: BLE001 - no bempp/pyopencl: numba only
-        pass
-    return backends
+    bempp = _bem._bempp()
+    return [b for b in (fa.Numba(), fa.OpenCL()) if b.available(bempp)]
 
 
 def _operators(surface, k, backend):

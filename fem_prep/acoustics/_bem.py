@@ -112,8 +112,8 @@ class BEMBackend(Kind):
 class Numba(BEMBackend):
     """bempp-cl's numba kernels: installed with bempp-cl on every platform, compiled on first
     use in each process (95 s of CPU on the benchmark's machine), then about twice OpenCL's
-    time per assembly (``docs/acoustics.md``, "Time per frequency"). The default where no CPU OpenCL driver
-    imports."""
+    time per assembly (``docs/acoustics.md``, "Time per frequency"). The default where no CPU
+    OpenCL driver imports."""
 
     name = "numba"
     device_interface = "numba"
@@ -124,9 +124,9 @@ class OpenCL(BEMBackend):
     (``pocl-binary-distribution``), installed with fem_prep on x86-64 Linux
     (``pyproject.toml``). The default where they import: about half numba's time per assembly
     and a ninth of its first use (``docs/acoustics.md``). Double precision, 4-wide vectors
-    (AVX2's width: PoCL 3.0's 8-wide double kernels abort on CPUs
-    without AVX-512); PoCL's own kernel cache is switched off before bempp-cl first loads the
-    driver (with it on, PoCL 3.0 returns programs without their kernels on a second build).
+    (AVX2's width: PoCL 3.0's 8-wide double kernels abort on CPUs without AVX-512); PoCL's own
+    kernel cache is switched off before bempp-cl first loads the driver (with it on, PoCL 3.0
+    returns programs without their kernels on a second build).
 
     Raises (on first use):
         RuntimeError: no pyopencl or no CPU OpenCL driver.
