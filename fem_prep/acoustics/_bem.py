@@ -158,13 +158,16 @@ def _keep_opencl_kernels():
     """bempp-cl builds an OpenCL program at every assembly (seconds each with PoCL); its
     kernels depend on the operator, the spaces' sizes and the precision only, not on the
     wavenumber, so each is built once per process and kept (the same program serves every
-    frequency of a surface)."""
+    frequency of a surface). Built with ``-w``: PoCL's compiler otherwise prints its count of
+    warnings (vector ABI notes) on the console at every build."""
     import bempp_cl.core.opencl_kernels as ok
 
     if getattr(ok.build_program, "_jaxgear_kept", False):
         return
     build = ok.build_program
+    options_of = ok.get_kernel_compile_options
     kept: dict = {}
+    ok.get_kernel_compile_options = lambda options, precision: [*options_of(options, precision), "-w"]
 
     def build_program(assembly_function, options, precision, device_type="cpu"):
         key = (assembly_function, tuple(sorted((k, repr(v)) for k, v in options.items())),
