@@ -192,6 +192,10 @@ def test_bad_input_is_named():
         fa.Fluid(density=-1.0)
     with pytest.raises(TypeError, match="formulation"):
         fa.BEM("burton-miller")
+    with pytest.raises(TypeError, match="backend"):
+        fa.BEM(backend="opencl")
+    with pytest.raises(TypeError, match="backend"):
+        fa.bem_impedance(fa.sphere_surface(1.0, 1), 100.0, backend="numba")
 
 
 # -- JAX: power, gradient, levels, A weighting ---------------------------------------------------

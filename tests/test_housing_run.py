@@ -47,7 +47,8 @@ def _case(tmp_path, table=TABLE, whine="", damping=None):
 
 
 def test_housing_vibration_is_the_recovery_on_the_skin():
-    """v_n = iω N (recovery q) and ERP = ½ρcΣ|v_n|²A by NumPy on the full field, for random
+    """v_n = iω N (recovery q) and ERP = ½ρc ∫|v_n|² dS (the skin's square_operator) by NumPy
+    on the full field, for random
     coordinates; housing_response's result is housing_vibration of its own coordinates."""
     box = HousingBox(0.2, 0.15, 0.12, 0.01, bores=(Bore("x-", (0.07, 0.06), 0.02),),
                      feet=(Foot((0.0, 0.03), (0.0, 0.03)), Foot((0.17, 0.2), (0.12, 0.15))))
@@ -63,7 +64,8 @@ def test_housing_vibration_is_the_recovery_on_the_skin():
     u = ch.recovery @ q.T  # (n_full, 3)
     vn = (2j * math.pi * f) * (s.normal_operator @ u)  # (F, 3)
     vp = (2j * math.pi * f) * (s.point_operator @ u)
-    ref = 0.5 * AIR.density * AIR.sound_speed * np.sum(np.abs(vn) ** 2 * s.areas[:, None], 0)
+    vs = (2j * math.pi * f) * (s.square_operator @ u)  # ‖S v‖² = ∫ |v_n|² dS
+    ref = 0.5 * AIR.density * AIR.sound_speed * np.sum(np.abs(vs) ** 2, 0)
     np.testing.assert_allclose(np.asarray(r.normal_velocity), vn.T, rtol=1e-10, atol=0)
     np.testing.assert_allclose(np.asarray(r.point_velocity), vp.T, rtol=1e-10, atol=0)
     np.testing.assert_allclose(np.asarray(r.power), ref, rtol=1e-10)
@@ -231,8 +233,8 @@ def _full_fe_check(case, folder, model, w, max_hz):
             rhs[prepared.seat_dofs.ravel()] = loads
             A = (prepared.K - (2 * math.pi * f) ** 2 * prepared.M).tocsc()
             u = prepared.full_field(spla.spsolve(A, rhs))
-            vn = 2j * math.pi * f * (s.normal_operator @ u)
-            ref = 0.5 * AIR.density * AIR.sound_speed * np.sum(np.abs(vn) ** 2 * s.areas)
+            vn = 2j * math.pi * f * (s.square_operator @ u)  # ‖S v‖² = ∫ |v_n|² dS
+            ref = 0.5 * AIR.density * AIR.sound_speed * np.sum(np.abs(vn) ** 2)
             np.testing.assert_allclose(d["erp_W"][i][j], ref, rtol=0.004)
             if names:
                 vp = np.abs(2j * math.pi * f * (pop @ u))
@@ -247,7 +249,7 @@ def test_run_erp_and_points_against_the_full_fe_model(housed_run):
     """At the speeds and orders up to an eighth of the cut-off (6 kHz): the loads the bearings
     put on the seats in the coupled response, −K_bearings[seats, :] X (the bearings' stiffness
     part of the structure), applied to the full clamped housing FE model solved at the order's
-    frequency (sparse LU): its skin ERP (½ρcΣ|iω N u|²A) equals the run's within 0.4 %
+    frequency (sparse LU): its skin ERP (½ρc ∫|iω u·n|² dS) equals the run's within 0.4 %
     (measured 0.01-0.1 % at 290-720 Hz) and its normal velocity at the named points' nodes
     within 1 % of the largest (measured 0.7 %). Higher, the condensation's error grows as
     (f / f_c)²: 1.7-3.7 % at 1.1-1.4 kHz (docs/housing.md, "In jaxgear run")."""
@@ -295,12 +297,14 @@ def test_acoustics_table_needs_a_housed_whine_one_line(tmp_path, tables, match):
 @pytest.mark.slow  # the housed pair's whine again (about 40 s on the 2-core host)
 def test_run_acoustics_erp_only_is_the_housing_erp(tmp_path):
     """[acoustics] method 'erp-only' (R = ½ρc M on the closed skin's vertices, the caps' velocity
-    interpolated from their rims) radiates what the housing's own ERP (½ρc Σ|v_n|² A on the
-    open skin's facets) gives for the same response: two discretisations of one integral. They
-    differ at the box's edges and corners, where the closed skin's vertex normal (area-weighted,
-    between two walls) reads a wall's motion at cos 45°: on this coarse box (40 mm cells) the
-    vertex form is 0.09-0.29 dB below the facet form; asserted within 0.5 dB (12 %), which a
-    factor ½ or a lost conjugate (3 dB and more) would break."""
+    interpolated from their rims) radiates what the housing's own ERP (½ρc ∫|v_n|² dS on the
+    open skin's facets, exact for the FE field) gives for the same response: two
+    discretisations of one integral. They differ at the box's edges and corners, where the
+    closed skin's vertex normal (area-weighted, between two walls) reads a wall's motion at
+    cos 45°, and inside the facets, where the closed skin's P1 field keeps the corner nodes
+    only: on this coarse box (40 mm cells) the vertex form is 0.11-0.33 dB below the exact
+    one; asserted within 0.5 dB (12 %), which a factor ½ or a lost conjugate (3 dB and more)
+    would break."""
     from jaxgear.cli.run import whine_outputs
 
     case = _case(tmp_path, whine=WHINE + "\n[acoustics]\nmethod = 'erp-only'\nfrequencies = 8\n",

@@ -8,12 +8,17 @@ NumPy/SciPy/bempp-cl; never imports JAX.
 """
 
 from ._bem import (
+    BEMBackend as BEMBackend,
     BurtonMiller as BurtonMiller,
     Direct as Direct,
     Formulation as Formulation,
+    Numba as Numba,
+    OpenCL as OpenCL,
     bem_field_pressure as bem_field_pressure,
     bem_field_transfer as bem_field_transfer,
     bem_impedance as bem_impedance,
+    bem_operators as bem_operators,
+    default_backend as default_backend,
 )
 from ._rayleigh import (
     rayleigh_pressure as rayleigh_pressure,

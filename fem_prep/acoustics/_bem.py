@@ -18,8 +18,13 @@ D p = -(½I + K') ∂p/∂n:
     (½I - K + α D) p = -(V + α(½I + K')) ∂p/∂n,   α = i/k,
 
 which is uniquely solvable at every real k. Both sides are assembled densely in the Galerkin
-(P1 × P1) weak form by bempp-cl (its numba back end compiles the kernels on first use: about 60 s
-per process; the assembly is O(n²)).
+(P1 × P1) weak form by bempp-cl, the assembly O(n²) per frequency (the kernels hold k). With
+test and trial functions from the same space the Galerkin matrix of K' is the plain transpose
+of K's (swap x and y in ∫∫ φ_i ∂G/∂n_x φ_j: G is symmetric), so three operators are assembled
+per frequency (V, K, D), not four. Where they are assembled is a :class:`BEMBackend`:
+:class:`OpenCL` (bempp-cl's OpenCL kernels on PoCL, a CPU OpenCL driver: the default where it
+imports) or :class:`Numba` (bempp-cl's numba kernels, compiled on first use in each process);
+measured side by side in ``docs/acoustics.md``, "Time per frequency".
 
 NumPy and bempp-cl (imported on first use); never JAX.
 """
@@ -28,7 +33,9 @@ from __future__ import annotations
 
 import abc
 import contextlib
+import os
 import warnings
+from typing import ClassVar
 
 import numpy as np
 from tqdm import tqdm
@@ -37,12 +44,17 @@ from .._kinds import Kind
 from ._surface import AIR, Fluid, RadiatingSurface
 
 __all__ = [
+    "BEMBackend",
     "BurtonMiller",
     "Direct",
     "Formulation",
+    "Numba",
+    "OpenCL",
     "bem_field_pressure",
     "bem_field_transfer",
     "bem_impedance",
+    "bem_operators",
+    "default_backend",
 ]
 
 
@@ -75,6 +87,117 @@ class BurtonMiller(Formulation):
         return 1j / k
 
 
+class BEMBackend(Kind):
+    """Where bempp-cl assembles the dense boundary operators (a kind: pass an instance; printed
+    and compared by its name). The backend changes the time, not the result (the operators
+    agree to about 1e-12 relative in double precision), so the radiation cache's key does not
+    hold it.
+
+    Attributes:
+        device_interface: bempp-cl's ``device_interface`` argument.
+    """
+
+    device_interface: ClassVar[str]
+
+    def available(self, bempp) -> bool:
+        """Whether this backend can assemble here (``bempp``: bempp_cl.api)."""
+        return True
+
+    @contextlib.contextmanager
+    def session(self, bempp):
+        """The bempp-cl settings in force while this backend assembles (none by default)."""
+        yield
+
+
+class Numba(BEMBackend):
+    """bempp-cl's numba kernels: installed with bempp-cl on every platform, compiled on first
+    use in each process (95 s of CPU on the benchmark's machine), then about twice OpenCL's
+    time per assembly (``docs/acoustics.md``, "Time per frequency"). The default where no CPU
+    OpenCL driver imports."""
+
+    name = "numba"
+    device_interface = "numba"
+
+
+class OpenCL(BEMBackend):
+    """bempp-cl's OpenCL kernels on a CPU OpenCL driver: ``pyopencl`` and PoCL
+    (``pocl-binary-distribution``), installed with fem_prep on x86-64 Linux
+    (``pyproject.toml``). The default where they import: about half numba's time per assembly
+    and a ninth of its first use (``docs/acoustics.md``). Double precision, 4-wide vectors
+    (AVX2's width: PoCL 3.0's 8-wide double kernels abort on CPUs without AVX-512); PoCL's own
+    kernel cache is switched off before bempp-cl first loads the driver (with it on, PoCL 3.0
+    returns programs without their kernels on a second build).
+
+    Raises (on first use):
+        RuntimeError: no pyopencl or no CPU OpenCL driver.
+    """
+
+    name = "opencl"
+    device_interface = "opencl"
+
+    def available(self, bempp):
+        return bool(bempp.CPU_OPENCL_DRIVER_FOUND)
+
+    @contextlib.contextmanager
+    def session(self, bempp):
+        if not self.available(bempp):
+            raise RuntimeError(
+                "BEM backend 'opencl': no CPU OpenCL driver found (pip install pyopencl "
+                "pocl-binary-distribution), or use the default backend Numba()"
+            )
+        _keep_opencl_kernels()
+        old = bempp.VECTORIZATION_MODE
+        bempp.VECTORIZATION_MODE = "vec4"
+        try:
+            yield
+        finally:
+            bempp.VECTORIZATION_MODE = old
+
+
+def _keep_opencl_kernels():
+    """bempp-cl builds an OpenCL program at every assembly (seconds each with PoCL); its
+    kernels depend on the operator, the spaces' sizes and the precision only, not on the
+    wavenumber, so each is built once per process and kept (the same program serves every
+    frequency of a surface). Built with ``-w``: PoCL's compiler otherwise prints its count of
+    warnings (vector ABI notes) on the console at every build."""
+    import bempp_cl.core.opencl_kernels as ok
+
+    if getattr(ok.build_program, "_jaxgear_kept", False):
+        return
+    build = ok.build_program
+    options_of = ok.get_kernel_compile_options
+    kept: dict = {}
+    ok.get_kernel_compile_options = lambda options, precision: [*options_of(options, precision), "-w"]
+
+    def build_program(assembly_function, options, precision, device_type="cpu"):
+        key = (assembly_function, tuple(sorted((k, repr(v)) for k, v in options.items())),
+               precision, device_type)
+        if key not in kept:
+            kept[key] = build(assembly_function, options, precision, device_type)
+        return kept[key]
+
+    build_program._jaxgear_kept = True
+    ok.build_program = build_program
+
+
+#: the backends in the order of preference of :func:`default_backend` (fastest first:
+#: ``docs/acoustics.md``, "Time per frequency")
+PREFERENCE = (OpenCL, Numba)
+
+
+def default_backend() -> BEMBackend:
+    """The first of :data:`PREFERENCE` that is :meth:`~BEMBackend.available` here."""
+    bempp = _bempp()
+    return next(b() for b in PREFERENCE if b().available(bempp))
+
+
+def _check_backend(backend, fn):
+    backend = default_backend() if backend is None else backend
+    if not isinstance(backend, BEMBackend):
+        raise TypeError(f"{fn}: backend must be a BEMBackend (Numba(), OpenCL()), got {backend!r}")
+    return backend
+
+
 def _check(surface, frequency_hz, fluid, formulation, fn):
     if not isinstance(surface, RadiatingSurface):
         raise TypeError(f"{fn}: surface must be a RadiatingSurface, got {type(surface).__name__}")
@@ -94,17 +217,21 @@ def _check(surface, frequency_hz, fluid, formulation, fn):
 
 @contextlib.contextmanager
 def _quiet():
-    """bempp-cl's own warnings silenced: its import warns of a SciPy namespace it uses and
-    numba's compile of its kernels of non-contiguous arrays (NumbaPerformanceWarning)."""
+    """bempp-cl's own warnings silenced: its import warns of a SciPy namespace it uses,
+    numba's compile of its kernels of non-contiguous arrays (NumbaPerformanceWarning) and
+    pyopencl of PoCL's compiler remarks."""
     with warnings.catch_warnings():
         warnings.filterwarnings("ignore", module=r"bempp_cl\.")
         warnings.filterwarnings("ignore", category=DeprecationWarning, message=".*scipy")
         warnings.filterwarnings("ignore", message=".*faster on contiguous arrays")
+        # pyopencl on PoCL's remarks while building bempp-cl's kernels (vector ABI notes)
+        warnings.filterwarnings("ignore", message="Non-empty compiler output")
         yield
 
 
 def _bempp():
-    """bempp_cl.api, imported on first use."""
+    """bempp_cl.api, imported on first use (PoCL's kernel cache off first: see :class:`OpenCL`)."""
+    os.environ.setdefault("POCL_KERNEL_CACHE", "0")
     with _quiet():
         import bempp_cl.api as bempp
     return bempp
@@ -131,6 +258,7 @@ def bem_impedance(
     formulation: Formulation | None = None,
     *,
     progress: bool = False,
+    backend: BEMBackend | None = None,
 ) -> np.ndarray:
     """The surface impedance matrix Z of a closed radiating surface: p = Z v on the vertices.
 
@@ -140,44 +268,75 @@ def bem_impedance(
         fluid: the medium outside.
         formulation: :class:`BurtonMiller` (default) or :class:`Direct`.
         progress: a tqdm bar over the operator assemblies and the solve.
+        backend: where bempp-cl assembles: :class:`Numba` or :class:`OpenCL` (``None``:
+            :func:`default_backend`).
 
     Returns:
         ``(n, n)`` complex Z (Pa s/m): the vertex pressure amplitudes (Pa, peak, e^{-iωt}) for
         vertex normal velocity amplitudes v (m/s).
 
     Raises:
-        TypeError: a surface, fluid or formulation of another type.
+        TypeError: a surface, fluid, formulation or backend of another type.
         ValueError: an open surface, ``frequency_hz`` ≤ 0.
+        RuntimeError: :class:`OpenCL` without a CPU OpenCL driver.
     """
     formulation = BurtonMiller() if formulation is None else formulation
     k = _check(surface, frequency_hz, fluid, formulation, "bem_impedance")
-    bempp, sp, dof = _space(surface)
-    b = bempp.operators.boundary
+    backend = _check_backend(backend, "bem_impedance")
+    ops = bem_operators(surface, k, with_hypersingular=formulation.coupling(k) != 0,
+                        backend=backend, progress=progress, label=f"BEM {frequency_hz:.6g} Hz")
     alpha = formulation.coupling(k)
-    ix = np.ix_(dof, dof)  # the vertex order
-    names = ["single_layer", "double_layer"]
-    if alpha != 0:
-        names += ["hypersingular", "adjoint_double_layer"]
-    bar = tqdm(total=len(names) + 2, desc=f"BEM {frequency_hz:.6g} Hz", disable=not progress)
-
-    def weak(op):
-        with _quiet():
-            a = op.weak_form().to_dense()
-        bar.update()
-        return np.asarray(a)[ix]
-
-    ident = weak(b.sparse.identity(sp, sp, sp))
-    ops = {n: weak(getattr(b.helmholtz, n)(sp, sp, sp, k)) for n in names}
-    lhs = 0.5 * ident - ops["double_layer"]
+    ident, K = ops["identity"], ops["double_layer"]
+    lhs = 0.5 * ident - K
     rhs = -ops["single_layer"]
     if alpha != 0:
         lhs = lhs + alpha * ops["hypersingular"]
-        rhs = rhs - alpha * (0.5 * ident + ops["adjoint_double_layer"])
+        rhs = rhs - alpha * (0.5 * ident + K.T)  # K' = Kᵀ (the module's note)
     omega = 2 * np.pi * frequency_hz
-    Z = 1j * omega * fluid.density * np.linalg.solve(lhs, rhs)
-    bar.update()
-    bar.close()
-    return Z
+    return 1j * omega * fluid.density * np.linalg.solve(lhs, rhs)
+
+
+def bem_operators(
+    surface: RadiatingSurface,
+    wavenumber: float,
+    *,
+    with_hypersingular: bool = True,
+    with_adjoint: bool = False,
+    backend: BEMBackend | None = None,
+    progress: bool = False,
+    label: str = "BEM",
+) -> dict[str, np.ndarray]:
+    """The dense Galerkin (P1 × P1) matrices of the Helmholtz boundary operators on the
+    vertices of a closed surface, in the vertex order: ``"identity"`` (the mass matrix, m²),
+    ``"single_layer"`` V, ``"double_layer"`` K and (``with_hypersingular``) ``"hypersingular"``
+    D at ``wavenumber`` k (1/m), bempp-cl's definitions (the module's note), and
+    (``with_adjoint``, for checks: the solve takes K' = Kᵀ) ``"adjoint_double_layer"`` K'.
+
+    Raises:
+        TypeError: a backend of another type. RuntimeError: as :func:`bem_impedance`.
+    """
+    backend = _check_backend(backend, "bem_operators")
+    bempp, sp, dof = _space(surface)
+    b = bempp.operators.boundary
+    ix = np.ix_(dof, dof)  # the vertex order
+    names = ["single_layer", "double_layer"] + (["hypersingular"] if with_hypersingular else [])
+    names += ["adjoint_double_layer"] if with_adjoint else []
+    with tqdm(total=len(names) + 1, desc=label, disable=not progress) as bar:
+
+        def weak(op):
+            with _quiet():
+                a = op.weak_form().to_dense()
+            bar.update()
+            return np.asarray(a)[ix]
+
+        with backend.session(bempp):
+            out = {"identity": weak(b.sparse.identity(sp, sp, sp))}
+            for n in names:
+                op = getattr(b.helmholtz, n)(
+                    sp, sp, sp, wavenumber, device_interface=backend.device_interface
+                )
+                out[n] = weak(op)
+    return out
 
 
 def bem_field_pressure(
@@ -227,7 +386,8 @@ def bem_field_pressure(
     p_s, q = bempp.GridFunction(sp, coefficients=p_s), bempp.GridFunction(sp, coefficients=q)
     pot = bempp.operators.potential.helmholtz
     with _quiet():
-        p = pot.double_layer(sp, x.T, k).evaluate(p_s) - pot.single_layer(sp, x.T, k).evaluate(q)
+        p = pot.double_layer(sp, x.T, k, device_interface="numba").evaluate(p_s)
+        p = p - pot.single_layer(sp, x.T, k, device_interface="numba").evaluate(q)
     return np.asarray(p).reshape(-1)
 
 

@@ -30,7 +30,7 @@ from tqdm import tqdm
 
 from .._fe_cache import cache_key, load_entry, store_entry, table_dir
 from .._kinds import Kind
-from ._bem import BurtonMiller, Formulation, bem_field_transfer, bem_impedance
+from ._bem import BEMBackend, BurtonMiller, Formulation, bem_field_transfer, bem_impedance
 from ._rayleigh import rayleigh_resistance, rayleigh_transfer
 from ._surface import AIR, Fluid, RadiatingSurface
 
@@ -69,16 +69,26 @@ class RadiationMethod(Kind):
 
 class BEM(RadiationMethod):
     """Exterior BEM on a closed surface (bempp-cl, :func:`bem_impedance`), ``formulation``
-    :class:`BurtonMiller` (default) or :class:`Direct`; ``progress`` shows a bar over each
-    solve's operator assemblies."""
+    :class:`BurtonMiller` (default) or :class:`Direct`; ``backend`` where bempp-cl assembles,
+    :class:`Numba` or :class:`OpenCL` (``None``: :func:`default_backend`, chosen at the first
+    solve; the same R to round-off, so not in the name nor the cache key); ``progress`` shows
+    a bar over each solve's operator assemblies."""
 
-    def __init__(self, formulation: Formulation | None = None, progress: bool = False):
+    def __init__(
+        self,
+        formulation: Formulation | None = None,
+        progress: bool = False,
+        backend: BEMBackend | None = None,
+    ):
         formulation = BurtonMiller() if formulation is None else formulation
         if not isinstance(formulation, Formulation):
             raise TypeError(
                 f"BEM: formulation must be BurtonMiller() or Direct(), got {formulation!r}"
             )
+        if backend is not None and not isinstance(backend, BEMBackend):
+            raise TypeError(f"BEM: backend must be Numba() or OpenCL(), got {backend!r}")
         self.formulation = formulation
+        self.backend = backend
         self.progress = bool(progress)
 
     @property
@@ -92,7 +102,8 @@ class BEM(RadiationMethod):
         return self.operators(surface, frequency_hz, fluid)[0]
 
     def operators(self, surface, frequency_hz, fluid, points=None):
-        Z = bem_impedance(surface, frequency_hz, fluid, self.formulation, progress=self.progress)
+        Z = bem_impedance(surface, frequency_hz, fluid, self.formulation,
+                          progress=self.progress, backend=self.backend)
         MZ = surface.mass_matrix() @ Z
         T = None if points is None else bem_field_transfer(surface, frequency_hz, Z, points, fluid)
         return 0.25 * (MZ + MZ.conj().T), T

@@ -11,6 +11,7 @@ condensation come from :mod:`fem_prep.housing` (NumPy), loaded by the caller.
 
 from ._band import (
     mean_square_pressure_at as mean_square_pressure_at,
+    radiated_intensity_at as radiated_intensity_at,
     radiated_power_at as radiated_power_at,
 )
 from ._erp import (

@@ -13,6 +13,11 @@ monopole's W ∝ f², a dipole's ∝ f⁴ at fixed velocity) and the constant ρ
 coincidence. A value of zero at either end falls back to linear interpolation. At a grid
 frequency the value is exact; outside the grid it is NaN (no extrapolation).
 
+The radiated intensity on the surface, I_j = Re(v_j* (R v)_j) / A_j (W/m², A_j the vertex's
+share of the area), whose sum Σ_j I_j A_j is W, follows the same rule: its pattern is linear in
+t between the two grid frequencies and scaled so that its sum is the log-log W above
+(:func:`radiated_intensity_at`), so the map's total is the printed power at every frequency.
+
 The velocity v is in the convention of R (fem_prep.acoustics: e^{-iωt}); the one-sided
 amplitudes of jaxgear's whine and housing response (v(t) = Re v e^{iωt}) are its conjugates.
 """
@@ -22,7 +27,7 @@ from __future__ import annotations
 import jax
 import jax.numpy as jnp
 
-__all__ = ["mean_square_pressure_at", "radiated_power_at"]
+__all__ = ["mean_square_pressure_at", "radiated_intensity_at", "radiated_power_at"]
 
 
 def _bracket(frequency, grid):
@@ -136,3 +141,53 @@ def mean_square_pressure_at(velocity, frequency_hz, transfer, grid_hz):
     v = jnp.asarray(velocity)
     _check("mean_square_pressure_at", v, T, grid, "transfer", 2)
     return _interpolated(v, frequency_hz, grid, lambda k, vk: 0.5 * jnp.abs(T[k] @ vk) ** 2)
+
+
+def radiated_intensity_at(velocity, frequency_hz, factors, grid_hz, vertex_areas):
+    """The radiated intensity I (W/m²) at each vertex of vertex normal velocities at
+    frequencies between the grid's: I_j = Re(v_j* (R v)_j) / A_j at the two bracketing grid
+    frequencies, linear in the log-position t between them and scaled so that Σ_j I_j A_j is
+    :func:`radiated_power_at`'s W (module docstring).
+
+    Args:
+        velocity: ``(..., n)`` complex vertex normal velocity amplitudes (m/s, peak; e^{-iωt}).
+        frequency_hz: ``(...)`` (Hz).
+        factors: ``(G, n, r)`` L with R ≈ L Lᴴ (``RadiationResistance.factors``).
+        grid_hz: ``(G,)`` increasing (Hz).
+        vertex_areas: ``(n,)`` each vertex's share of the surface's area (m², > 0; a third of
+            each triangle round it).
+
+    Returns:
+        ``(..., n)`` I (W/m²; negative where the surface draws power back); NaN outside the
+        grid's range.
+
+    Raises:
+        ValueError: shapes that do not fit.
+    """
+    L = jnp.asarray(factors)
+    grid = jnp.asarray(grid_hz, L.real.dtype)
+    v = jnp.asarray(velocity)
+    _check("radiated_intensity_at", v, L, grid, "factors", 1)
+    a = jnp.asarray(vertex_areas, L.real.dtype)
+    if a.shape != (L.shape[1],):
+        raise ValueError(f"radiated_intensity_at: vertex_areas must be ({L.shape[1]},), got {a.shape}")
+    lead = v.shape[:-1]
+    n = v.shape[-1]
+    f = jnp.broadcast_to(jnp.asarray(frequency_hz, grid.dtype), lead)
+    i, t, ok = _bracket(f, grid)
+    j = jnp.minimum(i + 1, grid.shape[0] - 1)
+
+    def density(k, vk):  # Re(v* (R v)) per vertex (W), summing to W at grid frequency k
+        return jnp.real(jnp.conj(vk) * (L[k] @ (jnp.conj(L[k]).T @ vk)))
+
+    def one(args):
+        vk, ik, jk, tk = args
+        qa, qb = density(ik, vk), density(jk, vk)
+        wa, wb = jnp.sum(qa), jnp.sum(qb)
+        lin = (1 - tk) * wa + tk * wb
+        scale = jnp.where(lin > 0, _loglog(wa, wb, tk) / jnp.where(lin > 0, lin, 1.0), 1.0)
+        return scale * ((1 - tk) * qa + tk * qb)
+
+    q = jax.lax.map(one, (v.reshape(-1, n), i.reshape(-1), j.reshape(-1), t.reshape(-1)))
+    q = q.reshape(*lead, n) / a.reshape((1,) * len(lead) + (n,))
+    return jnp.where(ok[..., None], q, jnp.nan)

@@ -19,7 +19,6 @@ housing coordinates q, at the orders in the housing's band.
 
 from __future__ import annotations
 
-import math
 import os
 import warnings
 
@@ -31,6 +30,7 @@ from fem_prep import acoustics as fa
 from ..acoustics import (
     a_weighting,
     mean_square_pressure_at,
+    radiated_intensity_at,
     radiated_power_at,
 )
 from ..io import (
@@ -79,20 +79,6 @@ def _vertex_areas(surface) -> np.ndarray:
     for k in range(3):
         np.add.at(a, surface.triangles[:, k], surface.areas / 3)
     return a
-
-
-def _intensity(surface, rr, grid, v, f, areas):
-    """The radiated intensity (W/m²) per vertex: Re(v_j* (R v)_j) / A_j, R linear between the
-    two grid frequencies round f (its sum over the surface is W)."""
-    L = rr.factors
-    if len(grid) == 1:
-        i, j, t = 0, 0, 0.0
-    else:
-        i = int(np.clip(np.searchsorted(grid, f, side="right") - 1, 0, len(grid) - 2))
-        j = i + 1
-        t = float(np.clip(math.log(f / grid[i]) / math.log(grid[j] / grid[i]), 0.0, 1.0))
-    Rv = (1 - t) * (L[i] @ (L[i].conj().T @ v)) + t * (L[j] @ (L[j].conj().T @ v))
-    return np.real(np.conj(v) * Rv) / areas
 
 
 def acoustic_outputs(
@@ -233,7 +219,8 @@ def acoustic_outputs(
     for j in range(O):
         if np.isnan(W[s_max, j]):
             continue
-        q = _intensity(surface, rr, grid, np.conj(v[s_max, j]), f[s_max, j], areas)
+        q = np.asarray(radiated_intensity_at(np.conj(v[s_max, j]), f[s_max, j], rr.factors,
+                                             grid, areas))
         label = f"order_{orders[j]:g}"
         data[f"{label}_intensity_W_m2"] = q
         data[f"{label}_normal_velocity_m_s"] = np.abs(v[s_max, j])
