@@ -29,7 +29,7 @@ touches with the lever arm λ(s) r_b1, so the cell's approach is λ δ and its f
     f(δ) = Σ_cells V k l φ(V δ − δ0) − F_n,   V = λ(s) after the end, 1 elsewhere.
 
 The gap and λ tables are geometry (:func:`jaxgear.extension_table`,
-:func:`jaxgear._extended.corner_table`: NumPy, evaluated once), interpolated here linearly.
+:func:`jaxgear.corner_table`: NumPy, evaluated once), interpolated here linearly.
 
 Everything is plain NumPy: vectorised over the cells of one position, a Python loop over
 positions.
@@ -111,8 +111,7 @@ def baseline_mesh(
     beyond the theoretical path (the corner gap and lever tables of the pair's geometry);
     None: as the case has it.
     """
-    from jaxgear import extension_table, stiffness_table  # NumPy only
-    from jaxgear._extended import corner_table
+    from jaxgear import corner_table, extension_table, stiffness_table  # NumPy only
 
     pair = case.pair
     s, k = stiffness_table(

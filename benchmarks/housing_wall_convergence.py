@@ -65,7 +65,6 @@ def measure(size_mm: float, layers: int) -> dict:
     """One mesh: its cost, modes and the case's whine and ERP on it."""
     import jaxgear.io as jio
     from jaxgear.acoustics import housing_vibration, total_level
-    from jaxgear.cli._housing_run import housed_run
     from jaxgear.dynamics import whine_response
 
     case = _case(size_mm, layers)
@@ -77,7 +76,8 @@ def measure(size_mm: float, layers: int) -> dict:
     modes = np.asarray(body.condensed.modes_hz, dtype=float)
     inputs = jio.whine_of(case)
     model, _ = jio.build_dynamic_model(case)
-    run = housed_run(case, model)
+    housed = jio.housed_acoustics(case)  # the condensed housing just built (cached)
+    first = model.scene.structure.node(f"housing {housed.body.condensed.seat_names[0]}")
     w = whine_response(model, np.asarray(inputs.speeds), inputs.method, positions=inputs.positions)
     speeds = np.asarray(w.speed, dtype=float)
     f1 = np.asarray(w.frequency, dtype=float)
@@ -85,9 +85,9 @@ def measure(size_mm: float, layers: int) -> dict:
     keep = orders_all > 0
     orders = orders_all[keep]
     freq = f1[:, None] * orders[None, :]
-    n_c = int(run.acoustics.K.shape[0])
-    q = np.asarray(w.coordinates)[:, keep, run.first : run.first + n_c]
-    r = housing_vibration(run.acoustics, q, freq)
+    n_c = int(housed.acoustics.K.shape[0])
+    q = np.asarray(w.coordinates)[:, keep, first : first + n_c]
+    r = housing_vibration(housed.acoustics, q, freq)
     power = np.asarray(r.power, dtype=float)
     band = float(body.condensed.cutoff_hz) / 1.5
     in_band = freq <= band
@@ -117,7 +117,7 @@ def measure(size_mm: float, layers: int) -> dict:
         "overall_erp_db": overall.tolist(),
         "erp_db": np.asarray(r.level, dtype=float).tolist(),
         "te_um": (te * 1e6).tolist(),
-        "point_names": list(run.acoustics.point_names),
+        "point_names": list(housed.acoustics.point_names),
         "point_velocity_mm_s": (pv * 1e3).tolist(),
     }
 
@@ -143,7 +143,6 @@ def planetary() -> dict:
     import dataclasses
 
     import jaxgear.io as jio
-    from jaxgear.io._housing_table import stage_housing
 
     case = jio.load_case(PLANETARY)
     spec = case.housing
@@ -157,7 +156,7 @@ def planetary() -> dict:
             cutoff=PLANETARY_CUTOFF_HZ,
         )
         c0 = time.process_time()
-        body = stage_housing(s)
+        body = dataclasses.replace(case, housing=s).housing_body()  # the stage's box
         cpu = time.process_time() - c0
         f = np.asarray(body.condensed.modes_hz, dtype=float)
         rows.append(

@@ -31,7 +31,6 @@ from ._contact import (
     solve_contact as solve_contact,
     solve_contact_cells as solve_contact_cells,
 )
-from ._extended import CornerContact as CornerContact, extension_table as extension_table
 from ._deviations import (
     Deviations as Deviations,
     GearDeviations as GearDeviations,
@@ -40,6 +39,11 @@ from ._deviations import (
     iso1328_round as iso1328_round,
     iso1328_tolerances as iso1328_tolerances,
     sample_gear_deviations as sample_gear_deviations,
+)
+from ._extended import (
+    CornerContact as CornerContact,
+    corner_table as corner_table,
+    extension_table as extension_table,
 )
 from ._geometry import (
     AbstractGearPair as AbstractGearPair,
@@ -50,8 +54,8 @@ from ._geometry import (
 )
 from ._internal import (
     InternalGearPair as InternalGearPair,
-    internal_tooth_geometry as internal_tooth_geometry,
     PlanetaryGeometry as PlanetaryGeometry,
+    internal_tooth_geometry as internal_tooth_geometry,
     planetary_geometry as planetary_geometry,
 )
 from ._maps import (
@@ -71,32 +75,6 @@ from ._modifications import (
     Modifications as Modifications,
     ParabolicRelief as ParabolicRelief,
 )
-from .gearbox import (
-    AbstractGearboxStage as AbstractGearboxStage,
-    GearboxModes as GearboxModes,
-    GearboxTorsional as GearboxTorsional,
-    PairGearboxStage as PairGearboxStage,
-    PlanetaryGearboxStage as PlanetaryGearboxStage,
-    gearbox_modes as gearbox_modes,
-)
-from .planetary import (
-    AbstractPlanetaryModel as AbstractPlanetaryModel,
-    Central as Central,
-    ConstantMeshes as ConstantMeshes,
-    ContactMeshes as ContactMeshes,
-    LoadSharing as LoadSharing,
-    PlanarPlanetary as PlanarPlanetary,
-    PlanetaryMember as PlanetaryMember,
-    PlanetaryModes as PlanetaryModes,
-    PlanetaryQuasiStatic as PlanetaryQuasiStatic,
-    PlanetaryStage as PlanetaryStage,
-    SpatialPlanetary as SpatialPlanetary,
-    TorsionalPlanetary as TorsionalPlanetary,
-    load_sharing as load_sharing,
-    planetary_modes as planetary_modes,
-    planetary_quasi_static as planetary_quasi_static,
-    speed_ratio as speed_ratio,
-)
 from ._pressure import (
     ContactPressure as ContactPressure,
     contact_modulus as contact_modulus,
@@ -110,26 +88,10 @@ from ._quasi_static import (
     quasi_static as quasi_static,
     separation as separation,
 )
-from .rating import (
-    BendingRating as BendingRating,
-    CaseHardened as CaseHardened,
-    GearAccuracy as GearAccuracy,
-    GivenFactors as GivenFactors,
-    InternalRatingGeometry as InternalRatingGeometry,
-    Lubrication as Lubrication,
-    Nitrided as Nitrided,
-    OperatingPoint as OperatingPoint,
-    PairTreatment as PairTreatment,
-    PittingRating as PittingRating,
-    Rating as Rating,
-    RatingGeometry as RatingGeometry,
-    RatingMaterial as RatingMaterial,
-    RatingSettings as RatingSettings,
-    ThroughHardened as ThroughHardened,
-    ToothLoading as ToothLoading,
-    bending_rating as bending_rating,
-    pitting_rating as pitting_rating,
-    rate as rate,
+from ._results import (
+    ContactResult as ContactResult,
+    CutterResult as CutterResult,
+    DynamicsResult as DynamicsResult,
 )
 from ._robust import (
     AbstractDeviationKind as AbstractDeviationKind,
@@ -145,11 +107,6 @@ from ._robust import (
     sample_mesh as sample_mesh,
     sample_metrics as sample_metrics,
     sample_statistics as sample_statistics,
-)
-from ._results import (
-    ContactResult as ContactResult,
-    CutterResult as CutterResult,
-    DynamicsResult as DynamicsResult,
 )
 from ._spectrum import TESpectrum as TESpectrum, te_spectrum as te_spectrum
 from ._stiffness import (
@@ -180,6 +137,53 @@ from ._stiffness_models import (
     stiffness_table as stiffness_table,
 )
 from ._util import safe_max as safe_max
+from .gearbox import (
+    AbstractGearboxStage as AbstractGearboxStage,
+    GearboxModes as GearboxModes,
+    GearboxTorsional as GearboxTorsional,
+    PairGearboxStage as PairGearboxStage,
+    PlanetaryGearboxStage as PlanetaryGearboxStage,
+    gearbox_modes as gearbox_modes,
+)
+from .planetary import (
+    AbstractPlanetaryModel as AbstractPlanetaryModel,
+    Central as Central,
+    ConstantMeshes as ConstantMeshes,
+    ContactMeshes as ContactMeshes,
+    LoadSharing as LoadSharing,
+    PlanarPlanetary as PlanarPlanetary,
+    PlanetaryMember as PlanetaryMember,
+    PlanetaryModes as PlanetaryModes,
+    PlanetaryQuasiStatic as PlanetaryQuasiStatic,
+    PlanetaryStage as PlanetaryStage,
+    SpatialPlanetary as SpatialPlanetary,
+    TorsionalPlanetary as TorsionalPlanetary,
+    load_sharing as load_sharing,
+    planetary_modes as planetary_modes,
+    planetary_quasi_static as planetary_quasi_static,
+    speed_ratio as speed_ratio,
+)
+from .rating import (
+    BendingRating as BendingRating,
+    CaseHardened as CaseHardened,
+    GearAccuracy as GearAccuracy,
+    GivenFactors as GivenFactors,
+    InternalRatingGeometry as InternalRatingGeometry,
+    Lubrication as Lubrication,
+    Nitrided as Nitrided,
+    OperatingPoint as OperatingPoint,
+    PairTreatment as PairTreatment,
+    PittingRating as PittingRating,
+    Rating as Rating,
+    RatingGeometry as RatingGeometry,
+    RatingMaterial as RatingMaterial,
+    RatingSettings as RatingSettings,
+    ThroughHardened as ThroughHardened,
+    ToothLoading as ToothLoading,
+    bending_rating as bending_rating,
+    pitting_rating as pitting_rating,
+    rate as rate,
+)
 from .scenes import (
     Grounded as Grounded,
     RigidMesh as RigidMesh,

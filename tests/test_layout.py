@@ -290,6 +290,9 @@ PRIVATE_IN_TESTS: set[tuple[str, str]] = {
     # the printed tribology and efficiency lines from summary sections, without a lubricated
     # run of each kind (a train, a planetary stage: minutes each)
     ("test_rating_report_rows.py", "jaxgear.cli._tribology_run"),
+    # the ISO stiffness reference and the printed line jaxgear run writes of it, from one
+    # quasi-static result (a whole run of the NREL stage: minutes)
+    ("test_iso6336.py", "jaxgear.cli._summary"),
 }
 
 

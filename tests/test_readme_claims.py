@@ -335,11 +335,11 @@ def test_readme_jaxgear_run_defaults_to_the_default_case_and_folder(monkeypatch)
     class Stop(Exception):
         pass
 
-    def folder(path):
+    def folder(case, command, path, *args, **kwargs):
         seen.append(path)
         raise Stop
 
-    monkeypatch.setattr(run_module, "check_output_dir", folder)
+    monkeypatch.setattr(run_module, "check_case_outputs", folder)
     with pytest.raises(Stop):
         jaxgear.cli.main(["run"])
     assert seen == [os.path.join("jaxgear-out", "accessory-spur")]

@@ -75,7 +75,7 @@ SECTIONS = {
                         "_newmark", "_damping", "_bearings")),
         ("Speed sweeps", ("_sweep", "_robust", "_settle")),
         ("Modes and Campbell diagrams", ("_modal", "_modal_basis", "_rim")),
-        ("Gear whine in the frequency domain", ("_whine", "_whine_qp")),
+        ("Gear whine in the frequency domain", ("_whine", "_whine_qp", "_whine_methods")),
         ("Condensed bodies (hybrid)", ("_hybrid*",)),
     ),
     "jaxgear.planetary": (

@@ -110,8 +110,8 @@ def _load(name_or_path: str | os.PathLike, chain: tuple) -> Case:
         case = parse_gearbox(data, default, base, functools.partial(_load, chain=(*chain, key)))
     else:
         case = parse_train(data, default, base) if is_train(data) else parse_case(data, default, base)
-        case.housing_size()  # a housing too large for this machine refused before any work
         check_case_housing(case)  # the box round its shafts and its points, before any meshing
+        case.housing_size()  # a housing too large for this machine refused before any work
         check_case_whine(case)  # [whine]: its method for the model kind, its groups, its size
     own = (os.path.abspath(name_or_path),) if base is not None else ()
     return dataclasses.replace(case, input_files=_input_files(case, own))
