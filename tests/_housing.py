@@ -15,6 +15,7 @@ __all__ = [
     "ALUMINIUM",
     "HOUSING_BOX",
     "HOUSING_TABLE",
+    "PLANETARY_BOX",
     "ROTATION",
     "WHINE_TABLE",
     "accessory_box",
@@ -48,6 +49,21 @@ loss_factor = 0.0
 [housing.points_mm]
 top = [50.0, 80.0, 0.0]
 "side wall" = [175.0, 0.0, 20.0]
+"""
+
+#: a 500 x 500 x 200 mm box of 10 mm walls round a planetary stage's axis, a 300 mm bore in
+#: each end wall, coarse Tet4 cells; its Young's modulus {E} (GPa) and cut-off {fc} (Hz) to fill
+PLANETARY_BOX = """
+[housing]
+width_mm = 500.0
+height_mm = 500.0
+wall_thickness_mm = 10.0
+length_mm = 200.0
+bore_diameter_mm = 300.0
+mesh_size_mm = 60.0
+element = "tet4"
+youngs_modulus_GPa = {E}
+cutoff_Hz = {fc}
 """
 
 WHINE_TABLE = """

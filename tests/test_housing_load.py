@@ -17,7 +17,7 @@ import pathlib
 
 import numpy as np
 import pytest
-from _housing import HOUSING_BOX, HOUSING_TABLE, WHINE_TABLE
+from _housing import HOUSING_BOX, HOUSING_TABLE, PLANETARY_BOX, WHINE_TABLE
 from _toml import assert_one_line_errors
 
 import jaxgear.io as jio
@@ -197,16 +197,7 @@ def test_planetary_stage_box_and_acoustics_at_load(tmp_path):
     walls): a 600 mm bore refused with its room (500 − 2 x 10 = 480 mm); its [acoustics]
     checked at load as a pair's (an unknown key, a microphone inside the box); with a good
     table the stage loads with its microphones."""
-    base = jio.embedded_case_text("lin-parker-1999") + """
-[housing]
-width_mm = 500.0
-height_mm = 500.0
-wall_thickness_mm = 10.0
-length_mm = 200.0
-bore_diameter_mm = 300.0
-mesh_size_mm = 60.0
-element = "tet4"
-cutoff_Hz = 3000.0
+    base = jio.embedded_case_text("lin-parker-1999") + PLANETARY_BOX.format(E=210.0, fc=3000.0) + """
 [whine]
 speed_min_rad_s = 40.0
 speed_max_rad_s = 60.0

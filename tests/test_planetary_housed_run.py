@@ -14,28 +14,16 @@ import json
 import numpy as np
 import pytest
 import scipy.linalg as sla
+from _housing import PLANETARY_BOX
 
 import jaxgear as jg
 import jaxgear.io as jio
 import jaxgear.planetary as jp
 from jaxgear.cli.planetary import planetary_files
 
-# a 500 x 500 x 200 mm box of 10 mm walls round the stage, a 300 mm bore in each end wall,
-# coarse Tet4 cells (tests/test_planetary_housing.py's case-file box)
-HOUSING = """
-[housing]
-width_mm = 500.0
-height_mm = 500.0
-wall_thickness_mm = 10.0
-length_mm = 200.0
-bore_diameter_mm = 300.0
-mesh_size_mm = 60.0
-element = "tet4"
-youngs_modulus_GPa = {E}
-cutoff_Hz = {fc}
-"""
-STEEL = HOUSING.format(E=210.0, fc=3000.0)
-STIFF = HOUSING.format(E=210e3, fc=3000.0 * np.sqrt(1000.0))  # the same kept modes
+# the box round the stage (tests/_housing.PLANETARY_BOX), as test_planetary_housing.py's
+STEEL = PLANETARY_BOX.format(E=210.0, fc=3000.0)
+STIFF = PLANETARY_BOX.format(E=210e3, fc=3000.0 * np.sqrt(1000.0))  # the same kept modes
 PIN = "tangential_pin_errors_um = [10.0, 0.0, 0.0]\n"
 
 

@@ -13,6 +13,7 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 import scipy.linalg as sla
+from _housing import PLANETARY_BOX
 from _planetary_stage import K0, SEQ, geometry, stage
 
 import fem_prep
@@ -353,18 +354,7 @@ def test_newmark_at_a_near_rigid_housing():
 
 # -- in a case file: [housing] round a planetary stage, [planetary] housing_seat -------------
 
-HOUSING_CASE = """
-[housing]
-width_mm = 500.0
-height_mm = 500.0
-wall_thickness_mm = 10.0
-length_mm = 200.0
-bore_diameter_mm = 300.0
-mesh_size_mm = 60.0
-element = "tet4"
-youngs_modulus_GPa = {E}
-cutoff_Hz = {fc}
-"""
+HOUSING_CASE = PLANETARY_BOX
 
 
 def _case(tmp_path, table="", seat=None, name="housed"):
