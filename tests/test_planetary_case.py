@@ -246,6 +246,20 @@ def test_mesh_stiffness_mean_of_the_mesh_model_against_the_contact_ratio():
         assert abs(k - k0b * pair.transverse_contact_ratio) <= k0b / 16 + 1e-9 * k
 
 
+def test_lumped_mesh_stiffness_of_rigid_spur_teeth_is_k0_b_contact_ratio():
+    """:func:`jaxgear.planetary.lumped_mesh_stiffness` on each NREL mesh model by itself (no
+    case): uniform k0 per unit length on the theoretical path of rigid spur teeth gives
+    k0 b ε_α to one of the 16 positions' share, at any torque (linear cells, every cell of the
+    perfect involutes loaded alike)."""
+    g = _nrel_pairs()
+    for pair in (g.sun_planet, g.planet_ring):
+        mesh = jg.MeshModel.from_pair(pair, *jg.stiffness_table(pair, jg.Uniform(15e9)), 3)
+        k0b = 15e9 * pair.face_width
+        k = [jp.lumped_mesh_stiffness(mesh, None, t) for t in (2e4, 2e5)]
+        assert abs(k[0] - k0b * pair.transverse_contact_ratio) <= k0b / 16 + 1e-9 * k[0]
+        assert k[1] == pytest.approx(k[0], rel=1e-9)
+
+
 # -- bad input ---------------------------------------------------------------------------------
 
 

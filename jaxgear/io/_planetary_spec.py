@@ -28,9 +28,9 @@ from ..planetary import (
     Unbalances,
     central_speeds,
     central_torques,
+    lumped_mesh_stiffness,
     speed_ratio,
 )
-from .._quasi_static import quasi_static
 from .._stiffness import iso6336_mesh_stiffness
 from ._case import Case, CaseForm, PairForm, TrainForm
 from ._planetary_ring_spec import RigidRingSpec, RingModelSpec
@@ -98,17 +98,14 @@ class ISO6336MeshStiffness(PlanetaryMeshStiffness):
 @dataclasses.dataclass(frozen=True)
 class MeanMeshStiffness(PlanetaryMeshStiffness):
     """The mean over a mesh period of the ``[mesh]`` stiffness model's quasi-static mesh
-    stiffness, each mesh at its mean planet load (the rigid mesh, exact contact)."""
+    stiffness, each mesh at its mean planet load (the rigid mesh, exact contact:
+    :func:`jaxgear.planetary.lumped_mesh_stiffness`)."""
 
     def values(self, case):
-        out = []
-        for k in range(len(case.pairs)):
-            one = case.mesh_case(k)
-            r = quasi_static(
-                one.mesh_model(), one.modifications, one.torque, positions_per_pitch=16
-            )
-            out.append(float(np.mean(np.asarray(r.mesh_stiffness))))
-        return tuple(out)
+        return tuple(
+            lumped_mesh_stiffness(one.mesh_model(), one.modifications, one.torque)
+            for one in (case.mesh_case(k) for k in range(len(case.pairs)))
+        )
 
     def summary(self):
         return "mean of the [mesh] stiffness model"

@@ -10,7 +10,8 @@ from :mod:`jaxgear` too; the rest lives here only. Modules:
   assembly condition;
 - ``_spatial``: :class:`SpatialPlanetary` (six coordinates per member);
 - ``_meshes``: the meshes as cells (:class:`ConstantMeshes`, :class:`ContactMeshes`), the
-  sun–ring offset, the quasi-static solve;
+  sun–ring offset, the quasi-static solve, a lumped model's constant mesh stiffness from a
+  mesh's own (:func:`lumped_mesh_stiffness`);
 - ``_ring``: the flexible ring (:class:`RigidRing`, :class:`CondensedRing`,
   :class:`CraigBamptonRing`);
 - ``_runout``: eccentricities and unbalances; ``_hunting``: per-tooth deviations and the
@@ -73,6 +74,8 @@ from ._meshes import (
     ConstantMeshes as ConstantMeshes,
     ContactMeshes as ContactMeshes,
     PlanetaryQuasiStatic as PlanetaryQuasiStatic,
+    LUMPED_STIFFNESS_POSITIONS as LUMPED_STIFFNESS_POSITIONS,
+    lumped_mesh_stiffness as lumped_mesh_stiffness,
     planetary_mesh_stiffness as planetary_mesh_stiffness,
     planetary_quasi_static as planetary_quasi_static,
     sun_ring_offset as sun_ring_offset,

@@ -39,7 +39,7 @@ from .._modifications import Modifications
 from ._stage import AbstractPlanetaryModel, PlanetaryStage, check_assembly, closest_planets
 from ._analysis import mesh_phases
 from ._ring import AbstractRingModel, RigidRing
-from .._quasi_static import separation
+from .._quasi_static import quasi_static, separation
 from .._stiffness_models import AbstractStiffness, stiffness_table
 from .._util import as_float, check_instance, check_integer, check_real
 
@@ -48,7 +48,9 @@ __all__ = [
     "ConstantMeshes",
     "ContactMeshes",
     "PlanetaryQuasiStatic",
+    "LUMPED_STIFFNESS_POSITIONS",
     "face_load_factor",
+    "lumped_mesh_stiffness",
     "planetary_mesh_stiffness",
     "planetary_quasi_static",
     "structure_stiffness",
@@ -555,6 +557,42 @@ def _corner_terms(mesh, cells, rows) -> Array:
         + (jnp.cos(eps) - 1.0)[..., None] * trans
         - jnp.sin(eps)[..., None] * perp
     )
+
+
+#: positions per mesh period at which :func:`lumped_mesh_stiffness` solves a mesh
+LUMPED_STIFFNESS_POSITIONS = 16
+
+
+def lumped_mesh_stiffness(
+    mesh: MeshModel,
+    modifications: Modifications | None,
+    torque,
+    *,
+    positions_per_pitch: int = LUMPED_STIFFNESS_POSITIONS,
+) -> float:
+    """The constant stiffness a lumped planetary model takes for one of the stage's meshes (a
+    sun–planet or a planet–ring mesh): the mean over one mesh period of the mesh's quasi-static
+    stiffness K(θ) = Σ k l over its loaded cells (:func:`jaxgear.quasi_static` on the rigid
+    mesh, exact contact, ``positions_per_pitch`` positions), at the driving member's torque of
+    one planet path (the mean planet load).
+
+    Args:
+        mesh: the mesh's :class:`~jaxgear.MeshModel` (a :class:`~jaxgear.GearPair`'s or an
+            :class:`~jaxgear.InternalGearPair`'s, jaxgear's stiffness model).
+        modifications: its flank modifications (``None``: perfect involutes).
+        torque: the driving member's torque on that mesh (N·m, > 0): T_s/N for the sun mesh,
+            the planet's share for the ring mesh.
+        positions_per_pitch: positions over the mesh period (>= 1).
+
+    Returns:
+        k (N/m), flank-normal in the base plane; for rigid spur teeth of uniform stiffness k0
+        per unit length on the theoretical path k0 b ε_α (to one position's share).
+
+    Raises:
+        what :func:`jaxgear.quasi_static` raises for its inputs (one line).
+    """
+    r = quasi_static(mesh, modifications, torque, positions_per_pitch=positions_per_pitch)
+    return float(np.mean(np.asarray(r.mesh_stiffness)))
 
 
 @eqx.filter_jit
