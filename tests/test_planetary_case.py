@@ -524,3 +524,35 @@ def test_eccentricities_from_a_case_file_over_a_turn_against_the_spring_model():
                               plain.form.spec.torques(plain.torque), torsional)
     assert "over_turn" not in flat["torsional"] and "eccentricities" not in flat
     assert pr.turn_words({"planar": flat["torsional"]}) == ""
+
+
+def test_sharing_over_turn_on_its_grid_against_the_spring_model():
+    """:func:`jaxgear.planetary.sharing_over_turn` and :func:`~jaxgear.planetary.turn_travel`
+    on the lumped Lin & Parker stage with a 25 µm sun eccentricity, called on the API (no
+    summary): the grid is one turn of the carrier against the fixed ring in equal steps, the
+    turn's end left out (x_i / r_br = 2π i / p), and the torsional model's forces and K_γ at
+    each travel are the rigid-path spring model's (tests/_planetary_stage.py) to 1e-9."""
+    data = _data("lin-parker-1999")
+    data["planetary"].update(sun_eccentricity_um=25.0, sun_eccentricity_phase_deg=40.0)
+    data["operating"]["torque_Nm"] = 3000.0  # every mesh in contact over the turn
+    case = jio.parse_train(data)
+    spec = case.form.spec
+    held = spec.sharing_stage(spec.stage(case))
+    torque = abs(spec.torques(case.torque)["sun"])
+    p = 8
+    x = jp.turn_travel(held, p)
+    r_r = float(held.ring.base_radius)
+    np.testing.assert_allclose(x / r_r, 2 * math.pi * np.arange(p) / p, rtol=0, atol=1e-14)
+    assert jp.turn_travel(held).size == jp.TURN_POSITIONS == 72
+    with pytest.raises(ValueError, match="positions = 0"):
+        jp.turn_travel(held, 0)
+    q = jp.sharing_over_turn(jg.TorsionalPlanetary(), held, torque,
+                             np.asarray(spec.tangential_pin_errors),
+                             np.asarray(spec.radial_pin_errors), positions=p)
+    np.testing.assert_array_equal(np.asarray(q.travel), x)
+    r_s, a = 38.7e-3, math.radians(24.6)
+    want = [rigid_path_forces(torque, r_s, np.radians([0.0, 120.0, 240.0]), a, a, 5e8, 5e8,
+                              sun_centre=25e-6 * np.array([math.cos(t), math.sin(t)]))
+            for t in math.radians(40.0) + x / r_s]
+    np.testing.assert_allclose(q.sun_mesh_forces, [w[0] for w in want], rtol=1e-9)
+    np.testing.assert_allclose(q.k_gamma, [w[1] for w in want], rtol=1e-9)

@@ -686,6 +686,36 @@ def test_jaxgear_run_reports_the_3d_load_sharing_face_load_and_sweep(tmp_path, c
     assert "spatial" not in summary["load_sharing"] and "face_load" not in summary
 
 
+def test_the_lumped_models_a_stage_runs(tmp_path):
+    """:func:`jaxgear.planetary.lumped_mode_models` and :func:`~jaxgear.planetary.
+    lumped_sharing_models` on the stages themselves: a spur stage runs the planar and the
+    torsional model, in that order; a helical stage lists the 3D model's modes always, and
+    shares its load by it only where its axial and tilting supports hold the load-sharing
+    stage (without them the 3D stiffness is singular)."""
+    import jaxgear.planetary as jp
+
+    def stages(data):
+        case = jio.parse_train(data)
+        spec = case.form.spec
+        stage = spec.stage(case)
+        return stage, spec.sharing_stage(stage)
+
+    def kinds(models):
+        return [(name, type(m).__name__) for name, m in models.items()]
+
+    two = [("planar", "PlanarPlanetary"), ("torsional", "TorsionalPlanetary")]
+    three = two + [("spatial", "SpatialPlanetary")]
+    spur, spur_held = stages(_lumped_case())
+    assert kinds(jp.lumped_mode_models(spur)) == two
+    assert kinds(jp.lumped_sharing_models(spur_held)) == two
+    free, free_held = stages(_lumped_case(helix_angle_deg=20.0, face_width_mm=30.0))
+    assert kinds(jp.lumped_mode_models(free)) == three
+    assert kinds(jp.lumped_sharing_models(free_held)) == two
+    held, held_held = stages(_helical_case(tmp_path))
+    assert kinds(jp.lumped_sharing_models(held_held)) == three
+    assert jp.LUMPED_MODELS == {"planar": jg.PlanarPlanetary(), "torsional": jg.TorsionalPlanetary()}
+
+
 def test_the_run_takes_the_3d_model_only_where_its_supports_hold_the_stage(tmp_path):
     """`jaxgear run`'s choice (cli.planetary.spatial_model): a helical stage with every axial and
     tilting support given -> the 3D model; the same without them (each member free to screw

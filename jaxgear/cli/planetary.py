@@ -24,22 +24,25 @@ import fem_prep
 
 from .. import contact_pressure, quasi_static
 from ..planetary import (
+    LUMPED_MODELS,
+    TURN_POSITIONS,
     ConstantMeshes,
     HousedPlanetary,
     ModeType,
     PlanetaryModes,
-    SpatialPlanetary,
     Unbalances,
     campbell,
     classify_modes,
     load_sharing,
+    lumped_mode_models,
+    lumped_sharing_models,
     mesh_phases,
-    planetary_model_for,
     planetary_modes,
     planetary_quasi_static,
     ring_resonances,
+    sharing_over_turn,
 )
-from ..io import PLANETARY_MODELS, planetary_kind, ratings_of, write_csv, write_json
+from ..io import planetary_kind, ratings_of, write_csv, write_json
 from ._planetary_hunting_run import hunting_line, hunting_section
 from ._planetary_rating import (
     K_GAMMA_SOURCE,
@@ -65,6 +68,7 @@ __all__ = [
     "MESH_ORDERS",
     "MODELS",
     "RATE",
+    "TURN_POSITIONS",
     "campbell_section",
     "face_load_section",
     "lowest_frequency",
@@ -96,9 +100,9 @@ __all__ = [
     "type_counts",
 ]
 
-#: the lumped models run, by their name in the outputs (in this order; the kinds are
-#: :data:`jaxgear.io.PLANETARY_MODELS`, the names a case file gives a stage's ``model``)
-MODELS = {name: PLANETARY_MODELS[name] for name in ("planar", "torsional")}
+#: the lumped models every run reports, by their name in the outputs (in this order; the
+#: model's rule, :data:`jaxgear.planetary.LUMPED_MODELS`)
+MODELS = LUMPED_MODELS
 
 
 def _of_case(models: dict, case) -> dict:
@@ -110,15 +114,11 @@ def _of_case(models: dict, case) -> dict:
 
 
 def mode_models(stage, case=None) -> dict:
-    """The models whose modes a run lists, by name: :data:`MODELS`, and for a helical stage
-    (``stage.helix_angle`` != 0) also ``"spatial"``, the 3D lumped model
-    (:class:`jaxgear.SpatialPlanetary`: axial and tilting modes, which the planar model lacks).
-    Its load sharing, face load and sweep: :func:`spatial_model` (where its supports hold the
-    stage, where the rating takes its K_γ too: :func:`rating_k_gamma`). With ``case``, each as
-    the case runs it (:func:`jaxgear.io.planetary_kind`: a housed case's on its housing)."""
-    if float(stage.helix_angle) == 0.0:
-        return _of_case(MODELS, case)
-    return _of_case({**MODELS, "spatial": SpatialPlanetary()}, case)
+    """The models whose modes a run lists, by name (:func:`jaxgear.planetary.lumped_mode_models`:
+    :data:`MODELS`, and for a helical stage also ``"spatial"``). Its load sharing, face load and
+    sweep: :func:`spatial_model`. With ``case``, each as the case runs it
+    (:func:`jaxgear.io.planetary_kind`: a housed case's on its housing)."""
+    return _of_case(lumped_mode_models(stage), case)
 
 
 def spatial_model(spec, stage, case=None):
@@ -128,18 +128,16 @@ def spatial_model(spec, stage, case=None):
     for a spur stage or one whose supports are not given (the case keys ``axial_N_per_um``,
     ``tilt_Nm_per_rad``, ``pin_axial_N_per_um``, ``pin_tilt_Nm_per_rad``). With ``case``, as
     the case runs it (:func:`jaxgear.io.planetary_kind`: a housed case's on its housing)."""
-    model = planetary_model_for(spec.sharing_stage(stage))
-    if not isinstance(model, SpatialPlanetary):
-        return None
-    return model if case is None else planetary_kind(case, model)
+    model = lumped_sharing_models(spec.sharing_stage(stage)).get("spatial")
+    return model if model is None or case is None else planetary_kind(case, model)
 
 
 def sharing_models(spec, stage, case=None) -> dict:
-    """The models of the run's load sharing, by name: :data:`MODELS`, and ``"spatial"`` where
-    :func:`spatial_model` gives it; with ``case``, each as the case runs it
+    """The models of the run's load sharing, by name (:func:`jaxgear.planetary.
+    lumped_sharing_models` of the load-sharing stage: :data:`MODELS`, and ``"spatial"`` where
+    :func:`spatial_model` gives it); with ``case``, each as the case runs it
     (:func:`jaxgear.io.planetary_kind`: a housed case's on its housing)."""
-    model = spatial_model(spec, stage)
-    return _of_case(MODELS if model is None else {**MODELS, "spatial": model}, case)
+    return _of_case(lumped_sharing_models(spec.sharing_stage(stage)), case)
 
 
 #: the mesh-frequency harmonics drawn on the Campbell diagram
@@ -234,10 +232,6 @@ def planetary_files(form, case, out: str, args, complete: bool,
     return summary
 
 
-#: carrier positions over a turn at which an eccentric stage's load sharing is solved
-TURN_POSITIONS = 72
-
-
 def unbalance_summary(spec) -> dict:
     """The mass unbalances the run's dynamics apply (``summary.json``'s ``unbalances``), as the
     case gives them: U (kg m) and phases (rad) of the sun, ring, carrier and each planet
@@ -311,16 +305,11 @@ def face_load_section(spec, stage, torques: dict, case=None) -> dict:
 
 
 def turn_sharing(model, held, torque: float, e, eps) -> dict:
-    """K_γ at :data:`TURN_POSITIONS` positions over one turn of the ring relative to the carrier
-    (one carrier turn when the ring is fixed; the sun, faster, turns z_r/z_s times relative to
-    the carrier): the quasi-static solve with one unilateral spring per mesh
-    (:func:`jaxgear.planetary_quasi_static`, :class:`jaxgear.ConstantMeshes` at
-    the model's ``face_points`` Gauss points across the face), the eccentricities turning with their
-    members."""
-    r_r = float(held.ring.base_radius)
-    x = np.arange(TURN_POSITIONS) * 2 * math.pi * r_r / TURN_POSITIONS
-    q = planetary_quasi_static(model, held, ConstantMeshes(face_points=model.face_points),
-                               np.asarray(torque), x, e, eps)
+    """K_γ over one turn of the ring relative to the carrier (``sharing_summary``'s
+    ``over_turn``): :func:`jaxgear.planetary.sharing_over_turn` at its
+    :data:`TURN_POSITIONS` travels (:func:`jaxgear.planetary.turn_travel`), presented."""
+    q = sharing_over_turn(model, held, torque, e, eps)
+    x, r_r = np.asarray(q.travel), float(held.ring.base_radius)
     k = np.asarray(q.k_gamma)
     return {
         "mesh_travel_m": x.tolist(),
@@ -591,7 +580,7 @@ def campbell_section(case, spec, stage, path: str) -> dict:
     per_input = spec.speeds(1.0)  # every speed per rad/s of the input
     f_mesh = spec.mesh_frequency(1.0)  # Hz per rad/s of the input
     model = planetary_kind(case, MODELS["planar"])
-    housed = model is not MODELS["planar"]
+    housed = isinstance(model, HousedPlanetary)
     f0 = np.asarray(planetary_modes(model, stage).frequencies)
     nonzero = f0[f0 > RIGID_SHARE * max(f0.max(), 1.0)]
     reach = nonzero[min(1, nonzero.size - 1)] * 1.2 / f_mesh if nonzero.size else 1.0

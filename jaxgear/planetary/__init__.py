@@ -29,8 +29,10 @@ from :mod:`jaxgear` too; the rest lives here only. Modules:
 - ``_plan``: the time plan of a run over speeds (:func:`plan_sweep`, :func:`time_plan`: steps
   per mesh period, span, kept periods), every speed in one program (:func:`steps_sweep`), the
   factors read from its records (:func:`sweep_factors`), whether anything excites the stage
-  (:func:`excitation`) and the lumped model a stage's supports allow
-  (:func:`planetary_model_for`);
+  (:func:`excitation`), the lumped model a stage's supports allow
+  (:func:`planetary_model_for`), the lumped models a stage's analysis runs
+  (:func:`lumped_mode_models`, :func:`lumped_sharing_models`) and its load sharing over a turn
+  (:func:`turn_travel`, :func:`sharing_over_turn`);
 - ``_whine``: the stage's gear whine in the frequency domain (:func:`planetary_whine`,
   :class:`PlanetaryWhine`) and the central members' support reactions
   (:func:`support_reactions`).
@@ -91,8 +93,10 @@ from ._plan import (
     HOLDS_3D as HOLDS_3D,
     KEEP_OTHER as KEEP_OTHER,
     KEEP_PERIODIC as KEEP_PERIODIC,
+    LUMPED_MODELS as LUMPED_MODELS,
     NO_EXCITATION_TOL as NO_EXCITATION_TOL,
     STEPS_PER_TOP_PERIOD as STEPS_PER_TOP_PERIOD,
+    TURN_POSITIONS as TURN_POSITIONS,
     SweepFactors as SweepFactors,
     SweepRecords as SweepRecords,
     TimePlan as TimePlan,
@@ -101,9 +105,12 @@ from ._plan import (
     excitation as excitation,
     grouped_records as grouped_records,
     holds_stage as holds_stage,
+    lumped_mode_models as lumped_mode_models,
+    lumped_sharing_models as lumped_sharing_models,
     plan_sweep as plan_sweep,
     program_span as program_span,
     settled_periods as settled_periods,
+    sharing_over_turn as sharing_over_turn,
     planetary_model_for as planetary_model_for,
     speed_groups as speed_groups,
     speed_run as speed_run,
@@ -111,6 +118,7 @@ from ._plan import (
     steps_sweep as steps_sweep,
     sweep_factors as sweep_factors,
     time_plan as time_plan,
+    turn_travel as turn_travel,
 )
 from ._ring import (
     AbstractRingModel as AbstractRingModel,

@@ -20,6 +20,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from .._util import check_integer
 from ..dynamics import (
     SETTLE_TOL,
     UNDER_RESOLVED_STEPS,
@@ -34,17 +35,24 @@ from ._dynamics import (
     planetary_dynamics,
     planetary_mesh_modes,
 )
-from ._meshes import AbstractPlanetaryMeshes
+from ._meshes import (
+    AbstractPlanetaryMeshes,
+    ConstantMeshes,
+    PlanetaryQuasiStatic,
+    planetary_quasi_static,
+)
 from ._spatial import SpatialPlanetary
-from ._stage import AbstractPlanetaryModel, PlanarPlanetary, PlanetaryStage
+from ._stage import AbstractPlanetaryModel, PlanarPlanetary, PlanetaryStage, TorsionalPlanetary
 
 __all__ = [
     "EXCITATION_POSITIONS",
     "HOLDS_3D",
     "KEEP_OTHER",
     "KEEP_PERIODIC",
+    "LUMPED_MODELS",
     "NO_EXCITATION_TOL",
     "STEPS_PER_TOP_PERIOD",
+    "TURN_POSITIONS",
     "SweepFactors",
     "SweepRecords",
     "TimePlan",
@@ -53,16 +61,20 @@ __all__ = [
     "excitation",
     "grouped_records",
     "holds_stage",
+    "lumped_mode_models",
+    "lumped_sharing_models",
     "plan_sweep",
     "planetary_model_for",
     "program_span",
     "speed_groups",
     "settled_periods",
+    "sharing_over_turn",
     "speed_run",
     "step_resolution",
     "steps_sweep",
     "sweep_factors",
     "time_plan",
+    "turn_travel",
 ]
 
 #: the fewest Newmark steps per period of the highest mode the meshes excite below which a
@@ -414,6 +426,82 @@ def planetary_model_for(stage: PlanetaryStage) -> AbstractPlanetaryModel:
         if holds_stage(spatial, stage):
             return spatial
     return PlanarPlanetary()
+
+
+#: the lumped models every stage's analysis runs, by their case-file names, in report order
+#: (:func:`lumped_mode_models` and :func:`lumped_sharing_models` add the 3D model where it applies)
+LUMPED_MODELS = {"planar": PlanarPlanetary(), "torsional": TorsionalPlanetary()}
+
+
+def lumped_mode_models(stage: PlanetaryStage) -> dict[str, AbstractPlanetaryModel]:
+    """The lumped models whose modes a stage's analysis lists, by name (in this order):
+    ``"planar"`` (:class:`PlanarPlanetary`), ``"torsional"`` (:class:`TorsionalPlanetary`) and,
+    for a helical stage (``stage.helix_angle`` != 0), ``"spatial"`` (:class:`SpatialPlanetary`:
+    the axial and tilting modes the planar model lacks). ``stage``: the stage as given (its
+    modes need no support to hold it)."""
+    models = dict(LUMPED_MODELS)
+    if float(stage.helix_angle) != 0.0:
+        models["spatial"] = SpatialPlanetary()
+    return models
+
+
+def lumped_sharing_models(stage: PlanetaryStage) -> dict[str, AbstractPlanetaryModel]:
+    """The lumped models whose load sharing a stage's analysis solves, by name (in this order):
+    ``"planar"``, ``"torsional"`` and ``"spatial"`` where :func:`planetary_model_for` takes the
+    3D model (a helical stage whose axial and tilting supports hold it); the rating takes the
+    3D model's K_γ where it is there, else the planar one's.
+    ``stage``: the load-sharing stage (the sun loaded, the reacting members held)."""
+    models = dict(LUMPED_MODELS)
+    model = planetary_model_for(stage)
+    if isinstance(model, SpatialPlanetary):
+        models["spatial"] = model
+    return models
+
+
+#: mesh travels over one turn of the ring relative to the carrier at which an eccentric
+#: stage's load sharing is solved (:func:`sharing_over_turn`)
+TURN_POSITIONS = 72
+
+
+def turn_travel(stage: PlanetaryStage, positions: int = TURN_POSITIONS) -> np.ndarray:
+    """The mesh travels x (m, (positions,)) of one turn of the ring relative to the carrier,
+    equally spaced from 0 and the turn's end left out: x_i = 2π r_br i / positions (r_br the
+    ring's base radius: x / r_br is the carrier's angle relative to the ring; one carrier turn
+    when the ring is fixed, the sun turning z_r/z_s times relative to the carrier).
+
+    Raises:
+        ValueError: ``positions`` not an integer >= 1 (one line)."""
+    check_integer("turn_travel: positions", positions, 1)
+    r_r = float(stage.ring.base_radius)
+    return np.arange(positions) * 2 * math.pi * r_r / positions
+
+
+def sharing_over_turn(
+    model: AbstractPlanetaryModel,
+    stage: PlanetaryStage,
+    sun_torque,
+    tangential_pin_errors,
+    radial_pin_errors=0.0,
+    positions: int = TURN_POSITIONS,
+) -> PlanetaryQuasiStatic:
+    """An eccentric stage's load sharing over one turn of the ring relative to the carrier
+    (:func:`turn_travel`): the quasi-static solve with one unilateral spring per mesh
+    (:func:`planetary_quasi_static`, :class:`ConstantMeshes` at the model's ``face_points``
+    Gauss points across the face, the stage's mesh stiffness), the eccentricities turning with
+    their members; K_γ at each travel is the result's ``k_gamma`` (p,).
+
+    Args:
+        model: the model kind; stage: the load-sharing stage (sun loaded, the reacting members
+            held); sun_torque: the sun's torque (N m, > 0); tangential_pin_errors,
+            radial_pin_errors: per planet (m), (n_planets,) or scalar; positions: travels
+            over the turn.
+
+    Raises:
+        what :func:`turn_travel` and :func:`planetary_quasi_static` raise (one line)."""
+    x = turn_travel(stage, positions)
+    return planetary_quasi_static(model, stage, ConstantMeshes(face_points=model.face_points),
+                                  np.asarray(sun_torque), x, tangential_pin_errors,
+                                  radial_pin_errors)
 
 
 #: "no excitation": the meshes' stiffness varies over a mesh period by less than this relative
