@@ -52,6 +52,19 @@ def iso_and_measured(case, tmp_path, factor: str, **measured):
     return iso, sec, (tmp_path / "rating.md").read_text()
 
 
+def test_planet_face_factors_take_each_kinds_largest_planet():
+    """:func:`jaxgear.rating.planet_face_factors` on the array (no summary): the first N of
+    the 2N meshes are the sun/planet meshes, the rest the planet/ring meshes, each kind's
+    K_Hβ its largest planet's; a shape that is not (2N,) refused in one line."""
+    from jaxgear.rating import planet_face_factors
+
+    assert planet_face_factors(np.array(FACE_LOAD["k_h_beta"])) == (1.34, 1.18)
+    assert planet_face_factors([1.0, 1.5]) == (1.0, 1.5)
+    for bad in ([1.2, 1.3, 1.1], [[1.2, 1.3]], []):
+        with pytest.raises(ValueError, match="planet_face_factors: k_h_beta has shape"):
+            planet_face_factors(bad)
+
+
 def test_the_rating_reports_each_meshs_largest_face_load_k_hbeta_not_used(tmp_path):
     """With the run's face_load, each rated mesh carries measured.K_Hbeta = the largest of the
     planets' values of its kind (sun/planet: the first n, planet/ring: the last n), its source

@@ -78,6 +78,36 @@ def test_unequal_sharing_divides_each_planet_by_its_static_share():
     assert "spatial load sharing" in k[0]["source"]
 
 
+def test_planet_dynamic_factors_on_arrays_against_the_hand_interpolation():
+    """:func:`jaxgear.rating.planet_dynamic_factors` on the arrays themselves (no sweep.json):
+    the (s, 2N) columns split into the N sun/planet then the N planet/ring meshes, each kind
+    the largest planet's straight line at the speed over its static share (1e-12); None for
+    both kinds outside the swept speeds; a last axis of odd length refused in one line."""
+    from jaxgear.rating import planet_dynamic_factors
+
+    f = np.array([1.12, 0.95, 0.93]) * 4e4
+    share = f / f.mean()
+    sun, ring = planet_dynamic_factors(np.array(SPEEDS), np.array(DF), 237.5, f, -f[::-1])
+    assert sun == pytest.approx(max(_by_hand(237.5, j, share[j]) for j in range(3)), abs=1e-12)
+    assert ring == pytest.approx(max(_by_hand(237.5, 3 + j, share[::-1][j]) for j in range(3)),
+                                 abs=1e-12)
+    assert planet_dynamic_factors(np.array(SPEEDS), np.array(DF), 401.0, f, f) == (None, None)
+    with pytest.raises(ValueError, match=r"dynamic_factors has shape \(4, 5\)"):
+        planet_dynamic_factors(np.array(SPEEDS), np.array(DF)[:, :5], 237.5, f, f)
+
+
+def test_the_rating_takes_the_3d_models_sharing_where_there():
+    """:func:`jaxgear.planetary.rating_sharing_model`: the 3D model's where the load sharing has
+    it, else the planar one's; neither refused in one line."""
+    from jaxgear.planetary import rating_sharing_model
+
+    assert rating_sharing_model({"planar": 0, "torsional": 0}) == "planar"
+    assert rating_sharing_model({"planar": 0, "torsional": 0, "spatial": 0}) == "spatial"
+    assert rating_sharing_model(["spatial"]) == "spatial"
+    with pytest.raises(ValueError, match="models = \\['torsional'\\]"):
+        rating_sharing_model({"torsional": 0})
+
+
 def test_use_measured_k_v_rates_each_mesh_with_the_sweeps(tmp_path):
     """Reported beside ISO's (not used) by default; `use_measured = ["K_v"]` (the other load
     factors given, so that only K_v moves): σ_F ∝ K_v and σ_H ∝ √K_v against the ISO rating

@@ -29,7 +29,8 @@ from ..rating import (
     RootStressMap,
     ShaperCutterSection,
     contact_model,
-    planet_dynamic_factor,
+    planet_dynamic_factors,
+    planet_face_factors,
     planet_transverse_factor,
     root_stress_map,
     with_load_sharing,
@@ -39,13 +40,13 @@ from ..planetary import (
     DeviationMeshes,
     RigidRing,
     planetary_quasi_static,
+    rating_sharing_model,
 )
 from ._plots import root_stress_plot
 from ._rating_inputs import modification_inputs
 from ._rating_report import (
     RATE,
     ROOT_STRESS_RADII,
-    _mesh_curves,
     _pick,
     measured_rating,
     stacked_meshes,
@@ -127,19 +128,17 @@ FACE_LOAD_SOURCE = (
 def measured_k_h_beta(face_load: dict | None) -> list[dict] | None:
     """The ``rating.measured`` K_Hβ of the stage's two rated meshes (``sun-planet``,
     ``planet-ring``) from the run's ``face_load`` section (its ``k_h_beta``: the n sun/planet
-    meshes, then the n ring/planet meshes): each the largest over the planets (the rating is of
-    the most loaded path, as K_γ), with :data:`FACE_LOAD_SOURCE` and its contact model (the 3D
+    meshes, then the n ring/planet meshes): each the largest over the planets
+    (:func:`jaxgear.rating.planet_face_factors`), with :data:`FACE_LOAD_SOURCE` and its contact model (the 3D
     model's constant mesh springs, no tooth contact: :func:`jaxgear.rating.contact_model` of
     no mesh model); ``None`` where the run has no face load (a spur stage; a helical stage
     whose supports do not hold it: ``skipped``)."""
     k = (face_load or {}).get("k_h_beta")
     if k is None:
         return None
-    n = len(k) // 2
-    source = FACE_LOAD_SOURCE.format(n=n)
+    source = FACE_LOAD_SOURCE.format(n=len(k) // 2)
     springs = contact_model(())
-    return [MeasuredFactor(float(max(k[:n])), source, springs).entry(),
-            MeasuredFactor(float(max(k[n:])), source, springs).entry()]
+    return [MeasuredFactor(value, source, springs).entry() for value in planet_face_factors(k)]
 
 
 #: where a planetary mesh's measured K_v comes from (:func:`measured_k_v`)
@@ -170,7 +169,7 @@ def measured_k_v(sweep: dict | None, speed: float, sharing: dict,
     ``load_sharing``: the model whose K_γ the rating takes, :func:`rating_k_gamma`), so that
     K_v is the mesh's dynamic load over its static one (ISO 6336-1) and the rating's
     K_γ K_v does not count the static unequal sharing twice; with equal sharing s_j = 1. The
-    largest over the planets, with :data:`SWEEP_K_V_SOURCE` (and :data:`UNRESOLVED_K_V` where
+    largest over the planets (:func:`jaxgear.rating.planet_dynamic_factors`), with :data:`SWEEP_K_V_SOURCE` (and :data:`UNRESOLVED_K_V` where
     the sweep's ``steps_resolution`` is not resolved), ``comparable`` and ``note``: whether it
     is comparable with ISO's K_v, from the mesh frequency at ``speed`` against the sweep model's
     first mode (:func:`jaxgear.cli._rating_sheet.k_v_note`), and ``contact``, the contact
@@ -181,9 +180,9 @@ def measured_k_v(sweep: dict | None, speed: float, sharing: dict,
     speeds = np.asarray(sweep["speeds_rad_s"], dtype=float)
     if not speeds[0] <= speed <= speeds[-1]:
         return None
-    curves = _mesh_curves(sweep, len(sweep["mesh_names"]))
-    n = len(curves) // 2
-    name = [m for m in K_GAMMA_SOURCES if m in sharing][-1]
+    curves = np.asarray(sweep["dynamic_factor_mesh"], dtype=float)
+    n = len(sweep["mesh_names"]) // 2
+    name = rating_sharing_model(sharing)
     source = SWEEP_K_V_SOURCE.format(
         model=sweep["model"], ring=sweep["ring_model"], count=speeds.size, lo=speeds[0],
         hi=speeds[-1], speed=speed, sharing=name, n=n)
@@ -196,12 +195,9 @@ def measured_k_v(sweep: dict | None, speed: float, sharing: dict,
         mesh_hz = float(np.interp(speed, speeds, np.asarray(sweep["mesh_frequency_Hz"])))
         comparable, note = k_v_note(mesh_hz, float(sweep["natural_frequencies_Hz"][0]),
                                     "the sweep model's first mode", contact)
-    out = []
-    for kind, key in enumerate(("sun_mesh_forces_N", "ring_mesh_forces_N")):
-        per_planet = np.stack(curves[kind * n:(kind + 1) * n], axis=1)  # (speeds, planets)
-        value = planet_dynamic_factor(speeds, per_planet, speed, sharing[name][key])
-        out.append(MeasuredFactor(value, source, contact, comparable, note).entry())
-    return out
+    values = planet_dynamic_factors(speeds, curves, speed, sharing[name]["sun_mesh_forces_N"],
+                                    sharing[name]["ring_mesh_forces_N"])
+    return [MeasuredFactor(value, source, contact, comparable, note).entry() for value in values]
 
 
 #: the stage's quasi-static solve that the rating's measured K_Hα and root-stress maps read
@@ -295,7 +291,7 @@ def stage_loads(case, spec, stage, models: dict, ring=None) -> StageLoads | None
     one-line ``CaseWarning``) where the contact solve fails at a position."""
     if not case.pairs:
         return None
-    name = [n for n in K_GAMMA_SOURCES if n in models][-1]
+    name = rating_sharing_model(models)
     meshes = spec.dynamic_meshes(case, case.slices)
     x = meshes.positions(case.positions_per_pitch)
     q = planetary_quasi_static(
@@ -463,7 +459,7 @@ def rating_k_gamma(sharing: dict) -> tuple[float, str]:
     model's where the run has it (a helical stage whose axial and tilting supports hold it,
     :func:`jaxgear.cli.planetary.spatial_model`), else the planar model's; each at the travel 0
     with the case's pin errors and eccentricities."""
-    name = [n for n in K_GAMMA_SOURCES if n in sharing][-1]
+    name = rating_sharing_model(sharing)
     return float(sharing[name]["k_gamma"]), K_GAMMA_SOURCES[name]
 
 

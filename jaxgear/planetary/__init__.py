@@ -109,6 +109,7 @@ from ._plan import (
     lumped_sharing_models as lumped_sharing_models,
     plan_sweep as plan_sweep,
     program_span as program_span,
+    rating_sharing_model as rating_sharing_model,
     settled_periods as settled_periods,
     sharing_over_turn as sharing_over_turn,
     planetary_model_for as planetary_model_for,

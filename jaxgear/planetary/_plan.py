@@ -66,6 +66,7 @@ __all__ = [
     "plan_sweep",
     "planetary_model_for",
     "program_span",
+    "rating_sharing_model",
     "speed_groups",
     "settled_periods",
     "sharing_over_turn",
@@ -449,13 +450,28 @@ def lumped_sharing_models(stage: PlanetaryStage) -> dict[str, AbstractPlanetaryM
     """The lumped models whose load sharing a stage's analysis solves, by name (in this order):
     ``"planar"``, ``"torsional"`` and ``"spatial"`` where :func:`planetary_model_for` takes the
     3D model (a helical stage whose axial and tilting supports hold it); the rating takes the
-    3D model's K_γ where it is there, else the planar one's.
+    3D model's K_γ where it is there, else the planar one's (:func:`rating_sharing_model`).
     ``stage``: the load-sharing stage (the sun loaded, the reacting members held)."""
     models = dict(LUMPED_MODELS)
     model = planetary_model_for(stage)
     if isinstance(model, SpatialPlanetary):
         models["spatial"] = model
     return models
+
+
+def rating_sharing_model(models) -> str:
+    """Of a stage's load-sharing models by name (:func:`lumped_sharing_models`' names, or any
+    of them), the one whose K_γ, static mesh forces and quasi-static loads a rating takes: the
+    3D model's, ``"spatial"``, where it is there (a helical stage on its axial and tilting
+    supports: :func:`planetary_model_for`'s choice), else the planar model's, ``"planar"``.
+
+    Raises:
+        ValueError: ``models`` has neither (one line)."""
+    for name in ("spatial", "planar"):
+        if name in models:
+            return name
+    raise ValueError(f"rating_sharing_model: models = {list(models)}, allowed names that "
+                     "include 'planar' or 'spatial'")
 
 
 #: mesh travels over one turn of the ring relative to the carrier at which an eccentric

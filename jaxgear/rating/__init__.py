@@ -76,6 +76,8 @@ from ._measured import (
     contact_model as contact_model,
     dynamic_factor_at as dynamic_factor_at,
     planet_dynamic_factor as planet_dynamic_factor,
+    planet_dynamic_factors as planet_dynamic_factors,
+    planet_face_factors as planet_face_factors,
     planet_transverse_factor as planet_transverse_factor,
     with_load_sharing as with_load_sharing,
     with_measured as with_measured,

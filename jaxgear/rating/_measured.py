@@ -1,7 +1,8 @@
 """Load factors measured on jaxgear's results, and a rating with them in place of the
 standard's: the dynamic factor K_v of a speed sweep at the rating's speed (a pair's mesh, a
-planetary stage's planets), the transverse load factor K_Hα of a stage's planets
-(:func:`jaxgear.rating.transverse_load_factor` of each), the load sharing factor K_γ folded
+planetary stage's planets), the transverse load factor K_Hα and the face load factor K_Hβ of a
+stage's planets (:func:`jaxgear.rating.transverse_load_factor` of each, the largest of the
+3D model's K_Hβ: :func:`planet_face_factors`), the load sharing factor K_γ folded
 into the load as K_A is (ISO 6336-1), and the settings that rate with them
 (:func:`with_measured`). The face load factor
 K_Hβ of one mesh is :func:`jaxgear.rating.face_load_factor`. Concrete values (NumPy): the
@@ -32,6 +33,8 @@ __all__ = [
     "contact_model",
     "dynamic_factor_at",
     "planet_dynamic_factor",
+    "planet_dynamic_factors",
+    "planet_face_factors",
     "planet_transverse_factor",
     "with_load_sharing",
     "with_measured",
@@ -171,6 +174,64 @@ def planet_dynamic_factor(speeds, dynamic_factors, speed: float, forces) -> floa
     if values[0] is None:
         return None
     return max(v / share[j] for j, v in enumerate(values) if share[j] > 0)
+
+
+def _kinds(name: str, values, where: str) -> tuple[np.ndarray, int]:
+    """``values`` (..., 2N) as floats and N: the N sun/planet meshes', then the N
+    planet/ring meshes' (a planetary stage's mesh order); one line when the last axis is not
+    an even length >= 2."""
+    a = np.asarray(values, dtype=float)
+    if a.ndim < 1 or a.shape[-1] < 2 or a.shape[-1] % 2:
+        raise ValueError(f"{where}: {name} has shape {a.shape}, allowed (..., 2N): the N "
+                         "sun/planet meshes' then the N planet/ring meshes' (N >= 1)")
+    return a, a.shape[-1] // 2
+
+
+def planet_dynamic_factors(speeds, dynamic_factors, speed: float, sun_forces,
+                           ring_forces) -> tuple[float | None, float | None]:
+    """K_v of a planetary stage's two mesh kinds (sun/planet, planet/ring) from a speed sweep:
+    :func:`planet_dynamic_factor` of each kind's planets.
+
+    Args:
+        speeds: the sweep's input speeds (rad/s), (s,), increasing.
+        dynamic_factors: each mesh's dynamic factor (its largest force over the nominal
+            T_s/(N r_bs)), (s, 2N): the N sun/planet meshes, then the N planet/ring meshes
+            (:func:`jaxgear.planetary.sweep_factors`' order).
+        speed: the rating's input speed (rad/s).
+        sun_forces, ring_forces: each planet's static sun-mesh and ring-mesh force of the load
+            sharing whose K_γ the rating takes (N), (N,) each.
+
+    Returns:
+        (K_v of the sun/planet meshes, K_v of the planet/ring meshes), each None outside the
+        swept range.
+
+    Raises:
+        ValueError: ``dynamic_factors`` not (s, 2N), in one line."""
+    curves, n = _kinds("dynamic_factors", dynamic_factors, "planet_dynamic_factors")
+    curves = curves.reshape(-1, 2 * n)
+    return (planet_dynamic_factor(speeds, curves[:, :n], speed, sun_forces),
+            planet_dynamic_factor(speeds, curves[:, n:], speed, ring_forces))
+
+
+def planet_face_factors(k_h_beta) -> tuple[float, float]:
+    """K_Hβ of a planetary stage's two mesh kinds (sun/planet, planet/ring) from its meshes'
+    face load factors: each kind's largest over the planets (the rating is of the most loaded
+    path, as K_γ).
+
+    Args:
+        k_h_beta: each mesh's K_Hβ (-), (2N,): the N sun/planet meshes', then the N
+            planet/ring meshes' (:class:`jaxgear.planetary.PlanetaryQuasiStatic`'s
+            ``k_h_beta`` at one travel, the 3D model's).
+
+    Returns:
+        (K_Hβ of the sun/planet meshes, K_Hβ of the planet/ring meshes).
+
+    Raises:
+        ValueError: ``k_h_beta`` not (2N,), in one line."""
+    k, n = _kinds("k_h_beta", k_h_beta, "planet_face_factors")
+    if k.ndim != 1:
+        raise ValueError(f"planet_face_factors: k_h_beta has shape {k.shape}, allowed (2N,)")
+    return float(max(k[:n])), float(max(k[n:]))
 
 
 def planet_transverse_factor(meshes, path_of_contact: float | None = None) -> float:
