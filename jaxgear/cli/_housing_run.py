@@ -19,7 +19,6 @@ import numpy as np
 
 from ..acoustics import housing_vibration, total_level
 from ..io import (
-    HOUSING_BAND,
     SchemaError,
     TrainForm,
     acoustics_of,
@@ -29,6 +28,7 @@ from ..io import (
     write_json,
 )
 from ..planetary import PlanetaryModel
+from ..scenes import HOUSING_BAND, housing_band_hz
 from ._plots import whine_level_plot, whine_order_plot, whine_waterfall_plot
 
 __all__ = ["HousedRun", "housed_run", "housing_outputs", "housing_run_line", "hybrid_seats_line",
@@ -39,6 +39,7 @@ ORDERS_DRAWN = 4
 #: orders drawn in the waterfalls (the higher ones are in housing.csv)
 WATERFALL_ORDERS = 8
 #: the condensed housing's band: the orders at frequencies up to cut-off / BAND
+#: (:func:`jaxgear.scenes.housing_band_hz`)
 BAND = HOUSING_BAND
 
 
@@ -116,7 +117,7 @@ def housing_outputs(run: HousedRun, case, w, folder: str, invalid) -> dict:
     power = np.asarray(r.power, dtype=float)  # (S, k) W
     level = np.asarray(r.level, dtype=float)
     pv = np.asarray(r.point_velocity)  # (S, k, P) m/s
-    band = float(body.condensed.cutoff_hz) / BAND
+    band = housing_band_hz(body.condensed.cutoff_hz)  # the housing's rule
     in_band = freq <= band
     overall_w = np.where(in_band, power, 0.0).sum(axis=1)
     overall_db = np.asarray(total_level(np.where(in_band, power, 0.0)), dtype=float)
@@ -279,7 +280,7 @@ def _radiation(run: HousedRun, case, q, speeds, orders, freq, folder: str, table
     if not orders.size:
         raise SchemaError(
             f"[acoustics]: no order of [whine] lies below the housing's band limit at every "
-            f"speed ({float(run.body.condensed.cutoff_hz) / BAND:.0f} Hz = cut-off / {BAND:g}): "
+            f"speed ({housing_band_hz(run.body.condensed.cutoff_hz):.0f} Hz = cut-off / {BAND:g}): "
             "allowed a cut-off above 1.5 x the highest order's frequency"
         )
     body = run.body

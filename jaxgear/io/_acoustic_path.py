@@ -32,6 +32,7 @@ from fem_prep import acoustics as fa, schema as sc
 
 from ..acoustics import HousingAcoustics, housing_acoustics
 from ..dynamics import DynamicModel
+from ..scenes import band_speed_limit, housing_band_hz
 from ._acoustics_table import AcousticsInputs, acoustics_of
 from ._housing_table import HOUSING_BAND, housing_surface
 from ._whine_table import whine_of
@@ -68,7 +69,7 @@ class HousedAcoustics(NamedTuple):
     def band_limit_hz(self) -> float:
         """The highest frequency (Hz) whose response the condensed housing holds:
         cut-off / :data:`HOUSING_BAND`."""
-        return float(self.body.condensed.cutoff_hz) / HOUSING_BAND
+        return housing_band_hz(self.body.condensed.cutoff_hz)
 
 
 class HousingBand(NamedTuple):
@@ -85,7 +86,8 @@ class HousingBand(NamedTuple):
 
 def housing_band(case) -> HousingBand | None:
     """The band a housed case's model holds and its speed limit Ω_b (rad/s; a pair's: the
-    pinion's) = 2π f_b / max_k |o_k|, f_b = cut-off / :data:`HOUSING_BAND` (the band the
+    pinion's) = 2π f_b / max_k |o_k| (:func:`jaxgear.scenes.band_speed_limit`), f_b = cut-off /
+    :data:`HOUSING_BAND` (:func:`jaxgear.scenes.housing_band_hz`: the band the
     condensed housing's response holds, the whine's ``in_band``: docs/housing.md, "What the
     condensation keeps"), o_k each mesh's order (its teeth per input turn,
     :attr:`~jaxgear.io.Case.mesh_orders`). Above Ω_b the meshes excite the housing where its
@@ -94,9 +96,9 @@ def housing_band(case) -> HousingBand | None:
     if case.housing is None:
         return None
     cutoff = float(case.housing.cutoff)
-    band = cutoff / HOUSING_BAND
     order = max(abs(float(o)) for o in case.mesh_orders)
-    return HousingBand(cutoff, band, order, 2 * math.pi * band / order)
+    return HousingBand(cutoff, housing_band_hz(cutoff), order,
+                       band_speed_limit(cutoff, case.mesh_orders))
 
 
 def housed_acoustics(case) -> HousedAcoustics | None:

@@ -81,7 +81,7 @@ from ..gearbox import (
     PlanetaryGearboxStage,
 )
 from ..planetary import HousedPlanetary, PlanarPlanetary, TorsionalPlanetary
-from ..scenes import Housing
+from ..scenes import HOUSING_BAND, Housing, band_cutoff_hz, band_holds, housing_band_hz
 from ._case import Case, CaseForm, PairForm
 from ._case_model import PAIR_SCENES
 from ._housing_table import (
@@ -596,19 +596,18 @@ def _stage_teeth(stages, op: dict) -> list[float]:
 
 
 def _check_band(stages, op: dict, spec: HousingSpec, table: dict) -> None:
-    """The housing's band, cut-off / :data:`~jaxgear.io.HOUSING_BAND`, holds every stage's
-    mesh frequency at the gearbox's operating speed (order 1; :func:`_stage_teeth`): the
+    """The housing's band, cut-off / :data:`~jaxgear.scenes.HOUSING_BAND`, holds every stage's
+    mesh frequency at the gearbox's operating speed (order 1; :func:`_stage_teeth`;
+    :func:`jaxgear.scenes.band_holds`): the
     housing modes the meshes excite are in the condensed model (a cut-off below it keeps
     none of them). One line naming the key the cut-off came from, its value and the least
     cut-off allowed."""
-    from ._acoustic_path import HOUSING_BAND
-
     f = [t * op["speed_rad_s"] / (2 * math.pi) for t in _stage_teeth(stages, op)]
     k = max(range(len(f)), key=f.__getitem__)
-    need = HOUSING_BAND * f[k]
-    if spec.cutoff >= need * (1 - 1e-12):
+    if band_holds(spec.cutoff, f[k]):  # the housing's rule
         return
-    why = (f"the housing's band, cut-off / {HOUSING_BAND:g} = {spec.cutoff / HOUSING_BAND:.4g} "
+    need = band_cutoff_hz(f[k])
+    why = (f"the housing's band, cut-off / {HOUSING_BAND:g} = {housing_band_hz(spec.cutoff):.4g} "
            f"Hz, leaves out stage {k + 1}'s mesh frequency at [operating] speed_rad_s = "
            f"{op['speed_rad_s']:g}, {f[k]:.4g} Hz (the housing's modes it excites would be "
            "missing from the model)")

@@ -47,6 +47,8 @@ import numpy as np
 
 from fem_prep import schema as sc
 
+from ..scenes._housing import HOUSING_BAND, band_cutoff_hz, band_holds, housing_band_hz
+
 __all__ = [
     "HOUSING_BAND",
     "HousingBody",
@@ -62,10 +64,6 @@ __all__ = [
     "stage_housing_spec",
 ]
 
-#: the condensed housing's band: orders at frequencies up to cut-off / HOUSING_BAND count
-#: (docs/housing.md, "What the condensation keeps": the default cut-off is 1.5 x the highest
-#: mesh order's)
-HOUSING_BAND = 1.5
 
 _KEYS = {
     "width_mm",
@@ -103,10 +101,6 @@ _BOX_ONLY = (
     "layers",
     "mesher",
 )
-#: the condensed housing's band: orders at frequencies up to cut-off / HOUSING_BAND count
-#: (docs/housing.md, "What the condensation keeps": the default cut-off is 1.5 x the highest
-#: mesh order's)
-HOUSING_BAND = 1.5
 _FILE_ONLY = ("mesh_unit", "offset_mm", "seats", "feet")
 MESHERS = ("structured", "gmsh")
 ELEMENTS = ("tet10", "tet4")
@@ -417,18 +411,18 @@ def housing_size(spec: HousingSpec, shafts, positions, diameters=None) -> Housin
 
 def check_housing_band(spec: HousingSpec, lowest: tuple[float, str],
                        what: str = "every order of [whine]") -> None:
-    """Refuse a cut-off whose band (cut-off / 1.5: docs/housing.md, "What the condensation
-    keeps") lies below the lowest frequency the run asks of the housing's model (``lowest``:
+    """Refuse a cut-off whose band (cut-off / 1.5: :func:`jaxgear.scenes.band_holds`,
+    docs/housing.md, "What the condensation keeps") lies below the lowest frequency the run asks of the housing's model (``lowest``:
     that frequency (Hz) and the words naming it; by default the lowest order the case's
     ``[whine]`` writes, :func:`~jaxgear.io._whine_table.lowest_order_frequency`; ``what``:
     what it is the lowest of): nothing the run computes would lie in the band. One line naming
     the cut-off's key, the band and that frequency."""
     f, which = lowest
-    band = spec.cutoff / HOUSING_BAND
-    if band < f:
+    if not band_holds(spec.cutoff, f):  # the housing's rule (jaxgear.scenes.band_holds)
+        band = housing_band_hz(spec.cutoff)
         hmf = spec.cutoff_source.startswith("1.5 x highest_mesh_frequency_Hz")
         allowed = (f"allowed highest_mesh_frequency_Hz >= {f:.4g}" if hmf else
-                   f"allowed cutoff_Hz >= {HOUSING_BAND * f:.4g} ({HOUSING_BAND:g} x it)")
+                   f"allowed cutoff_Hz >= {band_cutoff_hz(f):.4g} ({HOUSING_BAND:g} x it)")
         raise sc.SchemaError(
             f"{_cutoff_subject(spec)}: out of range: its band (cut-off / {HOUSING_BAND:g} = "
             f"{band:.4g} Hz) "

@@ -18,7 +18,10 @@ torsional model, the lumped 3D and the hybrid scenes are structures with their m
 torsional (:meth:`TorsionalTrain.of`, :func:`torsional_train`), lumped 3D
 (:meth:`LumpedTrain.of`), hybrid (:meth:`HybridScene.train`); the first two are a
 :class:`GearTrain`. :class:`Housing` is a condensed flexible housing the lumped scenes' bearings join the shafts to
-(``housing=`` of :func:`lumped_pair` and :meth:`LumpedTrain.of`) instead of the ground.
+(``housing=`` of :func:`lumped_pair` and :meth:`LumpedTrain.of`) instead of the ground; the
+band its condensed response holds, cut-off / :data:`HOUSING_BAND`, and the rule a housed
+model's frequencies must keep to are the housing's (:func:`housing_band_hz`,
+:func:`band_holds`, :func:`band_cutoff_hz`, :func:`band_speed_limit`).
 :func:`mesh_zone_load` is a unit force spread over a mesh's contact zone
 as a load on the structure (zone compliances fᵀ K⁻¹ f).
 """
@@ -29,6 +32,16 @@ from ._gear_mesh import (
     mesh_zone_load as mesh_zone_load,
     pair_mesh as pair_mesh,
 )
+from ._housing import (
+    BAND_RTOL as BAND_RTOL,
+    HOUSING_BAND as HOUSING_BAND,
+    Housing as Housing,
+    band_cutoff_hz as band_cutoff_hz,
+    band_holds as band_holds,
+    band_speed_limit as band_speed_limit,
+    bearing_positions as bearing_positions,
+    housing_band_hz as housing_band_hz,
+)
 from ._hybrid import (
     HybridPair as HybridPair,
     HybridScene as HybridScene,
@@ -38,7 +51,6 @@ from ._hybrid import (
     hybrid_pair as hybrid_pair,
     hybrid_train as hybrid_train,
 )
-from ._housing import Housing as Housing, bearing_positions as bearing_positions
 from ._interface import (
     FlexibleMember as FlexibleMember,
     GearMember as GearMember,

@@ -36,7 +36,55 @@ import numpy as np
 import scipy.linalg as sla
 from jaxtyping import Array, Float
 
-__all__ = ["Housing", "bearing_positions"]
+__all__ = [
+    "BAND_RTOL",
+    "HOUSING_BAND",
+    "Housing",
+    "band_cutoff_hz",
+    "band_holds",
+    "band_speed_limit",
+    "bearing_positions",
+    "housing_band_hz",
+]
+
+#: a condensed housing's band: its response holds the frequencies up to f_c / HOUSING_BAND, f_c
+#: the condensation's cut-off (docs/housing.md, "What the condensation keeps": the truncation
+#: error grows as (f/f_k)² / (1 − (f/f_k)²) towards the first dropped mode f_k > f_c; the default
+#: cut-off, :func:`fem_prep.housing.housing_cutoff_hz`, is this factor times the highest
+#: mesh-order frequency, so that band holds every frequency the meshes excite)
+HOUSING_BAND = 1.5
+#: the relative round-off :func:`band_holds` allows a cut-off below HOUSING_BAND × f (a
+#: cut-off derived as HOUSING_BAND × f from f itself holds f)
+BAND_RTOL = 1e-12
+
+
+def housing_band_hz(cutoff_hz: float) -> float:
+    """f_b = f_c / :data:`HOUSING_BAND` (Hz): the top of the band a housing condensed with the
+    cut-off ``cutoff_hz`` (Hz) holds; the orders above it meet the housing's modes beyond the
+    cut-off, which the condensation leaves out."""
+    return float(cutoff_hz) / HOUSING_BAND
+
+
+def band_cutoff_hz(frequency_hz: float) -> float:
+    """The least cut-off (Hz) whose band holds ``frequency_hz`` (Hz): :data:`HOUSING_BAND` × f."""
+    return HOUSING_BAND * float(frequency_hz)
+
+
+def band_holds(cutoff_hz: float, frequency_hz: float) -> bool:
+    """Whether the band of a housing condensed with the cut-off ``cutoff_hz`` (Hz) holds the
+    frequency ``frequency_hz`` (Hz): f_c >= :func:`band_cutoff_hz` (f) up to
+    :data:`BAND_RTOL`. The rule a housed model's inputs are refused by where the housing's
+    modes a frequency excites would be missing from the model."""
+    return float(cutoff_hz) >= band_cutoff_hz(frequency_hz) * (1 - BAND_RTOL)
+
+
+def band_speed_limit(cutoff_hz: float, mesh_orders) -> float:
+    """Ω_b = 2π f_b / max_k |o_k| (rad/s): the highest input speed at which every mesh's
+    order-1 frequency lies in the band f_b (:func:`housing_band_hz`) of a housing condensed
+    with the cut-off ``cutoff_hz`` (Hz); ``mesh_orders``: each mesh's order o_k (its teeth per
+    input turn; a carrier-frame order for a planetary stage), not all zero."""
+    order = max(abs(float(o)) for o in mesh_orders)
+    return 2 * math.pi * housing_band_hz(cutoff_hz) / order
 
 #: a seat's six coordinates, in the housing's frame (m, rad): the names' last word (the lumped
 #: scenes' node DOFs' spelling)
@@ -100,6 +148,12 @@ class Housing(eqx.Module):
     def size(self) -> int:
         """h, the housing's coordinates."""
         return self.K.shape[0]
+
+    @property
+    def band_hz(self) -> float:
+        """The top of the band its condensed response holds (Hz, :func:`housing_band_hz` of
+        ``cutoff_hz``; inf without a cut-off)."""
+        return housing_band_hz(self.cutoff_hz)
 
     @property
     def n_seats(self) -> int:
