@@ -49,6 +49,7 @@ import numpy as np
 from scipy.optimize import brentq, minimize_scalar
 
 from ._tooth_profile import FilletForm, form_table
+from .involute import inverse_involute
 from .tooth_form import (
     SEGMENT_FILLET,
     SEGMENT_INVOLUTE,
@@ -70,13 +71,6 @@ def _turn(x, angle):
     """Points ``x`` (…, 2) turned by ``angle`` (added to their polar angle from +y)."""
     c, s = np.cos(angle), np.sin(angle)
     return np.stack([x[..., 0] * c + x[..., 1] * s, x[..., 1] * c - x[..., 0] * s], axis=-1)
-
-
-def _inverse_involute(v: float) -> float:
-    a = 1.0 if v > 0.5 else (3 * v) ** (1 / 3)
-    for _ in range(60):
-        a -= (math.tan(a) - a - v) / math.tan(a) ** 2
-    return a
 
 
 @dataclass(frozen=True, eq=False)
@@ -217,7 +211,7 @@ def _cutting(g: InternalToothGeometry, z0: int, x0: float, rho_coeff: float) -> 
     cut = {"inv_w": inv_w, "rc": 1.0, "rb0": 0.0, "eta": 1.0, "rw0": 0.0}
     if inv_w <= 0:
         return cut
-    aw = _inverse_involute(inv_w)
+    aw = inverse_involute(inv_w)
     a0 = mt * (z - z0) / 2 * math.cos(at) / math.cos(aw)
     r0 = z0 * mt / 2
     rb0 = r0 * math.cos(at)

@@ -34,6 +34,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .involute import involute
+
 __all__ = [
     "InternalToothGeometry",
     "ShaperCutter",
@@ -44,16 +46,6 @@ __all__ = [
 ]
 
 SEGMENT_ROOT, SEGMENT_FILLET, SEGMENT_INVOLUTE, SEGMENT_TIP = 0, 1, 2, 3
-
-
-def involute(alpha):
-    """inv α = tan α − α (rad), elementwise on a float or a NumPy array: fem_prep's involute
-    function, the one NumPy reference of the tooth form (:mod:`fem_prep._tooth_profile` uses
-    it too). jaxgear's :func:`jaxgear.involute` is the same function on Python floats for the
-    pair's geometry (:class:`jaxgear.GearPair`): jaxgear loads fem_prep only lazily (SciPy) and
-    fem_prep never imports jaxgear (JAX), so the two packages cannot share one module; the
-    tooth-form tests hold them together (the form circle and the radii of both)."""
-    return np.tan(alpha) - alpha
 
 
 #: the rack and pair fields of a tooth geometry after its tooth count, in the constructor's order

@@ -39,14 +39,14 @@ import math
 
 import numpy as np
 
-from ._geometry import AbstractGearPair
+from ._geometry import AbstractGearPair, involute
 
 __all__ = ["CornerContact", "corner_table", "extension_table", "line_range"]
 
 
 def _inv(r, rb):
-    a = np.arccos(np.clip(rb / r, -1.0, 1.0))
-    return np.tan(a) - a
+    """inv of the pressure angle at radius ``r`` on a base circle ``rb`` (m)."""
+    return involute(np.arccos(np.clip(rb / r, -1.0, 1.0)))
 
 
 def _wrap(a):

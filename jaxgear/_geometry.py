@@ -15,37 +15,12 @@ import dataclasses
 import math
 from typing import ClassVar
 
+from fem_prep.involute import inverse_involute, involute
+
 from ._backlash import backlashes, base_thicknesses, thinned_involute
 from ._util import check_instance, check_integer, check_real
 
 __all__ = ["AbstractGearPair", "GearPair", "Member", "inverse_involute", "involute"]
-
-
-def involute(alpha: float) -> float:
-    """inv α = tan α − α (rad), on a Python float: the model's involute function (the pair's
-    geometry, evaluated once). The tooth form's, on NumPy arrays, is
-    :func:`fem_prep.tooth_form.involute`, the one NumPy reference; the packages cannot share a
-    module (jaxgear loads fem_prep only lazily, fem_prep never imports JAX); the tooth-form
-    tests hold the two geometries together."""
-    return math.tan(alpha) - alpha
-
-
-def inverse_involute(value: float) -> float:
-    """Solve inv α = value for α ∈ (0, π/2) by Newton's method (float64, 1e-15 rad)."""
-    if value < 0.0:
-        raise ValueError(f"inverse_involute: value {value!r} must be >= 0")
-    if value == 0.0:
-        return 0.0
-    # Both starts lie right of the root (inv α >= α³/3 and α = atan(value + α) < atan(value + π/2))
-    # and below π/2; inv is convex and increasing there, so Newton descends monotonically.
-    alpha = min((3.0 * value) ** (1.0 / 3.0), math.atan(value + math.pi / 2))
-    for _ in range(60):
-        f = math.tan(alpha) - alpha - value
-        step = f / math.tan(alpha) ** 2
-        alpha -= step
-        if abs(step) < 1e-15:
-            break
-    return alpha
 
 
 @dataclasses.dataclass(frozen=True)

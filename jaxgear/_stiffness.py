@@ -452,7 +452,7 @@ def _half_thickness_angle(pair: GearPair, member: int, r: np.ndarray) -> np.ndar
     rp = pair.pitch_radii[member]
     st = pair.reference_thickness[member]
     ar = np.arccos(np.clip(rb / r, -1.0, 1.0))
-    return st / (2 * rp) + involute(pair.transverse_pressure_angle) - (np.tan(ar) - ar)
+    return st / (2 * rp) + involute(pair.transverse_pressure_angle) - involute(ar)
 
 
 def _chordal_thickness(pair: GearPair, member: int, r: np.ndarray) -> np.ndarray:

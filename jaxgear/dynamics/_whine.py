@@ -45,6 +45,7 @@ from ._model import (
     AbstractDynamicModel,
     MeshTable,
     _rigid_penalty,
+    cell_stiffness,
     deviation_periods,
     mesh_table,
 )
@@ -526,7 +527,7 @@ def _whine(model, prep, speeds, method, basis) -> WhineResponse:
     mask = table.take(table.mask, steps)
     k, length = table.take(table.k, steps), table.take(table.length, steps)
     kl = jnp.where(mask, prep.static_weight * k * length, 0.0)  # (S, c)
-    Km = jnp.einsum("sc,sci,scj->sij", kl, V, V)  # tangent mesh stiffness (S, n, n)
+    Km = jax.vmap(cell_stiffness)(V, kl)  # tangent mesh stiffness (S, n, n)
     x_qs = prep.static_x  # (S, n)
     gap = jnp.where(mask, jnp.einsum("sci,si->sc", V, x_qs) - table.take(table.delta0, steps), 0.0)
     if basis is not None:  # the mesh stiffness on the span of the structure vectors
@@ -761,7 +762,7 @@ def _whine_torus(model, table, law, spec, rows, idx, speeds, basis):
     kl = jnp.where(mask, weight * k * length, 0.0)  # (N, c)
     Vb = table.V @ basis  # (rows, c, r)
     Vg = take(Vb)  # (N, c, r)
-    Km = jnp.einsum("sc,sci,scj->sij", kl, Vg, Vg)  # (N, r, r)
+    Km = jax.vmap(cell_stiffness)(Vg, kl)  # (N, r, r)
     diff = hs[:, None, :] - hs[None, :, :]
     coupling = torus_coefficients(Km, R, diff)  # (Nh, Nh, r, r)
     Xh = torus_coefficients(x, R, hs)  # (Nh, n)

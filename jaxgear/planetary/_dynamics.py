@@ -31,6 +31,7 @@ from ..dynamics import (
     ModalSpace,
     ModalSystem,
     StepCells,
+    cell_stiffness,
     matrix_modal_analysis,
     newmark,
     newmark_modal,
@@ -368,7 +369,7 @@ def _mean_mesh_stiffness(model, stage, meshes, offsets, positions: int):
     if path is not meshes:
         on = jax.vmap(lambda x: path.cell_row(model, stage, x, offsets))(x_one)
     kl = jnp.where(on.mask, on.k * on.length, 0.0)
-    return jnp.mean(jnp.einsum("pci,pc,pcj->pij", on.V, kl, on.V), axis=0), rows
+    return cell_stiffness(on.V, kl) / kl.shape[0], rows
 
 
 class PlanetaryStageSystem(NamedTuple):

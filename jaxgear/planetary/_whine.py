@@ -32,6 +32,7 @@ from .._util import check_instance, check_integer, is_traced
 from ..dynamics import (
     AbstractWhineMethod,
     HarmonicBalance,
+    cell_stiffness,
     fourier_coefficients,
     harmonic_balance,
 )
@@ -348,7 +349,7 @@ def _whine(kind, stage, meshes, run, speeds, mesh_speeds, method, P, law) -> Pla
         )(V, rows.k, rows.length, rows.delta0, rows.mask)
         x_qs = static.x  # (P, n)
         kl = jnp.where(rows.mask, static.weight * kl_all, 0.0)  # tangent (P, c)
-        Km = jnp.einsum("pc,pci,pcj->pij", kl, V, V)
+        Km = jax.vmap(cell_stiffness)(V, kl)  # the tangent mesh stiffness (P, n, n)
         Kh = fourier_coefficients(Km, 2 * H)  # (4H+1, n, n)
         Xh = fourier_coefficients(x_qs, H)  # (2H+1, n)
         w0 = 2 * jnp.pi * v / p_b

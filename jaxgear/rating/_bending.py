@@ -29,6 +29,8 @@ from typing import NamedTuple
 import jax.numpy as jnp
 from jaxtyping import Array, Float
 
+from .._geometry import involute
+
 __all__ = ["ToothFormFactors", "member_form", "section_factors", "tooth_form_factors"]
 
 #: Newton steps of the θ equation from π/6: θ is within 2e-16 rad of the root after 4 steps on
@@ -106,7 +108,7 @@ def member_form(mn, an, beta, beta_b, z, x, rack, diameters, eps_a) -> ToothForm
     )
     den = 2 * jnp.sqrt(reach**2 + dbn**2 / 4)
     aen = jnp.arccos(dbn / den)
-    gamma_e = (jnp.pi / 2 + 2 * x * jnp.tan(an)) / zn + _inv(an) - _inv(aen)
+    gamma_e = (jnp.pi / 2 + 2 * x * jnp.tan(an)) / zn + involute(an) - involute(aen)
     afen = aen - gamma_e
     h_fe = (
         mn
@@ -131,10 +133,6 @@ def member_form(mn, an, beta, beta_b, z, x, rack, diameters, eps_a) -> ToothForm
         virtual_teeth=zn,
         eps_alpha_n=eps_an,
     )
-
-
-def _inv(a):
-    return jnp.tan(a) - a
 
 
 def tooth_form_factors(geometry) -> ToothFormFactors:

@@ -19,24 +19,11 @@ import equinox as eqx
 import jax.numpy as jnp
 from jaxtyping import Array, Float
 
-from .._geometry import GearPair
+from .._geometry import GearPair, inverse_involute, involute
 from .._util import as_float, check_instance
-from ._bending import ToothFormFactors, _inv, member_form
+from ._bending import ToothFormFactors, member_form
 
-__all__ = ["AbstractRatingGeometry", "RatingGeometry", "inverse_involute_jnp"]
-
-
-def inverse_involute_jnp(value, iterations: int = 8):
-    """α with inv α = ``value`` (rad), by a fixed count of Newton steps (differentiable: the
-    derivative of the unrolled steps converges to the implicit one, 1/tan² α). The start lies
-    right of the root and below π/2, where inv is convex and increasing, so the steps descend
-    monotonically (the same start as :func:`jaxgear.inverse_involute`): within 3e-15 rad after
-    5 steps for α in [0.05, 1.3] rad; 8 by default."""
-    v = jnp.maximum(value, 1e-30)
-    a = jnp.minimum(jnp.cbrt(3.0 * v), jnp.arctan(v + jnp.pi / 2))
-    for _ in range(iterations):
-        a = a - (_inv(a) - v) / jnp.tan(a) ** 2
-    return a
+__all__ = ["AbstractRatingGeometry", "RatingGeometry"]
 
 
 class Derived(NamedTuple):
@@ -235,8 +222,8 @@ def pair_derived(p, sign: float) -> Derived:
     da = d + 2 * mn * (p.addendum_coeff + x)
     df = d - 2 * mn * (p.dedendum_coeff - x)
     if p.center_distance is None:
-        inv_awt = _inv(at) + 2 * jnp.tan(an) * (x[0] + x[1]) / (z[0] + z[1])
-        awt = inverse_involute_jnp(inv_awt)
+        inv_awt = involute(at) + 2 * jnp.tan(an) * (x[0] + x[1]) / (z[0] + z[1])
+        awt = inverse_involute(inv_awt)
         a = sign * (d[0] + d[1]) / 2 * jnp.cos(at) / jnp.cos(awt)
     else:
         a = p.center_distance

@@ -57,14 +57,14 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Float
 
+from .._geometry import inverse_involute, involute
 from .._internal import InternalGearPair
 from .._results import CutterResult
 from .._util import as_float, check_instance, check_integer, check_real, is_traced
-from ._bending import ToothFormFactors, _inv, member_form, section_factors
+from ._bending import ToothFormFactors, member_form, section_factors
 from ._geometry import (
     AbstractRatingGeometry,
     Derived,
-    inverse_involute_jnp,
     pair_derived,
     pair_fields,
 )
@@ -159,9 +159,9 @@ def _cutter(mn, an, z0, x0, rho_a0, zr, x2, r_f):
     in the ring's frame turns back before the fillet's tangent reaches 60°, the internal
     analogue of ISO 6336-3's condition G < 0 on the generating rack, whose rounding centre
     lies beyond the rolling line)."""
-    inv = _inv
+    inv = involute
     inv_w = inv(an) + 2 * jnp.tan(an) * (x0 + x2) / (z0 - zr)
-    aw = inverse_involute_jnp(jnp.where(inv_w > 0, inv_w, inv(an)))
+    aw = inverse_involute(jnp.where(inv_w > 0, inv_w, inv(an)))
     a0 = mn * (zr - z0) / 2 * jnp.cos(an) / jnp.cos(aw)
     ra0 = r_f - a0
     rb0 = mn * z0 / 2 * jnp.cos(an)
@@ -469,7 +469,7 @@ class InternalRatingGeometry(AbstractRatingGeometry):
         den = 2 * jnp.sqrt(reach**2 + dbn**2 / 4)
         aen = jnp.arccos(dbn / den)
         x2 = self.profile_shift[1]
-        gamma_e = (jnp.pi / 2 + 2 * x2 * jnp.tan(an)) / zn2 + _inv(an) - _inv(aen)
+        gamma_e = (jnp.pi / 2 + 2 * x2 * jnp.tan(an)) / zn2 + involute(an) - involute(aen)
         afen = aen - gamma_e
         s_fn, rho_f, d_s = self.root_section.section(self, g)
         r_s = (dn + d_s - jnp.abs(g.reference_diameter[1])) / 2  # the chord on the virtual gear

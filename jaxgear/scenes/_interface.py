@@ -126,7 +126,7 @@ def tooth_centre_angle(centre, base_radius, base_half_angle, points, flank):
     m = points - _lead(centre, points)
     r = jnp.maximum(jnp.hypot(m[..., 0], m[..., 1]), base_radius)
     a = jnp.arccos(base_radius / r)
-    psi = base_half_angle - (jnp.tan(a) - a)
+    psi = base_half_angle - involute(a)
     return jnp.arctan2(m[..., 1], m[..., 0]) + flank * psi
 
 

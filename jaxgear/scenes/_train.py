@@ -22,7 +22,7 @@ import equinox as eqx
 import numpy as np
 from jaxtyping import Array, Float
 
-from .._geometry import GearPair
+from .._geometry import GearPair, involute
 from ._gear_mesh import line_of_action
 from ._scene import DynamicScene
 from ._structure import AssembledScene
@@ -49,7 +49,7 @@ def half_base_angle(pair: GearPair, member: int) -> float:
     its base circle (rad), s_t/(2 r) + inv α_t (ISO 21771: the involute function carries the
     reference thickness s_t at radius r down to the base circle)."""
     at = pair.transverse_pressure_angle
-    return pair.reference_thickness[member] / (2 * pair.pitch_radii[member]) + (math.tan(at) - at)
+    return pair.reference_thickness[member] / (2 * pair.pitch_radii[member]) + involute(at)
 
 
 def train_phases(pairs, lines, gears, spins, n_gears: int, shafts=None, clockings=None):
