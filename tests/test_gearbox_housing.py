@@ -8,8 +8,8 @@ and M and the seats' rigid levers), the stiff-housing limit (the grounded gearbo
 of the bearing forces, the ring seat's reaction against the ring torque of the stage's torque
 balance, the whine against Newmark, the one name of the housing's coordinates, and bad input."""
 
+import dataclasses
 import math
-import types
 
 import equinox as eqx
 import jax.numpy as jnp
@@ -271,8 +271,7 @@ def test_shared_housing_bad_input_one_line(steel):
     with pytest.raises(ValueError, match=r"seats\[0\] = 8") as err:  # 8 seats: 0..7
         _scene(0, housings[0], (8, 1, 2, 3))
     assert "\n" not in str(err.value)
-    stiffer = types.SimpleNamespace(K=2.0 * steel.K, M=steel.M, seat_names=steel.seat_names,
-                                    seat_positions=steel.seat_positions)
+    stiffer = dataclasses.replace(steel, K=2.0 * steel.K)
     other = Housing.of(stiffer, rotation=R, offset=_offset(0))
     for chain, match in (
         (lambda: gb.GearboxTorsional(grounded.stages, [SHAFT], housing=housings[0]),

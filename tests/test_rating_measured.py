@@ -53,7 +53,7 @@ def test_transverse_load_factor_beyond_the_path_by_hand():
     0.13 (13): the corner is not a pair, the pair on the path carries less than the whole load
     over its length: ratio 87/100 -> K_Hα 1. The same corner placed on the path (s = 0.1, a
     second pair in the double contact zone taking 13 %): 87 over the mean 50 -> 1.74, as
-    without path_of_contact (every cell a pair's). A result without cell_s is refused with
+    without path_of_contact (every cell a pair's). A result whose cell_s is None is refused with
     path_of_contact, and g_α <= 0 too, in one line."""
     w = np.array([[[87.0, 87.0], [13.0, 13.0]]])
     mask = np.ones(w.shape, dtype=bool)
@@ -69,8 +69,8 @@ def test_transverse_load_factor_beyond_the_path_by_hand():
     s3 = np.array([[[0.3, 0.3], [0.8, 0.8], [1.05, 1.05]]])
     got = float(k(_Cells(w3, s3, np.ones(w3.shape, bool)), path_of_contact=1.0))
     assert got == pytest.approx(60.0 / (220.0 / 4), rel=1e-12)
-    with pytest.raises(ValueError, match="_Loads has no cell_s"):
-        k(_Loads(w, mask), path_of_contact=1.0)
+    with pytest.raises(ValueError, match="_Cells has cell_s = None"):
+        k(_Cells(w, None, mask), path_of_contact=1.0)
     with pytest.raises(ValueError, match=r"path_of_contact = 0 m is out of range: allowed > 0 m"):
         k(_Cells(w, s(0.1), mask), path_of_contact=0.0)
 

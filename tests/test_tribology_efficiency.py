@@ -14,7 +14,6 @@ import json
 import math
 import pathlib
 import tomllib
-from types import SimpleNamespace
 
 import jax
 import jax.numpy as jnp
@@ -43,7 +42,8 @@ LUBRICANT = {
 
 
 def _loss(eta, power):
-    return SimpleNamespace(efficiency=eta, input_power=power)
+    """One element of efficiency ``eta`` carrying ``power`` (W): a one-element power flow."""
+    return tr.power_flow([eta], [power], power)
 
 
 def test_series_flow_is_the_product_and_balances_energy():

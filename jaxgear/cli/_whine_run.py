@@ -15,9 +15,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..dynamics import DynamicModel, HybridModel, whine_response
+from ..dynamics import whine_response
 from ..io import build_dynamic_model, whine_of, write_csv, write_json
-from ..planetary import PlanetaryModel
 from ._housing_run import housed_run, housing_outputs, housing_run_line
 from ._plots import whine_order_plot, whine_waterfall_plot
 
@@ -66,10 +65,11 @@ def whine_outputs(case, out_dir: str, solved: SolvedWhine | None = None) -> dict
         return None
     if solved is None:
         model, _ = build_dynamic_model(case)
-        if not isinstance(model, (DynamicModel, HybridModel, PlanetaryModel)):
+        if not model.whine_methods:  # what the model kind declares
             raise ValueError(
-                f"[whine]: the case's model is a {type(model).__name__}: allowed a lumped scene "
-                "(torsional or lumped 3D), a pair with condensed bodies or a planetary stage's"
+                f"[whine]: the case's model is a {type(model).__name__}, which has no gear whine: "
+                "allowed a lumped scene (torsional or lumped 3D), a pair with condensed bodies or "
+                "a planetary stage's"
             )
         housed = housed_run(case, model)  # [housing]: its points checked before the whine
         w = whine_response(model, np.asarray(inputs.speeds), inputs.method,

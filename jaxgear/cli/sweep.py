@@ -209,7 +209,7 @@ def sweep_case_run(
     hertz = dynamics.HertzPressure(tuple(case.pairs), case.youngs_modulus, case.poisson_ratio)
     outputs = dynamics.Outputs(pressure=hertz)
     settled = None
-    if spec.periods is None and model.continues:  # run each speed until it settles
+    if spec.periods is None and model.settles:  # run each speed until it settles
         res, settled = settled_sweeps(model, speeds, spec, law, outputs, direction, progress)
     else:
         res = dynamics.speed_sweep(

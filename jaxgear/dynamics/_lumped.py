@@ -87,6 +87,8 @@ class DynamicModel(AbstractDynamicModel):
     continues: ClassVar[bool] = True
     whine_methods: ClassVar[tuple[type, ...]] = (
         HarmonicBalance, TransmissionErrorSource, QuasiPeriodicBalance)
+    settles: ClassVar[bool] = True
+    runs_from_position: ClassVar[bool] = True
 
     def critical_speeds(self, harmonic: int = 1) -> Float[Array, " n"]:
         """Pinion speeds (rad/s) where the ``harmonic``-th mesh harmonic meets each natural
@@ -94,6 +96,18 @@ class DynamicModel(AbstractDynamicModel):
         return (
             self.modes.omega * self.scene.base_planes[0].mesh_period_angle / (2 * jnp.pi * harmonic)
         )
+
+    def settling_measures(self):
+        """(:attr:`damping`, :attr:`mesh_stiffness_mean`)."""
+        return self.damping, self.mesh_stiffness_mean
+
+    def whine(self, speeds, method, *, positions=256, contact=ExactContact()):
+        """The lumped model's gear whine (:func:`~jaxgear.dynamics.whine_response`, whose
+        arguments, result and errors these are; docs/whine.md): the harmonic balance about
+        its quasi-static solution (:func:`._whine.lumped_whine`)."""
+        from ._whine import lumped_whine  # the whine builds on this module's static rows
+
+        return lumped_whine(self, speeds, method, positions=positions, contact=contact)
 
     def default_settings(self):
         """Newmark with automatic steps, the exact law (100 passes), 60 periods with 4 kept."""

@@ -37,7 +37,7 @@ from __future__ import annotations
 
 import abc
 import math
-from typing import ClassVar
+from typing import TYPE_CHECKING, ClassVar
 
 import equinox as eqx
 import jax
@@ -56,6 +56,10 @@ from ..scenes import DynamicScene, HybridPair
 from ._modal import ModalAnalysis
 from ._newmark import contact_coordinates, static_condensation
 from ._settings import Integrator, Outputs, SteadyState
+from ._whine_methods import AbstractWhineMethod
+
+if TYPE_CHECKING:
+    from ._whine import WhineResponse
 
 __all__ = [
     "AbstractDynamicModel",
@@ -623,6 +627,15 @@ class AbstractDynamicModel(eqx.Module):
     #: :func:`~jaxgear.dynamics.whine_response` solves for this kind; another is refused
     #: before any work (a case file's ``[whine] method`` at load)
     whine_methods: ClassVar[tuple[type, ...]] = ()
+    #: whether :func:`~jaxgear.dynamics.settled_sweep` runs the kind: it continues from speed
+    #: to speed (:attr:`continues`) and answers :meth:`settling_measures`; another kind is
+    #: refused before any work (``jaxgear sweep`` with ``periods = "auto"`` then resolves the
+    #: kind's own window)
+    settles: ClassVar[bool] = False
+    #: whether :meth:`independent_at` runs a window from any mesh position (Newmark): a settled
+    #: sweep's windows of one scene period then begin after a lead where the last one ended,
+    #: and :func:`~jaxgear.dynamics.simulate` takes a ``start_period``
+    runs_from_position: ClassVar[bool] = False
 
     @property
     def mesh(self) -> MeshModel:
@@ -762,6 +775,57 @@ class AbstractDynamicModel(eqx.Module):
             f"{type(self).__name__} sweeps independent speeds only (allowed direction "
             "Independent())"
         )
+
+    def independent_at(self, prepared, speed, step, start, lead=0):
+        """One speed (a scalar, rad/s) from ``start`` = (X, Ẋ) at the mesh position ``step``
+        (an int >= 0, steps of the prepared run) after ``lead`` steps unrecorded: (the
+        response of the window that starts at step ``step + lead``, the state (X, Ẋ) there).
+        Kinds with :attr:`runs_from_position` only; the default raises ``ValueError`` (one
+        line)."""
+        raise ValueError(
+            f"model = {type(self).__name__}: its runs start at mesh position 0 (allowed "
+            "start_period = 0)"
+        )
+
+    def settling_measures(self) -> tuple[Float[Array, "n n"], Float[Array, ""]]:
+        """(C, k̄): the damping matrix (n, n) whose modal damping ratios set a settled sweep's
+        settling time, and the mean loaded mesh stiffness k̄ (N/m) that a state's change is
+        weighed by (:func:`~jaxgear.dynamics.settled_sweep`). Kinds with :attr:`settles`
+        only; the default raises ``ValueError`` (one line)."""
+        raise ValueError(
+            f"model = {type(self).__name__}: does not settle (allowed a kind that settles, a "
+            "lumped DynamicModel)"
+        )
+
+    def check_whine_method(self, method) -> None:
+        """Raise ``TypeError`` (one line, before any work) where the kind has no gear whine
+        or ``method`` is not one of its :attr:`whine_methods`."""
+        kind = type(self).__name__
+        if not self.whine_methods:
+            raise TypeError(f"model: {kind} has no gear whine (its whine_methods is empty)")
+        allowed = ", ".join(f"{c.__name__}(...)" for c in self.whine_methods)
+        if not isinstance(method, AbstractWhineMethod):
+            raise TypeError(f"method = {method!r}: allowed {allowed}")
+        if not isinstance(method, self.whine_methods):
+            raise TypeError(
+                f"method = {type(method).__name__}(...): not for a {kind} (its whine methods: "
+                f"{allowed})"
+            )
+
+    def whine(
+        self,
+        speeds,
+        method: AbstractWhineMethod,
+        *,
+        positions: int = 256,
+        contact: ContactLaw = ExactContact(),
+    ) -> WhineResponse:
+        """The kind's gear whine in the frequency domain at ``speeds`` (rad/s, scalar or (S,)):
+        :func:`~jaxgear.dynamics.whine_response` checks ``method`` against
+        :attr:`whine_methods` (:meth:`check_whine_method`) and calls this. Kinds with
+        :attr:`whine_methods` implement it; the default raises ``TypeError`` (one line)."""
+        raise TypeError(f"model: {type(self).__name__} has no gear whine (its whine_methods is "
+                        "empty)")
 
 
 def span_periods(model: AbstractDynamicModel) -> int:

@@ -219,8 +219,9 @@ def checked(r: DynamicResponse, name: str) -> DynamicResponse:
         raise_if_failed(r.result, DynamicsResult, name)
         return r
 
-    def guarded(x):  # a kind's own response (a planetary stage's) may have no meshes
-        return [m.dynamic_factor for m in getattr(x, "meshes", ())] + [x.result]
+    def guarded(x):  # a kind's own response (a planetary stage's) has no MeshDynamics
+        meshes = x.meshes if isinstance(x, DynamicResponse) else ()
+        return [m.dynamic_factor for m in meshes] + [x.result]
 
     return eqx.tree_at(
         guarded, r, [error_if_failed(v, r.result, DynamicsResult, name) for v in guarded(r)]

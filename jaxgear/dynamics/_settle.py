@@ -238,8 +238,11 @@ def settled_sweep(
     speed whose neighbour's state is close settles in one window.
 
     Args:
-        model: a lumped :class:`~jaxgear.dynamics.DynamicModel` (one that
-            :attr:`~jaxgear.dynamics.AbstractDynamicModel.continues`).
+        model: a dynamic model whose kind
+            :attr:`~jaxgear.dynamics.AbstractDynamicModel.settles` (a lumped
+            :class:`~jaxgear.dynamics.DynamicModel`): it continues from speed to speed and
+            gives its damping and mean mesh stiffness
+            (:meth:`~jaxgear.dynamics.AbstractDynamicModel.settling_measures`).
         speeds: pinion (input) speeds (rad/s) > 0, ascending, concrete, (S,).
         integrator, contact, outputs: as :func:`~jaxgear.dynamics.speed_sweep` (None: its
             defaults; automatic
@@ -252,13 +255,14 @@ def settled_sweep(
         :class:`SettledSweep`.
 
     Raises:
-        ValueError: a model that does not continue, speeds not ascending or not > 0, a
+        ValueError: a model kind that does not settle, speeds not ascending or not > 0, a
             ``tol`` <= 0, bad settings (before any work).
     """
-    if not model.continues:
+    if not model.settles:  # what the model kind declares (AbstractDynamicModel.settles)
         raise ValueError(
             f"model = {type(model).__name__}: a settled sweep continues from speed to speed; "
-            "allowed a lumped DynamicModel (a hybrid model: speed_sweep with a SteadyState)"
+            "allowed a kind that settles, a lumped DynamicModel (a hybrid model or a planetary "
+            "stage: speed_sweep with a SteadyState)"
         )
     if not tol > 0:
         raise ValueError(f"tol = {tol!r}: out of range, allowed > 0")
@@ -274,8 +278,10 @@ def settled_sweep(
     integrator, law, window, outputs = resolve_settings(
         model, integrator, contact, SteadyState(max(block, 2), keep), outputs or Outputs()
     )
+    damping, k_mesh = model.settling_measures()
+    k_mesh = float(k_mesh)
     modes = model.averaged_modes()
-    ratios = modal_damping_ratios(modes, model.damping)
+    ratios = modal_damping_ratios(modes, damping)
     t_s, w_min = settling_time(modes, ratios)
     # the modes a cap must let settle: the rule's and the lighter coupled ones (>= 1 % share)
     t_c = max(settling_time(modes, ratios, CAP_ENERGY_MIN)[0], t_s)
@@ -316,12 +322,11 @@ def settled_sweep(
     mass, structure = model.structure_matrices()
     mass = np.asarray(mass)
     stiff = np.asarray(structure) + np.asarray(modes.mesh_stiffness)
-    k_mesh = float(model.mesh_stiffness_mean)
     # records of one scene period (judged by their return) on Newmark: a continued speed's
     # first window runs after a lead of `lead` periods, every window from the mesh position
-    # `phase` (one compiled program: DynamicModel.independent_at)
+    # `phase` (one compiled program: the kind's independent_at, where it runs_from_position)
     by_return = keep < 2 * q  # the records hold one scene period: no periodicity
-    at = by_return and isinstance(integrator, Newmark) and hasattr(model, "independent_at")
+    at = by_return and isinstance(integrator, Newmark) and model.runs_from_position
     lead = max(block // LEAD_DIVISOR, 1) if at else 0
     phases = np.zeros(sp.size, dtype=int)
     phase = 0  # the mesh position (periods of the first mesh) of `state`

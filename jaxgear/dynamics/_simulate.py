@@ -80,6 +80,11 @@ def simulate(
             f"start_period = {start_period}: a Newmark run from a state0 only (allowed 0 "
             "without a state0 or with a diffrax solver)"
         )
+    if start_period and not model.runs_from_position:  # what the model kind declares
+        raise ValueError(
+            f"start_period = {start_period}: a {type(model).__name__} runs from mesh position 0 "
+            "(allowed 0)"
+        )
     steps_per_period, modes = integrator.steps_per_period, None
     if steps_per_period is None:
         modes = model.averaged_modes()

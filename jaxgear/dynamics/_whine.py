@@ -406,7 +406,7 @@ def _one_sided(c, H):
 
 
 def whine_response(
-    model: DynamicModel,
+    model: AbstractDynamicModel,
     speeds,
     method: AbstractWhineMethod = HarmonicBalance(),
     *,
@@ -425,8 +425,17 @@ def whine_response(
     quasi-static active set, up to the truncation at H harmonics and the sampling of the
     stiffness at ``positions`` points; ``contact_loss`` marks where it cannot hold.
 
+    Each model kind states the methods it solves (its
+    :attr:`~jaxgear.dynamics.AbstractDynamicModel.whine_methods`, checked here before any work)
+    and solves them in its :meth:`~jaxgear.dynamics.AbstractDynamicModel.whine`: the lumped
+    one as below, a hybrid pair in the twisted coordinates of its cyclic bodies, a planetary
+    stage on its carrier-frame system (docs/whine.md).
+
     Args:
-        model: a lumped :class:`~jaxgear.dynamics.DynamicModel` without coast flanks.
+        model: a dynamic model whose kind has whine methods: a lumped
+            :class:`~jaxgear.dynamics.DynamicModel` without coast flanks, a
+            :class:`~jaxgear.dynamics.HybridModel` (a pair), a
+            :class:`jaxgear.planetary.PlanetaryModel`.
         speeds: pinion speeds Ω (rad/s) > 0, scalar or (S,).
         method: :class:`HarmonicBalance` (default, the parametric coupling) or
             :class:`TransmissionErrorSource` (the mean stiffness alone), with its H, both over
@@ -445,27 +454,32 @@ def whine_response(
         :class:`WhineResponse` (S = 1 for a scalar speed).
 
     Raises:
-        TypeError: another model kind or method. ValueError: coast flanks, a speed <= 0,
+        TypeError: a kind without gear whine, or a method it does not solve (one line, before
+            any work). ValueError: coast flanks, a speed <= 0,
             too few positions; with :class:`QuasiPeriodicBalance`, manufacturing deviations or
             positions that are not a multiple of ``steps_multiple()`` (a tuple: not one
             positive int per group, or an entry not a multiple of its group's denominator).
     """
-    whine = getattr(model, "whine", None)
-    if (isinstance(model, AbstractDynamicModel) and isinstance(method, AbstractWhineMethod)
-            and not isinstance(method, model.whine_methods)):  # what the model kind declares
-        allowed = ", ".join(f"{c.__name__}(...)" for c in model.whine_methods) or "none"
+    if not isinstance(model, AbstractDynamicModel):
         raise TypeError(
-            f"method = {type(method).__name__}(...): not for a {type(model).__name__} "
-            f"(its whine methods: {allowed})"
+            f"model: {type(model).__name__}: allowed a jaxgear.dynamics.AbstractDynamicModel "
+            "(a lumped DynamicModel, a HybridModel, a jaxgear.planetary.PlanetaryModel)"
         )
-    if isinstance(model, AbstractDynamicModel) and not isinstance(model, DynamicModel) and whine:
-        # a model with its own linearisation (a planetary stage: its PlanetaryModel.whine)
-        return whine(speeds, method, positions=positions, contact=contact)
-    if not isinstance(model, DynamicModel):
-        raise TypeError(
-            f"model: {type(model).__name__}: allowed a lumped jaxgear.dynamics.DynamicModel "
-            "(dynamic_model of a torsional or lumped 3D scene)"
-        )
+    model.check_whine_method(method)  # what the model kind declares, before any work
+    return model.whine(speeds, method, positions=positions, contact=contact)
+
+
+def lumped_whine(
+    model: DynamicModel,
+    speeds,
+    method: AbstractWhineMethod,
+    *,
+    positions: int = 256,
+    contact: ContactLaw = ExactContact(),
+) -> WhineResponse:
+    """:func:`whine_response` of a lumped :class:`~jaxgear.dynamics.DynamicModel` (its
+    :meth:`~jaxgear.dynamics.DynamicModel.whine`): the arguments, result and errors are
+    :func:`whine_response`'s."""
     if not isinstance(method, AbstractWhineMethod):
         raise TypeError(
             f"method = {method!r}: allowed HarmonicBalance(...), TransmissionErrorSource(...) or "

@@ -174,8 +174,8 @@ def dynamic_load_sharing(sun_mesh_forces) -> DynamicLoadSharing:
         raise ValueError(
             f"dynamic_load_sharing: sun_mesh_forces shape {shape} is out of range: allowed "
             "(..., t, n_planets) with t >= 1 and n_planets >= 1")
-    f = sun_mesh_forces if hasattr(sun_mesh_forces, "max") else np.asarray(sun_mesh_forces,
-                                                                              dtype=float)
+    f = (sun_mesh_forces if isinstance(sun_mesh_forces, (jax.Array, np.ndarray))
+         else np.asarray(sun_mesh_forces, dtype=float))  # an array kept (JAX: differentiable)
     peak = f.max(axis=-2)  # (..., n): each path's largest force over the window
     mean = f.mean(axis=-2)  # (..., n): each path's time-mean force
     return DynamicLoadSharing(peak.max(axis=-1) / peak.mean(axis=-1),

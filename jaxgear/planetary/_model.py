@@ -145,7 +145,8 @@ class PlanetaryModel(AbstractDynamicModel):
     ):
         self.kind, self.scene, self.meshes, self.run, self.ring = kind, stage, meshes, run, ring
         self.mods = None
-        self.torque = getattr(run, "sun_torque", None)
+        # another run type is refused in one line by __check_init__
+        self.torque = run.sun_torque if isinstance(run, PlanetaryRun) else None
         self.carrier_per_input = as_float(carrier_per_input)
         self.mesh_speed_per_input = (
             None if mesh_speed_per_input is None else as_float(mesh_speed_per_input)

@@ -52,6 +52,8 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Float
 
+from fem_prep import RingStations
+
 from .._util import as_float, check_integer, check_real, static_correction
 
 __all__ = [
@@ -377,8 +379,7 @@ class CraigBamptonRing(CondensedRing):
             ValueError: ``stations`` not a ``fem_prep.RingStations``, ``interior`` outside
                 0..m, or no fixed-interface modes (one line).
         """
-        fields = ("interior_eigenvalues", "coupling", "compliance", "mass")
-        if not all(hasattr(stations, f) for f in fields):
+        if not isinstance(stations, RingStations):
             raise ValueError(
                 f"CraigBamptonRing.from_stations: stations = {stations!r:.60} "
                 f"({type(stations).__name__}) is out of range: allowed a fem_prep.RingStations "

@@ -277,7 +277,8 @@ def transverse_load_factor(
         K_Hα (-), >= 1.
 
     Raises:
-        ValueError: ``path_of_contact`` not > 0, or given for a result without ``cell_s``.
+        ValueError: ``path_of_contact`` not > 0, or given for a result whose ``cell_s`` is
+            None.
     """
     w = jnp.where(result.cell_mask, jnp.maximum(result.line_load, 0.0), 0.0)
     on = w > loaded * jnp.max(w)
@@ -285,12 +286,12 @@ def transverse_load_factor(
     if path_of_contact is not None:
         check_real("path_of_contact", path_of_contact, "m", lo=0.0, lo_open=True, shape=(),
                    where="transverse_load_factor")
-        if not hasattr(result, "cell_s"):
+        s = result.cell_s
+        if s is None:  # records without the cells' coordinates (a run that kept none)
             raise ValueError(
-                f"transverse_load_factor: result = {type(result).__name__} has no cell_s: "
+                f"transverse_load_factor: result = {type(result).__name__} has cell_s = None: "
                 "allowed a result with cell_s where path_of_contact is given"
             )
-        s = result.cell_s
         on_path = (s >= 0.0) & (s <= path_of_contact)
         on = on & on_path
         pair_load = jnp.where(on_path, w, 0.0)

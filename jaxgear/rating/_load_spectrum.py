@@ -426,8 +426,8 @@ def rate_spectrum(geometry, spectrum: LoadSpectrum, settings) -> SpectrumRating:
         t = spectrum.torque[i] if on else t0
         w = spectrum.speed[i] if on else w0
         rows.append(_RATE(geometry, OperatingPoint(t, w), settings))
-    p = _stack([r.pitting for r in rows])
-    b = _stack([r.bending for r in rows])
+    p = _stack([r.pitting for r in rows], _PITTING)
+    b = _stack([r.bending for r in rows], _BENDING)
     on = active[:, None]
     # each bin's load cycles per gear: the rating's N_L over its life, scaled to the bin's time
     n = jnp.where(on, p.cycles * (spectrum.duration / settings.life)[:, None], 0.0)
@@ -475,15 +475,17 @@ def _gear_columns(ch: SNCurve, cf: SNCurve, sig_h, sig_f, n, active) -> dict:
     }
 
 
-def _stack(results):
-    """The bins' results stacked along a first axis (arrays only)."""
-    first = results[0]
-    arrays = {}
-    for name in ("sigma_H", "sigma_HG", "Z_NT", "Z_L", "Z_v", "Z_R", "cycles", "sigma_F",
-                 "sigma_FG", "Y_NT", "Y_R_rel_T", "Y_X"):
-        if hasattr(first, name):
-            arrays[name] = jnp.stack([jnp.asarray(getattr(r, name)) for r in results])
-    return SimpleNamespace(**arrays)
+#: the fields of a bin's :class:`~jaxgear.rating.PittingRating` and
+#: :class:`~jaxgear.rating.BendingRating` that the spectrum reads (:func:`_stack`)
+_PITTING = ("sigma_H", "sigma_HG", "Z_NT", "Z_L", "Z_v", "Z_R", "cycles")
+_BENDING = ("sigma_F", "sigma_FG", "Y_NT", "Y_R_rel_T", "Y_X")
+
+
+def _stack(results, names: tuple[str, ...]):
+    """The fields ``names`` of the bins' results, each stacked along a first axis."""
+    return SimpleNamespace(
+        **{name: jnp.stack([jnp.asarray(getattr(r, name)) for r in results]) for name in names}
+    )
 
 
 def rate_train_spectrum(meshes, spectrum: LoadSpectrum, reference) -> tuple[SpectrumRating, ...]:

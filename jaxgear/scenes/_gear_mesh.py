@@ -190,7 +190,7 @@ class GearMesh(eqx.Module):
         (from a member placed in space; a torsional scene needs only the ratios)."""
         plane = self.base_plane
         lever_driving, lever_driven, eps, o_t, o_v = plane.corner(cells.s)
-        centre = getattr(members[self.gears[0]], "centre", None)
+        centre = members[self.gears[0]].axis_point()
         M = self.points(cells)
         if centre is None:  # a torsional member: no place in space, the ratios alone
             return M, self.normal, (lever_driving, lever_driven)

@@ -168,9 +168,9 @@ class Housing(eqx.Module):
         rotation=None,
         offset=(0.0, 0.0, 0.0),
     ) -> Housing:
-        """The housing of a condensed housing (:class:`fem_prep.housing.CondensedHousing`, or
-        any object with its ``K``, ``M``, ``seat_positions``, ``seat_names``, ``modes_hz`` and
-        ``cutoff_hz``), placed by x_scene = R x_housing + ``offset``.
+        """The housing of a condensed housing (:class:`fem_prep.housing.CondensedHousing`: its
+        ``K``, ``M``, ``seat_positions``, ``seat_names``, ``modes_hz`` and ``cutoff_hz``),
+        placed by x_scene = R x_housing + ``offset``.
 
         Args:
             condensed: the condensed housing (seat masters first, in its own frame, m).
@@ -218,8 +218,8 @@ class Housing(eqx.Module):
             seat_positions=tuple(tuple(float(x) for x in p) for p in seats),
             rotation=tuple(tuple(float(x) for x in r) for r in R),
             seat_names=names,
-            modes_hz=tuple(float(f) for f in np.asarray(getattr(condensed, "modes_hz", ()))),
-            cutoff_hz=float(getattr(condensed, "cutoff_hz", math.inf)),
+            modes_hz=tuple(float(f) for f in np.asarray(condensed.modes_hz)),
+            cutoff_hz=float(condensed.cutoff_hz),
         )
 
     def coordinate_names(self) -> tuple[str, ...]:

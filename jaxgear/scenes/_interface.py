@@ -194,6 +194,11 @@ class GearMember(eqx.Module):
         without a deformable rim."""
         return RimStations(jnp.zeros((0, 3), jnp.int32), jnp.zeros((0,)))
 
+    def axis_point(self) -> Float[Array, " 3"] | None:
+        """The member's axis point O (m), (3,), where it is placed in space (its ``centre``);
+        None for a member that only turns (a torsional gear: no place in space)."""
+        return None
+
 
 class RigidMember(GearMember):
     """A rigid gear body at a 6-DOF shaft node: V = [n_m, (M − O) × n_m] (seed (2.9))."""
@@ -206,6 +211,10 @@ class RigidMember(GearMember):
     @property
     def width(self) -> int:
         return 6
+
+    def axis_point(self) -> Float[Array, " 3"]:
+        """Its ``centre`` (m), (3,)."""
+        return self.centre
 
     @property
     def contact_dofs(self) -> tuple:
@@ -291,6 +300,10 @@ class FlexibleMember(GearMember):
     @property
     def width(self) -> int:
         return self.n_window * self.z_nodes.shape[0] * 3
+
+    def axis_point(self) -> Float[Array, " 3"]:
+        """Its ``centre`` (m), (3,)."""
+        return self.centre
 
     def frame_angle(self, theta):
         """φ_rot: angle of the body frame in the fixed frame at pinion angle θ (rad)."""

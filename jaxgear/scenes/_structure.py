@@ -129,6 +129,14 @@ class AssembledScene(Scene):
         """Generalised external forces T f_torque (n,) at pinion torque T (N·m)."""
         return torque * self.f_torque
 
+    def rigid_modes(self) -> Float[Array, "n r"]:
+        """The scene's free drive rotations R (n, r), columns with V·r = 0 and F·r = 0 (its
+        structure turning freely at the gear ratios): none, (n, 0), for a scene assembled for
+        quasi-static solves; a dynamic scene gives its own
+        (:meth:`~jaxgear.scenes.DynamicScene.rigid_modes`)."""
+        K = self.structure.K
+        return jnp.zeros((K.shape[0], 0), K.dtype)
+
     @property
     def mesh(self) -> MeshModel:
         """The base-plane model of the scene's one mesh."""
@@ -201,7 +209,7 @@ class AssembledScene(Scene):
         the elastic deviation, the torque ratio that the corner breaks shared by the window's
         inertias. Unchanged on the path, for a scene without rigid modes, or without
         ``extended_contact``."""
-        if not mesh.base_plane.extended_contact or not hasattr(self, "rigid_modes"):
+        if not mesh.base_plane.extended_contact:
             return Vw
         R = self.rigid_modes()
         if R.shape[1] == 0:

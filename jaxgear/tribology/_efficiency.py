@@ -38,6 +38,7 @@ import numpy as np
 from jaxtyping import Array, Float
 
 from .._util import check_real
+from ._mesh import MeshTribology
 
 __all__ = [
     "PowerFlow",
@@ -153,9 +154,9 @@ def _meshes(meshes, where: str) -> list:
     if not meshes:
         raise ValueError(f"{where}: meshes is empty: allowed one MeshTribology per mesh")
     for i, m in enumerate(meshes):
-        if not (hasattr(m, "efficiency") and hasattr(m, "input_power")):
+        if not isinstance(m, (MeshTribology, PowerFlow)):  # each carries its efficiency, P_in
             raise ValueError(f"{where}: meshes[{i}] = {type(m).__name__}: allowed a "
-                             "jaxgear.tribology.MeshTribology")
+                             "jaxgear.tribology.MeshTribology or PowerFlow")
     return meshes
 
 

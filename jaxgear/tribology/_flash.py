@@ -68,6 +68,7 @@ from jaxtyping import Array, Bool, Float
 
 from .._geometry import AbstractGearPair
 from .._pressure import contact_modulus
+from .._quasi_static import MeshResult, QuasiStaticResult
 from .._util import as_float, check_instance, check_real, is_traced, safe_max
 from ._lubricant import Lubricant
 from ._mesh import MeshTribology
@@ -484,11 +485,8 @@ def mesh_scuffing(
     check_real("youngs_modulus", youngs_modulus, "Pa", lo=0.0, lo_open=True, where=w_)
     check_real("poisson_ratio", poisson_ratio, lo=0.0, hi=0.5, hi_open=True, where=w_)
     check_thermal_coefficients(thermal_coefficients, w_)
-    if not hasattr(result, "cell_mask"):
-        raise ValueError(
-            f"{w_}: result = {type(result).__name__} has no cell_mask: allowed a MeshResult"
-            " or a one-mesh QuasiStaticResult"
-        )
+    check_instance("result", result, (MeshResult, QuasiStaticResult),
+                   "a jaxgear.MeshResult or a one-mesh jaxgear.QuasiStaticResult", w_)
     theta_s = limits.flash()
     nu40 = lubricant.viscosity_40  # traced when the lubricant is a leaf of a jitted objective
     theta_int_s = limits.integral(nu40 if is_traced(nu40) else float(nu40))

@@ -25,6 +25,7 @@ from jaxtyping import Array, Bool, Float
 
 from .._geometry import AbstractGearPair
 from .._pressure import contact_modulus, relative_radius
+from .._quasi_static import MeshResult, QuasiStaticResult
 from .._util import check_instance, check_real, safe_max
 from ._film import AbstractFilmFormula, DowsonHigginson, film_thickness
 from ._loss import AbstractFriction, Schlenk, ohlendorf_loss_factor
@@ -153,12 +154,8 @@ def mesh_tribology(
     check_real("roughness", roughness, "m", lo=0.0, hi=1e-5, lo_open=True, shape=(2,), where=w_)
     check_real("youngs_modulus", youngs_modulus, "Pa", lo=0.0, lo_open=True, where=w_)
     check_real("poisson_ratio", poisson_ratio, lo=0.0, hi=0.5, hi_open=True, where=w_)
-    for name in ("line_load", "cell_s", "cell_mask"):
-        if not hasattr(result, name):
-            raise ValueError(
-                f"{w_}: result = {type(result).__name__} has no {name}: allowed a MeshResult"
-                " or a one-mesh QuasiStaticResult"
-            )
+    check_instance("result", result, (MeshResult, QuasiStaticResult),
+                   "a jaxgear.MeshResult or a one-mesh jaxgear.QuasiStaticResult", w_)
     return _tribology(
         pair,
         result.line_load,
