@@ -474,7 +474,7 @@ def parse_case(data: dict, default_name: str = "case", base_dir: str | None = No
         raise _geometry_error(err, data) from None
     E, nu, rho = parse_material(data)
     torque = parse_torque(data["operating"], pair)
-    check_rating(data, pair, (E, nu, rho))
+    rating = check_rating(data, pair, (E, nu, rho))
     speed = sc.number(data["operating"], "speed_rad_s", "operating", 0.0, allowed="[0, 1e+05]")
     lubricant = read_lubricant(data)
     whine = WhineSection.read(data["whine"]) if "whine" in data else None
@@ -536,6 +536,7 @@ def parse_case(data: dict, default_name: str = "case", base_dir: str | None = No
         whine=whine,
         acoustics=acoustics,
         lubricant=lubricant,
+        rating=rating,
     )
     for text in plausibility(case):
         warnings.warn(text, CaseWarning, stacklevel=2)

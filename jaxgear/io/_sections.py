@@ -246,7 +246,7 @@ def _order(err: dict, table: dict) -> tuple:
 def schema_error(cls, where: str, table: dict, error: pydantic.ValidationError) -> sc.SchemaError:
     """The one-line :class:`fem_prep.checks.SchemaError` of the first of pydantic's errors of
     section ``cls`` read from ``table`` at ``where`` (module docstring's words)."""
-    errors = sorted(error.errors(include_url=False, include_input=False),
+    errors = sorted(error.errors(include_url=False),
                     key=lambda e: _order(e, table))
     err = errors[0]
     ctx = err.get("ctx") or {}
@@ -255,16 +255,27 @@ def schema_error(cls, where: str, table: dict, error: pydantic.ValidationError) 
     loc = tuple(p for p in err["loc"] if not (isinstance(p, str) and p.startswith(_TAG)))
     # walk the location: the table the key lies in, the key, an index into its array
     model, key, index, info = cls, None, None, None
+    tag = next((p for p in err["loc"] if isinstance(p, str) and p.startswith(_TAG)), None)
+    named = False  # the next part names a sub-table (a field of tables by name)
     for part in loc:
         if isinstance(part, int):
             index = part
             continue
+        if named:  # [where.<name>]: a table of a field of tables by name
+            where, key, info, named = f"{where}.{part}", None, None, False
+            continue
+        if key is not None and tag == _TAG + "table":  # a key of a table of numbers
+            index = part
+            break
         if key is not None:  # into a sub-table (or an entry of an array of tables)
             model = _sections(info.annotation) if info is not None else None
             where = f"{where}.{key}" + ("" if index is None else f"[{index}]")
             index = None
         key = part
         info = _field(model, key)
+        if info is not None and typing.get_origin(info.annotation) is dict and _sections(
+                info.annotation) is not None:
+            model, named = _sections(info.annotation), True
     if err["type"] == "extra_forbidden" or (info is None and key is not None and index is None
                                              and model is not None):
         allowed = sorted(model.model_fields) if model is not None else []
@@ -274,13 +285,13 @@ def schema_error(cls, where: str, table: dict, error: pydantic.ValidationError) 
         return sc.SchemaError(f"{head}unknown key {shown!r}{hint}, allowed: {', '.join(allowed)}",
                               sc.key_path(where, key))
     sub = _sections(info.annotation) if info is not None else None
-    element = index is not None and isinstance(loc[-1], int) and sub is None  # in a number array
-    v = _value(table, err["loc"])
-    tag = next((p for p in err["loc"] if isinstance(p, str) and p.startswith(_TAG)), None)
+    element = index is not None and sub is None and loc[-1] == index  # in an array of numbers
+    v = sc.MISSING if err["type"] == "missing" else err.get("input", sc.MISSING)
     rng = _marker(info) if tag is None else _tagged(info.annotation, tag)
     problem = _problem(err["type"], ctx, v, rng, info, element, where, key, index)
-    if element:  # the array as written
-        return sc.fail(where, key, problem, _value(table, err["loc"][:-1]))
+    if element:  # the array (or the table of numbers) as written
+        whole = _value(table, err["loc"][:-1])
+        return sc.fail(where, key, problem, v if whole is sc.MISSING else whole)
     if index is not None and isinstance(loc[-1], int):  # an entry of an array of tables
         return sc.fail(where, f"{key}[{index}]", problem, v)
     return sc.fail(where, key, problem, v)
@@ -312,7 +323,8 @@ def _problem(kind, ctx, v, rng, info, element, where, key, index):
             return "must be an integer"
         return f"must be {what}, not {sc.type_name(v)}"
     if kind == "literal_error":
-        return f"allowed {', '.join(repr(c) for c in _choices(info.annotation))}"
+        names = ", ".join(repr(c) for c in _choices(info.annotation))
+        return f"unknown {sc.fmt(v)}, allowed {names}" if element else f"allowed {names}"
     if kind == "bool_type":
         return "must be true or false"
     if kind in ("string_type", "string_pattern_mismatch", "string_too_short"):
@@ -322,6 +334,9 @@ def _problem(kind, ctx, v, rng, info, element, where, key, index):
         if sub is not None:  # an array of tables
             inner = f"{where}.{key}"
             return f"must be an array of tables ([[{inner}]]), not {sc.type_name(v)}"
+        if kind == "list_type" and rng is None:  # an array of names
+            names = ", ".join(repr(c) for c in _choices(info.annotation))
+            return f"must be an array{f' of {names}' if names else ''}, not {sc.type_name(v)}"
         if kind == "list_type":
             return f"must be an array of numbers, not {sc.type_name(v)}"
         if rng is not None and rng.length is not None:

@@ -470,7 +470,7 @@ def _planetary_case(data: dict, name: str, base_dir: str | None = None) -> Case:
                                                     case.form.spec.n_planets)
         case = dataclasses.replace(case, deviations=devs, deviation_settings=settings)
     # [rating]: both meshes (ISO 6336, the ring internal), the ring's cutter given once
-    check_planetary_rating(data, case)
+    case = case.replace(rating=check_planetary_rating(data, case))
     older = older_ring_cutter(data, case)  # [rating] ring_cutter_*: the stiffness model's too
     if older is not None:
         case = case.replace(stiffness=case.stiffness.with_ring_cutter(older))
@@ -715,7 +715,7 @@ def parse_train(data: dict, default_name: str = "train", base_dir: str | None = 
                            optimise.get("vars", OPTIMISE_DEFAULTS["vars"]),
                            data.get("modifications"), names, case.span_periods)
         check_acoustic_tables(data, optimise)
-    check_train_rating(data, case)  # [rating]: every mesh (ISO 6336)
+    case = case.replace(rating=check_train_rating(data, case))  # every mesh (ISO 6336)
     case = _check_lubricant(data, case)
     q = case.span_periods
     if scene is not None and scene.keep_periods < q:
