@@ -50,6 +50,7 @@ __all__ = [
     "subtable",
     "subtables",
     "table_array",
+    "type_name",
 ]
 
 
@@ -108,6 +109,8 @@ _TYPE_NAMES = (
 )
 for _cls, _text in _TYPE_NAMES:
     _type_name.register(_cls, lambda v, _text=_text: _text)
+#: what a TOML value is, in the messages' words (``a number``, ``a table``, ...)
+type_name = _type_name
 
 
 def _fmt_int(v: int) -> str:

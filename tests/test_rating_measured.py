@@ -168,10 +168,11 @@ def test_use_measured_keeps_a_given_transverse_factor(tmp_path):
 @pytest.mark.parametrize(
     ("use", "message"),
     [
-        (["K_Hgamma"], "unknown factor 'K_Hgamma', allowed a list of K_Hbeta, K_Halpha, K_v"),
+        (["K_Hgamma"], "use_measured = ['K_Hgamma']: unknown 'K_Hgamma', allowed 'K_Hbeta', "
+         "'K_Halpha', 'K_v'"),
         (["K_Hbeta"], "K_Hbeta is given as a value too"),  # the case gives K_Hbeta = 1.16
         (["K_v", "K_v"], "a factor named twice"),
-        ("K_v", "allowed a list of"),
+        ("K_v", "use_measured = 'K_v': must be an array of 'K_Hbeta', 'K_Halpha', 'K_v'"),
     ],
 )
 def test_bad_use_measured_is_one_line(use, message):

@@ -288,8 +288,9 @@ def test_whine_table_quasi_periodic():
                          ({"positions_per_period": [140, 35]},
                           "positions_per_period = \\[140, 35\\].*quasi-periodic\" only"),
                          ({"method": "quasi-periodic", "positions_per_period": [140, 0]},
-                          "positions_per_period = \\[140, 0\\]: entry 2 = 0.*\\[1, 8192\\]"),
-                         ({"method": "quasi-periodic", "positions_per_period": []}, "empty")):
+                          "positions_per_period = \\[140, 0\\]: element 0 out of range.*\\[1, 8192\\]"),
+                         ({"method": "quasi-periodic", "positions_per_period": []},
+                              "positions_per_period = \\[\\]: must be an array of at least 1")):
         with pytest.raises(ValueError, match=match) as e:
             jio.parse_whine(good | extra)
         assert "\n" not in str(e.value)

@@ -27,27 +27,21 @@ map of the radiated intensity (PNG and VTU): :func:`jaxgear.cli`'s ``acoustic_ou
 
 from __future__ import annotations
 
-from typing import NamedTuple
+from typing import ClassVar, Literal, NamedTuple
+
+import pydantic
 
 from fem_prep import acoustics as fa, schema as sc
 
-__all__ = ["ACOUSTICS_KEYS", "ACOUSTICS_METHODS", "AcousticsInputs", "acoustics_of",
+from ._sections import Section, Text, number, number_list
+
+__all__ = ["ACOUSTICS_KEYS", "ACOUSTICS_METHODS", "AcousticsInputs", "AcousticsSection",
+           "Microphone", "acoustics_of",
            "check_band", "parse_acoustics", "parse_case_acoustics"]
 
 WHERE = "acoustics"
 #: ``[acoustics] method`` names
 ACOUSTICS_METHODS = {"bem": fa.BEM, "rayleigh": fa.Rayleigh, "erp-only": fa.ERP}
-ACOUSTICS_KEYS = {
-    "method",
-    "band_Hz",
-    "frequencies",
-    "rank",
-    "cache",
-    "density_kg_m3",
-    "sound_speed_m_s",
-    "microphones",
-}
-_MIC_KEYS = {"name", "position_mm"}
 
 
 class AcousticsInputs(NamedTuple):
@@ -64,51 +58,83 @@ class AcousticsInputs(NamedTuple):
     microphones: tuple[tuple[str, tuple[float, float, float]], ...]
 
 
+class Microphone(Section):
+    """A ``[[acoustics.microphones]]`` entry: its ``name`` (default ``mic<k>``) and position."""
+
+    WHERE: ClassVar[str] = "acoustics.microphones"
+    name: Text | None = None
+    position_mm: number_list("[-1e+06, 1e+06]", length=3)
+
+
+class AcousticsSection(Section):
+    """``[acoustics]`` as the file gives it (keys and ranges: the module docstring), checked
+    whole; :meth:`inputs` its SI inputs."""
+
+    WHERE: ClassVar[str] = WHERE
+    method: Literal["bem", "rayleigh", "erp-only"] = "bem"
+    band_Hz: number_list("(0, 1e+05]", length=2) | None = None
+    frequencies: number("[1, 2000]", integer=True) = 24
+    rank: number("[1, 1e+06]", integer=True) | None = None
+    cache: bool = True
+    density_kg_m3: number("(0, 1e+04]") = fa.AIR.density
+    sound_speed_m_s: number("(0, 1e+05]") = fa.AIR.sound_speed
+    microphones: list[Microphone] = []
+
+    @pydantic.model_validator(mode="after")
+    def _related(self):
+        band = self.band_Hz
+        if band is not None and not band[1] > band[0]:
+            raise sc.fail(WHERE, "band_Hz", "allowed [min, max] with max > min", band)
+        names = self.microphone_names()
+        for k, label in enumerate(names):
+            if label in names[:k]:
+                raise sc.fail(f"{WHERE}.microphones[{k}]", "name",
+                              "allowed a name no other microphone has", label)
+        if names and self.method == "erp-only":
+            raise sc.fail(WHERE, "microphones", "not with method = 'erp-only' (no pressure "
+                          "field)", names)
+        return self
+
+    def microphone_names(self) -> list[str]:
+        """Each microphone's name (``mic<k>`` where the file gives none)."""
+        return [f"mic{k}" if m.name is None else m.name for k, m in enumerate(self.microphones)]
+
+    def inputs(self, progress: bool = False) -> AcousticsInputs:
+        """The SI inputs (:class:`AcousticsInputs`); ``progress``: the BEM's bars over each
+        solve's operator assemblies."""
+        name = self.method
+        method = fa.BEM(progress=progress) if name == "bem" else ACOUSTICS_METHODS[name]()
+        mics = tuple((label, tuple(x * 1e-3 for x in m.position_mm))
+                     for label, m in zip(self.microphone_names(), self.microphones, strict=True))
+        return AcousticsInputs(
+            method=method,
+            band=None if self.band_Hz is None else tuple(self.band_Hz),
+            frequencies=self.frequencies,
+            rank=self.rank,
+            cache=self.cache,
+            fluid=fa.Fluid(self.density_kg_m3, self.sound_speed_m_s),
+            microphones=mics,
+        )
+
+
+#: the keys of ``[acoustics]``
+ACOUSTICS_KEYS = set(AcousticsSection.model_fields)
+
+
 def parse_acoustics(table: dict, progress: bool = False) -> AcousticsInputs:
-    """``[acoustics]`` (module docstring) as :class:`AcousticsInputs`; ``progress``: the BEM's
-    bars over each solve's operator assemblies.
+    """``[acoustics]`` (module docstring) as :class:`AcousticsInputs`
+    (:class:`AcousticsSection`); ``progress``: the BEM's bars over each solve's operator
+    assemblies.
 
     Raises:
         SchemaError: an unknown key, a value out of range, a band whose maximum is not above
             its minimum, an unknown method, microphones with ``erp-only``, two microphones of
             one name; one line naming the key, its value and the allowed range.
     """
-    if not isinstance(table, dict):
-        raise sc.fail("", WHERE, "must be a table ([acoustics])", table)
-    sc.check_keys(table, ACOUSTICS_KEYS, WHERE)
-    name = sc.choice(table, "method", WHERE, tuple(ACOUSTICS_METHODS), "bem")
-    band = sc.number_list(table, "band_Hz", WHERE, None, length=2, allowed="(0, 1e+05]")
-    if band is not None and not band[1] > band[0]:
-        raise sc.fail(WHERE, "band_Hz", "allowed [min, max] with max > min", band)
-    n = int(sc.number(table, "frequencies", WHERE, 24, allowed="[1, 2000]", integer=True))
-    rank = sc.number(table, "rank", WHERE, None, allowed="[1, 1e+06]", integer=True)
-    cache = sc.boolean(table, "cache", WHERE, True)
-    rho = sc.number(table, "density_kg_m3", WHERE, fa.AIR.density, allowed="(0, 1e+04]")
-    c = sc.number(table, "sound_speed_m_s", WHERE, fa.AIR.sound_speed, allowed="(0, 1e+05]")
-    mics = []
-    for k, m in enumerate(sc.table_array(table, "microphones", WHERE, _MIC_KEYS)):
-        where = f"acoustics.microphones[{k}]"
-        label = sc.string(m, "name", where, f"mic{k}")
-        xyz = sc.number_list(m, "position_mm", where, length=3, allowed="[-1e+06, 1e+06]")
-        if label in [x for x, _ in mics]:
-            raise sc.fail(where, "name", "allowed a name no other microphone has", label)
-        mics.append((label, tuple(x * 1e-3 for x in xyz)))
-    if mics and name == "erp-only":
-        raise sc.fail(WHERE, "microphones", "not with method = 'erp-only' (no pressure field)",
-                      [x for x, _ in mics])
-    method = fa.BEM(progress=progress) if name == "bem" else ACOUSTICS_METHODS[name]()
-    return AcousticsInputs(
-        method=method,
-        band=None if band is None else (band[0], band[1]),
-        frequencies=n,
-        rank=None if rank is None else int(rank),
-        cache=bool(cache),
-        fluid=fa.Fluid(rho, c),
-        microphones=tuple(mics),
-    )
+    return AcousticsSection.read(table).inputs(progress)
 
 
-def check_band(table: dict, orders_hz: tuple[float, float]) -> None:
+def check_band(section: AcousticsSection, orders_hz: tuple[float, float]) -> None:
     """``[acoustics] band_Hz`` meets the orders' frequencies ``orders_hz`` (lowest, highest Hz
     over the ``[whine]`` speeds, :func:`~jaxgear.io._whine_table.order_frequency_range`, the
     highest no higher than the housing's band limit, cut-off / 1.5, above which no order is
@@ -118,7 +144,7 @@ def check_band(table: dict, orders_hz: tuple[float, float]) -> None:
     Raises:
         SchemaError: the band below the lowest order or above the highest, one line.
     """
-    band = table.get("band_Hz")
+    band = section.band_Hz
     if band is None:
         return
     lo, hi = orders_hz
@@ -130,16 +156,14 @@ def check_band(table: dict, orders_hz: tuple[float, float]) -> None:
 
 
 def acoustics_of(case, progress: bool = False) -> AcousticsInputs | None:
-    """The ``[acoustics]`` inputs of a case (:class:`AcousticsInputs`), None without the
-    table."""
-    raw = getattr(case, "raw", None) or {}
-    if "acoustics" not in raw:
-        return None
-    return parse_acoustics(raw["acoustics"], progress)
+    """The ``[acoustics]`` inputs of a case (:class:`AcousticsInputs`, of its
+    :attr:`Case.acoustics <jaxgear.io.Case>`), None without the table."""
+    section = getattr(case, "acoustics", None)
+    return None if section is None else section.inputs(progress)
 
 
-def parse_case_acoustics(data: dict) -> AcousticsInputs:
-    """A case file's ``[acoustics]``: :func:`parse_acoustics`, and what it radiates from: the
+def parse_case_acoustics(data: dict) -> AcousticsSection:
+    """A case file's ``[acoustics]`` (:class:`AcousticsSection`), and what it radiates from: the
     housing's skin of ``[housing]`` moved by the ``[whine]`` response (``jaxgear run``), a
     closed surface (method ``bem`` or ``erp-only``).
 
@@ -147,12 +171,12 @@ def parse_case_acoustics(data: dict) -> AcousticsInputs:
         SchemaError: the table's own errors, no ``[housing]`` or ``[whine]`` beside it, method
             ``rayleigh`` (a flat baffled panel, not a closed housing).
     """
-    inputs = parse_acoustics(data["acoustics"])
+    section = AcousticsSection.read(data["acoustics"])
     for needed in ("housing", "whine"):
         if needed not in data:
             raise sc.fail("", WHERE, f"radiates the housing's vibration: needs [{needed}] "
                           "too (allowed with [housing] and [whine])", f"[{WHERE}]")
-    if data["acoustics"].get("method") == "rayleigh":
+    if section.method == "rayleigh":
         raise sc.fail(WHERE, "method", "a housing's closed skin radiates by 'bem' or "
                       "'erp-only' ('rayleigh' is for a flat baffled panel)", "rayleigh")
-    return inputs
+    return section

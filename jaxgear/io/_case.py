@@ -16,7 +16,7 @@ import abc
 import dataclasses
 import fractions
 import math
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from .._baseplane import MeshModel
 from .._contact import ContactLaw
@@ -36,6 +36,12 @@ from ..scenes import (
     torsional_train,
     train_layout,
 )
+
+if TYPE_CHECKING:
+    from ._acoustics_table import AcousticsSection
+    from ._lubricant_table import LubricantSection
+    from ._rating_table import RatingSection
+    from ._whine_table import WhineSection
 
 __all__ = ["Case", "CaseForm", "MeshSettings", "PairForm", "TrainCase", "TrainForm",
            "mesh_teeth_per_turn", "teeth_span"]
@@ -246,6 +252,15 @@ class Case(MeshSettings):
             (:class:`jaxgear.rating.AbstractRatingStandard`), given in Python
             (``case.replace(rating_standard=...)``); None: the one ``[rating] edition`` names
             (:func:`jaxgear.io.ratings_of`).
+        whine, acoustics, lubricant, rating: the case file's ``[whine]``, ``[acoustics]``,
+            ``[lubricant]`` and ``[rating]`` as typed sections, checked whole
+            (:class:`jaxgear.io._whine_table.WhineSection`,
+            :class:`jaxgear.io._acoustics_table.AcousticsSection`,
+            :class:`jaxgear.io._lubricant_table.LubricantSection`,
+            :class:`jaxgear.io._rating_table.RatingSection`: the file's keys, in file units),
+            or None where the file has no such table; :func:`jaxgear.io.whine_of`,
+            :func:`~jaxgear.io.acoustics_of`, :func:`~jaxgear.io.tribology_of` and
+            :func:`~jaxgear.io.ratings_of` give their SI inputs.
         input_files: the files the case was read from, absolute paths: its case file and the
             files it names (body files, a ring body file, a housing's ``mesh_file``, a
             gearbox's stage case files and theirs), set by :func:`jaxgear.io.load_case`; () for
@@ -279,6 +294,10 @@ class Case(MeshSettings):
     form: CaseForm = TrainForm()
     rating_standard: Any = None
     input_files: tuple = dataclasses.field(default=(), repr=False, compare=False)
+    whine: WhineSection | None = None
+    acoustics: AcousticsSection | None = None
+    lubricant: LubricantSection | None = None
+    rating: RatingSection | None = None
 
     @classmethod
     def of_pair(cls, *, name: str, pair: GearPair, modifications: Modifications, **fields) -> Case:

@@ -20,7 +20,7 @@ from fem_prep import schema as sc
 from ._case import Case
 from .._geometry import JAM, GearPair, Member
 from ._deviations_table import parse_deviations
-from ._lubricant_table import parse_lubricant
+from ._lubricant_table import read_lubricant
 from ._modifications_table import parse_modifications
 from ._names import FOUNDATIONS, STIFFNESS_MODELS, stiffness_from_name
 from ._optimise_table import check_acoustic_tables, parse_optimise
@@ -29,12 +29,13 @@ from ._rating_table import MATERIAL_RATING_KEYS, OPERATING_RATING_KEYS, check_ra
 from ._robust_table import parse_robust
 from ._housing_table import HOUSING_BAND, check_housing_band, parse_housing
 from ._scene_table import parse_scene
-from ._acoustics_table import check_band, parse_case_acoustics
+from ._acoustics_table import AcousticsSection, check_band, parse_case_acoustics
 from ._whine_table import (
     highest_order_frequency,
     lowest_order_frequency,
     order_frequency_range,
     parse_whine,
+    WhineSection,
 )
 
 __all__ = [
@@ -473,14 +474,11 @@ def parse_case(data: dict, default_name: str = "case", base_dir: str | None = No
         raise _geometry_error(err, data) from None
     E, nu, rho = parse_material(data)
     torque = parse_torque(data["operating"], pair)
-    check_rating(data, pair, (E, nu, rho))
+    rating = check_rating(data, pair, (E, nu, rho))
     speed = sc.number(data["operating"], "speed_rad_s", "operating", 0.0, allowed="[0, 1e+05]")
-    if "lubricant" in data:
-        parse_lubricant(data["lubricant"], data["operating"])
-    if "whine" in data:
-        parse_whine(data["whine"])
-    if "acoustics" in data:
-        parse_case_acoustics(data)
+    lubricant = read_lubricant(data)
+    whine = WhineSection.read(data["whine"]) if "whine" in data else None
+    acoustics = parse_case_acoustics(data) if "acoustics" in data else None
     mesh = parse_mesh_settings(data, pair.normal_module)
     mods = parse_modifications(data.get("modifications", {}), module)
     deviations, deviation_settings = (
@@ -535,6 +533,10 @@ def parse_case(data: dict, default_name: str = "case", base_dir: str | None = No
         housing=housing,
         optimise=optimise,
         raw=data,
+        whine=whine,
+        acoustics=acoustics,
+        lubricant=lubricant,
+        rating=rating,
     )
     for text in plausibility(case):
         warnings.warn(text, CaseWarning, stacklevel=2)
@@ -578,7 +580,8 @@ def case_housing(data: dict, scene, base_dir, material, *, pair: bool = True, te
     check_housing_band(spec, lowest_order_frequency(inputs, teeth, span, names))
     if "acoustics" in data:  # its band meets the orders (before any work)
         lo, hi = order_frequency_range(inputs, teeth, span)
-        check_band(data["acoustics"], (lo, min(hi, spec.cutoff / HOUSING_BAND)))
+        check_band(AcousticsSection.read(data["acoustics"]),
+                   (lo, min(hi, spec.cutoff / HOUSING_BAND)))
     return spec
 
 

@@ -103,7 +103,7 @@ from ._whine_table import (
     WhineInputs,
     highest_order_frequency,
     lowest_order_frequency,
-    parse_whine,
+    WhineSection,
 )
 
 __all__ = ["GearboxForm", "GearboxStage", "is_gearbox", "parse_gearbox"]
@@ -452,7 +452,7 @@ def _whine(table, n_stages: int) -> WhineInputs:
     (G the stages: every stage of the coupled chain is on its contact cells)."""
     if isinstance(table, dict) and "method" not in table:
         table = {**table, "method": "quasi-periodic"}
-    inputs = parse_whine(table)
+    inputs = WhineSection.read(table).inputs()
     if not isinstance(inputs.method, QuasiPeriodicBalance):
         raise sc.fail("whine", "method", 'allowed "quasi-periodic" in a gearbox (each stage '
                       "meshes at its own frequency)", table["method"])
@@ -575,8 +575,13 @@ def parse_gearbox(data: dict, default_name: str, base: str | None, load_case) ->
     if housing is not None:
         _check_bores(form)
         form.own_housing_size()  # refused here if too large to build
+    # the gearbox's own tables: its [whine] (a gearbox file has no [acoustics], [lubricant]
+    # or [rating]; its stages' cases keep theirs)
+    section = None if whine is None else WhineSection.read(
+        {"method": "quasi-periodic", **data["whine"]})
     return first.replace(name=name, form=form, raw=data, scene=None, pairs=pairs,
-                         housing=housing)
+                         housing=housing, whine=section, acoustics=None, lubricant=None,
+                         rating=None)
 
 
 def _stage_teeth(stages, op: dict) -> list[float]:

@@ -26,7 +26,9 @@ speed_rad_s`` (> 0) or, without it, ``[operating] speed_rpm`` (the rating's).
 from __future__ import annotations
 
 import math
-from typing import NamedTuple
+from typing import Any, ClassVar, Literal, NamedTuple
+
+import pydantic
 
 from fem_prep import schema as sc
 
@@ -42,27 +44,15 @@ from ..tribology import (
     TSMicropittingFilm,
 )
 from ._micropitting_table import MICROPITTING_KEYS, MicropittingInputs, parse_micropitting
-from ._scuffing_table import SCUFFING_KEYS, ScuffingInputs, parse_scuffing
+from ._scuffing_table import ScuffingInputs, parse_scuffing
+from ._sections import Section, number, number_list, one_of
 
-__all__ = ["FILM_FORMULAS", "LUBRICANT_KEYS", "TribologyInputs", "parse_lubricant", "tribology_of"]
+__all__ = ["FILM_FORMULAS", "LUBRICANT_KEYS", "LubricantSection", "TribologyInputs",
+           "parse_lubricant", "read_lubricant", "tribology_of"]
 
 #: the kinematic viscosities' range (mm²/s): ASTM D341-20's Walther equation is stated from
 #: 2 mm²/s (below 0.3 mm²/s its double logarithm has no value) to 2e7 mm²/s
 VISCOSITY_RANGE = "[2, 1e+05]"
-#: the keys of ``[lubricant]``
-LUBRICANT_KEYS = {
-    "viscosity_40C_mm2_s",
-    "viscosity_100C_mm2_s",
-    "density_kg_m3",
-    "thermal_expansion_per_K",
-    "pressure_viscosity_per_GPa",
-    "oil_temperature_C",
-    "roughness_Ra_um",
-    "lubricant_factor",
-    "friction_coefficient",
-    "film",
-} | SCUFFING_KEYS | MICROPITTING_KEYS  # jaxgear.io._scuffing_table, ._micropitting_table
-
 #: film formula names → kinds
 FILM_FORMULAS = {
     "dowson-higginson": DowsonHigginson,
@@ -88,69 +78,120 @@ class TribologyInputs(NamedTuple):
     micropitting: MicropittingInputs | None = None
 
 
+_WALTHER = " (Walther's equation, ASTM D341, holds from 2 mm²/s)"
+
+
+class LubricantSection(Section):
+    """``[lubricant]`` as the file gives it (keys and ranges: the module docstring, the
+    scuffing keys :mod:`jaxgear.io._scuffing_table`'s), checked whole; :meth:`inputs` its SI
+    inputs with the pinion speed of ``[operating]``."""
+
+    WHERE: ClassVar[str] = "lubricant"
+    viscosity_40C_mm2_s: number(VISCOSITY_RANGE, note=_WALTHER)
+    viscosity_100C_mm2_s: number(VISCOSITY_RANGE, note=_WALTHER)
+    density_kg_m3: number("(500, 2000)")
+    thermal_expansion_per_K: number("[0, 0.01)") = 0.0
+    pressure_viscosity_per_GPa: number("(0, 100]")
+    oil_temperature_C: number("(-50, 250)")
+    roughness_Ra_um: one_of(number=number("(0, 10]"), array=number_list("(0, 10]", length=2))
+    lubricant_factor: number("(0, 2]") = 1.0
+    friction_coefficient: number("(0, 1]") | None = None
+    film: Literal[tuple(FILM_FORMULAS)] = "dowson-higginson"
+    # the scuffing keys (jaxgear.io._scuffing_table)
+    fzg_load_stage: number("[1, 14]") | None = None
+    scuffing_temperature_C: number("(0, 1000)") | None = None
+    integral_scuffing_temperature_C: number("(0, 1000)") | None = None
+    bulk_temperature_C: number("(-50, 400)") | None = None
+    bulk_lubrication_factor: number("(0, 2]") = 1.0
+    scuffing_lubricant_factor: number("(0, 2]") = 1.0
+    structural_factor: number("(0, 2]") = 1.0
+    relative_structural_factor: number("(0, 2]") = 1.0
+    # the micropitting keys: checked by jaxgear.io._micropitting_table.parse_micropitting
+    micropitting_load_stage: Any = None
+    permissible_specific_film: Any = None
+
+    @pydantic.model_validator(mode="after")
+    def _related(self):
+        w = "lubricant"
+        nu40, nu100 = self.viscosity_40C_mm2_s, self.viscosity_100C_mm2_s
+        if nu100 >= nu40:
+            raise sc.fail(w, "viscosity_100C_mm2_s", f"out of range, allowed < "
+                          f"viscosity_40C_mm2_s = {nu40:g} (an oil thins as it warms)", nu100)
+        if self.friction_coefficient is not None and "lubricant_factor" in self.given:
+            raise sc.fail(w, "lubricant_factor", "not read: friction_coefficient is given (X_L "
+                          "is Schlenk's); remove one", self.lubricant_factor)
+        table = self.table()
+        parse_scuffing(self, bulk_read=bool(MICROPITTING_KEYS & self.given))
+        parse_micropitting(table)
+        return self
+
+    def inputs(self, operating: dict) -> TribologyInputs:
+        """The SI inputs (:class:`TribologyInputs`) with the pinion speed of ``operating``
+        (the case's ``[operating]``: ``speed_rad_s`` > 0, else ``speed_rpm``).
+
+        Raises:
+            SchemaError: no pinion speed > 0, one line.
+        """
+        speed = sc.number(operating, "speed_rad_s", "operating", 0.0, allowed="[0, 1e+05]")
+        if speed <= 0.0:
+            rpm = operating.get("speed_rpm")
+            if rpm is None:
+                raise sc.fail(
+                    "operating",
+                    "speed_rad_s",
+                    "out of range with [lubricant], allowed > 0 "
+                    "(the film and the sliding loss need the pinion speed; or give "
+                    "speed_rpm)",
+                    speed,
+                )
+            speed = float(rpm) * 2.0 * math.pi / 60.0
+        ra = self.roughness_Ra_um
+        ra = ra if isinstance(ra, list) else [ra, ra]
+        lub = Lubricant(self.viscosity_40C_mm2_s * 1e-6, self.viscosity_100C_mm2_s * 1e-6,
+                        self.density_kg_m3, self.pressure_viscosity_per_GPa * 1e-9,
+                        self.oil_temperature_C, self.thermal_expansion_per_K)
+        mu = self.friction_coefficient
+        friction = GivenFriction(mu) if mu is not None else Schlenk(self.lubricant_factor)
+        return TribologyInputs(
+            lub, (ra[0] * 1e-6, ra[1] * 1e-6), friction, FILM_FORMULAS[self.film](), speed,
+            parse_scuffing(self, bulk_read=bool(MICROPITTING_KEYS & self.given)),
+            parse_micropitting(self.table()),
+        )
+
+
+#: the keys of ``[lubricant]``
+LUBRICANT_KEYS = set(LubricantSection.model_fields)
+
+
 def parse_lubricant(table: dict, operating: dict) -> TribologyInputs:
-    """Validate ``[lubricant]`` (and the speed of ``[operating]``) and build its objects.
+    """Validate ``[lubricant]`` (:class:`LubricantSection`; and the speed of ``[operating]``)
+    and build its objects.
 
     Raises:
         SchemaError (a ``ValueError``): one line naming the key, its value and the allowed range.
     """
-    w = "lubricant"
-    sc.check_keys(table, LUBRICANT_KEYS, w)
-    walther = " (Walther's equation, ASTM D341, holds from 2 mm²/s)"
-    nu40 = sc.number(table, "viscosity_40C_mm2_s", w, allowed=VISCOSITY_RANGE, note=walther)
-    nu100 = sc.number(table, "viscosity_100C_mm2_s", w, allowed=VISCOSITY_RANGE, note=walther)
-    if nu100 >= nu40:
-        raise sc.fail(
-            w,
-            "viscosity_100C_mm2_s",
-            f"out of range, allowed < viscosity_40C_mm2_s = {nu40:g} (an oil thins as it warms)",
-            nu100,
-        )
-    rho = sc.number(table, "density_kg_m3", w, allowed="(500, 2000)")
-    gamma = sc.number(table, "thermal_expansion_per_K", w, 0.0, allowed="[0, 0.01)")
-    alpha = sc.number(table, "pressure_viscosity_per_GPa", w, allowed="(0, 100]")
-    temp = sc.number(table, "oil_temperature_C", w, allowed="(-50, 250)")
-    ra = table.get("roughness_Ra_um")
-    if isinstance(ra, list):
-        ra = sc.number_list(table, "roughness_Ra_um", w, length=2, allowed="(0, 10]")
-    else:
-        ra = [sc.number(table, "roughness_Ra_um", w, allowed="(0, 10]")] * 2
-    xl = sc.number(table, "lubricant_factor", w, 1.0, allowed="(0, 2]")
-    mu = sc.number(table, "friction_coefficient", w, None, allowed="(0, 1]")
-    if mu is not None and "lubricant_factor" in table:
-        raise sc.fail(
-            w,
-            "lubricant_factor",
-            "not read: friction_coefficient is given (X_L is Schlenk's); remove one",
-            table["lubricant_factor"],
-        )
-    film = sc.choice(table, "film", w, tuple(FILM_FORMULAS), "dowson-higginson")
-    speed = sc.number(operating, "speed_rad_s", "operating", 0.0, allowed="[0, 1e+05]")
-    if speed <= 0.0:
-        rpm = operating.get("speed_rpm")
-        if rpm is None:
-            raise sc.fail(
-                "operating",
-                "speed_rad_s",
-                "out of range with [lubricant], allowed > 0 "
-                "(the film and the sliding loss need the pinion speed; or give "
-                "speed_rpm)",
-                speed,
-            )
-        speed = float(rpm) * 2.0 * math.pi / 60.0
-    lub = Lubricant(nu40 * 1e-6, nu100 * 1e-6, rho, alpha * 1e-9, temp, gamma)
-    friction = GivenFriction(mu) if mu is not None else Schlenk(xl)
-    return TribologyInputs(
-        lub, (ra[0] * 1e-6, ra[1] * 1e-6), friction, FILM_FORMULAS[film](), speed,
-        parse_scuffing(table, bulk_read=bool(MICROPITTING_KEYS & set(table))),
-        parse_micropitting(table),
-    )
+    return LubricantSection.read(table).inputs(operating)
+
+
+def read_lubricant(data: dict) -> LubricantSection | None:
+    """A case file's ``[lubricant]`` (:class:`LubricantSection`) with its pinion speed of
+    ``[operating]`` checked, or None without the table.
+
+    Raises:
+        SchemaError: as :func:`parse_lubricant`.
+    """
+    if "lubricant" not in data:
+        return None
+    section = LubricantSection.read(data["lubricant"])
+    section.inputs(data.get("operating", {}))  # the film and the loss need the pinion speed
+    return section
 
 
 def tribology_of(case) -> TribologyInputs | None:
-    """The ``[lubricant]`` inputs of a case (:class:`TribologyInputs`; a train's or a planetary
-    stage's speed its input member's), or None without the table."""
-    raw = getattr(case, "raw", None) or {}
-    if "lubricant" not in raw:
+    """The ``[lubricant]`` inputs of a case (:class:`TribologyInputs`, of its
+    :attr:`Case.lubricant <jaxgear.io.Case>`; a train's or a planetary stage's speed its input
+    member's), or None without the table."""
+    section = getattr(case, "lubricant", None)
+    if section is None:
         return None
-    return parse_lubricant(raw["lubricant"], raw.get("operating", {}))
+    return section.inputs((getattr(case, "raw", None) or {}).get("operating", {}))

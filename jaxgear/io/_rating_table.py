@@ -72,8 +72,10 @@ from __future__ import annotations
 import dataclasses
 import functools
 import math
+from typing import Any, ClassVar, Literal
 
 import equinox as eqx
+import pydantic
 
 from fem_prep import schema as sc
 
@@ -103,6 +105,7 @@ from ._planetary_spec import PlanetaryForm
 from ._planetary_table import CUTTER_KEYS, cutter_values
 from ._rating_inputs import modification_inputs
 from ._rating_material_table import (
+    MATERIAL_RANGES,
     TREATMENTS,
     material_identity,
     pair_of,
@@ -110,6 +113,7 @@ from ._rating_material_table import (
     treatment_names,
     treatment_of,
 )
+from ._sections import Section, number, number_list, one_of
 from ._spectrum_table import parse_spectrum
 
 __all__ = [
@@ -120,6 +124,8 @@ __all__ = [
     "RATING_KEYS",
     "TREATMENTS",
     "RatingCase",
+    "RatingKeys",
+    "RatingSection",
     "check_planetary_rating",
     "check_rating",
     "check_train_rating",
@@ -170,20 +176,109 @@ GIVEN = ("K_v", "K_Hbeta", "K_Fbeta", "K_Halpha", "K_Falpha")
 #: (K_Hβ: the load map's face load distribution; K_Hα: its load sharing between pairs, also
 #: taken for K_Fα; K_v: the speed sweep at the rating speed)
 MEASURABLE = ("K_Hbeta", "K_Halpha", "K_v")
-RATING_KEYS = {
-    "use_measured",
-    "application_factor",
-    "life_h",
-    "viscosity_40C_mm2_s",
-    "roughness_Rz_flank_um",
-    "roughness_Rz_root_um",
-    "accuracy_grade",
-    "tip_relief_um",
-    "min_safety_pitting",
-    "min_safety_bending",
-    "edition",
-    *GIVEN,
-}
+_YEARS = ", the years 2006 or 2019"
+
+
+def _per_gear(key: str):
+    """The type of a per-gear key of ``[rating]``: a number, a [pinion, gear] list (a train's:
+    in a mesh's table) or a table by gear name (a train's), in its :data:`MATERIAL_RANGES`
+    range."""
+    allowed, note = MATERIAL_RANGES[key]
+    return one_of(number=number(allowed, note=note),
+                  array=number_list(allowed, length=2, note=note),
+                  table=dict[str, number(allowed, note=note)])
+
+
+class RatingKeys(Section):
+    """The keys of a mesh's rating (module docstring), as ``[rating]`` or a train's
+    ``[rating.<driving>-<driven>]`` gives them: types and ranges; the keys a rating needs are
+    asked for where a mesh is rated (:func:`_mesh_rating`)."""
+
+    WHERE: ClassVar[str] = "rating"
+    use_measured: list[Literal[MEASURABLE]] = []
+    application_factor: number("[1, 10]") = 1.0
+    life_h: number("(0, 1e+07]") | None = None
+    viscosity_40C_mm2_s: number("[1, 10000]") | None = None
+    roughness_Rz_flank_um: _per_gear("roughness_Rz_flank_um") | None = None
+    roughness_Rz_root_um: _per_gear("roughness_Rz_root_um") | None = None
+    accuracy_grade: number("[1, 11]", integer=True) = 6
+    tip_relief_um: number("[0, 1000]") | None = None
+    min_safety_pitting: number("[0.5, 10]") = 1.0
+    min_safety_bending: number("[0.5, 10]") = 1.0
+    edition: number("[2006, 2019]", integer=True, note=_YEARS) = 2019
+    K_v: number("[1, 10]") | None = None
+    K_Hbeta: number("[1, 10]") | None = None
+    K_Fbeta: number("[1, 10]") | None = None
+    K_Halpha: number("[1, 10]") | None = None
+    K_Falpha: number("[1, 10]") | None = None
+
+    @pydantic.model_validator(mode="after")
+    def _related(self):
+        if self.edition not in EDITIONS:
+            raise sc.fail(self.WHERE, "edition", f"out of range, allowed [2006, 2019]{_YEARS}",
+                          self.edition)
+        v = self.use_measured
+        for n in v:
+            if getattr(self, n) is not None:
+                raise sc.fail("rating", "use_measured", f"{n} is given as a value too: give it "
+                              "once", v)
+        if len(set(v)) != len(v):
+            raise sc.fail("rating", "use_measured", "a factor named twice", v)
+        return self
+
+    def given_factors(self) -> dict:
+        """The given load factors (:data:`GIVEN`: K_v, K_Hβ, ...), None where not given."""
+        return {k: getattr(self, k) for k in GIVEN}
+
+
+class RatingSection(RatingKeys):
+    """A case's ``[rating]`` (module docstring): a mesh's keys (:class:`RatingKeys`), a train's
+    or a planetary stage's ``[rating.<driving>-<driven>]`` tables (:attr:`meshes`), a planetary
+    stage's ``K_gamma`` and older ring-cutter keys, the ``[rating.spectrum]`` table (read by
+    :func:`jaxgear.io._spectrum_table.parse_spectrum`). Read it with :meth:`of`, which names
+    the case's meshes."""
+
+    K_gamma: number("[1, 10]") | None = None
+    # the older ring-cutter keys (their range follows the ring's teeth: ring_cutter)
+    ring_cutter_teeth: Any = None
+    ring_cutter_profile_shift: Any = None
+    ring_cutter_tip_radius_coeff: Any = None
+    spectrum: Any = None
+    meshes: dict[str, RatingKeys] = {}
+
+    @pydantic.model_validator(mode="before")
+    @classmethod
+    def _tables(cls, data, info):
+        """The keys this case's ``[rating]`` takes (a pair's, a train's with its mesh tables,
+        a planetary stage's with its keys), the mesh tables moved to :attr:`meshes`."""
+        context = info.context or {}
+        meshes, planetary = context.get("meshes", ()), context.get("planetary", False)
+        if not isinstance(data, dict):
+            return data
+        allowed = set(RatingKeys.model_fields) | set(meshes) | {"spectrum"}
+        sc.check_keys(data, allowed | (PLANETARY_KEYS if planetary else set()), "rating")
+        sc.subtable(data, "spectrum", "rating")
+        own = {k: v for k, v in data.items() if k in meshes}
+        for k, v in own.items():
+            sc.subtable(own, k, "rating")
+        return {k: v for k, v in data.items() if k not in meshes} | {"meshes": own}
+
+    @classmethod
+    def of(cls, table, meshes=(), planetary: bool = False) -> RatingSection:
+        """The ``[rating]`` of a case whose meshes are named ``meshes`` (a train's or a
+        planetary stage's; a pair's none), a planetary stage's with ``planetary``."""
+        if isinstance(table, RatingSection):
+            return table
+        return cls.read(table, context={"meshes": tuple(meshes), "planetary": planetary})
+
+    def keys(self) -> RatingKeys:
+        """The mesh keys ``[rating]`` gives every mesh (:class:`RatingKeys`)."""
+        return RatingKeys.model_validate(
+            {k: v for k, v in self.table().items() if k in RatingKeys.model_fields})
+
+
+#: the keys of a mesh's rating (:class:`RatingKeys`)
+RATING_KEYS = set(RatingKeys.model_fields)
 RPM = 2 * math.pi / 60
 @dataclasses.dataclass(frozen=True)
 class RatingCase:
@@ -254,53 +349,47 @@ def parse_rating(
             the file's units), unknown keys, a ``[material]`` key that neither gear reads
             (:func:`refuse_unread_material`); one line.
     """
-    rt = sc.subtable(data, "rating", "", RATING_KEYS | {"spectrum"})
-    spectrum_table = sc.subtable(rt, "spectrum", "rating", None)
-    own = {k: v for k, v in rt.items() if k != "spectrum"}
-    rc = _mesh_rating(data | {"rating": own}, pair, material, modifications)
+    section = RatingSection.of(data["rating"])
     mat = data.get("material", {})
+    rc = _mesh_rating(section.keys(), mat, data.get("operating", {}), pair, material,
+                      modifications)
     refuse_unread_material(mat, [treatment_names(mat.get("treatment"), mat)])
-    if "spectrum" in rt:
-        spectrum = parse_spectrum(spectrum_table, float(rc.settings.life))
+    if section.spectrum is not None:
+        spectrum = parse_spectrum(section.spectrum, float(rc.settings.life))
         rc = dataclasses.replace(rc, spectrum=spectrum)
     return rc
 
 
+def _two(rt: RatingKeys, key: str) -> list[float]:
+    """A per-gear key of a mesh's rating as [pinion, gear] (a number for both)."""
+    v = getattr(rt, key)
+    if isinstance(v, dict):  # a table by gear name: a train's shared [rating] only
+        raise sc.fail("rating", key, "must be a number, not a table", v)
+    return list(v) if isinstance(v, list) else [v, v]
+
+
 def _mesh_rating(
-    data: dict, pair: GearPair, material: tuple[float, float, float], modifications=None
+    rt: RatingKeys, mat: dict, op: dict, pair: GearPair, material: tuple[float, float, float],
+    modifications=None,
 ) -> RatingCase:
-    """:func:`parse_rating` of one mesh, its ``[material]`` keys' use left to the caller (a
-    train's or a stage's shared keys are read by some of its meshes only)."""
-    rt = sc.subtable(data, "rating", "", RATING_KEYS)
-    mat = data.get("material", {})
-    op = data.get("operating", {})
+    """:func:`parse_rating` of one mesh of ``rt`` (its rating keys, a train's per-gear values
+    resolved), ``mat`` (``[material]``, the mesh's per-gear values resolved) and ``op`` (its
+    ``torque_Nm`` and speed), its ``[material]`` keys' use left to the caller (a train's or a
+    stage's shared keys are read by some of its meshes only)."""
     for key in ("sigma_H_lim_MPa", "sigma_F_lim_MPa"):
         _need(mat, key, "material")
     for key in ("life_h", "viscosity_40C_mm2_s", "roughness_Rz_flank_um", "roughness_Rz_root_um"):
-        _need(rt, key, "rating")
+        if getattr(rt, key) is None:
+            _need({}, key, "rating")
     s_h = pair_of(mat, "sigma_H_lim_MPa", "material")
     s_f = pair_of(mat, "sigma_F_lim_MPa", "material")
     designation, hardness = material_identity(mat)
     treatment = treatment_of(mat)
     speed = rating_speed(op)
-    ka = sc.number(rt, "application_factor", "rating", 1.0, allowed="[1, 10]")
-    life = sc.number(rt, "life_h", "rating", allowed="(0, 1e+07]") * 3600.0
-    nu40 = sc.number(rt, "viscosity_40C_mm2_s", "rating", allowed="[1, 10000]") * 1e-6
-    rz_flank = pair_of(rt, "roughness_Rz_flank_um", "rating")
-    rz_root = pair_of(rt, "roughness_Rz_root_um", "rating")
-    grade = sc.number(rt, "accuracy_grade", "rating", 6, allowed="[1, 11]", integer=True)
-    ca = sc.number(rt, "tip_relief_um", "rating", None, allowed="[0, 1000]")
-    s_hmin = sc.number(rt, "min_safety_pitting", "rating", 1.0, allowed="[0.5, 10]")
-    s_fmin = sc.number(rt, "min_safety_bending", "rating", 1.0, allowed="[0.5, 10]")
-    given = {k: sc.number(rt, k, "rating", None, allowed="[1, 10]") for k in GIVEN}
-    years = ", the years 2006 or 2019"
-    year = sc.number(
-        rt, "edition", "rating", 2019, allowed="[2006, 2019]", integer=True, note=years
-    )
-    if year not in EDITIONS:
-        raise sc.fail("rating", "edition", f"out of range, allowed [2006, 2019]{years}", year)
+    ca = rt.tip_relief_um
     inputs = modification_inputs(None if ca is None else ca * 1e-6, modifications)
     E, nu, rho = material
+    grade = rt.accuracy_grade
     try:
         accuracy = GearAccuracy.from_grade(pair, grade)
     except ValueError as err:  # outside ISO 1328-1's scope (module, diameter, face width)
@@ -309,63 +398,57 @@ def _mesh_rating(
         material=RatingMaterial(
             [v * 1e6 for v in s_h], [v * 1e6 for v in s_f], E, nu, rho, treatment
         ),
-        lubrication=Lubrication(nu40, [v * 1e-6 for v in rz_flank], [v * 1e-6 for v in rz_root]),
+        lubrication=Lubrication(rt.viscosity_40C_mm2_s * 1e-6,
+                                [v * 1e-6 for v in _two(rt, "roughness_Rz_flank_um")],
+                                [v * 1e-6 for v in _two(rt, "roughness_Rz_root_um")]),
         accuracy=accuracy,
-        life=life,
-        application_factor=ka,
-        given=GivenFactors(**given),
+        life=rt.life_h * 3600.0,
+        application_factor=rt.application_factor,
+        given=GivenFactors(**rt.given_factors()),
         tip_relief=inputs["tip_relief_m"],
-        min_safety_pitting=s_hmin,
-        min_safety_bending=s_fmin,
-        standard=EDITIONS[year](),
+        min_safety_pitting=rt.min_safety_pitting,
+        min_safety_bending=rt.min_safety_bending,
+        standard=EDITIONS[rt.edition](),
         crowning=inputs["crowning_m"],
     )
     torque = sc.number(op, "torque_Nm", "operating")
-    use = _use_measured(rt, given)
     return RatingCase(
         GEOMETRIES[type(pair)](pair),
         OperatingPoint(torque, speed),
         settings,
-        use,
+        tuple(rt.use_measured),
         modification_inputs=inputs,
         designation=designation,
         surface_hardness=hardness,
     )
 
 
-def _use_measured(rt: dict, given: dict) -> tuple[str, ...]:
-    """``[rating] use_measured``: a list of distinct names of :data:`MEASURABLE`, none also
-    given as a value."""
-    v = rt.get("use_measured", [])
-    allowed = f"a list of {', '.join(MEASURABLE)}"
-    if not isinstance(v, list) or not all(isinstance(n, str) for n in v):
-        raise sc.fail("rating", "use_measured", f"allowed {allowed}", v)
-    for n in v:
-        if n not in MEASURABLE:
-            raise sc.fail("rating", "use_measured", f"unknown factor {n!r}, allowed {allowed}", v)
-        if given.get(n) is not None:
-            raise sc.fail("rating", "use_measured", f"{n} is given as a value too: give it once", v)
-    if len(set(v)) != len(v):
-        raise sc.fail("rating", "use_measured", "a factor named twice", v)
-    return tuple(v)
-
-
-def check_rating(data: dict, pair: GearPair, material: tuple[float, float, float]) -> None:
+def check_rating(data: dict, pair: GearPair, material: tuple[float, float, float]
+                 ) -> RatingSection | None:
     """The case reader's hook: a ``[rating]`` table checked whole (:func:`parse_rating`), and
     the rating's ``[material]``/``[operating]`` keys refused without one (they would be
-    silently unused)."""
+    silently unused). Returns the typed ``[rating]`` (:class:`RatingSection`), None without
+    one."""
     if "rating" in data:
         parse_rating(data, pair, material)
-        return
+        return RatingSection.of(data["rating"])
     _refuse_unread(data)
+    return None
+
+
+def _with_section(case) -> dict:
+    """The case's file's tables with its typed ``[rating]`` (:attr:`Case.rating
+    <jaxgear.io.Case>`): what the rating readers take beside it (``[material]``,
+    ``[operating]``, a stage's ``[[gears]]``) its file's."""
+    return {**case.raw, "rating": case.rating}
 
 
 def rating_of(case) -> RatingCase | None:
     """A pair case's :class:`RatingCase`, ``None`` when it has no ``[rating]`` table."""
-    if "rating" not in case.raw:
+    if case.rating is None:
         return None
     material = (case.youngs_modulus, case.poisson_ratio, case.density)
-    return parse_rating(case.raw, case.pair, material, case.modifications)
+    return parse_rating(_with_section(case), case.pair, material, case.modifications)
 
 
 # ------------------------------------------------------------------------------------------
@@ -462,9 +545,8 @@ def parse_train_rating(data: dict, case) -> tuple[RatingCase, ...]:
                 f"mesh {meshes[k]} is internal ({case.gear_names[h]}: teeth "
                 f"{case.pairs[k].gear.teeth}): the rating covers external pairs only",
             )
-    rt = sc.subtable(data, "rating", "", RATING_KEYS | set(meshes) | {"spectrum"})
-    spectrum_table = sc.subtable(rt, "spectrum", "rating", None)
-    own = {m: sc.subtable(rt, m, "rating", RATING_KEYS) for m in meshes}
+    section = RatingSection.of(data["rating"], meshes)
+    rt, own = _shared_and_own(section, meshes)
     mat, op = data.get("material", {}), data.get("operating", {})
     names = case.gear_names
     speed = rating_speed(op)
@@ -475,33 +557,43 @@ def parse_train_rating(data: dict, case) -> tuple[RatingCase, ...]:
     out, treatments = [], []
     for k, (g, h) in enumerate(case.gears):
         ends = (g, h)
-        shared = _mesh_table(rt, RATING_KEYS, "rating", names, ends)
+        keys = RatingKeys.read(_mesh_table(rt, RATING_KEYS, "rating", names, ends)
+                               | own[meshes[k]])
         mesh_data = {
-            "rating": shared | own[meshes[k]],
             "material": _mesh_table(mat, MATERIAL_RATING_KEYS, "material", names, ends),
             "operating": {"torque_Nm": torques[k], "speed_rad_s": speed * abs(ratios[g])},
         }
-        rc = _mesh_rating(mesh_data, case.pairs[k], material, case.mesh_modifications()[k])
+        rc = _mesh_rating(keys, mesh_data["material"], mesh_data["operating"], case.pairs[k],
+                          material, case.mesh_modifications()[k])
         loading = ToothLoading.of_roles((driving[g], driving[h]), (driven[g], driven[h]))
         settings = eqx.tree_at(lambda s: s.loading, rc.settings, loading)
         out.append(dataclasses.replace(rc, settings=settings))
         treatments.append(treatment_names(mesh_data["material"].get("treatment"),
                                            mesh_data["material"]))
     refuse_unread_material(mat, treatments)
-    return _with_spectrum(rt, spectrum_table, out, case.torque, speed)
+    return _with_spectrum(section, out, case.torque, speed)
 
 
-def _with_spectrum(rt: dict, table: dict | None, rcs: list, torque: float, speed: float) -> tuple:
+def _shared_and_own(section: RatingSection, meshes) -> tuple[dict, dict]:
+    """The mesh keys ``[rating]`` gives every mesh, as the file gives them, and each mesh's own
+    ``[rating.<mesh>]`` keys (``{}`` where it has no table)."""
+    shared = {k: v for k, v in section.table().items() if k in RATING_KEYS}
+    own = {m: section.meshes[m].table() if m in section.meshes else {} for m in meshes}
+    return shared, own
+
+
+def _with_spectrum(section: RatingSection, rcs: list, torque: float, speed: float) -> tuple:
     """The meshes' :class:`RatingCase` with a train's or a planetary stage's ``[rating.spectrum]``
     (the input member's bins, :func:`jaxgear.io._spectrum_table.parse_spectrum`, its
     ``time_share`` scaled to ``[rating] life_h``) carried to each mesh by the lossless ratios of
     its operating point to the input's (``torque`` N·m, ``speed`` rad/s):
     :meth:`jaxgear.rating.LoadSpectrum.carried`, as :func:`jaxgear.rating.rate_train_spectrum`
     carries it."""
-    if "spectrum" not in rt:
+    if section.spectrum is None:
         return tuple(rcs)
-    life = sc.number(rt, "life_h", "rating", allowed="(0, 1e+07]") * 3600.0
-    spectrum = parse_spectrum(table, life)
+    if section.life_h is None:
+        _need({}, "life_h", "rating")
+    spectrum = parse_spectrum(section.spectrum, section.life_h * 3600.0)
     return tuple(
         dataclasses.replace(
             rc,
@@ -512,13 +604,19 @@ def _with_spectrum(rt: dict, table: dict | None, rcs: list, torque: float, speed
     )
 
 
-def check_train_rating(data: dict, case) -> None:
+def _mesh_names(case) -> list[str]:
+    """The names of a case's meshes (its ``[rating.<mesh>]`` tables')."""
+    return [case.mesh_name(k) for k in range(len(case.pairs))]
+
+
+def check_train_rating(data: dict, case) -> RatingSection | None:
     """The train reader's hook: a ``[rating]`` table checked whole (:func:`parse_train_rating`),
     the rating's ``[material]``/``[operating]`` keys refused without one."""
     if "rating" in data:
         parse_train_rating(data, case)
-        return
+        return RatingSection.of(data["rating"], _mesh_names(case))
     _refuse_unread(data)
+    return None
 
 
 def _refuse_unread(data: dict) -> None:
@@ -549,13 +647,10 @@ def parse_planetary_rating(data: dict, case) -> tuple[RatingCase, ...]:
             "gears to rate: give the stage by its [[gears]]",
         )
     meshes = [case.mesh_name(k) for k in range(len(case.pairs))]
-    rt = sc.subtable(data, "rating", "", RATING_KEYS | set(meshes) | PLANETARY_KEYS
-                     | {"spectrum"})
-    spectrum_table = sc.subtable(rt, "spectrum", "rating", None)
-    k_gamma = sc.number(rt, "K_gamma", "rating", None, allowed="[1, 10]")
-    section = ring_cutter(data, case)
-    rt = {k: v for k, v in rt.items() if k not in PLANETARY_KEYS}
-    own = {m: sc.subtable(rt, m, "rating", RATING_KEYS) for m in meshes}
+    rating = RatingSection.of(data["rating"], meshes, planetary=True)
+    k_gamma = rating.K_gamma
+    section = ring_cutter(data | {"rating": rating.table()}, case)
+    rt, own = _shared_and_own(rating, meshes)
     mat = data.get("material", {})
     names = case.gear_names
     n = float(case.form.spec.n_planets)
@@ -564,12 +659,14 @@ def parse_planetary_rating(data: dict, case) -> tuple[RatingCase, ...]:
     out, treatments = [], []
     for k, ends in enumerate(case.gears):
         one = case.mesh_case(k)
+        keys = RatingKeys.read(_mesh_table(rt, RATING_KEYS, "rating", names, ends)
+                               | own[meshes[k]])
         mesh_data = {
-            "rating": _mesh_table(rt, RATING_KEYS, "rating", names, ends) | own[meshes[k]],
             "material": _mesh_table(mat, MATERIAL_RATING_KEYS, "material", names, ends),
             "operating": {"torque_Nm": one.torque, "speed_rad_s": one.speed},
         }
-        rc = _mesh_rating(mesh_data, case.pairs[k], material, one.modifications)
+        rc = _mesh_rating(keys, mesh_data["material"], mesh_data["operating"], case.pairs[k],
+                          material, one.modifications)
         treatments.append(treatment_names(mesh_data["material"].get("treatment"),
                                            mesh_data["material"]))
         settings = eqx.tree_at(lambda s: s.loading, rc.settings, loading[k])
@@ -586,7 +683,7 @@ def parse_planetary_rating(data: dict, case) -> tuple[RatingCase, ...]:
                 "model's face load; a spur stage has none, and would be rated with ISO's K_Hβ): "
                 "remove it", list(rc.use_measured),
             )
-    return _with_spectrum(rt, spectrum_table, out, case.torque, case.speed)
+    return _with_spectrum(rating, out, case.torque, case.speed)
 
 
 def _ring_table(data: dict, case) -> tuple[str, dict]:
@@ -680,7 +777,7 @@ def older_ring_cutter(data: dict, case):
     return fem_prep.ShaperCutter(z0, 0.0 if x0 is None else x0, rho)
 
 
-def check_planetary_rating(data: dict, case) -> None:
+def check_planetary_rating(data: dict, case) -> RatingSection | None:
     """The planetary reader's hook: ``[operating] speed_rpm`` refused (a stage's speed is
     ``speed_rad_s`` of its input member, which its rating reads too: each mesh at its speed
     relative to the carrier), a ``[rating]`` table checked whole
@@ -694,8 +791,9 @@ def check_planetary_rating(data: dict, case) -> None:
         )
     if "rating" in data:
         parse_planetary_rating(data, case)
-        return
+        return RatingSection.of(data["rating"], _mesh_names(case), planetary=True)
     _refuse_unread(data)
+    return None
 
 
 @functools.singledispatch
@@ -710,12 +808,12 @@ def _(form: PairForm, case) -> tuple:
 
 @_ratings.register
 def _(form: TrainForm, case) -> tuple:
-    return parse_train_rating(case.raw, case)
+    return parse_train_rating(_with_section(case), case)
 
 
 @_ratings.register
 def _(form: PlanetaryForm, case) -> tuple:
-    return parse_planetary_rating(case.raw, case)
+    return parse_planetary_rating(_with_section(case), case)
 
 
 def ratings_of(case) -> tuple[RatingCase, ...] | None:
@@ -723,7 +821,7 @@ def ratings_of(case) -> tuple[RatingCase, ...] | None:
     per mesh, in the order of its meshes), ``None`` without one; each rated to the case's
     :attr:`~jaxgear.io.Case.rating_standard` where it gives one (an object,
     :class:`jaxgear.rating.AbstractRatingStandard`), else to the ``[rating] edition``'s."""
-    if "rating" not in case.raw:
+    if case.rating is None:
         return None
     rcs = _ratings(case.form, case)
     standard = case.rating_standard

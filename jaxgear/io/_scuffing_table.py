@@ -54,53 +54,37 @@ class ScuffingInputs(NamedTuple):
     bulk: AbstractBulkTemperature
 
 
-def parse_scuffing(table: dict, bulk_read: bool = False) -> ScuffingInputs | None:
-    """The scuffing keys of ``[lubricant]`` (validated), or None without ``fzg_load_stage`` and
-    ``scuffing_temperature_C``. ``bulk_read``: the micropitting keys read the bulk keys
-    (``bulk_temperature_C``, ``bulk_lubrication_factor``) when no scuffing is computed.
+def parse_scuffing(section, bulk_read: bool = False) -> ScuffingInputs | None:
+    """The scuffing keys of ``[lubricant]`` (its :class:`~jaxgear.io._lubricant_table.
+    LubricantSection`, which checks their types and ranges) as :class:`ScuffingInputs`, or None
+    without ``fzg_load_stage`` and ``scuffing_temperature_C``. ``bulk_read``: the micropitting
+    keys read the bulk keys (``bulk_temperature_C``, ``bulk_lubrication_factor``) when no
+    scuffing is computed.
 
     Raises:
-        SchemaError (a ``ValueError``): one line naming the key, its value and the allowed range.
+        SchemaError (a ``ValueError``): a key not read without another, or read beside one that
+            replaces it; one line naming the key and its value.
     """
-    w = "lubricant"
-    stage = sc.number(table, "fzg_load_stage", w, None, allowed="[1, 14]")
-    theta_s = sc.number(table, "scuffing_temperature_C", w, None, allowed="(0, 1000)")
-    theta_int = sc.number(table, "integral_scuffing_temperature_C", w, None, allowed="(0, 1000)")
-    bulk_c = sc.number(table, "bulk_temperature_C", w, None, allowed="(-50, 400)")
-    xs = sc.number(table, "bulk_lubrication_factor", w, 1.0, allowed="(0, 2]")
-    xl = sc.number(table, "scuffing_lubricant_factor", w, 1.0, allowed="(0, 2]")
-    xw = sc.number(table, "structural_factor", w, 1.0, allowed="(0, 2]")
-    xwr = sc.number(table, "relative_structural_factor", w, 1.0, allowed="(0, 2]")
+    w, given = "lubricant", section.given
+    stage, theta_s = section.fzg_load_stage, section.scuffing_temperature_C
+    theta_int, bulk_c = section.integral_scuffing_temperature_C, section.bulk_temperature_C
     if stage is None and theta_s is None and theta_int is None:
-        for key in SCUFFING_KEYS & set(table):
+        for key in sorted(SCUFFING_KEYS & given):
             if bulk_read and key in _BULK_KEYS:
                 continue
             also = " (or a micropitting key)" if key in _BULK_KEYS else ""
-            raise sc.fail(
-                w,
-                key,
-                f"not read: give fzg_load_stage or scuffing_temperature_C{also}",
-                table[key],
-            )
+            raise sc.fail(w, key, f"not read: give fzg_load_stage or scuffing_temperature_C{also}",
+                          getattr(section, key))
         return None
     if stage is None and (theta_s is None or theta_int is None):
-        given = (
-            "scuffing_temperature_C" if theta_s is not None else "integral_scuffing_temperature_C"
-        )
-        raise sc.fail(
-            w,
-            given,
-            "needs fzg_load_stage (or both scuffing_temperature_C and"
-            " integral_scuffing_temperature_C)",
-            table[given],
-        )
-    if bulk_c is not None and "bulk_lubrication_factor" in table:
-        raise sc.fail(
-            w,
-            "bulk_lubrication_factor",
-            "not read: bulk_temperature_C is given (X_S is the TS rule's); remove one",
-            xs,
-        )
-    limits = ScuffingLimits(stage, theta_s, theta_int, xl, xw, xwr)
+        key = "scuffing_temperature_C" if theta_s is not None else "integral_scuffing_temperature_C"
+        raise sc.fail(w, key, "needs fzg_load_stage (or both scuffing_temperature_C and"
+                      " integral_scuffing_temperature_C)", getattr(section, key))
+    xs = section.bulk_lubrication_factor
+    if bulk_c is not None and "bulk_lubrication_factor" in given:
+        raise sc.fail(w, "bulk_lubrication_factor",
+                      "not read: bulk_temperature_C is given (X_S is the TS rule's); remove one", xs)
+    limits = ScuffingLimits(stage, theta_s, theta_int, section.scuffing_lubricant_factor,
+                            section.structural_factor, section.relative_structural_factor)
     bulk = GivenBulkTemperature(bulk_c) if bulk_c is not None else FlashBulkTemperature(xs)
     return ScuffingInputs(limits, bulk)

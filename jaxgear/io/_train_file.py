@@ -110,7 +110,7 @@ from ._case_file import (
     parse_torque,
 )
 from ._housing_table import check_housing_band, stage_housing_spec
-from ._lubricant_table import parse_lubricant
+from ._lubricant_table import read_lubricant
 from ._modifications_table import _MOD_KEYS, _member_mods
 from ._planetary_deviations_table import parse_planetary_deviations
 from ._planetary_spec import InternalMeshForm
@@ -139,7 +139,12 @@ from ._optimise_table import (
     check_train_design,
     parse_optimise,
 )
-from ._whine_table import highest_order_frequency, lowest_order_frequency, parse_whine
+from ._whine_table import (
+    WhineSection,
+    highest_order_frequency,
+    lowest_order_frequency,
+    parse_whine,
+)
 
 __all__ = ["is_train", "parse_train"]
 
@@ -465,12 +470,12 @@ def _planetary_case(data: dict, name: str, base_dir: str | None = None) -> Case:
                                                     case.form.spec.n_planets)
         case = dataclasses.replace(case, deviations=devs, deviation_settings=settings)
     # [rating]: both meshes (ISO 6336, the ring internal), the ring's cutter given once
-    check_planetary_rating(data, case)
+    case = case.replace(rating=check_planetary_rating(data, case))
     older = older_ring_cutter(data, case)  # [rating] ring_cutter_*: the stiffness model's too
     if older is not None:
         case = case.replace(stiffness=case.stiffness.with_ring_cutter(older))
     check_internal_stiffness(case, "[planetary]")
-    _check_lubricant(data, case)
+    case = _check_lubricant(data, case)
     if "housing" in data:  # the held member bolted to it (docs/planetary.md, "On a housing")
         # a stage's whine: orders of its mesh frequency (carrier frame) z_s |ω_s − ω_c| / 2π
         teeth = (2 * math.pi * case.form.spec.mesh_frequency(1.0),)
@@ -483,15 +488,16 @@ def _planetary_case(data: dict, name: str, base_dir: str | None = None) -> Case:
     return case
 
 
-def _check_lubricant(data: dict, case) -> None:
-    """``[lubricant]`` of a train or a planetary stage checked whole (:func:`parse_lubricant`):
-    every mesh's film and sliding loss and the efficiency; a lumped stage (no gears) refused."""
+def _check_lubricant(data: dict, case):
+    """``[lubricant]`` of a train or a planetary stage checked whole (:func:`read_lubricant`):
+    every mesh's film and sliding loss and the efficiency; a lumped stage (no gears) refused.
+    Returns the case with its :attr:`~jaxgear.io.Case.lubricant`."""
     if "lubricant" not in data:
-        return
+        return case
     if not case.pairs:
         raise sc.fail("", "lubricant", "allowed only with [[gears]] (a lumped planetary stage "
                       "has no flanks to lubricate)", "[lubricant]")
-    parse_lubricant(data["lubricant"], data.get("operating", {}))
+    return case.replace(lubricant=read_lubricant(data))
 
 
 def parse_train(data: dict, default_name: str = "train", base_dir: str | None = None) -> Case:
@@ -512,15 +518,15 @@ def parse_train(data: dict, default_name: str = "train", base_dir: str | None = 
     sc.subtable(data, "mesh", "", _SCHEMA["mesh"])
     op_keys = {*_SCHEMA["operating"], "loads", "wrenches", *OPERATING_RATING_KEYS}
     sc.subtable(data, "operating", "", op_keys, required=True)
-    if "whine" in data:  # a train's or a planetary stage's gear whine
-        parse_whine(data["whine"])
+    # a train's or a planetary stage's gear whine
+    whine = WhineSection.read(data["whine"]) if "whine" in data else None
     if "optimise" in data and is_planetary(data):
         raise sc.fail("", "optimise", "not in a planetary stage's case (allowed: a pair's case, "
                       "or a housed train's)", "[optimise]")
-    if "acoustics" in data:  # a housed train's or planetary stage's radiated sound
-        parse_case_acoustics(data)
+    # a housed train's or planetary stage's radiated sound
+    acoustics = parse_case_acoustics(data) if "acoustics" in data else None
     if is_planetary(data):
-        return _planetary_case(data, name, base_dir)
+        return _planetary_case(data, name, base_dir).replace(whine=whine, acoustics=acoustics)
     if "deviations" in data:
         raise sc.fail("", "deviations", "not in a gear train's case (allowed: a pair's case, or "
                       "a planetary stage's with [[gears]])", "[deviations]")
@@ -694,11 +700,13 @@ def parse_train(data: dict, default_name: str = "train", base_dir: str | None = 
         optimise=optimise,
         raw=data,
         form=InternalMeshForm() if internal else TrainForm(),
+        whine=whine,
+        acoustics=acoustics,
     )
     if internal:
         check_internal_stiffness(case, f"meshes[{internal[0]}]")
         check_train_rating(data, case)  # [rating]: refused (external pairs only)
-        _check_lubricant(data, case)
+        case = _check_lubricant(data, case)
         return case
     _check_overlap(case)
     _check_power(case)
@@ -707,8 +715,8 @@ def parse_train(data: dict, default_name: str = "train", base_dir: str | None = 
                            optimise.get("vars", OPTIMISE_DEFAULTS["vars"]),
                            data.get("modifications"), names, case.span_periods)
         check_acoustic_tables(data, optimise)
-    check_train_rating(data, case)  # [rating]: every mesh (ISO 6336)
-    _check_lubricant(data, case)
+    case = case.replace(rating=check_train_rating(data, case))  # every mesh (ISO 6336)
+    case = _check_lubricant(data, case)
     q = case.span_periods
     if scene is not None and scene.keep_periods < q:
         raise sc.fail(

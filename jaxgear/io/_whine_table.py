@@ -33,7 +33,9 @@ table.
 from __future__ import annotations
 
 import math
-from typing import NamedTuple
+from typing import ClassVar, Literal, NamedTuple
+
+import pydantic
 
 from fem_prep import schema as sc
 
@@ -43,8 +45,9 @@ from ..dynamics import (
     QuasiPeriodicBalance,
     TransmissionErrorSource,
 )
+from ._sections import Section, number, number_list, one_of
 
-__all__ = ["WHINE_KEYS", "WHINE_METHODS", "WhineInputs", "highest_order_frequency",
+__all__ = ["WHINE_KEYS", "WHINE_METHODS", "WhineInputs", "WhineSection", "highest_order_frequency",
            "lowest_order_frequency", "order_frequency_range", "parse_whine", "whine_of"]
 
 WHERE = "whine"
@@ -53,15 +56,6 @@ WHINE_METHODS = {
     "harmonic-balance": HarmonicBalance,
     "te-source": TransmissionErrorSource,
     "quasi-periodic": QuasiPeriodicBalance,
-}
-WHINE_KEYS = {
-    "speed_min_rad_s",
-    "speed_max_rad_s",
-    "speeds",
-    "harmonics",
-    "method",
-    "positions_per_period",
-    "sidebands",
 }
 
 
@@ -75,63 +69,78 @@ class WhineInputs(NamedTuple):
     positions: int | tuple[int, ...]
 
 
+class WhineSection(Section):
+    """``[whine]`` as the file gives it (keys and ranges: the module docstring), checked whole;
+    :meth:`inputs` its SI inputs."""
+
+    WHERE: ClassVar[str] = WHERE
+    speed_min_rad_s: number("(0, 1e+05]")
+    speed_max_rad_s: number("(0, 1e+05]")
+    speeds: number("[2, 2000]", integer=True) = 48
+    harmonics: number("[1, 256]", integer=True) = 16
+    method: Literal["harmonic-balance", "te-source", "quasi-periodic"] = "harmonic-balance"
+    positions_per_period: one_of(
+        number=number("[4, 8192]", integer=True),
+        array=number_list("[1, 8192]", min_length=1, integer=True,
+                          note=" (one per mesh-frequency group)"),
+    ) = 256
+    sidebands: number("[0, 256]", integer=True) | None = None
+
+    @pydantic.model_validator(mode="after")
+    def _related(self):
+        lo, hi, H, name = self.speed_min_rad_s, self.speed_max_rad_s, self.harmonics, self.method
+        if not hi > lo:
+            raise sc.fail(WHERE, "speed_max_rad_s",
+                          f"out of range, allowed > speed_min_rad_s = {lo:g}", hi)
+        P = self.positions_per_period
+        if isinstance(P, list) and name != "quasi-periodic":
+            raise sc.fail(WHERE, "positions_per_period", "a list (one per mesh-frequency group) "
+                          f"is for method = \"quasi-periodic\" only (method = \"{name}\"): "
+                          "allowed an integer in [4, 8192]", P)
+        if not isinstance(P, list) and P < 4 * H + 1:
+            raise sc.fail(WHERE, "positions_per_period",
+                          f"out of range, allowed >= 4 harmonics + 1 = {4 * H + 1}", P)
+        S = self.sidebands
+        if name != "quasi-periodic" and S is not None:
+            raise sc.fail(WHERE, "sidebands", f"is for method = \"quasi-periodic\" only "
+                          f"(method = \"{name}\")", S)
+        if S is not None and S > H:
+            raise sc.fail(WHERE, "sidebands", f"out of range, allowed [0, harmonics = {H}]", S)
+        return self
+
+    def inputs(self) -> WhineInputs:
+        """The SI inputs (:class:`WhineInputs`): the speeds equally spaced over the range, the
+        method object."""
+        lo, hi, n, H = self.speed_min_rad_s, self.speed_max_rad_s, self.speeds, self.harmonics
+        speeds = [lo + (hi - lo) * k / (n - 1) for k in range(n)]
+        P = self.positions_per_period
+        P = tuple(P) if isinstance(P, list) else P
+        if self.method != "quasi-periodic":
+            return WhineInputs(speeds, WHINE_METHODS[self.method](H), P)
+        S = 1 if self.sidebands is None else self.sidebands
+        return WhineInputs(speeds, QuasiPeriodicBalance(H, S), P)
+
+
+#: the keys of ``[whine]``
+WHINE_KEYS = set(WhineSection.model_fields)
+
+
 def parse_whine(table: dict) -> WhineInputs:
-    """``[whine]`` (module docstring) as :class:`WhineInputs`.
+    """``[whine]`` (module docstring) as :class:`WhineInputs` (:class:`WhineSection`).
 
     Raises:
         SchemaError: an unknown key, a value out of range, a range whose maximum is not above
             its minimum, an unknown method; one line naming the key, its value and the allowed
             range.
     """
-    if not isinstance(table, dict):
-        raise sc.fail("", WHERE, "must be a table ([whine])", table)
-    sc.check_keys(table, WHINE_KEYS, WHERE)
-    lo = sc.number(table, "speed_min_rad_s", WHERE, allowed="(0, 1e+05]")
-    hi = sc.number(table, "speed_max_rad_s", WHERE, allowed="(0, 1e+05]")
-    if not hi > lo:
-        raise sc.fail(WHERE, "speed_max_rad_s", f"out of range, allowed > speed_min_rad_s = {lo:g}",
-                      hi)
-    n = int(sc.number(table, "speeds", WHERE, 48, allowed="[2, 2000]", integer=True))
-    H = int(sc.number(table, "harmonics", WHERE, 16, allowed="[1, 256]", integer=True))
-    name = sc.choice(table, "method", WHERE, tuple(WHINE_METHODS), "harmonic-balance")
-    raw = table.get("positions_per_period")
-    if isinstance(raw, list):  # one per mesh-frequency group: the groups' ranges at the solve
-        if name != "quasi-periodic" or not raw:
-            raise sc.fail(WHERE, "positions_per_period", "a list (one per mesh-frequency group) "
-                          f"is for method = \"quasi-periodic\" only (method = \"{name}\"): "
-                          "allowed an integer in [4, 8192]" if raw else "empty: allowed one "
-                          "integer in [1, 8192] per mesh-frequency group", raw)
-        for i, v in enumerate(raw):
-            if isinstance(v, bool) or not isinstance(v, int) or not 1 <= v <= 8192:
-                raise sc.fail(WHERE, "positions_per_period", f"entry {i + 1} = {v!r}: allowed "
-                              "integers in [1, 8192] (one per mesh-frequency group)", raw)
-        P = tuple(raw)
-    else:
-        P = int(sc.number(table, "positions_per_period", WHERE, 256, allowed="[4, 8192]",
-                          integer=True))
-        if P < 4 * H + 1:
-            raise sc.fail(WHERE, "positions_per_period",
-                          f"out of range, allowed >= 4 harmonics + 1 = {4 * H + 1}", P)
-    speeds = [lo + (hi - lo) * k / (n - 1) for k in range(n)]
-    assert all(math.isfinite(s) for s in speeds)
-    S = sc.number(table, "sidebands", WHERE, None, allowed="[0, 256]", integer=True)
-    if name != "quasi-periodic":
-        if S is not None:
-            raise sc.fail(WHERE, "sidebands", f"is for method = \"quasi-periodic\" only "
-                          f"(method = \"{name}\")", S)
-        return WhineInputs(speeds, WHINE_METHODS[name](H), P)
-    S = 1 if S is None else int(S)
-    if S > H:
-        raise sc.fail(WHERE, "sidebands", f"out of range, allowed [0, harmonics = {H}]", S)
-    return WhineInputs(speeds, QuasiPeriodicBalance(H, S), P)
+    return WhineSection.read(table).inputs()
 
 
 def whine_of(case) -> WhineInputs | None:
-    """The ``[whine]`` inputs of a case (:class:`WhineInputs`), None without the table."""
-    raw = getattr(case, "raw", None) or {}
-    if "whine" not in raw:
-        return None
-    return parse_whine(raw["whine"])
+    """The ``[whine]`` inputs of a case (:class:`WhineInputs`, of its :attr:`Case.whine
+    <jaxgear.io.Case>`), None without the table."""
+    section = getattr(case, "whine", None)
+    return None if section is None else section.inputs()
 
 
 def lowest_order_frequency(inputs: WhineInputs, teeth_per_turn, span: int = 1,
