@@ -52,7 +52,7 @@ def _sweep_stage(case):
 
     spec = case.form.spec
     return (spec, spec.sharing_stage(spec.stage(case)), spec.dynamic_meshes(case, 1),
-            jg.PlanarPlanetary())
+            jp.PlanarPlanetary())
 
 
 def test_lin_parker_has_nothing_to_excite(lin_parker):
@@ -317,8 +317,8 @@ K_S, K_R = 5e8, 6e8  # N/m along the tooth normal
 def _spatial_stage(**tilts):
     import jaxgear as jg
 
-    lumped = jg.PlanetaryMember.lumped
-    return jg.PlanetaryStage(
+    lumped = jp.PlanetaryMember.lumped
+    return jp.PlanetaryStage(
         sun=lumped(0.4, 0.39, 0.0387, 1e8), ring=lumped(2.35, 3.0, 0.1375, 1e8, 1e9),
         carrier=lumped(5.43, 6.29, 0.0884, 1e8), planet=lumped(0.66, 0.61, 0.05015, 1e8),
         planet_angles=np.radians([0.0, 100.0, 230.0]), sun_pressure_angle=np.radians(24.6),
@@ -330,7 +330,7 @@ def _tilt_entry(stage, member):
     """K's entry on ``member``'s (``"s"`` sun, ``"r"`` ring) tilt about x."""
     import jaxgear as jg
 
-    model = jg.SpatialPlanetary()
+    model = jp.SpatialPlanetary()
     i = model.dof_names(stage).index(f"theta_x_{member}")
     return float(np.asarray(model.stiffness_matrix(stage))[i, i])
 
@@ -383,9 +383,9 @@ def test_the_lumped_springs_hold_the_given_tilting_stiffness():
 
     import jaxgear as jg
 
-    model = jg.SpatialPlanetary()
+    model = jp.SpatialPlanetary()
     stage = _spatial_stage(sun_mesh_tilt_stiffness=2.0e4, ring_mesh_tilt_stiffness=3.0e4)
-    meshes = jg.ConstantMeshes(0.01, face_points=model.face_points)
+    meshes = jp.ConstantMeshes(0.01, face_points=model.face_points)
     zero = (np.zeros(3), np.zeros(3))
     row = meshes.cell_row(model, stage, 0.0, zero)
     V, k = np.asarray(row.V), np.asarray(row.k * row.length)
@@ -403,7 +403,7 @@ def test_the_torsional_models_conventions():
     import jaxgear as jg
 
     stage = _spatial_stage()
-    model = jg.TorsionalPlanetary()
+    model = jp.TorsionalPlanetary()
     m = np.asarray(model.mass_matrix(stage))
     assert m[0, 0] == pytest.approx(6.29 + 3 * 0.66, rel=1e-12)  # I_c/r_c² + N m_p
     assert m[3, 3] == pytest.approx(0.61, rel=1e-12)  # a planet: I_p/r_p² alone
