@@ -37,7 +37,7 @@ from __future__ import annotations
 
 import abc
 import math
-from typing import TYPE_CHECKING, ClassVar
+from typing import ClassVar
 
 import equinox as eqx
 import jax
@@ -57,9 +57,6 @@ from ._modal import ModalAnalysis
 from ._newmark import contact_coordinates, static_condensation
 from ._settings import Integrator, Outputs, SteadyState
 from ._whine_methods import AbstractWhineMethod
-
-if TYPE_CHECKING:
-    from ._whine import WhineResponse
 
 __all__ = [
     "AbstractDynamicModel",
@@ -595,6 +592,34 @@ def _prepare(
     return _Prepared(table, static.x, static.force_density, static.weight, static.result, dofs)
 
 
+def _prep(
+    model: AbstractDynamicModel,
+    law: ContactLaw,
+    steps_per_period: int,
+    own_periods: bool = True,
+    condensed: bool = True,
+    steps=None,
+) -> _Prepared:
+    """The model's cell table and static rows over its span (:func:`span_periods`), each mesh
+    tabulated over its own period (``own_periods=False``: over the span, the long table), the
+    static rows solved on the condensed structure (``condensed=False``: on every coordinate);
+    ``steps``: None, or an N_s as an array (one program for every N_s, ``steps_per_period``
+    the largest: :attr:`MeshTable.steps`)."""
+    periods = model.span_periods()
+    return _held_or_prepare(
+        model.held,
+        model.scene,
+        model.mods,
+        model.torque,
+        law,
+        steps_per_period,
+        periods,
+        own_periods,
+        condensed,
+        steps,
+    )
+
+
 class AbstractDynamicModel(eqx.Module):
     """A dynamics engine: a scene with its mesh at a pinion torque T (N·m), and the way it is
     integrated to steady state (the pattern of diffrax's ``AbstractSolver``: the entries
@@ -819,10 +844,11 @@ class AbstractDynamicModel(eqx.Module):
         *,
         positions: int = 256,
         contact: ContactLaw = ExactContact(),
-    ) -> WhineResponse:
+    ):
         """The kind's gear whine in the frequency domain at ``speeds`` (rad/s, scalar or (S,)):
-        :func:`~jaxgear.dynamics.whine_response` checks ``method`` against
-        :attr:`whine_methods` (:meth:`check_whine_method`) and calls this. Kinds with
+        a :class:`~jaxgear.dynamics.WhineResponse`; :func:`~jaxgear.dynamics.whine_response`
+        checks ``method`` against :attr:`whine_methods` (:meth:`check_whine_method`) and calls
+        this. Kinds with
         :attr:`whine_methods` implement it; the default raises ``TypeError`` (one line)."""
         raise TypeError(f"model: {type(self).__name__} has no gear whine (its whine_methods is "
                         "empty)")

@@ -40,10 +40,10 @@ from fem_prep.resources import check_memory
 
 from .._contact import ContactLaw, ExactContact, contact_law
 from .._util import check_integer, checked_on_host, each_solve, int_rows, is_traced
-from ._lumped import DynamicModel, _prep
 from ._model import (
     AbstractDynamicModel,
     MeshTable,
+    _prep,
     _rigid_penalty,
     deviation_periods,
     mesh_table,
@@ -469,7 +469,7 @@ def whine_response(
 
 
 def lumped_whine(
-    model: DynamicModel,
+    model: AbstractDynamicModel,
     speeds,
     method: AbstractWhineMethod,
     *,
