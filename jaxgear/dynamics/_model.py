@@ -600,8 +600,9 @@ def _prep(
     condensed: bool = True,
     steps=None,
 ) -> _Prepared:
-    """The model's cell table and static rows over its span (:func:`span_periods`), each mesh
-    tabulated over its own period (``own_periods=False``: over the span, the long table), the
+    """A lumped model's (:class:`~jaxgear.dynamics.DynamicModel`'s, with its ``held`` table)
+    cell table and static rows over its span (:func:`span_periods`), each mesh tabulated over
+    its own period (``own_periods=False``: over the span, the long table), the
     static rows solved on the condensed structure (``condensed=False``: on every coordinate);
     ``steps``: None, or an N_s as an array (one program for every N_s, ``steps_per_period``
     the largest: :attr:`MeshTable.steps`)."""
@@ -639,6 +640,13 @@ class AbstractDynamicModel(eqx.Module):
     A run is two calls: :meth:`prepare` (the speed-independent work at one resolved step count:
     the checked run settings, a lumped model's mesh table and static rows, a hybrid model's
     modal basis) and :meth:`independent` or :meth:`continuation` (the speeds).
+
+    What a kind supports beyond a run is declared on it, never looked for on the object: each
+    class attribute below names a capability and the method that serves it, whose default here
+    refuses in one line before any work (:attr:`continues`: :meth:`continuation`;
+    :attr:`whine_methods`: :meth:`whine`; :attr:`settles`: :meth:`settling_measures`;
+    :attr:`runs_from_position`: :meth:`independent_at`; :attr:`automatic_span`:
+    :meth:`resolve_window`). A kind that declares one implements its method.
     """
 
     scene: eqx.AbstractVar[DynamicScene | HybridPair]
@@ -848,8 +856,8 @@ class AbstractDynamicModel(eqx.Module):
         """The kind's gear whine in the frequency domain at ``speeds`` (rad/s, scalar or (S,)):
         a :class:`~jaxgear.dynamics.WhineResponse`; :func:`~jaxgear.dynamics.whine_response`
         checks ``method`` against :attr:`whine_methods` (:meth:`check_whine_method`) and calls
-        this. Kinds with
-        :attr:`whine_methods` implement it; the default raises ``TypeError`` (one line)."""
+        this. Kinds with :attr:`whine_methods` implement it; the default raises ``TypeError``
+        (one line)."""
         raise TypeError(f"model: {type(self).__name__} has no gear whine (its whine_methods is "
                         "empty)")
 
