@@ -15,19 +15,18 @@ row per mesh); a gearbox its stages' in series (:func:`jaxgear.tribology.gearbox
 from __future__ import annotations
 
 import os
-from types import SimpleNamespace
 
 import numpy as np
 
 from ..io import tribology_of, write_csv, write_json
 from ..tribology import (
-    gearbox_efficiency,
     mesh_flash_temperature,
     mesh_micropitting,
     mesh_scuffing,
     mesh_tribology,
     pitch_point_roll,
     planetary_efficiency,
+    power_flow,
     train_efficiency,
 )
 from ._plots import path_of_contact_plot
@@ -260,15 +259,17 @@ def _meshes_outputs(case, out_dir: str, inputs, entries, efficiency, method: str
 def gearbox_tribology(stages: list[dict], out_dir: str) -> dict | None:
     """A gearbox's efficiency from its stages' own ``tribology`` sections (``stages``: the
     gearbox summary's entries, each with its stage's ``summary``): the stages in series
-    (:func:`jaxgear.tribology.gearbox_efficiency`), ``tribology.json`` and ``tribology.csv``
+    (:func:`jaxgear.tribology.power_flow`, as :func:`jaxgear.tribology.gearbox_efficiency`
+    builds it), ``tribology.json`` and ``tribology.csv``
     (one row per stage) written; None unless every stage has a ``[lubricant]``."""
     found = [s["summary"].get("tribology") for s in stages]
     if not found or any(t is None for t in found):
         return None
     each = [t.get("overall", t) for t in found]  # a train's or a stage's overall; a pair's own
-    flow = gearbox_efficiency(
-        [SimpleNamespace(efficiency=t["efficiency"], input_power=t["input_power_W"]) for t in each]
-    )
+    # the stages in series from their runs' efficiencies and input powers: the flow
+    # gearbox_efficiency builds of the stages' own MeshTribology or PowerFlow
+    p_in = [t["input_power_W"] for t in each]
+    flow = power_flow([t["efficiency"] for t in each], p_in, p_in[0])
     names = [s["stage"] for s in stages]
     section = {
         "method": "the stages in series, each stage's efficiency its own run's (its meshes' "

@@ -26,8 +26,8 @@ from ._modal import ModalAnalysis, excited_omega
 from ._model import (
     AbstractDynamicModel,
     MeshTable,
-    _held_or_prepare,
     _HeldTable,
+    _prep,
     _Prepared,
     cell_geometry,
     deviation_periods,
@@ -41,6 +41,7 @@ from ._model import (
 from ._newmark import LinearSystem, StepCells, newmark, newmark_counted
 from ._result import Records, steady_state, thinned
 from ._settings import Newmark, SteadyState, _Config, _config, _divergence_code
+from ._whine import lumped_whine
 from ._whine_methods import HarmonicBalance, QuasiPeriodicBalance, TransmissionErrorSource
 
 __all__ = ["DynamicModel", "static_start"]
@@ -105,8 +106,6 @@ class DynamicModel(AbstractDynamicModel):
         """The lumped model's gear whine (:func:`~jaxgear.dynamics.whine_response`, whose
         arguments, result and errors these are; docs/whine.md): the harmonic balance about
         its quasi-static solution (:func:`._whine.lumped_whine`)."""
-        from ._whine import lumped_whine  # the whine builds on this module's static rows
-
         return lumped_whine(self, speeds, method, positions=positions, contact=contact)
 
     def default_settings(self):
@@ -442,34 +441,6 @@ def _one_speed(
 
     response = thinned(response, P // cfg.history_steps, take)
     return response if lead is None else (response, lead_end)
-
-
-def _prep(
-    model: DynamicModel,
-    law: ContactLaw,
-    steps_per_period: int,
-    own_periods: bool = True,
-    condensed: bool = True,
-    steps=None,
-) -> _Prepared:
-    """The model's cell table and static rows over its span (:func:`span_periods`), each mesh
-    tabulated over its own period (``own_periods=False``: over the span, the long table), the
-    static rows solved on the condensed structure (``condensed=False``: on every coordinate);
-    ``steps``: None, or an N_s as an array (one program for every N_s, ``steps_per_period``
-    the largest: :attr:`MeshTable.steps`)."""
-    periods = model.span_periods()
-    return _held_or_prepare(
-        model.held,
-        model.scene,
-        model.mods,
-        model.torque,
-        law,
-        steps_per_period,
-        periods,
-        own_periods,
-        condensed,
-        steps,
-    )
 
 
 def _static_start(prep: _Prepared):

@@ -37,7 +37,7 @@ from __future__ import annotations
 
 import abc
 import math
-from typing import TYPE_CHECKING, ClassVar
+from typing import ClassVar
 
 import equinox as eqx
 import jax
@@ -57,9 +57,6 @@ from ._modal import ModalAnalysis
 from ._newmark import contact_coordinates, static_condensation
 from ._settings import STEPS_PER_MODE, Integrator, Outputs, SteadyState
 from ._whine_methods import AbstractWhineMethod
-
-if TYPE_CHECKING:
-    from ._whine import WhineResponse
 
 __all__ = [
     "AbstractDynamicModel",
@@ -595,6 +592,35 @@ def _prepare(
     return _Prepared(table, static.x, static.force_density, static.weight, static.result, dofs)
 
 
+def _prep(
+    model: AbstractDynamicModel,
+    law: ContactLaw,
+    steps_per_period: int,
+    own_periods: bool = True,
+    condensed: bool = True,
+    steps=None,
+) -> _Prepared:
+    """A lumped model's (:class:`~jaxgear.dynamics.DynamicModel`'s, with its ``held`` table)
+    cell table and static rows over its span (:func:`span_periods`), each mesh tabulated over
+    its own period (``own_periods=False``: over the span, the long table), the
+    static rows solved on the condensed structure (``condensed=False``: on every coordinate);
+    ``steps``: None, or an N_s as an array (one program for every N_s, ``steps_per_period``
+    the largest: :attr:`MeshTable.steps`)."""
+    periods = model.span_periods()
+    return _held_or_prepare(
+        model.held,
+        model.scene,
+        model.mods,
+        model.torque,
+        law,
+        steps_per_period,
+        periods,
+        own_periods,
+        condensed,
+        steps,
+    )
+
+
 class AbstractDynamicModel(eqx.Module):
     """A dynamics engine: a scene with its mesh at a pinion torque T (N·m), and the way it is
     integrated to steady state (the pattern of diffrax's ``AbstractSolver``: the entries
@@ -614,6 +640,13 @@ class AbstractDynamicModel(eqx.Module):
     A run is two calls: :meth:`prepare` (the speed-independent work at one resolved step count:
     the checked run settings, a lumped model's mesh table and static rows, a hybrid model's
     modal basis) and :meth:`independent` or :meth:`continuation` (the speeds).
+
+    What a kind supports beyond a run is declared on it, never looked for on the object: each
+    class attribute below names a capability and the method that serves it, whose default here
+    refuses in one line before any work (:attr:`continues`: :meth:`continuation`;
+    :attr:`whine_methods`: :meth:`whine`; :attr:`settles`: :meth:`settling_measures`;
+    :attr:`runs_from_position`: :meth:`independent_at`; :attr:`automatic_span`:
+    :meth:`resolve_window`). A kind that declares one implements its method.
     """
 
     scene: eqx.AbstractVar[DynamicScene | HybridPair]
@@ -826,11 +859,12 @@ class AbstractDynamicModel(eqx.Module):
         *,
         positions: int = 256,
         contact: ContactLaw = ExactContact(),
-    ) -> WhineResponse:
+    ):
         """The kind's gear whine in the frequency domain at ``speeds`` (rad/s, scalar or (S,)):
-        :func:`~jaxgear.dynamics.whine_response` checks ``method`` against
-        :attr:`whine_methods` (:meth:`check_whine_method`) and calls this. Kinds with
-        :attr:`whine_methods` implement it; the default raises ``TypeError`` (one line)."""
+        a :class:`~jaxgear.dynamics.WhineResponse`; :func:`~jaxgear.dynamics.whine_response`
+        checks ``method`` against :attr:`whine_methods` (:meth:`check_whine_method`) and calls
+        this. Kinds with :attr:`whine_methods` implement it; the default raises ``TypeError``
+        (one line)."""
         raise TypeError(f"model: {type(self).__name__} has no gear whine (its whine_methods is "
                         "empty)")
 

@@ -6,8 +6,8 @@ import jax.numpy as jnp
 
 from .._contact import ContactLaw, ExactContact
 from .._util import check_integer, check_real
-from ._lumped import DynamicModel, LumpedRun, _prep
-from ._model import AbstractDynamicModel
+from ._lumped import DynamicModel, LumpedRun
+from ._model import AbstractDynamicModel, _prep
 from ._result import DynamicResponse, checked
 from ._settings import (
     DiffraxIntegrator,

@@ -40,10 +40,10 @@ from fem_prep.resources import check_memory
 
 from .._contact import ContactLaw, ExactContact, contact_law
 from .._util import check_integer, checked_on_host, each_solve, int_rows, is_traced
-from ._lumped import DynamicModel, _prep
 from ._model import (
     AbstractDynamicModel,
     MeshTable,
+    _prep,
     _rigid_penalty,
     cell_stiffness,
     deviation_periods,
@@ -470,7 +470,7 @@ def whine_response(
 
 
 def lumped_whine(
-    model: DynamicModel,
+    model: AbstractDynamicModel,
     speeds,
     method: AbstractWhineMethod,
     *,
