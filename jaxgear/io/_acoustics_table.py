@@ -62,7 +62,7 @@ class Microphone(Section):
     """A ``[[acoustics.microphones]]`` entry: its ``name`` (default ``mic<k>``) and position."""
 
     WHERE: ClassVar[str] = "acoustics.microphones"
-    name: Text | None = None
+    name: Text | None = pydantic.Field(None, json_schema_extra={"default": "mic0, mic1, ... (its index)"})
     position_mm: number_list("[-1e+06, 1e+06]", length=3)
 
 

@@ -34,7 +34,8 @@ from pydantic import BaseModel, BeforeValidator, ConfigDict, Discriminator, Fiel
 
 from fem_prep import checks as sc
 
-__all__ = ["Range", "Section", "Text", "number", "number_list", "one_of", "schema_error"]
+__all__ = ["NEEDED", "Needed", "Range", "Section", "Text", "number", "number_list", "one_of",
+           "schema_error"]
 
 _FLOAT_MAX = sys.float_info.max
 #: the prefix of a union member's tag (:func:`one_of`), which the error's location skips
@@ -53,6 +54,17 @@ class Range:
     array: bool = False
     length: int | None = None
     min_length: int = 0
+
+
+@dataclasses.dataclass(frozen=True)
+class Needed:
+    """A key the section leaves optional that is required where its table is used (a rating's
+    life, which a train's mesh table may give instead of the shared one): the reference lists
+    it as required."""
+
+
+#: the marker of a :class:`Needed` key (``Annotated[number(...) | None, NEEDED]``)
+NEEDED = Needed()
 
 
 def _integral(v: Any) -> Any:
@@ -142,6 +154,11 @@ class Section(BaseModel):
             return cls.model_validate(table, context=context)
         except pydantic.ValidationError as err:
             raise schema_error(cls, where, table, err) from None
+
+    @classmethod
+    def file_keys(cls, context: dict | None = None) -> tuple[str, ...]:
+        """The keys a file may give this table (its fields; ``context`` as :meth:`read`'s)."""
+        return tuple(cls.model_fields)
 
     @property
     def given(self) -> frozenset:
