@@ -83,8 +83,10 @@ _WALTHER = " (Walther's equation, ASTM D341, holds from 2 mm²/s)"
 
 class LubricantSection(Section):
     """``[lubricant]`` as the file gives it (keys and ranges: the module docstring, the
-    scuffing keys :mod:`jaxgear.io._scuffing_table`'s), checked whole; :meth:`inputs` its SI
-    inputs with the pinion speed of ``[operating]``."""
+    scuffing keys :mod:`jaxgear.io._scuffing_table`'s), checked whole but for the micropitting
+    keys, which :meth:`inputs` checks (:func:`jaxgear.io._micropitting_table.
+    parse_micropitting`, which reads the TS's figure); :meth:`inputs` its SI inputs with the
+    pinion speed of ``[operating]`` (:func:`read_lubricant` reads and checks both)."""
 
     WHERE: ClassVar[str] = "lubricant"
     viscosity_40C_mm2_s: number(VISCOSITY_RANGE, note=_WALTHER)
@@ -120,10 +122,8 @@ class LubricantSection(Section):
         if self.friction_coefficient is not None and "lubricant_factor" in self.given:
             raise sc.fail(w, "lubricant_factor", "not read: friction_coefficient is given (X_L "
                           "is Schlenk's); remove one", self.lubricant_factor)
-        table = self.table()
         parse_scuffing(self, bulk_read=bool(MICROPITTING_KEYS & self.given))
-        parse_micropitting(table)
-        return self
+        return self  # the micropitting keys: checked where they are read (inputs)
 
     def inputs(self, operating: dict) -> TribologyInputs:
         """The SI inputs (:class:`TribologyInputs`) with the pinion speed of ``operating``
