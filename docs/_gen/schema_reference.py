@@ -495,8 +495,8 @@ class _Recorder:
             info.allowed |= allowed
             if field.is_required() or sections._marker(field, sections.Needed) is not None:
                 info.required = True
-            elif field.default is not None and kinds:
-                info.defaults.add(_fmt(field.default))
+            elif field.get_default(call_default_factory=True) is not None and kinds:
+                info.defaults.add(_fmt(field.get_default(call_default_factory=True)))
             elif isinstance(field.json_schema_extra, dict) and "default" in field.json_schema_extra:
                 info.defaults.add(field.json_schema_extra["default"])  # a default in words
 

@@ -78,7 +78,7 @@ class AcousticsSection(Section):
     cache: bool = True
     density_kg_m3: number("(0, 1e+04]") = fa.AIR.density
     sound_speed_m_s: number("(0, 1e+05]") = fa.AIR.sound_speed
-    microphones: list[Microphone] = []
+    microphones: list[Microphone] = pydantic.Field(default_factory=list)
 
     @pydantic.model_validator(mode="after")
     def _related(self):

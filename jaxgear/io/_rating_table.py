@@ -195,7 +195,7 @@ class RatingKeys(Section):
     asked for where a mesh is rated (:func:`_mesh_rating`)."""
 
     WHERE: ClassVar[str] = "rating"
-    use_measured: list[Literal[MEASURABLE]] = []
+    use_measured: list[Literal[MEASURABLE]] = pydantic.Field(default_factory=list)
     application_factor: number("[1, 10]") = 1.0
     life_h: Annotated[number("(0, 1e+07]") | None, NEEDED] = None
     viscosity_40C_mm2_s: Annotated[number("[1, 10000]") | None, NEEDED] = None
@@ -244,7 +244,7 @@ class RatingSection(RatingKeys):
     ring_cutter_profile_shift: Any = None
     ring_cutter_tip_radius_coeff: Any = None
     spectrum: Any = None
-    meshes: dict[str, RatingKeys] = {}
+    meshes: dict[str, RatingKeys] = pydantic.Field(default_factory=dict)
 
     @pydantic.model_validator(mode="before")
     @classmethod
@@ -252,13 +252,13 @@ class RatingSection(RatingKeys):
         """The keys this case's ``[rating]`` takes (a pair's, a train's with its mesh tables,
         a planetary stage's with its keys), the mesh tables moved to :attr:`meshes`."""
         context = info.context or {}
-        meshes, planetary = context.get("meshes", ()), context.get("planetary", False)
+        meshes = context.get("meshes", ())
         if not isinstance(data, dict):
             return data
         sc.check_keys(data, {*cls.file_keys(context), *meshes}, "rating")
         sc.subtable(data, "spectrum", "rating")
         own = {k: v for k, v in data.items() if k in meshes}
-        for k, v in own.items():
+        for k in own:
             sc.subtable(own, k, "rating")
         return {k: v for k, v in data.items() if k not in meshes} | {"meshes": own}
 
