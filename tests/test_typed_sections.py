@@ -106,6 +106,13 @@ def _number_fields():
 NUMBER_FIELDS = _number_fields()
 
 
+def _read(section, table):
+    """``table`` read as ``section`` (a rating as a planetary stage's: every key it takes)."""
+    if section is RatingSection:
+        return RatingSection.of(table, (), planetary=True)
+    return section.read(table)
+
+
 def test_the_number_keys_are_found():
     keys = {k for _, k, _ in NUMBER_FIELDS}
     assert {"speeds", "frequencies", "viscosity_40C_mm2_s", "life_h", "K_v",
@@ -129,13 +136,36 @@ def test_a_number_key_says_what_the_hand_written_check_says(pick, value):
                   note=rng.note)
     except sc.SchemaError as err:
         with pytest.raises(sc.SchemaError) as mine:
-            section.read(table)
+            _read(section, table)
         assert str(mine.value) == str(err)
         return
     try:  # the value is in range: the table reads, or a check of two keys refuses it
-        section.read(table)
+        _read(section, table)
     except sc.SchemaError as err:
         assert "\n" not in str(err) and key in str(err) or "out of range" in str(err), str(err)
+
+
+def _same_words(section, key, rng, value):
+    table = copy.deepcopy(BASES[section]) | {key: value}
+    try:
+        sc.number(table, key, section.WHERE, allowed=rng.interval, integer=rng.integer,
+                  note=rng.note)
+    except sc.SchemaError as err:
+        with pytest.raises(sc.SchemaError) as mine:
+            _read(section, table)
+        assert str(mine.value) == str(err)
+        return True
+    return False
+
+
+def test_every_number_key_says_what_the_hand_written_check_says():
+    """Every number key of the four sections, each given the same wrong values: word for word
+    :func:`fem_prep.checks.number`'s line."""
+    wrong = (True, "x", [1.0], {"a": 1}, float("nan"), float("inf"), -1e300, 1e300, 10**400,
+             -(2**80), 4.5, -1.0, 0)
+    refused = sum(_same_words(section, key, rng, v) for section, key, rng in NUMBER_FIELDS
+                  for v in wrong)
+    assert refused >= 10 * len(NUMBER_FIELDS)  # most of them are wrong for every key
 
 
 @pytest.mark.parametrize(("section", "change", "words"), [

@@ -44,8 +44,8 @@ from ..tribology import (
     TSMicropittingFilm,
 )
 from ._micropitting_table import MICROPITTING_KEYS, MicropittingInputs, parse_micropitting
-from ._scuffing_table import ScuffingInputs, parse_scuffing
-from ._sections import Section, number, number_list, one_of
+from ._scuffing_table import ScuffingInputs, ScuffingKeys, parse_scuffing
+from ._sections import number, number_list, one_of
 
 __all__ = ["FILM_FORMULAS", "LUBRICANT_KEYS", "LubricantSection", "TribologyInputs",
            "parse_lubricant", "read_lubricant", "tribology_of"]
@@ -81,7 +81,7 @@ class TribologyInputs(NamedTuple):
 _WALTHER = " (Walther's equation, ASTM D341, holds from 2 mm²/s)"
 
 
-class LubricantSection(Section):
+class LubricantSection(ScuffingKeys):
     """``[lubricant]`` as the file gives it (keys and ranges: the module docstring, the
     scuffing keys :mod:`jaxgear.io._scuffing_table`'s), checked whole but for the micropitting
     keys, which :meth:`inputs` checks (:func:`jaxgear.io._micropitting_table.
@@ -99,15 +99,6 @@ class LubricantSection(Section):
     lubricant_factor: number("(0, 2]") = 1.0
     friction_coefficient: number("(0, 1]") | None = None
     film: Literal[tuple(FILM_FORMULAS)] = "dowson-higginson"
-    # the scuffing keys (jaxgear.io._scuffing_table)
-    fzg_load_stage: number("[1, 14]") | None = None
-    scuffing_temperature_C: number("(0, 1000)") | None = None
-    integral_scuffing_temperature_C: number("(0, 1000)") | None = None
-    bulk_temperature_C: number("(-50, 400)") | None = None
-    bulk_lubrication_factor: number("(0, 2]") = 1.0
-    scuffing_lubricant_factor: number("(0, 2]") = 1.0
-    structural_factor: number("(0, 2]") = 1.0
-    relative_structural_factor: number("(0, 2]") = 1.0
     # the micropitting keys: checked by jaxgear.io._micropitting_table.parse_micropitting
     micropitting_load_stage: Any = None
     permissible_specific_film: Any = None
