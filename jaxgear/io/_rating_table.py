@@ -436,8 +436,9 @@ def check_rating(data: dict, pair: GearPair, material: tuple[float, float, float
     silently unused). Returns the typed ``[rating]`` (:class:`RatingSection`), None without
     one."""
     if "rating" in data:
-        parse_rating(data, pair, material)
-        return RatingSection.of(data["rating"])
+        section = RatingSection.of(data["rating"])
+        parse_rating(data | {"rating": section}, pair, material)
+        return section
     _refuse_unread(data)
     return None
 
