@@ -29,6 +29,8 @@ import pathlib
 import re
 import sys
 import tomllib
+import types
+import typing
 import warnings
 from collections.abc import Callable, Iterator
 from typing import Any
@@ -352,6 +354,59 @@ def _fmt(v: Any) -> str:
     return checks.fmt(v)
 
 
+def _type_kind(t) -> tuple[str, str]:
+    """(kind, allowed) of one type of a typed section's field (``jaxgear.io._sections``)."""
+    from jaxgear.io import _sections as sections
+
+    base = typing.get_origin(t) is typing.Annotated and t.__origin__ or t
+    rng = sections._marker_in(t, sections.Range)
+    if typing.get_origin(base) is dict:
+        return "table", "a table by gear name (a train's)"
+    if rng is not None and rng.array:
+        text = str(rng.interval)
+        if rng.length:
+            text += f", length {rng.length}"
+        elif rng.min_length:
+            text += f", at least {rng.min_length} values"
+        return f"array of {'integers' if rng.integer else 'numbers'}", text + rng.note
+    if rng is not None:
+        return ("integer" if rng.integer else "number"), str(rng.interval) + rng.note
+    names = sections._choices(base)
+    if names:
+        kind = "array" if typing.get_origin(base) is list else "string"
+        return kind, ", ".join(repr(c) for c in names)
+    return {bool: "boolean", str: "string"}.get(base, ""), ""
+
+
+def _section_kind(field) -> tuple[set, set]:
+    """(kinds, allowed ranges) of a typed section's field (``jaxgear.io._sections``): a number
+    or an integer in its range, an array of numbers, a name out of a few, a boolean, a string;
+    a field of several kinds (``one_of``) each of them, its range once; a field the section
+    leaves to another reader (``Any``) none."""
+    from jaxgear.io import _sections as sections
+
+    t, args = field.annotation, typing.get_args(field.annotation)
+    if typing.get_origin(t) in (typing.Union, types.UnionType) and type(None) in args:
+        t = next(a for a in args if a is not type(None))  # optional
+    if any(isinstance(m, sections.Range) for m in field.metadata):  # pydantic keeps a field's
+        t = typing.Annotated[(t, *field.metadata)]  # own metadata apart from its type
+    inner = t.__origin__ if typing.get_origin(t) is typing.Annotated else t
+    if typing.get_origin(inner) not in (typing.Union, types.UnionType):
+        kind, allowed = _type_kind(t)
+        return ({kind} if kind else set()), ({allowed} if allowed else set())
+    members = typing.get_args(inner)  # one_of: each kind, the first's range in full
+    kinds = [_type_kind(m)[0] for m in members]
+    others = []
+    for kind, m in zip(kinds[1:], members[1:], strict=True):
+        rng = sections._marker_in(m, sections.Range)
+        if kind.startswith("array of "):
+            size = f"{rng.length}" if rng.length else f"at least {rng.min_length}"
+            others.append(f"an array of {size} in {rng.interval}")
+        else:
+            others.append(_type_kind(m)[1])
+    return set(kinds), {"; or ".join([_type_kind(members[0])[1], *others])}
+
+
 class _Recorder:
     """Wraps the helpers of :mod:`fem_prep.checks` while a validator runs."""
 
@@ -410,11 +465,55 @@ class _Recorder:
         elif default is not None:
             info.defaults.add("the file's name" if default == FILE_NAME else _fmt(default))
 
+    def record_section(self, cls, table, where: str, context) -> None:
+        """A typed section read (``jaxgear.io._sections.Section.read``): every key its model
+        declares, with its type, default and range (sub-tables: their own sections)."""
+        if self.depth_in_body and not self.own_bodies or not isinstance(table, dict):
+            return
+        from jaxgear.io import _sections as sections
+
+        s = self.schema
+        for key in (*cls.file_keys(context), *(["meshes"] if "meshes" in cls.model_fields else [])):
+            field = cls.model_fields[key]
+            sub = sections._sections(field.annotation)
+            if typing.get_origin(field.annotation) is dict and sub is not None:
+                for name in (context or {}).get("meshes", ()):  # tables by name: the file's
+                    s.key(where, name).accepted = True
+                    s.key(where, name).kind.add("table")
+                    self.record_section(sub, table.get(name, {}), f"{where}.{name}", None)
+                continue
+            info = s.key(where, key)
+            info.accepted = True
+            if sub is not None:  # an array of tables
+                info.kind.add("table")
+                for k, entry in enumerate(table.get(key) or [{}]):
+                    self.record_section(sub, entry if isinstance(entry, dict) else {},
+                                        f"{where}.{key}[{k}]", None)
+                continue
+            kinds, allowed = _section_kind(field)
+            info.kind |= kinds
+            info.allowed |= allowed
+            if field.is_required() or sections._marker(field, sections.Needed) is not None:
+                info.required = True
+            elif field.get_default(call_default_factory=True) is not None and kinds:
+                info.defaults.add(_fmt(field.get_default(call_default_factory=True)))
+            elif isinstance(field.json_schema_extra, dict) and "default" in field.json_schema_extra:
+                info.defaults.add(field.json_schema_extra["default"])  # a default in words
+
     @contextlib.contextmanager
     def active(self) -> Iterator[None]:
         # the helpers are read as ``fem_prep.checks.X`` and as ``fem_prep.schema.X`` (re-exported)
         saved = {n: getattr(checks, n) for n in TRACED}
         saved_load = fem_prep.load_body
+        from jaxgear.io._sections import Section
+
+        saved_read = Section.__dict__["read"]
+
+        def read(cls, table, where=None, *, context=None):
+            self.record_section(cls, table, cls.WHERE if where is None else where, context)
+            return saved_read.__func__(cls, table, where, context=context)
+
+        Section.read = classmethod(read)
 
         def wrap(name, f):
             def traced(*args, **kw):
@@ -442,6 +541,7 @@ class _Recorder:
                 setattr(checks, n, f)
                 setattr(body_schema, n, f)
             fem_prep.load_body = saved_load
+            Section.read = saved_read
 
 
 # [acoustics] radiates a housed whine: its sample carries [housing] and [whine] too

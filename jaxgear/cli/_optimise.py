@@ -53,7 +53,6 @@ from ..io import (
     embedded_case_text,
     load_case,
     optimiser_from_name,
-    parse_rating,
     rating_of,
     static_scene,
     tribology_of,
@@ -196,11 +195,10 @@ def _path_of_contact(mesh) -> float:
 
 def _as_run_rates(case: Case, mods, res, mesh) -> dict:
     """The rating of design ``mods`` as ``jaxgear run`` rates the case file with that design
-    (:func:`jaxgear.io.parse_rating` on the case's ``[rating]``: ISO 6336-1's K_Hβ and K_Hα
+    (:func:`jaxgear.io.rating_of` of the case with that design: ISO 6336-1's K_Hβ and K_Hα
     unless ``[rating] use_measured`` names them, then those measured on ``res``, the design's
     exact-contact load map on ``mesh``: :func:`jaxgear.cli._rating_report.measured_rating`)."""
-    rc = parse_rating(case.raw, case.pair,
-                      (case.youngs_modulus, case.poisson_ratio, case.density), mods)
+    rc = rating_of(case.replace(modifications=mods))
     rating = jr.rate(rc.geometry, rc.operating, rc.settings)
     if rc.use_measured:
         section = {"measured": measured_factors(res, None, 0, mesh)}
@@ -675,7 +673,7 @@ def check_settings(settings: dict, case: Case | None = None) -> dict:
     if acoustic and case is not None:
         tables = ("housing", "whine") + (("acoustics",) if settings["objective"] == "sound_power"
                                          else ())
-        missing = [t for t in tables if t not in (case.raw or {})]
+        missing = [t for t in tables if getattr(case, t) is None]
         if missing:
             raise ValueError(
                 f"--objective {settings['objective']} radiates the housing's whine: the case "

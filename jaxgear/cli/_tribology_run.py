@@ -410,9 +410,9 @@ def _oil_lines(case) -> list[str]:
         f"Oil ([lubricant]): ν₄₀ {float(oil.viscosity_40) * 1e6:.6g} mm²/s, ν₁₀₀ "
         f"{float(oil.viscosity_100) * 1e6:.6g} mm²/s at θ_oil {float(oil.oil_temperature):.6g} °C.",
     ]
-    rating = (getattr(case, "raw", None) or {}).get("rating", {})
-    if "viscosity_40C_mm2_s" in rating:
-        warning = oil_warning(rating["viscosity_40C_mm2_s"] * 1e-6, oil)
+    nu40 = None if case.rating is None else case.rating.viscosity_40C_mm2_s
+    if nu40 is not None:
+        warning = oil_warning(nu40 * 1e-6, oil)
         out.append(warning or "The pitting rating's Z_L uses the same oil ([rating] "
                    "viscosity_40C_mm2_s).")
     return out

@@ -62,7 +62,7 @@ class Microphone(Section):
     """A ``[[acoustics.microphones]]`` entry: its ``name`` (default ``mic<k>``) and position."""
 
     WHERE: ClassVar[str] = "acoustics.microphones"
-    name: Text | None = None
+    name: Text | None = pydantic.Field(None, json_schema_extra={"default": "mic0, mic1, ... (its index)"})
     position_mm: number_list("[-1e+06, 1e+06]", length=3)
 
 
@@ -78,7 +78,7 @@ class AcousticsSection(Section):
     cache: bool = True
     density_kg_m3: number("(0, 1e+04]") = fa.AIR.density
     sound_speed_m_s: number("(0, 1e+05]") = fa.AIR.sound_speed
-    microphones: list[Microphone] = []
+    microphones: list[Microphone] = pydantic.Field(default_factory=list)
 
     @pydantic.model_validator(mode="after")
     def _related(self):

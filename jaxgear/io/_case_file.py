@@ -33,9 +33,9 @@ from ._acoustics_table import AcousticsSection, check_band, parse_case_acoustics
 from ._whine_table import (
     highest_order_frequency,
     lowest_order_frequency,
+    WhineSection,
     order_frequency_range,
     parse_whine,
-    WhineSection,
 )
 
 __all__ = [

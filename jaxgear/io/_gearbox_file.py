@@ -101,9 +101,9 @@ from ._planetary_table import MESH_STIFFNESS_N_PER_UM, torque_floor
 from ._plausibility import MIN_LINE_LOAD_N_PER_MM
 from ._whine_table import (
     WhineInputs,
+    WhineSection,
     highest_order_frequency,
     lowest_order_frequency,
-    WhineSection,
 )
 
 __all__ = ["GearboxForm", "GearboxStage", "is_gearbox", "parse_gearbox"]

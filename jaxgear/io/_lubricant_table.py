@@ -44,8 +44,8 @@ from ..tribology import (
     TSMicropittingFilm,
 )
 from ._micropitting_table import MICROPITTING_KEYS, MicropittingInputs, parse_micropitting
-from ._scuffing_table import ScuffingInputs, parse_scuffing
-from ._sections import Section, number, number_list, one_of
+from ._scuffing_table import ScuffingInputs, ScuffingKeys, parse_scuffing
+from ._sections import number, number_list, one_of
 
 __all__ = ["FILM_FORMULAS", "LUBRICANT_KEYS", "LubricantSection", "TribologyInputs",
            "parse_lubricant", "read_lubricant", "tribology_of"]
@@ -81,10 +81,12 @@ class TribologyInputs(NamedTuple):
 _WALTHER = " (Walther's equation, ASTM D341, holds from 2 mm²/s)"
 
 
-class LubricantSection(Section):
+class LubricantSection(ScuffingKeys):
     """``[lubricant]`` as the file gives it (keys and ranges: the module docstring, the
-    scuffing keys :mod:`jaxgear.io._scuffing_table`'s), checked whole; :meth:`inputs` its SI
-    inputs with the pinion speed of ``[operating]``."""
+    scuffing keys :mod:`jaxgear.io._scuffing_table`'s), checked whole but for the micropitting
+    keys, which :meth:`inputs` checks (:func:`jaxgear.io._micropitting_table.
+    parse_micropitting`, which reads the TS's figure); :meth:`inputs` its SI inputs with the
+    pinion speed of ``[operating]`` (:func:`read_lubricant` reads and checks both)."""
 
     WHERE: ClassVar[str] = "lubricant"
     viscosity_40C_mm2_s: number(VISCOSITY_RANGE, note=_WALTHER)
@@ -97,15 +99,6 @@ class LubricantSection(Section):
     lubricant_factor: number("(0, 2]") = 1.0
     friction_coefficient: number("(0, 1]") | None = None
     film: Literal[tuple(FILM_FORMULAS)] = "dowson-higginson"
-    # the scuffing keys (jaxgear.io._scuffing_table)
-    fzg_load_stage: number("[1, 14]") | None = None
-    scuffing_temperature_C: number("(0, 1000)") | None = None
-    integral_scuffing_temperature_C: number("(0, 1000)") | None = None
-    bulk_temperature_C: number("(-50, 400)") | None = None
-    bulk_lubrication_factor: number("(0, 2]") = 1.0
-    scuffing_lubricant_factor: number("(0, 2]") = 1.0
-    structural_factor: number("(0, 2]") = 1.0
-    relative_structural_factor: number("(0, 2]") = 1.0
     # the micropitting keys: checked by jaxgear.io._micropitting_table.parse_micropitting
     micropitting_load_stage: Any = None
     permissible_specific_film: Any = None
@@ -120,10 +113,8 @@ class LubricantSection(Section):
         if self.friction_coefficient is not None and "lubricant_factor" in self.given:
             raise sc.fail(w, "lubricant_factor", "not read: friction_coefficient is given (X_L "
                           "is Schlenk's); remove one", self.lubricant_factor)
-        table = self.table()
         parse_scuffing(self, bulk_read=bool(MICROPITTING_KEYS & self.given))
-        parse_micropitting(table)
-        return self
+        return self  # the micropitting keys: checked where they are read (inputs)
 
     def inputs(self, operating: dict) -> TribologyInputs:
         """The SI inputs (:class:`TribologyInputs`) with the pinion speed of ``operating``

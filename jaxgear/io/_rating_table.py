@@ -73,7 +73,7 @@ from __future__ import annotations
 import dataclasses
 import functools
 import math
-from typing import Any, ClassVar, Literal
+from typing import Annotated, Any, ClassVar, Literal
 
 import equinox as eqx
 import pydantic
@@ -111,7 +111,7 @@ from ._rating_material_table import (
     treatment_names,
     treatment_of,
 )
-from ._sections import Section, number, number_list, one_of
+from ._sections import NEEDED, Section, number, number_list, one_of
 from ._spectrum_table import parse_spectrum
 
 __all__ = [
@@ -193,12 +193,12 @@ class RatingKeys(Section):
     asked for where a mesh is rated (:func:`_mesh_rating`)."""
 
     WHERE: ClassVar[str] = "rating"
-    use_measured: list[Literal[MEASURABLE]] = []
+    use_measured: list[Literal[MEASURABLE]] = pydantic.Field(default_factory=list)
     application_factor: number("[1, 10]") = 1.0
-    life_h: number("(0, 1e+07]") | None = None
-    viscosity_40C_mm2_s: number("[1, 10000]") | None = None
-    roughness_Rz_flank_um: _per_gear("roughness_Rz_flank_um") | None = None
-    roughness_Rz_root_um: _per_gear("roughness_Rz_root_um") | None = None
+    life_h: Annotated[number("(0, 1e+07]") | None, NEEDED] = None
+    viscosity_40C_mm2_s: Annotated[number("[1, 10000]") | None, NEEDED] = None
+    roughness_Rz_flank_um: Annotated[_per_gear("roughness_Rz_flank_um") | None, NEEDED] = None
+    roughness_Rz_root_um: Annotated[_per_gear("roughness_Rz_root_um") | None, NEEDED] = None
     accuracy_grade: number("[1, 11]", integer=True) = 6
     tip_relief_um: number("[0, 1000]") | None = None
     min_safety_pitting: number("[0.5, 10]") = 1.0
@@ -242,7 +242,7 @@ class RatingSection(RatingKeys):
     ring_cutter_profile_shift: Any = None
     ring_cutter_tip_radius_coeff: Any = None
     spectrum: Any = None
-    meshes: dict[str, RatingKeys] = {}
+    meshes: dict[str, RatingKeys] = pydantic.Field(default_factory=dict)
 
     @pydantic.model_validator(mode="before")
     @classmethod
@@ -250,16 +250,22 @@ class RatingSection(RatingKeys):
         """The keys this case's ``[rating]`` takes (a pair's, a train's with its mesh tables,
         a planetary stage's with its keys), the mesh tables moved to :attr:`meshes`."""
         context = info.context or {}
-        meshes, planetary = context.get("meshes", ()), context.get("planetary", False)
+        meshes = context.get("meshes", ())
         if not isinstance(data, dict):
             return data
-        allowed = set(RatingKeys.model_fields) | set(meshes) | {"spectrum"}
-        sc.check_keys(data, allowed | (PLANETARY_KEYS if planetary else set()), "rating")
+        sc.check_keys(data, {*cls.file_keys(context), *meshes}, "rating")
         sc.subtable(data, "spectrum", "rating")
         own = {k: v for k, v in data.items() if k in meshes}
-        for k, v in own.items():
+        for k in own:
             sc.subtable(own, k, "rating")
         return {k: v for k, v in data.items() if k not in meshes} | {"meshes": own}
+
+    @classmethod
+    def file_keys(cls, context: dict | None = None) -> tuple[str, ...]:
+        """A mesh's keys, ``spectrum``, and a planetary stage's keys (``context``
+        ``planetary``); the mesh tables are named by the case (:attr:`meshes`)."""
+        planetary = (context or {}).get("planetary", False)
+        return (*RatingKeys.model_fields, "spectrum", *(sorted(PLANETARY_KEYS) * planetary))
 
     @classmethod
     def of(cls, table, meshes=(), planetary: bool = False) -> RatingSection:
@@ -428,8 +434,9 @@ def check_rating(data: dict, pair: GearPair, material: tuple[float, float, float
     silently unused). Returns the typed ``[rating]`` (:class:`RatingSection`), None without
     one."""
     if "rating" in data:
-        parse_rating(data, pair, material)
-        return RatingSection.of(data["rating"])
+        section = RatingSection.of(data["rating"])
+        parse_rating(data | {"rating": section}, pair, material)
+        return section
     _refuse_unread(data)
     return None
 

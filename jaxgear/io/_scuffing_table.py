@@ -18,7 +18,7 @@ Without ``fzg_load_stage`` and ``scuffing_temperature_C`` the run computes no sc
 
 from __future__ import annotations
 
-from typing import NamedTuple
+from typing import ClassVar, NamedTuple
 
 from fem_prep import schema as sc
 
@@ -28,20 +28,9 @@ from ..tribology import (
     GivenBulkTemperature,
     ScuffingLimits,
 )
+from ._sections import Section, number
 
-__all__ = ["SCUFFING_KEYS", "ScuffingInputs", "parse_scuffing"]
-
-#: the scuffing keys of ``[lubricant]``
-SCUFFING_KEYS = {
-    "fzg_load_stage",
-    "scuffing_temperature_C",
-    "integral_scuffing_temperature_C",
-    "bulk_temperature_C",
-    "bulk_lubrication_factor",
-    "scuffing_lubricant_factor",
-    "structural_factor",
-    "relative_structural_factor",
-}
+__all__ = ["SCUFFING_KEYS", "ScuffingInputs", "ScuffingKeys", "parse_scuffing"]
 
 _BULK_KEYS = {"bulk_temperature_C", "bulk_lubrication_factor"}
 
@@ -54,17 +43,40 @@ class ScuffingInputs(NamedTuple):
     bulk: AbstractBulkTemperature
 
 
+class ScuffingKeys(Section):
+    """The scuffing keys of ``[lubricant]`` (module docstring): their types and ranges (the
+    ``[lubricant]`` section, :class:`jaxgear.io._lubricant_table.LubricantSection`, is these
+    and the film keys)."""
+
+    WHERE: ClassVar[str] = "lubricant"
+    fzg_load_stage: number("[1, 14]") | None = None
+    scuffing_temperature_C: number("(0, 1000)") | None = None
+    integral_scuffing_temperature_C: number("(0, 1000)") | None = None
+    bulk_temperature_C: number("(-50, 400)") | None = None
+    bulk_lubrication_factor: number("(0, 2]") = 1.0
+    scuffing_lubricant_factor: number("(0, 2]") = 1.0
+    structural_factor: number("(0, 2]") = 1.0
+    relative_structural_factor: number("(0, 2]") = 1.0
+
+
+#: the scuffing keys of ``[lubricant]``
+SCUFFING_KEYS = set(ScuffingKeys.model_fields)
+
+
 def parse_scuffing(section, bulk_read: bool = False) -> ScuffingInputs | None:
-    """The scuffing keys of ``[lubricant]`` (its :class:`~jaxgear.io._lubricant_table.
-    LubricantSection`, which checks their types and ranges) as :class:`ScuffingInputs`, or None
-    without ``fzg_load_stage`` and ``scuffing_temperature_C``. ``bulk_read``: the micropitting
-    keys read the bulk keys (``bulk_temperature_C``, ``bulk_lubrication_factor``) when no
-    scuffing is computed.
+    """The scuffing keys of ``[lubricant]`` (a :class:`ScuffingKeys`, such as the
+    :class:`~jaxgear.io._lubricant_table.LubricantSection`, or the table: its scuffing keys
+    read as one) as :class:`ScuffingInputs`, or None without ``fzg_load_stage`` and
+    ``scuffing_temperature_C``. ``bulk_read``: the micropitting keys read the bulk keys
+    (``bulk_temperature_C``, ``bulk_lubrication_factor``) when no scuffing is computed.
 
     Raises:
-        SchemaError (a ``ValueError``): a key not read without another, or read beside one that
-            replaces it; one line naming the key and its value.
+        SchemaError (a ``ValueError``): a value of the wrong type or out of range, a key not
+            read without another, or read beside one that replaces it; one line naming the key
+            and its value.
     """
+    if isinstance(section, dict):
+        section = ScuffingKeys.read({k: v for k, v in section.items() if k in SCUFFING_KEYS})
     w, given = "lubricant", section.given
     stage, theta_s = section.fzg_load_stage, section.scuffing_temperature_C
     theta_int, bulk_c = section.integral_scuffing_temperature_C, section.bulk_temperature_C

@@ -25,7 +25,6 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import sys
 import typing
 from typing import Annotated, Any, ClassVar, Literal
 
@@ -34,9 +33,9 @@ from pydantic import BaseModel, BeforeValidator, ConfigDict, Discriminator, Fiel
 
 from fem_prep import checks as sc
 
-__all__ = ["Range", "Section", "Text", "number", "number_list", "one_of", "schema_error"]
+__all__ = ["NEEDED", "Needed", "Range", "Section", "Text", "number", "number_list", "one_of",
+           "schema_error"]
 
-_FLOAT_MAX = sys.float_info.max
 #: the prefix of a union member's tag (:func:`one_of`), which the error's location skips
 _TAG = "§"
 
@@ -53,6 +52,17 @@ class Range:
     array: bool = False
     length: int | None = None
     min_length: int = 0
+
+
+@dataclasses.dataclass(frozen=True)
+class Needed:
+    """A key the section leaves optional that is required where its table is used (a rating's
+    life, which a train's mesh table may give instead of the shared one): the reference lists
+    it as required."""
+
+
+#: the marker of a :class:`Needed` key (``Annotated[number(...) | None, NEEDED]``)
+NEEDED = Needed()
 
 
 def _integral(v: Any) -> Any:
@@ -142,6 +152,11 @@ class Section(BaseModel):
             return cls.model_validate(table, context=context)
         except pydantic.ValidationError as err:
             raise schema_error(cls, where, table, err) from None
+
+    @classmethod
+    def file_keys(cls, context: dict | None = None) -> tuple[str, ...]:
+        """The keys a file may give this table (its fields; ``context`` as :meth:`read`'s)."""
+        return tuple(cls.model_fields)
 
     @property
     def given(self) -> frozenset:
@@ -276,8 +291,7 @@ def schema_error(cls, where: str, table: dict, error: pydantic.ValidationError) 
         if info is not None and typing.get_origin(info.annotation) is dict and _sections(
                 info.annotation) is not None:
             model, named = _sections(info.annotation), True
-    if err["type"] == "extra_forbidden" or (info is None and key is not None and index is None
-                                             and model is not None):
+    if err["type"] == "extra_forbidden":
         allowed = sorted(model.model_fields) if model is not None else []
         hint = sc.did_you_mean(str(key), allowed)
         shown = str(key) if len(str(key)) <= 40 else str(key)[:37] + "..."
@@ -308,7 +322,7 @@ def _problem(kind, ctx, v, rng, info, element, where, key, index):
             return f"element {sc.fmt(v)} out of range, allowed {allowed}"
         return f"out of range, allowed {allowed}"
     if kind in ("float_type", "int_type", "finite_number", "int_from_float", "float_parsing",
-                "int_parsing", "beyond_float"):
+                "int_parsing"):
         if element:
             return f"must be an array of finite {'integers' if rng.integer else 'numbers'}"
         integer = rng is not None and rng.integer

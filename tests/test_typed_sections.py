@@ -1,0 +1,272 @@
+"""The case file's typed sections (``jaxgear.io._sections``): ``[whine]``, ``[acoustics]``,
+``[lubricant]`` and ``[rating]`` given mutated values (numbers where tables are, strings where
+numbers are, negative, non-finite and huge values, unknown keys) are refused in the one line the
+command line prints, never a ``TypeError``, ``KeyError`` or pydantic's report; a number key's
+message is the one :func:`fem_prep.checks.number` (the hand-written check, a separate
+implementation) writes for the same value; the case reader keeps the typed section on the case.
+Load only: nothing runs."""
+
+from __future__ import annotations
+
+import copy
+import pathlib
+import warnings
+
+import pytest
+from hypothesis import HealthCheck, given, settings, strategies as st
+
+import jaxgear.io as jio
+from fem_prep import checks as sc
+from jaxgear.io._acoustics_table import AcousticsSection
+from jaxgear.io._lubricant_table import LubricantSection
+from jaxgear.io._rating_table import RatingSection
+from jaxgear.io._sections import Range, _marker
+from jaxgear.io._whine_table import WhineSection
+
+ROOT = pathlib.Path(__file__).resolve().parents[1]
+
+#: a valid table of each section (the module docstrings' samples, trimmed)
+BASES = {
+    WhineSection: {"speed_min_rad_s": 50.0, "speed_max_rad_s": 1500.0, "speeds": 48,
+                   "harmonics": 16},
+    AcousticsSection: {"method": "bem", "band_Hz": [100.0, 4000.0], "frequencies": 24,
+                       "microphones": [{"name": "front", "position_mm": [150.0, -1000.0, 80.0]}]},
+    LubricantSection: {"viscosity_40C_mm2_s": 316.0, "viscosity_100C_mm2_s": 22.2,
+                       "density_kg_m3": 902.0, "pressure_viscosity_per_GPa": 71.05,
+                       "oil_temperature_C": 75.0, "roughness_Ra_um": [0.6, 0.6],
+                       "fzg_load_stage": 10},
+    RatingSection: {"life_h": 175200.0, "viscosity_40C_mm2_s": 220.0,
+                    "roughness_Rz_flank_um": 4.8, "roughness_Rz_root_um": 20.0,
+                    "accuracy_grade": 6, "K_v": 1.1},
+}
+SECTIONS = tuple(BASES)
+
+VALUES = st.one_of(
+    st.floats(allow_nan=True, allow_infinity=True),
+    st.integers(min_value=-(2**70), max_value=2**70),
+    st.sampled_from([0, -1, 10**400, -(10**400), 1e308, 5e-324]),
+    st.booleans(),
+    st.text(max_size=6),
+    st.lists(st.one_of(st.floats(), st.integers(), st.text(max_size=3)), max_size=4),
+    st.dictionaries(st.text(max_size=4), st.integers(), max_size=2),
+)
+
+
+def _one_line(section, table, key: str) -> str | None:
+    """Read ``table`` as ``section``: None when it reads, else its error's one line (which must
+    be a SchemaError naming ``key``)."""
+    try:
+        section.read(table)
+    except sc.SchemaError as err:
+        msg = str(err)
+        assert "\n" not in msg and msg.strip() == msg, msg
+        assert "validation error" not in msg and "pydantic" not in msg, msg
+        assert key in msg, (key, msg)
+        return msg
+    return None
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(pick=st.integers(min_value=0), key=st.integers(min_value=0), value=VALUES,
+       unknown=st.booleans())
+def test_mutated_tables_are_refused_in_one_line(pick, key, value, unknown):
+    """One key of a valid table (or an unknown key) given any TOML value: the table reads, or
+    one SchemaError line names the key."""
+    section = SECTIONS[pick % len(SECTIONS)]
+    table = copy.deepcopy(BASES[section])
+    names = sorted(section.model_fields)
+    name = "speed_mm_s" if unknown else names[key % len(names)]
+    table[name] = value  # (RatingSection's "meshes" holds its mesh tables: not a file key)
+    msg = _one_line(section, table, name)
+    if unknown or name == "meshes":
+        assert msg is not None and "unknown key" in msg
+
+
+@pytest.mark.parametrize("section", SECTIONS, ids=lambda s: s.WHERE)
+@pytest.mark.parametrize("value", [0.0, False, "x", [1.0]])
+def test_a_table_given_as_a_value_is_one_line(section, value):
+    msg = _one_line(section, value, section.WHERE)
+    assert msg.startswith(f"{section.WHERE} = {sc.fmt(value)}: must be a table "
+                          f"([{section.WHERE}]), not ")
+
+
+def _number_fields():
+    """(section, key, Range) of every scalar number key of the four sections."""
+    out = []
+    for section in SECTIONS:
+        for key, info in section.model_fields.items():
+            rng = _marker(info)
+            one_of = any(type(m).__name__ == "Discriminator" for m in info.metadata) or (
+                "Discriminator" in repr(info.annotation))
+            if isinstance(rng, Range) and not rng.array and not one_of:
+                out.append((section, key, rng))
+    return out
+
+
+NUMBER_FIELDS = _number_fields()
+
+
+def _read(section, table):
+    """``table`` read as ``section`` (a rating as a planetary stage's: every key it takes)."""
+    if section is RatingSection:
+        return RatingSection.of(table, (), planetary=True)
+    return section.read(table)
+
+
+def test_the_number_keys_are_found():
+    keys = {k for _, k, _ in NUMBER_FIELDS}
+    assert {"speeds", "frequencies", "viscosity_40C_mm2_s", "life_h", "K_v",
+            "fzg_load_stage"} <= keys
+    assert len(NUMBER_FIELDS) >= 30
+
+
+@settings(max_examples=80, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(pick=st.integers(min_value=0), value=st.one_of(
+    st.floats(allow_nan=True, allow_infinity=True),
+    st.integers(min_value=-(2**1100), max_value=2**1100),
+    st.sampled_from([0.5, 2.0, -0.0, 1e5, 1e6, 10**400, 48.0, 4.5]),
+    st.booleans(), st.text(max_size=4), st.lists(st.integers(), max_size=2)))
+def test_a_number_key_says_what_the_hand_written_check_says(pick, value):
+    """A number key's refusal is word for word :func:`fem_prep.checks.number`'s for the same
+    value and range (the check the sections replace, kept for the other tables)."""
+    section, key, rng = NUMBER_FIELDS[pick % len(NUMBER_FIELDS)]
+    table = copy.deepcopy(BASES[section]) | {key: value}
+    try:
+        sc.number(table, key, section.WHERE, allowed=rng.interval, integer=rng.integer,
+                  note=rng.note)
+    except sc.SchemaError as err:
+        with pytest.raises(sc.SchemaError) as mine:
+            _read(section, table)
+        assert str(mine.value) == str(err)
+        return
+    try:  # the value is in range: the table reads, or a check of two keys refuses it
+        _read(section, table)
+    except sc.SchemaError as err:
+        assert "\n" not in str(err) and key in str(err) or "out of range" in str(err), str(err)
+
+
+def _same_words(section, key, rng, value):
+    table = copy.deepcopy(BASES[section]) | {key: value}
+    try:
+        sc.number(table, key, section.WHERE, allowed=rng.interval, integer=rng.integer,
+                  note=rng.note)
+    except sc.SchemaError as err:
+        with pytest.raises(sc.SchemaError) as mine:
+            _read(section, table)
+        assert str(mine.value) == str(err)
+        return True
+    return False
+
+
+def test_every_number_key_says_what_the_hand_written_check_says():
+    """Every number key of the four sections, each given the same wrong values: word for word
+    :func:`fem_prep.checks.number`'s line."""
+    wrong = (True, "x", [1.0], {"a": 1}, float("nan"), float("inf"), -1e300, 1e300, 10**400,
+             -(2**80), 4.5, -1.0, 0)
+    refused = sum(_same_words(section, key, rng, v) for section, key, rng in NUMBER_FIELDS
+                  for v in wrong)
+    assert refused >= 10 * len(NUMBER_FIELDS)  # most of them are wrong for every key
+
+
+@pytest.mark.parametrize(("section", "change", "words"), [
+    (WhineSection, {"speeds": 1}, "[whine] speeds = 1: out of range, allowed [2, 2000]"),
+    (WhineSection, {"speeds": 48.0}, None),
+    (WhineSection, {"speeds": 4.5}, "[whine] speeds = 4.5: must be an integer"),
+    (WhineSection, {"speed": 48},
+     "[whine] unknown key 'speed' (did you mean 'speeds'?), allowed: harmonics, method, "
+     "positions_per_period, sidebands, speed_max_rad_s, speed_min_rad_s, speeds"),
+    (WhineSection, {"method": "fft"},
+     "[whine] method = 'fft': allowed 'harmonic-balance', 'te-source', 'quasi-periodic'"),
+    (WhineSection, {"speed_max_rad_s": 10.0},
+     "[whine] speed_max_rad_s = 10: out of range, allowed > speed_min_rad_s = 50"),
+    (AcousticsSection, {"microphones": 3},
+     "[acoustics] microphones = 3: must be an array of tables ([[acoustics.microphones]]), "
+     "not a number"),
+    (AcousticsSection, {"microphones": [{"position_mm": [1.0, 2.0]}]},
+     "[acoustics.microphones[0]] position_mm = [1, 2]: must be an array of 3 numbers"),
+    (AcousticsSection, {"microphones": [{"position_mm": [1.0, 2.0, 3.0], "x": 1}]},
+     "[acoustics.microphones[0]] unknown key 'x', allowed: name, position_mm"),
+    (AcousticsSection, {"microphones": [1.0]},
+     "[acoustics] 'microphones[0]' = 1: must be a table ([[acoustics.microphones]] entry), "
+     "not a number"),
+    (AcousticsSection, {"band_Hz": [100.0, float("nan")]},
+     "[acoustics] band_Hz = [100, nan]: must be an array of finite numbers"),
+    (LubricantSection, {"roughness_Ra_um": [0.6, -1.0]},
+     "[lubricant] roughness_Ra_um = [0.6, -1]: element -1 out of range, allowed (0, 10]"),
+    (LubricantSection, {"viscosity_40C_mm2_s": 1.0},
+     "[lubricant] viscosity_40C_mm2_s = 1: out of range, allowed [2, 100000] (Walther's "
+     "equation, ASTM D341, holds from 2 mm²/s)"),
+    (LubricantSection, {"friction_coefficient": 0.05, "lubricant_factor": 0.85},
+     "[lubricant] lubricant_factor = 0.85: not read: friction_coefficient is given"),
+    (RatingSection, {"K_v": 0.5}, "[rating] K_v = 0.5: out of range, allowed [1, 10]"),
+    (RatingSection, {"edition": 2010},
+     "[rating] edition = 2010: out of range, allowed [2006, 2019], the years 2006 or 2019"),
+    (RatingSection, {"K_gamma": 1.2}, "[rating] unknown key 'K_gamma'"),
+    (RatingSection, {"roughness_Rz_flank_um": {"pinion": -4.8}},
+     "[rating] roughness_Rz_flank_um = { pinion = -4.8 }: element -4.8 out of range"),
+])
+def test_the_words(section, change, words):
+    """The messages in the file's words (the hand-written checks' wording)."""
+    table = copy.deepcopy(BASES[section]) | change
+    if words is None:
+        section.read(table)
+        return
+    with pytest.raises(sc.SchemaError) as err:
+        section.read(table)
+    assert str(err.value).startswith(words), str(err.value)
+
+
+def test_a_planetary_rating_takes_its_mesh_tables_and_keys():
+    """``[rating.<mesh>]`` tables of the case's meshes and ``K_gamma`` (a planetary stage's)
+    read; another table name is an unknown key; a mesh table's value in its own words."""
+    table = BASES[RatingSection] | {"K_gamma": 1.1, "sun-planet": {"K_v": 1.2}}
+    s = RatingSection.of(table, ("sun-planet", "planet-ring"), planetary=True)
+    assert s.K_gamma == 1.1 and s.meshes["sun-planet"].K_v == 1.2 and not s.meshes.get("x")
+    with pytest.raises(sc.SchemaError, match=r"^\[rating\] unknown key 'sun-ring'"):
+        RatingSection.of(BASES[RatingSection] | {"sun-ring": {}}, ("sun-planet",), True)
+    with pytest.raises(sc.SchemaError,
+                       match=r"^\[rating.sun-planet\] K_v = 20: out of range, allowed \[1, 10\]$"):
+        RatingSection.of(BASES[RatingSection] | {"sun-planet": {"K_v": 20.0}}, ("sun-planet",))
+    with pytest.raises(sc.SchemaError, match=r"^\[rating\] sun-planet = 3: must be a table"):
+        RatingSection.of(BASES[RatingSection] | {"sun-planet": 3}, ("sun-planet",))
+
+
+def _fzg():
+    data = sc.load_toml((ROOT / "jaxgear/cases/fzg-h951.toml").read_bytes(), "fzg-h951")
+    assert {"lubricant", "rating"} <= set(data)
+    return data
+
+
+def test_the_case_carries_its_typed_sections():
+    """The case reader keeps ``[lubricant]`` and ``[rating]`` typed on the case (and no
+    ``[whine]``/``[acoustics]`` where the file has none); the SI inputs come from them."""
+    data = _fzg()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        case = jio.parse_case(data, "fzg")
+    assert isinstance(case.lubricant, LubricantSection)
+    assert isinstance(case.rating, RatingSection)
+    assert case.whine is None and case.acoustics is None
+    assert case.lubricant.viscosity_40C_mm2_s == data["lubricant"]["viscosity_40C_mm2_s"]
+    inputs = jio.tribology_of(case)
+    assert float(inputs.lubricant.viscosity_40) == pytest.approx(
+        data["lubricant"]["viscosity_40C_mm2_s"] * 1e-6)
+    rc = jio.rating_of(case)
+    assert float(rc.settings.life) == pytest.approx(data["rating"]["life_h"] * 3600.0)
+
+
+@settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(table=st.sampled_from(["lubricant", "rating"]), key=st.integers(min_value=0),
+       value=VALUES)
+def test_a_mutated_case_file_is_one_line(table, key, value):
+    """Through the case reader (``jaxgear run``'s load): a mutated ``[lubricant]`` or
+    ``[rating]`` key loads or is one SchemaError line, never another exception."""
+    data = _fzg()
+    keys = sorted(data[table])
+    data[table][keys[key % len(keys)]] = value
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            jio.parse_case(data, "fzg")
+    except sc.SchemaError as err:
+        assert "\n" not in str(err), str(err)
