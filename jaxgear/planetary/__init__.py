@@ -10,7 +10,8 @@ from :mod:`jaxgear` too; the rest lives here only. Modules:
   assembly condition;
 - ``_spatial``: :class:`SpatialPlanetary` (six coordinates per member);
 - ``_meshes``: the meshes as cells (:class:`ConstantMeshes`, :class:`ContactMeshes`), the
-  sun–ring offset, the quasi-static solve, a lumped model's constant mesh stiffness from a
+  sun–ring offset, the quasi-static solve, each planet's cell loads of a solve on its own
+  mesh's cells (:func:`planet_mesh_loads`), a lumped model's constant mesh stiffness from a
   mesh's own (:func:`lumped_mesh_stiffness`);
 - ``_ring``: the flexible ring (:class:`RigidRing`, :class:`CondensedRing`,
   :class:`CraigBamptonRing`);
@@ -76,6 +77,8 @@ from ._meshes import (
     ConstantMeshes as ConstantMeshes,
     ContactMeshes as ContactMeshes,
     PlanetaryQuasiStatic as PlanetaryQuasiStatic,
+    PlanetMeshLoads as PlanetMeshLoads,
+    planet_mesh_loads as planet_mesh_loads,
     LUMPED_STIFFNESS_POSITIONS as LUMPED_STIFFNESS_POSITIONS,
     lumped_mesh_stiffness as lumped_mesh_stiffness,
     planetary_mesh_stiffness as planetary_mesh_stiffness,
