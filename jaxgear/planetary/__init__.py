@@ -32,8 +32,9 @@ from :mod:`jaxgear` too; the rest lives here only. Modules:
   factors read from its records (:func:`sweep_factors`), whether anything excites the stage
   (:func:`excitation`), the lumped model a stage's supports allow
   (:func:`planetary_model_for`), the lumped models a stage's analysis runs
-  (:func:`lumped_mode_models`, :func:`lumped_sharing_models`) and its load sharing over a turn
-  (:func:`turn_travel`, :func:`sharing_over_turn`);
+  (:func:`lumped_mode_models`, :func:`lumped_sharing_models`) and its load sharing on one
+  spring per mesh (:func:`constant_mesh_sharing`), over a turn (:func:`turn_travel`,
+  :func:`sharing_over_turn`);
 - ``_whine``: the stage's gear whine in the frequency domain (:func:`planetary_whine`,
   :class:`PlanetaryWhine`) and the central members' support reactions
   (:func:`support_reactions`).
@@ -104,6 +105,7 @@ from ._plan import (
     SweepRecords as SweepRecords,
     TimePlan as TimePlan,
     carrier_periodic as carrier_periodic,
+    constant_mesh_sharing as constant_mesh_sharing,
     eccentric as eccentric,
     excitation as excitation,
     grouped_records as grouped_records,
