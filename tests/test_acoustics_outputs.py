@@ -144,6 +144,20 @@ def test_closed_outer_surface_refuses_bad_input():
 # -- the power and pressure between grid frequencies (jaxgear.acoustics) ------------------------
 
 
+def test_vertex_areas_are_a_third_of_each_triangle_round_the_vertex():
+    """``RadiatingSurface.vertex_areas`` (the area an intensity map divides a vertex's power
+    by): on a regular tetrahedron of edge 2√2 each vertex meets three faces of area 2√3, so
+    its share is 2√3 (by hand); on the housing's closed skin the shares are the row sums of the
+    P1 mass matrix (assembled apart, 1e-12) and sum to the surface's area."""
+    tet = fa.RadiatingSurface(
+        np.array([[1.0, 1.0, 1.0], [1.0, -1.0, -1.0], [-1.0, 1.0, -1.0], [-1.0, -1.0, 1.0]]),
+        np.array([[0, 1, 2], [0, 3, 1], [0, 2, 3], [1, 3, 2]]))
+    np.testing.assert_allclose(tet.vertex_areas, [2 * math.sqrt(3)] * 4, rtol=1e-14)
+    skin = closed_outer_surface(_housing(0.04)).surface
+    np.testing.assert_allclose(skin.vertex_areas, skin.mass_matrix().sum(axis=1), rtol=1e-12)
+    assert skin.vertex_areas.sum() == pytest.approx(skin.areas.sum(), rel=1e-12)
+
+
 def test_power_between_grid_frequencies_is_exact_for_a_power_law():
     """R(f) = (f/f₀)^m R₀ (a compact source: m = 2 a monopole, 4 a dipole): the log-log
     interpolation gives W(f) = (f/f₀)^m v^H R₀ v at any f inside the grid, and NaN outside."""

@@ -14,10 +14,10 @@ import math
 
 import numpy as np
 import pytest
-from fem_prep.housing import housing_cutoff_hz
 
 import jaxgear.io as jio
 import jaxgear.scenes as js
+from fem_prep.housing import housing_cutoff_hz
 
 
 def test_the_default_cut_off_holds_the_frequency_it_was_derived_from():

@@ -527,7 +527,8 @@ def test_eccentricities_from_a_case_file_over_a_turn_against_the_spring_model():
 
 
 def test_sharing_over_turn_on_its_grid_against_the_spring_model():
-    """:func:`jaxgear.planetary.sharing_over_turn` and :func:`~jaxgear.planetary.turn_travel`
+    """:func:`jaxgear.planetary.sharing_over_turn`, :func:`~jaxgear.planetary.turn_travel` and
+    :func:`~jaxgear.planetary.constant_mesh_sharing` (against ``load_sharing``'s linear solve)
     on the lumped Lin & Parker stage with a 25 µm sun eccentricity, called on the API (no
     summary): the grid is one turn of the carrier against the fixed ring in equal steps, the
     turn's end left out (x_i / r_br = 2π i / p), and the torsional model's forces and K_γ at
@@ -556,3 +557,12 @@ def test_sharing_over_turn_on_its_grid_against_the_spring_model():
             for t in math.radians(40.0) + x / r_s]
     np.testing.assert_allclose(q.sun_mesh_forces, [w[0] for w in want], rtol=1e-9)
     np.testing.assert_allclose(q.k_gamma, [w[1] for w in want], rtol=1e-9)
+    # one travel by constant_mesh_sharing against the linear solve K q = f (every mesh in contact)
+    one = jp.constant_mesh_sharing(jg.TorsionalPlanetary(), held, torque,
+                                   np.asarray(spec.tangential_pin_errors),
+                                   np.asarray(spec.radial_pin_errors), x[3:4])
+    lin = jp.load_sharing(jg.TorsionalPlanetary(), held, torque,
+                          np.asarray(spec.tangential_pin_errors),
+                          np.asarray(spec.radial_pin_errors), travel=x[3])
+    np.testing.assert_allclose(one.sun_mesh_forces[0], lin.sun_mesh_forces, rtol=1e-9)
+    assert float(one.k_gamma[0]) == pytest.approx(float(lin.k_gamma), rel=1e-9)

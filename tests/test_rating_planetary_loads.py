@@ -122,6 +122,36 @@ def test_in_phase_stage_meshes_equal_the_pairs_run_alone(tmp_path):
     assert sec["root_stress"]["planet"] == 1  # equal shares: the first planet
 
 
+def test_planet_mesh_loads_place_each_planets_cells():
+    """:func:`jaxgear.planetary.planet_mesh_loads` on the stage's quasi-static solve (the spur
+    nrel-5mw-stage2, 3 planets): each planet's sun-mesh and ring-mesh cells, placed on its own
+    mesh, carry the solve's own mesh force of that planet at every position (Σ line load ×
+    length = the transverse mesh force, spur: 1e-9 of it; the forces are the solver's, not the
+    cells'); the cells' forces given back with ``per_length`` give the line loads."""
+    import jaxgear.planetary as jp
+
+    case = _stage2()
+    spec = case.form.spec
+    meshes = spec.dynamic_meshes(case, case.slices)
+    x = meshes.positions(case.positions_per_pitch)
+    q = jp.planetary_quasi_static(jg.PlanarPlanetary(), spec.sharing_stage(spec.stage(case)),
+                                  meshes, np.asarray(abs(spec.torques(case.torque)["sun"])), x)
+    kinds = jp.planet_mesh_loads(meshes, x, q.cell_line_load)
+    assert [len(k) for k in kinds] == [3, 3]
+    for kind, forces in zip(kinds, (q.sun_mesh_forces, q.ring_mesh_forces), strict=True):
+        for i, m in enumerate(kind):
+            cell = np.where(m.cell_mask, m.line_load * m.cell_length, 0.0).sum(axis=(1, 2))
+            np.testing.assert_allclose(cell, np.asarray(forces)[:, i],
+                                       rtol=1e-9, atol=1e-9 * float(np.max(forces)))
+    rows = [np.stack([np.where(m.cell_mask, m.line_load * m.cell_length, 0.0) for m in kind],
+                     axis=1).reshape(len(x), -1) for kind in kinds]  # the cell rows' order
+    back = jp.planet_mesh_loads(meshes, x, np.concatenate(rows, axis=1), per_length=True)
+    for k0, k1 in zip(kinds, back, strict=True):
+        for a, b in zip(k0, k1, strict=True):
+            np.testing.assert_allclose(np.where(a.cell_mask, a.line_load, 0.0), b.line_load,
+                                       rtol=1e-12, atol=1e-6)
+
+
 def test_k_h_alpha_of_a_uniform_stage_mesh_against_the_closed_form():
     """Uniform stiffness k0 on the in-phase stage 2, tip relief depth e0 on the sun: the sun
     mesh's measured K_Halpha is 1 + k0 b max e / F_n (F_n = T_s/(3 r_bs), the planet's share,

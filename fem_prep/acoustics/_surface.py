@@ -122,6 +122,17 @@ class RadiatingSurface:
         return 0.5 * np.linalg.norm(self._cross(), axis=1)
 
     @property
+    def vertex_areas(self) -> np.ndarray:
+        """``(n,)`` each vertex's share of the surface's area (m²): a third of every triangle
+        round it (the row sums of :meth:`mass_matrix`, the lumped P1 mass), summing to the
+        surface's area; what a vertex power divides by for an intensity (W/m²,
+        :func:`jaxgear.acoustics.radiated_intensity_at`)."""
+        a = np.zeros(self.n_vertices)
+        for k in range(3):
+            np.add.at(a, self.triangles[:, k], self.areas / 3)
+        return a
+
+    @property
     def normals(self) -> np.ndarray:
         """``(m, 3)`` unit normals of the triangles (into the fluid)."""
         c = self._cross()

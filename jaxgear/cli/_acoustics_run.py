@@ -74,13 +74,6 @@ def _absent(a) -> list:
     return np.where(np.isnan(a), None, a).tolist()
 
 
-def _vertex_areas(surface) -> np.ndarray:
-    a = np.zeros(surface.n_vertices)
-    for k in range(3):
-        np.add.at(a, surface.triangles[:, k], surface.areas / 3)
-    return a
-
-
 def acoustic_outputs(
     surface,
     velocities,
@@ -213,7 +206,7 @@ def acoustic_outputs(
         }
     # the radiated intensity at the loudest speed, every order
     s_max = int(np.nanargmax(np.where(np.isnan(total_a), -np.inf, total_a)))
-    areas = _vertex_areas(surface)
+    areas = surface.vertex_areas  # the surface's lumped area per vertex (m²)
     data, maps = {}, {}
     loud = np.argsort(-np.nan_to_num(W[s_max], nan=-1.0))
     for j in range(O):

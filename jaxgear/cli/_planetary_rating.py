@@ -12,8 +12,6 @@ import os
 import warnings
 from typing import NamedTuple
 
-import equinox as eqx
-import jax
 import numpy as np
 
 import fem_prep
@@ -38,7 +36,9 @@ from ..rating import (
 from ..planetary import (
     ContactMeshes,
     DeviationMeshes,
+    PlanetMeshLoads,
     RigidRing,
+    planet_mesh_loads,
     planetary_quasi_static,
     rating_sharing_model,
 )
@@ -226,26 +226,8 @@ STAGE_ROOT_STRESS = (
 RING_ROOT_STRESS = "not computed (no ring cutter)"
 
 
-class MeshLoads(NamedTuple):
-    """One planet's one mesh of the stage's quasi-static solve, with the fields of a one-mesh
-    result (what :func:`jaxgear.rating.transverse_load_factor` and :func:`jaxgear.rating.root_stress_map`
-    read): ``line_load`` (N/m), ``cell_s``, ``cell_z`` (m) and ``cell_mask``, each of shape
-    (P, n_lines, n_slices) over the positions (or a dynamic run's kept steps); s, z in the mesh
-    pair's base plane (the :class:`jaxgear.GearPair` or :class:`jaxgear.InternalGearPair` of the
-    case's mesh); ``cell_length`` (m, the cells' lengths along their contact lines: line load ×
-    length is the cell's force, N) or None."""
-
-    line_load: np.ndarray
-    cell_s: np.ndarray
-    cell_z: np.ndarray
-    cell_mask: np.ndarray
-    cell_length: np.ndarray | None = None
-
-    def tooth_force(self) -> float:
-        """The largest force of one tooth pair over the positions (N, flank-normal: its
-        contact line's cells' forces summed across the face)."""
-        f = np.where(self.cell_mask, self.line_load * self.cell_length, 0.0)
-        return float(np.max(np.sum(f, axis=-1)))
+#: one planet's one mesh of the stage's solve (:class:`jaxgear.planetary.PlanetMeshLoads`)
+MeshLoads = PlanetMeshLoads
 
 
 class StageLoads(NamedTuple):
@@ -305,36 +287,13 @@ def stage_loads(case, spec, stage, models: dict, ring=None) -> StageLoads | None
                       "converge at every position: no measured K_Halpha, no root-stress map",
                       CaseWarning, stacklevel=2)
         return None
-    kinds = _mesh_loads(meshes, x, q.cell_line_load, spec.n_planets)
+    kinds = planet_mesh_loads(meshes, x, q.cell_line_load)
     forces = tuple(np.mean(np.asarray(f), axis=0)
                    for f in (q.sun_mesh_forces, q.ring_mesh_forces))
     source = STAGE_LOADS.format(model=name, slices=case.slices,
                                 positions=case.positions_per_pitch)
     paths = tuple(float(m.path_of_contact) for m in (meshes.sun_mesh, meshes.ring_mesh))
     return StageLoads(tuple(kinds), forces, source, stage_contact_model(meshes), paths)
-
-
-def _mesh_loads(meshes, x, values, n: int, per_length: bool = False) -> tuple:
-    """(sun/planet, planet/ring): each a tuple of the ``n`` planets' :class:`MeshLoads` of the
-    cells' line loads ``values`` (N/m, (p, c) in the cell rows' order; with ``per_length`` the
-    cells' forces, N, divided here by their lengths) at the mesh travels ``x`` (m, (p,)),
-    placed by :meth:`jaxgear.planetary.ContactMeshes.planet_cells`."""
-    kinds = []
-    for (cells, _), w in zip(_planet_cells(meshes, x), meshes.split_cells(values),
-                             strict=True):
-        w, s, z, m, c = (np.asarray(a) for a in (w, cells.s, cells.z, cells.mask, cells.length))
-        if per_length:
-            w = np.where(m & (c > 0), w / np.where(c > 0, c, 1.0), 0.0)
-        kinds.append(tuple(MeshLoads(w[:, i], s[:, i], z[:, i], m[:, i], c[:, i])
-                           for i in range(n)))
-    return tuple(kinds)
-
-
-@eqx.filter_jit
-def _planet_cells(meshes, x):
-    """:meth:`jaxgear.planetary.ContactMeshes.planet_cells` at every travel of ``x`` (one compiled
-    program: eagerly, its vmap costs seconds of dispatch)."""
-    return jax.vmap(meshes.planet_cells)(x)
 
 
 def measured_k_h_alpha(loads: StageLoads | None) -> list[dict] | None:
@@ -636,7 +595,7 @@ def stage_at_speed(case, spec, stage, models: dict, dynamics, meshes, words: dic
     x = np.asarray(dynamics.travel)
     slices = int(meshes.sun_mesh.n_slices)
     steps = x.size // int(words["keep"])
-    kinds = _mesh_loads(meshes, x, dynamics.cell_forces, spec.n_planets, per_length=True)
+    kinds = planet_mesh_loads(meshes, x, dynamics.cell_forces, per_length=True)
     static = stage_loads(case.replace(slices=slices, positions_per_pitch=steps), spec, stage,
                          models, ring)
     peaks = tuple(np.max(np.asarray(f), axis=0)

@@ -33,6 +33,7 @@ from ..planetary import (
     Unbalances,
     campbell,
     classify_modes,
+    constant_mesh_sharing,
     load_sharing,
     lumped_mode_models,
     lumped_sharing_models,
@@ -287,8 +288,7 @@ def face_load_section(spec, stage, torques: dict, case=None) -> dict:
     held = spec.sharing_stage(stage)
     e = np.asarray(spec.tangential_pin_errors)
     eps = np.asarray(spec.radial_pin_errors)
-    q = planetary_quasi_static(model, held, ConstantMeshes(face_points=model.face_points),
-                               np.asarray(abs(torques["sun"])), np.zeros(1), e, eps)
+    q = constant_mesh_sharing(model, held, abs(torques["sun"]), e, eps, np.zeros(1))
     n = spec.n_planets
     k = np.asarray(q.k_h_beta)
     return {

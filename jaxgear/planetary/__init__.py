@@ -10,7 +10,8 @@ from :mod:`jaxgear` too; the rest lives here only. Modules:
   assembly condition;
 - ``_spatial``: :class:`SpatialPlanetary` (six coordinates per member);
 - ``_meshes``: the meshes as cells (:class:`ConstantMeshes`, :class:`ContactMeshes`), the
-  sun–ring offset, the quasi-static solve, a lumped model's constant mesh stiffness from a
+  sun–ring offset, the quasi-static solve, each planet's cell loads of a solve on its own
+  mesh's cells (:func:`planet_mesh_loads`), a lumped model's constant mesh stiffness from a
   mesh's own (:func:`lumped_mesh_stiffness`);
 - ``_ring``: the flexible ring (:class:`RigidRing`, :class:`CondensedRing`,
   :class:`CraigBamptonRing`);
@@ -31,8 +32,9 @@ from :mod:`jaxgear` too; the rest lives here only. Modules:
   factors read from its records (:func:`sweep_factors`), whether anything excites the stage
   (:func:`excitation`), the lumped model a stage's supports allow
   (:func:`planetary_model_for`), the lumped models a stage's analysis runs
-  (:func:`lumped_mode_models`, :func:`lumped_sharing_models`) and its load sharing over a turn
-  (:func:`turn_travel`, :func:`sharing_over_turn`);
+  (:func:`lumped_mode_models`, :func:`lumped_sharing_models`) and its load sharing on one
+  spring per mesh (:func:`constant_mesh_sharing`), over a turn (:func:`turn_travel`,
+  :func:`sharing_over_turn`);
 - ``_whine``: the stage's gear whine in the frequency domain (:func:`planetary_whine`,
   :class:`PlanetaryWhine`) and the central members' support reactions
   (:func:`support_reactions`).
@@ -76,6 +78,8 @@ from ._meshes import (
     ConstantMeshes as ConstantMeshes,
     ContactMeshes as ContactMeshes,
     PlanetaryQuasiStatic as PlanetaryQuasiStatic,
+    PlanetMeshLoads as PlanetMeshLoads,
+    planet_mesh_loads as planet_mesh_loads,
     LUMPED_STIFFNESS_POSITIONS as LUMPED_STIFFNESS_POSITIONS,
     lumped_mesh_stiffness as lumped_mesh_stiffness,
     planetary_mesh_stiffness as planetary_mesh_stiffness,
@@ -101,6 +105,7 @@ from ._plan import (
     SweepRecords as SweepRecords,
     TimePlan as TimePlan,
     carrier_periodic as carrier_periodic,
+    constant_mesh_sharing as constant_mesh_sharing,
     eccentric as eccentric,
     excitation as excitation,
     grouped_records as grouped_records,

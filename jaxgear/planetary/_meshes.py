@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import abc
 import math
-from typing import ClassVar
+from typing import ClassVar, NamedTuple
 
 import equinox as eqx
 import jax
@@ -47,10 +47,12 @@ __all__ = [
     "AbstractPlanetaryMeshes",
     "ConstantMeshes",
     "ContactMeshes",
+    "PlanetMeshLoads",
     "PlanetaryQuasiStatic",
     "LUMPED_STIFFNESS_POSITIONS",
     "face_load_factor",
     "lumped_mesh_stiffness",
+    "planet_mesh_loads",
     "planetary_mesh_stiffness",
     "planetary_quasi_static",
     "structure_stiffness",
@@ -558,6 +560,64 @@ def _corner_terms(mesh, cells, rows) -> Array:
         + (jnp.cos(eps) - 1.0)[..., None] * trans
         - jnp.sin(eps)[..., None] * perp
     )
+
+
+class PlanetMeshLoads(NamedTuple):
+    """One planet's one mesh of a stage's quasi-static solve or dynamic run, with the fields of
+    a one-mesh result (what :func:`jaxgear.rating.transverse_load_factor` and
+    :func:`jaxgear.rating.root_stress_map` read): ``line_load`` (N/m), ``cell_s``, ``cell_z``
+    (m) and ``cell_mask``, each of shape (P, n_lines, n_slices) over the travels (or a dynamic
+    run's kept steps); s, z in the mesh pair's base plane (the sun–planet
+    :class:`~jaxgear.GearPair`, the planet–ring :class:`~jaxgear.InternalGearPair`);
+    ``cell_length`` (m, the cells' lengths along their contact lines: line load × length is the
+    cell's force, N) or None. Built by :func:`planet_mesh_loads`."""
+
+    line_load: np.ndarray
+    cell_s: np.ndarray
+    cell_z: np.ndarray
+    cell_mask: np.ndarray
+    cell_length: np.ndarray | None = None
+
+    def tooth_force(self) -> float:
+        """The largest force of one tooth pair over the travels (N, flank-normal: its
+        contact line's cells' forces summed across the face)."""
+        f = np.where(self.cell_mask, self.line_load * self.cell_length, 0.0)
+        return float(np.max(np.sum(f, axis=-1)))
+
+
+@eqx.filter_jit
+def _planet_cells(meshes, x):
+    """``meshes.planet_cells`` at every travel of ``x`` (one compiled program: eagerly, its
+    vmap costs seconds of dispatch)."""
+    return jax.vmap(meshes.planet_cells)(x)
+
+
+def planet_mesh_loads(meshes, travel, cell_values, *, per_length: bool = False) -> tuple:
+    """Every planet's sun-mesh and ring-mesh cell loads of a stage's solve, each placed on its
+    own mesh's cells: (sun/planet, planet/ring), each a tuple of one :class:`PlanetMeshLoads`
+    per planet.
+
+    Args:
+        meshes: the solve's meshes kind with cells (:class:`ContactMeshes`: its
+            ``planet_cells`` place each planet's cells at a travel, its ``split_cells`` splits
+            the cell rows).
+        travel: the mesh travels x (m), (P,), of the solve's positions or a run's kept steps.
+        cell_values: (P, c) per cell row (:meth:`ContactMeshes.cell_row`'s order): line loads
+            (N/m, :attr:`PlanetaryQuasiStatic.cell_line_load`), or with ``per_length`` the
+            cells' forces (N, a dynamic run's ``cell_forces``), divided here by their lengths
+            (0 where a cell is off the flank or of no length).
+
+    Returns:
+        ((PlanetMeshLoads of planet 1..N of the sun meshes), (… of the ring meshes))."""
+    kinds = []
+    for (cells, _), w in zip(_planet_cells(meshes, travel), meshes.split_cells(cell_values),
+                             strict=True):
+        w, s, z, m, c = (np.asarray(a) for a in (w, cells.s, cells.z, cells.mask, cells.length))
+        if per_length:
+            w = np.where(m & (c > 0), w / np.where(c > 0, c, 1.0), 0.0)
+        kinds.append(tuple(PlanetMeshLoads(w[:, i], s[:, i], z[:, i], m[:, i], c[:, i])
+                           for i in range(w.shape[1])))
+    return tuple(kinds)
 
 
 #: positions per mesh period at which :func:`lumped_mesh_stiffness` solves a mesh

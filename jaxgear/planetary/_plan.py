@@ -57,6 +57,7 @@ __all__ = [
     "SweepRecords",
     "TimePlan",
     "carrier_periodic",
+    "constant_mesh_sharing",
     "eccentric",
     "excitation",
     "grouped_records",
@@ -492,6 +493,33 @@ def turn_travel(stage: PlanetaryStage, positions: int = TURN_POSITIONS) -> np.nd
     return np.arange(positions) * 2 * math.pi * r_r / positions
 
 
+def constant_mesh_sharing(
+    model: AbstractPlanetaryModel,
+    stage: PlanetaryStage,
+    sun_torque,
+    tangential_pin_errors,
+    radial_pin_errors=0.0,
+    travel=(0.0,),
+) -> PlanetaryQuasiStatic:
+    """A stage's load sharing with one unilateral spring per mesh at the mesh travels
+    ``travel``: the quasi-static solve (:func:`planetary_quasi_static`) on
+    :class:`ConstantMeshes` at the model's ``face_points`` Gauss points across the face (the
+    stage's mesh stiffness; the 3D model's face load factor K_Hβ from the members' tilts and
+    the helical axial forces), the eccentricities turning with their members.
+
+    Args:
+        model: the model kind; stage: the load-sharing stage (sun loaded, the reacting members
+            held); sun_torque: the sun's torque (N m, > 0); tangential_pin_errors,
+            radial_pin_errors: per planet (m), (n_planets,) or scalar; travel: mesh travels
+            x (m), (p,).
+
+    Raises:
+        what :func:`planetary_quasi_static` raises (one line)."""
+    return planetary_quasi_static(model, stage, ConstantMeshes(face_points=model.face_points),
+                                  np.asarray(sun_torque), np.asarray(travel),
+                                  tangential_pin_errors, radial_pin_errors)
+
+
 def sharing_over_turn(
     model: AbstractPlanetaryModel,
     stage: PlanetaryStage,
@@ -500,24 +528,15 @@ def sharing_over_turn(
     radial_pin_errors=0.0,
     positions: int = TURN_POSITIONS,
 ) -> PlanetaryQuasiStatic:
-    """An eccentric stage's load sharing over one turn of the ring relative to the carrier
-    (:func:`turn_travel`): the quasi-static solve with one unilateral spring per mesh
-    (:func:`planetary_quasi_static`, :class:`ConstantMeshes` at the model's ``face_points``
-    Gauss points across the face, the stage's mesh stiffness), the eccentricities turning with
-    their members; K_γ at each travel is the result's ``k_gamma`` (p,).
-
-    Args:
-        model: the model kind; stage: the load-sharing stage (sun loaded, the reacting members
-            held); sun_torque: the sun's torque (N m, > 0); tangential_pin_errors,
-            radial_pin_errors: per planet (m), (n_planets,) or scalar; positions: travels
-            over the turn.
+    """An eccentric stage's load sharing over one turn of the ring relative to the carrier:
+    :func:`constant_mesh_sharing` at the travels of :func:`turn_travel`; K_γ at each travel is
+    the result's ``k_gamma`` (p,). Arguments as :func:`constant_mesh_sharing`'s, ``positions``
+    the travels over the turn.
 
     Raises:
         what :func:`turn_travel` and :func:`planetary_quasi_static` raise (one line)."""
-    x = turn_travel(stage, positions)
-    return planetary_quasi_static(model, stage, ConstantMeshes(face_points=model.face_points),
-                                  np.asarray(sun_torque), x, tangential_pin_errors,
-                                  radial_pin_errors)
+    return constant_mesh_sharing(model, stage, sun_torque, tangential_pin_errors,
+                                 radial_pin_errors, turn_travel(stage, positions))
 
 
 #: "no excitation": the meshes' stiffness varies over a mesh period by less than this relative
