@@ -17,11 +17,14 @@ from hypothesis import HealthCheck, given, settings, strategies as st
 
 import jaxgear.io as jio
 from fem_prep import checks as sc
-from jaxgear.io._acoustics_table import AcousticsSection
-from jaxgear.io._lubricant_table import LubricantSection
-from jaxgear.io._rating_table import RatingSection
-from jaxgear.io._sections import Range, _marker
-from jaxgear.io._whine_table import WhineSection
+from jaxgear.io import (
+    AcousticsSection,
+    LubricantSection,
+    Range,
+    RatingSection,
+    WhineSection,
+    range_of,
+)
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 
@@ -95,7 +98,7 @@ def _number_fields():
     out = []
     for section in SECTIONS:
         for key, info in section.model_fields.items():
-            rng = _marker(info)
+            rng = range_of(info)
             one_of = any(type(m).__name__ == "Discriminator" for m in info.metadata) or (
                 "Discriminator" in repr(info.annotation))
             if isinstance(rng, Range) and not rng.array and not one_of:

@@ -493,7 +493,7 @@ class _Recorder:
             kinds, allowed = _section_kind(field)
             info.kind |= kinds
             info.allowed |= allowed
-            if field.is_required() or sections._marker(field, sections.Needed) is not None:
+            if field.is_required() or sections.range_of(field, sections.Needed) is not None:
                 info.required = True
             elif field.get_default(call_default_factory=True) is not None and kinds:
                 info.defaults.add(_fmt(field.get_default(call_default_factory=True)))

@@ -12,11 +12,11 @@ never imports this package: it takes the objects built here, never a case."""
 from ._acoustic_path import (
     HOUSING_BAND as HOUSING_BAND,
     HousedAcoustics as HousedAcoustics,
+    HousingBand as HousingBand,
     case_acoustic_path as case_acoustic_path,
     case_radiation as case_radiation,
     closed_skin as closed_skin,
     housed_acoustics as housed_acoustics,
-    HousingBand as HousingBand,
     housing_band as housing_band,
     radiation_grid as radiation_grid,
 )
@@ -24,6 +24,7 @@ from ._acoustics_table import (
     ACOUSTICS_KEYS as ACOUSTICS_KEYS,
     ACOUSTICS_METHODS as ACOUSTICS_METHODS,
     AcousticsInputs as AcousticsInputs,
+    AcousticsSection as AcousticsSection,
     acoustics_of as acoustics_of,
     parse_acoustics as parse_acoustics,
 )
@@ -49,6 +50,12 @@ from ._deviations_table import (
     deviation_kinds_from_names as deviation_kinds_from_names,
     parse_deviations as parse_deviations,
 )
+from ._gearbox_file import (
+    PAIR_INPUTS as PAIR_INPUTS,
+    PLANETARY_MODELS as PLANETARY_MODELS,
+    GearboxForm as GearboxForm,
+    GearboxStage as GearboxStage,
+)
 from ._housing_table import (
     HousingBody as HousingBody,
     HousingSpec as HousingSpec,
@@ -64,6 +71,7 @@ from ._load import (
 from ._lubricant_table import (
     FILM_FORMULAS as FILM_FORMULAS,
     LUBRICANT_KEYS as LUBRICANT_KEYS,
+    LubricantSection as LubricantSection,
     TribologyInputs as TribologyInputs,
     parse_lubricant as parse_lubricant,
     tribology_of as tribology_of,
@@ -83,12 +91,6 @@ from ._names import (
     foundation_from_name as foundation_from_name,
     stiffness_from_name as stiffness_from_name,
 )
-from ._gearbox_file import (
-    PAIR_INPUTS as PAIR_INPUTS,
-    PLANETARY_MODELS as PLANETARY_MODELS,
-    GearboxForm as GearboxForm,
-    GearboxStage as GearboxStage,
-)
 from ._optimise_table import (
     ACOUSTIC_OBJECTIVES as ACOUSTIC_OBJECTIVES,
     OPTIMISE_DEFAULTS as OPTIMISE_DEFAULTS,
@@ -96,12 +98,12 @@ from ._optimise_table import (
     check_train_design as check_train_design,
     parse_optimise as parse_optimise,
 )
-from ._plausibility import CaseWarning as CaseWarning, plausibility as plausibility
 from ._planetary_spec import (
     InternalMeshForm as InternalMeshForm,
     PlanetaryForm as PlanetaryForm,
     PlanetarySpec as PlanetarySpec,
 )
+from ._plausibility import CaseWarning as CaseWarning, plausibility as plausibility
 from ._problem import (
     OBJECTIVES as OBJECTIVES,
     OPTIMISERS as OPTIMISERS,
@@ -116,6 +118,7 @@ from ._problem import (
 from ._rating_table import (
     TREATMENTS as TREATMENTS,
     RatingCase as RatingCase,
+    RatingSection as RatingSection,
     parse_rating as parse_rating,
     parse_train_rating as parse_train_rating,
     rating_of as rating_of,
@@ -138,11 +141,13 @@ from ._scuffing_table import (
     ScuffingInputs as ScuffingInputs,
     parse_scuffing as parse_scuffing,
 )
+from ._sections import Range as Range, Section as Section, range_of as range_of
 from ._train_file import parse_train as parse_train
 from ._whine_table import (
     WHINE_KEYS as WHINE_KEYS,
     WHINE_METHODS as WHINE_METHODS,
     WhineInputs as WhineInputs,
+    WhineSection as WhineSection,
     parse_whine as parse_whine,
     whine_of as whine_of,
 )

@@ -16,18 +16,17 @@ import abc
 import dataclasses
 import fractions
 import math
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 from .._baseplane import MeshModel
 from .._contact import ContactLaw
-from ._names import contact_law_from_name
 from .._geometry import GearPair
 from .._modifications import Modifications
 from .._stiffness_models import FE2D, AbstractStiffness, MeshConditions, stiffness_table
 from ..scenes import (
     TrainSpec,
-    bearing_positions,
     Wrench,
+    bearing_positions,
     disc_inertia,
     grounded,
     hybrid_train,
@@ -36,12 +35,8 @@ from ..scenes import (
     torsional_train,
     train_layout,
 )
-
-if TYPE_CHECKING:
-    from ._acoustics_table import AcousticsSection
-    from ._lubricant_table import LubricantSection
-    from ._rating_table import RatingSection
-    from ._whine_table import WhineSection
+from ._names import contact_law_from_name
+from ._sections import Section
 
 __all__ = ["Case", "CaseForm", "MeshSettings", "PairForm", "TrainCase", "TrainForm",
            "mesh_teeth_per_turn", "teeth_span"]
@@ -254,10 +249,9 @@ class Case(MeshSettings):
             (:func:`jaxgear.io.ratings_of`).
         whine, acoustics, lubricant, rating: the case file's ``[whine]``, ``[acoustics]``,
             ``[lubricant]`` and ``[rating]`` as typed sections, checked whole
-            (:class:`jaxgear.io._whine_table.WhineSection`,
-            :class:`jaxgear.io._acoustics_table.AcousticsSection`,
-            :class:`jaxgear.io._lubricant_table.LubricantSection`,
-            :class:`jaxgear.io._rating_table.RatingSection`: the file's keys, in file units),
+            (:class:`jaxgear.io.WhineSection`, :class:`jaxgear.io.AcousticsSection`,
+            :class:`jaxgear.io.LubricantSection`, :class:`jaxgear.io.RatingSection`, each a
+            :class:`jaxgear.io.Section`: the file's keys, in file units),
             or None where the file has no such table; :func:`jaxgear.io.whine_of`,
             :func:`~jaxgear.io.acoustics_of`, :func:`~jaxgear.io.tribology_of` and
             :func:`~jaxgear.io.ratings_of` give their SI inputs.
@@ -294,10 +288,10 @@ class Case(MeshSettings):
     form: CaseForm = TrainForm()
     rating_standard: Any = None
     input_files: tuple = dataclasses.field(default=(), repr=False, compare=False)
-    whine: WhineSection | None = None
-    acoustics: AcousticsSection | None = None
-    lubricant: LubricantSection | None = None
-    rating: RatingSection | None = None
+    whine: Section | None = None
+    acoustics: Section | None = None
+    lubricant: Section | None = None
+    rating: Section | None = None
 
     @classmethod
     def of_pair(cls, *, name: str, pair: GearPair, modifications: Modifications, **fields) -> Case:

@@ -47,7 +47,7 @@ import numpy as np
 
 from fem_prep import schema as sc
 
-from ..scenes._housing import HOUSING_BAND, band_cutoff_hz, band_holds, housing_band_hz
+from ..scenes import HOUSING_BAND, band_cutoff_hz, band_holds, housing_band_hz
 
 __all__ = [
     "HOUSING_BAND",

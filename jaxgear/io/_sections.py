@@ -190,8 +190,9 @@ def _sections(annotation) -> type | None:
     return None
 
 
-def _marker(info, cls=Range):
-    """The :class:`Range` (or another marker ``cls``) in a field's metadata, or None."""
+def range_of(info, cls=Range):
+    """The :class:`Range` (or another marker ``cls``) of a section's field, or None: ``info`` a
+    pydantic ``FieldInfo`` (``Section.model_fields[key]``)."""
     if info is None:
         return None
     for m in info.metadata:
@@ -301,7 +302,7 @@ def schema_error(cls, where: str, table: dict, error: pydantic.ValidationError) 
     sub = _sections(info.annotation) if info is not None else None
     element = index is not None and sub is None and loc[-1] == index  # in an array of numbers
     v = sc.MISSING if err["type"] == "missing" else err.get("input", sc.MISSING)
-    rng = _marker(info) if tag is None else _tagged(info.annotation, tag)
+    rng = range_of(info) if tag is None else _tagged(info.annotation, tag)
     problem = _problem(err["type"], ctx, v, rng, info, element, where, key, index)
     if element:  # the array (or the table of numbers) as written
         whole = _value(table, err["loc"][:-1])
