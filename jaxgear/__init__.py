@@ -139,6 +139,7 @@ from ._stiffness_models import (
 from ._util import safe_max as safe_max
 from .gearbox import (
     AbstractGearboxStage as AbstractGearboxStage,
+    GearboxModel as GearboxModel,
     GearboxModes as GearboxModes,
     GearboxTorsional as GearboxTorsional,
     PairGearboxStage as PairGearboxStage,

@@ -516,22 +516,28 @@ def excited_omega(modes: ModalAnalysis) -> Float[Array, ""]:
 
 
 def steps_for_mode(
-    omega_max, mesh_period_angle, speeds, mesh_rate: float = 1.0, multiple: int = 1
+    omega_max,
+    mesh_period_angle,
+    speeds,
+    mesh_rate: float = 1.0,
+    multiple: int = 1,
+    per_mode: int = STEPS_PER_MODE,
 ) -> np.ndarray:
     """N_s = the smallest ``multiple`` × 2^j >= max(64 r, 40 · f_max / f_mesh) at each pinion
     speed (rad/s, concrete): the rule of :func:`~jaxgear.dynamics.auto_steps_per_period` for
     the highest excited mode ``omega_max`` (rad/s), with f_mesh = Ω / θ_m (Hz), θ_m =
     ``mesh_period_angle`` = 2π/z1, r = ``mesh_rate`` the periods of the fastest mesh per
     period of the first (1 for a pair; a train's later stage may pass teeth faster) and
-    ``multiple`` D (1: powers of two; a train: the steps that divide every mesh's period)."""
+    ``multiple`` D (1: powers of two; a train: the steps that divide every mesh's period);
+    ``per_mode`` the steps per period of that mode (default :data:`STEPS_PER_MODE`, 40)."""
     sp = np.asarray(speeds, dtype=float)
     if np.any(~(sp > 0)):
         raise ValueError("speeds must be > 0 rad/s")
     ratio = float(omega_max) * float(mesh_period_angle) / (2 * np.pi * sp)  # f_max / f_mesh
-    n = np.maximum(MIN_STEPS_PER_PERIOD * float(mesh_rate), np.ceil(STEPS_PER_MODE * ratio))
+    n = np.maximum(MIN_STEPS_PER_PERIOD * float(mesh_rate), np.ceil(int(per_mode) * ratio))
     if np.any(n > MAX_STEPS_PER_SPEED):
         low = (
-            STEPS_PER_MODE
+            int(per_mode)
             * float(omega_max)
             * float(mesh_period_angle)
             / (2 * np.pi * MAX_STEPS_PER_SPEED)

@@ -55,7 +55,7 @@ from .._util import safe_max
 from ..scenes import DynamicScene, HybridPair
 from ._modal import ModalAnalysis
 from ._newmark import contact_coordinates, static_condensation
-from ._settings import Integrator, Outputs, SteadyState
+from ._settings import STEPS_PER_MODE, Integrator, Outputs, SteadyState
 
 __all__ = [
     "AbstractDynamicModel",
@@ -676,6 +676,13 @@ class AbstractDynamicModel(eqx.Module):
     def structure_matrices(self) -> tuple:
         """(M, K_s): the structure's mass and stiffness (no mesh), each (n, n)."""
         return self.scene.mass(), self.scene.stiffness()
+
+    def steps_per_mode(self) -> int:
+        """The automatic step's steps per period of the highest excited mode
+        (:func:`~jaxgear.dynamics.auto_steps_per_period`; static): :data:`STEPS_PER_MODE`
+        (40) by default; a kind whose runs carry their own (a gearbox's ``GearboxRun``)
+        answers it."""
+        return STEPS_PER_MODE
 
     @abc.abstractmethod
     def default_settings(self) -> tuple[Integrator, ContactLaw, SteadyState]:

@@ -208,7 +208,8 @@ def auto_steps_per_period(model: Model, speeds, modes: ModalAnalysis | None = No
     ``Newmark(None)`` for a hybrid one).
 
     N_s = the smallest D × 2^j >= max(64 r, 40 · f_max / f_mesh): at least 40 steps per
-    period of the highest mode the mesh excites (f_max, mesh-energy share >= 5 %,
+    period (the model's :meth:`~jaxgear.dynamics.AbstractDynamicModel.steps_per_mode`) of
+    the highest mode the mesh excites (f_max, mesh-energy share >= 5 %,
     :func:`~jaxgear.dynamics.excited_omega`) and 64 per period of the fastest mesh (f_mesh = Ω
     z1 / 2π, the first mesh's; r its periods per period of the first, 1 for a pair). D is 1
     (powers of two) but for a lumped train whose meshes have other periods than the first's
@@ -240,7 +241,9 @@ def auto_steps_per_period(model: Model, speeds, modes: ModalAnalysis | None = No
             "steps_per_period=None (automatic) needs concrete speeds and model: under jax.jit, "
             "jax.vmap or jax.grad pass an explicit integer steps_per_period"
         ) from err
-    return steps_for_mode(w, angle, sp, max(rates), steps_multiple(model))
+    return steps_for_mode(
+        w, angle, sp, max(rates), steps_multiple(model), int(model.steps_per_mode())
+    )
 
 
 def steps_multiple(model: Model) -> int:

@@ -3,7 +3,8 @@
 * the torsional chain (:class:`GearboxTorsional`) and its modes (:func:`gearbox_modes`);
 * the coupled dynamic model (:func:`gearbox_dynamics`, :func:`gearbox_speed_sweep`,
   :func:`gearbox_coupled_modes`): every stage's contact cells at once in one Newmark run
-  (docs/gearbox.md);
+  (docs/gearbox.md); :class:`GearboxModel` is it as a :class:`jaxgear.dynamics.AbstractDynamicModel`
+  (:func:`jaxgear.dynamics.simulate`, :func:`jaxgear.dynamics.speed_sweep`);
 * stage kinds added on the stage interface alone: :class:`CompoundPlanetaryStage` (stepped
   planets) in ``_compound``, :class:`LumpedPairGearboxStage` (a parallel pair in lumped 3D
   form: shafts and bearings) in ``_lumped``.
@@ -38,6 +39,7 @@ from ._coupled import (
     mesh_names as mesh_names,
 )
 from ._lumped import LumpedPairGearboxStage as LumpedPairGearboxStage
+from ._model import GearboxModel as GearboxModel, GearboxPrepared as GearboxPrepared
 from ._spectrum import (
     HousingSignals as HousingSignals,
     HousingSpectrum as HousingSpectrum,

@@ -308,16 +308,24 @@ def _cell_counts(chain):
 
 
 
-def _time_plan(chain, run, speeds) -> tuple[int, int, float]:
-    """(steps per fastest mesh period, steps per block, the fastest excited mesh's period per
-    unit of 1 / input speed): host side (the periods' ratios do not depend on the speed, all
-    speeds scale together; ``speeds``: the input speeds, for the automatic step)."""
+def _excited_periods(chain: GearboxTorsional) -> tuple[float, float]:
+    """(fast, slow): the periods of the fastest and the slowest excited mesh (a stage with
+    contact cells, :meth:`AbstractGearboxStage.excited`; without one, the first stage's) per
+    unit of 1 / input speed, i.e. the input member's rotation over them (rad), host side (the
+    periods' ratios do not depend on the speed)."""
     kin = _kinematics(chain, 1.0, 1.0)
     periods = [float(s.mesh_period() / v) for s, (_, v, _) in zip(chain.stages, kin, strict=True)
                if s.excited()]
     if not periods:
         periods = [float(chain.stages[0].mesh_period() / kin[0][1])]
-    fast, slow = min(periods), max(periods)
+    return min(periods), max(periods)
+
+
+def _time_plan(chain, run, speeds) -> tuple[int, int, float]:
+    """(steps per fastest mesh period, steps per block, the fastest excited mesh's period per
+    unit of 1 / input speed): host side (the periods' ratios do not depend on the speed, all
+    speeds scale together; ``speeds``: the input speeds, for the automatic step)."""
+    fast, slow = _excited_periods(chain)
     steps, blocks = run.steps_per_period, run.periods
     if steps is None or blocks is None:
         modes = _coupled_modes(chain, run)

@@ -1,0 +1,108 @@
+"""The coupled gearbox as a jaxgear.dynamics model (jaxgear.gearbox.GearboxModel): the engine's
+entries (simulate, speed_sweep) run the coupled Newmark model as jaxgear.gearbox's own entries
+did, and the kind's contract answers (docs/gearbox.md, "The gearbox as a dynamic model")."""
+
+import json
+import pathlib
+
+import numpy as np
+import pytest
+from _examples import load_example
+
+import jaxgear as jg
+import jaxgear.dynamics as jd
+import jaxgear.io as jio
+from jaxgear import gearbox as gb
+
+DATA = pathlib.Path(__file__).parent / "data" / "gearbox"
+EX = load_example("gearbox_two_stage")
+
+
+@pytest.mark.slow
+def test_nrel_sweep_through_the_engine_is_the_recorded_gearbox_sweep():
+    """The coupled NREL 5 MW gearbox (its case file's chain, the first stage's torque, the last
+    shaft as the output hold) swept at 0.4 and 1.0 x rated input speed through
+    jaxgear.dynamics.speed_sweep of a GearboxModel equals the sweep jaxgear.gearbox's own
+    gearbox_speed_sweep gave before the gearbox became a dynamics model, on the same explicit
+    plan (16 steps per fastest mesh period, 4 blocks, 2 kept): dynamic factors, static forces,
+    mesh speeds and the recorded mesh forces (every 32nd step) to 1e-9. The record
+    (tests/data/gearbox/coupled_sweep_reference.json) was written by
+    tests/data/gearbox/record_coupled_sweep.py at the commit it names, before the move."""
+    ref = json.loads((DATA / "coupled_sweep_reference.json").read_text(encoding="utf-8"))
+    form = jio.load_case(ref["case"]).form
+    plan = ref["plan"]
+    run = gb.GearboxRun(ref["input_torque_Nm"], ref["output_hold_Nm_per_rad"],
+                        mean_positions=plan["mean_positions"])
+    model = gb.GearboxModel(form.coupled(), run)
+    out = jd.speed_sweep(model, np.asarray(ref["input_speeds_rad_s"]),
+                         integrator=jd.Newmark(plan["steps_per_period"]),
+                         window=jd.SteadyState(plan["periods"], plan["keep_periods"])).results
+    assert isinstance(out, gb.GearboxDynamics)
+    np.testing.assert_array_equal(np.asarray(out.result), ref["result"])
+    np.testing.assert_array_equal(np.asarray(out.steps), ref["steps"])
+    s = ref["record_stride"]
+    for got, key in ((out.dynamic_factors, "dynamic_factors"),
+                     (out.static_forces, "static_forces_N"),
+                     (out.mesh_speeds, "mesh_speeds_m_s"),
+                     (np.asarray(out.mesh_forces)[:, ::s], "mesh_forces_N"),
+                     (np.asarray(out.time)[:, ::s], "time_s")):
+        np.testing.assert_allclose(np.asarray(got), np.asarray(ref[key]), rtol=1e-9, atol=0,
+                                   err_msg=key)
+
+
+def test_contract_answers_for_the_two_stage_chain():
+    """The two-stage example (planetary stage 20/30/-80, carrier in, sun out at 1 + 80/20 = 5 x
+    the carrier; the sun drives the pair's 32-tooth gear): the mesh frequencies are z_r ω_c =
+    80 ω_c and 32 x 5 ω_c = 160 ω_c (per 2π), so that the fastest excited mesh (the pair) turns
+    the input 2π/160 per period and the planetary meshes pass 1/2 period per pair period."""
+    chain, run = EX.two_stage()
+    model = gb.GearboxModel(chain, run)
+    assert model.mesh_count() == 9
+    assert float(model.mesh_period_angle()) == pytest.approx(2 * np.pi / 160, rel=1e-12)
+    np.testing.assert_allclose(model.mesh_rates(), [0.5] * 8 + [1.0], rtol=1e-12)
+    m, k = model.structure_matrices()
+    assert m.shape == k.shape == (len(gb.coordinate_names(chain)),) * 2
+    # the static forces from the torque ratios: the sun's torque 5000 / (1 + 80/20) N m on
+    # four planets (base radius 20 r_b per tooth), then on the pair's 32-tooth gear
+    rb = 0.5 * 4e-3 * np.cos(np.radians(20.0))
+    t_sun = 5000.0 / 5.0
+    np.testing.assert_allclose(np.asarray(model.static_force),
+                               [t_sun / (4 * 20 * rb)] * 8 + [t_sun / (32 * rb)], rtol=1e-12)
+
+
+def test_settings_the_coupled_run_cannot_do_are_refused_in_one_line():
+    chain, run = EX.two_stage()
+    model = gb.GearboxModel(chain, run)
+    w = np.array([30.0, 60.0])
+    with pytest.raises(ValueError, match="integrator = DiffraxIntegrator: a gearbox") as e:
+        jd.simulate(model, 30.0, integrator=jd.DiffraxIntegrator("tsit5", 32))
+    assert "\n" not in str(e.value)
+    with pytest.raises(ValueError, match="direction"):
+        jd.speed_sweep(model, w, integrator=jd.Newmark(32), window=jd.SteadyState(4, 2),
+                       direction=jd.Up())
+    with pytest.raises(ValueError, match="outputs"):
+        jd.simulate(model, 30.0, integrator=jd.Newmark(32), window=jd.SteadyState(4, 2),
+                    outputs=jd.Outputs(states=True))
+    with pytest.raises(ValueError, match="chain"):
+        gb.GearboxModel("box", run)
+    with pytest.raises(ValueError, match="basis"):
+        jd.simulate(model, 30.0, integrator=jd.Newmark(32, basis=jd.ModalBasis(4)))
+
+
+def test_automatic_step_is_the_engines_rule_on_the_highest_excited_mode():
+    """The automatic step of a GearboxModel is jaxgear.dynamics.auto_steps_per_period's rule:
+    the smallest power of two >= max(64, n_mode f_max / f_ref), f_max the highest coupled mode
+    whose strain energy the meshes hold >= 5 % (read here from coupled_mode_table), f_ref =
+    160 ω_c / 2π the pair's mesh frequency (the fastest excited mesh), n_mode the run's
+    steps_per_mode (40 by default)."""
+    chain, run = EX.two_stage(mean_positions=32)
+    table = gb.coupled_mode_table(chain, gb.gearbox_coupled_modes(chain, run))
+    f_max = max(r["frequency_Hz"] for r in table
+                if r["type"] != "rigid body" and r["mesh_total"] >= 0.05)
+    speeds = np.array([20.0, 100.0, 160.0])
+    for n_mode in (40, 24):
+        model = gb.GearboxModel(chain, gb.GearboxRun(5000.0, 5e5, mean_positions=32,
+                                                     steps_per_mode=n_mode))
+        want = [2 ** int(np.ceil(np.log2(max(64.0, np.ceil(n_mode * f_max / (160 * w / (2 * np.pi)))))))
+                for w in speeds]
+        np.testing.assert_array_equal(jd.auto_steps_per_period(model, speeds), want)
