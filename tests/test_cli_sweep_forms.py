@@ -9,9 +9,16 @@ equal :func:`jaxgear.planetary.planetary_dynamics` with that law on the stage wr
 and differ from the exact law's). The planetary sweep's whole output through this path against
 the record made by the planetary stage's own command before it was folded in:
 tests/test_regression.py ``sweep-example-planetary-hunting`` (slow).
+
+A gearbox (``[[stages]]``): its coupled model (a :class:`jaxgear.gearbox.GearboxModel`) refuses
+a diffrax solver and a continuation the same way; its sweep's per-mesh dynamic factors equal
+:func:`jaxgear.gearbox.gearbox_speed_sweep` at the same plan, to 1e-9 (slow).
 """
 
 from __future__ import annotations
+
+import json
+import pathlib
 
 import jax.numpy as jnp
 import numpy as np
@@ -21,6 +28,7 @@ import test_planetary_sweep as small
 import jaxgear as jg
 import jaxgear.io as jio
 import jaxgear.planetary as jp
+from jaxgear import gearbox as gb
 from jaxgear.cli import main, sweep as cli_sweep
 
 # the lumped runs check definitions on a few coarse steps: under-resolved on purpose
@@ -96,3 +104,56 @@ def _small_case(folder):
     path = folder / "small-stage.toml"
     path.write_text(small.CASE)
     return path
+
+
+# -- a gearbox: the two-stage gearbox case file of docs/gearbox.md ---------------------------
+
+GEARBOX = str(pathlib.Path(__file__).parent / "data" / "gearbox" / "two-stage-gearbox.toml")
+
+
+@pytest.mark.parametrize(
+    ("extra", "words"),
+    [(["--solver", "tsit5"], "--solver = tsit5: a GearboxModel does not run it (allowed: "
+                             "newmark)"),
+     (["--direction", "both"], "--direction = both: a GearboxModel sweeps independent speeds "
+                               "only (allowed: independent)"),
+     (["--vtu-speed", "80"], "--vtu-speed = 80.0: a GearboxModel has no condensed body")],
+    ids=["solver", "direction", "vtu"],
+)
+def test_a_gearbox_sweep_refuses_what_its_model_cannot_run(tmp_path, capsys, extra, words):
+    argv = ["sweep", GEARBOX, "--speeds", "60:120:2", *extra]
+    err = _one_line_refusal(capsys, argv, tmp_path / "out")
+    assert words in err, err
+
+
+# the coupled run's compilation (nine meshes' contact cells in one Newmark loop) takes about a
+# minute of CPU on the loaded machine; the fast twin: the refusals above (the dispatch, the
+# model from the case, its contract)
+@pytest.mark.slow
+def test_a_gearbox_sweep_is_the_coupled_sweep_at_the_same_plan(tmp_path, capsys):
+    """``jaxgear sweep`` on the two-stage gearbox (planetary 20/30/-80, carrier in; the spur
+    pair its sun drives through a 5e5 N m/rad shaft, which also holds the output) at two input
+    speeds, 32 steps per period of the fastest excited mesh, 4 blocks, 2 kept: every mesh's
+    dynamic factor in sweep.json equals jaxgear.gearbox.gearbox_speed_sweep of the case's
+    coupled chain at the same plan (its torque, the output hold, K_m over 32 positions), to
+    1e-9; the meshes named by mesh_names, the worst mesh per speed, the files written."""
+    out = tmp_path / "out"
+    argv = ["sweep", GEARBOX, "--speeds", "60:120:2", "--steps-per-period", "32", "--periods",
+            "4", "--keep-periods", "2", "--out", str(out), "--quiet"]
+    assert main(argv) == 0
+    assert "two-stage-gearbox: 2 input speeds, 9 meshes" in capsys.readouterr().out
+    s = json.loads((out / "sweep.json").read_text())
+    assert {p.name for p in out.iterdir()} >= {"sweep.json", "sweep.csv", "dynamic_factor.png"}
+    form = jio.load_case(GEARBOX).form
+    chain = form.coupled()
+    run = gb.GearboxRun(form.stages[0].input_torque, 5e5, steps_per_period=32, periods=4,
+                        keep_periods=2, mean_positions=32)
+    ref = gb.gearbox_speed_sweep(chain, run, np.array([60.0, 120.0]))
+    assert s["mesh_names"] == list(gb.mesh_names(chain))
+    np.testing.assert_allclose(s["dynamic_factor_mesh"], np.asarray(ref.dynamic_factors),
+                               rtol=1e-9)
+    np.testing.assert_allclose(s["dynamic_factor"], np.max(ref.dynamic_factors, axis=1),
+                               rtol=1e-9)
+    assert s["result"] == [0, 0] and s["steps_integrated"] == int(np.asarray(ref.steps)[0])
+    header = (out / "sweep.csv").read_text().splitlines()[0].split(",")
+    assert "dynamic_factor_mesh_2_pair" in header, header

@@ -37,6 +37,7 @@ from ._sweep_json import (
     write_sweep_csv,
 )
 from ._sweep_kinds import check_model_options, sweep_kind
+from .gearbox import check_gearbox_sweep, gearbox_sweep_files, gearbox_sweep_lines
 from .planetary_sweep import check_planetary_sweep, planetary_sweep_files, sweep_lines
 
 __all__ = [
@@ -535,14 +536,9 @@ sweep_files.register(case_io.PlanetaryForm, planetary_sweep_files)
 sweep_report.register(case_io.PlanetaryForm, lambda form, case, s: sweep_lines(case, s))
 
 
-@check_sweep.register
-def _(form: case_io.GearboxForm, case, **options) -> None:
-    stages = ", ".join(repr(s.case.name) for s in form.stages)
-    raise ValueError(
-        f"jaxgear sweep does not take a gearbox: case {case.name!r} is a gearbox ([[stages]]); "
-        "jaxgear run sweeps its coupled chain (coupled.json), or sweep a stage's own case "
-        f"({stages})"
-    )
+check_sweep.register(case_io.GearboxForm, check_gearbox_sweep)
+sweep_files.register(case_io.GearboxForm, gearbox_sweep_files)
+sweep_report.register(case_io.GearboxForm, gearbox_sweep_lines)
 
 
 def housing_band_lines(case, speeds) -> list[str]:
