@@ -1,8 +1,16 @@
-"""``jaxgear sweep``: dynamic factor against pinion speed for a case's ``[scene]`` (its schema:
-:func:`jaxgear.io.parse_scene` and docs/dynamics.md), written as ``sweep.json``,
-``dynamic_factor.png``, ``campbell.png``, ``contact_pressure.png`` (the largest Hertzian
-pressure per speed) and ``pressure_map_dynamic.png`` (the pressure over a tooth's passage at
-the speed of the largest dynamic factor; a train: ``pressure_map_dynamic_<mesh>.png``)."""
+"""``jaxgear sweep``: dynamic factor against speed for a case of any form, one command
+(:func:`sweep_command`): the case's dynamic model (:func:`jaxgear.io.build_dynamic_model`)
+swept by :func:`jaxgear.dynamics.speed_sweep` with the same options, what the model cannot run
+refused at load by asking its contract (:func:`~jaxgear.cli._sweep_kinds.check_model_options`),
+the files written by the form (:func:`check_sweep`, :func:`sweep_files`, :func:`sweep_report`:
+a planetary stage's in :mod:`jaxgear.cli.planetary_sweep`, a gearbox's in
+:mod:`jaxgear.cli.gearbox`).
+
+A case's ``[scene]`` (pairs and trains; its schema: :func:`jaxgear.io.parse_scene` and
+docs/dynamics.md) is written as ``sweep.json``, ``dynamic_factor.png``, ``campbell.png``,
+``contact_pressure.png`` (the largest Hertzian pressure per speed) and
+``pressure_map_dynamic.png`` (the pressure over a tooth's passage at the speed of the largest
+dynamic factor; a train: ``pressure_map_dynamic_<mesh>.png``)."""
 
 from __future__ import annotations
 
