@@ -312,7 +312,8 @@ def gearbox_sweep_files(form, case, speeds, out_dir: str, *, direction="independ
     ``speeds`` (rad/s, (S,)) by :func:`jaxgear.dynamics.speed_sweep` with the options given
     (:func:`_settings`; none given: the model's automatic step and its span from settling);
     written into ``out_dir`` (:data:`GEARBOX_SWEEP_FILES`): ``sweep.json`` (the case, the
-    settings, ``speed_of``, ``speeds_rad_s``, the worst mesh's ``dynamic_factor`` per speed,
+    settings, ``settle_s`` (the automatic span's settling time, None for given periods),
+    ``speed_of``, ``speeds_rad_s``, the worst mesh's ``dynamic_factor`` per speed,
     ``max_dynamic_factor_mesh`` and ``speed_of_max_rad_s``, and :func:`coupled_response`'s
     keys: each mesh's dynamic factor per speed, named by :func:`jaxgear.gearbox.mesh_names`),
     ``sweep.csv`` (a row per speed) and ``dynamic_factor.png`` (one curve per mesh). Returns
@@ -339,6 +340,10 @@ def gearbox_sweep_files(form, case, speeds, out_dir: str, *, direction="independ
         "steps_per_period": steps_per_period or "auto",
         "periods": "auto" if periods in (None, "auto") else int(periods),
         "keep_periods": int((window or model.default_settings()[2]).keep_periods),
+        # the automatic span: the settling time of the slowest decaying mode the meshes
+        # excite (GearboxModel.settle_time), then the kept blocks
+        "settle_s": (float(model.settle_time()) if window is None or window.periods is None
+                     else None),
         "speed_of": "input (stage 1's input member)",
         "torque_Nm": float(model.run.input_torque),
         "output_hold_Nm_per_rad": float(model.run.output_stiffness),
