@@ -29,7 +29,13 @@ import time
 
 from .. import gearbox_modes
 from ..acoustics import housing_acoustics
-from ..dynamics import DIRECTIONS, Newmark, SteadyState, speed_sweep
+from ..dynamics import (
+    DIRECTIONS,
+    MAX_STEPS_PER_SPEED,
+    MIN_STEPS_PER_PERIOD,
+    SteadyState,
+    speed_sweep,
+)
 from ..gearbox import (
     GearboxModel,
     GearboxRun,
@@ -288,8 +294,9 @@ def check_gearbox_sweep(form, case, *, direction="independent", solver=None, con
     coupled model (:func:`jaxgear.io.build_dynamic_model`, a
     :class:`~jaxgear.gearbox.GearboxModel`) cannot run, asked of its contract
     (:func:`~jaxgear.cli._sweep_kinds.check_model_options`: ``--direction``, ``--solver``,
-    ``--vtu-speed``), and the step count within the coupled run's range (>= 8 per period of
-    the fastest excited mesh). One-line ``ValueError``."""
+    ``--vtu-speed``), the step count within the coupled run's range (>= 8 per period of
+    the fastest excited mesh) and given periods (blocks: the slowest excited mesh's period)
+    within the engine's bound of steps per speed. One-line ``ValueError``."""
     if steps_per_period is not None and steps_per_period < 8:
         raise ValueError(f"--steps-per-period = {steps_per_period}: out of range, allowed >= 8 "
                          "(steps per period of the gearbox's fastest excited mesh)")
@@ -299,6 +306,17 @@ def check_gearbox_sweep(form, case, *, direction="independent", solver=None, con
         integrator=_integrator(solver, steps_per_period),
         integrator_of=lambda name: _integrator(name, steps_per_period),
     )
+    if periods not in (None, "auto"):  # the blocks' steps within the engine's bound
+        steps = steps_per_period or MIN_STEPS_PER_PERIOD
+        block = max(1, round(steps / min(model.mesh_rates())))
+        if int(periods) * block > MAX_STEPS_PER_SPEED:
+            at = (f"{steps} time steps per period of the fastest excited mesh "
+                  + ("(--steps-per-period)" if steps_per_period else "(at least, automatic)"))
+            raise ValueError(
+                f"--periods = {periods}: out of range, allowed <= "
+                f"{MAX_STEPS_PER_SPEED // block} blocks of {block} steps at {at}: "
+                f"{int(periods) * block:.3g} time steps per speed, allowed <= "
+                f"{MAX_STEPS_PER_SPEED:.3g} (fewer periods or steps per period)")
     if contact is not None:
         case.contact_law(contact)
 
