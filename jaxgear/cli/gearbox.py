@@ -37,7 +37,7 @@ from ..dynamics import (
     speed_sweep,
 )
 from ..gearbox import (
-    GearboxModel,
+    OPERATING_RUN,
     GearboxRun,
     LumpedPairGearboxStage,
     PairGearboxStage,
@@ -75,15 +75,11 @@ __all__ = ["chain_modes", "check_gearbox_sweep", "coupled_response", "coupled_ca
 
 #: the coupled sweep's input speeds, as fractions of the operating point's input speed
 COUPLED_SPEEDS = np.linspace(0.2, 1.2, 6)
-#: the coupled run's time plan (GearboxRun's automatic one, its constants measured on
-#: nrel-5mw-gearbox: docs/gearbox.md, "Resolution and cost"): 24 steps per period of the
-#: highest mode the meshes excite at the lowest speed, 3 time constants of the lowest elastic
-#: mode to settle from the quasi-static start, then 4 blocks (the slowest mesh's periods)
-#: recorded; every mesh's dynamic factor within 0.73 % of a run with twice the steps, and
-#: within 4.3 % of one with twice the steps, settling and window (the window's own spread: the
-#: response is quasi-periodic)
-COUPLED_RUN = {"steps_per_period": None, "periods": None, "steps_per_mode": 24, "settle": 3.0,
-               "keep_periods": 4, "mean_positions": 32}
+#: the coupled run's time plan: the model's automatic one (the engine's step from the highest
+#: excited mode, its span from settling) with the constants of a gearbox case's operating
+#: point (:data:`jaxgear.gearbox.OPERATING_RUN`, :meth:`jaxgear.io.GearboxForm.dynamic_model`;
+#: measured on nrel-5mw-gearbox: docs/gearbox.md, "Resolution and cost")
+COUPLED_RUN = {"steps_per_period": None, "periods": None, **OPERATING_RUN}
 
 #: a mode below this fraction of the highest frequency is the free chain's rigid-body mode
 RIGID = 1e-6
@@ -182,8 +178,7 @@ def _coupled_setup(form):
     hold: the last shaft's stiffness)."""
     chain = form.coupled()
     first = form.stages[0]
-    shafts = [s.shaft_stiffness for s in form.stages[1:]]
-    hold = shafts[-1] if shafts else 1e9
+    hold = form.output_hold()
     return chain, GearboxRun(first.input_torque, hold, **COUPLED_RUN), first, hold
 
 
@@ -191,20 +186,21 @@ def coupled_sweep(form, out: str) -> dict:
     """The coupled model over the operating range (:data:`COUPLED_SPEEDS` of the first stage's
     input speed, the gearbox's torque): every mesh's dynamic factor (max / static from the
     torque ratios) at each speed, and the coupled modes; the last stage's output held by the
-    last shaft's stiffness (the generator is not in the chain); the sweep is
-    :func:`jaxgear.dynamics.speed_sweep` of the :class:`~jaxgear.gearbox.GearboxModel` on
-    :data:`COUPLED_RUN`'s automatic plan (the model's: its step from the highest excited mode,
-    its span from settling), the steps integrated and the spread of the recorded window's two
-    halves reported beside the factors (:func:`coupled_response`). Written to
-    ``coupled.json`` and ``coupled.png``; returns the summary's ``coupled`` section."""
-    chain, run, first, hold = _coupled_setup(form)
+    last shaft's stiffness (the generator is not in the chain). The sweep is
+    :func:`jaxgear.dynamics.speed_sweep` of the case's dynamic model
+    (:meth:`jaxgear.io.GearboxForm.dynamic_model`, :func:`jaxgear.io.build_dynamic_model`'s) on
+    its automatic plan (the step from the highest excited mode, the span from settling), the
+    steps integrated and the spread of the recorded window's two halves reported beside the
+    factors (:func:`coupled_response`). Written to ``coupled.json`` and ``coupled.png``;
+    returns the summary's ``coupled`` section."""
+    model = form.dynamic_model()
+    first = form.stages[0]
     speeds = first.input_speed * COUPLED_SPEEDS
-    model = GearboxModel(chain, run)
     res = speed_sweep(model, speeds).results
     result = {
         "input_speeds_rad_s": [float(w) for w in speeds],
         "input_torque_Nm": float(first.input_torque),
-        "output_hold_Nm_per_rad": float(hold),
+        "output_hold_Nm_per_rad": float(form.output_hold()),
         "time_plan": dict(COUPLED_RUN),
         **coupled_response(model, res),
     }
