@@ -12,7 +12,8 @@ tests/test_regression.py ``sweep-example-planetary-hunting`` (slow).
 
 A gearbox (``[[stages]]``): its coupled model (a :class:`jaxgear.gearbox.GearboxModel`) refuses
 a diffrax solver and a continuation the same way; its sweep's per-mesh dynamic factors equal
-:func:`jaxgear.gearbox.gearbox_speed_sweep` at the same plan, to 1e-9 (slow).
+:func:`jaxgear.gearbox.gearbox_speed_sweep` at the same plan as recorded before the gearbox
+became a dynamics model, to 1e-9 (slow).
 """
 
 from __future__ import annotations
@@ -139,25 +140,32 @@ def test_a_gearbox_sweep_is_the_coupled_sweep_at_the_same_plan(tmp_path, capsys)
     pair its sun drives through a 5e5 N m/rad shaft, which also holds the output) at two input
     speeds, 32 steps per period of the fastest excited mesh, 4 blocks, 2 kept: every mesh's
     dynamic factor in sweep.json equals jaxgear.gearbox.gearbox_speed_sweep of the case's
-    coupled chain at the same plan (its torque, the output hold, K_m over 32 positions), to
-    1e-9; the meshes named by mesh_names, the worst mesh per speed, the files written."""
+    coupled chain at the same plan (its torque, the output hold, K_m over 32 positions) as
+    recorded before the gearbox became a dynamics model (its own Newmark loop:
+    tests/data/gearbox/two_stage_sweep_reference.json, record_two_stage_sweep.py), to 1e-9;
+    the meshes named by mesh_names, the worst mesh per speed, the files written."""
+    ref = json.loads((pathlib.Path(GEARBOX).parent / "two_stage_sweep_reference.json")
+                     .read_text(encoding="utf-8"))
+    plan = ref["plan"]
     out = tmp_path / "out"
-    argv = ["sweep", GEARBOX, "--speeds", "60:120:2", "--steps-per-period", "32", "--periods",
-            "4", "--keep-periods", "2", "--out", str(out), "--quiet"]
+    w = ref["input_speeds_rad_s"]
+    argv = ["sweep", GEARBOX, "--speeds", f"{w[0]}:{w[1]}:2", "--steps-per-period",
+            str(plan["steps_per_period"]), "--periods", str(plan["periods"]), "--keep-periods",
+            str(plan["keep_periods"]), "--out", str(out), "--quiet"]
     assert main(argv) == 0
     assert "two-stage-gearbox: 2 input speeds, 9 meshes" in capsys.readouterr().out
     s = json.loads((out / "sweep.json").read_text())
     assert {p.name for p in out.iterdir()} >= {"sweep.json", "sweep.csv", "dynamic_factor.png"}
-    form = jio.load_case(GEARBOX).form
-    chain = form.coupled()
-    run = gb.GearboxRun(form.stages[0].input_torque, 5e5, steps_per_period=32, periods=4,
-                        keep_periods=2, mean_positions=32)
-    ref = gb.gearbox_speed_sweep(chain, run, np.array([60.0, 120.0]))
-    assert s["mesh_names"] == list(gb.mesh_names(chain))
-    np.testing.assert_allclose(s["dynamic_factor_mesh"], np.asarray(ref.dynamic_factors),
+    model, _ = jio.build_dynamic_model(jio.load_case(GEARBOX))
+    assert model.run.mean_positions == plan["mean_positions"]  # the record's K_m
+    assert float(model.run.input_torque) == ref["input_torque_Nm"]
+    assert float(model.run.output_stiffness) == ref["output_hold_Nm_per_rad"]
+    assert s["speeds_rad_s"] == w and s["mesh_names"] == ref["mesh_names"]
+    assert s["mesh_names"] == list(gb.mesh_names(model.chain))
+    np.testing.assert_allclose(s["dynamic_factor_mesh"], ref["dynamic_factors"], rtol=1e-9)
+    np.testing.assert_allclose(s["dynamic_factor"], np.max(ref["dynamic_factors"], axis=1),
                                rtol=1e-9)
-    np.testing.assert_allclose(s["dynamic_factor"], np.max(ref.dynamic_factors, axis=1),
-                               rtol=1e-9)
-    assert s["result"] == [0, 0] and s["steps_integrated"] == int(np.asarray(ref.steps)[0])
+    np.testing.assert_allclose(s["static_force_N"], ref["static_forces_N"][0], rtol=1e-9)
+    assert s["result"] == ref["result"] and s["steps_integrated"] == ref["steps"][0]
     header = (out / "sweep.csv").read_text().splitlines()[0].split(",")
     assert "dynamic_factor_mesh_2_pair" in header, header
