@@ -114,15 +114,15 @@ GEARBOX = str(pathlib.Path(__file__).parent / "data" / "gearbox" / "two-stage-ge
 
 @pytest.mark.parametrize(
     ("extra", "words"),
-    [(["--solver", "tsit5"], "--solver = tsit5: a GearboxModel does not run it (allowed: "
-                             "newmark)"),
-     (["--direction", "both"], "--direction = both: a GearboxModel sweeps independent speeds "
-                               "only (allowed: independent)"),
+    [(["--solver", "tsit5"],
+      "--solver = tsit5: a GearboxModel does not run it (allowed: newmark)"),
+     (["--direction", "both"],
+      "--direction = both: a GearboxModel sweeps independent speeds only (allowed: independent)"),
      (["--vtu-speed", "80"], "--vtu-speed = 80.0: a GearboxModel has no condensed body"),
      # a block is the planetary meshes' period, two of the pair's (docs/gearbox.md): 128
      # steps at 64 per pair period; 2^22 / 128 = 32768 blocks at most
-     (["--periods", "40000"], "--periods = 40000: out of range, allowed <= 32768 blocks of "
-                              "128 steps")],
+     (["--periods", "40000"],
+      "--periods = 40000: out of range, allowed <= 32768 blocks of 128 steps")],
     ids=["solver", "direction", "vtu", "periods"],
 )
 def test_a_gearbox_sweep_refuses_what_its_model_cannot_run(tmp_path, capsys, extra, words):

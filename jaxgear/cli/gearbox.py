@@ -22,10 +22,9 @@ modes with the housing's share of each mode's kinetic energy instead of the tors
 from __future__ import annotations
 
 import os
+import time
 
 import numpy as np
-
-import time
 
 from .. import gearbox_modes
 from ..acoustics import housing_acoustics
@@ -46,7 +45,6 @@ from ..gearbox import (
     coordinate_names,
     coupled_mode_table,
     gearbox_coupled_modes,
-    gearbox_speed_sweep,
     gearbox_whine,
     housing_lines,
     housing_spectrum,
@@ -67,11 +65,23 @@ from ._sweep_kinds import check_model_options
 from ._tribology_run import efficiency_run_line, gearbox_tribology
 from ._whine_run import SolvedWhine, whine_outputs, whine_run_line
 
-__all__ = ["chain_modes", "check_gearbox_sweep", "coupled_response", "coupled_campbell",
-           "coupled_sweep", "gearbox_run_files", "gearbox_run_lines", "gearbox_sweep_files",
-           "gearbox_sweep_lines", "gearbox_whine_outputs", "housed_modes",
-           "housing_point_spectrum", "least_safety", "rating_dynamic_factors",
-           "whine_mesh_names"]
+__all__ = [
+    "chain_modes",
+    "check_gearbox_sweep",
+    "coupled_campbell",
+    "coupled_response",
+    "coupled_sweep",
+    "gearbox_run_files",
+    "gearbox_run_lines",
+    "gearbox_sweep_files",
+    "gearbox_sweep_lines",
+    "gearbox_whine_outputs",
+    "housed_modes",
+    "housing_point_spectrum",
+    "least_safety",
+    "rating_dynamic_factors",
+    "whine_mesh_names",
+]
 
 #: the coupled sweep's input speeds, as fractions of the operating point's input speed
 COUPLED_SPEEDS = np.linspace(0.2, 1.2, 6)

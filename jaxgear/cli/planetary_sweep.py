@@ -77,14 +77,14 @@ from ..planetary import (
     sweep_factors,
     sweep_records,
 )
+from ._planetary_rating import stage_contact_model
 from ._planetary_steps import check_plan_size, resolution_checked
 from ._plots import new_figure
 from ._plots._figure import legend_below_and_save
-from ._planetary_rating import stage_contact_model
-from ._rating_sheet import sweep_excitation
 from ._progress import progress
-from ._sweep_kinds import check_model_options
+from ._rating_sheet import sweep_excitation
 from ._sweep_json import write_sweep_csv
+from ._sweep_kinds import check_model_options
 from .planetary import (
     MESH_ORDERS,
     RIGID_SHARE,

@@ -456,7 +456,7 @@ def run_sweep(args) -> int:
 def sweep_options(args) -> dict:
     """The options of ``jaxgear sweep`` that every form's sweep takes, by their Python names
     (:func:`sweep_spec`'s; ``periods`` ``"auto"``: the automatic span)."""
-    return dict(
+    return dict(  # noqa: C408 - the keyword names are sweep_spec's
         direction=args.direction,
         solver=args.solver,
         contact=args.contact,
@@ -512,12 +512,12 @@ def sweep_report(form, case, s: dict) -> list[str]:
     df = np.asarray([np.nan if v is None else v for v in s["dynamic_factor"]])
     i = int(np.nanargmax(df)) if np.isfinite(df).any() else 0
     n_bad = sum(1 for v in s["result"] if v)
-    lines = [
+    natural = [f for f in s["natural_frequencies_Hz"] if f][:6]
+    lines = [(
         f"{case.name}: {len(df)} speeds, max dynamic factor {df[i]:.3f} at "
         f"{s['speeds_rad_s'][i]:.1f} rad/s; first natural frequencies "
-        f"{', '.join(f'{f:.0f}' for f in [f for f in s['natural_frequencies_Hz'] if f][:6])} Hz; "
-        f"{n_bad} diverged; {s['elapsed_s']:.1f} s"
-    ]
+        f"{', '.join(f'{f:.0f}' for f in natural)} Hz; {n_bad} diverged; {s['elapsed_s']:.1f} s"
+    )]
     n_open = sum(1 for v in s.get("settled", ()) if v is False)
     if n_open:
         lines.append(
