@@ -9,7 +9,6 @@ import numpy as np
 import pytest
 from _examples import load_example
 
-import jaxgear as jg
 import jaxgear.dynamics as jd
 import jaxgear.io as jio
 from jaxgear import gearbox as gb
@@ -106,3 +105,57 @@ def test_automatic_step_is_the_engines_rule_on_the_highest_excited_mode():
         want = [2 ** int(np.ceil(np.log2(max(64.0, np.ceil(n_mode * f_max / (160 * w / (2 * np.pi)))))))
                 for w in speeds]
         np.testing.assert_array_equal(jd.auto_steps_per_period(model, speeds), want)
+
+
+def test_a_gearbox_case_builds_its_coupled_model_at_the_operating_point():
+    """jaxgear.io.build_dynamic_model of nrel-5mw-gearbox: a GearboxModel of the case's coupled
+    chain (13 meshes: stages 1 and 2 three sun-planet and three ring-planet meshes each, stage
+    3 one pair) at the rated input torque of the NREL 5 MW reference turbine (5 MW at the rotor's
+    12.1 rpm, Jonkman et al. 2009, NREL/TP-500-38060, Table 1-1: P / ω = 3.946 MN m), the last
+    shaft holding the output."""
+    case = jio.load_case("nrel-5mw-gearbox")
+    model, _ = jio.build_dynamic_model(case)
+    assert isinstance(model, gb.GearboxModel)
+    assert jio.dynamic_model_kind(case.form, case) is gb.GearboxModel
+    assert model.mesh_count() == 13
+    assert float(model.torque) == pytest.approx(5e6 / (12.1 * 2 * np.pi / 60), rel=1e-3)
+    assert float(model.run.output_stiffness) == case.form.stages[-1].shaft_stiffness
+    assert model.whine_methods == (jd.QuasiPeriodicBalance,)
+
+
+def test_whine_response_of_a_gearbox_model_is_gearbox_whine():
+    """jaxgear.dynamics.whine_response on a GearboxModel gives jaxgear.gearbox.gearbox_whine's
+    response (the kind's whine, GearboxModel.whine), and refuses a method the kind does not
+    declare in one line."""
+    chain, run = EX.two_stage(mean_positions=16)
+    model = gb.GearboxModel(chain, run)
+    method = jd.QuasiPeriodicBalance(2, 1)
+    speeds = np.array([30.0, 60.0])
+    got = jd.whine_response(model, speeds, method, positions=12)
+    want = gb.gearbox_whine(chain, run, speeds, method, positions=12)
+    for a, b in ((got.mesh_force, want.mesh_force), (got.frequency, want.frequency),
+                 (got.transmission_error, want.transmission_error)):
+        np.testing.assert_allclose(np.asarray(a), np.asarray(b), rtol=1e-12, atol=0)
+    with pytest.raises(TypeError, match="its whine methods: QuasiPeriodicBalance"):
+        jd.whine_response(model, speeds, jd.HarmonicBalance(2), positions=12)
+
+
+def test_automatic_span_is_the_engines_settling_time_in_blocks():
+    """The automatic span: t_s = ln(1000) / (ζ ω) of the slowest decaying mode the meshes excite
+    (one ζ for every mode: the lowest with a mesh share >= 5 %, read from coupled_mode_table)
+    in whole blocks of the slowest excited mesh's period (the planetary meshes', 2π / (80 ω_c))
+    at the highest speed, then the kept blocks; with ``settle`` given, that many time constants
+    1 / (ζ ω) instead of ln(1000)."""
+    chain, run = EX.two_stage(mean_positions=32)
+    table = gb.coupled_mode_table(chain, gb.gearbox_coupled_modes(chain, run))
+    f_1 = min(r["frequency_Hz"] for r in table
+              if r["type"] != "rigid body" and r["mesh_total"] >= 0.05)
+    speeds = np.array([40.0, 100.0])
+    block = 2 * np.pi / (80 * speeds.max())  # s
+    for settle, constants in ((None, np.log(1000.0)), (3.0, 3.0)):
+        model = gb.GearboxModel(chain, gb.GearboxRun(5000.0, 5e5, mean_positions=32,
+                                                     settle=settle))
+        window = model.resolve_window(jd.SteadyState(None, 2), speeds, np.array([256, 256]))
+        t_s = constants / (0.05 * 2 * np.pi * f_1)
+        assert window.periods == int(np.ceil(t_s / block)) + 2
+        assert window.keep_periods == 2

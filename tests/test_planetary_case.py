@@ -396,16 +396,16 @@ def test_the_case_file_reference_lists_the_planetary_keys():
     assert any("-10000, -5" in a for a in train.tables["gears[]"]["teeth"].allowed)
 
 
-def test_a_planetary_sweep_refuses_a_scene_option_in_one_line(tmp_path, capsys):
-    # jaxgear sweep dispatches on the case's form: a planetary stage runs its own sweep
-    # (tests/test_planetary_sweep.py), refusing the scene's options it has not, before any work
+def test_a_planetary_sweep_refuses_what_its_model_cannot_run_in_one_line(tmp_path, capsys):
+    # jaxgear sweep takes a planetary stage through the pairs' command, refusing what the
+    # stage's model (a PlanetaryModel) cannot run, asked of its contract, before any work
     out = tmp_path / "sweep"
     argv = ["sweep", "nrel-5mw-planetary", "--speeds", "1:2:2", "--out", str(out), "--quiet"]
-    assert main([*argv, "--contact", "smooth"]) == 2
+    assert main([*argv, "--direction", "up"]) == 2
     err = capsys.readouterr().err.strip()
     assert err.endswith(
-        "--contact = smooth: a planetary stage's sweep has no such option (allowed: the exact "
-        "contact law only; leave it out)"
+        "--direction = up: a PlanetaryModel sweeps independent speeds only (allowed: "
+        "independent)"
     )
     assert "\n" not in err and not out.exists()
 

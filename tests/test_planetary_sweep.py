@@ -201,7 +201,7 @@ def test_jaxgear_sweep_end_to_end_and_refusals(case_path, tmp_path, capsys):
     assert set(ps.SWEEP_FILES) <= {p.name for p in out.iterdir()}
     assert json.loads((out / "sweep.json").read_text())["speeds_rad_s"] == [20.0, 45.0]
     for extra, words in (
-        (["--vtu-speed", "30"], "--vtu-speed = 30.0: a planetary stage's sweep has no such"),
+        (["--vtu-speed", "30"], "--vtu-speed = 30.0: a PlanetaryModel has no condensed body"),
         (["--keep-periods", "9"], "--keep-periods 9: out of range, allowed <= --periods 6"),
     ):
         bad = tmp_path / "bad"

@@ -200,6 +200,14 @@ RUNS = {  # name: (argv after the command, output file(s) to compare, in the def
         SUMMARY_AND_SWEEP,
         False,
     ),
+    # jaxgear sweep on a planetary stage (its contact cells, a few coarse periods: the
+    # command's path and outputs, not a converged factor)
+    "sweep-example-planetary-hunting": (
+        ["sweep", "examples/planetary-hunting.toml", "--speeds", "100:200:2",
+         "--steps-per-period", "24", "--periods", "6", "--keep-periods", "2"],
+        "sweep.json",
+        False,
+    ),
     # a pair with [lubricant]: the film and the sliding loss along the path of contact
     "run-example-fzg-c14-lubricated": (
         ["run", "examples/fzg-c14-lubricated.toml"],
@@ -473,6 +481,7 @@ def test_every_record_is_compared():
 
 
 @pytest.mark.filterwarnings("ignore:.*under-resolved")
+@pytest.mark.filterwarnings("ignore:.*not settled")  # the planetary sweep's coarse periods
 @pytest.mark.filterwarnings("ignore:the structure's modes move")
 @pytest.mark.parametrize(
     "name",

@@ -168,13 +168,15 @@ def test_gearbox_without_stages_in_its_own_words(tmp_path):
         jio.load_case(file)
 
 
-def test_sweep_refuses_a_gearbox_in_one_line(tmp_path, capsys):
-    """``jaxgear sweep`` on a gearbox (``zip() argument 2 is shorter than argument 1`` before):
-    one line naming what sweeps it and the stages' cases, exit 2, no output folder."""
+def test_sweep_takes_a_gearbox_through_its_model(tmp_path, capsys):
+    """``jaxgear sweep`` on a gearbox (``zip() argument 2 is shorter than argument 1`` once,
+    then refused): its coupled model's (a GearboxModel) options checked by its contract, a
+    continuation refused in one line, exit 2, no output folder (the sweep itself:
+    tests/test_cli_sweep_forms.py)."""
     out = tmp_path / "out"
-    assert main(["sweep", "nrel-5mw-gearbox", "--speeds", "1:2:3", "--out", str(out)]) == 2
+    argv = ["sweep", "nrel-5mw-gearbox", "--speeds", "1:2:3", "--direction", "up"]
+    assert main([*argv, "--out", str(out)]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1, err
-    assert "jaxgear sweep does not take a gearbox" in err[0]
-    assert "'nrel-5mw-stage2'" in err[0] and "jaxgear run" in err[0]
+    assert "--direction = up: a GearboxModel sweeps independent speeds only" in err[0]
     assert not out.exists()

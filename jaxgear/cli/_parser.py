@@ -271,7 +271,8 @@ def _add_sweep(s) -> None:
     speeds = s.add_mutually_exclusive_group(required=True)
     speeds.add_argument(
         "--speeds",
-        help="START:STOP:N pinion speeds in rad/s (a planetary stage: its input member's)",
+        help="START:STOP:N pinion speeds in rad/s (a planetary stage: its input member's; a "
+        "gearbox: its first stage's input member's)",
     )
     speeds.add_argument(
         "--speeds-rpm",

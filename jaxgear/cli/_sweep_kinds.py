@@ -4,7 +4,10 @@ their trains) or a model with condensed FE bodies (:class:`jaxgear.dynamics.Hybr
 
 :func:`sweep_kind` dispatches on the model's type to a :class:`SweepKind`, whose methods give
 ``sweep.json``'s sections of that kind (in the order the file has them); a new kind of model
-registers its own."""
+registers its own.
+
+:func:`check_model_options` asks a model's contract which of ``jaxgear sweep``'s options it
+cannot run (every form's sweep, before any integration)."""
 
 from __future__ import annotations
 
@@ -15,6 +18,7 @@ import warnings
 import numpy as np
 
 from ..dynamics import (
+    DIRECTIONS,
     DynamicModel,
     HybridModel,
     mesh_energy_shares,
@@ -22,6 +26,7 @@ from ..dynamics import (
     modes_at_speed,
 )
 from ._case_kinds import pair_teeth
+from ._parser import SOLVER_NAMES
 from ._sweep_json import (
     at_speed_keys,
     clean,
@@ -40,6 +45,8 @@ __all__ = [
     "HybridSweep",
     "LumpedSweep",
     "SweepKind",
+    "check_model_options",
+    "exports_bodies",
     "sweep_kind",
 ]
 
@@ -259,3 +266,53 @@ def _(model: DynamicModel) -> SweepKind:
 @sweep_kind.register
 def _(model: HybridModel) -> SweepKind:
     return HybridSweep()
+
+
+@functools.singledispatch
+def exports_bodies(model) -> bool:
+    """Whether a sweep of ``model`` can write its condensed bodies' VTU series
+    (``--vtu-speed``): a model with condensed FE bodies (:class:`~jaxgear.dynamics.HybridModel`)."""
+    return False
+
+
+@exports_bodies.register
+def _(model: HybridModel) -> bool:
+    return True
+
+
+def _accepts(model, integrator) -> bool:
+    try:
+        model.check_integrator(integrator)
+    except ValueError:
+        return False
+    return True
+
+
+def check_model_options(model, *, direction="independent", solver=None, vtu_speed=None,
+                        integrator=None, integrator_of=None, **_) -> None:
+    """Refuse in one line, before any integration, an option of ``jaxgear sweep`` that the
+    dynamic model ``model`` (:class:`~jaxgear.dynamics.AbstractDynamicModel`) cannot run, by
+    asking its contract: ``--direction`` other than independent where the kind does not
+    continue (:attr:`~jaxgear.dynamics.AbstractDynamicModel.continues`), ``--solver`` whose
+    ``integrator`` (``integrator_of(name)`` builds one from a solver name) it refuses
+    (:meth:`~jaxgear.dynamics.AbstractDynamicModel.check_integrator`: the allowed names are
+    those it accepts), ``--vtu-speed`` without condensed bodies (:func:`exports_bodies`).
+
+    Raises:
+        ValueError: the option, its value, what the model is and the allowed values."""
+    what = type(model).__name__
+    if DIRECTIONS[direction].continues and not model.continues:
+        raise ValueError(
+            f"--direction = {direction}: a {what} sweeps independent speeds only (allowed: "
+            "independent)"
+        )
+    if solver is not None and not _accepts(model, integrator):
+        allowed = [name for name in SOLVER_NAMES if _accepts(model, integrator_of(name))]
+        raise ValueError(
+            f"--solver = {solver}: a {what} does not run it (allowed: {', '.join(allowed)})"
+        )
+    if vtu_speed is not None and not exports_bodies(model):
+        raise ValueError(
+            f"--vtu-speed = {vtu_speed}: a {what} has no condensed body to export (allowed: "
+            "leave it out; a scene with condensed bodies writes them)"
+        )

@@ -22,11 +22,20 @@ modes with the housing's share of each mode's kinetic energy instead of the tors
 from __future__ import annotations
 
 import os
+import time
 
 import numpy as np
 
 from ..acoustics import housing_acoustics
+from ..dynamics import (
+    DIRECTIONS,
+    MAX_STEPS_PER_SPEED,
+    MIN_STEPS_PER_PERIOD,
+    SteadyState,
+    speed_sweep,
+)
 from ..gearbox import (
+    OPERATING_RUN,
     GearboxRun,
     LumpedPairGearboxStage,
     PairGearboxStage,
@@ -36,7 +45,6 @@ from ..gearbox import (
     coupled_mode_table,
     gearbox_coupled_modes,
     gearbox_modes,
-    gearbox_speed_sweep,
     gearbox_whine,
     housing_lines,
     housing_spectrum,
@@ -45,31 +53,43 @@ from ..gearbox import (
     mesh_names,
     window_share,
 )
-from ..io import housing_surface, write_json
+from ..io import SceneSpec, build_dynamic_model, housing_surface, spec_integrator, write_json
 from ._housing_run import HousedRun
 from ._plots import (
     coupled_dynamic_factor_plot,
     gearbox_campbell_plot,
     housing_spectrum_plot,
 )
+from ._sweep_json import write_sweep_csv
+from ._sweep_kinds import check_model_options
 from ._tribology_run import efficiency_run_line, gearbox_tribology
 from ._whine_run import SolvedWhine, whine_outputs, whine_run_line
 
-__all__ = ["chain_modes", "coupled_campbell", "coupled_sweep", "gearbox_run_files",
-           "gearbox_run_lines", "gearbox_whine_outputs", "housed_modes", "housing_point_spectrum",
-           "least_safety", "rating_dynamic_factors", "whine_mesh_names"]
+__all__ = [
+    "chain_modes",
+    "check_gearbox_sweep",
+    "coupled_campbell",
+    "coupled_response",
+    "coupled_sweep",
+    "gearbox_run_files",
+    "gearbox_run_lines",
+    "gearbox_sweep_files",
+    "gearbox_sweep_lines",
+    "gearbox_whine_outputs",
+    "housed_modes",
+    "housing_point_spectrum",
+    "least_safety",
+    "rating_dynamic_factors",
+    "whine_mesh_names",
+]
 
 #: the coupled sweep's input speeds, as fractions of the operating point's input speed
 COUPLED_SPEEDS = np.linspace(0.2, 1.2, 6)
-#: the coupled run's time plan (GearboxRun's automatic one, its constants measured on
-#: nrel-5mw-gearbox: docs/gearbox.md, "Resolution and cost"): 24 steps per period of the
-#: highest mode the meshes excite at the lowest speed, 3 time constants of the lowest elastic
-#: mode to settle from the quasi-static start, then 4 blocks (the slowest mesh's periods)
-#: recorded; every mesh's dynamic factor within 0.73 % of a run with twice the steps, and
-#: within 4.3 % of one with twice the steps, settling and window (the window's own spread: the
-#: response is quasi-periodic)
-COUPLED_RUN = {"steps_per_period": None, "periods": None, "steps_per_mode": 24, "settle": 3.0,
-               "keep_periods": 4, "mean_positions": 32}
+#: the coupled run's time plan: the model's automatic one (the engine's step from the highest
+#: excited mode, its span from settling) with the constants of a gearbox case's operating
+#: point (:data:`jaxgear.gearbox.OPERATING_RUN`, :meth:`jaxgear.io.GearboxForm.dynamic_model`;
+#: measured on nrel-5mw-gearbox: docs/gearbox.md, "Resolution and cost")
+COUPLED_RUN = {"steps_per_period": None, "periods": None, **OPERATING_RUN}
 
 #: a mode below this fraction of the highest frequency is the free chain's rigid-body mode
 RIGID = 1e-6
@@ -168,8 +188,7 @@ def _coupled_setup(form):
     hold: the last shaft's stiffness)."""
     chain = form.coupled()
     first = form.stages[0]
-    shafts = [s.shaft_stiffness for s in form.stages[1:]]
-    hold = shafts[-1] if shafts else 1e9
+    hold = form.output_hold()
     return chain, GearboxRun(first.input_torque, hold, **COUPLED_RUN), first, hold
 
 
@@ -177,20 +196,44 @@ def coupled_sweep(form, out: str) -> dict:
     """The coupled model over the operating range (:data:`COUPLED_SPEEDS` of the first stage's
     input speed, the gearbox's torque): every mesh's dynamic factor (max / static from the
     torque ratios) at each speed, and the coupled modes; the last stage's output held by the
-    last shaft's stiffness (the generator is not in the chain); on :data:`COUPLED_RUN`'s plan,
-    the steps integrated and the spread of the recorded window's two halves reported beside
-    the factors. Written to ``coupled.json`` and ``coupled.png``; returns the summary's
-    ``coupled`` section."""
-    chain, run, first, hold = _coupled_setup(form)
+    last shaft's stiffness (the generator is not in the chain). The sweep is
+    :func:`jaxgear.dynamics.speed_sweep` of the case's dynamic model
+    (:meth:`jaxgear.io.GearboxForm.dynamic_model`, :func:`jaxgear.io.build_dynamic_model`'s) on
+    its automatic plan (the step from the highest excited mode, the span from settling), the
+    steps integrated and the spread of the recorded window's two halves reported beside the
+    factors (:func:`coupled_response`). Written to ``coupled.json`` and ``coupled.png``;
+    returns the summary's ``coupled`` section."""
+    model = form.dynamic_model()
+    first = form.stages[0]
     speeds = first.input_speed * COUPLED_SPEEDS
-    res = gearbox_speed_sweep(chain, run, speeds)
-    names = list(mesh_names(chain))
-    df = np.asarray(res.dynamic_factors)
+    res = speed_sweep(model, speeds).results
     result = {
         "input_speeds_rad_s": [float(w) for w in speeds],
         "input_torque_Nm": float(first.input_torque),
-        "output_hold_Nm_per_rad": float(hold),
+        "output_hold_Nm_per_rad": float(form.output_hold()),
         "time_plan": dict(COUPLED_RUN),
+        **coupled_response(model, res),
+    }
+    write_json(os.path.join(out, "coupled.json"), result)
+    coupled_dynamic_factor_plot(os.path.join(out, "coupled.png"), speeds,
+                                np.asarray(res.dynamic_factors), result["mesh_names"])
+    return result
+
+
+def coupled_response(model, res) -> dict:
+    """The keys of a coupled sweep's response ``res`` (:class:`~jaxgear.gearbox.GearboxDynamics`
+    with a leading speed axis (S,)) of ``model`` (a :class:`~jaxgear.gearbox.GearboxModel`):
+    ``steps_integrated``, ``steps_recorded``, ``mesh_names``, ``static_force_N`` (m),
+    ``dynamic_factor_mesh`` (S, m), ``mesh_speeds_m_s`` (S, stages), ``result``,
+    ``max_dynamic_factor``, ``worst_mesh``, ``modes`` (the coupled modes, typed:
+    :func:`~jaxgear.gearbox.coupled_mode_table`), ``highest_excited_mode_Hz`` (mesh share >=
+    5 %), ``steps_per_mode_period`` per speed and ``window_halves_spread`` per speed (the
+    largest relative difference of a mesh's peak force between the recorded window's two
+    halves: the window's own uncertainty on a quasi-periodic response)."""
+    chain = model.chain
+    names = list(mesh_names(chain))
+    df = np.asarray(res.dynamic_factors)
+    result = {
         "steps_integrated": int(np.asarray(res.steps)[0]),
         "steps_recorded": int(np.asarray(res.time).shape[1]),
         "mesh_names": names,
@@ -200,10 +243,10 @@ def coupled_sweep(form, out: str) -> dict:
         "result": [int(r) for r in np.asarray(res.result)],
         "max_dynamic_factor": float(np.max(df)),
         "worst_mesh": names[int(np.argmax(np.max(df, axis=0)))],
-        "modes": coupled_mode_table(chain, gearbox_coupled_modes(chain, run)),
+        "modes": coupled_mode_table(chain, gearbox_coupled_modes(chain, model.run)),
     }
     # the resolution of the highest mode the meshes excite (its mesh share >= 5 %): the
-    # automatic plan takes COUPLED_RUN's steps_per_mode per its period at the lowest speed
+    # automatic plan takes the run's steps_per_mode per its period at the lowest speed
     excited = [m["frequency_Hz"] for m in result["modes"]
                if m["type"] != "rigid body" and m["mesh_total"] >= 0.05]
     dt = np.asarray(res.time)[:, 1] - np.asarray(res.time)[:, 0]
@@ -217,9 +260,146 @@ def coupled_sweep(form, out: str) -> dict:
     peak = [np.max(f[:, :half], axis=1), np.max(f[:, half:], axis=1)]
     result["window_halves_spread"] = np.max(np.abs(peak[0] - peak[1])
                                             / np.maximum(peak[0], peak[1]), axis=1).tolist()
-    write_json(os.path.join(out, "coupled.json"), result)
-    coupled_dynamic_factor_plot(os.path.join(out, "coupled.png"), speeds, df, names)
     return result
+
+
+# -- jaxgear sweep on a gearbox -----------------------------------------------------------------
+
+#: the files of ``jaxgear sweep`` on a gearbox
+GEARBOX_SWEEP_FILES = ("sweep.json", "sweep.csv", "dynamic_factor.png")
+
+
+def _integrator(solver: str | None, steps_per_period: int | None):
+    """The integrator of a solver name and ``--steps-per-period`` (a case file's
+    ``[scene.integration]`` words, :func:`jaxgear.io.spec_integrator`; None: Newmark)."""
+    return spec_integrator(SceneSpec(solver=solver or "newmark",
+                                     steps_per_period=steps_per_period))
+
+
+def _settings(model, case, *, solver=None, contact=None, periods=None, steps_per_period=None,
+              keep_periods=None):
+    """(integrator, contact law, window) of a gearbox sweep from ``jaxgear sweep``'s options:
+    None where none was given (the model's own, :meth:`~jaxgear.gearbox.GearboxModel.
+    default_settings`: Newmark with the automatic step, the exact law, the automatic span
+    from settling keeping the run's blocks); ``periods`` ``"auto"`` the automatic span."""
+    integrator = (None if solver is None and steps_per_period is None
+                  else _integrator(solver, steps_per_period))
+    law = None if contact is None else case.contact_law(contact)
+    fixed = None if periods in (None, "auto") else int(periods)
+    window = None
+    if fixed is not None or keep_periods is not None:
+        keep = int(keep_periods or model.default_settings()[2].keep_periods)
+        window = SteadyState(fixed, keep if fixed is None else min(keep, fixed))
+    return integrator, law, window
+
+
+def check_gearbox_sweep(form, case, *, direction="independent", solver=None, contact=None,
+                        periods=None, steps_per_period=None, keep_periods=None, vtu_speed=None,
+                        slices=None) -> None:
+    """``jaxgear sweep``'s options on a gearbox checked before any file is touched: what the
+    coupled model (:func:`jaxgear.io.build_dynamic_model`, a
+    :class:`~jaxgear.gearbox.GearboxModel`) cannot run, asked of its contract
+    (:func:`~jaxgear.cli._sweep_kinds.check_model_options`: ``--direction``, ``--solver``,
+    ``--vtu-speed``), the step count within the coupled run's range (>= 8 per period of
+    the fastest excited mesh) and given periods (blocks: the slowest excited mesh's period)
+    within the engine's bound of steps per speed. One-line ``ValueError``."""
+    if steps_per_period is not None and steps_per_period < 8:
+        raise ValueError(f"--steps-per-period = {steps_per_period}: out of range, allowed >= 8 "
+                         "(steps per period of the gearbox's fastest excited mesh)")
+    model, _ = build_dynamic_model(case, slices=slices)
+    check_model_options(
+        model, direction=direction, solver=solver, vtu_speed=vtu_speed,
+        integrator=_integrator(solver, steps_per_period),
+        integrator_of=lambda name: _integrator(name, steps_per_period),
+    )
+    if periods not in (None, "auto"):  # the blocks' steps within the engine's bound
+        steps = steps_per_period or MIN_STEPS_PER_PERIOD
+        block = max(1, round(steps / min(model.mesh_rates())))
+        if int(periods) * block > MAX_STEPS_PER_SPEED:
+            at = (f"{steps} time steps per period of the fastest excited mesh "
+                  + ("(--steps-per-period)" if steps_per_period else "(at least, automatic)"))
+            raise ValueError(
+                f"--periods = {periods}: out of range, allowed <= "
+                f"{MAX_STEPS_PER_SPEED // block} blocks of {block} steps at {at}: "
+                f"{int(periods) * block:.3g} time steps per speed, allowed <= "
+                f"{MAX_STEPS_PER_SPEED:.3g} (fewer periods or steps per period)")
+    if contact is not None:
+        case.contact_law(contact)
+
+
+def gearbox_sweep_files(form, case, speeds, out_dir: str, *, direction="independent",
+                        solver=None, contact=None, periods=None, steps_per_period=None,
+                        keep_periods=None, vtu_speed=None, slices=None,
+                        show_progress=True) -> dict:
+    """``jaxgear sweep`` on a gearbox (options checked by :func:`check_gearbox_sweep`): the
+    coupled model (:func:`jaxgear.io.build_dynamic_model`) swept over the first stage's input
+    ``speeds`` (rad/s, (S,)) by :func:`jaxgear.dynamics.speed_sweep` with the options given
+    (:func:`_settings`; none given: the model's automatic step and its span from settling);
+    written into ``out_dir`` (:data:`GEARBOX_SWEEP_FILES`): ``sweep.json`` (the case, the
+    settings, ``settle_s`` (the automatic span's settling time, None for given periods),
+    ``speed_of``, ``speeds_rad_s``, the worst mesh's ``dynamic_factor`` per speed,
+    ``max_dynamic_factor_mesh`` and ``speed_of_max_rad_s``, and :func:`coupled_response`'s
+    keys: each mesh's dynamic factor per speed, named by :func:`jaxgear.gearbox.mesh_names`),
+    ``sweep.csv`` (a row per speed) and ``dynamic_factor.png`` (one curve per mesh). Returns
+    ``sweep.json``'s content."""
+    t0 = time.perf_counter()
+    model, _ = build_dynamic_model(case, slices=slices)
+    integrator, law, window = _settings(model, case, solver=solver, contact=contact,
+                                        periods=periods, steps_per_period=steps_per_period,
+                                        keep_periods=keep_periods)
+    speeds = np.asarray(speeds, dtype=float)
+    res = speed_sweep(model, speeds, integrator=integrator, contact=law, window=window,
+                      direction=DIRECTIONS[direction]).results
+    response = coupled_response(model, res)
+    df = np.asarray(response["dynamic_factor_mesh"])
+    worst = df.max(axis=1)
+    i = int(np.argmax(worst))
+    summary = {
+        "case": case.name,
+        "kind": "gearbox",
+        "model": "coupled gearbox (every stage's contact cells in one Newmark run)",
+        "solver": solver or "newmark",
+        "contact": contact or "exact",
+        "direction": direction,
+        "steps_per_period": steps_per_period or "auto",
+        "periods": "auto" if periods in (None, "auto") else int(periods),
+        "keep_periods": int((window or model.default_settings()[2]).keep_periods),
+        # the automatic span: the settling time of the slowest decaying mode the meshes
+        # excite (GearboxModel.settle_time), then the kept blocks
+        "settle_s": (float(model.settle_time()) if window is None or window.periods is None
+                     else None),
+        "speed_of": "input (stage 1's input member)",
+        "torque_Nm": float(model.run.input_torque),
+        "output_hold_Nm_per_rad": float(model.run.output_stiffness),
+        "speeds_rad_s": speeds.tolist(),
+        "dynamic_factor": worst.tolist(),
+        "speed_of_max_rad_s": float(speeds[i]),
+        "max_dynamic_factor_mesh": df.max(axis=0).tolist(),
+        **response,
+    }
+    summary["elapsed_s"] = time.perf_counter() - t0
+    write_json(os.path.join(out_dir, "sweep.json"), summary)
+    write_sweep_csv(os.path.join(out_dir, "sweep.csv"), summary)
+    coupled_dynamic_factor_plot(os.path.join(out_dir, "dynamic_factor.png"), speeds, df,
+                                summary["mesh_names"])
+    return summary
+
+
+def gearbox_sweep_lines(form, case, s: dict) -> list[str]:
+    """What ``jaxgear sweep`` prints for a gearbox (``s``: its ``sweep.json``)."""
+    elastic = [m for m in s["modes"] if m["type"] != "rigid body"]
+    per_mode = [v for v in s["steps_per_mode_period"] if v is not None]
+    resolution = (f", {min(per_mode):.3g} steps per period of the "
+                  f"{s['highest_excited_mode_Hz']:.4g} Hz mode the meshes excite"
+                  if per_mode else "")
+    return [
+        f"{case.name}: {len(s['speeds_rad_s'])} input speeds, {len(s['mesh_names'])} meshes, "
+        f"max dynamic factor {s['max_dynamic_factor']:.4f} ({s['worst_mesh']}) at "
+        f"{s['speed_of_max_rad_s']:.4g} rad/s; {s['steps_integrated']} steps a speed"
+        f"{resolution}; first coupled modes "
+        + ", ".join(f"{m['frequency_Hz']:.4g}" for m in elastic[:6]) + " Hz; "
+        f"{sum(1 for v in s['result'] if v)} diverged; {s['elapsed_s']:.1f} s"
+    ]
 
 
 def _mesh_kinds(names: list[str], k: int) -> dict[str, list[int]]:

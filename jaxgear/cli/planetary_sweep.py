@@ -58,7 +58,7 @@ from ..dynamics import (
     SteadyState,
     simulate,
 )
-from ..io import CaseWarning, build_dynamic_model, write_json
+from ..io import CaseWarning, SceneSpec, build_dynamic_model, spec_integrator, write_json
 from ..planetary import (
     NO_EXCITATION_TOL,
     HousedPlanetary,
@@ -78,13 +78,14 @@ from ..planetary import (
     sweep_factors,
     sweep_records,
 )
+from ._planetary_rating import stage_contact_model
 from ._planetary_steps import check_plan_size, resolution_checked
 from ._plots import new_figure
 from ._plots._figure import legend_below_and_save
-from ._planetary_rating import stage_contact_model
-from ._rating_sheet import sweep_excitation
 from ._progress import progress
+from ._rating_sheet import sweep_excitation
 from ._sweep_json import write_sweep_csv
+from ._sweep_kinds import check_model_options
 from .planetary import (
     MESH_ORDERS,
     RIGID_SHARE,
@@ -98,11 +99,13 @@ __all__ = [
     "RUN_SWEEP_FILES",
     "SPECTRUM_SIDEBANDS",
     "SWEEP_FILES",
+    "check_planetary_sweep",
     "model_words",
     "planetary_run",
     "planetary_run_files",
     "planetary_run_lines",
     "planetary_sweep",
+    "planetary_sweep_files",
     "run_speeds",
     "sweep_lines",
     "sweep_summary",
@@ -199,6 +202,49 @@ def planetary_run(
     )
 
 
+def _integrator(solver: str | None, steps_per_period: int | None):
+    """The integrator a solver name and ``--steps-per-period`` name (a case file's
+    ``[scene.integration]`` words, :func:`jaxgear.io.spec_integrator`; None: Newmark)."""
+    spec = SceneSpec(solver=solver or "newmark", steps_per_period=steps_per_period)
+    return spec_integrator(spec)
+
+
+def check_planetary_sweep(form, case, *, direction="independent", solver=None, contact=None,
+                          periods=None, steps_per_period=None, keep_periods=None,
+                          vtu_speed=None, slices=None) -> None:
+    """``jaxgear sweep``'s options on a planetary stage checked before any file is touched:
+    the counts' ranges (:func:`planetary_run`), then what the stage's dynamic model
+    (:func:`jaxgear.io.build_dynamic_model`, a :class:`~jaxgear.planetary.PlanetaryModel`)
+    cannot run, asked of its contract (:func:`~jaxgear.cli._sweep_kinds.check_model_options`:
+    ``--direction``, ``--solver``, ``--vtu-speed``). One-line ``ValueError``."""
+    periods = None if periods == "auto" else periods
+    planetary_run(form, case, steps_per_period, periods, keep_periods)
+    model, _ = build_dynamic_model(case, slices=slices)
+    check_model_options(
+        model, direction=direction, solver=solver, vtu_speed=vtu_speed,
+        integrator=_integrator(solver, steps_per_period),
+        integrator_of=lambda name: _integrator(name, steps_per_period),
+    )
+    if contact is not None:
+        case.contact_law(contact)
+
+
+def planetary_sweep_files(form, case, speeds, out_dir: str, *, direction="independent",
+                          solver=None, contact=None, periods=None, steps_per_period=None,
+                          keep_periods=None, vtu_speed=None, slices=None,
+                          show_progress=True) -> dict:
+    """``jaxgear sweep`` on a planetary stage (options checked by
+    :func:`check_planetary_sweep`): :func:`planetary_sweep` at the given counts (None, and
+    ``periods`` ``"auto"``: the model's time plan) and contact law (None: the model's).
+    ``direction``, ``solver``, ``vtu_speed`` and ``show_progress`` are those the check
+    allowed (independent speeds, Newmark; no bar: the sweep is one compiled program)."""
+    return planetary_sweep(
+        form, case, speeds, out_dir, steps_per_period=steps_per_period,
+        periods=None if periods == "auto" else periods, keep_periods=keep_periods,
+        slices=slices, contact=None if contact is None else case.contact_law(contact),
+    )
+
+
 def sweep_time_plan(form, case, speeds, *, steps_per_period=None, periods=None,
                     keep_periods=None, slices=None) -> TimePlan:
     """The :class:`TimePlan` that :func:`sweep_summary` runs ``case`` with at the input
@@ -239,6 +285,7 @@ def planetary_sweep(
     keep_periods: int | None = None,
     slices: int | None = None,
     campbell_file: str | None = None,
+    contact=None,
 ) -> dict:
     """Sweep the input speeds ``speeds`` (rad/s, (s,), > 0) of a planetary case (module
     docstring) and write its files into ``out_dir`` (:data:`SWEEP_FILES`); returns
@@ -247,11 +294,13 @@ def planetary_sweep(
     ``sweep.json``: the keys of :func:`sweep_summary`, the Campbell diagram's file and
     ``ring_spectrum`` (the ring transducer at the worst speed). ``campbell_file``: where the
     same Campbell diagram is written already, relative to ``out_dir`` (``jaxgear run``'s
-    ``../campbell.png``): not drawn again, ``campbell`` names it."""
+    ``../campbell.png``): not drawn again, ``campbell`` names it. ``contact``: the contact
+    law of the sweep and of the ring spectrum's run (None: the model's,
+    :meth:`~jaxgear.planetary.PlanetaryModel.default_settings`)."""
     t0 = time.perf_counter()
     summary, (stage, meshes, run, ring, model, settled) = sweep_summary(
         form, case, speeds, steps_per_period=steps_per_period, periods=periods,
-        keep_periods=keep_periods, slices=slices,
+        keep_periods=keep_periods, slices=slices, contact=contact,
     )
     spec = form.spec
     summary["campbell"] = campbell_file or campbell_section(
@@ -259,7 +308,7 @@ def planetary_sweep(
     )["file"]
     summary["ring_spectrum"] = ring_spectrum(
         case, stage, meshes, run, summary["speed_of_max_rad_s"],
-        os.path.join(out_dir, "ring_spectrum.png"), ring, model, settled,
+        os.path.join(out_dir, "ring_spectrum.png"), ring, model, settled, contact,
     )
     summary["elapsed_s"] = time.perf_counter() - t0
     write_json(os.path.join(out_dir, "sweep.json"), summary)
@@ -277,6 +326,7 @@ def sweep_summary(
     periods: int | None = None,
     keep_periods: int | None = None,
     slices: int | None = None,
+    contact=None,
 ) -> tuple[dict, tuple]:
     """The sweep of :func:`planetary_sweep` without its files, spectrum and Campbell diagram:
     (``sweep.json``'s numbers, (the dynamic stage, its meshes, the worst speed's run, the ring
@@ -301,7 +351,8 @@ def sweep_summary(
     ``ring``: the ring model of the sweep (``[planetary.ring]``: ``model``, and for a condensed ring
     ``body``, ``dynamics``, ``modes``); for a condensed ring ``ring_deflection_max_m`` per speed
     (the largest elastic ring displacement at a ring mesh over the kept periods, m) and its
-    maximum ``max_ring_deflection_m``."""
+    maximum ``max_ring_deflection_m``; with a ``contact`` law given (a
+    :class:`~jaxgear.ContactLaw`; None: the model's), ``contact``: its kind."""
     spec = form.spec
     planetary_run(form, case, steps_per_period, periods, keep_periods)  # the options' checks
     dyn, _ = build_dynamic_model(case, slices=slices)
@@ -313,7 +364,7 @@ def sweep_summary(
     plan = _plan(spec, dyn, speeds, (steps_per_period, periods, keep_periods))
     resolution = resolution_checked(plan, speeds * f_mesh, spec.n_planets)  # before the work
     carrier = speeds * spec.speeds(1.0)["carrier"]
-    rec = sweep_records(dyn, speeds, plan)
+    rec = sweep_records(dyn, speeds, plan, contact=contact)
     n = spec.n_planets
     fs = rec.static_force
     per_mesh, k_gamma, periodicity, deflection, k_mean = sweep_factors(rec, plan, n)
@@ -391,6 +442,8 @@ def sweep_summary(
     excite["far_below_resonance"] = (
         sweep_excitation(speeds * f_mesh, float(natural[0]), stage_contact_model(meshes))
         if natural.size and excite["words"] is None else None)
+    if contact is not None:
+        summary["contact"] = type(contact).__name__
     if spec.ring_model.flexible:
         summary["ring_deflection_max_m"] = deflection.tolist()
         summary["max_ring_deflection_m"] = float(deflection.max())
@@ -497,7 +550,7 @@ def dynamic_factor_plot(case, summary: dict, path: str) -> None:
 
 
 def ring_spectrum(case, stage, meshes, run, speed: float, path: str, ring=None, model=MODEL,
-                  settled=None) -> dict:
+                  settled=None, contact=None) -> dict:
     """The ring transducer (:func:`~jaxgear.planetary.ring_transducer_signal`, at angle 0) at
     input ``speed`` over one whole turn of the carrier relative to the ring (z_r mesh periods,
     after the run's transient), its order spectrum (orders of that turn) drawn into ``path``;
@@ -508,7 +561,8 @@ def ring_spectrum(case, stage, meshes, run, speed: float, path: str, ring=None, 
     (:func:`carrier_periodic`): the turn's forces are that period's repeated z_r times (no
     integration; equal to the integrated turn to 1e-9 of the nominal force on a test stage);
     else the turn is integrated after ``run``'s settling time, at ``run``'s step or, past
-    :data:`TURN_MAX_STEPS` steps for the turn, a coarser one (:func:`turn_steps`).
+    :data:`TURN_MAX_STEPS` steps for the turn, a coarser one (:func:`turn_steps`), with the
+    ``contact`` law (None: the model's).
     Where the mesh order's amplitude is round-off (below :data:`NO_EXCITATION_TOL` of the mean
     load: nothing excites the meshes, :func:`excitation`), the title says so: the planets'
     passing alone shows."""
@@ -518,7 +572,8 @@ def ring_spectrum(case, stage, meshes, run, speed: float, path: str, ring=None, 
     rel = w["carrier"] - w["ring"]
     if settled is None:
         steps = turn_steps(run.steps_per_period, z_r, spec.n_planets)
-        time_turn, forces = _integrated_turn(stage, meshes, run, spec, speed, ring, model, steps)
+        time_turn, forces = _integrated_turn(stage, meshes, run, spec, speed, ring, model, steps,
+                                             contact)
     else:
         steps = run.steps_per_period
         time_turn, forces = _repeated_turn(*settled, z_r)
@@ -588,14 +643,14 @@ def turn_steps(steps: int, z_r: int, n_planets: int) -> int:
     return n
 
 
-def _integrated_turn(stage, meshes, run, spec, speed, ring, model, steps):
+def _integrated_turn(stage, meshes, run, spec, speed, ring, model, steps, contact=None):
     """(time (s), ring-mesh forces (N)) of one turn integrated: ``run``'s settling time, then
     z_r kept mesh periods, at ``steps`` per mesh period."""
     z_r = int(spec.teeth[2])
     settle = math.ceil((run.periods - run.keep_periods) * run.steps_per_period / steps)
     dyn = PlanetaryModel(model, stage, meshes, run, spec.speeds(1.0)["carrier"],
                          spec.mesh_speed(1.0), RigidRing() if ring is None else ring)
-    d = simulate(dyn, float(speed), integrator=Newmark(int(steps)),
+    d = simulate(dyn, float(speed), integrator=Newmark(int(steps)), contact=contact,
                  window=SteadyState(settle + z_r, z_r))
     return np.asarray(d.time), np.asarray(d.ring_mesh_forces)
 

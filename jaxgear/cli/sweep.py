@@ -1,8 +1,16 @@
-"""``jaxgear sweep``: dynamic factor against pinion speed for a case's ``[scene]`` (its schema:
-:func:`jaxgear.io.parse_scene` and docs/dynamics.md), written as ``sweep.json``,
-``dynamic_factor.png``, ``campbell.png``, ``contact_pressure.png`` (the largest Hertzian
-pressure per speed) and ``pressure_map_dynamic.png`` (the pressure over a tooth's passage at
-the speed of the largest dynamic factor; a train: ``pressure_map_dynamic_<mesh>.png``)."""
+"""``jaxgear sweep``: dynamic factor against speed for a case of any form, one command
+(:func:`sweep_command`): the case's dynamic model (:func:`jaxgear.io.build_dynamic_model`)
+swept by :func:`jaxgear.dynamics.speed_sweep` with the same options, what the model cannot run
+refused at load by asking its contract (:func:`~jaxgear.cli._sweep_kinds.check_model_options`),
+the files written by the form (:func:`check_sweep`, :func:`sweep_files`, :func:`sweep_report`:
+a planetary stage's in :mod:`jaxgear.cli.planetary_sweep`, a gearbox's in
+:mod:`jaxgear.cli.gearbox`).
+
+A case's ``[scene]`` (pairs and trains; its schema: :func:`jaxgear.io.parse_scene` and
+docs/dynamics.md) is written as ``sweep.json``, ``dynamic_factor.png``, ``campbell.png``,
+``contact_pressure.png`` (the largest Hertzian pressure per speed) and
+``pressure_map_dynamic.png`` (the pressure over a tooth's passage at the speed of the largest
+dynamic factor; a train: ``pressure_map_dynamic_<mesh>.png``)."""
 
 from __future__ import annotations
 
@@ -36,15 +44,21 @@ from ._sweep_json import (
     write_sweep,
     write_sweep_csv,
 )
-from ._sweep_kinds import sweep_kind
-from .planetary_sweep import planetary_run, planetary_sweep, sweep_lines
+from ._sweep_kinds import check_model_options, sweep_kind
+from .gearbox import check_gearbox_sweep, gearbox_sweep_files, gearbox_sweep_lines
+from .planetary_sweep import check_planetary_sweep, planetary_sweep_files, sweep_lines
 
 __all__ = [
     "ND_MODES",
+    "check_model_options",
+    "check_sweep",
     "default_sweep_dir",
     "run_sweep",
     "sweep_case",
     "sweep_case_run",
+    "sweep_command",
+    "sweep_files",
+    "sweep_report",
     "sweep_spec",
     "write_sweep_csv",
 ]
@@ -187,6 +201,11 @@ def sweep_case_run(
     else:
         bar.set_postfix_str("building the model (modes, damping)")
     model, spec = case_io.build_dynamic_model(case, spec, slices=slices, bodies=bodies)
+    check_model_options(  # what the model cannot run, asked of its contract
+        model, direction=direction, solver=integration.get("solver"), vtu_speed=vtu_speed,
+        integrator=case_io.spec_integrator(spec), integrator_of=lambda name: (
+            case_io.spec_integrator(dataclasses.replace(spec, solver=name))),
+    )
     kind = sweep_kind(model)
     law = case.contact_law(spec.contact)
     # modes of the mesh-averaged system and their mesh energy shares (Campbell, critical
@@ -427,21 +446,17 @@ def default_sweep_dir(case_name: str, speeds) -> str:
 
 
 def run_sweep(args) -> int:
-    """Run ``jaxgear sweep`` (float64 must already be on: the CLI does it), by the case's form
-    (:func:`sweep_command`). Returns 0."""
+    """Run ``jaxgear sweep`` (float64 must already be on: the CLI does it): one command for
+    every case form (:func:`sweep_command`). Returns 0."""
     speeds = range_values(args.speeds, "--speeds", positive=True, min_points=2)
     case = case_io.load_case(args.case)
-    return sweep_command(case.form, case, speeds, args)
+    return sweep_command(case, speeds, args)
 
 
-@functools.singledispatch
-def sweep_command(form, case, speeds, args) -> int:
-    """``jaxgear sweep`` on a case of ``form`` (:class:`~jaxgear.io.CaseForm`): a case's
-    ``[scene]`` (pairs and trains, :func:`sweep_case`); a planetary stage registers its own
-    (:func:`planetary_sweep_command`). Returns 0."""
-    out = check_case_outputs(case, "sweep", args.out or default_sweep_dir(case.name, speeds),
-                             force=args.force)
-    options = dict(
+def sweep_options(args) -> dict:
+    """The options of ``jaxgear sweep`` that every form's sweep takes, by their Python names
+    (:func:`sweep_spec`'s; ``periods`` ``"auto"``: the automatic span)."""
+    return dict(  # noqa: C408 - the keyword names are sweep_spec's
         direction=args.direction,
         solver=args.solver,
         contact=args.contact,
@@ -450,36 +465,68 @@ def sweep_command(form, case, speeds, args) -> int:
         keep_periods=args.keep_periods,
         vtu_speed=args.vtu_speed,
     )
-    sweep_spec(case, **options)  # every check before any file is touched
-    # written into a staging folder, moved in place when the sweep completes
+
+
+def sweep_command(case, speeds, args) -> int:
+    """``jaxgear sweep`` on a case of any form (:class:`~jaxgear.io.CaseForm`): the options
+    checked before any file is touched (the form's own ranges, :func:`check_sweep`, and what
+    the case's dynamic model cannot do asked of its contract, :func:`check_model_options`),
+    the form's sweep written into a staging folder moved in place when it completes
+    (:func:`sweep_files`: :func:`jaxgear.dynamics.speed_sweep` of the case's
+    :func:`~jaxgear.io.build_dynamic_model`), then its lines printed (:func:`sweep_report`).
+    Returns 0."""
+    out = check_case_outputs(case, "sweep", args.out or default_sweep_dir(case.name, speeds),
+                             force=args.force)
+    options = sweep_options(args)
+    check_sweep(case.form, case, slices=args.slices, **options)  # before any file
     with staged_outputs(out, "sweep") as work:
-        s = sweep_case(
-            case,
-            speeds,
-            work,
-            slices=args.slices,
-            show_progress=not args.quiet,
+        s = sweep_files(
+            case.form, case, speeds, work, slices=args.slices, show_progress=not args.quiet,
             **options,
         )
+    for line in sweep_report(case.form, case, s):
+        print(line)
+    print(f"written to {out}/")
+    return 0
+
+
+@functools.singledispatch
+def check_sweep(form, case, *, slices=None, **options) -> None:
+    """Every check of ``jaxgear sweep``'s options on a case of ``form`` before any file is
+    touched: a case's ``[scene]`` (pairs and trains): :func:`sweep_spec` (its model's contract
+    is asked once the model is built, :func:`sweep_case_run`)."""
+    sweep_spec(case, **options)
+
+
+@functools.singledispatch
+def sweep_files(form, case, speeds, out_dir: str, **options) -> dict:
+    """The sweep of a case of ``form`` written into ``out_dir``; returns ``sweep.json``'s
+    dict. A case's ``[scene]`` (pairs and trains): :func:`sweep_case`."""
+    return sweep_case(case, speeds, out_dir, **options)
+
+
+@functools.singledispatch
+def sweep_report(form, case, s: dict) -> list[str]:
+    """What ``jaxgear sweep`` prints after the sweep of a case of ``form`` (``s``: its
+    ``sweep.json``); a pair's and a train's, with a warning where speeds are under-resolved."""
     df = np.asarray([np.nan if v is None else v for v in s["dynamic_factor"]])
     i = int(np.nanargmax(df)) if np.isfinite(df).any() else 0
     n_bad = sum(1 for v in s["result"] if v)
-    print(
+    natural = [f for f in s["natural_frequencies_Hz"] if f][:6]
+    lines = [(
         f"{case.name}: {len(df)} speeds, max dynamic factor {df[i]:.3f} at "
         f"{s['speeds_rad_s'][i]:.1f} rad/s; first natural frequencies "
-        f"{', '.join(f'{f:.0f}' for f in [f for f in s['natural_frequencies_Hz'] if f][:6])} Hz; "
-        f"{n_bad} diverged; {s['elapsed_s']:.1f} s"
-    )
+        f"{', '.join(f'{f:.0f}' for f in natural)} Hz; {n_bad} diverged; {s['elapsed_s']:.1f} s"
+    )]
     n_open = sum(1 for v in s.get("settled", ()) if v is False)
     if n_open:
-        print(
+        lines.append(
             f"{n_open} of {len(df)} speeds not settled (sweep.json settled, periodicity: the "
             f"last kept period against the one before > {dynamics.SETTLED_TOL:g} of the static "
             f'mesh force): raise --periods, or leave periods "auto" (each speed until it '
             "settles)"
         )
-    for line in housing_band_lines(case, s["speeds_rad_s"]):  # a housed case's band
-        print(line)
+    lines += housing_band_lines(case, s["speeds_rad_s"])  # a housed case's band
     n_under = sum(s.get("under_resolved", ()))
     if n_under:
         warnings.warn(
@@ -487,10 +534,19 @@ def sweep_command(form, case, speeds, args) -> int:
             f"(< {dynamics.UNDER_RESOLVED_STEPS} time steps per period of the "
             "highest mode the mesh excites; see sweep.json steps_per_mode_period): raise "
             "--steps-per-period or leave it automatic",
-            stacklevel=2,
+            stacklevel=4,  # run_sweep's line (the dispatch adds a frame)
         )
-    print(f"written to {out}/")
-    return 0
+    return lines
+
+
+check_sweep.register(case_io.PlanetaryForm, check_planetary_sweep)
+sweep_files.register(case_io.PlanetaryForm, planetary_sweep_files)
+sweep_report.register(case_io.PlanetaryForm, lambda form, case, s: sweep_lines(case, s))
+
+
+check_sweep.register(case_io.GearboxForm, check_gearbox_sweep)
+sweep_files.register(case_io.GearboxForm, gearbox_sweep_files)
+sweep_report.register(case_io.GearboxForm, gearbox_sweep_lines)
 
 
 def housing_band_lines(case, speeds) -> list[str]:
@@ -508,55 +564,3 @@ def housing_band_lines(case, speeds) -> list[str]:
         "there (a higher [housing] cut-off holds them)"
     )
     return [line]
-
-
-#: the options of a scene's sweep that a planetary stage's has not: (value, what it allows)
-PLANETARY_REFUSED = {
-    "--vtu-speed": ("vtu_speed", "no condensed body"),
-    "--solver": ("solver", "Newmark only"),
-    "--contact": ("contact", "the exact contact law only"),
-}
-
-
-@sweep_command.register
-def planetary_sweep_command(form: case_io.PlanetaryForm, case, speeds, args) -> int:
-    """``jaxgear sweep`` on a planetary stage (:func:`jaxgear.cli.planetary_sweep.planetary_sweep`:
-    ``--speeds`` are the input member's, rad/s); the options of a scene's sweep it has not
-    refused in one line before any work."""
-    for option, (attr, allowed) in PLANETARY_REFUSED.items():
-        value = getattr(args, attr)
-        if value is not None:
-            raise ValueError(
-                f"{option} = {value}: a planetary stage's sweep has no such option (allowed: "
-                f"{allowed}; leave it out)"
-            )
-    if args.direction not in ("independent",):
-        raise ValueError(
-            f"--direction = {args.direction}: a planetary stage's sweep runs independent speeds "
-            "(allowed: independent)"
-        )
-    out = check_case_outputs(case, "sweep", args.out or default_sweep_dir(case.name, speeds),
-                             force=args.force)
-    options = dict(
-        steps_per_period=args.steps_per_period,
-        periods=None if args.periods == "auto" else args.periods,  # its time plan's own
-        keep_periods=args.keep_periods,
-    )
-    planetary_run(form, case, **options)  # every check before any file is touched
-    with staged_outputs(out, "sweep") as work:
-        s = planetary_sweep(form, case, speeds, work, slices=args.slices, **options)
-    print("\n".join(sweep_lines(case, s)))
-    print(f"written to {out}/")
-    return 0
-
-
-@sweep_command.register
-def gearbox_sweep_command(form: case_io.GearboxForm, case, speeds, args) -> int:
-    """``jaxgear sweep`` on a gearbox (``[[stages]]``): refused in one line before any work,
-    naming what sweeps it (``jaxgear run``'s coupled sweep) and the stages' own cases."""
-    stages = ", ".join(repr(s.case.name) for s in form.stages)
-    raise ValueError(
-        f"jaxgear sweep does not take a gearbox: case {case.name!r} is a gearbox ([[stages]]); "
-        "jaxgear run sweeps its coupled chain (coupled.json), or sweep a stage's own case "
-        f"({stages})"
-    )

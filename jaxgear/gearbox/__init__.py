@@ -39,7 +39,11 @@ from ._coupled import (
     mesh_names as mesh_names,
 )
 from ._lumped import LumpedPairGearboxStage as LumpedPairGearboxStage
-from ._model import GearboxModel as GearboxModel, GearboxPrepared as GearboxPrepared
+from ._model import (
+    OPERATING_RUN as OPERATING_RUN,
+    GearboxModel as GearboxModel,
+    GearboxPrepared as GearboxPrepared,
+)
 from ._spectrum import (
     HousingSignals as HousingSignals,
     HousingSpectrum as HousingSpectrum,

@@ -36,7 +36,20 @@ from jaxtyping import Array, Float
 from .._baseplane import CellRow, on_the_path
 from .._contact import AbstractContactLaw, ExactContact, solve_contact
 from .._util import as_float, check_instance, check_integer, check_real
-from ..dynamics import LinearSystem, ModalAnalysis, StepCells, matrix_modal_analysis, newmark
+from ..dynamics import (
+    STEPS_PER_MODE,
+    LinearSystem,
+    ModalAnalysis,
+    Newmark,
+    SteadyState,
+    StepCells,
+    auto_steps_per_period,
+    matrix_modal_analysis,
+    newmark,
+    simulate,
+    speed_sweep,
+)
+from ..dynamics._sweep import resolve_settings
 from ._chain import GearboxTorsional
 
 __all__ = [
@@ -51,12 +64,6 @@ __all__ = [
     "mesh_names",
 ]
 
-#: the automatic time step's steps per period of the highest mode the meshes excite
-STEPS_PER_MODE = 40
-#: a mode the meshes excite: they hold at least this share of its strain energy
-MESH_SHARE = 0.05
-#: the automatic run's settling: time constants 1 / (zeta omega_1) before the recorded window
-SETTLE = 8.0
 
 
 class GearboxRun(eqx.Module):
@@ -67,24 +74,36 @@ class GearboxRun(eqx.Module):
             loaded flanks follow from it).
         output_stiffness: the torsional spring (N m/rad, > 0) that holds the last stage's output
             member to ground (the load).
+    The automatic plan is the engine's rule for every dynamic model (the gearbox's
+    :class:`~jaxgear.gearbox.GearboxModel` through :func:`jaxgear.dynamics.speed_sweep`): the
+    step from the highest excited mode (:func:`jaxgear.dynamics.auto_steps_per_period`), the
+    span from settling (:func:`jaxgear.dynamics.settling_time`).
+
+    Attributes:
+        input_torque: T (N m) on the first stage's input member (its magnitude: each stage's
+            loaded flanks follow from it).
+        output_stiffness: the torsional spring (N m/rad, > 0) that holds the last stage's output
+            member to ground (the load).
         steps_per_period: Newmark steps per mesh period of the fastest excited mesh (static,
-            >= 8); the time step is that period over it. None: automatic, at least
-            ``steps_per_mode`` steps per period of the highest coupled mode whose strain
-            energy the meshes hold >= :data:`MESH_SHARE` (:func:`gearbox_coupled_modes`) at the
-            lowest speed of the run or sweep (the spur meshes' stiffness steps ring every
-            mode, and average acceleration leaves an under-resolved one undamped).
-        periods: blocks integrated (static, >= 1), a block the slowest excited mesh's period
-            (rounded to whole steps). None: automatic, the recorded blocks after
-            ``settle`` time constants 1 / (zeta omega_1) of the lowest elastic coupled mode
-            at the highest speed of the run or sweep (the run starts from the quasi-static
-            state, so that the transient is the dynamic part alone).
+            >= 8); the time step is that period over it. None: automatic, the smallest power
+            of two >= max(64, ``steps_per_mode`` f_max / f_ref) at the lowest speed of the run
+            or sweep (f_max the highest coupled mode whose strain energy the meshes hold
+            >= 5 %, :func:`jaxgear.dynamics.excited_omega` of :func:`gearbox_coupled_modes`;
+            f_ref the fastest excited mesh frequency; the spur meshes' stiffness steps ring
+            every mode, and average acceleration leaves an under-resolved one undamped).
+        periods: blocks integrated (static, >= 2), a block the slowest excited mesh's period
+            (rounded to whole steps). None: automatic, the settling time in whole blocks at
+            the highest speed of the run or sweep, then ``keep_periods`` (the run starts from
+            the quasi-static state, so that the transient is the dynamic part alone).
         keep_periods: the last blocks recorded (static, 1..periods).
         damping_ratio: zeta (-), modal damping on every mode of (M, K + K̄_m).
         mean_positions: the mesh positions per period over which K̄_m is averaged (static).
         steps_per_mode: the automatic step's steps per period of the highest excited mode
-            (static, >= 4; default :data:`STEPS_PER_MODE`).
-        settle: the automatic span's settling, in time constants 1 / (zeta omega_1) (static,
-            >= 0; default :data:`SETTLE`).
+            (static, >= 4; default :data:`jaxgear.dynamics.STEPS_PER_MODE`, 40).
+        settle: the automatic span's settling time in time constants 1 / (zeta omega) of the
+            slowest decaying mode the meshes excite (static, >= 0); None (default): the
+            engine's, ln(1 / :data:`jaxgear.dynamics.SETTLE_TOL`) = 6.9 of them
+            (:func:`jaxgear.dynamics.settling_time`).
     """
 
     input_torque: Float[Array, ""] = eqx.field(converter=as_float)
@@ -95,20 +114,21 @@ class GearboxRun(eqx.Module):
     damping_ratio: Float[Array, ""] = eqx.field(converter=as_float, default=0.05)
     mean_positions: int = eqx.field(static=True, default=64)
     steps_per_mode: int = eqx.field(static=True, default=STEPS_PER_MODE)
-    settle: float = eqx.field(static=True, default=SETTLE)
+    settle: float | None = eqx.field(static=True, default=None)
 
     def __check_init__(self):
         if self.steps_per_period is not None:
             check_integer("steps_per_period", self.steps_per_period, 8)
         if self.periods is not None:
-            check_integer("periods", self.periods, 1)
+            check_integer("periods", self.periods, 2)
         check_integer("keep_periods", self.keep_periods, 1)
         check_integer("mean_positions", self.mean_positions, 1)
         check_integer("steps_per_mode", self.steps_per_mode, 4)
-        if not (isinstance(self.settle, (int, float)) and math.isfinite(self.settle)
+        if self.settle is not None and not (
+                isinstance(self.settle, (int, float)) and math.isfinite(self.settle)
                 and self.settle >= 0.0):
             raise ValueError(f"GearboxRun: settle = {self.settle!r} is out of range: allowed a "
-                             "finite number of time constants >= 0")
+                             "finite number of time constants >= 0, or None")
         if self.periods is not None and self.keep_periods > self.periods:
             raise ValueError(f"GearboxRun: keep_periods = {self.keep_periods} is out of range: "
                              f"allowed 1..periods = {self.periods}")
@@ -321,27 +341,6 @@ def _excited_periods(chain: GearboxTorsional) -> tuple[float, float]:
     return min(periods), max(periods)
 
 
-def _time_plan(chain, run, speeds) -> tuple[int, int, float]:
-    """(steps per fastest mesh period, steps per block, the fastest excited mesh's period per
-    unit of 1 / input speed): host side (the periods' ratios do not depend on the speed, all
-    speeds scale together; ``speeds``: the input speeds, for the automatic step)."""
-    fast, slow = _excited_periods(chain)
-    steps, blocks = run.steps_per_period, run.periods
-    if steps is None or blocks is None:
-        modes = _coupled_modes(chain, run)
-        f = np.asarray(modes.analysis.frequency)
-        w = np.abs(np.asarray(speeds, dtype=float))
-    if steps is None:
-        excited = np.asarray(modes.mesh_energy).sum(axis=0) >= MESH_SHARE
-        f_max = float(np.max(f[excited], initial=0.0))
-        steps = max(8, math.ceil(run.steps_per_mode * f_max * fast / float(np.min(w))))
-    if blocks is None:  # settle time constants of the lowest elastic mode, then the window
-        f_1 = float(np.min(f[~np.asarray(modes.analysis.rigid)]))
-        tau = 1.0 / (float(run.damping_ratio) * 2.0 * math.pi * f_1)
-        blocks = math.ceil(run.settle * tau / (slow / float(np.max(w)))) + run.keep_periods
-    return steps, max(1, round(steps * slow / fast)), fast, blocks
-
-
 @eqx.filter_jit
 def _run(chain, run, input_speed, law, S, block, fast, B):
 
@@ -385,6 +384,11 @@ def _run(chain, run, input_speed, law, S, block, fast, B):
     )
 
 
+@eqx.filter_jit
+def _sweep(chain, run, speeds, law, S, block, fast, B):
+    return jax.vmap(lambda w: _run(chain, run, w, law, S, block, fast, B))(speeds)
+
+
 def _check(chain, run, law, where):
     check_instance("chain", chain, GearboxTorsional, "a jaxgear.gearbox.GearboxTorsional", where)
     check_instance("run", run, GearboxRun, "a jaxgear.gearbox.GearboxRun", where)
@@ -401,14 +405,17 @@ def gearbox_dynamics(
     acceleration, :func:`jaxgear.dynamics.newmark`) of the coupled system (module docstring)
     with every mesh's contact cells at once, each stage's at its own mesh travel x_k = v_k t,
     from the quasi-static state at t = dt / 2 at rest; the last ``run.keep_periods`` blocks
-    recorded.
+    recorded. :func:`jaxgear.dynamics.simulate` of the
+    :class:`~jaxgear.gearbox.GearboxModel` of ``chain`` and ``run`` on the run's plan
+    (``Newmark(run.steps_per_period)``, ``SteadyState(run.periods, run.keep_periods)``).
 
     Args:
         chain: the stages and shafts (:class:`~jaxgear.gearbox.GearboxTorsional`); a stage's
             meshes are its contact cells (a planetary stage's ``meshes``, a pair's ``mesh``) or,
             without them, its constant mesh springs.
         run: :class:`GearboxRun` (torque, output hold, steps, damping).
-        input_speed: the first stage's input member's speed (rad/s, != 0); the other members'
+        input_speed: the first stage's input member's speed (rad/s, != 0; a negative speed
+            turns the input the other way, the plan from its magnitude); the other members'
             speeds follow from the stages' kinematics (Willis for a planetary stage).
         law: the contact law.
 
@@ -423,13 +430,13 @@ def gearbox_dynamics(
     check_real("input_speed", input_speed, "rad/s", shape=(), where="gearbox_dynamics")
     if float(input_speed) == 0.0:
         raise ValueError("gearbox_dynamics: input_speed = 0 rad/s: allowed a nonzero speed")
-    S, block, fast, B = _time_plan(chain, run, [input_speed])
-    return _run(chain, run, as_float(input_speed), law, S, block, fast, B)
+    from ._model import GearboxModel
 
-
-@eqx.filter_jit
-def _sweep(chain, run, speeds, law, S, block, fast, B):
-    return jax.vmap(lambda w: _run(chain, run, w, law, S, block, fast, B))(speeds)
+    model, integrator, window = GearboxModel(chain, run), *_plan_of(run)
+    if float(input_speed) > 0.0:
+        return simulate(model, input_speed, integrator=integrator, contact=law, window=window,
+                        throw=False)
+    return _reversed(model, jnp.asarray(input_speed, model.dtype), integrator, law, window)
 
 
 def gearbox_speed_sweep(
@@ -439,14 +446,42 @@ def gearbox_speed_sweep(
     law: AbstractContactLaw = ExactContact(),
 ) -> GearboxDynamics:
     """:func:`gearbox_dynamics` at each input speed (rad/s, (s,), nonzero), vectorised with
-    ``jax.vmap``: every field gains a leading axis (s,)."""
+    ``jax.vmap``: every field gains a leading axis (s,). :func:`jaxgear.dynamics.speed_sweep`
+    of the :class:`~jaxgear.gearbox.GearboxModel` on the run's plan (automatic: one plan for
+    every speed, the step of the lowest, the span of the highest)."""
     _check(chain, run, law, "gearbox_speed_sweep")
     speeds = jnp.reshape(as_float(input_speeds), (-1,))
     check_real("input_speeds", speeds, "rad/s", shape=(None,), where="gearbox_speed_sweep")
     if not bool(jnp.all(speeds != 0.0)):
         raise ValueError("gearbox_speed_sweep: an input speed of 0 rad/s: allowed nonzero speeds")
-    S, block, fast, B = _time_plan(chain, run, speeds)
-    return _sweep(chain, run, speeds, law, S, block, fast, B)
+    from ._model import GearboxModel
+
+    model, integrator, window = GearboxModel(chain, run), *_plan_of(run)
+    if bool(jnp.all(speeds > 0.0)):
+        return speed_sweep(model, speeds, integrator=integrator, contact=law,
+                           window=window).results
+    return _reversed(model, speeds, integrator, law, window)
+
+
+def _plan_of(run: GearboxRun) -> tuple:
+    """The engine's integrator and window of ``run``'s plan (None: automatic)."""
+    return Newmark(run.steps_per_period), SteadyState(run.periods, run.keep_periods)
+
+
+def _reversed(model, speeds, integrator, law, window):
+    """A run or sweep with an input turning backwards (a speed < 0; the engine entries take
+    speeds > 0): planned by the engine on the speeds' magnitudes (the plan depends on them
+    alone), then run at the signed speeds by the model."""
+    integrator, law, window, outputs = resolve_settings(model, integrator, law, window)
+    mag = np.abs(np.atleast_1d(np.asarray(speeds, dtype=float)))
+    n, modes = integrator.steps_per_period, None
+    if n is None:
+        modes = model.averaged_modes()
+        n = int(np.max(auto_steps_per_period(model, mag, modes)))
+    if window.periods is None:
+        window = model.resolve_window(window, mag, np.full(mag.shape, n), modes)
+    prepared = model.prepare(integrator, law, window, int(n), outputs, modes)
+    return model.independent(prepared, speeds)
 
 
 class CoupledModes(eqx.Module):

@@ -38,6 +38,7 @@ from jaxtyping import Array, Float
 from .._contact import ContactLaw, ExactContact
 from .._util import as_float, check_instance
 from ..dynamics import (
+    SETTLE_TOL,
     AbstractDynamicModel,
     ModalAnalysis,
     Newmark,
@@ -46,21 +47,26 @@ from ..dynamics import (
     SteadyState,
     settling_time,
 )
-from ..dynamics._settle import SETTLE_TOL
 from ._chain import GearboxTorsional
 from ._coupled import (
-    GearboxDynamics,
     GearboxRun,
     _assemble,
     _coupled_modes,
+    _excited_periods,
     _kinematics,
     _run,
     _sweep,
-    _excited_periods,
     mesh_names,
 )
 
-__all__ = ["GearboxModel", "GearboxPrepared"]
+__all__ = ["OPERATING_RUN", "GearboxModel", "GearboxPrepared"]
+
+#: the plan constants of a gearbox case's coupled model at its operating point
+#: (:meth:`jaxgear.io.GearboxForm.dynamic_model`; measured on nrel-5mw-gearbox, docs/gearbox.md
+#: "Resolution and cost"): 24 steps per period of the highest mode the meshes excite, 3 time
+#: constants of the slowest decaying excited mode to settle from the quasi-static start, 4
+#: blocks (the slowest mesh's periods) recorded, K̄_m over 32 positions a mesh period
+OPERATING_RUN = {"steps_per_mode": 24, "settle": 3.0, "keep_periods": 4, "mean_positions": 32}
 
 
 class GearboxPrepared(eqx.Module):

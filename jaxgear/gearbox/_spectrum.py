@@ -58,12 +58,10 @@ from .._util import as_float, check_instance, check_integer, check_real
 from ..planetary import Central, HousedPlanetary, ring_transducer_signal
 from ._chain import GearboxTorsional, PairGearboxStage, PlanetaryGearboxStage
 from ._coupled import (
-    SETTLE,
     CoupledModes,
     GearboxDynamics,
     GearboxRun,
     _check,
-    _coupled_modes,
     _kinematics,
     _layout,
     _run,
@@ -87,7 +85,7 @@ __all__ = [
 ]
 
 #: a crossing whose mode holds at least this share of its strain energy in the exciting stage's
-#: meshes is marked (the coupled model's excited-mode share, ``MESH_SHARE``)
+#: meshes is marked (the engine's excited-mode share, :data:`jaxgear.dynamics.MESH_ENERGY_MIN`)
 CROSSING_SHARE = 0.05
 
 
@@ -480,7 +478,8 @@ def housing_spectrum(
     f_max the fastest excited mesh frequency, rounded so that one revolution of the ring
     stage's carrier, T_c = 1 / |f_c|, is a whole number of steps (in
     :data:`BLOCKS_PER_REVOLUTION` blocks); from the quasi-static state at rest, the settling
-    (``SETTLE`` = 8 time constants 1 / (zeta omega_1) of the lowest elastic coupled mode, in
+    (:meth:`~jaxgear.gearbox.GearboxModel.settle_time`: the engine's settling time of the
+    slowest decaying mode the meshes excite, :func:`jaxgear.dynamics.settling_time`, in
     whole blocks), then ``revolutions`` whole revolutions recorded. Over R whole revolutions
     with the Hann window (R >= 2) every line on the carrier's grid p f_c is read without
     leakage (:func:`line_amplitudes`); the spectra's resolution is f_c / R.
@@ -520,10 +519,9 @@ def housing_spectrum(
     b = BLOCKS_PER_REVOLUTION
     block = math.ceil(steps_per_period * f_max * t_rev / b)
     dt = t_rev / (b * block)
-    modes = _coupled_modes(chain, run)
-    f_1 = float(np.min(np.asarray(modes.analysis.frequency)[~np.asarray(modes.analysis.rigid)]))
-    tau = 1.0 / (float(run.damping_ratio) * 2.0 * math.pi * f_1)
-    settle = math.ceil(SETTLE * tau / (block * dt))
+    from ._model import GearboxModel
+
+    settle = math.ceil(GearboxModel(chain, run).settle_time() / (block * dt))
     keep = b * revolutions
     plan = GearboxRun(run.input_torque, run.output_stiffness, steps_per_period=None,
                       periods=None, keep_periods=keep, damping_ratio=run.damping_ratio,

@@ -74,7 +74,10 @@ from fem_prep import schema as sc
 
 from ..dynamics import MAX_WHINE_GRID, QuasiPeriodicBalance, check_whine_size, whine_size
 from ..gearbox import (
+    OPERATING_RUN,
     AbstractGearboxStage,
+    GearboxModel,
+    GearboxRun,
     GearboxTorsional,
     LumpedPairGearboxStage,
     PairGearboxStage,
@@ -83,7 +86,7 @@ from ..gearbox import (
 from ..planetary import HousedPlanetary, PlanarPlanetary, TorsionalPlanetary
 from ..scenes import HOUSING_BAND, Housing, band_cutoff_hz, band_holds, housing_band_hz
 from ._case import Case, CaseForm, PairForm
-from ._case_model import PAIR_SCENES
+from ._case_model import PAIR_SCENES, _case_model, dynamic_model_kind
 from ._housing_table import (
     ROTATION,
     HousedAxis,
@@ -292,6 +295,33 @@ class GearboxForm(CaseForm):
                                                s.case.modifications))
         return GearboxTorsional(tuple(stages), self.torsional().shaft_stiffnesses,
                                 housing=shared)
+
+
+    def output_hold(self) -> float:
+        """The torsional spring (N m/rad) that holds the last stage's output in the coupled
+        model: the last shaft's stiffness (the generator is not in the chain); 1e9 for a
+        single stage."""
+        shafts = [s.shaft_stiffness for s in self.stages[1:]]
+        return float(shafts[-1]) if shafts else 1e9
+
+    def dynamic_model(self, slices: int = 1) -> GearboxModel:
+        """The coupled model at the case's operating point (:class:`~jaxgear.gearbox.GearboxModel`
+        of :meth:`coupled` with ``slices`` slices per contact line): the first stage's input
+        torque, :meth:`output_hold`, and the plan constants of
+        :data:`~jaxgear.gearbox.OPERATING_RUN`; its speed is the first stage's input speed."""
+        first = self.stages[0]
+        run = GearboxRun(first.input_torque, self.output_hold(), **OPERATING_RUN)
+        return GearboxModel(self.coupled(slices), run)
+
+
+@_case_model.register
+def _(form: GearboxForm, case: Case, spec, slices: int | None, bodies: tuple | None):
+    return form.dynamic_model(1 if slices is None else int(slices))
+
+
+@dynamic_model_kind.register
+def _(form: GearboxForm, case: Case):
+    return GearboxModel
 
 
 def _in_housing(stage: GearboxStage) -> bool:

@@ -410,7 +410,7 @@ class PlanetaryModel(AbstractDynamicModel):
 
 
 def sweep_records(model: PlanetaryModel, speeds, plan: TimePlan,
-                  grouped: bool | None = None) -> SweepRecords:
+                  grouped: bool | None = None, contact: ContactLaw | None = None) -> SweepRecords:
     """The records of a sweep of ``model`` over the input ``speeds`` (rad/s, (s,)) on its
     ``plan`` (:meth:`PlanetaryModel.time_plan`), through :func:`jaxgear.dynamics.speed_sweep`:
     the plan's steps (automatic or given) and span (automatic, or the given periods), each
@@ -418,13 +418,15 @@ def sweep_records(model: PlanetaryModel, speeds, plan: TimePlan,
     speed at its own N_s: :meth:`PlanetaryModel.prepare_steps`); ``grouped`` None: one
     program per N_s for a flexible ring, one for all speeds otherwise. Each speed's own last
     ``plan.keep`` mesh periods (:class:`~jaxgear.planetary.SweepRecords`, the input of
-    :func:`~jaxgear.planetary.sweep_factors`)."""
+    :func:`~jaxgear.planetary.sweep_factors`); ``contact``: the contact law (None: the
+    model's default, :meth:`PlanetaryModel.default_settings`)."""
     sp = np.asarray(speeds, dtype=float)
     grouped = model.flexible_ring() if grouped is None else bool(grouped)
     integrator = Newmark(None if plan.automatic[0] else int(plan.steps[0]))
     window = SteadyState(None if plan.automatic[1] else int(plan.periods[0]), plan.keep)
 
     def program(idx):
-        return speed_sweep(model, sp[idx], integrator=integrator, window=window).results
+        return speed_sweep(model, sp[idx], integrator=integrator, contact=contact,
+                           window=window).results
 
     return grouped_records(plan, speed_groups(plan, grouped), program)
