@@ -209,7 +209,7 @@ def _planetary_sweep(quick, dev):
         speeds = jnp.asarray(np.linspace(0.2e3, 2.0e3, n) * 2.0 * np.pi / 84.0)
 
         def sweep(speeds=speeds):
-            out = sweep_fn(jg.PlanarPlanetary(), st, meshes, run, speeds)
+            out = sweep_fn(jg.planetary.PlanarPlanetary(), st, meshes, run, speeds)
             return jnp.concatenate(out.dynamic_factors, axis=-1)
 
         first, steady, df = _timed(sweep, 1)

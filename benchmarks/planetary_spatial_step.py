@@ -1,7 +1,7 @@
 """Cost of a carrier-frame Newmark step of a helical planetary stage, the 3D lumped model
-(jaxgear.SpatialPlanetary: 6 (3 + N) coordinates, cells at their contact points, the spin's
-gyroscopic moments) against the planar model (3 (3 + N)) on the same cells, in one run so that
-the ratio shares the machine's load.
+(jaxgear.planetary.SpatialPlanetary: 6 (3 + N) coordinates, cells at their contact points, the
+spin's gyroscopic moments) against the planar model (3 (3 + N)) on the same cells, in one run so
+that the ratio shares the machine's load.
 
 Each model: one call to compile, then two runs of P1 and P2 mesh periods (best of three); the
 step cost is the difference of their times (wall and process CPU) over the difference of their
@@ -23,6 +23,7 @@ import jax.numpy as jnp  # noqa: E402
 import numpy as np  # noqa: E402
 
 import jaxgear as jg  # noqa: E402
+import jaxgear.planetary as jp
 from benchmarks._step_cost import step_cost  # noqa: E402
 from benchmarks._timing import environment  # noqa: E402
 
@@ -42,9 +43,9 @@ def stage():
     )
     r_s, r_p = geo.sun_planet.base_radii
     r_r, a = geo.planet_ring.base_radii[1], geo.center_distance
-    member = jg.PlanetaryMember
+    member = jp.PlanetaryMember
     kw = {"axial_stiffness": 3e8, "tilt_stiffness": 4e5}
-    st = jg.PlanetaryStage.equally_spaced(
+    st = jp.PlanetaryStage.equally_spaced(
         3,
         sun=member(1.2, 0.4 * 1.2 * r_s**2, r_s, 1e9, 0.0, **kw),
         ring=member(6.0, 6.0 * r_r**2, r_r, 1e9, HELD * r_r**2, **kw),
@@ -57,7 +58,7 @@ def stage():
         helix_angle=abs(float(geo.sun_planet.base_helix_angle)),
         face_width=WIDTH,
     )
-    meshes = jg.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(1.4e10),
+    meshes = jp.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(1.4e10),
                                             n_slices=SLICES)
     return st, meshes
 
@@ -67,7 +68,7 @@ def main(out: pathlib.Path = OUT) -> dict:
     st, meshes = stage()
     omega = jnp.asarray(600.0)
     rows = []
-    for model in (jg.PlanarPlanetary(), jg.SpatialPlanetary()):
+    for model in (jp.PlanarPlanetary(), jp.SpatialPlanetary()):
         rows.append({"model": type(model).__name__,
                      **step_cost(model, st, meshes, omega, 1000.0, STEPS, (P1, P2))})
         print(rows[-1], flush=True)

@@ -22,6 +22,7 @@ import jax.numpy as jnp  # noqa: E402
 import numpy as np  # noqa: E402
 
 import jaxgear as jg  # noqa: E402
+import jaxgear.planetary as jp
 from benchmarks._step_cost import step_cost  # noqa: E402
 from benchmarks._timing import environment  # noqa: E402
 
@@ -43,8 +44,8 @@ def stage(n):
     )
     r_s, r_p = geo.sun_planet.base_radii
     r_r, a = geo.planet_ring.base_radii[1], geo.center_distance
-    member = jg.PlanetaryMember
-    st = jg.PlanetaryStage.equally_spaced(
+    member = jp.PlanetaryMember
+    st = jp.PlanetaryStage.equally_spaced(
         n,
         sun=member(2.0, 2.0 * r_s**2 / 2, r_s, 1e8, 0.0),
         ring=member(8.0, 8.0 * r_r**2, r_r, HELD, HELD * r_r**2),
@@ -55,13 +56,13 @@ def stage(n):
         sun_mesh_stiffness=4e8,
         ring_mesh_stiffness=4e8,
     )
-    meshes = jg.ContactMeshes.from_geometry(geo, st.planet_angles, jg.ISO6336(), n_slices=1)
+    meshes = jp.ContactMeshes.from_geometry(geo, st.planet_angles, jg.ISO6336(), n_slices=1)
     return st, meshes
 
 
 def main(out: pathlib.Path = OUT) -> dict:
     machine = environment()
-    model = jg.PlanarPlanetary()
+    model = jp.PlanarPlanetary()
     rows = []
     for n in (3, 4, 5, 6):
         st, meshes = stage(n)

@@ -4,7 +4,7 @@ case's own quasi-static run), in one process so that the ratios hold under any l
 
 Timed, each compiled first and then the best of ``REPEATS`` runs (``block_until_ready``):
 the quasi-static TE curve (``jaxgear.quasi_static``, exact contact), the rating
-(``jaxgear.rate`` under ``eqx.filter_jit``), the measured K_Hβ and K_Hα on the load map, the
+(``jaxgear.rating.rate`` under ``eqx.filter_jit``), the measured K_Hβ and K_Hα on the load map, the
 FE influence tables of both members (``fem_prep.fillet_influence``, 9 load radii each: once per
 tooth form) and the root-stress map of both members (``jaxgear.rating.root_stress_map``, jitted) per
 mesh position. Writes docs/bench/rating_cost.json (or the file given), the machine as
@@ -28,6 +28,7 @@ import numpy as np
 
 import jaxgear as jg
 import jaxgear.io as jio
+import jaxgear.rating as jr
 from benchmarks._timing import environment
 from jaxgear.cli import fillet_table
 
@@ -65,15 +66,15 @@ def main(path: pathlib.Path = OUT) -> None:
     res = jax.block_until_ready(te(mods))
     te_compile = time.perf_counter() - t
     positions = int(np.asarray(res.line_load).shape[0])
-    geometry = jg.RatingGeometry.of(pair)
-    settings = jg.RatingSettings(
-        material=jg.RatingMaterial(1500e6, 430e6),
-        lubrication=jg.Lubrication(46e-6, 3e-6, 10e-6),
-        accuracy=jg.GearAccuracy.from_grade(pair, 6),
+    geometry = jr.RatingGeometry.of(pair)
+    settings = jr.RatingSettings(
+        material=jr.RatingMaterial(1500e6, 430e6),
+        lubrication=jr.Lubrication(46e-6, 3e-6, 10e-6),
+        accuracy=jr.GearAccuracy.from_grade(pair, 6),
         life=20000 * 3600.0,
     )
-    operating = jg.OperatingPoint(torque, 6000 * 2 * np.pi / 60)
-    rate = eqx.filter_jit(jg.rate)
+    operating = jr.OperatingPoint(torque, 6000 * 2 * np.pi / 60)
+    rate = eqx.filter_jit(jr.rate)
     measured = eqx.filter_jit(lambda r: (jg.rating.face_load_factor(r), jg.rating.transverse_load_factor(r)))
     t = time.perf_counter()
     tables = [fillet_table(jg.tooth_geometry(pair, i), active_radii(pair, i)) for i in (0, 1)]

@@ -17,6 +17,7 @@ import matplotlib
 import numpy as np
 
 import jaxgear as jg
+import jaxgear.planetary as jp
 from jaxgear import gearbox as gb
 
 jax.config.update("jax_enable_x64", True)
@@ -35,18 +36,18 @@ def two_stage(shaft=5e5, output=5e5, torque=5000.0, slices=1, **run):
     geo = jg.planetary_geometry(jg.Member(20, face_width=b1), jg.Member(30, face_width=b1, dedendum_coeff=1.3),
                                 jg.Member(-80, face_width=b1), MODULE, ALPHA)
     psi = 2 * np.pi * np.arange(4) / 4
-    meshes = jg.ContactMeshes.from_geometry(geo, psi, jg.Uniform(K_U), slices)
+    meshes = jp.ContactMeshes.from_geometry(geo, psi, jg.Uniform(K_U), slices)
     r_s, r_p = (float(r) for r in geo.sun_planet.base_radii)
     r_r = float(geo.planet_ring.base_radii[1])
-    member = jg.PlanetaryMember
+    member = jp.PlanetaryMember
     k_mesh = K_U * b1 * 1.5  # a nominal constant stiffness (the chain's torsional modes only)
-    stage = jg.PlanetaryStage(
+    stage = jp.PlanetaryStage(
         sun=member(1.0, 1.6e-3, r_s), ring=member(10.0, 2.0, r_r, torsional_stiffness=1e9),
         carrier=member(10.0, 0.5, 0.1), planet=member(4.44, 8.0e-3, r_p),
         planet_angles=psi, sun_pressure_angle=geo.sun_pressure_angle,
         ring_pressure_angle=geo.ring_pressure_angle, sun_mesh_stiffness=k_mesh,
         ring_mesh_stiffness=k_mesh)
-    planetary = gb.PlanetaryGearboxStage(stage, jg.Central.CARRIER, jg.Central.SUN, meshes)
+    planetary = gb.PlanetaryGearboxStage(stage, jp.Central.CARRIER, jp.Central.SUN, meshes)
     pair = jg.GearPair(jg.Member(24, face_width=b2), jg.Member(32, face_width=b2), MODULE, ALPHA)
     mesh = jg.MeshModel.from_pair(pair, *jg.stiffness_table(pair, jg.Uniform(K_U)), slices)
     parallel = gb.PairGearboxStage((5.2e-3, 0.0165), pair.base_radii, K_U * b2 * 1.6, input=1,

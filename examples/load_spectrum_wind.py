@@ -81,7 +81,7 @@ def main(out_dir=DOCS) -> dict:
     out_dir = pathlib.Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     rc = jio.rating_of(jio.load_case("nrel-5mw-stage3"))
-    single = jg.rate(rc.geometry, rc.operating, rc.settings)
+    single = jr.rate(rc.geometry, rc.operating, rc.settings)
     spectrum, winds = wind_spectrum(float(rc.settings.life))
     settings = eqx.tree_at(lambda s: s.application_factor, rc.settings, 1.0)
     sr = jr.rate_spectrum(rc.geometry, spectrum, settings)

@@ -1,12 +1,12 @@
 """Campbell diagram and mode types of the planetary stage of the user guide.
 
 Lin & Parker's (1999, Table 1) four-planet stage with its carrier held by a torsional stiffness,
-planar model (`jaxgear.PlanarPlanetary`, 21 coordinates): the natural frequencies in the carrier
-frame against the carrier speed (`jaxgear.planetary.campbell`, Coriolis and centripetal terms), each
-frequency at rest marked with its type (`jaxgear.planetary.classify_modes`: rotational, translational pair,
-planet mode), and the shape of the lowest mode of each type. A translational pair, one frequency
-at rest, splits with the speed. Writes docs/bench/planetary_campbell.png. Run from the
-repository root: ``python examples/planetary_campbell.py``.
+planar model (`jaxgear.planetary.PlanarPlanetary`, 21 coordinates): the natural frequencies in the
+carrier frame against the carrier speed (`jaxgear.planetary.campbell`, Coriolis and centripetal
+terms), each frequency at rest marked with its type (`jaxgear.planetary.classify_modes`: rotational,
+translational pair, planet mode), and the shape of the lowest mode of each type. A translational
+pair, one frequency at rest, splits with the speed. Writes docs/bench/planetary_campbell.png. Run
+from the repository root: ``python examples/planetary_campbell.py``.
 """
 
 import pathlib
@@ -29,10 +29,10 @@ DOCS = pathlib.Path(__file__).resolve().parents[1] / "docs" / "bench"
 COLOURS = {"rotational": "C0", "translational": "C3", "planet": "C2", "mixed": "C7"}
 
 
-def stage() -> jg.PlanetaryStage:
+def stage() -> jp.PlanetaryStage:
     """The guide's stage: Lin & Parker's Table 1, four planets, the carrier held (N m/rad)."""
-    lumped = jg.PlanetaryMember.lumped  # (mass kg, I/r² kg, base radius m, bearing N/m, k_u N/m)
-    free = jg.PlanetaryStage.equally_spaced(
+    lumped = jp.PlanetaryMember.lumped  # (mass kg, I/r² kg, base radius m, bearing N/m, k_u N/m)
+    free = jp.PlanetaryStage.equally_spaced(
         4,
         sun=lumped(0.4, 0.39, 0.0387, 1e8),
         ring=lumped(2.35, 3.0, 0.1375, 1e8, 1e9),
@@ -46,7 +46,7 @@ def stage() -> jg.PlanetaryStage:
     return eqx.tree_at(lambda s: s.carrier.torsional_stiffness, free, 1e8 * 0.0884**2)
 
 
-def draw_shape(ax, held: jg.PlanetaryStage, shape: np.ndarray, title: str) -> None:
+def draw_shape(ax, held: jp.PlanetaryStage, shape: np.ndarray, title: str) -> None:
     """The sun, ring and planets at rest (grey) and displaced by the mode shape (black): centres
     moved by their translations, the mark of each member turned by u/r; the largest motion drawn
     as a quarter of the sun's radius. The carrier is shown by its circle of planet centres at
@@ -89,8 +89,8 @@ def main(out_dir=DOCS, speed_max: float = 3000.0, n_speeds: int = 61, f_max: flo
     """Compute the modes, types and Campbell frequencies; draw them into
     ``out_dir/planetary_campbell.png`` (None: no figure). Returns the values drawn."""
     held = stage()
-    model = jg.PlanarPlanetary()
-    modes = jg.planetary_modes(model, held)
+    model = jp.PlanarPlanetary()
+    modes = jp.planetary_modes(model, held)
     types = jp.classify_modes(modes, model, held)
     f0 = np.asarray(modes.frequencies)
     speeds = np.linspace(0.0, speed_max, n_speeds)  # carrier speed (rad/s)

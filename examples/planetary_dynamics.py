@@ -60,8 +60,8 @@ def stage_of(z_s, z_p, x_s, x_p, n):
     r_in, r_out = z_r * MODULE / 2, z_r * MODULE / 2 + 4 * MODULE
     m_r = DENSITY * np.pi * (r_out**2 - r_in**2) * WIDTH
     m_c, i_c = disc(a + 1.2 * r_p)
-    member = jg.PlanetaryMember
-    stage = jg.PlanetaryStage.equally_spaced(
+    member = jp.PlanetaryMember
+    stage = jp.PlanetaryStage.equally_spaced(
         n,
         sun=member(m_s, i_s, r_s, 1e8, 0.0),  # a flexibly supported sun
         ring=member(m_r, 0.5 * m_r * (r_in**2 + r_out**2), r_r, HELD, HELD * r_r**2),
@@ -74,7 +74,7 @@ def stage_of(z_s, z_p, x_s, x_p, n):
     )
     tip = jg.MemberModification(tip_relief_depth=10e-6, tip_relief_extent=0.3)
     mods = jg.Modifications(tip, tip)
-    meshes = jg.ContactMeshes.from_geometry(
+    meshes = jp.ContactMeshes.from_geometry(
         geo, stage.planet_angles, jg.ISO6336(), n_slices=1, modifications=(mods, mods)
     )
     return geo, stage, meshes
@@ -97,7 +97,7 @@ KEEP = 4  # recorded mesh periods
 
 
 def main(out_dir: pathlib.Path = ROOT) -> dict:
-    model = jg.PlanarPlanetary()
+    model = jp.PlanarPlanetary()
     geo, stage, meshes = stage_of(19, 17, 0.3, 0.3, 3)
     p_b = float(meshes.mesh_period())
     r_r = float(stage.ring.base_radius)
@@ -107,15 +107,15 @@ def main(out_dir: pathlib.Path = ROOT) -> dict:
     k_s, k_r = jp.planetary_mesh_stiffness(model, stage, meshes, x)
     # 2. quasi-static load sharing with a 30 um tangential pin error on planet 1
     errors = np.array([-30e-6, 0.0, 0.0])
-    qs = jg.planetary_quasi_static(model, stage, meshes, np.asarray(TORQUE), x, errors)
-    qs0 = jg.planetary_quasi_static(model, stage, meshes, np.asarray(TORQUE), x, np.zeros(3))
+    qs = jp.planetary_quasi_static(model, stage, meshes, np.asarray(TORQUE), x, errors)
+    qs0 = jp.planetary_quasi_static(model, stage, meshes, np.asarray(TORQUE), x, np.zeros(3))
     out["quasi_static"] = {
         "k_gamma_no_error": float(qs0.k_gamma_max),
         "k_gamma_pin_error_30um": float(qs.k_gamma_max),
         "sun_te_ptp_um": float(np.ptp(np.asarray(qs0.sun_te)[:, 0]) * 1e6),
     }
     # 3. speed sweep (mesh frequency over the first modes)
-    modes = jg.planetary_modes(model, stage)
+    modes = jp.planetary_modes(model, stage)
     f_mesh = np.linspace(300.0, 6000.0, 24)
     speeds = jnp.asarray(f_mesh * p_b / r_r)
     # steps per period a multiple of N: the planets' phases fall on steps, so that the discrete

@@ -38,6 +38,7 @@ import matplotlib
 
 import jaxgear as jg
 import jaxgear.io as jio
+import jaxgear.rating as jr
 import optimise as op
 
 matplotlib.use("Agg")
@@ -62,14 +63,14 @@ def rate_case(case: jio.Case) -> dict:
     """The case rated as ``jaxgear run`` rates it: ISO 6336's factors (C_a and C_β from its
     modifications), and with the K_Hβ measured on its exact-contact load map given."""
     rc = jio.rating_of(case)
-    iso = jg.rate(rc.geometry, rc.operating, rc.settings)
+    iso = jr.rate(rc.geometry, rc.operating, rc.settings)
     res = jg.quasi_static(
         case.mesh_model(), case.modifications, case.torque,
         positions_per_pitch=case.positions_per_pitch,
     )
     khb = float(jg.rating.face_load_factor(res))
-    given = eqx.tree_at(lambda s: s.given, rc.settings, jg.GivenFactors(K_Hbeta=khb))
-    measured = jg.rate(rc.geometry, rc.operating, given)
+    given = eqx.tree_at(lambda s: s.given, rc.settings, jr.GivenFactors(K_Hbeta=khb))
+    measured = jr.rate(rc.geometry, rc.operating, given)
 
     def factors(r):
         return {

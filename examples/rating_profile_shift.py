@@ -1,7 +1,7 @@
 """Safety factors against the pinion's profile shift, with their gradients: the helical pair of
 ISO/TR 6336-30 example 1 (m_n 8 mm, z 17/103, β 15.8°, a_w 500 mm, T₁ 9000 N·m at 360 1/min;
-docs/rating.md), rated by ISO 6336-2/-3 method B (:func:`jaxgear.rate`) over x₁ from 0.05 (just
-above undercut) to 0.8, the gear's x₂ = 0, the centre distance following the shifts (zero
+docs/rating.md), rated by ISO 6336-2/-3 method B (:func:`jaxgear.rating.rate`) over x₁ from 0.05
+(just above undercut) to 0.8, the gear's x₂ = 0, the centre distance following the shifts (zero
 backlash: 499.2 to 505.0 mm; the TR's 500 mm is x₁ = 0.145), every load factor computed.
 ``jax.vmap`` rates all shifts in one call and ``jax.grad`` gives dS/dx₁ at each, the slope an
 optimiser would follow.
@@ -29,6 +29,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 
 import jaxgear as jg
+import jaxgear.rating as jr
 
 DOCS = pathlib.Path(__file__).resolve().parents[1] / "docs" / "bench"
 SHIFTS = jnp.linspace(0.05, 0.8, 31)
@@ -49,20 +50,20 @@ def tr_example():
     )
     for x in (float(SHIFTS[0]), float(SHIFTS[-1])):
         jg.GearPair(jg.Member(17, x, **m), pair.gear, 8e-3, math.radians(20.0), math.radians(15.8))
-    settings = jg.RatingSettings(
-        material=jg.RatingMaterial(1500e6, 500e6, 206e9, 0.3, 7830.0, jg.CaseHardened()),
-        lubrication=jg.Lubrication(320e-6, 6e-6, 10e-6),
-        accuracy=jg.GearAccuracy.from_grade(pair, 5),
+    settings = jr.RatingSettings(
+        material=jr.RatingMaterial(1500e6, 500e6, 206e9, 0.3, 7830.0, jr.CaseHardened()),
+        lubrication=jr.Lubrication(320e-6, 6e-6, 10e-6),
+        accuracy=jr.GearAccuracy.from_grade(pair, 5),
         life=50_000 * 3600.0,
         tip_relief=70e-6,
     )
-    return jg.RatingGeometry.of(pair), jg.OperatingPoint(9000.0, 360 * math.pi / 30), settings
+    return jr.RatingGeometry.of(pair), jr.OperatingPoint(9000.0, 360 * math.pi / 30), settings
 
 
 def safety(x1, geometry, operating, settings):
     """(S_H pinion, S_H gear, S_F pinion, S_F gear) at pinion profile shift x1."""
     g = geometry.replace(profile_shift=jnp.stack([x1, geometry.profile_shift[1]]))
-    r = jg.rate(g, operating, settings)
+    r = jr.rate(g, operating, settings)
     return jnp.concatenate([r.pitting.S_H, r.bending.S_F])
 
 

@@ -33,6 +33,7 @@ import numpy as np
 import fem_prep
 import jaxgear as jg
 import jaxgear.io as jio
+import jaxgear.rating as jr
 from jaxgear import cli
 
 DOCS = pathlib.Path(__file__).resolve().parents[1] / "docs"
@@ -81,7 +82,7 @@ def main(out_dir=None, n_radii: int = 17, slices: int | None = None) -> dict:
     case = rated_case(slices)
     pair = case.pair
     rc = jio.rating_of(case)
-    rating = jg.rate(rc.geometry, rc.operating, rc.settings).summary()["bending"]
+    rating = jr.rate(rc.geometry, rc.operating, rc.settings).summary()["bending"]
     y_beta = float(rating["Y_beta"])
     ft = case.torque / float(pair.pitch_radii[0])
     b = min(float(pair.pinion.face_width), float(pair.gear.face_width))

@@ -37,6 +37,7 @@ import numpy as np
 import fem_prep
 import jaxgear as jg
 import jaxgear.io as jio
+import jaxgear.rating as jr
 from fem_prep.tooth_form import ToothGeometry
 
 DOCS = pathlib.Path(__file__).resolve().parents[1] / "docs"
@@ -98,7 +99,7 @@ def main(out_dir=None, pairs=None) -> list[dict]:
     rows, curves = [], {}
     for name in PAIRS if pairs is None else pairs:
         pair = PAIRS[name]
-        form = jg.rating.tooth_form_factors(jg.RatingGeometry.of(pair))
+        form = jg.rating.tooth_form_factors(jr.RatingGeometry.of(pair))
         for i, tag in enumerate(("pinion", "gear")):
             iso = (
                 6

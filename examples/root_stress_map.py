@@ -26,6 +26,7 @@ import numpy as np
 import fem_prep
 import jaxgear as jg
 import jaxgear.io as jio
+import jaxgear.rating as jr
 from jaxgear import cli
 
 DOCS = pathlib.Path(__file__).resolve().parents[1] / "docs"
@@ -51,7 +52,7 @@ def main(out_dir=None, n_radii: int = 17, size_per_module: float | None = None) 
     case = jio.load_case("accessory-spur")
     pair = case.pair
     res = jg.quasi_static(case.mesh_model(), case.modifications, case.torque)
-    form = jg.rating.tooth_form_factors(jg.RatingGeometry.of(pair))
+    form = jg.rating.tooth_form_factors(jr.RatingGeometry.of(pair))
     ft = 2 * case.torque / (2 * pair.pitch_radii[0])
     b = pair.face_width
     out, maps = {}, {}

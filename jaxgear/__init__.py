@@ -1,16 +1,23 @@
 """jaxgear: differentiable gear dynamics in JAX.
 
-The model API (everything else lives in private modules). Subpackages: :mod:`jaxgear.scenes`
-(structures), :mod:`jaxgear.dynamics` (time integration, sweeps), :mod:`jaxgear.planetary`
-(planetary stages), :mod:`jaxgear.rating` (load capacity, ISO 6336), :mod:`jaxgear.io` (case
-files, atomic writers): the names a user reaches for first are re-exported here, the rest lives
-in its subpackage; the application (:mod:`jaxgear.cli`) is not imported here.
+The top level is the gear pair's model, what a user reaches for first: the pair and its geometry
+(:class:`GearPair`, :class:`InternalGearPair`, :class:`Member`), its modifications, the
+mesh-stiffness kinds and the mesh model (:class:`MeshModel`), the contact laws, the
+quasi-static solve (:func:`quasi_static`) and the results it returns, contact pressure, the
+ISO 1328 deviations and their Monte Carlo sampling. Each subpackage's names are reached in the
+subpackage, which ``import jaxgear`` loads: :mod:`jaxgear.scenes` (structures),
+:mod:`jaxgear.dynamics` (runs, sweeps, modes, whine), :mod:`jaxgear.planetary` (planetary
+stages), :mod:`jaxgear.gearbox` (stages joined by shafts), :mod:`jaxgear.rating` (load capacity,
+ISO 6336); :mod:`jaxgear.tribology`, :mod:`jaxgear.acoustics` and the case files,
+:mod:`jaxgear.io`, are imported on their own. A name that left the top level still resolves here
+for one release, with a ``DeprecationWarning`` naming its home (``_MOVED_TO`` below). The
+application (:mod:`jaxgear.cli`) is not imported here.
 
 Float64 is not switched on here: the CLI, the tests and the examples do it
 (``jax.config.update("jax_enable_x64", True)``), or set ``JAX_ENABLE_X64=1``.
 """
 
-from importlib.metadata import PackageNotFoundError, version as _version
+from importlib.metadata import PackageNotFoundError as _PackageNotFoundError, version as _version
 
 from ._baseplane import CellRow as CellRow, Cells as Cells, MeshModel as MeshModel
 from ._cell_factor import (
@@ -137,83 +144,51 @@ from ._stiffness_models import (
     stiffness_table as stiffness_table,
 )
 from ._util import safe_max as safe_max
-from .gearbox import (
-    AbstractGearboxStage as AbstractGearboxStage,
-    GearboxModes as GearboxModes,
-    GearboxTorsional as GearboxTorsional,
-    PairGearboxStage as PairGearboxStage,
-    PlanetaryGearboxStage as PlanetaryGearboxStage,
-    gearbox_modes as gearbox_modes,
-)
-from .planetary import (
-    AbstractPlanetaryModel as AbstractPlanetaryModel,
-    Central as Central,
-    ConstantMeshes as ConstantMeshes,
-    ContactMeshes as ContactMeshes,
-    LoadSharing as LoadSharing,
-    PlanarPlanetary as PlanarPlanetary,
-    PlanetaryMember as PlanetaryMember,
-    PlanetaryModes as PlanetaryModes,
-    PlanetaryQuasiStatic as PlanetaryQuasiStatic,
-    PlanetaryStage as PlanetaryStage,
-    SpatialPlanetary as SpatialPlanetary,
-    TorsionalPlanetary as TorsionalPlanetary,
-    load_sharing as load_sharing,
-    planetary_modes as planetary_modes,
-    planetary_quasi_static as planetary_quasi_static,
-    speed_ratio as speed_ratio,
-)
-from .rating import (
-    BendingRating as BendingRating,
-    CaseHardened as CaseHardened,
-    GearAccuracy as GearAccuracy,
-    GivenFactors as GivenFactors,
-    InternalRatingGeometry as InternalRatingGeometry,
-    Lubrication as Lubrication,
-    Nitrided as Nitrided,
-    OperatingPoint as OperatingPoint,
-    PairTreatment as PairTreatment,
-    PittingRating as PittingRating,
-    Rating as Rating,
-    RatingGeometry as RatingGeometry,
-    RatingMaterial as RatingMaterial,
-    RatingSettings as RatingSettings,
-    ThroughHardened as ThroughHardened,
-    ToothLoading as ToothLoading,
-    bending_rating as bending_rating,
-    pitting_rating as pitting_rating,
-    rate as rate,
-)
-from .scenes import (
-    Grounded as Grounded,
-    RigidMesh as RigidMesh,
-    Scene as Scene,
-    TorsionalPair as TorsionalPair,
-    grounded as grounded,
+# the subpackages load with the model (``import jaxgear`` then ``jaxgear.rating.rate``); their
+# names are reached there, not here
+from . import (
+    dynamics as dynamics,
+    gearbox as gearbox,
+    planetary as planetary,
+    rating as rating,
+    scenes as scenes,
 )
 
 try:
     __version__ = _version("jaxgear")
-except PackageNotFoundError:  # running from a source tree that is not installed
+except _PackageNotFoundError:  # running from a source tree that is not installed
     __version__ = "0+unknown"
 
 
 # Names that left the top level for a subpackage: still reachable here for one release, each
 # access warning with its new home (PEP 562 module ``__getattr__``). Not in ``dir(jaxgear)``.
 _MOVED_TO = {  # new home -> the names that moved there
-    "rating": """
-        AbstractEdition AbstractRootSection AbstractTreatment Edition2006 Edition2019
-        FACTOR_CLAUSES GivenRootSection LoadFactors RootStressMap ShaperCutterSection
-        SubstituteRack ToothFormFactors face_load_factor factor_clause load_factors member_form
-        root_stress_map section_factors tooth_form_factors transverse_factor_limits
-        transverse_load_factor
+    "scenes": """
+        Grounded grounded RigidMesh Scene TorsionalPair
     """,
     "planetary": """
-        AbstractPlanetaryMeshes AbstractRingModel CondensedRing CraigBamptonRing DeviationMeshes
-        Eccentricities ModeType PlanetFlanks PlanetaryDeviations PlanetaryTeeth RigidRing
-        Unbalances campbell check_assembly classify_modes mesh_phases phasing_excites
-        planetary_hunting_periods planetary_mesh_stiffness ring_contact_angles ring_excitation
-        ring_resonances sun_ring_offset
+        AbstractPlanetaryMeshes AbstractPlanetaryModel AbstractRingModel campbell Central
+        check_assembly classify_modes CondensedRing ConstantMeshes ContactMeshes
+        CraigBamptonRing DeviationMeshes Eccentricities load_sharing LoadSharing mesh_phases
+        ModeType phasing_excites PlanarPlanetary planetary_hunting_periods
+        planetary_mesh_stiffness planetary_modes planetary_quasi_static PlanetaryDeviations
+        PlanetaryMember PlanetaryModes PlanetaryQuasiStatic PlanetaryStage PlanetaryTeeth
+        PlanetFlanks RigidRing ring_contact_angles ring_excitation ring_resonances
+        SpatialPlanetary speed_ratio sun_ring_offset TorsionalPlanetary Unbalances
+    """,
+    "gearbox": """
+        AbstractGearboxStage gearbox_modes GearboxModes GearboxTorsional PairGearboxStage
+        PlanetaryGearboxStage
+    """,
+    "rating": """
+        AbstractEdition AbstractRootSection AbstractTreatment bending_rating BendingRating
+        CaseHardened Edition2006 Edition2019 face_load_factor factor_clause FACTOR_CLAUSES
+        GearAccuracy GivenFactors GivenRootSection InternalRatingGeometry load_factors
+        LoadFactors Lubrication member_form Nitrided OperatingPoint PairTreatment pitting_rating
+        PittingRating rate Rating RatingGeometry RatingMaterial RatingSettings root_stress_map
+        RootStressMap section_factors ShaperCutterSection SubstituteRack ThroughHardened
+        tooth_form_factors ToothFormFactors ToothLoading transverse_factor_limits
+        transverse_load_factor
     """,
     "io": """
         Case TrainCase contact_law_from_name

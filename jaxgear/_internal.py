@@ -346,13 +346,13 @@ class PlanetaryGeometry:
     @property
     def sun_pressure_angle(self) -> float:
         """α_s: the sun–planet operating transverse pressure angle (rad), a
-        :class:`~jaxgear.PlanetaryStage`'s ``sun_pressure_angle``."""
+        :class:`~jaxgear.planetary.PlanetaryStage`'s ``sun_pressure_angle``."""
         return self.sun_planet.operating_pressure_angle
 
     @property
     def ring_pressure_angle(self) -> float:
         """α_r: the ring–planet operating transverse pressure angle (rad), a
-        :class:`~jaxgear.PlanetaryStage`'s ``ring_pressure_angle``."""
+        :class:`~jaxgear.planetary.PlanetaryStage`'s ``ring_pressure_angle``."""
         return self.planet_ring.operating_pressure_angle
 
 

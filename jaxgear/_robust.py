@@ -349,7 +349,7 @@ def sample_metrics(
     """The quasi-static metrics of one deviation realisation over the pinion angles ``theta``.
 
     Args:
-        scene: a :class:`~jaxgear.Scene` of one mesh or a :class:`~jaxgear.MeshModel`.
+        scene: a :class:`~jaxgear.scenes.Scene` of one mesh or a :class:`~jaxgear.MeshModel`.
         modifications: the flank modifications (None: perfect involutes); their own
             ``deviations`` are replaced by ``deviations``.
         deviations: the realisation (:class:`~jaxgear.Deviations`, e.g. from a

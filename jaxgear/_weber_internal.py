@@ -20,8 +20,8 @@ compression and foundation terms of a load at the root), with the chordal thickn
 generated tooth; the integrals are (1.2)'s (:func:`jaxgear._stiffness.beam_compliance`). The
 foundation is Weber's half plane (1.3) with S the ring's root chord (the ring's rim is the body
 below, i.e. outside, the root circle; a thin rim adds its own compliance, which the FE ring of
-``jaxgear.PlanetaryStage`` models); Sainsot et al.'s fit is derived for external bodies on a
-bore and refused.
+``jaxgear.planetary.PlanetaryStage`` models); Sainsot et al.'s fit is derived for external bodies on
+a bore and refused.
 """
 
 from __future__ import annotations

@@ -28,6 +28,7 @@ import numpy as np
 from jaxtyping import Array, Float
 
 import jaxgear as jg
+import jaxgear.scenes as js
 
 from ._acoustics import EquivalentRadiatedPower, RadiatedSoundPower
 from ._objectives import (
@@ -93,7 +94,7 @@ def _(structure: jg.MeshModel) -> jg.MeshModel:
 
 
 @base_plane.register
-def _(structure: jg.Scene) -> jg.MeshModel:
+def _(structure: js.Scene) -> jg.MeshModel:
     return structure.base_planes[0]
 
 
@@ -157,7 +158,7 @@ class Problem(eqx.Module):
         positions_per_pitch: static.
     """
 
-    mesh: jg.MeshModel | jg.Scene
+    mesh: jg.MeshModel | js.Scene
     base: jg.Modifications
     objective: AbstractObjective
     variables: tuple[Variable, ...]
@@ -391,7 +392,7 @@ def _bounds(variables, bounds: dict | None) -> tuple[list, list]:
 
 
 def make_problem(
-    scene: jg.MeshModel | jg.Scene,
+    scene: jg.MeshModel | js.Scene,
     modifications: jg.Modifications | None,
     torque,
     variables,

@@ -8,7 +8,7 @@ misalignment evens the face load) is measured on the quasi-static result and rat
 place of ISO 6336-1's (K_Fβ = K_Hβ^N_F). And through ISO's own modification inputs, as
 ``jaxgear run`` rates a case file: the design's tip relief is K_v's C_a (B_k: a relief matched
 to the tooth deflection lowers K_v) and its crowning K_Hβ's C_β
-(:meth:`jaxgear.RatingSettings.with_modifications`). K_Hα and K_Fα are ISO 6336-1's method B,
+(:meth:`jaxgear.rating.RatingSettings.with_modifications`). K_Hα and K_Fα are ISO 6336-1's method B,
 not the load sharing measured on the load map (:func:`jaxgear.rating.transverse_load_factor`): that
 measure rises with any tip relief even on perfect gears (the relieved pair takes less load
 where two pairs are in contact, so the other carries more per unit length than the mean,
@@ -30,6 +30,7 @@ import jax.numpy as jnp
 from jaxtyping import Array, Float
 
 import jaxgear as jg
+import jaxgear.rating as jr
 
 from ._objectives import AbstractQuasiStaticObjective
 
@@ -48,10 +49,10 @@ class LeastSafetyFactor(AbstractQuasiStaticObjective):
     above the TE limit (module docstring).
 
     Attributes:
-        geometry: the pair's :class:`jaxgear.RatingGeometry` (``RatingGeometry.of(pair)``).
-        operating: the rating's :class:`jaxgear.OperatingPoint` (its torque is the design
+        geometry: the pair's :class:`jaxgear.rating.RatingGeometry` (``RatingGeometry.of(pair)``).
+        operating: the rating's :class:`jaxgear.rating.OperatingPoint` (its torque is the design
             torque of the problem).
-        settings: :class:`jaxgear.RatingSettings`; its given K_Hβ is replaced by the
+        settings: :class:`jaxgear.rating.RatingSettings`; its given K_Hβ is replaced by the
             measured one, its tip relief and crowning by the design's.
         te_limit: the TE RMS (m) above which the penalty acts, > 0, or None (no constraint).
         sharpness: κ of the soft minimum (default 50: within log(4)/50 = 0.028 of the least S).
@@ -61,9 +62,9 @@ class LeastSafetyFactor(AbstractQuasiStaticObjective):
         ValueError: ``te_limit`` <= 0, ``sharpness`` or ``penalty`` <= 0.
     """
 
-    geometry: jg.RatingGeometry
-    operating: jg.OperatingPoint
-    settings: jg.RatingSettings
+    geometry: jr.RatingGeometry
+    operating: jr.OperatingPoint
+    settings: jr.RatingSettings
     te_limit: float | None = eqx.field(default=None, static=True)
     sharpness: float = eqx.field(default=50.0, static=True)
     penalty: float = eqx.field(default=100.0, static=True)
@@ -81,12 +82,12 @@ class LeastSafetyFactor(AbstractQuasiStaticObjective):
 
     def rating(
         self, result: jg.QuasiStaticResult, modifications: jg.Modifications | None = None
-    ) -> jg.Rating:
+    ) -> jr.Rating:
         """The rating of a design: K_Hβ (and K_Fβ = K_Hβ^N_F) measured on ``result``, K_Hα and
         K_Fα ISO 6336-1's method B (given ones kept), ISO's tip relief C_a and crowning C_β
         those of ``modifications`` (the design's; None: the settings' own)."""
         old = self.settings.given
-        given = jg.GivenFactors(
+        given = jr.GivenFactors(
             K_v=old.K_v,
             K_Hbeta=jg.rating.face_load_factor(result),
             K_Fbeta=old.K_Fbeta,
@@ -96,7 +97,7 @@ class LeastSafetyFactor(AbstractQuasiStaticObjective):
         settings = eqx.tree_at(lambda s: s.given, self.settings, given)
         if modifications is not None:
             settings = settings.with_modifications(modifications)
-        return jg.rate(self.geometry, self.operating, settings)
+        return jr.rate(self.geometry, self.operating, settings)
 
     def safety_factors(
         self, result: jg.QuasiStaticResult, modifications: jg.Modifications | None = None

@@ -31,11 +31,11 @@ INPHASE = dict(z_s=20, z_p=16, x_s=0.2, x_p=0.2)
 
 def stage(geo, n, pin=HELD, sun_bearing=HELD, k_mesh=5e8):
     """Ring and carrier held in rotation and translation, the sun and the planets free to turn."""
-    member = jg.PlanetaryMember
+    member = jp.PlanetaryMember
     sp, pr = geo.sun_planet, geo.planet_ring
     r_s, r_p = sp.base_radii
     r_r, a = pr.base_radii[1], geo.center_distance
-    return jg.PlanetaryStage.equally_spaced(
+    return jp.PlanetaryStage.equally_spaced(
         n,
         sun=member(1.2, 0.4 * 1.2 * r_s**2, r_s, sun_bearing, 0.0),
         ring=member(6.0, 6.0 * r_r**2, r_r, HELD, HELD * r_r**2),
@@ -132,8 +132,8 @@ def lin_parker_stage(n, ecc=None, unb=None, sun_bearing=HELD, pin=HELD):
     """n equally spaced planets; ring and carrier held (HELD), the pins of stiffness ``pin``,
     the sun free to turn on its bearing ``sun_bearing``; eccentricities ``ecc`` (none by
     default) and unbalances ``unb`` (None)."""
-    member = jg.PlanetaryMember.lumped
-    return jg.PlanetaryStage.equally_spaced(
+    member = jp.PlanetaryMember.lumped
+    return jp.PlanetaryStage.equally_spaced(
         n,
         sun=member(0.4, 0.39, R_S, sun_bearing, 0.0),
         ring=member(2.35, 3.0, R_R, HELD, HELD),
@@ -160,7 +160,7 @@ def ring_run(st, ring, meshes=None, omega=60.0, periods=6, steps=24, keep=3):
     run = jp.PlanetaryRun(RING_TORQUE, steps_per_period=steps, periods=periods,
                           keep_periods=keep, damping_ratio=0.05,
                           tangential_pin_errors=RING_PIN_ERRORS)
-    r = jp.planetary_dynamics(jg.PlanarPlanetary(), st, meshes or jg.ConstantMeshes(), run,
+    r = jp.planetary_dynamics(jp.PlanarPlanetary(), st, meshes or jp.ConstantMeshes(), run,
                               jnp.asarray(omega), ring=ring)
     assert int(r.result) == 0
     return r

@@ -10,6 +10,7 @@ import jax.numpy as jnp
 import numpy as np
 
 import jaxgear as jg
+import jaxgear.scenes as js
 from jaxgear.io import build_dynamic_model
 
 
@@ -17,7 +18,7 @@ def solve_grounded(scene, case, positions_per_pitch: int = 16):
     """The quasi-static solve of a 3D ``scene`` at ``case``'s modifications and torque, its
     load rotation grounded."""
     return jg.quasi_static(
-        jg.grounded(scene, (scene.torque_dofs[1],)),
+        js.grounded(scene, (scene.torque_dofs[1],)),
         case.modifications,
         case.torque,
         positions_per_pitch=positions_per_pitch,

@@ -20,6 +20,8 @@ import pytest
 import jaxgear as jg
 import jaxgear.dynamics as jd
 import jaxgear.io as jio
+import jaxgear.planetary as jp
+import jaxgear.scenes as js
 
 NAN, INF = math.nan, math.inf
 
@@ -83,14 +85,14 @@ def test_quasi_static_scene():
 
 def test_scene_constructors():
     _, mesh = _mesh()
-    _refused(lambda: jg.RigidMesh("mesh"), "RigidMesh: mesh = 'mesh'", "MeshModel")
-    _refused(lambda: jg.TorsionalPair(None), "TorsionalPair: mesh = None", "MeshModel")
+    _refused(lambda: js.RigidMesh("mesh"), "RigidMesh: mesh = 'mesh'", "MeshModel")
+    _refused(lambda: js.TorsionalPair(None), "TorsionalPair: mesh = None", "MeshModel")
     _refused(
-        lambda: jg.TorsionalPair(mesh, -1.0),
+        lambda: js.TorsionalPair(mesh, -1.0),
         "TorsionalPair: output_stiffness = -1 N·m/rad is out of range",
         "allowed > 0",
     )
-    _refused(lambda: jg.TorsionalPair(mesh, NAN), "output_stiffness = nan")
+    _refused(lambda: js.TorsionalPair(mesh, NAN), "output_stiffness = nan")
     dyn = jg.scenes.TorsionalDynamics
     _refused(lambda: dyn(mesh, -1e-3, 4e-3), "TorsionalDynamics: inertia_pinion = -0.001 kg·m²")
     _refused(lambda: dyn(mesh, 1e-3, INF), "TorsionalDynamics: inertia_gear = inf kg·m²")
@@ -375,7 +377,7 @@ def _planetary():
 def test_planetary_quasi_static_inputs(torque, positions, words):
     """A NaN position or a negative sun torque gave NaN forces."""
     st = _planetary()
-    fn = lambda: jg.planetary_quasi_static(  # noqa: E731
-        jg.TorsionalPlanetary(), st, jg.ConstantMeshes(), torque, positions
+    fn = lambda: jp.planetary_quasi_static(  # noqa: E731
+        jp.TorsionalPlanetary(), st, jp.ConstantMeshes(), torque, positions
     )
     _refused(fn, "planetary_quasi_static: ", *words)

@@ -11,6 +11,7 @@ from _toml import small_helical_pair
 
 import jaxgear as jg
 import jaxgear.io as jio
+import jaxgear.scenes as js
 from jaxgear.io import static_scene
 
 
@@ -113,7 +114,7 @@ def test_negative_torque_loads_the_coast_flank_te_shifts_by_the_backlash(scene_k
     )
     scenes = {
         "rigid": (mesh, drive),
-        "torsional": (jg.TorsionalPair(mesh, 2e5), jg.TorsionalPair(drive, 2e5)),
+        "torsional": (js.TorsionalPair(mesh, 2e5), js.TorsionalPair(drive, 2e5)),
     }[scene_kind]
     th = jg.mesh_positions(mesh, 12)
     rev = jg.quasi_static(scenes[0], mods, -150.0, th)

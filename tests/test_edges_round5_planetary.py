@@ -306,7 +306,7 @@ def test_pair_commands_refuse_stages(tmp_path, capsys, command, case, what):
 
 
 def _lp_fields():
-    member = jg.PlanetaryMember.lumped
+    member = jp.PlanetaryMember.lumped
     return {
         "sun": member(0.4, 0.39, LP_R_S * 1e-3, 1e8, 0.0),
         "ring": member(2.35, 3.0, 137.5e-3, 1e8, 1e9),
@@ -324,16 +324,16 @@ def _lp_fields():
 )
 def test_stage_refuses_overlapping_planets(angles):
     with pytest.raises(ValueError, match=r"^PlanetaryStage: planets \d and \d .* overlap"):
-        jg.PlanetaryStage(planet_angles=angles, **_lp_fields())
+        jp.PlanetaryStage(planet_angles=angles, **_lp_fields())
 
 
 @pytest.mark.parametrize("n", [3, 4, 5, 6, 7, 10**7])
 def test_equally_spaced_planets_by_the_overlap_criterion(n):
     if _chord(LP_A, 360 / n) < 2 * LP_R_P:  # the test's own criterion (base circles)
         with pytest.raises(ValueError, match=r"n_planets = \d+ is out of range: allowed \[1, 5\]"):
-            jg.PlanetaryStage.equally_spaced(n, **_lp_fields())
+            jp.PlanetaryStage.equally_spaced(n, **_lp_fields())
     else:
-        assert jg.PlanetaryStage.equally_spaced(n, **_lp_fields()).n_planets == n
+        assert jp.PlanetaryStage.equally_spaced(n, **_lp_fields()).n_planets == n
 
 
 @pytest.mark.parametrize("n", [3, 4, 6])
@@ -345,19 +345,19 @@ def test_contact_meshes_refuse_overlapping_tip_circles(n):
     psi = 2 * np.pi * np.arange(n) / n
     if 2 * float(geo.center_distance) * math.sin(math.pi / n) < 2 * r_a:
         with pytest.raises(ValueError, match=r"^ContactMeshes: planets .* overlap.*tip radius"):
-            jg.ContactMeshes.from_geometry(geo, psi, jg.Uniform(K0))
+            jp.ContactMeshes.from_geometry(geo, psi, jg.Uniform(K0))
     else:
-        assert jg.ContactMeshes.from_geometry(geo, psi, jg.Uniform(K0)) is not None
+        assert jp.ContactMeshes.from_geometry(geo, psi, jg.Uniform(K0)) is not None
 
 
 def test_contact_meshes_refuse_two_planets_at_one_angle():
     geo = geometry(**SEQ)
     with pytest.raises(ValueError, match=r"planets 1 and 2 .* 0 m apart"):
-        jg.ContactMeshes.from_geometry(geo, [0.0, 0.0, 2 * np.pi / 3], jg.Uniform(K0))
+        jp.ContactMeshes.from_geometry(geo, [0.0, 0.0, 2 * np.pi / 3], jg.Uniform(K0))
 
 
 def _stage():
-    return jg.PlanetaryStage.equally_spaced(3, **_lp_fields())
+    return jp.PlanetaryStage.equally_spaced(3, **_lp_fields())
 
 
 @pytest.mark.parametrize(
@@ -372,14 +372,14 @@ def _stage():
 )
 def test_load_sharing_refuses_bad_arguments(torque, errors, name):
     with pytest.raises(ValueError, match=rf"^load_sharing: {name}\S* = .* out of range") as info:
-        jg.load_sharing(jg.PlanarPlanetary(), _stage(), torque, np.asarray(errors))
+        jp.load_sharing(jp.PlanarPlanetary(), _stage(), torque, np.asarray(errors))
     assert "singular" not in str(info.value)
 
 
 def test_load_sharing_small_pin_error_at_a_torque():
     """The neighbour: a positive torque with a pin error shares the load (K_γ a little over
     1: the displaced planet carries more or less, the mean stays the nominal share)."""
-    r = jg.load_sharing(jg.PlanarPlanetary(), _stage(), 100.0, np.array([1e-6, 0.0, 0.0]))
+    r = jp.load_sharing(jp.PlanarPlanetary(), _stage(), 100.0, np.array([1e-6, 0.0, 0.0]))
     f = np.asarray(r.sun_mesh_forces)
     np.testing.assert_allclose(f.mean(), 100.0 / (3 * LP_R_S * 1e-3), rtol=1e-6)
     assert 1.0 < float(r.k_gamma) < 2.0
@@ -389,18 +389,18 @@ def test_load_sharing_small_pin_error_at_a_torque():
 def test_campbell_refuses_bad_carrier_speed(speed):
     with pytest.raises(ValueError, match=r"^campbell: carrier_speeds\[0\] = .* allowed "
                                          r"\[-100000, 100000\] rad/s"):
-        jp.campbell(jg.PlanarPlanetary(), _stage(), np.array([speed]))
+        jp.campbell(jp.PlanarPlanetary(), _stage(), np.array([speed]))
 
 
 def test_campbell_refuses_bad_mesh_speed():
     with pytest.raises(ValueError, match=r"^campbell: mesh_speeds\[0\] = nan"):
-        jp.campbell(jg.PlanarPlanetary(), _stage(), np.array([10.0]), np.array([np.nan]))
+        jp.campbell(jp.PlanarPlanetary(), _stage(), np.array([10.0]), np.array([np.nan]))
 
 
 def test_campbell_at_a_speed_in_range_is_finite():
-    f = np.asarray(jp.campbell(jg.PlanarPlanetary(), _stage(), np.array([0.0, 10.0])))
+    f = np.asarray(jp.campbell(jp.PlanarPlanetary(), _stage(), np.array([0.0, 10.0])))
     assert np.all(np.isfinite(f))
     # at rest the carrier frame's frequencies are the stage's own
     np.testing.assert_allclose(
-        f[0], np.asarray(jg.planetary_modes(jg.PlanarPlanetary(), _stage()).frequencies),
+        f[0], np.asarray(jp.planetary_modes(jp.PlanarPlanetary(), _stage()).frequencies),
         rtol=1e-6, atol=1e-3)

@@ -19,8 +19,10 @@ from _rating_cases import rated_accessory_data, with_rating
 from _toml import case_toml
 
 import jaxgear as jg
+import jaxgear.gearbox as jgb
 import jaxgear.io as jio
 import jaxgear.planetary as jp
+import jaxgear.rating as jr
 from fem_prep import schema as sc
 from jaxgear.cli import main
 
@@ -171,7 +173,7 @@ def test_material_keys_a_gear_reads_are_accepted(treatment, extra):
     d = _rated(material__treatment=treatment)
     d["material"].update(extra)
     t = jio.rating_of(jio.parse_case(d)).settings.material.treatment
-    gear = t.gear if isinstance(t, jg.PairTreatment) else t
+    gear = t.gear if isinstance(t, jr.PairTreatment) else t
     if "proof_stress_MPa" in extra:  # ρ' of the table's row (ISO 6336-3: 800 N/mm² → 0.0064 mm)
         assert gear.slip_layer == pytest.approx(0.0064e-3, rel=1e-12)
     else:  # Z_W = 1.2 − (HB − 130)/1700 (ISO 6336-2) against the case-hardened pinion
@@ -239,50 +241,50 @@ def test_planetary_use_measured_k_halpha_accepted(tmp_path):
 
 def _settings(**kw):
     base = {
-        "material": jg.RatingMaterial(1500e6, 430e6),
-        "lubrication": jg.Lubrication(220e-6, 3e-6, 10e-6),
-        "accuracy": jg.GearAccuracy(5e-6, 5e-6, 5e-6),
+        "material": jr.RatingMaterial(1500e6, 430e6),
+        "lubrication": jr.Lubrication(220e-6, 3e-6, 10e-6),
+        "accuracy": jr.GearAccuracy(5e-6, 5e-6, 5e-6),
         "life": 1e8,
     }
-    return jg.RatingSettings(**(base | kw))
+    return jr.RatingSettings(**(base | kw))
 
 
 @pytest.mark.parametrize(
     ("make", "needles"),
     [
-        (lambda: jg.GivenFactors(K_Hbeta=0.5), ("GivenFactors: K_Hbeta = 0.5", "allowed >= 1")),
-        (lambda: jg.GivenFactors(K_v=math.nan), ("GivenFactors: K_v = nan", ">= 1")),
-        (lambda: jg.GivenFactors(K_v=0.999), ("K_v = 0.999 is out of range",)),
-        (lambda: jg.GivenFactors(K_Falpha=math.inf), ("K_Falpha = inf",)),
-        (lambda: jg.GivenFactors(K_Halpha="1.1"), ("K_Halpha = '1.1' is not a number",)),
-        (lambda: jg.GivenFactors(K_Fbeta=[1.1, 1.2]), ("K_Fbeta must have shape a scalar",)),
-        (lambda: jg.RatingMaterial(1e-300, 430e6),
+        (lambda: jr.GivenFactors(K_Hbeta=0.5), ("GivenFactors: K_Hbeta = 0.5", "allowed >= 1")),
+        (lambda: jr.GivenFactors(K_v=math.nan), ("GivenFactors: K_v = nan", ">= 1")),
+        (lambda: jr.GivenFactors(K_v=0.999), ("K_v = 0.999 is out of range",)),
+        (lambda: jr.GivenFactors(K_Falpha=math.inf), ("K_Falpha = inf",)),
+        (lambda: jr.GivenFactors(K_Halpha="1.1"), ("K_Halpha = '1.1' is not a number",)),
+        (lambda: jr.GivenFactors(K_Fbeta=[1.1, 1.2]), ("K_Fbeta must have shape a scalar",)),
+        (lambda: jr.RatingMaterial(1e-300, 430e6),
          ("RatingMaterial: sigma_h_lim = 1e-300 Pa", "[2e+08, 2e+09] Pa")),
-        (lambda: jg.RatingMaterial(1500e6, [430e6, 1050e6]),
+        (lambda: jr.RatingMaterial(1500e6, [430e6, 1050e6]),
          ("RatingMaterial: sigma_f_lim[1] = 1.05e+09 Pa", "[3e+07, 8e+08] Pa")),
-        (lambda: jg.Lubrication(220e-6, 1e-300, 10e-6),
+        (lambda: jr.Lubrication(220e-6, 1e-300, 10e-6),
          ("Lubrication: roughness_flank = 1e-300 m", "[1e-07, 5e-05] m")),
-        (lambda: jg.Lubrication(220e-6, 3e-6, 1e-3), ("roughness_root = 0.001 m",)),
+        (lambda: jr.Lubrication(220e-6, 3e-6, 1e-3), ("roughness_root = 0.001 m",)),
         (lambda: _settings(life=-1), ("RatingSettings: life = -1 s", "> 0 s")),
         (lambda: _settings(application_factor=0.5),
          ("RatingSettings: application_factor = 0.5", ">= 1")),
         (lambda: _settings(min_safety_bending=0.0), ("min_safety_bending = 0", "> 0")),
         (lambda: _settings(tip_relief=-1e-6), ("tip_relief = -1e-06 m", ">= 0 m")),
-        (lambda: _settings(given={"K_v": 1.1}), ("given = ", "jaxgear.GivenFactors")),
+        (lambda: _settings(given={"K_v": 1.1}), ("given = ", "jaxgear.rating.GivenFactors")),
         (lambda: _settings(standard=2006), ("standard = 2006", "Edition2019()")),
         (lambda: _settings(material=None), ("material = None",)),
-        (lambda: jg.ThroughHardened(brinell_hardness=-5),
+        (lambda: jr.ThroughHardened(brinell_hardness=-5),
          ("ThroughHardened: brinell_hardness = -5 HB", "[100, 700] HB")),
-        (lambda: jg.ThroughHardened(brinell_hardness="hard"),
+        (lambda: jr.ThroughHardened(brinell_hardness="hard"),
          ("brinell_hardness = 'hard' is not a number",)),
-        (lambda: jg.ThroughHardened(brinell_hardness=math.nan), ("brinell_hardness = nan",)),
-        (lambda: jg.ThroughHardened(proof_stress="high"), ("proof_stress = 'high'",)),
-        (lambda: jg.ThroughHardened(slip_layer_m=math.inf), ("slip_layer_m = inf m",)),
-        (lambda: jg.PairTreatment(jg.CaseHardened(), "through"),
+        (lambda: jr.ThroughHardened(brinell_hardness=math.nan), ("brinell_hardness = nan",)),
+        (lambda: jr.ThroughHardened(proof_stress="high"), ("proof_stress = 'high'",)),
+        (lambda: jr.ThroughHardened(slip_layer_m=math.inf), ("slip_layer_m = inf m",)),
+        (lambda: jr.PairTreatment(jr.CaseHardened(), "through"),
          ("PairTreatment: gear = 'through'", "ThroughHardened")),
-        (lambda: jg.PairTreatment(None, jg.CaseHardened()), ("PairTreatment: pinion = None",)),
-        (lambda: jg.PairTreatment(jg.CaseHardened(), jg.PairTreatment(jg.CaseHardened(),
-                                                                       jg.Nitrided())),
+        (lambda: jr.PairTreatment(None, jr.CaseHardened()), ("PairTreatment: pinion = None",)),
+        (lambda: jr.PairTreatment(jr.CaseHardened(), jr.PairTreatment(jr.CaseHardened(),
+                                                                       jr.Nitrided())),
          ("gear = PairTreatment", "not a PairTreatment")),
     ],
 )
@@ -296,13 +298,13 @@ def test_rating_objects_refuse_bad_values_at_construction(make, needles):
 
 
 def test_rating_objects_at_the_range_ends_construct():
-    jg.GivenFactors(K_v=1.0, K_Hbeta=12.0, K_Fbeta=1, K_Halpha=np.float32(1.5), K_Falpha=None)
+    jr.GivenFactors(K_v=1.0, K_Hbeta=12.0, K_Fbeta=1, K_Halpha=np.float32(1.5), K_Falpha=None)
     _settings(life=1.0, application_factor=1.0, tip_relief=0.0, min_safety_pitting=1e-3)
-    jg.RatingMaterial([200e6, 2000e6], [30e6, 800e6])
-    jg.Lubrication(220e-6, [0.1e-6, 50e-6], [0.1e-6, 100e-6])
-    assert jg.ThroughHardened(brinell_hardness=100).work_hardening(jg.CaseHardened()) == 1.2
-    assert jg.ThroughHardened(brinell_hardness=700.0).brinell_hardness == 700.0
-    jg.PairTreatment(jg.CaseHardened(), jg.ThroughHardened(proof_stress=1000e6))
+    jr.RatingMaterial([200e6, 2000e6], [30e6, 800e6])
+    jr.Lubrication(220e-6, [0.1e-6, 50e-6], [0.1e-6, 100e-6])
+    assert jr.ThroughHardened(brinell_hardness=100).work_hardening(jr.CaseHardened()) == 1.2
+    assert jr.ThroughHardened(brinell_hardness=700.0).brinell_hardness == 700.0
+    jr.PairTreatment(jr.CaseHardened(), jr.ThroughHardened(proof_stress=1000e6))
 
 
 @pytest.fixture(scope="module")
@@ -318,8 +320,8 @@ def test_given_factors_traced_under_grad_and_jit(rated):
     geometry, op, settings = rated
 
     def s_h(k):
-        s = eqx.tree_at(lambda s: s.given, settings, jg.GivenFactors(K_Hbeta=k))
-        return jg.rate(geometry, op, s).pitting.S_H
+        s = eqx.tree_at(lambda s: s.given, settings, jr.GivenFactors(K_Hbeta=k))
+        return jr.rate(geometry, op, s).pitting.S_H
 
     k = 1.3
     jac = jax.jacfwd(s_h)(jnp.asarray(k))
@@ -328,9 +330,9 @@ def test_given_factors_traced_under_grad_and_jit(rated):
     @jax.jit
     def with_life(life):
         s = dataclasses.replace(settings, life=life)  # constructed anew: its checks run
-        return jg.rate(geometry, op, s).bending.S_F
+        return jr.rate(geometry, op, s).bending.S_F
 
-    np.testing.assert_allclose(with_life(settings.life), jg.rate(geometry, op, settings).bending.S_F,
+    np.testing.assert_allclose(with_life(settings.life), jr.rate(geometry, op, settings).bending.S_F,
                                rtol=1e-12)
 
 
@@ -338,17 +340,17 @@ def test_functions_refuse_arguments_of_the_wrong_kind(rated):
     geometry, op, settings = rated
     stage = None  # the model is checked first: any stage
     cases = [
-        (lambda: jg.rate(geometry, op, "x"), "rate: settings = 'x' (str)"),
-        (lambda: jg.rate("x", op, settings), "rate: geometry = 'x'"),
-        (lambda: jg.rate(geometry, (10.0, 100.0), settings), "rate: operating = (10.0, 100.0)"),
+        (lambda: jr.rate(geometry, op, "x"), "rate: settings = 'x' (str)"),
+        (lambda: jr.rate("x", op, settings), "rate: geometry = 'x'"),
+        (lambda: jr.rate(geometry, (10.0, 100.0), settings), "rate: operating = (10.0, 100.0)"),
         (lambda: jg.rating.load_factors(geometry, op, None), "load_factors: settings = None"),
-        (lambda: jg.pitting_rating(geometry, None, settings), "pitting_rating: operating = None"),
-        (lambda: jg.bending_rating(geometry, op, {}), "bending_rating: settings = {}"),
-        (lambda: jg.planetary_modes("planar", stage), "planetary_modes: model = 'planar'"),
-        (lambda: jg.planetary_modes(jg.PlanarPlanetary(), "stage"),
+        (lambda: jr.pitting_rating(geometry, None, settings), "pitting_rating: operating = None"),
+        (lambda: jr.bending_rating(geometry, op, {}), "bending_rating: settings = {}"),
+        (lambda: jp.planetary_modes("planar", stage), "planetary_modes: model = 'planar'"),
+        (lambda: jp.planetary_modes(jp.PlanarPlanetary(), "stage"),
          "planetary_modes: stage = 'stage'"),
         (lambda: jp.campbell("planar", stage, jnp.ones(2)), "campbell: model = 'planar'"),
-        (lambda: jg.gearbox_modes("x"), "gearbox_modes: chain = 'x'"),
+        (lambda: jgb.gearbox_modes("x"), "gearbox_modes: chain = 'x'"),
         (lambda: jp.CraigBamptonRing.from_stations(None, 2),
          "CraigBamptonRing.from_stations: stations = None"),
     ]
@@ -368,7 +370,7 @@ def test_given_k_halpha_carries_to_k_falpha(rated):
     K_Fα (ISO 6336-3) with σ_F0, K_A, K_v, K_Fβ independent of K_Hα, so a given K_Hα = x moves
     σ_F by exactly min(x, cap)/K_Fα(ISO); a given K_Fα still wins."""
     geometry, op, settings = rated
-    iso = jg.rate(geometry, op, settings)
+    iso = jr.rate(geometry, op, settings)
     g = geometry.derived()
     ea = float(g.transverse_contact_ratio)
     eg = ea + float(g.overlap_ratio)
@@ -376,15 +378,15 @@ def test_given_k_halpha_carries_to_k_falpha(rated):
     kfa_iso = float(iso.factors.K_Falpha)
     for x in (1.0 + 0.5 * (cap - 1.0), cap + 0.3):
         assert abs(min(x, cap) - kfa_iso) > 1e-3  # the test can tell the two apart
-        s = eqx.tree_at(lambda s: s.given, settings, jg.GivenFactors(K_Halpha=x))
-        r = jg.rate(geometry, op, s)
+        s = eqx.tree_at(lambda s: s.given, settings, jr.GivenFactors(K_Halpha=x))
+        r = jr.rate(geometry, op, s)
         assert float(r.factors.K_Falpha) == pytest.approx(min(x, cap), rel=1e-12)
         np.testing.assert_allclose(
             r.bending.sigma_F / iso.bending.sigma_F, min(x, cap) / kfa_iso, rtol=1e-12
         )
         np.testing.assert_allclose(r.bending.sigma_F0, iso.bending.sigma_F0, rtol=1e-14)
-    both = eqx.tree_at(lambda s: s.given, settings, jg.GivenFactors(K_Halpha=1.2, K_Falpha=1.1))
-    assert float(jg.rate(geometry, op, both).factors.K_Falpha) == 1.1
+    both = eqx.tree_at(lambda s: s.given, settings, jr.GivenFactors(K_Halpha=1.2, K_Falpha=1.1))
+    assert float(jr.rate(geometry, op, both).factors.K_Falpha) == 1.1
 
 
 # ------------------------------------------------------------------------------------------
@@ -399,14 +401,14 @@ def test_rating_names_the_editions_unconfirmed_factors():
     m = {"face_width": 40e-3, "addendum_coeff": 1.0, "dedendum_coeff": 1.25}
     pair = jg.GearPair(jg.Member(21, 0.2, **m), jg.Member(62, 0.0, **m), 3e-3, math.radians(20),
                        helix_angle=beta)
-    geometry, op = jg.RatingGeometry.of(pair), jg.OperatingPoint(300.0, 300.0)
-    r19 = jg.rate(geometry, op, _settings())
-    r06 = jg.rate(geometry, op, _settings(standard=jg.rating.Edition2006()))
+    geometry, op = jr.RatingGeometry.of(pair), jr.OperatingPoint(300.0, 300.0)
+    r19 = jr.rate(geometry, op, _settings())
+    r06 = jr.rate(geometry, op, _settings(standard=jg.rating.Edition2006()))
     assert (r19.method, r19.unconfirmed) == ("ISO 6336:2019 method B", ("Y_beta",))
     assert (r06.method, r06.unconfirmed) == ("ISO 6336:2006 method B", ())
     assert float(r19.bending.Y_beta / r06.bending.Y_beta) == pytest.approx(
         1 / math.cos(beta) ** 3, rel=1e-12)
     for name in r19.unconfirmed:  # each names a factor of the result
         assert hasattr(r19.bending, name) or hasattr(r19.pitting, name)
-    jitted = eqx.filter_jit(jg.rate)(geometry, op, _settings())
+    jitted = eqx.filter_jit(jr.rate)(geometry, op, _settings())
     assert jitted.unconfirmed == ("Y_beta",)

@@ -11,6 +11,7 @@ import numpy as np
 from _examples import load_example
 
 import jaxgear as jg
+import jaxgear.rating as jr
 
 
 def test_internal_mesh_example(tmp_path):
@@ -34,7 +35,7 @@ def test_internal_mesh_example(tmp_path):
     assert np.all(np.diff(gen) < 0), gen  # a load nearer the root bends the tooth less
 
     case_pair = example.case().pairs[1]
-    geo = jg.InternalRatingGeometry.of(case_pair, jg.rating.ShaperCutterSection(36, 0.0, 0.3))
+    geo = jr.InternalRatingGeometry.of(case_pair, jg.rating.ShaperCutterSection(36, 0.0, 0.3))
     s_fn, _, d_s = (float(v) for v in geo.root_section.section(geo, geo.derived()))
     sec = fillet["form"]["section_60deg"]
     np.testing.assert_allclose([sec["s_Fn_m"], 2 * sec["r_s_m"]], [s_fn, d_s], rtol=1e-6)

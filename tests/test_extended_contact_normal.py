@@ -16,6 +16,8 @@ import scipy.linalg
 from _corner import ring_pair
 
 import jaxgear as jg
+import jaxgear.planetary as jp
+import jaxgear.scenes as js
 from jaxgear.scenes import Bearing, ShaftSpec, lumped_pair
 
 
@@ -113,9 +115,9 @@ def test_lumped_and_torsional_vectors_are_the_corner_gap_derivative(side):
     lam = jg.CornerContact(pair, s).tip_lever
     assert 0.85 < lam < 0.99
     # torsional pair (rotations) and the rigid pair (the pinion's advance, the gear held)
-    Vt = np.asarray(_vectors(jg.scenes.TorsionalPair(mesh), cells))[k, 0]
+    Vt = np.asarray(_vectors(js.TorsionalPair(mesh), cells))[k, 0]
     np.testing.assert_allclose(Vt, ref[:2], rtol=1e-6)
-    Vr = np.asarray(_vectors(jg.scenes.RigidMesh(mesh), cells))[k, 0, 0]
+    Vr = np.asarray(_vectors(js.RigidMesh(mesh), cells))[k, 0, 0]
     assert Vr == pytest.approx(ref[0] / pair.base_radii[0], rel=1e-6)
 
 
@@ -126,7 +128,7 @@ def test_internal_mesh_torsional_vectors_are_the_corner_gap_derivative():
     for s in (-0.5 * span[0], float(mesh.path_of_contact) + 0.5 * span[1]):
         ref = _gap_derivative(ring, s)
         cells = _cells(mesh, jnp.asarray(_theta_at(mesh, s)))
-        V = np.asarray(_vectors(jg.scenes.TorsionalPair(mesh), cells))[_cell(cells, s), 0]
+        V = np.asarray(_vectors(js.TorsionalPair(mesh), cells))[_cell(cells, s), 0]
         np.testing.assert_allclose(V, ref[:2], rtol=1e-6)
 
 
@@ -182,7 +184,7 @@ def test_torque_balance_with_moments_about_the_corner_by_hand():
     pair = _pair()
     mesh = _mesh(pair)
     k_out = 1e6
-    scene = jg.scenes.TorsionalPair(mesh, k_out)
+    scene = js.TorsionalPair(mesh, k_out)
     T = 400.0
     pb, g = float(mesh.base_pitch), pair.path_of_contact
     # a line 0.02 p_b before the start, and one 0.02 p_b after the end
@@ -212,7 +214,7 @@ def test_torque_balance_with_moments_about_the_corner_by_hand():
         assert torque[0] == pytest.approx(T, rel=2e-6)
         assert torque[1] == pytest.approx(k_out * float(res.x[p, 1]), rel=2e-6)
     # the line of action's lever arms miss the pinion's balance by more than that
-    r0 = jg.quasi_static(jg.scenes.TorsionalPair(loa, k_out), None, T, theta=theta)
+    r0 = jg.quasi_static(js.TorsionalPair(loa, k_out), None, T, theta=theta)
     w0 = np.asarray(r0.meshes[0].line_load)[:, :, 0] * length
     s0 = np.asarray(r0.meshes[0].cell_s)[:, :, 0]
     after = s0 > pair.path_of_contact
@@ -264,7 +266,7 @@ def test_on_the_line_of_action_and_with_tip_relief_results_are_todays():
             .meshes[0]
             .transmission_error
         )
-        for sc in (loa, jg.scenes.TorsionalPair(loa, 1e12))
+        for sc in (loa, js.TorsionalPair(loa, 1e12))
     ]
     np.testing.assert_allclose(te[1], te[0], rtol=1e-9)
     cells = _cells(loa, jnp.asarray(0.01))
@@ -274,7 +276,7 @@ def test_on_the_line_of_action_and_with_tip_relief_results_are_todays():
     # with enough tip relief no corner touches: the theoretical model's results to 1e-12
     mods = relief(60e-6)
     off = _mesh(pair, extended=False, slices=4)
-    for build in (lambda m: m, lambda m: jg.scenes.TorsionalPair(m), lambda m: _lumped(pair, m)):
+    for build in (lambda m: m, lambda m: js.TorsionalPair(m), lambda m: _lumped(pair, m)):
         r1 = jg.quasi_static(build(mesh), mods, T, positions_per_pitch=16)
         r0 = jg.quasi_static(build(off), mods, T, positions_per_pitch=16)
         np.testing.assert_allclose(
@@ -303,8 +305,8 @@ def _planetary():
     )
     r_s, r_p = (float(r) for r in geo.sun_planet.base_radii)
     r_r = float(geo.planet_ring.base_radii[1])
-    member = jg.PlanetaryMember
-    stage = jg.PlanetaryStage(
+    member = jp.PlanetaryMember
+    stage = jp.PlanetaryStage(
         sun=member(1.0, 1e-3, r_s),
         ring=member(10.0, 1.0, r_r, torsional_stiffness=1e9),
         carrier=member(10.0, 1.0, float(geo.center_distance)),
@@ -315,7 +317,7 @@ def _planetary():
         sun_mesh_stiffness=1e9,
         ring_mesh_stiffness=1e9,
     )
-    return geo, models, jg.ContactMeshes.from_models(geo, psi, models), stage
+    return geo, models, jp.ContactMeshes.from_models(geo, psi, models), stage
 
 
 @eqx.filter_jit
@@ -335,7 +337,7 @@ def test_planetary_rows_are_the_corner_gap_derivative(which):
     pair, mesh = (geo.sun_planet, geo.planet_ring)[k], models[k]
     r_s, r_p = (float(r) for r in geo.sun_planet.base_radii)
     r_r = float(geo.planet_ring.base_radii[1])
-    model = jg.planetary.PlanarPlanetary()
+    model = jp.PlanarPlanetary()
     names = model.dof_names(stage)
     K, M = (np.asarray(a) for a in (model.stiffness_matrix(stage), model.mass_matrix(stage)))
     lam, phi = scipy.linalg.eigh(K, M)

@@ -26,6 +26,7 @@ import pytest
 
 import jaxgear as jg
 import jaxgear.io as jio
+import jaxgear.scenes as js
 from jaxgear.scenes import torsional_train
 
 jax.config.update("jax_enable_x64", True)
@@ -105,7 +106,7 @@ def test_idler_train_of_equal_gears(x64):
         train = torsional_train(((plane, (0, 1)), (plane, (1, 2))), [1e-4] * 3)
         theta = jg.mesh_positions(plane, 8)
         res = jg.quasi_static(train, None, 50.0, theta)
-        ref = jg.quasi_static(jg.TorsionalPair(plane), None, 50.0, theta)
+        ref = jg.quasi_static(js.TorsionalPair(plane), None, 50.0, theta)
     rtol = 1e-9 if x64 else 1e-5
     for m in res.meshes:
         np.testing.assert_allclose(m.transmission_error, ref.transmission_error, rtol=rtol)

@@ -1,4 +1,4 @@
-"""The gearbox torsional chain (:class:`jaxgear.GearboxTorsional`): the NREL 5 MW reference
+"""The gearbox torsional chain (:class:`jaxgear.gearbox.GearboxTorsional`): the NREL 5 MW reference
 gearbox's two planetary stages (the embedded ``nrel-5mw-planetary`` and ``nrel-5mw-stage2``)
 and its parallel stage (``nrel-5mw-stage3``) joined by their shafts. Its natural frequencies
 against an eigen-solution written here from the members' inertias, radii and stiffnesses
@@ -15,6 +15,7 @@ import pytest
 import scipy.linalg
 
 import jaxgear as jg
+import jaxgear.gearbox as jgb
 import jaxgear.io as jio
 
 jax.config.update("jax_enable_x64", True)
@@ -37,11 +38,11 @@ def _chain():
     s2, spec2 = _planetary("nrel-5mw-stage2")
     pair = jio.load_case("nrel-5mw-stage3").pair
     stages = (
-        jg.PlanetaryGearboxStage(s1, spec1.input, spec1.output),
-        jg.PlanetaryGearboxStage(s2, spec2.input, spec2.output),
-        jg.PairGearboxStage(PAIR_INERTIAS, pair.base_radii, PAIR_MESH, input=1),
+        jgb.PlanetaryGearboxStage(s1, spec1.input, spec1.output),
+        jgb.PlanetaryGearboxStage(s2, spec2.input, spec2.output),
+        jgb.PairGearboxStage(PAIR_INERTIAS, pair.base_radii, PAIR_MESH, input=1),
     )
-    return jg.GearboxTorsional(stages, SHAFTS), (s1, s2), pair
+    return jgb.GearboxTorsional(stages, SHAFTS), (s1, s2), pair
 
 
 def _planetary_reference(st):
@@ -100,7 +101,7 @@ def _reference():
 def test_nrel_gearbox_chain_frequencies_against_an_independent_eigen_solution():
     chain = _chain()[0]
     ref, m, k = _reference()
-    modes = jg.gearbox_modes(chain)
+    modes = jgb.gearbox_modes(chain)
     got = np.asarray(modes.frequencies)
     assert got.shape == (14,)
     # free at the rotor (carrier 1) and the generator (pinion): one rigid-body mode
@@ -116,16 +117,16 @@ def test_a_rigid_shaft_chain_of_pairs_has_the_reflected_inertia_frequency():
     """Two pairs joined by a very stiff shaft: the one elastic mode of each mesh, the second
     pair's pinion free; a single pair's frequency is sqrt(k (r1^2/I1 + r2^2/I2)) / 2 pi."""
     k_m, r, inertia = 1e9, (0.05, 0.1), (0.2, 1.0)
-    single = jg.GearboxTorsional((jg.PairGearboxStage(inertia, r, k_m),), ())
-    f = np.asarray(jg.gearbox_modes(single).frequencies)
+    single = jgb.GearboxTorsional((jgb.PairGearboxStage(inertia, r, k_m),), ())
+    f = np.asarray(jgb.gearbox_modes(single).frequencies)
     expect = math.sqrt(k_m * (r[0] ** 2 / inertia[0] + r[1] ** 2 / inertia[1])) / (2 * math.pi)
     assert f[0] == pytest.approx(0.0, abs=1e-6 * expect)
     assert f[1] == pytest.approx(expect, rel=1e-12)
 
 
 def test_chain_errors_are_one_line():
-    stage = jg.PairGearboxStage((1.0, 1.0), (0.1, 0.1), 1e9)
+    stage = jgb.PairGearboxStage((1.0, 1.0), (0.1, 0.1), 1e9)
     with pytest.raises(ValueError, match=r"shaft_stiffnesses: shape \(2,\), allowed \(1,\)"):
-        jg.GearboxTorsional((stage, stage), (1.0, 2.0))
+        jgb.GearboxTorsional((stage, stage), (1.0, 2.0))
     with pytest.raises(ValueError, match="input = 2: out of range"):
-        jg.PairGearboxStage((1.0, 1.0), (0.1, 0.1), 1e9, input=2)
+        jgb.PairGearboxStage((1.0, 1.0), (0.1, 0.1), 1e9, input=2)

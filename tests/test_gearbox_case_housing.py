@@ -29,6 +29,7 @@ from test_gearbox_whine import TEETH
 import fem_prep
 import jaxgear as jg
 import jaxgear.io as jio
+import jaxgear.planetary as jp
 from fem_prep.housing import Bore, Foot, HousingBox, Tet4, condensed_housing, mesh_box
 from fem_prep.schema import SchemaError
 from jaxgear import gearbox as gb
@@ -294,8 +295,8 @@ def _planetary_by_hand(ch, off, kind=None, **run):
     None: the same gearbox on the ground (the ring held by its torsional spring, the pair's
     bearings grounded)."""
     planetary = load_example("gearbox_two_stage").two_stage()[0].stages[0]
-    kind = jg.TorsionalPlanetary() if kind is None else kind
-    stage = (planetary.stage if isinstance(kind, jg.TorsionalPlanetary)
+    kind = jp.TorsionalPlanetary() if kind is None else kind
+    stage = (planetary.stage if isinstance(kind, jp.TorsionalPlanetary)
              else _planar_supports(planetary.stage))
     hp = hl = model = None
     if ch is not None:
@@ -487,9 +488,9 @@ def test_the_file_builds_the_hand_built_planar_planetary_in_the_box(planar_box):
     case = jio.load_case(str(PLANAR_CASE))
     assert case.form.stages[0].housing_bore_diameter == pytest.approx(RING_BORE)
     coupled = case.form.coupled()
-    assert isinstance(coupled.stages[0].model.model, jg.PlanarPlanetary)
+    assert isinstance(coupled.stages[0].model.model, jp.PlanarPlanetary)
     assert [s.housing_seats() for s in coupled.stages] == [(0,), (1, 2, 4, 5)]
-    chain, run = _planetary_by_hand(*planar_box, kind=jg.PlanarPlanetary())
+    chain, run = _planetary_by_hand(*planar_box, kind=jp.PlanarPlanetary())
     ref = _same_coupled_modes(case.form, coupled, chain, run)
     print("planar planetary in the box: coupled modes", ref.analysis.frequency.size,
           "lowest", np.asarray(ref.analysis.frequency)[:4])
@@ -502,14 +503,14 @@ def test_planar_ring_on_a_stiff_box_is_the_grounded_gearbox(planar_box):
     gearbox on the ground (ring held by its torsional spring, the pair's bearings grounded),
     as the box's compliance: the difference falls about tenfold, within 2.5e-3 at x 10 000."""
     ch, off = planar_box
-    grounded, run = _planetary_by_hand(None, off, kind=jg.PlanarPlanetary())
+    grounded, run = _planetary_by_hand(None, off, kind=jp.PlanarPlanetary())
     f0 = np.asarray(gb.gearbox_coupled_modes(grounded, run).analysis.frequency)
     f0 = f0[f0 < 5000.0]
     errs = []
     for scale in (1e3, 1e4):
         stiff = dataclasses.replace(ch, K=np.asarray(ch.K) * scale,
                                     modes_hz=np.asarray(ch.modes_hz) * math.sqrt(scale))
-        chain, _ = _planetary_by_hand(stiff, off, kind=jg.PlanarPlanetary())
+        chain, _ = _planetary_by_hand(stiff, off, kind=jp.PlanarPlanetary())
         f = np.asarray(gb.gearbox_coupled_modes(chain, run).analysis.frequency)[:f0.size]
         errs.append(float(np.abs(f / f0 - 1).max()))
     print("planar ring on a stiff box: modes below 5 kHz", f0.size,
@@ -529,11 +530,11 @@ def test_a_planar_planetary_stage_on_the_ground(tmp_path):
         'case = "two-stage-gearbox-planetary.toml"',
         'case = "two-stage-gearbox-planetary-planar.toml"\nmodel = "planar"'))
     coupled = jio.load_case(str(path)).form.coupled()
-    assert coupled.housing is None and isinstance(coupled.stages[0].model, jg.PlanarPlanetary)
+    assert coupled.housing is None and isinstance(coupled.stages[0].model, jp.PlanarPlanetary)
     example, run = load_example("gearbox_two_stage").two_stage()
     p = example.stages[0]
     planar = gb.PlanetaryGearboxStage(_planar_supports(p.stage), p.input, p.output, p.meshes,
-                                      model=jg.PlanarPlanetary())
+                                      model=jp.PlanarPlanetary())
     chain = gb.GearboxTorsional((planar, example.stages[1]), example.shaft_stiffnesses)
     got, ref = (np.asarray(gb.gearbox_coupled_modes(c, run).analysis.frequency)
                 for c in (coupled, chain))

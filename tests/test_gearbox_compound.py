@@ -13,6 +13,7 @@ import pytest
 import scipy.linalg
 
 import jaxgear as jg
+import jaxgear.planetary as jp
 from jaxgear import gearbox as gb
 
 M_N, ALPHA = 4e-3, math.radians(20.0)
@@ -24,7 +25,7 @@ Z_S, Z_P1, Z_P2, Z_R = 20, 30, 22, 72
 RB = 0.5 * M_N * math.cos(ALPHA)  # base radius per tooth (m)
 INERTIAS = (0.5, 2.0, 1.6e-3, 9.0e-3)  # carrier, ring, sun, planet (kg m^2)
 M_P = 5.0  # kg
-C = jg.Central
+C = jp.Central
 
 
 def _pairs(z_p2=Z_P2, z_r=Z_R, ded=1.4):
@@ -118,8 +119,8 @@ def _reference(teeth, psi, r_per_tooth, k_mesh, held, hold):
 
 def test_torsional_modes_against_matrices_written_here():
     """Three stepped planets 18 / 36-24 / 78 (two modules, unequally spaced, assembling:
-    (z_s z_p2 + z_r z_p1) / gcd(z_p1, z_p2) = 270 per turn), sun held: jaxgear.gearbox_modes of
-    the one-stage chain and the coupled model's modes (constant meshes, the carrier output held
+    (z_s z_p2 + z_r z_p1) / gcd(z_p1, z_p2) = 270 per turn), sun held: jaxgear.gearbox.gearbox_modes
+    of the one-stage chain and the coupled model's modes (constant meshes, the carrier output held
     by run.output_stiffness) against scipy's eigensolve of (M, K) assembled here."""
     teeth, c = (18, 36, 24, 78), (0.5 * 3e-3 * math.cos(ALPHA), 0.5 * 4.5e-3 * math.cos(ALPHA))
     psi = 2 * np.pi * np.array([0, 88, 181]) / 270
@@ -127,7 +128,7 @@ def test_torsional_modes_against_matrices_written_here():
     m, k, radii, a = _reference(teeth, psi, c, k_mesh, held=2, hold=3e8)
     stage = gb.CompoundPlanetaryStage(teeth, radii, a, INERTIAS, M_P, psi, k_mesh, 3e8,
                                       C.RING, C.CARRIER)
-    got = np.asarray(jg.gearbox_modes(gb.GearboxTorsional((stage,), [])).frequencies)
+    got = np.asarray(gb.gearbox_modes(gb.GearboxTorsional((stage,), [])).frequencies)
     want = _hz(m, k)
     assert want[0] < 1e-3 and got[0] < 1e-3  # the ring and carrier free: the train turns
     np.testing.assert_allclose(got[1:], want[1:], rtol=1e-9)
@@ -146,12 +147,12 @@ def _simple_limit():
                                 jg.Member(30, face_width=B, dedendum_coeff=1.3),
                                 jg.Member(-80, face_width=B), M_N, ALPHA)
     psi = 2 * np.pi * np.arange(4) / 4
-    meshes = jg.ContactMeshes.from_geometry(geo, psi, jg.Uniform(K_U), 1)
+    meshes = jp.ContactMeshes.from_geometry(geo, psi, jg.Uniform(K_U), 1)
     r_s, r_p = (float(r) for r in geo.sun_planet.base_radii)
     r_r = float(geo.planet_ring.base_radii[1])
     k_s, k_r = 8e8, 9e8
-    member = jg.PlanetaryMember
-    stage = jg.PlanetaryStage(
+    member = jp.PlanetaryMember
+    stage = jp.PlanetaryStage(
         sun=member(1.0, INERTIAS[2], r_s), ring=member(10.0, INERTIAS[1], r_r,
                                                        torsional_stiffness=1e9),
         carrier=member(10.0, INERTIAS[0], float(geo.center_distance)),
@@ -171,7 +172,7 @@ def test_equal_planet_gears_give_the_simple_stage():
     and on the other ones, carrier in and sun out) are PlanetaryGearboxStage's (Kahraman's
     model through jaxgear.planetary, an independent implementation)."""
     simple, compound = _simple_limit()
-    for f in (lambda s: jg.gearbox_modes(gb.GearboxTorsional((s,), [])).frequencies,
+    for f in (lambda s: gb.gearbox_modes(gb.GearboxTorsional((s,), [])).frequencies,
               lambda s: gb.gearbox_coupled_modes(gb.GearboxTorsional((s,), []),
                                                  gb.GearboxRun(100.0, 3e7)).analysis.frequency):
         want, got = np.asarray(f(simple)), np.asarray(f(compound))

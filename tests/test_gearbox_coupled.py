@@ -15,6 +15,7 @@ from _examples import load_example
 
 import jaxgear as jg
 import jaxgear.io as jio
+import jaxgear.planetary as jp
 from jaxgear import gearbox as gb
 
 EX = load_example("gearbox_two_stage")
@@ -117,9 +118,9 @@ def test_shaft_limits(factor):
 
 def test_torsional_stages_give_the_torsional_chain():
     """Constant meshes (no cells): the coupled modes of nrel-5mw-gearbox's chain are
-    jaxgear.gearbox_modes' (the torsional chain's) to 1e-9, the output hold nearly free."""
+    jaxgear.gearbox.gearbox_modes' (the torsional chain's) to 1e-9, the output hold nearly free."""
     chain = jio.load_case("nrel-5mw-gearbox").form.torsional()
-    want = np.asarray(jg.gearbox_modes(chain).frequencies)
+    want = np.asarray(gb.gearbox_modes(chain).frequencies)
     run = gb.GearboxRun(1e6, 1e-6)
     got = np.asarray(gb.gearbox_coupled_modes(chain, run).analysis.frequency)
     elastic = want > 1e-3
@@ -133,16 +134,16 @@ def test_stage_alone_equals_its_own_dynamics():
     chain, _ = EX.two_stage()
     p = chain.stages[0]
     k_c = 2e7
-    one = gb.GearboxTorsional((gb.PlanetaryGearboxStage(p.stage, jg.Central.SUN,
-                                                         jg.Central.CARRIER, p.meshes),), [])
+    one = gb.GearboxTorsional((gb.PlanetaryGearboxStage(p.stage, jp.Central.SUN,
+                                                         jp.Central.CARRIER, p.meshes),), [])
     run = gb.GearboxRun(1000.0, k_c, steps_per_period=32, periods=30, keep_periods=2,
                         mean_positions=32)  # planetary_dynamics averages over its steps
     omega_c = 40.0
     r_s, r_r = float(p.stage.sun.base_radius), float(p.stage.ring.base_radius)
     got = gb.gearbox_dynamics(one, run, omega_c * (1 + r_r / r_s))
     held = eqx.tree_at(lambda st: st.carrier, p.stage,
-                       jg.PlanetaryMember(10.0, 0.5, 0.1, torsional_stiffness=k_c))
-    own = jg.planetary.planetary_dynamics(jg.TorsionalPlanetary(), held, p.meshes,
+                       jp.PlanetaryMember(10.0, 0.5, 0.1, torsional_stiffness=k_c))
+    own = jg.planetary.planetary_dynamics(jp.TorsionalPlanetary(), held, p.meshes,
                                 jg.planetary.PlanetaryRun(1000.0, 32, 30, 2), omega_c)
     want = np.concatenate([own.sun_mesh_forces, own.ring_mesh_forces], axis=1)
     assert int(got.result) == 0 and int(own.result) == 0
@@ -320,10 +321,10 @@ def test_planar_stage_soft_shaft_limit():
     st = eqx.tree_at(lambda s: (s.sun, s.ring, s.carrier, s.planet), p.stage,
                      tuple(bear(m) for m in (p.stage.sun, p.stage.ring, p.stage.carrier,
                                              p.stage.planet)))
-    planar = gb.PlanetaryGearboxStage(st, p.input, p.output, p.meshes, jg.PlanarPlanetary())
+    planar = gb.PlanetaryGearboxStage(st, p.input, p.output, p.meshes, jp.PlanarPlanetary())
     coupled = gb.GearboxTorsional((planar, chain.stages[1]), chain.shaft_stiffnesses)
     got = np.asarray(gb.gearbox_coupled_modes(coupled, run).analysis.frequency)
-    own = np.asarray(jg.planetary.planetary_mesh_modes(jg.PlanarPlanetary(), st, p.meshes,
+    own = np.asarray(jg.planetary.planetary_mesh_modes(jp.PlanarPlanetary(), st, p.meshes,
                                              jg.planetary.PlanetaryRun(0.0, 64)).frequency)
     r = np.array([Z_PIN * RB, Z_G * RB])
     k_pair = K_U * 0.08 * EPS_PAIR * np.outer(r, r) + np.diag([5e5, 0.0])

@@ -20,6 +20,7 @@ from _examples import load_example
 
 import fem_prep
 import jaxgear as jg
+import jaxgear.planetary as jp
 from fem_prep.housing import Bore, Foot, HousingBox, Tet4, mesh_box, prepare_housing
 from jaxgear import gearbox as gb
 from jaxgear.dynamics import QuasiPeriodicBalance
@@ -261,8 +262,8 @@ def test_housing_coordinates_have_one_name_on_every_path(steel):
     first = st.size - h.size
     assert nodes == {names[6 * k].rsplit(" ", 1)[0]: first + 6 * k for k in range(n_seats)}
     planetary = EX.two_stage()[0].stages[0].stage
-    model = jg.planetary.HousedPlanetary(jg.TorsionalPlanetary(), h)
-    own = jg.TorsionalPlanetary().dof_names(planetary)
+    model = jg.planetary.HousedPlanetary(jp.TorsionalPlanetary(), h)
+    own = jp.TorsionalPlanetary().dof_names(planetary)
     assert model.dof_names(planetary) == tuple(own) + names
 
 
@@ -351,7 +352,7 @@ def _planetary_chains(ch, loss_factor=0.0, ring_seat="seat4", **run):
     hp = Housing.of(ch, loss_factor=loss_factor, rotation=R, offset=_planet_offset())
     hl = Housing.of(ch, loss_factor=loss_factor, rotation=R, offset=_pair_offset())
     planetary = EX.two_stage()[0].stages[0]
-    model = jg.planetary.HousedPlanetary(jg.TorsionalPlanetary(), hp,
+    model = jg.planetary.HousedPlanetary(jp.TorsionalPlanetary(), hp,
                                          seats=(("ring", ring_seat),))
     housed_p = gb.PlanetaryGearboxStage(planetary.stage, planetary.input, planetary.output,
                                         planetary.meshes, model=model)
@@ -540,14 +541,14 @@ def test_planetary_ring_in_the_shared_housing_whine_against_newmark(planetary_bo
 def test_planetary_ring_in_the_shared_housing_bad_input_one_line(planetary_box):
     hp = Housing.of(planetary_box, rotation=R, offset=_planet_offset())
     with pytest.raises(ValueError, match="seat of ring = 'bore9'") as err:
-        jg.planetary.HousedPlanetary(jg.TorsionalPlanetary(), hp, seats=(("ring", "bore9"),))
+        jg.planetary.HousedPlanetary(jp.TorsionalPlanetary(), hp, seats=(("ring", "bore9"),))
     assert "\n" not in str(err.value)
     # the ring on seat 0, which the pair's pinion bearing holds already
     with pytest.raises(ValueError, match="seat 'seat0' .* used twice") as err:
         _planetary_chains(planetary_box, ring_seat="seat0")
     assert "\n" not in str(err.value)
     planetary = EX.two_stage()[0].stages[0]
-    star = jg.planetary.HousedPlanetary(jg.TorsionalPlanetary(), hp, seats=(("ring", 4),),
+    star = jg.planetary.HousedPlanetary(jp.TorsionalPlanetary(), hp, seats=(("ring", 4),),
                                         carrier_held=True)
     with pytest.raises(ValueError, match="carrier_held=True") as err:
         gb.PlanetaryGearboxStage(planetary.stage, planetary.input, planetary.output,

@@ -27,6 +27,7 @@ import pytest
 from _examples import load_example
 
 import jaxgear as jg
+import jaxgear.planetary as jp
 from benchmarks import TwoStageReference, two_stage_dynamic_factors
 from jaxgear import gearbox as gb
 
@@ -47,7 +48,7 @@ def test_other_flanks_sun_ring_offset_is_the_reference_derivation():
     derivation on the loaded flanks of the carrier-in, sun-out stage."""
     chain, _ = EX.two_stage()
     meshes = chain.stages[0].meshes
-    assert isinstance(meshes, jg.ContactMeshes)
+    assert isinstance(meshes, jp.ContactMeshes)
     want = TwoStageReference().derived_sun_ring_offset
     got = float(meshes.other_flanks().ring_offset)
     assert abs(got - want) < 1e-9, (got, want)

@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 
 import jaxgear as jg
+import jaxgear.planetary as jp
 from jaxgear import gearbox as gb
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -30,16 +31,16 @@ def sequential_chain(zs=21, zp=29, zr=79, n=4):
                                 jg.Member(zp, face_width=b1, dedendum_coeff=1.3),
                                 jg.Member(-zr, face_width=b1), MODULE, ALPHA)
     psi = 2 * np.pi * np.arange(n) / n
-    meshes = jg.ContactMeshes.from_geometry(geo, psi, jg.Uniform(K_U), 1)
+    meshes = jp.ContactMeshes.from_geometry(geo, psi, jg.Uniform(K_U), 1)
     r_s, r_p = (float(r) for r in geo.sun_planet.base_radii)
     r_r = float(geo.planet_ring.base_radii[1])
-    m, k_mesh = jg.PlanetaryMember, K_U * b1 * 1.5
-    stage = jg.PlanetaryStage(
+    m, k_mesh = jp.PlanetaryMember, K_U * b1 * 1.5
+    stage = jp.PlanetaryStage(
         sun=m(1.0, 1.6e-3, r_s), ring=m(10.0, 2.0, r_r, torsional_stiffness=1e9),
         carrier=m(10.0, 0.5, 0.1), planet=m(4.44, 8.0e-3, r_p), planet_angles=psi,
         sun_pressure_angle=geo.sun_pressure_angle, ring_pressure_angle=geo.ring_pressure_angle,
         sun_mesh_stiffness=k_mesh, ring_mesh_stiffness=k_mesh)
-    planetary = gb.PlanetaryGearboxStage(stage, jg.Central.CARRIER, jg.Central.SUN, meshes)
+    planetary = gb.PlanetaryGearboxStage(stage, jp.Central.CARRIER, jp.Central.SUN, meshes)
     pair = jg.GearPair(jg.Member(24, face_width=b2), jg.Member(32, face_width=b2), MODULE, ALPHA)
     parallel = gb.PairGearboxStage((5.2e-3, 0.0165), pair.base_radii, K_U * b2 * 1.6, input=1)
     return gb.GearboxTorsional((planetary, parallel), [5e5]), gb.GearboxRun(5000.0, 5e5)

@@ -20,6 +20,7 @@ import numpy as np
 import pytest
 
 import jaxgear as jg
+import jaxgear.planetary as jp
 from jaxgear import gearbox as gb
 from jaxgear.dynamics import (
     HarmonicBalance,
@@ -165,7 +166,7 @@ def test_bad_inputs_one_line():
                    for p in (sun, ring))
     stepped = gb.CompoundPlanetaryStage.from_pairs(
         sun, ring, 2 * np.pi * np.arange(4) / 4, (0.5, 2.0, 1.6e-3, 9e-3), 5.0, (1.1e9, 1.3e9),
-        1e9, jg.Central.SUN, jg.Central.CARRIER, meshes)
+        1e9, jp.Central.SUN, jp.Central.CARRIER, meshes)
     box = gb.GearboxTorsional((stepped, chain.stages[0]), [1e6])
     cases.append((lambda: gb.gearbox_whine(box, run, 10.0, method, positions=12),
                   ValueError, "stage 1 \\(CompoundPlanetaryStage\\).*do not repeat"))

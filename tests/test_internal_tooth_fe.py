@@ -23,6 +23,7 @@ from _convergence import assert_monotone_richardson
 
 import fem_prep
 import jaxgear as jg
+import jaxgear.rating as jr
 
 E, NU = 210e9, 0.3
 ALPHA = math.radians(20.0)
@@ -329,11 +330,11 @@ def test_ring_root_stress_map_of_cell_loads():
 def _fe_over_iso(z2):
     """The ring's FE fillet peak under the load at ISO 6336-3's outer point of single pair
     contact of the internal gear (ρ2 = its tip roll + (ε_α − 1) p_bt), over σ_F0/w of method B
-    with the substitute rack (jg.InternalRatingGeometry): σ_F0 = F_t/(b m_n) Y_F Y_S, F_t =
+    with the substitute rack (jg.rating.InternalRatingGeometry): σ_F0 = F_t/(b m_n) Y_F Y_S, F_t =
     F_bt cos α_t, so σ_FE/σ_F0 = g m_n/(cos α_t Y_F Y_S) with g the FE stress per N/m."""
     planet = jg.Member(20, profile_shift=0.5, face_width=0.02)
     pair = jg.InternalGearPair(planet, jg.Member(z2, face_width=0.02), 3e-3, ALPHA)
-    ff = jg.InternalRatingGeometry.of(pair).form_factors()
+    ff = jr.InternalRatingGeometry.of(pair).form_factors()
     rb2 = pair.base_radii[1]
     rho2 = math.sqrt(pair.tip_radii[1] ** 2 - rb2**2)
     rho2 += (pair.transverse_contact_ratio - 1) * pair.base_pitch

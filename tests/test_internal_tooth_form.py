@@ -130,7 +130,7 @@ def test_critical_section_against_jaxgear_shaper_cutter_section():
             jg.Member(z, profile_shift=x, face_width=0.05, fillet_radius_coeff=rho, addendum_coeff=0.8),
             mn, A,
         )
-        geo = jg.InternalRatingGeometry.of(pair, jg.rating.ShaperCutterSection(z0, x0, rho))
+        geo = jg.rating.InternalRatingGeometry.of(pair, jg.rating.ShaperCutterSection(z0, x0, rho))
         s_fn, rho_f, d_s = (float(v) for v in geo.root_section.section(geo, geo.derived()))
         form = fp.generate_internal_tooth(jg.internal_tooth_geometry(pair, fp.ShaperCutter(z0, x0, rho)))
         mine = form.critical_section(math.pi / 3)

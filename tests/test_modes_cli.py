@@ -54,8 +54,8 @@ def test_a_planetary_stage_against_the_classification_and_the_paper(tmp_path, ca
     assert "743.164  translational × 2" in printed and f"written to {out}/" in printed
     data = json.loads((out / "modes.json").read_text())
     stage = lin_parker_stage(3)
-    for name, model in (("planar", jg.PlanarPlanetary()), ("torsional", jg.TorsionalPlanetary())):
-        m = jg.planetary_modes(model, stage)
+    for name, model in (("planar", jp.PlanarPlanetary()), ("torsional", jp.TorsionalPlanetary())):
+        m = jp.planetary_modes(model, stage)
         types = jp.classify_modes(m, model, stage)
         got = data[name]
         np.testing.assert_allclose([r["frequency_Hz"] for r in got], m.frequencies, rtol=1e-9,

@@ -38,7 +38,7 @@ print("PROBE" + json.dumps({
     "ecc": [float(ecc.sun), float(ecc.sun_phase)], "travel": travel.tolist(),
     "turn": {n: v.tolist() for n, v in turn.items()}, "rows": rows,
     "campbell0": campbell[0].tolist(),
-    "held_modes": np.asarray(jg.planetary_modes(model, held_out).frequencies).tolist(),
+    "held_modes": np.asarray(jp.planetary_modes(model, held_out).frequencies).tolist(),
     "df": [df_sun.tolist(), df_ring.tolist()], "worst": worst.tolist(),
     "result": np.asarray(sweep.result).tolist(), "carrier": carrier.tolist()}))"""
 

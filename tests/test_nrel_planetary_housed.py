@@ -33,7 +33,7 @@ def _tables(name):
 def _grounded_planar():
     """The grounded stage's planar frequencies (Hz), sorted, and its lowest above 1 Hz."""
     case = jio.load_case("nrel-5mw-planetary")
-    f = np.sort(np.asarray(jp.planetary_modes(jg.PlanarPlanetary(),
+    f = np.sort(np.asarray(jp.planetary_modes(jp.PlanarPlanetary(),
                                               case.form.spec.stage(case)).frequencies))
     return f, float(f[f > 1.0].min())
 

@@ -12,6 +12,7 @@ import pytest
 
 import jaxgear as jg
 import jaxgear.io as jio
+import jaxgear.rating as jr
 import optimise as op
 from _rating_cases import rated_accessory_case
 
@@ -120,7 +121,7 @@ def test_statistics_reduce_as_named():
 def test_least_safety_value_is_the_inverse_soft_min_of_the_rating_by_hand():
     """LeastSafetyFactor on the rated accessory pair (2 slices, 8 positions): its value is
     1/S̃ with S̃ = −log Σ exp(−κ S)/κ written here in NumPy over the four safety factors of
-    ``jaxgear.rate`` given the K_Hβ measured on the same quasi-static result (K_Hα, K_Fα
+    ``jaxgear.rating.rate`` given the K_Hβ measured on the same quasi-static result (K_Hα, K_Fα
     ISO 6336-1's method B); S̃ lies within log(4)/κ below the least S; a TE
     limit at half the TE RMS adds ``penalty`` × 1² exactly."""
     rcase = rated_accessory_case(2, 8)
@@ -130,8 +131,8 @@ def test_least_safety_value_is_the_inverse_soft_min_of_the_rating_by_hand():
     )
     least = jio.objective_from_name("least_safety", rcase.torque, rating=rating)
     khb = float(jg.rating.face_load_factor(res))
-    given = jg.GivenFactors(K_Hbeta=khb)  # K_Hα, K_Fα: ISO's method B
-    r = jg.rate(
+    given = jr.GivenFactors(K_Hbeta=khb)  # K_Hα, K_Fα: ISO's method B
+    r = jr.rate(
         rating.geometry, rating.operating, eqx.tree_at(lambda s: s.given, rating.settings, given)
     )
     S = np.concatenate([np.asarray(r.pitting.S_H), np.asarray(r.bending.S_F)])

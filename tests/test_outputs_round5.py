@@ -52,7 +52,7 @@ def _sweep_stage(case):
 
     spec = case.form.spec
     return (spec, spec.sharing_stage(spec.stage(case)), spec.dynamic_meshes(case, 1),
-            jg.PlanarPlanetary())
+            jp.PlanarPlanetary())
 
 
 def test_lin_parker_has_nothing_to_excite(lin_parker):
@@ -317,8 +317,8 @@ K_S, K_R = 5e8, 6e8  # N/m along the tooth normal
 def _spatial_stage(**tilts):
     import jaxgear as jg
 
-    lumped = jg.PlanetaryMember.lumped
-    return jg.PlanetaryStage(
+    lumped = jp.PlanetaryMember.lumped
+    return jp.PlanetaryStage(
         sun=lumped(0.4, 0.39, 0.0387, 1e8), ring=lumped(2.35, 3.0, 0.1375, 1e8, 1e9),
         carrier=lumped(5.43, 6.29, 0.0884, 1e8), planet=lumped(0.66, 0.61, 0.05015, 1e8),
         planet_angles=np.radians([0.0, 100.0, 230.0]), sun_pressure_angle=np.radians(24.6),
@@ -330,7 +330,7 @@ def _tilt_entry(stage, member):
     """K's entry on ``member``'s (``"s"`` sun, ``"r"`` ring) tilt about x."""
     import jaxgear as jg
 
-    model = jg.SpatialPlanetary()
+    model = jp.SpatialPlanetary()
     i = model.dof_names(stage).index(f"theta_x_{member}")
     return float(np.asarray(model.stiffness_matrix(stage))[i, i])
 
@@ -383,9 +383,9 @@ def test_the_lumped_springs_hold_the_given_tilting_stiffness():
 
     import jaxgear as jg
 
-    model = jg.SpatialPlanetary()
+    model = jp.SpatialPlanetary()
     stage = _spatial_stage(sun_mesh_tilt_stiffness=2.0e4, ring_mesh_tilt_stiffness=3.0e4)
-    meshes = jg.ConstantMeshes(0.01, face_points=model.face_points)
+    meshes = jp.ConstantMeshes(0.01, face_points=model.face_points)
     zero = (np.zeros(3), np.zeros(3))
     row = meshes.cell_row(model, stage, 0.0, zero)
     V, k = np.asarray(row.V), np.asarray(row.k * row.length)
@@ -403,7 +403,7 @@ def test_the_torsional_models_conventions():
     import jaxgear as jg
 
     stage = _spatial_stage()
-    model = jg.TorsionalPlanetary()
+    model = jp.TorsionalPlanetary()
     m = np.asarray(model.mass_matrix(stage))
     assert m[0, 0] == pytest.approx(6.29 + 3 * 0.66, rel=1e-12)  # I_c/r_c² + N m_p
     assert m[3, 3] == pytest.approx(0.61, rel=1e-12)  # a planet: I_p/r_p² alone
@@ -420,10 +420,12 @@ def test_the_torsional_models_conventions():
 
 
 def test_the_api_pages_are_grouped_by_task():
-    """The jaxgear API page: a section per task (geometry, stiffness, quasi-statics, planetary
-    stages, rating...), every public name in exactly one, none left to "Other" in the six
-    model packages; quasi_static under "Contact and quasi-statics", among the first third of
-    the page's names (today #84 of 171, after the private modules' import order)."""
+    """The API pages: a section per task (geometry, stiffness, quasi-statics on the jaxgear
+    page; stage and model kinds on the planetary one; the rating on the rating one), every public
+    name in exactly one, none left to "Other" in the six model packages; quasi_static under
+    "Contact and quasi-statics", among the first third of the page's names (today #32 of 98,
+    after the private modules' import order); a subpackage's names on its own page, not the top
+    level's (PlanetaryStage, rate)."""
     from docs._gen import api_pages
 
     for module in ("jaxgear", "jaxgear.scenes", "jaxgear.dynamics", "jaxgear.planetary",
@@ -436,13 +438,19 @@ def test_the_api_pages_are_grouped_by_task():
     names, _ = api_pages.public_names("jaxgear")
     groups = dict(api_pages.sections("jaxgear", names))
     assert "quasi_static" in groups["Contact and quasi-statics"]
-    assert "GearPair" in groups["Geometry"] and "PlanetaryStage" in groups["Planetary stages"]
-    assert "rate" in groups["Load capacity (ISO 6336)"]
+    assert "GearPair" in groups["Geometry"]
+    assert "PlanetaryStage" not in names and "rate" not in names
     order = [n for g in groups.values() for n in g]
     assert order.index("quasi_static") < len(order) / 3
     text = api_pages.page("jaxgear", "the model")
-    assert "## Geometry" in text and "## Planetary stages" in text
+    assert "## Geometry" in text and "## Planetary stages" not in text
     assert text.index("## Contact and quasi-statics") < text.index("::: jaxgear.quasi_static")
+    planetary = dict(api_pages.sections("jaxgear.planetary",
+                                        api_pages.public_names("jaxgear.planetary")[0]))
+    assert "PlanetaryStage" in planetary["Stage and model kinds"]
+    rating = dict(api_pages.sections("jaxgear.rating", api_pages.public_names("jaxgear.rating")[0]))
+    assert "rate" in rating["Rating"]
+    assert "::: jaxgear.rating.rate" in api_pages.page("jaxgear.rating", "load capacity")
 
 
 def test_the_case_file_reference_shows_the_optimise_defaults():

@@ -19,7 +19,7 @@ ALPHA = np.radians(24.6)
 
 def lin_parker_stage(n, angles=None):
     """Lin & Parker 1999, Table 1: their example system (I/r^2 in kg, k_u in N/m)."""
-    member = jg.PlanetaryMember.lumped
+    member = jp.PlanetaryMember.lumped
     fields = {
         "sun": member(0.4, 0.39, 77.4e-3 / 2, 1e8, 0.0),
         "ring": member(2.35, 3.0, 275.0e-3 / 2, 1e8, 1e9),
@@ -31,8 +31,8 @@ def lin_parker_stage(n, angles=None):
         "ring_mesh_stiffness": 5e8,
     }
     if angles is None:
-        return jg.PlanetaryStage.equally_spaced(n, **fields)
-    return jg.PlanetaryStage(planet_angles=angles, **fields)
+        return jp.PlanetaryStage.equally_spaced(n, **fields)
+    return jp.PlanetaryStage(planet_angles=angles, **fields)
 
 
 # The natural frequencies (Hz) Lin & Parker (1999) print for the Table 1 system, by type:
@@ -61,8 +61,8 @@ PRINTED = {
 @pytest.mark.parametrize("n", [3, 4, 5])
 def test_lin_parker_example_frequencies_and_mode_types(n):
     stage = lin_parker_stage(n)
-    model = jg.PlanarPlanetary()
-    modes = jg.planetary_modes(model, stage)
+    model = jp.PlanarPlanetary()
+    modes = jp.planetary_modes(model, stage)
     f = np.asarray(modes.frequencies)
     types = jp.classify_modes(modes, model, stage)
     by = {
@@ -159,7 +159,7 @@ def reference_planar(masses, inertias, radii, bearings, torsion, angles, a_s, a_
 
 
 def _random_stage(rng, n, angles):
-    member = jg.PlanetaryMember
+    member = jp.PlanetaryMember
     raw = {
         "masses": rng.uniform(0.5, 5.0, 4),
         "inertias": rng.uniform(1e-3, 5e-2, 4),
@@ -182,7 +182,7 @@ def _random_stage(rng, n, angles):
         )
         for i in range(4)
     ]
-    stage = jg.PlanetaryStage(
+    stage = jp.PlanetaryStage(
         carrier=members[0],
         ring=members[1],
         sun=members[2],
@@ -207,11 +207,11 @@ def test_planar_model_against_an_independent_numpy_eigen_solution(n):
     # per-planet stiffness
     angles = 2 * np.pi * (np.arange(n) + rng.uniform(-0.2, 0.2, n)) / n
     stage, (m_ref, k_ref) = _random_stage(rng, n, angles)
-    model = jg.PlanarPlanetary()
+    model = jp.PlanarPlanetary()
     np.testing.assert_allclose(model.mass_matrix(stage), m_ref, rtol=1e-12)
     w2 = scipy.linalg.eigh(k_ref, m_ref, eigvals_only=True)
     f_ref = np.sqrt(np.clip(w2, 0.0, None)) / (2 * np.pi)
-    f = np.asarray(jg.planetary_modes(model, stage).frequencies)
+    f = np.asarray(jp.planetary_modes(model, stage).frequencies)
     np.testing.assert_allclose(f, f_ref, rtol=1e-9)
 
 
@@ -243,7 +243,7 @@ def test_campbell_against_a_point_mass_in_a_rotating_frame():
         lam = np.linalg.eigvals(a)
         assert np.abs(lam.real).max() < 1e-6 * np.abs(lam).max()  # stable: pure imaginary
         want.append(np.sort(np.abs(lam.imag))[::2] / (2 * np.pi))
-    model = jg.PlanarPlanetary()
+    model = jp.PlanarPlanetary()
     got = np.asarray(jp.campbell(model, stage, speeds))
     np.testing.assert_allclose(got, np.array(want), rtol=1e-9)
     g = np.asarray(model.gyroscopic_matrix(stage))
@@ -251,7 +251,7 @@ def test_campbell_against_a_point_mass_in_a_rotating_frame():
     # identical, equally spaced planets: a translational pair at rest splits at speed
     alike = cooley_parker_stage(4)  # isotropic bearings, every member held in rotation
     rest, fast = np.asarray(jp.campbell(model, alike, np.array([0.0, 800.0])))
-    types = jp.classify_modes(jg.planetary_modes(model, alike), model, alike)
+    types = jp.classify_modes(jp.planetary_modes(model, alike), model, alike)
     pair = [j for j, (t, _) in enumerate(types) if t == jp.ModeType.TRANSLATIONAL][:2]
     assert rest[pair[1]] - rest[pair[0]] < 1e-9 * rest[pair[0]]
     assert fast[pair[1]] - fast[pair[0]] > 1e-3 * rest[pair[0]]
@@ -261,7 +261,7 @@ def test_campbell_refuses_a_speed_past_divergence():
     """Lin & Parker's example leaves the carrier free to turn: with the planets' centripetal
     term the rigid rotation has negative stiffness at any speed."""
     with pytest.raises(eqx.EquinoxRuntimeError, match="past divergence"):
-        jp.campbell(jg.PlanarPlanetary(), lin_parker_stage(3), np.array([100.0]))
+        jp.campbell(jp.PlanarPlanetary(), lin_parker_stage(3), np.array([100.0]))
 
 
 def test_torsional_model_against_kahramans_form():
@@ -287,19 +287,19 @@ def test_torsional_model_against_kahramans_form():
     for i, mem in enumerate((stage.carrier, stage.ring, stage.sun)):
         K[i, i] += float(mem.torsional_stiffness) / float(mem.base_radius) ** 2
     m = np.diag([m_pl[2, 2] + n * m_pl[9, 9], m_pl[5, 5], m_pl[8, 8]] + [m_pl[11, 11]] * n)
-    model = jg.TorsionalPlanetary()
+    model = jp.TorsionalPlanetary()
     np.testing.assert_allclose(model.stiffness_matrix(stage), K, rtol=1e-12, atol=1e-3)
     w2 = scipy.linalg.eigh(K, m, eigvals_only=True)
     np.testing.assert_allclose(
-        jg.planetary_modes(model, stage).frequencies,
+        jp.planetary_modes(model, stage).frequencies,
         np.sqrt(np.clip(w2, 0, None)) / (2 * np.pi),
         rtol=1e-9,
     )
     # identical planets: 4 rotational modes, one planet mode of multiplicity N - 1
-    alike = jg.PlanetaryStage(
+    alike = jp.PlanetaryStage(
         **{**_fields(stage), "sun_mesh_stiffness": 4e8, "ring_mesh_stiffness": 5e8}
     )
-    types = jp.classify_modes(jg.planetary_modes(model, alike), model, alike)
+    types = jp.classify_modes(jp.planetary_modes(model, alike), model, alike)
     assert [t for t, _ in types].count(jp.ModeType.ROTATIONAL) == 4
     assert {m for t, m in types if t == jp.ModeType.PLANET} == {n - 1}  # planets alone
 
@@ -308,18 +308,18 @@ def test_torsional_model_against_kahramans_form():
 
 
 def test_willis_ratios_exact():
-    c = jg.Central
+    c = jp.Central
     zs, zr = 19, 56
-    assert jg.speed_ratio(zs, zr, c.RING, c.SUN, c.CARRIER) == pytest.approx(1 + zr / zs, rel=1e-14)
-    assert jg.speed_ratio(zs, zr, c.CARRIER, c.SUN, c.RING) == pytest.approx(-zr / zs, rel=1e-14)
-    assert jg.speed_ratio(zs, zr, c.SUN, c.RING, c.CARRIER) == pytest.approx(1 + zs / zr, rel=1e-14)
-    assert jg.speed_ratio(zs, zr, c.RING, c.CARRIER, c.SUN) == pytest.approx(
+    assert jp.speed_ratio(zs, zr, c.RING, c.SUN, c.CARRIER) == pytest.approx(1 + zr / zs, rel=1e-14)
+    assert jp.speed_ratio(zs, zr, c.CARRIER, c.SUN, c.RING) == pytest.approx(-zr / zs, rel=1e-14)
+    assert jp.speed_ratio(zs, zr, c.SUN, c.RING, c.CARRIER) == pytest.approx(1 + zs / zr, rel=1e-14)
+    assert jp.speed_ratio(zs, zr, c.RING, c.CARRIER, c.SUN) == pytest.approx(
         zs / (zs + zr), rel=1e-14
     )
     with pytest.raises(ValueError, match="three different members"):
-        jg.speed_ratio(zs, zr, c.RING, c.RING, c.SUN)
+        jp.speed_ratio(zs, zr, c.RING, c.RING, c.SUN)
     with pytest.raises(ValueError, match="z_ring = 10 is out of range"):
-        jg.speed_ratio(zs, 10, c.RING, c.SUN, c.CARRIER)
+        jp.speed_ratio(zs, 10, c.RING, c.SUN, c.CARRIER)
 
 
 def test_torsional_rigid_mode_is_the_willis_ratio():
@@ -327,8 +327,8 @@ def test_torsional_rigid_mode_is_the_willis_ratio():
     sun and carrier free: the torsional model's zero-frequency mode turns the sun
     1 + z_r/z_s times the carrier."""
     mn, zs, zp, zr, a = 3e-3, 21, 27, 75, np.radians(20.0)
-    member = jg.PlanetaryMember.lumped
-    stage = jg.PlanetaryStage.equally_spaced(
+    member = jp.PlanetaryMember.lumped
+    stage = jp.PlanetaryStage.equally_spaced(
         4,
         sun=member(1.0, 0.5, mn * zs * np.cos(a) / 2, 1e8, 0.0),
         ring=member(3.0, 2.0, mn * zr * np.cos(a) / 2, 1e8, 1e9),
@@ -340,14 +340,14 @@ def test_torsional_rigid_mode_is_the_willis_ratio():
         ring_mesh_stiffness=4e8,
     )
     jp.check_assembly(zs, zr, stage.planet_angles)
-    model = jg.TorsionalPlanetary()
-    modes = jg.planetary_modes(model, stage)
+    model = jp.TorsionalPlanetary()
+    modes = jp.planetary_modes(model, stage)
     assert float(modes.frequencies[0]) < 1e-6 * float(modes.frequencies[1])
     u = np.asarray(modes.shapes[:, 0])
     theta_s = u[2] / float(stage.sun.base_radius)
     theta_c = u[0] / float(stage.carrier.base_radius)
     assert theta_s / theta_c == pytest.approx(
-        jg.speed_ratio(zs, zr, jg.Central.RING, jg.Central.SUN, jg.Central.CARRIER), rel=1e-9
+        jp.speed_ratio(zs, zr, jp.Central.RING, jp.Central.SUN, jp.Central.CARRIER), rel=1e-9
     )
 
 
@@ -357,7 +357,7 @@ def test_assembly_condition_and_input_errors():
         jp.check_assembly(19, 56, 2 * np.pi * np.arange(4) / 4)  # 75 / 4
     jp.check_assembly(20, 70, np.radians([0.0, 120.0, 236.0]))  # 90 * 236 / 360 = 59
     with pytest.raises(ValueError, match=r"PlanetaryMember: mass = -1 kg|mass = -1 is out"):
-        jg.PlanetaryMember(mass=-1.0, polar_inertia=1.0, base_radius=0.1)
+        jp.PlanetaryMember(mass=-1.0, polar_inertia=1.0, base_radius=0.1)
     with pytest.raises(ValueError, match="sun_pressure_angle = 1.6 rad is out of range"):
         lin_parker_stage(3).__class__(**{**_fields(lin_parker_stage(3)), "sun_pressure_angle": 1.6})
     with pytest.raises(ValueError, match=r"sun_mesh_stiffness must have shape \(\) or \(3,\)"):
@@ -371,11 +371,11 @@ def _fields(stage):
 
 
 def test_frequency_gradient_against_finite_difference():
-    model = jg.PlanarPlanetary()
+    model = jp.PlanarPlanetary()
 
     def f1(k_mesh):
-        stage = jg.PlanetaryStage(**{**_fields(lin_parker_stage(3)), "sun_mesh_stiffness": k_mesh})
-        return jg.planetary_modes(model, stage).frequencies[5]  # a rotational (single) mode
+        stage = jp.PlanetaryStage(**{**_fields(lin_parker_stage(3)), "sun_mesh_stiffness": k_mesh})
+        return jp.planetary_modes(model, stage).frequencies[5]  # a rotational (single) mode
 
     k0 = 5e8
     g = jax.grad(f1)(jnp.asarray(k0))
@@ -389,7 +389,7 @@ def test_float32_runs(what):
     """With x64 off the modes, the load sharing and the Campbell frequencies run in float32
     and agree with float64 (a moderate conditioning: bearings 1e8 N/m, Cooley & Parker's
     example)."""
-    model = jg.PlanarPlanetary()
+    model = jp.PlanarPlanetary()
     errors = np.array([20e-6, 0.0, 0.0, 0.0])
     out = {}
     for x64 in (False, True):
@@ -397,8 +397,8 @@ def test_float32_runs(what):
             stage = cooley_parker_stage(4)
             out[x64] = (
                 (
-                    jg.planetary_modes(model, stage).frequencies,
-                    jg.load_sharing(model, stage, 200.0, errors).k_gamma,
+                    jp.planetary_modes(model, stage).frequencies,
+                    jp.load_sharing(model, stage, 200.0, errors).k_gamma,
                 )
                 if what == "modes_and_load_sharing"
                 else (jp.campbell(model, stage, np.array([0.0, 300.0])),)
@@ -449,8 +449,8 @@ def cooley_parker_stage(n):
     """Cooley & Parker (2012), Table 1: m_s 3, m_r 7.64, m_c 12, m_p 1.86 kg; I/r^2 1.75, 8.09,
     6.80, 1.25 kg; base diameters 55.75, 109.7, 27.0 mm, planet circle 88.6 mm; k_sp = k_rp =
     1e8, k_s 2e7, k_r 1e8, k_c 5e7, k_p 1e7 N/m; k_su 2e7, k_ru = k_cu = 1e8 N/m; 20 deg."""
-    member = jg.PlanetaryMember.lumped
-    return jg.PlanetaryStage.equally_spaced(
+    member = jp.PlanetaryMember.lumped
+    return jp.PlanetaryStage.equally_spaced(
         n,
         sun=member(3.0, 1.75, 55.75e-3 / 2, 2e7, 2e7),
         ring=member(7.64, 8.09, 109.7e-3 / 2, 1e8, 1e8),
@@ -469,13 +469,13 @@ def test_cooley_parker_example_at_rest(n):
     55.75, 109.7, 27.0 mm, planet circle 88.6 mm; k_sp = k_rp = 10^8, k_s 2e7, k_r 1e8, k_c 5e7,
     k_p 1e7 N/m; k_su 2e7, k_ru = k_cu = 1e8 N/m; 20 deg."""
     stage = cooley_parker_stage(n)
-    modes = jg.planetary_modes(jg.PlanarPlanetary(), stage)
+    modes = jp.planetary_modes(jp.PlanarPlanetary(), stage)
     got = np.asarray(modes.frequencies) * 2 * np.pi / np.sqrt(1e7 / 1.86)
     printed = np.sort(COOLEY_PARKER[n])
     digit = 10.0 ** (np.floor(np.log10(printed)) - 3)  # 4 significant digits
     # within 0.6 of the printed last digit (one value, 1.2805 at N = 5, rounds the other way)
     assert np.all(np.abs(got - printed) <= 0.6 * digit), np.abs(got - printed) / digit
-    types = jp.classify_modes(modes, jg.PlanarPlanetary(), stage)
+    types = jp.classify_modes(modes, jp.PlanarPlanetary(), stage)
     assert [t for t, _ in types].count(jp.ModeType.ROTATIONAL) == 6
     assert [t for t, _ in types].count(jp.ModeType.PLANET) == 3 * (n - 3)
 
@@ -483,19 +483,19 @@ def test_cooley_parker_example_at_rest(n):
 def test_one_trace_for_new_values_and_vmap_over_a_stiffness():
     """New values of the same stage structure reuse the compiled solve; a sweep of the mesh
     stiffness runs under vmap and matches one-by-one solves."""
-    model = jg.PlanarPlanetary()
+    model = jp.PlanarPlanetary()
 
     @eqx.filter_jit
     @eqx.debug.assert_max_traces(max_traces=1)
     def lowest_rotational(stage):
-        return jg.planetary_modes(model, stage).frequencies[5]
+        return jp.planetary_modes(model, stage).frequencies[5]
 
     def with_k(k):
-        return jg.PlanetaryStage(**{**_fields(lin_parker_stage(3)), "ring_mesh_stiffness": k})
+        return jp.PlanetaryStage(**{**_fields(lin_parker_stage(3)), "ring_mesh_stiffness": k})
 
     singles = [float(lowest_rotational(with_k(jnp.asarray(k)))) for k in (3e8, 5e8, 7e8)]
     assert singles[0] < singles[1] < singles[2]
-    swept = jax.vmap(lambda k: jg.planetary_modes(model, with_k(k)).frequencies[5])(
+    swept = jax.vmap(lambda k: jp.planetary_modes(model, with_k(k)).frequencies[5])(
         jnp.array([3e8, 5e8, 7e8])
     )
     np.testing.assert_allclose(swept, singles, rtol=1e-12)

@@ -54,8 +54,8 @@ def test_lin_parker_table_1_from_a_case_file(n):
     data["planetary"]["planets"] = n
     case = jio.parse_train(data)
     stage = case.form.spec.stage(case)
-    model = jg.PlanarPlanetary()
-    modes = jg.planetary_modes(model, stage)
+    model = jp.PlanarPlanetary()
+    modes = jp.planetary_modes(model, stage)
     by = _by_type(np.asarray(modes.frequencies), jp.classify_modes(modes, model, stage))
     rot, tra, pla = PRINTED[n]
     # the printed values (0.1 Hz rounding; three of N = 4's differ by up to 0.04 %: the
@@ -63,7 +63,7 @@ def test_lin_parker_table_1_from_a_case_file(n):
     for t, printed in zip(jp.ModeType, (rot, tra, pla), strict=False):
         np.testing.assert_allclose(by[t], printed, rtol=5e-4, atol=0.06)
     # and exactly the stage tests/test_planetary.py builds from the paper's table in the API
-    reference = jg.planetary_modes(model, lin_parker_stage(n)).frequencies
+    reference = jp.planetary_modes(model, lin_parker_stage(n)).frequencies
     np.testing.assert_allclose(modes.frequencies, reference, rtol=1e-12, atol=1e-9)
 
 

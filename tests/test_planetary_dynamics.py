@@ -27,7 +27,7 @@ ZETA = 0.05
 def seq():
     geo = geometry(**SEQ)
     st = stage(geo, 3)
-    meshes = jg.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(K0))
+    meshes = jp.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(K0))
     return geo, st, meshes
 
 
@@ -125,7 +125,7 @@ def test_torsional_dynamics_near_a_resonance_against_the_reference(seq):
     run = jp.PlanetaryRun(TORQUE, steps_per_period=STEPS, periods=PERIODS, keep_periods=KEEP,
                           damping_ratio=ZETA)
     omega = _speed(st, meshes, 0.9 * freqs[0])
-    got = jp.planetary_dynamics(jg.TorsionalPlanetary(), st, meshes, run, jnp.asarray(omega))
+    got = jp.planetary_dynamics(jp.TorsionalPlanetary(), st, meshes, run, jnp.asarray(omega))
     assert int(got.result) == 0
     df = _check_against_reference(geo, st, meshes, got, omega)
     assert df.max() > 2.4  # amplified near the resonance (DF 2.58 in the reference)
@@ -139,7 +139,7 @@ def test_torsional_speed_sweep_against_the_reference(seq):
     run = jp.PlanetaryRun(TORQUE, steps_per_period=STEPS, periods=PERIODS, keep_periods=KEEP,
                           damping_ratio=ZETA)
     speeds = jnp.array([_speed(st, meshes, r * freqs[0]) for r in (0.5, 0.9, 1.6)])
-    got = jp.planetary_speed_sweep(jg.TorsionalPlanetary(), st, meshes, run, speeds)
+    got = jp.planetary_speed_sweep(jp.TorsionalPlanetary(), st, meshes, run, speeds)
     assert np.all(np.asarray(got.result) == 0)
     for i, omega in enumerate(np.asarray(speeds)):
         one = jax.tree.map(lambda a, i=i: a[i], got)
@@ -153,10 +153,10 @@ def test_zero_speed_limit_torsional(seq):
     geo, st, meshes = seq
     run = jp.PlanetaryRun(TORQUE, steps_per_period=STEPS, periods=PERIODS, keep_periods=KEEP,
                           damping_ratio=0.0)
-    model = jg.TorsionalPlanetary()
+    model = jp.TorsionalPlanetary()
     # a float64 speed, as the resonance test's: the same compiled run
     got = jp.planetary_dynamics(model, st, meshes, run, jnp.asarray(np.float64(1e-7)))
-    static = jg.planetary_quasi_static(model, st, meshes, np.asarray(TORQUE), got.travel[::96],
+    static = jp.planetary_quasi_static(model, st, meshes, np.asarray(TORQUE), got.travel[::96],
                                        np.zeros(3))
     np.testing.assert_allclose(got.sun_mesh_forces[::96], static.sun_mesh_forces, rtol=1e-8)
     np.testing.assert_allclose(got.ring_mesh_forces[::96], static.ring_mesh_forces, rtol=1e-8)
@@ -172,10 +172,10 @@ def test_zero_speed_limit_is_the_quasi_static_solution(seq):
     errors = np.array([10e-6, 0.0, 0.0])
     run = jp.PlanetaryRun(TORQUE, steps_per_period=32, periods=3, keep_periods=1,
                           damping_ratio=ZETA, tangential_pin_errors=errors)
-    model = jg.PlanarPlanetary()
+    model = jp.PlanarPlanetary()
     got = jp.planetary_dynamics(model, st, meshes, run, jnp.asarray(1e-6))
     assert int(got.result) == 0
-    static = jg.planetary_quasi_static(model, st, meshes, np.asarray(TORQUE), got.travel, errors)
+    static = jp.planetary_quasi_static(model, st, meshes, np.asarray(TORQUE), got.travel, errors)
     np.testing.assert_allclose(got.sun_mesh_forces, static.sun_mesh_forces, rtol=1e-8)
     np.testing.assert_allclose(got.ring_mesh_forces, static.ring_mesh_forces, rtol=1e-8)
     # the dynamic K_γ (peak-based) of the quasi-static forces: each planet's peak over the mean
@@ -204,10 +204,10 @@ def test_net_mesh_excitation_cancellation_follows_the_phasing_rule(params, n):
     l = 2, 4: torque only). The lines counted by hand give the same k_sn (to 1e-12)."""
     geo = geometry(**params)
     st = stage(geo, n)
-    meshes = jg.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(K0))
+    meshes = jp.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(K0))
     per = 48
     x = np.asarray(meshes.positions(per))
-    k_s, k_r = jp.planetary_mesh_stiffness(jg.TorsionalPlanetary(), st, meshes, x)
+    k_s, k_r = jp.planetary_mesh_stiffness(jp.TorsionalPlanetary(), st, meshes, x)
     f = np.asarray(k_s)  # (per, n)
     for i, xi in enumerate(x):
         want_s, want_r = counted_stiffness(geo, meshes, xi)
@@ -237,7 +237,7 @@ def test_ring_transducer_sidebands_at_multiples_of_the_planet_count(seq):
     geo, st, meshes = seq
     per, z_r = 24, 53
     x = meshes.positions(per)
-    res = jg.planetary_quasi_static(jg.TorsionalPlanetary(), st, meshes, np.asarray(TORQUE), x,
+    res = jp.planetary_quasi_static(jp.TorsionalPlanetary(), st, meshes, np.asarray(TORQUE), x,
                                     np.zeros(3))
     forces = np.tile(np.asarray(res.ring_mesh_forces), (z_r, 1))  # one carrier turn
     theta_c = 2 * np.pi * (np.arange(per * z_r) + 0.5) / (per * z_r)
@@ -269,12 +269,12 @@ def test_planar_dynamics_at_speed_against_a_rotating_frame_reference():
     from test_planetary import reference_planar
 
     geo = geometry(**SEQ)
-    member = jg.PlanetaryMember
+    member = jp.PlanetaryMember
     sp, pr = geo.sun_planet, geo.planet_ring
     r_s, r_p = sp.base_radii
     r_r, a = pr.base_radii[1], geo.center_distance
     soft = 1e9
-    st = jg.PlanetaryStage.equally_spaced(
+    st = jp.PlanetaryStage.equally_spaced(
         3,
         sun=member(1.2, 0.4 * 1.2 * r_s**2, r_s, 1e7, 0.0),
         ring=member(6.0, 6.0 * r_r**2, r_r, soft, soft * r_r**2),
@@ -285,7 +285,7 @@ def test_planar_dynamics_at_speed_against_a_rotating_frame_reference():
         sun_mesh_stiffness=5e8,
         ring_mesh_stiffness=5e8,
     )
-    meshes = jg.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(K0))
+    meshes = jp.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(K0))
     omega = 1500.0
     n, size = 3, 18
     psi = np.asarray(st.planet_angles)
@@ -360,7 +360,7 @@ def test_planar_dynamics_at_speed_against_a_rotating_frame_reference():
     assert np.abs(still / want - 1).max() > 0.03  # the rotating-frame terms matter here
     run = jp.PlanetaryRun(TORQUE, steps_per_period=STEPS, periods=PERIODS, keep_periods=KEEP,
                           damping_ratio=ZETA)
-    got = jp.planetary_dynamics(jg.PlanarPlanetary(), st, meshes, run, jnp.asarray(omega))
+    got = jp.planetary_dynamics(jp.PlanarPlanetary(), st, meshes, run, jnp.asarray(omega))
     assert int(got.result) == 0 and float(got.sun_mesh_forces.min()) > 0
     df = np.concatenate([np.asarray(d) for d in got.dynamic_factors])
     np.testing.assert_allclose(df, want, rtol=0.01)
@@ -407,8 +407,8 @@ def test_quasi_static_speed_resolved_engagement_jump_floating_sun():
     geo = geometry(**SEQ)
     st = stage(geo, 3, sun_bearing=0.0)
     errors = np.array([10e-6, 0.0, 0.0])
-    model = jg.PlanarPlanetary()
-    contact = jg.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(K0))
+    model = jp.PlanarPlanetary()
+    contact = jp.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(K0))
     k_s, _ = jp.planetary_mesh_stiffness(model, st, contact, contact.positions(960))
     k1 = np.asarray(k_s)[:, 0]
     r = float(np.max(np.roll(k1, -1) / k1))
@@ -417,13 +417,13 @@ def test_quasi_static_speed_resolved_engagement_jump_floating_sun():
                           damping_ratio=ZETA, tangential_pin_errors=errors)
     omega = jnp.asarray(_speed(st, contact, 40.0))
     fs = TORQUE / (3 * float(st.sun.base_radius))
-    const = jp.planetary_dynamics(model, st, jg.ConstantMeshes(contact.mesh_period()), run,
+    const = jp.planetary_dynamics(model, st, jp.ConstantMeshes(contact.mesh_period()), run,
                                   omega)
     assert float(const.k_gamma) == pytest.approx(1.0, abs=1e-6)
     got = jp.planetary_dynamics(model, st, contact, run, omega)
     assert int(got.result) == 0
     f = np.asarray(got.sun_mesh_forces)
-    static = jg.planetary_quasi_static(model, st, contact, np.asarray(TORQUE), got.travel,
+    static = jp.planetary_quasi_static(model, st, contact, np.asarray(TORQUE), got.travel,
                                        errors)
     fq = np.asarray(static.sun_mesh_forces)
     np.testing.assert_allclose(f.mean(axis=0), fq.mean(axis=0), atol=1e-6 * fs)
@@ -484,19 +484,19 @@ def test_dynamic_k_gamma_constant_meshes_pin_error_is_the_quasi_static():
     """Constant mesh stiffness, a held sun and a 10 µm pin error on planet 1 (planar model),
     at a mesh frequency of 40 Hz, far below the stage's modes: the forces do not vary in time,
     so the peak-based and the mean-load dynamic K_γ both equal the quasi-static K_γ of
-    jaxgear.load_sharing (the linear solve of the same stage, a separate code path), to 1e-6
-    (the rotating frame's terms at Ω ≈ 1 rad/s move it by far less); K_γ well above 1 here."""
+    jaxgear.planetary.load_sharing (the linear solve of the same stage, a separate code path), to
+    1e-6 (the rotating frame's terms at Ω ≈ 1 rad/s move it by far less); K_γ well above 1 here."""
     geo = geometry(**SEQ)
     st = stage(geo, 3)
     errors = np.array([10e-6, 0.0, 0.0])
-    model = jg.PlanarPlanetary()
-    contact = jg.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(K0))
-    meshes = jg.ConstantMeshes(contact.mesh_period())
+    model = jp.PlanarPlanetary()
+    contact = jp.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(K0))
+    meshes = jp.ConstantMeshes(contact.mesh_period())
     run = jp.PlanetaryRun(TORQUE, steps_per_period=48, periods=3, keep_periods=2,
                           damping_ratio=ZETA, tangential_pin_errors=errors)
     got = jp.planetary_dynamics(model, st, meshes, run, jnp.asarray(_speed(st, contact, 40.0)))
     assert int(got.result) == 0
-    want = float(jg.load_sharing(model, st, TORQUE, errors).k_gamma)
+    want = float(jp.load_sharing(model, st, TORQUE, errors).k_gamma)
     assert want > 1.05
     assert float(got.k_gamma) == pytest.approx(want, abs=1e-6)
     assert float(got.k_gamma_mean_load) == pytest.approx(want, abs=1e-6)

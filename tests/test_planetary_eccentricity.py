@@ -27,7 +27,7 @@ def turn(radius, points=24):
 
 def _solve(model, st, x):
     """The quasi-static solve (unilateral cells, one per mesh) at the mesh travels x."""
-    return jg.planetary_quasi_static(model, st, jg.ConstantMeshes(), jnp.asarray(TORQUE),
+    return jp.planetary_quasi_static(model, st, jp.ConstantMeshes(), jnp.asarray(TORQUE),
                                      jnp.asarray(x))
 
 
@@ -35,13 +35,13 @@ def _sharing(model, st, x):
     """load_sharing at each mesh travel x (every mesh in contact: the same solve as
     :func:`_solve`, tests/test_planetary_mesh.py)."""
     n = st.n_planets
-    return jax.vmap(lambda xi: jg.load_sharing(model, st, TORQUE, jnp.zeros(n), travel=xi))(
+    return jax.vmap(lambda xi: jp.load_sharing(model, st, TORQUE, jnp.zeros(n), travel=xi))(
         jnp.asarray(x))
 
 
 # the torsional model is the spring model's (rigid centres and pins); the planar one has
 # bearings and pins of 1e13 N/m, within 1e-3 of the mean force
-MODELS = ((jg.TorsionalPlanetary(), 1e-9), (jg.PlanarPlanetary(), 1e-3))
+MODELS = ((jp.TorsionalPlanetary(), 1e-9), (jp.PlanarPlanetary(), 1e-3))
 
 
 def test_sun_eccentricity_over_a_turn_against_the_spring_model():
@@ -63,7 +63,7 @@ def test_sun_eccentricity_over_a_turn_against_the_spring_model():
         np.testing.assert_allclose(got.sun_mesh_forces, f_want, rtol=0, atol=rtol * F_NOM)
         np.testing.assert_allclose(got.k_gamma, k_want, rtol=min(rtol, 1e-2))
     # the quasi-static solve with unilateral contact (every mesh loaded) is the same
-    got = _solve(jg.TorsionalPlanetary(), st, x[::4])
+    got = _solve(jp.TorsionalPlanetary(), st, x[::4])
     np.testing.assert_allclose(got.sun_mesh_forces, f_want[::4], rtol=1e-9)
 
 
@@ -97,7 +97,7 @@ def test_carrier_eccentricity_is_steady_in_the_carrier_frame_and_adds_to_pin_err
     f, k = rigid_path_forces(TORQUE, R_S, psi, A_S, A_R, K_MESH, K_MESH, pins=pins)
     x = turn(R_R, 6)
     for model, rtol in MODELS:
-        got = jg.planetary_quasi_static(model, st, jg.ConstantMeshes(), jnp.asarray(TORQUE),
+        got = jp.planetary_quasi_static(model, st, jp.ConstantMeshes(), jnp.asarray(TORQUE),
                                         jnp.asarray(x), pin_error)
         np.testing.assert_allclose(got.sun_mesh_forces, np.broadcast_to(f, (x.size, 4)),
                                    rtol=0, atol=rtol * F_NOM)
@@ -110,7 +110,7 @@ def test_a_floating_sun_absorbs_a_sun_eccentricity():
     sun): K_gamma = 1 at every position, with four planets too; held, it is not."""
     ecc = jp.Eccentricities(sun=E, sun_phase=0.3)
     x = turn(R_S, 8)
-    model = jg.PlanarPlanetary()
+    model = jp.PlanarPlanetary()
     for n in (3, 4):
         floating = _solve(model, stage(n, ecc, sun_bearing=0.0, pin=1e8), x)
         np.testing.assert_allclose(floating.k_gamma, 1.0, atol=1e-9)
@@ -122,7 +122,7 @@ def test_a_floating_sun_absorbs_a_sun_eccentricity():
 def test_k_gamma_gradient_with_respect_to_the_eccentricity():
     def k_gamma(e):
         st = stage(4, jp.Eccentricities(sun=e, sun_phase=0.4), pin=1e8)
-        return jg.load_sharing(jg.PlanarPlanetary(), st, TORQUE, jnp.zeros(4)).k_gamma
+        return jp.load_sharing(jp.PlanarPlanetary(), st, TORQUE, jnp.zeros(4)).k_gamma
 
     e, h = 20e-6, 1e-8
     g = jax.grad(k_gamma)(e)
@@ -138,7 +138,7 @@ def test_refusals():
     with pytest.raises(ValueError, match="eccentricities"):
         stage(3, ecc=(1e-6, 0.0))
     with pytest.raises(ValueError, match="travel"):
-        jg.load_sharing(jg.PlanarPlanetary(), stage(3), TORQUE, np.zeros(3), travel=np.ones(2))
+        jp.load_sharing(jp.PlanarPlanetary(), stage(3), TORQUE, np.zeros(3), travel=np.ones(2))
     assert isinstance(stage(3).eccentricities, eqx.Module)
 
 
@@ -148,10 +148,10 @@ def test_dynamics_at_a_crawl_follow_the_turning_eccentricity():
     recorded mesh forces are the spring model's at the same travels (torsional model)."""
     beta = 0.7
     st = stage(3, jp.Eccentricities(sun=E, sun_phase=beta))
-    meshes = jg.ConstantMeshes(2 * np.pi * R_S / 28)
+    meshes = jp.ConstantMeshes(2 * np.pi * R_S / 28)
     run = jp.PlanetaryRun(TORQUE, steps_per_period=12, periods=28, keep_periods=28,
                           damping_ratio=0.05)
-    got = jp.planetary_dynamics(jg.TorsionalPlanetary(), st, meshes, run, jnp.asarray(1e-7))
+    got = jp.planetary_dynamics(jp.TorsionalPlanetary(), st, meshes, run, jnp.asarray(1e-7))
     assert int(got.result) == 0
     x = np.asarray(got.travel)
     assert x[-1] - x[0] == pytest.approx(2 * np.pi * R_S, rel=0.01)  # a turn of the sun

@@ -79,7 +79,7 @@ def helical():
     program: the same DeviationMeshes structure, zero deviations the contact meshes)."""
     geo = ps.geometry(**ps.SEQ, helix=np.radians(20.0))
     st = ps.stage(geo, 3)
-    contact = jg.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(ps.K0),
+    contact = jp.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(ps.K0),
                                              n_slices=SLICES)
     teeth = jp.PlanetaryTeeth.from_geometry(geo, st.planet_angles)
     x = np.linspace(4.6, 9.1, 12) * float(geo.sun_planet.base_pitch)
@@ -92,7 +92,7 @@ def helical():
                    *(jp.PlanetFlanks(zero(17), zero(17)) for _ in range(2)))
         meshes = jp.DeviationMeshes(contact, teeth,
                                     jp.PlanetaryDeviations(zero(19), planets, zero(53)))
-        r = jg.planetary_quasi_static(jg.TorsionalPlanetary(), st, meshes,
+        r = jp.planetary_quasi_static(jp.TorsionalPlanetary(), st, meshes,
                                       np.asarray(TORQUE), x)
         assert np.all(np.asarray(r.result) == 0)
         return r

@@ -60,7 +60,7 @@ def test_run_modes_are_the_housed_models(runs):
     case, summary, modes = runs["steel"]
     housing = case.housing_body().housing
     stage = case.form.spec.stage(case)
-    for name, base in (("planar", jg.PlanarPlanetary()), ("torsional", jg.TorsionalPlanetary())):
+    for name, base in (("planar", jp.PlanarPlanetary()), ("torsional", jp.TorsionalPlanetary())):
         kind = jp.HousedPlanetary(base, housing, seats=(("ring", 0),))
         M = np.asarray(kind.mass_matrix(stage))
         K = np.asarray(kind.stiffness_matrix(stage))
@@ -129,7 +129,7 @@ def test_planetary_kind(runs):
     """jaxgear.io.planetary_kind: a grounded case's kind as given; a housed case's a
     HousedPlanetary of it with the held ring on seat ``housing_seat`` (its axis rows only); a
     case that is not a planetary stage's refused in one line."""
-    kind = jg.SpatialPlanetary()
+    kind = jp.SpatialPlanetary()
     grounded, steel = runs["grounded"][0], runs["steel"][0]
     assert jio.planetary_kind(grounded, kind) is kind
     housed = jio.planetary_kind(steel, kind)

@@ -70,7 +70,7 @@ def _low(f, n):
     return np.sort(np.asarray(f))[:n]
 
 
-@pytest.mark.parametrize("kind", [jg.TorsionalPlanetary(), jg.SpatialPlanetary()],
+@pytest.mark.parametrize("kind", [jp.TorsionalPlanetary(), jp.SpatialPlanetary()],
                          ids=["torsional", "3d"])
 def test_stiff_housing_gives_the_grounded_stage(kind):
     """As the box grows stiff (E x 10, 100, 1000) the housed stage's modes below 20 kHz tend
@@ -78,7 +78,7 @@ def test_stiff_housing_gives_the_grounded_stage(kind):
     falling about as 1/E (the housing's compliance in series with the ring's springs); within
     1e-4 at E x 1000 (measured: torsional 3.5e-1, 1.3e-4, 1.3e-5; 3D 2.6e-1, 4.3e-4,
     4.3e-5)."""
-    st = _stage(spatial=isinstance(kind, jg.SpatialPlanetary))
+    st = _stage(spatial=isinstance(kind, jp.SpatialPlanetary))
     f0 = np.asarray(jp.planetary_modes(kind, st).frequencies)
     n = int(np.sum(f0 < 2e4))
     errors = []
@@ -97,7 +97,7 @@ def test_hand_assembly_gives_the_same_modes():
     the housing's K_h and M_h, and the spring k_θ (θ_r − θ_seat) written between the ring's
     θ_r = u_r / r_br and the seat's rotation about the stage axis (the box's x axis: the seat's
     θ_x, by R), the same natural frequencies to 1e-9 and the same matrices."""
-    kind = jg.TorsionalPlanetary()
+    kind = jp.TorsionalPlanetary()
     st = _stage()
     hs = _housing(1.0)
     free = eqx.tree_at(lambda s: s.ring.torsional_stiffness, st, jnp.asarray(0.0))
@@ -122,7 +122,7 @@ def test_hand_assembly_gives_the_same_modes():
     np.testing.assert_allclose(np.sort(f), np.sort(f_ref), rtol=1e-9)
 
 
-@pytest.mark.parametrize("kind", [jg.TorsionalPlanetary(), jg.SpatialPlanetary()],
+@pytest.mark.parametrize("kind", [jp.TorsionalPlanetary(), jp.SpatialPlanetary()],
                          ids=["torsional", "3d"])
 def test_ring_torque_reaches_the_seat(kind):
     """The quasi-static contact solve on the housed stage (sun torque 1000 N m, carrier held):
@@ -131,12 +131,12 @@ def test_ring_torque_reaches_the_seat(kind):
     about the stage axis (R times the seat rows of K_h q_h, K_h the housing's own stiffness) is
     the same torque, each to 1e-9; the seat takes no other load (a torque about the axis only)
     in the torsional model."""
-    spatial = isinstance(kind, jg.SpatialPlanetary)
+    spatial = isinstance(kind, jp.SpatialPlanetary)
     st = _stage(spatial)
     geo = geometry(**SEQ)
     hs = _housing(1.0)
     housed = jp.HousedPlanetary(kind, hs)
-    meshes = jg.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(K0))
+    meshes = jp.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(K0))
     x = meshes.positions(4, 1)
     qs = jp.planetary_quasi_static(housed, st, meshes, 1000.0, x)
     assert np.all(np.asarray(qs.result) == 0)
@@ -168,10 +168,10 @@ def test_whine_at_a_near_rigid_housing():
     support torque (orders 0-4) is the grounded stage's within 1e-4 of the largest order (the
     mean, T_s r_br / r_bs by statics; measured 2.1e-5 at order 3, the planets' sequential phases
     cancelling orders 1-2) and its order 3 within 1e-3 of itself (measured 2.5e-4)."""
-    kind = jg.TorsionalPlanetary()
+    kind = jp.TorsionalPlanetary()
     st = _stage()
     geo = geometry(**SEQ)
-    meshes = jg.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(K0))
+    meshes = jp.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(K0))
     run = jp.PlanetaryRun(1000.0, steps_per_period=64, periods=1, keep_periods=1,
                           damping_ratio=0.05)
     out = []
@@ -187,7 +187,7 @@ def test_whine_at_a_near_rigid_housing():
 
 
 def test_bad_inputs():
-    kind = jg.TorsionalPlanetary()
+    kind = jp.TorsionalPlanetary()
     hs = _housing(1.0)
     with pytest.raises(ValueError, match="seat of ring"):
         jp.HousedPlanetary(kind, hs, seats=(("ring", 3),))
@@ -219,7 +219,7 @@ def test_star_stage_stiff_housing_and_hand_assembly():
     within 5e-4 at E x 1000 (measured 2.4e-3, 2.4e-4; the ring's free rotation is a rigid-body
     mode in both; the held carrier's in-plane springs, 1e13 N/m, are in series with the seat's
     in-plane stiffness, hence a larger error than the axis joints')."""
-    kind = jg.PlanarPlanetary()
+    kind = jp.PlanarPlanetary()
     st = _star()
     hs = _housing(1.0)
     seats = (("carrier", 0), ("ring", 0))
@@ -279,11 +279,11 @@ def test_star_stage_carrier_torque_reaches_the_seat():
     carrier's reaction torque, T_s (1 + r_br / r_bs) by statics, to 1e-9, and its in-plane
     force (not zero: the planets' meshes are in sequential phases and share unequally) is the
     carrier's bearing reaction and minus the sun's and the ring's, to 1e-9."""
-    kind = jg.PlanarPlanetary()
+    kind = jp.PlanarPlanetary()
     st = _star(K_RING)
     hs = _housing(1.0)
     housed = jp.HousedPlanetary(kind, hs, seats=(("carrier", 0),), carrier_held=True)
-    meshes = jg.ContactMeshes.from_geometry(geometry(**SEQ), st.planet_angles, jg.Uniform(K0))
+    meshes = jp.ContactMeshes.from_geometry(geometry(**SEQ), st.planet_angles, jg.Uniform(K0))
     qs = jp.planetary_quasi_static(housed, st, meshes, 1000.0, meshes.positions(4, 1))
     assert np.all(np.asarray(qs.result) == 0)
     q = np.asarray(qs.displacement)
@@ -309,10 +309,10 @@ def test_star_stage_carrier_torque_reaches_the_seat():
 def test_a_turning_carrier_is_refused_with_in_plane_joints():
     """carrier_held=True joins the in-plane supports: a run whose carrier turns is refused in
     one line naming why (the blocks would carry cos Ωt); at Ω = 0 the model builds."""
-    kind = jg.PlanarPlanetary()
+    kind = jp.PlanarPlanetary()
     st = _star(K_RING)
     housed = jp.HousedPlanetary(kind, _housing(1.0), seats=(("carrier", 0),), carrier_held=True)
-    meshes = jg.ContactMeshes.from_geometry(geometry(**SEQ), st.planet_angles, jg.Uniform(K0))
+    meshes = jp.ContactMeshes.from_geometry(geometry(**SEQ), st.planet_angles, jg.Uniform(K0))
     run = jp.PlanetaryRun(1000.0, steps_per_period=16, periods=1, keep_periods=1)
     for call in (
         lambda: jp.planetary_dynamics(housed, st, meshes, run, 10.0),
@@ -330,9 +330,9 @@ def test_newmark_at_a_near_rigid_housing():
     """planetary_dynamics (Newmark) runs on the housed stage unchanged; with the box E x 1000
     its mesh forces over the kept period are the grounded stage's within 1e-4 of the nominal
     force, and the ring's reaction torque from its support row likewise (of T_s r_br/r_bs)."""
-    kind = jg.TorsionalPlanetary()
+    kind = jp.TorsionalPlanetary()
     st = _stage()
-    meshes = jg.ContactMeshes.from_geometry(geometry(**SEQ), st.planet_angles, jg.Uniform(K0))
+    meshes = jp.ContactMeshes.from_geometry(geometry(**SEQ), st.planet_angles, jg.Uniform(K0))
     run = jp.PlanetaryRun(1000.0, steps_per_period=32, periods=6, keep_periods=2,
                           damping_ratio=0.05)
     out = []
@@ -457,7 +457,7 @@ def test_nrel_planetary_stage_in_a_box(tmp_path):
 def test_bad_inputs_more():
     """Lists are taken as tuples; a member twice, a bad centre or a housed kind inside another
     are refused in one line."""
-    kind = jg.TorsionalPlanetary()
+    kind = jp.TorsionalPlanetary()
     hs = _housing(1.0)
     assert jp.HousedPlanetary(kind, hs, seats=[["ring", 0]]).seats == (("ring", 0),)
     with pytest.raises(ValueError, match="one each"):
@@ -486,10 +486,10 @@ def test_housed_stage_whine_against_newmark():
 
     from jaxgear.dynamics import excited_omega, whine_response
 
-    kind = jg.TorsionalPlanetary()
+    kind = jp.TorsionalPlanetary()
     st = _stage()
     steps = 384
-    meshes = jg.ContactMeshes.from_geometry(geometry(**SEQ), st.planet_angles, jg.Uniform(K0))
+    meshes = jp.ContactMeshes.from_geometry(geometry(**SEQ), st.planet_angles, jg.Uniform(K0))
     run = jp.PlanetaryRun(1000.0, steps_per_period=steps, periods=40, keep_periods=4,
                           damping_ratio=0.05)
     ch = prepare_housing(_mesh(), fem_prep.Material(21e9, 0.3, 7800.0), 2500.0)

@@ -27,7 +27,7 @@ def seq_stage():
     """The SEQ stage's (geometry, three-planet stage, uniform contact meshes, tooth bookkeeping)."""
     geo = geometry(**SEQ)
     st = stage(geo, 3)
-    contact = jg.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(K0))
+    contact = jp.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(K0))
     teeth = jp.PlanetaryTeeth.from_geometry(geo, st.planet_angles)
     return geo, st, contact, teeth
 
@@ -217,7 +217,7 @@ def _deviations(sun=None, planets=None, ring=None, profile=None):
 
 def _solve(model, st, meshes, x, errors=np.zeros(3)):
     assert len(x) == N_POS
-    r = jg.planetary_quasi_static(model, st, meshes, np.asarray(TORQUE), np.asarray(x), errors)
+    r = jp.planetary_quasi_static(model, st, meshes, np.asarray(TORQUE), np.asarray(x), errors)
     assert np.all(np.asarray(r.result) == 0)
     return r
 
@@ -230,9 +230,9 @@ def test_zero_deviations_are_the_contact_meshes(seq, nominal):
     errors = np.array([8e-6, 0.0, -3e-6])
     tip = jg.Modifications.symmetric(jg.MemberModification(tip_relief_depth=12e-6,
                                                             tip_relief_extent=0.3))
-    relieved = jg.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(K0),
+    relieved = jp.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(K0),
                                               modifications=(tip, tip))
-    model = jg.TorsionalPlanetary()
+    model = jp.TorsionalPlanetary()
     for c, e, want in ((contact, np.zeros(3), plain), (relieved, errors, None)):
         want = want or _solve(model, st, c, x, e)
         got = _solve(model, st, jp.DeviationMeshes(c, teeth, _deviations()), x, e)
@@ -248,7 +248,7 @@ def nominal(seq):
     test, shared with the zero-deviation test (one compiled program)."""
     geo, st, contact, teeth = seq
     x = np.asarray(contact.positions(3, 20))
-    return x, _solve(jg.TorsionalPlanetary(), st, contact, x)
+    return x, _solve(jp.TorsionalPlanetary(), st, contact, x)
 
 
 def _contact_windows(geo, psi, d, x, planet, tooth):
@@ -274,7 +274,7 @@ def test_one_planet_tooth_is_seen_where_it_meshes_and_every_planet_turn(seq, dra
     p_b = float(contact.sun_mesh.base_pitch)
     devs = _deviations(planets=[None, _one_tooth(Z_P, 5, f), None])
     meshes = jp.DeviationMeshes(contact, teeth, devs)
-    model = jg.TorsionalPlanetary()
+    model = jp.TorsionalPlanetary()
     x, nominal = nominal  # 20 mesh periods: the tooth passes both meshes
     got = _solve(model, st, meshes, x)
     d_f = np.asarray(got.sun_mesh_forces) - np.asarray(nominal.sun_mesh_forces)
@@ -326,7 +326,7 @@ def test_hunting_period_and_no_shorter_one(seq):
     base = np.asarray(contact.positions(4, 3)) + 3 * p_b
     shifts = [0, h, h // 19, h // 17, h // 53]
     x = np.concatenate([base + k * p_b for k in shifts])
-    r = _solve(jg.TorsionalPlanetary(), st, meshes, x)
+    r = _solve(jp.TorsionalPlanetary(), st, meshes, x)
     f = np.concatenate([np.asarray(r.sun_mesh_forces), np.asarray(r.ring_mesh_forces)], 1)
     te = np.concatenate([np.asarray(r.sun_te), np.asarray(r.ring_te)], 1)
     blocks = np.split(np.concatenate([f, 1e9 * te], 1), len(shifts))
@@ -394,10 +394,10 @@ def assert_spring_model(seq, drawn_d, meshes, errors, sun_material, ring_materia
     forces = np.array(forces)
     k_hand = forces.max(axis=1) / forces.mean(axis=1)
     assert forces.min() > 0 and np.ptp(k_hand) > 0.02
-    got = _solve(jg.TorsionalPlanetary(), st, meshes, x, errors)
+    got = _solve(jp.TorsionalPlanetary(), st, meshes, x, errors)
     np.testing.assert_allclose(got.sun_mesh_forces, forces, rtol=1e-6)
     np.testing.assert_allclose(got.k_gamma, k_hand, rtol=1e-6)
-    planar = _solve(jg.PlanarPlanetary(), st, meshes, x, errors)
+    planar = _solve(jp.PlanarPlanetary(), st, meshes, x, errors)
     np.testing.assert_allclose(planar.k_gamma, k_hand, rtol=1e-2)
 
 
@@ -414,7 +414,7 @@ def test_bad_inputs_are_one_line(seq):
         (lambda: jp.planetary_hunting_periods(19, 0, 53), "z_planet"),
         # the dynamics lay out one mesh period's cells: refused, not repeated silently
         (lambda: jp.planetary_dynamics(
-            jg.TorsionalPlanetary(), st, jp.DeviationMeshes(contact, teeth, _deviations()),
+            jp.TorsionalPlanetary(), st, jp.DeviationMeshes(contact, teeth, _deviations()),
             jp.PlanetaryRun(TORQUE, steps_per_period=8, periods=2, keep_periods=1),
             jax.numpy.asarray(60.0)), "change from one mesh period to the next"),
     ]
@@ -537,7 +537,7 @@ def test_jaxgear_run_writes_the_hunting_span(tmp_path, capsys):
     meshes = jp.DeviationMeshes(contact, jp.PlanetaryTeeth.from_geometry(
         geo, np.asarray(spec.planet_angles)), case.deviations)
     x = np.asarray(contact.positions(4, 38))
-    r = jg.planetary_quasi_static(jg.PlanarPlanetary(), spec.sharing_stage(spec.stage(case)),
+    r = jp.planetary_quasi_static(jp.PlanarPlanetary(), spec.sharing_stage(spec.stage(case)),
                                   meshes, np.asarray(abs(spec.torques(case.torque)["sun"])), x,
                                   np.asarray(spec.tangential_pin_errors),
                                   np.asarray(spec.radial_pin_errors))

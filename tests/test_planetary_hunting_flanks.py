@@ -65,7 +65,7 @@ def _flanks(sun_flank=None, ring_flank=None, sun_profile=0.0, ring_profile=0.0):
 def _solve(model, st, meshes, x, errors=None):
     assert len(x) == N_POS
     errors = np.zeros(3) if errors is None else errors
-    r = jg.planetary_quasi_static(model, st, meshes, np.asarray(TORQUE), np.asarray(x), errors)
+    r = jp.planetary_quasi_static(model, st, meshes, np.asarray(TORQUE), np.asarray(x), errors)
     assert np.all(np.asarray(r.result) == 0)
     return r
 
@@ -75,7 +75,7 @@ def nominal(seq):
     """The contact meshes' solve (torsional, no deviation) over 20 mesh periods."""
     _, st, contact, _ = seq
     x = np.asarray(contact.positions(3, 20))
-    return x, _solve(jg.TorsionalPlanetary(), st, contact, x)
+    return x, _solve(jp.TorsionalPlanetary(), st, contact, x)
 
 
 def _changes(got, nominal):
@@ -94,7 +94,7 @@ def test_a_ring_flank_deviation_is_seen_in_that_planets_ring_mesh_only(seq, draw
     travels only (not where the tooth is on the sun line: there every force and TE is the
     contact meshes' to 1e-12), its ring mesh's TE drops most, planet 2 takes load."""
     geo, st, contact, teeth = seq
-    model = jg.TorsionalPlanetary()
+    model = jp.TorsionalPlanetary()
     devs = _flanks(ring_flank=[None, _one_tooth(Z_P, 5, F), None])
     meshes = jp.DeviationMeshes(contact, teeth, devs)
     x, nominal = nominal
@@ -141,7 +141,7 @@ def test_an_indexing_error_loads_on_one_line_and_unloads_on_the_other(seq, drawn
     tooth = _one_tooth(Z_P, 5, F)
     devs = _flanks(sun_flank=[None, tooth, None], ring_flank=[None, -tooth, None])
     x, nominal = nominal
-    got = _solve(jg.TorsionalPlanetary(), st, jp.DeviationMeshes(contact, teeth, devs), x)
+    got = _solve(jp.TorsionalPlanetary(), st, jp.DeviationMeshes(contact, teeth, devs), x)
     d_f, _ = _changes(got, nominal)
     on_sun, on_ring = _contact_windows(geo, np.asarray(st.planet_angles), drawn_d, x, 1, 5)
     assert np.all(d_f[on_sun, 1] > 1e-3 * TORQUE) and np.all(d_f[on_ring, 1] < -1e-3 * TORQUE)
@@ -167,7 +167,7 @@ def test_a_thickness_error_on_both_flanks_is_the_single_table_form(seq, nominal)
         jp.PlanetFlanks(_gear(Z_P, thick), _gear(Z_P, thick)),
         jp.PlanetFlanks.both(_gear(Z_P, profile=slope))), _gear(Z_R))
     assert single.planet_flanks(0) == (None, None)
-    model = jg.TorsionalPlanetary()
+    model = jp.TorsionalPlanetary()
     want = _solve(model, st, jp.DeviationMeshes(contact, teeth, single), x)
     got = _solve(model, st, jp.DeviationMeshes(contact, teeth, flanks), x)
     for name in ("sun_mesh_forces", "ring_mesh_forces", "sun_te", "ring_te", "k_gamma"):

@@ -1,6 +1,6 @@
-"""The 2N meshes of a planetary stage from real contact (jaxgear.ContactMeshes) and the
-quasi-static solve over the carrier turn (jaxgear.planetary_quasi_static): the sun-ring offset
-against contact points on drawn planet flanks, the reduction to load_sharing with constant
+"""The 2N meshes of a planetary stage from real contact (jaxgear.planetary.ContactMeshes) and the
+quasi-static solve over the carrier turn (jaxgear.planetary.planetary_quasi_static): the sun-ring
+offset against contact points on drawn planet flanks, the reduction to load_sharing with constant
 springs and with the lines counted by hand, the phase pattern of the planets' forces, K_gamma
 with one pin error against a spring model written here, equilibrium and Willis, contact loss."""
 
@@ -22,7 +22,7 @@ PER_PERIOD = 12  # a multiple of N = 3 and 4: the planets' phases fall on the po
 def seq():
     geo = geometry(**SEQ)
     st = stage(geo, 3)
-    meshes = jg.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(K0))
+    meshes = jp.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(K0))
     return geo, st, meshes
 
 
@@ -113,14 +113,14 @@ def test_sun_ring_offset_against_contact_points_on_drawn_flanks(params):
             np.testing.assert_allclose(r, 0.0, atol=1e-9 * p_b)
 
 
-@pytest.mark.parametrize("model", [jg.TorsionalPlanetary(), jg.PlanarPlanetary()])
+@pytest.mark.parametrize("model", [jp.TorsionalPlanetary(), jp.PlanarPlanetary()])
 def test_constant_meshes_reduce_to_load_sharing(model):
     geo = geometry(**SEQ)
     st = stage(geo, 3, pin=3e8, sun_bearing=1e8)
     errors = np.array([4e-6, 0.0, -2e-6])
     radial = np.array([0.0, 20e-6, 0.0])
-    want = jg.load_sharing(model, st, 300.0, errors, radial)
-    got = jg.planetary_quasi_static(model, st, jg.ConstantMeshes(), np.asarray(300.0),
+    want = jp.load_sharing(model, st, 300.0, errors, radial)
+    got = jp.planetary_quasi_static(model, st, jp.ConstantMeshes(), np.asarray(300.0),
                                     np.array([0.0, 1e-3]), errors, radial)
     for i in range(2):
         np.testing.assert_allclose(got.sun_mesh_forces[i], want.sun_mesh_forces, rtol=1e-10)
@@ -134,16 +134,16 @@ def test_uniform_contact_equals_load_sharing_with_the_lines_counted_by_hand(seq)
     """Uniform k0, spur, rigid teeth otherwise: at each position each mesh is k0 b n(x), n the
     lines counted here; load_sharing with those per-planet stiffnesses gives the same forces."""
     geo, st, meshes = seq
-    model = jg.TorsionalPlanetary()
+    model = jp.TorsionalPlanetary()
     errors = np.array([10e-6, 0.0, 0.0])
     x = np.asarray(meshes.positions(PER_PERIOD))
-    got = jg.planetary_quasi_static(model, st, meshes, np.asarray(1000.0), x, errors)
+    got = jp.planetary_quasi_static(model, st, meshes, np.asarray(1000.0), x, errors)
     assert np.all(np.asarray(got.result) == 0)
     seen = set()
     for i, xi in enumerate(x):
         k_s, k_r = counted_stiffness(geo, meshes, xi)
         seen.add((tuple(k_s), tuple(k_r)))
-        ref = jg.load_sharing(model, with_meshes(st, k_s, k_r), 1000.0, errors)
+        ref = jp.load_sharing(model, with_meshes(st, k_s, k_r), 1000.0, errors)
         assert float(ref.sun_mesh_forces.min()) > 0  # every mesh loaded
         np.testing.assert_allclose(got.sun_mesh_forces[i], ref.sun_mesh_forces, rtol=1e-10)
         np.testing.assert_allclose(got.ring_mesh_forces[i], ref.ring_mesh_forces, rtol=1e-10)
@@ -154,9 +154,9 @@ def test_planet_forces_follow_the_mesh_phases(seq):
     """Equally spaced planets, no error: planet n's forces are planet 1's a phase gamma_n later
     (sequential 19/-53, N = 3); in phase (20/-52, N = 4) the planets' forces are equal."""
     geo, st, meshes = seq
-    model = jg.PlanarPlanetary()
+    model = jp.PlanarPlanetary()
     x = meshes.positions(PER_PERIOD)
-    got = jg.planetary_quasi_static(model, st, meshes, np.asarray(400.0), x, np.zeros(3))
+    got = jp.planetary_quasi_static(model, st, meshes, np.asarray(400.0), x, np.zeros(3))
     g_s, g_r = jp.mesh_phases(19, 53, st.planet_angles)
     assert np.allclose(g_s, [0, 1 / 3, 2 / 3]) and np.allclose(g_r, g_s)
     f_s, f_r = np.asarray(got.sun_mesh_forces), np.asarray(got.ring_mesh_forces)
@@ -167,8 +167,8 @@ def test_planet_forces_follow_the_mesh_phases(seq):
         np.testing.assert_allclose(f_r[:, n], np.roll(f_r[:, 0], shift), rtol=1e-9)
     geo4 = geometry(**INPHASE)
     st4 = stage(geo4, 4)
-    m4 = jg.ContactMeshes.from_geometry(geo4, st4.planet_angles, jg.Uniform(K0))
-    got4 = jg.planetary_quasi_static(jg.TorsionalPlanetary(), st4, m4, np.asarray(400.0), x,
+    m4 = jp.ContactMeshes.from_geometry(geo4, st4.planet_angles, jg.Uniform(K0))
+    got4 = jp.planetary_quasi_static(jp.TorsionalPlanetary(), st4, m4, np.asarray(400.0), x,
                                      np.zeros(4))
     f4 = np.asarray(got4.sun_mesh_forces)
     np.testing.assert_allclose(f4, f4[:, :1] * np.ones((1, 4)), rtol=1e-9)
@@ -195,8 +195,8 @@ def test_k_gamma_with_one_pin_error_against_a_spring_model(seq):
         k_hand.append(f.max() / f.mean())
     k_hand = np.array(k_hand)
     assert k_hand.max() > 1.05
-    for model, rtol in ((jg.TorsionalPlanetary(), 1e-6), (jg.PlanarPlanetary(), 1e-2)):
-        got = jg.planetary_quasi_static(model, st, meshes, np.asarray(torque), x, errors)
+    for model, rtol in ((jp.TorsionalPlanetary(), 1e-6), (jp.PlanarPlanetary(), 1e-2)):
+        got = jp.planetary_quasi_static(model, st, meshes, np.asarray(torque), x, errors)
         np.testing.assert_allclose(got.k_gamma, k_hand, rtol=rtol)
         assert float(got.k_gamma_max) == pytest.approx(k_hand.max(), rel=rtol)
 
@@ -207,14 +207,14 @@ def test_equilibrium_willis_and_contact_loss(seq):
     the ring's reaction r_br sum F_r = (r_br / r_bs) T_s (Willis: z_r / z_s), the carrier's
     -(T_s + T_r), each to 1e-9."""
     geo, st, meshes = seq
-    model = jg.PlanarPlanetary()
+    model = jp.PlanarPlanetary()
     errors = np.array([400e-6, 0.0, 0.0])
     torque = 300.0
     x = meshes.positions(PER_PERIOD)
-    got = jg.planetary_quasi_static(model, st, meshes, np.asarray(torque), x, errors)
+    got = jp.planetary_quasi_static(model, st, meshes, np.asarray(torque), x, errors)
     f_s, f_r = np.asarray(got.sun_mesh_forces), np.asarray(got.ring_mesh_forces)
     assert np.all(f_s[:, 0] == 0.0) and np.all(f_r[:, 0] == 0.0)  # planet 1 out of contact
-    linear = jg.load_sharing(model, with_meshes(st, 3e8, 3e8), torque, errors)
+    linear = jp.load_sharing(model, with_meshes(st, 3e8, 3e8), torque, errors)
     assert float(linear.sun_mesh_forces[0]) < 0  # what the linear model would say
     r_s, r_r = st.sun.base_radius, st.ring.base_radius
     q = np.asarray(got.displacement)
@@ -232,10 +232,10 @@ def test_equilibrium_willis_and_contact_loss(seq):
 def test_bad_inputs_one_line():
     geo = geometry(**SEQ)
     with pytest.raises(ValueError, match="cannot be assembled"):
-        jg.ContactMeshes.from_geometry(geo, np.radians([0.0, 121.0, 240.0]), jg.Uniform(K0))
+        jp.ContactMeshes.from_geometry(geo, np.radians([0.0, 121.0, 240.0]), jg.Uniform(K0))
     st = stage(geo, 3)
     with pytest.raises(ValueError, match="tangential_pin_errors"):
-        jg.planetary_quasi_static(jg.TorsionalPlanetary(), st, jg.ConstantMeshes(), 1.0,
+        jp.planetary_quasi_static(jp.TorsionalPlanetary(), st, jp.ConstantMeshes(), 1.0,
                                   np.zeros(1), np.zeros(2))
 
 
@@ -248,8 +248,8 @@ def test_float32_runs():
         with jax.enable_x64(x64):
             geo = geometry(**SEQ)
             st = stage(geo, 3, pin=5e8, sun_bearing=1e8)
-            meshes = jg.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(K0))
-            got = jg.planetary_quasi_static(jg.PlanarPlanetary(), st, meshes,
+            meshes = jp.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(K0))
+            got = jp.planetary_quasi_static(jp.PlanarPlanetary(), st, meshes,
                                             np.asarray(1000.0), meshes.positions(PER_PERIOD),
                                             np.array([10e-6, 0.0, 0.0]))
             assert np.all(np.asarray(got.result) == 0)

@@ -126,7 +126,7 @@ def _old_meshes(case, n_slices):
     """What dynamic_meshes built before: the table's default keywords for both meshes."""
     spec = case.form.spec
     geo = jg.PlanetaryGeometry(case.pairs[0], case.pairs[1], spec.center_distance, 0.0)
-    return jg.ContactMeshes.from_geometry(
+    return jp.ContactMeshes.from_geometry(
         geo, np.asarray(spec.planet_angles), case.stiffness, n_slices,
         (case.mesh_case(0).modifications, case.mesh_case(1).modifications))
 
@@ -207,10 +207,10 @@ def test_from_models_refusals():
     psi = np.asarray(spec.planet_angles)
     with pytest.raises(ValueError, match=r"^ContactMeshes.from_models: meshes\[0\]\.base_radius_"
                        r"pinion = .* allowed its pair's"):
-        jg.ContactMeshes.from_models(geo, psi, (ring, sun))
+        jp.ContactMeshes.from_models(geo, psi, (ring, sun))
     with pytest.raises(ValueError, match=r"^ContactMeshes.from_models: meshes has 1 entries: "
                        r"allowed 2 \(sun, ring\)$"):
-        jg.ContactMeshes.from_models(geo, psi, (sun,))
+        jp.ContactMeshes.from_models(geo, psi, (sun,))
 
 
 @pytest.mark.slow
@@ -227,7 +227,7 @@ def test_the_dynamics_at_zero_speed_give_the_rating_stage_loads():
     spec = case.form.spec
     full = spec.stage(case)
     # the sweep's setup (jaxgear/cli/planetary_sweep.py): the load-sharing stage, planar model
-    stage, model = spec.sharing_stage(full), jg.PlanarPlanetary()
+    stage, model = spec.sharing_stage(full), jp.PlanarPlanetary()
     meshes = spec.dynamic_meshes(case, case.slices)
     errors = np.asarray(spec.tangential_pin_errors)
     radial = np.asarray(spec.radial_pin_errors)
@@ -239,11 +239,11 @@ def test_the_dynamics_at_zero_speed_give_the_rating_stage_loads():
     got = jp.planetary_dynamics(model, stage, meshes, run, jnp.asarray(1e-6))
     assert int(got.result) == 0
     geo = jg.PlanetaryGeometry(case.pairs[0], case.pairs[1], spec.center_distance, 0.0)
-    ref = jg.ContactMeshes.from_models(
+    ref = jp.ContactMeshes.from_models(
         geo, np.asarray(spec.planet_angles),
         tuple(jg.MeshModel.from_pair(p, s, k, case.slices)
               for p, (s, k) in zip(case.pairs, _tables(case, T_LOW, E_LOW, NU_LOW), strict=True)))
-    static = jg.planetary_quasi_static(jg.PlanarPlanetary(), stage, ref, np.asarray(torque),
+    static = jp.planetary_quasi_static(jp.PlanarPlanetary(), stage, ref, np.asarray(torque),
                                        got.travel, errors, radial)
     for a, b in ((got.sun_mesh_forces, static.sun_mesh_forces),
                  (got.ring_mesh_forces, static.ring_mesh_forces)):

@@ -1,7 +1,7 @@
 """A planetary stage as a dynamics engine (jaxgear.planetary.PlanetaryModel, an
 AbstractDynamicModel): jaxgear.dynamics.simulate at a very low input speed gives each mesh's
-force of the quasi-static solve (jaxgear.planetary_quasi_static, a separate contact solve of
-K_b q + V^T P = f) at the same mesh travels; the automatic step of the engine is the stage's
+force of the quasi-static solve (jaxgear.planetary.planetary_quasi_static, a separate contact solve
+of K_b q + V^T P = f) at the same mesh travels; the automatic step of the engine is the stage's
 time plan's (jaxgear.planetary.plan_sweep); simulate and speed_sweep at speed give what
 planetary_dynamics gives with the same settings (consistency); the refusals."""
 
@@ -25,9 +25,9 @@ TORQUE = 1000.0
 def seq():
     geo = geometry(**SEQ)
     st = stage(geo, 3)
-    meshes = jg.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(K0))
+    meshes = jp.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(K0))
     run = jp.PlanetaryRun(TORQUE, damping_ratio=0.05)
-    return st, meshes, run, jp.PlanetaryModel(jg.TorsionalPlanetary(), st, meshes, run)
+    return st, meshes, run, jp.PlanetaryModel(jp.TorsionalPlanetary(), st, meshes, run)
 
 
 def _direct(st, meshes, run, speed):
@@ -37,7 +37,7 @@ def _direct(st, meshes, run, speed):
     speed reruns this compiled program instead of compiling its own)."""
     carrier = jnp.asarray(speed, jnp.float64)
     mesh_speed = st.ring.base_radius * jnp.abs(carrier)
-    return jp.planetary_dynamics(jg.TorsionalPlanetary(), st, meshes, run, carrier, mesh_speed,
+    return jp.planetary_dynamics(jp.TorsionalPlanetary(), st, meshes, run, carrier, mesh_speed,
                                  jg.ExactContact(), jp.RigidRing())
 
 
@@ -50,7 +50,7 @@ def test_simulate_at_a_very_low_speed_is_the_quasi_static_solve(seq):
     st, meshes, run, model = seq
     r = jd.simulate(model, 1e-3, integrator=jd.Newmark(48), window=jd.SteadyState(3, 1))
     assert isinstance(r, jp.PlanetaryDynamics) and int(r.result) == 0
-    static = jg.planetary_quasi_static(jg.TorsionalPlanetary(), st, meshes,
+    static = jp.planetary_quasi_static(jp.TorsionalPlanetary(), st, meshes,
                                        np.asarray(TORQUE), r.travel)
     got = np.concatenate([r.sun_mesh_forces, r.ring_mesh_forces], axis=1)
     want = np.concatenate([static.sun_mesh_forces, static.ring_mesh_forces], axis=1)
@@ -69,7 +69,7 @@ def test_the_automatic_step_is_the_time_plans(seq):
     got = jd.auto_steps_per_period(model, speeds)
     f_mesh = 1.0 / float(model.mesh_period_angle())  # Hz per rad/s
     assert f_mesh == pytest.approx(53 / (2 * np.pi), rel=1e-12)  # z_r = 53
-    plan, _ = jp.plan_sweep(jg.TorsionalPlanetary(), st, meshes, run, speeds, f_mesh)
+    plan, _ = jp.plan_sweep(jp.TorsionalPlanetary(), st, meshes, run, speeds, f_mesh)
     np.testing.assert_array_equal(got, plan.steps)
     assert np.all(got % 3 == 0)
 
@@ -109,9 +109,9 @@ def test_refusals(seq):
     with pytest.raises(ValueError, match="direction"):
         jd.speed_sweep(model, [10.0, 20.0], integrator=jd.Newmark(48), direction=jd.Up())
     with pytest.raises(ValueError, match="carrier_per_input"):
-        jp.PlanetaryModel(jg.TorsionalPlanetary(), st, meshes, run, carrier_per_input=0.0)
+        jp.PlanetaryModel(jp.TorsionalPlanetary(), st, meshes, run, carrier_per_input=0.0)
     with pytest.raises(ValueError, match="meshes"):
-        jp.PlanetaryModel(jg.TorsionalPlanetary(), st, None, run)
+        jp.PlanetaryModel(jp.TorsionalPlanetary(), st, None, run)
 
 
 def test_build_dynamic_model_of_a_planetary_case_is_the_sweeps_stage():
@@ -124,7 +124,7 @@ def test_build_dynamic_model_of_a_planetary_case_is_the_sweeps_stage():
     case = jio.load_case("lin-parker-1999")
     model, _ = jio.build_dynamic_model(case)
     assert isinstance(model, jp.PlanetaryModel)
-    assert isinstance(model.kind, jg.PlanarPlanetary)
+    assert isinstance(model.kind, jp.PlanarPlanetary)
     f_mesh = 28 * (1.0 - 28 / 120) / (2 * np.pi)  # Hz per rad/s of the sun
     assert 1.0 / float(model.mesh_period_angle()) == pytest.approx(f_mesh, rel=1e-12)
     assert float(model.carrier_per_input) == pytest.approx(28 / 120, rel=1e-12)

@@ -184,7 +184,7 @@ def _geometric_stiffness(geo, psi_deg, travels):
 def _library_stiffness(geo, psi_deg, travels, phase_error=0.0):
     """jaxgear's k_sn, k_rn at the travels from ContactMeshes with the table K0 (1 + s / g)."""
     psi = np.radians(psi_deg)
-    meshes = jg.ContactMeshes.from_geometry(geo, psi, jg.Uniform(K0))
+    meshes = jp.ContactMeshes.from_geometry(geo, psi, jg.Uniform(K0))
 
     def linear(mesh):
         return K0 * (1 + mesh.stiffness_s / mesh.path_of_contact)
@@ -201,7 +201,7 @@ def _library_stiffness(geo, psi_deg, travels, phase_error=0.0):
     )
     st = eqx.tree_at(lambda s: s.planet_angles, stage(geo, len(psi)), jnp.asarray(psi))
     k_s, k_r = jp.planetary_mesh_stiffness(
-        jg.TorsionalPlanetary(), st, meshes, jnp.asarray(travels)
+        jp.TorsionalPlanetary(), st, meshes, jnp.asarray(travels)
     )
     return np.asarray(k_s), np.asarray(k_r)
 

@@ -9,8 +9,8 @@ References, independent of the code under test:
   cos(beta_b);
 - the quasi-static limit: at a carrier speed of 1e-7 rad/s the Newmark run's inertia falls as
   (S Omega)^2 (tests/test_planetary_dynamics.py), so its cell forces are the quasi-static solve's
-  (jaxgear.planetary_quasi_static's line loads times the cells' lengths, and on the rated NREL
-  stage the rating's own stage_loads);
+  (jaxgear.planetary.planetary_quasi_static's line loads times the cells' lengths, and on the rated
+  NREL stage the rating's own stage_loads);
 - a flat FE table (the same stress per unit load at every roll distance): the map is then the
   line load times a constant, so the ratio of the largest root stresses at speed and at rest is
   the ratio of the largest line loads, counted here from the loads; and the real FE fillet
@@ -52,11 +52,11 @@ def test_cell_forces_sum_to_the_mesh_forces_and_reach_the_quasi_static_limit():
     ``cell_loads`` off by default."""
     geo = geometry(**SEQ)
     st = stage(geo, 3)
-    meshes = jg.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(K0), n_slices=2)
+    meshes = jp.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(K0), n_slices=2)
     errors = np.array([10e-6, 0.0, 0.0])
     run = jp.PlanetaryRun(TORQUE, steps_per_period=12, periods=3, keep_periods=1,
                           tangential_pin_errors=errors, cell_loads=True)
-    model = jg.TorsionalPlanetary()
+    model = jp.TorsionalPlanetary()
     n, lines, slices = 3, meshes.sun_mesh.n_lines, meshes.sun_mesh.n_slices
     per = lines * slices
     assert meshes.ring_mesh.n_lines * meshes.ring_mesh.n_slices == per
@@ -73,7 +73,7 @@ def test_cell_forces_sum_to_the_mesh_forces_and_reach_the_quasi_static_limit():
             np.testing.assert_allclose(sun, f_s[:, j], rtol=0, atol=1e-10 * f_s.max())
             np.testing.assert_allclose(ring, f_r[:, j], rtol=0, atol=1e-10 * f_r.max())
         if speed == 1e-7:
-            static = jg.planetary_quasi_static(model, st, meshes, np.asarray(TORQUE), got.travel,
+            static = jp.planetary_quasi_static(model, st, meshes, np.asarray(TORQUE), got.travel,
                                                errors)
             # every cell's length: (b/N)/cos(beta_b)
             want = np.asarray(static.cell_line_load) * WIDTH / slices / cos_b

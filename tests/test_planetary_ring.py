@@ -1,5 +1,5 @@
 """The flexible ring gear of a planetary stage (jaxgear.planetary.CondensedRing in
-jaxgear.planetary_quasi_static) and the resonance rule of the ring's nodal-diameter modes
+jaxgear.planetary.planetary_quasi_static) and the resonance rule of the ring's nodal-diameter modes
 (jaxgear.planetary.ring_excitation).
 
 References: springs in series (a ring compliance c at each planet's station adds 1 / k_r + c);
@@ -76,17 +76,17 @@ def test_station_compliance_adds_in_series(seq):
     F = np.zeros((z, 2, z, 2))
     F[np.arange(z), :, np.arange(z), :] = c * np.eye(2)
     x = np.array([0.0])
-    model = jg.PlanarPlanetary()
-    flex = jg.planetary_quasi_static(model, st, jg.ConstantMeshes(), TORQUE, x, PIN_ERRORS,
+    model = jp.PlanarPlanetary()
+    flex = jp.planetary_quasi_static(model, st, jp.ConstantMeshes(), TORQUE, x, PIN_ERRORS,
                                      ring=jp.CondensedRing(F))
     k_r = float(st.ring_mesh_stiffness)
-    series = jg.planetary_quasi_static(model, with_ring_k(st, 1 / (1 / k_r + c)),
-                                       jg.ConstantMeshes(), TORQUE, x, PIN_ERRORS)
+    series = jp.planetary_quasi_static(model, with_ring_k(st, 1 / (1 / k_r + c)),
+                                       jp.ConstantMeshes(), TORQUE, x, PIN_ERRORS)
     np.testing.assert_allclose(flex.sun_mesh_forces, series.sun_mesh_forces, rtol=1e-9)
     np.testing.assert_allclose(flex.ring_mesh_forces, series.ring_mesh_forces, rtol=1e-9)
     np.testing.assert_allclose(flex.ring_deflection, c * np.asarray(flex.ring_mesh_forces),
                                rtol=1e-9)
-    rigid = jg.planetary_quasi_static(model, st, jg.ConstantMeshes(), TORQUE, x, PIN_ERRORS)
+    rigid = jp.planetary_quasi_static(model, st, jp.ConstantMeshes(), TORQUE, x, PIN_ERRORS)
     assert np.all(np.asarray(rigid.ring_deflection) == 0.0)
 
 
@@ -103,13 +103,13 @@ def test_stiff_flexible_ring_equals_rigid_ring_and_soft_one_lowers_k_gamma(seq, 
     geo, _ = seq
     st = stage(geo, 3)
     _, F = fe_ring
-    model = jg.PlanarPlanetary()
+    model = jp.PlanarPlanetary()
     # carrier positions over 1/6 of a turn of the planets around the ring (a bolt pitch)
     x = np.linspace(0.0, st.ring.base_radius * 2 * math.pi / 6, 7)
-    rigid = jg.planetary_quasi_static(model, st, jg.ConstantMeshes(), TORQUE, x, PIN_ERRORS)
-    stiff = jg.planetary_quasi_static(model, st, jg.ConstantMeshes(), TORQUE, x, PIN_ERRORS,
+    rigid = jp.planetary_quasi_static(model, st, jp.ConstantMeshes(), TORQUE, x, PIN_ERRORS)
+    stiff = jp.planetary_quasi_static(model, st, jp.ConstantMeshes(), TORQUE, x, PIN_ERRORS,
                                       ring=jp.CondensedRing(F / 1e3))
-    soft = jg.planetary_quasi_static(model, st, jg.ConstantMeshes(), TORQUE, x, PIN_ERRORS,
+    soft = jp.planetary_quasi_static(model, st, jp.ConstantMeshes(), TORQUE, x, PIN_ERRORS,
                                      ring=jp.CondensedRing(F))
     np.testing.assert_allclose(stiff.sun_mesh_forces, rigid.sun_mesh_forces, rtol=5e-3)
     np.testing.assert_allclose(stiff.ring_mesh_forces, rigid.ring_mesh_forces, rtol=5e-3)
@@ -129,13 +129,13 @@ def test_stiff_flexible_ring_equals_rigid_ring_with_real_contact(seq, fe_ring):
     geo, _ = seq
     st = stage(geo, 3)
     _, F = fe_ring
-    meshes = jg.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(K0))
+    meshes = jp.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(K0))
     x = np.asarray(meshes.positions(12))
-    model = jg.PlanarPlanetary()
-    rigid = jg.planetary_quasi_static(model, st, meshes, TORQUE, x, PIN_ERRORS)
-    stiff = jg.planetary_quasi_static(model, st, meshes, TORQUE, x, PIN_ERRORS,
+    model = jp.PlanarPlanetary()
+    rigid = jp.planetary_quasi_static(model, st, meshes, TORQUE, x, PIN_ERRORS)
+    stiff = jp.planetary_quasi_static(model, st, meshes, TORQUE, x, PIN_ERRORS,
                                       ring=jp.CondensedRing(F / 1e3))
-    soft = jg.planetary_quasi_static(model, st, meshes, TORQUE, x, PIN_ERRORS,
+    soft = jp.planetary_quasi_static(model, st, meshes, TORQUE, x, PIN_ERRORS,
                                      ring=jp.CondensedRing(F))
     np.testing.assert_allclose(stiff.sun_mesh_forces, rigid.sun_mesh_forces, rtol=5e-3)
     np.testing.assert_allclose(stiff.ring_mesh_forces, rigid.ring_mesh_forces, rtol=5e-3)
@@ -153,7 +153,7 @@ def test_ring_deflections_and_support_reactions_from_the_fe_ring(seq, bolted_rin
     prep, F = bolted_ring
     ring = jp.CondensedRing(F)
     x = np.array([0.0, 0.0123])
-    got = jg.planetary_quasi_static(jg.PlanarPlanetary(), st, jg.ConstantMeshes(), TORQUE, x,
+    got = jp.planetary_quasi_static(jp.PlanarPlanetary(), st, jp.ConstantMeshes(), TORQUE, x,
                                     PIN_ERRORS, ring=ring)
     teeth, nax, _ = prep.master_dofs.shape
     for i, xi in enumerate(x):
@@ -200,7 +200,7 @@ def test_the_deflected_shape_written_to_ring_vtu(seq, bolted_ring):
     prep, F = bolted_ring
     ring = jp.CondensedRing(F)
     x = np.array([0.0, 0.0123])  # as the test above: the same compiled solve
-    got = jg.planetary_quasi_static(jg.PlanarPlanetary(), st, jg.ConstantMeshes(), TORQUE, x,
+    got = jp.planetary_quasi_static(jp.PlanarPlanetary(), st, jp.ConstantMeshes(), TORQUE, x,
                                     PIN_ERRORS, ring=ring)
     P = np.asarray(got.ring_mesh_forces[0])
     E = np.asarray(ring.station_rows(st, 0.0))
@@ -283,5 +283,5 @@ def test_bad_ring_inputs_one_line(seq):
     with pytest.raises(ValueError, match="compliance"):
         jp.CondensedRing(np.zeros((4, 2, 5, 2)))
     with pytest.raises(ValueError, match="ring"):
-        jg.planetary_quasi_static(jg.PlanarPlanetary(), st, jg.ConstantMeshes(), TORQUE,
+        jp.planetary_quasi_static(jp.PlanarPlanetary(), st, jp.ConstantMeshes(), TORQUE,
                                   np.array([0.0]), ring="flexible")

@@ -221,14 +221,14 @@ def test_zero_speed_cb_ring_is_the_station_rings_quasi_static_solution(seq, stat
     flexibility."""
     ring = jp.CraigBamptonRing.from_stations(stations)
     got = _run(seq, ring, omega=1e-6, **CB_RUN)
-    static = jg.planetary_quasi_static(jg.PlanarPlanetary(), seq, jg.ConstantMeshes(),
+    static = jp.planetary_quasi_static(jp.PlanarPlanetary(), seq, jp.ConstantMeshes(),
                                        np.asarray(RING_TORQUE), got.travel, RING_PIN_ERRORS,
                                        ring=jp.CondensedRing(stations.compliance))
     np.testing.assert_allclose(got.sun_mesh_forces, static.sun_mesh_forces, rtol=1e-8)
     np.testing.assert_allclose(got.ring_mesh_forces, static.ring_mesh_forces, rtol=1e-8)
     w = np.asarray(static.ring_deflection)
     np.testing.assert_allclose(got.ring_deflection, w, rtol=0, atol=1e-8 * np.abs(w).max())
-    assert got.displacement.shape[1] == len(jg.PlanarPlanetary().dof_names(seq)) + 106 + COUPLED
+    assert got.displacement.shape[1] == len(jp.PlanarPlanetary().dof_names(seq)) + 106 + COUPLED
 
 
 def _stiffer(st, factor, modes):
@@ -279,7 +279,7 @@ def test_cb_and_station_ring_at_the_nd2_crossing_real_contact(seq, stations):
     mass), both on all their coordinates, within 0.5 % (measured 1.2e-4; mesh forces 8.8e-4 of
     the largest; the ND-2 frequencies differ by 7e-7)."""
     omega = _nd2_crossing(stations)
-    meshes = jg.ContactMeshes.from_geometry(geometry(**SEQ), seq.planet_angles, jg.Uniform(K0))
+    meshes = jp.ContactMeshes.from_geometry(geometry(**SEQ), seq.planet_angles, jg.Uniform(K0))
     station = _run(seq, jp.CondensedRing(stations.compliance, stations.mass), meshes, omega,
                    periods=12)
     cb = _run(seq, jp.CraigBamptonRing.from_stations(stations), meshes, omega, periods=12)

@@ -2,10 +2,10 @@
 ring=jaxgear.planetary.CondensedRing): the ring's station displacements as coordinates, the contacts moving
 around it with the carrier.
 
-References: the zero-speed limit is the quasi-static solution of jaxgear.planetary_quasi_static
-with the same ring (written on the planets' N ring-mesh displacements with the compliance C^-1,
-not on the stations: another formulation), to 1e-8; the FE ring made 10^3 stiffer gives the
-rigid ring's dynamic factors per mesh within 0.5 %.
+References: the zero-speed limit is the quasi-static solution of
+jaxgear.planetary.planetary_quasi_static with the same ring (written on the planets' N ring-mesh
+displacements with the compliance C^-1, not on the stations: another formulation), to 1e-8; the FE
+ring made 10^3 stiffer gives the rigid ring's dynamic factors per mesh within 0.5 %.
 """
 
 import math
@@ -51,11 +51,11 @@ def test_zero_speed_limit_is_the_flexible_quasi_static_solution(seq):
     ring = jp.CondensedRing(coupled_compliance(53))
     run = jp.PlanetaryRun(TORQUE, steps_per_period=16, periods=3, keep_periods=3,
                           damping_ratio=ZETA, tangential_pin_errors=PIN_ERRORS)
-    model = jg.PlanarPlanetary()
-    meshes = jg.ConstantMeshes()
+    model = jp.PlanarPlanetary()
+    meshes = jp.ConstantMeshes()
     got = jp.planetary_dynamics(model, st, meshes, run, jnp.asarray(1e-6), ring=ring)
     assert int(got.result) == 0
-    static = jg.planetary_quasi_static(model, st, meshes, np.asarray(TORQUE), got.travel,
+    static = jp.planetary_quasi_static(model, st, meshes, np.asarray(TORQUE), got.travel,
                                        PIN_ERRORS, ring=ring)
     np.testing.assert_allclose(got.sun_mesh_forces, static.sun_mesh_forces, rtol=1e-8)
     np.testing.assert_allclose(got.ring_mesh_forces, static.ring_mesh_forces, rtol=1e-8)
@@ -90,8 +90,8 @@ def test_stiff_fe_ring_equals_the_rigid_ring_constant_meshes(seq, fe_compliance)
     st = stage(seq[0], 3)
     run = jp.PlanetaryRun(TORQUE, steps_per_period=16, periods=4, keep_periods=2,
                           damping_ratio=ZETA, tangential_pin_errors=PIN_ERRORS)
-    model = jg.PlanarPlanetary()
-    meshes = jg.ConstantMeshes()
+    model = jp.PlanarPlanetary()
+    meshes = jp.ConstantMeshes()
     rigid, stiff, soft = _three_rings(model, st, meshes, run, fe_compliance)
     np.testing.assert_allclose(stiff.sun_mesh_forces, rigid.sun_mesh_forces, rtol=5e-3)
     np.testing.assert_allclose(stiff.ring_mesh_forces, rigid.ring_mesh_forces, rtol=5e-3)
@@ -116,10 +116,10 @@ def test_stiff_fe_ring_dynamics_equals_the_rigid_ring(seq, fe_compliance):
     the FE ring made 10^3 stiffer (massless, its compliance / 10^3) gives the rigid ring's
     dynamic factor of every mesh within 0.5 %, while the real ring changes them by more."""
     geo, st = seq
-    meshes = jg.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(K0))
+    meshes = jp.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(K0))
     run = jp.PlanetaryRun(TORQUE, steps_per_period=24, periods=12, keep_periods=3,
                           damping_ratio=ZETA, tangential_pin_errors=PIN_ERRORS)
-    model = jg.PlanarPlanetary()
+    model = jp.PlanarPlanetary()
     rigid, stiff, soft = _three_rings(model, st, meshes, run, fe_compliance)
     for r in (rigid, stiff, soft):
         assert int(r.result) == 0

@@ -197,7 +197,7 @@ def test_stiff_modal_ring_dynamic_factors_equal_the_rigid_ring(seq):
     )
     st = fp.ring_stations(body)
     F, M = np.asarray(st.compliance), np.asarray(st.mass)
-    meshes = jg.ContactMeshes.from_geometry(geo, seq.planet_angles, jg.Uniform(K0))
+    meshes = jp.ContactMeshes.from_geometry(geo, seq.planet_angles, jg.Uniform(K0))
     rigid = _run(seq, jp.RigidRing(), meshes, periods=12)
     stiff = _run(seq, jp.CondensedRing(F / 1e3, M, modes=8), meshes, periods=12)
     real = _run(seq, jp.CondensedRing(F, M, modes=8), meshes, periods=12)

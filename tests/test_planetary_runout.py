@@ -69,13 +69,13 @@ def test_planet_runout_over_a_planet_turn_against_the_spring_model():
         want_k.append(kg)
     want_f, want_k = np.array(want_f), np.array(want_k)
     assert want_k.max() > 1.1 and want_f.min() > 0  # a real spread, every mesh loaded
-    for model, tol in ((jg.TorsionalPlanetary(), 1e-9), (jg.PlanarPlanetary(), 1e-3)):
-        got = jax.vmap(lambda xi, m=model: jg.load_sharing(m, st, TORQUE, jnp.zeros(n),
+    for model, tol in ((jp.TorsionalPlanetary(), 1e-9), (jp.PlanarPlanetary(), 1e-3)):
+        got = jax.vmap(lambda xi, m=model: jp.load_sharing(m, st, TORQUE, jnp.zeros(n),
                                                            travel=xi))(jnp.asarray(x))
         np.testing.assert_allclose(got.sun_mesh_forces, want_f, rtol=0, atol=tol * F_NOM)
         np.testing.assert_allclose(got.k_gamma, want_k, rtol=min(tol, 1e-2))
     # the contact solve (one unilateral spring per mesh) and the dynamics at a crawl
-    q = jg.planetary_quasi_static(jg.TorsionalPlanetary(), st, jg.ConstantMeshes(),
+    q = jp.planetary_quasi_static(jp.TorsionalPlanetary(), st, jp.ConstantMeshes(),
                                   jnp.asarray(TORQUE), jnp.asarray(x[::6]))
     np.testing.assert_allclose(q.sun_mesh_forces, want_f[::6], rtol=1e-9)
 
@@ -85,9 +85,9 @@ def test_planet_runout_in_the_dynamics_at_a_crawl():
     meshes): the recorded forces are the spring model's at the recorded travels (1e-8)."""
     beta, n = -1.0, 4
     st = stage(n, jp.Eccentricities(planet=np.array([0, E, 0, 0]), planet_phase=beta))
-    meshes = jg.ConstantMeshes(base_pitch=2 * np.pi * R_P / 8)
+    meshes = jp.ConstantMeshes(base_pitch=2 * np.pi * R_P / 8)
     run = jp.PlanetaryRun(jnp.asarray(TORQUE), steps_per_period=12, periods=8, keep_periods=8)
-    r = jp.planetary_dynamics(jg.TorsionalPlanetary(), st, meshes, run, 1e-7)
+    r = jp.planetary_dynamics(jp.TorsionalPlanetary(), st, meshes, run, 1e-7)
     assert int(r.result) == 0
     for xi, f in zip(np.asarray(r.travel)[::5], np.asarray(r.sun_mesh_forces)[::5]):
         a = beta - xi / R_P
@@ -121,10 +121,10 @@ def test_sun_unbalance_far_from_resonance_is_the_static_deflection():
     w_s = omega * (1 + R_R / R_S)
     k = k_b + n / 2 * K_MESH / 2
     assert w_s / math.sqrt(k / 0.4) < 0.04  # far below the sun's translation on k
-    meshes = jg.ConstantMeshes(base_pitch=2 * np.pi * R_S / 8)  # 8 periods per sun turn
+    meshes = jp.ConstantMeshes(base_pitch=2 * np.pi * R_S / 8)  # 8 periods per sun turn
     run = jp.PlanetaryRun(jnp.asarray(TORQUE), steps_per_period=16, periods=24, keep_periods=8,
                           damping_ratio=0.05)
-    r = jp.planetary_dynamics(jg.PlanarPlanetary(), st, meshes, run, omega)
+    r = jp.planetary_dynamics(jp.PlanarPlanetary(), st, meshes, run, omega)
     assert int(r.result) == 0
     turn = beta + np.asarray(r.travel) / R_S
     c, spectrum = _whirl(r, (6, 7), turn)
@@ -142,9 +142,9 @@ def test_planet_unbalance_whirls_backwards_at_the_planet_order():
     not loaded by it, respond less."""
     n = 4
     st = stage(n, unb=jp.Unbalances(planet=np.array([2e-5, 0, 0, 0])))
-    meshes = jg.ConstantMeshes(base_pitch=2 * np.pi * R_P / 8)
+    meshes = jp.ConstantMeshes(base_pitch=2 * np.pi * R_P / 8)
     run = jp.PlanetaryRun(jnp.asarray(TORQUE), steps_per_period=16, periods=24, keep_periods=8)
-    r = jp.planetary_dynamics(jg.PlanarPlanetary(), st, meshes, run, 250.0)
+    r = jp.planetary_dynamics(jp.PlanarPlanetary(), st, meshes, run, 250.0)
     assert int(r.result) == 0
     turn = -np.asarray(r.travel) / R_P
     c1, s1 = _whirl(r, (9, 10), turn)
@@ -164,7 +164,7 @@ def test_sun_unbalance_at_a_translational_mode_against_the_single_mode_estimate(
     small enough for every mesh to stay loaded."""
     n, k_b, U, zeta = 4, 1e8, 2e-7, 0.05
     st = stage(n, unb=jp.Unbalances(sun=U), sun_bearing=k_b)
-    model = jg.PlanarPlanetary()
+    model = jp.PlanarPlanetary()
     M = np.asarray(model.mass_matrix(st))
     K = np.asarray(model.stiffness_matrix(st))
     w2, phi = scipy.linalg.eigh(K, M)
@@ -183,7 +183,7 @@ def test_sun_unbalance_at_a_translational_mode_against_the_single_mode_estimate(
         return (X[6] + 1j * X[7]) / 2 * U * wn**2  # the forward coefficient
     single, every = response(pair), response(range(len(w)))
     # the carrier fixed, the sun spun at wn: v = r_bs wn; 8 mesh periods per sun turn
-    meshes = jg.ConstantMeshes(base_pitch=2 * np.pi * R_S / 8)
+    meshes = jp.ConstantMeshes(base_pitch=2 * np.pi * R_S / 8)
     run = jp.PlanetaryRun(jnp.asarray(TORQUE), steps_per_period=16, periods=8 * 30,
                           keep_periods=8, damping_ratio=zeta)
     r = jp.planetary_dynamics(model, st, meshes, run, 0.0, mesh_speed=R_S * wn)
@@ -217,7 +217,7 @@ def test_case_keys_map_to_the_objects_and_bad_values_are_one_line():
     # eccentricities, the unbalances in kg m
     spec = case.form.spec
     ecc = pr.sharing_summary(spec, st, spec.torques(case.torque),
-                             {"torsional": jg.TorsionalPlanetary()})["eccentricities"]
+                             {"torsional": jp.TorsionalPlanetary()})["eccentricities"]
     np.testing.assert_allclose(ecc["planet_m"], [12e-6, 0, 0])
     np.testing.assert_allclose(ecc["planet_phase_rad"], [math.pi / 2, 0, 0])
     echo = pr.unbalance_summary(spec)
@@ -267,17 +267,17 @@ def test_unbalance_with_the_modal_ring_equals_the_station_model():
     rings = fp.ring_stations(fp.load_ring_body("seq-test-ring"))
     F, M = np.asarray(rings.compliance), np.asarray(rings.mass)
     run = jp.PlanetaryRun(1000.0, steps_per_period=12, periods=6, keep_periods=2)
-    meshes = jg.ConstantMeshes(base_pitch=geo.planet_ring.base_pitch)
-    modal = jp.planetary_dynamics(jg.PlanarPlanetary(), st, meshes, run, 60.0,
+    meshes = jp.ConstantMeshes(base_pitch=geo.planet_ring.base_pitch)
+    modal = jp.planetary_dynamics(jp.PlanarPlanetary(), st, meshes, run, 60.0,
                                   ring=jp.CondensedRing(F, M, modes=106))
-    station = jp.planetary_dynamics(jg.PlanarPlanetary(), st, meshes, run, 60.0,
+    station = jp.planetary_dynamics(jp.PlanarPlanetary(), st, meshes, run, 60.0,
                                     ring=jp.CondensedRing(F, M))
     assert int(modal.result) == 0 and int(station.result) == 0
     want = np.asarray(station.sun_mesh_forces)
     np.testing.assert_allclose(modal.sun_mesh_forces, want, rtol=0,
                                atol=1e-9 * np.max(np.abs(want)))
     # the unbalance shows: the forces differ from the run without it
-    plain = jp.planetary_dynamics(jg.PlanarPlanetary(), eqx.tree_at(
+    plain = jp.planetary_dynamics(jp.PlanarPlanetary(), eqx.tree_at(
         lambda s: s.unbalances, st, None), meshes, run, 60.0, ring=jp.CondensedRing(F, M))
     X, X0 = np.asarray(station.displacement), np.asarray(plain.displacement)
     np.testing.assert_allclose(modal.displacement, X, rtol=0, atol=1e-9 * np.max(np.abs(X)))

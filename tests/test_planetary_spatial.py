@@ -1,8 +1,8 @@
-"""The 3D lumped model of a helical planetary stage (jaxgear.SpatialPlanetary) against references
-written here: Lin & Parker's planar model and a hand-assembled axial-tilting system at beta_b = 0,
-the mode structure Eritenel & Parker (2009) prove for equally spaced planets, the statics of a
-helical stage under a sun torque, the rigid-body motions of a free stage, and the stiffness as
-the Hessian of a potential energy written from the 3D kinematics of rigid bodies."""
+"""The 3D lumped model of a helical planetary stage (jaxgear.planetary.SpatialPlanetary) against
+references written here: Lin & Parker's planar model and a hand-assembled axial-tilting system at
+beta_b = 0, the mode structure Eritenel & Parker (2009) prove for equally spaced planets, the
+statics of a helical stage under a sun torque, the rigid-body motions of a free stage, and the
+stiffness as the Hessian of a potential energy written from the 3D kinematics of rigid bodies."""
 
 import dataclasses
 import json
@@ -29,7 +29,7 @@ BETA = np.radians(20.0)
 
 
 def stage(n=4, beta=BETA, width=0.03, angles=None, held=True, k_mesh=K_MESH, k_ring=K_MESH):
-    m = jg.PlanetaryMember
+    m = jp.PlanetaryMember
     g = 1.0 if held else 0.0
     sun = m(1.5, 0.5 * 1.5 * R_S**2, R_S, 1e8 * g, 0.0, 5e7 * g, 1e6 * g, 9e-4)
     ring = m(5.0, 5.0 * R_R**2, R_R, 1e9 * g, 1e9 * R_R**2 * g, 1e9 * g, 1e7 * g)
@@ -48,8 +48,8 @@ def stage(n=4, beta=BETA, width=0.03, angles=None, held=True, k_mesh=K_MESH, k_r
         "face_width": width,
     }
     if angles is None:
-        return jg.PlanetaryStage.equally_spaced(n, **kw)
-    return jg.PlanetaryStage(planet_angles=angles, **kw)
+        return jp.PlanetaryStage.equally_spaced(n, **kw)
+    return jp.PlanetaryStage(planet_angles=angles, **kw)
 
 
 def frequencies(k, m):
@@ -100,14 +100,14 @@ def out_of_plane(st):
 
 def test_spur_decouples_into_planar_and_axial_tilting():
     st = stage(n=4, beta=0.0, angles=np.array([0.0, 1.4, 3.3, 4.9]))
-    model = jg.SpatialPlanetary()
+    model = jp.SpatialPlanetary()
     k, m = model.stiffness_matrix(st), model.mass_matrix(st)
     t = np.asarray(model.reduction(st))
     planar_idx = np.flatnonzero(t.sum(0))
     other = np.setdiff1d(np.arange(k.shape[0]), planar_idx)
     assert np.max(np.abs(np.asarray(k)[np.ix_(planar_idx, other)])) < 1e-12 * np.max(np.abs(k))
     f3 = np.sort(frequencies(k, m))
-    planar = jg.PlanarPlanetary()
+    planar = jp.PlanarPlanetary()
     fp = frequencies(planar.stiffness_matrix(st), planar.mass_matrix(st))
     fo = frequencies(*out_of_plane(st))
     ref = np.sort(np.concatenate([fp, fo]))
@@ -120,8 +120,8 @@ def test_helical_mode_types_of_equally_spaced_planets(n):
     # planets' tilt about e_zeta meets the central members only through the harmonics +-1 and
     # appears, still centre, in the rotational-axial family too (a coincidence of the values)
     st = stage(n=n, k_ring=6.5e8)
-    model = jg.SpatialPlanetary()
-    modes = jg.planetary_modes(model, st)
+    model = jp.SpatialPlanetary()
+    modes = jp.planetary_modes(model, st)
     f = np.asarray(modes.frequencies)
     phi = np.asarray(modes.shapes)
     assert f[0] > 1.0  # every member held
@@ -174,7 +174,7 @@ def test_helical_statics_under_sun_torque():
     moment F sin beta (r_wr - r_ws) about e_eta; the sun and carrier do not tilt."""
     n, beta, torque = 4, np.radians(25.0), 300.0
     st = stage(n=n, beta=beta, width=0.0)
-    model = jg.SpatialPlanetary()
+    model = jp.SpatialPlanetary()
     k = np.asarray(model.stiffness_matrix(st))
     names = model.dof_names(st)
     f = np.zeros(k.shape[0])
@@ -203,7 +203,7 @@ def test_helical_statics_under_sun_torque():
 
 def test_free_stage_stiffness_is_psd_with_its_rigid_motions():
     st = stage(n=4, held=False, angles=np.array([0.2, 1.9, 3.3, 4.9]))
-    model = jg.SpatialPlanetary()
+    model = jp.SpatialPlanetary()
     k = np.asarray(model.stiffness_matrix(st))
     np.testing.assert_allclose(k, k.T, rtol=0, atol=1e-12 * np.max(np.abs(k)))
     lam = np.linalg.eigvalsh(0.5 * (k + k.T))
@@ -212,7 +212,7 @@ def test_free_stage_stiffness_is_psd_with_its_rigid_motions():
     # out-of-plane motions of the whole stage (z, tilts), and the screw motions of the sun and
     # the ring along their helices (z with u = -z tan beta_b on the sun, +z tan beta_b on the
     # ring: no mesh compresses)
-    planar = np.asarray(jg.PlanarPlanetary().stiffness_matrix(st))
+    planar = np.asarray(jp.PlanarPlanetary().stiffness_matrix(st))
     lp = np.linalg.eigvalsh(planar)
     null = int(np.sum(lam < 1e-10 * lam[-1]))
     assert null == int(np.sum(lp < 1e-10 * lp[-1])) + 3 + 2
@@ -328,7 +328,7 @@ def test_stiffness_is_the_second_derivative_of_the_potential_energy():
     single = energy(eye)
     pairs = energy((eye[:, None, :] + eye[None, :, :]).reshape(-1, size)).reshape(size, size)
     ref = pairs - single[:, None] - single[None, :]
-    k = np.asarray(jg.SpatialPlanetary().stiffness_matrix(st))
+    k = np.asarray(jp.SpatialPlanetary().stiffness_matrix(st))
     np.testing.assert_allclose(k, ref, rtol=0, atol=1e-12 * np.max(np.abs(ref)))
 
 
@@ -338,9 +338,9 @@ def test_spatial_inputs_are_refused_in_one_line():
     with pytest.raises(ValueError, match="face_width"):
         stage(width=-1e-3)
     with pytest.raises(ValueError, match="axial_stiffness"):
-        jg.PlanetaryMember(1.0, 1.0, 0.1, 0.0, 0.0, -1.0)
+        jp.PlanetaryMember(1.0, 1.0, 0.1, 0.0, 0.0, -1.0)
     with pytest.raises(ValueError, match="tilt_stiffness"):
-        jg.PlanetaryMember(1.0, 1.0, 0.1, 0.0, 0.0, 0.0, (1.0, -1.0))
+        jp.PlanetaryMember(1.0, 1.0, 0.1, 0.0, 0.0, 0.0, (1.0, -1.0))
 
 
 def _lumped_case(**planetary):
@@ -399,8 +399,8 @@ def test_load_sharing_on_the_3d_model_at_beta_zero_is_the_planar_one():
     planar model's (the planes decouple)."""
     errors = np.array([20e-6, 0.0, -5e-6, 0.0])
     st = stage(n=4, beta=0.0, angles=np.array([0.0, 1.4, 3.3, 4.9]))
-    planar = jg.load_sharing(jg.PlanarPlanetary(), st, 300.0, errors)
-    spatial = jg.load_sharing(jg.SpatialPlanetary(), st, 300.0, errors)
+    planar = jp.load_sharing(jp.PlanarPlanetary(), st, 300.0, errors)
+    spatial = jp.load_sharing(jp.SpatialPlanetary(), st, 300.0, errors)
     np.testing.assert_allclose(spatial.sun_mesh_forces, planar.sun_mesh_forces, rtol=1e-9)
     np.testing.assert_allclose(spatial.ring_mesh_forces, planar.ring_mesh_forces, rtol=1e-9)
     assert float(planar.k_gamma) > 1.05  # the errors do unshare the planets
@@ -425,7 +425,7 @@ def helical():
     with stiff and with soft axial and tilting supports."""
     geo = ps.geometry(**ps.SEQ, helix=np.radians(15.0))
     st = ps.stage(geo, 3)
-    meshes = jg.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(ps.K0), n_slices=6)
+    meshes = jp.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(ps.K0), n_slices=6)
     beta_b = abs(float(geo.sun_planet.base_helix_angle))
     return (geo, meshes, _with_supports(st, beta_b, ps.HELD, ps.HELD),
             _with_supports(st, beta_b, 2e8, 2e5))
@@ -437,11 +437,11 @@ def test_contact_solve_at_beta_zero_is_the_planar_one():
     period are the planar model's (the planes decouple; asserted 1e-9)."""
     geo = ps.geometry(**ps.SEQ)
     st = _with_supports(ps.stage(geo, 3), 0.0, ps.HELD, ps.HELD)
-    meshes = jg.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(ps.K0), n_slices=2)
+    meshes = jp.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(ps.K0), n_slices=2)
     x = np.asarray(meshes.positions(4))
     errors = np.array([15e-6, 0.0, -4e-6])
-    got = [jg.planetary_quasi_static(m, st, meshes, np.asarray(800.0), x, errors)
-           for m in (jg.PlanarPlanetary(), jg.SpatialPlanetary())]
+    got = [jp.planetary_quasi_static(m, st, meshes, np.asarray(800.0), x, errors)
+           for m in (jp.PlanarPlanetary(), jp.SpatialPlanetary())]
     planar, spatial = got
     assert np.all(np.asarray(spatial.result) == 0)
     for name in ("sun_mesh_forces", "ring_mesh_forces", "sun_te", "ring_te", "k_gamma"):
@@ -456,9 +456,9 @@ def test_constant_meshes_over_the_face_are_the_lumped_3d_stiffness():
     coordinates, and transverse mesh forces cos beta_b times its normal ones (1e-9)."""
     errors = np.array([20e-6, 0.0, -5e-6, 0.0])
     st = stage(n=4)
-    model = jg.SpatialPlanetary()
-    want = jg.load_sharing(model, st, 300.0, errors)
-    got = jg.planetary_quasi_static(model, st, jg.ConstantMeshes(face_points=2),
+    model = jp.SpatialPlanetary()
+    want = jp.load_sharing(model, st, 300.0, errors)
+    got = jp.planetary_quasi_static(model, st, jp.ConstantMeshes(face_points=2),
                                     np.asarray(300.0), np.array([0.0, 1e-3]), errors)
     c = np.cos(BETA)
     for i in range(2):
@@ -511,7 +511,7 @@ def test_helical_k_gamma_with_one_pin_error_against_a_spring_model(helical):
         k_hand.append(f.max() / f.mean())
     k_hand = np.array(k_hand)
     assert k_hand.max() > 1.1
-    got = jg.planetary_quasi_static(jg.SpatialPlanetary(), stiff, meshes, np.asarray(torque), x,
+    got = jp.planetary_quasi_static(jp.SpatialPlanetary(), stiff, meshes, np.asarray(torque), x,
                                     errors)
     np.testing.assert_allclose(got.k_gamma, k_hand, rtol=1e-2)
 
@@ -523,9 +523,9 @@ def test_helical_axial_force_balance_per_member(helical):
     axial force, written from the carrier's point r_c e_zeta less the planet centre, equals the
     planet's meshes' and the carrier's bearing takes the pins' sum (1e-9 of the axial load)."""
     geo, meshes, _, soft = helical
-    model = jg.SpatialPlanetary()
+    model = jp.SpatialPlanetary()
     x = np.asarray(meshes.positions(6))
-    got = jg.planetary_quasi_static(model, soft, meshes, np.asarray(1000.0), x,
+    got = jp.planetary_quasi_static(model, soft, meshes, np.asarray(1000.0), x,
                                     np.array([15e-6, 0.0, 0.0]))
     assert np.all(np.asarray(got.result) == 0)
     tan = np.tan(float(soft.helix_angle))
@@ -559,8 +559,8 @@ def test_face_load_factor_of_a_tilted_mesh_against_the_iso_linear_distribution()
     normal deflection's slope is n . ((w_central - w_planet) x e_z)) and F_m / b = F_n / b,
     c b = k (1e-9). The supports stiffened 10^4 times, K_Hbeta -> 1."""
     st = stage(n=3, k_ring=6.5e8)
-    model = jg.SpatialPlanetary()
-    got = jg.planetary_quasi_static(model, st, jg.ConstantMeshes(face_points=2),
+    model = jp.SpatialPlanetary()
+    got = jp.planetary_quasi_static(model, st, jp.ConstantMeshes(face_points=2),
                                     np.asarray(300.0), np.array([0.0]), np.zeros(3))
     q = np.asarray(got.displacement[0])
     b, beta = float(st.face_width), float(st.helix_angle)
@@ -591,7 +591,7 @@ def test_face_load_factor_of_a_tilted_mesh_against_the_iso_linear_distribution()
                                       tilt_stiffness=1e4 * getattr(st, m).tilt_stiffness,
                                       axial_stiffness=1e4 * getattr(st, m).axial_stiffness)
                for m in ("sun", "ring", "carrier", "planet")})
-    held = jg.planetary_quasi_static(model, stiff, jg.ConstantMeshes(face_points=2),
+    held = jp.planetary_quasi_static(model, stiff, jp.ConstantMeshes(face_points=2),
                                      np.asarray(300.0), np.array([0.0]), np.zeros(3))
     assert np.asarray(held.k_h_beta).max() < 1.0 + 0.01 * (want.max() - 1.0)
 
@@ -604,7 +604,7 @@ def test_a_tilting_member_turning_with_the_carrier_whirls_as_a_spinning_disc():
     omega_f - Omega, the backward at omega_b + Omega. campbell's 3D frequencies hold both."""
     st = stage(n=3, k_mesh=0.0)
     omega = 500.0
-    f = np.asarray(jp.campbell(jg.SpatialPlanetary(), st, np.array([omega])))[0]
+    f = np.asarray(jp.campbell(jp.SpatialPlanetary(), st, np.array([omega])))[0]
     i_d, j, k_t = float(st.sun.tilt_inertia), float(st.sun.polar_inertia), 1e6
     root = np.sqrt((j * omega) ** 2 + 4 * i_d * k_t)
     w_f, w_b = (j * omega + root) / (2 * i_d), (-j * omega + root) / (2 * i_d)
@@ -698,6 +698,6 @@ def test_the_run_takes_the_3d_model_only_where_its_supports_hold_the_stage(tmp_p
         spec = case.form.spec
         return spatial_model(spec, spec.stage(case))
 
-    assert isinstance(choice(_helical_case(tmp_path)), jg.SpatialPlanetary)
+    assert isinstance(choice(_helical_case(tmp_path)), jp.SpatialPlanetary)
     assert choice(_lumped_case(helix_angle_deg=20.0, face_width_mm=30.0)) is None
     assert choice(_lumped_case()) is None

@@ -1,9 +1,10 @@
-"""The 3D lumped model's contact cells at their contact points (jaxgear.SpatialPlanetary with
-jaxgear.ContactMeshes): each cell's spring acts at its own point of the plane of action (its
-roll along the line of action and its axial position), so that the members' tilts see the real
-moment arms of the contact lines. Checked against a spring model of the contact lines assembled
-here from the geometry (tests/test_planetary_spatial_dynamics.py: Reference, its supports from a
-potential energy, each cell at the pinion's tangent point plus its roll towards the pitch point)."""
+"""The 3D lumped model's contact cells at their contact points (jaxgear.planetary.SpatialPlanetary
+with jaxgear.planetary.ContactMeshes): each cell's spring acts at its own point of the plane of
+action (its roll along the line of action and its axial position), so that the members' tilts see
+the real moment arms of the contact lines. Checked against a spring model of the contact lines
+assembled here from the geometry (tests/test_planetary_spatial_dynamics.py: Reference, its supports
+from a potential energy, each cell at the pinion's tangent point plus its roll towards the pitch
+point)."""
 
 import copy
 import dataclasses
@@ -16,6 +17,7 @@ import pytest
 
 import _planetary_stage as ps
 import jaxgear as jg
+import jaxgear.planetary as jp
 from test_planetary_spatial_dynamics import Reference, spatial_stage
 
 TORQUE = 1000.0
@@ -29,7 +31,7 @@ def tilting():
     pins under the couples of their meshes' axial forces."""
     geo = ps.geometry(**ps.SEQ, helix=np.radians(20.0))
     st = spatial_stage(geo, abs(float(geo.sun_planet.base_helix_angle)), 3e8, 4e5)
-    meshes = jg.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(ps.K0),
+    meshes = jp.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(ps.K0),
                                             n_slices=SLICES)
     return geo, st, meshes
 
@@ -58,7 +60,7 @@ def test_cell_springs_at_their_contact_points_against_the_contact_lines(tilting)
     the central members' differ by more than 10 % from the reference's with every cell at the
     pitch point (the moment arms along the line of action matter)."""
     geo, st, meshes = tilting
-    model = jg.SpatialPlanetary()
+    model = jp.SpatialPlanetary()
     p_b = float(geo.sun_planet.base_pitch)
     zero = np.zeros(st.n_planets)
     ref = Reference(st, geo, meshes, SLICES)
@@ -94,9 +96,9 @@ def test_contact_solve_with_cells_at_their_contact_points_against_the_spring_mod
     among them) and transverse mesh forces against the reference's linear solve with a spring
     k0 l at each contact point (every cell loaded: unilateral = linear), 1e-9 of the largest."""
     geo, st, meshes = tilting
-    model = jg.SpatialPlanetary()
+    model = jp.SpatialPlanetary()
     x = np.array([0.13, 0.47, 0.81]) * float(geo.sun_planet.base_pitch)
-    got = jg.planetary_quasi_static(model, st, meshes, np.asarray(TORQUE), x)
+    got = jp.planetary_quasi_static(model, st, meshes, np.asarray(TORQUE), x)
     assert np.all(np.asarray(got.result) == 0)
     ref = Reference(st, geo, meshes, SLICES)
     for i, xi in enumerate(x):
@@ -113,7 +115,7 @@ def test_spur_cells_keep_the_planar_solution_whatever_their_points():
     zero, and the contact solve stays the planar model's (tests/test_planetary_spatial.py)."""
     geo = ps.geometry(**ps.SEQ)
     st = spatial_stage(geo, 0.0, ps.HELD, ps.HELD)
-    model = jg.SpatialPlanetary()
+    model = jp.SpatialPlanetary()
     x_s, x_r = (np.asarray(x) for x in model.line_rows(st))
     scale = np.abs(np.asarray(model.face_rows(st)[0][0])).max()  # the rows' size, 1
     assert np.abs(x_s).max() < 1e-12 * scale and np.abs(x_r).max() < 1e-12 * scale
@@ -129,7 +131,7 @@ def test_spur_cells_keep_the_planar_solution_whatever_their_points():
     np.testing.assert_allclose(x_s[:, sun_tilts],
                                np.tan(beta) * np.stack([np.cos(line), np.sin(line)], -1),
                                rtol=1e-12)
-    assert np.abs(np.asarray(jg.PlanarPlanetary().line_rows(st)[0])).max() == 0.0
+    assert np.abs(np.asarray(jp.PlanarPlanetary().line_rows(st)[0])).max() == 0.0
 
 
 def test_pitch_points_are_the_pinions_roll_at_the_pitch_point(tilting):
@@ -150,7 +152,7 @@ def test_a_left_hand_stage_is_the_mirror_of_the_right_hand_one(tilting):
     solve under the sun torque give the same transverse mesh forces (1e-9), the axial
     translations and the tilts mirrored (z -> -z; a tilt theta -> (-theta_x, -theta_y))."""
     geo, st, meshes = tilting
-    model = jg.SpatialPlanetary()
+    model = jp.SpatialPlanetary()
     left = dataclasses.replace(st, helix_angle=-st.helix_angle)
     zero = np.zeros(st.n_planets)
     x = 0.37 * float(geo.sun_planet.base_pitch)

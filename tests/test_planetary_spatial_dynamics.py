@@ -1,9 +1,9 @@
-"""The 3D lumped model of a helical planetary stage (jaxgear.SpatialPlanetary) in the carrier-frame
-dynamics (jaxgear.planetary.planetary_dynamics) and with the gyroscopic moments of the members'
-spin relative to the carrier: against a reference written here from the rigid-body kinematics
-(its own mass, bearing and pin stiffness, rotating-frame and spin matrices, each cell's row at
-its axial position, the lines counted slice by slice, scipy DOP853 between the instants a line
-enters or leaves a slice); the spur limit against the planar dynamics; the whirl of a spinning
+"""The 3D lumped model of a helical planetary stage (jaxgear.planetary.SpatialPlanetary) in the
+carrier-frame dynamics (jaxgear.planetary.planetary_dynamics) and with the gyroscopic moments of the
+members' spin relative to the carrier: against a reference written here from the rigid-body
+kinematics (its own mass, bearing and pin stiffness, rotating-frame and spin matrices, each cell's
+row at its axial position, the lines counted slice by slice, scipy DOP853 between the instants a
+line enters or leaves a slice); the spur limit against the planar dynamics; the whirl of a spinning
 disc on tilting springs. The Newmark runs are marked slow (a compilation of the 3D model's run
 takes ~7 s of CPU); the default tier checks the reference's matrices against the library's and
 the spin terms through campbell."""
@@ -33,12 +33,12 @@ EZ = np.array([0.0, 0.0, 1.0])
 def spatial_stage(geo, beta_b, axial, tilt, bearing=1e9, pin=5e8):
     """19/17/-53-type stage, 3 planets: ring and carrier held in rotation, every member on
     translational (N/m), axial (N/m) and tilting (N m/rad) supports, the sun free to turn."""
-    member = jg.PlanetaryMember
+    member = jp.PlanetaryMember
     sp, pr = geo.sun_planet, geo.planet_ring
     r_s, r_p = sp.base_radii
     r_r, a = pr.base_radii[1], geo.center_distance
     kw = {"axial_stiffness": axial, "tilt_stiffness": tilt}
-    return jg.PlanetaryStage.equally_spaced(
+    return jp.PlanetaryStage.equally_spaced(
         3,
         sun=member(1.2, 0.4 * 1.2 * r_s**2, r_s, bearing, 0.0, **kw, diametral_inertia=3e-4),
         ring=member(6.0, 6.0 * r_r**2, r_r, bearing, ps.HELD * r_r**2, **kw),
@@ -256,9 +256,9 @@ def test_reference_matrices_are_the_library_ones():
     with the library's 3D model without meshes (1e-9): the two descriptions of one stage."""
     geo = ps.geometry(**ps.SEQ, helix=np.radians(15.0))
     st = spatial_stage(geo, abs(float(geo.sun_planet.base_helix_angle)), 3e8, 4e5)
-    meshes = jg.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(ps.K0), n_slices=2)
+    meshes = jp.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(ps.K0), n_slices=2)
     ref = Reference(st, geo, meshes, 2)
-    model = jg.SpatialPlanetary()
+    model = jp.SpatialPlanetary()
     bare = dataclasses.replace(st, sun_mesh_stiffness=0.0, ring_mesh_stiffness=0.0)
     k_b = np.asarray(model.stiffness_matrix(bare))
     np.testing.assert_allclose(ref.k, k_b, rtol=0, atol=1e-9 * np.abs(k_b).max())
@@ -280,9 +280,9 @@ def helical():
 
 
 def _against_reference(geo, st, slices, omega, steps, periods, keep):
-    meshes = jg.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(ps.K0),
+    meshes = jp.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(ps.K0),
                                             n_slices=slices)
-    got = _run(jg.SpatialPlanetary(), st, meshes, omega, steps, periods, keep)
+    got = _run(jp.SpatialPlanetary(), st, meshes, omega, steps, periods, keep)
     assert int(got.result) == 0 and float(got.sun_mesh_forces.min()) > 0  # every mesh loaded
     df = np.concatenate([np.asarray(d) for d in got.dynamic_factors])
     ref = Reference(st, geo, meshes, slices)
@@ -311,14 +311,14 @@ def test_spur_limit_of_the_3d_dynamics_is_the_planar_dynamics():
     planes decouple, the spin moments act on the tilts alone)."""
     geo = ps.geometry(**ps.SEQ)
     st = spatial_stage(geo, 0.0, ps.HELD, ps.HELD)
-    meshes = jg.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(ps.K0), n_slices=2)
-    planar = _run(jg.PlanarPlanetary(), st, meshes, 600.0, 48, 4, 2)
-    spatial = _run(jg.SpatialPlanetary(), st, meshes, 600.0, 48, 4, 2)
+    meshes = jp.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(ps.K0), n_slices=2)
+    planar = _run(jp.PlanarPlanetary(), st, meshes, 600.0, 48, 4, 2)
+    spatial = _run(jp.SpatialPlanetary(), st, meshes, 600.0, 48, 4, 2)
     assert int(planar.result) == 0 and int(spatial.result) == 0
     for name in ("sun_mesh_forces", "ring_mesh_forces"):
         a, b = np.asarray(getattr(spatial, name)), np.asarray(getattr(planar, name))
         np.testing.assert_allclose(a, b, rtol=0, atol=1e-6 * np.abs(b).max())
-    t = np.asarray(jg.SpatialPlanetary().reduction(st))
+    t = np.asarray(jp.SpatialPlanetary().reduction(st))
     q3, q2 = np.asarray(spatial.displacement) @ t.T, np.asarray(planar.displacement)
     np.testing.assert_allclose(q3, q2, rtol=0, atol=1e-6 * np.abs(q2).max())
     assert np.ptp(np.asarray(planar.sun_mesh_forces)) > 0.1 * float(planar.static_force)
@@ -342,7 +342,7 @@ def test_a_spinning_member_whirls_forward_and_backward(omega, spin_rel):
     speed holds both (1e-9); without the spin term (every member turning with the carrier) it
     would not; the pair splits by J (Omega + spin_rel) / I_d."""
     st = lumped_stage(n=3, k_mesh=0.0)
-    model = jg.SpatialPlanetary()
+    model = jp.SpatialPlanetary()
     r_s = float(st.sun.base_radius)
     f = np.asarray(jp.campbell(model, st, np.array([omega]), np.array([r_s * spin_rel])))[0]
     i_d, j, k_t = float(st.sun.tilt_inertia), float(st.sun.polar_inertia), 1e6
@@ -368,7 +368,7 @@ def test_a_planet_tilt_pair_splits_with_the_spin():
     planet = dataclasses.replace(base.planet, tilt_stiffness=k_t)
     carrier = dataclasses.replace(base.carrier, tilt_stiffness=1e12)
     st = dataclasses.replace(base, planet=planet, carrier=carrier)
-    model = jg.SpatialPlanetary()
+    model = jp.SpatialPlanetary()
     r_p = float(st.planet.base_radius)
     i_d, j = float(st.planet.tilt_inertia), float(st.planet.polar_inertia)
     still = np.sqrt(k_t / i_d) / (2 * np.pi)

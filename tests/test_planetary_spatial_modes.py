@@ -1,10 +1,11 @@
-"""Mode types of the 3D lumped model (jaxgear.planetary.classify_modes on jaxgear.SpatialPlanetary) where
-two types share a frequency: with equal sun and ring mesh stiffnesses and pressure angles the
-planets' tilt about their radial axes meets the central members only through the harmonics +-1,
-so its harmonic-0 mode (rotational-axial, central members all but still) has the frequency of a
-planet mode for N >= 4. The counts Eritenel & Parker (2009) prove for N equally spaced planets
-(12 rotational-axial modes, 12 translational-tilting pairs, 6 planet frequencies of
-multiplicity N - 3) hold there too; the shared group is checked here by its own harmonics."""
+"""Mode types of the 3D lumped model (jaxgear.planetary.classify_modes on
+jaxgear.planetary.SpatialPlanetary) where two types share a frequency: with equal sun and ring mesh
+stiffnesses and pressure angles the planets' tilt about their radial axes meets the central members
+only through the harmonics +-1, so its harmonic-0 mode (rotational-axial, central members all but
+still) has the frequency of a planet mode for N >= 4. The counts Eritenel & Parker (2009) prove for
+N equally spaced planets (12 rotational-axial modes, 12 translational-tilting pairs, 6 planet
+frequencies of multiplicity N - 3) hold there too; the shared group is checked here by its own
+harmonics."""
 
 import numpy as np
 import pytest
@@ -25,8 +26,8 @@ def test_a_rotational_axial_mode_sharing_a_planet_modes_frequency_is_typed_by_pr
     of it (the planets tilting about e_zeta), and the rest of the span has no planet
     harmonic 0 or 1 (planet modes, 1e-7)."""
     st = stage(n=n)  # k_ring = k_sun
-    model = jg.SpatialPlanetary()
-    modes = jg.planetary_modes(model, st)
+    model = jp.SpatialPlanetary()
+    modes = jp.planetary_modes(model, st)
     types = jp.classify_modes(modes, model, st)
     T = jp.ModeType
     kinds = [k for k, _ in types]
@@ -64,6 +65,6 @@ def test_unequal_spacing_keeps_the_share_rule():
     """Planets not equally spaced: no cyclic symmetry to project on; each group typed by the
     central members' shares as before (mixed modes appear, N = 4 at 0, 1.4, 3.3, 4.9 rad)."""
     st = stage(n=4, angles=np.array([0.0, 1.4, 3.3, 4.9]))
-    model = jg.SpatialPlanetary()
-    types = jp.classify_modes(jg.planetary_modes(model, st), model, st)
+    model = jp.SpatialPlanetary()
+    types = jp.classify_modes(jp.planetary_modes(model, st), model, st)
     assert jp.ModeType.MIXED in {k for k, _ in types}

@@ -1,5 +1,5 @@
-"""The 3D lumped model (jaxgear.SpatialPlanetary) in the load sharing: a sun eccentricity on a
-helical stage against a series-spring model written here (tests/_planetary_stage.py:
+"""The 3D lumped model (jaxgear.planetary.SpatialPlanetary) in the load sharing: a sun eccentricity
+on a helical stage against a series-spring model written here (tests/_planetary_stage.py:
 rigid_path_forces, each mesh's stiffness along the tooth normal seen on the line of action as
 k cos^2 beta_b), and the rating's K_gamma taken from the 3D model where `jaxgear run` uses it."""
 
@@ -42,7 +42,7 @@ def test_sun_eccentricity_on_the_3d_model_against_the_series_spring_model():
     beta0 = 0.7
     st = helical(stage(4, jp.Eccentricities(sun=E, sun_phase=beta0)))
     x = np.arange(12) * 2 * np.pi * R_S / 12
-    got = jax.vmap(lambda xi: jg.load_sharing(jg.SpatialPlanetary(), st, TORQUE, jnp.zeros(4),
+    got = jax.vmap(lambda xi: jp.load_sharing(jp.SpatialPlanetary(), st, TORQUE, jnp.zeros(4),
                                               travel=xi))(jnp.asarray(x))
     c = np.cos(BETA)
     f_nom = TORQUE / (4 * R_S * c)
@@ -67,12 +67,12 @@ def test_the_contact_solve_with_eccentricities_is_unchanged_by_the_normal_offset
     loaded it is load_sharing on the same stage, its transverse forces cos beta_b times the
     normal ones (1e-6: the planets' rotation spring of the contact solve)."""
     st = helical(stage(4, jp.Eccentricities(sun=E, sun_phase=0.7, ring=20e-6, ring_phase=-1.0)))
-    model = jg.SpatialPlanetary()
+    model = jp.SpatialPlanetary()
     x = np.array([0.0, 3e-3, 11e-3])
-    qs = jg.planetary_quasi_static(model, st, jg.ConstantMeshes(face_points=2),
+    qs = jp.planetary_quasi_static(model, st, jp.ConstantMeshes(face_points=2),
                                    jnp.asarray(TORQUE), jnp.asarray(x))
     for i, xi in enumerate(x):
-        ls = jg.load_sharing(model, st, TORQUE, jnp.zeros(4), travel=xi)
+        ls = jp.load_sharing(model, st, TORQUE, jnp.zeros(4), travel=xi)
         np.testing.assert_allclose(qs.sun_mesh_forces[i], np.cos(BETA) * ls.sun_mesh_forces,
                                    rtol=1e-6)
 
@@ -106,8 +106,8 @@ def test_the_rating_takes_k_gamma_from_the_3d_model_where_the_run_uses_it():
         torques = spec.torques(case.torque)
         sharing = sharing_summary(spec, st, torques, sharing_models(spec, st))
         held = spec.sharing_stage(st)
-        models = {"planar": jg.PlanarPlanetary(), "spatial": jg.SpatialPlanetary()}
-        direct = {name: float(jg.load_sharing(models[name], held, abs(torques["sun"]),
+        models = {"planar": jp.PlanarPlanetary(), "spatial": jp.SpatialPlanetary()}
+        direct = {name: float(jp.load_sharing(models[name], held, abs(torques["sun"]),
                                               np.asarray(spec.tangential_pin_errors),
                                               np.asarray(spec.radial_pin_errors)).k_gamma)
                   for name in names}

@@ -6,8 +6,8 @@ from one settled mesh period where the stage repeats every mesh period in the ca
 the default's dynamic factor against finer steps (slow).
 
 The references are written here: the modes of the lumped lin-parker-1999 from the public
-:func:`jaxgear.planetary_modes` on its dynamic stage, the mesh's share of each mode's strain
-energy from the stage's stiffness with and without its mesh springs, the formulas of the rule
+:func:`jaxgear.planetary.planetary_modes` on its dynamic stage, the mesh's share of each mode's
+strain energy from the stage's stiffness with and without its mesh springs, the formulas of the rule
 from the constants (64, 40, 5 %, 20, ζ = 0.05, 1e-3); the spectrum's turn integrated over z_r
 mesh periods; the dynamic factor extrapolated from two finer steps (Richardson, first order:
 the teeth entering mesh switch the stiffness, Newmark is first order at those instants)."""
@@ -38,8 +38,8 @@ def reference_plan(case, speeds):
     f_min the highest and lowest of the modes with a share >= 5 %."""
     spec = case.form.spec
     stage = spec.sharing_stage(spec.stage(case))
-    model = jg.PlanarPlanetary()
-    modes = jg.planetary_modes(model, stage)
+    model = jp.PlanarPlanetary()
+    modes = jp.planetary_modes(model, stage)
     f = np.asarray(modes.frequencies)
     phi = np.asarray(modes.shapes)
     bare = eqx.tree_at(lambda s: (s.sun_mesh_stiffness, s.ring_mesh_stiffness), stage,
@@ -114,8 +114,8 @@ def test_eccentricities_keep_four_periods_and_integrate_the_turn():
     ecc = eqx.tree_at(lambda s: s.eccentricities,
                       stage, jp.Eccentricities(sun=20e-6, sun_phase=0.3))
     assert not jp.carrier_periodic(ecc, False)
-    modes = jp.planetary_mesh_modes(jg.PlanarPlanetary(), stage,
-                                    jg.ConstantMeshes(2 * math.pi * 38.7e-3 / 28),
+    modes = jp.planetary_mesh_modes(jp.PlanarPlanetary(), stage,
+                                    jp.ConstantMeshes(2 * math.pi * 38.7e-3 / 28),
                                     jp.PlanetaryRun(10.0))
     plan = jp.time_plan(modes, [100.0], spec.mesh_frequency(1.0), 3, 0.05, False)
     assert plan.keep == 4
@@ -153,7 +153,7 @@ def test_the_spectrum_turn_is_one_settled_period_repeated(small_case, tmp_path, 
     spec = case.form.spec
     stage = spec.sharing_stage(spec.stage(case))
     meshes = spec.dynamic_meshes(case, 1)
-    model, ring = jg.PlanarPlanetary(), jp.RigidRing()
+    model, ring = jp.PlanarPlanetary(), jp.RigidRing()
     assert jp.carrier_periodic(stage, False)
     z_r = 53
     run = jp.PlanetaryRun(abs(spec.torques(case.torque)["sun"]), steps_per_period=SMALL_S,
@@ -223,7 +223,7 @@ def _lumped_sweep_parts(speeds):
     data["planetary"].update(tangential_pin_errors_um=[10.0, 0.0, 0.0],
                              sun_eccentricity_um=20.0, sun_eccentricity_phase_deg=30.0)
     case = jio.parse_train(data)
-    spec, model = case.form.spec, jg.PlanarPlanetary()
+    spec, model = case.form.spec, jp.PlanarPlanetary()
     stage = spec.sharing_stage(spec.stage(case))
     meshes = spec.dynamic_meshes(case, 1)
     base = ps.planetary_run(case.form, case)
@@ -273,7 +273,7 @@ def test_a_grouped_sweep_gives_the_one_program_dynamic_factors(small_case):
     tolerance (SETTLED_TOL of the nominal force): what is left of the transient after the
     rule's settling time, not the schedule, sets the difference (measured: 1.2e-4, float64)."""
     case = small_case
-    spec, model = case.form.spec, jg.PlanarPlanetary()
+    spec, model = case.form.spec, jp.PlanarPlanetary()
     stage = spec.sharing_stage(spec.stage(case))
     meshes = spec.dynamic_meshes(case, 1)  # spur: one slice per contact line
     base = ps.planetary_run(case.form, case)
@@ -304,7 +304,7 @@ def test_the_ring_cell_space_is_the_coordinate_solve_at_a_sweep_step(tmp_path):
     path = tmp_path / "seq.toml"
     path.write_text(case_toml(seq_ring_case()))
     case = jio.load_case(str(path))
-    spec, model = case.form.spec, jg.PlanarPlanetary()
+    spec, model = case.form.spec, jp.PlanarPlanetary()
     stage = spec.sharing_stage(spec.stage(case))
     meshes = spec.dynamic_meshes(case, 1)  # spur: one slice per contact line
     ring = spec.ring_model.dynamic_ring()

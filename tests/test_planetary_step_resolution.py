@@ -3,8 +3,8 @@ n = S f_mesh / f_max Newmark steps per period of the highest natural frequency t
 f_max, at the lowest swept speed; below 20 (the pairs' ``under_resolved`` bound) one
 ``CaseWarning`` line names ``--steps-per-period``, its value, f_max and the default step there
 (which resolves it); ``sweep.json``'s ``steps_resolution``; the measured K_v's source says so.
-f_max is computed here from the public modal API (jaxgear.planetary_modes on the stage the sweep
-integrates, the meshes' strain-energy share from the stage with and without its mesh springs:
+f_max is computed here from the public modal API (jaxgear.planetary.planetary_modes on the stage the
+sweep integrates, the meshes' strain-energy share from the stage with and without its mesh springs:
 tests/test_planetary_step_plan.py), the threshold S = 20 f_max / f_mesh here."""
 
 from __future__ import annotations

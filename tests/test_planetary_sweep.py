@@ -136,8 +136,8 @@ def _by_hand(case):
     r_r = geo.planet_ring.base_radii[1]
     a = geo.center_distance
     hold = 1e3 * K_MESH * 1e6
-    member = jg.PlanetaryMember
-    stage = jg.PlanetaryStage.equally_spaced(
+    member = jp.PlanetaryMember
+    stage = jp.PlanetaryStage.equally_spaced(
         3,
         sun=member(MEMBERS["sun"][0], MEMBERS["sun"][1], r_s, 100e6, 0.0),
         ring=member(MEMBERS["ring"][0], MEMBERS["ring"][1], r_r, 1000e6, hold * r_r**2),
@@ -148,7 +148,7 @@ def _by_hand(case):
         sun_mesh_stiffness=K_MESH * 1e6,
         ring_mesh_stiffness=K_MESH * 1e6,
     )
-    meshes = jg.ContactMeshes.from_geometry(geo, stage.planet_angles, jg.Uniform(case.stiffness.k0))
+    meshes = jp.ContactMeshes.from_geometry(geo, stage.planet_angles, jg.Uniform(case.stiffness.k0))
     run = jp.PlanetaryRun(T_IN * Z_S / (Z_S + Z_R), tangential_pin_errors=np.array([10e-6, 0, 0]),
                           **RUN)
     return stage, meshes, run, r_r
@@ -163,7 +163,7 @@ def test_the_sweep_is_planetary_dynamics_at_each_speed(swept):
     case, _, s = swept
     stage, meshes, run, r_r = _by_hand(case)
     for i, w in enumerate(SPEEDS):
-        d = jp.planetary_dynamics(jg.PlanarPlanetary(), stage, meshes, run, jnp.asarray(w),
+        d = jp.planetary_dynamics(jp.PlanarPlanetary(), stage, meshes, run, jnp.asarray(w),
                                   jnp.asarray(r_r * w))
         df_s, df_r = (np.asarray(x) for x in d.dynamic_factors)
         np.testing.assert_allclose(s["dynamic_factor_mesh"][i], np.concatenate([df_s, df_r]),
@@ -224,17 +224,17 @@ def _lumped_by_hand():
     """Lin & Parker's Table 1 (the embedded lin-parker-1999), written here from the paper's
     values: ring and carrier held in rotation (1e3 x the 5e8 N/m mesh stiffness on u = r theta),
     the sun free in rotation, 20 um of sun eccentricity at 30 deg, a 10 um pin error."""
-    member = jg.PlanetaryMember.lumped
+    member = jp.PlanetaryMember.lumped
     hold = 1e3 * 5e8
     m = {k: member(v[0], v[1], v[2], v[3] * 1e6, hold if k in ("ring", "carrier") else 0.0)
          for k, v in LP.items()}
     alpha = math.radians(24.6)
-    stage = jg.PlanetaryStage.equally_spaced(
+    stage = jp.PlanetaryStage.equally_spaced(
         3, **m, sun_pressure_angle=alpha, ring_pressure_angle=alpha, sun_mesh_stiffness=5e8,
         ring_mesh_stiffness=5e8,
         eccentricities=jp.Eccentricities(sun=LP_ECC, sun_phase=math.radians(LP_PHASE)))
     z_s, z_r = LP_TEETH
-    meshes = jg.ConstantMeshes(2 * math.pi * LP["sun"][2] / z_s)
+    meshes = jp.ConstantMeshes(2 * math.pi * LP["sun"][2] / z_s)
     run = jp.PlanetaryRun(LP_TORQUE, tangential_pin_errors=np.array([10e-6, 0.0, 0.0]),
                           radial_pin_errors=np.zeros(3), **LP_RUN)
     return stage, meshes, run
@@ -260,7 +260,7 @@ def test_the_lumped_sweep_is_planetary_dynamics_at_each_speed():
     omega_c = LP_SPEEDS * z_s / (z_s + z_r)  # Willis, ring fixed
     v = r_s * (LP_SPEEDS - omega_c)  # the sun's speed relative to the carrier times r_bs
     # vmapped as a sweep runs it (the compiled run is shared; its inputs are built here)
-    runs = jax.vmap(lambda om, vi: jp.planetary_dynamics(jg.PlanarPlanetary(), stage, meshes,
+    runs = jax.vmap(lambda om, vi: jp.planetary_dynamics(jp.PlanarPlanetary(), stage, meshes,
                                                          run, om, vi))(jnp.asarray(omega_c),
                                                                        jnp.asarray(v))
     for i, w in enumerate(LP_SPEEDS):

@@ -26,7 +26,7 @@ from fem_prep.schema import parse_ring_body
 jax.config.update("jax_enable_x64", True)
 
 ZETA = 0.02
-PLANAR = jg.PlanarPlanetary()
+PLANAR = jp.PlanarPlanetary()
 S = 24  # steps per mesh period (a multiple of the 3 planets)
 ORDER = 51  # |z_r - n| for n = 2, the mesh order's lower sideband
 
@@ -92,7 +92,7 @@ def _probe_line(st, ring, geo, omega, periods=53 + 60, model=None):
     run = jp.PlanetaryRun(1000.0, steps_per_period=S, periods=periods, keep_periods=53,
                           damping_ratio=ZETA)
     r = jp.planetary_dynamics(model or PLANAR, st,
-                              jg.ConstantMeshes(base_pitch=geo.planet_ring.base_pitch), run,
+                              jp.ConstantMeshes(base_pitch=geo.planet_ring.base_pitch), run,
                               jnp.asarray(omega), ring=ring)
     assert int(r.result) == 0
     z2 = 2 * ring.stations

@@ -28,7 +28,7 @@ STEPS = 384  # Newmark steps per mesh period (first order in dt across the stiff
 def _model(kind):
     geo = geometry(**SEQ)
     st = stage(geo, 3)
-    meshes = jg.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(K0))
+    meshes = jp.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(K0))
     run = jp.PlanetaryRun(1000.0, steps_per_period=STEPS, periods=40, keep_periods=4,
                           damping_ratio=0.05)
     return jp.PlanetaryModel(kind, st, meshes, run)
@@ -53,7 +53,7 @@ def test_planetary_stage_against_newmark_in_its_linear_regime():
     displacement source) misses an order by more than 3 % (measured 5-18 %). Each mesh's TE and
     the held ring's reaction torque (from Newmark's coordinates by the ring's spring) agree
     likewise."""
-    kind = jg.TorsionalPlanetary()
+    kind = jp.TorsionalPlanetary()
     model = _model(kind)
     omega = float(excited_omega(model.averaged_modes()))
     speed = 0.1 * omega / (2 * np.pi) * float(model.mesh_period_angle())
@@ -99,7 +99,7 @@ def test_planetary_stage_against_newmark_in_its_linear_regime():
 
 
 def test_planetary_whine_bad_inputs():
-    model = _model(jg.TorsionalPlanetary())
+    model = _model(jp.TorsionalPlanetary())
     with pytest.raises(ValueError, match="speeds"):
         whine_response(model, [100.0, -1.0])
     with pytest.raises(ValueError, match="positions"):

@@ -1,7 +1,7 @@
 """The planetary whine's outputs (for a planetary stage): each mesh's TE and
 the central members' support reactions per order. At a low speed the orders are the Fourier
-coefficients of the separate quasi-static contact solve (jaxgear.planetary_quasi_static at the
-same mid-point travels), and the ring's support reaction is its meshes' forces by the ring's
+coefficients of the separate quasi-static contact solve (jaxgear.planetary.planetary_quasi_static at
+the same mid-point travels), and the ring's support reaction is its meshes' forces by the ring's
 statics written out here from Lin & Parker's mesh directions (not the support rows' code)."""
 
 import json
@@ -26,15 +26,15 @@ P, H = 32, 4
 def _model(sun_bearing=2e8, ring_bearing=3e9):
     geo = geometry(**SEQ)
     st = stage(geo, 3, sun_bearing=sun_bearing)
-    st = jg.PlanetaryStage.equally_spaced(
+    st = jp.PlanetaryStage.equally_spaced(
         3, sun=st.sun, carrier=st.carrier, planet=st.planet,
-        ring=jg.PlanetaryMember(st.ring.mass, st.ring.polar_inertia, st.ring.base_radius,
+        ring=jp.PlanetaryMember(st.ring.mass, st.ring.polar_inertia, st.ring.base_radius,
                                 ring_bearing, st.ring.torsional_stiffness),
         sun_pressure_angle=st.sun_pressure_angle, ring_pressure_angle=st.ring_pressure_angle,
         sun_mesh_stiffness=st.sun_mesh_stiffness, ring_mesh_stiffness=st.ring_mesh_stiffness)
-    meshes = jg.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(K0))
+    meshes = jp.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(K0))
     run = jp.PlanetaryRun(1000.0, tangential_pin_errors=np.array([4e-6, 0.0, 0.0]))
-    return jp.PlanetaryModel(jg.PlanarPlanetary(), st, meshes, run)
+    return jp.PlanetaryModel(jp.PlanarPlanetary(), st, meshes, run)
 
 
 def _orders(signal, n):
@@ -160,8 +160,8 @@ def test_run_writes_a_planetary_stages_whine(tmp_path, capsys):
     ``[whine]``: whine.json/csv, the order plots and waterfalls of the 6 meshes' TE and of the
     sun, carrier and ring support forces; at 0.01 rad/s (carrier) every mesh's TE orders 0-3
     are the Fourier coefficients of the quasi-static contact solve of the case's stage
-    (jaxgear.planetary_quasi_static at the same 32 mid-point travels) to 1e-6; the resonant
-    speeds (mesh frequency near the first modes) are flagged with contact loss, the
+    (jaxgear.planetary.planetary_quasi_static at the same 32 mid-point travels) to 1e-6; the
+    resonant speeds (mesh frequency near the first modes) are flagged with contact loss, the
     low-speed one is not."""
     path = _stage_case(tmp_path, "[whine]\nspeed_min_rad_s = 0.01\nspeed_max_rad_s = 300.0\n"
                                  "speeds = 4\nharmonics = 4\npositions_per_period = 32\n")

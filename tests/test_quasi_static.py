@@ -25,6 +25,7 @@ from scipy.optimize import brentq
 
 import jaxgear as jg
 import jaxgear.io as jio
+import jaxgear.scenes as js
 
 K0 = 13e9  # N/m² = 13 N/(mm·µm) per unit contact length
 GOLDEN = (1 + math.sqrt(5)) / 2
@@ -341,7 +342,7 @@ def test_torsional_pair_gives_rigid_mesh_te():
     mesh = mesh.with_extended_contact(False)
     for contact in ("exact", "smooth"):
         rigid = jg.quasi_static(
-            jg.RigidMesh(mesh),
+            js.RigidMesh(mesh),
             case.modifications,
             case.torque,
             theta,
@@ -349,7 +350,7 @@ def test_torsional_pair_gives_rigid_mesh_te():
         )
         for ks in (1e3, 1e5, 1e9):
             tors = jg.quasi_static(
-                jg.TorsionalPair(mesh, ks),
+                js.TorsionalPair(mesh, ks),
                 case.modifications,
                 case.torque,
                 theta,

@@ -1,5 +1,5 @@
-"""ISO 6336-2/-3 method B rating (jaxgear.rate): printed worked examples, the tooth form factors
-against the generated tooth form, gradients against central differences.
+"""ISO 6336-2/-3 method B rating (jaxgear.rating.rate): printed worked examples, the tooth form
+factors against the generated tooth form, gradients against central differences.
 
 Data and their provenance:
 
@@ -37,10 +37,11 @@ import numpy as np
 import pytest
 
 import jaxgear as jg
+import jaxgear.rating as jr
 from fem_prep.tooth_form import ToothGeometry, generate_tooth
 
 RPM = 2 * math.pi / 60
-RATE = eqx.filter_jit(jg.rate)  # one compilation (~1.5 s) instead of op-by-op dispatch (~5 s)
+RATE = eqx.filter_jit(jr.rate)  # one compilation (~1.5 s) instead of op-by-op dispatch (~5 s)
 
 
 def _tr_example_1():
@@ -54,16 +55,16 @@ def _tr_example_1():
         math.radians(15.8),
         0.5,
     )
-    settings = jg.RatingSettings(
-        material=jg.RatingMaterial(1500e6, 500e6, 206e9, 0.3, 7830.0, jg.CaseHardened()),
-        lubrication=jg.Lubrication(320e-6, 6e-6, 10e-6),
-        accuracy=jg.GearAccuracy.from_grade(pair, 5),
+    settings = jr.RatingSettings(
+        material=jr.RatingMaterial(1500e6, 500e6, 206e9, 0.3, 7830.0, jr.CaseHardened()),
+        lubrication=jr.Lubrication(320e-6, 6e-6, 10e-6),
+        accuracy=jr.GearAccuracy.from_grade(pair, 5),
         life=50_000 * 3600.0,
         application_factor=1.0,
-        given=jg.GivenFactors(K_Hbeta=1.16),
+        given=jr.GivenFactors(K_Hbeta=1.16),
         tip_relief=70e-6,
     )
-    return pair, settings, jg.OperatingPoint(9000.0, 360.0 * RPM)
+    return pair, settings, jr.OperatingPoint(9000.0, 360.0 * RPM)
 
 
 # (symbol, printed value, how to read it from the rating)
@@ -104,7 +105,7 @@ TR_PRINTED = [
 
 def test_iso_tr_6336_30_example_1_every_printed_factor_within_half_a_percent():
     pair, settings, op = _tr_example_1()
-    rating = RATE(jg.RatingGeometry.of(pair), op, settings)
+    rating = RATE(jr.RatingGeometry.of(pair), op, settings)
     off = {s: float(get(rating)) / want - 1 for s, want, get in TR_PRINTED}
     bad = {s: f"{e:+.3%}" for s, e in off.items() if abs(e) > 5e-3}
     assert not bad, bad
@@ -121,19 +122,19 @@ def _spur_din3990():
     m["fillet_radius_coeff"] = 0.25
     pair = jg.GearPair(jg.Member(19, 0.5, **m), jg.Member(104, 0.15, **m), 4e-3, math.radians(20))
     torque = 55e3 / (980.0 * RPM)
-    return pair, jg.OperatingPoint(torque, 980.0 * RPM)
+    return pair, jr.OperatingPoint(torque, 980.0 * RPM)
 
 
 def test_spur_pair_pitting_factors_and_root_section_against_din3990_printout():
     pair, op = _spur_din3990()
-    settings = jg.RatingSettings(
-        material=jg.RatingMaterial(1500e6, 430e6, 206e9, 0.3),
-        lubrication=jg.Lubrication(100e-6, 5e-6, 10e-6),
-        accuracy=jg.GearAccuracy.from_grade(pair, 6),
+    settings = jr.RatingSettings(
+        material=jr.RatingMaterial(1500e6, 430e6, 206e9, 0.3),
+        lubrication=jr.Lubrication(100e-6, 5e-6, 10e-6),
+        accuracy=jr.GearAccuracy.from_grade(pair, 6),
         life=20_000 * 3600.0,
-        given=jg.GivenFactors(K_v=1.0, K_Hbeta=1.0, K_Halpha=1.0),
+        given=jr.GivenFactors(K_v=1.0, K_Hbeta=1.0, K_Halpha=1.0),
     )
-    r = RATE(jg.RatingGeometry.of(pair), op, settings)
+    r = RATE(jr.RatingGeometry.of(pair), op, settings)
     assert float(r.pitting.Z_H) == pytest.approx(2.3959406670899934, rel=1e-5)
     assert float(r.pitting.Z_epsilon) == pytest.approx(0.906214912960638, rel=1e-5)
     assert float(r.pitting.Z_BD[0]) == pytest.approx(1.00554704549864, rel=1e-5)  # Z_B = M_1
@@ -218,7 +219,7 @@ def test_tooth_form_factors_agree_with_the_generated_tooth(z1, z2, x1, x2, rho):
     m = {"addendum_coeff": 1.0, "dedendum_coeff": 1.25, "face_width": 0.02}
     m["fillet_radius_coeff"] = rho
     pair = jg.GearPair(jg.Member(z1, x1, **m), jg.Member(z2, x2, **m), 2e-3, math.radians(20))
-    closed = jg.rating.tooth_form_factors(jg.RatingGeometry.of(pair))
+    closed = jg.rating.tooth_form_factors(jr.RatingGeometry.of(pair))
     for i in (0, 1):
         measured = _generated_form_factors(pair, i)
         for name, value in measured.items():
@@ -231,16 +232,16 @@ def test_tooth_form_factors_agree_with_the_generated_tooth(z1, z2, x1, x2, rho):
 
 
 def _least_safety(geometry, op, settings):
-    r = jg.rate(geometry, op, settings)
+    r = jr.rate(geometry, op, settings)
     return jnp.stack([r.pitting.S_H, r.bending.S_F])
 
 
 def test_safety_factor_gradients_match_central_differences():
     """d(S_H, S_F)/d(x1, x2, b1), every load factor computed (float64)."""
     pair, settings, op = _tr_example_1()
-    settings = eqx.tree_at(lambda s: s.given, settings, jg.GivenFactors())  # all computed
+    settings = eqx.tree_at(lambda s: s.given, settings, jr.GivenFactors())  # all computed
     # b1 < b2: the common face width min(b1, b2) has no kink at the point
-    geometry = jg.RatingGeometry.of(pair).replace(face_width=[0.095, 0.1])
+    geometry = jr.RatingGeometry.of(pair).replace(face_width=[0.095, 0.1])
 
     def f(v):
         g = geometry.replace(profile_shift=v[:2], face_width=jnp.stack([v[2], 0.1]))
@@ -260,7 +261,7 @@ def test_safety_factor_gradients_match_central_differences():
 
 def test_rating_jits_and_runs_in_float32():
     pair, settings, op = _tr_example_1()
-    geometry = jg.RatingGeometry.of(pair)
+    geometry = jr.RatingGeometry.of(pair)
     r64 = RATE(geometry, op, settings)
     f32 = jax.tree_util.tree_map(
         lambda a: a.astype(jnp.float32) if eqx.is_inexact_array(a) else a,
@@ -276,11 +277,11 @@ def test_scope_notes_name_the_clause():
     """q_s outside [1, 8) and a speed in K_v's main resonance range are noted; the TR example
     is in scope."""
     pair, settings, op = _tr_example_1()
-    geometry = jg.RatingGeometry.of(pair)
+    geometry = jr.RatingGeometry.of(pair)
     base = RATE(geometry, op, settings)
     assert base.scope_notes() == []
     n = float(base.factors.details["resonance_ratio_N"])  # N is proportional to the speed
-    at_resonance = RATE(geometry, jg.OperatingPoint(9000.0, op.speed / n), settings)
+    at_resonance = RATE(geometry, jr.OperatingPoint(9000.0, op.speed / n), settings)
     (note,) = at_resonance.scope_notes()
     assert "ISO 6336-1:2019 6 dynamic factor K_v: resonance ratio N = 1 " in note
     # the gear cut by a sharp rack (ρ_fP = 0) with x2 = 0.5: q_s = 14.7 (q_s is the tooth's
@@ -294,12 +295,12 @@ def test_scope_notes_name_the_clause():
 @pytest.mark.parametrize(
     "build, words",
     [
-        (lambda: jg.OperatingPoint(-1.0, 10.0), "OperatingPoint: torque = -1 N·m is out of range"),
-        (lambda: jg.OperatingPoint(1.0, 0.0), "OperatingPoint: speed = 0 rad/s is out of range"),
-        (lambda: jg.RatingMaterial(0.0, 4e8), "RatingMaterial: sigma_h_lim = 0 Pa is out of"),
-        (lambda: jg.RatingMaterial(1e9, 4e8, poisson_ratio=0.5), "poisson_ratio = 0.5 is out of"),
-        (lambda: jg.RatingMaterial(1e9, 4e8, treatment="Eh"), "treatment = 'Eh' (str) is out of"),
-        (lambda: jg.Lubrication(-1e-6, 1e-6, 1e-6), "Lubrication: viscosity_40 = -1e-06 m²/s"),
+        (lambda: jr.OperatingPoint(-1.0, 10.0), "OperatingPoint: torque = -1 N·m is out of range"),
+        (lambda: jr.OperatingPoint(1.0, 0.0), "OperatingPoint: speed = 0 rad/s is out of range"),
+        (lambda: jr.RatingMaterial(0.0, 4e8), "RatingMaterial: sigma_h_lim = 0 Pa is out of"),
+        (lambda: jr.RatingMaterial(1e9, 4e8, poisson_ratio=0.5), "poisson_ratio = 0.5 is out of"),
+        (lambda: jr.RatingMaterial(1e9, 4e8, treatment="Eh"), "treatment = 'Eh' (str) is out of"),
+        (lambda: jr.Lubrication(-1e-6, 1e-6, 1e-6), "Lubrication: viscosity_40 = -1e-06 m²/s"),
     ],
 )
 def test_bad_rating_inputs_are_one_line(build, words):
@@ -322,12 +323,12 @@ def test_rim_thickness_factor_of_a_thin_rimmed_gear():
         math.radians(15.8),
         0.5,
     )
-    solid = RATE(jg.RatingGeometry.of(pair), op, settings).bending
-    rimmed = RATE(jg.RatingGeometry.of(thin), op, settings).bending
+    solid = RATE(jr.RatingGeometry.of(pair), op, settings).bending
+    rimmed = RATE(jr.RatingGeometry.of(thin), op, settings).bending
     y_b = 1.6 * math.log(2.242 / 0.8)  # 1.6488
     np.testing.assert_allclose(rimmed.Y_B, [1.0, y_b], rtol=1e-12)
     np.testing.assert_allclose(rimmed.sigma_F0 / solid.sigma_F0, [1.0, y_b], rtol=1e-12)
-    rating = RATE(jg.RatingGeometry.of(thin), op, settings)
+    rating = RATE(jr.RatingGeometry.of(thin), op, settings)
     assert rating.scope_notes() == []
     # a rim of 0.4 tooth depths (its Y_B; no recompilation): below Y_B's scope 0.5 < s_R/h_t,
     # noted naming the clause
@@ -350,7 +351,7 @@ def test_every_factor_names_its_part_and_the_checked_clauses_of_iso_6336_3_2006(
     method B, 15 Y_X, 5.1 S_F, 5.2 σ_F, 5.3 σ_FP, 7.4 Y_ST), typed here from that listing; the
     rest, unchecked, name the part alone; an unknown symbol is a one-line error."""
     for edition, year in ((jg.rating.Edition2006(), 2006), (jg.rating.Edition2019(), 2019)):
-        for cls, part in ((jg.rating.LoadFactors, 1), (jg.PittingRating, 2), (jg.BendingRating, 3)):
+        for cls, part in ((jg.rating.LoadFactors, 1), (jr.PittingRating, 2), (jr.BendingRating, 3)):
             for name in (f.name for f in dataclasses.fields(cls)):
                 if name in ("details", "sources", "form", "cycles"):
                     continue

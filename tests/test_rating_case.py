@@ -19,6 +19,7 @@ from _toml import case_toml
 
 import jaxgear as jg
 import jaxgear.io as jio
+import jaxgear.rating as jr
 from jaxgear import cli
 from jaxgear.cli import main
 
@@ -79,7 +80,7 @@ def test_case_rating_is_the_api_rating():
     assert rc.settings.accuracy.grade == 5
     assert rc.settings.tip_relief == pytest.approx(70e-6)
     assert list(rc.settings.material.sigma_h_lim) == [1500e6, 1500e6]
-    assert isinstance(rc.settings.material.treatment, jg.CaseHardened)
+    assert isinstance(rc.settings.material.treatment, jr.CaseHardened)
     assert list(rc.settings.lubrication.roughness_flank) == pytest.approx([6e-6, 6e-6])
     assert float(rc.geometry.center_distance) == pytest.approx(0.5)
     assert isinstance(rc.settings.standard, jg.rating.Edition2019)  # the default

@@ -14,6 +14,7 @@ import pytest
 
 import jaxgear as jg
 import jaxgear.io as jio
+import jaxgear.planetary as jp
 from jaxgear import cli
 from jaxgear.cli.planetary import measured_k_v, rating_section, stage_contact_model
 from _planetary_stage import K0, SEQ, geometry, stage
@@ -111,14 +112,14 @@ def test_planetary_rows_state_the_stage_meshes_contact_model(tmp_path):
     and in rating.md, and a K_γ the case gives is shown without it."""
     geo = geometry(**SEQ)
     st = stage(geo, 3)
-    contact = jg.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(K0))
+    contact = jp.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(K0))
     assert stage_contact_model(contact) == THEORETICAL
     ext = dataclasses.replace(contact, sun_mesh=dataclasses.replace(contact.sun_mesh,
                                                                     extended_contact=True),
                               ring_mesh=dataclasses.replace(contact.ring_mesh,
                                                             extended_contact=True))
     assert stage_contact_model(ext) == EXTENDED
-    assert "no tooth contact" in stage_contact_model(jg.ConstantMeshes(contact.mesh_period()))
+    assert "no tooth contact" in stage_contact_model(jp.ConstantMeshes(contact.mesh_period()))
     sweep = {"speeds_rad_s": [1.0, 2.0], "mesh_names": ["s1", "s2", "r1", "r2"],
              "dynamic_factor_mesh": [[1.1, 1.2, 1.3, 1.4], [1.2, 1.3, 1.4, 1.5]],
              "model": "planar", "ring_model": "rigid"}

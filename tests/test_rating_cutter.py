@@ -20,6 +20,7 @@ from test_ring_cutter_keys import older_spelling
 
 import jaxgear as jg
 import jaxgear.io as jio
+import jaxgear.rating as jr
 
 MM = 1e-3
 A = math.radians(20.0)
@@ -176,7 +177,7 @@ def test_section_is_the_cut_spaces_60_degree_point(zr, xr, mn, z0):
     (:func:`_reference_section`; 1e-3, 1e-5 and 2e-2 for the sampled cut)."""
     ref_s, ref_d, ref_rho = _reference_section(zr, xr, mn, z0, 0.30)
     pair = _ring(zr, xr, mn)
-    geometry = jg.InternalRatingGeometry.of(pair, jg.rating.ShaperCutterSection(z0))
+    geometry = jr.InternalRatingGeometry.of(pair, jg.rating.ShaperCutterSection(z0))
     s_fn, rho_f, d_s = (float(t) / MM for t in _section(geometry))
     assert s_fn == pytest.approx(ref_s, rel=1e-3)
     assert d_s == pytest.approx(ref_d, rel=1e-5)
@@ -203,7 +204,7 @@ def test_section_is_the_numerical_envelope_of_the_tip_rounding(zr, xr, mn, z0, x
     the 60° point lies after the carrier angle's zero and a search on the negative side only
     returned sections tens of modules wide."""
     ref_s, ref_d, ref_rho = _envelope_section(zr, xr, mn, z0, rho_s, x0)
-    geometry = jg.InternalRatingGeometry.of(
+    geometry = jr.InternalRatingGeometry.of(
         _ring(zr, xr, mn, rho_s), jg.rating.ShaperCutterSection(z0, x0, rho_s)
     )
     s_fn, rho_f, d_s = (float(t) / MM for t in _section(geometry))
@@ -233,7 +234,7 @@ def test_probe_grid_is_physical_or_refused():
     seen = set()
     for name, teeth in (("nrel-5mw-stage2", (11, 47, 83)), ("nrel-5mw-planetary", (11, 35, 41))):
         pair = jio.load_case(name).pairs[1]
-        geometry = jg.InternalRatingGeometry.of(pair)
+        geometry = jr.InternalRatingGeometry.of(pair)
         g = geometry.derived()
         mn = float(geometry.normal_module)
         zr = abs(pair.gear.teeth)
@@ -267,19 +268,19 @@ def test_probe_grid_is_physical_or_refused():
 def test_probe_grid_rating_form_factors():
     """The probe itself (its Y_F through jg.rating.tooth_form_factors, vmapped over x0 and ρ_a0 per
     z0): 0 < Y_F < 5 and 1 < s_Fn/m_n < 6 wherever the section is finite; NaN exactly where
-    jg.rating.ShaperCutterSection.result is nonzero, and jg.InternalRatingGeometry.of refuses those
-    cutters in one line."""
+    jg.rating.ShaperCutterSection.result is nonzero, and jg.rating.InternalRatingGeometry.of refuses
+    those cutters in one line."""
     xs = jax.numpy.array([0.0, 0.25, 0.5, 1.0, 1.5, -0.1, -0.2])
     rs = jax.numpy.array([0.02, 0.1, 0.3, 0.6])
     for name in ("nrel-5mw-stage2", "nrel-5mw-planetary"):
         pair = jio.load_case(name).pairs[1]
         mn = pair.normal_module
         zr = abs(pair.gear.teeth)
-        plain = jg.InternalRatingGeometry.of(pair)
+        plain = jr.InternalRatingGeometry.of(pair)
         for z0 in range(11, zr - 9, 6):
             def f(x0, rho, z0=z0, plain=plain, mn=mn):
                 cutter = jg.rating.ShaperCutterSection(z0, x0, rho)
-                t = jg.rating.tooth_form_factors(jg.InternalRatingGeometry(
+                t = jg.rating.tooth_form_factors(jr.InternalRatingGeometry(
                     **{k: getattr(plain, k) for k in plain.__dataclass_fields__
                        if k != "root_section"}, root_section=cutter))
                 return jax.numpy.stack([t.s_Fn[1] / mn, t.Y_F[1]]), cutter.result(plain)
@@ -293,7 +294,7 @@ def test_probe_grid_rating_form_factors():
             for i, j in zip(*np.nonzero(bad)):
                 cutter = jg.rating.ShaperCutterSection(z0, float(xs[i]), float(rs[j]))
                 with pytest.raises(ValueError, match=r"cannot generate the ring's fillet"):
-                    jg.InternalRatingGeometry.of(pair, cutter)
+                    jr.InternalRatingGeometry.of(pair, cutter)
 
 
 def test_cutter_that_cannot_cut_the_fillet_refused_in_one_line():
@@ -306,9 +307,9 @@ def test_cutter_that_cannot_cut_the_fillet_refused_in_one_line():
     bad = jg.rating.ShaperCutterSection(41, -0.1, 0.1)
     with pytest.raises(ValueError, match=r"^ShaperCutterSection: profile_shift = -0\.1 cannot "
                        r"generate.*pitch circle.*; allowed \[-0\.02, 0\.80\]$") as info:
-        jg.InternalRatingGeometry.of(pair, bad)
+        jr.InternalRatingGeometry.of(pair, bad)
     assert "\n" not in str(info.value)
-    plain = jg.InternalRatingGeometry.of(pair)
+    plain = jr.InternalRatingGeometry.of(pair)
     codes = [int(jg.rating.ShaperCutterSection(41, x, 0.1).result(plain)) for x in (-0.03, -0.02,
                                                                               0.80, 0.81)]
     assert codes == [jg.CutterResult.rounding_inside_pitch_circle, 0, 0,
@@ -352,22 +353,22 @@ def test_rating_derivative_through_the_cutter_section_against_central_difference
     section from its cutter, by jax.jvp (the implicit derivative through the 60° point) against
     central differences (float64, 1e-6); the ring's S_F moves with x2 through its section."""
     pair = _ring(-93, 0.1171, 21.0)
-    geometry = jg.InternalRatingGeometry.of(pair, jg.rating.ShaperCutterSection(30))
-    settings = jg.RatingSettings(
-        material=jg.RatingMaterial(
+    geometry = jr.InternalRatingGeometry.of(pair, jg.rating.ShaperCutterSection(30))
+    settings = jr.RatingSettings(
+        material=jr.RatingMaterial(
             (1500e6, 700e6), (430e6, 290e6),
-            treatment=jg.PairTreatment(jg.CaseHardened(), jg.ThroughHardened()),
+            treatment=jr.PairTreatment(jr.CaseHardened(), jr.ThroughHardened()),
         ),
-        lubrication=jg.Lubrication(220e-6, 4.8e-6, 20e-6),
-        accuracy=jg.GearAccuracy.from_grade(pair, 6),
+        lubrication=jr.Lubrication(220e-6, 4.8e-6, 20e-6),
+        accuracy=jr.GearAccuracy.from_grade(pair, 6),
         life=20_000 * 3600.0,
         application_factor=1.25,
     )
-    op = jg.OperatingPoint(2.0e5, 10.0)
+    op = jr.OperatingPoint(2.0e5, 10.0)
 
     def safety(x2):
         g = geometry.replace(profile_shift=jax.numpy.stack([geometry.profile_shift[0], x2]))
-        r = jg.rate(g, op, settings)
+        r = jr.rate(g, op, settings)
         return jax.numpy.concatenate([r.pitting.S_H, r.bending.S_F])
 
     x2 = geometry.profile_shift[1]
@@ -386,20 +387,20 @@ def test_bad_cutter_refused_in_one_line():
         jg.rating.ShaperCutterSection(30, tip_radius_coeff=-0.1)
     pair = _ring(-93, 0.1171, 21.0)
     with pytest.raises(ValueError, match=r"teeth = 90 is out of range.*\|z2\| - 10"):
-        jg.InternalRatingGeometry.of(pair, jg.rating.ShaperCutterSection(90))
+        jr.InternalRatingGeometry.of(pair, jg.rating.ShaperCutterSection(90))
 
 
 def test_case_file_treatment_per_gear_and_ring_cutter(tmp_path):
-    """``[material] treatment`` per gear (a table by gear name) maps to jg.PairTreatment, the
+    """``[material] treatment`` per gear (a table by gear name) maps to jg.rating.PairTreatment, the
     through-hardened ring's ``brinell_hardness_HB`` to its Z_W (1.2 − (240 − 130)/1700, ISO
     6336-2), ``[rating] ring_cutter_teeth`` to jg.rating.ShaperCutterSection; bad values in one line."""
     case = jio.load_case("nrel-5mw-planetary")
     sun_mesh, ring_mesh = jio.ratings_of(case)
     t = ring_mesh.settings.material.treatment
-    assert isinstance(t, jg.PairTreatment) and isinstance(t.gear, jg.ThroughHardened)
+    assert isinstance(t, jr.PairTreatment) and isinstance(t.gear, jr.ThroughHardened)
     assert t.gear.brinell_hardness == 240.0
     assert t.gear.work_hardening(t.pinion) == pytest.approx(1.2 - 110 / 1700, rel=1e-12)
-    assert isinstance(sun_mesh.settings.material.treatment, jg.CaseHardened)
+    assert isinstance(sun_mesh.settings.material.treatment, jr.CaseHardened)
     assert ring_mesh.geometry.root_section.teeth == 36
     text = older_spelling(jio.embedded_case_text("nrel-5mw-planetary"))  # [rating] ring_cutter_*
     for old, new, match in [
@@ -417,18 +418,19 @@ def test_case_file_treatment_per_gear_and_ring_cutter(tmp_path):
 
 
 def test_pair_case_treatment_list_and_hardness():
-    """A pair case's ``treatment = [pinion, gear]`` → jg.PairTreatment with the through-hardened
-    gear's ``brinell_hardness_HB`` (its Z_W 1.2 − (200 − 130)/1700 against the case-hardened
-    pinion); one name keeps one treatment; a list of three names is refused in one line."""
+    """A pair case's ``treatment = [pinion, gear]`` → jg.rating.PairTreatment with the
+    through-hardened gear's ``brinell_hardness_HB`` (its Z_W 1.2 − (200 − 130)/1700 against the
+    case-hardened pinion); one name keeps one treatment; a list of three names is refused in one
+    line."""
     d = rated_accessory_data(4, 8)
     d["material"].update(treatment=["case_hardened", "through_hardened"],
                          brinell_hardness_HB=[600.0, 200.0])
     t = jio.rating_of(jio.parse_case(d)).settings.material.treatment
-    assert isinstance(t, jg.PairTreatment) and t.gear.brinell_hardness == 200.0
+    assert isinstance(t, jr.PairTreatment) and t.gear.brinell_hardness == 200.0
     assert t.gear.work_hardening(t.pinion) == pytest.approx(1.2 - 70 / 1700, rel=1e-12)
     d["material"]["treatment"] = "nitrided"  # (its hardness unread: refused, see round 5)
     del d["material"]["brinell_hardness_HB"]
-    assert isinstance(jio.rating_of(jio.parse_case(d)).settings.material.treatment, jg.Nitrided)
+    assert isinstance(jio.rating_of(jio.parse_case(d)).settings.material.treatment, jr.Nitrided)
     d["material"]["treatment"] = ["nitrided"] * 3
     with pytest.raises(ValueError, match=r"\[material\] treatment = .*\[pinion, gear\] list"):
         jio.parse_case(d)

@@ -4,7 +4,7 @@ root_stress_map.py and rating_optimise.py each take an output folder and a reduc
 tests check that the files are there and that the numbers hold against a reference: central
 differences of the example's own safety factors for its jacfwd slopes (float64, 1e-6), the FE
 root stress within the stated band of ISO 6336-3's σ_F0 (docs/rating.md), and the optimiser's
-start against jg.rate with the measured factors given by hand."""
+start against jg.rating.rate with the measured factors given by hand."""
 
 import json
 import math
@@ -16,6 +16,7 @@ import pytest
 from _examples import load_example
 
 import jaxgear as jg
+import jaxgear.rating as jr
 
 
 def _record(path):
@@ -55,7 +56,7 @@ def test_root_stress_iso_example_on_the_iso_53_pair_is_within_five_percent_of_is
     rows = ex.main(tmp_path, [name])
     assert (tmp_path / "root_stress_fillet.png").stat().st_size > 10_000
     assert _record(tmp_path / "root_stress_iso.json") == rows
-    form = jg.rating.tooth_form_factors(jg.RatingGeometry.of(ex.PAIRS[name]))
+    form = jg.rating.tooth_form_factors(jr.RatingGeometry.of(ex.PAIRS[name]))
     assert [r["member"] for r in rows] == ["pinion", "gear"]
     for i, r in enumerate(rows):
         assert _finite([v for v in r.values() if isinstance(v, float)])
@@ -75,7 +76,7 @@ def test_root_stress_map_example_with_five_load_radii_is_below_iso(tmp_path):
     assert _record(tmp_path / "root_stress_map.json") == out
     case = ex.jio.load_case("accessory-spur")
     pair = case.pair
-    form = jg.rating.tooth_form_factors(jg.RatingGeometry.of(pair))
+    form = jg.rating.tooth_form_factors(jr.RatingGeometry.of(pair))
     ft = case.torque / pair.pitch_radii[0]
     for i, tag in enumerate(("pinion", "gear")):
         r = out[tag]
@@ -90,7 +91,7 @@ def test_rating_optimise_example_rates_the_case_file_it_writes(tmp_path):
     """Two L-BFGS steps on a 4-slice, 8-position power-helical: the example writes its record,
     figure and the optimum as a case file into the folder given (nothing under docs/); the case
     file loads with the record's optimum as its modifications (float32 fields, 1e-6); the
-    record's start and optimum S_H, S_F are jg.rate's with the K_Hβ measured on the case's
+    record's start and optimum S_H, S_F are jg.rating.rate's with the K_Hβ measured on the case's
     exact-contact load map given and the design's tip relief and crowning as ISO's C_a and C_β
     (set here by hand), 1e-9; every safety factor above 1. About 60 s on a loaded machine
     (slow)."""
@@ -121,11 +122,11 @@ def test_rating_optimise_example_rates_the_case_file_it_writes(tmp_path):
         settings = eqx.tree_at(
             lambda s: (s.given, s.tip_relief, s.crowning),
             rc.settings,
-            (jg.GivenFactors(K_Hbeta=float(jg.rating.face_load_factor(res))),
+            (jr.GivenFactors(K_Hbeta=float(jg.rating.face_load_factor(res))),
              design["tip_relief.depth"] * 1e-6, crowning if crowning > 0 else None),
             is_leaf=lambda x: x is None,
         )
-        rating = jg.rate(rc.geometry, rc.operating, settings)
+        rating = jr.rate(rc.geometry, rc.operating, settings)
         m = r["measured_K_Hbeta"]
         np.testing.assert_allclose(m["S_H"], rating.pitting.S_H, rtol=1e-6)
         np.testing.assert_allclose(m["S_F"], rating.bending.S_F, rtol=1e-6)

@@ -1,5 +1,5 @@
-"""The internal pair's rating rules (jaxgear.InternalRatingGeometry) against references written
-here independently: a rack tooth drawn point by point (ISO 6336-3's substitute rack of an
+"""The internal pair's rating rules (jaxgear.rating.InternalRatingGeometry) against references
+written here independently: a rack tooth drawn point by point (ISO 6336-3's substitute rack of an
 internal gear), the ring's involute flank and load line drawn in the plane (the load point, its
 direction α_Fen and the bending moment arm h_Fe), the single pair contact factor from the
 internal pair's own relative radius of curvature (jaxgear.relative_radius of the NumPy pair),
@@ -16,9 +16,10 @@ import pytest
 
 import jaxgear as jg
 import jaxgear.io as jio
+import jaxgear.rating as jr
 
 MM = 1e-3
-RATE = eqx.filter_jit(jg.rate)
+RATE = eqx.filter_jit(jr.rate)
 
 
 def _pair(zp=36, zr=-93, xp=0.5039, xr=0.1171, mn=21.0, k=-1.75, b=550.0, rho_ring=0.30, ha=1.0):
@@ -31,13 +32,13 @@ def _pair(zp=36, zr=-93, xp=0.5039, xr=0.1171, mn=21.0, k=-1.75, b=550.0, rho_ri
 
 
 def _settings(pair):
-    return jg.RatingSettings(
-        material=jg.RatingMaterial(
+    return jr.RatingSettings(
+        material=jr.RatingMaterial(
             (1500e6, 700e6), (430e6, 290e6),
-            treatment=jg.PairTreatment(jg.CaseHardened(), jg.ThroughHardened(brinell_hardness=240.0)),
+            treatment=jr.PairTreatment(jr.CaseHardened(), jr.ThroughHardened(brinell_hardness=240.0)),
         ),
-        lubrication=jg.Lubrication(220e-6, 4.8e-6, 20e-6),
-        accuracy=jg.GearAccuracy.from_grade(pair, 6),
+        lubrication=jr.Lubrication(220e-6, 4.8e-6, 20e-6),
+        accuracy=jr.GearAccuracy.from_grade(pair, 6),
         life=20_000 * 3600.0,
         application_factor=1.25,
     )
@@ -60,7 +61,7 @@ def test_substitute_rack_section_is_the_drawn_rack_tooth_at_its_60_degree_tangen
     i = np.argmin(np.abs(slope - 30.0))  # 30° to the root line = 60° to the centre line
     s_drawn, depth_drawn = 2 * u[i], hfp - v[i]
     pair = _pair()
-    geometry = jg.InternalRatingGeometry.of(pair)
+    geometry = jr.InternalRatingGeometry.of(pair)
     s_fn, rho_f, d_s = jg.rating.SubstituteRack().section(geometry, geometry.derived())
     assert float(s_fn) == pytest.approx(s_drawn * MM, rel=1e-6)
     assert float(rho_f) == pytest.approx(rfp * MM, rel=1e-12)
@@ -80,7 +81,7 @@ def test_ring_load_direction_and_moment_arm_against_the_drawn_flank(zr, xr):
                  mn=21.0 if zr == -93 else 45.0, k=-1.75 if zr == -93 else -10.861)
     mn = pair.normal_module
     section = (2.7 * mn, 0.42 * mn, 2 * pair.root_radii[1] - 0.2 * mn)
-    geometry = jg.InternalRatingGeometry.of(pair, jg.rating.GivenRootSection(*section))
+    geometry = jr.InternalRatingGeometry.of(pair, jg.rating.GivenRootSection(*section))
     form = jg.rating.tooth_form_factors(geometry)
     # drawn: the load point
     rb1, rb2 = pair.base_radii
@@ -112,7 +113,7 @@ def test_single_pair_factor_from_the_pairs_own_relative_curvature():
     (M₁ > 1) and the NREL ring mesh (the path entirely above the pinion's pitch circle, Z_B = 1);
     Z_D = 1."""
     for pair in (_pair(zp=20, zr=-60, xp=0.0, xr=-0.5, mn=3.0, k=0.0, b=30.0, ha=0.8), _pair()):
-        geometry = jg.InternalRatingGeometry.of(pair)
+        geometry = jr.InternalRatingGeometry.of(pair)
         ours = np.asarray(geometry.single_pair_factors(geometry.derived()))
         rb1 = pair.base_radii[0]
         s_c = rb1 * math.tan(pair.operating_pressure_angle) - pair.start_roll
@@ -120,18 +121,18 @@ def test_single_pair_factor_from_the_pairs_own_relative_curvature():
         r = np.asarray(jg.relative_radius(pair, np.array([s_c, s_b])))
         np.testing.assert_allclose(ours, [max(1.0, math.sqrt(r[0] / r[1])), 1.0], rtol=1e-10)
     assert math.sqrt(r[0] / r[1]) < 1.0  # the NREL mesh
-    first = jg.InternalRatingGeometry.of(_pair(zp=20, zr=-60, xp=0.0, xr=-0.5, mn=3.0, k=0.0, b=30.0, ha=0.8))
+    first = jr.InternalRatingGeometry.of(_pair(zp=20, zr=-60, xp=0.0, xr=-0.5, mn=3.0, k=0.0, b=30.0, ha=0.8))
     assert float(first.single_pair_factors(first.derived())[0]) > 1.0
 
 
 def test_work_hardening_factor_of_a_soft_ring_against_a_hardened_planet():
     """Z_W = 1.2 − (HB − 130)/1700 for the through-hardened gear against a case-hardened one,
     1 for the hardened gear, and 1 for two through-hardened gears (ISO 6336-2)."""
-    soft = jg.ThroughHardened(brinell_hardness=240.0)
-    both = np.asarray(jg.PairTreatment(jg.CaseHardened(), soft).work_hardening_factors())
+    soft = jr.ThroughHardened(brinell_hardness=240.0)
+    both = np.asarray(jr.PairTreatment(jr.CaseHardened(), soft).work_hardening_factors())
     np.testing.assert_allclose(both, [1.0, 1.2 - 110.0 / 1700.0], rtol=1e-15)
     np.testing.assert_allclose(soft.work_hardening_factors(), [1.0, 1.0])
-    np.testing.assert_allclose(jg.CaseHardened().work_hardening_factors(), [1.0, 1.0])
+    np.testing.assert_allclose(jr.CaseHardened().work_hardening_factors(), [1.0, 1.0])
 
 
 def test_internal_rating_gradients_match_central_differences():
@@ -139,13 +140,13 @@ def test_internal_rating_gradients_match_central_differences():
     differences (float64; K_v, K_Hβ, K_Hα computed by ISO 6336-1 method B, the substitute rack
     for the ring)."""
     pair = _pair(zp=20, zr=-60, xp=0.1, xr=-0.5, mn=3.0, k=0.0, b=30.0, ha=0.8)
-    geometry = jg.InternalRatingGeometry.of(pair)
+    geometry = jr.InternalRatingGeometry.of(pair)
     settings = _settings(pair)
-    op = jg.OperatingPoint(150.0, 150.0)
+    op = jr.OperatingPoint(150.0, 150.0)
 
     def safety(x1):
         g = geometry.replace(profile_shift=jax.numpy.stack([x1, geometry.profile_shift[1]]))
-        r = jg.rate(g, op, settings)
+        r = jr.rate(g, op, settings)
         return jax.numpy.concatenate([r.pitting.S_H, r.bending.S_F])
 
     x1 = geometry.profile_shift[0]
@@ -161,9 +162,9 @@ def test_internal_rating_gradients_match_central_differences():
 def test_rate_refuses_what_is_no_rating_geometry_in_one_line():
     pair = _pair()
     with pytest.raises(ValueError, match=r"^rate: geometry = .*InternalRatingGeometry$"):
-        jg.rate(pair, jg.OperatingPoint(1.0, 1.0), _settings(pair))
+        jr.rate(pair, jr.OperatingPoint(1.0, 1.0), _settings(pair))
     with pytest.raises(ValueError, match=r"root_section"):
-        jg.InternalRatingGeometry.of(pair, "rack")
+        jr.InternalRatingGeometry.of(pair, "rack")
     with pytest.raises(ValueError, match=r"s_Fn"):
         jg.rating.GivenRootSection(-1.0, 1.0, 1.0)
 
@@ -279,7 +280,7 @@ def test_nrel_stage1_case_is_rated_as_the_report(tmp_path):
     assert "mesh sun1-planet1" in md and "mesh planet1-ring1" in md
     ring = jio.ratings_of(case)[1]
     assert ring.settings.material.treatment.gear.slip_layer == pytest.approx(0.0014e-3)
-    q_s = float(jg.rate(ring.geometry, ring.operating, ring.settings).bending.form.q_s[1])
+    q_s = float(jr.rate(ring.geometry, ring.operating, ring.settings).bending.form.q_s[1])
     rho = 0.0014  # mm
     by_hand = (1 + math.sqrt(rho * (1 + 2 * q_s) / 5)) / (1 + math.sqrt(rho * 1.2))
     y_delta = sec["bending"]["Y_delta_rel_T"][1][1]

@@ -26,9 +26,10 @@ import numpy as np
 import pytest
 
 import jaxgear as jg
+import jaxgear.rating as jr
 
 RPM = 2 * math.pi / 60
-RATE = eqx.filter_jit(jg.rate)
+RATE = eqx.filter_jit(jr.rate)
 
 
 def _pair(z, x, mn_mm, beta_deg, tip_alteration_mm, face_mm, rho_fp=0.38):
@@ -52,18 +53,18 @@ def _stage_03():
     18CrNiMo7-6 case-hardened (σ_Hlim 1500, σ_Flim 430 N/mm²), ν_40 220 mm²/s, R_z 4.8 µm
     flank and 20 µm root, ISO 53 profile A (1.25/0.38/1.0), S_Hmin 1.25, S_Fmin 1.56."""
     pair = _pair((24, 95), (0.48, 0.6691), 14.0, 10.0, -0.938, 360.0)
-    settings = jg.RatingSettings(
-        material=jg.RatingMaterial(1500e6, 430e6, 206e9, 0.3, 7830.0, jg.CaseHardened()),
-        lubrication=jg.Lubrication(220e-6, 4.8e-6, 20e-6),
-        accuracy=jg.GearAccuracy.from_grade(pair, 6),
+    settings = jr.RatingSettings(
+        material=jr.RatingMaterial(1500e6, 430e6, 206e9, 0.3, 7830.0, jr.CaseHardened()),
+        lubrication=jr.Lubrication(220e-6, 4.8e-6, 20e-6),
+        accuracy=jr.GearAccuracy.from_grade(pair, 6),
         life=175_200 * 3600.0,
         application_factor=1.25,
-        given=jg.GivenFactors(K_v=1.092, K_Hbeta=1.15, K_Halpha=1.069, K_Falpha=1.069),
+        given=jr.GivenFactors(K_v=1.092, K_Hbeta=1.15, K_Halpha=1.069, K_Falpha=1.069),
         min_safety_pitting=1.25,
         min_safety_bending=1.56,
         standard=jg.rating.Edition2006(),
     )
-    return pair, settings, jg.OperatingPoint(40953.0, 1165.9 * RPM)
+    return pair, settings, jr.OperatingPoint(40953.0, 1165.9 * RPM)
 
 
 MN3 = 14e-3
@@ -122,7 +123,7 @@ STAGE_03_PRINTED = [
 
 def test_kisssoft_helical_stage_every_printed_bending_and_pitting_value_within_half_a_percent():
     pair, settings, op = _stage_03()
-    rating = RATE(jg.RatingGeometry.of(pair), op, settings)
+    rating = RATE(jr.RatingGeometry.of(pair), op, settings)
     bad = {}
     for symbol, printed, get in STAGE_03_PRINTED:
         ours = np.atleast_1d(np.asarray(get(rating, pair), dtype=float))
@@ -143,7 +144,7 @@ def test_2019_edition_differs_from_2006_by_the_helix_factor_alone():
     2019 example was found): σ_F0 of the stage is 1/cos³ 10° = 1.0472 times the 2006 one, and
     nothing else of the rating moves."""
     pair, settings, op = _stage_03()
-    geometry = jg.RatingGeometry.of(pair)
+    geometry = jr.RatingGeometry.of(pair)
     old = RATE(geometry, op, settings)
     new = RATE(geometry, op, eqx.tree_at(lambda s: s.standard, settings, jg.rating.Edition2019()))
     ratio = 1 / math.cos(math.radians(10.0)) ** 3
@@ -182,7 +183,7 @@ def test_kisssoft_spur_sun_planet_tooth_form_within_half_a_percent(
     """Y_F, Y_S and the root section of the external sun/planet mesh of the planetary stages
     (spur, large profile shifts, tip shortening), the report's section 3."""
     pair = _pair(z, x, mn_mm, 0.0, k_mm, 491.0)
-    f = jg.rating.tooth_form_factors(jg.RatingGeometry.of(pair))
+    f = jg.rating.tooth_form_factors(jr.RatingGeometry.of(pair))
     mn = mn_mm * 1e-3
     ours = np.stack(
         [f.Y_F, f.Y_S, f.h_Fe / mn, f.s_Fn / mn, f.rho_F / mn, np.degrees(f.alpha_Fen)], -1
@@ -195,7 +196,7 @@ def test_life_factors_are_iso_power_laws():
     Y_NT = (3·10⁶/N_L)^0.02 for case-hardened steel past the knee): the curve through the
     points reproduces them to the printed exponents' rounding (3e-4), where the former
     interpolation, linear in the factor, was 0.26 % (Y_NT) and 0.33 % (Z_NT) high at 10⁹."""
-    t = jg.CaseHardened()
+    t = jr.CaseHardened()
     n = np.array([1e8, 1e9, 3e9])
     np.testing.assert_allclose(t.z_nt(n), (5e7 / n) ** 0.0307, rtol=3e-4)
     np.testing.assert_allclose(t.y_nt(n), (3e6 / n) ** 0.02, rtol=3e-4)
@@ -225,7 +226,7 @@ def _spur_values(f_t, v, eps_a, alpha_wt, z_n, n_l, k_fb, bending, pitting):
         (
             "alpha_wt (deg)",
             alpha_wt,
-            lambda r, p, o: np.degrees(jg.RatingGeometry.of(p).derived().operating_pressure_angle),
+            lambda r, p, o: np.degrees(jr.RatingGeometry.of(p).derived().operating_pressure_angle),
         ),
         ("z_n", z_n, lambda r, p, o: r.bending.form.virtual_teeth),
         ("N_L (1e6)", n_l, lambda r, p, o: r.pitting.cycles / 1e6),
@@ -313,22 +314,22 @@ def test_kisssoft_spur_sun_planet_rating_every_printed_value_within_half_a_perce
     k_a, k_gamma = 1.25, 1.10
     sigma_hw, sigma_h0 = sigma_hw_h0
     k_v = (sigma_hw / sigma_h0) ** 2 / (k_a * k_gamma * k_hb * 1.0)
-    settings = jg.RatingSettings(
-        material=jg.RatingMaterial(1500e6, 430e6, 206e9, 0.3, 7830.0, jg.CaseHardened()),
-        lubrication=jg.Lubrication(220e-6, 4.8e-6, 20e-6),
-        accuracy=jg.GearAccuracy.from_grade(pair, 6),
+    settings = jr.RatingSettings(
+        material=jr.RatingMaterial(1500e6, 430e6, 206e9, 0.3, 7830.0, jr.CaseHardened()),
+        lubrication=jr.Lubrication(220e-6, 4.8e-6, 20e-6),
+        accuracy=jr.GearAccuracy.from_grade(pair, 6),
         life=175_200 * 3600.0,
         application_factor=k_a * k_gamma,
-        given=jg.GivenFactors(K_v=k_v, K_Hbeta=k_hb, K_Halpha=1.0, K_Falpha=1.0),
+        given=jr.GivenFactors(K_v=k_v, K_Hbeta=k_hb, K_Halpha=1.0, K_Falpha=1.0),
         min_safety_pitting=1.25,
         min_safety_bending=1.56,
         standard=jg.rating.Edition2006(),
-        loading=jg.ToothLoading((3.0, 1.0), (1.0, 0.7)),
+        loading=jr.ToothLoading((3.0, 1.0), (1.0, 0.7)),
     )
     n_sun = 5000e3 / t_sun / RPM  # 1/min, from P = T ω
     n_rel = n_sun * z_ring / (z[0] + z_ring)  # the sun relative to the carrier
-    op = jg.OperatingPoint(t_sun / 3, n_rel * RPM)
-    rating = RATE(jg.RatingGeometry.of(pair), op, settings)
+    op = jr.OperatingPoint(t_sun / 3, n_rel * RPM)
+    rating = RATE(jr.RatingGeometry.of(pair), op, settings)
     bad = {}
     for symbol, value, get in printed:
         ours = np.atleast_1d(np.asarray(get(rating, pair, op), dtype=float))
@@ -344,10 +345,10 @@ def test_kisssoft_spur_sun_planet_rating_every_printed_value_within_half_a_perce
 # the planet's values after the slash). The ring (gear 3) is 34CrNiMo6 through hardened (σ_Hlim
 # 700, σ_Flim 290 N/mm², HB 240, yield point σ_0.2 1000 N/mm², R_z 8.0 µm flank and 20 µm root,
 # ISO 53 profile B 1.25/0.30/1.0, no tip alteration); the planet case-hardened as above
-# (jg.PairTreatment). Z_W = 1.135 of the ring is ISO 6336-2's work hardening factor of a
+# (jg.rating.PairTreatment). Z_W = 1.135 of the ring is ISO 6336-2's work hardening factor of a
 # through-hardened gear against a surface-hardened one, 1.2 − (HB − 130)/1700; the ring's ρ'
 # (Y_δrelT) comes from its printed yield point through ISO 6336-3's slip-layer table
-# (jg.ThroughHardened(proof_stress=1000e6): the row σ_0.2 = 1000 N/mm², ρ' = 0.0014 mm; the
+# (jg.rating.ThroughHardened(proof_stress=1000e6): the row σ_0.2 = 1000 N/mm², ρ' = 0.0014 mm; the
 # report's tensile strength, 1200 N/mm², lies outside the table, so the yield point is what
 # selects the row: the printed Y_δrelT 1.005 and 1.003 check it). The rating runs at the planet's speed relative to the carrier with the
 # planet's torque T_sun/p · z_planet/z_sun (the report's F_t and v are the sun mesh's, the same
@@ -366,7 +367,7 @@ def _ring_values(eps_a, alpha_wt, n_l, k_fb, bending, pitting):
             "alpha_wt (deg)",
             alpha_wt,
             lambda r, p, o: np.degrees(
-                jg.InternalRatingGeometry.of(p).derived().operating_pressure_angle
+                jr.InternalRatingGeometry.of(p).derived().operating_pressure_angle
             ),
         ),
         ("N_L (1e6)", n_l, lambda r, p, o: r.pitting.cycles / 1e6),
@@ -425,26 +426,26 @@ def ring_mesh_rating(z, x, mn_mm, k_mm, b_mm, t_sun, k_hb, sigma_hw_h0, section)
     k_a, k_gamma = 1.25, 1.10
     sigma_hw, sigma_h0 = sigma_hw_h0
     k_v = (sigma_hw / sigma_h0) ** 2 / (k_a * k_gamma * k_hb * 1.0)
-    treatment = jg.PairTreatment(
-        jg.CaseHardened(), jg.ThroughHardened(slip_layer_m=0.0014e-3, brinell_hardness=240.0)
+    treatment = jr.PairTreatment(
+        jr.CaseHardened(), jr.ThroughHardened(slip_layer_m=0.0014e-3, brinell_hardness=240.0)
     )
-    settings = jg.RatingSettings(
-        material=jg.RatingMaterial((1500e6, 700e6), (430e6, 290e6), 206e9, 0.3, 7830.0, treatment),
-        lubrication=jg.Lubrication(220e-6, np.array([4.8e-6, 8.0e-6]), 20e-6),
-        accuracy=jg.GearAccuracy.from_grade(pair, 6),
+    settings = jr.RatingSettings(
+        material=jr.RatingMaterial((1500e6, 700e6), (430e6, 290e6), 206e9, 0.3, 7830.0, treatment),
+        lubrication=jr.Lubrication(220e-6, np.array([4.8e-6, 8.0e-6]), 20e-6),
+        accuracy=jr.GearAccuracy.from_grade(pair, 6),
         life=175_200 * 3600.0,
         application_factor=k_a * k_gamma,
-        given=jg.GivenFactors(K_v=k_v, K_Hbeta=k_hb, K_Halpha=1.0, K_Falpha=1.0),
+        given=jr.GivenFactors(K_v=k_v, K_Hbeta=k_hb, K_Halpha=1.0, K_Falpha=1.0),
         min_safety_pitting=1.25,
         min_safety_bending=1.56,
         standard=jg.rating.Edition2006(),
-        loading=jg.ToothLoading((1.0, 3.0), (0.7, 1.0)),
+        loading=jr.ToothLoading((1.0, 3.0), (0.7, 1.0)),
     )
     n_sun = 5000e3 / t_sun / RPM
     n_carrier = n_sun * z[0] / (z[0] - z[2])  # ring fixed (Willis)
     n_planet = (n_sun - n_carrier) * z[0] / z[1]  # relative to the carrier
-    op = jg.OperatingPoint(t_sun / 3 * z[1] / z[0], n_planet * RPM)
-    geometry = jg.InternalRatingGeometry.of(pair, jg.rating.GivenRootSection(*(v * mm for v in section)))
+    op = jr.OperatingPoint(t_sun / 3 * z[1] / z[0], n_planet * RPM)
+    geometry = jr.InternalRatingGeometry.of(pair, jg.rating.GivenRootSection(*(v * mm for v in section)))
     return pair, geometry, op, settings
 
 
@@ -509,7 +510,7 @@ def test_kisssoft_ring_section_from_the_reports_cutter(
     pair, given, op, settings = ring_mesh_rating(
         z, x, mn_mm, k_mm, b_mm, t_sun, k_hb, sigma_hw_h0, section
     )
-    geometry = jg.InternalRatingGeometry.of(pair, jg.rating.ShaperCutterSection(z0))
+    geometry = jr.InternalRatingGeometry.of(pair, jg.rating.ShaperCutterSection(z0))
     ours = RATE(geometry, op, settings)
     form = ours.bending.form
     mm = 1e-3

@@ -18,6 +18,7 @@ import pytest
 
 import jaxgear as jg
 import jaxgear.io as jio
+import jaxgear.rating as jr
 from jaxgear import cli
 
 from test_rating_case import _case
@@ -198,6 +199,6 @@ def test_transverse_factor_limits_by_hand():
     Z_ε² = (4 − ε_α)/3."""
     pair = jio.load_case("accessory-spur").pair
     ea = float(pair.transverse_contact_ratio)
-    h, f = jg.rating.transverse_factor_limits(jg.RatingGeometry.of(pair))
+    h, f = jg.rating.transverse_factor_limits(jr.RatingGeometry.of(pair))
     assert float(h) == pytest.approx(3 / (4 - ea), rel=1e-9)
     assert float(f) == pytest.approx(ea / (0.25 * ea + 0.75), rel=1e-9)

@@ -29,6 +29,7 @@ import pytest
 from _rating_cases import rated_accessory_data, stub_table, with_rating
 
 import jaxgear as jg
+import jaxgear.scenes as js
 import jaxgear.cli.run as run_module
 import jaxgear.cli.sweep as sweep_module
 import jaxgear.io as jio
@@ -132,7 +133,7 @@ def test_rigid_scene_reads_the_rigid_mesh_map():
     d["modifications"]["crowning"] = {"depth_um": 10.0}
     case = jio.parse_case(d)
     mesh = case.mesh_model()
-    scene = jg.quasi_static(jg.RigidMesh(mesh), case.modifications, case.torque, periods=1)
+    scene = jg.quasi_static(js.RigidMesh(mesh), case.modifications, case.torque, periods=1)
     rigid = jg.quasi_static(mesh, case.modifications, case.torque, periods=1)
     m = cli.measured_factors(rigid, cli.ModelLoads(scene.meshes, "rigid scene", (mesh,)), 0)
     assert m["K_Hbeta"]["value"] > 1.05

@@ -25,6 +25,7 @@ from _rating_cases import rated_accessory_data
 
 import jaxgear as jg
 import jaxgear.io as jio
+import jaxgear.rating as jr
 import optimise as op
 from jaxgear import cli
 from jaxgear.cli import main
@@ -57,7 +58,7 @@ def test_the_rating_takes_the_tip_relief_of_the_case_modifications():
     rc = jio.rating_of(jio.parse_case(d))
     assert rc.settings.tip_relief == pytest.approx(12e-6, rel=1e-6)
     assert rc.modification_inputs["tip_relief_source"].startswith("[modifications] tip_relief")
-    rating = jg.rate(rc.geometry, rc.operating, rc.settings)
+    rating = jr.rate(rc.geometry, rc.operating, rc.settings)
     assert float(rating.factors.details["C_a_m"]) == pytest.approx(12e-6, rel=1e-6)
     d["rating"]["tip_relief_um"] = 3.0
     rc = jio.rating_of(jio.parse_case(d))
@@ -67,7 +68,7 @@ def test_the_rating_takes_the_tip_relief_of_the_case_modifications():
     rc = jio.rating_of(jio.parse_case(d))
     assert rc.settings.tip_relief is None and rc.settings.crowning is None
     assert "running-in" in rc.modification_inputs["tip_relief_source"]
-    rating = jg.rate(rc.geometry, rc.operating, rc.settings)
+    rating = jr.rate(rc.geometry, rc.operating, rc.settings)
     c_ay = ((1500 / 97 - 18.45) ** 2 / 18 + 1.5) * 1e-6
     assert float(rating.factors.details["C_a_m"]) == pytest.approx(c_ay, rel=1e-12)
 
@@ -84,7 +85,7 @@ def test_the_crowning_of_power_helical_halves_the_iso_misalignment():
         else:
             d["modifications"]["crowning"] = {"depth_um": crowning_um}
         rc = jio.rating_of(jio.parse_case(d))
-        return rc, jg.rate(rc.geometry, rc.operating, rc.settings)
+        return rc, jr.rate(rc.geometry, rc.operating, rc.settings)
 
     rc, r = rated(5.0)
     assert rc.settings.crowning == pytest.approx(5e-6, rel=1e-6)
@@ -135,7 +136,7 @@ def test_rating_md_states_the_modification_inputs_and_their_source(tmp_path):
 
 
 def test_least_safety_rates_each_design_with_its_own_relief_and_iso_k_halpha():
-    """The objective's safety factors of a design are jg.rate's with the K_Hβ measured on the
+    """The objective's safety factors of a design are jg.rating.rate's with the K_Hβ measured on the
     load map given, K_Hα and K_Fα ISO's (not the measured load sharing), and the design's tip
     relief and crowning as C_a and C_β (the larger member's depths, set here by hand)."""
     case = jio.parse_case(_power_helical(4, 8))
@@ -150,10 +151,10 @@ def test_least_safety_rates_each_design_with_its_own_relief_and_iso_k_halpha():
     settings = eqx.tree_at(
         lambda s: (s.given, s.tip_relief, s.crowning),
         rc.settings,
-        (jg.GivenFactors(K_Hbeta=float(jg.rating.face_load_factor(res))), 14e-6, 7e-6),
+        (jr.GivenFactors(K_Hbeta=float(jg.rating.face_load_factor(res))), 14e-6, 7e-6),
         is_leaf=lambda x: x is None,
     )
-    ref = jg.rate(rc.geometry, rc.operating, settings)
+    ref = jr.rate(rc.geometry, rc.operating, settings)
     want = np.concatenate([np.asarray(ref.pitting.S_H), np.asarray(ref.bending.S_F)])
     np.testing.assert_allclose(got, want, rtol=1e-12)
     rating = obj.rating(res, mods)

@@ -25,6 +25,7 @@ from test_ring_cutter_keys import older_spelling
 
 import jaxgear as jg
 import jaxgear.io as jio
+import jaxgear.rating as jr
 from jaxgear import cli
 from jaxgear.cli.gearbox import gearbox_run_lines
 from jaxgear.cli.planetary import RATE, rating_section  # the rating jaxgear run compiles
@@ -281,7 +282,7 @@ def test_power_helical_rates_itself():
     (rc,) = jio.ratings_of(case)
     assert float(rc.operating.speed) == pytest.approx(3000.0, rel=2e-5)
     assert float(rc.operating.torque) == 310.0
-    assert isinstance(rc.settings.material.treatment, jg.CaseHardened)
+    assert isinstance(rc.settings.material.treatment, jr.CaseHardened)
     r = RATE(rc.geometry, rc.operating, rc.settings)
     d1 = 35 * 2.5e-3 / math.cos(math.radians(12.0))
     f_t, u = 2 * 310.0 / d1, 68 / 35

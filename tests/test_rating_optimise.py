@@ -4,8 +4,8 @@ central differences and an optimisation that raises the least safety factor of a
 spur pair under a TE limit.
 
 References: the soft minimum's bounds min − log(n)/κ <= S̃ <= min (log-sum-exp); the rating with
-the measured factors given by hand (jaxgear.rate, checked against ISO/TR 6336-30 and KISSsoft in
-tests/test_rating*.py); central differences of the objective (float64)."""
+the measured factors given by hand (jaxgear.rating.rate, checked against ISO/TR 6336-30 and KISSsoft
+in tests/test_rating*.py); central differences of the objective (float64)."""
 
 import math
 import warnings
@@ -20,6 +20,7 @@ from _rating_cases import rated_accessory_case
 
 import jaxgear as jg
 import jaxgear.io as jio
+import jaxgear.rating as jr
 import optimise as op
 
 jax.config.update("jax_enable_x64", True)
@@ -56,8 +57,8 @@ def test_least_safety_objective_by_hand():
     mask = np.array([[[1, 1, 1], [1, 1, 1]], [[1, 1, 1], [0, 0, 0]]], dtype=bool)
     k_hb = 2.5 / (7 / 3)
     obj = op.LeastSafetyFactor(rc.geometry, rc.operating, rc.settings, te_limit=1e-6)
-    given = jg.GivenFactors(K_Hbeta=k_hb)
-    ref = jg.rate(rc.geometry, rc.operating, eqx.tree_at(lambda s: s.given, rc.settings, given))
+    given = jr.GivenFactors(K_Hbeta=k_hb)
+    ref = jr.rate(rc.geometry, rc.operating, eqx.tree_at(lambda s: s.given, rc.settings, given))
     s = np.asarray(obj.safety_factors(_Result(w, mask, 0.5e-6)))
     want = np.concatenate([np.asarray(ref.pitting.S_H), np.asarray(ref.bending.S_F)])
     np.testing.assert_allclose(s, want, rtol=1e-12)
@@ -70,7 +71,7 @@ def test_least_safety_objective_by_hand():
 
 def test_safety_factors_derivative_wrt_crowning_matches_central_differences():
     """S_H and S_F of both gears rated with the K_Hβ measured on the smooth-law load map
-    (``jg.rating.face_load_factor``, given to ``jg.rate``, as the objective does) are
+    (``jg.rating.face_load_factor``, given to ``jg.rating.rate``, as the objective does) are
     differentiable with respect to a tooth modification: on the misaligned spur pair of the slow
     test below (12 µm helix slope deviation, 3 slices, 8 positions), their derivative with
     respect to the pinion crowning depth (one jitted ``jax.jvp``) against central differences
@@ -86,8 +87,8 @@ def test_safety_factors_derivative_wrt_crowning_matches_central_differences():
         pinion = jg.MemberModification(helix_slope_deviation=12e-6, crowning_depth=crowning, **tip)
         mods = jg.Modifications(pinion, jg.MemberModification(**tip))
         res = jg.quasi_static(mesh, mods, case.torque, positions_per_pitch=8, contact=law)
-        given = jg.GivenFactors(K_Hbeta=jg.rating.face_load_factor(res))
-        rating = jg.rate(
+        given = jr.GivenFactors(K_Hbeta=jg.rating.face_load_factor(res))
+        rating = jr.rate(
             rc.geometry, rc.operating, eqx.tree_at(lambda s: s.given, rc.settings, given)
         )
         return jnp.concatenate([rating.pitting.S_H, rating.bending.S_F])

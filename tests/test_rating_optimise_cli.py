@@ -1,14 +1,15 @@
 """``jaxgear optimise --objective least_safety`` (and ``[optimise] objective = "least_safety"``,
 ``te_limit_um``): the name maps to optimise.LeastSafetyFactor on the case's ``[rating]``; the
-problem's value is 1/soft-min of the safety factors rated by jaxgear.rate with the K_Hβ
+problem's value is 1/soft-min of the safety factors rated by jaxgear.rating.rate with the K_Hβ
 measured on the load map and the design's tip relief and crowning as ISO's C_a and C_β
 (computed here from the load map and the depths, not by the objective); a case
 without ``[rating]`` and a TE limit on another objective are refused in one line before any
 work; and (slow) the CLI's optimum raises the least safety factor of a misaligned spur pair,
-re-rated here by jaxgear.rate at the start and at the optimum, with the TE RMS under its limit.
+re-rated here by jaxgear.rating.rate at the start and at the optimum, with the TE RMS under its
+limit.
 
-References: jaxgear.rate (checked against ISO/TR 6336-30 and KISSsoft in tests/test_rating*.py)
-with the measured K_Hβ given; the soft minimum
+References: jaxgear.rating.rate (checked against ISO/TR 6336-30 and KISSsoft in
+tests/test_rating*.py) with the measured K_Hβ given; the soft minimum
 −log Σ exp(−κ S)/κ written with numpy."""
 
 import json
@@ -25,6 +26,7 @@ from _toml import case_toml
 
 import jaxgear as jg
 import jaxgear.io as jio
+import jaxgear.rating as jr
 import optimise as op
 from jaxgear.cli import main
 
@@ -45,7 +47,7 @@ def _data(slices, ppp, optimise=None):
 
 
 def _by_hand(case, mods, contact=None):
-    """(S_H pinion, S_H gear, S_F pinion, S_F gear) and the TE RMS of ``mods``: jg.rate with
+    """(S_H pinion, S_H gear, S_F pinion, S_F gear) and the TE RMS of ``mods``: jg.rating.rate with
     the K_Hβ of the quasi-static load map given, K_Hα ISO's, and the design's tip relief and
     crowning (the larger member's depths) as ISO's C_a and C_β."""
     res = jg.quasi_static(
@@ -61,10 +63,10 @@ def _by_hand(case, mods, contact=None):
     settings = eqx.tree_at(
         lambda s: (s.given, s.tip_relief, s.crowning),
         rc.settings,
-        (jg.GivenFactors(K_Hbeta=float(jg.rating.face_load_factor(res))), relief, crowning),
+        (jr.GivenFactors(K_Hbeta=float(jg.rating.face_load_factor(res))), relief, crowning),
         is_leaf=lambda x: x is None,
     )
-    r = jg.rate(rc.geometry, rc.operating, settings)
+    r = jr.rate(rc.geometry, rc.operating, settings)
     s = np.concatenate([np.asarray(r.pitting.S_H), np.asarray(r.bending.S_F)])
     return s, float(res.te_rms)
 
@@ -78,11 +80,11 @@ def _soft_inverse(s, kappa=50.0):
 def test_case_problem_least_safety_against_rate_by_hand():
     """case_problem(case, ..., "least_safety", te_limit) on a coarse rated case: the objective
     is a LeastSafetyFactor of the case's rating and the limit; with sharp relief starts, its
-    unscaled value at a crowned design is 1/soft-min of the four safety factors jg.rate gives
+    unscaled value at a crowned design is 1/soft-min of the four safety factors jg.rating.rate gives
     with the measured factors (1e-9), the TE below the limit (no penalty), and 1/soft-min plus
     100 (TE/limit − 1)² with the limit at half the TE. About 35 s on a loaded 2-core machine
     (the fast tests: the name → object in tests/test_optimise_objects.py, the objective's
-    rating against jg.rate in tests/test_rating_optimise.py)."""
+    rating against jg.rating.rate in tests/test_rating_optimise.py)."""
     case = jio.parse_case(_data(3, 8))
     prob = jio.case_problem(
         case, ["pinion.crowning.depth"], "least_safety", te_limit=1e-5, relief_blend=0.0
@@ -142,9 +144,9 @@ def test_cli_least_safety_raises_the_least_safety_factor(tmp_path):
     """jaxgear optimise on a rated accessory pair with a 12 µm helix slope deviation on the
     pinion and 15 µm tip relief ([optimise] objective = "least_safety", the pinion crowning as
     the variable (its default bounds), te_limit_um = 1.0; 6 slices, 8 positions): the optimum's
-    least safety factor, re-rated by jaxgear.rate with the factors measured on its exact-contact
-    load map, is above the start's and above the case's own design (no crowning), the exact TE
-    RMS at the optimum is under the limit, and the report's rating is the same re-rating.
+    least safety factor, re-rated by jaxgear.rating.rate with the factors measured on its
+    exact-contact load map, is above the start's and above the case's own design (no crowning), the
+    exact TE RMS at the optimum is under the limit, and the report's rating is the same re-rating.
     About 60 s on a loaded 2-core machine (the fast tests above check the objective's parts)."""
     table = {
         "objective": "least_safety",

@@ -90,7 +90,7 @@ def _annex_curve():
     strength σ_HP1."""
     a = ANNEX
     ref = a["sigma_H_lim"] * a["Z_L"] * a["Z_v"] * a["Z_R"]
-    return jr.SNCurve(jg.CaseHardened.z_nt_points, ref, a["sigma_HP1"])
+    return jr.SNCurve(jr.CaseHardened.z_nt_points, ref, a["sigma_HP1"])
 
 
 def test_annex_c_transcription_is_consistent_with_itself():
@@ -132,28 +132,28 @@ def _tr_example_1(life_h=50_000.0, treatment=None):
          "fillet_radius_coeff": 0.39}
     pair = jg.GearPair(jg.Member(17, 0.145, **m), jg.Member(103, 0.0, **m), 8e-3,
                        math.radians(20.0), math.radians(15.8), 0.5)
-    settings = jg.RatingSettings(
-        material=jg.RatingMaterial(1500e6, 500e6, 206e9, 0.3, 7830.0,
-                                   treatment or jg.CaseHardened()),
-        lubrication=jg.Lubrication(320e-6, 6e-6, 10e-6),
-        accuracy=jg.GearAccuracy.from_grade(pair, 5),
+    settings = jr.RatingSettings(
+        material=jr.RatingMaterial(1500e6, 500e6, 206e9, 0.3, 7830.0,
+                                   treatment or jr.CaseHardened()),
+        lubrication=jr.Lubrication(320e-6, 6e-6, 10e-6),
+        accuracy=jr.GearAccuracy.from_grade(pair, 5),
         life=life_h * 3600.0,
-        given=jg.GivenFactors(K_Hbeta=1.16),
+        given=jr.GivenFactors(K_Hbeta=1.16),
         tip_relief=70e-6,
     )
-    return jg.RatingGeometry.of(pair), settings, jg.OperatingPoint(9000.0, 360.0 * RPM)
+    return jr.RatingGeometry.of(pair), settings, jr.OperatingPoint(9000.0, 360.0 * RPM)
 
 
 @pytest.mark.parametrize(
     "life_h, treatment",
-    [(50_000.0, jg.CaseHardened()), (2_000.0, jg.CaseHardened()),
-     (20_000.0, jg.PairTreatment(jg.CaseHardened(), jg.Nitrided()))],
+    [(50_000.0, jr.CaseHardened()), (2_000.0, jr.CaseHardened()),
+     (20_000.0, jr.PairTreatment(jr.CaseHardened(), jr.Nitrided()))],
 )
 def test_one_bin_is_the_single_point_rating_at_that_many_cycles(life_h, treatment):
     # one bin of the life's cycles n: the factor S with σ_G(n) = S σ is the rating's σ_HG/σ_H
     # with Z_NT (Y_NT) at n cycles, for each gear (its own curve where the gears differ)
     geometry, settings, op = _tr_example_1(life_h, treatment)
-    one = jg.rate(geometry, op, settings)
+    one = jr.rate(geometry, op, settings)
     spectrum = jr.LoadSpectrum([float(op.torque)], float(op.speed), [settings.life])
     sr = jr.rate_spectrum(geometry, spectrum, settings)
     assert np.allclose(sr.cycles[0], one.pitting.cycles, rtol=1e-12)
@@ -168,7 +168,7 @@ def test_one_bin_is_the_single_point_rating_at_that_many_cycles(life_h, treatmen
 
 def test_two_bin_miner_sum_by_hand():
     ref, static = 1000e6, 1700e6  # a case-hardened line: corners 1e5 (1.6), 5e7 (1), 1e10 (0.85)
-    curve = jr.SNCurve(jg.CaseHardened.z_nt_points, ref, static)
+    curve = jr.SNCurve(jr.CaseHardened.z_nt_points, ref, static)
     k1 = math.log(1.6) / math.log(5e7 / 1e5)
     k2 = math.log(1 / 0.85) / math.log(1e10 / 5e7)
     s = np.array([1.2 * ref, 0.9 * ref])
@@ -339,10 +339,10 @@ def test_guide_spectrum_figures():
     1e-9), the gear's root just under 1 with a bending life of about 15 500 h; with the case's
     modifications kept (tip relief C_a lowers K_v) S_F is 1.06 / 1.04 as the page says."""
     rc = _guide_spectrum_case(keep_modifications=False)
-    settings = jg.RatingSettings(
-        material=jg.RatingMaterial(1500e6, 500e6, 210e9, 0.3, 7800.0, jg.CaseHardened()),
-        lubrication=jg.Lubrication(220e-6, 4.8e-6, 20e-6),
-        accuracy=jg.GearAccuracy.from_grade(jio.load_case("power-helical").pair, 6),
+    settings = jr.RatingSettings(
+        material=jr.RatingMaterial(1500e6, 500e6, 210e9, 0.3, 7800.0, jr.CaseHardened()),
+        lubrication=jr.Lubrication(220e-6, 4.8e-6, 20e-6),
+        accuracy=jr.GearAccuracy.from_grade(jio.load_case("power-helical").pair, 6),
         life=20_000 * 3600.0,
         application_factor=1.0,
     )
@@ -351,7 +351,7 @@ def test_guide_spectrum_figures():
         speed=np.array([3000.0, 3000.0, 3000.0, 2400.0, 0.0]) * RPM,
         duration=np.array([200.0, 2_000.0, 12_000.0, 4_300.0, 1_500.0]) * 3600.0,
     )
-    api = jr.rate_spectrum(jg.RatingGeometry.of(jio.load_case("power-helical").pair), spectrum,
+    api = jr.rate_spectrum(jr.RatingGeometry.of(jio.load_case("power-helical").pair), spectrum,
                            settings)
     case = jr.rate_spectrum(rc.geometry, rc.spectrum,
                             eqx.tree_at(lambda s: s.application_factor, rc.settings, 1.0))

@@ -39,7 +39,7 @@ TRAIN["rating"] = {
     "roughness_Rz_root_um": 10.0,
 }
 RPM = 2 * math.pi / 60
-RATE = eqx.filter_jit(jg.rate)  # the single-point rating, compiled (as jaxgear run's)
+RATE = eqx.filter_jit(jr.rate)  # the single-point rating, compiled (as jaxgear run's)
 
 
 def _train(spectrum):
@@ -69,7 +69,7 @@ def test_one_bin_train_spectrum_is_each_meshes_single_point_rating():
     case = _train({"torque_Nm": [80.0], "speed_rpm": 6000.0, "hours": [20000.0]})
     rcs = jio.ratings_of(case)
     meshes = [(rc.geometry, rc.operating, _k_a_1(rc.settings)) for rc in rcs]
-    rated = jr.rate_train_spectrum(meshes, rcs[0].spectrum, jg.OperatingPoint(80.0, 6000 * RPM))
+    rated = jr.rate_train_spectrum(meshes, rcs[0].spectrum, jr.OperatingPoint(80.0, 6000 * RPM))
     for (geometry, op, settings), sr in zip(meshes, rated, strict=True):
         one = RATE(geometry, op, settings)
         assert np.allclose(sr.S_H, one.pitting.S_H, rtol=1e-9)
@@ -95,7 +95,7 @@ def test_two_bin_train_damage_is_miners_sum_by_hand(tmp_path):
         for j in range(2):
             d_h = d_f = 0.0
             for t, h in zip(torques, hours, strict=True):
-                one = RATE(rc.geometry, jg.OperatingPoint(t * ratio[k], rc.operating.speed),
+                one = RATE(rc.geometry, jr.OperatingPoint(t * ratio[k], rc.operating.speed),
                               settings)
                 n = float(one.pitting.cycles[j]) * h * 3600.0 / life
                 ref_h = float(one.pitting.sigma_HG[j] / one.pitting.Z_NT[j])

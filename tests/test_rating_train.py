@@ -23,6 +23,7 @@ from test_internal_case import GEARS as INTERNAL_GEARS
 
 import jaxgear as jg
 import jaxgear.io as jio
+import jaxgear.rating as jr
 from fem_prep.schema import SchemaError
 from jaxgear import cli
 
@@ -89,7 +90,7 @@ def test_a_train_rates_every_mesh_and_matches_iso_by_hand_on_the_idler_mesh():
     rc = rcs[1]  # idler → output: the idler as the rating's pinion
     assert float(rc.operating.torque) == pytest.approx(80.0 * 61 / 45, rel=1e-12)
     assert float(rc.operating.speed) == pytest.approx(6000.0 * RPM * 45 / 61, rel=1e-12)
-    r = jg.rate(rc.geometry, rc.operating, rc.settings)
+    r = jr.rate(rc.geometry, rc.operating, rc.settings)
     assert float(rc.geometry.derived().transverse_contact_ratio) == pytest.approx(eps_a, rel=1e-9)
     assert float(r.pitting.sigma_H0) == pytest.approx(s_h0, rel=1e-6)
     # σ_F0 = F_t/(b m_n) Y_F Y_S per gear (face widths 10.5 and 9.5 mm: b ≤ b_mate + 2 m_n)
@@ -120,12 +121,12 @@ def test_a_train_rates_every_mesh_and_matches_iso_by_hand_on_the_idler_mesh():
 
 def test_tooth_loading_of_roles():
     """Cycles per turn and Y_M from the meshes each gear drives in and is driven in."""
-    one_way = jg.ToothLoading.of_roles((1, 0), (0, 1))  # a pair
+    one_way = jr.ToothLoading.of_roles((1, 0), (0, 1))  # a pair
     assert one_way.cycles_per_turn == (1.0, 1.0) and one_way.mean_stress_factor == (1.0, 1.0)
-    sun = jg.ToothLoading.of_roles((3, 0), (0, 1))  # a gear driving three: same flank, 3/turn
+    sun = jr.ToothLoading.of_roles((3, 0), (0, 1))  # a gear driving three: same flank, 3/turn
     assert sun.cycles_per_turn == (3.0, 1.0) and sun.mean_stress_factor == (1.0, 1.0)
     with pytest.raises(ValueError, match="mean_stress_factor"):
-        jg.ToothLoading((1.0, 1.0), (1.2, 1.0))
+        jr.ToothLoading((1.0, 1.0), (1.2, 1.0))
 
 
 @pytest.mark.parametrize(

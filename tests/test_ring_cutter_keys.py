@@ -18,6 +18,7 @@ import pytest
 import fem_prep as fp
 import jaxgear as jg
 import jaxgear.io as jio
+import jaxgear.rating as jr
 
 #: the embedded NREL stages' cutter lines on their ring's [[gears]] entry
 _GEARS_CUTTER = re.compile(
@@ -97,7 +98,7 @@ def test_both_spellings_are_refused_in_one_line_naming_both_keys(rating_key, val
     assert "[rating] ring_cutter_* is their older spelling" in text
 
 
-RATE = eqx.filter_jit(jg.rate)  # compiled once per stage, shared by both spellings
+RATE = eqx.filter_jit(jr.rate)  # compiled once per stage, shared by both spellings
 
 
 def _rated(case) -> list:

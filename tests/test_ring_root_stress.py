@@ -28,6 +28,7 @@ from _rating_cases import stub_table
 import fem_prep
 import jaxgear as jg
 import jaxgear.io as jio
+import jaxgear.rating as jr
 from jaxgear.io import CaseWarning
 
 jax.config.update("jax_enable_x64", True)
@@ -73,7 +74,7 @@ def _fe_over_iso(pair, cutter, size=None, stand_in=False):
     section = jg.rating.ShaperCutterSection(
         cutter.teeth, cutter.profile_shift, cutter.tip_radius_coeff
     )
-    ff = jg.InternalRatingGeometry.of(pair, section).form_factors()
+    ff = jr.InternalRatingGeometry.of(pair, section).form_factors()
     rb2 = float(pair.base_radii[1])
     rho2 = math.sqrt(float(pair.tip_radii[1]) ** 2 - rb2**2)
     rho2 += (float(pair.transverse_contact_ratio) - 1) * float(pair.base_pitch)

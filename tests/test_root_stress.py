@@ -14,6 +14,7 @@ import skfem
 
 import fem_prep
 import jaxgear as jg
+import jaxgear.rating as jr
 from fem_prep.tooth_form import ToothGeometry
 
 
@@ -88,7 +89,7 @@ def test_fillet_stress_of_a_standard_tooth_agrees_with_iso_method_b():
     on sharper fillets, ρ_fP = 0.25 m_n, FE is 9 to 18 % below ISO: docs/rating.md). The peak
     lies above the 30° tangent (41° and 45°), as photoelastic and FE studies find."""
     pair = _spur_20_40()
-    form = eqx.filter_jit(jg.rating.tooth_form_factors)(jg.RatingGeometry.of(pair))  # 5 s op by op
+    form = eqx.filter_jit(jg.rating.tooth_form_factors)(jr.RatingGeometry.of(pair))  # 5 s op by op
     for i in (0, 1):
         iso = 6 * math.cos(float(form.alpha_Fen[i])) * float(form.h_Fe[i])
         iso *= float(form.Y_S[i]) / float(form.s_Fn[i]) ** 2

@@ -19,6 +19,7 @@ from _examples import load_example
 import fem_prep
 import jaxgear as jg
 import jaxgear.io as jio
+import jaxgear.rating as jr
 
 jax.config.update("jax_enable_x64", True)
 
@@ -188,7 +189,7 @@ def test_load_height_along_an_oblique_contact_line_by_hand():
 @pytest.mark.slow
 def test_helical_example_writes_its_record_and_figure(tmp_path):
     """examples/root_stress_helical.py with 5 load radii and 8 slices (about 40 s): its record
-    and figure written; ISO's σ_F0/Y_β and σ_F0 against jg.rate's bending (1e-12); the FE of
+    and figure written; ISO's σ_F0/Y_β and σ_F0 against jg.rating.rate's bending (1e-12); the FE of
     the virtual tooth under ISO's load 5 to 20 % below σ_F0/Y_β (spur teeth with ρ_fP 0.25 m_n:
     9 to 18 %, docs/rating.md), the unmodified map below σ_F0 (the oblique line spreads the
     load: about σ_F0/ε_α), the crowned one above the unmodified one."""
@@ -197,7 +198,7 @@ def test_helical_example_writes_its_record_and_figure(tmp_path):
     assert (tmp_path / "root_stress_helical.png").stat().st_size > 10_000
     case = ex.rated_case()
     rc = jio.rating_of(case)
-    bending = jg.rate(rc.geometry, rc.operating, rc.settings).summary()["bending"]
+    bending = jr.rate(rc.geometry, rc.operating, rc.settings).summary()["bending"]
     for i, tag in enumerate(("pinion", "gear")):
         r = out[tag]
         assert r["iso_sigma_F0_Pa"] == pytest.approx(bending["sigma_F0_Pa"][i], rel=1e-12)

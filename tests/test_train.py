@@ -3,7 +3,7 @@
 An idler train (input → idler → output) on a torsional structure is statically determinate: each
 mesh carries the same normal force and its transmission error is that of its pair alone at the
 same force and at the mesh's own angle θ_k = ratio_k θ + phase_k (the idler turns at z_in/z_idler
-of the input). The reference solves each pair on its own (:class:`jaxgear.TorsionalPair`).
+of the input). The reference solves each pair on its own (:class:`jaxgear.scenes.TorsionalPair`).
 """
 
 import functools
@@ -20,6 +20,7 @@ import scipy.linalg
 import jaxgear as jg
 import jaxgear.dynamics as jd
 import jaxgear.io as jio
+import jaxgear.scenes as js
 from fem_prep.tooth_form import generate_tooth
 from jaxgear.scenes import (
     AssembledScene,
@@ -127,9 +128,9 @@ def test_idler_train_meshes_equal_their_pairs_at_their_own_angles(contact):
     t_idler = TORQUE * float(mesh_a.base_radius_gear) / float(mesh_a.base_radius_pinion)
     ratio = TEETH[0] / TEETH[1]
     refs = (
-        jg.quasi_static(jg.TorsionalPair(mesh_a, K_OUT), mods, TORQUE, theta, contact=law),
+        jg.quasi_static(js.TorsionalPair(mesh_a, K_OUT), mods, TORQUE, theta, contact=law),
         jg.quasi_static(
-            jg.TorsionalPair(mesh_b, K_OUT), mods, t_idler, ratio * theta + phase_b, contact=law
+            js.TorsionalPair(mesh_b, K_OUT), mods, t_idler, ratio * theta + phase_b, contact=law
         ),
     )
     for got, ref in zip(res.meshes, refs, strict=True):

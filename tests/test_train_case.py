@@ -26,6 +26,7 @@ from _toml import case_toml
 
 import jaxgear as jg
 import jaxgear.io as jio
+import jaxgear.scenes as js
 from jaxgear.cli import main
 from jaxgear.dynamics import Newmark, SteadyState, mesh_energy_shares, speed_sweep
 from jaxgear.io import build_dynamic_model
@@ -98,7 +99,7 @@ def test_each_mesh_equals_its_pair_alone(train):
     angles = (theta, z[0] / z[1] * theta + case.layout().phases[1])
     for k, alone in enumerate(_pairs_alone(data)):
         ref = jg.quasi_static(
-            jg.TorsionalPair(alone.mesh_model(), 1e5),
+            js.TorsionalPair(alone.mesh_model(), 1e5),
             alone.modifications,
             alone.torque,
             angles[k],
@@ -158,7 +159,7 @@ def test_natural_frequencies_equal_a_three_inertia_chain(train):
         float(
             np.mean(
                 jg.quasi_static(
-                    jg.TorsionalPair(c.mesh_model(), 1e5),
+                    js.TorsionalPair(c.mesh_model(), 1e5),
                     c.modifications,
                     c.torque,
                     positions_per_pitch=64,
@@ -436,7 +437,7 @@ def test_a_branching_train_shares_the_power_by_statics():
         name = case.mesh_name(k)
         alone = _pair_case(data, case.gear_names[g], case.gear_names[h], torques[name])
         ref = jg.quasi_static(
-            jg.TorsionalPair(alone.mesh_model(), 1e5),
+            js.TorsionalPair(alone.mesh_model(), 1e5),
             alone.modifications,
             alone.torque,
             layout.ratios[g] * theta + layout.phases[k],
@@ -531,7 +532,7 @@ def test_two_stage_case_each_mesh_equals_its_pair_alone_over_the_span():
     phase = case.layout().phases[1]
     for k, (alone, angles) in enumerate(((first, theta), (second, 0.5 * theta + phase))):
         ref = jg.quasi_static(
-            jg.TorsionalPair(alone.mesh_model(), 1e5), alone.modifications, alone.torque, angles
+            js.TorsionalPair(alone.mesh_model(), 1e5), alone.modifications, alone.torque, angles
         )
         np.testing.assert_allclose(
             res.meshes[k].transmission_error, ref.transmission_error, rtol=1e-9

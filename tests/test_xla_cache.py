@@ -171,11 +171,11 @@ def test_planetary_checks_under_a_callers_jit():
 
     held = lin_parker_stage(3)  # ring and carrier held, the sun free to turn
     free = eqx.tree_at(lambda s: s.carrier.torsional_stiffness, held, 0.0)  # a mechanism
-    model = jg.PlanarPlanetary()
+    model = jp.PlanarPlanetary()
     zeros = np.zeros(3)
     for f in (
-        lambda t: jg.load_sharing(model, free, t, zeros).k_gamma,
-        eqx.filter_jit(lambda t: jg.load_sharing(model, free, t, zeros).k_gamma),
+        lambda t: jp.load_sharing(model, free, t, zeros).k_gamma,
+        eqx.filter_jit(lambda t: jp.load_sharing(model, free, t, zeros).k_gamma),
     ):
         with pytest.raises(eqx.EquinoxRuntimeError, match="stiffness is singular"):
             f(100.0)
@@ -189,8 +189,8 @@ def test_planetary_checks_under_a_callers_jit():
             f(np.array([50.0, 1000.0]))
     errors = np.array([12e-6, 0.0, -5e-6])
     for r in (
-        jg.load_sharing(model, held, 500.0, errors),
-        eqx.filter_jit(lambda t, e: jg.load_sharing(model, held, t, e))(500.0, errors),
+        jp.load_sharing(model, held, 500.0, errors),
+        eqx.filter_jit(lambda t, e: jp.load_sharing(model, held, t, e))(500.0, errors),
     ):
         # the sun's moment balance: its meshes' forces along their lines of action, on its
         # base radius, carry the sun torque; the pin errors share it unequally
@@ -200,7 +200,7 @@ def test_planetary_checks_under_a_callers_jit():
     # and the host-checked campbell of the held stage runs (its rest frequencies: the modes')
     rest = np.asarray(jp.campbell(model, held, np.array([0.0])))[0]
     np.testing.assert_allclose(
-        rest, np.sort(np.asarray(jg.planetary_modes(model, held).frequencies)), rtol=1e-9
+        rest, np.sort(np.asarray(jp.planetary_modes(model, held).frequencies)), rtol=1e-9
     )
 
 

@@ -20,6 +20,7 @@ import jax.numpy as jnp
 import numpy as np
 
 import jaxgear as jg
+import jaxgear.rating as jr
 from optimise import (
     VARIABLES,
     AbstractAcousticObjective,
@@ -200,7 +201,7 @@ def _as_run_rates(case: Case, mods, res, mesh) -> dict:
     exact-contact load map on ``mesh``: :func:`jaxgear.cli._rating_report.measured_rating`)."""
     rc = parse_rating(case.raw, case.pair,
                       (case.youngs_modulus, case.poisson_ratio, case.density), mods)
-    rating = jg.rate(rc.geometry, rc.operating, rc.settings)
+    rating = jr.rate(rc.geometry, rc.operating, rc.settings)
     if rc.use_measured:
         section = {"measured": measured_factors(res, None, 0, mesh)}
         rating = measured_rating(rc, section, rating)[1]

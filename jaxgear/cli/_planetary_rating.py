@@ -100,7 +100,7 @@ K_GAMMA_SOURCES = {
 def stage_contact_model(meshes) -> str:
     """The contact model of a planetary stage's meshes kind, as its measured factors state it
     (:func:`jaxgear.rating.contact_model` of its mesh models): a meshes kind without tooth
-    contact (:class:`jaxgear.ConstantMeshes`, a lumped model's springs) none."""
+    contact (:class:`jaxgear.planetary.ConstantMeshes`, a lumped model's springs) none."""
     return contact_model(())
 
 
@@ -282,15 +282,15 @@ class StageLoads(NamedTuple):
 
 def stage_loads(case, spec, stage, models: dict, ring=None) -> StageLoads | None:
     """The stage's quasi-static solve over one mesh period on the gears' contact cells
-    (:class:`jaxgear.ContactMeshes` of :meth:`jaxgear.io.PlanetarySpec.dynamic_meshes`: the
-    case's ``[mesh]`` stiffness model, slices and positions per pitch, each pair's
+    (:class:`jaxgear.planetary.ContactMeshes` of :meth:`jaxgear.io.PlanetarySpec.dynamic_meshes`:
+    the case's ``[mesh]`` stiffness model, slices and positions per pitch, each pair's
     modifications, the planets phased; each mesh the model its pair case builds,
     :meth:`jaxgear.io.Case.mesh_model`: the stiffness table at the mean planet load), with the
     load-sharing model whose K_γ the rating takes (of ``models``, {name: model}: the last of
     :data:`K_GAMMA_SOURCES` present, as :func:`rating_k_gamma`; the ring rigid, as there), on
     the load-sharing stage (the sun loaded by its torque, ring and
     carrier held) with the case's pin errors and eccentricities, exact contact
-    (:func:`jaxgear.planetary_quasi_static`; ``ring`` its ring model, None: rigid): each
+    (:func:`jaxgear.planetary.planetary_quasi_static`; ``ring`` its ring model, None: rigid): each
     planet's sun/planet and planet/ring cell loads. None for a stage without gears, or (with a
     one-line ``CaseWarning``) where the contact solve fails at a position."""
     if not case.pairs:
@@ -322,7 +322,7 @@ def _mesh_loads(meshes, x, values, n: int, per_length: bool = False) -> tuple:
     """(sun/planet, planet/ring): each a tuple of the ``n`` planets' :class:`MeshLoads` of the
     cells' line loads ``values`` (N/m, (p, c) in the cell rows' order; with ``per_length`` the
     cells' forces, N, divided here by their lengths) at the mesh travels ``x`` (m, (p,)),
-    placed by :meth:`jaxgear.ContactMeshes.planet_cells`."""
+    placed by :meth:`jaxgear.planetary.ContactMeshes.planet_cells`."""
     kinds = []
     for (cells, _), w in zip(_planet_cells(meshes, x), meshes.split_cells(values),
                              strict=True):
@@ -336,7 +336,7 @@ def _mesh_loads(meshes, x, values, n: int, per_length: bool = False) -> tuple:
 
 @eqx.filter_jit
 def _planet_cells(meshes, x):
-    """:meth:`jaxgear.ContactMeshes.planet_cells` at every travel of ``x`` (one compiled
+    """:meth:`jaxgear.planetary.ContactMeshes.planet_cells` at every travel of ``x`` (one compiled
     program: eagerly, its vmap costs seconds of dispatch)."""
     return jax.vmap(meshes.planet_cells)(x)
 
@@ -543,7 +543,8 @@ def rating_section(case, out: str, k_gamma: float, source: str = K_GAMMA_SOURCE,
 def stage_rating_lines(case, sections: list[dict], ratings=None) -> list[str]:
     """``rating.md`` of a planetary stage: one table per mesh of its ``sections`` (each mesh's
     own rating section, :func:`rating_section`'s before stacking), with its K_γ row;
-    ``ratings``: each section's :class:`jaxgear.Rating` (None: rated again for the report)."""
+    ``ratings``: each section's :class:`jaxgear.rating.Rating` (None: rated again for the
+    report)."""
     lines = [
         f"# {case.name}: load capacity of every mesh of the planetary stage",
         "",
@@ -625,9 +626,9 @@ def stage_at_speed(case, spec, stage, models: dict, dynamics, meshes, words: dic
                    ring=None) -> StageAtSpeed:
     """The stage's cell loads at speed from one dynamic run ``dynamics``
     (:class:`jaxgear.planetary.PlanetaryDynamics` of ``meshes``, a
-    :class:`~jaxgear.ContactMeshes`, with ``PlanetaryRun(cell_loads=True)``): each cell's line
-    load, its force over its length (N/m), placed at each kept step's travel by
-    :meth:`jaxgear.ContactMeshes.planet_cells`; beside it the stage's quasi-static solve
+    :class:`~jaxgear.planetary.ContactMeshes`, with ``PlanetaryRun(cell_loads=True)``): each cell's
+    line load, its force over its length (N/m), placed at each kept step's travel by
+    :meth:`jaxgear.planetary.ContactMeshes.planet_cells`; beside it the stage's quasi-static solve
     (:func:`stage_loads` with ``models``, the ring model ``ring``, None: rigid) at the same
     slices and the same travels modulo the mesh period (``positions_per_pitch`` = the run's
     steps per period: both at the mid-points (i + 1/2) p_b / S). ``words``: ``model``,

@@ -1,6 +1,6 @@
 """``jaxgear run``'s load-capacity outputs for a case with a ``[rating]`` table: the
-``summary.json`` section (:meth:`jaxgear.Rating.summary`) and ``rating.md``, the factors the way
-rating reports print them (symbol, value per gear, the standard's part and clause title),
+``summary.json`` section (:meth:`jaxgear.rating.Rating.summary`) and ``rating.md``, the factors the
+way rating reports print them (symbol, value per gear, the standard's part and clause title),
 written atomically."""
 
 from __future__ import annotations
@@ -70,7 +70,7 @@ __all__ = [
 def _lines(case: Case, k: int, section: dict, title: str, heading: str = "#",
            rating=None) -> list[str]:
     """Mesh ``k``'s ``rating.md`` lines (:func:`rating_lines`, with its inputs:
-    :func:`jaxgear.cli._rating_sheet.inputs_of`; ``rating`` the :class:`jaxgear.Rating` of
+    :func:`jaxgear.cli._rating_sheet.inputs_of`; ``rating`` the :class:`jaxgear.rating.Rating` of
     ``section`` where the caller has it, else the report rates the section again)."""
     rc = ratings_of(case)[k]
     return rating_lines(section, title, heading, inputs_of(case, k, rc, rating=rating))
@@ -91,7 +91,7 @@ def _(first, values: list):
 def _section_and_table(form, case: Case, sections: list[dict],
                        ratings=None) -> tuple[dict, list[str]]:
     """The case's ``rating`` section and ``rating.md`` lines of its meshes' ``sections``
-    (``ratings``: each section's :class:`jaxgear.Rating`, or None: rated again for the
+    (``ratings``: each section's :class:`jaxgear.rating.Rating`, or None: rated again for the
     report)."""
     raise TypeError(f"rating_outputs: no rating report for a case of form {type(form).__name__}")
 
@@ -227,8 +227,8 @@ def measured_rating(rc: RatingCase, section: dict, rating=None) -> tuple:
     """(section, rating): the section rated again with the measured factors ``rc.use_measured``
     names that ``section["measured"]`` holds in place of the standard's (their source
     "measured"; :func:`jaxgear.rating.with_measured`), the section's other entries
-    (``measured``, ``root_stress``) kept, and the :class:`jaxgear.Rating` it is the summary of.
-    Nothing to use: the section itself and ``rating`` (the section's own rating, if the caller
+    (``measured``, ``root_stress``) kept, and the :class:`jaxgear.rating.Rating` it is the summary
+    of. Nothing to use: the section itself and ``rating`` (the section's own rating, if the caller
     has it). Rated on ``rc``'s settings (a planetary mesh's with K_γ folded into K_A:
     :func:`jaxgear.cli.planetary.rating_section`)."""
     measured = section.get("measured", {})
@@ -538,7 +538,7 @@ def _write_sections(case: Case, out_dir: str, sections: list[dict], write_table:
                     ratings=None) -> dict:
     """The case's ``rating`` section of its meshes' ``sections`` (a train's per-mesh lists),
     ``rating.md`` rewritten with them when ``write_table`` (``ratings``: each section's
-    :class:`jaxgear.Rating` or None, as :func:`_section_and_table`); returns the section."""
+    :class:`jaxgear.rating.Rating` or None, as :func:`_section_and_table`); returns the section."""
     section, lines = _section_and_table(case.form, case, sections, ratings)
     if write_table:
         write_rating_md(out_dir, lines)

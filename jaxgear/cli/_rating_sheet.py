@@ -18,15 +18,17 @@ from typing import NamedTuple
 import equinox as eqx
 import numpy as np
 
-from .. import GivenFactors, PairTreatment, rate
 from ..io import RatingCase, published_rating, tribology_of
 from ..rating import (
     EXTENDED_CONTACT,
     FACTOR_CLAUSES,
     Edition2006,
     Edition2019,
+    GivenFactors,
     MeasuredFactor,
+    PairTreatment,
     factor_clause,
+    rate,
 )
 from ._rating_inputs import modification_line
 
@@ -45,7 +47,7 @@ __all__ = [
     "verdict",
 ]
 
-#: jaxgear.rate compiled once (instead of ~300 eager dispatches), shared by every rating of a run
+#: jaxgear.rating.rate compiled once (not ~300 eager dispatches), shared by every rating of a run
 RATE = eqx.filter_jit(rate)
 
 ISO_SOURCE = "ISO 6336-1 method B"
@@ -105,9 +107,9 @@ _UNCONFIRMED_WHY = {
 
 
 def unconfirmed_factors(method: str) -> list[str]:
-    """The factors of the edition ``method`` (:attr:`jaxgear.Rating.method`) whose formula no
+    """The factors of the edition ``method`` (:attr:`jaxgear.rating.Rating.method`) whose formula no
     published worked example confirms (the edition's :attr:`~jaxgear.rating.AbstractEdition.unconfirmed`,
-    the same tuple :attr:`jaxgear.Rating.unconfirmed` carries), one line each (empty: all
+    the same tuple :attr:`jaxgear.rating.Rating.unconfirmed` carries), one line each (empty: all
     confirmed)."""
     edition = next((e for e in (Edition2006, Edition2019) if e.label == method), None)
     names = edition.unconfirmed if edition is not None else ()
@@ -191,7 +193,7 @@ class ReportInputs(NamedTuple):
         published: the values the case's published report prints for this mesh
             (:func:`jaxgear.io.published_rating`'s mesh table) or None; ``report``: its
             citation.
-        rating: the :class:`jaxgear.Rating` whose summary the section is (its given and
+        rating: the :class:`jaxgear.rating.Rating` whose summary the section is (its given and
             measured factors in it), for the intermediate values of K_v and K_Hβ; None: rated
             again from the section (a report written from ``summary.json``'s section alone).
         oil: the case's ``[lubricant]`` oil (:class:`jaxgear.tribology.Lubricant`: the film,
@@ -760,7 +762,7 @@ def standard_lines(section: dict, case_name: str, heading: str = "#",
 
 def inputs_of(case, k: int, rc: RatingCase, settings=None, rating=None) -> ReportInputs:
     """Mesh ``k``'s :class:`ReportInputs` of ``case`` (a pair's one mesh: ``"mesh"`` in the
-    published tables); ``rating``: the :class:`jaxgear.Rating` of its section, if at hand."""
+    published tables); ``rating``: the :class:`jaxgear.rating.Rating` of its section, if at hand."""
     pub = published_rating(case.name)
     mesh = None if pub is None else pub.get(case.mesh_name(k), pub.get("mesh"))
     gears = tuple(case.gear_names[g] for g in case.gears[k])

@@ -2,8 +2,8 @@
 run (its case at the operating point carried from the previous stage: a planetary stage's load
 sharing, meshes, modes and sweep, a pair's TE and load maps, and each stage's ``[rating]``: every
 mesh of every rated stage, at the carried point) into ``stage<k>/``, then the whole
-chain's torsional natural frequencies (:func:`jaxgear.gearbox_modes`) with the stage that holds
-most of each mode's kinetic energy, into ``summary.json`` and ``modes.json``; then the coupled
+chain's torsional natural frequencies (:func:`jaxgear.gearbox.gearbox_modes`) with the stage that
+holds most of each mode's kinetic energy, into ``summary.json`` and ``modes.json``; then the coupled
 model (:mod:`jaxgear.gearbox`: every stage on its contact cells in one Newmark run) swept over
 the operating range: every mesh's dynamic factor against the input speed and the coupled modes
 with their type and the mesh holding most strain energy (``summary.json``'s ``coupled``,
@@ -25,7 +25,6 @@ import os
 
 import numpy as np
 
-from .. import gearbox_modes
 from ..acoustics import housing_acoustics
 from ..gearbox import (
     GearboxRun,
@@ -36,6 +35,7 @@ from ..gearbox import (
     coordinate_names,
     coupled_mode_table,
     gearbox_coupled_modes,
+    gearbox_modes,
     gearbox_speed_sweep,
     gearbox_whine,
     housing_lines,

@@ -5,9 +5,9 @@ case, written to ``modes.json`` (atomically, into ``--out``, default
 By the case's form (:class:`jaxgear.io.CaseForm`, :func:`case_modes`):
 
 * **a planetary stage** (:class:`~jaxgear.io.PlanetaryForm`): the lumped planar and torsional
-  models' modes (:func:`jaxgear.planetary_modes`), typed by :func:`jaxgear.planetary.classify_modes`
-  (rotational, translational, planet; Lin & Parker 1999), with their multiplicities — the same
-  lists as ``jaxgear run``'s ``modes.json``;
+  models' modes (:func:`jaxgear.planetary.planetary_modes`), typed by
+  :func:`jaxgear.planetary.classify_modes` (rotational, translational, planet; Lin & Parker 1999),
+  with their multiplicities — the same lists as ``jaxgear run``'s ``modes.json``;
 * **pairs and trains** (torsional and lumped 3D scenes, the case's ``[scene]``, else the
   torsional model): the modes of the scene's linearised model at the mean loaded mesh
   stiffness (:func:`jaxgear.dynamics.mesh_averaged_modes`, the modes ``jaxgear sweep`` reads),

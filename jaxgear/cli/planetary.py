@@ -112,9 +112,9 @@ def _of_case(models: dict, case) -> dict:
 def mode_models(stage, case=None) -> dict:
     """The models whose modes a run lists, by name: :data:`MODELS`, and for a helical stage
     (``stage.helix_angle`` != 0) also ``"spatial"``, the 3D lumped model
-    (:class:`jaxgear.SpatialPlanetary`: axial and tilting modes, which the planar model lacks).
-    Its load sharing, face load and sweep: :func:`spatial_model` (where its supports hold the
-    stage, where the rating takes its K_γ too: :func:`rating_k_gamma`). With ``case``, each as
+    (:class:`jaxgear.planetary.SpatialPlanetary`: axial and tilting modes, which the planar model
+    lacks). Its load sharing, face load and sweep: :func:`spatial_model` (where its supports hold
+    the stage, where the rating takes its K_γ too: :func:`rating_k_gamma`). With ``case``, each as
     the case runs it (:func:`jaxgear.io.planetary_kind`: a housed case's on its housing)."""
     if float(stage.helix_angle) == 0.0:
         return _of_case(MODELS, case)
@@ -122,8 +122,8 @@ def mode_models(stage, case=None) -> dict:
 
 
 def spatial_model(spec, stage, case=None):
-    """The 3D lumped model (:class:`jaxgear.SpatialPlanetary`) for a helical stage whose axial
-    and tilting supports hold the load-sharing stage (:meth:`~jaxgear.io.PlanetarySpec.
+    """The 3D lumped model (:class:`jaxgear.planetary.SpatialPlanetary`) for a helical stage whose
+    axial and tilting supports hold the load-sharing stage (:meth:`~jaxgear.io.PlanetarySpec.
     sharing_stage`; the model's choice, :func:`jaxgear.planetary.planetary_model_for`); None
     for a spur stage or one whose supports are not given (the case keys ``axial_N_per_um``,
     ``tilt_Nm_per_rad``, ``pin_axial_N_per_um``, ``pin_tilt_Nm_per_rad``). With ``case``, as
@@ -279,12 +279,12 @@ def sharing_summary(spec, stage, torques: dict, models: dict = MODELS) -> dict:
 
 def face_load_section(spec, stage, torques: dict, case=None) -> dict:
     """A helical stage's face load (``summary.json``'s ``face_load``): the 3D model
-    (:class:`jaxgear.SpatialPlanetary`) solved with one unilateral spring per mesh spread over
-    the face (:class:`jaxgear.ConstantMeshes` at two Gauss points, the stage's mesh stiffness),
-    the stage of the load sharing, the sun's torque and the pin errors, at the mesh travel 0:
-    each mesh's transverse force, its face load factor K_Hβ (ISO 6336-1's linear distribution
-    across the face, from the members' tilts and the helical meshes' axial forces) and K_γ.
-    ``case``: the 3D model as the case runs it (:func:`spatial_model`)."""
+    (:class:`jaxgear.planetary.SpatialPlanetary`) solved with one unilateral spring per mesh spread
+    over the face (:class:`jaxgear.planetary.ConstantMeshes` at two Gauss points, the stage's mesh
+    stiffness), the stage of the load sharing, the sun's torque and the pin errors, at the mesh
+    travel 0: each mesh's transverse force, its face load factor K_Hβ (ISO 6336-1's linear
+    distribution across the face, from the members' tilts and the helical meshes' axial forces) and
+    K_γ. ``case``: the 3D model as the case runs it (:func:`spatial_model`)."""
     model = spatial_model(spec, stage, case)
     if model is None:
         return {"skipped": "the 3D model's axial and tilting supports do not hold the stage: "
@@ -314,7 +314,7 @@ def turn_sharing(model, held, torque: float, e, eps) -> dict:
     """K_γ at :data:`TURN_POSITIONS` positions over one turn of the ring relative to the carrier
     (one carrier turn when the ring is fixed; the sun, faster, turns z_r/z_s times relative to
     the carrier): the quasi-static solve with one unilateral spring per mesh
-    (:func:`jaxgear.planetary_quasi_static`, :class:`jaxgear.ConstantMeshes` at
+    (:func:`jaxgear.planetary.planetary_quasi_static`, :class:`jaxgear.planetary.ConstantMeshes` at
     the model's ``face_points`` Gauss points across the face), the eccentricities turning with their
     members."""
     r_r = float(held.ring.base_radius)

@@ -11,13 +11,14 @@ per mesh and the dynamic load sharing per speed, and the ring transducer's order
 The dynamic stage is the load-sharing stage (:meth:`jaxgear.io.PlanetarySpec.sharing_stage`):
 the sun loaded by its torque |T_s| and free in rotation, the ring and the carrier held in
 rotation (a fixed member, or a driven one of large inertia), the planets and every translation
-on their bearings; the meshes are the gears' contact cells (:class:`~jaxgear.ContactMeshes`,
-time-varying stiffness, contact loss) or, in the lumped form, the constant mesh springs
-(:class:`~jaxgear.ConstantMeshes`: no parametric excitation, a dynamic factor of 1 unless pin
-errors move the planets). The ring is the case's (``[planetary.ring]``): rigid, or a condensed
-ring as its ``dynamics`` key says (massless, with mass, or modal;
-:meth:`~jaxgear.io.RingModelSpec.dynamic_ring`), in the sweep and the spectrum. At input speed ω_in the carrier turns at Ω = ω_c(ω_in) and the mesh
-travels at v = r_bs |ω_s − ω_c| (Willis, :meth:`~jaxgear.io.PlanetarySpec.speeds`).
+on their bearings; the meshes are the gears' contact cells
+(:class:`~jaxgear.planetary.ContactMeshes`, time-varying stiffness, contact loss) or, in the lumped
+form, the constant mesh springs (:class:`~jaxgear.planetary.ConstantMeshes`: no parametric
+excitation, a dynamic factor of 1 unless pin errors move the planets). The ring is the case's
+(``[planetary.ring]``): rigid, or a condensed ring as its ``dynamics`` key says (massless, with
+mass, or modal; :meth:`~jaxgear.io.RingModelSpec.dynamic_ring`), in the sweep and the spectrum. At
+input speed ω_in the carrier turns at Ω = ω_c(ω_in) and the mesh travels at v = r_bs |ω_s − ω_c|
+(Willis, :meth:`~jaxgear.io.PlanetarySpec.speeds`).
 
 The time discretisation is the model's (:meth:`~jaxgear.planetary.PlanetaryModel.time_plan`,
 docs/planetary.md "Time step and span of a sweep"): each speed its own N_s (>= 40 steps per

@@ -1,11 +1,11 @@
 """A gearbox of stages in series as one torsional lumped model: each stage's torsional model (a
-planetary stage's :class:`~jaxgear.TorsionalPlanetary`, a parallel pair's two rotations joined
-by its mesh) in absolute rotations, the stages joined by the torsional stiffnesses of the shafts
-that carry one stage's output member to the next stage's input member.
+planetary stage's :class:`~jaxgear.planetary.TorsionalPlanetary`, a parallel pair's two rotations
+joined by its mesh) in absolute rotations, the stages joined by the torsional stiffnesses of the
+shafts that carry one stage's output member to the next stage's input member.
 
 Coordinates: one rotation theta (rad) per member, every rotation positive in the same sense
 about the common axis direction (a parallel pair's wheel and pinion included); M in kg m^2,
-K in N m/rad. A planetary stage's model is :class:`~jaxgear.TorsionalPlanetary`'s, whose
+K in N m/rad. A planetary stage's model is :class:`~jaxgear.planetary.TorsionalPlanetary`'s, whose
 coordinates are u = r theta (m) with r the member's ``base_radius`` (the carrier's: the planet
 circle), so that its blocks here are R M R and R K R, R = diag(r). A parallel pair's mesh
 deflection along its line of action is r_b1 theta_1 + r_b2 theta_2 (the two gears turn in
@@ -152,9 +152,9 @@ class AbstractGearboxStage(eqx.Module):
 
 
 class PlanetaryGearboxStage(AbstractGearboxStage):
-    """A planetary stage in the chain (:class:`~jaxgear.TorsionalPlanetary`, Kahraman 1994:
-    rotations of carrier, ring, sun and the N planets); ``input``/``output``: which central
-    members (:class:`~jaxgear.Central`) the shafts join. A fixed member is held by its
+    """A planetary stage in the chain (:class:`~jaxgear.planetary.TorsionalPlanetary`, Kahraman
+    1994: rotations of carrier, ring, sun and the N planets); ``input``/``output``: which central
+    members (:class:`~jaxgear.planetary.Central`) the shafts join. A fixed member is held by its
     ``torsional_stiffness`` in ``stage``.
 
     ``model`` a :class:`~jaxgear.planetary.HousedPlanetary` (of a torsional or planar kind):
@@ -244,9 +244,9 @@ class PlanetaryGearboxStage(AbstractGearboxStage):
 
     def on_flanks(self, sign):
         """The stage on the flanks its static load takes: with ``sign`` < 0 (the planets drive
-        the sun: carrier in and sun out) its meshes' :meth:`~jaxgear.ContactMeshes.other_flanks`
-        (the sun-ring phase within a planet of the other flanks), chosen leaf by leaf so that
-        ``sign`` may be traced."""
+        the sun: carrier in and sun out) its meshes'
+        :meth:`~jaxgear.planetary.ContactMeshes.other_flanks` (the sun-ring phase within a planet of
+        the other flanks), chosen leaf by leaf so that ``sign`` may be traced."""
         if self.meshes is None:
             return self
         other = self.meshes.other_flanks()
@@ -564,7 +564,7 @@ def gearbox_modes(chain: GearboxTorsional) -> GearboxModes:
 
     Raises:
         ValueError: ``chain`` not a :class:`GearboxTorsional` (one line)."""
-    check_instance("chain", chain, GearboxTorsional, "a jaxgear.GearboxTorsional",
+    check_instance("chain", chain, GearboxTorsional, "a jaxgear.gearbox.GearboxTorsional",
                    "gearbox_modes")
     if chain.housing is not None:
         raise ValueError("gearbox_modes: chain.housing is set: the torsional chain's view "

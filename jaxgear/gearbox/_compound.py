@@ -17,7 +17,7 @@ The mesh deflections along the lines of action (compression positive, the sun dr
 
 whose carrier terms r_bs + r_bp1 = a cos a_ws and r_br - r_bp2 = a cos a_wr make a rigid turn of
 the whole stage strain-free. With z_p1 = z_p2 and r_bp1 = r_bp2 they are
-:class:`~jaxgear.TorsionalPlanetary`'s (Lin & Parker 1999's deflections in rotations).
+:class:`~jaxgear.planetary.TorsionalPlanetary`'s (Lin & Parker 1999's deflections in rotations).
 
 Kinematics (no deflection): Willis' relation for stepped planets,
 
@@ -126,7 +126,7 @@ class CompoundPlanetaryStage(AbstractGearboxStage):
             line of action: the torsional chain's meshes (:meth:`matrices`), and the coupled
             model's when ``sun_mesh`` is None.
         held_stiffness: the held member's torsional stiffness to ground (N m/rad, > 0).
-        input, output: static, two different :class:`~jaxgear.Central` members.
+        input, output: static, two different :class:`~jaxgear.planetary.Central` members.
         sun_mesh, ring_mesh: the sun–p1 pair's (pinion: the sun) and the p2–ring pair's (pinion:
             the planet) :class:`~jaxgear.MeshModel`, both or neither: with them the coupled model
             takes their contact cells (the pair machinery's ``separation``), phased per planet.
@@ -361,7 +361,7 @@ class CompoundPlanetaryStage(AbstractGearboxStage):
         symmetric teeth the other-flank picture is the drive-flank one mirrored (s -> g - s on
         each mesh, g its path of contact, the planets' phases keeping their form), which maps
         planet 1's offset to Delta' = g_r - rho g_s - Delta (mod p_br) (with rho = 1 the simple
-        stage's :meth:`~jaxgear.ContactMeshes.other_flanks`)."""
+        stage's :meth:`~jaxgear.planetary.ContactMeshes.other_flanks`)."""
         if self.sun_mesh is None:
             return self
         _, p_r, rho = self._pitches()

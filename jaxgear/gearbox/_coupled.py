@@ -378,7 +378,7 @@ def _run(chain, run, input_speed, law, S, block, fast, B):
 
 
 def _check(chain, run, law, where):
-    check_instance("chain", chain, GearboxTorsional, "a jaxgear.GearboxTorsional", where)
+    check_instance("chain", chain, GearboxTorsional, "a jaxgear.gearbox.GearboxTorsional", where)
     check_instance("run", run, GearboxRun, "a jaxgear.gearbox.GearboxRun", where)
     check_instance("law", law, AbstractContactLaw, "a jaxgear contact law", where)
 

@@ -246,9 +246,9 @@ def _planetary_model(form: PlanetaryForm, case: Case, spec: SceneSpec, slices, b
 
 
 def planetary_kind(case: Case, kind):
-    """The planetary model kind ``kind`` (:class:`~jaxgear.TorsionalPlanetary`,
-    :class:`~jaxgear.PlanarPlanetary`, :class:`~jaxgear.SpatialPlanetary`) as a planetary
-    case runs it: unchanged without a ``[housing]``; with one, a
+    """The planetary model kind ``kind`` (:class:`~jaxgear.planetary.TorsionalPlanetary`,
+    :class:`~jaxgear.planetary.PlanarPlanetary`, :class:`~jaxgear.planetary.SpatialPlanetary`) as a
+    planetary case runs it: unchanged without a ``[housing]``; with one, a
     :class:`~jaxgear.planetary.HousedPlanetary` of it on the case's housing
     (:meth:`Case.housing_body`: the box round the stage axis), the held member (``[planetary]
     fixed``) bolted to the seat ``[planetary] housing_seat`` (a held carrier by every support:

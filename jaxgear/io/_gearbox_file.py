@@ -144,8 +144,8 @@ class GearboxStage:
     """One stage as the gearbox holds it: its case (its operating point the carried one),
     the ratio ω_in/ω_out, the input speed (rad/s) and torque (N·m) of its input member, the
     torsional stiffness of the shaft from the previous stage (N·m/rad; 0 for the first) and its
-    torsional model in the chain (:class:`~jaxgear.AbstractGearboxStage`; a lumped 3D stage on
-    the ground); a lumped 3D stage in the gearbox's ``[housing]``: its scene origin in the
+    torsional model in the chain (:class:`~jaxgear.gearbox.AbstractGearboxStage`; a lumped 3D stage
+    on the ground); a lumped 3D stage in the gearbox's ``[housing]``: its scene origin in the
     gearbox frame ``housing_position`` (m) and its bearings' seats ``housing_seats`` (None:
     the nearest; an entry None: on the ground); a planetary stage in it: its centre
     ``housing_position`` (m; its axis the gearbox's z) and its held ring's seat ``housing_seat``
@@ -216,7 +216,7 @@ class GearboxForm(CaseForm):
         return out
 
     def torsional(self) -> GearboxTorsional:
-        """The chain's torsional model (:class:`~jaxgear.GearboxTorsional`)."""
+        """The chain's torsional model (:class:`~jaxgear.gearbox.GearboxTorsional`)."""
         return GearboxTorsional(
             tuple(s.torsional for s in self.stages),
             tuple(s.shaft_stiffness for s in self.stages[1:]),

@@ -124,9 +124,9 @@ class PlanetarySpec:
     Attributes:
         teeth: (z_s, z_p, z_r), the ring's positive (z_p None in the lumped form).
         planet_angles: ψ_n (rad), (N,), planet 1 first.
-        fixed, input, output: the :class:`~jaxgear.Central` members.
-        members: {"sun", "ring", "carrier", "planet": :class:`~jaxgear.PlanetaryMember`}, the
-            base radii of the gear form from the gears.
+        fixed, input, output: the :class:`~jaxgear.planetary.Central` members.
+        members: {"sun", "ring", "carrier", "planet": :class:`~jaxgear.planetary.PlanetaryMember`},
+            the base radii of the gear form from the gears.
         pressure_angles: (α_s, α_r) operating transverse pressure angles (rad).
         mesh_stiffness: a :class:`PlanetaryMeshStiffness`.
         tangential_pin_errors, radial_pin_errors: per planet (m), (N,).
@@ -140,10 +140,10 @@ class PlanetarySpec:
         unbalances: the sun's, ring's, carrier's and planets' mass unbalances (kg m) and
             phases (rad), in the order of :class:`~jaxgear.planetary.Unbalances`' fields; none by default.
         helix_angle: the planets' base helix angle beta_b (rad; positive: right-hand planets),
-            for :class:`~jaxgear.SpatialPlanetary`; 0 (spur) by default.
-        face_width: the meshes' face width (m), for :class:`~jaxgear.SpatialPlanetary`.
+            for :class:`~jaxgear.planetary.SpatialPlanetary`; 0 (spur) by default.
+        face_width: the meshes' face width (m), for :class:`~jaxgear.planetary.SpatialPlanetary`.
         mesh_tilt_stiffness: (sun mesh, ring mesh) tilting stiffness (N m/rad) or None each
-            (k b² cos²β_b/12 from the face width), :class:`~jaxgear.PlanetaryStage`'s
+            (k b² cos²β_b/12 from the face width), :class:`~jaxgear.planetary.PlanetaryStage`'s
             ``sun_mesh_tilt_stiffness``, ``ring_mesh_tilt_stiffness``.
         housing_seat: the seat of the case's ``[housing]`` the held member is bolted to
             (``[planetary] housing_seat``; its supports about and along the axis there, every
@@ -205,7 +205,7 @@ class PlanetarySpec:
         return {m.name.lower(): float(t[m]) for m in Central}
 
     def ratio(self) -> float:
-        """The Willis speed ratio ω_input/ω_output (:func:`jaxgear.speed_ratio`)."""
+        """The Willis speed ratio ω_input/ω_output (:func:`jaxgear.planetary.speed_ratio`)."""
         z_s, _, z_r = self.teeth
         return speed_ratio(z_s, z_r, self.fixed, self.input, self.output)
 
@@ -215,7 +215,7 @@ class PlanetarySpec:
         return self.teeth[0] * abs(w["sun"] - w["carrier"]) / (2 * math.pi)
 
     def stage(self, case: Case) -> PlanetaryStage:
-        """The lumped stage (:class:`~jaxgear.PlanetaryStage`) of the case: the members as
+        """The lumped stage (:class:`~jaxgear.planetary.PlanetaryStage`) of the case: the members as
         given (a member without torsional stiffness free to turn), the mesh stiffnesses of
         :attr:`mesh_stiffness`."""
         k_s, k_r = self.mesh_stiffness.values(case)
@@ -257,8 +257,8 @@ class PlanetarySpec:
         )
 
     def sharing_stage(self, stage: PlanetaryStage) -> PlanetaryStage:
-        """The stage of the load-sharing solve (:func:`jaxgear.load_sharing` loads the sun):
-        the sun free in rotation, the ring and the carrier held (HOLD_FACTOR × the stiffest
+        """The stage of the load-sharing solve (:func:`jaxgear.planetary.load_sharing` loads the
+        sun): the sun free in rotation, the ring and the carrier held (HOLD_FACTOR × the stiffest
         mesh on u = r θ). Which two members take the reactions does not change the mesh loads:
         with the sun's torque the statics set every member's torque (Willis), and holding
         another pair of members differs by a rigid motion of the mechanism, which strains no
@@ -279,14 +279,14 @@ class PlanetarySpec:
     def dynamic_meshes(self, case: Case, n_slices: int = 1) -> AbstractPlanetaryMeshes:
         """The 2N meshes of the stage's dynamics (:func:`jaxgear.planetary.planetary_dynamics`)
         and of its quasi-static solves on contact cells: with gears,
-        :class:`~jaxgear.ContactMeshes` of the two pairs' own models
+        :class:`~jaxgear.planetary.ContactMeshes` of the two pairs' own models
         (:meth:`~jaxgear.io.Case.mesh_model` of each :meth:`~jaxgear.io.Case.mesh_case`: the
         case's ``[mesh]`` stiffness model at the case's E and ν, each mesh's table at its own
         mean planet load, with the ISO 6336-1 low-load factor of ``iso6336``; the same models as
         the pair outputs and the rating), ``n_slices`` slices per contact line, each pair's
-        modifications, phased per planet; in the lumped form, :class:`~jaxgear.ConstantMeshes`
-        at the base pitch p_b = 2π r_bs / z_s (so that the mesh frequency is z_s |ω_s − ω_c| /
-        2π)."""
+        modifications, phased per planet; in the lumped form,
+        :class:`~jaxgear.planetary.ConstantMeshes` at the base pitch p_b = 2π r_bs / z_s (so that
+        the mesh frequency is z_s |ω_s − ω_c| / 2π)."""
         if not case.pairs:
             sun = self.members["sun"]
             return ConstantMeshes(2.0 * math.pi * float(sun.base_radius) / self.teeth[0])

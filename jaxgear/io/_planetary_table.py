@@ -49,7 +49,7 @@ each member gives ``base_radius_mm`` (the carrier's: the planet-circle radius),
 the assembly condition and the mesh phases only), ``sun_pressure_angle_deg``,
 ``ring_pressure_angle_deg`` and both mesh stiffnesses.
 
-**3D lumped model** (:class:`~jaxgear.SpatialPlanetary`; optional keys, 0 by default): in
+**3D lumped model** (:class:`~jaxgear.planetary.SpatialPlanetary`; optional keys, 0 by default): in
 ``[planetary]`` of the lumped form ``helix_angle_deg`` (the planets' base helix angle, positive
 for right-hand planets, in (-90, 90)) and ``face_width_mm`` (the meshes'); the gear form takes
 the base helix angle from the sun-planet geometry (right-hand planets: the gears'
@@ -58,7 +58,7 @@ the base helix angle from the sun-planet geometry (right-hand planets: the gears
 absent); the planet's pin: ``pin_axial_N_per_um``, ``pin_tilt_Nm_per_rad``. The meshes' tilting
 stiffness is k b² cos²β_b/12 from the face width unless ``[planetary]``
 ``sun_mesh_tilt_stiffness_Nm_per_rad`` / ``ring_mesh_tilt_stiffness_Nm_per_rad`` give it (as
-published models do; :class:`~jaxgear.PlanetaryStage`).
+published models do; :class:`~jaxgear.planetary.PlanetaryStage`).
 
 Validated whole before any work, one line per error in the file's units: the assembly condition
 ((z_s + z_r) ψ_n/360° integer), planets that do not overlap (adjacent centres 2 a sin(Δψ/2)
@@ -214,7 +214,7 @@ def _central(table: dict, name: str, base_radius: float | None) -> PlanetaryMemb
 
 
 def _spatial(table: dict, where: str, prefix: str) -> dict:
-    """The 3D model's keys of a member (:class:`~jaxgear.SpatialPlanetary`): the axial and
+    """The 3D model's keys of a member (:class:`~jaxgear.planetary.SpatialPlanetary`): the axial and
     tilting stiffnesses (``axial_N_per_um``, ``tilt_Nm_per_rad``; a planet's ``pin_``-named)
     and the diametral inertia (``diametral_inertia_kg_m2``; half the polar one if absent)."""
     out = {

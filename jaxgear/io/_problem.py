@@ -18,6 +18,7 @@ import optax
 import optimistix as optx
 
 import jaxgear as jg
+import jaxgear.scenes as js
 import optimise as op
 from fem_prep.schema import atomic_write
 from optimise import Problem, make_problem
@@ -262,7 +263,7 @@ def case_problem(
     objective: str = "te_rms",
     *,
     slices: int | None = None,
-    scene: jg.Scene | None = None,
+    scene: js.Scene | None = None,
     positions_per_pitch: int | None = None,
     **settings,
 ) -> Problem:

@@ -1,11 +1,11 @@
 """The rating's ``[material]`` keys and the ranges a material and a surface can have: the
 treatment of each gear (``treatment``, ``brinell_hardness_HB``, ``proof_stress_MPa``, mapped to
-:class:`jaxgear.CaseHardened`, :class:`jaxgear.ThroughHardened`, :class:`jaxgear.Nitrided`,
-:class:`jaxgear.PairTreatment`), the per-gear numbers of ``[material]`` and ``[rating]`` in
-their :data:`MATERIAL_RANGES` (σ_Hlim, σ_Flim: ISO 6336-5's material lines with margin; the
-flanks' and root fillets' R_z: finished surfaces), and the refusal of a ``[material]`` key that
-no rated gear reads (:func:`refuse_unread_material`). :mod:`jaxgear.io._rating_table` reads the
-rest of a rating."""
+:class:`jaxgear.rating.CaseHardened`, :class:`jaxgear.rating.ThroughHardened`,
+:class:`jaxgear.rating.Nitrided`, :class:`jaxgear.rating.PairTreatment`), the per-gear numbers of
+``[material]`` and ``[rating]`` in their :data:`MATERIAL_RANGES` (σ_Hlim, σ_Flim: ISO 6336-5's
+material lines with margin; the flanks' and root fillets' R_z: finished surfaces), and the refusal
+of a ``[material]`` key that no rated gear reads (:func:`refuse_unread_material`).
+:mod:`jaxgear.io._rating_table` reads the rest of a rating."""
 
 from __future__ import annotations
 
@@ -13,8 +13,13 @@ import functools
 
 from fem_prep import schema as sc
 
-from .. import CaseHardened, Nitrided, PairTreatment, ThroughHardened
-from ..rating import RATING_RANGES
+from ..rating import (
+    RATING_RANGES,
+    CaseHardened,
+    Nitrided,
+    PairTreatment,
+    ThroughHardened,
+)
 
 __all__ = [
     "MATERIAL_RANGES",
@@ -153,7 +158,7 @@ def _(value, mat: dict, key: str, allowed: str) -> list:
 def treatment_of(mat: dict):
     """The pair's treatment object of ``[material] treatment``, ``brinell_hardness_HB`` and
     ``proof_stress_MPa`` (the last two read for a through-hardened gear only: its Z_W and its
-    slip-layer thickness ρ'): one treatment for both gears, or :class:`jaxgear.PairTreatment`
+    slip-layer thickness ρ'): one treatment for both gears, or :class:`jaxgear.rating.PairTreatment`
     when the gears differ."""
     names = treatment_names(mat.get("treatment"), mat)
     hb = _optional_pair(mat.get("brinell_hardness_HB"), mat, "brinell_hardness_HB", "[100, 700]")

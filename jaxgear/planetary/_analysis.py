@@ -34,9 +34,9 @@ class ModeType(enum.Enum):
     1999): ROTATIONAL (multiplicity 1, the central members rotate only, the planets move alike),
     TRANSLATIONAL (multiplicity 2, the central members translate only), PLANET (multiplicity
     N - 3, the central members still); MIXED where none holds (unequal spacing, an accidental
-    coincidence of two types). In the 3D model (:class:`~jaxgear.SpatialPlanetary`; Eritenel &
-    Parker 2009) ROTATIONAL_AXIAL (multiplicity 1: the central members rotate and move axially
-    only) and TRANSLATIONAL_TILTING (multiplicity 2: they translate and tilt only) take the
+    coincidence of two types). In the 3D model (:class:`~jaxgear.planetary.SpatialPlanetary`;
+    Eritenel & Parker 2009) ROTATIONAL_AXIAL (multiplicity 1: the central members rotate and move
+    axially only) and TRANSLATIONAL_TILTING (multiplicity 2: they translate and tilt only) take the
     places of the first two."""
 
     ROTATIONAL = "rotational"
@@ -64,12 +64,12 @@ class PlanetaryModes(eqx.Module):
 
 def check_model_stage(where: str, model, stage) -> None:
     """Refuse, in one ``ValueError`` line naming the argument, a ``model`` that is not a
-    planetary model kind (:class:`~jaxgear.AbstractPlanetaryModel`: an object such as
-    ``jaxgear.PlanarPlanetary()``, not its name) or a ``stage`` that is not a
-    :class:`~jaxgear.PlanetaryStage`."""
+    planetary model kind (:class:`~jaxgear.planetary.AbstractPlanetaryModel`: an object such as
+    ``jaxgear.planetary.PlanarPlanetary()``, not its name) or a ``stage`` that is not a
+    :class:`~jaxgear.planetary.PlanetaryStage`."""
     check_instance("model", model, AbstractPlanetaryModel, "a planetary model object: "
-                   "jaxgear.PlanarPlanetary(), TorsionalPlanetary() or SpatialPlanetary()", where)
-    check_instance("stage", stage, PlanetaryStage, "a jaxgear.PlanetaryStage", where)
+                   "jaxgear.planetary.PlanarPlanetary(), TorsionalPlanetary() or SpatialPlanetary()", where)
+    check_instance("stage", stage, PlanetaryStage, "a jaxgear.planetary.PlanetaryStage", where)
 
 
 @eqx.filter_jit
@@ -81,8 +81,8 @@ def planetary_modes(model: AbstractPlanetaryModel, stage: PlanetaryStage) -> Pla
     differentiable in the stage's values (away from repeated and zero frequencies).
 
     Args:
-        model: the model kind (:class:`~jaxgear.PlanarPlanetary`,
-            :class:`~jaxgear.TorsionalPlanetary`).
+        model: the model kind (:class:`~jaxgear.planetary.PlanarPlanetary`,
+            :class:`~jaxgear.planetary.TorsionalPlanetary`).
         stage: the stage.
 
     Returns:
@@ -114,9 +114,9 @@ def campbell(
     """Natural frequencies in the carrier frame against the carrier speed, with the Coriolis
     and centripetal terms (Cooley & Parker 2012): ``M q'' + (Omega G + v G_v) q' + (K -
     Omega^2 K_Omega + Omega v K_v) q = 0`` (G_v, K_v: the gyroscopic moments of the members'
-    spin relative to the carrier, :meth:`~jaxgear.AbstractPlanetaryModel.spin_matrices`; zero
-    but in :class:`~jaxgear.SpatialPlanetary`). With ``K_e = S S`` (S its symmetric square
-    root) and ``M = L L^T``, the first-order form in ``(S q, L^T q')`` has the real
+    spin relative to the carrier, :meth:`~jaxgear.planetary.AbstractPlanetaryModel.spin_matrices`;
+    zero but in :class:`~jaxgear.planetary.SpatialPlanetary`). With ``K_e = S S`` (S its symmetric
+    square root) and ``M = L L^T``, the first-order form in ``(S q, L^T q')`` has the real
     skew-symmetric matrix ``[[0, S L^-T], [-L^-1 S, -L^-1 (Omega G + v G_v) L^-T]]``, whose
     eigenvalues +-i omega come from the Hermitian ``eigh`` (so it runs on every device and is
     differentiable at simple values).

@@ -4,12 +4,13 @@
     M q'' + (C + Omega G + v G_v) q' + (K_b - Omega^2 K_Omega + Omega v K_v) q
         + V^T P(V q - delta0) = f,
 
-the 2N meshes' contact cells P (:class:`~jaxgear.ContactMeshes`: time-varying stiffness, loss
-of contact; or :class:`~jaxgear.ConstantMeshes`) at the mesh travel x = v t, the Coriolis and
-centripetal terms at the carrier speed Omega (and, in the 3D model, the gyroscopic moments of
-the members' spin relative to the carrier, which v sets: ``model.spin_matrices``); the dynamic
-factor and dynamic load sharing per mesh; a speed sweep (``jax.vmap`` over the carrier speeds); the signal of a transducer fixed on
-the ring (the planet-pass modulation, McFadden & Smith 1985) and its order spectrum.
+the 2N meshes' contact cells P (:class:`~jaxgear.planetary.ContactMeshes`: time-varying stiffness,
+loss of contact; or :class:`~jaxgear.planetary.ConstantMeshes`) at the mesh travel x = v t, the
+Coriolis and centripetal terms at the carrier speed Omega (and, in the 3D model, the gyroscopic
+moments of the members' spin relative to the carrier, which v sets: ``model.spin_matrices``); the
+dynamic factor and dynamic load sharing per mesh; a speed sweep (``jax.vmap`` over the carrier
+speeds); the signal of a transducer fixed on the ring (the planet-pass modulation, McFadden & Smith
+1985) and its order spectrum.
 """
 
 from __future__ import annotations
@@ -73,7 +74,7 @@ class PlanetaryRun(eqx.Module):
         damping_ratio: modal damping ratio (-) on the modes of (M, K_b + mean mesh stiffness):
             C = M Phi diag(2 zeta omega) Phi^T M (seed (2.35)).
         tangential_pin_errors, radial_pin_errors: planet-pin errors (m), () or (n_planets,), as
-            :func:`~jaxgear.load_sharing` (the stage's eccentricities,
+            :func:`~jaxgear.planetary.load_sharing` (the stage's eccentricities,
             :class:`~jaxgear.planetary.Eccentricities`, are added at each step, turning with their
             members).
         cell_loads: also record every cell's force at the kept steps
@@ -200,8 +201,8 @@ class PlanetaryDynamics(eqx.Module):
             force (m, relieving the mesh), (t, n_planets); zero for a rigid ring.
         cell_forces: each cell's contact force (N, flank-normal, compression positive; 0 off
             contact), (t, c), in the order of the meshes kind's cell rows
-            (:meth:`~jaxgear.ContactMeshes.split_cells` splits it per mesh and planet,
-            :meth:`~jaxgear.ContactMeshes.planet_cells` at ``travel`` places the cells and
+            (:meth:`~jaxgear.planetary.ContactMeshes.split_cells` splits it per mesh and planet,
+            :meth:`~jaxgear.planetary.ContactMeshes.planet_cells` at ``travel`` places the cells and
             gives their lengths: the line load is force / length); ``meshes.mesh_forces`` of it
             is the mesh forces above. None unless the run asks for it
             (``PlanetaryRun(cell_loads=True)``).
@@ -485,14 +486,15 @@ def planetary_dynamics(
     cyclic symmetry.
 
     Args:
-        model: the model kind (:class:`~jaxgear.PlanarPlanetary`: Coriolis and centripetal
-            terms; :class:`~jaxgear.TorsionalPlanetary`: none;
-            :class:`~jaxgear.SpatialPlanetary`: the 3D model, its cells across the face, the
-            axial and tilting coordinates, and the gyroscopic moments of the members' spin
+        model: the model kind (:class:`~jaxgear.planetary.PlanarPlanetary`: Coriolis and centripetal
+            terms; :class:`~jaxgear.planetary.TorsionalPlanetary`: none;
+            :class:`~jaxgear.planetary.SpatialPlanetary`: the 3D model, its cells across the face,
+            the axial and tilting coordinates, and the gyroscopic moments of the members' spin
             relative to the carrier at the mesh speed v).
         stage: the stage (ring or carrier held in rotation); its ``unbalances``
             (:class:`~jaxgear.planetary.Unbalances`) add their rotating forces at each step's travel.
-        meshes: :class:`~jaxgear.ContactMeshes` or :class:`~jaxgear.ConstantMeshes`.
+        meshes: :class:`~jaxgear.planetary.ContactMeshes` or
+            :class:`~jaxgear.planetary.ConstantMeshes`.
         run: :class:`PlanetaryRun` (torque, steps, periods, damping, pin errors).
         carrier_speed: Omega (rad/s), counter-clockwise positive.
         mesh_speed: v (m/s), the mesh travel speed; None: the ring held, v = r_br |Omega|
@@ -504,7 +506,7 @@ def planetary_dynamics(
             ring's displacement at the planet's moving position (the hats at the angle
             :func:`~jaxgear.planetary.ring_contact_angles`), so that the ring compliance coupling the
             ring meshes follows the carrier; a massless ring gives the quasi-static
-            compliance of :func:`~jaxgear.planetary_quasi_static` at every step; a
+            compliance of :func:`~jaxgear.planetary.planetary_quasi_static` at every step; a
             :class:`~jaxgear.planetary.CraigBamptonRing` adds its fixed-interface modes as coordinates
             (mass and stiffness only: the ring cells reach the stations alone).
 

@@ -83,8 +83,9 @@ class HousedPlanetary(AbstractPlanetaryModel):
     the member and its seat.
 
     Attributes:
-        model: the base kind (:class:`~jaxgear.TorsionalPlanetary`,
-            :class:`~jaxgear.PlanarPlanetary`, :class:`~jaxgear.SpatialPlanetary`).
+        model: the base kind (:class:`~jaxgear.planetary.TorsionalPlanetary`,
+            :class:`~jaxgear.planetary.PlanarPlanetary`,
+            :class:`~jaxgear.planetary.SpatialPlanetary`).
         housing: the :class:`~jaxgear.scenes.Housing` (placed in the stage's scene frame: the
             stage axis is +z through ``centre``).
         seats: static, ``((member, seat), ...)``: ``member`` "ring", "carrier" or "sun", ``seat``

@@ -2,8 +2,8 @@
 teeth are in each of the 2N meshes at each mesh travel, and the meshes' cells with the ISO 1328-1
 deviations of those teeth (docs/planetary.md, "Per-tooth deviations and the hunting period").
 
-Tooth numbering (the mesh travel x of :class:`~jaxgear.ContactMeshes`: the sun's turn relative
-to the carrier times r_bs). Every mesh numbers its tooth pairs as a pair does
+Tooth numbering (the mesh travel x of :class:`~jaxgear.planetary.ContactMeshes`: the sun's turn
+relative to the carrier times r_bs). Every mesh numbers its tooth pairs as a pair does
 (:class:`~jaxgear.Deviations`): the contact line of pair j of a mesh whose pinion has turned by
 theta lies at ``s = r_b1 theta - j p_b`` (planet n's sun mesh at ``r_bs theta = x - gamma_sn
 p_b``, its ring mesh at ``r_bp theta = x + Delta_rs - gamma_rn p_b``). The teeth are numbered
@@ -330,14 +330,14 @@ def _flank(dev: GearDeviations | None, tooth, u, zeta):
 
 
 class DeviationMeshes(AbstractPlanetaryMeshes):
-    """The 2N meshes from real contact (:class:`~jaxgear.ContactMeshes`) with the per-tooth
-    deviations of the teeth in contact at each mesh travel (:class:`PlanetaryTeeth`): each cell's
-    initial separation less the deviations' material e_d of its two teeth (sun mesh: the sun's
-    flank at roll fraction u, the planet's sun-side flank at 1 - u; ring mesh: the planet's
+    """The 2N meshes from real contact (:class:`~jaxgear.planetary.ContactMeshes`) with the
+    per-tooth deviations of the teeth in contact at each mesh travel (:class:`PlanetaryTeeth`): each
+    cell's initial separation less the deviations' material e_d of its two teeth (sun mesh: the
+    sun's flank at roll fraction u, the planet's sun-side flank at 1 - u; ring mesh: the planet's
     ring-side flank at u, the ring's at 1 - u; u = s / g_alpha, zeta = z / b), e_d along the line of action times cos beta_b as for a
     pair. With every deviation 0 the meshes are the contact meshes exactly.
 
-    Build with :meth:`from_geometry` (or from a :class:`~jaxgear.ContactMeshes` and its
+    Build with :meth:`from_geometry` (or from a :class:`~jaxgear.planetary.ContactMeshes` and its
     :class:`PlanetaryTeeth`).
 
     Attributes:
@@ -361,7 +361,7 @@ class DeviationMeshes(AbstractPlanetaryMeshes):
         )
 
     def __check_init__(self):
-        check_instance("contact", self.contact, ContactMeshes, "a jaxgear.ContactMeshes",
+        check_instance("contact", self.contact, ContactMeshes, "a jaxgear.planetary.ContactMeshes",
                        "DeviationMeshes")
         check_instance("teeth", self.teeth, PlanetaryTeeth, "a jaxgear.planetary.PlanetaryTeeth",
                        "DeviationMeshes")
@@ -385,7 +385,8 @@ class DeviationMeshes(AbstractPlanetaryMeshes):
         modifications: tuple[Modifications, Modifications] | None = None,
         **table,
     ) -> DeviationMeshes:
-        """:meth:`jaxgear.ContactMeshes.from_geometry` (same arguments) with ``deviations``."""
+        """:meth:`jaxgear.planetary.ContactMeshes.from_geometry` (same arguments) with
+        ``deviations``."""
         contact = ContactMeshes.from_geometry(geometry, planet_angles, stiffness, n_slices,
                                               modifications, **table)
         return cls(contact, PlanetaryTeeth.from_geometry(geometry, planet_angles), deviations)
@@ -410,7 +411,7 @@ class DeviationMeshes(AbstractPlanetaryMeshes):
     def _material(self, x):
         """Per mesh kind (sun, ring): (mask, e of the modifications, e_d of the deviations),
         each (n_planets, n_lines * n_slices), e_d flank-normal (m); the cells as
-        :meth:`jaxgear.ContactMeshes.cell_row` lays them out."""
+        :meth:`jaxgear.planetary.ContactMeshes.cell_row` lays them out."""
         dev, teeth, c = self.deviations, self.teeth, self.contact
         p_b = c.sun_mesh.base_pitch
         t_s = (x - c.sun_phases * p_b) / c.sun_mesh.base_radius_pinion

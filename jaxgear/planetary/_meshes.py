@@ -16,8 +16,8 @@ Lin 2004), and Delta_rs the sun–ring offset within a planet (:func:`sun_ring_o
 A cell's approach is the transverse mesh deflection of Lin & Parker's model times cos beta_b
 (the normal approach of a slice; the planar model keeps the transverse plane only), so the
 model's ``mesh_deflection_rows`` are the cells' structure vectors; a model with tilts (the 3D
-:class:`~jaxgear.SpatialPlanetary`) gives each cell the deflection at its own axial position
-across the face (``model.face_rows``: (V + z W) q, z from the mesh mid-plane).
+:class:`~jaxgear.planetary.SpatialPlanetary`) gives each cell the deflection at its own axial
+position across the face (``model.face_rows``: (V + z W) q, z from the mesh mid-plane).
 """
 
 from __future__ import annotations
@@ -213,18 +213,19 @@ class AbstractPlanetaryMeshes(eqx.Module):
 class ConstantMeshes(AbstractPlanetaryMeshes):
     """The stage's own constant mesh stiffnesses as one unilateral spring per mesh (the lumped
     form of Lin & Parker 1999): with every mesh loaded, :func:`planetary_quasi_static` is
-    :func:`~jaxgear.load_sharing` at every position.
+    :func:`~jaxgear.planetary.load_sharing` at every position.
 
     Attributes:
         base_pitch: p_b (m), the mesh travel of one period (it sets only the time scale of the
             dynamics).
         face_points: static, the Gauss-Legendre points across the stage's face width at which
             each spring acts (weights summing to 1; default 1: at mid-face). The 3D model
-            (:class:`~jaxgear.SpatialPlanetary`) needs 2 for its meshes' tilting stiffness
-            (its matrix's two points, across :meth:`~jaxgear.PlanetaryStage.mesh_face_widths`);
-            the planar and torsional models see the same deflection across the face. A model whose springs act along the tooth
-            normal (``model.spring_cos`` = cos beta_b) has its cells carry k cos^2 beta_b on the
-            transverse deflection, so that the forces are transverse.
+            (:class:`~jaxgear.planetary.SpatialPlanetary`) needs 2 for its meshes' tilting stiffness
+            (its matrix's two points, across
+            :meth:`~jaxgear.planetary.PlanetaryStage.mesh_face_widths`); the planar and torsional
+            models see the same deflection across the face. A model whose springs act along the
+            tooth normal (``model.spring_cos`` = cos beta_b) has its cells carry k cos^2 beta_b on
+            the transverse deflection, so that the forces are transverse.
     """
 
     base_pitch: Float[Array, ""] = eqx.field(converter=as_float, default=0.01)
@@ -523,8 +524,8 @@ def _drive_modes(model, stage) -> tuple:
     of a stage whose sun and carrier turn freely, the ring held), mass-normalised (Φᵀ M Φ = I)
     in the model's coordinates, other columns zero: the modes of K (the stage's constant mesh
     springs) and M with ω² ≤ 1e-9 of the largest (the rule of
-    :class:`~jaxgear.PlanetaryModes`). A corner cell's row beyond the theoretical path drops
-    its part along them, V − (V Φ_r)(M Φ_r)ᵀ, so that V·φ = 0 for every rigid mode φ (the
+    :class:`~jaxgear.planetary.PlanetaryModes`). A corner cell's row beyond the theoretical path
+    drops its part along them, V − (V Φ_r)(M Φ_r)ᵀ, so that V·φ = 0 for every rigid mode φ (the
     rule the lumped and hybrid scenes follow, :meth:`jaxgear.scenes.AssembledScene._free_drive`;
     docs/extended-contact.md, "The free drive rotation"): the corner's gap changes as the
     stage turns as a whole, and without this step the corners would give the drive rotation a
@@ -639,7 +640,7 @@ class PlanetaryQuasiStatic(eqx.Module):
 def pin_terms(model, stage, tangential_pin_errors, radial_pin_errors, where: str, travel=0.0):
     """(f, d_s, d_r) of the pin errors and the stage's eccentricities at the mesh travel
     ``travel`` (m) for the cells, after the shape checks (one-line errors naming the argument):
-    the offsets d_s, d_r of :meth:`~jaxgear.AbstractPlanetaryModel.error_terms` made
+    the offsets d_s, d_r of :meth:`~jaxgear.planetary.AbstractPlanetaryModel.error_terms` made
     transverse (over ``model.spring_cos``) and its load f
     without the meshes' share (the torsional model's f is -V^T k d, the constant meshes'
     reaction to the offsets, which the cells make themselves: f + V_s^T k_s d_s + V_r^T k_r d_r
@@ -704,8 +705,8 @@ def planetary_quasi_static(
     rotation by :data:`FLOATING_PLANET`), f the sun torque and the pin errors' load.
 
     Args:
-        model: the model kind (:class:`~jaxgear.PlanarPlanetary`,
-            :class:`~jaxgear.TorsionalPlanetary`).
+        model: the model kind (:class:`~jaxgear.planetary.PlanarPlanetary`,
+            :class:`~jaxgear.planetary.TorsionalPlanetary`).
         stage: the stage (its mesh stiffnesses are used only by :class:`ConstantMeshes`); the
             ring or the carrier must be held in rotation (else K_b + meshes is singular).
         meshes: :class:`ContactMeshes` (real pairs) or :class:`ConstantMeshes`.
@@ -714,7 +715,7 @@ def planetary_quasi_static(
         positions: mesh travels x (m), (p,) (``meshes.positions(per_period, periods)``; over a
             hunting period: as many mesh periods as it holds).
         tangential_pin_errors, radial_pin_errors: planet-pin position errors (m), () or
-            (n_planets,), as :func:`~jaxgear.load_sharing`; the stage's eccentricities
+            (n_planets,), as :func:`~jaxgear.planetary.load_sharing`; the stage's eccentricities
             (:class:`~jaxgear.planetary.Eccentricities`) are added at each position, turning with their
             members.
         law: the contact law.

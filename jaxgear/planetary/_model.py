@@ -165,7 +165,7 @@ class PlanetaryModel(AbstractDynamicModel):
         check_instance("kind", self.kind, AbstractPlanetaryModel,
                        "a planetary model kind (TorsionalPlanetary, PlanarPlanetary, "
                        "SpatialPlanetary)", where)
-        check_instance("stage", self.stage, PlanetaryStage, "a jaxgear.PlanetaryStage", where)
+        check_instance("stage", self.stage, PlanetaryStage, "a jaxgear.planetary.PlanetaryStage", where)
         check_instance("meshes", self.meshes, AbstractPlanetaryMeshes,
                        "a planetary meshes kind", where)
         check_instance("run", self.run, PlanetaryRun, "a jaxgear.planetary.PlanetaryRun", where)

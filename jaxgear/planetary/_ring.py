@@ -99,7 +99,7 @@ def ring_force_directions(stage, angles) -> Float[Array, "n 2"]:
 
 class AbstractRingModel(eqx.Module):
     """How the ring gear deforms under the ring meshes in
-    :func:`~jaxgear.planetary_quasi_static` (:class:`RigidRing`, :class:`CondensedRing`,
+    :func:`~jaxgear.planetary.planetary_quasi_static` (:class:`RigidRing`, :class:`CondensedRing`,
     :class:`CraigBamptonRing`)."""
 
     @abc.abstractmethod
@@ -330,7 +330,7 @@ class CraigBamptonRing(CondensedRing):
     (u, eta), 2Z + m of them, with modal damping at the run's ratio on the ring's own modes;
     with ``modes`` = k (1..2Z + m) its k lowest modes plus the static correction of the others,
     integrated by :func:`jaxgear.dynamics.newmark_modal` (as :class:`CondensedRing`). In
-    :func:`~jaxgear.planetary_quasi_static` it is the station ring (:meth:`augment`).
+    :func:`~jaxgear.planetary.planetary_quasi_static` it is the station ring (:meth:`augment`).
 
     Attributes:
         compliance: F (m/N), ``(Z, 2, Z, 2)``, symmetric positive definite as a ``2Z x 2Z``

@@ -7,8 +7,8 @@ deflections (the quasi-static load sharing, the contact solve and the dynamics t
 :class:`Unbalances`: each member's mass centre stands off its axis, a force m e omega^2 that
 turns with the member (the dynamics take it).
 
-Kinematics, in the carrier frame of :class:`~jaxgear.PlanetaryStage`, at the mesh travel x (m):
-relative to the carrier the sun turns by +x / r_bs (the mesh travel's definition), the ring by
+Kinematics, in the carrier frame of :class:`~jaxgear.planetary.PlanetaryStage`, at the mesh travel x
+(m): relative to the carrier the sun turns by +x / r_bs (the mesh travel's definition), the ring by
 -x / r_br, a planet by -x / r_bp (an external mesh with the sun: the other sense), the carrier
 not at all. At the carrier speed Omega and the mesh travel speed v a member's absolute speed is
 omega = Omega + s v / r_b (s = +1 sun, -1 ring and planets, 0 carrier).
@@ -115,7 +115,7 @@ class Eccentricities(_PerMember):
 
     def pin_errors(self, stage) -> tuple[Float[Array, " n"], Float[Array, " n"]]:
         """(tangential, radial): the carrier eccentricity as planet-pin errors (m, (n_planets,);
-        along eta and zeta, as :func:`~jaxgear.load_sharing` takes them)."""
+        along eta and zeta, as :func:`~jaxgear.planetary.load_sharing` takes them)."""
         a = self.carrier_phase - stage.planet_angles
         return self.carrier * jnp.sin(a), self.carrier * jnp.cos(a)
 

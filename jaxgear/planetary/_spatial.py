@@ -39,7 +39,7 @@ beta_b theta_perp along n (n's transverse part is cos beta_b d): the mesh's tilt
 is k b^2 cos^2(beta_b) / 12, not k b^2 / 12 (23 % less at beta_b = 28.5 deg). A stage may give
 each mesh's tilting stiffness instead (``sun_mesh_tilt_stiffness``,
 ``ring_mesh_tilt_stiffness``): the points then sit at +-b_kappa / (2 sqrt 3) with that
-stiffness (:meth:`~jaxgear.PlanetaryStage.mesh_face_widths`).
+stiffness (:meth:`~jaxgear.planetary.PlanetaryStage.mesh_face_widths`).
 
 The planet pin joins the carrier's material point at r_c e_zeta to the planet centre: stiffness
 (k_zeta, k_eta) = the planet's ``bearing_stiffness``, k_z its ``axial_stiffness``, and the
@@ -76,7 +76,7 @@ and along the line of action the tilts see (the translations and the spin do not
 of the line of action is at r_b from the axis). Summed over the cells this is Eritenel &
 Parker's (2009) mesh: the resultant at the centre of stiffness with the tilting stiffness of the
 lines' spread. The lumped :meth:`SpatialPlanetary.stiffness_matrix` (and
-:class:`~jaxgear.ConstantMeshes`) keeps the mesh at the pitch point, spread over the face.
+:class:`~jaxgear.planetary.ConstantMeshes`) keeps the mesh at the pitch point, spread over the face.
 """
 
 from __future__ import annotations
@@ -253,12 +253,12 @@ class SpatialPlanetary(AbstractPlanetaryModel):
     PLANET (multiplicity N - 3: they stay still). :meth:`central_rotations` are therefore the
     central members' z and u, :meth:`central_translations` their x, y and tilts.
 
-    In the contact solve and the dynamics (:func:`~jaxgear.planetary_quasi_static`,
+    In the contact solve and the dynamics (:func:`~jaxgear.planetary.planetary_quasi_static`,
     :func:`~jaxgear.planetary.planetary_dynamics`) each cell of a helical mesh sees the
     deflection along the tooth normal at its own contact point, its axial position across the
     face and its place along the line of action (:meth:`face_rows`, :meth:`line_rows`), so
     that a member's tilt moves the load along the contact lines; a
-    :class:`~jaxgear.ConstantMeshes` spring is spread over the face by its ``face_points``
+    :class:`~jaxgear.planetary.ConstantMeshes` spring is spread over the face by its ``face_points``
     (2: the Gauss points of :meth:`stiffness_matrix`). The members' spin relative to the
     carrier adds its gyroscopic moments (:meth:`spin_matrices`).
     """
@@ -307,7 +307,7 @@ class SpatialPlanetary(AbstractPlanetaryModel):
     def mesh_rows_across(self, stage: PlanetaryStage):
         """(V_s, V_r), each (n_planets, 2, n_dof): the mesh deflections (m, compression
         positive) at the two Gauss points across the face, ``delta = V q``: z = +-b / (2
-        sqrt 3), b each mesh's :meth:`~jaxgear.PlanetaryStage.mesh_face_widths` (the face
+        sqrt 3), b each mesh's :meth:`~jaxgear.planetary.PlanetaryStage.mesh_face_widths` (the face
         width, or the width giving its tilting stiffness)."""
         psi, a_s, a_r = stage.planet_angles, stage.sun_pressure_angle, stage.ring_pressure_angle
         g_s, g_r = (b / (2.0 * jnp.sqrt(3.0)) for b in stage.mesh_face_widths())

@@ -94,12 +94,12 @@ class PlanetaryMember(eqx.Module):
             member, a large value for a fixed one (Lin & Parker's ``k_u`` is this over the
             base radius squared).
         axial_stiffness: axial bearing stiffness (N/m), shape ``()``, along the stage axis (the
-            pin's, for a planet); used by :class:`~jaxgear.SpatialPlanetary` only.
+            pin's, for a planet); used by :class:`~jaxgear.planetary.SpatialPlanetary` only.
         tilt_stiffness: tilting bearing stiffnesses (N m/rad), shape ``(2,)``: about the
             carrier frame's x and y (a central member), about the pin's zeta and eta (a planet,
-            relative to the carrier); :class:`~jaxgear.SpatialPlanetary` only.
+            relative to the carrier); :class:`~jaxgear.planetary.SpatialPlanetary` only.
         diametral_inertia: moment of inertia about a diameter through the centre (kg m^2),
-            shape ``()``, for the tilts of :class:`~jaxgear.SpatialPlanetary`; ``None``
+            shape ``()``, for the tilts of :class:`~jaxgear.planetary.SpatialPlanetary`; ``None``
             (default): half the polar inertia (a thin disc).
 
     Raises:
@@ -198,10 +198,10 @@ class PlanetaryStage(eqx.Module):
         helix_angle: base helix angle beta_b of the planets (rad), shape ``()``, in
             (-pi/2, pi/2): positive for right-hand planets (then the sun is left-hand and the
             ring right-hand), 0 (default) for a spur stage. Only
-            :class:`~jaxgear.SpatialPlanetary` uses it (the planar and torsional models are
-            spur).
+            :class:`~jaxgear.planetary.SpatialPlanetary` uses it (the planar and torsional models
+            are spur).
         face_width: the meshes' face width b (m), shape ``()``, >= 0 (default 0: the mesh
-            stiffness at one point): :class:`~jaxgear.SpatialPlanetary` spreads each mesh
+            stiffness at one point): :class:`~jaxgear.planetary.SpatialPlanetary` spreads each mesh
             stiffness k (along the tooth normal) uniformly over it, which gives the mesh the
             tilting stiffness k b^2 cos^2(beta_b) / 12 (N m/rad) about the axis e_perp = d x
             e_z normal to its plane of action (d the line of action's transverse direction):
@@ -264,7 +264,7 @@ class PlanetaryStage(eqx.Module):
                 name,
                 getattr(self, name),
                 PlanetaryMember,
-                "a jaxgear.PlanetaryMember",
+                "a jaxgear.planetary.PlanetaryMember",
                 "PlanetaryStage",
             )
         check_real(
@@ -344,11 +344,11 @@ class PlanetaryStage(eqx.Module):
 
     def mesh_face_widths(self) -> tuple[Float[Array, " n"], Float[Array, " n"]]:
         """(b_s, b_r), each (n_planets,): the width (m) across the face over which each
-        planet's sun and ring mesh stiffness is spread (:class:`~jaxgear.SpatialPlanetary`'s
-        two Gauss points at +-b / (2 sqrt 3), :class:`~jaxgear.ConstantMeshes`' points): the
-        face width, or where the mesh's tilting stiffness kappa is given, sqrt(12 kappa / (k
-        cos^2 beta_b)), so that its tilting stiffness k b^2 cos^2(beta_b) / 12 is kappa (0
-        where k = 0)."""
+        planet's sun and ring mesh stiffness is spread
+        (:class:`~jaxgear.planetary.SpatialPlanetary`'s two Gauss points at +-b / (2 sqrt 3),
+        :class:`~jaxgear.planetary.ConstantMeshes`' points): the face width, or where the mesh's
+        tilting stiffness kappa is given, sqrt(12 kappa / (k cos^2 beta_b)), so that its tilting
+        stiffness k b^2 cos^2(beta_b) / 12 is kappa (0 where k = 0)."""
         n = (self.n_planets,)
         c2 = jnp.cos(self.helix_angle) ** 2
 
@@ -527,7 +527,7 @@ class AbstractPlanetaryModel(eqx.Module):
 
     contact_solve: ClassVar[bool] = True
     #: the Gauss points across the face at which the model's constant mesh springs act
-    #: (:class:`~jaxgear.ConstantMeshes` ``face_points``): 1, the springs at mid-face
+    #: (:class:`~jaxgear.planetary.ConstantMeshes` ``face_points``): 1, the springs at mid-face
     face_points: ClassVar[int] = 1
 
     @abc.abstractmethod
@@ -832,7 +832,7 @@ def closest_planets(planet_angles, carrier_radius: float) -> tuple[int, int, flo
     (:func:`jaxgear._util.closest_circles`, the rule of every gear layout: two gears in one
     plane that do not mesh must not overlap). Two planets of radius r overlap where d < 2 r:
     the stage's spacing check (:class:`PlanetaryStage` with the base radius; the case files and
-    :class:`~jaxgear.ContactMeshes` with the tip radius)."""
+    :class:`~jaxgear.planetary.ContactMeshes` with the tip radius)."""
     psi = np.asarray(planet_angles, dtype=float).reshape(-1)
     a = float(carrier_radius)
     centres = a * np.stack([np.cos(psi), np.sin(psi)], axis=-1)

@@ -93,7 +93,7 @@ def support_reactions(model: AbstractPlanetaryModel, stage: PlanetaryStage) -> S
     check_instance("model", model, AbstractPlanetaryModel,
                    "a planetary model kind (TorsionalPlanetary, PlanarPlanetary, "
                    "SpatialPlanetary)", "support_reactions")
-    check_instance("stage", stage, PlanetaryStage, "a jaxgear.PlanetaryStage", "support_reactions")
+    check_instance("stage", stage, PlanetaryStage, "a jaxgear.planetary.PlanetaryStage", "support_reactions")
     k_full = structure_stiffness(model, stage)
     zero = jnp.zeros((), dtype=stage.planet_angles.dtype)
 
@@ -247,8 +247,9 @@ def planetary_whine(
     offsets and load as the run's.
 
     Args:
-        model: the model kind (:class:`~jaxgear.TorsionalPlanetary`,
-            :class:`~jaxgear.PlanarPlanetary`, :class:`~jaxgear.SpatialPlanetary`).
+        model: the model kind (:class:`~jaxgear.planetary.TorsionalPlanetary`,
+            :class:`~jaxgear.planetary.PlanarPlanetary`,
+            :class:`~jaxgear.planetary.SpatialPlanetary`).
         stage: the stage, without eccentricity, runout or unbalance (its steady state repeats
             every mesh period in the carrier frame). meshes: the meshes kind. run: the
             :class:`~jaxgear.planetary.PlanetaryRun` (torque, damping ratio, pin errors; its

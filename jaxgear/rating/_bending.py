@@ -18,8 +18,8 @@ virtual spur gear (helical gears: the virtual gear of the normal section, z_n = 
     Y_S = (1.2 + 0.13 L) q_s^(1/(1.21 + 2.3/L)),   L = s_Fn/h_Fe,  q_s = s_Fn/(2 ρ_F)
 
 with d_n = m_n z_n, d_bn = d_n cos α_n, d_an = d_n + d_a − d, ε_αn = ε_α / cos² β_b. Every
-quantity is a ``jax.numpy`` function of the :class:`jaxgear.RatingGeometry` parameters, so Y_F
-and Y_S have gradients with respect to the profile shifts, module and angles.
+quantity is a ``jax.numpy`` function of the :class:`jaxgear.rating.RatingGeometry` parameters, so
+Y_F and Y_S have gradients with respect to the profile shifts, module and angles.
 """
 
 from __future__ import annotations
@@ -142,10 +142,10 @@ def tooth_form_factors(geometry) -> ToothFormFactors:
     geometry of the critical section.
 
     Args:
-        geometry: the pair's :class:`jaxgear.RatingGeometry` (external gears, no protuberance:
-            the generating rack's addendum h_fP = dedendum_coeff · m_n and tip radius ρ_fP =
-            fillet_radius_coeff · m_n), or an internal pair's
-            :class:`jaxgear.InternalRatingGeometry` (the pinion as here, the internal gear by
+        geometry: the pair's :class:`jaxgear.rating.RatingGeometry` (external gears, no
+            protuberance: the generating rack's addendum h_fP = dedendum_coeff · m_n and tip radius
+            ρ_fP = fillet_radius_coeff · m_n), or an internal pair's
+            :class:`jaxgear.rating.InternalRatingGeometry` (the pinion as here, the internal gear by
             its root section, :class:`jaxgear.rating.SubstituteRack` or :class:`jaxgear.rating.GivenRootSection`).
 
     Returns:

@@ -1,9 +1,9 @@
 """Load factors of the ISO 6336 rating, ISO 6336-1:2019: K_v (clause 6, method B), K_Hβ and
 K_Fβ (clause 7), K_Hα and K_Fα (clause 8, method B), with c' and c_γα of method B (clause 9);
-a factor given in :class:`jaxgear.GivenFactors` replaces the computed one. And K_Hβ and K_Hα
+a factor given in :class:`jaxgear.rating.GivenFactors` replaces the computed one. And K_Hβ and K_Hα
 measured on a jaxgear load distribution (:func:`face_load_factor`,
 :func:`transverse_load_factor`). Pure ``jax.numpy`` functions of the
-:class:`jaxgear.RatingGeometry`, the operating point and the settings."""
+:class:`jaxgear.rating.RatingGeometry`, the operating point and the settings."""
 
 from __future__ import annotations
 

@@ -94,7 +94,7 @@ def replace_fields(geometry, changes: dict):
 class AbstractRatingGeometry(eqx.Module):
     """The continuous macro parameters of a pair as the rating reads them, as arrays
     (differentiable): one geometry whose kinds are the external pair
-    (:class:`RatingGeometry`) and the internal pair (:class:`jaxgear.InternalRatingGeometry`:
+    (:class:`RatingGeometry`) and the internal pair (:class:`jaxgear.rating.InternalRatingGeometry`:
     member 1 the internal gear). The fields and the ISO 21771 geometry are the kinds' common
     part (:func:`pair_derived`, which each kind's :meth:`derived` calls with its sign: +1
     external, -1 internal, the ring's tooth count and diameters negative); each kind answers

@@ -1,7 +1,7 @@
 """The load-capacity rating of an internal pair (an external pinion, e.g. a planet, in an
 internal gear, a ring): ISO 6336-2:2006/2019 and ISO 6336-3:2006/2019 method B with the
 standard's internal-gear rules, as a geometry object the rating functions of
-:func:`jaxgear.rate` ask the same questions as :class:`jaxgear.RatingGeometry`.
+:func:`jaxgear.rating.rate` ask the same questions as :class:`jaxgear.rating.RatingGeometry`.
 
 Sign conventions (ISO 21771, ISO 6336): the internal gear's tooth count z2 < 0, and in the
 derived geometry its reference, base, tip and root diameters are negative too, so that the
@@ -404,7 +404,7 @@ class InternalRatingGeometry(AbstractRatingGeometry):
         root_section: the internal gear's root section (:class:`AbstractRootSection`; default
             :class:`SubstituteRack`).
 
-    Build it from a :class:`jaxgear.InternalGearPair` with :meth:`of`; :func:`jaxgear.rate`
+    Build it from a :class:`jaxgear.InternalGearPair` with :meth:`of`; :func:`jaxgear.rating.rate`
     rates it (module docstring for the internal-gear rules).
     """
 
@@ -431,7 +431,7 @@ class InternalRatingGeometry(AbstractRatingGeometry):
         centre distance positive; module docstring)."""
         return pair_derived(self, -1.0)
 
-    # -- what the rating asks of a pair (as jaxgear.RatingGeometry) --------------------------
+    # -- what the rating asks of a pair (as jaxgear.rating.RatingGeometry) -------------------------
 
     def single_pair_factors(self, g: Derived) -> Array:
         """(Z_B, Z_D): Z_B of the pinion from M₁ at its inner point of single contact (spur

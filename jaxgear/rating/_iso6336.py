@@ -2,9 +2,9 @@
 its editions :class:`Edition2006` and :class:`Edition2019`, the standard's clauses of each
 factor (:func:`factor_clause`), and the formulas of ISO 6336-2 (pitting) and ISO 6336-3 (tooth
 bending) with the load factors of ISO 6336-1 method B; pure, jit-able and differentiable
-``jax.numpy`` functions of the pair's macro geometry (:class:`jaxgear.RatingGeometry`), an
-operating point (:class:`jaxgear.OperatingPoint`) and the settings
-(:class:`jaxgear.RatingSettings`).
+``jax.numpy`` functions of the pair's macro geometry (:class:`jaxgear.rating.RatingGeometry`), an
+operating point (:class:`jaxgear.rating.OperatingPoint`) and the settings
+(:class:`jaxgear.rating.RatingSettings`).
 
 Pitting (ISO 6336-2:2019)::
 
@@ -87,7 +87,7 @@ class PittingRating(eqx.Module):
 
 class BendingRating(eqx.Module):
     """ISO 6336-3 results, per gear (2,): Y_F, Y_S, Y_B, Y_NT, Y_delta_rel_T, Y_R_rel_T, Y_X,
-    Y_M (mean stress influence factor, :class:`jaxgear.ToothLoading`), sigma_F0, sigma_F,
+    Y_M (mean stress influence factor, :class:`jaxgear.rating.ToothLoading`), sigma_F0, sigma_F,
     sigma_FG, sigma_FP (Pa), S_F; scalars Y_beta, Y_DT, Y_ST; ``form`` the
     :class:`jaxgear.rating.ToothFormFactors`."""
 
@@ -123,7 +123,7 @@ def _c_zl(sigma_h_lim):
 def iso6336_pitting(geometry, operating, settings, factors: LoadFactors) -> PittingRating:
     """ISO 6336-2:2019 method B at the operating point (module docstring), under the load
     ``factors``; the editions' :meth:`AbstractEdition.pitting` (arguments checked by the
-    caller, :func:`jaxgear.pitting_rating`).
+    caller, :func:`jaxgear.rating.pitting_rating`).
 
     Returns:
         :class:`PittingRating` (stresses in Pa, Z_E in √Pa).
@@ -191,7 +191,7 @@ def iso6336_pitting(geometry, operating, settings, factors: LoadFactors) -> Pitt
 
 def _cycles(settings, operating, u):
     """Load cycles N_L (pinion, gear) over the life: turns × the rated flank's cycles per turn
-    (:class:`jaxgear.ToothLoading`)."""
+    (:class:`jaxgear.rating.ToothLoading`)."""
     turns = jnp.stack([jnp.ones_like(u), 1 / jnp.abs(u)])  # u < 0: an internal pair
     per_turn = jnp.asarray(settings.loading.cycles_per_turn, dtype=turns.dtype) * turns
     return settings.life * operating.speed / (2 * jnp.pi) * per_turn
@@ -212,7 +212,7 @@ def _rim_factor(geometry, g):
 def iso6336_bending(geometry, operating, settings, factors: LoadFactors) -> BendingRating:
     """ISO 6336-3:2019 method B at the operating point (module docstring), under the load
     ``factors``; the editions' :meth:`AbstractEdition.bending` (arguments checked by the caller,
-    :func:`jaxgear.bending_rating`).
+    :func:`jaxgear.rating.bending_rating`).
 
     Y_β of the settings' edition (:class:`jaxgear.rating.Edition2019`: (1 − ε_β β/120°)/cos³ β,
     :class:`jaxgear.rating.Edition2006`: 1 − ε_β β/120°; ε_β <= 1, β <= 30°);
@@ -280,7 +280,7 @@ class AbstractEdition(AbstractRatingStandard):
     """ISO 6336 method B as a rating standard, in one of its editions, which differ in what
     jaxgear computes only in the helix angle factor Y_β of ISO 6336-3 (:meth:`helix_angle_factor`;
     every other factor is the same in both). A kind, passed as an object
-    (:attr:`jaxgear.RatingSettings.standard`): the load factors of ISO 6336-1
+    (:attr:`jaxgear.rating.RatingSettings.standard`): the load factors of ISO 6336-1
     (:meth:`load_factors`), pitting (:meth:`pitting`, ISO 6336-2), bending (:meth:`bending`,
     ISO 6336-3), the scope notes and the ``summary.json`` section of a rating."""
 
@@ -289,9 +289,10 @@ class AbstractEdition(AbstractRatingStandard):
     # attribute names of PittingRating, BendingRating and LoadFactors whose formula in it no
     # published worked example confirms
     #: where each factor and stress of the rating is defined in this edition: symbol (the
-    #: attribute names of :class:`jaxgear.rating.LoadFactors`, :class:`jaxgear.PittingRating`,
-    #: :class:`jaxgear.BendingRating`, and ``sigma_H_lim``, ``sigma_F_lim``) → "ISO 6336-3:2006
-    #: 6.2", or the part alone where the clause could not be checked (:func:`factor_clause`)
+    #: attribute names of :class:`jaxgear.rating.LoadFactors`, :class:`jaxgear.rating.PittingRating`,
+    #: :class:`jaxgear.rating.BendingRating`, and ``sigma_H_lim``, ``sigma_F_lim``) → "ISO
+    #: 6336-3:2006 6.2", or the part alone where the clause could not be checked
+    #: (:func:`factor_clause`)
     clauses: eqx.AbstractClassVar[dict[str, str]]
 
     @abc.abstractmethod
@@ -303,11 +304,11 @@ class AbstractEdition(AbstractRatingStandard):
         return iso6336_load_factors(geometry, operating, settings)
 
     def pitting(self, geometry, operating, settings, factors) -> PittingRating:
-        """ISO 6336-2 method B (:func:`jaxgear.pitting_rating`)."""
+        """ISO 6336-2 method B (:func:`jaxgear.rating.pitting_rating`)."""
         return iso6336_pitting(geometry, operating, settings, factors)
 
     def bending(self, geometry, operating, settings, factors) -> BendingRating:
-        """ISO 6336-3 method B with this edition's Y_β (:func:`jaxgear.bending_rating`)."""
+        """ISO 6336-3 method B with this edition's Y_β (:func:`jaxgear.rating.bending_rating`)."""
         return iso6336_bending(geometry, operating, settings, factors)
 
     def measured_factors(self, name: str) -> tuple[str, ...]:
@@ -515,7 +516,7 @@ class Edition2019(AbstractEdition):
         return _y_beta_2006(overlap_ratio, helix_angle) / jnp.cos(beta) ** 3
 
 
-#: The clauses of each edition by its label (:attr:`jaxgear.Rating.method`): label → symbol →
+#: The clauses of each edition by its label (:attr:`jaxgear.rating.Rating.method`): label → symbol →
 #: "ISO 6336-3:2006 6.2" (:attr:`AbstractEdition.clauses`)
 FACTOR_CLAUSES: dict[str, dict[str, str]] = {
     e.label: e.clauses for e in (Edition2006, Edition2019)
@@ -529,11 +530,11 @@ def factor_clause(symbol: str, edition: str) -> str:
 
     Args:
         symbol: an attribute name of :class:`jaxgear.rating.LoadFactors`,
-            :class:`jaxgear.PittingRating` or :class:`jaxgear.BendingRating` (``"Y_F"``,
-            ``"K_Hbeta"``, ``"sigma_H0"``; a ``summary()`` key's ``_Pa``/``_sqrt_Pa`` suffix is
-            dropped), or ``"sigma_H_lim"``, ``"sigma_F_lim"``.
-        edition: the edition's label (:attr:`AbstractEdition.label`, :attr:`jaxgear.Rating.method`:
-            ``"ISO 6336:2019 method B"``).
+            :class:`jaxgear.rating.PittingRating` or :class:`jaxgear.rating.BendingRating`
+            (``"Y_F"``, ``"K_Hbeta"``, ``"sigma_H0"``; a ``summary()`` key's ``_Pa``/``_sqrt_Pa``
+            suffix is dropped), or ``"sigma_H_lim"``, ``"sigma_F_lim"``.
+        edition: the edition's label (:attr:`AbstractEdition.label`,
+            :attr:`jaxgear.rating.Rating.method`: ``"ISO 6336:2019 method B"``).
 
     Raises:
         ValueError: an unknown symbol or edition, in one line naming the known ones.

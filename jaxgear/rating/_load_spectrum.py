@@ -7,7 +7,7 @@ takes pinion load cycles instead of times, :meth:`LoadSpectrum.from_time_series`
 sampled torque (and speed) history into torque levels (time at level, no rainflow: a gear's
 tooth sees one load cycle per mesh whatever the torque does in between).
 
-Each bin is rated as an operating point (:func:`jaxgear.rate`: its own K_v, K_Hβ, Z_v at its
+Each bin is rated as an operating point (:func:`jaxgear.rating.rate`: its own K_v, K_Hβ, Z_v at its
 torque and speed), which gives the bin's stresses σ_H,i and σ_F,i and the S–N line of each
 gear (:class:`SNCurve`)::
 
@@ -397,20 +397,21 @@ _RATE = eqx.filter_jit(rate)
 
 def rate_spectrum(geometry, spectrum: LoadSpectrum, settings) -> SpectrumRating:
     """Rate a pair under a load spectrum (ISO 6336-6:2019, module docstring): each bin rated at
-    its torque and speed (:func:`jaxgear.rate`, the settings as given: ISO 6336-6 takes K_A = 1
-    when the spectrum holds the driving and driven machines' loads, so pass
+    its torque and speed (:func:`jaxgear.rating.rate`, the settings as given: ISO 6336-6 takes K_A =
+    1 when the spectrum holds the driving and driven machines' loads, so pass
     ``application_factor=1`` then), its damage on each gear's S–N lines, the safety factors at a
     damage sum of 1 and the life.
 
     Args:
-        geometry: :class:`jaxgear.RatingGeometry` or :class:`jaxgear.InternalRatingGeometry`.
+        geometry: :class:`jaxgear.rating.RatingGeometry` or
+            :class:`jaxgear.rating.InternalRatingGeometry`.
         spectrum: :class:`LoadSpectrum` (pinion torque and speed per bin). settings:
-            :class:`jaxgear.RatingSettings` (its ``life`` cancels: each bin's cycles are its own,
-            n_i = t_i ω_i / 2π × the gear's cycles per pinion turn).
+            :class:`jaxgear.rating.RatingSettings` (its ``life`` cancels: each bin's cycles are its
+            own, n_i = t_i ω_i / 2π × the gear's cycles per pinion turn).
 
     Returns:
         :class:`SpectrumRating`. Concrete values only (each bin is rated by a jitted
-        :func:`jaxgear.rate` in turn, an idle bin skipped), not under ``jit`` as a whole; its
+        :func:`jaxgear.rating.rate` in turn, an idle bin skipped), not under ``jit`` as a whole; its
         parts :func:`miner_damage` and :func:`spectrum_safety` are pure ``jax.numpy``.
 
     Raises:
@@ -500,8 +501,8 @@ def rate_train_spectrum(meshes, spectrum: LoadSpectrum, reference) -> tuple[Spec
             path's torque and the driving member's speed relative to the carrier, the load
             sharing factor in the settings, :func:`jaxgear.rating.with_load_sharing`).
         spectrum: :class:`LoadSpectrum` of the input member (torque and speed per bin).
-        reference: :class:`jaxgear.OperatingPoint`, the input's torque (N·m) and speed (rad/s)
-            at which ``meshes``' operating points hold, each > 0.
+        reference: :class:`jaxgear.rating.OperatingPoint`, the input's torque (N·m) and speed
+            (rad/s) at which ``meshes``' operating points hold, each > 0.
 
     Returns:
         A :class:`SpectrumRating` per mesh (pinion / gear = driving / driven).
@@ -512,7 +513,7 @@ def rate_train_spectrum(meshes, spectrum: LoadSpectrum, reference) -> tuple[Spec
     w = "rate_train_spectrum"
     check_instance("spectrum", spectrum, LoadSpectrum, "a jaxgear.rating.LoadSpectrum", w)
     check_instance("reference", reference, OperatingPoint,
-                   "a jaxgear.OperatingPoint(torque, speed) of the input", w)
+                   "a jaxgear.rating.OperatingPoint(torque, speed) of the input", w)
     t_ref, w_ref = float(reference.torque), float(reference.speed)
     for name, v in (("reference.torque", t_ref), ("reference.speed", w_ref)):
         check_real(name, v, lo=0.0, lo_open=True, where=w)
@@ -523,7 +524,7 @@ def rate_train_spectrum(meshes, spectrum: LoadSpectrum, reference) -> tuple[Spec
                              "operating, settings) triple")
         geometry, operating, settings = mesh
         check_instance(f"meshes[{k}] operating", operating, OperatingPoint,
-                       "a jaxgear.OperatingPoint", w)
+                       "a jaxgear.rating.OperatingPoint", w)
         carried = spectrum.carried(abs(float(operating.torque)) / t_ref,
                                    abs(float(operating.speed)) / w_ref)
         out.append(rate_spectrum(geometry, carried, settings))

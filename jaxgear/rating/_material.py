@@ -2,7 +2,7 @@
 thickness, roughness and size factors that depend on the heat treatment.
 
 A kind of material is one concrete subclass of :class:`AbstractTreatment` (case hardened,
-through hardened, nitrided), passed to :class:`jaxgear.RatingMaterial` as an object; the case
+through hardened, nitrided), passed to :class:`jaxgear.rating.RatingMaterial` as an object; the case
 file's names map to them in :mod:`jaxgear.io` only. Every method is a pure ``jax.numpy``
 function of its arguments (SI units; cycles are counts).
 

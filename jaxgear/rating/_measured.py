@@ -202,7 +202,7 @@ def with_measured(geometry, settings, measured: dict):
     ``K_Halpha``) given in place of the standard's, as the standard ties them
     (:meth:`jaxgear.rating.AbstractRatingStandard.with_measured`; ISO 6336: each at least 1,
     K_Fα = K_Hα within clause 8's limits, K_Fβ = K_Hβ^N_F): rate with them
-    (:func:`jaxgear.rate`). No measured factor: ``settings`` themselves."""
+    (:func:`jaxgear.rating.rate`). No measured factor: ``settings`` themselves."""
     if not measured:
         return settings
     return settings.standard.with_measured(geometry, settings, dict(measured))

@@ -1,6 +1,6 @@
 """A rating at one operating point: :func:`rate` (the load factors, pitting and bending of the
-settings' standard, :attr:`jaxgear.RatingSettings.standard`, ISO 6336:2019 method B by default)
-and its parts :func:`load_factors`, :func:`pitting_rating`, :func:`bending_rating`; the
+settings' standard, :attr:`jaxgear.rating.RatingSettings.standard`, ISO 6336:2019 method B by
+default) and its parts :func:`load_factors`, :func:`pitting_rating`, :func:`bending_rating`; the
 arguments checked here, once, before the standard computes (:func:`check_rating_arguments`)."""
 
 from __future__ import annotations
@@ -25,8 +25,8 @@ __all__ = [
 
 class Rating(eqx.Module):
     """A whole rating: ``factors`` (:class:`jaxgear.rating.LoadFactors`), ``pitting`` and
-    ``bending`` (the standard's results: :class:`jaxgear.PittingRating`,
-    :class:`jaxgear.BendingRating` for ISO 6336), ``standard`` (the
+    ``bending`` (the standard's results: :class:`jaxgear.rating.PittingRating`,
+    :class:`jaxgear.rating.BendingRating` for ISO 6336), ``standard`` (the
     :class:`jaxgear.rating.AbstractRatingStandard` it follows); :attr:`method` its label (e.g.
     "ISO 6336:2019 method B"), :meth:`summary` the JSON section, :meth:`scope_notes` where the
     inputs leave the standard's scope."""
@@ -65,15 +65,15 @@ class Rating(eqx.Module):
 
 def check_rating_arguments(where: str, geometry, operating, settings) -> None:
     """Refuse, in one ``ValueError`` line naming the argument, a rating's ``geometry`` that is
-    not a :class:`jaxgear.rating.AbstractRatingGeometry` (:class:`jaxgear.RatingGeometry`,
-    :class:`jaxgear.InternalRatingGeometry`), an
-    ``operating`` point that is not an :class:`jaxgear.OperatingPoint` or ``settings`` that are
-    not :class:`jaxgear.RatingSettings` (before any of their fields is read)."""
+    not a :class:`jaxgear.rating.AbstractRatingGeometry` (:class:`jaxgear.rating.RatingGeometry`,
+    :class:`jaxgear.rating.InternalRatingGeometry`), an
+    ``operating`` point that is not an :class:`jaxgear.rating.OperatingPoint` or ``settings`` that
+    are not :class:`jaxgear.rating.RatingSettings` (before any of their fields is read)."""
     check_instance("geometry", geometry, AbstractRatingGeometry,
-                   "a jaxgear.RatingGeometry or jaxgear.InternalRatingGeometry", where)
+                   "a jaxgear.rating.RatingGeometry or jaxgear.rating.InternalRatingGeometry", where)
     check_instance("operating", operating, OperatingPoint,
-                   "a jaxgear.OperatingPoint(torque, speed)", where)
-    check_instance("settings", settings, RatingSettings, "a jaxgear.RatingSettings", where)
+                   "a jaxgear.rating.OperatingPoint(torque, speed)", where)
+    check_instance("settings", settings, RatingSettings, "a jaxgear.rating.RatingSettings", where)
 
 
 def load_factors(geometry, operating, settings) -> LoadFactors:
@@ -83,9 +83,10 @@ def load_factors(geometry, operating, settings) -> LoadFactors:
     factors replace computed ones.
 
     Args:
-        geometry: :class:`jaxgear.RatingGeometry` or :class:`jaxgear.InternalRatingGeometry`.
-        operating: :class:`jaxgear.OperatingPoint` (N·m, rad/s). settings:
-            :class:`jaxgear.RatingSettings`.
+        geometry: :class:`jaxgear.rating.RatingGeometry` or
+            :class:`jaxgear.rating.InternalRatingGeometry`.
+        operating: :class:`jaxgear.rating.OperatingPoint` (N·m, rad/s). settings:
+            :class:`jaxgear.rating.RatingSettings`.
 
     Raises:
         ValueError: an argument of the wrong kind (:func:`check_rating_arguments`)."""
@@ -96,8 +97,8 @@ def load_factors(geometry, operating, settings) -> LoadFactors:
 def pitting_rating(geometry, operating, settings, factors: LoadFactors | None = None):
     """The pitting rating of the settings' standard at the operating point
     (:meth:`jaxgear.rating.AbstractRatingStandard.pitting`; ISO 6336-2 method B:
-    :class:`jaxgear.PittingRating`, stresses in Pa, Z_E in √Pa). ``factors``: the load factors
-    (default :func:`load_factors` of the same arguments).
+    :class:`jaxgear.rating.PittingRating`, stresses in Pa, Z_E in √Pa). ``factors``: the load
+    factors (default :func:`load_factors` of the same arguments).
 
     Raises:
         ValueError: an argument of the wrong kind (:func:`check_rating_arguments`)."""
@@ -110,7 +111,7 @@ def pitting_rating(geometry, operating, settings, factors: LoadFactors | None = 
 def bending_rating(geometry, operating, settings, factors: LoadFactors | None = None):
     """The bending rating of the settings' standard at the operating point
     (:meth:`jaxgear.rating.AbstractRatingStandard.bending`; ISO 6336-3 method B:
-    :class:`jaxgear.BendingRating`, stresses in Pa; Y_β of the edition:
+    :class:`jaxgear.rating.BendingRating`, stresses in Pa; Y_β of the edition:
     :class:`jaxgear.rating.Edition2019` (1 − ε_β β/120°)/cos³ β,
     :class:`jaxgear.rating.Edition2006` 1 − ε_β β/120°, ε_β <= 1, β <= 30°). ``factors``: the
     load factors (default :func:`load_factors` of the same arguments).
@@ -125,7 +126,7 @@ def bending_rating(geometry, operating, settings, factors: LoadFactors | None = 
 
 def rate(geometry, operating, settings) -> Rating:
     """The whole rating at one operating point, of the settings' standard
-    (:attr:`jaxgear.RatingSettings.standard`, ISO 6336:2019 method B by default): its load
+    (:attr:`jaxgear.rating.RatingSettings.standard`, ISO 6336:2019 method B by default): its load
     factors, pitting and bending (:func:`load_factors`, :func:`pitting_rating`,
     :func:`bending_rating`).
 
@@ -133,8 +134,8 @@ def rate(geometry, operating, settings) -> Rating:
         geometry: a pair's ``RatingGeometry.of(pair)``; an internal pair's
             ``InternalRatingGeometry.of(pair)``, member 0 the pinion, member 1 the internal
             gear, with the standard's internal-gear rules.
-        operating: :class:`jaxgear.OperatingPoint` (torque T₁ on the pinion, N·m; its speed,
-            rad/s). settings: :class:`jaxgear.RatingSettings`.
+        operating: :class:`jaxgear.rating.OperatingPoint` (torque T₁ on the pinion, N·m; its speed,
+            rad/s). settings: :class:`jaxgear.rating.RatingSettings`.
 
     Returns:
         :class:`Rating`. Pure and jit-able (``eqx.filter_jit``); differentiable with respect to

@@ -1,4 +1,4 @@
-"""Settings and operating point of a rating (:func:`jaxgear.rate`): the material,
+"""Settings and operating point of a rating (:func:`jaxgear.rating.rate`): the material,
 lubrication, accuracy, life, given load factors and the standard (:class:`RatingSettings`), and the operating
 point (:class:`OperatingPoint`), an argument of the rating, never a field of its settings. SI
 units; each constructor refuses bad input in one line naming the parameter, its value and the
@@ -293,13 +293,13 @@ class RatingSettings(eqx.Module):
         min_safety_* > 0, and each part of its kind (a traced number: its shape only)."""
         w = "RatingSettings"
         for name, kind, allowed in (
-            ("material", RatingMaterial, "a jaxgear.RatingMaterial"),
-            ("lubrication", Lubrication, "a jaxgear.Lubrication"),
-            ("accuracy", GearAccuracy, "a jaxgear.GearAccuracy (e.g. GearAccuracy.from_grade)"),
-            ("given", GivenFactors, "a jaxgear.GivenFactors"),
+            ("material", RatingMaterial, "a jaxgear.rating.RatingMaterial"),
+            ("lubrication", Lubrication, "a jaxgear.rating.Lubrication"),
+            ("accuracy", GearAccuracy, "a jaxgear.rating.GearAccuracy (e.g. GearAccuracy.from_grade)"),
+            ("given", GivenFactors, "a jaxgear.rating.GivenFactors"),
             ("standard", AbstractRatingStandard,
              "a jaxgear.rating.AbstractRatingStandard (jaxgear.rating.Edition2019(), ...)"),
-            ("loading", ToothLoading, "a jaxgear.ToothLoading"),
+            ("loading", ToothLoading, "a jaxgear.rating.ToothLoading"),
         ):
             check_instance(name, getattr(self, name), kind, allowed, w)
         scalar = {"shape": (), "shape_text": "a scalar", "where": w}

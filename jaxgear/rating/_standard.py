@@ -1,8 +1,8 @@
 """The seam of the load-capacity rating: a rating standard is a kind, passed as an object
-(:attr:`jaxgear.RatingSettings.standard`), as a solver is in diffrax. The rating pipeline
-(:func:`jaxgear.rate`, ``jaxgear run``'s rating section) asks a standard for its load factors,
-its pitting and its bending results and the ``summary.json`` section of them; ISO 6336:2006 and
-ISO 6336:2019 are two of its kinds (:class:`jaxgear.rating.Edition2006`,
+(:attr:`jaxgear.rating.RatingSettings.standard`), as a solver is in diffrax. The rating pipeline
+(:func:`jaxgear.rating.rate`, ``jaxgear run``'s rating section) asks a standard for its load
+factors, its pitting and its bending results and the ``summary.json`` section of them; ISO 6336:2006
+and ISO 6336:2019 are two of its kinds (:class:`jaxgear.rating.Edition2006`,
 :class:`jaxgear.rating.Edition2019`), a second standard (AGMA 2001, say) is a third one written
 beside them. The names a case file spells (``[rating] edition = 2006``) map to these objects in
 :mod:`jaxgear.io` only."""
@@ -32,12 +32,12 @@ class AbstractRatingStandard(eqx.Module):
     """A load-capacity standard (and its edition) a rating follows.
 
     A kind: subclass it, give it a :attr:`label` and the three computations below, and pass an
-    instance as :attr:`jaxgear.RatingSettings.standard` (a case in Python:
+    instance as :attr:`jaxgear.rating.RatingSettings.standard` (a case in Python:
     ``case.replace(rating_standard=...)``, :class:`jaxgear.io.Case`). Every method is given the
-    rating's checked arguments: ``geometry`` (:class:`jaxgear.RatingGeometry` or
-    :class:`jaxgear.InternalRatingGeometry`), ``operating`` (:class:`jaxgear.OperatingPoint`:
-    torque T₁ on the pinion, N·m, and its speed, rad/s) and ``settings``
-    (:class:`jaxgear.RatingSettings`), all in SI units.
+    rating's checked arguments: ``geometry`` (:class:`jaxgear.rating.RatingGeometry` or
+    :class:`jaxgear.rating.InternalRatingGeometry`), ``operating``
+    (:class:`jaxgear.rating.OperatingPoint`: torque T₁ on the pinion, N·m, and its speed, rad/s) and
+    ``settings`` (:class:`jaxgear.rating.RatingSettings`), all in SI units.
 
     Results. :meth:`pitting` returns an ``equinox.Module`` with at least ``sigma_H`` (Pa) and
     ``S_H`` (-), per gear (2,) [pinion, gear]; :meth:`bending` one with ``sigma_F`` (Pa) and
@@ -48,7 +48,7 @@ class AbstractRatingStandard(eqx.Module):
 
     Attributes:
         label: the standard's name and edition, e.g. "ISO 6336:2019 method B"
-            (:attr:`jaxgear.Rating.method`).
+            (:attr:`jaxgear.rating.Rating.method`).
         unconfirmed: the names of the results whose formula in this standard no published
             worked example confirms (empty: all confirmed), for the report to state.
     """
@@ -71,8 +71,8 @@ class AbstractRatingStandard(eqx.Module):
         """The tooth bending results under the load ``factors``."""
 
     def scope_notes(self, rating) -> list[str]:
-        """Where the inputs of ``rating`` (a :class:`jaxgear.Rating` of this standard) leave the
-        standard's scope, one line each (default: none). Concrete values only."""
+        """Where the inputs of ``rating`` (a :class:`jaxgear.rating.Rating` of this standard) leave
+        the standard's scope, one line each (default: none). Concrete values only."""
         return []
 
     def summary(self, rating) -> dict:
