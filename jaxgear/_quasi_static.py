@@ -54,9 +54,9 @@ class MeshResult(eqx.Module):
         cell_s, cell_z: cell coordinates in the base plane (m), shape (P, L, N).
         cell_mask: cells on the flanks, shape (P, L, N).
         mesh_stiffness_on_path: the part of ``mesh_stiffness`` from the loaded cells on the
-            theoretical path of contact, 0 <= s <= g_α (N/m), shape (P,): all of it without
-            contact beyond the path (``MeshModel.contact_geometry`` a ``BeyondPath``); with it, the tip corners'
-            cells beyond the path are left out (docs/extended-contact.md, "Mesh stiffness on
+            theoretical path of contact, 0 <= s <= g_α (N/m), shape (P,): all of it on a
+            :class:`~jaxgear.TheoreticalPath` (``MeshModel.contact_geometry``); on a
+            :class:`~jaxgear.BeyondPath` the tip corners' cells beyond the path are left out (docs/extended-contact.md, "Mesh stiffness on
             and beyond the path"). ``None`` in a result built by hand.
     """
 

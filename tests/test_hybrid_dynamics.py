@@ -66,7 +66,9 @@ def _sweep(scene, mods, torque, speeds, *, damping=None, rotating_frame=False, *
 def setup(fem_prep_cache):
     # theoretical path: the all-coordinate references written here (_newmark_all_coordinates)
     # take the flank gaps of the path, not the corner gaps beyond it
-    case = jio.load_case(DATA / "hybrid-test-case.toml").replace(contact_geometry=jg.TheoreticalPath())
+    case = jio.load_case(DATA / "hybrid-test-case.toml").replace(
+        contact_geometry=jg.TheoreticalPath()
+    )
     body = fem_prep.condensed(DATA / "hybrid-test-wheel.toml")
     return case, static_scene(case, bodies=(None, body))[0]
 

@@ -29,7 +29,10 @@ def spur():
     face in single-pair contact), exact contact."""
     # theoretical path: Hertz's p₀ ∝ √w below needs a contact pattern that the load does not move
     case = jio.load_case("accessory-spur").replace(
-        stiffness=jg.Uniform(1.4e10), slices=4, positions_per_pitch=PPP, contact_geometry=jg.TheoreticalPath()
+        stiffness=jg.Uniform(1.4e10),
+        slices=4,
+        positions_per_pitch=PPP,
+        contact_geometry=jg.TheoreticalPath(),
     )
     res = jg.quasi_static(case.mesh_model(), None, case.torque, positions_per_pitch=PPP)
     return case, res

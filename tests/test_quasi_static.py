@@ -218,7 +218,8 @@ def test_exact_contact_conditions_and_independent_root(name):
     not interfere (Δ ≤ tiny), Σ p l = F_n, and δ equals the root of the monotone piecewise-linear
     Σ k l max(0, δ − δ0) − F_n found by scipy's brentq."""
     case, mesh, theta = _weber(name)
-    mesh = mesh.with_contact_geometry(jg.TheoreticalPath())  # the reference's cells: the theoretical path's
+    # the reference's cells: the theoretical path's
+    mesh = mesh.with_contact_geometry(jg.TheoreticalPath())
     mods = case.modifications
     res = jg.quasi_static(mesh, mods, case.torque, theta)
     fn = _normal_load(case.pair, case.torque)

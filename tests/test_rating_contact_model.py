@@ -113,10 +113,12 @@ def test_planetary_rows_state_the_stage_meshes_contact_model(tmp_path):
     st = stage(geo, 3)
     contact = jg.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(K0))
     assert stage_contact_model(contact) == THEORETICAL
-    ext = dataclasses.replace(contact, sun_mesh=dataclasses.replace(contact.sun_mesh,
-                                                                    contact_geometry=jg.BeyondPath()),
-                              ring_mesh=dataclasses.replace(contact.ring_mesh,
-                                                            contact_geometry=jg.BeyondPath()))
+    beyond = jg.BeyondPath()
+    ext = dataclasses.replace(
+        contact,
+        sun_mesh=dataclasses.replace(contact.sun_mesh, contact_geometry=beyond),
+        ring_mesh=dataclasses.replace(contact.ring_mesh, contact_geometry=beyond),
+    )
     assert stage_contact_model(ext) == EXTENDED
     assert "no tooth contact" in stage_contact_model(jg.ConstantMeshes(contact.mesh_period()))
     sweep = {"speeds_rad_s": [1.0, 2.0], "mesh_names": ["s1", "s2", "r1", "r2"],

@@ -52,8 +52,8 @@ def contact_model(meshes) -> str:
     """The words of the contact model of a run's meshes, the caveat every measured factor
     carries (:class:`MeasuredFactor`): each mesh model's ``contact_geometry``'s
     ``description`` (:class:`jaxgear.MeshModel`): :data:`EXTENDED_CONTACT` beyond the path,
-    :data:`THEORETICAL_CONTACT` on it; :data:`MESH_SPRINGS` for no mesh model (an empty sequence: a lumped model's
-    constant mesh springs, no contact path). Meshes that differ: each named by its position
+    :data:`THEORETICAL_CONTACT` on it; :data:`MESH_SPRINGS` for no mesh model (an empty
+    sequence: a lumped model's constant mesh springs, no contact path). Meshes that differ: each named by its position
     ("mesh 1: ...; mesh 2: ...").
 
     Args:
