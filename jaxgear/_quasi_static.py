@@ -56,8 +56,9 @@ class MeshResult(eqx.Module):
         mesh_stiffness_on_path: the part of ``mesh_stiffness`` from the loaded cells on the
             theoretical path of contact, 0 <= s <= g_α (N/m), shape (P,): all of it on a
             :class:`~jaxgear.TheoreticalPath` (``MeshModel.contact_geometry``); on a
-            :class:`~jaxgear.BeyondPath` the tip corners' cells beyond the path are left out (docs/extended-contact.md, "Mesh stiffness on
-            and beyond the path"). ``None`` in a result built by hand.
+            :class:`~jaxgear.BeyondPath` the tip corners' cells beyond the path are left out
+            (docs/extended-contact.md, "Mesh stiffness on and beyond the path"). ``None`` in a
+            result built by hand.
     """
 
     transmission_error: Float[Array, " P"]
