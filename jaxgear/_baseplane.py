@@ -331,7 +331,7 @@ class MeshModel(eqx.Module):
             "MeshModel.extended_contact is deprecated: read "
             "mesh.contact_geometry (jaxgear.TheoreticalPath or jaxgear.BeyondPath)",
             DeprecationWarning,
-            stacklevel=2,
+            stacklevel=3,  # the caller's, past equinox's property access
         )
         return self.contact_geometry.reaches_beyond_path
 
@@ -365,7 +365,7 @@ class MeshModel(eqx.Module):
             "MeshModel.with_extended_contact is deprecated: use "
             "mesh.with_contact_geometry(jaxgear.TheoreticalPath()) (or BeyondPath())",
             DeprecationWarning,
-            stacklevel=2,
+            stacklevel=3,  # the caller's, past equinox's bound method
         )
         return self.with_contact_geometry(contact_geometry_of(extended))
 
