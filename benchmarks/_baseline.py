@@ -121,7 +121,11 @@ def baseline_mesh(
         poisson_ratio=case.poisson_ratio,
         line_load=case.nominal_line_load(torque),
     )
-    extended = case.extended_contact if extended_contact is None else bool(extended_contact)
+    extended = (
+        case.contact_geometry.reaches_beyond_path
+        if extended_contact is None
+        else bool(extended_contact)
+    )
     ext = {}
     if extended:
         span, gap = extension_table(pair)

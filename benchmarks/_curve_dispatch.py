@@ -106,7 +106,7 @@ def _setup(case: str, quick: bool) -> tuple[dict, dict]:
     import jax
     import jax.numpy as jnp
 
-    from jaxgear import compile_quasi_static, quasi_static
+    from jaxgear import TheoreticalPath, compile_quasi_static, quasi_static
     from jaxgear.io import load_case
 
     from . import _baseline as bl
@@ -158,9 +158,9 @@ def _setup(case: str, quick: bool) -> tuple[dict, dict]:
             1,
         ),
     }
-    if mesh.extended_contact:  # the other contact model, like with like
+    if mesh.contact_geometry.reaches_beyond_path:  # the other contact model, like with like
         tip_th = compile_quasi_static(
-            mesh.with_extended_contact(False),
+            mesh.with_contact_geometry(TheoreticalPath()),
             mods,
             positions_per_pitch=P,
             output=lambda r: r.transmission_error,

@@ -31,7 +31,7 @@ import time
 
 import numpy as np
 
-from jaxgear import SmoothContact
+from jaxgear import SmoothContact, TheoreticalPath
 from jaxgear.io import contact_law_from_name
 
 from ._charts import thin_tick_labels
@@ -157,15 +157,15 @@ def bench_quasi_static(
     # the contact models compared like with like: the case's (key "case") and, where the case
     # has contact beyond the path, the theoretical path in both codes
     models = {"case": (mesh, bmesh)}
-    if mesh.extended_contact:
+    if mesh.contact_geometry.reaches_beyond_path:
         models["theoretical_path"] = (
-            mesh.with_extended_contact(False),
+            mesh.with_contact_geometry(TheoreticalPath()),
             bl.baseline_mesh(c, extended_contact=False),
         )
-    out["settings"]["extended_contact"] = bool(mesh.extended_contact)
+    out["settings"]["extended_contact"] = bool(mesh.contact_geometry.reaches_beyond_path)
     out["settings"]["contact_models"] = {
         "case": "contact beyond the theoretical path (tip corners), in jaxgear and the baseline"
-        if mesh.extended_contact
+        if mesh.contact_geometry.reaches_beyond_path
         else "the theoretical path",
         **({"theoretical_path": "the theoretical path, in both"} if len(models) > 1 else {}),
     }
@@ -319,11 +319,11 @@ def bench_quasi_static(
     # (d) speed vs accuracy: each contact model against its own converged reference ----------
     references, points = {}, []
     for model in models:
-        extended = model == "case" and mesh.extended_contact
+        extended = model == "case" and mesh.contact_geometry.reaches_beyond_path
 
         def mesh_of(n, extended=extended):
             m_n = c.mesh_model(slices=n)
-            return m_n if extended else m_n.with_extended_contact(False)
+            return m_n if extended else m_n.with_contact_geometry(TheoreticalPath())
 
         ref = quasi_static(mesh_of(ref_slices), mods, torque, positions_per_pitch=ref_ppp)
         ref_np = bl.te_curve_numpy(

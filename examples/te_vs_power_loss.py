@@ -88,7 +88,8 @@ def main(
     out_dir = pathlib.Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     # on the theoretical path of contact, as GEARpie's C14 reference (docs/tribology.md)
-    case = jio.load_case(HERE / "fzg-c14-lubricated.toml").replace(extended_contact=False)
+    case = jio.load_case(HERE / "fzg-c14-lubricated.toml")
+    case = case.replace(contact_geometry=jg.TheoreticalPath())
     loss_problem = jio.case_problem(case, VARS, "power_loss", positions_per_pitch=positions)
     lub = loss_problem.objective.lubrication
     sharp = loss_problem.sharp()

@@ -38,6 +38,11 @@ from ._contact import (
     solve_contact as solve_contact,
     solve_contact_cells as solve_contact_cells,
 )
+from ._contact_geometry import (
+    AbstractContactGeometry as AbstractContactGeometry,
+    BeyondPath as BeyondPath,
+    TheoreticalPath as TheoreticalPath,
+)
 from ._deviations import (
     Deviations as Deviations,
     GearDeviations as GearDeviations,

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import warnings
 from collections.abc import Sequence
 from typing import NamedTuple
 
@@ -25,9 +26,15 @@ from jax.scipy.linalg import block_diag
 from jaxtyping import Array, Bool, Float, Int
 
 from ._backlash import cell_flank, coast_phase
-from ._extended import corner_table, extension_table, line_range
+from ._contact_geometry import (
+    AbstractContactGeometry,
+    TheoreticalPath,
+    contact_geometry_of,
+    line_layout,
+)
+from ._extended import line_range
 from ._geometry import GearPair
-from ._util import as_float, compiled_when_eager
+from ._util import as_float, check_instance, compiled_when_eager
 
 __all__ = [
     "CellRow",
@@ -188,8 +195,8 @@ class MeshModel(eqx.Module):
         coast: static; True: the cells hold the coast flanks too (rows ``n_drive_lines`` on,
             ``flank`` −1), whose contact closes when the motion takes up the backlash.
         extension_span: (S_a, S_r) (m), how far the cells reach before the theoretical start of
-            contact (s ∈ [−S_a, 0)) and after its end (s ∈ (g_α, g_α + S_r]); (0, 0) without
-            ``extended_contact``.
+            contact (s ∈ [−S_a, 0)) and after its end (s ∈ (g_α, g_α + S_r]); (0, 0) for a model
+            built on the theoretical path alone.
         extension_gap: the tip-corner gaps there (m, transverse, :class:`jaxgear.CornerContact`),
             shape (2, n_ext): row 0 at s = −S_a u, row 1 at s = g_α + S_r u, u equally spaced
             on [0, 1].
@@ -197,8 +204,11 @@ class MeshModel(eqx.Module):
             ``extension_gap``: the tip owner's lever ratio λ, the normal's angle ε (rad) from
             the line of action and the contact point's offset (o_t, o_v) (m) from the line of
             action (:func:`jaxgear._extended.corner_table`; :meth:`corner`).
-        extended_contact: static; True: contact beyond the theoretical path (premature
-            engagement and late disengagement at the tip corners; docs/extended-contact.md).
+        contact_geometry: static; where the teeth can touch
+            (:class:`~jaxgear.AbstractContactGeometry`): :class:`~jaxgear.TheoreticalPath`
+            (default) or :class:`~jaxgear.BeyondPath`, contact beyond the theoretical path too
+            (premature engagement and late disengagement at the tip corners;
+            docs/extended-contact.md).
         n_lines: static, the rows of the cell arrays (drive and coast lines with ``coast``).
     """
 
@@ -224,7 +234,7 @@ class MeshModel(eqx.Module):
     extension_corner: Float[Array, "2 4 n_ext"] = eqx.field(
         converter=as_float, default=(((1.0, 1.0), (0.0, 0.0), (0.0, 0.0), (0.0, 0.0)),) * 2
     )
-    extended_contact: bool = eqx.field(static=True, default=False)
+    contact_geometry: AbstractContactGeometry = eqx.field(static=True, default=TheoreticalPath())
 
     def __check_init__(self):
         if self.n_slices < 1:
@@ -238,7 +248,8 @@ class MeshModel(eqx.Module):
         stiffness_k: np.ndarray,
         n_slices: int,
         coast: bool = False,
-        extended_contact: bool = False,
+        contact_geometry: AbstractContactGeometry = TheoreticalPath(),
+        extended_contact: bool | None = None,
     ) -> MeshModel:
         """Lay out cells for ``pair`` with ``n_slices`` slices per contact line.
 
@@ -249,10 +260,31 @@ class MeshModel(eqx.Module):
             n_slices: slices N per contact line (>= 1).
             coast: also lay out the coast flanks (the second base plane) with the pair's
                 backlash (docs/backlash.md); default False: the drive flanks alone.
-            extended_contact: also lay out cells beyond the theoretical path of contact, where
-                the tip corners can touch the mating flanks under load
-                (:func:`jaxgear.extension_table`; docs/extended-contact.md).
+            contact_geometry: where the teeth can touch: :class:`~jaxgear.TheoreticalPath`
+                (default), or :class:`~jaxgear.BeyondPath` to lay out cells beyond the
+                theoretical path of contact too, where the tip corners can touch the mating
+                flanks under load (:func:`jaxgear.extension_table`; docs/extended-contact.md).
+            extended_contact: deprecated: ``True`` is ``contact_geometry=BeyondPath()``,
+                ``False`` ``TheoreticalPath()`` (a DeprecationWarning).
+
+        Raises:
+            ValueError: bad slices or table; :class:`~jaxgear.BeyondPath` with ``coast``.
         """
+        if extended_contact is not None:
+            warnings.warn(
+                "MeshModel.from_pair(extended_contact=...) is deprecated: pass "
+                "contact_geometry=jaxgear.BeyondPath() (True) or jaxgear.TheoreticalPath() (False)",
+                DeprecationWarning,
+                stacklevel=2,
+            )
+            contact_geometry = contact_geometry_of(extended_contact)
+        check_instance(
+            "contact_geometry",
+            contact_geometry,
+            AbstractContactGeometry,
+            "a jaxgear.AbstractContactGeometry (TheoreticalPath() or BeyondPath())",
+            "MeshModel.from_pair",
+        )
         if int(n_slices) != n_slices or n_slices < 1:
             raise ValueError(f"mesh.slices = {n_slices!r} is out of range: allowed an integer >= 1")
         ds = np.diff(np.asarray(stiffness_s, dtype=float))
@@ -261,17 +293,7 @@ class MeshModel(eqx.Module):
                 "stiffness_s must be an equally spaced, increasing table of >= 2 points "
                 "(as stiffness_table returns)"
             )
-        span, gap = (0.0, 0.0), np.zeros((2, 2))
-        corner = np.zeros((2, 4, 2))
-        corner[:, 0] = 1.0
-        if extended_contact:
-            if coast:
-                raise ValueError(
-                    "mesh.extended_contact with backlash (coast flanks) is not modelled: set "
-                    "mesh.extended_contact = false or drop the tooth thickness allowances"
-                )
-            span, gap = extension_table(pair)
-            corner = corner_table(pair, span, gap.shape[1])
+        span, gap, corner = contact_geometry.tables(pair, bool(coast))
         lead = pair.face_width * math.tan(pair.base_helix_angle)
         first, last = line_range(pair.path_of_contact, pair.base_pitch, lead, span)
         n_lines = last - first + 1
@@ -298,28 +320,54 @@ class MeshModel(eqx.Module):
             extension_span=span,
             extension_gap=gap,
             extension_corner=corner,
-            extended_contact=bool(extended_contact),
+            contact_geometry=contact_geometry,
+        )
+
+    @property
+    def extended_contact(self) -> bool:
+        """Deprecated (a DeprecationWarning): whether the cells reach beyond the theoretical
+        path, ``contact_geometry.reaches_beyond_path``."""
+        warnings.warn(
+            "MeshModel.extended_contact is deprecated: read "
+            "mesh.contact_geometry (jaxgear.TheoreticalPath or jaxgear.BeyondPath)",
+            DeprecationWarning,
+            stacklevel=3,  # the caller's, past equinox's property access
+        )
+        return self.contact_geometry.reaches_beyond_path
+
+    def with_contact_geometry(self, geometry: AbstractContactGeometry) -> MeshModel:
+        """This mesh model with the contact geometry ``geometry`` and the contact lines it lays
+        out (:class:`~jaxgear.TheoreticalPath`: the cells beyond the path dropped;
+        :class:`~jaxgear.BeyondPath` needs the gap tables of :meth:`from_pair`).
+
+        Raises:
+            ValueError: :class:`~jaxgear.BeyondPath` for a model built without its tables.
+        """
+        check_instance(
+            "contact_geometry",
+            geometry,
+            AbstractContactGeometry,
+            "a jaxgear.AbstractContactGeometry (TheoreticalPath() or BeyondPath())",
+            "MeshModel.with_contact_geometry",
+        )
+        if geometry == self.contact_geometry:
+            return self
+        n_lines, first = line_layout(self, geometry)
+        return dataclasses.replace(
+            self, n_lines=n_lines, first_line=first, contact_geometry=geometry
         )
 
     def with_extended_contact(self, extended: bool) -> MeshModel:
-        """This mesh model with (``True``) or without (``False``) its cells beyond the
-        theoretical path; the gap table of :meth:`from_pair` must be there to turn it on.
-
-        Raises:
-            ValueError: turning it on for a model built without ``extended_contact``.
-        """
-        if extended == self.extended_contact:
-            return self
-        if extended:
-            raise ValueError(
-                "extended_contact = True needs the gap table: build the mesh model with "
-                "MeshModel.from_pair(..., extended_contact=True)"
-            )
-        lead = self.face_width * jnp.tan(self.base_helix_angle)
-        first, last = line_range(self.path_of_contact, self.base_pitch, lead)
-        return dataclasses.replace(
-            self, n_lines=last - first + 1, first_line=first, extended_contact=False
+        """Deprecated (a DeprecationWarning): :meth:`with_contact_geometry` of
+        :class:`~jaxgear.BeyondPath` (``True``) or :class:`~jaxgear.TheoreticalPath`
+        (``False``)."""
+        warnings.warn(
+            "MeshModel.with_extended_contact is deprecated: use "
+            "mesh.with_contact_geometry(jaxgear.TheoreticalPath()) (or BeyondPath())",
+            DeprecationWarning,
+            stacklevel=3,  # the caller's, past equinox's bound method
         )
+        return self.with_contact_geometry(contact_geometry_of(extended))
 
     @property
     def base_planes(self) -> tuple[MeshModel]:
@@ -367,9 +415,7 @@ class MeshModel(eqx.Module):
             s = jnp.concatenate([s, layout(self.coast_angle - theta)])
             flank = jnp.concatenate([flank, -flank])
             line = jnp.concatenate([line, line])
-        lo, hi = 0.0, self.path_of_contact
-        if self.extended_contact:  # the cells beyond the theoretical path
-            lo, hi = -self.extension_span[0], hi + self.extension_span[1]
+        lo, hi = self.contact_geometry.cell_range(self)
         mask = (s >= lo) & (s <= hi)
         k = _interp_uniform(s, self.stiffness_s, self.stiffness_k)
         length = jnp.broadcast_to(dz / jnp.cos(self.base_helix_angle), s.shape)
@@ -388,12 +434,9 @@ class MeshModel(eqx.Module):
 
     def extension_separation(self, s: Float[Array, "..."]) -> Float[Array, "..."]:
         """The flank-normal tip-corner gap (m) at base-plane coordinates ``s`` (m): 0 on the
-        theoretical path [0, g_α] and without ``extended_contact``; beyond it the table
-        ``extension_gap`` × cos β_b (interpolated)."""
-        if not self.extended_contact:
-            return jnp.zeros_like(s)
-        beyond, _, values = self._beyond_path(s)
-        return jnp.where(beyond, values[..., 0], 0.0) * jnp.cos(self.base_helix_angle)
+        theoretical path [0, g_α] and on a :class:`~jaxgear.TheoreticalPath`; beyond it the
+        table ``extension_gap`` × cos β_b (interpolated)."""
+        return self.contact_geometry.corner_gap(self, s)
 
     def corner(self, s: Float[Array, "..."]) -> tuple:
         """Where the force of a cell at base-plane coordinates ``s`` (m) acts
@@ -403,17 +446,10 @@ class MeshModel(eqx.Module):
         lever ratio λ(s) = d_T/r_bT, the flank owner 1 (its normal is tangent to its base
         circle); ε (rad) turns the transverse normal from the line of action (t' = cos ε t −
         sin ε v, v the unit vector from the driving gear's centre to its tangent point T1) and
-        the contact point (the corner) sits at M + o_t t + o_v v. On the path, and without
-        ``extended_contact``: (1, 1, 0, 0, 0). Source: :class:`jaxgear.CornerContact`."""
-        one, zero = jnp.ones_like(s), jnp.zeros_like(s)
-        if not self.extended_contact:
-            return one, one, zero, zero, zero
-        beyond, after, values = self._beyond_path(s)
-        on_path = jnp.asarray([1.0, 0.0, 0.0, 0.0], values.dtype)
-        lam, eps, o_t, o_v = jnp.moveaxis(
-            jnp.where(beyond[..., None], values[..., 1:], on_path), -1, 0
-        )
-        return jnp.where(after, lam, one), jnp.where(beyond & ~after, lam, one), eps, o_t, o_v
+        the contact point (the corner) sits at M + o_t t + o_v v. On the path, and on a
+        :class:`~jaxgear.TheoreticalPath`: (1, 1, 0, 0, 0). Source:
+        :class:`jaxgear.CornerContact`."""
+        return self.contact_geometry.corner(self, s)
 
     def _beyond_path(self, s) -> tuple:
         """(beyond, after, values) at base-plane coordinates ``s`` (m): whether each cell lies
@@ -450,15 +486,9 @@ class MeshModel(eqx.Module):
         a shaft's tilt included), compared with the separation it would have at the
         extension's end: like with like. The mesh's approach on the members' coordinates
         (u·X, the TE's) is not the cells': with a condensed body it holds the body's twist
-        between the hub and the rim, which closes no gap. False without ``extended_contact``."""
-        if not self.extended_contact:
-            return jnp.asarray(False)
-        s = cells.s
-        lead = cells.mask & (s < 0.0)
-        trail = cells.mask & (s > self.path_of_contact)
-        end = self.extension_gap[:, -1] * jnp.cos(self.base_helix_angle)
-        reach = gap + self.extension_separation(s)
-        return jnp.any(lead & (reach > end[0])) | jnp.any(trail & (reach > end[1]))
+        between the hub and the rim, which closes no gap. False on a
+        :class:`~jaxgear.TheoreticalPath`."""
+        return self.contact_geometry.overrun(self, cells, gap)
 
     def normal_load(self, torque: Float[Array, ""]) -> Float[Array, ""]:
         """Flank-normal mesh force F_n = T / (r_b1 cos β_b) (N) for pinion torque T (N·m)."""
@@ -473,19 +503,20 @@ _compiled_cells = compiled_when_eager(lambda mesh, theta: mesh._cells(theta))
 def on_the_path(tree):
     """``tree`` (a :class:`MeshModel`, or a pytree holding mesh models: a planetary stage's
     meshes, a gearbox stage) with each mesh model's cells beyond the theoretical path masked
-    off, the shapes kept (the lines laid out stay, ``extended_contact`` False): the cells that a
+    off, the shapes kept (the lines laid out stay, the contact geometry
+    :class:`~jaxgear.TheoreticalPath`: :meth:`~jaxgear.AbstractContactGeometry.on_path`): the
+    cells that a
     mean over the flanks at no load takes (K̄_m of the modes and of the modal damping, the
     unloaded mesh stiffness). Beyond the path a cell holds the corner's gap and carries load only
     where the deflection closes it (docs/extended-contact.md), so counting it as a spring there
-    would stiffen those means. ``tree`` itself where no mesh model in it has
-    ``extended_contact``."""
+    would stiffen those means. ``tree`` itself where no mesh model in it has cells beyond the
+    path."""
     is_mesh = lambda x: isinstance(x, MeshModel)
-    if not any(m.extended_contact for m in jax.tree.leaves(tree, is_leaf=is_mesh) if is_mesh(m)):
+    meshes = [m for m in jax.tree.leaves(tree, is_leaf=is_mesh) if is_mesh(m)]
+    if all(m.contact_geometry.on_path(m) is m for m in meshes):
         return tree
     return jax.tree.map(
-        lambda x: dataclasses.replace(x, extended_contact=False) if is_mesh(x) else x,
-        tree,
-        is_leaf=is_mesh,
+        lambda x: x.contact_geometry.on_path(x) if is_mesh(x) else x, tree, is_leaf=is_mesh
     )
 
 

@@ -13,6 +13,7 @@ import numpy as np
 from jaxtyping import Array, Float
 
 from ._baseplane import MeshModel, mesh_positions
+from ._contact_geometry import TheoreticalPath
 from ._contact import ContactLaw, ExactContact
 from ._modifications import Modifications
 from ._quasi_static import QuasiStaticResult, at_torques, per_mesh_modifications, separation
@@ -140,7 +141,7 @@ def loaded_path(
     relief that would keep the corners off the mating flanks (docs/extended-contact.md).
 
     Args:
-        mesh: a :class:`~jaxgear.MeshModel` built with ``extended_contact=True``.
+        mesh: a :class:`~jaxgear.MeshModel` built with ``contact_geometry=BeyondPath()``.
         modifications: its flank modifications (``None``: perfect involutes).
         torques: pinion torques (N·m), concrete, > 0, shape (T,).
         positions_per_pitch: positions per mesh period (>= 2); the ends are resolved to one
@@ -150,14 +151,15 @@ def loaded_path(
         :class:`LoadedPath`.
 
     Raises:
-        ValueError: ``mesh`` not built with ``extended_contact``; bad torques or positions.
+        ValueError: ``mesh`` not built with :class:`~jaxgear.BeyondPath`; bad torques or
+            positions.
     """
-    if not isinstance(mesh, MeshModel) or not mesh.extended_contact:
+    if not isinstance(mesh, MeshModel) or not mesh.contact_geometry.reaches_beyond_path:
         raise ValueError(
-            "loaded_path: mesh must be a jaxgear.MeshModel built with extended_contact=True "
-            "(MeshModel.from_pair(..., extended_contact=True))"
+            "loaded_path: mesh must be a jaxgear.MeshModel with contact beyond the path "
+            "(MeshModel.from_pair(..., contact_geometry=jaxgear.BeyondPath()))"
         )
-    theoretical = mesh.with_extended_contact(False)
+    theoretical = mesh.with_contact_geometry(TheoreticalPath())
     mods = per_mesh_modifications(modifications, 1)[0]
 
     def loaded(r):

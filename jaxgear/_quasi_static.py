@@ -54,10 +54,11 @@ class MeshResult(eqx.Module):
         cell_s, cell_z: cell coordinates in the base plane (m), shape (P, L, N).
         cell_mask: cells on the flanks, shape (P, L, N).
         mesh_stiffness_on_path: the part of ``mesh_stiffness`` from the loaded cells on the
-            theoretical path of contact, 0 <= s <= g_α (N/m), shape (P,): all of it without
-            contact beyond the path (``MeshModel.extended_contact``); with it, the tip corners'
-            cells beyond the path are left out (docs/extended-contact.md, "Mesh stiffness on
-            and beyond the path"). ``None`` in a result built by hand.
+            theoretical path of contact, 0 <= s <= g_α (N/m), shape (P,): all of it on a
+            :class:`~jaxgear.TheoreticalPath` (``MeshModel.contact_geometry``); on a
+            :class:`~jaxgear.BeyondPath` the tip corners' cells beyond the path are left out
+            (docs/extended-contact.md, "Mesh stiffness on and beyond the path"). ``None`` in a
+            result built by hand.
     """
 
     transmission_error: Float[Array, " P"]
@@ -185,11 +186,10 @@ def separation(mesh: MeshModel, mods: Modifications, theta):
     angle ``theta``) add to e (docs/deviations.md, "Initial separation").
     """
     cells = mesh.cells(theta)
-    # beyond the theoretical path (``mesh.extended_contact``) the tip corner touches the mating
+    # beyond the theoretical path (``mesh.contact_geometry``) the tip corner touches the mating
     # flank: the deviations are the path ends' and the corner's gap adds (docs/extended-contact.md)
-    on_path = cells
-    if mesh.extended_contact:
-        on_path = eqx.tree_at(lambda c: c.s, cells, jnp.clip(cells.s, 0.0, mesh.path_of_contact))
+    geometry = mesh.contact_geometry
+    on_path = geometry.deviation_cells(mesh, cells)
     e = mods.deviation(on_path.s / mesh.path_of_contact, cells.z / mesh.face_width)
     deviations = mods.deviations
     if deviations is not None:
@@ -197,9 +197,7 @@ def separation(mesh: MeshModel, mods: Modifications, theta):
         e = e + deviations.deviation(mesh, on_path)
     # with coast flanks (docs/backlash.md) their gap holds the backlash
     e_max, delta0 = flank_separation(mesh, cells, e)
-    if mesh.extended_contact:
-        delta0 = delta0 + jnp.where(cells.mask, mesh.extension_separation(cells.s), 0.0)
-    return cells, e_max, delta0
+    return cells, e_max, geometry.with_corner_gap(mesh, cells, delta0)
 
 
 def mesh_separations(scene: Scene, mods: tuple, theta) -> list:
@@ -240,15 +238,12 @@ def _one_position(scene: Scene, mods: tuple, torque, speed, theta, law: ContactL
     over = [
         mesh.extension_overrun(c, gaps[k])
         for k, (mesh, c) in enumerate(zip(planes, cells, strict=True))
-        if mesh.extended_contact
     ]
-    result = sol.result
-    if over:
-        result = jnp.where(
-            (result == ContactResult.successful) & jnp.any(jnp.stack(over)),
-            ContactResult.beyond_extension,
-            result,
-        )
+    result = jnp.where(
+        (sol.result == ContactResult.successful) & jnp.any(jnp.stack(over)),
+        ContactResult.beyond_extension,
+        sol.result,
+    )
     return QuasiStaticResult(
         theta=theta,
         x=x,

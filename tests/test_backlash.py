@@ -143,7 +143,7 @@ def test_lumped_3d_reversed_torque_mirrors_the_bearing_forces():
         center_distance=p.center_distance,
     )
     # coast flanks: the theoretical path (extended contact with backlash is refused)
-    case = case.replace(pair=pair, coast=True, extended_contact=False)
+    case = case.replace(pair=pair, coast=True, contact_geometry=jg.TheoreticalPath())
     scene, _ = static_scene(case)
     mesh = scene.base_planes[0]
     th = jg.mesh_positions(mesh, 6)
@@ -207,10 +207,11 @@ def test_extended_contact_default_is_off_with_backlash():
             "tooth_thickness_allowance_um = -30.0\n", ""
         )
     )
-    assert plain.extended_contact is True and plain.mesh_model().extended_contact
+    assert plain.contact_geometry == jg.BeyondPath()
+    assert plain.mesh_model().contact_geometry == jg.BeyondPath()
     case = _parse(SMALL)
-    assert case.coast and case.extended_contact is False
-    assert not case.mesh_model().extended_contact
+    assert case.coast and case.contact_geometry == jg.TheoreticalPath()
+    assert case.mesh_model().contact_geometry == jg.TheoreticalPath()
     with pytest.raises(
         jio.SchemaError,
         match=r"^\[mesh\] extended_contact = true: with backlash \(coast flanks; a "
@@ -218,7 +219,7 @@ def test_extended_contact_default_is_off_with_backlash():
     ):
         _parse(SMALL.replace("[mesh]\n", "[mesh]\nextended_contact = true\n"))
     off = _parse(SMALL.replace("[mesh]\n", "[mesh]\nextended_contact = false\n"))
-    assert off.coast and off.extended_contact is False
+    assert off.coast and off.contact_geometry == jg.TheoreticalPath()
 
 
 @pytest.mark.parametrize(

@@ -72,7 +72,7 @@ def test_smooth_quasi_static_at_its_cap_returns_the_failure_code(tmp_path):
     so the code is the Newton's."""
     case, mesh = _big_helical(tmp_path, 40)
     # the premise (every cell in contact in one pass) is the theoretical path's: no corner cells
-    mesh = mesh.with_extended_contact(False)
+    mesh = mesh.with_contact_geometry(jg.TheoreticalPath())
     exact = jg.quasi_static(
         mesh, None, case.torque, positions_per_pitch=8, contact=jg.ExactContact(1)
     )
@@ -159,7 +159,7 @@ def test_400_slices_iso6336_converges_in_few_steps_and_matches_brentq(tmp_path):
     case, mesh = _big_helical(tmp_path, 400)
     # the reference's balance takes every cell's vector as 1 (the line of action) and the
     # premise (every cell in contact in one pass) is the theoretical path's: no corner cells
-    mesh = mesh.with_extended_contact(False)
+    mesh = mesh.with_contact_geometry(jg.TheoreticalPath())
     theta = jg.mesh_positions(mesh, 16)
     res = jg.quasi_static(
         mesh, None, case.torque, theta, contact=jg.SmoothContact(WIDTH), throw=False

@@ -266,7 +266,7 @@ def spur():
     """The rigid accessory spur pair, Weber stiffness at 4 slices, no modification (z1 = 45,
     z2 = 86, ε_α = 1.42)."""
     # theoretical path: the hand references sum each pair's path cells as loaded linear springs
-    case = jio.load_case("accessory-spur").replace(extended_contact=False)
+    case = jio.load_case("accessory-spur").replace(contact_geometry=jg.TheoreticalPath())
     return case, case.mesh_model(slices=4)
 
 

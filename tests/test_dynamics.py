@@ -350,7 +350,7 @@ def test_jump_and_hysteresis_with_contact_loss(accessory):
     case, _ = accessory
     # theoretical path: the softening jump of contact loss alone; the corner contact beyond the
     # path stiffens the overloaded mesh and moves the branches (docs/extended-contact.md)
-    case = case.replace(extended_contact=False)
+    case = case.replace(contact_geometry=jg.TheoreticalPath())
     scene = TorsionalDynamics(case.mesh_model(), *_inertias(case))
     model = dynamic_model(
         scene, case.modifications, case.torque, Damping("modal", ratio=0.03), positions_per_pitch=32

@@ -39,7 +39,7 @@ FULL = (0.05, 0.1, 0.2, 0.3, 0.5, 0.65, 0.8, 0.9, 1.0, 1.1, 1.25, 1.5, 2.0, 2.5,
 def models():
     # theoretical path: the continuous reference (benchmarks/_baseline_dynamics.py) segments the
     # path's stiffness steps and has no corner contact; the low-speed trap below is the path's
-    case = jio.load_case("accessory-spur").replace(slices=4, extended_contact=False)
+    case = jio.load_case("accessory-spur").replace(slices=4, contact_geometry=jg.TheoreticalPath())
     p = case.pair
     i1 = disc_inertia(case.density, p.tip_radii[0], p.pinion.face_width)
     i2 = disc_inertia(case.density, p.tip_radii[1], p.gear.face_width)

@@ -96,7 +96,9 @@ def test_internal_corner_gap_positive_and_quadratic():
 
 def _mesh(pair, extended, slices=4, stiffness=None):
     s, k = jg.stiffness_table(pair, jg.Weber() if stiffness is None else stiffness)
-    return jg.MeshModel.from_pair(pair, s, k, slices, extended_contact=extended)
+    return jg.MeshModel.from_pair(
+        pair, s, k, slices, contact_geometry=jg.BeyondPath() if extended else jg.TheoreticalPath()
+    )
 
 
 def test_zero_load_extended_path_is_the_theoretical_one():

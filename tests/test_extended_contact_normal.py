@@ -33,7 +33,9 @@ def _pair(z1=20, z2=40, m=0.004, b=0.02, beta=0.0):
 
 def _mesh(pair, extended=True, slices=1, stiffness=None):
     s, k = jg.stiffness_table(pair, jg.Weber() if stiffness is None else stiffness)
-    return jg.MeshModel.from_pair(pair, s, k, slices, extended_contact=extended)
+    return jg.MeshModel.from_pair(
+        pair, s, k, slices, contact_geometry=jg.BeyondPath() if extended else jg.TheoreticalPath()
+    )
 
 
 def _on_line(mesh):
@@ -299,7 +301,7 @@ def _planetary():
     psi = 2 * np.pi * np.arange(4) / 4
     models = tuple(
         jg.MeshModel.from_pair(
-            p, *jg.stiffness_table(p, jg.Uniform(1.4e10)), 1, extended_contact=True
+            p, *jg.stiffness_table(p, jg.Uniform(1.4e10)), 1, contact_geometry=jg.BeyondPath()
         )
         for p in (geo.sun_planet, geo.planet_ring)
     )
@@ -392,7 +394,7 @@ def hybrid(fem_prep_cache):
     from jaxgear.io import static_scene
 
     data = pathlib.Path(__file__).parent / "data"
-    case = jio.load_case(data / "hybrid-test-case.toml").replace(extended_contact=True)
+    case = jio.load_case(data / "hybrid-test-case.toml").replace(contact_geometry=jg.BeyondPath())
     body = fem_prep.condensed(data / "hybrid-test-wheel.toml")
     sc = static_scene(case, bodies=(None, body))[0]
     mesh = sc.mesh

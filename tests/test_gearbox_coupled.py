@@ -236,9 +236,9 @@ def test_extended_contact_leaves_the_mesh_averaged_modes(tmp_path, case_modes):
                 if "extended_contact" not in ln and "the Python example it mirrors" not in ln]
         (tmp_path / f.name).write_text("".join(keep), encoding="utf-8")
     extended = jio.load_case(str(tmp_path / "two-stage-gearbox.toml")).form.coupled()
-    assert extended.stages[1].mesh.extended_contact  # the default, on
+    assert extended.stages[1].mesh.contact_geometry == jg.BeyondPath()  # the default, on
     path, f_path = case_modes  # the case file itself: on the theoretical path
-    assert not path.stages[1].mesh.extended_contact
+    assert path.stages[1].mesh.contact_geometry == jg.TheoreticalPath()
     _, run = EX.two_stage()
     f_ext = np.asarray(gb.gearbox_coupled_modes(extended, run).analysis.frequency)
     np.testing.assert_allclose(f_ext, f_path, rtol=1e-10)

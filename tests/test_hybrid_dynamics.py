@@ -66,7 +66,9 @@ def _sweep(scene, mods, torque, speeds, *, damping=None, rotating_frame=False, *
 def setup(fem_prep_cache):
     # theoretical path: the all-coordinate references written here (_newmark_all_coordinates)
     # take the flank gaps of the path, not the corner gaps beyond it
-    case = jio.load_case(DATA / "hybrid-test-case.toml").replace(extended_contact=False)
+    case = jio.load_case(DATA / "hybrid-test-case.toml").replace(
+        contact_geometry=jg.TheoreticalPath()
+    )
     body = fem_prep.condensed(DATA / "hybrid-test-wheel.toml")
     return case, static_scene(case, bodies=(None, body))[0]
 
@@ -382,7 +384,7 @@ def test_hybrid_sweep_sharded_over_four_cpu_devices_matches_one_device(setup):
         from jaxgear.dynamics import Batching
         from jaxgear.io import static_scene
         case = jio.load_case({str(DATA / "hybrid-test-case.toml")!r}).replace(
-            extended_contact=False)  # as the module's setup: the theoretical path
+            contact_geometry=jg.TheoreticalPath())  # as the module's setup: the theoretical path
         body = fem_prep.condensed({str(DATA / "hybrid-test-wheel.toml")!r})
         model = dynamic_model(static_scene(case, bodies=(None, body))[0], case.modifications,
                               case.torque)

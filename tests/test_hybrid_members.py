@@ -95,7 +95,7 @@ def pairs(fem_prep_cache, tmp_path_factory):
     body = fem_prep.condensed(DATA / "hybrid-test-wheel.toml")
     out = []
     for case, bodies in ((jio.load_case(CASE), (None, body)), (jio.load_case(path), (body, None))):
-        case = case.replace(extended_contact=False)
+        case = case.replace(contact_geometry=jg.TheoreticalPath())
         out.append((case, static_scene(case, bodies=bodies)[0]))
     return out
 

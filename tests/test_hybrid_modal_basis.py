@@ -35,7 +35,9 @@ def setup(fem_prep_cache):
     jax.config.update("jax_enable_x64", True)
     # the scene of tests/test_hybrid_dynamics.py (the theoretical path), whose runs' compiled
     # programs the cell-space references here read back
-    case = jio.load_case(DATA / "hybrid-test-case.toml").replace(extended_contact=False)
+    case = jio.load_case(DATA / "hybrid-test-case.toml").replace(
+        contact_geometry=jg.TheoreticalPath()
+    )
     body = fem_prep.condensed(DATA / "hybrid-test-wheel.toml")
     return case, static_scene(case, bodies=(None, body))[0]
 

@@ -205,7 +205,7 @@ def test_rigidified_idler_train_dynamics_equal_the_rigid_node_train(case):
     # along M r on the mesh's window coordinates: a rigid node's whole gear, a condensed body's
     # rim masters under the contact; with the case file's default the dynamic factors at
     # 1000 rad/s were 1.527 (hybrid) and 1.569 (rigid node), at 2000 rad/s 0.5 % apart
-    uni = case.replace(stiffness=jg.Uniform(1.4e10), extended_contact=False)
+    uni = case.replace(stiffness=jg.Uniform(1.4e10), contact_geometry=jg.TheoreticalPath())
     mods = uni.mesh_modifications()
     damping = Damping("rayleigh", alpha=25.0, beta=2.5e-6)
     Mr = rigid_mass_matrix(stiff)

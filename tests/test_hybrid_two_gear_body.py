@@ -258,7 +258,7 @@ def test_the_two_rims_share_the_body(case, bodies):
     1.62 nm/N own, −0.92 nm/N across, −0.26 of the own: docs/trains-evidence.md)."""
     # theoretical path, as the documented figures were measured (mesh_zone_load spreads its
     # unit load over the path's cells either way; the compliances do not depend on contact)
-    scene = case.replace(extended_contact=False).static_train(bodies=bodies)
+    scene = case.replace(contact_geometry=jg.TheoreticalPath()).static_train(bodies=bodies)
     for theta in (0.0, 0.05, 0.1):
         C = zone_compliance(scene, theta)
         assert C[0, 1] == pytest.approx(C[1, 0], rel=1e-9)

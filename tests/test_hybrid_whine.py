@@ -34,7 +34,9 @@ DATA = pathlib.Path(__file__).parent / "data"
 
 @pytest.fixture(scope="module")
 def setup(fem_prep_cache):
-    case = jio.load_case(DATA / "hybrid-test-case.toml").replace(extended_contact=False)
+    case = jio.load_case(DATA / "hybrid-test-case.toml").replace(
+        contact_geometry=jg.TheoreticalPath()
+    )
     body = fem_prep.condensed(DATA / "hybrid-test-wheel.toml")
     return case, static_scene(case, bodies=(None, body))[0]
 

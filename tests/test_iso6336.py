@@ -420,7 +420,7 @@ def test_nrel_stage3_mean_on_the_path_is_c_gamma_alpha():
     k_iso = cga / TO_N_PER_MM_UM * b * 1e-3 / math.cos(beta_b) ** 2  # N/m
 
     case = jio.load_case("nrel-5mw-stage3")
-    assert case.extended_contact
+    assert case.contact_geometry == jg.BeyondPath()
     assert case.specific_load() == pytest.approx(667e3, rel=1e-3)
     r = jg.quasi_static(case.mesh_model(), None, case.torque,
                         positions_per_pitch=case.positions_per_pitch)
@@ -428,8 +428,9 @@ def test_nrel_stage3_mean_on_the_path_is_c_gamma_alpha():
     loaded = float(jnp.mean(r.mesh_stiffness))
     assert on_path == pytest.approx(k_iso, rel=2e-3)
     assert 1.05 < loaded / k_iso < 1.15
-    theoretical = jg.quasi_static(case.replace(extended_contact=False).mesh_model(), None,
-                                  case.torque, positions_per_pitch=case.positions_per_pitch)
+    plain = case.replace(contact_geometry=jg.TheoreticalPath())
+    theoretical = jg.quasi_static(plain.mesh_model(), None, case.torque,
+                                  positions_per_pitch=case.positions_per_pitch)
     assert float(jnp.mean(theoretical.mesh_stiffness)) == pytest.approx(on_path, rel=1e-12)
 
     ref = stiffness_reference(case, r)

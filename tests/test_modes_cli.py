@@ -32,7 +32,7 @@ def test_a_torsional_pair_against_the_closed_form():
     # on the theoretical path: the closed form takes every loaded cell's vector as
     # cos β_b (r_b1, −r_b2); beyond the path (the case file's default) a corner cell's entry of
     # its tip owner is λ r_bT (docs/extended-contact.md, "Where it acts")
-    case = jio.load_case("power-helical").replace(extended_contact=False)
+    case = jio.load_case("power-helical").replace(contact_geometry=jg.TheoreticalPath())
     data = cm.case_modes(case.form, case)
     assert [m["type"] for m in data["modes"]] == ["rigid", "torsional"]
     pair = case.pairs[0]

@@ -18,7 +18,7 @@ PPP = 24  # positions per mesh period: small but enough to resolve the single/do
 def case():
     # theoretical path: the references (the thesis's Master Curve (IV-3) and zero-fluctuation
     # family, the grid optima of the landscape below) are the path's
-    return jio.load_case("accessory-spur").replace(slices=4, extended_contact=False)
+    return jio.load_case("accessory-spur").replace(slices=4, contact_geometry=jg.TheoreticalPath())
 
 
 @pytest.fixture(scope="module")

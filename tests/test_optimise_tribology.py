@@ -31,14 +31,14 @@ def case():
     # theoretical path: GEARpie's C14 reference (rigid sharing on the path of contact) and the
     # example's figures; with the case file's default contact beyond the path the unmodified loss
     # is 310 W
-    return jio.load_case(CASE).replace(extended_contact=False)
+    return jio.load_case(CASE).replace(contact_geometry=jg.TheoreticalPath())
 
 
 @pytest.fixture(scope="module")
 def beyond():
     # the case file as written: contact beyond the path of contact (the default)
     c = jio.load_case(CASE)
-    assert c.extended_contact
+    assert c.contact_geometry == jg.BeyondPath()
     return c
 
 

@@ -29,7 +29,10 @@ def spur():
     face in single-pair contact), exact contact."""
     # theoretical path: Hertz's p₀ ∝ √w below needs a contact pattern that the load does not move
     case = jio.load_case("accessory-spur").replace(
-        stiffness=jg.Uniform(1.4e10), slices=4, positions_per_pitch=PPP, extended_contact=False
+        stiffness=jg.Uniform(1.4e10),
+        slices=4,
+        positions_per_pitch=PPP,
+        contact_geometry=jg.TheoreticalPath(),
     )
     res = jg.quasi_static(case.mesh_model(), None, case.torque, positions_per_pitch=PPP)
     return case, res
@@ -107,7 +110,7 @@ def test_pressure_runs_under_jit_and_its_gradient_matches_differences(spur):
     mesh with cells beyond the path (the case files' default): its unloaded corner cells
     (w = 0, where √w has no derivative) must not make it NaN."""
     case, res = spur
-    mesh = case.replace(extended_contact=True).mesh_model()
+    mesh = case.replace(contact_geometry=jg.BeyondPath()).mesh_model()
 
     def peak(torque):
         r = jg.quasi_static(mesh, None, torque, positions_per_pitch=16)

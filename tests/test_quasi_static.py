@@ -219,7 +219,8 @@ def test_exact_contact_conditions_and_independent_root(name):
     not interfere (Δ ≤ tiny), Σ p l = F_n, and δ equals the root of the monotone piecewise-linear
     Σ k l max(0, δ − δ0) − F_n found by scipy's brentq."""
     case, mesh, theta = _weber(name)
-    mesh = mesh.with_extended_contact(False)  # the reference's cells: the theoretical path's
+    # the reference's cells: the theoretical path's
+    mesh = mesh.with_contact_geometry(jg.TheoreticalPath())
     mods = case.modifications
     res = jg.quasi_static(mesh, mods, case.torque, theta)
     fn = _normal_load(case.pair, case.torque)
@@ -339,7 +340,7 @@ def test_torsional_pair_gives_rigid_mesh_te():
     # breaks that ratio (the gear's torque is no longer T u; tests/test_extended_contact_normal.py
     # checks both gears' torque balances there)
     case, mesh, theta = _weber("power-helical")
-    mesh = mesh.with_extended_contact(False)
+    mesh = mesh.with_contact_geometry(jg.TheoreticalPath())
     for contact in ("exact", "smooth"):
         rigid = jg.quasi_static(
             js.RigidMesh(mesh),

@@ -32,16 +32,16 @@ EXTENDED = "extended path of contact (off-line contact at the tip corners)"
 def _meshes():
     """The case's mesh model on the theoretical path and beyond it (the case files' default)."""
     mesh = jio.parse_case(_case()).mesh_model()
-    assert mesh.extended_contact is True  # the case files' default
-    return mesh.with_extended_contact(False), mesh
+    assert mesh.contact_geometry == jg.BeyondPath()  # the case files' default
+    return mesh.with_contact_geometry(jg.TheoreticalPath()), mesh
 
 
-def test_contact_model_reads_each_mesh_models_extended_contact():
-    """The words follow the mesh model's ``extended_contact`` (one mesh, a scene's tuple, mixed
+def test_contact_model_reads_each_mesh_models_contact_geometry():
+    """The words follow the mesh model's ``contact_geometry`` (one mesh, a scene's tuple, mixed
     meshes named by position), none for no mesh model (linear springs); a wrong entry
     refused in one line."""
     plain, extended = _meshes()
-    assert plain.extended_contact is False
+    assert plain.contact_geometry == jg.TheoreticalPath()
     assert jg.rating.contact_model(plain) == THEORETICAL
     assert jg.rating.contact_model(extended) == EXTENDED
     assert jg.rating.contact_model((extended, extended)) == EXTENDED
@@ -80,7 +80,7 @@ def test_every_measured_row_states_its_contact_model(tmp_path):
     # gives none; on the theoretical path where the case says so
     default = cli.rating_outputs(case, str(tmp_path / "d"), result=loads)
     assert {m["contact_model"] for m in default["measured"].values()} == {EXTENDED}
-    off = case.replace(extended_contact=False)
+    off = case.replace(contact_geometry=jg.TheoreticalPath())
     plain_rows = cli.rating_outputs(off, str(tmp_path / "p"), result=loads)
     assert {m["contact_model"] for m in plain_rows["measured"].values()} == {THEORETICAL}
 
@@ -114,10 +114,12 @@ def test_planetary_rows_state_the_stage_meshes_contact_model(tmp_path):
     st = stage(geo, 3)
     contact = jp.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(K0))
     assert stage_contact_model(contact) == THEORETICAL
-    ext = dataclasses.replace(contact, sun_mesh=dataclasses.replace(contact.sun_mesh,
-                                                                    extended_contact=True),
-                              ring_mesh=dataclasses.replace(contact.ring_mesh,
-                                                            extended_contact=True))
+    beyond = jg.BeyondPath()
+    ext = dataclasses.replace(
+        contact,
+        sun_mesh=dataclasses.replace(contact.sun_mesh, contact_geometry=beyond),
+        ring_mesh=dataclasses.replace(contact.ring_mesh, contact_geometry=beyond),
+    )
     assert stage_contact_model(ext) == EXTENDED
     assert "no tooth contact" in stage_contact_model(jp.ConstantMeshes(contact.mesh_period()))
     sweep = {"speeds_rad_s": [1.0, 2.0], "mesh_names": ["s1", "s2", "r1", "r2"],

@@ -79,7 +79,7 @@ def test_transverse_load_factor_beyond_the_path_by_hand():
 def test_transverse_load_factor_of_a_tip_relieved_uniform_spur_pair():
     # theoretical path: the hand count below takes the path's cells (two lines in double contact)
     case = jio.load_case("accessory-spur").replace(
-        slices=2, positions_per_pitch=64, extended_contact=False
+        slices=2, positions_per_pitch=64, contact_geometry=jg.TheoreticalPath()
     )
     k0, depth, extent = 1.5e10, 10e-6, 0.3
     case = case.replace(stiffness=jg.Uniform(k0))

@@ -93,7 +93,9 @@ def test_off_centre_pinion_tilts_the_mesh_as_beam_theory_says(tmp_path):
     d = _off_centre_case()
     d["rating"]["use_measured"] = ["K_Hbeta"]
     # theoretical path: the beam reference takes every cell of the path loaded
-    case = jio.parse_case(d).replace(stiffness=jg.Uniform(K0), extended_contact=False)
+    case = jio.parse_case(d).replace(
+        stiffness=jg.Uniform(K0), contact_geometry=jg.TheoreticalPath()
+    )
     scene, _ = jio.static_scene(case, slices=case.slices)
     res = jg.quasi_static(scene, None, case.torque, positions_per_pitch=16)
     rigid = jg.quasi_static(case.mesh_model(), None, case.torque, positions_per_pitch=16)

@@ -234,7 +234,7 @@ def test_nrel_stage1_fe_root_stress_against_iso(tmp_path, resolution):
     # theoretical path: the even split between the pairs (K_Halpha 1) that puts the map at
     # ISO's load is the path's (beyond it the corners' contact loads the fillets' other points:
     # test_nrel_stage1_k_h_alpha_beyond_the_path_against_a_reference below)
-    case = jio.load_case("nrel-5mw-planetary").replace(extended_contact=False)
+    case = jio.load_case("nrel-5mw-planetary").replace(contact_geometry=jg.TheoreticalPath())
     if resolution is not None:
         case = case.replace(slices=resolution[0], positions_per_pitch=resolution[1])
     loads = _loads(case)
@@ -286,7 +286,7 @@ def test_nrel_stage1_k_h_alpha_beyond_the_path_against_a_reference():
     from jaxgear.cli.planetary import measured_k_h_alpha
 
     case = jio.load_case("nrel-5mw-planetary").replace(slices=2, positions_per_pitch=16)
-    assert case.extended_contact
+    assert case.contact_geometry == jg.BeyondPath()
     loads = _loads(case)
     got = [m["value"] for m in measured_k_h_alpha(loads)]
     assert got == pytest.approx([1.0, 1.0], abs=1e-9)

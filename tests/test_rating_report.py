@@ -17,6 +17,7 @@ import numpy as np
 import pytest
 from test_rating_kisssoft import RING_REPORTS, SPUR_REPORTS, STAGE_03_PRINTED
 
+import jaxgear as jg
 import jaxgear.io as jio
 from jaxgear import cli
 
@@ -275,7 +276,9 @@ def test_pair_measured_k_v_says_whether_it_is_comparable(tmp_path):
     for name, n_iso, extended, comparable in (("nrel-5mw-stage3", 0.4188, False, False),
                                               ("nrel-5mw-stage3", 0.4188, True, True),
                                               ("power-helical", 3.542, True, True)):
-        case = jio.load_case(name).replace(extended_contact=extended)
+        case = jio.load_case(name).replace(
+            contact_geometry=jg.BeyondPath() if extended else jg.TheoreticalPath()
+        )
         out = tmp_path / f"{name}-{extended}"
         out.mkdir()
         summary = {"rating": cli.rating_outputs(case, str(out))}

@@ -146,7 +146,7 @@ def test_quasi_static_failure_raises_or_returns_a_code():
 @pytest.fixture(scope="module")
 def accessory_problem():
     # theoretical path: the landscape the docs quote is the thesis's (its Master Curve)
-    case = jio.load_case("accessory-spur").replace(slices=4, extended_contact=False)
+    case = jio.load_case("accessory-spur").replace(slices=4, contact_geometry=jg.TheoreticalPath())
     return jio.case_problem(
         case, "tip_relief.depth,tip_relief.extent", "te_rms", positions_per_pitch=64, relief_blend=0
     )

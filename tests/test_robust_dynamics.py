@@ -90,7 +90,7 @@ def test_runout_gives_shaft_order_sidebands_in_the_dynamic_te(torsional):
     # cells beyond the path (the case file's default) touch, which moves that line by 0.11 %
     p = case.pair
     scene = TorsionalDynamics(
-        mesh.with_extended_contact(False),
+        mesh.with_contact_geometry(jg.TheoreticalPath()),
         disc_inertia(case.density, p.tip_radii[0], p.pinion.face_width),
         disc_inertia(case.density, p.tip_radii[1], p.gear.face_width),
     )

@@ -104,7 +104,7 @@ def test_weber_mean_mesh_stiffness_in_iso_band(name):
     former circular-arc fillet: 1.2766 and 1.2845 (the exact trochoid is wider near the root).
     """
     # theoretical path: ISO's c_γα and the quoted figures are the path's mesh stiffness
-    case = jio.load_case(name).replace(extended_contact=False)
+    case = jio.load_case(name).replace(contact_geometry=jg.TheoreticalPath())
     pair = case.pair
     res = jg.quasi_static(case.mesh_model(), None, case.torque)
     per_width = (

@@ -31,7 +31,7 @@ class Linear(jg.AbstractStiffness):
 def test_a_stiffness_model_defined_in_a_test_runs_through_the_public_api():
     # theoretical path: the reference below counts the contact lines in [0, g_α]
     case = jio.load_case("accessory-spur").replace(
-        stiffness=Linear(K0, RISE), extended_contact=False
+        stiffness=Linear(K0, RISE), contact_geometry=jg.TheoreticalPath()
     )
     pair = case.pair
     assert pair.helix_angle == 0  # spur: straight contact lines across the face

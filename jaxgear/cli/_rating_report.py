@@ -266,7 +266,8 @@ def _path(mesh, result) -> float | None:
     """The theoretical path g_α (m) on which the measured K_Hα reads its pairs
     (:func:`jaxgear.rating.transverse_load_factor`): ``mesh``'s where it has contact beyond the
     path and ``result`` places its cells (``cell_s``); None (every cell a pair's) otherwise."""
-    if isinstance(mesh, MeshModel) and mesh.extended_contact and hasattr(result, "cell_s"):
+    beyond = isinstance(mesh, MeshModel) and mesh.contact_geometry.reaches_beyond_path
+    if beyond and hasattr(result, "cell_s"):
         return float(mesh.path_of_contact)
     return None
 

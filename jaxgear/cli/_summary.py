@@ -123,7 +123,7 @@ def stiffness_reference(case, result) -> dict:
         **reference,
         "mesh_stiffness_mean_N_per_m": float(np.mean(result.mesh_stiffness)),
         "mesh_stiffness_on_path_mean_N_per_m": float(np.mean(result.mesh_stiffness_on_path)),
-        "extended_contact": bool(case.extended_contact),
+        "extended_contact": bool(case.contact_geometry.reaches_beyond_path),
         "flanks": "unmodified, exact contact",
     }
 

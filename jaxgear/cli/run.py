@@ -157,7 +157,8 @@ def run_case(
         for label, mods in (("unmodified", none), ("modified", case.modifications))
     }
     path_map = {}
-    if mesh.extended_contact:  # where contact really starts and ends (docs/extended-contact.md)
+    # where contact really starts and ends (docs/extended-contact.md)
+    if mesh.contact_geometry.reaches_beyond_path:
         path_map = {
             label: loaded_path(mesh, mods, torques, positions_per_pitch=ppp)
             for label, mods in (("unmodified", none), ("modified", case.modifications))

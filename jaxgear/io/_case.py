@@ -16,10 +16,12 @@ import abc
 import dataclasses
 import fractions
 import math
+import warnings
 from typing import Any
 
 from .._baseplane import MeshModel
 from .._contact import ContactLaw
+from .._contact_geometry import AbstractContactGeometry, TheoreticalPath
 from .._geometry import GearPair
 from .._modifications import Modifications
 from .._stiffness_models import FE2D, AbstractStiffness, MeshConditions, stiffness_table
@@ -35,7 +37,7 @@ from ..scenes import (
     torsional_train,
     train_layout,
 )
-from ._names import contact_law_from_name
+from ._names import contact_geometry_from_key, contact_law_from_name
 from ._sections import Section
 
 __all__ = ["Case", "CaseForm", "MeshSettings", "PairForm", "TrainCase", "TrainForm",
@@ -64,6 +66,20 @@ def teeth_span(teeth) -> int:
     return math.lcm(*((teeth[0] / t).numerator for t in teeth))
 
 
+def _contact_changes(changes: dict) -> dict:
+    """``changes`` with the deprecated ``extended_contact`` (a bool, a DeprecationWarning) given
+    as the ``contact_geometry`` it stands for."""
+    if "extended_contact" in changes:
+        warnings.warn(
+            "replace(extended_contact=...) is deprecated: pass contact_geometry="
+            "jaxgear.BeyondPath() (True) or jaxgear.TheoreticalPath() (False)",
+            DeprecationWarning,
+            stacklevel=3,
+        )
+        changes["contact_geometry"] = contact_geometry_from_key(changes.pop("extended_contact"))
+    return changes
+
+
 @dataclasses.dataclass(frozen=True, kw_only=True)
 class MeshSettings:
     """The material and mesh-model settings of a case (:class:`Case`), written once, for every
@@ -77,10 +93,14 @@ class MeshSettings:
             names it, :mod:`jaxgear.io` builds it).
         slices: slices per contact line; positions_per_pitch: positions per mesh period.
         smooth_width: smoothing width of the smooth contact law (m).
-        extended_contact: contact beyond the theoretical path of contact (premature engagement
-            and late disengagement at the tip corners; :meth:`jaxgear.MeshModel.from_pair`,
-            docs/extended-contact.md). False for a case built in Python; a case file's
-            ``[mesh] extended_contact`` defaults to True (False with backlash).
+        contact_geometry: where the teeth can touch (:class:`~jaxgear.TheoreticalPath`, or
+            :class:`~jaxgear.BeyondPath`: contact beyond the theoretical path of contact,
+            premature engagement and late disengagement at the tip corners;
+            :meth:`jaxgear.MeshModel.from_pair`, docs/extended-contact.md).
+            ``TheoreticalPath()`` for a case built in Python; a case file's ``[mesh]
+            extended_contact`` defaults to true, ``BeyondPath()`` (false with backlash).
+            ``extended_contact`` (a bool, read or given to :meth:`replace`) is its deprecated
+            spelling.
     """
 
     youngs_modulus: float = 210e9
@@ -90,7 +110,19 @@ class MeshSettings:
     slices: int = 40
     positions_per_pitch: int = 64
     smooth_width: float = 1e-7
-    extended_contact: bool = False
+    contact_geometry: AbstractContactGeometry = TheoreticalPath()
+
+    @property
+    def extended_contact(self) -> bool:
+        """Deprecated (a DeprecationWarning): whether :attr:`contact_geometry` reaches beyond the
+        theoretical path."""
+        warnings.warn(
+            "Case.extended_contact is deprecated: read case.contact_geometry "
+            "(jaxgear.TheoreticalPath or jaxgear.BeyondPath)",
+            DeprecationWarning,
+            stacklevel=2,
+        )
+        return self.contact_geometry.reaches_beyond_path
 
     def mesh_settings(self) -> dict:
         """These settings as keywords (``{field: value}``), for another case that shares them."""
@@ -117,7 +149,7 @@ class MeshSettings:
 
     def replace(self, **changes):
         """A copy with ``changes`` (field names as keywords)."""
-        return dataclasses.replace(self, **changes)
+        return dataclasses.replace(self, **_contact_changes(changes))
 
 
 class CaseForm(abc.ABC):
@@ -346,7 +378,7 @@ class Case(MeshSettings):
             self._one_mesh("replace(modifications=...)")
             m = changes.pop("modifications")
             changes["gear_modifications"] = (m.pinion, m.gear)
-        return dataclasses.replace(self, **changes)
+        return dataclasses.replace(self, **_contact_changes(changes))
 
     @property
     def n_gears(self) -> int:
@@ -773,7 +805,7 @@ class Case(MeshSettings):
             k,
             self.slices if slices is None else slices,
             coast=self.coast,
-            extended_contact=self.extended_contact,
+            contact_geometry=self.contact_geometry,
         )
 
 

@@ -22,7 +22,8 @@ from .._geometry import JAM, GearPair, Member
 from ._deviations_table import parse_deviations
 from ._lubricant_table import read_lubricant
 from ._modifications_table import parse_modifications
-from ._names import FOUNDATIONS, STIFFNESS_MODELS, stiffness_from_name
+from .._contact_geometry import TheoreticalPath
+from ._names import FOUNDATIONS, STIFFNESS_MODELS, contact_geometry_from_key, stiffness_from_name
 from ._optimise_table import check_acoustic_tables, parse_optimise
 from ._plausibility import MIN_LINE_LOAD_N_PER_MM, CaseWarning, plausibility
 from ._rating_table import MATERIAL_RATING_KEYS, OPERATING_RATING_KEYS, check_rating
@@ -403,7 +404,9 @@ def parse_mesh_settings(data: dict, normal_module: float) -> dict:
         "positions_per_pitch": ppp,
         "smooth_width": width,
         # contact beyond the theoretical path (docs/extended-contact.md)
-        "extended_contact": sc.boolean(m, "extended_contact", "mesh", EXTENDED_CONTACT_DEFAULT),
+        "contact_geometry": contact_geometry_from_key(
+            sc.boolean(m, "extended_contact", "mesh", EXTENDED_CONTACT_DEFAULT)
+        ),
     }
 
 
@@ -507,7 +510,10 @@ def parse_case(data: dict, default_name: str = "case", base_dir: str | None = No
         _refuse_with_backlash(data, deviations is not None, scene)
         # contact beyond the path is not modelled with the coast flanks: the default resolves
         # to the theoretical path there; an explicit true is refused (docs/extended-contact.md)
-        if "extended_contact" in data.get("mesh", {}) and mesh["extended_contact"]:
+        if (
+            "extended_contact" in data.get("mesh", {})
+            and mesh["contact_geometry"].reaches_beyond_path
+        ):
             raise sc.fail(
                 "mesh",
                 "extended_contact",
@@ -515,7 +521,7 @@ def parse_case(data: dict, default_name: str = "case", base_dir: str | None = No
                 "set it false or drop the allowances",
                 data["mesh"]["extended_contact"],
             )
-        mesh["extended_contact"] = False
+        mesh["contact_geometry"] = TheoreticalPath()
     case = Case.of_pair(
         coast=coast,
         name=name,

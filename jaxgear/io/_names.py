@@ -1,5 +1,5 @@
 """The one place where the names of a case file (or a command line) become model objects: the
-mesh-stiffness models, the foundations and the contact laws.
+mesh-stiffness models, the foundations, the contact laws and the contact geometry.
 
 A new model is one class in the model (:class:`jaxgear.AbstractStiffness`,
 :class:`jaxgear.AbstractFoundation`) plus its name here.
@@ -10,6 +10,7 @@ from __future__ import annotations
 import functools
 
 from .._contact import ContactLaw, ExactContact, SmoothContact
+from .._contact_geometry import AbstractContactGeometry, BeyondPath, TheoreticalPath
 from .._stiffness import (
     AbstractFoundation,
     MemberFoundations,
@@ -22,6 +23,7 @@ from .._stiffness_models import FE2D, ISO6336, AbstractStiffness, Uniform, Weber
 __all__ = [
     "FOUNDATIONS",
     "STIFFNESS_MODELS",
+    "contact_geometry_from_key",
     "contact_law_from_name",
     "foundation_from_name",
     "stiffness_from_name",
@@ -31,6 +33,13 @@ __all__ = [
 FOUNDATIONS = {"weber": WeberFoundation(), "sainsot": SainsotFoundation(), "none": NoFoundation()}
 #: ``[mesh] stiffness`` names
 STIFFNESS_MODELS = ("weber", "uniform", "iso6336", "fe2d")
+
+
+def contact_geometry_from_key(extended: bool) -> AbstractContactGeometry:
+    """``[mesh] extended_contact``'s value → the mesh model's contact geometry: true
+    :class:`~jaxgear.BeyondPath` (contact beyond the theoretical path too), false
+    :class:`~jaxgear.TheoreticalPath`."""
+    return BeyondPath() if extended else TheoreticalPath()
 
 
 def _one_foundation(name) -> AbstractFoundation:

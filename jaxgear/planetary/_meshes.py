@@ -407,7 +407,11 @@ class ContactMeshes(AbstractPlanetaryMeshes):
         return self.sun_mesh.base_pitch
 
     def _extended(self) -> bool:
-        return self.sun_mesh.extended_contact or self.ring_mesh.extended_contact
+        """Whether a mesh has cells beyond the theoretical path (the corner rows and the free
+        drive modes are then needed)."""
+        return any(
+            m.contact_geometry.reaches_beyond_path for m in (self.sun_mesh, self.ring_mesh)
+        )
 
     def other_flanks(self) -> ContactMeshes:
         """The meshes with the load on the other flanks: the planets driving the sun (carrier
@@ -511,12 +515,14 @@ class ContactMeshes(AbstractPlanetaryMeshes):
             along = cells.s - pitch  # (n_planets, n_lines, n_slices)
             V = cb * (v[:, None, None, :] + across[None, :, :, None] * w[:, None, None, :]
                       + along[..., None] * x_line[:, None, None, :])
-            if mesh.extended_contact:  # the corner cells' geometry (docs/extended-contact.md)
-                V = V + cb * _corner_terms(mesh, cells, rows)
-                # less their part along the stage's free drive rotation (_drive_modes)
-                phi, m_phi = drive
-                beyond = (cells.s < 0.0) | (cells.s > mesh.path_of_contact)
-                V = jnp.where(beyond[..., None], V - (V @ phi) @ m_phi.T, V)
+            # the corner cells' geometry (docs/extended-contact.md), less their part along the
+            # stage's free drive rotation (_drive_modes)
+            V = mesh.contact_geometry.beyond_path_vectors(
+                mesh, cells.s, V,
+                lambda V: V - (V @ drive[0]) @ drive[1].T,
+                lambda mesh=mesh, cells=cells, rows=rows, cb=cb: cb
+                * _corner_terms(mesh, cells, rows),
+            )
             d0 = jnp.where(cells.mask, delta0 - cb * d[:, None, None], 0.0)
             parts.append((V.reshape(-1, v.shape[-1]), cells.stiffness.reshape(-1),
                           cells.length.reshape(-1), d0.reshape(-1), cells.mask.reshape(-1)))

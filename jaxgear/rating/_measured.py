@@ -22,6 +22,7 @@ import equinox as eqx
 import numpy as np
 
 from .._baseplane import MeshModel
+from .._contact_geometry import BeyondPath, TheoreticalPath
 from .._util import check_instance, check_real
 from ._factors import transverse_load_factor
 
@@ -41,20 +42,21 @@ __all__ = [
 ]
 
 
-#: a mesh with contact beyond the theoretical path (``MeshModel.extended_contact`` True)
-EXTENDED_CONTACT = "extended path of contact (off-line contact at the tip corners)"
-#: a mesh with contact on the theoretical path only (``MeshModel.extended_contact`` False)
-THEORETICAL_CONTACT = "theoretical path of contact (contact on the line of action only)"
+#: a mesh with contact beyond the theoretical path (``MeshModel.contact_geometry`` a
+#: :class:`~jaxgear.BeyondPath`)
+EXTENDED_CONTACT = BeyondPath.description
+#: a mesh with contact on the theoretical path only (a :class:`~jaxgear.TheoreticalPath`)
+THEORETICAL_CONTACT = TheoreticalPath.description
 #: a model without tooth contact (a lumped model's linear mesh springs)
 MESH_SPRINGS = "no tooth contact (linear mesh springs of a constant stiffness)"
 
 
 def contact_model(meshes) -> str:
     """The words of the contact model of a run's meshes, the caveat every measured factor
-    carries (:class:`MeasuredFactor`): read from each mesh model's ``extended_contact``
-    (:class:`jaxgear.MeshModel`): :data:`EXTENDED_CONTACT` where True, :data:`THEORETICAL_CONTACT`
-    where False; :data:`MESH_SPRINGS` for no mesh model (an empty sequence: a lumped model's
-    constant mesh springs, no contact path). Meshes that differ: each named by its position
+    carries (:class:`MeasuredFactor`): each mesh model's ``contact_geometry``'s
+    ``description`` (:class:`jaxgear.MeshModel`): :data:`EXTENDED_CONTACT` beyond the path,
+    :data:`THEORETICAL_CONTACT` on it; :data:`MESH_SPRINGS` for no mesh model (an empty
+    sequence: a lumped model's constant mesh springs, no contact path). Meshes that differ: each named by its position
     ("mesh 1: ...; mesh 2: ...").
 
     Args:
@@ -70,7 +72,7 @@ def contact_model(meshes) -> str:
                        where="contact_model")
     if not planes:
         return MESH_SPRINGS
-    words = [EXTENDED_CONTACT if m.extended_contact else THEORETICAL_CONTACT for m in planes]
+    words = [m.contact_geometry.description for m in planes]
     if len(set(words)) == 1:
         return words[0]
     return "; ".join(f"mesh {k + 1}: {w}" for k, w in enumerate(words))

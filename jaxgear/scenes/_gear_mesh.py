@@ -181,7 +181,7 @@ class GearMesh(eqx.Module):
             self.tangent_point, self.direction, self.normal, self.roll_start, self.base_plane
         )
 
-    def _corner(self, members: tuple, cells: Cells) -> tuple:
+    def corner_contact(self, members: tuple, cells: Cells) -> tuple:
         """Where the cells' forces act (docs/extended-contact.md, "Where it acts"): the contact
         points P (L, N, 3), the driving gear's outward normals n' (L, N, 3) and the two gears'
         lever ratios ((L, N) each, driving then driven) from :meth:`MeshModel.corner`. On the
@@ -209,22 +209,15 @@ class GearMesh(eqx.Module):
     def _parts(self, members: tuple, cells: Cells, pad: int):
         theta = (cells.theta - self.phase) / self.ratio  # the scene angle: the members' frames
         if not self.base_plane.coast:
-            line = self.line()
-            if not self.base_plane.extended_contact:
-                points = self.points(cells)
-                return [
-                    members[g].window(points, cells.mask, line, theta, self.base_plane, side, pad)
-                    for g, side in zip(self.gears, (1.0, -1.0), strict=True)
-                ]
-            # beyond the theoretical path each member sees the corner's point, its turned
-            # normal and its own lever ratio (docs/extended-contact.md, "Where it acts")
-            P, n, levers = self._corner(members, cells)
+            # where the cells act for each member: on the line, or beyond the theoretical path
+            # at the corner's point with its turned normal and the member's own lever ratio
+            # (docs/extended-contact.md, "Where it acts")
+            points, lines = self.base_plane.contact_geometry.member_lines(
+                self, members, cells, self.line()
+            )
             return [
-                members[g].window(
-                    P, cells.mask, {**line, "cell_normal": n, "lever": lever}, theta,
-                    self.base_plane, side, pad,
-                )
-                for g, side, lever in zip(self.gears, (1.0, -1.0), levers, strict=True)
+                members[g].window(points, cells.mask, ln, theta, self.base_plane, side, pad)
+                for g, side, ln in zip(self.gears, (1.0, -1.0), lines, strict=True)
             ]
         return self._flank_parts(members, cells, theta, pad)
 

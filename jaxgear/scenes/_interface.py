@@ -163,7 +163,7 @@ class GearMember(eqx.Module):
         (:meth:`~jaxgear.scenes.GearMesh.line`) at scene angle θ (rad) of base plane ``mesh``;
         ``side`` +1 the mesh's driving gear, −1 its driven gear; ``pad`` rim stations more on
         each side of a window that follows the contact. With contact beyond the theoretical
-        path (``mesh.extended_contact``) ``points`` are the corners' contact points, ``line``'s
+        path (``mesh.contact_geometry``) ``points`` are the corners' contact points, ``line``'s
         ``cell_normal`` (L, N, 3) the driving gear's outward normal of each cell (turned by ε
         beyond the path) and its ``lever`` (L, N) this member's lever ratio (λ where it owns
         the tip corner, else 1; docs/extended-contact.md, "Where it acts")."""

@@ -17,7 +17,7 @@ class RigidMesh(Scene):
     cell and −1 for every coast cell (the approach opens the coast flanks).
 
     δ is the pinion's advance r_b1 φ1 cos β_b with the gear held (as the plane-strain FE
-    reference holds it). Beyond the theoretical path (``mesh.extended_contact``) a cell's force
+    reference holds it). Beyond the theoretical path (``mesh.contact_geometry``) a cell's force
     acts along the geometry's normal (docs/extended-contact.md, "Where it acts"): after the end
     of the path the pinion's tip corner touches, and its lever arm is λ r_b1, so V = λ(s) there
     (the derivative of the corner gap with respect to δ); before the start the pinion is the
@@ -35,9 +35,7 @@ class RigidMesh(Scene):
         return jnp.reshape(self.mesh.normal_load(torque), (1,))
 
     def cell_vectors(self, cells):
-        if not self.mesh.extended_contact:
-            return cell_flank(cells)[..., None]
-        lever = self.mesh.corner(cells.s)[0]
+        lever = self.mesh.contact_geometry.lever_ratios(self.mesh, cells.s)[0]
         return (cell_flank(cells) * lever)[..., None]
 
     def te_vector(self):

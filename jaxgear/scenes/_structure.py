@@ -200,25 +200,26 @@ class AssembledScene(Scene):
 
     def _free_drive(self, mesh, idx, Vw, cells: Cells):
         """The window vectors ``Vw`` (..., w) of ``mesh``'s ``cells`` on the DOFs ``idx`` (w,),
-        each corner cell's beyond the theoretical path (``extended_contact``) less its part
+        each corner cell's beyond the theoretical path (``contact_geometry``) less its part
         along the scene's free drive rotations R (:meth:`~jaxgear.scenes.DynamicScene.
         rigid_modes`): Vw − (Vw R_w)(G_wᵀ R_w)⁻¹ G_wᵀ, G = M R, both on the window, so that
         V·R = 0 (the rigid modes' contract). A corner cell's gap changes as the mesh position
         moves, so its exact vector has a part along the drive rotation (docs/extended-contact.md,
         "Where it acts"); the scene's nominal motion sets the mesh position, and the cell sees
         the elastic deviation, the torque ratio that the corner breaks shared by the window's
-        inertias. Unchanged on the path, for a scene without rigid modes, or without
-        ``extended_contact``."""
-        if not mesh.base_plane.extended_contact:
-            return Vw
-        R = self.rigid_modes()
-        if R.shape[1] == 0:
-            return Vw
-        G = (self.structure.M @ R)[idx]
-        R = R[idx]
-        part = (Vw @ R) @ jnp.linalg.solve(G.T @ R, G.T)
-        beyond = (cells.s < 0.0) | (cells.s > mesh.base_plane.path_of_contact)
-        return Vw - jnp.where(beyond[..., None], part, 0.0)
+        inertias. Unchanged on the path, for a scene without rigid modes, or on a
+        :class:`~jaxgear.TheoreticalPath`."""
+
+        def free(V):
+            R = self.rigid_modes()
+            if R.shape[1] == 0:
+                return V
+            G = (self.structure.M @ R)[idx]
+            R = R[idx]
+            return V - (V @ R) @ jnp.linalg.solve(G.T @ R, G.T)
+
+        plane = mesh.base_plane
+        return plane.contact_geometry.beyond_path_vectors(plane, cells.s, Vw, free)
 
     def cell_row(self, cells: tuple[Cells, ...], delta0: tuple) -> CellRow:
         """The cells of every mesh in one row on all n coordinates, mesh after mesh (with a

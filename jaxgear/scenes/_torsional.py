@@ -45,7 +45,7 @@ class TorsionalPair(Scene):
     The pinion carries the input torque T; the gear is held by an output shaft of torsional
     stiffness ``output_stiffness`` (N·m/rad) to a fixed load. Approach: V = cos β_b (r_b1, −r_b2)
     on the drive flanks, its negative on the coast flanks; beyond the theoretical path
-    (``mesh.extended_contact``) the tip owner's entry is λ(s) times its own (its lever arm,
+    (``mesh.contact_geometry``) the tip owner's entry is λ(s) times its own (its lever arm,
     :meth:`jaxgear.MeshModel.corner`; docs/extended-contact.md).
     The transmission error is independent of the shaft stiffness (statically determinate chain),
     which the tests use as a check of the structure-vector plumbing.
@@ -74,11 +74,9 @@ class TorsionalPair(Scene):
 
     def cell_vectors(self, cells):
         v = cell_flank(cells)[..., None] * self._v()[None, None, :]
-        if not self.mesh.extended_contact:
-            return v
         # beyond the path the tip owner's lever arm is λ r_bT (docs/extended-contact.md)
-        lever_driving, lever_driven = self.mesh.corner(cells.s)[:2]
-        return v * jnp.stack([lever_driving, lever_driven], axis=-1)
+        levers = self.mesh.contact_geometry.lever_ratios(self.mesh, cells.s)
+        return v * jnp.stack([jnp.broadcast_to(lv, cells.s.shape) for lv in levers], axis=-1)
 
     def te_vector(self):
         return self._v()
@@ -363,7 +361,7 @@ class RelativeApproach(DynamicScene):
     """1-DOF relative approach x (m, flank-normal) with equivalent mass m_eq (kg); V = 1.
 
     The external load is the static normal mesh force F_n = T/(r_b1 cos β_b) (N). Beyond the
-    theoretical path (``mesh.extended_contact``) V stays 1: the corner cells act along the line
+    theoretical path (``mesh.contact_geometry``) V stays 1: the corner cells act along the line
     of action with the base radii (the approach of the two gears' rotations together cannot
     carry the tip owner's shorter lever arm; docs/extended-contact.md)."""
 
