@@ -10,7 +10,7 @@ Near α = 0, tan α − α cancels: its absolute error is the rounding of tan α
 relative to inv α ≈ α³/3, grows as 1/α² and would cost the inverse 1e-10 rad at α = 1e-3.
 Below :data:`SERIES_BELOW` the Taylor series of tan α − α (to α¹⁵; Abramowitz & Stegun 4.3.67)
 is used instead, exact to rounding there, so the round trip inverse(inv(α)) holds α to 1e-15
-rad over 0..60° (tests/test_involute.py).
+rad over 0..60°.
 """
 
 from __future__ import annotations
