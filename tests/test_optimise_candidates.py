@@ -23,6 +23,10 @@ import jaxgear as jg
 import jaxgear.io as jio
 from jaxgear.cli import main
 
+# no test here reads, sizes or lists a figure: the optimise and run commands draw none
+# (tests/conftest.py's no_figures; their numbers and printed lines are unchanged)
+pytestmark = pytest.mark.usefixtures("no_figures")
+
 SPUR = (
     """
 name = "opt-candidates"

@@ -48,8 +48,12 @@ def _run(tmp_path, name, table=""):
 @pytest.fixture(scope="module")
 def runs(tmp_path_factory):
     tmp = tmp_path_factory.mktemp("housed_run")
-    return {name: _run(tmp, name, table)
-            for name, table in (("grounded", ""), ("steel", STEEL), ("stiff", STIFF))}
+    # no test here reads a figure: the runs draw none (tests/conftest.py's no_figures, for a
+    # module fixture)
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setenv("JAXGEAR_TEST_NO_FIGURES", "1")
+        return {name: _run(tmp, name, table)
+                for name, table in (("grounded", ""), ("steel", STEEL), ("stiff", STIFF))}
 
 
 def test_run_modes_are_the_housed_models(runs):
