@@ -1,8 +1,8 @@
 """The two-stage coupled gearbox of docs/gearbox.md: a planetary stage (ring held, carrier in,
 sun out) whose sun drives a parallel spur pair through a shaft, both on their contact cells in one
-Newmark run (jaxgear.gearbox.gearbox_dynamics, each speed with the automatic time plan: 40
-steps per period of the highest mode the meshes excite, 8 time constants of the lowest mode to
-settle), every mesh's dynamic factor against the carrier speed, and the coupled modes with the
+Newmark run (jaxgear.gearbox.gearbox_dynamics, each speed with the automatic time plan: at
+least 40 steps per period of the highest mode the meshes excite, the settling time of the
+slowest decaying excited mode), every mesh's dynamic factor against the carrier speed, and the coupled modes with the
 mesh holding most strain energy (a few minutes on a laptop).
 
 Writes docs/img/gearbox-two-stage.png. Run from the repository root:

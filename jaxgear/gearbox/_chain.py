@@ -29,7 +29,7 @@ from .._baseplane import CellRow, MeshModel, on_the_path
 from .._modifications import Modifications
 from .._quasi_static import separation
 from .._util import as_float, check_instance
-from ..dynamics import matrix_modal_analysis
+from ..dynamics import cell_stiffness, matrix_modal_analysis
 from ..planetary import (
     AbstractPlanetaryMeshes,
     AbstractPlanetaryModel,
@@ -42,7 +42,7 @@ from ..planetary import (
     planetary_cell_row,
     planetary_stage_system,
 )
-from ..scenes import Housing
+from ..scenes import Housing, TorsionalPair
 
 __all__ = [
     "AbstractGearboxStage",
@@ -52,6 +52,17 @@ __all__ = [
     "PlanetaryGearboxStage",
     "gearbox_modes",
 ]
+
+
+def mean_cell_stiffness(cell_row, period, positions: int) -> Float[Array, "n n"]:
+    """K̄_m of a mesh: its cells' stiffness Σ k l V Vᵀ (:func:`jaxgear.dynamics.cell_stiffness`)
+    averaged over ``positions`` mid-points of its period ``period`` (m of mesh travel), the
+    cells from ``cell_row`` (a function of the travel, on the theoretical path: beyond it a
+    corner's cell carries load only under deflection)."""
+    x = period * (jnp.arange(positions) + 0.5) / positions
+    rows = jax.vmap(cell_row)(x)
+    kl = jnp.where(rows.mask, rows.k * rows.length, 0.0)
+    return cell_stiffness(rows.V, kl) / positions
 
 
 class AbstractGearboxStage(eqx.Module):
@@ -351,7 +362,10 @@ class PairGearboxStage(AbstractGearboxStage):
     """A parallel pair in the chain: pinion and wheel rotations (rad), their polar inertias
     (kg m^2, shape (2,)), base radii (m, shape (2,)) and the mean mesh stiffness along the line
     of action (N/m); ``input``: 0 when the pinion is driven by the previous stage, 1 the wheel
-    (the other gear is the output)."""
+    (the other gear is the output). With a ``mesh`` (:class:`~jaxgear.MeshModel`, drive flanks
+    only) its contact cells are the torsional pair's (:class:`jaxgear.scenes.TorsionalPair`'s
+    structure vectors, on the mesh's base radii, the wheel's rotation counted in the chain's
+    common sense)."""
 
     inertias: Float[Array, " 2"] = eqx.field(converter=as_float)
     base_radii: Float[Array, " 2"] = eqx.field(converter=as_float)
@@ -374,12 +388,8 @@ class PairGearboxStage(AbstractGearboxStage):
     # cell of unit length) on the deflection cos(beta_b) (r_b1 theta_1 + r_b2 theta_2)
     def dynamic_parts(self, positions):
         m, _ = self.matrices()
-        x = self.mesh_period() * (jnp.arange(positions) + 0.5) / positions
-        # the cells on the theoretical path (jaxgear.MeshModel's extended_contact: beyond it a
-        # corner's cell carries load only under deflection)
-        rows = jax.vmap(on_the_path(self).cell_row)(x)
-        kl = jnp.where(rows.mask, rows.k * rows.length, 0.0)
-        k_mean = jnp.mean(jnp.einsum("pci,pc,pcj->pij", rows.V, kl, rows.V), axis=0)
+        # the cells on the theoretical path (jaxgear.MeshModel's extended_contact)
+        k_mean = mean_cell_stiffness(on_the_path(self).cell_row, self.mesh_period(), positions)
         z = jnp.zeros_like(m)
         return m, z, k_mean, jnp.zeros(2, m.dtype)
 
@@ -391,10 +401,10 @@ class PairGearboxStage(AbstractGearboxStage):
                            jnp.ones((1,), bool))
         cells, _, delta0 = separation(self.mesh, self.modifications,
                                       x / self.mesh.base_radius_pinion)
-        v = jnp.cos(self.mesh.base_helix_angle) * r
-        V = jnp.broadcast_to(v, cells.s.shape + (2,))
-        if self.mesh.extended_contact:  # beyond the path: the tip owner's lever ratio λ
-            V = V * jnp.stack(self.mesh.corner(cells.s)[:2], axis=-1)
+        # the torsional pair's structure vectors (jaxgear.scenes.TorsionalPair: each rotation
+        # positive in its own direction of motion, the tip owner's lever ratio beyond the path)
+        # on the chain's rotations, every one positive in one sense: the wheel's sign flipped
+        V = TorsionalPair(self.mesh).cell_vectors(cells) * jnp.array([[[1.0, -1.0]]], r.dtype)
         return CellRow.of(cells, V, delta0)
 
     def mesh_forces(self, forces):

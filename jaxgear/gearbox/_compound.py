@@ -67,7 +67,7 @@ from .._modifications import Modifications
 from .._quasi_static import separation
 from .._util import as_float, check_instance, check_integer, check_real
 from ..planetary import Central
-from ._chain import AbstractGearboxStage
+from ._chain import AbstractGearboxStage, mean_cell_stiffness
 
 __all__ = ["CompoundPlanetaryStage", "stepped_planet_phases"]
 
@@ -348,11 +348,8 @@ class CompoundPlanetaryStage(AbstractGearboxStage):
         p_s, p_r, _ = self._pitches()
         k_mean = 0.0
         path = on_the_path(self)  # the cells on the theoretical path (extended_contact)
-        for row, period in ((path._sun_row, p_s), (path._ring_row, p_r)):
-            x = period * (jnp.arange(positions) + 0.5) / positions  # each mesh its own period
-            rows = jax.vmap(row)(x)
-            kl = jnp.where(rows.mask, rows.k * rows.length, 0.0)
-            k_mean = k_mean + jnp.mean(jnp.einsum("pci,pc,pcj->pij", rows.V, kl, rows.V), axis=0)
+        for row, period in ((path._sun_row, p_s), (path._ring_row, p_r)):  # each its own period
+            k_mean = k_mean + mean_cell_stiffness(row, period, positions)
         m = self._mass()
         return m, self._hold(), k_mean, jnp.zeros(m.shape[0], m.dtype)
 

@@ -29,7 +29,6 @@ stage condensed statically onto its two torque-node rotations (Guyan, :meth:`mat
 from __future__ import annotations
 
 import equinox as eqx
-import jax
 import jax.numpy as jnp
 import numpy as np
 
@@ -38,7 +37,7 @@ from .._modifications import Modifications
 from .._quasi_static import separation
 from .._util import as_float, check_instance, is_traced
 from ..scenes import LumpedPair
-from ._chain import AbstractGearboxStage
+from ._chain import AbstractGearboxStage, mean_cell_stiffness
 
 __all__ = ["LumpedPairGearboxStage"]
 
@@ -110,10 +109,7 @@ class LumpedPairGearboxStage(AbstractGearboxStage):
         return t[self.input], t[1 - self.input]
 
     def _mean_mesh(self, positions):
-        x = self.mesh_period() * (jnp.arange(positions) + 0.5) / positions
-        rows = jax.vmap(on_the_path(self).cell_row)(x)
-        kl = jnp.where(rows.mask, rows.k * rows.length, 0.0)
-        return jnp.mean(jnp.einsum("pci,pc,pcj->pij", rows.V, kl, rows.V), axis=0)
+        return mean_cell_stiffness(on_the_path(self).cell_row, self.mesh_period(), positions)
 
     def dynamic_parts(self, positions):
         m, k = self.scene.mass(), self.scene.stiffness()
