@@ -388,7 +388,7 @@ class PairGearboxStage(AbstractGearboxStage):
     # cell of unit length) on the deflection cos(beta_b) (r_b1 theta_1 + r_b2 theta_2)
     def dynamic_parts(self, positions):
         m, _ = self.matrices()
-        # the cells on the theoretical path (jaxgear.MeshModel's extended_contact)
+        # the cells on the theoretical path (the mesh model's contact geometry)
         k_mean = mean_cell_stiffness(on_the_path(self).cell_row, self.mesh_period(), positions)
         z = jnp.zeros_like(m)
         return m, z, k_mean, jnp.zeros(2, m.dtype)

@@ -347,7 +347,7 @@ class CompoundPlanetaryStage(AbstractGearboxStage):
     def dynamic_parts(self, positions):
         p_s, p_r, _ = self._pitches()
         k_mean = 0.0
-        path = on_the_path(self)  # the cells on the theoretical path (extended_contact)
+        path = on_the_path(self)  # the cells on the theoretical path (the mesh model's contact geometry)
         for row, period in ((path._sun_row, p_s), (path._ring_row, p_r)):  # each its own period
             k_mean = k_mean + mean_cell_stiffness(row, period, positions)
         m = self._mass()
