@@ -65,8 +65,7 @@ def _setup(name: str, uniform: bool = False, extended: bool = False):
     case = jio.load_case(name)
     if uniform:
         case = case.replace(stiffness=jg.Uniform(13e9))
-    bmesh = bl.baseline_mesh(case, slices=SLICES,
-        contact_geometry=jg.BeyondPath() if extended else jg.TheoreticalPath(),)
+    bmesh = bl.baseline_mesh(case, slices=SLICES, extended_contact=extended)
     mesh = jg.MeshModel.from_pair(
         case.pair, bmesh.stiffness_s, bmesh.stiffness_k, SLICES,
         contact_geometry=jg.BeyondPath() if extended else jg.TheoreticalPath(),

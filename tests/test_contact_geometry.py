@@ -11,7 +11,6 @@ import pytest
 
 import jaxgear as jg
 import jaxgear.io as jio
-from jaxgear._baseplane import on_the_path
 
 
 def _pair():
@@ -72,10 +71,10 @@ def test_beyond_path_reaches_the_extension_with_the_corner_gap_there():
         _mesh(jg.TheoreticalPath()).n_lines,
         _mesh(jg.TheoreticalPath()).first_line,
     )
-    # on_the_path keeps the shapes; a mesh without cells beyond the path comes back itself
-    masked = on_the_path(mesh)
+    # on_path keeps the shapes; a mesh without cells beyond the path comes back itself
+    masked = mesh.contact_geometry.on_path(mesh)
     assert masked.contact_geometry == jg.TheoreticalPath() and masked.n_lines == mesh.n_lines
-    assert on_the_path(plain) is plain
+    assert plain.contact_geometry.on_path(plain) is plain
 
 
 def test_refusals_in_one_line():

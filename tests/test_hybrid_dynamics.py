@@ -379,6 +379,7 @@ def test_hybrid_sweep_sharded_over_four_cpu_devices_matches_one_device(setup):
         import jax, numpy as np
         jax.config.update("jax_enable_x64", True)
         import fem_prep
+        import jaxgear as jg
         from jaxgear import io as jio
         from jaxgear.dynamics import Newmark, SteadyState, dynamic_model, speed_sweep
         from jaxgear.dynamics import Batching

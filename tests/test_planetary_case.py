@@ -547,7 +547,7 @@ def test_sharing_over_turn_on_its_grid_against_the_spring_model():
     assert jp.turn_travel(held).size == jp.TURN_POSITIONS == 72
     with pytest.raises(ValueError, match="positions = 0"):
         jp.turn_travel(held, 0)
-    q = jp.sharing_over_turn(jg.TorsionalPlanetary(), held, torque,
+    q = jp.sharing_over_turn(jp.TorsionalPlanetary(), held, torque,
                              np.asarray(spec.tangential_pin_errors),
                              np.asarray(spec.radial_pin_errors), positions=p)
     np.testing.assert_array_equal(np.asarray(q.travel), x)
@@ -558,10 +558,10 @@ def test_sharing_over_turn_on_its_grid_against_the_spring_model():
     np.testing.assert_allclose(q.sun_mesh_forces, [w[0] for w in want], rtol=1e-9)
     np.testing.assert_allclose(q.k_gamma, [w[1] for w in want], rtol=1e-9)
     # one travel by constant_mesh_sharing against the linear solve K q = f (every mesh in contact)
-    one = jp.constant_mesh_sharing(jg.TorsionalPlanetary(), held, torque,
+    one = jp.constant_mesh_sharing(jp.TorsionalPlanetary(), held, torque,
                                    np.asarray(spec.tangential_pin_errors),
                                    np.asarray(spec.radial_pin_errors), x[3:4])
-    lin = jp.load_sharing(jg.TorsionalPlanetary(), held, torque,
+    lin = jp.load_sharing(jp.TorsionalPlanetary(), held, torque,
                           np.asarray(spec.tangential_pin_errors),
                           np.asarray(spec.radial_pin_errors), travel=x[3])
     np.testing.assert_allclose(one.sun_mesh_forces[0], lin.sun_mesh_forces, rtol=1e-9)

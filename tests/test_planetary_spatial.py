@@ -713,7 +713,7 @@ def test_the_lumped_models_a_stage_runs(tmp_path):
     assert kinds(jp.lumped_sharing_models(free_held)) == two
     held, held_held = stages(_helical_case(tmp_path))
     assert kinds(jp.lumped_sharing_models(held_held)) == three
-    assert jp.LUMPED_MODELS == {"planar": jg.PlanarPlanetary(), "torsional": jg.TorsionalPlanetary()}
+    assert jp.LUMPED_MODELS == {"planar": jp.PlanarPlanetary(), "torsional": jp.TorsionalPlanetary()}
 
 
 def test_the_run_takes_the_3d_model_only_where_its_supports_hold_the_stage(tmp_path):

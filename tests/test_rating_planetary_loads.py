@@ -134,7 +134,7 @@ def test_planet_mesh_loads_place_each_planets_cells():
     spec = case.form.spec
     meshes = spec.dynamic_meshes(case, case.slices)
     x = meshes.positions(case.positions_per_pitch)
-    q = jp.planetary_quasi_static(jg.PlanarPlanetary(), spec.sharing_stage(spec.stage(case)),
+    q = jp.planetary_quasi_static(jp.PlanarPlanetary(), spec.sharing_stage(spec.stage(case)),
                                   meshes, np.asarray(abs(spec.torques(case.torque)["sun"])), x)
     kinds = jp.planet_mesh_loads(meshes, x, q.cell_line_load)
     assert [len(k) for k in kinds] == [3, 3]

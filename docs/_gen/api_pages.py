@@ -53,8 +53,9 @@ PACKAGES = (
 SECTIONS = {
     "jaxgear": (
         ("Geometry", ("_geometry", "_internal", "_backlash", "_extended")),
-        ("Contact and quasi-statics", ("_quasi_static", "_contact", "_compiled", "_results",
-                                       "_maps", "_pressure", "_spectrum")),
+        ("Contact and quasi-statics", ("_quasi_static", "_contact", "_contact_geometry",
+                                       "_compiled", "_results", "_maps", "_pressure",
+                                       "_spectrum")),
         ("Mesh stiffness", ("_stiffness", "_stiffness_models", "_baseplane", "_cell_factor",
                             "_weber_internal")),
         ("Modifications and deviations", ("_modifications", "_deviations")),
@@ -127,7 +128,7 @@ SECTIONS = {
         ("From a case to models", ("_case_model", "_scene_spec", "_scene_table", "_problem",
                                    "_acoustic_path",
                                    "_planetary_spec", "_train_file", "_gearbox_file")),
-        ("Tables of a case file", ("_deviations_table", "_modifications_table",
+        ("Tables of a case file", ("_sections", "_deviations_table", "_modifications_table",
                                    "_optimise_table", "_rating*", "_robust_table",
                                    "_lubricant_table", "_scuffing_table",
                                    "_micropitting_table", "_housing_table", "_whine_table",

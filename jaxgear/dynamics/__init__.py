@@ -141,6 +141,7 @@ from ._sweep import (
     auto_steps_per_period as auto_steps_per_period,
     band_dynamic_factor as band_dynamic_factor,
     mesh_averaged_modes as mesh_averaged_modes,
+    resolve_settings as resolve_settings,
     speed_sweep as speed_sweep,
     steps_multiple as steps_multiple,
 )

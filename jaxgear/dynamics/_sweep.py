@@ -42,6 +42,7 @@ __all__ = [
     "auto_steps_per_period",
     "band_dynamic_factor",
     "mesh_averaged_modes",
+    "resolve_settings",
     "speed_sweep",
     "steps_multiple",
 ]

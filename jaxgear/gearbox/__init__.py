@@ -34,8 +34,6 @@ from ._coupled import (
     coordinate_names as coordinate_names,
     coupled_mode_table as coupled_mode_table,
     gearbox_coupled_modes as gearbox_coupled_modes,
-    gearbox_dynamics as gearbox_dynamics,
-    gearbox_speed_sweep as gearbox_speed_sweep,
     mesh_names as mesh_names,
 )
 from ._lumped import LumpedPairGearboxStage as LumpedPairGearboxStage
@@ -43,6 +41,8 @@ from ._model import (
     OPERATING_RUN as OPERATING_RUN,
     GearboxModel as GearboxModel,
     GearboxPrepared as GearboxPrepared,
+    gearbox_dynamics as gearbox_dynamics,
+    gearbox_speed_sweep as gearbox_speed_sweep,
 )
 from ._spectrum import (
     HousingSignals as HousingSignals,

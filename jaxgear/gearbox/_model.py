@@ -35,8 +35,8 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Float
 
-from .._contact import ContactLaw, ExactContact
-from .._util import as_float, check_instance
+from .._contact import AbstractContactLaw, ContactLaw, ExactContact
+from .._util import as_float, check_instance, check_real
 from ..dynamics import (
     SETTLE_TOL,
     AbstractDynamicModel,
@@ -45,12 +45,18 @@ from ..dynamics import (
     Outputs,
     QuasiPeriodicBalance,
     SteadyState,
+    auto_steps_per_period,
+    resolve_settings,
     settling_time,
+    simulate,
+    speed_sweep,
 )
 from ._chain import GearboxTorsional
 from ._coupled import (
+    GearboxDynamics,
     GearboxRun,
     _assemble,
+    _check,
     _coupled_modes,
     _excited_periods,
     _kinematics,
@@ -59,7 +65,13 @@ from ._coupled import (
     mesh_names,
 )
 
-__all__ = ["OPERATING_RUN", "GearboxModel", "GearboxPrepared"]
+__all__ = [
+    "OPERATING_RUN",
+    "GearboxModel",
+    "GearboxPrepared",
+    "gearbox_dynamics",
+    "gearbox_speed_sweep",
+]
 
 #: the plan constants of a gearbox case's coupled model at its operating point
 #: (:meth:`jaxgear.io.GearboxForm.dynamic_model`; measured on nrel-5mw-gearbox, docs/gearbox.md
@@ -290,3 +302,88 @@ class GearboxModel(AbstractDynamicModel):
         if speeds.ndim == 0:
             return _run(self.chain, run, speeds, prepared.law, *plan)
         return _sweep(self.chain, run, speeds, prepared.law, *plan)
+
+
+def gearbox_dynamics(
+    chain: GearboxTorsional,
+    run: GearboxRun,
+    input_speed: float,
+    law: AbstractContactLaw = ExactContact(),
+) -> GearboxDynamics:
+    """The steady response of the whole gearbox at one input speed: one Newmark run (average
+    acceleration, :func:`jaxgear.dynamics.newmark`) of the coupled system (module docstring)
+    with every mesh's contact cells at once, each stage's at its own mesh travel x_k = v_k t,
+    from the quasi-static state at t = dt / 2 at rest; the last ``run.keep_periods`` blocks
+    recorded. :func:`jaxgear.dynamics.simulate` of the
+    :class:`~jaxgear.gearbox.GearboxModel` of ``chain`` and ``run`` on the run's plan
+    (``Newmark(run.steps_per_period)``, ``SteadyState(run.periods, run.keep_periods)``).
+
+    Args:
+        chain: the stages and shafts (:class:`~jaxgear.gearbox.GearboxTorsional`); a stage's
+            meshes are its contact cells (a planetary stage's ``meshes``, a pair's ``mesh``) or,
+            without them, its constant mesh springs.
+        run: :class:`GearboxRun` (torque, output hold, steps, damping).
+        input_speed: the first stage's input member's speed (rad/s, != 0; a negative speed
+            turns the input the other way, the plan from its magnitude); the other members'
+            speeds follow from the stages' kinematics (Willis for a planetary stage).
+        law: the contact law.
+
+    Returns:
+        :class:`GearboxDynamics`; ``dynamic_factors`` per mesh in :func:`mesh_names`' order.
+
+    Raises:
+        ValueError: an argument of another kind (one line).
+        ValueError: ``input_speed`` zero or not finite (one line).
+    """
+    _check(chain, run, law, "gearbox_dynamics")
+    check_real("input_speed", input_speed, "rad/s", shape=(), where="gearbox_dynamics")
+    if float(input_speed) == 0.0:
+        raise ValueError("gearbox_dynamics: input_speed = 0 rad/s: allowed a nonzero speed")
+    model, integrator, window = GearboxModel(chain, run), *_plan_of(run)
+    if float(input_speed) > 0.0:
+        return simulate(model, input_speed, integrator=integrator, contact=law, window=window,
+                        throw=False)
+    return _reversed(model, jnp.asarray(input_speed, model.dtype), integrator, law, window)
+
+
+def gearbox_speed_sweep(
+    chain: GearboxTorsional,
+    run: GearboxRun,
+    input_speeds: Float[Array, " s"],
+    law: AbstractContactLaw = ExactContact(),
+) -> GearboxDynamics:
+    """:func:`gearbox_dynamics` at each input speed (rad/s, (s,), nonzero), vectorised with
+    ``jax.vmap``: every field gains a leading axis (s,). :func:`jaxgear.dynamics.speed_sweep`
+    of the :class:`~jaxgear.gearbox.GearboxModel` on the run's plan (automatic: one plan for
+    every speed, the step of the lowest, the span of the highest)."""
+    _check(chain, run, law, "gearbox_speed_sweep")
+    speeds = jnp.reshape(as_float(input_speeds), (-1,))
+    check_real("input_speeds", speeds, "rad/s", shape=(None,), where="gearbox_speed_sweep")
+    if not bool(jnp.all(speeds != 0.0)):
+        raise ValueError("gearbox_speed_sweep: an input speed of 0 rad/s: allowed nonzero speeds")
+    model, integrator, window = GearboxModel(chain, run), *_plan_of(run)
+    if bool(jnp.all(speeds > 0.0)):
+        return speed_sweep(model, speeds, integrator=integrator, contact=law,
+                           window=window).results
+    return _reversed(model, speeds, integrator, law, window)
+
+
+def _plan_of(run: GearboxRun) -> tuple:
+    """The engine's integrator and window of ``run``'s plan (None: automatic)."""
+    return Newmark(run.steps_per_period), SteadyState(run.periods, run.keep_periods)
+
+
+def _reversed(model, speeds, integrator, law, window):
+    """A run or sweep with an input turning backwards (a speed < 0; the engine entries take
+    speeds > 0): planned by the engine on the speeds' magnitudes (the plan depends on them
+    alone), then run at the signed speeds by the model."""
+    integrator, law, window, outputs = resolve_settings(model, integrator, law, window)
+    mag = np.abs(np.atleast_1d(np.asarray(speeds, dtype=float)))
+    n, modes = integrator.steps_per_period, None
+    if n is None:
+        modes = model.averaged_modes()
+        n = int(np.max(auto_steps_per_period(model, mag, modes)))
+    if window.periods is None:
+        window = model.resolve_window(window, mag, np.full(mag.shape, n), modes)
+    prepared = model.prepare(integrator, law, window, int(n), outputs, modes)
+    return model.independent(prepared, speeds)

@@ -656,7 +656,7 @@ def lumped_mesh_stiffness(
         per unit length on the theoretical path k0 b ε_α (to one position's share).
 
     Raises:
-        what :func:`jaxgear.quasi_static` raises for its inputs (one line).
+        ValueError: what :func:`jaxgear.quasi_static` raises for its inputs (one line).
     """
     r = quasi_static(mesh, modifications, torque, positions_per_pitch=positions_per_pitch)
     return float(np.mean(np.asarray(r.mesh_stiffness)))

@@ -514,7 +514,7 @@ def constant_mesh_sharing(
             x (m), (p,).
 
     Raises:
-        what :func:`planetary_quasi_static` raises (one line)."""
+        ValueError: what :func:`planetary_quasi_static` raises (one line)."""
     return planetary_quasi_static(model, stage, ConstantMeshes(face_points=model.face_points),
                                   np.asarray(sun_torque), np.asarray(travel),
                                   tangential_pin_errors, radial_pin_errors)
@@ -534,7 +534,8 @@ def sharing_over_turn(
     the travels over the turn.
 
     Raises:
-        what :func:`turn_travel` and :func:`planetary_quasi_static` raise (one line)."""
+        ValueError: what :func:`turn_travel` and :func:`planetary_quasi_static` raise (one
+            line)."""
     return constant_mesh_sharing(model, stage, sun_torque, tangential_pin_errors,
                                  radial_pin_errors, turn_travel(stage, positions))
 
