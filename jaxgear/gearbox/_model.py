@@ -122,7 +122,7 @@ class GearboxModel(AbstractDynamicModel):
     run: GearboxRun
 
     def __init__(self, chain: GearboxTorsional, run: GearboxRun):
-        check_instance("chain", chain, GearboxTorsional, "a jaxgear.GearboxTorsional",
+        check_instance("chain", chain, GearboxTorsional, "a jaxgear.gearbox.GearboxTorsional",
                        "GearboxModel")
         check_instance("run", run, GearboxRun, "a jaxgear.gearbox.GearboxRun", "GearboxModel")
         self.scene, self.run, self.mods = chain, run, None
