@@ -155,6 +155,7 @@ from ._whine import (
     TransmissionErrorSource as TransmissionErrorSource,
     WhineResponse as WhineResponse,
     WhineSize as WhineSize,
+    check_whine_speeds as check_whine_speeds,
     balance_harmonics as balance_harmonics,
     check_whine_size as check_whine_size,
     fourier_coefficients as fourier_coefficients,

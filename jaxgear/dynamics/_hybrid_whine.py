@@ -61,6 +61,7 @@ from ._hybrid_damping import _speed_damping
 from ._hybrid_mesh import SceneCells, _joined, _reference_shift, _references
 from ._model import mesh_forces, mesh_te, static_mesh_forces
 from ._whine import AbstractWhineMethod, WhineResponse, _one_sided, fourier_coefficients
+from ._whine_methods import check_whine_speeds
 
 __all__ = ["CyclicShift", "cyclic_shift", "hybrid_whine"]
 
@@ -196,11 +197,7 @@ def _check(model, speeds, method, positions):
         raise ValueError(
             f"positions = {positions}: allowed >= 4 harmonics + 1 = {4 * H + 1} for harmonics = {H}"
         )
-    if np.ndim(speeds) > 1 or np.size(speeds) == 0:
-        raise ValueError(f"speeds = {speeds!r}: allowed pinion speeds > 0 rad/s, scalar or (S,)")
-    sp_ = np.asarray(speeds, dtype=float)
-    if not np.all(np.isfinite(sp_)) or np.any(sp_ <= 0):
-        raise ValueError(f"speeds = {speeds!r}: allowed finite pinion speeds > 0 rad/s")
+    check_whine_speeds(speeds)
 
 
 def hybrid_whine(

@@ -54,6 +54,7 @@ from ._whine_methods import (
     HarmonicBalance,
     QuasiPeriodicBalance,
     TransmissionErrorSource,
+    check_whine_speeds,
 )
 from ._whine_qp import (
     _torus_static,
@@ -503,12 +504,7 @@ def lumped_whine(
             f"positions = {positions}: allowed >= (4 harmonics + 1) / span periods = "
             f"{-(-(4 * H + 1) // span)} for harmonics = {H}"
         )
-    if np.ndim(speeds) > 1 or np.size(speeds) == 0:
-        raise ValueError(f"speeds = {speeds!r}: allowed pinion speeds > 0 rad/s, scalar or (S,)")
-    if not is_traced(speeds):  # traced speeds (under jit or grad): their shape only
-        sp = np.asarray(speeds, dtype=float)
-        if not np.all(np.isfinite(sp)) or np.any(sp <= 0):
-            raise ValueError(f"speeds = {speeds!r}: allowed finite pinion speeds > 0 rad/s")
+    check_whine_speeds(speeds)
     # the size estimated and refused before the static solves (one line)
     n, m = int(model.scene.mass().shape[0]), len(model.scene.base_planes)
     if quasi:

@@ -8,15 +8,31 @@ from __future__ import annotations
 from typing import ClassVar
 
 import equinox as eqx
+import numpy as np
 
-from .._util import check_integer
+from .._util import check_integer, is_traced
 
 __all__ = [
     "AbstractWhineMethod",
     "HarmonicBalance",
     "QuasiPeriodicBalance",
     "TransmissionErrorSource",
+    "check_whine_speeds",
 ]
+
+
+def check_whine_speeds(speeds, member: str = "pinion") -> None:
+    """Raise ``ValueError`` (one line, before any work) unless ``speeds`` is a scalar or (S,) of
+    finite speeds > 0 rad/s of ``member`` (the word the message names: "pinion", "input");
+    traced speeds (under jit or grad) are checked for their shape only."""
+    if np.ndim(speeds) > 1 or np.size(speeds) == 0:
+        raise ValueError(
+            f"speeds = {speeds!r}: allowed {member} speeds > 0 rad/s, scalar or (S,)"
+        )
+    if not is_traced(speeds):
+        sp = np.asarray(speeds, dtype=float)
+        if not np.all(np.isfinite(sp)) or np.any(sp <= 0):
+            raise ValueError(f"speeds = {speeds!r}: allowed finite {member} speeds > 0 rad/s")
 
 
 class AbstractWhineMethod(eqx.Module):

@@ -26,7 +26,7 @@ import jax.numpy as jnp
 from jaxtyping import Array, Float
 
 from .._contact import ContactLaw, ExactContact
-from .._util import as_float, check_instance, is_traced
+from .._util import as_float, check_instance
 import numpy as np
 
 from ..dynamics import (
@@ -38,6 +38,7 @@ from ..dynamics import (
     SteadyState,
     TransmissionErrorSource,
     auto_steps_per_period,
+    check_whine_speeds,
     settling_time,
     speed_sweep,
 )
@@ -239,12 +240,7 @@ class PlanetaryModel(AbstractDynamicModel):
         """The stage's gear whine in the frequency domain at the input ``speeds`` (rad/s):
         :func:`~jaxgear.planetary.planetary_whine` at the carrier and mesh speeds they give
         (:func:`jaxgear.dynamics.whine_response` delegates here)."""
-        if np.ndim(speeds) > 1 or np.size(speeds) == 0:
-            raise ValueError(f"speeds = {speeds!r}: allowed input speeds > 0 rad/s, scalar or (S,)")
-        if not is_traced(speeds):
-            sp = np.asarray(speeds, dtype=float)
-            if not np.all(np.isfinite(sp)) or np.any(sp <= 0):
-                raise ValueError(f"speeds = {speeds!r}: allowed finite input speeds > 0 rad/s")
+        check_whine_speeds(speeds, "input")
         s = jnp.atleast_1d(jnp.asarray(speeds, self.dtype))
         w = planetary_whine(self.kind, self.stage, self.meshes, self.run,
                             self.carrier_per_input * s, method, mesh_speeds=self._mesh_speed(s),
