@@ -84,3 +84,49 @@ def test_the_recorded_clusters_hold_the_repeated_modes():
     sizes = [len(c) for c in _clusters(rows)]
     assert sizes == [1, 1, 1, 1, 3, 1, 1]
     assert list(itertools.chain(*_clusters(rows))) == list(range(len(rows)))
+
+
+def test_a_two_pair_chain_listed_through_its_model_against_an_eigen_solution_written_here():
+    """Two parallel pairs on constant mesh springs joined by a shaft (stage 1's wheel to stage
+    2's pinion), free at both ends: :meth:`GearboxModel.natural_modes` against
+    ``scipy.linalg.eigh`` of (K, M) written here from the inertias, the base radii (a pair's
+    mesh deflection r_p θ_p + r_w θ_w), the mesh and the shaft stiffnesses: one rigid mode at
+    0 Hz, the elastic frequencies to 1e-9, each stage's kinetic-energy share Σ_{j∈s} M_jj φ_j²
+    (M-normalised φ) to 1e-9; ``jaxgear modes``' rows (:func:`jaxgear.cli.modes.typed_modes`)
+    name the stage of the larger share."""
+    import scipy.linalg
+
+    import jaxgear.gearbox as gb
+    from jaxgear.cli.modes import typed_modes
+
+    inertias, radii, mesh = ((0.02, 0.3), (0.05, 0.8)), ((0.04, 0.1), (0.05, 0.12)), (5e8, 8e8)
+    shaft = 2e6
+    chain = gb.GearboxTorsional(
+        tuple(gb.PairGearboxStage(i, r, k, input=0) for i, r, k in zip(inertias, radii, mesh)),
+        (shaft,))
+    model = gb.GearboxModel(chain, gb.GearboxRun(100.0, 1e6))
+    modes = model.natural_modes()
+
+    M = np.diag(np.concatenate(inertias))
+    K = np.zeros((4, 4))
+    for s, (r, k) in enumerate(zip(radii, mesh)):
+        v = np.zeros(4)
+        v[2 * s:2 * s + 2] = r
+        K += k * np.outer(v, v)
+    b = np.array([0.0, 1.0, -1.0, 0.0])  # stage 1's wheel (its output) to stage 2's pinion
+    K += shaft * np.outer(b, b)
+    lam, phi = scipy.linalg.eigh(K, M)
+    f_ref = np.sqrt(np.clip(lam, 0.0, None)) / (2 * np.pi)
+    shares = np.stack([np.sum(np.diag(M)[2 * s:2 * s + 2, None] * phi[2 * s:2 * s + 2] ** 2,
+                              axis=0) for s in range(2)])
+
+    f = np.asarray(modes.frequency)
+    assert np.asarray(modes.rigid).tolist() == [True, False, False, False]
+    assert f[0] == 0.0 and f_ref[0] < 1e-6 * f_ref[-1]
+    np.testing.assert_allclose(f[1:], f_ref[1:], rtol=1e-9)
+    assert modes.groups == ("stage1", "stage2")
+    np.testing.assert_allclose(np.asarray(modes.kinetic)[:, 1:], shares[:, 1:], atol=1e-9)
+    rows = typed_modes(model, modes)["torsional_chain"]
+    assert [r["type"] for r in rows] == ["rigid body"] + [
+        f"stage{int(np.argmax(shares[:, j])) + 1}" for j in range(1, 4)]
+    assert len({r["type"] for r in rows[1:]}) == 2  # both stages hold a mode

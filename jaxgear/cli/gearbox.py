@@ -2,7 +2,7 @@
 run (its case at the operating point carried from the previous stage: a planetary stage's load
 sharing, meshes, modes and sweep, a pair's TE and load maps, and each stage's ``[rating]``: every
 mesh of every rated stage, at the carried point) into ``stage<k>/``, then the whole
-chain's torsional natural frequencies (:func:`jaxgear.gearbox.gearbox_modes`) with the stage that
+chain's torsional natural frequencies (:meth:`jaxgear.gearbox.GearboxModel.natural_modes`) with the stage that
 holds most of each mode's kinetic energy, into ``summary.json`` and ``modes.json``; then the coupled
 model (:mod:`jaxgear.gearbox`: every stage on its contact cells in one Newmark run) swept over
 the operating range: every mesh's dynamic factor against the input speed and the coupled modes
@@ -44,7 +44,6 @@ from ..gearbox import (
     coordinate_names,
     coupled_mode_table,
     gearbox_coupled_modes,
-    gearbox_modes,
     gearbox_whine,
     housing_lines,
     housing_spectrum,
@@ -76,7 +75,6 @@ __all__ = [
     "gearbox_sweep_files",
     "gearbox_sweep_lines",
     "gearbox_whine_outputs",
-    "housed_modes",
     "housing_point_spectrum",
     "least_safety",
     "rating_dynamic_factors",
@@ -91,45 +89,20 @@ COUPLED_SPEEDS = np.linspace(0.2, 1.2, 6)
 #: measured on nrel-5mw-gearbox: docs/gearbox.md, "Resolution and cost")
 COUPLED_RUN = {"steps_per_period": None, "periods": None, **OPERATING_RUN}
 
-#: a mode below this fraction of the highest frequency is the free chain's rigid-body mode
-RIGID = 1e-6
-
 
 def chain_modes(form) -> list[dict]:
-    """The chain's modes: ``frequency_Hz``, ``type`` ("rigid body", or ``stage<k>``: the stage
-    with the largest share of the mode's kinetic energy) and ``stage_energy`` (the shares).
-    With the gearbox's ``[housing]``: :func:`housed_modes`."""
-    if form.housing is not None:
-        return housed_modes(form)
-    chain = form.torsional()
-    modes = gearbox_modes(chain)
-    f = np.asarray(modes.frequencies)
-    shares = np.asarray(modes.stage_energy)
-    rows = []
-    for j, fj in enumerate(f):
-        rigid = fj < RIGID * f[-1]
-        rows.append(
-            {
-                "frequency_Hz": float(fj),
-                "type": "rigid body" if rigid else f"stage{int(np.argmax(shares[:, j])) + 1}",
-                "stage_energy": [float(v) for v in shares[:, j]],
-            }
-        )
-    return rows
+    """The gearbox's modes as ``jaxgear modes`` lists them (:func:`jaxgear.cli.modes.typed_modes`
+    of its dynamic model's :meth:`~jaxgear.gearbox.GearboxModel.natural_modes`): the torsional
+    chain's, each with ``frequency_Hz``, ``type`` ("rigid body", or ``stage<k>``: the stage with
+    the largest share of the mode's kinetic energy) and ``stage_energy`` (the shares); with the
+    gearbox's ``[housing]`` the coupled modes, each a :func:`~jaxgear.gearbox.coupled_mode_table`
+    row with ``stage_energy`` and ``housing_energy`` (the housing coordinates' share; with the
+    stages' it sums to 1)."""
+    from .modes import typed_modes  # cli.modes lists every form's modes
 
-
-def housed_modes(form) -> list[dict]:
-    """The coupled modes of a gearbox with ``[housing]`` (:func:`jaxgear.gearbox.gearbox_coupled_modes`
-    on its chain with the shared housing, the coupled sweep's run; the mesh stiffness averaged,
-    at rest): each :func:`~jaxgear.gearbox.coupled_mode_table` row with ``stage_energy`` (each
-    stage's share of the mode's kinetic energy) and ``housing_energy`` (the housing
-    coordinates'), which sum to 1."""
-    chain, run, _, _ = _coupled_setup(form)
-    modes = gearbox_coupled_modes(chain, run)
-    shares, box = np.asarray(modes.stage_energy), np.asarray(modes.housing_energy)
-    return [dict(row, stage_energy=[float(v) for v in shares[:, j]],
-                 housing_energy=float(box[j]))
-            for j, row in enumerate(coupled_mode_table(chain, modes))]
+    model = form.dynamic_model()
+    data = typed_modes(model, model.natural_modes())
+    return next(v for v in data.values() if isinstance(v, list))
 
 
 def gearbox_run_files(form, case, out: str, args, complete: bool, run_stage) -> dict:

@@ -17,6 +17,15 @@ By the case's form (:class:`jaxgear.io.CaseForm`, :func:`case_modes`):
   its seats' and its modal coordinates) ``housing``. The share of mode i in group g is
   e_g = Σ_{j∈g} φ_ji (M φ_i)_j (mass-normalised φ_i: the shares sum to 1); a rigid mode
   (0 Hz: the drive rotation) is typed ``rigid``;
+* **a gearbox** (:class:`~jaxgear.io.GearboxForm`): the modes its dynamic model
+  (:class:`jaxgear.gearbox.GearboxModel`) lists (:meth:`~jaxgear.gearbox.GearboxModel.
+  natural_modes`: without a shared housing the torsional chain's, with one the coupled
+  modes), each typed by the **stage holding most of its kinetic energy** (``stage<k>``,
+  :attr:`jaxgear.dynamics.ModalAnalysis.kinetic`; 0 Hz: ``rigid body``) with the stages'
+  shares, ``torsional_chain``; with the housing each typed as
+  :func:`jaxgear.gearbox.coupled_mode_table` types it (the mesh, a shaft, the output hold,
+  the housing or the structure) with the stages' and the housing's kinetic shares,
+  ``coupled_with_housing``;
 * **flexible cases** (condensed FE bodies: the hybrid model): the lowest
   :data:`HYBRID_MODES` modes of the condensed bodies' scene at the operating speed, typed by
   the **part storing most of their strain energy** (``mesh`` or a body or bearing part of the
@@ -31,11 +40,11 @@ import os
 
 import numpy as np
 
-from .. import dynamics, io as case_io
+from .. import io as case_io
 from ..dynamics import DynamicModel, HybridModel
+from ..gearbox import GearboxModel, coupled_mode_table, gearbox_coupled_modes
 from ..io import write_json
 from ._paths import check_case_outputs, staged_outputs
-from .gearbox import chain_modes
 from .planetary import mode_list, mode_models
 
 __all__ = [
@@ -127,6 +136,31 @@ def _(model: HybridModel, modes) -> dict:
     return {"classification": "part storing the largest strain energy", "modes": rows}
 
 
+@typed_modes.register
+def _(model: GearboxModel, modes) -> dict:
+    f, rigid = np.asarray(modes.frequency), np.asarray(modes.rigid)
+    shares = np.asarray(modes.kinetic)
+    stages = [g for g, name in enumerate(modes.groups) if name != "housing"]
+    if model.chain.housing is None:
+        rows = [{
+            "frequency_Hz": float(f[j]),
+            "type": "rigid body" if rigid[j] else modes.groups[int(np.argmax(shares[:, j]))],
+            "stage_energy": [float(v) for v in shares[stages, j]],
+        } for j in range(f.size)]
+        return {"model": "gearbox torsional chain",
+                "classification": "the stage holding most of the kinetic energy",
+                "torsional_chain": rows}
+    # the coupled modes' types by their strain energy (mesh, joint) or housing share
+    table = coupled_mode_table(model.chain, gearbox_coupled_modes(model.chain, model.run))
+    housing = modes.groups.index("housing")
+    rows = [dict(row, stage_energy=[float(v) for v in shares[stages, j]],
+                 housing_energy=float(shares[housing, j]))
+            for j, row in enumerate(table)]
+    return {"model": "coupled gearbox on its housing",
+            "classification": "the stage or the housing holding most of the kinetic energy",
+            "coupled_with_housing": rows}
+
+
 def _housing_share(scene, shapes) -> np.ndarray | None:
     """Each mass-normalised mode's (columns of ``shapes``) share of kinetic energy in a hybrid
     scene's flexible housing: e = Σ_{j∈housing} φ_j (M φ)_j over its coordinates (its seats'
@@ -149,16 +183,30 @@ def _housing_share(scene, shapes) -> np.ndarray | None:
 
 
 @functools.singledispatch
+def modes_slices(form, case) -> int | None:
+    """The slices per contact line of the dynamic model whose modes a case of ``form`` lists:
+    :data:`MODES_SLICES` at most (``jaxgear run``'s sweep's), the case's if fewer."""
+    return min(case.slices, MODES_SLICES)
+
+
+@modes_slices.register
+def _(form: case_io.GearboxForm, case) -> None:
+    return None  # the coupled model's own (jaxgear run's coupled sweep's, jaxgear sweep's)
+
+
+@functools.singledispatch
 def case_modes(form, case) -> dict:
-    """``modes.json`` of a case of ``form`` (module docstring): a pair's or a train's scene."""
+    """``modes.json`` of a case of ``form`` (module docstring): the natural modes of its
+    dynamic model (:func:`jaxgear.io.build_dynamic_model`,
+    :meth:`~jaxgear.dynamics.AbstractDynamicModel.natural_modes`: a pair's, a train's or a
+    gearbox's), typed by the model's kind (:func:`typed_modes`)."""
     spec = case.scene if case.scene is not None else case_io.SceneSpec()
     bodies = case_io.load_bodies(spec, progress=False) if spec.hybrid else None
     model, spec = case_io.build_dynamic_model(
-        case, spec, slices=min(case.slices, MODES_SLICES), bodies=bodies
+        case, spec, slices=modes_slices(form, case), bodies=bodies
     )
-    modes = dynamics.mesh_averaged_modes(
-        model, speed=case.speed, positions_per_pitch=spec.steps_per_period or 64
-    )
+    modes = model.natural_modes(speed=case.speed,
+                                positions_per_pitch=spec.steps_per_period or 64)
     return {"case": case.name, "model": spec.model, **typed_modes(model, modes)}
 
 
@@ -171,23 +219,6 @@ def _(form: case_io.PlanetaryForm, case) -> dict:
         "classification": "Lin & Parker 1999: rotational, translational, planet; 3D (helical): "
         "Eritenel & Parker 2009: rotational-axial, translational-tilting, planet",
         **{name: mode_list(model, stage) for name, model in mode_models(stage, case).items()},
-    }
-
-
-@case_modes.register
-def _(form: case_io.GearboxForm, case) -> dict:
-    if form.housing is not None:  # the coupled modes on the shared housing (jaxgear run's)
-        return {
-            "case": case.name,
-            "model": "coupled gearbox on its housing",
-            "classification": "the stage or the housing holding most of the kinetic energy",
-            "coupled_with_housing": chain_modes(form),
-        }
-    return {
-        "case": case.name,
-        "model": "gearbox torsional chain",
-        "classification": "the stage holding most of the kinetic energy",
-        "torsional_chain": chain_modes(form),
     }
 
 

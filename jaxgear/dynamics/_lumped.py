@@ -40,7 +40,14 @@ from ._model import (
 )
 from ._newmark import LinearSystem, StepCells, newmark, newmark_counted
 from ._result import Records, steady_state, thinned
-from ._settings import Newmark, SteadyState, _Config, _config, _divergence_code
+from ._settings import (
+    DiffraxIntegrator,
+    Newmark,
+    SteadyState,
+    _Config,
+    _config,
+    _divergence_code,
+)
 from ._whine import lumped_whine
 from ._whine_methods import HarmonicBalance, QuasiPeriodicBalance, TransmissionErrorSource
 
@@ -90,6 +97,8 @@ class DynamicModel(AbstractDynamicModel):
         HarmonicBalance, TransmissionErrorSource, QuasiPeriodicBalance)
     settles: ClassVar[bool] = True
     runs_from_position: ClassVar[bool] = True
+    #: Newmark in the coordinates, or a diffrax solver on the first-order form
+    integrators: ClassVar[tuple[type, ...]] = (Newmark, DiffraxIntegrator)
 
     def critical_speeds(self, harmonic: int = 1) -> Float[Array, " n"]:
         """Pinion speeds (rad/s) where the ``harmonic``-th mesh harmonic meets each natural

@@ -48,6 +48,11 @@ class ModalAnalysis(eqx.Module):
         parts: static names of the energy rows ("mesh", then the scene's stiffness parts).
         rigid: True for rigid-body modes, shape (n,).
         mesh_stiffness: the time-averaged mesh stiffness matrix K̄_m (units of K), shape (n, n).
+        kinetic: where the model groups its coordinates (a gearbox's stages, then a shared
+            housing): each mode's share of kinetic energy per group, e_g = Σ_{j∈g} φ_j (M φ)_j
+            (mass-normalised φ: each column sums to 1), shape (n_groups, n); None otherwise.
+        groups: static names of the ``kinetic`` rows (``("stage1", "stage2", "housing")``);
+            () without them.
     """
 
     omega: Float[Array, " n"]
@@ -57,6 +62,8 @@ class ModalAnalysis(eqx.Module):
     rigid: Array
     mesh_stiffness: Float[Array, "n n"]
     parts: tuple = eqx.field(static=True)
+    kinetic: Float[Array, "n_groups n"] | None = None
+    groups: tuple = eqx.field(static=True, default=())
 
     @property
     def mesh_energy(self) -> Float[Array, " n"]:

@@ -46,7 +46,7 @@ import numpy as np
 from jaxtyping import Array, Bool, Float, Int
 
 from .._baseplane import CellRow, MeshModel, cell_flank, check_positions, split_by_mesh
-from .._contact import ContactLaw, ExactContact, solve_contact
+from .._contact import ContactLaw, ExactContact, SmoothContact, solve_contact
 from .._deviations import Deviations
 from .._modifications import Modifications
 from .._pressure import pressure_factor
@@ -55,7 +55,7 @@ from .._util import safe_max
 from ..scenes import DynamicScene, HybridPair
 from ._modal import ModalAnalysis
 from ._newmark import contact_coordinates, static_condensation
-from ._settings import STEPS_PER_MODE, Integrator, Outputs, SteadyState
+from ._settings import STEPS_PER_MODE, Integrator, Newmark, Outputs, SteadyState
 from ._whine_methods import AbstractWhineMethod
 
 __all__ = [
@@ -646,7 +646,9 @@ class AbstractDynamicModel(eqx.Module):
     refuses in one line before any work (:attr:`continues`: :meth:`continuation`;
     :attr:`whine_methods`: :meth:`whine`; :attr:`settles`: :meth:`settling_measures`;
     :attr:`runs_from_position`: :meth:`independent_at`; :attr:`automatic_span`:
-    :meth:`resolve_window`). A kind that declares one implements its method.
+    :meth:`resolve_window`). A kind that declares one implements its method. The run settings
+    it takes are declared alike, by their types (:attr:`integrators`, :attr:`contact_laws`),
+    so that a command refuses another from the class, before building the model.
     """
 
     scene: eqx.AbstractVar[DynamicScene | HybridPair]
@@ -669,6 +671,22 @@ class AbstractDynamicModel(eqx.Module):
     #: sweep's windows of one scene period then begin after a lead where the last one ended,
     #: and :func:`~jaxgear.dynamics.simulate` takes a ``start_period``
     runs_from_position: ClassVar[bool] = False
+    #: the integrator kinds the kind runs (:class:`~jaxgear.dynamics.Newmark`,
+    #: :class:`~jaxgear.dynamics.DiffraxIntegrator`): another is refused before any work, from
+    #: the class (``jaxgear sweep --solver`` at load, :meth:`runs`) and by
+    #: :meth:`check_integrator` on a model (which refuses an instance's other limits too, a
+    #: modal basis where the kind has none)
+    integrators: ClassVar[tuple[type, ...]] = (Newmark,)
+    #: the contact laws the kind runs (:class:`~jaxgear.ExactContact`,
+    #: :class:`~jaxgear.SmoothContact`); another is refused before any work (``jaxgear sweep
+    #: --contact`` at load, :func:`~jaxgear.dynamics.resolve_settings` on a run)
+    contact_laws: ClassVar[tuple[type, ...]] = (ExactContact, SmoothContact)
+
+    @classmethod
+    def runs(cls, setting) -> bool:
+        """Whether the kind runs ``setting``, an integrator or a contact law, by its type
+        (:attr:`integrators`, :attr:`contact_laws`): asked of the class, no model built."""
+        return isinstance(setting, cls.integrators + cls.contact_laws)
 
     @property
     def mesh(self) -> MeshModel:
@@ -754,6 +772,18 @@ class AbstractDynamicModel(eqx.Module):
     ) -> ModalAnalysis:
         """The modes of (M, K + K̄_m), K̄_m the loaded mesh stiffness averaged over a mesh
         period (:func:`~jaxgear.dynamics.mesh_averaged_modes`)."""
+
+    def natural_modes(
+        self, *, speed=0.0, positions_per_pitch: int = 64, contact: ContactLaw = ExactContact()
+    ) -> ModalAnalysis:
+        """The natural modes the kind lists to a user (``jaxgear modes``): by default the
+        mesh-averaged modes (:meth:`averaged_modes`, the arguments theirs); a kind whose listing
+        is another view of it answers its own (a gearbox without a shared housing: its torsional
+        chain, :meth:`jaxgear.gearbox.GearboxModel.natural_modes`), with the shares of kinetic
+        energy per group of coordinates where it groups them (:attr:`ModalAnalysis.kinetic`)."""
+        return self.averaged_modes(
+            speed=speed, positions_per_pitch=positions_per_pitch, contact=contact
+        )
 
     @abc.abstractmethod
     def prepare(

@@ -15,7 +15,13 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Float
 
-from .._contact import ContactLaw, ExactContact, SmoothContact, contact_law
+from .._contact import (
+    AbstractContactLaw,
+    ContactLaw,
+    ExactContact,
+    SmoothContact,
+    contact_law,
+)
 from .._util import check_real, compiled_when_eager
 from ._modal import ModalAnalysis, excited_omega, steps_for_mode
 from ._model import AbstractDynamicModel
@@ -175,6 +181,10 @@ def resolve_settings(model, integrator, contact, window, outputs: Outputs = Outp
             f"window periods = None (the automatic span): a {type(model).__name__} has no "
             "settling rule; allowed an integer >= 2"
         )
+    if isinstance(contact, AbstractContactLaw) and not model.runs(contact):
+        allowed = ", ".join(f"{c.__name__}(...)" for c in model.contact_laws)
+        raise ValueError(f"contact = {type(contact).__name__}(...): a {type(model).__name__} "
+                         f"does not run it (allowed {allowed})")
     outputs = check_outputs(outputs, model.mesh_count())
     if outputs.states and isinstance(integrator, DiffraxIntegrator):
         raise ValueError("states = True: only Newmark records the states (integrator)")

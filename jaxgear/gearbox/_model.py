@@ -6,7 +6,8 @@ Newmark run of :func:`~jaxgear.gearbox.gearbox_dynamics`, so that
 (:func:`jaxgear.dynamics.settling_time`), the mesh-averaged modes
 (:func:`jaxgear.dynamics.mesh_averaged_modes`: :func:`~jaxgear.gearbox.gearbox_coupled_modes`)
 and :func:`jaxgear.dynamics.whine_response` serve a gearbox as they serve pairs, trains and
-planetary stages.
+planetary stages; ``jaxgear modes`` lists its :meth:`GearboxModel.natural_modes` (each mode's
+kinetic energy per stage in the common :class:`~jaxgear.dynamics.ModalAnalysis`).
 
 The speed of the entries is the **first stage's input member's** speed ω_in (rad/s); every
 other member's speed and every stage's mesh travel follow from the stages' kinematics.
@@ -27,6 +28,7 @@ result code), not a pair's :class:`~jaxgear.dynamics.DynamicResponse`.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from typing import ClassVar
 
@@ -46,6 +48,7 @@ from ..dynamics import (
     QuasiPeriodicBalance,
     SteadyState,
     auto_steps_per_period,
+    matrix_modal_analysis,
     resolve_settings,
     settling_time,
     simulate,
@@ -233,6 +236,30 @@ class GearboxModel(AbstractDynamicModel):
         ``mean_positions``; ``speed``, ``positions_per_pitch`` and ``contact`` not used)."""
         return _coupled_modes(self.chain, self.run).analysis
 
+    def natural_modes(
+        self, *, speed=0.0, positions_per_pitch: int = 64, contact: ContactLaw = ExactContact()
+    ) -> ModalAnalysis:
+        """The gearbox's natural modes as a user reads them (``jaxgear modes``, the chain's
+        ``modes.json`` of ``jaxgear run``), each with every stage's share of its kinetic energy
+        (:attr:`~jaxgear.dynamics.ModalAnalysis.kinetic`, groups ``stage1``, ``stage2``, ...
+        from the first stage):
+
+        * without a shared housing, the torsional chain's modes
+          (:meth:`GearboxTorsional.matrices`, as :func:`~jaxgear.gearbox.gearbox_modes`: one
+          rotation per member, each stage's mean mesh stiffness, the shafts; both ends free,
+          so one rigid-body mode at 0 Hz), not the coupled system of the runs
+          (:meth:`averaged_modes`: the output held, the cells' mean stiffness);
+        * with one (the chain's view cannot take it), the coupled modes
+          (:meth:`averaged_modes`), the housing's coordinates the last group, ``housing``.
+
+        ``speed``, ``positions_per_pitch`` and ``contact`` are not used."""
+        if self.chain.housing is None:
+            return _chain_modes(self.chain)
+        coupled = _coupled_modes(self.chain, self.run)
+        kinetic = jnp.concatenate([coupled.stage_energy, coupled.housing_energy[None]])
+        groups = _stage_groups(self.chain) + ("housing",)
+        return dataclasses.replace(coupled.analysis, kinetic=kinetic, groups=groups)
+
     def settle_time(self, modes: ModalAnalysis | None = None) -> float:
         """t_s (s): :func:`~jaxgear.dynamics.settling_time` of the coupled modes at the run's
         damping ratio (the slowest decaying mode the meshes excite), scaled to the run's
@@ -302,6 +329,27 @@ class GearboxModel(AbstractDynamicModel):
         if speeds.ndim == 0:
             return _run(self.chain, run, speeds, prepared.law, *plan)
         return _sweep(self.chain, run, speeds, prepared.law, *plan)
+
+
+def _stage_groups(chain: GearboxTorsional) -> tuple[str, ...]:
+    """The kinetic-energy groups of a chain's stages, ``stage1``, ``stage2``, ..."""
+    return tuple(f"stage{k + 1}" for k in range(len(chain.stages)))
+
+
+@eqx.filter_jit
+def _chain_modes(chain: GearboxTorsional) -> ModalAnalysis:
+    """The torsional chain's modes, K φ = ω² M φ on (M, K) of :meth:`GearboxTorsional.matrices`
+    (one modal solve, :func:`~jaxgear.dynamics.matrix_modal_analysis`, no mesh-averaged part),
+    with each stage's share of each mode's kinetic energy, e_s = Σ_{j∈s} φ_j (M φ)_j over the
+    stage's rotations (M block-diagonal per stage: the shares sum to 1)."""
+    m, k = chain.matrices()
+    modes = matrix_modal_analysis(m, k, jnp.zeros_like(k))
+    energy = modes.shapes * (m @ modes.shapes)
+    owner = np.asarray(chain.stage_of_dof())  # static: each rotation's stage
+    belongs = jnp.asarray(owner[None, :] == np.arange(len(chain.stages))[:, None], energy.dtype)
+    per_stage = belongs @ energy
+    per_stage = per_stage / per_stage.sum(axis=0, keepdims=True)
+    return dataclasses.replace(modes, kinetic=per_stage, groups=_stage_groups(chain))
 
 
 def gearbox_dynamics(
