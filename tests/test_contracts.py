@@ -18,9 +18,10 @@ import pathlib
 
 import equinox as eqx
 import jax.numpy as jnp
+import numpy as np
 import pytest
 
-import jaxgear  # noqa: F401  (every model kind imported)
+import jaxgear as jg  # every model kind imported
 import jaxgear.dynamics as jd
 import jaxgear.gearbox  # noqa: F401
 import jaxgear.planetary  # noqa: F401
@@ -116,7 +117,74 @@ def test_each_kind_implements_what_it_declares(kind):
 
 def test_the_kinds_found_are_the_engines():
     names = {k.__name__ for k in _kinds()}
-    assert {"DynamicModel", "HybridModel", "PlanetaryModel"} <= names
+    assert {"DynamicModel", "HybridModel", "PlanetaryModel", "GearboxModel"} <= names
+
+
+#: one integrator of each kind the engine has (Newmark, a diffrax solver)
+INTEGRATORS = (jd.Newmark(), jd.DiffraxIntegrator("tsit5"))
+
+
+@pytest.mark.parametrize("kind", _kinds(), ids=lambda k: k.__name__)
+def test_each_kind_declares_the_integrators_its_model_accepts(kind):
+    """A kind's declared integrator types (asked of the class, ``jaxgear sweep --solver`` at
+    load) are exactly those its model's ``check_integrator`` lets through (written apart, in
+    the kind's own words; it reads the kind only, so a bare instance asks it), and its
+    declared contact laws are contact laws; a refusal is one line."""
+    model = kind.__new__(kind)
+    for integrator in INTEGRATORS:
+        try:
+            model.check_integrator(integrator)
+            accepted = True
+        except ValueError as err:
+            accepted = False
+            assert "\n" not in str(err)
+        assert kind.runs(integrator) == accepted, (kind.__name__, type(integrator).__name__)
+    assert set(kind.integrators) <= {jd.Newmark, jd.DiffraxIntegrator}
+    assert kind.contact_laws and all(issubclass(c, jg.AbstractContactLaw)
+                                     for c in kind.contact_laws)
+
+
+def test_the_declared_integrators_of_the_engines():
+    """The lumped model alone takes a diffrax solver (its first-order form); the hybrid, the
+    planetary and the gearbox models run Newmark."""
+    declared = {k.__name__: k.integrators for k in _kinds()}
+    assert declared["DynamicModel"] == (jd.Newmark, jd.DiffraxIntegrator)
+    for name in ("HybridModel", "PlanetaryModel", "GearboxModel"):
+        assert declared[name] == (jd.Newmark,)
+
+
+def test_a_gearbox_runs_the_smooth_law_it_declares():
+    """The gearbox model declares both contact laws: a coupled run of a two-pair chain (one
+    constant cell per mesh) with the smooth law of a small width runs (result 0) and gives
+    the exact law's dynamic factors to 1e-3 (the smooth law's offset of order its width)."""
+    import jaxgear.gearbox as gb
+
+    chain = gb.GearboxTorsional(
+        (gb.PairGearboxStage((0.02, 0.3), (0.04, 0.1), 5e8, input=0),
+         gb.PairGearboxStage((0.05, 0.8), (0.05, 0.12), 8e8, input=0)), (2e6,))
+    run = gb.GearboxRun(100.0, 1e6, steps_per_period=16, periods=4, keep_periods=2)
+    assert jg.SmoothContact in gb.GearboxModel.contact_laws
+    smooth = gb.gearbox_dynamics(chain, run, 100.0, jg.SmoothContact(1e-9, 50))
+    exact = gb.gearbox_dynamics(chain, run, 100.0, jg.ExactContact())
+    assert int(smooth.result) == 0 and int(exact.result) == 0
+    np.testing.assert_allclose(np.asarray(smooth.dynamic_factors),
+                               np.asarray(exact.dynamic_factors), rtol=1e-3)
+
+
+class _ExactOnly(jd.DynamicModel):
+    """The lumped kind declaring the exact law alone."""
+
+    contact_laws = (jg.ExactContact,)
+
+
+def test_a_law_a_kind_does_not_declare_is_refused_before_any_work():
+    """:func:`jaxgear.dynamics.resolve_settings` (every run's first step) refuses a contact law
+    of a type the kind does not declare, in one line, naming the allowed ones."""
+    model = _ExactOnly.__new__(_ExactOnly)
+    with pytest.raises(ValueError) as err:
+        jd.resolve_settings(model, jd.Newmark(64), jg.SmoothContact(1e-7), jd.SteadyState(4, 2))
+    assert str(err.value) == ("contact = SmoothContact(...): a _ExactOnly does not run it "
+                              "(allowed ExactContact(...))")
 
 
 class _Bare(jd.AbstractDynamicModel):

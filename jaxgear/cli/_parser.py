@@ -89,6 +89,10 @@ SOLVER_NAMES = [
     "implicit_euler",
 ]
 
+#: ``jaxgear sweep --contact``: the contact laws by their case-file names
+#: (:func:`jaxgear.io.contact_law_from_name`)
+CONTACT_NAMES = ["exact", "smooth"]
+
 
 def _version() -> str:
     try:
@@ -293,7 +297,7 @@ def _add_sweep(s) -> None:
     )
     s.add_argument(
         "--contact",
-        choices=["exact", "smooth"],
+        choices=CONTACT_NAMES,
         help="contact law (default: [scene] contact, else exact)",
     )
     s.add_argument(

@@ -6,8 +6,8 @@ their trains) or a model with condensed FE bodies (:class:`jaxgear.dynamics.Hybr
 ``sweep.json``'s sections of that kind (in the order the file has them); a new kind of model
 registers its own.
 
-:func:`check_model_options` asks a model's contract which of ``jaxgear sweep``'s options it
-cannot run (every form's sweep, before any integration)."""
+:func:`check_model_options` asks a model kind's contract which of ``jaxgear sweep``'s options it
+cannot run (every form's sweep, at load: from the class, before any model is built)."""
 
 from __future__ import annotations
 
@@ -25,8 +25,9 @@ from ..dynamics import (
     mesh_stiffness_means,
     modes_at_speed,
 )
+from ..io import SceneSpec, dynamic_model_kind, spec_integrator
 from ._case_kinds import pair_teeth
-from ._parser import SOLVER_NAMES
+from ._parser import CONTACT_NAMES, SOLVER_NAMES
 from ._sweep_json import (
     at_speed_keys,
     clean,
@@ -268,50 +269,61 @@ def _(model: HybridModel) -> SweepKind:
     return HybridSweep()
 
 
-@functools.singledispatch
-def exports_bodies(model) -> bool:
-    """Whether a sweep of ``model`` can write its condensed bodies' VTU series
-    (``--vtu-speed``): a model with condensed FE bodies (:class:`~jaxgear.dynamics.HybridModel`)."""
-    return False
+def exports_bodies(kind) -> bool:
+    """Whether a sweep of a model of ``kind`` (its class) can write its condensed bodies' VTU
+    series (``--vtu-speed``): a model with condensed FE bodies
+    (:class:`~jaxgear.dynamics.HybridModel`)."""
+    return issubclass(kind, HybridModel)
 
 
-@exports_bodies.register
-def _(model: HybridModel) -> bool:
-    return True
+def named_integrator(name: str):
+    """The integrator a ``--solver`` name (a case file's ``[scene.integration] solver``)
+    names, of its type (:func:`jaxgear.io.spec_integrator`: Newmark, else a diffrax solver)."""
+    return spec_integrator(SceneSpec(solver=name))
 
 
-def _accepts(model, integrator) -> bool:
-    try:
-        model.check_integrator(integrator)
-    except ValueError:
-        return False
-    return True
+def check_case_options(case, **options) -> None:
+    """:func:`check_model_options` for the kind of a case's dynamic model
+    (:func:`jaxgear.io.dynamic_model_kind`: nothing is built), its ``--contact`` names read as
+    the case reads them (:meth:`jaxgear.io.Case.contact_law`); nothing for a case without a
+    dynamic model (an internal mesh: its sweep refuses it)."""
+    kind = dynamic_model_kind(case.form, case)
+    if kind is not None:
+        check_model_options(kind, law_of=case.contact_law, **options)
 
 
-def check_model_options(model, *, direction="independent", solver=None, vtu_speed=None,
-                        integrator=None, integrator_of=None, **_) -> None:
-    """Refuse in one line, before any integration, an option of ``jaxgear sweep`` that the
-    dynamic model ``model`` (:class:`~jaxgear.dynamics.AbstractDynamicModel`) cannot run, by
-    asking its contract: ``--direction`` other than independent where the kind does not
-    continue (:attr:`~jaxgear.dynamics.AbstractDynamicModel.continues`), ``--solver`` whose
-    ``integrator`` (``integrator_of(name)`` builds one from a solver name) it refuses
-    (:meth:`~jaxgear.dynamics.AbstractDynamicModel.check_integrator`: the allowed names are
-    those it accepts), ``--vtu-speed`` without condensed bodies (:func:`exports_bodies`).
+def check_model_options(kind, *, direction="independent", solver=None, contact=None,
+                        vtu_speed=None, integrator_of=named_integrator, law_of=None,
+                        **_) -> None:
+    """Refuse in one line, before any model is built, an option of ``jaxgear sweep`` that a
+    dynamic model of ``kind`` (an :class:`~jaxgear.dynamics.AbstractDynamicModel` class)
+    cannot run, by asking its contract's declarations: ``--direction`` other than independent
+    where the kind does not continue (:attr:`~jaxgear.dynamics.AbstractDynamicModel.continues`),
+    ``--solver`` and ``--contact`` whose integrator (``integrator_of(name)``) or contact law
+    (``law_of(name)``) is not of a type it declares
+    (:attr:`~jaxgear.dynamics.AbstractDynamicModel.integrators`,
+    :attr:`~jaxgear.dynamics.AbstractDynamicModel.contact_laws`; the allowed names are those
+    of its types), ``--vtu-speed`` without condensed bodies (:func:`exports_bodies`).
 
     Raises:
         ValueError: the option, its value, what the model is and the allowed values."""
-    what = type(model).__name__
-    if DIRECTIONS[direction].continues and not model.continues:
+    what = kind.__name__
+    if DIRECTIONS[direction].continues and not kind.continues:
         raise ValueError(
             f"--direction = {direction}: a {what} sweeps independent speeds only (allowed: "
             "independent)"
         )
-    if solver is not None and not _accepts(model, integrator):
-        allowed = [name for name in SOLVER_NAMES if _accepts(model, integrator_of(name))]
+    if solver is not None and not kind.runs(integrator_of(solver)):
+        allowed = [name for name in SOLVER_NAMES if kind.runs(integrator_of(name))]
         raise ValueError(
             f"--solver = {solver}: a {what} does not run it (allowed: {', '.join(allowed)})"
         )
-    if vtu_speed is not None and not exports_bodies(model):
+    if contact is not None and law_of is not None and not kind.runs(law_of(contact)):
+        allowed = [name for name in CONTACT_NAMES if kind.runs(law_of(name))]
+        raise ValueError(
+            f"--contact = {contact}: a {what} does not run it (allowed: {', '.join(allowed)})"
+        )
+    if vtu_speed is not None and not exports_bodies(kind):
         raise ValueError(
             f"--vtu-speed = {vtu_speed}: a {what} has no condensed body to export (allowed: "
             "leave it out; a scene with condensed bodies writes them)"

@@ -60,7 +60,7 @@ from ._plots import (
     housing_spectrum_plot,
 )
 from ._sweep_json import write_sweep_csv
-from ._sweep_kinds import check_model_options
+from ._sweep_kinds import check_case_options
 from ._tribology_run import efficiency_run_line, gearbox_tribology
 from ._whine_run import SolvedWhine, whine_outputs, whine_run_line
 
@@ -269,23 +269,21 @@ def _settings(model, case, *, solver=None, contact=None, periods=None, steps_per
 def check_gearbox_sweep(form, case, *, direction="independent", solver=None, contact=None,
                         periods=None, steps_per_period=None, keep_periods=None, vtu_speed=None,
                         slices=None) -> None:
-    """``jaxgear sweep``'s options on a gearbox checked before any file is touched: what the
-    coupled model (:func:`jaxgear.io.build_dynamic_model`, a
-    :class:`~jaxgear.gearbox.GearboxModel`) cannot run, asked of its contract
-    (:func:`~jaxgear.cli._sweep_kinds.check_model_options`: ``--direction``, ``--solver``,
-    ``--vtu-speed``), the step count within the coupled run's range (>= 8 per period of
-    the fastest excited mesh) and given periods (blocks: the slowest excited mesh's period)
-    within the engine's bound of steps per speed. One-line ``ValueError``."""
+    """``jaxgear sweep``'s options on a gearbox checked before any file is touched: the step
+    count within the coupled run's range (>= 8 per period of the fastest excited mesh), what
+    the coupled model's kind (:func:`jaxgear.io.dynamic_model_kind`,
+    :class:`~jaxgear.gearbox.GearboxModel`) cannot run, asked of its contract before any model
+    is built (:func:`~jaxgear.cli._sweep_kinds.check_case_options`: ``--direction``,
+    ``--solver``, ``--contact``, ``--vtu-speed``), and given periods (blocks: the slowest
+    excited mesh's period, of the built model) within the engine's bound of steps per speed.
+    One-line ``ValueError``."""
     if steps_per_period is not None and steps_per_period < 8:
         raise ValueError(f"--steps-per-period = {steps_per_period}: out of range, allowed >= 8 "
                          "(steps per period of the gearbox's fastest excited mesh)")
-    model, _ = build_dynamic_model(case, slices=slices)
-    check_model_options(
-        model, direction=direction, solver=solver, vtu_speed=vtu_speed,
-        integrator=_integrator(solver, steps_per_period),
-        integrator_of=lambda name: _integrator(name, steps_per_period),
-    )
+    check_case_options(case, direction=direction, solver=solver, contact=contact,
+                       vtu_speed=vtu_speed)
     if periods not in (None, "auto"):  # the blocks' steps within the engine's bound
+        model, _ = build_dynamic_model(case, slices=slices)
         steps = steps_per_period or MIN_STEPS_PER_PERIOD
         block = max(1, round(steps / min(model.mesh_rates())))
         if int(periods) * block > MAX_STEPS_PER_SPEED:

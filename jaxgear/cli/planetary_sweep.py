@@ -58,7 +58,7 @@ from ..dynamics import (
     SteadyState,
     simulate,
 )
-from ..io import CaseWarning, SceneSpec, build_dynamic_model, spec_integrator, write_json
+from ..io import CaseWarning, build_dynamic_model, write_json
 from ..planetary import (
     NO_EXCITATION_TOL,
     HousedPlanetary,
@@ -85,7 +85,7 @@ from ._plots._figure import legend_below_and_save
 from ._progress import progress
 from ._rating_sheet import sweep_excitation
 from ._sweep_json import write_sweep_csv
-from ._sweep_kinds import check_model_options
+from ._sweep_kinds import check_case_options
 from .planetary import (
     MESH_ORDERS,
     RIGID_SHARE,
@@ -202,31 +202,19 @@ def planetary_run(
     )
 
 
-def _integrator(solver: str | None, steps_per_period: int | None):
-    """The integrator a solver name and ``--steps-per-period`` name (a case file's
-    ``[scene.integration]`` words, :func:`jaxgear.io.spec_integrator`; None: Newmark)."""
-    spec = SceneSpec(solver=solver or "newmark", steps_per_period=steps_per_period)
-    return spec_integrator(spec)
-
-
 def check_planetary_sweep(form, case, *, direction="independent", solver=None, contact=None,
                           periods=None, steps_per_period=None, keep_periods=None,
                           vtu_speed=None, slices=None) -> None:
     """``jaxgear sweep``'s options on a planetary stage checked before any file is touched:
-    the counts' ranges (:func:`planetary_run`), then what the stage's dynamic model
-    (:func:`jaxgear.io.build_dynamic_model`, a :class:`~jaxgear.planetary.PlanetaryModel`)
-    cannot run, asked of its contract (:func:`~jaxgear.cli._sweep_kinds.check_model_options`:
-    ``--direction``, ``--solver``, ``--vtu-speed``). One-line ``ValueError``."""
+    the counts' ranges (:func:`planetary_run`), then what the stage's dynamic model kind
+    (:func:`jaxgear.io.dynamic_model_kind`, :class:`~jaxgear.planetary.PlanetaryModel`)
+    cannot run, asked of its contract before any model is built
+    (:func:`~jaxgear.cli._sweep_kinds.check_case_options`: ``--direction``, ``--solver``,
+    ``--contact``, ``--vtu-speed``). One-line ``ValueError``."""
     periods = None if periods == "auto" else periods
     planetary_run(form, case, steps_per_period, periods, keep_periods)
-    model, _ = build_dynamic_model(case, slices=slices)
-    check_model_options(
-        model, direction=direction, solver=solver, vtu_speed=vtu_speed,
-        integrator=_integrator(solver, steps_per_period),
-        integrator_of=lambda name: _integrator(name, steps_per_period),
-    )
-    if contact is not None:
-        case.contact_law(contact)
+    check_case_options(case, direction=direction, solver=solver, contact=contact,
+                       vtu_speed=vtu_speed)
 
 
 def planetary_sweep_files(form, case, speeds, out_dir: str, *, direction="independent",

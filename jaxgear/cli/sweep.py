@@ -44,7 +44,7 @@ from ._sweep_json import (
     write_sweep,
     write_sweep_csv,
 )
-from ._sweep_kinds import check_model_options, sweep_kind
+from ._sweep_kinds import check_case_options, check_model_options, sweep_kind
 from .gearbox import check_gearbox_sweep, gearbox_sweep_files, gearbox_sweep_lines
 from .planetary_sweep import check_planetary_sweep, planetary_sweep_files, sweep_lines
 
@@ -201,9 +201,9 @@ def sweep_case_run(
     else:
         bar.set_postfix_str("building the model (modes, damping)")
     model, spec = case_io.build_dynamic_model(case, spec, slices=slices, bodies=bodies)
-    check_model_options(  # what the model cannot run, asked of its contract
-        model, direction=direction, solver=integration.get("solver"), vtu_speed=vtu_speed,
-        integrator=case_io.spec_integrator(spec), integrator_of=lambda name: (
+    check_model_options(  # what the model cannot run, asked of its kind's contract
+        type(model), direction=direction, solver=integration.get("solver"), vtu_speed=vtu_speed,
+        integrator_of=lambda name: (
             case_io.spec_integrator(dataclasses.replace(spec, solver=name))),
     )
     kind = sweep_kind(model)
@@ -493,9 +493,11 @@ def sweep_command(case, speeds, args) -> int:
 @functools.singledispatch
 def check_sweep(form, case, *, slices=None, **options) -> None:
     """Every check of ``jaxgear sweep``'s options on a case of ``form`` before any file is
-    touched: a case's ``[scene]`` (pairs and trains): :func:`sweep_spec` (its model's contract
-    is asked once the model is built, :func:`sweep_case_run`)."""
+    touched: a case's ``[scene]`` (pairs and trains): :func:`sweep_spec`, then what its
+    model's kind cannot run, asked of the kind's contract before any model is built
+    (:func:`~jaxgear.cli._sweep_kinds.check_case_options`)."""
     sweep_spec(case, **options)
+    check_case_options(case, **options)
 
 
 @functools.singledispatch

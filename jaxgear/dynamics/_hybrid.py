@@ -141,7 +141,8 @@ class HybridModel(AbstractDynamicModel):
         diffrax form."""
         if isinstance(integrator, DiffraxIntegrator):
             raise ValueError(
-                f"integrator = {integrator!r}: a hybrid model takes jaxgear.dynamics.Newmark (the "
+                f"integrator = {type(integrator).__name__}(...): a hybrid model takes "
+                "jaxgear.dynamics.Newmark (the "
                 "contact loop in the cell space has no diffrax form)"
             )
 

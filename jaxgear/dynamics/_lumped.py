@@ -124,7 +124,7 @@ class DynamicModel(AbstractDynamicModel):
     def check_integrator(self, integrator) -> None:
         if isinstance(integrator, Newmark) and integrator.basis is not None:
             raise ValueError(
-                f"integrator = {integrator!r}: a modal basis is for a hybrid model (allowed "
+                "integrator = Newmark(basis=...): a modal basis is for a hybrid model (allowed "
                 "basis=None for a lumped one)"
             )
 

@@ -159,6 +159,10 @@ def resolve_settings(model, integrator, contact, window, outputs: Outputs = Outp
     window = check_window(default_window if window is None else window)
     contact = default_contact if contact is None else contact
     model.check_integrator(integrator)
+    if isinstance(contact, AbstractContactLaw) and not model.runs(contact):
+        allowed = ", ".join(f"{c.__name__}(...)" for c in model.contact_laws)
+        raise ValueError(f"contact = {type(contact).__name__}(...): a {type(model).__name__} "
+                         f"does not run it (allowed {allowed})")
     q = model.span_periods()
     if window.keep_periods < q:
         why = (
@@ -181,10 +185,6 @@ def resolve_settings(model, integrator, contact, window, outputs: Outputs = Outp
             f"window periods = None (the automatic span): a {type(model).__name__} has no "
             "settling rule; allowed an integer >= 2"
         )
-    if isinstance(contact, AbstractContactLaw) and not model.runs(contact):
-        allowed = ", ".join(f"{c.__name__}(...)" for c in model.contact_laws)
-        raise ValueError(f"contact = {type(contact).__name__}(...): a {type(model).__name__} "
-                         f"does not run it (allowed {allowed})")
     outputs = check_outputs(outputs, model.mesh_count())
     if outputs.states and isinstance(integrator, DiffraxIntegrator):
         raise ValueError("states = True: only Newmark records the states (integrator)")

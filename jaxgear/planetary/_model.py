@@ -308,7 +308,8 @@ class PlanetaryModel(AbstractDynamicModel):
     def check_integrator(self, integrator) -> None:
         if not isinstance(integrator, Newmark) or integrator.basis is not None:
             raise ValueError(
-                f"integrator = {integrator!r}: a planetary stage runs Newmark in coordinates "
+                f"integrator = {type(integrator).__name__}(...): a planetary stage runs Newmark "
+                "in coordinates "
                 "(allowed jaxgear.dynamics.Newmark(steps_per_period), no basis)"
             )
 
