@@ -1,7 +1,8 @@
 """``jaxgear sweep``: dynamic factor against speed for a case of any form, one command
 (:func:`sweep_command`): the case's dynamic model (:func:`jaxgear.io.build_dynamic_model`)
 swept by :func:`jaxgear.dynamics.speed_sweep` with the same options, what the model cannot run
-refused at load by asking its contract (:func:`~jaxgear.cli._sweep_kinds.check_model_options`),
+refused at load by asking its kind's contract, from the class before any model is built
+(:func:`~jaxgear.cli._sweep_kinds.check_model_options`),
 the files written by the form (:func:`check_sweep`, :func:`sweep_files`, :func:`sweep_report`:
 a planetary stage's in :mod:`jaxgear.cli.planetary_sweep`, a gearbox's in
 :mod:`jaxgear.cli.gearbox`).
@@ -470,7 +471,7 @@ def sweep_options(args) -> dict:
 def sweep_command(case, speeds, args) -> int:
     """``jaxgear sweep`` on a case of any form (:class:`~jaxgear.io.CaseForm`): the options
     checked before any file is touched (the form's own ranges, :func:`check_sweep`, and what
-    the case's dynamic model cannot do asked of its contract, :func:`check_model_options`),
+    the case's dynamic model kind cannot do asked of its contract, :func:`check_model_options`),
     the form's sweep written into a staging folder moved in place when it completes
     (:func:`sweep_files`: :func:`jaxgear.dynamics.speed_sweep` of the case's
     :func:`~jaxgear.io.build_dynamic_model`), then its lines printed (:func:`sweep_report`).
