@@ -183,13 +183,13 @@ def _housing_share(scene, shapes) -> np.ndarray | None:
 
 
 @functools.singledispatch
-def modes_slices(form, case) -> int | None:
+def _modes_slices(form, case) -> int | None:
     """The slices per contact line of the dynamic model whose modes a case of ``form`` lists:
     :data:`MODES_SLICES` at most (``jaxgear run``'s sweep's), the case's if fewer."""
     return min(case.slices, MODES_SLICES)
 
 
-@modes_slices.register
+@_modes_slices.register
 def _(form: case_io.GearboxForm, case) -> None:
     return None  # the coupled model's own (jaxgear run's coupled sweep's, jaxgear sweep's)
 
@@ -203,7 +203,7 @@ def case_modes(form, case) -> dict:
     spec = case.scene if case.scene is not None else case_io.SceneSpec()
     bodies = case_io.load_bodies(spec, progress=False) if spec.hybrid else None
     model, spec = case_io.build_dynamic_model(
-        case, spec, slices=modes_slices(form, case), bodies=bodies
+        case, spec, slices=_modes_slices(form, case), bodies=bodies
     )
     modes = model.natural_modes(speed=case.speed,
                                 positions_per_pitch=spec.steps_per_period or 64)
