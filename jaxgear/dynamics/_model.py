@@ -646,7 +646,8 @@ class AbstractDynamicModel(eqx.Module):
     refuses in one line before any work (:attr:`continues`: :meth:`continuation`;
     :attr:`whine_methods`: :meth:`whine`; :attr:`settles`: :meth:`settling_measures`;
     :attr:`runs_from_position`: :meth:`independent_at`; :attr:`automatic_span`:
-    :meth:`resolve_window`). A kind that declares one implements its method.
+    :meth:`resolve_window`; :attr:`band_factor`: :meth:`mesh_force_ratios`). A kind that
+    declares one implements its method.
     """
 
     scene: eqx.AbstractVar[DynamicScene | HybridPair]
@@ -669,6 +670,10 @@ class AbstractDynamicModel(eqx.Module):
     #: sweep's windows of one scene period then begin after a lead where the last one ended,
     #: and :func:`~jaxgear.dynamics.simulate` takes a ``start_period``
     runs_from_position: ClassVar[bool] = False
+    #: whether :func:`~jaxgear.dynamics.band_dynamic_factor` runs the kind: its response
+    #: gives each mesh's force over its static force at every kept step
+    #: (:meth:`mesh_force_ratios`); another kind is refused before any work
+    band_factor: ClassVar[bool] = False
 
     @property
     def mesh(self) -> MeshModel:
@@ -837,6 +842,14 @@ class AbstractDynamicModel(eqx.Module):
             "lumped DynamicModel)"
         )
 
+    def mesh_force_ratios(self, response) -> tuple[Float[Array, "... K"], ...]:
+        """Each mesh's force over its static force F/F_s (-) at every kept step of the kind's
+        ``response`` (what :meth:`independent` returns; a sweep's with a leading speed axis):
+        one array (..., K) per mesh, differentiable (the objective of
+        :func:`~jaxgear.dynamics.band_dynamic_factor`). Kinds with :attr:`band_factor` only;
+        the default raises ``ValueError`` (one line)."""
+        raise ValueError(band_refusal(self))
+
     def check_whine_method(self, method) -> None:
         """Raise ``TypeError`` (one line, before any work) where the kind has no gear whine
         or ``method`` is not one of its :attr:`whine_methods`."""
@@ -867,6 +880,16 @@ class AbstractDynamicModel(eqx.Module):
         (one line)."""
         raise TypeError(f"model: {type(self).__name__} has no gear whine (its whine_methods is "
                         "empty)")
+
+
+def band_refusal(model: AbstractDynamicModel) -> str:
+    """The one line that refuses ``model`` a band dynamic factor (its kind has no
+    :attr:`~AbstractDynamicModel.band_factor`)."""
+    return (
+        f"model = {type(model).__name__}: has no band dynamic factor (its band_factor is False: "
+        "its response does not give each mesh's force over its static force at every kept "
+        "step; allowed a lumped DynamicModel or a HybridModel)"
+    )
 
 
 def span_periods(model: AbstractDynamicModel) -> int:
