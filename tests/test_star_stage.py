@@ -107,6 +107,16 @@ def test_star_torsional_modes_against_a_lumped_model_written_here(case):
     np.testing.assert_allclose(grounded[1:], held, rtol=2e-2)  # measured 1.5e-2
 
 
+def test_a_held_carrier_s_whine_needs_its_mesh_speeds(case):
+    """planetary_whine at a carrier speed of 0 takes the mesh speeds given (a star stage; the
+    slow test below runs it); without them (the mesh speed then the ring's r_br |Ω|, which
+    Ω = 0 would stop) it refuses in one line before any work."""
+    model, _ = jio.build_dynamic_model(case)
+    with pytest.raises(ValueError, match=r"^speeds = 0\.0: allowed finite values != 0 rad/s "
+                       r"where mesh_speeds is None \(the ring held\)$"):
+        jp.planetary_whine(model.kind, model.stage, model.meshes, model.run, 0.0)
+
+
 @pytest.mark.slow  # about 40 s: the contact dynamics of the stage compiled
 def test_star_dynamics_at_a_very_low_speed_is_the_quasi_static_solve(case):
     """jaxgear.dynamics.simulate on the star stage at 1e-3 rad/s of the sun (a mesh period of
