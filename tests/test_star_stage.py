@@ -121,8 +121,10 @@ def test_a_held_carrier_s_whine_needs_its_mesh_speeds(case):
 def test_star_dynamics_at_a_very_low_speed_is_the_quasi_static_solve(case):
     """jaxgear.dynamics.simulate on the star stage at 1e-3 rad/s of the sun (a mesh period of
     330 s): every recorded mesh force is the quasi-static contact solve's at the same travels
-    (jaxgear.planetary.planetary_quasi_static) within 1e-3 of the nominal force, so the
-    dynamic factor tends to the quasi-static one (measured: ...)."""
+    (jaxgear.planetary.planetary_quasi_static) within 1e-3 of the nominal force (measured
+    7.3e-6), so the dynamic factor is the quasi-static one (1.00522 against 1.00521): 1 within
+    1 % (the floating sun shares the load equally; what is left is the varying mesh
+    stiffness's quasi-static force variation)."""
     model, _ = jio.build_dynamic_model(case)
     r = jd.simulate(model, 1e-3, integrator=jd.Newmark(48), window=jd.SteadyState(3, 1))
     assert isinstance(r, jp.PlanetaryDynamics) and int(r.result) == 0
@@ -133,7 +135,9 @@ def test_star_dynamics_at_a_very_low_speed_is_the_quasi_static_solve(case):
     fs = float(model.static_force)
     assert np.max(np.abs(got - want)) < 1e-3 * fs
     qs_factor = np.max(want[:, :3]) / fs
-    assert np.max(np.asarray(r.dynamic_factors[0])) == pytest.approx(qs_factor, rel=1e-3)
+    dynamic_factor = np.max(np.asarray(r.dynamic_factors[0]))
+    assert dynamic_factor == pytest.approx(qs_factor, rel=1e-3)
+    assert 1.0 <= dynamic_factor < 1.01
 
 
 def _orders(signal, n):
