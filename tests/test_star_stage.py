@@ -154,7 +154,7 @@ def test_star_whine_first_order_is_at_the_mesh_frequency(case):
     """jaxgear.dynamics.whine_response on the star stage (the carrier still: Ω = 0, which the
     whine took for a ring-held stage's error before): order 1 at z_s ω_s / 2π, and at a very
     low speed every mesh's TE orders 0-4 are the quasi-static solve's Fourier coefficients to
-    1e-6 of order 0, order 1 present (> 1e-3 of order 0)."""
+    1e-6 of order 0 (measured 1.6e-7), order 1 present (> 1e-3 of order 0; measured 0.33)."""
     model, _ = jio.build_dynamic_model(case)
     P, H = 32, 4
     speeds = np.array([1e-3, 5.0017])
