@@ -23,7 +23,7 @@ import pytest
 import jaxgear  # noqa: F401  (every model kind imported)
 import jaxgear.dynamics as jd
 import jaxgear.gearbox  # noqa: F401
-import jaxgear.planetary  # noqa: F401
+import jaxgear.planetary
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 #: the edge: it names and presents (reads files, writes outputs), where a look at what a file or
