@@ -24,7 +24,7 @@ import pytest
 import jaxgear as jg  # every model kind imported
 import jaxgear.dynamics as jd
 import jaxgear.gearbox  # noqa: F401
-import jaxgear.planetary  # noqa: F401
+import jaxgear.planetary
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 #: the edge: it names and presents (reads files, writes outputs), where a look at what a file or
@@ -113,6 +113,7 @@ def test_each_kind_implements_what_it_declares(kind):
     assert not kind.settles or kind.continues
     assert kind.runs_from_position == _overrides(kind, "independent_at")
     assert kind.continues == _overrides(kind, "continuation")
+    assert kind.band_factor == _overrides(kind, "mesh_force_ratios")
 
 
 def test_the_kinds_found_are_the_engines():
@@ -228,8 +229,13 @@ class _Bare(jd.AbstractDynamicModel):
         (lambda m: m.settling_measures(), ValueError, r"^model = _Bare: does not settle"),
         (lambda m: m.independent_at(None, 1.0, 0, None), ValueError,
          r"^model = _Bare: its runs start at mesh position 0"),
+        (lambda m: jd.band_dynamic_factor(m, [100.0, 200.0]), ValueError,
+         r"^model = _Bare: has no band dynamic factor \(its band_factor is False"),
+        (lambda m: m.mesh_force_ratios(None), ValueError,
+         r"^model = _Bare: has no band dynamic factor"),
     ],
-    ids=["whine_response", "whine", "settled_sweep", "settling_measures", "independent_at"],
+    ids=["whine_response", "whine", "settled_sweep", "settling_measures", "independent_at",
+         "band_dynamic_factor", "mesh_force_ratios"],
 )
 def test_a_kind_without_a_capability_is_refused_in_one_line(call, error, message):
     """Before any work (the bare kind's run methods are never reached), in one line."""
@@ -251,3 +257,22 @@ def test_whine_method_refused_by_the_kind_declaration():
     with pytest.raises(TypeError, match=r"^model: str: allowed a "
                        r"jaxgear.dynamics.AbstractDynamicModel"):
         jd.whine_response("model", [100.0])
+
+
+@pytest.mark.parametrize("kind", [jaxgear.planetary.PlanetaryModel, jaxgear.gearbox.GearboxModel],
+                         ids=lambda k: k.__name__)
+def test_band_dynamic_factor_refuses_a_kind_without_it(kind):
+    """A planetary stage and a gearbox declare no band dynamic factor (their responses are the
+    stage's and the gearbox's, not a DynamicResponse): band_dynamic_factor refuses them in one
+    line naming the kind and what it lacks, before any work (the check reads the kind only),
+    where it raised an AttributeError from inside the sweep's records before."""
+    model = kind.__new__(kind)
+    assert not kind.band_factor
+    with pytest.raises(ValueError, match=rf"^model = {kind.__name__}: has no band dynamic "
+                       r"factor \(its band_factor is False: its response does not give each "
+                       r"mesh's force over its static force") as err:
+        jd.band_dynamic_factor(model, [100.0, 200.0])
+    assert "\n" not in str(err.value)
+    with pytest.raises(TypeError, match=r"^model: str: allowed a "
+                       r"jaxgear.dynamics.AbstractDynamicModel"):
+        jd.band_dynamic_factor("model", [100.0])

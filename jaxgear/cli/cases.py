@@ -31,6 +31,7 @@ MEASURED = (
     "(59 s and 29 s of CPU), nrel-5mw-stage3-housed alike on 2026-11-28 (78 s and 36 s of "
     "CPU); nrel-5mw-planetary-housed alike on 2026-11-29 (101 s and 68 s of CPU); "
     "fzg-h951 alike on 2026-11-29 (23 s and 9 s of CPU); "
+    "nrel-5mw-star alike on 2026-11-29 (73 s and 44 s of CPU); "
     "two-stage-housed from one first run under load on 2026-11-28 (300 s of CPU; "
     "its second run taken at two-stage's ratio of second to first, not measured). Under load, "
     "wall time is "
@@ -106,6 +107,13 @@ CASE_INDEX: dict[str, tuple[str, str, float, float, bool]] = {
         "-",
         77,
         58,
+        False,
+    ),
+    "nrel-5mw-star": (
+        "planetary z 19/17/-56, 3 planets, carrier fixed, sun → ring, T 999653 N·m (input)",
+        "-",
+        56,
+        37,
         False,
     ),
     "nrel-5mw-stage2": (

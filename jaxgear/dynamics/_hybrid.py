@@ -130,6 +130,8 @@ class HybridModel(AbstractDynamicModel):
     continues: ClassVar[bool] = False
     #: the harmonic balance over one mesh period (no torus of several mesh frequencies)
     whine_methods: ClassVar[tuple[type, ...]] = (HarmonicBalance, TransmissionErrorSource)
+    #: its response records each mesh's force and static force (a DynamicResponse)
+    band_factor: ClassVar[bool] = True
 
     def default_settings(self):
         """Newmark with the seed's 64 steps per mesh period (IV-27), the exact law (50
@@ -162,6 +164,10 @@ class HybridModel(AbstractDynamicModel):
             self.scene, self.mods, self.torque, int(positions_per_pitch), contact, speed=speed
         )
         return modal_analysis(self.scene, Km)
+
+    def mesh_force_ratios(self, response):
+        """:meth:`jaxgear.dynamics.DynamicResponse.force_ratios` of ``response``."""
+        return response.force_ratios()
 
     def whine(self, speeds, method, *, positions: int = 64, contact=ExactContact()):
         """The frequency-domain steady state (:func:`~jaxgear.dynamics.whine_response`) of the

@@ -99,6 +99,7 @@ class DynamicModel(AbstractDynamicModel):
     runs_from_position: ClassVar[bool] = True
     #: Newmark in the coordinates, or a diffrax solver on the first-order form
     integrators: ClassVar[tuple[type, ...]] = (Newmark, DiffraxIntegrator)
+    band_factor: ClassVar[bool] = True
 
     def critical_speeds(self, harmonic: int = 1) -> Float[Array, " n"]:
         """Pinion speeds (rad/s) where the ``harmonic``-th mesh harmonic meets each natural
@@ -110,6 +111,10 @@ class DynamicModel(AbstractDynamicModel):
     def settling_measures(self):
         """(:attr:`damping`, :attr:`mesh_stiffness_mean`)."""
         return self.damping, self.mesh_stiffness_mean
+
+    def mesh_force_ratios(self, response):
+        """:meth:`jaxgear.dynamics.DynamicResponse.force_ratios` of ``response``."""
+        return response.force_ratios()
 
     def whine(self, speeds, method, *, positions=256, contact=ExactContact()):
         """The lumped model's gear whine (:func:`~jaxgear.dynamics.whine_response`, whose

@@ -646,9 +646,10 @@ class AbstractDynamicModel(eqx.Module):
     refuses in one line before any work (:attr:`continues`: :meth:`continuation`;
     :attr:`whine_methods`: :meth:`whine`; :attr:`settles`: :meth:`settling_measures`;
     :attr:`runs_from_position`: :meth:`independent_at`; :attr:`automatic_span`:
-    :meth:`resolve_window`). A kind that declares one implements its method. The run settings
-    it takes are declared alike, by their types (:attr:`integrators`, :attr:`contact_laws`),
-    so that a command refuses another from the class, before building the model.
+    :meth:`resolve_window`; :attr:`band_factor`: :meth:`mesh_force_ratios`). A kind that
+    declares one implements its method. The run settings it takes are declared alike, by
+    their types (:attr:`integrators`, :attr:`contact_laws`), so that a command refuses
+    another from the class, before building the model.
     """
 
     scene: eqx.AbstractVar[DynamicScene | HybridPair]
@@ -687,6 +688,10 @@ class AbstractDynamicModel(eqx.Module):
         """Whether the kind runs ``setting``, an integrator or a contact law, by its type
         (:attr:`integrators`, :attr:`contact_laws`): asked of the class, no model built."""
         return isinstance(setting, cls.integrators + cls.contact_laws)
+    #: whether :func:`~jaxgear.dynamics.band_dynamic_factor` runs the kind: its response
+    #: gives each mesh's force over its static force at every kept step
+    #: (:meth:`mesh_force_ratios`); another kind is refused before any work
+    band_factor: ClassVar[bool] = False
 
     @property
     def mesh(self) -> MeshModel:
@@ -867,6 +872,14 @@ class AbstractDynamicModel(eqx.Module):
             "lumped DynamicModel)"
         )
 
+    def mesh_force_ratios(self, response) -> tuple[Float[Array, "... K"], ...]:
+        """Each mesh's force over its static force F/F_s (-) at every kept step of the kind's
+        ``response`` (what :meth:`independent` returns; a sweep's with a leading speed axis):
+        one array (..., K) per mesh, differentiable (the objective of
+        :func:`~jaxgear.dynamics.band_dynamic_factor`). Kinds with :attr:`band_factor` only;
+        the default raises ``ValueError`` (one line)."""
+        raise ValueError(band_refusal(self))
+
     def check_whine_method(self, method) -> None:
         """Raise ``TypeError`` (one line, before any work) where the kind has no gear whine
         or ``method`` is not one of its :attr:`whine_methods`."""
@@ -897,6 +910,16 @@ class AbstractDynamicModel(eqx.Module):
         (one line)."""
         raise TypeError(f"model: {type(self).__name__} has no gear whine (its whine_methods is "
                         "empty)")
+
+
+def band_refusal(model: AbstractDynamicModel) -> str:
+    """The one line that refuses ``model`` a band dynamic factor (its kind has no
+    :attr:`~AbstractDynamicModel.band_factor`)."""
+    return (
+        f"model = {type(model).__name__}: has no band dynamic factor (its band_factor is False: "
+        "its response does not give each mesh's force over its static force at every kept "
+        "step; allowed a lumped DynamicModel or a HybridModel)"
+    )
 
 
 def span_periods(model: AbstractDynamicModel) -> int:

@@ -162,6 +162,11 @@ class DynamicResponse(eqx.Module):
         """The response of the scene's one gear mesh."""
         return only_one_mesh(self.meshes, "responses")
 
+    def force_ratios(self) -> tuple[Float[Array, "... K"], ...]:
+        """Each mesh's force over its static force F/F_s (-) at every recorded step: one
+        array (..., K) per mesh (a sweep's (S, K))."""
+        return tuple(m.mesh_force / m.static_force[..., None] for m in self.meshes)
+
     mesh_force = of_the_one_mesh("mesh_force")
     static_force = of_the_one_mesh("static_force")
     transmission_error = of_the_one_mesh("transmission_error")

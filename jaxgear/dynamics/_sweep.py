@@ -24,7 +24,7 @@ from .._contact import (
 )
 from .._util import check_real, compiled_when_eager
 from ._modal import ModalAnalysis, excited_omega, steps_for_mode
-from ._model import AbstractDynamicModel
+from ._model import AbstractDynamicModel, band_refusal
 from ._result import SweepResult, checked, thinned
 from ._settings import (
     Batching,
@@ -457,7 +457,9 @@ def band_dynamic_factor(
     steps per period and the smooth contact law by default, for gradients.
 
     Args:
-        model: a :class:`DynamicModel` or :class:`HybridModel`. speeds: the band's pinion
+        model: a kind with :attr:`~AbstractDynamicModel.band_factor` (a :class:`DynamicModel`
+            or :class:`HybridModel`: each mesh's force over its static force,
+            :meth:`~AbstractDynamicModel.mesh_force_ratios`). speeds: the band's pinion
             speeds (rad/s), shape (S,). integrator: Newmark with a fixed ``steps_per_period``.
             contact, window: as :func:`speed_sweep`. p: the order of the p-means (>= 1).
 
@@ -466,8 +468,17 @@ def band_dynamic_factor(
         integer settings are checked, the speeds only when concrete.
 
     Raises:
-        ValueError: automatic steps, p < 1, bad settings (before any computation).
+        TypeError: ``model`` not an :class:`AbstractDynamicModel`. ValueError: a kind without
+            :attr:`~AbstractDynamicModel.band_factor` (a planetary stage, a gearbox), automatic
+            steps, p < 1, bad settings (before any computation; one line each).
     """
+    if not isinstance(model, AbstractDynamicModel):
+        raise TypeError(
+            f"model: {type(model).__name__}: allowed a jaxgear.dynamics.AbstractDynamicModel "
+            "(a lumped DynamicModel, a HybridModel)"
+        )
+    if not model.band_factor:  # what the model kind declares, before any work
+        raise ValueError(band_refusal(model))
     if not p >= 1:
         raise ValueError(f"p = {p!r}: out of range, allowed >= 1")
     if not isinstance(integrator, Newmark) or integrator.steps_per_period is None:
@@ -485,11 +496,7 @@ def band_dynamic_factor(
     ).results
     # per speed and mesh, then over both (the worst mesh at the worst speed, smoothly)
     per_speed = jnp.stack(
-        [
-            jnp.mean((m.mesh_force / m.static_force[:, None]) ** p, axis=1) ** (1.0 / p)
-            for m in r.meshes
-        ],
-        axis=1,
+        [jnp.mean(f**p, axis=1) ** (1.0 / p) for f in model.mesh_force_ratios(r)], axis=1
     )
     return jnp.mean(per_speed**p) ** (1.0 / p)
 

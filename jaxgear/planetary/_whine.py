@@ -255,7 +255,8 @@ def planetary_whine(
             every mesh period in the carrier frame). meshes: the meshes kind. run: the
             :class:`~jaxgear.planetary.PlanetaryRun` (torque, damping ratio, pin errors; its
             step counts are not read).
-        carrier_speeds: Ω (rad/s) != 0, scalar or (S,).
+        carrier_speeds: Ω (rad/s), scalar or (S,); 0 (a star stage: the carrier held, the
+            carrier frame the fixed one) with ``mesh_speeds`` given, else != 0.
         method: :class:`~jaxgear.dynamics.HarmonicBalance` or
             :class:`~jaxgear.dynamics.TransmissionErrorSource`, with its H.
         mesh_speeds: v (m/s) > 0, as ``carrier_speeds``; None: the ring held, v = r_br |Ω|.
@@ -269,7 +270,8 @@ def planetary_whine(
 
     Raises:
         TypeError: another method. ValueError: a flexible ring, eccentricities or unbalances,
-            a carrier speed of 0 or a mesh speed <= 0, too few positions.
+            a carrier speed of 0 without ``mesh_speeds``, a mesh speed <= 0, too few
+            positions.
     """
     if not isinstance(method, AbstractWhineMethod):
         raise TypeError(
@@ -293,9 +295,15 @@ def planetary_whine(
             raise ValueError(f"{name} = {value!r}: allowed a scalar or (S,) (rad/s, m/s)")
         if not is_traced(value):
             v = np.asarray(value, dtype=float)
-            bad = v <= 0 if name == "mesh_speeds" else v == 0
+            # a held carrier (a star stage, Ω = 0) runs at its given mesh speeds; without
+            # them the mesh speed is the ring's r_br |Ω|, which Ω = 0 would stop
+            if name == "mesh_speeds":
+                bad, what = v <= 0, "> 0 m/s"
+            elif mesh_speeds is None:
+                bad, what = v == 0, "!= 0 rad/s where mesh_speeds is None (the ring held)"
+            else:
+                bad, what = np.zeros(v.shape, bool), "rad/s"
             if not np.all(np.isfinite(v)) or np.any(bad):
-                what = "> 0 m/s" if name == "mesh_speeds" else "!= 0 rad/s"
                 raise ValueError(f"{name} = {value!r}: allowed finite values {what}")
     dtype = run.sun_torque.dtype
     law = contact_law(contact, dtype)
