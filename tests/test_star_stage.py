@@ -204,3 +204,22 @@ def test_jaxgear_run_sweep_and_modes_on_the_star_case(tmp_path, case):
     torsional = json.loads((modes_dir / "modes.json").read_text())["torsional"]
     f, _, _ = torsional_reference(case.form.spec.stage(case))
     np.testing.assert_allclose([m["frequency_Hz"] for m in torsional][1:], f[1:], rtol=1e-9)
+
+
+def test_a_star_stage_before_another_gearbox_stage_is_refused_at_load(tmp_path):
+    """A star stage's output turns against its input (ratio < 0); the gearbox file carries each
+    stage's operating point in its drive direction, so a star followed by another stage is
+    refused in one line naming the stage, not run with a negative line load."""
+    path = tmp_path / "star-then-pair.toml"
+    path.write_text(
+        'name = "star-then-pair"\n[operating]\ntorque_Nm = 999653.0\nspeed_rad_s = 5.0017\n'
+        '[[stages]]\ncase = "nrel-5mw-star"\n[[stages]]\ncase = "nrel-5mw-stage3"\n'
+        'shaft_Nm_per_rad = 1.435e8\npinion_inertia_kg_m2 = 3.75\ngear_inertia_kg_m2 = 921.0\n'
+        'mesh_stiffness_N_per_um = 7668.0\ninput = "gear"\n'
+    )
+    with pytest.raises(ValueError) as err:
+        jio.load_case(path)
+    msg = str(err.value)
+    assert "\n" not in msg
+    assert msg.startswith("[stages[0]] case = 'nrel-5mw-star'")
+    assert "allowed only as the last stage" in msg

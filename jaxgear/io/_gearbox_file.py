@@ -575,6 +575,10 @@ def parse_gearbox(data: dict, default_name: str, base: str | None, load_case) ->
         if k == 0 and "shaft_Nm_per_rad" in t:
             raise sc.fail(where, "shaft_Nm_per_rad", "the first stage has no shaft before it")
         shaft = 0.0 if k == 0 else sc.number(t, "shaft_Nm_per_rad", where, allowed="(0, 1e+15]")
+        if stages and stages[-1].ratio < 0:  # the chain carries each stage's drive direction
+            raise sc.fail(f"stages[{k - 1}]", "case", "a stage whose output turns against its "
+                          "input (a star stage: ratio < 0) is allowed only as the last stage",
+                          stages[-1].case.name)
         staged, ratio, model = _stage(case.form, case, t, where, speed, torque)
         place = _placement(t, where, "housing" in data, staged, model)
         stages.append(GearboxStage(staged, ratio, speed, torque, shaft, model, *place))
