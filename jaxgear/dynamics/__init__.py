@@ -131,6 +131,7 @@ from ._settle import (
     unsettled_lines as unsettled_lines,
 )
 from ._simulate import simulate as simulate, simulate_on_table as simulate_on_table
+from ._stage import AbstractStage as AbstractStage
 from ._sweep import (
     DIRECTIONS as DIRECTIONS,
     AbstractDirection as AbstractDirection,
