@@ -101,7 +101,7 @@ class PlanetarySpan(eqx.Module):
     keep_periods: int = eqx.field(static=True)
 
 
-def role_speeds(stage: PlanetaryStage, input: Central, output: Central, input_speed):
+def _role_speeds(stage: PlanetaryStage, input: Central, output: Central, input_speed):
     """((omega_c, omega_r, omega_s) (rad/s, fixed frame), the index of each central member in
     it): Willis' relation on base radii (r_bs w_s + r_br w_r = (r_bs + r_br) w_c; the radii are
     in the tooth counts' ratio) with the member that is neither ``input`` nor ``output`` held
@@ -137,15 +137,17 @@ class PlanetaryModel(AbstractDynamicModel, AbstractStage):
         run: the sun torque (N m), damping ratio and pin errors (m) of the runs
             (:class:`~jaxgear.planetary.PlanetaryRun`; its step counts are replaced by the
             run's integrator and window).
-        carrier_per_input: Ω / ω_in (-), the carrier's speed per input speed (fixed frame).
+        carrier_per_input: Ω / ω_in (-), the carrier's speed per input speed (fixed frame);
+            None (default): 1, or the roles' (below).
         mesh_speed_per_input: v / ω_in (m/s per rad/s), the mesh travel speed per input speed;
-            None: the ring held, v = r_br |Ω|.
+            None: the ring held, v = r_br |Ω|, or the roles' (below).
         ring: :class:`~jaxgear.planetary.RigidRing` (default) or a flexible ring model.
         input, output: static, two different :class:`~jaxgear.planetary.Central` members (the
             third held), or None (default): the members' roles, which make the model a gearbox
             stage (:class:`jaxgear.dynamics.AbstractStage`) and set ``carrier_per_input`` and
-            ``mesh_speed_per_input`` by Willis' relation (:func:`role_speeds`; then both are
-            left None).
+            ``mesh_speed_per_input`` by Willis' relation on base radii (r_bs ω_s + r_br ω_r =
+            (r_bs + r_br) Ω, the third member at rest; v = r_bs |ω_s − Ω|): both are then left
+            None.
 
     ``scene`` (and :attr:`stage`) is the stage and ``torque`` the sun torque T_s (N m): the
     engine entries read neither (they ask the model's methods); ``mods`` is None (a stage's
@@ -196,7 +198,7 @@ class PlanetaryModel(AbstractDynamicModel, AbstractStage):
                 "input and output members: allowed None (Willis' relation of the members sets "
                 "them)")
         if roles and _roles_given(stage, input, output):
-            w, _ = role_speeds(stage, input, output, 1.0)
+            w, _ = _role_speeds(stage, input, output, 1.0)
             carrier_per_input = w[0]
             mesh_speed_per_input = stage.sun.base_radius * jnp.abs(w[2] - w[0])
         self.carrier_per_input = as_float(1.0 if carrier_per_input is None else carrier_per_input)
@@ -559,7 +561,7 @@ class PlanetaryModel(AbstractDynamicModel, AbstractStage):
 
     def kinematics(self, input_speed, input_torque):
         st = self.stage
-        w, idx = role_speeds(st, self.input, self.output, as_float(input_speed))
+        w, idx = _role_speeds(st, self.input, self.output, as_float(input_speed))
         out_speed = w[idx[self.output]]
         # power: |T_out| = |T_in w_in / w_out|; the sun's torque T_s = r_bs (over the torque's
         # lever of the input member: r_bs, r_br or r_bs + r_br) T_in; each mesh N r_bs F = T_s
@@ -599,7 +601,7 @@ class PlanetaryModel(AbstractDynamicModel, AbstractStage):
 
     def carrier_speed(self, input_speed):
         """The carrier's speed (rad/s) at the input member's ``input_speed``."""
-        return role_speeds(self.stage, self.input, self.output, as_float(input_speed))[0][0]
+        return _role_speeds(self.stage, self.input, self.output, as_float(input_speed))[0][0]
 
     def dof_names(self):
         """The torsional chain's rotations: carrier, ring, sun, then each planet's."""
