@@ -24,11 +24,12 @@ integrates any M, C, K, F and cells given by hand.
 :func:`whine_response` gives a lumped model's steady state in the frequency domain instead:
 linearised about its quasi-static solution, a harmonic balance over the time-varying mesh
 stiffness (:class:`HarmonicBalance`, :class:`TransmissionErrorSource`; a train of several mesh frequencies: :class:`QuasiPeriodicBalance`; docs/whine.md).
+:func:`jaxgear.io.build_dynamic_model` does it from a case's ``[scene]``
+(:class:`jaxgear.io.SceneSpec`): the model takes objects, never a case.
+
 What a gearbox asks of each of its stages is one contract, :class:`AbstractStage` (a planetary
 stage's :class:`jaxgear.planetary.PlanetaryModel` given its input and output members satisfies
 it, as the gearbox's stage kinds do).
-:func:`jaxgear.io.build_dynamic_model` does it from a case's ``[scene]``
-(:class:`jaxgear.io.SceneSpec`): the model takes objects, never a case.
 """
 
 from ._damping import (
