@@ -537,9 +537,8 @@ class PlanetaryModel(AbstractDynamicModel, AbstractStage):
         """The stage on the flanks its static load takes: with ``sign`` < 0 (the planets drive
         the sun: carrier in and sun out) its meshes'
         :meth:`~jaxgear.planetary.ContactMeshes.other_flanks` (the sun-ring phase within a
-        planet of the other flanks), chosen leaf by leaf so that ``sign`` may be traced."""
-        if isinstance(self.meshes, ConstantMeshes):
-            return self
+        planet of the other flanks), chosen leaf by leaf so that ``sign`` may be traced
+        (meshes whose cells do not depend on the flanks give themselves: the same stage)."""
         other = self.meshes.other_flanks()
         # only the leaves the other flanks change are selected (the rest are the same arrays:
         # the tables are not copied)
