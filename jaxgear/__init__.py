@@ -182,8 +182,7 @@ _MOVED_TO = {  # new home -> the names that moved there
         SpatialPlanetary speed_ratio sun_ring_offset TorsionalPlanetary Unbalances
     """,
     "gearbox": """
-        AbstractGearboxStage gearbox_modes GearboxModes GearboxTorsional PairGearboxStage
-        PlanetaryGearboxStage
+        gearbox_modes GearboxModes GearboxTorsional PairGearboxStage PlanetaryGearboxStage
     """,
     "rating": """
         AbstractEdition AbstractRootSection AbstractTreatment bending_rating BendingRating
@@ -200,20 +199,23 @@ _MOVED_TO = {  # new home -> the names that moved there
     """,
 }
 _MOVED = {name: home for home, names in _MOVED_TO.items() for name in names.split()}
+# Names that left the top level and were renamed in their new home: name -> (home, new name)
+_RENAMED = {"AbstractGearboxStage": ("dynamics", "AbstractStage")}
 
 
 def __getattr__(name: str):
-    """A moved name (``_MOVED``): its object from the new home, with a ``DeprecationWarning``."""
-    home = _MOVED.get(name)
+    """A moved name (``_MOVED``; ``_RENAMED``: under its new name): its object from the new home,
+    with a ``DeprecationWarning``."""
+    home, new = _RENAMED.get(name, (_MOVED.get(name), name))
     if home is None:
         raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
     import importlib
     import warnings
 
     warnings.warn(
-        f"jaxgear.{name} moved to jaxgear.{home}.{name}; the top-level name will be removed in "
+        f"jaxgear.{name} moved to jaxgear.{home}.{new}; the top-level name will be removed in "
         "the next release",
         DeprecationWarning,
         stacklevel=2,
     )
-    return getattr(importlib.import_module(f"{__name__}.{home}"), name)
+    return getattr(importlib.import_module(f"{__name__}.{home}"), new)

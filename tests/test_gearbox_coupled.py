@@ -116,6 +116,60 @@ def test_shaft_limits(factor):
         assert low[1] / low[0] == pytest.approx(0.1, rel=5e-2)
 
 
+def test_a_planetary_model_is_a_stage():
+    """The one stage contract (jaxgear.dynamics.AbstractStage): the example's planetary stage as
+    the PlanetaryModel that runs alone, given its input and output members, stands in the
+    gearbox. Its speeds per input speed are Willis' from the tooth counts (carrier in, ring
+    held: the carrier at 1, the meshes at r_br, the sun at 1 + z_r / z_s = 5; sun in, carrier
+    out: the carrier at z_s / (z_s + z_r) = 0.2; a star stage, sun in, ring out: the carrier at
+    0, the ring at -z_s / z_r), and the coupled model's mesh-averaged modes are the blocks
+    written from the spec (_reference_blocks) to 1e-3 (the cells averaged over 4096 positions
+    against the rectangular waves' means)."""
+    import jaxgear.dynamics as jd
+
+    chain, run = EX.two_stage(mean_positions=4096)
+    p = chain.stages[0]
+    C = jp.Central
+    model = jp.PlanetaryModel(p.kind, p.stage, p.meshes, p.run, input=C.CARRIER, output=C.SUN)
+    assert isinstance(model, jd.AbstractStage) and type(model) is jp.PlanetaryModel
+    r_s, r_r = Z_S * RB, Z_R * RB
+    assert float(model.carrier_per_input) == pytest.approx(1.0, rel=1e-12)
+    assert float(model.mesh_speed_per_input) == pytest.approx(r_r, rel=1e-9)
+    w_out, t_out, v, _ = model.kinematics(1.0, 1.0)
+    assert (float(w_out), float(t_out), float(v)) == pytest.approx((5.0, 0.2, r_r), rel=1e-9)
+    sun_in = jp.PlanetaryModel(p.kind, p.stage, p.meshes, p.run, input=C.SUN, output=C.CARRIER)
+    assert float(sun_in.carrier_per_input) == pytest.approx(Z_S / (Z_S + Z_R), rel=1e-9)
+    assert float(sun_in.mesh_speed_per_input) == pytest.approx(r_s * Z_R / (Z_S + Z_R), rel=1e-9)
+    star = jp.PlanetaryModel(p.kind, p.stage, p.meshes, p.run, input=C.SUN, output=C.RING)
+    assert float(star.carrier_per_input) == pytest.approx(0.0, abs=1e-12)
+    assert float(star.kinematics(1.0, 1.0)[0]) == pytest.approx(-Z_S / Z_R, rel=1e-9)
+
+    coupled = gb.GearboxTorsional((model, chain.stages[1]), chain.shaft_stiffnesses)
+    got = np.asarray(gb.gearbox_coupled_modes(coupled, run).analysis.frequency)
+    np.testing.assert_allclose(got, _hz(*_reference_blocks(5e5)), rtol=1e-3)
+
+
+@pytest.mark.parametrize("build, message", [
+    (lambda p: gb.GearboxTorsional((jp.PlanetaryModel(p.kind, p.stage, p.meshes, p.run),), []),
+     r"^GearboxTorsional: stages\[0\]: a PlanetaryModel without its input and output members"),
+    (lambda p: gb.GearboxTorsional(("stage",), []),
+     r"^GearboxTorsional: stages\[0\] = .*\(str\) is out of range: allowed a gearbox stage"),
+    (lambda p: jp.PlanetaryModel(p.kind, p.stage, p.meshes, p.run, 0.5,
+                                 input=jp.Central.SUN, output=jp.Central.CARRIER),
+     r"^PlanetaryModel: carrier_per_input or mesh_speed_per_input given with the input"),
+    (lambda p: jp.PlanetaryModel(p.kind, p.stage, p.meshes, p.run, input=jp.Central.SUN),
+     r"^PlanetaryModel: input = <Central.SUN: 0>, output = None: allowed both"),
+    (lambda p: jp.PlanetaryModel(p.kind, p.stage, p.meshes, p.run, input=jp.Central.SUN,
+                                 output=jp.Central.SUN),
+     r"^PlanetaryModel: input = output = <Central.SUN: 0>: allowed two different"),
+], ids=["no-roles", "not-a-stage", "roles-and-ratio", "one-role", "same-roles"])
+def test_a_stage_that_cannot_stand_is_refused_in_one_line(build, message):
+    p = EX.two_stage()[0].stages[0]
+    with pytest.raises((ValueError, TypeError), match=message) as err:
+        build(p)
+    assert "\n" not in str(err.value)
+
+
 def test_torsional_stages_give_the_torsional_chain():
     """Constant meshes (no cells): the coupled modes of nrel-5mw-gearbox's chain are
     jaxgear.gearbox.gearbox_modes' (the torsional chain's) to 1e-9, the output hold nearly free."""

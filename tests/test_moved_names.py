@@ -42,10 +42,7 @@ REEXPORTED = {
         "PlanetaryMember PlanetaryModes PlanetaryQuasiStatic PlanetaryStage SpatialPlanetary "
         "TorsionalPlanetary load_sharing planetary_modes planetary_quasi_static speed_ratio"
     ),
-    "gearbox": (
-        "AbstractGearboxStage GearboxModes GearboxTorsional PairGearboxStage "
-        "PlanetaryGearboxStage gearbox_modes"
-    ),
+    "gearbox": "GearboxModes GearboxTorsional PairGearboxStage PlanetaryGearboxStage gearbox_modes",
     "rating": (
         "BendingRating CaseHardened GearAccuracy GivenFactors InternalRatingGeometry Lubrication "
         "Nitrided OperatingPoint PairTreatment PittingRating Rating RatingGeometry RatingMaterial "
@@ -66,6 +63,27 @@ def test_moved_name_warns_and_resolves(home, name):
     assert len(rec) == 1
     assert rec[0].filename == __file__  # attributed to the caller's line (stacklevel)
     assert name not in dir(jg)
+
+
+# Names the top level re-exported whose home then renamed them: old name -> (home, new name)
+RENAMED = {"AbstractGearboxStage": ("dynamics", "AbstractStage")}
+
+
+@pytest.mark.parametrize("old_home", ["", ".gearbox"])
+@pytest.mark.parametrize("name", RENAMED)
+def test_renamed_name_warns_and_resolves(name, old_home):
+    """The gearbox's stage contract became the engine's (``jaxgear.dynamics.AbstractStage``):
+    its old name, at the top level and in ``jaxgear.gearbox``, gives it with one warning that
+    names the new home, attributed to the caller's line."""
+    home, new_name = RENAMED[name]
+    new = getattr(importlib.import_module(f"jaxgear.{home}"), new_name)
+    module = importlib.import_module(f"jaxgear{old_home}")
+    with pytest.warns(DeprecationWarning, match=re.escape(f"jaxgear.{home}.{new_name}")) as rec:
+        old = getattr(module, name)
+    assert old is new
+    assert len(rec) == 1
+    assert rec[0].filename == __file__
+    assert name not in dir(module)
 
 
 def test_from_import_of_a_moved_name():

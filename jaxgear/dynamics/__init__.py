@@ -26,6 +26,10 @@ linearised about its quasi-static solution, a harmonic balance over the time-var
 stiffness (:class:`HarmonicBalance`, :class:`TransmissionErrorSource`; a train of several mesh frequencies: :class:`QuasiPeriodicBalance`; docs/whine.md).
 :func:`jaxgear.io.build_dynamic_model` does it from a case's ``[scene]``
 (:class:`jaxgear.io.SceneSpec`): the model takes objects, never a case.
+
+What a gearbox asks of each of its stages is one contract, :class:`AbstractStage` (a planetary
+stage's :class:`jaxgear.planetary.PlanetaryModel` given its input and output members satisfies
+it, as the gearbox's stage kinds do).
 """
 
 from ._damping import (
@@ -131,6 +135,7 @@ from ._settle import (
     unsettled_lines as unsettled_lines,
 )
 from ._simulate import simulate as simulate, simulate_on_table as simulate_on_table
+from ._stage import AbstractStage as AbstractStage
 from ._sweep import (
     DIRECTIONS as DIRECTIONS,
     AbstractDirection as AbstractDirection,

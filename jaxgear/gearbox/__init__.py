@@ -5,6 +5,11 @@
   :func:`gearbox_coupled_modes`): every stage's contact cells at once in one Newmark run
   (docs/gearbox.md); :class:`GearboxModel` is it as a :class:`jaxgear.dynamics.AbstractDynamicModel`
   (:func:`jaxgear.dynamics.simulate`, :func:`jaxgear.dynamics.speed_sweep`);
+* the stages satisfy the one stage contract, :class:`jaxgear.dynamics.AbstractStage`
+  (:class:`PairGearboxStage`; a :class:`jaxgear.planetary.PlanetaryModel` given its input and
+  output members, :class:`PlanetaryGearboxStage` its constructor in the gearbox's argument
+  order); ``AbstractGearboxStage`` is that contract's former name, served with a
+  ``DeprecationWarning``;
 * stage kinds added on the stage interface alone: :class:`CompoundPlanetaryStage` (stepped
   planets) in ``_compound``, :class:`LumpedPairGearboxStage` (a parallel pair in lumped 3D
   form: shafts and bearings) in ``_lumped``.
@@ -16,7 +21,6 @@
 """
 
 from ._chain import (
-    AbstractGearboxStage as AbstractGearboxStage,
     GearboxModes as GearboxModes,
     GearboxTorsional as GearboxTorsional,
     PairGearboxStage as PairGearboxStage,
@@ -58,3 +62,24 @@ from ._spectrum import (
     window_share as window_share,
 )
 from ._whine import gearbox_whine as gearbox_whine
+
+#: names that left this package, by their new home (served with a ``DeprecationWarning``)
+_RENAMED = {"AbstractGearboxStage": ("jaxgear.dynamics", "AbstractStage")}
+
+
+def __getattr__(name: str):
+    """A renamed name (``_RENAMED``): its object from the new home, with a
+    ``DeprecationWarning`` naming it."""
+    if name not in _RENAMED:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    import importlib
+    import warnings
+
+    home, new = _RENAMED[name]
+    warnings.warn(
+        f"jaxgear.gearbox.{name} is {home}.{new} (the one stage contract); the old name will "
+        "be removed in the next release",
+        DeprecationWarning,
+        stacklevel=2,
+    )
+    return getattr(importlib.import_module(home), new)

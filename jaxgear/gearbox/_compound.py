@@ -1,6 +1,6 @@
 """A compound planetary stage with stepped planets as a gearbox stage kind (docs/gearbox.md,
 "A compound planetary stage"): the whole kind in this one module, on the
-:class:`~jaxgear.gearbox.AbstractGearboxStage` interface.
+:class:`~jaxgear.dynamics.AbstractStage` interface.
 
 Each of the N planets is two gears rigidly joined on one shaft: gear p1 (z_p1 teeth, base radius
 r_bp1) meshes the sun, gear p2 (z_p2, r_bp2) meshes the ring. The torsional lumped model
@@ -43,7 +43,7 @@ an integer for every planet, g = gcd(z_p1, z_p2) (derived in docs/gearbox.md; fo
 the known (z_s z_p2 + z_r z_p1) / (N g) integer).
 
 Its two meshes have two mesh frequencies (ratio z_p1 : z_p2). The gearbox interface gives a stage
-one :meth:`~jaxgear.gearbox.AbstractGearboxStage.mesh_period`: this stage reports the shorter
+one :meth:`~jaxgear.dynamics.AbstractStage.mesh_period`: this stage reports the shorter
 (the time step follows the faster mesh); the stage averages its own K̄_m over each mesh's own
 period, but the coupled model's mesh energy shares average both over the shorter one and its
 recorded window counts blocks of the gearbox's slowest reported period (raise ``keep_periods``
@@ -66,8 +66,9 @@ from .._internal import InternalGearPair
 from .._modifications import Modifications
 from .._quasi_static import separation
 from .._util import as_float, check_instance, check_integer, check_real
+from ..dynamics import AbstractStage
 from ..planetary import Central
-from ._chain import AbstractGearboxStage, mean_cell_stiffness
+from ._chain import mean_cell_stiffness
 
 __all__ = ["CompoundPlanetaryStage", "stepped_planet_phases"]
 
@@ -108,7 +109,7 @@ def _check_teeth(teeth):
     return tuple(int(z) for z in teeth)
 
 
-class CompoundPlanetaryStage(AbstractGearboxStage):
+class CompoundPlanetaryStage(AbstractStage):
     """A planetary stage with stepped planets (module docstring): sun, ring, carrier and N
     identical planets, each two gears on one shaft (p1 meshes the sun, p2 the ring); ``input``
     and ``output`` any two central members, the third held to ground by ``held_stiffness``.

@@ -2,7 +2,7 @@
 "The coupled model").
 
 The stages of a :class:`~jaxgear.gearbox.GearboxTorsional` (their coordinates,
-:meth:`~jaxgear.gearbox.AbstractGearboxStage.coordinates`: rotations in rad, a planetary stage's
+:meth:`~jaxgear.dynamics.AbstractStage.coordinates`: rotations in rad, a planetary stage's
 translations in m in its own carrier frame) are stacked block after block; the shafts join one
 stage's output rotation to the next stage's input rotation (torsional stiffness, massless); the
 first stage's input member carries the input torque T and the last stage's output member is
@@ -11,7 +11,7 @@ held by a torsional spring ``output_stiffness`` to ground:
     M q'' + (C + C_Omega) q' + (K_s + K_shafts + K_hold + K_Omega) q + sum_k V_k^T P_k = F,
 
 with stage k's cells P_k at its own mesh travel x_k = v_k t, v_k its mesh speed at the operating
-point (:meth:`~jaxgear.gearbox.AbstractGearboxStage.kinematics` from the input speed, stage by
+point (:meth:`~jaxgear.dynamics.AbstractStage.kinematics` from the input speed, stage by
 stage), C the modal damping on the modes of (M, K + K̄_m), K̄_m every mesh's cell stiffness
 averaged over its own mesh period (block-diagonal). Each stage's flanks are the ones the input
 torque loads: a stage whose meshes the torque would open is taken on its other flanks (its rows'
@@ -187,7 +187,7 @@ def _shared(stages, housing) -> list[int]:
 def _layout(stages, housing=None):
     """(per stage, the coupled coordinate of each of its coordinates (NumPy ints), n): the
     stages' own coordinates block after block, then a shared housing's once (the h
-    coordinates that end each housed stage's, :meth:`AbstractGearboxStage.housing`)."""
+    coordinates that end each housed stage's, :meth:`~jaxgear.dynamics.AbstractStage.housing`)."""
     h = _shared(stages, housing)
     widths = [len(s.coordinates()) - hk for s, hk in zip(stages, h, strict=True)]
     n_own = sum(widths)
@@ -322,7 +322,7 @@ def _cell_counts(chain):
 
 def _excited_periods(chain: GearboxTorsional) -> tuple[float, float]:
     """(fast, slow): the periods of the fastest and the slowest excited mesh (a stage with
-    contact cells, :meth:`AbstractGearboxStage.excited`; without one, the first stage's) per
+    contact cells, :meth:`~jaxgear.dynamics.AbstractStage.excited`; without one, the first stage's) per
     unit of 1 / input speed, i.e. the input member's rotation over them (rad), host side (the
     periods' ratios do not depend on the speed)."""
     kin = _kinematics(chain, 1.0, 1.0)

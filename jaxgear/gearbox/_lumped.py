@@ -1,6 +1,6 @@
 """A parallel pair in lumped 3D form as a gearbox stage kind (docs/gearbox.md, "A parallel
 stage in lumped 3D form"): the whole kind in this one module, on the
-:class:`~jaxgear.gearbox.AbstractGearboxStage` interface.
+:class:`~jaxgear.dynamics.AbstractStage` interface.
 
 The stage is a :class:`~jaxgear.scenes.LumpedPair` scene (:func:`~jaxgear.scenes.lumped_pair`:
 Timoshenko shafts, bearings, rigid gear bodies, 6 DOFs per shaft node u_x, u_y, u_z, phi_x,
@@ -36,8 +36,9 @@ from .._baseplane import on_the_path
 from .._modifications import Modifications
 from .._quasi_static import separation
 from .._util import as_float, check_instance, is_traced
+from ..dynamics import AbstractStage
 from ..scenes import LumpedPair
-from ._chain import AbstractGearboxStage, mean_cell_stiffness
+from ._chain import mean_cell_stiffness
 
 __all__ = ["LumpedPairGearboxStage"]
 
@@ -45,7 +46,7 @@ __all__ = ["LumpedPairGearboxStage"]
 CHAIN_POSITIONS = 64
 
 
-class LumpedPairGearboxStage(AbstractGearboxStage):
+class LumpedPairGearboxStage(AbstractStage):
     """A parallel pair in lumped 3D form in the gearbox (module docstring): the scene's shafts,
     bearings and gear bodies, its contact cells on its 6-DOF gear nodes.
 

@@ -55,8 +55,8 @@ from jaxtyping import Array, Float
 
 from .._contact import AbstractContactLaw, ExactContact
 from .._util import as_float, check_instance, check_integer, check_real
-from ..planetary import Central, HousedPlanetary, ring_transducer_signal
-from ._chain import GearboxTorsional, PairGearboxStage, PlanetaryGearboxStage
+from ..planetary import Central, HousedPlanetary, PlanetaryModel, ring_transducer_signal
+from ._chain import GearboxTorsional, PairGearboxStage
 from ._coupled import (
     CoupledModes,
     GearboxDynamics,
@@ -214,7 +214,7 @@ BEARING_STAGES = (PairGearboxStage, LumpedPairGearboxStage)
 
 
 def _defaults(chain, ring_stage, bearing_stage, where):
-    planetary = [k for k, s in enumerate(chain.stages) if isinstance(s, PlanetaryGearboxStage)]
+    planetary = [k for k, s in enumerate(chain.stages) if isinstance(s, PlanetaryModel)]
     pairs = [k for k, s in enumerate(chain.stages) if isinstance(s, BEARING_STAGES)]
     if ring_stage is None:
         if not planetary:
@@ -229,7 +229,7 @@ def _defaults(chain, ring_stage, bearing_stage, where):
     ring_stage = _stage_index(chain, ring_stage, "ring_stage")
     bearing_stage = _stage_index(chain, bearing_stage, "bearing_stage")
     s = chain.stages[ring_stage]
-    if not isinstance(s, PlanetaryGearboxStage):
+    if not isinstance(s, PlanetaryModel):
         raise TypeError(f"{where}: ring_stage = {ring_stage} is a {type(s).__name__}: allowed "
                          "a planetary stage")
     if Central.RING in (s.input, s.output):
@@ -308,7 +308,7 @@ def _ring_twist(chain, dynamics, k):
     x = dynamics.displacement[:, _layout(chain.stages, chain.housing)[0][k]]
     names = stage.coordinates()
     twist = x[:, names.index("theta_r")]
-    model = stage.model
+    model = stage.kind
     if isinstance(model, HousedPlanetary):
         n = len(model.model.dof_names(stage.stage))
         for member, seat in model.seat_indices():
@@ -391,12 +391,12 @@ def housing_lines(chain: GearboxTorsional, input_speed, harmonics=(1, 2, 3), sid
     ``kind``, ``label``; by frequency (a frequency two rows share is listed under each)."""
     if ring_stage is None:
         ring_stage = next((k for k, s in enumerate(chain.stages)
-                           if isinstance(s, PlanetaryGearboxStage)), None)
+                           if isinstance(s, PlanetaryModel)), None)
         if ring_stage is None:
             raise ValueError("housing_lines: chain has no planetary stage: allowed a chain with "
                              "one (the ring mount)")
     ring_stage = _stage_index(chain, ring_stage, "ring_stage")
-    if not isinstance(chain.stages[ring_stage], PlanetaryGearboxStage):
+    if not isinstance(chain.stages[ring_stage], PlanetaryModel):
         raise TypeError(f"housing_lines: ring_stage = {ring_stage} is a "
                         f"{type(chain.stages[ring_stage]).__name__}: allowed a planetary stage")
     f_m = np.asarray(mesh_frequencies(chain, input_speed))

@@ -72,10 +72,15 @@ import numpy as np
 
 from fem_prep import schema as sc
 
-from ..dynamics import MAX_WHINE_GRID, QuasiPeriodicBalance, check_whine_size, whine_size
+from ..dynamics import (
+    MAX_WHINE_GRID,
+    AbstractStage,
+    QuasiPeriodicBalance,
+    check_whine_size,
+    whine_size,
+)
 from ..gearbox import (
     OPERATING_RUN,
-    AbstractGearboxStage,
     GearboxModel,
     GearboxRun,
     GearboxTorsional,
@@ -147,7 +152,7 @@ class GearboxStage:
     """One stage as the gearbox holds it: its case (its operating point the carried one),
     the ratio ω_in/ω_out, the input speed (rad/s) and torque (N·m) of its input member, the
     torsional stiffness of the shaft from the previous stage (N·m/rad; 0 for the first) and its
-    torsional model in the chain (:class:`~jaxgear.gearbox.AbstractGearboxStage`; a lumped 3D stage
+    torsional model in the chain (:class:`~jaxgear.dynamics.AbstractStage`; a lumped 3D stage
     on the ground); a lumped 3D stage in the gearbox's ``[housing]``: its scene origin in the
     gearbox frame ``housing_position`` (m) and its bearings' seats ``housing_seats`` (None:
     the nearest; an entry None: on the ground); a planetary stage in it: its centre
@@ -160,7 +165,7 @@ class GearboxStage:
     input_speed: float
     input_torque: float
     shaft_stiffness: float
-    torsional: AbstractGearboxStage
+    torsional: AbstractStage
     housing_position: tuple = (0.0, 0.0, 0.0)
     housing_seats: tuple | None = None
     housing_seat: int | None = None

@@ -26,7 +26,8 @@ from :mod:`jaxgear` too; the rest lives here only. Modules:
   :func:`jaxgear.dynamics.newmark`, the engine every dynamic model steps with);
 - ``_model``: :class:`PlanetaryModel`, the stage's dynamics as a
   :class:`jaxgear.dynamics.AbstractDynamicModel` (:func:`jaxgear.dynamics.simulate` and
-  :func:`jaxgear.dynamics.speed_sweep` run it);
+  :func:`jaxgear.dynamics.speed_sweep` run it), and given its input and output members a
+  gearbox stage (:class:`jaxgear.dynamics.AbstractStage`, the one stage contract);
 - ``_plan``: the time plan of a run over speeds (:func:`plan_sweep`, :func:`time_plan`: steps
   per mesh period, span, kept periods), every speed in one program (:func:`steps_sweep`), the
   factors read from its records (:func:`sweep_factors`), whether anything excites the stage

@@ -14,7 +14,14 @@ turns at Ω = ``carrier_per_input`` ω_in and the meshes travel at v = ``mesh_sp
 
 The response of a run is the stage's :class:`~jaxgear.planetary.PlanetaryDynamics` (each
 mesh's force over the kept periods, the dynamic factors per mesh, K_γ), not a pair's
-:class:`~jaxgear.dynamics.DynamicResponse`: :meth:`PlanetaryModel.independent` documents it."""
+:class:`~jaxgear.dynamics.DynamicResponse`: :meth:`PlanetaryModel.independent` documents it.
+
+A model given its ``input`` and ``output`` members (two of :class:`~jaxgear.planetary.Central`,
+the third held) is also a gearbox stage: :class:`PlanetaryModel` satisfies the stage contract
+:class:`jaxgear.dynamics.AbstractStage`, and a :class:`jaxgear.gearbox.GearboxTorsional` takes it
+as one of its stages (its coordinates u = r theta scaled to rotations theta (rad) so that the
+shafts join rotations; translations stay in m; Willis' relation on base radii for the members'
+speeds, from which ``carrier_per_input`` and ``mesh_speed_per_input`` then follow)."""
 
 from __future__ import annotations
 
@@ -23,14 +30,14 @@ from typing import ClassVar
 import equinox as eqx
 import jax
 import jax.numpy as jnp
+import numpy as np
 from jaxtyping import Array, Float
 
 from .._contact import ContactLaw, ExactContact
-from .._util import as_float, check_instance
-import numpy as np
-
+from .._util import as_float, check_instance, is_traced
 from ..dynamics import (
     AbstractDynamicModel,
+    AbstractStage,
     HarmonicBalance,
     ModalAnalysis,
     Newmark,
@@ -45,12 +52,13 @@ from ..dynamics import (
 from ._dynamics import (
     PlanetaryDynamics,
     PlanetaryRun,
+    planetary_cell_row,
     planetary_dynamics,
     planetary_mesh_modes,
     planetary_stage_system,
 )
-from ._housed import check_carrier_speed
-from ._meshes import AbstractPlanetaryMeshes
+from ._housed import HousedPlanetary, check_carrier_speed
+from ._meshes import AbstractPlanetaryMeshes, ConstantMeshes
 from ._plan import (
     KEEP_OTHER,
     KEEP_PERIODIC,
@@ -64,7 +72,7 @@ from ._plan import (
     time_plan,
 )
 from ._ring import AbstractRingModel, RigidRing
-from ._stage import AbstractPlanetaryModel, PlanetaryStage
+from ._stage import AbstractPlanetaryModel, Central, PlanetaryStage, TorsionalPlanetary
 from ._whine import planetary_whine
 
 __all__ = ["PlanetaryModel", "PlanetaryPrepared", "PlanetarySpan", "sweep_records"]
@@ -93,7 +101,27 @@ class PlanetarySpan(eqx.Module):
     keep_periods: int = eqx.field(static=True)
 
 
-class PlanetaryModel(AbstractDynamicModel):
+def _role_speeds(stage: PlanetaryStage, input: Central, output: Central, input_speed):
+    """((omega_c, omega_r, omega_s) (rad/s, fixed frame), the index of each central member in
+    it): Willis' relation on base radii (r_bs w_s + r_br w_r = (r_bs + r_br) w_c; the radii are
+    in the tooth counts' ratio) with the member that is neither ``input`` nor ``output`` held
+    and the ``input`` member at ``input_speed`` (rad/s)."""
+    r_s, r_r = stage.sun.base_radius, stage.ring.base_radius
+    held = ({Central.CARRIER, Central.RING, Central.SUN} - {input, output}).pop()
+    a = jnp.array([[-(r_s + r_r), r_r, r_s], [0.0, 0.0, 0.0], [0.0, 0.0, 0.0]])
+    idx = {Central.CARRIER: 0, Central.RING: 1, Central.SUN: 2}
+    a = a.at[1, idx[held]].set(1.0).at[2, idx[input]].set(1.0)
+    w = jnp.linalg.solve(a, jnp.stack([0.0 * input_speed, 0.0 * input_speed, input_speed]))
+    return w, idx
+
+
+def _roles_given(stage, input, output) -> bool:
+    """Whether the members' roles can set the speeds (checked in one line afterwards)."""
+    return (isinstance(stage, PlanetaryStage) and isinstance(input, Central)
+            and isinstance(output, Central) and input != output)
+
+
+class PlanetaryModel(AbstractDynamicModel, AbstractStage):
     """A planetary stage's carrier-frame dynamics (:func:`~jaxgear.planetary.planetary_dynamics`:
     Newmark on the 2N meshes' contact cells, the Coriolis and centripetal terms at the carrier
     speed) as an :class:`~jaxgear.dynamics.AbstractDynamicModel`.
@@ -109,10 +137,17 @@ class PlanetaryModel(AbstractDynamicModel):
         run: the sun torque (N m), damping ratio and pin errors (m) of the runs
             (:class:`~jaxgear.planetary.PlanetaryRun`; its step counts are replaced by the
             run's integrator and window).
-        carrier_per_input: Ω / ω_in (-), the carrier's speed per input speed (fixed frame).
+        carrier_per_input: Ω / ω_in (-), the carrier's speed per input speed (fixed frame);
+            None (default): 1, or the roles' (below).
         mesh_speed_per_input: v / ω_in (m/s per rad/s), the mesh travel speed per input speed;
-            None: the ring held, v = r_br |Ω|.
+            None: the ring held, v = r_br |Ω|, or the roles' (below).
         ring: :class:`~jaxgear.planetary.RigidRing` (default) or a flexible ring model.
+        input, output: static, two different :class:`~jaxgear.planetary.Central` members (the
+            third held), or None (default): the members' roles, which make the model a gearbox
+            stage (:class:`jaxgear.dynamics.AbstractStage`) and set ``carrier_per_input`` and
+            ``mesh_speed_per_input`` by Willis' relation on base radii (r_bs ω_s + r_br ω_r =
+            (r_bs + r_br) Ω, the third member at rest; v = r_bs |ω_s − Ω|): both are then left
+            None.
 
     ``scene`` (and :attr:`stage`) is the stage and ``torque`` the sun torque T_s (N m): the
     engine entries read neither (they ask the model's methods); ``mods`` is None (a stage's
@@ -120,7 +155,9 @@ class PlanetaryModel(AbstractDynamicModel):
 
     Raises:
         ValueError: a kind, stage, meshes, run or ring of another type, ``carrier_per_input``
-            zero without a ``mesh_speed_per_input``, ``mesh_speed_per_input`` not > 0 (one
+            zero without a ``mesh_speed_per_input``, ``mesh_speed_per_input`` not > 0; one of
+            ``input`` and ``output`` without the other, either not a ``Central`` member, the
+            two the same, or given with ``carrier_per_input`` or ``mesh_speed_per_input`` (one
             line).
     """
 
@@ -133,6 +170,8 @@ class PlanetaryModel(AbstractDynamicModel):
     carrier_per_input: Float[Array, ""]
     mesh_speed_per_input: Float[Array, ""] | None
     ring: AbstractRingModel
+    input: Central | None = eqx.field(static=True)
+    output: Central | None = eqx.field(static=True)
 
     def __init__(
         self,
@@ -140,15 +179,29 @@ class PlanetaryModel(AbstractDynamicModel):
         stage: PlanetaryStage,
         meshes: AbstractPlanetaryMeshes,
         run: PlanetaryRun,
-        carrier_per_input=1.0,
+        carrier_per_input=None,
         mesh_speed_per_input=None,
         ring: AbstractRingModel = RigidRing(),
+        *,
+        input: Central | None = None,
+        output: Central | None = None,
     ):
         self.kind, self.scene, self.meshes, self.run, self.ring = kind, stage, meshes, run, ring
         self.mods = None
         # another run type is refused in one line by __check_init__
         self.torque = run.sun_torque if isinstance(run, PlanetaryRun) else None
-        self.carrier_per_input = as_float(carrier_per_input)
+        self.input, self.output = input, output
+        roles = input is not None or output is not None
+        if roles and (carrier_per_input is not None or mesh_speed_per_input is not None):
+            raise ValueError(
+                "PlanetaryModel: carrier_per_input or mesh_speed_per_input given with the "
+                "input and output members: allowed None (Willis' relation of the members sets "
+                "them)")
+        if roles and _roles_given(stage, input, output):
+            w, _ = _role_speeds(stage, input, output, 1.0)
+            carrier_per_input = w[0]
+            mesh_speed_per_input = stage.sun.base_radius * jnp.abs(w[2] - w[0])
+        self.carrier_per_input = as_float(1.0 if carrier_per_input is None else carrier_per_input)
         self.mesh_speed_per_input = (
             None if mesh_speed_per_input is None else as_float(mesh_speed_per_input)
         )
@@ -173,15 +226,26 @@ class PlanetaryModel(AbstractDynamicModel):
         check_instance("run", self.run, PlanetaryRun, "a jaxgear.planetary.PlanetaryRun", where)
         check_instance("ring", self.ring, AbstractRingModel,
                        "a jaxgear ring model (RigidRing, CondensedRing, CraigBamptonRing)", where)
+        if (self.input is None) != (self.output is None):
+            raise ValueError(f"{where}: input = {self.input!r}, output = {self.output!r}: "
+                             "allowed both central members or neither")
+        for name, member in (("input", self.input), ("output", self.output)):
+            if member is not None and not isinstance(member, Central):
+                raise ValueError(f"{where}: {name} = {member!r}: allowed a "
+                                 "jaxgear.planetary.Central member (SUN, RING, CARRIER)")
+        if self.input is not None and self.input == self.output:
+            raise ValueError(f"{where}: input = output = {self.input!r}: allowed two different "
+                             "central members")
         check_carrier_speed(self.kind, self.carrier_per_input,
                             "PlanetaryModel (carrier_per_input times the input speed)")
         v = self.mesh_speed_per_input
-        if v is None and not float(self.carrier_per_input) != 0.0:
+        if v is None and not is_traced(self.carrier_per_input) and not (
+                float(self.carrier_per_input) != 0.0):
             raise ValueError(
                 f"carrier_per_input = {float(self.carrier_per_input)!r}: out of range, allowed "
                 "!= 0 where mesh_speed_per_input is None (the ring held: v = r_br |Ω|)"
             )
-        if v is not None and not float(v) > 0.0:
+        if v is not None and not is_traced(v) and not float(v) > 0.0:
             raise ValueError(
                 f"mesh_speed_per_input = {float(v)!r} m/s per rad/s: out of range, allowed > 0"
             )
@@ -404,6 +468,164 @@ class PlanetaryModel(AbstractDynamicModel):
 
         speeds = jnp.asarray(speeds, self.dtype)
         return one(speeds) if speeds.ndim == 0 else jax.vmap(one)(speeds)
+
+    # --- the stage contract (jaxgear.dynamics.AbstractStage): the model in a gearbox --------
+    # its coordinates u = r theta scaled to theta (rad) so that the shafts join rotations;
+    # translations stay in m. The run's pin errors are the stage's; its sun torque is not read
+    # (the gearbox carries the torque through the stages' kinematics).
+
+    def check_stage(self, where: str) -> None:
+        """Refuse (one line naming ``where``) a model that cannot stand in a gearbox: no
+        ``input`` and ``output`` members, a flexible ring (the coupled model takes a rigid
+        ring's cells), a kind without contact cells, or a
+        :class:`~jaxgear.planetary.HousedPlanetary` with ``carrier_held`` whose carrier is the
+        input or output member (it turns)."""
+        if self.input is None:
+            raise ValueError(f"{where}: a PlanetaryModel without its input and output members: "
+                             "allowed PlanetaryModel(..., input=, output=) (two Central "
+                             "members, the third held)")
+        if self.flexible_ring():
+            raise ValueError(f"{where}: ring {type(self.ring).__name__}: allowed RigidRing (the "
+                             "coupled gearbox takes a rigid ring's cells)")
+        if not self.kind.contact_solve:
+            raise ValueError(f"{where}: model {type(self.kind).__name__} has no contact cells: "
+                             "allowed TorsionalPlanetary, PlanarPlanetary (or either in a "
+                             "HousedPlanetary)")
+        if (isinstance(self.kind, HousedPlanetary) and self.kind.carrier_held
+                and Central.CARRIER in (self.input, self.output)):
+            role = "input" if self.input == Central.CARRIER else "output"
+            raise ValueError(f"{where}: model HousedPlanetary(carrier_held=True) with the "
+                             f"carrier the {role} member: allowed a star stage (sun and ring "
+                             "the shafts' members, the carrier held)")
+
+    def _scale(self):
+        """r per coordinate: a rotation's u = r theta radius (the planet's, a central
+        member's), 1 for a translation."""
+        st = self.stage
+        radius = {"c": st.carrier.base_radius, "r": st.ring.base_radius,
+                  "s": st.sun.base_radius}
+        r = [radius.get(n[2:], st.planet.base_radius) if n.startswith("u_") else 1.0
+             for n in self.kind.dof_names(st)]
+        return jnp.stack([jnp.asarray(v, dtype=st.planet_angles.dtype) for v in r])
+
+    def coordinates(self):
+        """The kind's coordinates (``dof_names``), each rotation's ``u_<m>`` (m) named
+        ``theta_<m>`` (rad)."""
+        return tuple(("theta_" + n[2:]) if n.startswith("u_") else n
+                     for n in self.kind.dof_names(self.stage))
+
+    def coordinate_ends(self):
+        names = self.kind.dof_names(self.stage)
+        key = {Central.CARRIER: "u_c", Central.RING: "u_r", Central.SUN: "u_s"}
+        return names.index(key[self.input]), names.index(key[self.output])
+
+    def dynamic_parts(self, positions):
+        """(M, K_b, K̄_m, F) of :func:`~jaxgear.planetary.planetary_stage_system` (the run's
+        pin errors) on :meth:`coordinates`."""
+        parts = planetary_stage_system(self.kind, self.stage, self.meshes, self.run, positions)
+        r = self._scale()
+        rr = r[:, None] * r[None, :]
+        return rr * parts.m, rr * parts.k_b, rr * parts.k_mean, r * parts.f
+
+    def cell_row(self, x):
+        row = planetary_cell_row(self.kind, self.stage, self.meshes, self.run, x)
+        return row._replace(V=row.V * self._scale()[None, :])
+
+    def mesh_forces(self, forces):
+        return self.meshes.mesh_forces(forces)
+
+    def on_flanks(self, sign):
+        """The stage on the flanks its static load takes: with ``sign`` < 0 (the planets drive
+        the sun: carrier in and sun out) its meshes'
+        :meth:`~jaxgear.planetary.ContactMeshes.other_flanks` (the sun-ring phase within a
+        planet of the other flanks), chosen leaf by leaf so that ``sign`` may be traced
+        (meshes whose cells do not depend on the flanks give themselves: the same stage)."""
+        other = self.meshes.other_flanks()
+        # only the leaves the other flanks change are selected (the rest are the same arrays:
+        # the tables are not copied)
+        meshes = jax.tree.map(
+            lambda a, b: jnp.where(sign < 0, b, a) if eqx.is_array(a) and a is not b else a,
+            self.meshes, other)
+        return eqx.tree_at(lambda s: s.meshes, self, meshes)
+
+    def mesh_names(self):
+        n = self.stage.n_planets
+        return (tuple(f"sun-planet {i + 1}" for i in range(n))
+                + tuple(f"ring-planet {i + 1}" for i in range(n)))
+
+    def mesh_period(self):
+        return self.meshes.mesh_period()
+
+    def excited(self):
+        return not isinstance(self.meshes, ConstantMeshes)
+
+    def kinematics(self, input_speed, input_torque):
+        st = self.stage
+        w, idx = _role_speeds(st, self.input, self.output, as_float(input_speed))
+        out_speed = w[idx[self.output]]
+        # power: |T_out| = |T_in w_in / w_out|; the sun's torque T_s = r_bs (over the torque's
+        # lever of the input member: r_bs, r_br or r_bs + r_br) T_in; each mesh N r_bs F = T_s
+        r_s, r_r = st.sun.base_radius, st.ring.base_radius
+        lever = {Central.SUN: r_s, Central.RING: r_r, Central.CARRIER: r_s + r_r}[self.input]
+        torque = jnp.abs(as_float(input_torque))
+        out_torque = torque * jnp.abs(as_float(input_speed) / out_speed)
+        f = torque / (lever * st.n_planets)
+        v = r_s * jnp.abs(w[2] - w[0])  # the mesh travel in the carrier frame
+        return out_speed, out_torque, v, jnp.full((2 * st.n_planets,), f)
+
+    def speed_terms(self, carrier_speed):
+        """(C_Omega, K_Omega) of the kind at ``carrier_speed`` (rad/s), with a housed kind
+        the housing's damping C_h on its coordinates added to C_Omega (the coupled model's
+        constant damping term, which carries a lumped stage's housing damping as well)."""
+        r = self._scale()
+        rr = r[:, None] * r[None, :]
+        st = self.stage
+        c = carrier_speed * rr * self.kind.gyroscopic_matrix(st)
+        if isinstance(self.kind, HousedPlanetary):
+            h = self.kind.housing.size
+            c = c.at[-h:, -h:].add(jnp.asarray(self.kind.housing.C, c.dtype))
+        return c, -carrier_speed**2 * rr * self.kind.centripetal_matrix(st)
+
+    def housing(self):
+        """(K_h, M_h) of a :class:`~jaxgear.planetary.HousedPlanetary` kind's housing (its
+        coordinates end :meth:`coordinates`), or None: the stage on the ground."""
+        if not isinstance(self.kind, HousedPlanetary):
+            return None
+        return self.kind.housing.K, self.kind.housing.M
+
+    def housing_seats(self):
+        """The seats the housed kind's members join (indices, ascending), () unhoused."""
+        if not isinstance(self.kind, HousedPlanetary):
+            return ()
+        return tuple(sorted({seat for _, seat in self.kind.seat_indices()}))
+
+    def carrier_speed(self, input_speed):
+        """The carrier's speed (rad/s) at the input member's ``input_speed``."""
+        return _role_speeds(self.stage, self.input, self.output, as_float(input_speed))[0][0]
+
+    def dof_names(self):
+        """The torsional chain's rotations: carrier, ring, sun, then each planet's."""
+        return ("theta_c", "theta_r", "theta_s") + tuple(
+            f"theta_{i + 1}" for i in range(self.stage.n_planets)
+        )
+
+    def matrices(self):
+        """(M, K) of :class:`~jaxgear.planetary.TorsionalPlanetary` (Kahraman 1994) on the
+        rotations (kg m^2, N m/rad), u = r theta: R M R and R K R, R = diag(r)."""
+        model, st = TorsionalPlanetary(), self.stage
+        r = jnp.concatenate(
+            [
+                jnp.stack([st.carrier.base_radius, st.ring.base_radius, st.sun.base_radius]),
+                jnp.broadcast_to(st.planet.base_radius, (st.n_planets,)),
+            ]
+        )
+        scale = r[:, None] * r[None, :]
+        return scale * model.mass_matrix(st), scale * model.stiffness_matrix(st)
+
+    def ends(self):
+        # TorsionalPlanetary's order: u_c, u_r, u_s (Central's carrier, ring, sun)
+        order = {Central.CARRIER: 0, Central.RING: 1, Central.SUN: 2}
+        return order[self.input], order[self.output]
 
 
 def sweep_records(model: PlanetaryModel, speeds, plan: TimePlan,
