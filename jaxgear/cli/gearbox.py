@@ -39,7 +39,6 @@ from ..gearbox import (
     GearboxRun,
     LumpedPairGearboxStage,
     PairGearboxStage,
-    PlanetaryGearboxStage,
     campbell_crossings,
     coordinate_names,
     coupled_mode_table,
@@ -53,6 +52,7 @@ from ..gearbox import (
     window_share,
 )
 from ..io import SceneSpec, build_dynamic_model, housing_surface, spec_integrator, write_json
+from ..planetary import PlanetaryModel
 from ._housing_run import HousedRun
 from ._plots import (
     coupled_dynamic_factor_plot,
@@ -493,7 +493,7 @@ def housing_point_spectrum(form, case, out: str) -> dict:
     output-shaft bearings (:func:`jaxgear.gearbox.housing_signals`); a ring on the gearbox's
     ``[housing]`` is read on its seat (k_t (θ_r − θ_seat))."""
     chain, run, first, _ = _coupled_setup(form)
-    planetary = [i for i, s in enumerate(chain.stages) if isinstance(s, PlanetaryGearboxStage)]
+    planetary = [i for i, s in enumerate(chain.stages) if isinstance(s, PlanetaryModel)]
     pairs = [i for i, s in enumerate(chain.stages)
              if isinstance(s, (PairGearboxStage, LumpedPairGearboxStage))]
     if not planetary or not pairs:

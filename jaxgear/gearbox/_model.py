@@ -15,7 +15,7 @@ other member's speed and every stage's mesh travel follow from the stages' kinem
 The clock of a gearbox run (the kind's own reading of the settings, :meth:`GearboxModel.prepare`):
 
 * ``Newmark(steps_per_period=S)``: S steps per period of the **fastest excited mesh** (the
-  fastest mesh of a stage with contact cells, :meth:`~jaxgear.gearbox.AbstractGearboxStage.excited`):
+  fastest mesh of a stage with contact cells, :meth:`~jaxgear.dynamics.AbstractStage.excited`):
   the model's "first mesh" of the contract (:meth:`GearboxModel.mesh_period_angle`);
 * ``SteadyState(periods=B, keep_periods=K)``: B **blocks** integrated, the last K recorded, a
   block the **slowest excited mesh's** period rounded to whole steps (every stage's meshes pass
