@@ -144,6 +144,7 @@ class Section(BaseModel):
                 of the wrong type or out of range, what the section's own checks refuse.
         """
         where = cls.WHERE if where is None else where
+        context = {"where": where, **(context or {})}
         if not isinstance(table, dict):
             head, _, last = where.rpartition(".")
             raise sc.fail(head, last, f"must be a table ([{where}]), not {sc.type_name(table)}",
@@ -152,6 +153,17 @@ class Section(BaseModel):
             return cls.model_validate(table, context=context)
         except pydantic.ValidationError as err:
             raise schema_error(cls, where, table, err) from None
+
+    @classmethod
+    def of_file(cls, data: dict, key: str | None = None, *, required: bool = False,
+                context: dict | None = None):
+        """The section of the file's table ``data[key]`` (default :attr:`WHERE`; :meth:`read`),
+        of an empty table where the file has none (``required``: refused in one line,
+        ``[key]: missing required table``)."""
+        key = cls.WHERE if key is None else key
+        if key not in data and required:
+            raise sc.SchemaError(f"[{key}]: missing required table", f"[{key}]")
+        return cls.read(data.get(key, {}), key, context=context)
 
     @classmethod
     def file_keys(cls, context: dict | None = None) -> tuple[str, ...]:

@@ -89,6 +89,8 @@ import math
 import warnings
 from typing import Any
 
+import pydantic
+
 from fem_prep import schema as sc
 
 from .._geometry import GearPair
@@ -102,7 +104,9 @@ from ._case_file import (
     CENTER_DISTANCE_TOL_MM,
     MODULE_RANGE_MM,
     PRESSURE_ANGLE_RANGE_DEG,
-    _member,
+    MaterialSection,
+    MemberSection,
+    OperatingSection,
     case_housing,
     check_member_size,
     parse_material,
@@ -125,12 +129,11 @@ from ._planetary_table import (
 )
 from ._plausibility import CaseWarning, plausibility
 from ._rating_table import (
-    MATERIAL_RATING_KEYS,
-    OPERATING_RATING_KEYS,
     check_planetary_rating,
     check_train_rating,
     older_ring_cutter,
 )
+from ._sections import Section, Text, number
 from ._train_scene import check_table_size, shaft_of_table, train_scene
 from ._acoustics_table import parse_case_acoustics
 from ._optimise_table import (
@@ -181,6 +184,35 @@ _MESH_KEYS = {"driving", "driven", "angle_deg", "center_distance_mm"}
 _WRENCH_KEYS = {"shaft", "position_mm", "force_N", "moment_Nm"}
 
 
+class LoadEntry(Section):
+    """An ``[[operating.loads]]`` entry: a loaded gear (its name) and its torque (N·m, in its
+    direction of motion: < 0, it takes power)."""
+
+    gear: Text
+    torque_Nm: number("< 0", note=" (a load takes power: negative)")
+
+
+class TrainOperating(OperatingSection):
+    """A train's ``[operating]``: a pair's (:class:`OperatingSection`, on the input) with the
+    loaded gears (:class:`LoadEntry`) and the wrenches on shaft nodes (checked with the scene's
+    shafts: :func:`_wrenches`)."""
+
+    loads: list[LoadEntry] = pydantic.Field(default_factory=list)
+    wrenches: Any = None
+
+
+class PlanetaryOperating(TrainOperating):
+    """A planetary stage's ``[operating]``: the input member's torque (N·m; its floor follows
+    the stage, :func:`jaxgear.io._planetary_table.torque_floor`) and speed (rad/s, required:
+    its run sweeps the speeds around it, the mesh frequency and the rating are at it); the
+    other keys refused by the stage's reader in its words."""
+
+    torque_Nm: number("(0, 1e+12]")
+    speed_rad_s: number("(0, 1e+05]", note=" (a planetary stage's run sweeps around it)")
+    speed_rpm: Any = None
+    loads: Any = None
+
+
 def table_hand(h: int) -> str:
     """The case-file word of a helix hand (+1 right, −1 left)."""
     return "right" if h > 0 else "left"
@@ -226,10 +258,11 @@ def _gear(table: dict, index: int, names: dict) -> tuple[str, dict]:
             note=" (an internal gear, ISO 21771; external: [5, 10000])",
         )
         own["teeth"] = -teeth
-    member = _member({where: own}, where)
+    section = MemberSection.read(own, where)
+    member = section.member()
     check_member_size(table, where, member, module, alpha)
     if internal:
-        member = dataclasses.replace(member, teeth=teeth)
+        member = section.member(teeth)
     return name, {
         "cutter": gear_cutter(table, where, member, module, alpha, beta),
         "member": member,
@@ -357,18 +390,14 @@ def _wrenches(op: dict, shaft_names: list, specs) -> tuple:
     return tuple(out)
 
 
-def _loads(op: dict, index: dict, shafts: list) -> tuple:
+def _loads(loads: list[LoadEntry], index: dict, shafts: list) -> tuple:
     """``[[operating.loads]]``: ((gear index, torque N·m), ...), each a gear off the input's
     shaft, one per shaft, its torque < 0 (it takes power, in its direction of motion)."""
-    v = op.get("loads", [])
-    if not isinstance(v, list) or not all(isinstance(t, dict) for t in v):
-        raise sc.fail("operating", "loads", "must be an array of tables ([[operating.loads]])", v)
     out = {}
     names = list(index)
-    for i, t in enumerate(v):
+    for i, t in enumerate(loads):
         where = f"operating.loads[{i}]"
-        sc.check_keys(t, {"gear", "torque_Nm"}, where)
-        gear = sc.string(t, "gear", where)
+        gear = t.gear
         if gear not in index:
             raise sc.fail(where, "gear", f"no such gear, allowed {', '.join(names)}", gear)
         if shafts[index[gear]] == 0:
@@ -378,9 +407,7 @@ def _loads(op: dict, index: dict, shafts: list) -> tuple:
             raise sc.fail(
                 where, "gear", "turns with a loaded gear (allowed: one load per shaft)", gear
             )
-        out[index[gear]] = sc.number(
-            t, "torque_Nm", where, allowed="< 0", note=" (a load takes power: negative)"
-        )
+        out[index[gear]] = t.torque_Nm
     return tuple(out.items())
 
 
@@ -428,10 +455,10 @@ def _check_overlap(case: Case) -> None:
         )
 
 
-def _planetary_case(data: dict, name: str, base_dir: str | None = None) -> Case:
+def _planetary_case(data: dict, name: str, base_dir: str | None, op: PlanetaryOperating) -> Case:
     """A planetary stage's case (``[planetary]``, :func:`jaxgear.io._planetary_table.
     parse_planetary`): its ``[[gears]]`` (none in the lumped form), material, mesh settings,
-    modifications and input torque and speed read as a train's."""
+    modifications and input torque and speed (``op``) read as a train's."""
     gears: dict[str, dict] = {}
     index: dict[str, int] = {}
     check_ring_teeth(data)  # before the ring's cutter keys, whose range follows its teeth
@@ -442,17 +469,13 @@ def _planetary_case(data: dict, name: str, base_dir: str | None = None) -> Case:
     names = list(gears)
     modules = [gears[n]["module_mm"] for n in names]
     E, nu, rho = parse_material(data)
-    op = data["operating"]
     base = {
         "name": name,
         "youngs_modulus": E,
         "poisson_ratio": nu,
         "density": rho,
-        "torque": sc.number(op, "torque_Nm", "operating", allowed="(0, 1e+12]"),
-        # required and > 0: a stage's run sweeps the speeds around it (its dynamic factor and
-        # measured K_v), the mesh frequency and the rating are at it
-        "speed": sc.number(op, "speed_rad_s", "operating", allowed="(0, 1e+05]",
-                           note=" (a planetary stage's run sweeps around it)"),
+        "torque": op.torque_Nm,
+        "speed": op.speed_rad_s,
         "raw": data,
         "gear_modifications": (
             _modifications(data.get("modifications", {}), names, modules) if names else ()
@@ -514,10 +537,10 @@ def parse_train(data: dict, default_name: str = "train", base_dir: str | None = 
     sc.check_keys(data, _TOP_KEYS, "")
     sc.subtables(data, sorted(_TOP_KEYS - {"name", "gears", "meshes"}), "")  # before their readers
     name = sc.name(data, "name", "", default_name)
-    sc.subtable(data, "material", "", _SCHEMA["material"] | MATERIAL_RATING_KEYS)
+    MaterialSection.of_file(data)
     sc.subtable(data, "mesh", "", _SCHEMA["mesh"])
-    op_keys = {*_SCHEMA["operating"], "loads", "wrenches", *OPERATING_RATING_KEYS}
-    sc.subtable(data, "operating", "", op_keys, required=True)
+    op = (PlanetaryOperating if is_planetary(data) else TrainOperating).of_file(data,
+                                                                              required=True)
     # a train's or a planetary stage's gear whine
     whine = WhineSection.read(data["whine"]) if "whine" in data else None
     if "optimise" in data and is_planetary(data):
@@ -526,7 +549,8 @@ def parse_train(data: dict, default_name: str = "train", base_dir: str | None = 
     # a housed train's or planetary stage's radiated sound
     acoustics = parse_case_acoustics(data) if "acoustics" in data else None
     if is_planetary(data):
-        return _planetary_case(data, name, base_dir).replace(whine=whine, acoustics=acoustics)
+        return _planetary_case(data, name, base_dir, op).replace(whine=whine,
+                                                                 acoustics=acoustics)
     if "deviations" in data:
         raise sc.fail("", "deviations", "not in a gear train's case (allowed: a pair's case, or "
                       "a planetary stage's with [[gears]])", "[deviations]")
@@ -630,10 +654,9 @@ def parse_train(data: dict, default_name: str = "train", base_dir: str | None = 
             f"[[gears]] {', '.join(idle)}: in no mesh (allowed: every gear meshes)"
         )
     E, nu, rho = parse_material(data)
-    op = data["operating"]
-    torque = parse_torque(op, pairs[0])  # on the input, the first mesh's driving gear
-    speed = sc.number(op, "speed_rad_s", "operating", 0.0, allowed="[0, 1e+05]")
-    loads = _loads(op, index, shafts)
+    torque = parse_torque(data["operating"], pairs[0])  # on the input: the first mesh's driving
+    speed = op.speed_rad_s  # gear
+    loads = _loads(op.loads, index, shafts)
     drivers = {shafts[g] for g, _ in links}
     loaded = {shafts[g] for g, _ in loads}
     first_on = {}
@@ -663,7 +686,7 @@ def parse_train(data: dict, default_name: str = "train", base_dir: str | None = 
         if "scene" not in data
         else train_scene(data["scene"], names, shafts, shaft_list, base_dir)
     )
-    wrenches = _wrenches(op, shaft_list, None if scene is None else scene.shafts)
+    wrenches = _wrenches(data["operating"], shaft_list, None if scene is None else scene.shafts)
     teeth = mesh_teeth_per_turn(pairs, links, shafts)
     housing = case_housing(data, scene, base_dir, (E, nu, rho), pair=False, teeth=teeth,
                            span=teeth_span(teeth),
