@@ -175,10 +175,6 @@ class MemberSection(Section):
         )
 
 
-#: a train's member keys (a pair's less the tooth thickness allowance)
-_MEMBER_KEYS = set(MemberSection.model_fields)
-
-
 class PairMemberSection(MemberSection):
     """A pair case's ``[pinion]`` or ``[gear]``: a gear's keys (:class:`MemberSection`) and its
     tooth thickness allowance (µm; backlash, the coast flanks: a train has none,

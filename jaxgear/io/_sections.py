@@ -33,8 +33,8 @@ from pydantic import BaseModel, BeforeValidator, ConfigDict, Discriminator, Fiel
 
 from fem_prep import checks as sc
 
-__all__ = ["NEEDED", "Needed", "Range", "Section", "Text", "number", "number_list", "one_of",
-           "schema_error"]
+__all__ = ["NEEDED", "Needed", "Range", "Section", "Text", "by_sign", "number", "number_list",
+           "one_of", "schema_error"]
 
 #: the prefix of a union member's tag (:func:`one_of`), which the error's location skips
 _TAG = "§"
@@ -118,6 +118,19 @@ def one_of(**kinds):
         return _TAG + (kind if kind in kinds else order[0])
 
     members = tuple(Annotated[t, Tag(_TAG + k)] for k, t in kinds.items())
+    return Annotated[typing.Union[members], Discriminator(pick)]  # noqa: UP007
+
+
+def by_sign(positive, negative):
+    """The type of a number key whose range follows its sign (an internal gear's negative
+    teeth): ``positive`` (a :func:`number`) for a value >= 0 or not a number (its error names
+    the key), ``negative`` for a number below 0."""
+    def pick(v):
+        below = isinstance(v, (int, float)) and not isinstance(v, bool) and v < 0
+        return _TAG + ("negative" if below else "positive")
+
+    members = (Annotated[positive, Tag(_TAG + "positive")],
+               Annotated[negative, Tag(_TAG + "negative")])
     return Annotated[typing.Union[members], Discriminator(pick)]  # noqa: UP007
 
 

@@ -87,7 +87,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import warnings
-from typing import Any
+from typing import Any, Literal
 
 import pydantic
 
@@ -99,7 +99,6 @@ from .._util import closest_circles
 from ..scenes import train_hands
 from ._case import Case, TrainForm, mesh_teeth_per_turn, teeth_span
 from ._case_file import (
-    _MEMBER_KEYS,
     _SCHEMA,
     CENTER_DISTANCE_TOL_MM,
     MODULE_RANGE_MM,
@@ -119,7 +118,6 @@ from ._modifications_table import _MOD_KEYS, _member_mods
 from ._planetary_deviations_table import parse_planetary_deviations
 from ._planetary_spec import InternalMeshForm
 from ._planetary_table import (
-    CUTTER_KEYS,
     check_internal_stiffness,
     check_ring_teeth,
     gear_cutter,
@@ -133,7 +131,7 @@ from ._rating_table import (
     check_train_rating,
     older_ring_cutter,
 )
-from ._sections import Section, Text, number
+from ._sections import Section, Text, by_sign, number
 from ._train_scene import check_table_size, shaft_of_table, train_scene
 from ._acoustics_table import parse_case_acoustics
 from ._optimise_table import (
@@ -168,17 +166,6 @@ _TOP_KEYS = {
     "whine",  # a train's gear whine (jaxgear/io/_whine_table.py)
     "acoustics",  # the housing's radiated sound (jaxgear/io/_acoustics_table.py)
     "optimise",  # jaxgear optimise on the housed train's noise (jaxgear/io/_optimise_table.py)
-}
-_GEAR_KEYS = {
-    "name",
-    "shaft",
-    "hand",
-    "clocking_deg",
-    "normal_module_mm",
-    "normal_pressure_angle_deg",
-    "helix_angle_deg",
-    *_MEMBER_KEYS,
-    *CUTTER_KEYS,
 }
 _MESH_KEYS = {"driving", "driven", "angle_deg", "center_distance_mm"}
 _WRENCH_KEYS = {"shaft", "position_mm", "force_N", "moment_Nm"}
@@ -235,35 +222,41 @@ def _array_of_tables(data: dict, key: str, minimum: int) -> list:
     return v
 
 
+class GearSection(MemberSection):
+    """A ``[[gears]]`` entry of a train or a planetary stage (module docstring): a gear's keys
+    (:class:`MemberSection`; an internal gear's ``teeth`` negative, ISO 21771), its name and
+    shaft (names: :func:`fem_prep.checks.name`), hand, clocking on its shaft, the mesh's module
+    and angles (mm, deg), an internal gear's pinion-type cutter (its ranges follow the gear's
+    teeth: :func:`jaxgear.io._planetary_table.gear_cutter`)."""
+
+    name: Any
+    shaft: Any = None
+    hand: Literal["right", "left"] | None = None
+    clocking_deg: number("[-360, 360]") = 0.0
+    normal_module_mm: number(MODULE_RANGE_MM)
+    normal_pressure_angle_deg: number(PRESSURE_ANGLE_RANGE_DEG)
+    helix_angle_deg: number("[0, 45)") = 0.0
+    teeth: by_sign(number("[5, 10000]", integer=True), number(
+        "[-10000, -5]", integer=True, note=" (an internal gear, ISO 21771; external: [5, 10000])"))
+    cutter_teeth: Any = None
+    cutter_profile_shift: Any = None
+    cutter_tip_radius_coeff: Any = None
+
+
 def _gear(table: dict, index: int, names: dict) -> tuple[str, dict]:
-    """One ``[[gears]]`` entry: its name and its geometry (member, module, angles) in SI."""
-    sc.check_keys(table, _GEAR_KEYS, f"gears[{index}]")
+    """One ``[[gears]]`` entry: its name and its geometry (member, module, angles) in SI, its
+    :class:`GearSection` (``"table"``)."""
     name = sc.name(table, "name", f"gears[{index}]")
     if name in names:
         raise sc.fail(f"gears[{index}]", "name", f"is taken by gears[{names[name]}]", name)
     where = f"gears.{name}"
-    module = sc.number(table, "normal_module_mm", where, allowed=MODULE_RANGE_MM)
-    alpha = sc.number(table, "normal_pressure_angle_deg", where, allowed=PRESSURE_ANGLE_RANGE_DEG)
-    beta = sc.number(table, "helix_angle_deg", where, 0.0, allowed="[0, 45)")
-    own = {k: v for k, v in table.items() if k in _MEMBER_KEYS}
-    teeth = own.get("teeth")
-    internal = isinstance(teeth, int) and not isinstance(teeth, bool) and teeth < 0
-    if internal:  # an internal gear (a ring): negative teeth, ISO 21771
-        sc.number(
-            table,
-            "teeth",
-            where,
-            allowed="[-10000, -5]",
-            integer=True,
-            note=" (an internal gear, ISO 21771; external: [5, 10000])",
-        )
-        own["teeth"] = -teeth
-    section = MemberSection.read(own, where)
-    member = section.member()
+    g = GearSection.read(table, where)
+    module, alpha, beta = g.normal_module_mm, g.normal_pressure_angle_deg, g.helix_angle_deg
+    member = g.member(abs(g.teeth))
     check_member_size(table, where, member, module, alpha)
-    if internal:
-        member = section.member(teeth)
+    member = g.member()  # an internal gear (a ring): negative teeth
     return name, {
+        "table": g,
         "cutter": gear_cutter(table, where, member, module, alpha, beta),
         "member": member,
         "module_mm": module,
@@ -563,7 +556,7 @@ def parse_train(data: dict, default_name: str = "train", base_dir: str | None = 
         gears[gear_name], index[gear_name] = gear, i
         where = f"gears.{gear_name}"
         shaft = sc.name(table, "shaft", where, gear_name)
-        clocking = sc.number(table, "clocking_deg", where, 0.0, allowed="[-360, 360]")
+        clocking = gear["table"].clocking_deg
         if shaft not in shaft_names:
             if "clocking_deg" in table:
                 raise sc.fail(
@@ -576,7 +569,7 @@ def parse_train(data: dict, default_name: str = "train", base_dir: str | None = 
             shaft_names[shaft] = len(shaft_names)
         shafts.append(shaft_names[shaft])
         clockings.append(math.radians(clocking))
-        hand = sc.choice(table, "hand", where, ("right", "left"), None)
+        hand = gear["table"].hand
         hands.append({"right": 1, "left": -1, None: 0}[hand])
     names = list(gears)
     pairs, links, angles = [], [], []
