@@ -514,6 +514,16 @@ class _Recorder:
             return saved_read.__func__(cls, table, where, context=context)
 
         Section.read = classmethod(read)
+        saved_of_file = Section.__dict__["of_file"]
+
+        def of_file(cls, data, key=None, *, required=False, context=None):
+            if not (self.depth_in_body and not self.own_bodies):  # a file's table, or required
+                info = self.schema.key("", cls.WHERE if key is None else key)
+                info.kind.add("table")
+                info.required |= required
+            return saved_of_file.__func__(cls, data, key, required=required, context=context)
+
+        Section.of_file = classmethod(of_file)
 
         def wrap(name, f):
             def traced(*args, **kw):
@@ -542,6 +552,7 @@ class _Recorder:
                 setattr(body_schema, n, f)
             fem_prep.load_body = saved_load
             Section.read = saved_read
+            Section.of_file = saved_of_file
 
 
 # [acoustics] radiates a housed whine: its sample carries [housing] and [whine] too

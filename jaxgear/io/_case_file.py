@@ -129,6 +129,7 @@ class MemberSection(Section):
     gives both ``web_thickness_mm`` and ``rim_thickness_mm``. :meth:`member` its
     :class:`~jaxgear.Member` (SI)."""
 
+    WHERE: ClassVar[str] = "pinion"
     teeth: number("[5, 10000]", integer=True)
     profile_shift: number() = 0.0  # the geometry checks it
     addendum_coeff: number("(0, 3]") = 1.0

@@ -87,7 +87,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import warnings
-from typing import Any, Literal
+from typing import Any, ClassVar, Literal
 
 import pydantic
 
@@ -229,6 +229,7 @@ class GearSection(MemberSection):
     and angles (mm, deg), an internal gear's pinion-type cutter (its ranges follow the gear's
     teeth: :func:`jaxgear.io._planetary_table.gear_cutter`)."""
 
+    WHERE: ClassVar[str] = "gears"
     name: Any
     shaft: Any = None
     hand: Literal["right", "left"] | None = None
