@@ -33,6 +33,7 @@ from jaxgear.io._case_file import (
     PairMemberSection,
     PairSection,
 )
+from jaxgear.io._modifications_table import ModificationsSection
 from jaxgear.io._train_file import GearSection, PlanetaryOperating, TrainOperating
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
@@ -61,6 +62,9 @@ BASES = {
     PlanetaryOperating: {"torque_Nm": 1e6, "speed_rad_s": 1.2},
     GearSection: {"name": "ring", "teeth": -99, "normal_module_mm": 10.0,
                   "normal_pressure_angle_deg": 20.0, "face_width_mm": 100.0, "hand": "left"},
+    ModificationsSection: {"tip_relief": {"depth_um": 10.0, "shape": "parabolic"},
+                           "crowning": {"depth_um": 5.0},
+                           "gear": {"helix_slope": {"deviation_um": -3.0}}},
 }
 SECTIONS = tuple(BASES)
 
@@ -258,6 +262,19 @@ def test_every_number_key_says_what_the_hand_written_check_says():
     (GearSection, {"teeth": "x"}, "[gears] teeth = 'x': must be an integer, not a string"),
     (GearSection, {"teeth": 56}, None),
     (GearSection, {"hand": "up"}, "[gears] hand = 'up': allowed 'right', 'left'"),
+    (ModificationsSection, {"crowning": 5.0},
+     "[modifications] crowning = 5: must be a table, e.g. { depth_um = 10.0 }"),
+    (ModificationsSection, {"crowning": {"depth_um": "3"}},
+     "[modifications.crowning] depth_um = '3': must be a number, not a string"),
+    (ModificationsSection, {"gear": {"tip_relief": {"extent": 0.0}}},
+     "[modifications.gear.tip_relief] extent = 0: out of range, allowed (0, 1] (fraction of "
+     "the path of contact)"),
+    (ModificationsSection, {"gear": {"tip_relief": {"depth": 1.0}}},
+     "[modifications.gear.tip_relief] unknown key 'depth' (did you mean 'depth_um'?), "
+     "allowed: depth_um, extent, shape"),
+    (ModificationsSection, {"end_relief": {"edge": "z2"}},
+     "[modifications.end_relief] edge = 'z2': allowed 'both', 'z0', 'z1'"),
+    (ModificationsSection, {"wheel": {}}, "[modifications] unknown key 'wheel'"),
 ])
 def test_the_words(section, change, words):
     """The messages in the file's words (the hand-written checks' wording)."""
@@ -311,13 +328,16 @@ def test_the_case_carries_its_typed_sections():
 
 @settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(table=st.sampled_from(["lubricant", "rating", "pair", "pinion", "gear", "material",
-                              "operating"]), key=st.integers(min_value=0), value=VALUES,
+                              "operating", "modifications"]), key=st.integers(min_value=0),
+       value=VALUES,
        whole=st.booleans())
 def test_a_mutated_case_file_is_one_line(table, key, value, whole):
     """Through the case reader (``jaxgear run``'s load): a mutated key of ``[lubricant]``,
-    ``[rating]``, ``[pair]``, ``[pinion]``, ``[gear]``, ``[material]`` or ``[operating]`` (or
-    the table given as a value) loads or is one SchemaError line, never another exception."""
+    ``[rating]``, ``[pair]``, ``[pinion]``, ``[gear]``, ``[material]``, ``[operating]`` or
+    ``[modifications]`` (or the table given as a value) loads or is one SchemaError line, never
+    another exception."""
     data = _fzg()
+    data.setdefault("modifications", {"tip_relief": {"depth_um": 10.0}})
     keys = sorted(data[table])
     if whole and not isinstance(value, dict):
         data[table] = value

@@ -114,7 +114,7 @@ from ._case_file import (
 )
 from ._housing_table import check_housing_band, stage_housing_spec
 from ._lubricant_table import read_lubricant
-from ._modifications_table import _MOD_KEYS, _member_mods
+from ._modifications_table import ModificationsSection
 from ._planetary_deviations_table import parse_planetary_deviations
 from ._planetary_spec import InternalMeshForm
 from ._planetary_table import (
@@ -330,16 +330,8 @@ def _mesh_pair(gears: dict, driving: str, driven: str, cd, where: str) -> GearPa
 def _modifications(table: Any, names: list[str], modules: list[float]) -> tuple:
     """``[modifications]``: the common entries on every gear, ``[modifications.<gear>]``
     replacing them for that gear; one :class:`MemberModification` per gear."""
-    if not isinstance(table, dict):
-        raise sc.fail("", "modifications", "must be a table", table)
-    sc.check_keys(table, {*_MOD_KEYS, *names}, "modifications")
-    common = {k: (v, "modifications") for k, v in table.items() if k in _MOD_KEYS}
-    out = []
-    for name, module in zip(names, modules, strict=True):
-        own = sc.subtable(table, name, "modifications", _MOD_KEYS)
-        where = f"modifications.{name}"
-        out.append(_member_mods({**common, **{k: (v, where) for k, v in own.items()}}, module))
-    return tuple(out)
+    section = ModificationsSection.of(table, names)
+    return tuple(section.member(n, module) for n, module in zip(names, modules, strict=True))
 
 
 def _wrenches(op: dict, shaft_names: list, specs) -> tuple:
