@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import sys
 import typing
 from typing import Annotated, Any, ClassVar, Literal
 
@@ -72,16 +73,25 @@ def _integral(v: Any) -> Any:
     return v
 
 
+#: the largest integer a float holds: an integer key's bounds where its range has none
+_FLOAT_MAX = int(sys.float_info.max)
+
+
 def _bounds(rng: sc.Interval, integer: bool) -> dict:
-    """pydantic's constraints of an interval (integral bounds as integers for an integer)."""
+    """pydantic's constraints of an interval (integral bounds as integers for an integer; an
+    integer's open ends at what a float holds, as :func:`fem_prep.checks.number`)."""
     def bound(x):
         return int(x) if integer and float(x).is_integer() else x
 
     out = {}
     if rng.lo > -math.inf:
         out["gt" if rng.lo_open else "ge"] = bound(rng.lo)
+    elif integer:
+        out["ge"] = -_FLOAT_MAX
     if rng.hi < math.inf:
         out["lt" if rng.hi_open else "le"] = bound(rng.hi)
+    elif integer:
+        out["le"] = _FLOAT_MAX
     return out
 
 
@@ -344,6 +354,8 @@ def _problem(kind, ctx, v, rng, info, element, where, key, index):
     if kind == "missing":
         return "missing required key"
     if kind in ("greater_than", "greater_than_equal", "less_than", "less_than_equal"):
+        if not sc.finite(v) and rng is not None and v in rng.interval:  # beyond a float
+            return f"out of range (beyond ±1.79769e+308), allowed {allowed}"
         if element:
             return f"element {sc.fmt(v)} out of range, allowed {allowed}"
         return f"out of range, allowed {allowed}"
