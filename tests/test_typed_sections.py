@@ -205,29 +205,29 @@ def test_every_number_key_says_what_the_hand_written_check_says():
     (WhineSection, {"speeds": 48.0}, None),
     (WhineSection, {"speeds": 4.5}, "[whine] speeds = 4.5: must be an integer"),
     (WhineSection, {"speed": 48},
-     "[whine] unknown key 'speed' (did you mean 'speeds'?), allowed: harmonics, method, "
-     "positions_per_period, sidebands, speed_max_rad_s, speed_min_rad_s, speeds"),
+     ("[whine] unknown key 'speed' (did you mean 'speeds'?), allowed: harmonics, method, "
+     "positions_per_period, sidebands, speed_max_rad_s, speed_min_rad_s, speeds")),
     (WhineSection, {"method": "fft"},
      "[whine] method = 'fft': allowed 'harmonic-balance', 'te-source', 'quasi-periodic'"),
     (WhineSection, {"speed_max_rad_s": 10.0},
      "[whine] speed_max_rad_s = 10: out of range, allowed > speed_min_rad_s = 50"),
     (AcousticsSection, {"microphones": 3},
-     "[acoustics] microphones = 3: must be an array of tables ([[acoustics.microphones]]), "
-     "not a number"),
+     ("[acoustics] microphones = 3: must be an array of tables ([[acoustics.microphones]]), "
+     "not a number")),
     (AcousticsSection, {"microphones": [{"position_mm": [1.0, 2.0]}]},
      "[acoustics.microphones[0]] position_mm = [1, 2]: must be an array of 3 numbers"),
     (AcousticsSection, {"microphones": [{"position_mm": [1.0, 2.0, 3.0], "x": 1}]},
      "[acoustics.microphones[0]] unknown key 'x', allowed: name, position_mm"),
     (AcousticsSection, {"microphones": [1.0]},
-     "[acoustics] 'microphones[0]' = 1: must be a table ([[acoustics.microphones]] entry), "
-     "not a number"),
+     ("[acoustics] 'microphones[0]' = 1: must be a table ([[acoustics.microphones]] entry), "
+     "not a number")),
     (AcousticsSection, {"band_Hz": [100.0, float("nan")]},
      "[acoustics] band_Hz = [100, nan]: must be an array of finite numbers"),
     (LubricantSection, {"roughness_Ra_um": [0.6, -1.0]},
      "[lubricant] roughness_Ra_um = [0.6, -1]: element -1 out of range, allowed (0, 10]"),
     (LubricantSection, {"viscosity_40C_mm2_s": 1.0},
-     "[lubricant] viscosity_40C_mm2_s = 1: out of range, allowed [2, 100000] (Walther's "
-     "equation, ASTM D341, holds from 2 mm²/s)"),
+     ("[lubricant] viscosity_40C_mm2_s = 1: out of range, allowed [2, 100000] (Walther's "
+     "equation, ASTM D341, holds from 2 mm²/s)")),
     (LubricantSection, {"friction_coefficient": 0.05, "lubricant_factor": 0.85},
      "[lubricant] lubricant_factor = 0.85: not read: friction_coefficient is given"),
     (RatingSection, {"K_v": 0.5}, "[rating] K_v = 0.5: out of range, allowed [1, 10]"),
@@ -238,30 +238,30 @@ def test_every_number_key_says_what_the_hand_written_check_says():
      "[rating] roughness_Rz_flank_um = { pinion = -4.8 }: element -4.8 out of range"),
     (PairSection, {"normal_pressure_angle_deg": 45.123456789},
      "[pair] normal_pressure_angle_deg = 45.1235: out of range, allowed [10, 40]"),
-    (PairMemberSection, {"teeth": True}, "[pinion] teeth = true: must be an integer, not a "
-     "boolean"),
+    (PairMemberSection, {"teeth": True}, ("[pinion] teeth = true: must be an integer, not a "
+     "boolean")),
     (PairMemberSection, {"dedendum_coeff": 0.2},
-     "[pinion] dedendum_coeff = 0.2: out of range, allowed > 0.25 (above the default "
-     "fillet_radius_coeff; or give a smaller fillet_radius_coeff)"),
+     ("[pinion] dedendum_coeff = 0.2: out of range, allowed > 0.25 (above the default "
+     "fillet_radius_coeff; or give a smaller fillet_radius_coeff)")),
     (PairMemberSection, {"fillet_radius_coeff": 1.5},
-     "[pinion] fillet_radius_coeff = 1.5: out of range, allowed [0, 1.25) (below "
-     "dedendum_coeff)"),
+     ("[pinion] fillet_radius_coeff = 1.5: out of range, allowed [0, 1.25) (below "
+     "dedendum_coeff)")),
     (PairMemberSection, {"web_thickness_mm": None},
-     "[pinion] web_thickness_mm: required with rim_thickness_mm (the gear blank factor C_R "
-     "needs both"),
+     ("[pinion] web_thickness_mm: required with rim_thickness_mm (the gear blank factor C_R "
+     "needs both")),
     (MaterialSection, {"youngs_modulus_GPa": 5e-324},
      "[material] youngs_modulus_GPa = 4.94066e-324: out of range, allowed [0.1, 10000]"),
     (OperatingSection, {"torque_Nm": None}, "[operating] torque_Nm: missing required key"),
     (OperatingSection, {"loads": []}, "[operating] unknown key 'loads'"),
-    (TrainOperating, {"loads": 3}, "[operating] loads = 3: must be an array of tables "
-     "([[operating.loads]]), not a number"),
+    (TrainOperating, {"loads": 3}, ("[operating] loads = 3: must be an array of tables "
+     "([[operating.loads]]), not a number")),
     (TrainOperating, {"loads": [{"gear": "idler", "torque_Nm": 5.0}]},
-     "[operating.loads[0]] torque_Nm = 5: out of range, allowed < 0 (a load takes power: "
-     "negative)"),
-    (PlanetaryOperating, {"speed_rad_s": 0.0}, "[operating] speed_rad_s = 0: out of range, "
-     "allowed (0, 100000] (a planetary stage's run sweeps around it)"),
-    (GearSection, {"teeth": -3}, "[gears] teeth = -3: out of range, allowed [-10000, -5] (an "
-     "internal gear, ISO 21771; external: [5, 10000])"),
+     ("[operating.loads[0]] torque_Nm = 5: out of range, allowed < 0 (a load takes power: "
+     "negative)")),
+    (PlanetaryOperating, {"speed_rad_s": 0.0}, ("[operating] speed_rad_s = 0: out of range, "
+     "allowed (0, 100000] (a planetary stage's run sweeps around it)")),
+    (GearSection, {"teeth": -3}, ("[gears] teeth = -3: out of range, allowed [-10000, -5] (an "
+     "internal gear, ISO 21771; external: [5, 10000])")),
     (GearSection, {"teeth": 3}, "[gears] teeth = 3: out of range, allowed [5, 10000]"),
     (GearSection, {"teeth": "x"}, "[gears] teeth = 'x': must be an integer, not a string"),
     (GearSection, {"teeth": 56}, None),
@@ -271,19 +271,19 @@ def test_every_number_key_says_what_the_hand_written_check_says():
     (ModificationsSection, {"crowning": {"depth_um": "3"}},
      "[modifications.crowning] depth_um = '3': must be a number, not a string"),
     (ModificationsSection, {"gear": {"tip_relief": {"extent": 0.0}}},
-     "[modifications.gear.tip_relief] extent = 0: out of range, allowed (0, 1] (fraction of "
-     "the path of contact)"),
+     ("[modifications.gear.tip_relief] extent = 0: out of range, allowed (0, 1] (fraction of "
+     "the path of contact)")),
     (ModificationsSection, {"gear": {"tip_relief": {"depth": 1.0}}},
-     "[modifications.gear.tip_relief] unknown key 'depth' (did you mean 'depth_um'?), "
-     "allowed: depth_um, extent, shape"),
+     ("[modifications.gear.tip_relief] unknown key 'depth' (did you mean 'depth_um'?), "
+     "allowed: depth_um, extent, shape")),
     (ModificationsSection, {"end_relief": {"edge": "z2"}},
      "[modifications.end_relief] edge = 'z2': allowed 'both', 'z0', 'z1'"),
     (ModificationsSection, {"wheel": {}}, "[modifications] unknown key 'wheel'"),
     (RobustSection, {"revolutions": "all"},
      "[robust] revolutions = 'all': allowed an integer >= 1 or \"hunting\""),
     (RobustSection, {"kinds": ["pitch", "pitch"]},
-     "[robust] kinds = ['pitch', 'pitch']: out of range, allowed distinct names among "
-     "['pitch', 'runout', 'profile', 'helix']"),
+     ("[robust] kinds = ['pitch', 'pitch']: out of range, allowed distinct names among "
+     "['pitch', 'runout', 'profile', 'helix']")),
     (RobustSection, {"percentiles": [50.0, 100.0]},
      "[robust] percentiles = [50, 100]: element 100 out of range, allowed (0, 100)"),
 ])
