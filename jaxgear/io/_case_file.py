@@ -52,28 +52,26 @@ __all__ = [
 
 SchemaError = sc.SchemaError
 
-#: the tables whose keys are listed here (the sections declare theirs; the others are checked
-#: by their own parsers)
-_KEY_TABLES: dict[str, set | None] = {
+#: ``[mesh]``'s keys
+MESH_TABLE_KEYS = {
+    "stiffness",
+    "stiffness_per_length_N_per_mm_per_um",
+    "slices",
+    "positions_per_pitch",
+    "smooth_width_um",
+    "foundation",
+    "fe2d_size_um",
+    "extended_contact",
+}
+#: a pair case file's keys (each table checked by its section or its reader)
+_SCHEMA: dict[str, Any] = {
+    "name": None,
     "pair": None,  # PairSection
     "pinion": None,  # PairMemberSection
     "gear": None,
     "material": None,  # MaterialSection
     "operating": None,  # OperatingSection
-    "mesh": {
-        "stiffness",
-        "stiffness_per_length_N_per_mm_per_um",
-        "slices",
-        "positions_per_pitch",
-        "smooth_width_um",
-        "foundation",
-        "fe2d_size_um",
-        "extended_contact",
-    },
-}
-_SCHEMA: dict[str, Any] = {
-    "name": None,
-    **_KEY_TABLES,
+    "mesh": None,  # parse_mesh_settings
     "modifications": None,  # checked by parse_modifications
     "deviations": None,  # checked by parse_deviations
     "robust": None,  # checked by parse_robust (jaxgear robust)
@@ -471,7 +469,7 @@ def parse_case(data: dict, default_name: str = "case", base_dir: str | None = No
                for tag in ("pinion", "gear")}
     material = MaterialSection.of_file(data)
     op = OperatingSection.of_file(data, required=True)
-    sc.subtable(data, "mesh", "", _KEY_TABLES["mesh"])
+    sc.subtable(data, "mesh", "", MESH_TABLE_KEYS)
     pinion, gear = (members[tag].member() for tag in ("pinion", "gear"))
     module, alpha, cd = p.normal_module_mm, p.normal_pressure_angle_deg, p.center_distance_mm
     beta = p.helix_angle_deg

@@ -99,7 +99,7 @@ from .._util import closest_circles
 from ..scenes import train_hands
 from ._case import Case, TrainForm, mesh_teeth_per_turn, teeth_span
 from ._case_file import (
-    _SCHEMA,
+    MESH_TABLE_KEYS,
     CENTER_DISTANCE_TOL_MM,
     MODULE_RANGE_MM,
     PRESSURE_ANGLE_RANGE_DEG,
@@ -524,7 +524,7 @@ def parse_train(data: dict, default_name: str = "train", base_dir: str | None = 
     sc.subtables(data, sorted(_TOP_KEYS - {"name", "gears", "meshes"}), "")  # before their readers
     name = sc.name(data, "name", "", default_name)
     MaterialSection.of_file(data)
-    sc.subtable(data, "mesh", "", _SCHEMA["mesh"])
+    sc.subtable(data, "mesh", "", MESH_TABLE_KEYS)
     op = (PlanetaryOperating if is_planetary(data) else TrainOperating).of_file(data,
                                                                               required=True)
     # a train's or a planetary stage's gear whine
