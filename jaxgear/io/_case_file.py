@@ -156,9 +156,9 @@ class MemberSection(Section):
                           "blank)")
         return self
 
-    def member(self, teeth: int | None = None) -> Member:
+    def member(self, teeth: int | None = None, allowance_um: float = 0.0) -> Member:
         """The :class:`~jaxgear.Member` (SI) of these keys, of ``teeth`` where given (an
-        internal gear's, negative)."""
+        internal gear's, negative), with a tooth thickness allowance (µm)."""
         mm = lambda v: None if v is None else v * 1e-3  # noqa: E731
         return Member(
             teeth=self.teeth if teeth is None else teeth,
@@ -170,7 +170,7 @@ class MemberSection(Section):
             bore_radius=mm(self.bore_radius_mm),
             web_thickness=mm(self.web_thickness_mm),
             rim_thickness=mm(self.rim_thickness_mm),
-            tooth_thickness_allowance=getattr(self, "tooth_thickness_allowance_um", 0.0) * 1e-6,
+            tooth_thickness_allowance=allowance_um * 1e-6,
         )
 
 
@@ -180,6 +180,11 @@ class PairMemberSection(MemberSection):
     docs/backlash.md)."""
 
     tooth_thickness_allowance_um: number("[-1e+04, 1e+04]") = 0.0
+
+    def member(self, teeth: int | None = None, allowance_um: float | None = None) -> Member:
+        """The :class:`~jaxgear.Member` (SI), with this gear's allowance."""
+        allowance = self.tooth_thickness_allowance_um if allowance_um is None else allowance_um
+        return super().member(teeth, allowance)
 
 
 class MaterialSection(Section):
