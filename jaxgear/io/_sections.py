@@ -2,7 +2,8 @@
 
 A table is a :class:`Section`, a pydantic model whose field names are the file's keys (units in
 the key names, as the file spells them), each field's type and range declared once with
-:func:`number`, :func:`number_list`, ``Literal[...]`` (a name out of a few), ``bool`` and
+:func:`number`, :func:`number_list`, :func:`one_of` (a number, an array or a table),
+:func:`by_sign` (a range by the sign), ``Literal[...]`` (a name out of a few), ``bool`` and
 :data:`Text`; keys the model does not declare are refused, and a table given as anything but a
 table is refused before pydantic sees it. Pydantic checks; :func:`schema_error` turns the first
 of its errors into the project's one line in the file's words (:mod:`fem_prep.checks`):
