@@ -1,8 +1,8 @@
 """The case file's typed sections (``jaxgear.io._sections``): ``[whine]``, ``[acoustics]``,
 ``[lubricant]``, ``[rating]``, ``[pair]``, ``[pinion]``/``[gear]``, ``[material]``,
-``[operating]`` (a pair's, a train's, a planetary stage's) and a ``[[gears]]`` entry given
-mutated values (numbers where tables are, strings where
-numbers are, negative, non-finite and huge values, unknown keys) are refused in the one line the
+``[operating]`` (a pair's, a train's, a planetary stage's), ``[modifications]``, ``[robust]``
+and the ``[[gears]]`` and ``[[meshes]]`` entries given mutated values (numbers where tables are,
+strings where numbers are, negative, non-finite and huge values, unknown keys) are refused in the one line the
 command line prints, never a ``TypeError``, ``KeyError`` or pydantic's report; a number key's
 message is the one :func:`fem_prep.checks.number` (the hand-written check, a separate
 implementation) writes for the same value; the case reader keeps the typed section on the case.
@@ -35,7 +35,7 @@ from jaxgear.io._case_file import (
 )
 from jaxgear.io._modifications_table import ModificationsSection
 from jaxgear.io._robust_table import RobustSection
-from jaxgear.io._train_file import GearSection, PlanetaryOperating, TrainOperating
+from jaxgear.io._train_file import GearSection, MeshEntry, PlanetaryOperating, TrainOperating
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 
@@ -66,6 +66,7 @@ BASES = {
     ModificationsSection: {"tip_relief": {"depth_um": 10.0, "shape": "parabolic"},
                            "crowning": {"depth_um": 5.0},
                            "gear": {"helix_slope": {"deviation_um": -3.0}}},
+    MeshEntry: {"driving": "input", "driven": "idler", "angle_deg": 0.0},
     RobustSection: {"grade": 6, "samples": 100, "members": ["pinion"],
                     "speeds_rad_s": [100.0, 200.0], "revolutions": "hunting"},
 }
@@ -368,16 +369,19 @@ def _train(name: str):
 
 @settings(max_examples=30, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(where=st.sampled_from([("accessory-idler-train", "gears"),
+                              ("accessory-idler-train", "meshes"),
                               ("accessory-idler-train", "operating"),
                               ("accessory-idler-train", "material"),
                               ("lin-parker-1999", "operating"), ("lin-parker-1999", "material")]),
        key=st.integers(min_value=0), value=VALUES)
 def test_a_mutated_train_file_is_one_line(where, key, value):
-    """Through the train and planetary reader: a mutated key of a ``[[gears]]`` entry,
-    ``[operating]`` or ``[material]`` loads or is one SchemaError line."""
+    """Through the train and planetary reader: a mutated key of a ``[[gears]]`` or
+    ``[[meshes]]`` entry, ``[operating]`` or ``[material]`` loads or is one SchemaError
+    line."""
     case, table = where
     data = _train(case)
-    t = data[table][key % len(data[table])] if table == "gears" else data.setdefault(table, {})
+    t = (data[table][key % len(data[table])] if table in ("gears", "meshes")
+         else data.setdefault(table, {}))
     keys = sorted(t) or ["youngs_modulus_GPa"]
     t[keys[key % len(keys)]] = value
     try:

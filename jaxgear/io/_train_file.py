@@ -167,7 +167,6 @@ _TOP_KEYS = {
     "acoustics",  # the housing's radiated sound (jaxgear/io/_acoustics_table.py)
     "optimise",  # jaxgear optimise on the housed train's noise (jaxgear/io/_optimise_table.py)
 }
-_MESH_KEYS = {"driving", "driven", "angle_deg", "center_distance_mm"}
 _WRENCH_KEYS = {"shaft", "position_mm", "force_N", "moment_Nm"}
 
 
@@ -242,6 +241,18 @@ class GearSection(MemberSection):
     cutter_teeth: Any = None
     cutter_profile_shift: Any = None
     cutter_tip_radius_coeff: Any = None
+
+
+class MeshEntry(Section):
+    """A ``[[meshes]]`` entry (module docstring): its driving and driven gears (names), the
+    direction of the driven gear's centre seen from the driving one (deg) and the centre
+    distance (mm; default the zero-backlash one)."""
+
+    WHERE: ClassVar[str] = "meshes"
+    driving: Text
+    driven: Text
+    angle_deg: number("[-360, 360]")
+    center_distance_mm: number("(0, 1e+06]") | None = None
 
 
 def _gear(table: dict, index: int, names: dict) -> tuple[str, dict]:
@@ -571,14 +582,11 @@ def parse_train(data: dict, default_name: str = "train", base_dir: str | None = 
     meshing: set[int] = set()
     for k, table in enumerate(_array_of_tables(data, "meshes", 1)):
         where = f"meshes[{k}]"
-        sc.check_keys(table, _MESH_KEYS, where)
-        ends = []
-        for key in ("driving", "driven"):
-            v = sc.string(table, key, where)
+        mesh = MeshEntry.read(table, where)
+        driving, driven = mesh.driving, mesh.driven
+        for key, v in (("driving", driving), ("driven", driven)):
             if v not in gears:
                 raise sc.fail(where, key, f"no such gear, allowed {', '.join(names)}", v)
-            ends.append(v)
-        driving, driven = ends
         g, h = index[driving], index[driven]
         if shafts[g] == shafts[h]:
             raise sc.fail(
@@ -605,11 +613,9 @@ def parse_train(data: dict, default_name: str = "train", base_dir: str | None = 
         driven_by[shafts[h]] = k
         turning.add(shafts[h])
         meshing.update((g, h))
-        angle = sc.number(table, "angle_deg", where, allowed="[-360, 360]")
-        cd = sc.number(table, "center_distance_mm", where, None, allowed="(0, 1e+06]")
-        pairs.append(_mesh_pair(gears, driving, driven, cd, where))
+        pairs.append(_mesh_pair(gears, driving, driven, mesh.center_distance_mm, where))
         links.append((g, h))
-        angles.append(math.radians(angle))
+        angles.append(math.radians(mesh.angle_deg))
     internal = [k for k, p in enumerate(pairs) if isinstance(p, InternalGearPair)]
     if internal:  # the rigid path of one internal mesh (its scenes are not written yet)
         if len(pairs) > 1:
