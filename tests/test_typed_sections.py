@@ -1,6 +1,8 @@
 """The case file's typed sections (``jaxgear.io._sections``): ``[whine]``, ``[acoustics]``,
-``[lubricant]`` and ``[rating]`` given mutated values (numbers where tables are, strings where
-numbers are, negative, non-finite and huge values, unknown keys) are refused in the one line the
+``[lubricant]``, ``[rating]``, ``[pair]``, ``[pinion]``/``[gear]``, ``[material]``,
+``[operating]`` (a pair's, a train's, a planetary stage's), ``[modifications]``, ``[robust]``
+and the ``[[gears]]`` and ``[[meshes]]`` entries given mutated values (numbers where tables are,
+strings where numbers are, negative, non-finite and huge values, unknown keys) are refused in the one line the
 command line prints, never a ``TypeError``, ``KeyError`` or pydantic's report; a number key's
 message is the one :func:`fem_prep.checks.number` (the hand-written check, a separate
 implementation) writes for the same value; the case reader keeps the typed section on the case.
@@ -25,6 +27,15 @@ from jaxgear.io import (
     WhineSection,
     range_of,
 )
+from jaxgear.io._case_file import (
+    MaterialSection,
+    OperatingSection,
+    PairMemberSection,
+    PairSection,
+)
+from jaxgear.io._modifications_table import ModificationsSection
+from jaxgear.io._robust_table import RobustSection
+from jaxgear.io._train_file import GearSection, MeshEntry, PlanetaryOperating, TrainOperating
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 
@@ -41,6 +52,23 @@ BASES = {
     RatingSection: {"life_h": 175200.0, "viscosity_40C_mm2_s": 220.0,
                     "roughness_Rz_flank_um": 4.8, "roughness_Rz_root_um": 20.0,
                     "accuracy_grade": 6, "K_v": 1.1},
+    PairSection: {"normal_module_mm": 1.5, "normal_pressure_angle_deg": 25.0,
+                  "helix_angle_deg": 12.0},
+    PairMemberSection: {"teeth": 45, "profile_shift": 0.341, "face_width_mm": 11.5,
+                        "web_thickness_mm": 4.0, "rim_thickness_mm": 5.0},
+    MaterialSection: {"youngs_modulus_GPa": 206.0, "poisson_ratio": 0.3,
+                      "density_kg_m3": 7830.0},
+    OperatingSection: {"torque_Nm": 80.0, "speed_rad_s": 100.0},
+    TrainOperating: {"torque_Nm": 80.0, "loads": [{"gear": "idler", "torque_Nm": -5.0}]},
+    PlanetaryOperating: {"torque_Nm": 1e6, "speed_rad_s": 1.2},
+    GearSection: {"name": "ring", "teeth": -99, "normal_module_mm": 10.0,
+                  "normal_pressure_angle_deg": 20.0, "face_width_mm": 100.0, "hand": "left"},
+    ModificationsSection: {"tip_relief": {"depth_um": 10.0, "shape": "parabolic"},
+                           "crowning": {"depth_um": 5.0},
+                           "gear": {"helix_slope": {"deviation_um": -3.0}}},
+    MeshEntry: {"driving": "input", "driven": "idler", "angle_deg": 0.0},
+    RobustSection: {"grade": 6, "samples": 100, "members": ["pinion"],
+                    "speeds_rad_s": [100.0, 200.0], "revolutions": "hunting"},
 }
 SECTIONS = tuple(BASES)
 
@@ -101,7 +129,8 @@ def _number_fields():
             rng = range_of(info)
             one_of = any(type(m).__name__ == "Discriminator" for m in info.metadata) or (
                 "Discriminator" in repr(info.annotation))
-            if isinstance(rng, Range) and not rng.array and not one_of:
+            words = (section, key) == (RobustSection, "revolutions")  # or "hunting"
+            if isinstance(rng, Range) and not rng.array and not one_of and not words:
                 out.append((section, key, rng))
     return out
 
@@ -119,8 +148,9 @@ def _read(section, table):
 def test_the_number_keys_are_found():
     keys = {k for _, k, _ in NUMBER_FIELDS}
     assert {"speeds", "frequencies", "viscosity_40C_mm2_s", "life_h", "K_v",
-            "fzg_load_stage"} <= keys
-    assert len(NUMBER_FIELDS) >= 30
+            "fzg_load_stage", "normal_module_mm", "face_width_mm", "youngs_modulus_GPa",
+            "speed_rad_s", "clocking_deg"} <= keys
+    assert len(NUMBER_FIELDS) >= 50
 
 
 @settings(max_examples=80, deadline=None, suppress_health_check=[HealthCheck.too_slow])
@@ -176,29 +206,29 @@ def test_every_number_key_says_what_the_hand_written_check_says():
     (WhineSection, {"speeds": 48.0}, None),
     (WhineSection, {"speeds": 4.5}, "[whine] speeds = 4.5: must be an integer"),
     (WhineSection, {"speed": 48},
-     "[whine] unknown key 'speed' (did you mean 'speeds'?), allowed: harmonics, method, "
-     "positions_per_period, sidebands, speed_max_rad_s, speed_min_rad_s, speeds"),
+     ("[whine] unknown key 'speed' (did you mean 'speeds'?), allowed: harmonics, method, "
+     "positions_per_period, sidebands, speed_max_rad_s, speed_min_rad_s, speeds")),
     (WhineSection, {"method": "fft"},
      "[whine] method = 'fft': allowed 'harmonic-balance', 'te-source', 'quasi-periodic'"),
     (WhineSection, {"speed_max_rad_s": 10.0},
      "[whine] speed_max_rad_s = 10: out of range, allowed > speed_min_rad_s = 50"),
     (AcousticsSection, {"microphones": 3},
-     "[acoustics] microphones = 3: must be an array of tables ([[acoustics.microphones]]), "
-     "not a number"),
+     ("[acoustics] microphones = 3: must be an array of tables ([[acoustics.microphones]]), "
+     "not a number")),
     (AcousticsSection, {"microphones": [{"position_mm": [1.0, 2.0]}]},
      "[acoustics.microphones[0]] position_mm = [1, 2]: must be an array of 3 numbers"),
     (AcousticsSection, {"microphones": [{"position_mm": [1.0, 2.0, 3.0], "x": 1}]},
      "[acoustics.microphones[0]] unknown key 'x', allowed: name, position_mm"),
     (AcousticsSection, {"microphones": [1.0]},
-     "[acoustics] 'microphones[0]' = 1: must be a table ([[acoustics.microphones]] entry), "
-     "not a number"),
+     ("[acoustics] 'microphones[0]' = 1: must be a table ([[acoustics.microphones]] entry), "
+     "not a number")),
     (AcousticsSection, {"band_Hz": [100.0, float("nan")]},
      "[acoustics] band_Hz = [100, nan]: must be an array of finite numbers"),
     (LubricantSection, {"roughness_Ra_um": [0.6, -1.0]},
      "[lubricant] roughness_Ra_um = [0.6, -1]: element -1 out of range, allowed (0, 10]"),
     (LubricantSection, {"viscosity_40C_mm2_s": 1.0},
-     "[lubricant] viscosity_40C_mm2_s = 1: out of range, allowed [2, 100000] (Walther's "
-     "equation, ASTM D341, holds from 2 mm²/s)"),
+     ("[lubricant] viscosity_40C_mm2_s = 1: out of range, allowed [2, 100000] (Walther's "
+     "equation, ASTM D341, holds from 2 mm²/s)")),
     (LubricantSection, {"friction_coefficient": 0.05, "lubricant_factor": 0.85},
      "[lubricant] lubricant_factor = 0.85: not read: friction_coefficient is given"),
     (RatingSection, {"K_v": 0.5}, "[rating] K_v = 0.5: out of range, allowed [1, 10]"),
@@ -207,10 +237,60 @@ def test_every_number_key_says_what_the_hand_written_check_says():
     (RatingSection, {"K_gamma": 1.2}, "[rating] unknown key 'K_gamma'"),
     (RatingSection, {"roughness_Rz_flank_um": {"pinion": -4.8}},
      "[rating] roughness_Rz_flank_um = { pinion = -4.8 }: element -4.8 out of range"),
+    (PairSection, {"normal_pressure_angle_deg": 45.123456789},
+     "[pair] normal_pressure_angle_deg = 45.1235: out of range, allowed [10, 40]"),
+    (PairMemberSection, {"teeth": True}, ("[pinion] teeth = true: must be an integer, not a "
+     "boolean")),
+    (PairMemberSection, {"dedendum_coeff": 0.2},
+     ("[pinion] dedendum_coeff = 0.2: out of range, allowed > 0.25 (above the default "
+     "fillet_radius_coeff; or give a smaller fillet_radius_coeff)")),
+    (PairMemberSection, {"fillet_radius_coeff": 1.5},
+     ("[pinion] fillet_radius_coeff = 1.5: out of range, allowed [0, 1.25) (below "
+     "dedendum_coeff)")),
+    (PairMemberSection, {"web_thickness_mm": None},
+     ("[pinion] web_thickness_mm: required with rim_thickness_mm (the gear blank factor C_R "
+     "needs both")),
+    (MaterialSection, {"youngs_modulus_GPa": 5e-324},
+     "[material] youngs_modulus_GPa = 4.94066e-324: out of range, allowed [0.1, 10000]"),
+    (OperatingSection, {"torque_Nm": None}, "[operating] torque_Nm: missing required key"),
+    (OperatingSection, {"loads": []}, "[operating] unknown key 'loads'"),
+    (TrainOperating, {"loads": 3}, ("[operating] loads = 3: must be an array of tables "
+     "([[operating.loads]]), not a number")),
+    (TrainOperating, {"loads": [{"gear": "idler", "torque_Nm": 5.0}]},
+     ("[operating.loads[0]] torque_Nm = 5: out of range, allowed < 0 (a load takes power: "
+     "negative)")),
+    (PlanetaryOperating, {"speed_rad_s": 0.0}, ("[operating] speed_rad_s = 0: out of range, "
+     "allowed (0, 100000] (a planetary stage's run sweeps around it)")),
+    (GearSection, {"teeth": -3}, ("[gears] teeth = -3: out of range, allowed [-10000, -5] (an "
+     "internal gear, ISO 21771; external: [5, 10000])")),
+    (GearSection, {"teeth": 3}, "[gears] teeth = 3: out of range, allowed [5, 10000]"),
+    (GearSection, {"teeth": "x"}, "[gears] teeth = 'x': must be an integer, not a string"),
+    (GearSection, {"teeth": 56}, None),
+    (GearSection, {"hand": "up"}, "[gears] hand = 'up': allowed 'right', 'left'"),
+    (ModificationsSection, {"crowning": 5.0},
+     "[modifications] crowning = 5: must be a table, e.g. { depth_um = 10.0 }"),
+    (ModificationsSection, {"crowning": {"depth_um": "3"}},
+     "[modifications.crowning] depth_um = '3': must be a number, not a string"),
+    (ModificationsSection, {"gear": {"tip_relief": {"extent": 0.0}}},
+     ("[modifications.gear.tip_relief] extent = 0: out of range, allowed (0, 1] (fraction of "
+     "the path of contact)")),
+    (ModificationsSection, {"gear": {"tip_relief": {"depth": 1.0}}},
+     ("[modifications.gear.tip_relief] unknown key 'depth' (did you mean 'depth_um'?), "
+     "allowed: depth_um, extent, shape")),
+    (ModificationsSection, {"end_relief": {"edge": "z2"}},
+     "[modifications.end_relief] edge = 'z2': allowed 'both', 'z0', 'z1'"),
+    (ModificationsSection, {"wheel": {}}, "[modifications] unknown key 'wheel'"),
+    (RobustSection, {"revolutions": "all"},
+     "[robust] revolutions = 'all': allowed an integer >= 1 or \"hunting\""),
+    (RobustSection, {"kinds": ["pitch", "pitch"]},
+     ("[robust] kinds = ['pitch', 'pitch']: out of range, allowed distinct names among "
+     "['pitch', 'runout', 'profile', 'helix']")),
+    (RobustSection, {"percentiles": [50.0, 100.0]},
+     "[robust] percentiles = [50, 100]: element 100 out of range, allowed (0, 100)"),
 ])
 def test_the_words(section, change, words):
     """The messages in the file's words (the hand-written checks' wording)."""
-    table = copy.deepcopy(BASES[section]) | change
+    table = {k: v for k, v in (copy.deepcopy(BASES[section]) | change).items() if v is not None}
     if words is None:
         section.read(table)
         return
@@ -258,18 +338,55 @@ def test_the_case_carries_its_typed_sections():
     assert float(rc.settings.life) == pytest.approx(data["rating"]["life_h"] * 3600.0)
 
 
-@settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
-@given(table=st.sampled_from(["lubricant", "rating"]), key=st.integers(min_value=0),
-       value=VALUES)
-def test_a_mutated_case_file_is_one_line(table, key, value):
-    """Through the case reader (``jaxgear run``'s load): a mutated ``[lubricant]`` or
-    ``[rating]`` key loads or is one SchemaError line, never another exception."""
+@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(table=st.sampled_from(["lubricant", "rating", "pair", "pinion", "gear", "material",
+                              "operating", "modifications"]), key=st.integers(min_value=0),
+       value=VALUES,
+       whole=st.booleans())
+def test_a_mutated_case_file_is_one_line(table, key, value, whole):
+    """Through the case reader (``jaxgear run``'s load): a mutated key of ``[lubricant]``,
+    ``[rating]``, ``[pair]``, ``[pinion]``, ``[gear]``, ``[material]``, ``[operating]`` or
+    ``[modifications]`` (or the table given as a value) loads or is one SchemaError line, never
+    another exception."""
     data = _fzg()
+    data.setdefault("modifications", {"tip_relief": {"depth_um": 10.0}})
     keys = sorted(data[table])
-    data[table][keys[key % len(keys)]] = value
+    if whole and not isinstance(value, dict):
+        data[table] = value
+    else:
+        data[table][keys[key % len(keys)]] = value
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             jio.parse_case(data, "fzg")
+    except sc.SchemaError as err:
+        assert "\n" not in str(err), str(err)
+
+
+def _train(name: str):
+    return sc.load_toml((ROOT / f"jaxgear/cases/{name}.toml").read_bytes(), name)
+
+
+@settings(max_examples=30, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(where=st.sampled_from([("accessory-idler-train", "gears"),
+                              ("accessory-idler-train", "meshes"),
+                              ("accessory-idler-train", "operating"),
+                              ("accessory-idler-train", "material"),
+                              ("lin-parker-1999", "operating"), ("lin-parker-1999", "material")]),
+       key=st.integers(min_value=0), value=VALUES)
+def test_a_mutated_train_file_is_one_line(where, key, value):
+    """Through the train and planetary reader: a mutated key of a ``[[gears]]`` or
+    ``[[meshes]]`` entry, ``[operating]`` or ``[material]`` loads or is one SchemaError
+    line."""
+    case, table = where
+    data = _train(case)
+    t = (data[table][key % len(data[table])] if table in ("gears", "meshes")
+         else data.setdefault(table, {}))
+    keys = sorted(t) or ["youngs_modulus_GPa"]
+    t[keys[key % len(keys)]] = value
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            jio.parse_train(data, case)
     except sc.SchemaError as err:
         assert "\n" not in str(err), str(err)

@@ -473,17 +473,25 @@ class _Recorder:
         from jaxgear.io import _sections as sections
 
         s = self.schema
-        for key in (*cls.file_keys(context), *(["meshes"] if "meshes" in cls.model_fields else [])):
+        named = [k for k in ("meshes", "members") if k in cls.model_fields]
+        for key in (*cls.file_keys(context), *named):
             field = cls.model_fields[key]
             sub = sections._sections(field.annotation)
             if typing.get_origin(field.annotation) is dict and sub is not None:
-                for name in (context or {}).get("meshes", ()):  # tables by name: the file's
+                for name in (context or {}).get(key, ()):  # tables by name: the file's
                     s.key(where, name).accepted = True
                     s.key(where, name).kind.add("table")
                     self.record_section(sub, table.get(name, {}), f"{where}.{name}", None)
                 continue
             info = s.key(where, key)
             info.accepted = True
+            arms = (field.annotation, *typing.get_args(field.annotation))
+            if sub is not None and not any(typing.get_origin(a) is list for a in arms):  # a table
+                info.kind.add("table")
+                inner = table.get(key)
+                self.record_section(sub, inner if isinstance(inner, dict) else {},
+                                    f"{where}.{key}", None)
+                continue
             if sub is not None:  # an array of tables
                 info.kind.add("table")
                 for k, entry in enumerate(table.get(key) or [{}]):
@@ -514,6 +522,16 @@ class _Recorder:
             return saved_read.__func__(cls, table, where, context=context)
 
         Section.read = classmethod(read)
+        saved_of_file = Section.__dict__["of_file"]
+
+        def of_file(cls, data, key=None, *, required=False, context=None):
+            if not (self.depth_in_body and not self.own_bodies):  # a file's table, or required
+                info = self.schema.key("", cls.WHERE if key is None else key)
+                info.kind.add("table")
+                info.required |= required
+            return saved_of_file.__func__(cls, data, key, required=required, context=context)
+
+        Section.of_file = classmethod(of_file)
 
         def wrap(name, f):
             def traced(*args, **kw):
@@ -542,6 +560,7 @@ class _Recorder:
                 setattr(body_schema, n, f)
             fem_prep.load_body = saved_load
             Section.read = saved_read
+            Section.of_file = saved_of_file
 
 
 # [acoustics] radiates a housed whine: its sample carries [housing] and [whine] too
@@ -879,7 +898,10 @@ def markdown(schema: Schema, title: str, intro: str, notes: dict[str, str] | Non
             info = keys[key]
             kind = " or ".join(sorted(info.kind)) or ("table" if not info.allowed else "")
             default = "required" if info.required and not info.defaults else _cell(info.defaults)
-            row = [f"`{key}`", kind, unit(key), default, _cell(info.allowed)]
+            # a section's type any finite number, its range the case's (a depth's, a module's)
+            loose = {a for a in info.allowed if a.startswith("any finite number")}
+            allowed = info.allowed - loose if len(info.allowed) > len(loose) else info.allowed
+            row = [f"`{key}`", kind, unit(key), default, _cell(allowed)]
             out.append("| " + " | ".join(_escape(c) for c in row) + " |")
         out.append("")
     return "\n".join(out) + "\n"

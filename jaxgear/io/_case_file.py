@@ -13,7 +13,9 @@ from __future__ import annotations
 import math
 import re
 import warnings
-from typing import Any
+from typing import Any, ClassVar
+
+import pydantic
 
 from fem_prep import schema as sc
 
@@ -26,10 +28,11 @@ from .._contact_geometry import TheoreticalPath
 from ._names import FOUNDATIONS, STIFFNESS_MODELS, contact_geometry_from_key, stiffness_from_name
 from ._optimise_table import check_acoustic_tables, parse_optimise
 from ._plausibility import MIN_LINE_LOAD_N_PER_MM, CaseWarning, plausibility
-from ._rating_table import MATERIAL_RATING_KEYS, OPERATING_RATING_KEYS, check_rating
+from ._rating_table import check_rating
 from ._robust_table import parse_robust
 from ._housing_table import HOUSING_BAND, check_housing_band, parse_housing
 from ._scene_table import parse_scene
+from ._sections import Section, number
 from ._acoustics_table import AcousticsSection, check_band, parse_case_acoustics
 from ._whine_table import (
     highest_order_frequency,
@@ -49,52 +52,26 @@ __all__ = [
 
 SchemaError = sc.SchemaError
 
-_MEMBER_KEYS = {
-    "teeth",
-    "profile_shift",
-    "addendum_coeff",
-    "dedendum_coeff",
-    "face_width_mm",
-    "fillet_radius_coeff",
-    "bore_radius_mm",
-    "web_thickness_mm",
-    "rim_thickness_mm",
+#: ``[mesh]``'s keys
+MESH_TABLE_KEYS = {
+    "stiffness",
+    "stiffness_per_length_N_per_mm_per_um",
+    "slices",
+    "positions_per_pitch",
+    "smooth_width_um",
+    "foundation",
+    "fe2d_size_um",
+    "extended_contact",
 }
-#: a pair case's member keys: the train's and the tooth thickness allowance (backlash; a train
-#: has no coast flanks: docs/backlash.md)
-_PAIR_MEMBER_KEYS = _MEMBER_KEYS | {"tooth_thickness_allowance_um"}
-#: the tables whose keys are listed here (the others are checked by their own parsers)
-_KEY_TABLES: dict[str, set] = {
-    "pair": {
-        "normal_module_mm",
-        "normal_pressure_angle_deg",
-        "helix_angle_deg",
-        "center_distance_mm",
-    },
-    "pinion": _PAIR_MEMBER_KEYS,
-    "gear": _PAIR_MEMBER_KEYS,
-    "material": {"youngs_modulus_GPa", "poisson_ratio", "density_kg_m3"},
-    "operating": {"torque_Nm", "speed_rad_s"},
-    "mesh": {
-        "stiffness",
-        "stiffness_per_length_N_per_mm_per_um",
-        "slices",
-        "positions_per_pitch",
-        "smooth_width_um",
-        "foundation",
-        "fe2d_size_um",
-        "extended_contact",
-    },
-}
-#: a pair case's tables: the rating's keys too (a train is not rated yet: its parser keeps
-#: _KEY_TABLES' keys, and refuses these)
-_PAIR_KEY_TABLES = _KEY_TABLES | {
-    "material": _KEY_TABLES["material"] | MATERIAL_RATING_KEYS,
-    "operating": _KEY_TABLES["operating"] | OPERATING_RATING_KEYS,
-}
+#: a pair case file's keys (each table checked by its section or its reader)
 _SCHEMA: dict[str, Any] = {
     "name": None,
-    **_KEY_TABLES,
+    "pair": None,  # PairSection
+    "pinion": None,  # PairMemberSection
+    "gear": None,
+    "material": None,  # MaterialSection
+    "operating": None,  # OperatingSection
+    "mesh": None,  # parse_mesh_settings
     "modifications": None,  # checked by parse_modifications
     "deviations": None,  # checked by parse_deviations
     "robust": None,  # checked by parse_robust (jaxgear robust)
@@ -124,6 +101,125 @@ MAX_DEPTH_MODULE = 1.0  # modification and deviation depths: up to one normal mo
 CENTER_DISTANCE_TOL_MM = 1e-3  # a centre distance up to 1 µm below the zero-backlash one is it
 MIN_SMOOTH_WIDTH_UM = 1e-4  # smooth contact width w: 0.1 nm ...
 MAX_SMOOTH_WIDTH_MODULE = 0.01  # ... to 1 % of the module (the smooth TE is offset by ~ w)
+
+
+# --------------------------------------------------------------------------------------------
+# the typed tables (jaxgear.io._sections): keys, types and ranges in file units
+
+
+class PairSection(Section):
+    """A pair case's ``[pair]``: the normal module (mm), the normal pressure angle and the helix
+    angle (deg; below 10° the involute undercuts all but very large gears, z_min = 2/sin²α = 66
+    at 10°, above 40° standard teeth are pointed; the module spans watch gears to mill gears),
+    the centre distance (mm; default the zero-backlash one)."""
+
+    WHERE: ClassVar[str] = "pair"
+    normal_module_mm: number(MODULE_RANGE_MM)
+    normal_pressure_angle_deg: number(PRESSURE_ANGLE_RANGE_DEG)
+    helix_angle_deg: number("[0, 45)") = 0.0
+    center_distance_mm: number("(0, 1e+06]") | None = None
+
+
+class MemberSection(Section):
+    """A gear's own keys (a pair's ``[pinion]`` and ``[gear]``, a train's ``[[gears]]``
+    entry): teeth, the tooth form's coefficients (of the normal module), face width and the
+    blank (mm); a webbed blank (ISO 6336-1's gear blank factor C_R of the iso6336 stiffness)
+    gives both ``web_thickness_mm`` and ``rim_thickness_mm``. :meth:`member` its
+    :class:`~jaxgear.Member` (SI)."""
+
+    WHERE: ClassVar[str] = "pinion"
+    teeth: number("[5, 10000]", integer=True)
+    profile_shift: number() = 0.0  # the geometry checks it
+    addendum_coeff: number("(0, 3]") = 1.0
+    dedendum_coeff: number("(0, 3]") = 1.25
+    face_width_mm: number("> 0")
+    fillet_radius_coeff: number(">= 0") = 0.25
+    bore_radius_mm: number("> 0") | None = None
+    web_thickness_mm: number("> 0") | None = None
+    rim_thickness_mm: number("> 0") | None = None
+
+    @pydantic.model_validator(mode="after")
+    def _related(self, info):
+        where = (info.context or {}).get("where", "")
+        dedendum, fillet = self.dedendum_coeff, self.fillet_radius_coeff
+        if not fillet < dedendum:
+            if "fillet_radius_coeff" not in self.given:  # the default fillet: the dedendum
+                raise sc.fail(where, "dedendum_coeff", f"out of range, allowed > {fillet:.6g} "
+                              "(above the default fillet_radius_coeff; or give a smaller "
+                              "fillet_radius_coeff)", dedendum)
+            raise sc.fail(where, "fillet_radius_coeff", f"out of range, allowed [0, "
+                          f"{dedendum:.6g}) (below dedendum_coeff)", fillet)
+        if (self.web_thickness_mm is None) != (self.rim_thickness_mm is None):
+            given, missing = ("web", "rim") if self.rim_thickness_mm is None else ("rim", "web")
+            raise sc.fail(where, f"{missing}_thickness_mm", f"required with {given}_thickness_mm "
+                          "(the gear blank factor C_R needs both; leave both out for a solid "
+                          "blank)")
+        return self
+
+    def member(self, teeth: int | None = None, allowance_um: float = 0.0) -> Member:
+        """The :class:`~jaxgear.Member` (SI) of these keys, of ``teeth`` where given (an
+        internal gear's, negative), with a tooth thickness allowance (µm)."""
+        mm = lambda v: None if v is None else v * 1e-3  # noqa: E731
+        return Member(
+            teeth=self.teeth if teeth is None else teeth,
+            profile_shift=self.profile_shift,
+            addendum_coeff=self.addendum_coeff,
+            dedendum_coeff=self.dedendum_coeff,
+            face_width=self.face_width_mm * 1e-3,
+            fillet_radius_coeff=self.fillet_radius_coeff,
+            bore_radius=mm(self.bore_radius_mm),
+            web_thickness=mm(self.web_thickness_mm),
+            rim_thickness=mm(self.rim_thickness_mm),
+            tooth_thickness_allowance=allowance_um * 1e-6,
+        )
+
+
+class PairMemberSection(MemberSection):
+    """A pair case's ``[pinion]`` or ``[gear]``: a gear's keys (:class:`MemberSection`) and its
+    tooth thickness allowance (µm; backlash, the coast flanks: a train has none,
+    docs/backlash.md)."""
+
+    tooth_thickness_allowance_um: number("[-1e+04, 1e+04]") = 0.0
+
+    def member(self, teeth: int | None = None, allowance_um: float | None = None) -> Member:
+        """The :class:`~jaxgear.Member` (SI), with this gear's allowance."""
+        allowance = self.tooth_thickness_allowance_um if allowance_um is None else allowance_um
+        return super().member(teeth, allowance)
+
+
+class MaterialSection(Section):
+    """``[material]``: Young's modulus (GPa), Poisson's ratio, density (kg/m³); the rating's
+    keys (:data:`~jaxgear.io._rating_table.MATERIAL_RATING_KEYS`, per gear: a number, a
+    [pinion, gear] list or a train's table by gear name) are read and checked by the rating
+    (:mod:`jaxgear.io._rating_material_table`), refused without ``[rating]``."""
+
+    WHERE: ClassVar[str] = "material"
+    youngs_modulus_GPa: number("[0.1, 10000]") = 210.0
+    poisson_ratio: number("[0, 0.5)") = 0.3
+    density_kg_m3: number("[100, 1e+05]") = 7800.0
+    sigma_H_lim_MPa: Any = None
+    sigma_F_lim_MPa: Any = None
+    treatment: Any = None
+    brinell_hardness_HB: Any = None
+    proof_stress_MPa: Any = None
+    designation: Any = None
+    surface_hardness_HV: Any = None
+
+    def material(self) -> tuple[float, float, float]:
+        """(E Pa, ν, ρ kg/m³)."""
+        return self.youngs_modulus_GPa * 1e9, self.poisson_ratio, self.density_kg_m3
+
+
+class OperatingSection(Section):
+    """``[operating]`` of a pair case: the pinion's torque (N·m; its range follows the pair:
+    :func:`parse_torque`) and speed (rad/s); the rating's ``speed_rpm`` (1/min; read by
+    :func:`~jaxgear.io._rating_table.rating_speed`, refused without ``[rating]``)."""
+
+    WHERE: ClassVar[str] = "operating"
+    torque_Nm: Any  # its range follows the pair (parse_torque)
+    speed_rad_s: number("[0, 1e+05]") = 0.0
+    speed_rpm: number("(0, 1e+06]") | None = None
+
 
 
 # --------------------------------------------------------------------------------------------
@@ -257,57 +353,10 @@ def check_member_size(t: dict, where: str, member: Member, module_mm: float, alp
     )
 
 
-def _member(data: dict, tag: str, keys=_MEMBER_KEYS) -> Member:
-    t = sc.subtable(data, tag, "", keys, required=True)
-    dedendum = sc.number(t, "dedendum_coeff", tag, 1.25, allowed="(0, 3]")
-    fillet = sc.number(t, "fillet_radius_coeff", tag, 0.25, allowed=">= 0")
-    if not fillet < dedendum:
-        if "fillet_radius_coeff" not in t:  # the default fillet: the dedendum is the culprit
-            raise sc.fail(
-                tag,
-                "dedendum_coeff",
-                f"out of range, allowed > {fillet:.6g} (above the default fillet_radius_coeff; "
-                "or give a smaller fillet_radius_coeff)",
-                t["dedendum_coeff"],
-            )
-        raise sc.fail(
-            tag,
-            "fillet_radius_coeff",
-            f"out of range, allowed [0, {dedendum:.6g}) (below dedendum_coeff)",
-            t["fillet_radius_coeff"],
-        )
-    bore = sc.number(t, "bore_radius_mm", tag, None, allowed="> 0")
-    # webbed blank (ISO 6336-1 gear blank factor C_R of the iso6336 stiffness): both or neither
-    web = sc.number(t, "web_thickness_mm", tag, None, allowed="> 0")
-    rim = sc.number(t, "rim_thickness_mm", tag, None, allowed="> 0")
-    if (web is None) != (rim is None):
-        given, missing = ("web", "rim") if rim is None else ("rim", "web")
-        raise sc.fail(
-            tag,
-            f"{missing}_thickness_mm",
-            f"required with {given}_thickness_mm (the gear blank factor C_R needs both; "
-            "leave both out for a solid blank)",
-        )
-    return Member(
-        teeth=sc.number(t, "teeth", tag, allowed="[5, 10000]", integer=True),
-        profile_shift=sc.number(t, "profile_shift", tag, 0.0),  # the geometry checks it
-        addendum_coeff=sc.number(t, "addendum_coeff", tag, 1.0, allowed="(0, 3]"),
-        dedendum_coeff=dedendum,
-        face_width=sc.number(t, "face_width_mm", tag, allowed="> 0") * 1e-3,
-        fillet_radius_coeff=fillet,
-        bore_radius=None if bore is None else bore * 1e-3,
-        web_thickness=None if web is None else web * 1e-3,
-        rim_thickness=None if rim is None else rim * 1e-3,
-        tooth_thickness_allowance=sc.number(
-            t, "tooth_thickness_allowance_um", tag, 0.0, allowed="[-1e+04, 1e+04]"
-        )
-        * 1e-6,
-    )
-
-
 def parse_torque(op: dict, pair: GearPair) -> float:
-    """``[operating] torque_Nm`` (N·m): positive and at least the torque of a line load
-    F_n/b = ``MIN_LINE_LOAD_N_PER_MM`` on ``pair`` (below, the deflections are round-off)."""
+    """``[operating] torque_Nm`` (N·m; ``op`` the table as the file gives it): positive and at
+    least the torque of a line load F_n/b = ``MIN_LINE_LOAD_N_PER_MM`` on ``pair`` (below, the
+    deflections are round-off)."""
     t_min = (
         MIN_LINE_LOAD_N_PER_MM
         * 1e3
@@ -325,12 +374,9 @@ def parse_torque(op: dict, pair: GearPair) -> float:
 
 
 def parse_material(data: dict) -> tuple[float, float, float]:
-    """``[material]``: Young's modulus (Pa), Poisson's ratio, density (kg/m³)."""
-    mat = sc.subtable(data, "material", "")
-    E = sc.number(mat, "youngs_modulus_GPa", "material", 210.0, allowed="[0.1, 10000]") * 1e9
-    nu = sc.number(mat, "poisson_ratio", "material", 0.3, allowed="[0, 0.5)")
-    rho = sc.number(mat, "density_kg_m3", "material", 7800.0, allowed="[100, 1e+05]")
-    return E, nu, rho
+    """``[material]`` (:class:`MaterialSection`): Young's modulus (Pa), Poisson's ratio,
+    density (kg/m³)."""
+    return MaterialSection.of_file(data).material()
 
 
 #: ``[mesh] extended_contact`` when a case file does not say (docs/extended-contact.md, "Where it
@@ -423,18 +469,15 @@ def parse_case(data: dict, default_name: str = "case", base_dir: str | None = No
     sc.check_keys(data, _SCHEMA, "")
     sc.subtables(data, _TABLES, "")  # every table a table before its reader takes it
     name = sc.name(data, "name", "", default_name)
-    for section, allowed in _PAIR_KEY_TABLES.items():
-        sc.subtable(data, section, "", allowed, required=section in ("pair", "operating"))
-    p = data["pair"]
-    pinion = _member(data, "pinion", _PAIR_MEMBER_KEYS)
-    gear = _member(data, "gear", _PAIR_MEMBER_KEYS)
-    # physical ranges checked before the geometry, so that its errors name the culprit: below
-    # 10° the involute undercuts all but very large gears (z_min = 2/sin²α = 66 at 10°), above
-    # 40° standard teeth are pointed; the module spans watch gears to mill gears
-    module = sc.number(p, "normal_module_mm", "pair", allowed=MODULE_RANGE_MM)
-    alpha = sc.number(p, "normal_pressure_angle_deg", "pair", allowed=PRESSURE_ANGLE_RANGE_DEG)
-    beta = sc.number(p, "helix_angle_deg", "pair", 0.0, allowed="[0, 45)")
-    cd = sc.number(p, "center_distance_mm", "pair", None, allowed="(0, 1e+06]")
+    p = PairSection.of_file(data, required=True)  # ranges before the geometry: errors name
+    members = {tag: PairMemberSection.of_file(data, tag, required=True)  # the culprit
+               for tag in ("pinion", "gear")}
+    material = MaterialSection.of_file(data)
+    op = OperatingSection.of_file(data, required=True)
+    sc.subtable(data, "mesh", "", MESH_TABLE_KEYS)
+    pinion, gear = (members[tag].member() for tag in ("pinion", "gear"))
+    module, alpha, cd = p.normal_module_mm, p.normal_pressure_angle_deg, p.center_distance_mm
+    beta = p.helix_angle_deg
     for tag, member in (("pinion", pinion), ("gear", gear)):
         limit = 0.25 * module * 1e3  # µm: a quarter of the module (GearPair's range)
         if abs(member.tooth_thickness_allowance) * 1e6 > limit:
@@ -445,7 +488,7 @@ def parse_case(data: dict, default_name: str = "case", base_dir: str | None = No
                 "normal_module_mm; negative thins the tooth)",
                 data[tag]["tooth_thickness_allowance_um"],
             )
-        check_member_size(data[tag], tag, member, module, alpha)
+        check_member_size(members[tag].table(), tag, member, module, alpha)
     geometry = {
         "pinion": pinion,
         "gear": gear,
@@ -467,7 +510,7 @@ def parse_case(data: dict, default_name: str = "case", base_dir: str | None = No
                 "center_distance_mm",
                 f"out of range, allowed >= {a0_mm:.3f} mm (the zero-backlash distance, to "
                 f"{CENTER_DISTANCE_TOL_MM * 1e3:g} µm; closer, the teeth jam)",
-                p["center_distance_mm"],
+                data["pair"]["center_distance_mm"],
             )
         if cd is not None and cd > a0_mm:  # within the tolerance: the zero-backlash distance
             pair = GearPair(**geometry, center_distance=cd * 1e-3)
@@ -475,10 +518,10 @@ def parse_case(data: dict, default_name: str = "case", base_dir: str | None = No
         if isinstance(err, sc.SchemaError):
             raise
         raise _geometry_error(err, data) from None
-    E, nu, rho = parse_material(data)
+    E, nu, rho = material.material()
     torque = parse_torque(data["operating"], pair)
     rating = check_rating(data, pair, (E, nu, rho))
-    speed = sc.number(data["operating"], "speed_rad_s", "operating", 0.0, allowed="[0, 1e+05]")
+    speed = op.speed_rad_s
     lubricant = read_lubricant(data)
     whine = WhineSection.read(data["whine"]) if "whine" in data else None
     acoustics = parse_case_acoustics(data) if "acoustics" in data else None

@@ -7,9 +7,10 @@ import functools
 import itertools
 import re
 import tomllib
-from typing import Any
+from typing import Any, ClassVar, Literal
 
 import numpy as np
+import pydantic
 
 from fem_prep import schema as sc
 
@@ -22,11 +23,14 @@ from .._modifications import (
     Modifications,
     ParabolicRelief,
 )
+from ._sections import Section, number, number_list
 
 __all__ = [
     "END_RELIEF_EDGES",
     "FILE_KEYS",
     "RELIEF_SHAPES",
+    "ModificationSet",
+    "ModificationsSection",
     "case_text_with_modifications",
     "modifications_toml",
     "modifications_with",
@@ -39,14 +43,9 @@ RELIEF_SHAPES = {"linear": LinearRelief(), "parabolic": ParabolicRelief()}
 END_RELIEF_EDGES = {"both": BothEdges(), "z0": EdgeZ0(), "z1": EdgeZ1()}
 
 MAX_DEPTH_MODULE = 1.0  # modification and deviation depths: up to one normal module
-_MOD_KEYS = {
-    "tip_relief": {"depth_um", "extent", "shape"},
-    "root_relief": {"depth_um", "extent", "shape"},
-    "crowning": {"depth_um"},
-    "end_relief": {"depth_um", "extent", "edge"},
-    "helix_slope": {"deviation_um"},
-    "profile_deviation": {"roll_fraction", "deviation_um"},
-}
+#: a modification that is not a table: what it says
+_NOT_A_TABLE = "must be a table, e.g. { depth_um = 10.0 }"
+
 
 def _depth_range(module_mm: float | None, signed: bool = False) -> tuple[str, str]:
     """The allowed range (file units, µm) of a modification or deviation depth and its note:
@@ -58,60 +57,146 @@ def _depth_range(module_mm: float | None, signed: bool = False) -> tuple[str, st
     return rng, f" (µm; up to {MAX_DEPTH_MODULE:g} × normal_module_mm)"
 
 
-def _member_mods(
-    entries: dict[str, tuple[Any, str]], module_mm: float | None = None
-) -> MemberModification:
-    """``{name: (spec, where)}`` → :class:`MemberModification` (depths µm → m), each depth
-    within one normal module ``module_mm`` (mm) of the member."""
+class ReliefSection(Section):
+    """A ``tip_relief`` or ``root_relief``: its depth (µm; up to one normal module of its
+    member: :func:`member_modification`), its extent (a fraction of the path of contact) and
+    shape (:data:`RELIEF_SHAPES`)."""
+
+    depth_um: number() = 0.0
+    extent: number("(0, 1]", note=" (fraction of the path of contact)") = 0.25
+    shape: Literal[tuple(RELIEF_SHAPES)] = "linear"
+
+
+class CrowningSection(Section):
+    """A ``crowning``: its depth (µm; up to one normal module)."""
+
+    depth_um: number() = 0.0
+
+
+class EndReliefSection(Section):
+    """An ``end_relief``: its depth (µm; up to one normal module), its extent at each end (a
+    fraction of the face width) and the ends it relieves (:data:`END_RELIEF_EDGES`)."""
+
+    depth_um: number() = 0.0
+    extent: number("(0, 0.5]", note=" (fraction of the face width at each end)") = 0.1
+    edge: Literal[tuple(END_RELIEF_EDGES)] = "both"
+
+
+class HelixSlopeSection(Section):
+    """A ``helix_slope``: its deviation across the face (µm, signed; up to one normal module)."""
+
+    deviation_um: number() = 0.0
+
+
+class ProfileDeviationSection(Section):
+    """A ``profile_deviation``: deviations (µm, signed; up to one normal module) at strictly
+    ascending roll fractions in [0, 1], one each (:func:`member_modification`)."""
+
+    roll_fraction: number_list("[0, 1]", min_length=2)
+    deviation_um: number_list(min_length=2)
+
+
+class ModificationSet(Section):
+    """The modifications of one member (or those common to every member): each a table
+    (module docstring)."""
+
+    tip_relief: ReliefSection | None = None
+    root_relief: ReliefSection | None = None
+    crowning: CrowningSection | None = None
+    end_relief: EndReliefSection | None = None
+    helix_slope: HelixSlopeSection | None = None
+    profile_deviation: ProfileDeviationSection | None = None
+
+
+#: the modification names
+_MOD_KEYS = tuple(ModificationSet.model_fields)
+
+
+class ModificationsSection(ModificationSet):
+    """``[modifications]``: the modifications of every member (:class:`ModificationSet`) and
+    the member tables that replace entries for one member (:attr:`members`: a pair's
+    ``[modifications.pinion]`` and ``[modifications.gear]``, a train's by gear name). Read it
+    with :meth:`of`, which names the members."""
+
+    WHERE: ClassVar[str] = "modifications"
+    members: dict[str, ModificationSet] = pydantic.Field(default_factory=dict)
+
+    @pydantic.model_validator(mode="before")
+    @classmethod
+    def _tables(cls, data, info):
+        """The keys of a modification or a member's table, each a table (in its words), the
+        member tables moved to :attr:`members`."""
+        names = (info.context or {}).get("members", ("pinion", "gear"))
+        if not isinstance(data, dict):
+            return data
+        sc.check_keys(data, {*_MOD_KEYS, *names}, cls.WHERE)
+        own = {k: v for k, v in data.items() if k in names}
+        for k in own:
+            sc.subtable(own, k, cls.WHERE)
+        for where, table in ((cls.WHERE, data), *((f"{cls.WHERE}.{k}", v) for k, v in
+                                                  own.items())):
+            for k in _MOD_KEYS:
+                if k in table and not isinstance(table[k], dict):
+                    raise sc.fail(where, k, _NOT_A_TABLE, table[k])
+        return {k: v for k, v in data.items() if k not in names} | {"members": own}
+
+    @classmethod
+    def file_keys(cls, context: dict | None = None) -> tuple[str, ...]:
+        """The modifications; the member tables are named by the case (:attr:`members`)."""
+        return _MOD_KEYS
+
+    @classmethod
+    def of(cls, table, members=("pinion", "gear")) -> ModificationsSection:
+        """The ``[modifications]`` of a case whose members are named ``members``."""
+        return cls.read(table, context={"members": tuple(members)})
+
+    def member(self, name: str, module_mm: float | None = None) -> MemberModification:
+        """Member ``name``'s :class:`MemberModification`: the common entries, its own table's
+        over them (:func:`member_modification`)."""
+        own = self.members.get(name)
+        entries = {k: (getattr(self, k), self.WHERE) for k in _MOD_KEYS
+                   if getattr(self, k) is not None}
+        entries |= {k: (getattr(own, k), f"{self.WHERE}.{name}") for k in _MOD_KEYS
+                    if own is not None and getattr(own, k) is not None}
+        return member_modification(entries, module_mm)
+
+
+def _within(value, where: str, key: str, allowed: str, note: str = ""):
+    """``value`` (a number or a list of a section, file units) in ``allowed`` (a depth's range
+    follows its member's module), else :func:`fem_prep.checks.number`'s one line (an array's:
+    :func:`fem_prep.checks.number_list`'s)."""
+    check = sc.number_list if isinstance(value, list) else sc.number
+    return check({key: value}, key, where, allowed=allowed, note=note)
+
+
+def member_modification(entries: dict, module_mm: float | None = None) -> MemberModification:
+    """``{name: (section, where)}`` (each modification's typed table and where the file gives
+    it) → :class:`MemberModification` (depths µm → m), each depth within one normal module
+    ``module_mm`` (mm) of the member."""
     kw: dict[str, Any] = {}
-    depth_rng, depth_note = _depth_range(module_mm)
-    signed_rng, _ = _depth_range(module_mm, signed=True)
+    depth, note = _depth_range(module_mm)
+    signed, _ = _depth_range(module_mm, signed=True)
     for name, (spec, where) in entries.items():
-        if not isinstance(spec, dict):
-            raise sc.fail(where, name, "must be a table, e.g. { depth_um = 10.0 }", spec)
         w = f"{where}.{name}"
-        sc.check_keys(spec, _MOD_KEYS[name], w)
         if name in ("tip_relief", "root_relief"):
-            depth = sc.number(spec, "depth_um", w, 0.0, allowed=depth_rng, note=depth_note)
-            extent = sc.number(
-                spec, "extent", w, 0.25, allowed="(0, 1]", note=" (fraction of the path of contact)"
-            )
-            shape = RELIEF_SHAPES[sc.choice(spec, "shape", w, tuple(RELIEF_SHAPES), "linear")]
-            kw.update(
-                {
-                    f"{name}_depth": depth * 1e-6,
-                    f"{name}_extent": extent,
-                    f"{name}_shape": shape,
-                }
-            )
+            kw |= {f"{name}_depth": _within(spec.depth_um, w, "depth_um", depth, note) * 1e-6,
+                   f"{name}_extent": spec.extent, f"{name}_shape": RELIEF_SHAPES[spec.shape]}
         elif name == "crowning":
-            kw["crowning_depth"] = (
-                sc.number(spec, "depth_um", w, 0.0, allowed=depth_rng, note=depth_note) * 1e-6
-            )
+            kw["crowning_depth"] = _within(spec.depth_um, w, "depth_um", depth, note) * 1e-6
         elif name == "end_relief":
-            depth = sc.number(spec, "depth_um", w, 0.0, allowed=depth_rng, note=depth_note)
-            extent = sc.number(
-                spec,
-                "extent",
-                w,
-                0.1,
-                allowed="(0, 0.5]",
-                note=" (fraction of the face width at each end)",
-            )
-            edge = END_RELIEF_EDGES[sc.choice(spec, "edge", w, tuple(END_RELIEF_EDGES), "both")]
-            kw.update(end_relief_depth=depth * 1e-6, end_relief_extent=extent, end_relief_edge=edge)
+            kw.update(end_relief_depth=_within(spec.depth_um, w, "depth_um", depth, note) * 1e-6,
+                      end_relief_extent=spec.extent, end_relief_edge=END_RELIEF_EDGES[spec.edge])
         elif name == "helix_slope":
-            kw["helix_slope_deviation"] = (
-                sc.number(spec, "deviation_um", w, 0.0, allowed=signed_rng, note=depth_note) * 1e-6
-            )
+            kw["helix_slope_deviation"] = _within(spec.deviation_um, w, "deviation_um", signed,
+                                                  note) * 1e-6
         elif name == "profile_deviation":
-            u = sc.number_list(spec, "roll_fraction", w, min_length=2, allowed="[0, 1]")
-            d = sc.number_list(spec, "deviation_um", w, min_length=2, allowed=signed_rng)
+            u, d = spec.roll_fraction, _within(spec.deviation_um, w, "deviation_um", signed)
             if len(u) != len(d):
                 raise sc.fail(w, "deviation_um", f"needs one value per roll_fraction ({len(u)})", d)
             if any(b <= a for a, b in itertools.pairwise(u)):
                 raise sc.fail(w, "roll_fraction", "must ascend strictly within [0, 1]", u)
-            kw.update(profile_deviation_roll=np.asarray(u), profile_deviation=np.asarray(d) * 1e-6)
+            kw.update(profile_deviation_roll=np.asarray(spec.roll_fraction),
+                      profile_deviation=np.asarray(d) * 1e-6)
     return MemberModification(**kw)
 
 
@@ -124,19 +209,9 @@ def parse_modifications(table: dict, module_mm: float | None = None) -> Modifica
     Raises:
         SchemaError: unknown modification or key, wrong type, value out of range.
     """
-    if not isinstance(table, dict):
-        raise sc.fail("", "modifications", "must be a table", table)
-    allowed = {*_MOD_KEYS, "pinion", "gear"}
-    sc.check_keys(table, allowed, "modifications")
-    common = {k: (v, "modifications") for k, v in table.items() if k not in ("pinion", "gear")}
-    members = []
-    for tag in ("pinion", "gear"):
-        own = sc.subtable(table, tag, "modifications", _MOD_KEYS)
-        where = f"modifications.{tag}"
-        members.append(
-            _member_mods({**common, **{k: (v, where) for k, v in own.items()}}, module_mm)
-        )
-    return Modifications(pinion=members[0], gear=members[1])
+    section = ModificationsSection.of(table)
+    return Modifications(pinion=section.member("pinion", module_mm),
+                         gear=section.member("gear", module_mm))
 
 
 # ------------------------------------------------------------------------------------------

@@ -2,7 +2,8 @@
 
 A table is a :class:`Section`, a pydantic model whose field names are the file's keys (units in
 the key names, as the file spells them), each field's type and range declared once with
-:func:`number`, :func:`number_list`, ``Literal[...]`` (a name out of a few), ``bool`` and
+:func:`number`, :func:`number_list`, :func:`one_of` (a number, an array or a table),
+:func:`by_sign` (a range by the sign), ``Literal[...]`` (a name out of a few), ``bool`` and
 :data:`Text`; keys the model does not declare are refused, and a table given as anything but a
 table is refused before pydantic sees it. Pydantic checks; :func:`schema_error` turns the first
 of its errors into the project's one line in the file's words (:mod:`fem_prep.checks`):
@@ -25,6 +26,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import sys
 import typing
 from typing import Annotated, Any, ClassVar, Literal
 
@@ -33,8 +35,8 @@ from pydantic import BaseModel, BeforeValidator, ConfigDict, Discriminator, Fiel
 
 from fem_prep import checks as sc
 
-__all__ = ["NEEDED", "Needed", "Range", "Section", "Text", "number", "number_list", "one_of",
-           "schema_error"]
+__all__ = ["NEEDED", "Needed", "Range", "Section", "Text", "by_sign", "number", "number_list",
+           "one_of", "schema_error"]
 
 #: the prefix of a union member's tag (:func:`one_of`), which the error's location skips
 _TAG = "§"
@@ -72,16 +74,25 @@ def _integral(v: Any) -> Any:
     return v
 
 
+#: the largest integer a float holds: an integer key's bounds where its range has none
+_FLOAT_MAX = int(sys.float_info.max)
+
+
 def _bounds(rng: sc.Interval, integer: bool) -> dict:
-    """pydantic's constraints of an interval (integral bounds as integers for an integer)."""
+    """pydantic's constraints of an interval (integral bounds as integers for an integer; an
+    integer's open ends at what a float holds, as :func:`fem_prep.checks.number`)."""
     def bound(x):
         return int(x) if integer and float(x).is_integer() else x
 
     out = {}
     if rng.lo > -math.inf:
         out["gt" if rng.lo_open else "ge"] = bound(rng.lo)
+    elif integer:
+        out["ge"] = -_FLOAT_MAX
     if rng.hi < math.inf:
         out["lt" if rng.hi_open else "le"] = bound(rng.hi)
+    elif integer:
+        out["le"] = _FLOAT_MAX
     return out
 
 
@@ -121,6 +132,19 @@ def one_of(**kinds):
     return Annotated[typing.Union[members], Discriminator(pick)]  # noqa: UP007
 
 
+def by_sign(positive, negative):
+    """The type of a number key whose range follows its sign (an internal gear's negative
+    teeth): ``positive`` (a :func:`number`) for a value >= 0 or not a number (its error names
+    the key), ``negative`` for a number below 0."""
+    def pick(v):
+        below = isinstance(v, (int, float)) and not isinstance(v, bool) and v < 0
+        return _TAG + ("negative" if below else "positive")
+
+    members = (Annotated[positive, Tag(_TAG + "positive")],
+               Annotated[negative, Tag(_TAG + "negative")])
+    return Annotated[typing.Union[members], Discriminator(pick)]  # noqa: UP007
+
+
 #: the type of a non-empty text key (a name, a designation)
 Text = Annotated[str, Field(pattern=r"\S")]
 
@@ -144,6 +168,7 @@ class Section(BaseModel):
                 of the wrong type or out of range, what the section's own checks refuse.
         """
         where = cls.WHERE if where is None else where
+        context = {"where": where, **(context or {})}
         if not isinstance(table, dict):
             head, _, last = where.rpartition(".")
             raise sc.fail(head, last, f"must be a table ([{where}]), not {sc.type_name(table)}",
@@ -152,6 +177,17 @@ class Section(BaseModel):
             return cls.model_validate(table, context=context)
         except pydantic.ValidationError as err:
             raise schema_error(cls, where, table, err) from None
+
+    @classmethod
+    def of_file(cls, data: dict, key: str | None = None, *, required: bool = False,
+                context: dict | None = None):
+        """The section of the file's table ``data[key]`` (default :attr:`WHERE`; :meth:`read`),
+        of an empty table where the file has none (``required``: refused in one line,
+        ``[key]: missing required table``)."""
+        key = cls.WHERE if key is None else key
+        if key not in data and required:
+            raise sc.SchemaError(f"[{key}]: missing required table", f"[{key}]")
+        return cls.read(data.get(key, {}), key, context=context)
 
     @classmethod
     def file_keys(cls, context: dict | None = None) -> tuple[str, ...]:
@@ -319,6 +355,8 @@ def _problem(kind, ctx, v, rng, info, element, where, key, index):
     if kind == "missing":
         return "missing required key"
     if kind in ("greater_than", "greater_than_equal", "less_than", "less_than_equal"):
+        if not sc.finite(v) and rng is not None and v in rng.interval:  # beyond a float
+            return f"out of range (beyond ±1.79769e+308), allowed {allowed}"
         if element:
             return f"element {sc.fmt(v)} out of range, allowed {allowed}"
         return f"out of range, allowed {allowed}"

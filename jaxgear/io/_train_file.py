@@ -87,7 +87,9 @@ from __future__ import annotations
 import dataclasses
 import math
 import warnings
-from typing import Any
+from typing import Any, ClassVar, Literal
+
+import pydantic
 
 from fem_prep import schema as sc
 
@@ -97,12 +99,13 @@ from .._util import closest_circles
 from ..scenes import train_hands
 from ._case import Case, TrainForm, mesh_teeth_per_turn, teeth_span
 from ._case_file import (
-    _MEMBER_KEYS,
-    _SCHEMA,
+    MESH_TABLE_KEYS,
     CENTER_DISTANCE_TOL_MM,
     MODULE_RANGE_MM,
     PRESSURE_ANGLE_RANGE_DEG,
-    _member,
+    MaterialSection,
+    MemberSection,
+    OperatingSection,
     case_housing,
     check_member_size,
     parse_material,
@@ -111,11 +114,10 @@ from ._case_file import (
 )
 from ._housing_table import check_housing_band, stage_housing_spec
 from ._lubricant_table import read_lubricant
-from ._modifications_table import _MOD_KEYS, _member_mods
+from ._modifications_table import ModificationsSection
 from ._planetary_deviations_table import parse_planetary_deviations
 from ._planetary_spec import InternalMeshForm
 from ._planetary_table import (
-    CUTTER_KEYS,
     check_internal_stiffness,
     check_ring_teeth,
     gear_cutter,
@@ -125,12 +127,11 @@ from ._planetary_table import (
 )
 from ._plausibility import CaseWarning, plausibility
 from ._rating_table import (
-    MATERIAL_RATING_KEYS,
-    OPERATING_RATING_KEYS,
     check_planetary_rating,
     check_train_rating,
     older_ring_cutter,
 )
+from ._sections import Section, Text, by_sign, number
 from ._train_scene import check_table_size, shaft_of_table, train_scene
 from ._acoustics_table import parse_case_acoustics
 from ._optimise_table import (
@@ -166,19 +167,36 @@ _TOP_KEYS = {
     "acoustics",  # the housing's radiated sound (jaxgear/io/_acoustics_table.py)
     "optimise",  # jaxgear optimise on the housed train's noise (jaxgear/io/_optimise_table.py)
 }
-_GEAR_KEYS = {
-    "name",
-    "shaft",
-    "hand",
-    "clocking_deg",
-    "normal_module_mm",
-    "normal_pressure_angle_deg",
-    "helix_angle_deg",
-    *_MEMBER_KEYS,
-    *CUTTER_KEYS,
-}
-_MESH_KEYS = {"driving", "driven", "angle_deg", "center_distance_mm"}
 _WRENCH_KEYS = {"shaft", "position_mm", "force_N", "moment_Nm"}
+
+
+class LoadEntry(Section):
+    """An ``[[operating.loads]]`` entry: a loaded gear (its name) and its torque (N·m, in its
+    direction of motion: < 0, it takes power)."""
+
+    gear: Text
+    torque_Nm: number("< 0", note=" (a load takes power: negative)")
+
+
+class TrainOperating(OperatingSection):
+    """A train's ``[operating]``: a pair's (:class:`OperatingSection`, on the input) with the
+    loaded gears (:class:`LoadEntry`) and the wrenches on shaft nodes (checked with the scene's
+    shafts: :func:`_wrenches`)."""
+
+    loads: list[LoadEntry] = pydantic.Field(default_factory=list)
+    wrenches: Any = None
+
+
+class PlanetaryOperating(TrainOperating):
+    """A planetary stage's ``[operating]``: the input member's torque (N·m; its floor follows
+    the stage, :func:`jaxgear.io._planetary_table.torque_floor`) and speed (rad/s, required:
+    its run sweeps the speeds around it, the mesh frequency and the rating are at it); the
+    other keys refused by the stage's reader in its words."""
+
+    torque_Nm: number("(0, 1e+12]")
+    speed_rad_s: number("(0, 1e+05]", note=" (a planetary stage's run sweeps around it)")
+    speed_rpm: Any = None
+    loads: Any = None
 
 
 def table_hand(h: int) -> str:
@@ -203,34 +221,54 @@ def _array_of_tables(data: dict, key: str, minimum: int) -> list:
     return v
 
 
+class GearSection(MemberSection):
+    """A ``[[gears]]`` entry of a train or a planetary stage (module docstring): a gear's keys
+    (:class:`MemberSection`; an internal gear's ``teeth`` negative, ISO 21771), its name and
+    shaft (names: :func:`fem_prep.checks.name`), hand, clocking on its shaft, the mesh's module
+    and angles (mm, deg), an internal gear's pinion-type cutter (its ranges follow the gear's
+    teeth: :func:`jaxgear.io._planetary_table.gear_cutter`)."""
+
+    WHERE: ClassVar[str] = "gears"
+    name: Any
+    shaft: Any = None
+    hand: Literal["right", "left"] | None = None
+    clocking_deg: number("[-360, 360]") = 0.0
+    normal_module_mm: number(MODULE_RANGE_MM)
+    normal_pressure_angle_deg: number(PRESSURE_ANGLE_RANGE_DEG)
+    helix_angle_deg: number("[0, 45)") = 0.0
+    teeth: by_sign(number("[5, 10000]", integer=True), number(
+        "[-10000, -5]", integer=True, note=" (an internal gear, ISO 21771; external: [5, 10000])"))
+    cutter_teeth: Any = None
+    cutter_profile_shift: Any = None
+    cutter_tip_radius_coeff: Any = None
+
+
+class MeshEntry(Section):
+    """A ``[[meshes]]`` entry (module docstring): its driving and driven gears (names), the
+    direction of the driven gear's centre seen from the driving one (deg) and the centre
+    distance (mm; default the zero-backlash one)."""
+
+    WHERE: ClassVar[str] = "meshes"
+    driving: Text
+    driven: Text
+    angle_deg: number("[-360, 360]")
+    center_distance_mm: number("(0, 1e+06]") | None = None
+
+
 def _gear(table: dict, index: int, names: dict) -> tuple[str, dict]:
-    """One ``[[gears]]`` entry: its name and its geometry (member, module, angles) in SI."""
-    sc.check_keys(table, _GEAR_KEYS, f"gears[{index}]")
+    """One ``[[gears]]`` entry: its name and its geometry (member, module, angles) in SI, its
+    :class:`GearSection` (``"table"``)."""
     name = sc.name(table, "name", f"gears[{index}]")
     if name in names:
         raise sc.fail(f"gears[{index}]", "name", f"is taken by gears[{names[name]}]", name)
     where = f"gears.{name}"
-    module = sc.number(table, "normal_module_mm", where, allowed=MODULE_RANGE_MM)
-    alpha = sc.number(table, "normal_pressure_angle_deg", where, allowed=PRESSURE_ANGLE_RANGE_DEG)
-    beta = sc.number(table, "helix_angle_deg", where, 0.0, allowed="[0, 45)")
-    own = {k: v for k, v in table.items() if k in _MEMBER_KEYS}
-    teeth = own.get("teeth")
-    internal = isinstance(teeth, int) and not isinstance(teeth, bool) and teeth < 0
-    if internal:  # an internal gear (a ring): negative teeth, ISO 21771
-        sc.number(
-            table,
-            "teeth",
-            where,
-            allowed="[-10000, -5]",
-            integer=True,
-            note=" (an internal gear, ISO 21771; external: [5, 10000])",
-        )
-        own["teeth"] = -teeth
-    member = _member({where: own}, where)
+    g = GearSection.read(table, where)
+    module, alpha, beta = g.normal_module_mm, g.normal_pressure_angle_deg, g.helix_angle_deg
+    member = g.member(abs(g.teeth))
     check_member_size(table, where, member, module, alpha)
-    if internal:
-        member = dataclasses.replace(member, teeth=teeth)
+    member = g.member()  # an internal gear (a ring): negative teeth
     return name, {
+        "table": g,
         "cutter": gear_cutter(table, where, member, module, alpha, beta),
         "member": member,
         "module_mm": module,
@@ -303,16 +341,8 @@ def _mesh_pair(gears: dict, driving: str, driven: str, cd, where: str) -> GearPa
 def _modifications(table: Any, names: list[str], modules: list[float]) -> tuple:
     """``[modifications]``: the common entries on every gear, ``[modifications.<gear>]``
     replacing them for that gear; one :class:`MemberModification` per gear."""
-    if not isinstance(table, dict):
-        raise sc.fail("", "modifications", "must be a table", table)
-    sc.check_keys(table, {*_MOD_KEYS, *names}, "modifications")
-    common = {k: (v, "modifications") for k, v in table.items() if k in _MOD_KEYS}
-    out = []
-    for name, module in zip(names, modules, strict=True):
-        own = sc.subtable(table, name, "modifications", _MOD_KEYS)
-        where = f"modifications.{name}"
-        out.append(_member_mods({**common, **{k: (v, where) for k, v in own.items()}}, module))
-    return tuple(out)
+    section = ModificationsSection.of(table, names)
+    return tuple(section.member(n, module) for n, module in zip(names, modules, strict=True))
 
 
 def _wrenches(op: dict, shaft_names: list, specs) -> tuple:
@@ -357,18 +387,14 @@ def _wrenches(op: dict, shaft_names: list, specs) -> tuple:
     return tuple(out)
 
 
-def _loads(op: dict, index: dict, shafts: list) -> tuple:
+def _loads(loads: list[LoadEntry], index: dict, shafts: list) -> tuple:
     """``[[operating.loads]]``: ((gear index, torque N·m), ...), each a gear off the input's
     shaft, one per shaft, its torque < 0 (it takes power, in its direction of motion)."""
-    v = op.get("loads", [])
-    if not isinstance(v, list) or not all(isinstance(t, dict) for t in v):
-        raise sc.fail("operating", "loads", "must be an array of tables ([[operating.loads]])", v)
     out = {}
     names = list(index)
-    for i, t in enumerate(v):
+    for i, t in enumerate(loads):
         where = f"operating.loads[{i}]"
-        sc.check_keys(t, {"gear", "torque_Nm"}, where)
-        gear = sc.string(t, "gear", where)
+        gear = t.gear
         if gear not in index:
             raise sc.fail(where, "gear", f"no such gear, allowed {', '.join(names)}", gear)
         if shafts[index[gear]] == 0:
@@ -378,9 +404,7 @@ def _loads(op: dict, index: dict, shafts: list) -> tuple:
             raise sc.fail(
                 where, "gear", "turns with a loaded gear (allowed: one load per shaft)", gear
             )
-        out[index[gear]] = sc.number(
-            t, "torque_Nm", where, allowed="< 0", note=" (a load takes power: negative)"
-        )
+        out[index[gear]] = t.torque_Nm
     return tuple(out.items())
 
 
@@ -428,10 +452,10 @@ def _check_overlap(case: Case) -> None:
         )
 
 
-def _planetary_case(data: dict, name: str, base_dir: str | None = None) -> Case:
+def _planetary_case(data: dict, name: str, base_dir: str | None, op: PlanetaryOperating) -> Case:
     """A planetary stage's case (``[planetary]``, :func:`jaxgear.io._planetary_table.
     parse_planetary`): its ``[[gears]]`` (none in the lumped form), material, mesh settings,
-    modifications and input torque and speed read as a train's."""
+    modifications and input torque and speed (``op``) read as a train's."""
     gears: dict[str, dict] = {}
     index: dict[str, int] = {}
     check_ring_teeth(data)  # before the ring's cutter keys, whose range follows its teeth
@@ -442,17 +466,13 @@ def _planetary_case(data: dict, name: str, base_dir: str | None = None) -> Case:
     names = list(gears)
     modules = [gears[n]["module_mm"] for n in names]
     E, nu, rho = parse_material(data)
-    op = data["operating"]
     base = {
         "name": name,
         "youngs_modulus": E,
         "poisson_ratio": nu,
         "density": rho,
-        "torque": sc.number(op, "torque_Nm", "operating", allowed="(0, 1e+12]"),
-        # required and > 0: a stage's run sweeps the speeds around it (its dynamic factor and
-        # measured K_v), the mesh frequency and the rating are at it
-        "speed": sc.number(op, "speed_rad_s", "operating", allowed="(0, 1e+05]",
-                           note=" (a planetary stage's run sweeps around it)"),
+        "torque": op.torque_Nm,
+        "speed": op.speed_rad_s,
         "raw": data,
         "gear_modifications": (
             _modifications(data.get("modifications", {}), names, modules) if names else ()
@@ -514,10 +534,10 @@ def parse_train(data: dict, default_name: str = "train", base_dir: str | None = 
     sc.check_keys(data, _TOP_KEYS, "")
     sc.subtables(data, sorted(_TOP_KEYS - {"name", "gears", "meshes"}), "")  # before their readers
     name = sc.name(data, "name", "", default_name)
-    sc.subtable(data, "material", "", _SCHEMA["material"] | MATERIAL_RATING_KEYS)
-    sc.subtable(data, "mesh", "", _SCHEMA["mesh"])
-    op_keys = {*_SCHEMA["operating"], "loads", "wrenches", *OPERATING_RATING_KEYS}
-    sc.subtable(data, "operating", "", op_keys, required=True)
+    MaterialSection.of_file(data)
+    sc.subtable(data, "mesh", "", MESH_TABLE_KEYS)
+    op = (PlanetaryOperating if is_planetary(data) else TrainOperating).of_file(data,
+                                                                              required=True)
     # a train's or a planetary stage's gear whine
     whine = WhineSection.read(data["whine"]) if "whine" in data else None
     if "optimise" in data and is_planetary(data):
@@ -526,7 +546,8 @@ def parse_train(data: dict, default_name: str = "train", base_dir: str | None = 
     # a housed train's or planetary stage's radiated sound
     acoustics = parse_case_acoustics(data) if "acoustics" in data else None
     if is_planetary(data):
-        return _planetary_case(data, name, base_dir).replace(whine=whine, acoustics=acoustics)
+        return _planetary_case(data, name, base_dir, op).replace(whine=whine,
+                                                                 acoustics=acoustics)
     if "deviations" in data:
         raise sc.fail("", "deviations", "not in a gear train's case (allowed: a pair's case, or "
                       "a planetary stage's with [[gears]])", "[deviations]")
@@ -539,7 +560,7 @@ def parse_train(data: dict, default_name: str = "train", base_dir: str | None = 
         gears[gear_name], index[gear_name] = gear, i
         where = f"gears.{gear_name}"
         shaft = sc.name(table, "shaft", where, gear_name)
-        clocking = sc.number(table, "clocking_deg", where, 0.0, allowed="[-360, 360]")
+        clocking = gear["table"].clocking_deg
         if shaft not in shaft_names:
             if "clocking_deg" in table:
                 raise sc.fail(
@@ -552,7 +573,7 @@ def parse_train(data: dict, default_name: str = "train", base_dir: str | None = 
             shaft_names[shaft] = len(shaft_names)
         shafts.append(shaft_names[shaft])
         clockings.append(math.radians(clocking))
-        hand = sc.choice(table, "hand", where, ("right", "left"), None)
+        hand = gear["table"].hand
         hands.append({"right": 1, "left": -1, None: 0}[hand])
     names = list(gears)
     pairs, links, angles = [], [], []
@@ -561,14 +582,11 @@ def parse_train(data: dict, default_name: str = "train", base_dir: str | None = 
     meshing: set[int] = set()
     for k, table in enumerate(_array_of_tables(data, "meshes", 1)):
         where = f"meshes[{k}]"
-        sc.check_keys(table, _MESH_KEYS, where)
-        ends = []
-        for key in ("driving", "driven"):
-            v = sc.string(table, key, where)
+        mesh = MeshEntry.read(table, where)
+        driving, driven = mesh.driving, mesh.driven
+        for key, v in (("driving", driving), ("driven", driven)):
             if v not in gears:
                 raise sc.fail(where, key, f"no such gear, allowed {', '.join(names)}", v)
-            ends.append(v)
-        driving, driven = ends
         g, h = index[driving], index[driven]
         if shafts[g] == shafts[h]:
             raise sc.fail(
@@ -595,11 +613,9 @@ def parse_train(data: dict, default_name: str = "train", base_dir: str | None = 
         driven_by[shafts[h]] = k
         turning.add(shafts[h])
         meshing.update((g, h))
-        angle = sc.number(table, "angle_deg", where, allowed="[-360, 360]")
-        cd = sc.number(table, "center_distance_mm", where, None, allowed="(0, 1e+06]")
-        pairs.append(_mesh_pair(gears, driving, driven, cd, where))
+        pairs.append(_mesh_pair(gears, driving, driven, mesh.center_distance_mm, where))
         links.append((g, h))
-        angles.append(math.radians(angle))
+        angles.append(math.radians(mesh.angle_deg))
     internal = [k for k, p in enumerate(pairs) if isinstance(p, InternalGearPair)]
     if internal:  # the rigid path of one internal mesh (its scenes are not written yet)
         if len(pairs) > 1:
@@ -630,10 +646,9 @@ def parse_train(data: dict, default_name: str = "train", base_dir: str | None = 
             f"[[gears]] {', '.join(idle)}: in no mesh (allowed: every gear meshes)"
         )
     E, nu, rho = parse_material(data)
-    op = data["operating"]
-    torque = parse_torque(op, pairs[0])  # on the input, the first mesh's driving gear
-    speed = sc.number(op, "speed_rad_s", "operating", 0.0, allowed="[0, 1e+05]")
-    loads = _loads(op, index, shafts)
+    torque = parse_torque(data["operating"], pairs[0])  # on the input: the first mesh's driving
+    speed = op.speed_rad_s  # gear
+    loads = _loads(op.loads, index, shafts)
     drivers = {shafts[g] for g, _ in links}
     loaded = {shafts[g] for g, _ in loads}
     first_on = {}
@@ -663,7 +678,7 @@ def parse_train(data: dict, default_name: str = "train", base_dir: str | None = 
         if "scene" not in data
         else train_scene(data["scene"], names, shafts, shaft_list, base_dir)
     )
-    wrenches = _wrenches(op, shaft_list, None if scene is None else scene.shafts)
+    wrenches = _wrenches(data["operating"], shaft_list, None if scene is None else scene.shafts)
     teeth = mesh_teeth_per_turn(pairs, links, shafts)
     housing = case_housing(data, scene, base_dir, (E, nu, rho), pair=False, teeth=teeth,
                            span=teeth_span(teeth),
