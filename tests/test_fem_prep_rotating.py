@@ -115,14 +115,28 @@ def _band_constraints(p) -> sp.csr_matrix:
 
 def _independent_prestress(p):
     """Centrifugal prestress at 1 rad/s with the bearings held (Lagrange multipliers) and the
-    support reactions ``r = K u - f`` (full DOFs)."""
+    support reactions ``r = K u - f`` (full DOFs); solved once per prepared wheel (the wheels
+    live for the process, tests/_fem_prep_wheel.py) and read by the tests of this module."""
+    key = id(p)
+    if _PRESTRESS.get(key, (None,))[0] is not p:
+        _PRESTRESS[key] = (p, _solve_prestress(p))
+    return _PRESTRESS[key][1]
+
+
+_PRESTRESS: dict = {}  # id(prepared wheel) -> (the wheel, (u, r))
+
+
+def _solve_prestress(p):
     ops = p.operators
     # constraint rows scaled to the stiffness (a well-balanced saddle-point matrix for SuperLU)
     C = _band_constraints(p) * float(np.median(ops.K.diagonal()))
     n = ops.K.shape[0]
     A = sp.bmat([[ops.K, C.T], [C, None]], format="csc")
     u = spla.spsolve(A, np.r_[ops.f_centrifugal, np.zeros(C.shape[0])])[:n]
-    return u, ops.K @ u - ops.f_centrifugal
+    r = ops.K @ u - ops.f_centrifugal
+    for a in (u, r):  # shared by the tests: read only
+        a.setflags(write=False)
+    return u, r
 
 
 # ------------------------------------------------------------------------- structure

@@ -9,6 +9,7 @@ from __future__ import annotations
 import json
 import pathlib
 
+import equinox as eqx
 import jax.numpy as jnp
 import numpy as np
 import pytest
@@ -42,11 +43,17 @@ def setup(fem_prep_cache):
 
 
 def _full_vectors(scene, theta):
-    """Every cell's structure vector on all coordinates at pinion angle θ (c, n), and the mask."""
-    cells = scene.mesh.cells(theta)
+    """Every cell's structure vector on all coordinates at pinion angle θ (c, n), and the mask
+    (one compiled program for every angle: eagerly, the cells' operations compile one by one)."""
+    V, mask = _cell_vectors(scene, jnp.asarray(theta, dtype=float))
     n = scene.structure.K.shape[0]
-    V = np.asarray(scene.cell_vectors(cells)).reshape(-1, n)
-    return V, np.asarray(cells.mask).reshape(-1)
+    return np.asarray(V).reshape(-1, n), np.asarray(mask).reshape(-1)
+
+
+@eqx.filter_jit
+def _cell_vectors(scene, theta):
+    cells = scene.mesh.cells(theta)
+    return scene.cell_vectors(cells), cells.mask
 
 
 def test_the_cyclic_shift_moves_the_cells_by_one_tooth(setup):
