@@ -232,12 +232,12 @@ tip_relief = { depth_um = 12.0, extent = 0.3 }
 [optimise]
 objective = "te_rms"
 vars = ["tip_relief.depth", "tip_relief.extent"]
-max_iterations = 60
+max_iterations = 15
 """
 )
 
 
-def test_cli_optimise_master_curve_and_run_with_optimise_table(tmp_path):
+def test_cli_optimise_master_curve_and_run_with_optimise_table(tmp_path, monkeypatch):
     import json
 
     from jaxgear.cli import main
@@ -265,6 +265,8 @@ def test_cli_optimise_master_curve_and_run_with_optimise_table(tmp_path):
     ]
     assert len(rows) == 4 and all(r["depth_um"] > 0 for r in rows)
     assert (mc / "master_curve.png").exists()
+    # jaxgear run's figures are not read here (tests/conftest.py's no_figures, for this run on)
+    monkeypatch.setenv("JAXGEAR_TEST_NO_FIGURES", "1")
     run = tmp_path / "r"
     assert main(["run", str(path), "--out", str(run), "--quiet"]) == 0
     summary = json.loads((run / "summary.json").read_text())

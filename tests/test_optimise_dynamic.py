@@ -20,28 +20,64 @@ from jaxgear.io import static_scene
 DATA = pathlib.Path(__file__).parent / "data"
 SPEEDS = [1200.0, 1600.0]
 DYN = dict(integrator=Newmark(16), window=SteadyState(8, 2))  # small for the tests
+DYN_SMALL = dict(integrator=Newmark(16), window=SteadyState(4, 2))  # the default gradient test
 
 
 @pytest.fixture(scope="module")
-def problem(fem_prep_cache):
+def hybrid(fem_prep_cache):
+    """The small flexible-wheel case and its hybrid scene (condensed wheel)."""
     case = jio.load_case(DATA / "hybrid-test-case.toml")
     body = fem_prep.condensed(DATA / "hybrid-test-wheel.toml")
-    scene = static_scene(case, bodies=(None, body))[0]
+    return case, static_scene(case, bodies=(None, body))[0]
+
+
+@pytest.fixture(scope="module")
+def problem(hybrid):
+    case, scene = hybrid
     return jio.case_problem(
         case, "tip_relief.depth", "dynamic_factor", scene=scene, speeds=SPEEDS, **DYN
     )
 
 
-def test_dynamic_factor_gradient_matches_finite_differences(problem):
+def test_dynamic_factor_gradient_matches_finite_differences(hybrid):
     """d(band dynamic factor)/d(tip relief depth) by reverse mode through the hybrid Newmark
     (smooth contact, implicit differentiation of each step's contact problem) against central
-    differences of the same objective: within 1e-4 (measured 3e-7 on the raw function)."""
+    differences of the same objective: within 1e-4 (measured 3e-7 on the raw function).
+
+    The band's two speeds over a 4-period window (2 kept; the fixture's 8-period window serves
+    the slow grid scan). Two evaluations of the gradient's own compiled program
+    (value_and_grad at x ± h): the central difference of the values is the mean of the
+    derivative over [x − h, x + h], which the mean of the two gradients (the trapezoid rule)
+    gives to O(h²) (h = 1e-4: far below the tolerance); a wrong gradient at x ± h fails it.
+    The gradient at x itself: the slow test beside it."""
+    import jax
+
+    case, scene = hybrid
+    problem = jio.case_problem(
+        case, "tip_relief.depth", "dynamic_factor", scene=scene, speeds=SPEEDS, **DYN_SMALL
+    )
+    x = jnp.asarray([0.5])
+    # one compiled program: the reverse pass and the hybrid sweep compiled together (eager, the
+    # sweep's forward and its transpose were two programs)
+    value_and_grad = jax.jit(jax.value_and_grad(lambda v: problem.value(v)))
+    h = 1e-4
+    (v_hi, g_hi), (v_lo, g_lo) = value_and_grad(x + h), value_and_grad(x - h)
+    fd = (float(v_hi) - float(v_lo)) / (2 * h)
+    g = 0.5 * (float(g_hi[0]) + float(g_lo[0]))
+    assert g == pytest.approx(fd, rel=1e-4)
+    assert abs(g) > 1e-3  # the relief does move the dynamic factor
+    # the two gradients differ by g'' 2h: far less than the tolerance's 1e-4 g, so that each
+    # of them matches the difference too
+    assert float(g_hi[0]) == pytest.approx(fd, rel=1e-4)
+
+
+@pytest.mark.slow  # the default test above checks the same gradient by the trapezoid rule
+def test_dynamic_factor_gradient_at_x_matches_finite_differences(problem):
+    """The gradient at x itself (the fixture's 8-period window) against central differences
+    of the same objective: within 1e-4 (measured 3e-7 on the raw function)."""
     import jax
 
     x = jnp.asarray([0.5])
-    # the differences' values from the gradient's own program (value_and_grad at x ± h), one
-    # compiled program: the reverse pass and the hybrid sweep compiled together (eager, the
-    # sweep's forward and its transpose were two programs)
     value_and_grad = jax.jit(jax.value_and_grad(lambda v: problem.value(v)))
     g = float(value_and_grad(x)[1][0])
     h = 1e-4

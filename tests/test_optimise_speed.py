@@ -203,15 +203,14 @@ DESIGN_UM = {
 }
 
 
-def test_design_variable_gradients_match_central_differences_in_exact_contact(hybrid):
-    """The load_centroid objective (``Problem.value``), the L8 norm of the line load, the maximum
-    line load, TE RMS and the signed centroid (``Problem.metrics``), differentiated in exact contact
-    w.r.t. end relief depth and extent, crowning per member, tip relief depth and extent, on the
-    hybrid scene at 3000 rad/s: against central differences (h = 1e-6 in normalised units)."""
+def _exact_metrics(hybrid):
+    """The load_centroid problem of the six design variables on the hybrid scene at 3000 rad/s
+    (8 positions per pitch), its start ``x0`` (normalised) and the compiled ``x -> (J, f)`` of
+    f: the objective (``Problem.value``), the L8 norm of the line load, the signed centroid, the
+    maximum line load and TE RMS (``Problem.metrics``), in exact contact, each of order one."""
     case, scene = hybrid
-    ppp = 8
     pc = jio.case_problem(
-        case, VARS, "load_centroid", scene=scene, speed=3000.0, positions_per_pitch=ppp
+        case, VARS, "load_centroid", scene=scene, speed=3000.0, positions_per_pitch=8
     )
     x0 = jnp.asarray(pc.from_physical(DESIGN_UM))
 
@@ -227,27 +226,62 @@ def test_design_variable_gradients_match_central_differences_in_exact_contact(hy
             ]
         )
 
-    J = np.asarray(jax.jit(jax.jacfwd(f))(x0))
-    fj = jax.jit(f)
+    def with_values(x):
+        y = f(x)
+        return y, y
+
+    # the Jacobian and the values from one compiled program (jacfwd with the values as its
+    # auxiliary output): the differences' values come from the Jacobian's own program
+    return pc, x0, jax.jit(jax.jacfwd(with_values, has_aux=True))
+
+
+def test_design_variable_gradients_match_central_differences_in_exact_contact(hybrid):
+    """The load_centroid objective (``Problem.value``), the L8 norm of the line load, the maximum
+    line load, TE RMS and the signed centroid (``Problem.metrics``), differentiated in exact contact
+    w.r.t. end relief depth and extent, crowning per member, tip relief depth and extent, on the
+    hybrid scene at 3000 rad/s: the Jacobian's projections on two fixed random directions
+    (seeded) against central differences along them (h = 1e-6 in normalised units); every
+    variable moves the centroid and the L_p norm (each column of the Jacobian). Each variable
+    against its own central difference: the slow test below."""
+    pc, x0, jacobian = _exact_metrics(hybrid)
+    J, y0 = (np.asarray(a) for a in jacobian(x0))
+
+    def fj(x):
+        return np.asarray(jacobian(x)[1])
+
+    h = 1e-6
+    rng = np.random.default_rng(54)
+    for d in rng.standard_normal((2, x0.size)):
+        d /= np.linalg.norm(d)
+        fd = (fj(x0 + h * d) - fj(x0 - h * d)) / (2 * h)
+        np.testing.assert_allclose(J @ d, fd, rtol=1e-5, atol=1e-7, err_msg=str(d))
+    # none trivially zero: every variable moves the centroid and the L_p norm
+    assert np.all(np.abs(J[1]) > 1e-4), J[1]
+    assert np.all(np.abs(J[2]) > 1e-4), J[2]
+    # the design's centroid is off centre (the first entry: Problem.value in exact contact, from
+    # the program compiled above instead of a quasi-static program of its own)
+    assert float(y0[0]) > 1.0
+
+
+@pytest.mark.slow  # the directional check above keeps the claim in the default suite
+def test_design_variable_gradients_match_central_differences_per_variable(hybrid):
+    """As above, each of the six variables against its own central difference (h = 1e-6 in
+    normalised units)."""
+    pc, x0, jacobian = _exact_metrics(hybrid)
+    J = np.asarray(jacobian(x0)[0])
     h = 1e-6
     for i in range(x0.size):
         e = np.zeros(x0.size)
         e[i] = h
-        fd = (np.asarray(fj(x0 + e)) - np.asarray(fj(x0 - e))) / (2 * h)
+        fd = (np.asarray(jacobian(x0 + e)[1]) - np.asarray(jacobian(x0 - e)[1])) / (2 * h)
         np.testing.assert_allclose(J[:, i], fd, rtol=1e-5, atol=1e-7, err_msg=pc.names[i])
-    # none trivially zero: every variable moves the centroid and the L_p norm
-    assert np.all(np.abs(J[1]) > 1e-4), J[1]
-    assert np.all(np.abs(J[2]) > 1e-4), J[2]
-    # the design's centroid is off centre (f's first entry: Problem.value in exact contact, from
-    # the program compiled above instead of a quasi-static program of its own)
-    assert float(fj(x0)[0]) > 1.0
 
 
 def test_load_centroid_optimum_matches_a_grid_scan_at_speed(hybrid):
     """On the small hybrid case at 3000 rad/s, the 30 µm helix slope loads the z = b edge; the
     gradient optimum of load_centroid over the depth of the z = b end relief (smooth contact,
     then exact) centres the load, at the zero crossing of c(E) from a grid scan in exact contact
-    (E* = E/δ_m in [0, 8], steps of 0.25)."""
+    (E* = E/δ_m in [0, 8], steps of 1, then of 0.25 across the first crossing)."""
     case, scene = hybrid
     p = jio.case_problem(
         case,
@@ -261,13 +295,24 @@ def test_load_centroid_optimum_matches_a_grid_scan_at_speed(hybrid):
     res = op.minimise(p, np.array([0.5]), progress=False)
     sharp = p.sharp()
     c = jax.jit(lambda x: sharp.metrics(x)["load_centroid"])
-    grid = np.linspace(0.0, 8.0, 33)  # E* = E/δ_m
-    cs = np.array([float(c(jnp.asarray([g]))) for g in grid])
-    k = int(np.flatnonzero(np.sign(cs[:-1]) != np.sign(cs[1:]))[0])
-    root = grid[k] - cs[k] * (grid[k + 1] - grid[k]) / (cs[k + 1] - cs[k])
-    assert cs[0] > 0.1  # without relief the load sits towards z = b
+
+    def values(grid):
+        return np.array([float(c(jnp.asarray([g]))) for g in grid])
+
+    def first_crossing(cs):
+        return int(np.flatnonzero(np.sign(cs[:-1]) != np.sign(cs[1:]))[0])
+
+    # the first crossing on a unit grid of E* = E/δ_m in [0, 8], then the steps of 0.25 across
+    # it: the points of the 0.25 grid that bracket the root (12 solves instead of 33)
+    coarse = values(np.arange(0.0, 8.01, 1.0))
+    k = first_crossing(coarse)
+    grid = k + np.linspace(0.0, 1.0, 5)
+    cs = np.concatenate([coarse[k : k + 1], values(grid[1:-1]), coarse[k + 1 : k + 2]])
+    j = first_crossing(cs)
+    root = grid[j] - cs[j] * (grid[j + 1] - grid[j]) / (cs[j + 1] - cs[j])
+    assert coarse[0] > 0.1  # without relief the load sits towards z = b
     assert float(res.x[0]) == pytest.approx(root, abs=0.05)
-    assert abs(float(c(jnp.asarray(res.x)))) < 0.02 * cs[0]
+    assert abs(float(c(jnp.asarray(res.x)))) < 0.02 * coarse[0]
 
 
 # -- CLI ---------------------------------------------------------------------------------------------
@@ -316,14 +361,19 @@ def test_speed_on_a_rigid_case_is_a_one_line_error(tmp_path, capsys):
 def test_jaxgear_optimise_load_centroid_at_speed_on_the_small_case(tmp_path, capsys, monkeypatch):
     """`jaxgear optimise CASE --objective load_centroid --speed 3000 --vars
     pinion.end_relief.depth` on the small flexible-wheel case with a 20 µm helix slope and a
-    z = b end relief (default bounds: up to 3 δ_m = 33 µm; the centring depth is near 23 µm):
-    optimum.json holds the exact-contact centroid before and after, near 0 after."""
+    z = b end relief (default bounds: up to 3 δ_m = 33 µm; the centring depth is near 23 µm),
+    at 8 positions per pitch: optimum.json holds the exact-contact centroid before and after,
+    near 0 after."""
     from jaxgear.cli import main
 
     text = _case_text(
         "[modifications.pinion]\nhelix_slope = { deviation_um = 20.0 }\n"
         'end_relief = { depth_um = 5.0, extent = 0.4, edge = "z1" }\n'
     )
+    # 8 positions per pitch, as the grid-scan test above: the same programs (the problem's
+    # shapes and structure), compiled once in a run
+    assert "positions_per_pitch = 16\n" in text
+    text = text.replace("positions_per_pitch = 16\n", "positions_per_pitch = 8\n")
     case = tmp_path / "c.toml"
     case.write_text(text)
     out = tmp_path / "o"

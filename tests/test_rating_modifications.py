@@ -199,6 +199,7 @@ def test_least_safety_and_te_rms_both_keep_the_tip_relief_of_power_helical():
 
 
 @pytest.mark.filterwarnings("ignore:optimiser stopped at the iteration cap")  # 2 iterations
+@pytest.mark.usefixtures("no_figures")  # no figure is read: the optimiser draws none
 def test_optimise_write_saves_the_optimum_as_a_case_file_that_loads_back(tmp_path, capsys):
     """``jaxgear optimise CASE --write NEW.toml`` (2 iterations, tip relief depth and extent on
     a coarse power-helical at 1200 N·m, where the optimum beats the case's design and the bare
