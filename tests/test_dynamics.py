@@ -207,6 +207,10 @@ def test_four_dof_modes_energy_and_damping(accessory):
     assert abs(np.asarray(s4.external_load(jnp.asarray(80.0))) @ r) < 1e-9
 
 
+# slow: the same run (2 rad/s, Newmark 2000, SteadyState(3, 2)) on 4 slices is
+# tests/test_dynamic_pressure.py's default test_low_speed_cell_loads_and_pressures_are_the_quasi_
+# static_ones, which asserts these limits of it too
+@pytest.mark.slow
 def test_low_speed_limit_matches_quasi_static(accessory):
     case, scene = accessory
     model = dynamic_model(scene, case.modifications, case.torque, positions_per_pitch=32)
