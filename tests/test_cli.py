@@ -140,7 +140,5 @@ def test_quickstart_example_runs(tmp_path):
     header = (tmp_path / "mesh_stiffness.csv").read_text().splitlines()[0].split(",")
     col = header.index("max_contact_pressure_exact_modified_Pa")
     rows = list(csv.reader((tmp_path / "mesh_stiffness.csv").read_text().splitlines()[1:]))
-    assert max(float(r[col]) for r in rows) == pytest.approx(
-        q["max_contact_pressure_Pa"], rel=1e-9
-    )
+    assert max(float(r[col]) for r in rows) == pytest.approx(q["max_contact_pressure_Pa"], rel=1e-9)
     assert (tmp_path / "pressure_map.png").stat().st_size > 0
