@@ -89,7 +89,11 @@ def _compare(model, ratios, periods):
 # (0.17 % at 32) against the 1 % asserted, and the reference's solve_ivp pieces (most of the
 # test's time) are halved
 @pytest.mark.parametrize(
-    "pair, periods", [pytest.param("unmodified", 32, marks=pytest.mark.slow), ("relieved", 16)]
+    "pair, periods",
+    [
+        pytest.param("unmodified", 32, marks=pytest.mark.slow, id="unmodified"),
+        pytest.param("relieved", 16, id="relieved"),
+    ],
 )
 def test_default_step_matches_continuous_reference(models, pair, periods):
     r, ns, errs = _compare(models[pair], FAST, periods=periods)
