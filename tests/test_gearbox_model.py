@@ -126,12 +126,8 @@ def test_a_gearbox_case_builds_its_coupled_model_at_the_operating_point():
 def test_whine_response_of_a_gearbox_model_is_gearbox_whine():
     """jaxgear.dynamics.whine_response on a GearboxModel gives jaxgear.gearbox.gearbox_whine's
     response (the kind's whine, GearboxModel.whine), and refuses a method the kind does not
-    declare in one line. On tests/test_gearbox_whine.py's two spur pairs joined by a shaft (the
-    dispatch is the chain's kind's, whatever its stages: the two-stage example's planetary
-    stage cost three times the CPU: its nine meshes' tables and torus grid)."""
-    from test_gearbox_whine import _two_pairs
-
-    chain, run = _two_pairs(relief=0.0)
+    declare in one line."""
+    chain, run = EX.two_stage(mean_positions=16)
     model = gb.GearboxModel(chain, run)
     method = jd.QuasiPeriodicBalance(2, 1)
     speeds = np.array([30.0, 60.0])
