@@ -131,3 +131,14 @@ def test_quickstart_example_runs(tmp_path):
     )
     assert [f for f in files if f.endswith(".csv")] == ["mesh_stiffness.csv", "te.csv"]
     assert not [p for p in tmp_path.iterdir() if p.is_dir()]
+    # the contact pressure of this run (jaxgear run on accessory-spur: tests/test_pressure.py's
+    # slow test_jaxgear_run_writes_the_pressure, the same run): max_contact_pressure_Pa per
+    # contact law and the pressure per position in mesh_stiffness.csv, whose largest column
+    # value is the summary's maximum (one field, two outputs)
+    q = res["summary"]["quasi_static"]["exact"]
+    assert 5e8 < q["max_contact_pressure_Pa"] < 2e9 and q["contact_half_width_at_max_m"] > 0
+    header = (tmp_path / "mesh_stiffness.csv").read_text().splitlines()[0].split(",")
+    col = header.index("max_contact_pressure_exact_modified_Pa")
+    rows = list(csv.reader((tmp_path / "mesh_stiffness.csv").read_text().splitlines()[1:]))
+    assert max(float(r[col]) for r in rows) == pytest.approx(q["max_contact_pressure_Pa"], rel=1e-9)
+    assert (tmp_path / "pressure_map.png").stat().st_size > 0

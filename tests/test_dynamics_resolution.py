@@ -82,11 +82,21 @@ def _compare(model, ratios, periods):
     return r, ns, np.array(errs)
 
 
-# the default run checks the relieved pair (its 4 speeds); the unmodified one runs with the slow
-# tier, as do the 15 speeds of both below
-@pytest.mark.parametrize("pair", [pytest.param("unmodified", marks=pytest.mark.slow), "relieved"])
-def test_default_step_matches_continuous_reference(models, pair):
-    r, ns, errs = _compare(models[pair], FAST, periods=32)
+# the default run checks the relieved pair (its 4 speeds) over 16 periods (2 kept); the
+# unmodified one runs with the slow tier over 32, as do the 15 speeds of both below over 60. The
+# reference and simulate solve the same initial value problem from the same start, so the
+# comparison needs no steady state: the relieved pair's largest error is 0.23 % at 16 periods
+# (0.17 % at 32) against the 1 % asserted, and the reference's solve_ivp pieces (most of the
+# test's time) are halved
+@pytest.mark.parametrize(
+    "pair, periods",
+    [
+        pytest.param("unmodified", 32, marks=pytest.mark.slow, id="unmodified"),
+        pytest.param("relieved", 16, id="relieved"),
+    ],
+)
+def test_default_step_matches_continuous_reference(models, pair, periods):
+    r, ns, errs = _compare(models[pair], FAST, periods=periods)
     assert np.all(np.abs(errs) < 0.01), dict(zip(FAST, errs, strict=True))
     # the automatic rule: powers of two, >= 64 per mesh period, >= 40 per mode period
     assert list(ns) == [1024, 256, 64, 64]

@@ -126,6 +126,9 @@ def test_pressure_runs_under_jit_and_its_gradient_matches_differences(spur):
     assert float(value_and_grad(t)[1]) == pytest.approx(fd, rel=1e-5)
 
 
+# slow: the same run (run_case on accessory-spur) is tests/test_cli.py's default
+# test_quickstart_example_runs, which asserts these outputs of it
+@pytest.mark.slow
 def test_jaxgear_run_writes_the_pressure(tmp_path):
     """``jaxgear run``'s quasi-static files (its sweep left out): ``max_contact_pressure_Pa`` per
     contact law, the pressure per position
