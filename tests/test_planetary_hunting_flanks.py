@@ -159,14 +159,16 @@ def test_a_thickness_error_on_both_flanks_is_the_single_table_form(seq, nominal)
     x, nominal = nominal
     thick = _one_tooth(Z_P, 5, F)
     slope = np.linspace(-2e-6, 3e-6, Z_P)
-    single = jp.PlanetaryDeviations(planets=(None, _gear(Z_P, thick),
-                                             _gear(Z_P, profile=slope)))
+    # every member given (zeros where perfect): the structure of tests/test_planetary_hunting.py's
+    # solves, whose compiled program this one is
+    single = jp.PlanetaryDeviations(_gear(Z_S), (_gear(Z_P), _gear(Z_P, thick),
+                                                 _gear(Z_P, profile=slope)), _gear(Z_R))
     # the file's structure (one compiled program with the other tests' solves)
     flanks = jp.PlanetaryDeviations(_gear(Z_S), (
         jp.PlanetFlanks(_gear(Z_P), _gear(Z_P)),
         jp.PlanetFlanks(_gear(Z_P, thick), _gear(Z_P, thick)),
         jp.PlanetFlanks.both(_gear(Z_P, profile=slope))), _gear(Z_R))
-    assert single.planet_flanks(0) == (None, None)
+    assert jp.PlanetaryDeviations(planets=(None,) * 3).planet_flanks(0) == (None, None)
     model = jp.TorsionalPlanetary()
     want = _solve(model, st, jp.DeviationMeshes(contact, teeth, single), x)
     got = _solve(model, st, jp.DeviationMeshes(contact, teeth, flanks), x)

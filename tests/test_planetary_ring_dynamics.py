@@ -19,7 +19,7 @@ import fem_prep as fp
 import jaxgear as jg
 import jaxgear.dynamics as jd
 import jaxgear.planetary as jp
-from _planetary_stage import K0, SEQ, geometry, stage
+from _planetary_stage import K0, RING_PIN_ERRORS, RING_TORQUE, SEQ, geometry, stage
 
 jax.config.update("jax_enable_x64", True)
 
@@ -35,6 +35,15 @@ def seq():
     return geo, stage(geo, 3, pin=3e8, sun_bearing=1e8)
 
 
+# the constant-mesh runs' settings: those of tests/_planetary_stage.py's ring_run (24 steps per
+# mesh period, 6 periods, 3 kept; its torque and pin error are this file's), so that the rigid
+# ring's run is tests/test_planetary_ring_cb.py's compiled program and the flexible rings' one
+# program for both tests here
+RUN = jp.PlanetaryRun(TORQUE, steps_per_period=24, periods=6, keep_periods=3,
+                      damping_ratio=ZETA, tangential_pin_errors=PIN_ERRORS)
+assert TORQUE == RING_TORQUE and np.array_equal(PIN_ERRORS, RING_PIN_ERRORS)
+
+
 def coupled_compliance(z, c=3e-9, share=0.5):
     """An SPD station compliance (m/N) that couples every station: c (delta_kk' + share
     cos(theta_k - theta_k')) on each in-plane direction (a PSD cosine kernel on the identity)."""
@@ -44,13 +53,12 @@ def coupled_compliance(z, c=3e-9, share=0.5):
 
 
 def test_zero_speed_limit_is_the_flexible_quasi_static_solution(seq):
-    """At 1e-6 rad/s, over three mesh periods (the planets move 3/53 of a turn around the
-    ring), the recorded mesh forces and ring deflections are planetary_quasi_static's with the
-    same ring at the same travels, to 1e-8."""
+    """At 1e-6 rad/s, over six mesh periods (the planets move 6/53 of a turn around the
+    ring), the recorded mesh forces and ring deflections of the last three are
+    planetary_quasi_static's with the same ring at the same travels, to 1e-8."""
     _, st = seq
     ring = jp.CondensedRing(coupled_compliance(53))
-    run = jp.PlanetaryRun(TORQUE, steps_per_period=16, periods=3, keep_periods=3,
-                          damping_ratio=ZETA, tangential_pin_errors=PIN_ERRORS)
+    run = RUN
     model = jp.PlanarPlanetary()
     meshes = jp.ConstantMeshes()
     got = jp.planetary_dynamics(model, st, meshes, run, jnp.asarray(1e-6), ring=ring)
@@ -88,8 +96,7 @@ def test_stiff_fe_ring_equals_the_rigid_ring_constant_meshes(seq, fe_compliance)
     dynamic load sharing K_gamma; sun and pins held, as the quasi-static test of
     tests/test_planetary_ring.py), its deflections positive (relieving)."""
     st = stage(seq[0], 3)
-    run = jp.PlanetaryRun(TORQUE, steps_per_period=16, periods=4, keep_periods=2,
-                          damping_ratio=ZETA, tangential_pin_errors=PIN_ERRORS)
+    run = RUN  # the zero-speed test's run: one compiled program for the flexible rings
     model = jp.PlanarPlanetary()
     meshes = jp.ConstantMeshes()
     rigid, stiff, soft = _three_rings(model, st, meshes, run, fe_compliance)
@@ -105,7 +112,7 @@ def _three_rings(model, st, meshes, run, fe_compliance, omega=60.0):
     omega = jnp.asarray(omega)
     return tuple(
         jp.planetary_dynamics(model, st, meshes, run, omega, **ring)
-        for ring in ({}, {"ring": jp.CondensedRing(fe_compliance / 1e3)},
+        for ring in ({"ring": jp.RigidRing()}, {"ring": jp.CondensedRing(fe_compliance / 1e3)},
                      {"ring": jp.CondensedRing(fe_compliance)})
     )
 

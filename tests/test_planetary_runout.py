@@ -107,6 +107,22 @@ def _whirl(r, idx, turn):
     return c, np.abs(np.fft.fft(z)) / z.size
 
 
+# the unbalance tests' run (planar model, constant meshes, 16 steps per mesh period, 30 sun or
+# planet turns of 8 mesh periods, the last turn kept, 5 % damping): one compiled program for the
+# three of them (their stages differ in values only, the speeds are arrays)
+UNBALANCE_RUN = jp.PlanetaryRun(jnp.asarray(TORQUE), steps_per_period=16, periods=8 * 30,
+                                keep_periods=8, damping_ratio=0.05)
+
+
+def _unbalance_run(st, meshes, carrier_speed, mesh_speed):
+    """planetary_dynamics of the unbalance tests at the carrier speed (rad/s) and the mesh
+    travel speed (m/s) given."""
+    r = jp.planetary_dynamics(jp.PlanarPlanetary(), st, meshes, UNBALANCE_RUN,
+                              jnp.asarray(carrier_speed, float), jnp.asarray(mesh_speed, float))
+    assert int(r.result) == 0
+    return r
+
+
 def test_sun_unbalance_far_from_resonance_is_the_static_deflection():
     """Ring held, carrier at Omega: the sun spins at omega_s = Omega (1 + r_br / r_bs) and its
     unbalance U whirls it forward at omega_s - Omega in the carrier frame. Far below the sun's
@@ -116,16 +132,15 @@ def test_sun_unbalance_far_from_resonance_is_the_static_deflection():
     unbalance; and the spectrum of x_s + i y_s has its line at order +1 of the sun's turn
     relative to the carrier."""
     n, k_b, U, beta = 4, 1e8, 2e-5, 0.3
-    st = stage(n, unb=jp.Unbalances(sun=U, sun_phase=beta), sun_bearing=k_b)
+    # a planet unbalance array of zeros: the stage of the next tests (one compiled run)
+    st = stage(n, unb=jp.Unbalances(sun=U, sun_phase=beta, planet=np.zeros(n)),
+               sun_bearing=k_b)
     omega = 250.0
     w_s = omega * (1 + R_R / R_S)
     k = k_b + n / 2 * K_MESH / 2
     assert w_s / math.sqrt(k / 0.4) < 0.04  # far below the sun's translation on k
     meshes = jp.ConstantMeshes(base_pitch=2 * np.pi * R_S / 8)  # 8 periods per sun turn
-    run = jp.PlanetaryRun(jnp.asarray(TORQUE), steps_per_period=16, periods=24, keep_periods=8,
-                          damping_ratio=0.05)
-    r = jp.planetary_dynamics(jp.PlanarPlanetary(), st, meshes, run, omega)
-    assert int(r.result) == 0
+    r = _unbalance_run(st, meshes, omega, R_R * omega)  # the ring held: v = r_br Omega
     turn = beta + np.asarray(r.travel) / R_S
     c, spectrum = _whirl(r, (6, 7), turn)
     static = U * w_s**2 / k
@@ -143,9 +158,7 @@ def test_planet_unbalance_whirls_backwards_at_the_planet_order():
     n = 4
     st = stage(n, unb=jp.Unbalances(planet=np.array([2e-5, 0, 0, 0])))
     meshes = jp.ConstantMeshes(base_pitch=2 * np.pi * R_P / 8)
-    run = jp.PlanetaryRun(jnp.asarray(TORQUE), steps_per_period=16, periods=24, keep_periods=8)
-    r = jp.planetary_dynamics(jp.PlanarPlanetary(), st, meshes, run, 250.0)
-    assert int(r.result) == 0
+    r = _unbalance_run(st, meshes, 250.0, R_R * 250.0)
     turn = -np.asarray(r.travel) / R_P
     c1, s1 = _whirl(r, (9, 10), turn)
     c2, _ = _whirl(r, (12, 13), turn)
@@ -163,7 +176,7 @@ def test_sun_unbalance_at_a_translational_mode_against_the_single_mode_estimate(
     mode within 1 % (the Newmark period error and the start's transient). The unbalance is
     small enough for every mesh to stay loaded."""
     n, k_b, U, zeta = 4, 1e8, 2e-7, 0.05
-    st = stage(n, unb=jp.Unbalances(sun=U), sun_bearing=k_b)
+    st = stage(n, unb=jp.Unbalances(sun=U, planet=np.zeros(n)), sun_bearing=k_b)
     model = jp.PlanarPlanetary()
     M = np.asarray(model.mass_matrix(st))
     K = np.asarray(model.stiffness_matrix(st))
@@ -184,10 +197,8 @@ def test_sun_unbalance_at_a_translational_mode_against_the_single_mode_estimate(
     single, every = response(pair), response(range(len(w)))
     # the carrier fixed, the sun spun at wn: v = r_bs wn; 8 mesh periods per sun turn
     meshes = jp.ConstantMeshes(base_pitch=2 * np.pi * R_S / 8)
-    run = jp.PlanetaryRun(jnp.asarray(TORQUE), steps_per_period=16, periods=8 * 30,
-                          keep_periods=8, damping_ratio=zeta)
-    r = jp.planetary_dynamics(model, st, meshes, run, 0.0, mesh_speed=R_S * wn)
-    assert int(r.result) == 0
+    assert zeta == float(UNBALANCE_RUN.damping_ratio)
+    r = _unbalance_run(st, meshes, 0.0, R_S * wn)
     c, spectrum = _whirl(r, (6, 7), np.asarray(r.travel) / R_S)
     assert abs(c) == pytest.approx(abs(every), rel=1e-2)
     assert abs(c) == pytest.approx(abs(single), rel=5e-2)

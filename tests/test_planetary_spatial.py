@@ -438,11 +438,16 @@ def test_contact_solve_at_beta_zero_is_the_planar_one():
     geo = ps.geometry(**ps.SEQ)
     st = _with_supports(ps.stage(geo, 3), 0.0, ps.HELD, ps.HELD)
     meshes = jp.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(ps.K0), n_slices=2)
-    x = np.asarray(meshes.positions(4))
+    x = np.asarray(meshes.positions(12))
     errors = np.array([15e-6, 0.0, -4e-6])
-    got = [jp.planetary_quasi_static(m, st, meshes, np.asarray(800.0), x, errors)
-           for m in (jp.PlanarPlanetary(), jp.SpatialPlanetary())]
-    planar, spatial = got
+    spatial = jp.planetary_quasi_static(jp.SpatialPlanetary(), st, meshes, np.asarray(800.0), x,
+                                        errors)
+    # the planar model on one slice per line (a spur line's slices share its load evenly: the
+    # planar solve does not depend on them) at the same 12 travels: the compiled solve of
+    # tests/test_planetary_mesh.py's planar tests
+    whole = jp.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(ps.K0))
+    planar = jp.planetary_quasi_static(jp.PlanarPlanetary(), st, whole, np.asarray(800.0), x,
+                                       errors)
     assert np.all(np.asarray(spatial.result) == 0)
     for name in ("sun_mesh_forces", "ring_mesh_forces", "sun_te", "ring_te", "k_gamma"):
         a, b = np.asarray(getattr(spatial, name)), np.asarray(getattr(planar, name))
@@ -558,15 +563,16 @@ def test_face_load_factor_of_a_tilted_mesh_against_the_iso_linear_distribution()
     (rigid-body kinematics: a point at rho + z e_z moves by d + w x (rho + z e_z), so the
     normal deflection's slope is n . ((w_central - w_planet) x e_z)) and F_m / b = F_n / b,
     c b = k (1e-9). The supports stiffened 10^4 times, K_Hbeta -> 1."""
-    st = stage(n=3, k_ring=6.5e8)
+    # four planets at two travels: the previous test's shapes (one compiled program)
+    st = stage(n=4, k_ring=6.5e8)
     model = jp.SpatialPlanetary()
     got = jp.planetary_quasi_static(model, st, jp.ConstantMeshes(face_points=2),
-                                    np.asarray(300.0), np.array([0.0]), np.zeros(3))
+                                    np.asarray(300.0), np.array([0.0, 1e-3]), np.zeros(4))
     q = np.asarray(got.displacement[0])
     b, beta = float(st.face_width), float(st.helix_angle)
     ez = np.array([0.0, 0.0, 1.0])
     names = model.dof_names(st)
-    k_s, k_r = (np.broadcast_to(np.asarray(v), (3,)) for v in st.mesh_stiffnesses())
+    k_s, k_r = (np.broadcast_to(np.asarray(v), (4,)) for v in st.mesh_stiffnesses())
     want = []
     for central, tag, sz, k, f_t in (("s", "s", 1.0, k_s, got.sun_mesh_forces[0]),
                                      ("r", "r", -1.0, k_r, got.ring_mesh_forces[0])):
@@ -585,14 +591,14 @@ def test_face_load_factor_of_a_tilted_mesh_against_the_iso_linear_distribution()
             want.append(1.0 + b * abs(slope) * k[i] / (2.0 * f_n))
     want = np.array(want)
     assert want.max() > 1.05 and want.max() < 2.0  # tilted, every Gauss point loaded
-    np.testing.assert_allclose(got.k_h_beta, want, rtol=1e-9)
+    np.testing.assert_allclose(got.k_h_beta, want, rtol=1e-9)  # constant meshes: both travels alike
     stiff = dataclasses.replace(
         st, **{m: dataclasses.replace(getattr(st, m),
                                       tilt_stiffness=1e4 * getattr(st, m).tilt_stiffness,
                                       axial_stiffness=1e4 * getattr(st, m).axial_stiffness)
                for m in ("sun", "ring", "carrier", "planet")})
     held = jp.planetary_quasi_static(model, stiff, jp.ConstantMeshes(face_points=2),
-                                     np.asarray(300.0), np.array([0.0]), np.zeros(3))
+                                     np.asarray(300.0), np.array([0.0, 1e-3]), np.zeros(4))
     assert np.asarray(held.k_h_beta).max() < 1.0 + 0.01 * (want.max() - 1.0)
 
 

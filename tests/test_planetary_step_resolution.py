@@ -71,11 +71,18 @@ def test_the_warning_fires_below_twenty_steps_per_top_period_and_names_the_defau
     assert r["resolved"] is False and r["automatic"] is False
     assert r["f_max_Hz"] == pytest.approx(f_max, rel=1e-9)
     assert r["steps_per_top_period_min"] == pytest.approx(39 / 40.5 * 20, rel=1e-9)
-    s2, msgs2 = _sweep(case, speeds, 42)
-    assert msgs2 == []
-    assert s2["steps_resolution"]["resolved"] is True
-    assert s2["steps_resolution"]["steps_per_top_period_min"] == pytest.approx(
-        42 / 40.5 * 20, rel=1e-9)
+    # S = 42: the check sweep_summary makes before the work (resolution_checked, whose
+    # CaseWarning and steps_resolution the S = 39 sweep above carried), on the plan it runs
+    # (sweep_time_plan), without integrating (the sweep's records are the S = 39 run's concern)
+    from jaxgear.cli._planetary_steps import resolution_checked
+
+    plan42 = ps.sweep_time_plan(case.form, case, speeds, steps_per_period=42, **RUN)
+    assert plan42.steps.tolist() == [42, 42]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", jio.CaseWarning)
+        r2 = resolution_checked(plan42, speeds * case.form.spec.mesh_frequency(1.0), 3)
+    assert r2["resolved"] is True
+    assert r2["steps_per_top_period_min"] == pytest.approx(42 / 40.5 * 20, rel=1e-9)
     plan = ps.sweep_time_plan(case.form, case, speeds)  # the default (not integrated here)
     assert plan.steps.tolist() == [96, 96]
     with warnings.catch_warnings():
