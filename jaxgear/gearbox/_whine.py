@@ -173,6 +173,13 @@ def gearbox_whine(
     if not excited:
         raise ValueError("gearbox_whine: chain has no stage with contact cells: allowed a chain "
                          "with at least one stage's meshes on cells (a mesh frequency)")
+    group_of = tuple(excited.index(k) if k in excited else -1 for k in range(len(chain.stages)))
+    G = len(excited)
+    R = group_positions(positions, G, "gearbox_whine: positions")
+    if min(R) < 4 * H + 1:
+        raise ValueError(f"gearbox_whine: positions = {positions!r}: allowed >= 4 harmonics + 1 "
+                         f"= {4 * H + 1} per mesh period of each excited stage")
+    # the one check that evaluates the stages' cells, after every argument's own
     dtype = run.input_torque.dtype
     for k in excited:
         s = chain.stages[k]
@@ -182,12 +189,6 @@ def gearbox_whine(
                     f"gearbox_whine: stage {k + 1} ({type(s).__name__}): its cells do not repeat "
                     "every mesh period (stepped planets of two tooth counts, per-tooth "
                     "deviations): allowed stages whose meshes repeat every mesh period")
-    group_of = tuple(excited.index(k) if k in excited else -1 for k in range(len(chain.stages)))
-    G = len(excited)
-    R = group_positions(positions, G, "gearbox_whine: positions")
-    if min(R) < 4 * H + 1:
-        raise ValueError(f"gearbox_whine: positions = {positions!r}: allowed >= 4 harmonics + 1 "
-                         f"= {4 * H + 1} per mesh period of each excited stage")
     # the mesh basis: every cell's structure vector on both flanks at the grid positions
     xs = tuple(_travels(s, R[g] if g >= 0 else 1, dtype)
                for s, g in zip(chain.stages, group_of, strict=True))
