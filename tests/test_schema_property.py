@@ -341,6 +341,12 @@ def _robust_settings(case, what: str):
     )
 
 
+def _parsed_and_checked(parse, data):
+    case = parse(data)
+    jio.check_case(case)
+    return case
+
+
 def _check_case(data, what: str, tmp: Path, *, build: bool = False) -> None:
     text = _dumps(data)
     path = tmp / "case.toml"
@@ -355,7 +361,8 @@ def _check_case(data, what: str, tmp: Path, *, build: bool = False) -> None:
         # pair
         train = any(k in data for k in ("gears", "meshes", "planetary"))
         parse = jio.parse_train if train else jio.parse_case
-        case = _one_line(lambda: parse(copy.deepcopy(data)), what)
+        # the dict's case, checked as load_case checks a file's against its geometry
+        case = _one_line(lambda: _parsed_and_checked(parse, copy.deepcopy(data)), what)
         assert (case is None) == (from_file is None), what
     if case is not None:
         _static_pieces(case, what)

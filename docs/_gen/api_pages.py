@@ -75,7 +75,7 @@ SECTIONS = {
         ("Modes and Campbell diagrams", ("_modal", "_modal_basis", "_rim")),
         ("Gear whine in the frequency domain", ("_whine", "_whine_qp", "_whine_methods")),
         ("Condensed bodies (hybrid)", ("_hybrid*",)),
-        ("The stage contract (a gearbox's stages)", ("_stage",)),
+        ("The stage contract (the stages of a gearbox)", ("_stage",)),
     ),
     "jaxgear.planetary": (
         ("Stage and model kinds", ("_stage", "_spatial", "_runout")),

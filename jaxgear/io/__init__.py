@@ -63,6 +63,7 @@ from ._housing_table import (
     housing_surface as housing_surface,
 )
 from ._load import (
+    check_case as check_case,
     embedded_case_text as embedded_case_text,
     list_cases as list_cases,
     load_case as load_case,

@@ -73,6 +73,22 @@ def load_case(name_or_path: str | os.PathLike) -> Case:
     return _load(name_or_path, ())
 
 
+def check_case(case: Case) -> None:
+    """The checks :func:`load_case` makes of a pair, train or planetary case after its tables
+    (:func:`parse_case`, :func:`parse_train`), against its geometry and before any meshing or
+    solve: a box ``[housing]`` round its shafts and its named points on its skin, the
+    housing's size for this machine, the ``[whine]`` method for the model kind, its groups and
+    its size. Call it after parsing a case from a dict, to refuse what a file would refuse.
+
+    Raises:
+        SchemaError (a ``ValueError``): one line naming the key, its value and the allowed
+            range, in the file's words.
+    """
+    check_case_housing(case)  # the box round its shafts and its points, before any meshing
+    case.housing_size()  # a housing too large for this machine refused before any work
+    check_case_whine(case)  # [whine]: its method for the model kind, its groups, its size
+
+
 def _load(name_or_path: str | os.PathLike, chain: tuple) -> Case:
     """:func:`load_case`, ``chain`` the gearbox files (resolved paths, embedded names) that
     led here: a stage that is one of them (a gearbox whose stage is itself, or a cycle of
@@ -110,9 +126,7 @@ def _load(name_or_path: str | os.PathLike, chain: tuple) -> Case:
         case = parse_gearbox(data, default, base, functools.partial(_load, chain=(*chain, key)))
     else:
         case = parse_train(data, default, base) if is_train(data) else parse_case(data, default, base)
-        check_case_housing(case)  # the box round its shafts and its points, before any meshing
-        case.housing_size()  # a housing too large for this machine refused before any work
-        check_case_whine(case)  # [whine]: its method for the model kind, its groups, its size
+        check_case(case)
     own = (os.path.abspath(name_or_path),) if base is not None else ()
     return dataclasses.replace(case, input_files=_input_files(case, own))
 
