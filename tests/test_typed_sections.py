@@ -36,6 +36,7 @@ from jaxgear.io._case_file import (
 )
 from jaxgear.io._modifications_table import ModificationsSection
 from jaxgear.io._robust_table import RobustSection
+from jaxgear.io._scene_table import DampingSection, IntegrationSection
 from jaxgear.io._train_file import GearSection, MeshEntry, PlanetaryOperating, TrainOperating
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
@@ -64,6 +65,10 @@ BASES = {
                       "proof_stress_MPa": 800.0, "designation": ["42CrMo4", "34CrNiMo6"],
                       "surface_hardness_HV": 300.0},
     OperatingSection: {"torque_Nm": 80.0, "speed_rad_s": 100.0},
+    DampingSection: {"model": "composite", "mesh_ratio": 0.07, "structure_ratio": 0.01},
+    IntegrationSection: {"solver": "newmark", "contact": "exact", "steps_per_period": 64,
+                         "periods": 40, "keep_periods": 4, "rtol": 1e-6, "atol": 1e-6,
+                         "rotating_frame": False, "modal_basis": False},
     MeshSection: {"stiffness": "fe2d", "slices": 40, "positions_per_pitch": 64,
                   "smooth_width_um": 0.1, "fe2d_size_um": 500.0, "foundation": "sainsot",
                   "extended_contact": False},
@@ -124,9 +129,11 @@ def test_mutated_tables_are_refused_in_one_line(pick, key, value, unknown):
 @pytest.mark.parametrize("section", SECTIONS, ids=lambda s: s.WHERE)
 @pytest.mark.parametrize("value", [0.0, False, "x", [1.0]])
 def test_a_table_given_as_a_value_is_one_line(section, value):
-    msg = _one_line(section, value, section.WHERE)
-    assert msg.startswith(f"{section.WHERE} = {sc.fmt(value)}: must be a table "
-                          f"([{section.WHERE}]), not ")
+    msg = _one_line(section, value, section.WHERE.rpartition(".")[2])
+    head, _, last = section.WHERE.rpartition(".")
+    named = f"[{head}] {last}" if head else last  # a sub-table: named in its table
+    assert msg.startswith(f"{named} = {sc.fmt(value)}: must be a table "
+                          f"([{section.WHERE}]), not "), msg
 
 
 def _number_fields():
@@ -137,7 +144,10 @@ def _number_fields():
             rng = range_of(info)
             one_of = any(type(m).__name__ == "Discriminator" for m in info.metadata) or (
                 "Discriminator" in repr(info.annotation))
-            words = (section, key) == (RobustSection, "revolutions")  # or "hunting"
+            words = (section, key) in {(RobustSection, "revolutions"),  # or "hunting"
+                                       (IntegrationSection, "steps_per_period"),  # or "auto"
+                                       (IntegrationSection, "periods"),
+                                       (IntegrationSection, "modal_basis")}  # or false
             if isinstance(rng, Range) and not rng.array and not one_of and not words:
                 out.append((section, key, rng))
     return out
@@ -321,6 +331,34 @@ def test_every_number_key_says_what_the_hand_written_check_says():
                    "stiffness_per_length_N_per_mm_per_um": 1e7},
      "[mesh] stiffness_per_length_N_per_mm_per_um = 1e+07: out of range, allowed (0, 1e+06]"),
     (MeshSection, {"slice": 4}, "[mesh] unknown key 'slice' (did you mean 'slices'?)"),
+    (DampingSection, {"model": "viscous"},
+     "[scene.damping] model = 'viscous': allowed 'composite', 'modal', 'rayleigh', 'none'"),
+    (DampingSection, {"mesh_ratio": 1.5}, "[scene.damping] mesh_ratio = 1.5: out of range, allowed [0, 1]"),
+    (DampingSection, {"beta_s": -1e-5}, "[scene.damping] beta_s = -1e-05: out of range, allowed >= 0"),
+    (DampingSection, {"ratios": 0.05}, "[scene.damping] unknown key 'ratios' (did you mean 'ratio'?)"),
+    (IntegrationSection, {"periods": 1}, "[scene.integration] periods = 1: out of range, allowed [2, 1e+06]"),
+    (IntegrationSection, {"periods": "auto", "steps_per_period": "auto"}, None),
+    (IntegrationSection, {"periods": "all"},
+     "[scene.integration] periods = 'all': allowed 'auto' or an integer in [2, 1e+06]"),
+    (IntegrationSection, {"steps_per_period": "many"},
+     "[scene.integration] steps_per_period = 'many': allowed 'auto' or an integer in [4, 1e+06]"),
+    (IntegrationSection, {"steps_per_period": 3},
+     "[scene.integration] steps_per_period = 3: out of range, allowed [4, 1e+06]"),
+    (IntegrationSection, {"periods": 3},
+     "[scene.integration] keep_periods = 4: out of range, allowed <= periods = 3"),
+    (IntegrationSection, {"periods": 3, "keep_periods": None},
+     "[scene.integration] keep_periods = 4: out of range, allowed <= periods = 3"),
+    (IntegrationSection, {"rtol": 0.0}, "[scene.integration] rtol = 0: out of range, allowed (0, 1)"),
+    (IntegrationSection, {"modal_basis": 12, "solver": "tsit5"},
+     "[scene.integration] modal_basis = 12: allowed only with solver = 'newmark'"),
+    (IntegrationSection, {"modal_basis": True},
+     "[scene.integration] modal_basis = true: must be an integer, not a boolean"),
+    (IntegrationSection, {"modal_basis": 0},
+     "[scene.integration] modal_basis = 0: out of range, allowed [1, 1e+06] (modes), or false"),
+    (IntegrationSection, {"contact": "soft"},
+     "[scene.integration] contact = 'soft': allowed 'exact', 'smooth'"),
+    (IntegrationSection, {"rotating_frame": "yes"},
+     "[scene.integration] rotating_frame = 'yes': must be true or false"),
     (OperatingSection, {"torque_Nm": None}, "[operating] torque_Nm: missing required key"),
     (OperatingSection, {"loads": []}, "[operating] unknown key 'loads'"),
     (TrainOperating, {"loads": 3}, ("[operating] loads = 3: must be an array of tables "
@@ -549,3 +587,21 @@ def test_the_case_mesh_settings_are_the_sections():
     with pytest.raises(sc.SchemaError, match=r"^\[mesh\] smooth_width_um = .*: out of range, "
                        rf"allowed \[0.0001, {0.01 * module_um:.6g}\]"):
         jio.parse_case(data, "fzg")
+
+
+def test_the_scene_settings_are_the_sections():
+    """``[scene.damping]`` and ``[scene.integration]`` reach the scene's settings as given:
+    "auto" counts as None (the time-plan rule), false modal basis absent, the keys not given
+    left to the scene's defaults."""
+    from jaxgear.io._scene_table import parse_dynamics_settings
+
+    kw = parse_dynamics_settings({"damping": {"model": "modal", "ratio": 0.05},
+                                  "integration": {"periods": "auto", "rtol": 1e-7,
+                                                  "modal_basis": False}})
+    assert kw == {"damping_model": "modal", "damping_ratio": 0.05, "solver": "newmark",
+                  "contact": "exact", "steps_per_period": None, "periods": None, "rtol": 1e-7}
+    kw = parse_dynamics_settings({"integration": {"steps_per_period": 128.0, "periods": 12,
+                                                  "keep_periods": 3, "modal_basis": 20}})
+    assert kw["steps_per_period"] == 128 and type(kw["steps_per_period"]) is int
+    assert (kw["periods"], kw["keep_periods"], kw["modal_basis"]) == (12, 3, 20)
+    assert kw["damping_model"] == "composite"
