@@ -29,12 +29,14 @@ from jaxgear.io import (
 )
 from jaxgear.io._case_file import (
     MaterialSection,
+    MeshSection,
     OperatingSection,
     PairMemberSection,
     PairSection,
 )
 from jaxgear.io._modifications_table import ModificationsSection
 from jaxgear.io._robust_table import RobustSection
+from jaxgear.io._scene_table import DampingSection, IntegrationSection
 from jaxgear.io._train_file import GearSection, MeshEntry, PlanetaryOperating, TrainOperating
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
@@ -57,8 +59,19 @@ BASES = {
     PairMemberSection: {"teeth": 45, "profile_shift": 0.341, "face_width_mm": 11.5,
                         "web_thickness_mm": 4.0, "rim_thickness_mm": 5.0},
     MaterialSection: {"youngs_modulus_GPa": 206.0, "poisson_ratio": 0.3,
-                      "density_kg_m3": 7830.0},
+                      "density_kg_m3": 7830.0, "sigma_H_lim_MPa": 1500.0,
+                      "sigma_F_lim_MPa": [430.0, 500.0], "treatment": "through_hardened",
+                      "brinell_hardness_HB": {"input": 200.0, "output": 240.0},
+                      "proof_stress_MPa": 800.0, "designation": ["42CrMo4", "34CrNiMo6"],
+                      "surface_hardness_HV": 300.0},
     OperatingSection: {"torque_Nm": 80.0, "speed_rad_s": 100.0},
+    DampingSection: {"model": "composite", "mesh_ratio": 0.07, "structure_ratio": 0.01},
+    IntegrationSection: {"solver": "newmark", "contact": "exact", "steps_per_period": 64,
+                         "periods": 40, "keep_periods": 4, "rtol": 1e-6, "atol": 1e-6,
+                         "rotating_frame": False, "modal_basis": False},
+    MeshSection: {"stiffness": "fe2d", "slices": 40, "positions_per_pitch": 64,
+                  "smooth_width_um": 0.1, "fe2d_size_um": 500.0, "foundation": "sainsot",
+                  "extended_contact": False},
     TrainOperating: {"torque_Nm": 80.0, "loads": [{"gear": "idler", "torque_Nm": -5.0}]},
     PlanetaryOperating: {"torque_Nm": 1e6, "speed_rad_s": 1.2},
     GearSection: {"name": "ring", "teeth": -99, "normal_module_mm": 10.0,
@@ -116,9 +129,11 @@ def test_mutated_tables_are_refused_in_one_line(pick, key, value, unknown):
 @pytest.mark.parametrize("section", SECTIONS, ids=lambda s: s.WHERE)
 @pytest.mark.parametrize("value", [0.0, False, "x", [1.0]])
 def test_a_table_given_as_a_value_is_one_line(section, value):
-    msg = _one_line(section, value, section.WHERE)
-    assert msg.startswith(f"{section.WHERE} = {sc.fmt(value)}: must be a table "
-                          f"([{section.WHERE}]), not ")
+    msg = _one_line(section, value, section.WHERE.rpartition(".")[2])
+    head, _, last = section.WHERE.rpartition(".")
+    named = f"[{head}] {last}" if head else last  # a sub-table: named in its table
+    assert msg.startswith(f"{named} = {sc.fmt(value)}: must be a table "
+                          f"([{section.WHERE}]), not "), msg
 
 
 def _number_fields():
@@ -129,7 +144,10 @@ def _number_fields():
             rng = range_of(info)
             one_of = any(type(m).__name__ == "Discriminator" for m in info.metadata) or (
                 "Discriminator" in repr(info.annotation))
-            words = (section, key) == (RobustSection, "revolutions")  # or "hunting"
+            words = (section, key) in {(RobustSection, "revolutions"),  # or "hunting"
+                                       (IntegrationSection, "steps_per_period"),  # or "auto"
+                                       (IntegrationSection, "periods"),
+                                       (IntegrationSection, "modal_basis")}  # or false
             if isinstance(rng, Range) and not rng.array and not one_of and not words:
                 out.append((section, key, rng))
     return out
@@ -252,6 +270,95 @@ def test_every_number_key_says_what_the_hand_written_check_says():
      "needs both")),
     (MaterialSection, {"youngs_modulus_GPa": 5e-324},
      "[material] youngs_modulus_GPa = 4.94066e-324: out of range, allowed [0.1, 10000]"),
+    (MaterialSection, {"sigma_H_lim_MPa": -1.0},
+     ("[material] sigma_H_lim_MPa = -1: out of range, allowed [200, 2000] (ISO 6336-5's "
+      "material lines")),
+    (MaterialSection, {"sigma_F_lim_MPa": [430.0, 900.0]},
+     "[material] sigma_F_lim_MPa = [430, 900]: element 900 out of range, allowed [30, 800]"),
+    (MaterialSection, {"sigma_F_lim_MPa": [430.0]},
+     "[material] sigma_F_lim_MPa = [430]: must be an array of 2 numbers"),
+    (MaterialSection, {"sigma_H_lim_MPa": "1500"},
+     "[material] sigma_H_lim_MPa = '1500': must be a number, not a string"),
+    (MaterialSection, {"brinell_hardness_HB": {"input": 50.0}},
+     "[material] brinell_hardness_HB = { input = 50 }: element 50 out of range, allowed [100, 700]"),
+    (MaterialSection, {"proof_stress_MPa": 450.0},
+     "[material] proof_stress_MPa = 450: out of range, allowed [500, 1000]"),
+    (MaterialSection, {"surface_hardness_HV": 50.0},
+     ("[material] surface_hardness_HV = 50: out of range, allowed [100, 1000] (Vickers: "
+      "ISO 6336-5's surface hardness)")),
+    (MaterialSection, {"treatment": "carburised"},
+     "[material] treatment = 'carburised': allowed 'case_hardened', 'through_hardened', 'nitrided'"),
+    (MaterialSection, {"treatment": 3},
+     "[material] treatment = 3: allowed 'case_hardened', 'through_hardened', 'nitrided'"),
+    (MaterialSection, {"treatment": ["nitrided", "glass"]},
+     "[material] treatment = 'glass': allowed 'case_hardened', 'through_hardened', 'nitrided'"),
+    (MaterialSection, {"treatment": {"input": "nitrided", "output": 1.0}},
+     "[material] treatment = 1: allowed 'case_hardened', 'through_hardened', 'nitrided'"),
+    (MaterialSection, {"treatment": ["nitrided"] * 3},
+     ("[material] treatment = ['nitrided', 'nitrided', 'nitrided']: a name or a [pinion, gear] "
+      "list of two names of 'case_hardened', 'through_hardened', 'nitrided'")),
+    (MaterialSection, {"designation": ""},
+     ("[material] designation = '': must be a material name (1 to 60 characters, e.g. "
+      "'18CrNiMo7-6') or a [pinion, gear] list of two")),
+    (MaterialSection, {"designation": ["16MnCr5"]},
+     "[material] designation = ['16MnCr5']: must be a material name"),
+    (MaterialSection, {"designation": "x" * 61}, "[material] designation = "),
+    (MaterialSection, {"designation": {"input": "16MnCr5", "output": 3}},
+     "[material] designation = { input = '16MnCr5', output = 3 }: must be a material name"),
+    (MaterialSection, {"designation": {"input": "16MnCr5"}}, None),  # a train's: names checked
+    (MaterialSection, {"treatment": {"input": "nitrided"}}, None),   # by the train's rating
+    (MaterialSection, {"sigma_bogus_MPa": 1.0}, "[material] unknown key 'sigma_bogus_MPa'"),
+    (MeshSection, {"stiffness": "weber2"},
+     "[mesh] stiffness = 'weber2': allowed 'weber', 'uniform', 'iso6336', 'fe2d'"),
+    (MeshSection, {"slices": 0}, "[mesh] slices = 0: out of range, allowed [1, 10000]"),
+    (MeshSection, {"slices": "forty"}, "[mesh] slices = 'forty': must be an integer, not a string"),
+    (MeshSection, {"positions_per_pitch": 64.5}, "[mesh] positions_per_pitch = 64.5: must be an integer"),
+    (MeshSection, {"smooth_width_um": 0.0},
+     ("[mesh] smooth_width_um = 0: out of range, allowed >= 0.0001 (µm; up to 1 % of the normal "
+      "module)")),
+    (MeshSection, {"foundation": "winkler"},
+     "[mesh] foundation = 'winkler': allowed 'weber', 'sainsot', 'none' (or true = 'weber', false = 'none')"),
+
+    (MeshSection, {"foundation": 1},
+     "[mesh] foundation = 1: allowed 'weber', 'sainsot', 'none' (or true = 'weber', false = 'none')"),
+    (MeshSection, {"extended_contact": 1}, "[mesh] extended_contact = 1: must be true or false"),
+    (MeshSection, {"stiffness": "iso6336"},
+     ("[mesh] fe2d_size_um = 500: belongs to stiffness = 'fe2d', not 'iso6336' (remove it or "
+      "change the model)")),
+    (MeshSection, {"stiffness": "uniform", "fe2d_size_um": None, "foundation": None},
+     "[mesh] stiffness_per_length_N_per_mm_per_um: missing required key"),
+    (MeshSection, {"stiffness": "uniform", "fe2d_size_um": None, "foundation": None,
+                   "stiffness_per_length_N_per_mm_per_um": 1e7},
+     "[mesh] stiffness_per_length_N_per_mm_per_um = 1e+07: out of range, allowed (0, 1e+06]"),
+    (MeshSection, {"slice": 4}, "[mesh] unknown key 'slice' (did you mean 'slices'?)"),
+    (DampingSection, {"model": "viscous"},
+     "[scene.damping] model = 'viscous': allowed 'composite', 'modal', 'rayleigh', 'none'"),
+    (DampingSection, {"mesh_ratio": 1.5}, "[scene.damping] mesh_ratio = 1.5: out of range, allowed [0, 1]"),
+    (DampingSection, {"beta_s": -1e-5}, "[scene.damping] beta_s = -1e-05: out of range, allowed >= 0"),
+    (DampingSection, {"ratios": 0.05}, "[scene.damping] unknown key 'ratios' (did you mean 'ratio'?)"),
+    (IntegrationSection, {"periods": 1}, "[scene.integration] periods = 1: out of range, allowed [2, 1e+06]"),
+    (IntegrationSection, {"periods": "auto", "steps_per_period": "auto"}, None),
+    (IntegrationSection, {"periods": "all"},
+     "[scene.integration] periods = 'all': allowed 'auto' or an integer in [2, 1e+06]"),
+    (IntegrationSection, {"steps_per_period": "many"},
+     "[scene.integration] steps_per_period = 'many': allowed 'auto' or an integer in [4, 1e+06]"),
+    (IntegrationSection, {"steps_per_period": 3},
+     "[scene.integration] steps_per_period = 3: out of range, allowed [4, 1e+06]"),
+    (IntegrationSection, {"periods": 3},
+     "[scene.integration] keep_periods = 4: out of range, allowed <= periods = 3"),
+    (IntegrationSection, {"periods": 3, "keep_periods": None},
+     "[scene.integration] keep_periods = 4: out of range, allowed <= periods = 3"),
+    (IntegrationSection, {"rtol": 0.0}, "[scene.integration] rtol = 0: out of range, allowed (0, 1)"),
+    (IntegrationSection, {"modal_basis": 12, "solver": "tsit5"},
+     "[scene.integration] modal_basis = 12: allowed only with solver = 'newmark'"),
+    (IntegrationSection, {"modal_basis": True},
+     "[scene.integration] modal_basis = true: must be an integer, not a boolean"),
+    (IntegrationSection, {"modal_basis": 0},
+     "[scene.integration] modal_basis = 0: out of range, allowed [1, 1e+06] (modes), or false"),
+    (IntegrationSection, {"contact": "soft"},
+     "[scene.integration] contact = 'soft': allowed 'exact', 'smooth'"),
+    (IntegrationSection, {"rotating_frame": "yes"},
+     "[scene.integration] rotating_frame = 'yes': must be true or false"),
     (OperatingSection, {"torque_Nm": None}, "[operating] torque_Nm: missing required key"),
     (OperatingSection, {"loads": []}, "[operating] unknown key 'loads'"),
     (TrainOperating, {"loads": 3}, ("[operating] loads = 3: must be an array of tables "
@@ -390,3 +497,111 @@ def test_a_mutated_train_file_is_one_line(where, key, value):
             jio.parse_train(data, case)
     except sc.SchemaError as err:
         assert "\n" not in str(err), str(err)
+
+
+@pytest.mark.parametrize(("key", "value", "words"), [
+    ("sigma_H_lim_MPa", {"pinion": 1500.0},
+     "[material] sigma_H_lim_MPa = { pinion = 1500 }: must be a number, not a table"),
+    ("treatment", {"pinion": "nitrided"},
+     ("[material] treatment = { pinion = 'nitrided' }: a name or a [pinion, gear] list of two "
+      "names of")),
+    ("designation", {"pinion": "16MnCr5"},
+     "[material] designation = { pinion = '16MnCr5' }: must be a material name"),
+])
+def test_a_pair_case_refuses_a_table_by_gear_name(key, value, words):
+    """A table by gear name is a train's: a pair's case reads the typed key, then refuses it in
+    one line where the mesh is rated."""
+    data = _fzg()
+    data["material"][key] = value
+    with pytest.raises(sc.SchemaError) as err, warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        jio.parse_case(data, "fzg")
+    assert str(err.value).startswith(words), str(err.value)
+
+
+def test_the_rating_reads_the_typed_material_keys():
+    """The rated pair's material is the file's per-gear numbers (a list: [pinion, gear], MPa
+    → Pa) and treatments (a through-hardened gear with its HB against a case-hardened pinion:
+    Z_W = 1.2 − (HB − 130)/1700, ISO 6336-2)."""
+    data = _fzg()
+    data["material"].update(sigma_H_lim_MPa=[1500.0, 1400.0], sigma_F_lim_MPa=430.0,
+                            treatment=["case_hardened", "through_hardened"],
+                            brinell_hardness_HB=[600.0, 300.0])
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        m = jio.rating_of(jio.parse_case(data, "fzg")).settings.material
+    assert [float(v) for v in m.sigma_h_lim] == [1.5e9, 1.4e9]
+    assert [float(v) for v in m.sigma_f_lim] == [4.3e8, 4.3e8]
+    assert m.treatment.gear.work_hardening(m.treatment.pinion) == pytest.approx(
+        1.2 - (300.0 - 130.0) / 1700.0, rel=1e-12)
+
+
+@pytest.mark.parametrize(("value", "name"), [(True, "weber"), (False, "none"),
+                                             ("sainsot", "sainsot")])
+def test_the_old_boolean_foundation_is_its_name(value, name):
+    assert MeshSection.read({"foundation": value}).foundation == name
+
+
+@pytest.mark.parametrize(("key", "value", "module_mm", "words"), [
+    ("smooth_width_um", 20.0, 1.5,
+     ("[mesh] smooth_width_um = 20: out of range, allowed [0.0001, 15] (µm; up to 1 % of the "
+      "normal module)")),
+    ("smooth_width_um", 14.0, 1.5, None),
+    ("smooth_width_um", 20.0, 4.5, None),
+    ("smooth_width_um", -1.0, 1.5, "allowed [0.0001, 15] (µm; up to 1 % of the normal module)"),
+    ("fe2d_size_um", 10.0, 1.5,
+     "[mesh] fe2d_size_um = 10: out of range, allowed [15, 1500] (m_n/100 to m_n; default m_n/6)"),
+    ("fe2d_size_um", 1600.0, 1.5, "allowed [15, 1500]"),
+    ("fe2d_size_um", 15.0, 1.5, None),
+    ("fe2d_size_um", "1", 1.5, "[mesh] fe2d_size_um = '1': must be a number, not a string"),
+])
+def test_mesh_widths_follow_the_module(key, value, module_mm, words):
+    """``[mesh]``'s smooth width (up to 1 % of m_n) and fe2d's element size (m_n/100 to m_n)
+    are checked against the normal module given as the context (a pair's; a train's smallest),
+    in the range its message prints, the bounds inclusive."""
+    table = {key: value}
+    if words is None:
+        MeshSection.read(table, context={"normal_module": module_mm * 1e-3})
+        return
+    with pytest.raises(sc.SchemaError) as err:
+        MeshSection.read(table, context={"normal_module": module_mm * 1e-3})
+    assert words in str(err.value) and "\n" not in str(err.value), str(err.value)
+
+
+def test_the_case_mesh_settings_are_the_sections():
+    """Through the case reader: ``[mesh]``'s keys reach the case in SI (µm → m, N/mm/µm →
+    N/m²) and a width beyond the case's module is refused in its words."""
+    data = _fzg()
+    data["mesh"] = {"stiffness": "uniform", "stiffness_per_length_N_per_mm_per_um": 14.0,
+                    "slices": 12, "positions_per_pitch": 20, "smooth_width_um": 0.5,
+                    "extended_contact": False}
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        case = jio.parse_case(data, "fzg")
+    assert (case.slices, case.positions_per_pitch) == (12, 20)
+    assert case.smooth_width == pytest.approx(0.5e-6, rel=1e-15)
+    assert float(case.stiffness.k0) == pytest.approx(14e9, rel=1e-15)
+    assert not case.contact_geometry.reaches_beyond_path
+    module_um = data["pair"]["normal_module_mm"] * 1e3
+    data["mesh"]["smooth_width_um"] = 0.011 * module_um
+    with pytest.raises(sc.SchemaError, match=r"^\[mesh\] smooth_width_um = .*: out of range, "
+                       rf"allowed \[0.0001, {0.01 * module_um:.6g}\]"):
+        jio.parse_case(data, "fzg")
+
+
+def test_the_scene_settings_are_the_sections():
+    """``[scene.damping]`` and ``[scene.integration]`` reach the scene's settings as given:
+    "auto" counts as None (the time-plan rule), false modal basis absent, the keys not given
+    left to the scene's defaults."""
+    from jaxgear.io._scene_table import parse_dynamics_settings
+
+    kw = parse_dynamics_settings({"damping": {"model": "modal", "ratio": 0.05},
+                                  "integration": {"periods": "auto", "rtol": 1e-7,
+                                                  "modal_basis": False}})
+    assert kw == {"damping_model": "modal", "damping_ratio": 0.05, "solver": "newmark",
+                  "contact": "exact", "steps_per_period": None, "periods": None, "rtol": 1e-7}
+    kw = parse_dynamics_settings({"integration": {"steps_per_period": 128.0, "periods": 12,
+                                                  "keep_periods": 3, "modal_basis": 20}})
+    assert kw["steps_per_period"] == 128 and type(kw["steps_per_period"]) is int
+    assert (kw["periods"], kw["keep_periods"], kw["modal_basis"]) == (12, 3, 20)
+    assert kw["damping_model"] == "composite"

@@ -13,7 +13,7 @@ from __future__ import annotations
 import math
 import re
 import warnings
-from typing import Any, ClassVar
+from typing import Any, ClassVar, Literal
 
 import pydantic
 
@@ -28,6 +28,7 @@ from .._contact_geometry import TheoreticalPath
 from ._names import FOUNDATIONS, STIFFNESS_MODELS, contact_geometry_from_key, stiffness_from_name
 from ._optimise_table import check_acoustic_tables, parse_optimise
 from ._plausibility import MIN_LINE_LOAD_N_PER_MM, CaseWarning, plausibility
+from ._rating_material_table import MaterialRatingKeys
 from ._rating_table import check_rating
 from ._robust_table import parse_robust
 from ._housing_table import HOUSING_BAND, check_housing_band, parse_housing
@@ -52,17 +53,6 @@ __all__ = [
 
 SchemaError = sc.SchemaError
 
-#: ``[mesh]``'s keys
-MESH_TABLE_KEYS = {
-    "stiffness",
-    "stiffness_per_length_N_per_mm_per_um",
-    "slices",
-    "positions_per_pitch",
-    "smooth_width_um",
-    "foundation",
-    "fe2d_size_um",
-    "extended_contact",
-}
 #: a pair case file's keys (each table checked by its section or its reader)
 _SCHEMA: dict[str, Any] = {
     "name": None,
@@ -187,23 +177,16 @@ class PairMemberSection(MemberSection):
         return super().member(teeth, allowance)
 
 
-class MaterialSection(Section):
-    """``[material]``: Young's modulus (GPa), Poisson's ratio, density (kg/m³); the rating's
-    keys (:data:`~jaxgear.io._rating_table.MATERIAL_RATING_KEYS`, per gear: a number, a
-    [pinion, gear] list or a train's table by gear name) are read and checked by the rating
-    (:mod:`jaxgear.io._rating_material_table`), refused without ``[rating]``."""
+class MaterialSection(MaterialRatingKeys):
+    """``[material]``: Young's modulus (GPa), Poisson's ratio, density (kg/m³), and the
+    rating's keys (:class:`~jaxgear.io._rating_material_table.MaterialRatingKeys`, per gear: a
+    number, a [pinion, gear] list or a train's table by gear name; read where a mesh is rated,
+    refused without ``[rating]``)."""
 
     WHERE: ClassVar[str] = "material"
     youngs_modulus_GPa: number("[0.1, 10000]") = 210.0
     poisson_ratio: number("[0, 0.5)") = 0.3
     density_kg_m3: number("[100, 1e+05]") = 7800.0
-    sigma_H_lim_MPa: Any = None
-    sigma_F_lim_MPa: Any = None
-    treatment: Any = None
-    brinell_hardness_HB: Any = None
-    proof_stress_MPa: Any = None
-    designation: Any = None
-    surface_hardness_HV: Any = None
 
     def material(self) -> tuple[float, float, float]:
         """(E Pa, ν, ρ kg/m³)."""
@@ -385,75 +368,97 @@ def parse_material(data: dict) -> tuple[float, float, float]:
 EXTENDED_CONTACT_DEFAULT = True
 
 
+def _module_range(key: str, v: Any, module: float) -> None:
+    """Refuse a ``[mesh]`` width outside its range for the normal module ``module`` (m): the
+    smooth contact width up to 1 % of it, fe2d's element size m_n/100 to m_n; a value that is
+    not a finite number is left to its type."""
+    mn_um = module * 1e6
+    if key == "smooth_width_um":
+        allowed = f"[{MIN_SMOOTH_WIDTH_UM:g}, {MAX_SMOOTH_WIDTH_MODULE * mn_um:.6g}]"
+        note = f" (µm; up to {100 * MAX_SMOOTH_WIDTH_MODULE:g} % of the normal module)"
+    else:
+        allowed, note = f"[{mn_um / 100:.6g}, {mn_um:.6g}]", _FE2D_NOTE
+    if sc.finite(v) and v not in sc.interval(allowed):
+        raise sc.fail("mesh", key, f"out of range, allowed {allowed}{note}", v)
+
+
+_FE2D_NOTE = " (m_n/100 to m_n; default m_n/6)"
+_FOUNDATION_WORDS = "allowed 'weber', 'sainsot', 'none' (or true = 'weber', false = 'none')"
+
+
+class MeshSection(Section):
+    """``[mesh]``: the mesh model (``stiffness``: a model's name, default fe2d: Weber's
+    half-plane foundation is 16–52 % too stiff against it, docs/stiffness.md) and its settings
+    (a key another model would ignore is refused: :data:`_MODEL_KEYS`; ``uniform`` needs its
+    stiffness per length), slices, positions per pitch, the smooth contact width and fe2d's
+    element size (their ranges follow the normal module, given as the context's
+    ``normal_module``, m), the foundation (a name, or the old boolean: true = "weber", false =
+    "none") and contact beyond the path. :meth:`settings` the :class:`Case` fields."""
+
+    WHERE: ClassVar[str] = "mesh"
+    stiffness: Literal[STIFFNESS_MODELS] = "fe2d"
+    stiffness_per_length_N_per_mm_per_um: number("(0, 1e+06]") | None = None
+    slices: number("[1, 10000]", integer=True) = 40
+    positions_per_pitch: number("[2, 100000]", integer=True) = 64
+    smooth_width_um: number(f">= {MIN_SMOOTH_WIDTH_UM:g}", note=(
+        f" (µm; up to {100 * MAX_SMOOTH_WIDTH_MODULE:g} % of the normal module)")) = 0.1
+    fe2d_size_um: number("> 0", note=_FE2D_NOTE) | None = None
+    foundation: Literal[tuple(FOUNDATIONS)] = "weber"  # or the old boolean (_words)
+    extended_contact: bool = EXTENDED_CONTACT_DEFAULT
+
+    @pydantic.field_validator("smooth_width_um", "fe2d_size_um", "foundation", mode="before")
+    @classmethod
+    def _words(cls, v, info):
+        """The widths' ranges of the normal module; the foundation's names in their words, the
+        old boolean as its name (true "weber", false "none")."""
+        if info.field_name == "foundation":
+            if isinstance(v, bool):
+                return "weber" if v else "none"
+            if not isinstance(v, str) or v not in FOUNDATIONS:
+                raise sc.fail("mesh", "foundation", _FOUNDATION_WORDS, v)
+            return v
+        module = (info.context or {}).get("normal_module")
+        if module is not None:
+            _module_range(info.field_name, v, module)
+        return v
+
+    @pydantic.model_validator(mode="after")
+    def _related(self):
+        for key, models in _MODEL_KEYS.items():  # a key of another model: silently ignored
+            if key in self.given and self.stiffness not in models:
+                raise sc.fail("mesh", key, f"belongs to stiffness = "
+                              f"{' or '.join(repr(x) for x in models)}, not {self.stiffness!r} "
+                              "(remove it or change the model)", getattr(self, key))
+        if self.stiffness == "uniform" and self.stiffness_per_length_N_per_mm_per_um is None:
+            raise sc.fail("mesh", "stiffness_per_length_N_per_mm_per_um", "missing required key")
+        return self
+
+    def settings(self) -> dict:
+        """The :class:`Case` fields of the mesh model: its stiffness model (SI), slices,
+        positions per pitch, smooth width (m) and contact geometry."""
+        k0, size = self.stiffness_per_length_N_per_mm_per_um, self.fe2d_size_um
+        return {
+            "stiffness": stiffness_from_name(
+                self.stiffness, uniform_k0=None if k0 is None else k0 * 1e9,
+                foundation=self.foundation, fe2d_size=None if size is None else size * 1e-6,
+            ),
+            "slices": self.slices,
+            "positions_per_pitch": self.positions_per_pitch,
+            "smooth_width": self.smooth_width_um * 1e-6,
+            # contact beyond the theoretical path (docs/extended-contact.md)
+            "contact_geometry": contact_geometry_from_key(self.extended_contact),
+        }
+
+
+#: ``[mesh]``'s keys
+MESH_TABLE_KEYS = set(MeshSection.model_fields)
+
+
 def parse_mesh_settings(data: dict, normal_module: float) -> dict:
-    """``[mesh]``: the :class:`Case` fields of the mesh model (stiffness model and its
-    settings, slices, positions per pitch, smooth width); ``normal_module`` (m) scales the
-    ranges of the widths (the smallest module of a train)."""
-    m = sc.subtable(data, "mesh", "")
-    # default fe2d: Weber's half-plane foundation is 16–52 % too stiff against it (README,
-    # docs/stiffness.md); the embedded seed cases say "weber", the seed's model
-    model = sc.choice(m, "stiffness", "mesh", STIFFNESS_MODELS, "fe2d")
-    for key, models in _MODEL_KEYS.items():  # a key of another model would be silently ignored
-        if key in m and model not in models:
-            raise sc.fail(
-                "mesh",
-                key,
-                f"belongs to stiffness = {' or '.join(repr(x) for x in models)}, not {model!r} "
-                "(remove it or change the model)",
-                m[key],
-            )
-    k0 = sc.number(
-        m,
-        "stiffness_per_length_N_per_mm_per_um",
-        "mesh",
-        sc.MISSING if model == "uniform" else None,
-        allowed="(0, 1e+06]",
-    )
-    k0 = None if k0 is None else k0 * 1e9
-    slices = sc.number(m, "slices", "mesh", 40, allowed="[1, 10000]", integer=True)
-    ppp = sc.number(m, "positions_per_pitch", "mesh", 64, allowed="[2, 100000]", integer=True)
-    mn_um = normal_module * 1e6  # fe2d element size: 1 to 100 elements per module
-    width = (
-        sc.number(
-            m,
-            "smooth_width_um",
-            "mesh",
-            0.1,
-            allowed=f"[{MIN_SMOOTH_WIDTH_UM:g}, {MAX_SMOOTH_WIDTH_MODULE * mn_um:.6g}]",
-            note=f" (µm; up to {100 * MAX_SMOOTH_WIDTH_MODULE:g} % of the normal module)",
-        )
-        * 1e-6
-    )
-    fe2d_size = sc.number(
-        m,
-        "fe2d_size_um",
-        "mesh",
-        None,
-        allowed=f"[{mn_um / 100:.6g}, {mn_um:.6g}]",
-        note=" (m_n/100 to m_n; default m_n/6)",
-    )
-    fe2d_size = None if fe2d_size is None else fe2d_size * 1e-6
-    # a name, or the old boolean (true = "weber", false = "none"; foundation_from_name maps it)
-    foundation = m.get("foundation", "weber")
-    if foundation not in FOUNDATIONS and not isinstance(foundation, bool):
-        raise sc.fail(
-            "mesh",
-            "foundation",
-            "allowed 'weber', 'sainsot', 'none' (or true = 'weber', false = 'none')",
-            foundation,
-        )
-    return {
-        "stiffness": stiffness_from_name(
-            model, uniform_k0=k0, foundation=foundation, fe2d_size=fe2d_size
-        ),
-        "slices": slices,
-        "positions_per_pitch": ppp,
-        "smooth_width": width,
-        # contact beyond the theoretical path (docs/extended-contact.md)
-        "contact_geometry": contact_geometry_from_key(
-            sc.boolean(m, "extended_contact", "mesh", EXTENDED_CONTACT_DEFAULT)
-        ),
-    }
+    """``[mesh]`` (:class:`MeshSection`): the :class:`Case` fields of the mesh model (stiffness
+    model and its settings, slices, positions per pitch, smooth width); ``normal_module`` (m)
+    scales the ranges of the widths (the smallest module of a train)."""
+    return MeshSection.of_file(data, context={"normal_module": normal_module}).settings()
 
 
 def parse_case(data: dict, default_name: str = "case", base_dir: str | None = None) -> Case:

@@ -103,15 +103,13 @@ from ._planetary_spec import PlanetaryForm
 from ._planetary_table import CUTTER_KEYS, cutter_values
 from ._rating_inputs import modification_inputs
 from ._rating_material_table import (
-    MATERIAL_RANGES,
     TREATMENTS,
-    material_identity,
-    pair_of,
+    MaterialRatingKeys,
+    per_gear,
+    per_gear_pair,
     refuse_unread_material,
-    treatment_names,
-    treatment_of,
 )
-from ._sections import NEEDED, Section, number, number_list, one_of
+from ._sections import NEEDED, Section, number
 from ._spectrum_table import parse_spectrum
 
 __all__ = [
@@ -159,15 +157,7 @@ PLANETARY_KEYS = {"K_gamma", *RING_CUTTER_KEYS}
 #: ``[rating] edition`` years → the model's edition objects
 EDITIONS = {2006: Edition2006, 2019: Edition2019}
 #: the keys a rating adds to ``[material]`` and ``[operating]``
-MATERIAL_RATING_KEYS = {
-    "sigma_H_lim_MPa",
-    "sigma_F_lim_MPa",
-    "treatment",
-    "brinell_hardness_HB",
-    "proof_stress_MPa",
-    "designation",
-    "surface_hardness_HV",
-}
+MATERIAL_RATING_KEYS = set(MaterialRatingKeys.model_fields)
 OPERATING_RATING_KEYS = {"speed_rpm"}
 GIVEN = ("K_v", "K_Hbeta", "K_Fbeta", "K_Halpha", "K_Falpha")
 #: the factors jaxgear measures that ``[rating] use_measured`` may put in place of ISO's
@@ -175,16 +165,6 @@ GIVEN = ("K_v", "K_Hbeta", "K_Fbeta", "K_Halpha", "K_Falpha")
 #: taken for K_Fα; K_v: the speed sweep at the rating speed)
 MEASURABLE = ("K_Hbeta", "K_Halpha", "K_v")
 _YEARS = ", the years 2006 or 2019"
-
-
-def _per_gear(key: str):
-    """The type of a per-gear key of ``[rating]``: a number, a [pinion, gear] list (a train's:
-    in a mesh's table) or a table by gear name (a train's), in its :data:`MATERIAL_RANGES`
-    range."""
-    allowed, note = MATERIAL_RANGES[key]
-    return one_of(number=number(allowed, note=note),
-                  array=number_list(allowed, length=2, note=note),
-                  table=dict[str, number(allowed, note=note)])
 
 
 class RatingKeys(Section):
@@ -197,8 +177,8 @@ class RatingKeys(Section):
     application_factor: number("[1, 10]") = 1.0
     life_h: Annotated[number("(0, 1e+07]") | None, NEEDED] = None
     viscosity_40C_mm2_s: Annotated[number("[1, 10000]") | None, NEEDED] = None
-    roughness_Rz_flank_um: Annotated[_per_gear("roughness_Rz_flank_um") | None, NEEDED] = None
-    roughness_Rz_root_um: Annotated[_per_gear("roughness_Rz_root_um") | None, NEEDED] = None
+    roughness_Rz_flank_um: Annotated[per_gear("roughness_Rz_flank_um") | None, NEEDED] = None
+    roughness_Rz_root_um: Annotated[per_gear("roughness_Rz_root_um") | None, NEEDED] = None
     accuracy_grade: number("[1, 11]", integer=True) = 6
     tip_relief_um: number("[0, 1000]") | None = None
     min_safety_pitting: number("[0.5, 10]") = 1.0
@@ -357,7 +337,7 @@ def parse_rating(
     mat = data.get("material", {})
     rc = _mesh_rating(section.keys(), mat, data.get("operating", {}), pair, material,
                       modifications)
-    refuse_unread_material(mat, [treatment_names(mat.get("treatment"), mat)])
+    refuse_unread_material(mat, [MaterialRatingKeys.of_mesh(mat).treatment_names()])
     if section.spectrum is not None:
         spectrum = parse_spectrum(section.spectrum, float(rc.settings.life))
         rc = dataclasses.replace(rc, spectrum=spectrum)
@@ -366,10 +346,7 @@ def parse_rating(
 
 def _two(rt: RatingKeys, key: str) -> list[float]:
     """A per-gear key of a mesh's rating as [pinion, gear] (a number for both)."""
-    v = getattr(rt, key)
-    if isinstance(v, dict):  # a table by gear name: a train's shared [rating] only
-        raise sc.fail("rating", key, "must be a number, not a table", v)
-    return list(v) if isinstance(v, list) else [v, v]
+    return per_gear_pair(getattr(rt, key), key, "rating")
 
 
 def _mesh_rating(
@@ -385,10 +362,10 @@ def _mesh_rating(
     for key in ("life_h", "viscosity_40C_mm2_s", "roughness_Rz_flank_um", "roughness_Rz_root_um"):
         if getattr(rt, key) is None:
             _need({}, key, "rating")
-    s_h = pair_of(mat, "sigma_H_lim_MPa", "material")
-    s_f = pair_of(mat, "sigma_F_lim_MPa", "material")
-    designation, hardness = material_identity(mat)
-    treatment = treatment_of(mat)
+    m = MaterialRatingKeys.of_mesh(mat)
+    s_h, s_f = m.pair("sigma_H_lim_MPa"), m.pair("sigma_F_lim_MPa")
+    designation, hardness = m.identity()
+    treatment = m.treatment_of()
     speed = rating_speed(op)
     ca = rt.tip_relief_um
     inputs = modification_inputs(None if ca is None else ca * 1e-6, modifications)
@@ -573,8 +550,7 @@ def parse_train_rating(data: dict, case) -> tuple[RatingCase, ...]:
         loading = ToothLoading.of_roles((driving[g], driving[h]), (driven[g], driven[h]))
         settings = eqx.tree_at(lambda s: s.loading, rc.settings, loading)
         out.append(dataclasses.replace(rc, settings=settings))
-        treatments.append(treatment_names(mesh_data["material"].get("treatment"),
-                                           mesh_data["material"]))
+        treatments.append(MaterialRatingKeys.of_mesh(mesh_data["material"]).treatment_names())
     refuse_unread_material(mat, treatments)
     return _with_spectrum(section, out, case.torque, speed)
 
@@ -672,8 +648,7 @@ def parse_planetary_rating(data: dict, case) -> tuple[RatingCase, ...]:
         }
         rc = _mesh_rating(keys, mesh_data["material"], mesh_data["operating"], case.pairs[k],
                           material, one.modifications)
-        treatments.append(treatment_names(mesh_data["material"].get("treatment"),
-                                           mesh_data["material"]))
+        treatments.append(MaterialRatingKeys.of_mesh(mesh_data["material"]).treatment_names())
         settings = eqx.tree_at(lambda s: s.loading, rc.settings, loading[k])
         geometry = SECTIONED[type(case.pairs[k])](case.pairs[k], section)
         out.append(

@@ -42,8 +42,10 @@ optional ``damping_matrix_SI`` (6×6): SI per DOF pair, DOF order ux, uy, uz, rx
 from __future__ import annotations
 
 import os
+from typing import ClassVar, Literal
 
 import numpy as np
+import pydantic
 
 import fem_prep
 from fem_prep import schema as sc
@@ -51,6 +53,7 @@ from fem_prep import schema as sc
 from ..dynamics import DIFFRAX_SOLVERS
 from ..scenes import Bearing, ShaftSpec, bearing_matrix
 from ._scene_spec import SceneSpec
+from ._sections import Section, number
 
 __all__ = ["parse_scene"]
 
@@ -85,18 +88,6 @@ _SHAFT_KEYS = {
 MIN_BEARING_SPAN = 0.01
 _DIAGONAL_BEARING_KEYS = ("radial_N_per_um", "axial_N_per_um", "tilt_Nm_per_rad")
 _BEARING_KEYS = {"position_mm", *_DIAGONAL_BEARING_KEYS, "stiffness_matrix_SI", "damping_matrix_SI"}
-_DAMPING_KEYS = {"model", "ratio", "alpha_per_s", "beta_s", "mesh_ratio", "structure_ratio"}
-_INTEGRATION_KEYS = {
-    "solver",
-    "contact",
-    "steps_per_period",
-    "periods",
-    "keep_periods",
-    "rtol",
-    "atol",
-    "rotating_frame",
-    "modal_basis",
-}
 
 
 def _parse_shaft(t: dict, where: str, gears: list | None = None) -> ShaftSpec:
@@ -273,61 +264,99 @@ def _check_body_file(path: str, ref: str, where: str) -> None:
         raise _body_error(where, f"not a condensed body file {path!r}: {why}", ref) from None
 
 
+#: ``[scene.damping]``'s ratio keys → their :class:`SceneSpec` fields
+_DAMPING_FIELDS = {"ratio": "damping_ratio", "mesh_ratio": "mesh_ratio",
+                   "structure_ratio": "structure_ratio", "alpha_per_s": "rayleigh_alpha",
+                   "beta_s": "rayleigh_beta"}
+#: the words of an ``[scene.integration]`` count that may be "auto"
+_AUTO_WORDS = {"steps_per_period": "allowed 'auto' or an integer in [4, 1e+06]",
+               "periods": "allowed 'auto' or an integer in [2, 1e+06]"}
+
+
+class DampingSection(Section):
+    """``[scene.damping]`` (module docstring): the damping model and its ratios of critical
+    damping ([0, 1]) or its Rayleigh coefficients (α 1/s, β s; >= 0)."""
+
+    WHERE: ClassVar[str] = "scene.damping"
+    model: Literal["composite", "modal", "rayleigh", "none"] = "composite"
+    ratio: number("[0, 1]") | None = None
+    mesh_ratio: number("[0, 1]") | None = None
+    structure_ratio: number("[0, 1]") | None = None
+    alpha_per_s: number(">= 0") | None = None
+    beta_s: number(">= 0") | None = None
+
+    def settings(self) -> dict:
+        """The :class:`SceneSpec` fields of the keys given (the model always)."""
+        return {"damping_model": self.model, **{
+            field: getattr(self, key) for key, field in _DAMPING_FIELDS.items()
+            if key in self.given}}
+
+
+class IntegrationSection(Section):
+    """``[scene.integration]`` (module docstring): the solver and the contact law, the time
+    steps per mesh period and the periods per speed ("auto": the time-plan rule, as
+    ``None``), the periods kept, the diffrax tolerances, and the hybrid scenes' rotating frame
+    and modal basis (false, or its number of modes; Newmark only)."""
+
+    WHERE: ClassVar[str] = "scene.integration"
+    solver: Literal[("newmark", *DIFFRAX_SOLVERS)] = "newmark"
+    contact: Literal["exact", "smooth"] = "exact"
+    steps_per_period: number("[4, 1e+06]", integer=True) | None = pydantic.Field(
+        None, json_schema_extra={"default": "'auto'"})
+    periods: number("[2, 1e+06]", integer=True) | None = pydantic.Field(
+        None, json_schema_extra={"default": "'auto'"})
+    keep_periods: number("[2, 1e+06]", integer=True) | None = pydantic.Field(
+        None, json_schema_extra={"default": "4"})
+    rtol: number("(0, 1)") | None = None
+    atol: number("(0, 1)") | None = None
+    rotating_frame: bool = False
+    modal_basis: number("[1, 1e+06]", integer=True, note=" (modes), or false") | None = (
+        pydantic.Field(None, json_schema_extra={"default": "false"}))
+
+    @pydantic.field_validator("steps_per_period", "periods", "modal_basis", mode="before")
+    @classmethod
+    def _words(cls, v, info):
+        """"auto" (a count) and false (the modal basis) as None; another string in words."""
+        if info.field_name == "modal_basis":
+            return None if v is False else v
+        if isinstance(v, str):
+            if v == "auto":
+                return None
+            raise sc.fail(cls.WHERE, info.field_name, _AUTO_WORDS[info.field_name], v)
+        return v
+
+    @pydantic.model_validator(mode="after")
+    def _related(self):
+        keep = 4 if self.keep_periods is None else self.keep_periods
+        if self.periods is not None and keep > self.periods:
+            raise sc.fail(self.WHERE, "keep_periods",
+                          f"out of range, allowed <= periods = {self.periods}", keep)
+        if self.modal_basis is not None and self.solver != "newmark":
+            raise sc.fail(self.WHERE, "modal_basis", "allowed only with solver = 'newmark'",
+                          self.modal_basis)
+        return self
+
+    def settings(self) -> dict:
+        """The :class:`SceneSpec` fields (``rotating_frame`` aside: its scene checks it): the
+        solver, the contact law and the two counts always, the others where given."""
+        kw = {"solver": self.solver, "contact": self.contact,
+              "steps_per_period": self.steps_per_period, "periods": self.periods}
+        for key in ("keep_periods", "rtol", "atol", "modal_basis"):
+            if getattr(self, key) is not None:
+                kw[key] = getattr(self, key)
+        return kw
+
+
+def integration_of(table: dict) -> IntegrationSection:
+    """The ``[scene.integration]`` of a ``[scene]`` table (its defaults where it has none)."""
+    return IntegrationSection.read(table.get("integration", {}))
+
+
 def parse_dynamics_settings(table: dict) -> dict:
     """The ``[scene.damping]`` and ``[scene.integration]`` tables of a pair's or a train's
     ``[scene]`` (``rotating_frame`` aside): :class:`SceneSpec` fields."""
-    kw: dict = {}
-    d = sc.subtable(table, "damping", "scene", _DAMPING_KEYS)
-    w = "scene.damping"
-    kw["damping_model"] = sc.choice(
-        d, "model", w, ("composite", "modal", "rayleigh", "none"), "composite"
-    )
-    for key, field in (
-        ("ratio", "damping_ratio"),
-        ("mesh_ratio", "mesh_ratio"),
-        ("structure_ratio", "structure_ratio"),
-    ):
-        if key in d:
-            kw[field] = sc.number(d, key, w, allowed="[0, 1]")
-    for key, field in (("alpha_per_s", "rayleigh_alpha"), ("beta_s", "rayleigh_beta")):
-        if key in d:
-            kw[field] = sc.number(d, key, w, allowed=">= 0")
-    g = sc.subtable(table, "integration", "scene", _INTEGRATION_KEYS)
-    w = "scene.integration"
-    kw["solver"] = sc.choice(g, "solver", w, ("newmark", *DIFFRAX_SOLVERS), "newmark")
-    kw["contact"] = sc.choice(g, "contact", w, ("exact", "smooth"), "exact")
-    spp = g.get("steps_per_period", "auto")
-    if spp == "auto":  # resolve the highest excited mode (the default)
-        kw["steps_per_period"] = None
-    elif isinstance(spp, str):
-        raise sc.fail(w, "steps_per_period", "allowed 'auto' or an integer in [4, 1e+06]", spp)
-    periods = g.get("periods", "auto")
-    if periods == "auto":  # run each speed until it settles (the default, docs/dynamics.md)
-        kw["periods"] = None
-    elif isinstance(periods, str):
-        raise sc.fail(w, "periods", "allowed 'auto' or an integer in [2, 1e+06]", periods)
-    for key, lo in (("steps_per_period", 4), ("periods", 2), ("keep_periods", 2)):
-        if key in g and key not in kw:
-            kw[key] = sc.number(g, key, w, allowed=f"[{lo}, 1e+06]", integer=True)
-    if kw.get("periods") is not None and kw.get("keep_periods", 4) > kw["periods"]:
-        raise sc.fail(
-            w,
-            "keep_periods",
-            f"out of range, allowed <= periods = {kw['periods']}",
-            kw.get("keep_periods", 4),
-        )
-    for key in ("rtol", "atol"):
-        if key in g:
-            kw[key] = sc.number(g, key, w, allowed="(0, 1)")
-    if "modal_basis" in g and g["modal_basis"] is not False:  # false: the cell space
-        kw["modal_basis"] = sc.number(
-            g, "modal_basis", w, allowed="[1, 1e+06]", integer=True, note=" (modes), or false"
-        )
-        if kw["solver"] != "newmark":
-            raise sc.fail(
-                w, "modal_basis", "allowed only with solver = 'newmark'", g["modal_basis"]
-            )
-    return kw
+    return (DampingSection.read(table.get("damping", {})).settings()
+            | integration_of(table).settings())
 
 
 def parse_scene(table: dict | None, base_dir: str | None = None) -> SceneSpec:
@@ -408,10 +437,10 @@ def parse_scene(table: dict | None, base_dir: str | None = None) -> SceneSpec:
                 f"remove {side}_inertia_kg_m2 or set reduction = 'none'"
             )
     kw.update(parse_dynamics_settings(table))
-    g = table.get("integration", {})
     w = "scene.integration"
-    if "rotating_frame" in g:
-        kw["rotating_frame"] = sc.boolean(g, "rotating_frame", w)
+    integration = integration_of(table)
+    if "rotating_frame" in integration.given:
+        kw["rotating_frame"] = integration.rotating_frame
         if kw["rotating_frame"] and not any(f"{m}_body" in kw for m in ("pinion", "gear")):
             raise sc.fail(
                 w,

@@ -13,7 +13,7 @@ from fem_prep import schema as sc
 
 from ._case import Case
 from ._scene_spec import SceneSpec
-from ._scene_table import _parse_shaft, parse_body, parse_dynamics_settings
+from ._scene_table import _parse_shaft, integration_of, parse_body, parse_dynamics_settings
 
 __all__ = ["MAX_TABLE_BYTES", "check_table_size", "shaft_of_table", "train_scene"]
 
@@ -55,10 +55,7 @@ def train_scene(
     masses = tuple(
         sc.number(given, n, "scene.masses_kg", None, allowed="[1e-06, 1e+09]") for n in names
     )
-    integration = table.get("integration", {})
-    rotating = False
-    if isinstance(integration, dict) and "rotating_frame" in integration:
-        rotating = sc.boolean(integration, "rotating_frame", "scene.integration")
+    rotating = integration_of(table).rotating_frame
     specs, bodies, rims = None, (), ()
     if model == "lumped3d":
         specs = _train_shafts(table, names, shafts, shaft_names)
