@@ -293,6 +293,18 @@ PRIVATE_IN_TESTS: set[tuple[str, str]] = {
     # the ISO stiffness reference and the printed line jaxgear run writes of it, from one
     # quasi-static result (a whole run of the NREL stage: minutes)
     ("test_iso6336.py", "jaxgear.cli._summary"),
+    # the planetary sweep's step-resolution refusal on a time plan (the check jaxgear sweep
+    # makes before integrating), without a second sweep of the stage
+    ("test_planetary_step_resolution.py", "jaxgear.cli._planetary_steps.resolution_checked"),
+    # each typed table's section declaration, mutated by the hypothesis tests and its words
+    # read against the file reader's
+    ("test_typed_sections.py", "jaxgear.io._case_file"),
+    ("test_typed_sections.py", "jaxgear.io._modifications_table"),
+    ("test_typed_sections.py", "jaxgear.io._robust_table"),
+    ("test_typed_sections.py", "jaxgear.io._scene_table"),
+    ("test_typed_sections.py", "jaxgear.io._train_file"),
+    # the keys that take a value per gear (a number there is a valid value, not a table)
+    ("test_table_types.py", "jaxgear.io._rating_table.PER_GEAR"),
 }
 
 
