@@ -688,6 +688,7 @@ class AbstractDynamicModel(eqx.Module):
         """Whether the kind runs ``setting``, an integrator or a contact law, by its type
         (:attr:`integrators`, :attr:`contact_laws`): asked of the class, no model built."""
         return isinstance(setting, cls.integrators + cls.contact_laws)
+
     #: whether :func:`~jaxgear.dynamics.band_dynamic_factor` runs the kind: its response
     #: gives each mesh's force over its static force at every kept step
     #: (:meth:`mesh_force_ratios`); another kind is refused before any work
