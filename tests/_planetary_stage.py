@@ -208,3 +208,12 @@ def seq_ring_case() -> dict:
             "planet": {**member, "pin_radial_N_per_um": 1e4, "pin_tangential_N_per_um": 1e4},
         },
     }
+
+
+def fourier_orders(signal, n):
+    """One-sided harmonics 0..n-1 of ``signal`` (P, m) sampled at the mid-points s = (r+½)/P."""
+    s = (np.arange(signal.shape[0]) + 0.5) / signal.shape[0]
+    c = np.array([np.mean(signal * np.exp(-2j * np.pi * h * s)[:, None], axis=0)
+                  for h in range(n)])
+    c[1:] *= 2
+    return c

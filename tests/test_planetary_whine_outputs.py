@@ -10,7 +10,7 @@ import pathlib
 import jax
 import numpy as np
 import pytest
-from _planetary_stage import K0, SEQ, geometry, stage
+from _planetary_stage import K0, SEQ, fourier_orders, geometry, stage
 
 import jaxgear as jg
 import jaxgear.io as jio
@@ -37,15 +37,6 @@ def _model(sun_bearing=2e8, ring_bearing=3e9):
     return jp.PlanetaryModel(jp.PlanarPlanetary(), st, meshes, run)
 
 
-def _orders(signal, n):
-    """One-sided harmonics 0..n-1 of ``signal`` (P, m) sampled at the mid-points s = (r+½)/P."""
-    s = (np.arange(signal.shape[0]) + 0.5) / signal.shape[0]
-    c = np.array([np.mean(signal * np.exp(-2j * np.pi * h * s)[:, None], axis=0)
-                  for h in range(n)])
-    c[1:] *= 2
-    return c
-
-
 @pytest.mark.slow  # about 13 s of CPU (two contact solves compiled: the balance's, the reference's)
 def test_low_speed_orders_are_the_quasi_static_fourier_coefficients():
     """At a mesh frequency 7e-7 of the excited mode's (12 kHz): every mesh's TE and force, orders 0-4, equal
@@ -61,8 +52,8 @@ def test_low_speed_orders_are_the_quasi_static_fourier_coefficients():
     qs = jp.planetary_quasi_static(model.kind, st, model.meshes, run.sun_torque,
                                    model.meshes.positions(P, 1), run.tangential_pin_errors)
     assert not np.any(np.asarray(w.contact_loss))
-    te = _orders(np.concatenate([qs.sun_te, qs.ring_te], axis=1), 5)
-    fm = _orders(np.concatenate([qs.sun_mesh_forces, qs.ring_mesh_forces], axis=1), 5)
+    te = fourier_orders(np.concatenate([qs.sun_te, qs.ring_te], axis=1), 5)
+    fm = fourier_orders(np.concatenate([qs.sun_mesh_forces, qs.ring_mesh_forces], axis=1), 5)
     got_te, got_f = np.asarray(w.transmission_error[0, :5]), np.asarray(w.mesh_force[0, :5])
     np.testing.assert_allclose(got_te, te, atol=1e-6 * np.abs(te[0]).max())
     np.testing.assert_allclose(got_f, fm, atol=1e-6 * np.abs(fm[0]).max())
@@ -74,13 +65,13 @@ def test_low_speed_orders_are_the_quasi_static_fourier_coefficients():
     ring_torque = -float(st.ring.base_radius) * f_r.sum(axis=1)
     names = list(w.bearing_names)
     assert names == ["carrier x", "carrier y", "ring x", "ring y", "sun x", "sun y"]
-    ref = _orders(ring_xy, 5)
+    ref = fourier_orders(ring_xy, 5)
     got = np.asarray(w.bearing_force[0, :5, 2:4])
     np.testing.assert_allclose(got, ref, atol=1e-6 * np.abs(ref).max())
     assert np.abs(ref[1:]).max() > 1e-3 * np.abs(ref).max()
     moments = list(w.moment_names)
     assert moments == ["carrier torque", "ring torque"]  # the sun is free to turn
-    tr = _orders(ring_torque[:, None], 5)[:, 0]
+    tr = fourier_orders(ring_torque[:, None], 5)[:, 0]
     np.testing.assert_allclose(np.asarray(w.support_moment[0, :5, 1]), tr,
                                atol=1e-6 * abs(tr[0]))
     total = np.asarray(w.support_moment[0, :5].sum(axis=-1))
@@ -202,7 +193,7 @@ def test_run_writes_a_planetary_stages_whine(tmp_path, capsys):
     qs = jp.planetary_quasi_static(model.kind, model.stage, model.meshes, run.sun_torque,
                                    model.meshes.positions(32, 1), run.tangential_pin_errors,
                                    run.radial_pin_errors)
-    ref = np.abs(_orders(np.concatenate([qs.sun_te, qs.ring_te], axis=1), 4))
+    ref = np.abs(fourier_orders(np.concatenate([qs.sun_te, qs.ring_te], axis=1), 4))
     got = np.array(d["transmission_error_m"]["amplitude"])[0, :4]
     np.testing.assert_allclose(got, ref, atol=1e-6 * ref.max())
     assert ref[1:].max() > 1e-2 * ref.max()

@@ -13,6 +13,7 @@ import jax
 import numpy as np
 import pytest
 import scipy.linalg
+from _planetary_stage import fourier_orders
 
 import jaxgear.dynamics as jd
 import jaxgear.io as jio
@@ -140,15 +141,6 @@ def test_star_dynamics_at_a_very_low_speed_is_the_quasi_static_solve(case):
     assert 1.0 <= dynamic_factor < 1.01
 
 
-def _orders(signal, n):
-    """One-sided harmonics 0..n-1 of ``signal`` (P, m) sampled at the mid-points s = (r+½)/P."""
-    s = (np.arange(signal.shape[0]) + 0.5) / signal.shape[0]
-    c = np.array([np.mean(signal * np.exp(-2j * np.pi * h * s)[:, None], axis=0)
-                  for h in range(n)])
-    c[1:] *= 2
-    return c
-
-
 @pytest.mark.slow  # about 50 s: the whine's contact solves and the reference's compiled
 def test_star_whine_first_order_is_at_the_mesh_frequency(case):
     """jaxgear.dynamics.whine_response on the star stage (the carrier still: Ω = 0, which the
@@ -163,7 +155,7 @@ def test_star_whine_first_order_is_at_the_mesh_frequency(case):
     np.testing.assert_array_equal(np.asarray(w.carrier_speed), 0.0)
     qs = jp.planetary_quasi_static(model.kind, model.stage, model.meshes, model.run.sun_torque,
                                    model.meshes.positions(P, 1))
-    te = _orders(np.concatenate([qs.sun_te, qs.ring_te], axis=1), H + 1)
+    te = fourier_orders(np.concatenate([qs.sun_te, qs.ring_te], axis=1), H + 1)
     got = np.asarray(w.transmission_error[0, : H + 1])
     np.testing.assert_allclose(got, te, atol=1e-6 * np.abs(te[0]).max())
     assert np.abs(te[1]).max() > 1e-3 * np.abs(te[0]).max()
