@@ -8,10 +8,14 @@ in a body file to objects.
 more class beside its algorithm and one more entry here).  All lengths in the file are in mm, the
 modulus in GPa; :class:`~fem_prep.Body` stores SI values (m, Pa, kg/m^3) next to the raw text.
 
-Every error is a :class:`SchemaError` (a ``ValueError``) whose one-line message names the
-offending key, its value as written in the file (mm, deg) and the allowed range, so that a user can
-fix the file without reading the code; integer keys accept integral floats (``modes = 50.0``) and
-reject others (``modes = 50.5``), as in jaxgear's case files.
+Each table of a body file (and of a ring-gear file, :func:`parse_ring_body`) is a typed section
+(:class:`fem_prep._sections.Section`, a pydantic model: :class:`BodyFile`, :class:`BodyTable`,
+:class:`BearingTable`, ...) that declares its keys, their types and ranges once; what relates
+two tables (the bearings and the element sizes to the body, the pinion rim's place) is checked
+here after them. Every error is a :class:`SchemaError` (a ``ValueError``) whose one-line message
+names the offending key, its value as written in the file (mm, deg) and the allowed range, so
+that a user can fix the file without reading the code; integer keys accept integral floats
+(``modes = 50.0``) and reject others (``modes = 50.5``), as in jaxgear's case files.
 
 The checking helpers shared with jaxgear's case files live in :mod:`fem_prep.checks`, the atomic
 writers and embedded-file helpers in :mod:`fem_prep.files`; their names are re-exported here for
@@ -20,12 +24,14 @@ the code that still imports them from ``fem_prep.schema``.
 
 from __future__ import annotations
 
-import functools
 import itertools
 import math
 from importlib import resources
 from pathlib import Path
-from typing import Any
+from typing import Annotated, Any, ClassVar, Literal
+
+import pydantic
+from pydantic import AfterValidator, BeforeValidator, Field
 
 from . import checks as sc, files
 from ._body import (
@@ -44,6 +50,7 @@ from ._elements import Hex20, Hex27
 from ._kinds import Kind
 from ._prepare import Bearings, Free
 from ._ring import BoltedFlange, ElasticFoundation, FreeRing, RingBody
+from ._sections import Section, number as _number  # schema.number: checks.number's
 
 # the shared helpers, re-exported (import them from fem_prep.checks / fem_prep.files)
 from .checks import (  # noqa: F401
@@ -105,68 +112,223 @@ RIM_COUPLINGS: dict[str, Kind] = {"distributing": Distributing(), "nodal": Nodal
 SUPPORTS: dict[str, Kind] = {"bearings": Bearings(), "free": Free()}
 
 
-def _kind(table: dict, key: str, where: str, kinds: dict[str, Kind], default: str) -> Any:
-    """The kind object that ``table[key]`` names (``default`` when absent), out of ``kinds``."""
-    return kinds[sc.choice(table, key, where, kinds, default)]
-
-
-@functools.singledispatch
-def _tables(value: Any) -> Any:
-    """An array of tables as written (``[[bearings]]``), one inline table as a list of one."""
-    return value
-
-
-@_tables.register
-def _(value: dict) -> list:
-    return [value]
+def _within(where: str, key: str, value: float, rng: str, note: str = "") -> None:
+    """Raise ``[where] key = value: out of range, allowed rng (note)`` unless value in rng: a
+    range that follows from other keys (of the table or of the file)."""
+    r = sc.interval(rng)
+    if value not in r:
+        raise sc.fail(where, key, f"out of range, allowed {r}{f' ({note})' if note else ''}", value)
 
 
 # --------------------------------------------------------------------------------------------
-# Parsing (checks and messages from fem_prep.checks, shared with jaxgear's case files)
+# The tables of a body file (lengths in mm, angles in deg, as the file writes them)
 
-_SCHEMA: dict[str, set[str] | None] = {
-    "name": None,
-    "body": {
-        "bore_radius_mm",
-        "hub_outer_radius_mm",
-        "hub_width_mm",
-        "web_thickness_mm",
-        "web_offset_mm",
-        "web_inclination_deg",
-        "rim_inner_radius_mm",
-        "rim_outer_radius_mm",
-        "rim_width_mm",
-        "holes",
-        "shaft_outer_radius_mm",
-    },
-    "bearings": {"axial_position_mm", "coupling", "width_mm"},
-    "material": {"youngs_modulus_GPa", "poisson_ratio", "density_kg_m3"},
-    "mesh": {
-        "element",
-        "size_mm",
-        "hub_size_mm",
-        "web_size_mm",
-        "rim_size_mm",
-        "circumferential_size_mm",
-    },
-    "condensation": {"method", "modes", "teeth", "axial_master_nodes", "rim_coupling"},
-    "centrifugal": {"speed_rad_s", "spin_softening"},
-    "modal": {"support", "n_frequencies", "vtu_modes"},
-    "pinion_rim": {
-        "axial_position_mm",
-        "outer_radius_mm",
-        "width_mm",
-        "teeth",
-        "axial_master_nodes",
-    },
-}
-_HOLES_KEYS = {"count", "center_radius_mm", "radius_mm"}
 _LENGTH = "[0.001, 1e+06]"  # mm: 1 µm to 1 km (a denormal passes "> 0" and fails the mesher)
-
-
+_Length = _number(_LENGTH)
 #: the most DOFs a body's mesh may have (the embedded bodies: 17 k to 104 k): its assembly
 #: alone takes about 10 kB a DOF (20 GB here), the factorisation more
 MAX_MESH_DOFS = 2_000_000
+#: the most component modes of a condensation (the seed retains 50)
+MAX_MODES = 2000
+
+
+def _words(allowed: str = "", default: str = "") -> dict:
+    """A field's range or default that other keys decide, in words (the reference's)."""
+    return {"json_schema_extra": {k: v for k, v in (("allowed", allowed), ("default", default))
+                                  if v}}
+
+
+class HolesTable(Section):
+    """``[body] holes = { count, center_radius_mm, radius_mm }``: holes through the web."""
+
+    WHERE: ClassVar[str] = "body.holes"
+    count: _number("[0, 10000]", integer=True) = 0
+    center_radius_mm: _number(">= 0") = 0.0
+    radius_mm: _number(">= 0") = 0.0
+
+
+class BodyTable(Section):
+    """``[body]``: the meridian section (mm, deg); its radii in order, the web inside the rim,
+    the holes in the web apart (checked here)."""
+
+    WHERE: ClassVar[str] = "body"
+    bore_radius_mm: _Length
+    hub_outer_radius_mm: _Length
+    hub_width_mm: _Length
+    web_thickness_mm: _Length
+    web_offset_mm: _number() = Field(0.0, **_words(
+        "[-(rim_width_mm - web_thickness_mm)/2, (rim_width_mm - web_thickness_mm)/2]"))
+    web_inclination_deg: _number("(-60, 60)") = 0.0
+    rim_inner_radius_mm: _Length
+    rim_outer_radius_mm: _Length
+    rim_width_mm: _Length
+    shaft_outer_radius_mm: _Length | None = Field(None, **_words(default="hub_outer_radius_mm"))
+    holes: HolesTable = HolesTable()
+
+    @property
+    def shaft_mm(self) -> float:
+        """The shaft stubs' outer radius (mm; default the hub's)."""
+        s = self.shaft_outer_radius_mm
+        return self.hub_outer_radius_mm if s is None else s
+
+    @pydantic.model_validator(mode="after")
+    def _fits(self):
+        bore, hub_r, rim_i = self.bore_radius_mm, self.hub_outer_radius_mm, self.rim_inner_radius_mm
+        rim_o, rim_w, web_t = self.rim_outer_radius_mm, self.rim_width_mm, self.web_thickness_mm
+        w = self.WHERE
+        _within(w, "bore_radius_mm", bore, f"(0, {hub_r!r})", "below hub_outer_radius_mm")
+        _within(w, "hub_outer_radius_mm", hub_r, f"({bore!r}, {rim_i!r}]",
+                "bore to rim_inner_radius_mm")
+        _within(w, "rim_inner_radius_mm", rim_i, f"[{hub_r!r}, {rim_o!r})", "hub_outer to rim_outer")
+        _within(w, "web_thickness_mm", web_t, f"(0, {min(rim_w, self.hub_width_mm)!r}]",
+                "<= rim and hub widths")
+        lim = (rim_w - web_t) / 2
+        _within(w, "web_offset_mm", self.web_offset_mm, f"[{-lim!r}, {lim!r}]",
+                "the web inside the rim: |offset| <= (rim_width - web_thickness)/2")
+        _within(w, "shaft_outer_radius_mm", self.shaft_mm, f"({bore!r}, {hub_r!r}]",
+                "bore to hub outer")
+        n, hc, hr = self.holes.count, self.holes.center_radius_mm, self.holes.radius_mm
+        h = HolesTable.WHERE
+        if n > 0:
+            _within(h, "radius_mm", hr, ">= 0.001", "holes need a radius")
+            if hub_r >= rim_i:
+                raise sc.fail(h, "count", "needs a web (hub_outer_radius_mm < rim_inner)", n)
+            _within(h, "center_radius_mm", hc, f"({hub_r + hr!r}, {rim_i - hr!r})",
+                    "hub_outer + radius, rim_inner - radius")
+            if n > 1:
+                _within(h, "radius_mm", hr, f"(0, {hc * math.sin(math.pi / n)!r})",
+                        f"{n} holes overlap beyond center_radius * sin(pi / count)")
+        return self
+
+
+#: a bearing's position and band within this many times the body's largest size
+_BEARING_REACH = 20
+_REACH = f"{_BEARING_REACH} x max(rim_width_mm, hub_width_mm, rim_outer_radius_mm)"
+
+
+class BearingTable(Section):
+    """A ``[[bearings]]`` entry: a bearing node and how it holds the bore (its range is the
+    body's: checked by :func:`parse_body`)."""
+
+    axial_position_mm: _number() = Field(**_words(f"[-{_REACH}, {_REACH}]"))
+    coupling: Literal[tuple(COUPLINGS)] = "rigid"
+    width_mm: _number() | None = Field(None, **_words(f"[0.001, 2 x {_REACH}]"))
+
+
+def _bearing_tables(value: Any) -> Any:
+    """``[[bearings]]`` as written, one inline table as a list of one; none refused."""
+    value = [value] if isinstance(value, dict) else value
+    if not isinstance(value, list) or not value:
+        raise sc.SchemaError("[[bearings]]: at least one [[bearings]] table is required "
+                             "(axial_position_mm, coupling)")
+    return value
+
+
+class MaterialTable(Section):
+    """``[material]``: isotropic linear elastic (GPa, kg/m^3); up to 1e6 GPa: a rigidified body
+    (the seed uses E = 4e14 Pa)."""
+
+    youngs_modulus_GPa: _number("[0.1, 1e+06]") = 210.0
+    poisson_ratio: _number("(-1, 0.5)") = 0.3
+    density_kg_m3: _number("[100, 1e+06]") = 7800.0
+
+    def material(self) -> Material:
+        """The :class:`~fem_prep.Material` (SI)."""
+        return Material(self.youngs_modulus_GPa * 1e9, self.poisson_ratio, self.density_kg_m3)
+
+
+#: an element size's floor: 1e-3 of the rim's outer radius (checked by :func:`parse_body`)
+_FLOOR = "1e-3 x rim_outer_radius_mm"
+
+
+class MeshTable(Section):
+    """``[mesh]`` of a body file: the element and the target sizes (mm; ``None``: ``size_mm``)."""
+
+    element: Literal[tuple(ELEMENTS)] = "hex20"
+    size_mm: _Length = Field(2.0, **_words(f"{_LENGTH}, >= {_FLOOR}"))
+    hub_size_mm: _Length | None = Field(None, **_words(f"{_LENGTH}, >= {_FLOOR}"))
+    web_size_mm: _Length | None = Field(None, **_words(f"{_LENGTH}, >= {_FLOOR}"))
+    rim_size_mm: _Length | None = Field(None, **_words(f"{_LENGTH}, >= {_FLOOR}"))
+    circumferential_size_mm: _Length | None = Field(None, **_words(f"{_LENGTH}, >= {_FLOOR}"))
+
+
+class CondensationTable(Section):
+    """``[condensation]``: the method, its retained modes, the rim masters."""
+
+    method: Literal[tuple(METHODS)] = "craig-bampton"
+    modes: _number(f"[0, {MAX_MODES}]", integer=True, note=" (the seed: 50)") = 50
+    teeth: _number("[3, 1000]", integer=True)
+    axial_master_nodes: _number("[1, 50]", integer=True) = 5
+    rim_coupling: Literal[tuple(RIM_COUPLINGS)] = "distributing"
+
+    def condensation(self) -> Condensation:
+        """The :class:`~fem_prep.Condensation` (the kinds as objects)."""
+        return Condensation(method=METHODS[self.method], modes=self.modes, teeth=self.teeth,
+                            axial_master_nodes=self.axial_master_nodes,
+                            rim_coupling=RIM_COUPLINGS[self.rim_coupling])
+
+
+class CentrifugalTable(Section):
+    """``[centrifugal]``: up to 1e5 rad/s (as jaxgear's ``[operating] speed_rad_s``): a rim
+    speed beyond any steel's."""
+
+    speed_rad_s: _number("[0, 1e+05]") = 0.0
+    spin_softening: bool = False
+
+
+class ModalTable(Section):
+    """``[modal]``: the support of the reported frequencies, how many, how many shapes."""
+
+    WHERE: ClassVar[str] = "modal"
+    support: Literal[tuple(SUPPORTS)] = "bearings"
+    n_frequencies: _number("[1, 200]", integer=True) = 20
+    vtu_modes: _number(integer=True) = Field(10, **_words("[0, n_frequencies]"))
+
+    @pydantic.model_validator(mode="after")
+    def _shapes(self):
+        if "vtu_modes" in self.model_fields_set:  # the default is not checked (as before)
+            _within(self.WHERE, "vtu_modes", self.vtu_modes, f"[0, {self.n_frequencies}]",
+                    "<= n_frequencies")
+        return self
+
+
+class PinionRimTable(Section):
+    """``[pinion_rim]``: a pinion on the shaft beside the wheel (mm; its place is checked
+    against the body by :func:`parse_body`)."""
+
+    axial_position_mm: _number() = Field(**_words(
+        "its face beside the wheel's hub and rim, on the shaft (hub and stubs to the bearings)"))
+    width_mm: _Length
+    outer_radius_mm: _Length = Field(**_words(
+        "(shaft_outer_radius_mm, rim_outer_radius_mm), within [0.001, 1e+06]"))
+    teeth: _number("[3, 1000]", integer=True)
+    axial_master_nodes: _number("[1, 50]", integer=True) | None = Field(
+        None, **_words(default="[condensation] axial_master_nodes"))
+
+
+def _file_name(value: Any) -> Any:
+    """A ``name`` that is a name, not a path (:func:`fem_prep.checks.name`)."""
+    return sc.name({"name": value}, "name", "")
+
+
+class BodyFile(Section):
+    """A body file (``docs/fem_prep.md``): its tables, each checked on its own; what relates
+    them (the bearings and the mesh sizes to the body, the pinion rim's place) is
+    :func:`parse_body`'s."""
+
+    name: Annotated[Any, AfterValidator(_file_name)] = Field(
+        None, **_words(default="the file's name"))
+    body: BodyTable
+    bearings: Annotated[list[BearingTable], BeforeValidator(_bearing_tables)] = Field(
+        default_factory=list, validate_default=True)
+    material: MaterialTable = MaterialTable()
+    mesh: MeshTable = MeshTable()
+    condensation: CondensationTable = Field(default_factory=dict, validate_default=True)
+    centrifugal: CentrifugalTable = CentrifugalTable()
+    modal: ModalTable = ModalTable()
+    pinion_rim: PinionRimTable | None = None
+
+
 #: the most component modes of a condensation (the seed retains 50)
 MAX_MODES = 2000
 
@@ -227,13 +389,6 @@ def _check_mesh_size(ms: dict, mesh: MeshSettings, g: Geometry, bearings, teeth,
     )
 
 
-def _within(key: str, value: float, rng: str, note: str, where: str = "body") -> None:
-    """Raise ``[where] key = value: out of range, allowed rng (note)`` unless value in rng."""
-    r = sc.interval(rng)
-    if value not in r:
-        raise sc.fail(where, key, f"out of range, allowed {r} ({note})", value)
-
-
 def parse_body(text: str, *, default_name: str = "body", label: str = "body file") -> Body:
     """Parse and validate body-file TOML text.
 
@@ -251,185 +406,80 @@ def parse_body(text: str, *, default_name: str = "body", label: str = "body file
             naming the key, its value in mm/deg as written and the allowed range.
     """
     data = sc.load_toml(text, label)
-    sc.check_keys(data, _SCHEMA, "")
-    name = sc.name(data, "name", "", default_name)
-
-    # ---- [body]
-    b = sc.subtable(data, "body", "", _SCHEMA["body"], required=True)
-    w = "body"
-    mm = 1e-3
-    bore = sc.number(b, "bore_radius_mm", w, allowed=_LENGTH)
-    hub_r = sc.number(b, "hub_outer_radius_mm", w, allowed=_LENGTH)
-    hub_w = sc.number(b, "hub_width_mm", w, allowed=_LENGTH)
-    web_t = sc.number(b, "web_thickness_mm", w, allowed=_LENGTH)
-    web_off = sc.number(b, "web_offset_mm", w, 0.0)
-    incl_deg = sc.number(b, "web_inclination_deg", w, 0.0, allowed="(-60, 60)")
-    rim_i = sc.number(b, "rim_inner_radius_mm", w, allowed=_LENGTH)
-    rim_o = sc.number(b, "rim_outer_radius_mm", w, allowed=_LENGTH)
-    rim_w = sc.number(b, "rim_width_mm", w, allowed=_LENGTH)
-    shaft_r = sc.number(b, "shaft_outer_radius_mm", w, hub_r, allowed=_LENGTH)
-    _within("bore_radius_mm", bore, f"(0, {hub_r!r})", "below hub_outer_radius_mm")
-    _within("hub_outer_radius_mm", hub_r, f"({bore!r}, {rim_i!r}]", "bore to rim_inner_radius_mm")
-    _within("rim_inner_radius_mm", rim_i, f"[{hub_r!r}, {rim_o!r})", "hub_outer to rim_outer")
-    _within("web_thickness_mm", web_t, f"(0, {min(rim_w, hub_w)!r}]", "<= rim and hub widths")
-    lim = (rim_w - web_t) / 2
-    _within(
-        "web_offset_mm",
-        web_off,
-        f"[{-lim!r}, {lim!r}]",
-        "the web inside the rim: |offset| <= (rim_width - web_thickness)/2",
-    )
-    _within("shaft_outer_radius_mm", shaft_r, f"({bore!r}, {hub_r!r}]", "bore to hub outer")
-
-    h = b.get("holes", {})
-    if not isinstance(h, dict):
-        raise sc.fail(
-            w, "holes", "must be an inline table { count, center_radius_mm, radius_mm }", h
-        )
-    h = {f"holes.{k}": v for k, v in h.items()}  # messages: [body] holes.count = ...
-    sc.check_keys(h, {f"holes.{k}" for k in _HOLES_KEYS}, w)
-    n_holes = sc.number(h, "holes.count", w, 0, allowed="[0, 10000]", integer=True)
-    hc = sc.number(h, "holes.center_radius_mm", w, 0.0, allowed=">= 0")
-    hr = sc.number(h, "holes.radius_mm", w, 0.0, allowed=">= 0")
-    if n_holes > 0:
-        _within("holes.radius_mm", hr, ">= 0.001", "holes need a radius")
-        if hub_r >= rim_i:
-            raise sc.fail(
-                w, "holes.count", "needs a web (hub_outer_radius_mm < rim_inner)", n_holes
-            )
-        _within(
-            "holes.center_radius_mm",
-            hc,
-            f"({hub_r + hr!r}, {rim_i - hr!r})",
-            "hub_outer + radius, rim_inner - radius",
-        )
-        if n_holes > 1:
-            rmax = hc * math.sin(math.pi / n_holes)
-            _within(
-                "holes.radius_mm",
-                hr,
-                f"(0, {rmax!r})",
-                f"{n_holes} holes overlap beyond center_radius * sin(pi / count)",
-            )
+    f = BodyFile.read(data)
+    name = sc.name({}, "name", "", default_name) if f.name is None else f.name
+    b, mm = f.body, 1e-3
+    n_holes, holes = b.holes.count, b.holes
     geometry = Geometry(
-        bore_radius=bore * mm,
-        hub_outer_radius=hub_r * mm,
-        hub_width=hub_w * mm,
-        web_thickness=web_t * mm,
-        web_offset=web_off * mm,
-        web_inclination=math.radians(incl_deg),
-        rim_inner_radius=rim_i * mm,
-        rim_outer_radius=rim_o * mm,
-        rim_width=rim_w * mm,
-        holes=Holes(n_holes, hc * mm if n_holes else 0.0, hr * mm if n_holes else 0.0),
-        shaft_outer_radius=shaft_r * mm,
+        bore_radius=b.bore_radius_mm * mm,
+        hub_outer_radius=b.hub_outer_radius_mm * mm,
+        hub_width=b.hub_width_mm * mm,
+        web_thickness=b.web_thickness_mm * mm,
+        web_offset=b.web_offset_mm * mm,
+        web_inclination=math.radians(b.web_inclination_deg),
+        rim_inner_radius=b.rim_inner_radius_mm * mm,
+        rim_outer_radius=b.rim_outer_radius_mm * mm,
+        rim_width=b.rim_width_mm * mm,
+        holes=Holes(n_holes, holes.center_radius_mm * mm if n_holes else 0.0,
+                    holes.radius_mm * mm if n_holes else 0.0),
+        shaft_outer_radius=b.shaft_mm * mm,
     )
-
-    # ---- [[bearings]]
-    bl = _tables(data.get("bearings", []))
-    if not isinstance(bl, list) or not bl:
-        raise sc.SchemaError(
-            "[[bearings]]: at least one [[bearings]] table is required (axial_position_mm, "
-            "coupling)"
-        )
-    lim = 20 * max(rim_w, hub_w, rim_o)
-    seen: dict[float, int] = {}
-    raw = []  # (position, coupling, explicit width or None), mm
-    for k, t in enumerate(bl):
-        wb = f"bearings[{k}]"
-        if not isinstance(t, dict):
-            raise sc.fail("", wb, "must be a table", t)
-        sc.check_keys(t, _SCHEMA["bearings"], wb)  # type: ignore[arg-type]
-        pos = sc.number(t, "axial_position_mm", wb, allowed=f"[{-lim!r}, {lim!r}]")
-        for other, j in seen.items():
-            if abs(other - pos) < 1e-3:
-                raise sc.fail(wb, "axial_position_mm", f"same position as bearings[{j}]", pos)
-        seen[pos] = k
-        coupling = _kind(t, "coupling", wb, COUPLINGS, "rigid")
-        width = sc.number(t, "width_mm", wb, None, allowed=f"[0.001, {2 * lim!r}]")
-        raw.append((pos, coupling, width))
-    bearings = _bearing_bands(raw, geometry, hub_w)
-
-    # ---- [material]
-    m = sc.subtable(data, "material", "", _SCHEMA["material"])
-    # up to 1e6 GPa: a rigidified body (the seed uses E = 4e14 Pa)
-    e = sc.number(m, "youngs_modulus_GPa", "material", 210.0, allowed="[0.1, 1e+06]")
-    nu = sc.number(m, "poisson_ratio", "material", 0.3, allowed="(-1, 0.5)")
-    rho = sc.number(m, "density_kg_m3", "material", 7800.0, allowed="[100, 1e+06]")
-    material = Material(e * 1e9, nu, rho)
-
-    # ---- [mesh]
-    ms = sc.subtable(data, "mesh", "", _SCHEMA["mesh"])
-    element = _kind(ms, "element", "mesh", ELEMENTS, "hex20")
-    floor = float(f"{1e-3 * rim_o:.6g}")  # the bound as printed (0.052 for a 52 mm rim)
+    bearings = _bearings(f.bearings, b, geometry)
+    floor = float(f"{1e-3 * b.rim_outer_radius_mm:.6g}")  # the bound as printed (0.052 for 52 mm)
     sizes = {}
     for key in ("size_mm", "hub_size_mm", "web_size_mm", "rim_size_mm", "circumferential_size_mm"):
-        v = sc.number(ms, key, "mesh", 2.0 if key == "size_mm" else None, allowed=_LENGTH)
+        v = getattr(f.mesh, key)
         if v is not None:
-            _within(key, v, f">= {floor!r}", "1e-3 x rim_outer_radius_mm", "mesh")
+            _within("mesh", key, v, f">= {floor!r}", _FLOOR)
         sizes[key[:-3]] = None if v is None else v * mm
-    mesh = MeshSettings(element, **sizes)  # type: ignore[arg-type]
-
-    # ---- [condensation]
-    c = sc.subtable(data, "condensation", "", _SCHEMA["condensation"])
-    w = "condensation"
-    condensation = Condensation(
-        method=_kind(c, "method", w, METHODS, "craig-bampton"),
-        modes=sc.number(
-            c, "modes", w, 50, allowed=f"[0, {MAX_MODES}]", integer=True, note=" (the seed: 50)"
-        ),
-        teeth=sc.number(c, "teeth", w, allowed="[3, 1000]", integer=True),
-        axial_master_nodes=sc.number(
-            c, "axial_master_nodes", w, 5, allowed="[1, 50]", integer=True
-        ),
-        rim_coupling=_kind(c, "rim_coupling", w, RIM_COUPLINGS, "distributing"),
-    )
-
-    # ---- [centrifugal]
-    cf = sc.subtable(data, "centrifugal", "", _SCHEMA["centrifugal"])
-    # up to 1e5 rad/s (as jaxgear's [operating] speed_rad_s): a rim speed beyond any steel's
-    speed = sc.number(cf, "speed_rad_s", "centrifugal", 0.0, allowed="[0, 1e+05]")
-    spin = sc.boolean(cf, "spin_softening", "centrifugal", False)
-
-    # ---- [modal] (optional extension)
-    md = sc.subtable(data, "modal", "", _SCHEMA["modal"])
-    support = _kind(md, "support", "modal", SUPPORTS, "bearings")
-    nf = sc.number(md, "n_frequencies", "modal", 20, allowed="[1, 200]", integer=True)
-    nv = sc.number(
-        md, "vtu_modes", "modal", 10, allowed=f"[0, {nf}]", integer=True, note=" (<= n_frequencies)"
-    )
-
-    pinion = _pinion_rim(data, geometry, bearings, condensation)
-    _check_mesh_size(ms, mesh, geometry, bearings, condensation.teeth, pinion)
-
+    mesh = MeshSettings(ELEMENTS[f.mesh.element], **sizes)  # type: ignore[arg-type]
+    condensation = f.condensation.condensation()
+    pinion = None if f.pinion_rim is None else _pinion_rim(f.pinion_rim, geometry, bearings,
+                                                           condensation)
+    _check_mesh_size(data.get("mesh", {}), mesh, geometry, bearings, condensation.teeth, pinion)
     return Body(
         name=name,
         geometry=geometry,
         bearings=tuple(bearings),
-        material=material,
+        material=f.material.material(),
         mesh=mesh,
         condensation=condensation,
-        speed=speed,
-        spin_softening=spin,
-        support=support,
-        n_frequencies=nf,
-        vtu_modes=nv,
+        speed=f.centrifugal.speed_rad_s,
+        spin_softening=f.centrifugal.spin_softening,
+        support=SUPPORTS[f.modal.support],
+        n_frequencies=f.modal.n_frequencies,
+        vtu_modes=f.modal.vtu_modes,
         pinion_rim=pinion,
         source_text=text,
     )
 
 
+def _bearings(tables: list[BearingTable], b: BodyTable, g: Geometry) -> list[BearingSeat]:
+    """The ``[[bearings]]`` within the body's reach (file units), apart, their bands
+    resolved (:func:`_bearing_bands`)."""
+    lim = _BEARING_REACH * max(b.rim_width_mm, b.hub_width_mm, b.rim_outer_radius_mm)
+    seen: dict[float, int] = {}
+    raw = []  # (position, coupling, explicit width or None), mm
+    for k, t in enumerate(tables):
+        wb, pos = f"bearings[{k}]", t.axial_position_mm
+        _within(wb, "axial_position_mm", pos, f"[{-lim!r}, {lim!r}]")
+        for other, j in seen.items():
+            if abs(other - pos) < 1e-3:
+                raise sc.fail(wb, "axial_position_mm", f"same position as bearings[{j}]", pos)
+        seen[pos] = k
+        if t.width_mm is not None:
+            _within(wb, "width_mm", t.width_mm, f"[0.001, {2 * lim!r}]")
+        raw.append((pos, COUPLINGS[t.coupling], t.width_mm))
+    return _bearing_bands(raw, g, b.hub_width_mm)
+
+
 def _pinion_rim(
-    data: dict, g: Geometry, bearings: list[BearingSeat], cond: Condensation
-) -> PinionRim | None:
-    """The optional ``[pinion_rim]`` (file units in, SI out): a pinion ring from the bore to
+    p: PinionRimTable, g: Geometry, bearings: list[BearingSeat], cond: Condensation
+) -> PinionRim:
+    """The ``[pinion_rim]`` (file units in, SI out): a pinion ring from the bore to
     ``outer_radius_mm`` over ``width_mm`` at ``axial_position_mm``, beside the wheel's hub and
     rim and on the shaft (within the bore's extent: hub and stubs to the bearings)."""
-    if "pinion_rim" not in data:
-        return None
-    p = sc.subtable(data, "pinion_rim", "", _SCHEMA["pinion_rim"])
-    w = "pinion_rim"
-    mm = 1e-3
+    w, mm = "pinion_rim", 1e-3
     if g.web_inclination != 0.0:
         raise sc.fail(
             "body",
@@ -437,21 +487,16 @@ def _pinion_rim(
             "must be 0 on a body with a [pinion_rim] (the pinion sits on the unsheared shaft)",
             math.degrees(g.web_inclination),
         )
-    pos = sc.number(p, "axial_position_mm", w)
-    width = sc.number(p, "width_mm", w, allowed=_LENGTH)
+    pos, width, radius = p.axial_position_mm, p.width_mm, p.outer_radius_mm
     shaft = g.shaft_outer_radius / mm
-    radius = sc.number(p, "outer_radius_mm", w, allowed=_LENGTH)
     _within(
+        w,
         "outer_radius_mm",
         radius,
         f"({shaft!r}, {g.rim_outer_radius / mm!r})",
         "above shaft_outer_radius_mm, its face free, and below the wheel's rim_outer_radius_mm",
-        w,
     )
-    teeth = sc.number(p, "teeth", w, allowed="[3, 1000]", integer=True)
-    nax = sc.number(
-        p, "axial_master_nodes", w, cond.axial_master_nodes, allowed="[1, 50]", integer=True
-    )
+    nax = cond.axial_master_nodes if p.axial_master_nodes is None else p.axial_master_nodes
     # beside the wheel: its face clear of the hub and the rim (file units)
     hub = (g.web_offset / mm - g.hub_width / mm / 2, g.web_offset / mm + g.hub_width / mm / 2)
     rim = (-g.rim_width / mm / 2, g.rim_width / mm / 2)
@@ -477,7 +522,7 @@ def _pinion_rim(
             "bearings)",
             pos,
         )
-    return PinionRim(pos * mm, radius * mm, width * mm, teeth, nax)
+    return PinionRim(pos * mm, radius * mm, width * mm, p.teeth, nax)
 
 
 def _bearing_bands(
@@ -581,38 +626,82 @@ def _decode(raw: bytes, label: str) -> str:
 # --------------------------------------------------------------------------------------------
 # Ring-gear body files (fem_prep._ring): [ring], [support], [material], [mesh], [condensation]
 
-_RING_SCHEMA: dict[str, set[str] | None] = {
-    "name": None,
-    "ring": {"root_radius_mm", "outer_radius_mm", "width_mm"},
-    "support": {"kind", "bolts", "seat_arc_mm", "phase_deg", "radial_N_per_mm3",
-                "tangential_N_per_mm3", "axial_N_per_mm3"},
-    "material": _SCHEMA["material"],
-    "mesh": {"element", "size_mm", "circumferential_size_mm"},
-    "condensation": {"method", "modes", "teeth", "axial_master_nodes", "rim_coupling"},
-}
+
+class RingTable(Section):
+    """``[ring]``: the ring's root and outer radii and face width (mm)."""
+
+    WHERE: ClassVar[str] = "ring"
+    root_radius_mm: _Length
+    outer_radius_mm: _number() = Field(**_words("(root_radius_mm, 1e+06]"))
+    width_mm: _Length
+
+    @pydantic.model_validator(mode="after")
+    def _outside(self):
+        _within(self.WHERE, "outer_radius_mm", self.outer_radius_mm,
+                f"({self.root_radius_mm!r}, 1e+06]")
+        return self
 
 
-def _bolted(t: dict) -> BoltedFlange:
-    return BoltedFlange(
-        bolts=sc.number(t, "bolts", "support", allowed="[1, 1000]", integer=True),
-        seat_arc=1e-3 * sc.number(t, "seat_arc_mm", "support", allowed=_LENGTH),
-        phase=math.radians(sc.number(t, "phase_deg", "support", 0.0, allowed="[-360, 360]")),
-    )
+class SupportTable(Section):
+    """``[support]``: how the housing holds the ring (``kind``), with the keys of its kind."""
 
-
-def _foundation(t: dict) -> ElasticFoundation:
+    WHERE: ClassVar[str] = "support"
+    #: the keys each kind requires (the others' keys are checked and left unused)
+    NEEDS: ClassVar[dict] = {"bolted_flange": ("bolts", "seat_arc_mm"),
+                             "elastic_foundation": ("radial_N_per_mm3", "tangential_N_per_mm3",
+                                                    "axial_N_per_mm3"),
+                             "free": ()}
+    kind: Literal["bolted_flange", "elastic_foundation", "free"]
+    bolts: _number("[1, 1000]", integer=True) | None = None
+    seat_arc_mm: _Length | None = None
+    phase_deg: _number("[-360, 360]") = 0.0
     # N/mm^3 = 1e9 N/m^3 (Pa/m)
-    k = [sc.number(t, f"{d}_N_per_mm3", "support", allowed="(0, 1e+09]")
-         for d in ("radial", "tangential", "axial")]
-    return ElasticFoundation(*(1e9 * v for v in k))
+    radial_N_per_mm3: _number("(0, 1e+09]") | None = None
+    tangential_N_per_mm3: _number("(0, 1e+09]") | None = None
+    axial_N_per_mm3: _number("(0, 1e+09]") | None = None
+
+    @pydantic.model_validator(mode="after")
+    def _kind_keys(self):
+        for key in self.NEEDS[self.kind]:
+            if getattr(self, key) is None:
+                raise sc.fail(self.WHERE, key, "missing required key")
+        return self
+
+    def support(self):
+        """The ring support object of :attr:`kind` (SI)."""
+        if self.kind == "bolted_flange":
+            return BoltedFlange(bolts=self.bolts, seat_arc=1e-3 * self.seat_arc_mm,
+                                phase=math.radians(self.phase_deg))
+        if self.kind == "elastic_foundation":
+            return ElasticFoundation(*(1e9 * v for v in (
+                self.radial_N_per_mm3, self.tangential_N_per_mm3, self.axial_N_per_mm3)))
+        return FreeRing()
 
 
-def _free(t: dict) -> FreeRing:
-    return FreeRing()
+class RingMeshTable(Section):
+    """``[mesh]`` of a ring file: the element, the size (mm), the circumferential size."""
+
+    element: Literal[tuple(ELEMENTS)] = "hex20"
+    size_mm: _Length
+    circumferential_size_mm: _Length | None = Field(None, **_words(default="size_mm"))
 
 
-#: the ring supports by their body-file name (``[support] kind``), each built from its table
-RING_SUPPORTS = {"bolted_flange": _bolted, "elastic_foundation": _foundation, "free": _free}
+class RingCondensationTable(CondensationTable):
+    """``[condensation]`` of a ring file: two axial master planes by default."""
+
+    modes: _number(f"[0, {MAX_MODES}]", integer=True) = 50
+    axial_master_nodes: _number("[1, 50]", integer=True) = 2
+
+
+class RingFile(Section):
+    """A ring-gear body file (docs/planetary.md, "A flexible ring gear")."""
+
+    name: Annotated[Any, AfterValidator(_file_name)] = None
+    ring: RingTable
+    support: SupportTable
+    material: MaterialTable = MaterialTable()
+    mesh: RingMeshTable = Field(default_factory=dict, validate_default=True)
+    condensation: RingCondensationTable
 
 
 def parse_ring_body(text: str, *, default_name: str = "ring", label: str = "ring file") -> RingBody:
@@ -626,38 +715,12 @@ def parse_ring_body(text: str, *, default_name: str = "ring", label: str = "ring
         SchemaError: an unknown or missing key, a wrong type or a value out of range (one line
             naming the key, its value as written and the allowed range).
     """
-    data = sc.load_toml(text, label)
-    sc.check_keys(data, _RING_SCHEMA, "")
-    name = sc.name(data, "name", "", default_name)
-    r = sc.subtable(data, "ring", "", _RING_SCHEMA["ring"], required=True)
-    r_f = sc.number(r, "root_radius_mm", "ring", allowed=_LENGTH)
-    r_o = sc.number(r, "outer_radius_mm", "ring", allowed=f"({r_f!r}, 1e+06]")
-    width = sc.number(r, "width_mm", "ring", allowed=_LENGTH)
-    t = sc.subtable(data, "support", "", _RING_SCHEMA["support"], required=True)
-    support = RING_SUPPORTS[sc.choice(t, "kind", "support", RING_SUPPORTS)](t)
-    m = sc.subtable(data, "material", "", _RING_SCHEMA["material"])
-    material = Material(
-        1e9 * sc.number(m, "youngs_modulus_GPa", "material", 210.0, allowed="[0.1, 1e+06]"),
-        sc.number(m, "poisson_ratio", "material", 0.3, allowed="(-1, 0.5)"),
-        sc.number(m, "density_kg_m3", "material", 7800.0, allowed="[100, 1e+06]"),
-    )
-    ms = sc.subtable(data, "mesh", "", _RING_SCHEMA["mesh"])
-    size = sc.number(ms, "size_mm", "mesh", allowed=_LENGTH)
-    circ = sc.number(ms, "circumferential_size_mm", "mesh", size, allowed=_LENGTH)
-    mesh = MeshSettings(
-        _kind(ms, "element", "mesh", ELEMENTS, "hex20"), size=1e-3 * size,
-        circumferential_size=1e-3 * circ,
-    )
-    c = sc.subtable(data, "condensation", "", _RING_SCHEMA["condensation"], required=True)
-    w = "condensation"
-    condensation = Condensation(
-        method=_kind(c, "method", w, METHODS, "craig-bampton"),
-        modes=sc.number(c, "modes", w, 50, allowed=f"[0, {MAX_MODES}]", integer=True),
-        teeth=sc.number(c, "teeth", w, allowed="[3, 1000]", integer=True),
-        axial_master_nodes=sc.number(c, "axial_master_nodes", w, 2, allowed="[1, 50]",
-                                     integer=True),
-        rim_coupling=_kind(c, "rim_coupling", w, RIM_COUPLINGS, "distributing"),
-    )
-    return RingBody(name, 1e-3 * r_f, 1e-3 * r_o, 1e-3 * width, material, mesh, condensation,
-                    support)
-
+    f = RingFile.read(sc.load_toml(text, label))
+    name = sc.name({}, "name", "", default_name) if f.name is None else f.name
+    r, ms = f.ring, f.mesh
+    circ = ms.size_mm if ms.circumferential_size_mm is None else ms.circumferential_size_mm
+    mesh = MeshSettings(ELEMENTS[ms.element], size=1e-3 * ms.size_mm,
+                        circumferential_size=1e-3 * circ)
+    return RingBody(name, 1e-3 * r.root_radius_mm, 1e-3 * r.outer_radius_mm, 1e-3 * r.width_mm,
+                    f.material.material(), mesh, f.condensation.condensation(),
+                    f.support.support())

@@ -90,7 +90,7 @@ def _replace(old: str, new: str) -> str:
         (
             "holes = { count = 0, center_radius_mm = 45.0,",
             "holes = { count = 6, center_radius_mm = 38.0,",
-            r"\[body\] holes.center_radius_mm = 38: .*allowed \(40, 50\)",
+            r"\[body\.holes\] center_radius_mm = 38: .*allowed \(40, 50\)",
         ),
         (
             "holes = { count = 0, center_radius_mm = 45.0, radius_mm = 5.0 }",

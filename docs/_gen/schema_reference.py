@@ -1,10 +1,12 @@
 """The case-file and body-file references, read from the validators themselves.
 
-The validators of :mod:`jaxgear.io` (case files) and :mod:`fem_prep.schema` (body files) declare
-every key where they check it, through the helpers of :mod:`fem_prep.checks` (``check_keys``,
-``subtable``, ``number``, ``number_list``, ``choice``, ``boolean``, ``string``, ``name``). This
-module runs the validators on a set of sample files while recording those calls (read-only: the
-helpers are wrapped for the duration of the run and restored), and writes what they declared:
+The validators of :mod:`jaxgear.io` (case files) declare every key where they check it, through
+the helpers of :mod:`fem_prep.checks` (``check_keys``, ``subtable``, ``number``, ``number_list``,
+``choice``, ``boolean``, ``string``, ``name``) or a typed section (``jaxgear.io._sections``);
+those of :mod:`fem_prep.schema` (body files) are typed sections (``fem_prep._sections``), read
+as they are. This module runs the case validators on a set of sample files while recording
+those calls (read-only: the helpers are wrapped for the duration of the run and restored), and
+writes what they declared:
 for each table, the keys it accepts and, for each key, its type, unit (from the key's name),
 default and allowed range. Nothing here lists a key by hand, so the reference follows the
 validators.
@@ -413,10 +415,9 @@ class _Recorder:
     def __init__(self, schema: Schema):
         self.schema = schema
         self.depth_in_body = 0  # a case loading a body file: the body's keys are not the case's
-        self.own_bodies = False
 
     def record(self, name: str, args: tuple, kw: dict) -> None:
-        if self.depth_in_body and not self.own_bodies:
+        if self.depth_in_body:
             return
         s = self.schema
         if name == "check_keys":
@@ -468,7 +469,7 @@ class _Recorder:
     def record_section(self, cls, table, where: str, context) -> None:
         """A typed section read (``jaxgear.io._sections.Section.read``): every key its model
         declares, with its type, default and range (sub-tables: their own sections)."""
-        if self.depth_in_body and not self.own_bodies or not isinstance(table, dict):
+        if self.depth_in_body or not isinstance(table, dict):
             return
         from jaxgear.io import _sections as sections
 
@@ -525,7 +526,7 @@ class _Recorder:
         saved_of_file = Section.__dict__["of_file"]
 
         def of_file(cls, data, key=None, *, required=False, context=None):
-            if not (self.depth_in_body and not self.own_bodies):  # a file's table, or required
+            if not (self.depth_in_body):  # a file's table, or required
                 info = self.schema.key("", cls.WHERE if key is None else key)
                 info.kind.add("table")
                 info.required |= required
@@ -817,14 +818,44 @@ def probe_undeclared(schema: Schema, samples, parse_of) -> None:
 
 
 def trace_bodies() -> Schema:
-    """The body-file schema, as :func:`fem_prep.schema.parse_body` declares it."""
+    """The body-file schema, as :func:`fem_prep.schema.parse_body`'s typed sections declare it
+    (:class:`fem_prep.schema.BodyFile` and the sections of its tables): each key's type, range,
+    default; a range or default that other keys decide in the section's own words."""
     schema = Schema()
-    rec = _Recorder(schema)
-    rec.own_bodies = True
-    with rec.active():
-        for name in body_schema.embedded_bodies():
-            body_schema.parse_body(body_schema.embedded_body_text(name), default_name=FILE_NAME)
+    schema.table("")
+    _body_section(schema, body_schema.BodyFile, "")
     return schema.merged()
+
+
+def _body_section(schema: Schema, cls, where: str) -> None:
+    """Record the keys of a body file's section ``cls`` (:mod:`fem_prep._sections`) at
+    ``where``, its sub-tables in their turn (an array of tables as ``key[0]``)."""
+    from fem_prep import _sections as sections
+
+    for key, field in cls.model_fields.items():
+        info = schema.key(where, key)
+        info.accepted = True
+        info.required |= field.is_required()
+        words = field.json_schema_extra if isinstance(field.json_schema_extra, dict) else {}
+        sub = sections._section(field.annotation)
+        if sub is not None:
+            info.kind.add("table")
+            arms = (field.annotation, *typing.get_args(field.annotation))
+            inner = key + ("[0]" if any(typing.get_origin(a) is list for a in arms) else "")
+            _body_section(schema, sub, f"{where}.{inner}" if where else inner)
+            continue
+        rng = sections._range(field)
+        if rng is not None:
+            info.kind.add("integer" if rng.integer else "number")
+            info.allowed.add(words.get("allowed") or str(rng.interval) + rng.note)
+        elif sections._choices(field.annotation):
+            info.kind.add("string")
+            info.allowed.add(", ".join(repr(c) for c in sections._choices(field.annotation)))
+        else:
+            info.kind.add("boolean" if field.annotation is bool else "name")
+        default = words.get("default") or field.get_default(call_default_factory=True)
+        if default is not None and not info.required:
+            info.defaults.add(default if "default" in words else _fmt(default))
 
 
 def unit(key: str) -> str:
