@@ -123,9 +123,13 @@ def _range(info) -> Range | None:
 
 
 def _marker(annotation) -> Range | None:
-    found = [m for m in getattr(annotation, "__metadata__", ()) if isinstance(m, Range)]
-    return found[0] if found else next(
-        (r for a in typing.get_args(annotation) if (r := _marker(a)) is not None), None)
+    """The :class:`Range` in a type (``Annotated[...]``, in an optional one: its member's)."""
+    args = typing.get_args(annotation)
+    if typing.get_origin(annotation) is Annotated:
+        found = [m for m in args[1:] if isinstance(m, Range)]
+        if found:
+            return found[0]
+    return next((r for a in args if (r := _marker(a)) is not None), None)
 
 
 def _choices(annotation) -> tuple:

@@ -642,40 +642,54 @@ class RingTable(Section):
         return self
 
 
+def _bolted(t: SupportTable) -> BoltedFlange:
+    return BoltedFlange(bolts=t.bolts, seat_arc=1e-3 * t.seat_arc_mm,
+                        phase=math.radians(t.phase_deg))
+
+
+def _foundation(t: SupportTable) -> ElasticFoundation:
+    # N/mm^3 = 1e9 N/m^3 (Pa/m)
+    k = (t.radial_N_per_mm3, t.tangential_N_per_mm3, t.axial_N_per_mm3)
+    return ElasticFoundation(*(1e9 * v for v in k))
+
+
+def _free(t: SupportTable) -> FreeRing:
+    return FreeRing()
+
+
+#: the ring supports by their file name (``[support] kind``): how each is built from its table
+#: and the keys it requires (the other kinds' keys are checked and left unused)
+RING_SUPPORTS = {
+    "bolted_flange": (_bolted, ("bolts", "seat_arc_mm")),
+    "elastic_foundation": (_foundation, ("radial_N_per_mm3", "tangential_N_per_mm3",
+                                         "axial_N_per_mm3")),
+    "free": (_free, ()),
+}
+
+
 class SupportTable(Section):
     """``[support]``: how the housing holds the ring (``kind``), with the keys of its kind."""
 
     WHERE: ClassVar[str] = "support"
-    #: the keys each kind requires (the others' keys are checked and left unused)
-    NEEDS: ClassVar[dict] = {"bolted_flange": ("bolts", "seat_arc_mm"),
-                             "elastic_foundation": ("radial_N_per_mm3", "tangential_N_per_mm3",
-                                                    "axial_N_per_mm3"),
-                             "free": ()}
-    kind: Literal["bolted_flange", "elastic_foundation", "free"]
+    kind: Literal[tuple(RING_SUPPORTS)]
     bolts: _number("[1, 1000]", integer=True) | None = None
     seat_arc_mm: _Length | None = None
     phase_deg: _number("[-360, 360]") = 0.0
-    # N/mm^3 = 1e9 N/m^3 (Pa/m)
     radial_N_per_mm3: _number("(0, 1e+09]") | None = None
     tangential_N_per_mm3: _number("(0, 1e+09]") | None = None
     axial_N_per_mm3: _number("(0, 1e+09]") | None = None
 
     @pydantic.model_validator(mode="after")
     def _kind_keys(self):
-        for key in self.NEEDS[self.kind]:
+        for key in RING_SUPPORTS[self.kind][1]:
             if getattr(self, key) is None:
                 raise sc.fail(self.WHERE, key, "missing required key")
         return self
 
     def support(self):
-        """The ring support object of :attr:`kind` (SI)."""
-        if self.kind == "bolted_flange":
-            return BoltedFlange(bolts=self.bolts, seat_arc=1e-3 * self.seat_arc_mm,
-                                phase=math.radians(self.phase_deg))
-        if self.kind == "elastic_foundation":
-            return ElasticFoundation(*(1e9 * v for v in (
-                self.radial_N_per_mm3, self.tangential_N_per_mm3, self.axial_N_per_mm3)))
-        return FreeRing()
+        """The ring support of :attr:`kind` (:class:`~fem_prep.BoltedFlange`,
+        :class:`~fem_prep.ElasticFoundation`, :class:`~fem_prep.FreeRing`; SI)."""
+        return RING_SUPPORTS[self.kind][0](self)
 
 
 class RingMeshTable(Section):
