@@ -74,7 +74,8 @@ class Section(BaseModel):
     """A body file's table (module docstring): a frozen pydantic model, its fields the table's
     keys; ``WHERE``: the table's name in the file (``"body"``, ``""`` the top level)."""
 
-    model_config = ConfigDict(extra="forbid", strict=True, frozen=True,
+    # defer_build: a model's validator is built when a file is first read, not at import
+    model_config = ConfigDict(extra="forbid", strict=True, frozen=True, defer_build=True,
                               protected_namespaces=(), hide_input_in_errors=True)
     WHERE: ClassVar[str] = ""
 
