@@ -593,7 +593,14 @@ def test_the_scene_settings_are_the_sections():
     """``[scene.damping]`` and ``[scene.integration]`` reach the scene's settings as given:
     "auto" counts as None (the time-plan rule), false modal basis absent, the keys not given
     left to the scene's defaults."""
-    from jaxgear.io._scene_table import parse_dynamics_settings
+    import types
+
+    from jaxgear.io._scene_table import dynamics_settings
+
+    def parse_dynamics_settings(table):  # a scene section's two sub-tables
+        return dynamics_settings(types.SimpleNamespace(
+            damping=DampingSection.read(table.get("damping", {})),
+            integration=IntegrationSection.read(table.get("integration", {}))))
 
     kw = parse_dynamics_settings({"damping": {"model": "modal", "ratio": 0.05},
                                   "integration": {"periods": "auto", "rtol": 1e-7,
