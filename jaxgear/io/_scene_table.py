@@ -79,6 +79,10 @@ def on_shaft(key: str, v: float, length_mm: float | None, where: str) -> float:
     return v
 
 
+#: the type of a position along a shaft (mm; within its length: :func:`on_shaft`)
+ON_SHAFT_MM = number(note=" (within the shaft: [0, length_mm])")
+
+
 class BearingSection(Section):
     """A ``lumped3d`` shaft's bearing (module docstring): its position on the shaft (mm, within
     the shaft's length, the context's ``length_mm``) and its stiffness: diagonal (radial and
@@ -87,8 +91,8 @@ class BearingSection(Section):
     ``damping_matrix_SI`` (:func:`jaxgear.scenes.bearing_matrix` checks the matrices).
     :meth:`bearing` the :class:`jaxgear.scenes.Bearing` (SI)."""
 
-    WHERE: ClassVar[str] = "scene.pinion_shaft.bearings[0]"
-    position_mm: number(note=" (within the shaft: [0, length_mm])")
+    WHERE: ClassVar[str] = "scene.pinion_shaft.bearings"
+    position_mm: ON_SHAFT_MM
     radial_N_per_um: number("[0, 1e+09]") | None = pydantic.Field(
         None, json_schema_extra={"default": "200"})
     axial_N_per_um: number("[0, 1e+09]") | None = pydantic.Field(
@@ -154,23 +158,19 @@ class BearingSection(Section):
 
 class ShaftKeys(Section):
     """What a ``lumped3d`` shaft's table gives (a pair's :class:`ShaftSection`, a train's
-    ``[[scene.shafts]]`` entry): its length and diameter (mm), the torque's position on it and
+    ``[[scene.shafts]]`` entry, each declaring the keys in the file's order): its length and
+    diameter (mm, ``length_mm`` in [1, 1e5], ``diameter_mm`` in [1, 1e4]: a denormal size
+    passes "> 0" and fails in the solver), its gears' centres, the torque's position on it,
     its finite elements, and its bearings (:class:`BearingSection`, at least one), which must
     hold it (an axial stiffness, and a tilt stiffness or two radial bearings 1 % of its length
     apart). Positions lie on the shaft ([0, length_mm])."""
 
-    length_mm: number("[1, 1e+05]")  # physical lower bounds: a denormal size or stiffness
-    diameter_mm: number("[1, 1e+04]")  # passes "> 0" and fails in the solver
-    torque_position_mm: number(note=" (within the shaft: [0, length_mm])") = 0.0
-    elements: number("[1, 1000]", integer=True) = 4
-    bearings: list[BearingSection]
-
-    @pydantic.field_validator("torque_position_mm")
+    @pydantic.field_validator("torque_position_mm", check_fields=False)
     @classmethod
     def _on_shaft(cls, v, info):
         return on_shaft(info.field_name, v, info.data.get("length_mm"), where_of(info))
 
-    @pydantic.field_validator("bearings", mode="before")
+    @pydantic.field_validator("bearings", mode="before", check_fields=False)
     @classmethod
     def _bearings(cls, v, info):
         """Each bearing read where the file has it (``[scene.pinion_shaft.bearings[1]]``)."""
@@ -237,7 +237,12 @@ class ShaftSection(ShaftKeys):
     gear's centre at ``gear_position_mm`` on it."""
 
     WHERE: ClassVar[str] = "scene.pinion_shaft"
-    gear_position_mm: number(note=" (within the shaft: [0, length_mm])")
+    length_mm: number("[1, 1e+05]")
+    diameter_mm: number("[1, 1e+04]")
+    gear_position_mm: ON_SHAFT_MM
+    torque_position_mm: ON_SHAFT_MM = 0.0
+    elements: number("[1, 1000]", integer=True) = 4
+    bearings: list[BearingSection]
 
     @pydantic.field_validator("gear_position_mm")
     @classmethod

@@ -16,6 +16,8 @@ from fem_prep import schema as sc
 from ._case import Case
 from ._scene_spec import SceneSpec
 from ._scene_table import (
+    ON_SHAFT_MM,
+    BearingSection,
     BodySection,
     DampingSection,
     IntegrationSection,
@@ -35,9 +37,14 @@ class TrainShaftSection(ShaftKeys):
     (one of the train's), the centres of the gears it carries by gear name
     (``gear_positions_mm``, one per gear: the context's ``carried``, in gear order)."""
 
-    WHERE: ClassVar[str] = "scene.shafts[0]"
+    WHERE: ClassVar[str] = "scene.shafts"
     shaft: Text
-    gear_positions_mm: dict[str, number(note=" (within the shaft: [0, length_mm])")]
+    length_mm: number("[1, 1e+05]")
+    diameter_mm: number("[1, 1e+04]")
+    gear_positions_mm: dict[str, ON_SHAFT_MM]
+    torque_position_mm: ON_SHAFT_MM = 0.0
+    elements: number("[1, 1000]", integer=True) = 4
+    bearings: list[BearingSection]
 
     @pydantic.field_validator("gear_positions_mm", mode="before")
     @classmethod
@@ -71,6 +78,24 @@ class TrainBodySection(BodySection):
 
     WHERE: ClassVar[str] = "scene.bodies.idler"
     gears: list[Text] | None = None
+
+    @pydantic.field_validator("gears", mode="before")
+    @classmethod
+    def _rims(cls, v, info):
+        """The gears of the body's shaft (the context's ``carried``, on shaft ``shaft``), one
+        per rim."""
+        ctx = info.context or {}
+        carried = ctx.get("carried")
+        if carried is not None and (not isinstance(v, list) or not all(
+                isinstance(x, str) for x in v) or sorted(v) != sorted(carried)):
+            raise sc.fail(
+                where_of(info),
+                "gears",
+                f"must list the gears of shaft {ctx['shaft']!r} ({', '.join(carried)}), one per "
+                "rim of the body: the webbed wheel's rim, then the [pinion_rim]",
+                v,
+            )
+        return v
 
 
 def shaft_of_table(table: dict, where: str, shaft_names: list) -> tuple[str, int]:
@@ -112,9 +137,10 @@ class TrainSceneSection(Section):
         shaft order, once per shaft."""
         ctx = info.context or {}
         shaft_names = ctx.get("shaft_names")
-        if shaft_names is None or not isinstance(v, list) or not all(
-                isinstance(t, dict) for t in v):
+        if not isinstance(v, list) or not all(isinstance(t, dict) for t in v):
             return v  # the type's words
+        if shaft_names is None:  # the train not known: each entry where the file has it
+            return [TrainShaftSection.read(t, f"scene.shafts[{i}]") for i, t in enumerate(v)]
         out: dict = {}
         for i, t in enumerate(v):
             where = f"scene.shafts[{i}]"
@@ -134,11 +160,18 @@ class TrainSceneSection(Section):
         ctx = info.context or {}
         if not isinstance(v, dict):
             return v  # the type's words
-        if "names" in ctx:
-            shaft_names = ctx["shaft_names"]
-            sc.check_keys(v, [*shaft_names, *(n for n in ctx["names"] if n not in shaft_names)],
-                          "scene.bodies")
-        return {k: TrainBodySection.read(t, f"scene.bodies.{k}") for k, t in v.items()}
+        if "names" not in ctx:  # the train not known
+            return {k: TrainBodySection.read(t, f"scene.bodies.{k}") for k, t in v.items()}
+        names, shafts, shaft_names = ctx["names"], ctx["shafts"], ctx["shaft_names"]
+        sc.check_keys(v, [*shaft_names, *(n for n in names if n not in shaft_names)],
+                      "scene.bodies")
+        out = {}
+        for k, t in v.items():
+            s = shaft_names.index(k) if k in shaft_names else shafts[names.index(k)]
+            carried = [g for g, sh in zip(names, shafts, strict=True) if sh == s]
+            out[k] = TrainBodySection.read(t, f"scene.bodies.{k}", context={
+                "carried": carried, "shaft": shaft_names[s]})
+        return out
 
     @pydantic.model_validator(mode="after")
     def _related(self, info):
@@ -207,18 +240,7 @@ def _bodies(given: dict, names: list, shafts: list, shaft_names: list, base_dir,
         s_ = shaft_names.index(key) if key in shaft_names else shafts[names.index(key)]
         carried = [names[g] for g in range(len(names)) if shafts[g] == s_]
         ref = t.reference(where, base_dir)
-        order = carried
-        if t.gears is not None:
-            order = list(t.gears)
-            if sorted(order) != sorted(carried):
-                raise sc.fail(
-                    where,
-                    "gears",
-                    "must list the gears of shaft "
-                    f"{shaft_names[s_]!r} ({', '.join(carried)}), one per rim of the body: "
-                    "the webbed wheel's rim, then the [pinion_rim]",
-                    order,
-                )
+        order = carried if t.gears is None else list(t.gears)  # the section's: one per rim
         _check_rims(
             ref, where, order, shaft_names[s_], None if specs is None else specs[s_], carried
         )
