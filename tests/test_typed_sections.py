@@ -832,7 +832,7 @@ def _set(path, value):
       "output")),
     ("two-stage", _set(("model",), "torsional"), "[scene] masses_kg: is for model = 'lumped3d'"),
     ("flexible-idler", _set(("bodies", "idler", "gears"), 3),
-     "[scene.bodies.idler] gears = 3: must be an array, not a number"),
+     "[scene.bodies.idler] gears = 3: must list the gears of shaft 'idler' (idler), one per "),
     ("flexible-idler", _set(("bodies", "idler", "gears"), ["input"]),
      "[scene.bodies.idler] gears = ['input']: must list the gears of shaft 'idler' (idler)"),
     ("flexible-idler", _set(("bodies", "spindle"), {"body": "accessory-idler"}),
