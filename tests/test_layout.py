@@ -303,6 +303,7 @@ PRIVATE_IN_TESTS: set[tuple[str, str]] = {
     ("test_typed_sections.py", "jaxgear.io._robust_table"),
     ("test_typed_sections.py", "jaxgear.io._scene_table"),
     ("test_typed_sections.py", "jaxgear.io._train_file"),
+    ("test_typed_sections.py", "jaxgear.io._train_scene"),
     # the keys that take a value per gear (a number there is a valid value, not a table)
     ("test_table_types.py", "jaxgear.io._rating_table.PER_GEAR"),
 }

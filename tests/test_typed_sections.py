@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import copy
 import pathlib
+import typing
 import warnings
 
 import pytest
@@ -36,8 +37,16 @@ from jaxgear.io._case_file import (
 )
 from jaxgear.io._modifications_table import ModificationsSection
 from jaxgear.io._robust_table import RobustSection
-from jaxgear.io._scene_table import DampingSection, IntegrationSection
+from jaxgear.io._scene_table import (
+    BearingSection,
+    BodySection,
+    DampingSection,
+    IntegrationSection,
+    SceneSection,
+    ShaftSection,
+)
 from jaxgear.io._train_file import GearSection, MeshEntry, PlanetaryOperating, TrainOperating
+from jaxgear.io._train_scene import TrainBodySection, TrainSceneSection, TrainShaftSection
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 
@@ -82,6 +91,33 @@ BASES = {
     MeshEntry: {"driving": "input", "driven": "idler", "angle_deg": 0.0},
     RobustSection: {"grade": 6, "samples": 100, "members": ["pinion"],
                     "speeds_rad_s": [100.0, 200.0], "revolutions": "hunting"},
+}
+#: a lumped 3D shaft of 100 mm, its gear at 0.5 mm, on two bearings 1 mm apart (1 % of its
+#: length: a longer shaft refuses them in words that name its length_mm)
+_SHAFT = {"length_mm": 100.0, "diameter_mm": 30.0, "gear_position_mm": 0.5, "elements": 4,
+          "torque_position_mm": 0.0,
+          "bearings": [{"position_mm": 0.0, "radial_N_per_um": 200.0, "axial_N_per_um": 100.0,
+                        "tilt_Nm_per_rad": 0.0},
+                       {"position_mm": 1.0, "radial_N_per_um": 200.0}]}
+_TRAIN_SHAFT = {k: v for k, v in _SHAFT.items() if k != "gear_position_mm"} | {
+    "shaft": "input", "gear_positions_mm": {"input": 0.5}}
+BASES |= {  # the [scene] tables (a pair's, a train's)
+    SceneSection: {"model": "lumped3d", "pinion_shaft": _SHAFT, "gear_shaft": _SHAFT,
+                   "pinion_mass_kg": 1.5, "gear_mass_kg": 2.5, "pinion_inertia_kg_m2": 7e-4,
+                   "gear_inertia_kg_m2": 5e-3, "gear_body": {"body": "accessory-wheel"},
+                   "damping": {"model": "modal", "ratio": 0.05}, "integration": {"periods": 8}},
+    ShaftSection: _SHAFT,
+    BearingSection: {"position_mm": 0.0, "radial_N_per_um": 200.0, "axial_N_per_um": 100.0,
+                     "tilt_Nm_per_rad": 0.0,
+                     "damping_matrix_SI": [[300.0, 0, 0, 0, 0, 0], [0, 300.0, 0, 0, 0, 0]] + [
+                         [0] * 6] * 4},
+    BodySection: {"body": "accessory-wheel"},
+    TrainSceneSection: {"model": "lumped3d", "inertias_kg_m2": {"input": 1e-3},
+                        "masses_kg": {"input": 1.0}, "shafts": [_TRAIN_SHAFT],
+                        "bodies": {"input": {"body": "accessory-wheel"}},
+                        "damping": {"model": "none"}, "integration": {"steps_per_period": 32}},
+    TrainShaftSection: _TRAIN_SHAFT,
+    TrainBodySection: {"body": "intermediate-shaft", "gears": ["wheel", "pinion"]},
 }
 SECTIONS = tuple(BASES)
 
@@ -148,7 +184,9 @@ def _number_fields():
                                        (IntegrationSection, "steps_per_period"),  # or "auto"
                                        (IntegrationSection, "periods"),
                                        (IntegrationSection, "modal_basis")}  # or false
-            if isinstance(rng, Range) and not rng.array and not one_of and not words:
+            by_name = typing.get_origin(info.annotation) is dict  # a table of numbers by name
+            if isinstance(rng, Range) and not rng.array and not one_of and not words and (
+                    not by_name):
                 out.append((section, key, rng))
     return out
 
@@ -593,7 +631,14 @@ def test_the_scene_settings_are_the_sections():
     """``[scene.damping]`` and ``[scene.integration]`` reach the scene's settings as given:
     "auto" counts as None (the time-plan rule), false modal basis absent, the keys not given
     left to the scene's defaults."""
-    from jaxgear.io._scene_table import parse_dynamics_settings
+    import types
+
+    from jaxgear.io._scene_table import dynamics_settings
+
+    def parse_dynamics_settings(table):  # a scene section's two sub-tables
+        return dynamics_settings(types.SimpleNamespace(
+            damping=DampingSection.read(table.get("damping", {})),
+            integration=IntegrationSection.read(table.get("integration", {}))))
 
     kw = parse_dynamics_settings({"damping": {"model": "modal", "ratio": 0.05},
                                   "integration": {"periods": "auto", "rtol": 1e-7,
@@ -605,3 +650,239 @@ def test_the_scene_settings_are_the_sections():
     assert kw["steps_per_period"] == 128 and type(kw["steps_per_period"]) is int
     assert (kw["periods"], kw["keep_periods"], kw["modal_basis"]) == (12, 3, 20)
     assert kw["damping_model"] == "composite"
+
+
+# --------------------------------------------------------------------------------------------
+# [scene]: a pair's and a train's, their shafts, bearings and bodies
+
+
+def _case(name: str):
+    return sc.load_toml((ROOT / f"jaxgear/cases/{name}.toml").read_bytes(), name)
+
+
+def _load(data, name: str):
+    """The case of ``data`` read by its form's reader (a train's ``[[gears]]``)."""
+    read = jio.parse_train if "gears" in data else jio.parse_case
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return read(data, name)
+
+
+def _paths(value, path=()):
+    """The path (keys, array indices) of every value in a table, itself included."""
+    yield path
+    items = value.items() if isinstance(value, dict) else (
+        enumerate(value) if isinstance(value, list) else ())
+    for key, inner in items:
+        yield from _paths(inner, (*path, key))
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(name=st.sampled_from(["accessory-spur-flexible", "flexible-idler", "two-stage"]),
+       pick=st.integers(min_value=0), value=VALUES)
+def test_a_mutated_scene_is_one_line(name, pick, value):
+    """Any value of a ``[scene]`` (a pair's lumped 3D one with a flexible gear, a train's with
+    its shafts, bearings and a flexible idler), down to a bearing's key, given any TOML value
+    through the case reader: the case loads or one SchemaError line, never another
+    exception."""
+    data = _case(name)
+    paths = list(_paths(data["scene"]))
+    path = ("scene", *paths[pick % len(paths)])
+    table = data
+    for part in path[:-1]:
+        table = table[part]
+    table[path[-1]] = value
+    try:
+        _load(data, name)
+    except sc.SchemaError as err:
+        assert "\n" not in str(err) and str(err).strip() == str(err), str(err)
+
+
+@pytest.mark.parametrize(("name", "path", "value", "words"), [
+    ("accessory-spur-flexible", ("scene",), 3,
+     "scene = 3: must be a table ([scene]), not a number"),
+    ("two-stage", ("scene",), "lumped", "scene = 'lumped': must be a table ([scene]), not a string"),
+    ("accessory-spur-flexible", ("scene", "pinion_shaft"), 3,
+     "[scene] pinion_shaft = 3: must be a table ([scene.pinion_shaft]), not a number"),
+    ("accessory-spur-flexible", ("scene", "gear_body"), True,
+     "[scene] gear_body = true: must be a table ([scene.gear_body]), not a boolean"),
+    ("accessory-spur-flexible", ("scene", "pinion_shaft", "bearings"), 1,
+     ("[scene.pinion_shaft] bearings = 1: must be a non-empty array of tables, e.g. "
+      "[{ position_mm = 0.0, radial_N_per_um = 200.0 }]")),
+    ("accessory-spur-flexible", ("scene", "pinion_shaft", "bearings", 1), 2.0,
+     ("[scene.pinion_shaft] 'bearings[1]' = 2: must be a table "
+      "([scene.pinion_shaft.bearings[1]]), not a number")),
+    ("accessory-spur-flexible", ("scene", "damping"), 0.05,
+     "[scene] damping = 0.05: must be a table ([scene.damping]), not a number"),
+    ("two-stage", ("scene", "shafts"), 1,
+     "[scene] shafts = 1: must be an array of tables ([[scene.shafts]]), not a number"),
+    ("two-stage", ("scene", "shafts", 0), "input",
+     "[scene] 'shafts[0]' = 'input': must be a table ([[scene.shafts]] entry), not a string"),
+    ("two-stage", ("scene", "shafts", 1, "gear_positions_mm"), 50.0,
+     ("[scene.shafts.intermediate] gear_positions_mm = 50: must be a table "
+      "([scene.shafts.intermediate.gear_positions_mm]), not a number")),
+    ("two-stage", ("scene", "shafts", 1, "bearings"), [],
+     "[scene.shafts.intermediate] bearings = []: must be a non-empty array of tables"),
+    ("two-stage", ("scene", "inertias_kg_m2"), 1e-3,
+     "[scene] inertias_kg_m2 = 0.001: must be a table ([scene.inertias_kg_m2]), not a number"),
+    ("two-stage", ("scene", "masses_kg"), [1.0],
+     "[scene] masses_kg = [1]: must be a table ([scene.masses_kg]), not an array"),
+    ("flexible-idler", ("scene", "bodies"), 3,
+     "[scene] bodies = 3: must be a table ([scene.bodies]), not a number"),
+    ("flexible-idler", ("scene", "bodies", "idler"), "accessory-idler",
+     ("[scene.bodies] idler = 'accessory-idler': must be a table ([scene.bodies.idler]), not a "
+      "string")),
+])
+def test_a_scene_table_given_as_a_value_is_one_line(name, path, value, words):
+    """A ``[scene]`` table (or an array of tables, or an entry of one) given as a number, a
+    string, a boolean or an array, through the case reader: the one line naming it."""
+    data = _case(name)
+    table = data
+    for part in path[:-1]:
+        table = table[part]
+    table[path[-1]] = value
+    with pytest.raises(sc.SchemaError) as err:
+        _load(data, name)
+    assert str(err.value).startswith(words), str(err.value)
+    assert "\n" not in str(err.value)
+
+
+def _set(path, value):
+    def change(data):
+        table = data["scene"]
+        for part in path[:-1]:
+            table = table[part]
+        if value is None:
+            del table[path[-1]]
+        else:
+            table[path[-1]] = value
+    return change
+
+
+@pytest.mark.parametrize(("name", "change", "words"), [
+    ("accessory-spur-flexible", _set(("pinion_shaft", "gear_position_mm"), -1.0),
+     ("[scene.pinion_shaft] gear_position_mm = -1: out of range, allowed [0, 100] (not beyond "
+      "the shaft length)")),
+    ("accessory-spur-flexible", _set(("gear_shaft", "torque_position_mm"), 101.0),
+     ("[scene.gear_shaft] torque_position_mm = 101: out of range, allowed [0, 100] (not beyond "
+      "the shaft length)")),
+    ("accessory-spur-flexible", _set(("gear_shaft", "length_mm"), 40.0),  # the first beyond
+     ("[scene.gear_shaft] gear_position_mm = 50: out of range, allowed [0, 40] (not beyond the "
+      "shaft length)")),
+    ("accessory-spur-flexible", _set(("pinion_shaft", "bearings", 1, "position_mm"), 100.5),
+     ("[scene.pinion_shaft.bearings[1]] position_mm = 100.5: out of range, allowed [0, 100] "
+      "(not beyond the shaft length)")),
+    ("accessory-spur-flexible", _set(("pinion_shaft", "bearings", 1, "radial_N_per_um"), 1e-4),
+     ("[scene.pinion_shaft.bearings[1]] radial_N_per_um = 0.0001: out of range, allowed 0 "
+      "(free) or [0.001, 1e+09]")),
+    ("accessory-spur-flexible", _set(("pinion_shaft", "bearings", 0, "tilt_Nm_per_rad"), 0.5),
+     ("[scene.pinion_shaft.bearings[0]] tilt_Nm_per_rad = 0.5: out of range, allowed 0 (free) "
+      "or [1, 1e+15]")),
+    ("accessory-spur-flexible", _set(("pinion_shaft", "bearings", 0, "axial_N_per_um"), 0.0),
+     ("[scene.pinion_shaft] bearings: needs an axial stiffness on at least one bearing "
+      "(axial_N_per_um > 0 or stiffness_matrix_SI[2][2] > 0)")),
+    ("accessory-spur-flexible", _set(("pinion_shaft", "bearings", 1, "position_mm"), 0.5),
+     ("[scene.pinion_shaft] bearings: radial bearings at position_mm = 0 to 0.5, allowed at "
+      "least 1 mm apart")),
+    ("accessory-spur-flexible", _set(("pinion_shaft", "elements"), 0),
+     "[scene.pinion_shaft] elements = 0: out of range, allowed [1, 1000]"),
+    ("accessory-spur-flexible", _set(("pinion_shaft", "bore_mm"), 10.0),
+     "[scene.pinion_shaft] unknown key 'bore_mm', allowed: bearings, diameter_mm, elements, "),
+    ("accessory-spur-flexible", _set(("gear_shaft",), None),
+     "[scene] model = 'lumped3d' needs a [scene.gear_shaft] table"),
+    ("accessory-spur-flexible", _set(("model",), "torsional"),
+     "[scene] pinion_shaft: is for model = 'lumped3d'"),
+    ("accessory-spur-flexible", _set(("motor_inertia_kg_m2",), 1.0),
+     "[scene] motor_inertia_kg_m2: is for model = 'torsional'"),
+    ("accessory-spur-flexible", _set(("gear_body", "body"), 3),
+     "[scene.gear_body] body = 3: must be a non-empty string"),
+    ("accessory-spur-flexible", _set(("gear_body", "body"), "no-such-body"),
+     "[scene.gear_body] body = 'no-such-body': allowed an embedded body ("),
+    ("accessory-spur-flexible", _set(("pinion_mass_kg",), 0.0),
+     "[scene] pinion_mass_kg = 0: out of range, allowed [1e-06, 1e+09]"),
+    ("fzg-h951", lambda d: d.__setitem__("scene", {"motor_inertia_kg_m2": 0.01}),
+     ("[scene] motor_inertia_kg_m2 and motor_shaft_stiffness_Nm_per_rad go together: give both "
+      "or neither")),
+    ("fzg-h951", lambda d: d.__setitem__("scene", {"gear_inertia_kg_m2": 0.0}),
+     "[scene] gear_inertia_kg_m2 = 0: out of range, allowed [1e-09, 1e+15]"),
+    ("fzg-h951", lambda d: d.__setitem__("scene", {"integration": {"modal_basis": 12}}),
+     ("[scene.integration] modal_basis = 12: allowed only with a condensed body ([scene] "
+      "pinion_body or gear_body)")),
+    ("two-stage", _set(("inertias_kg_m2",), {"input": 1e-3, "idler": 1e-3}),
+     "[scene.inertias_kg_m2] unknown key 'idler', allowed: hst-wheel, input, lst-pinion, output"),
+    ("two-stage", _set(("inertias_kg_m2",), {"input": 1e16}),
+     "[scene.inertias_kg_m2] input = 1e+16: out of range, allowed [1e-09, 1e+15]"),
+    ("two-stage", _set(("masses_kg",), {"output": "heavy"}),
+     "[scene.masses_kg] output = 'heavy': must be a number, not a string"),
+    ("two-stage", _set(("shafts", 2, "shaft"), "spindle"),
+     "[scene.shafts[2]] shaft = 'spindle': no such shaft, allowed input, intermediate, output"),
+    ("two-stage", _set(("shafts", 2, "shaft"), "input"),
+     "[scene.shafts[2]] shaft = 'input': has a [[scene.shafts]] entry already"),
+    ("two-stage", _set(("shafts", 1, "gear_positions_mm", "input"), 10.0),
+     ("[scene.shafts.intermediate.gear_positions_mm] unknown key 'input', allowed: hst-wheel, "
+      "lst-pinion")),
+    ("two-stage", _set(("shafts", 1, "gear_positions_mm", "lst-pinion"), None),
+     "[scene.shafts.intermediate.gear_positions_mm] lst-pinion: missing required key"),
+    ("two-stage", _set(("shafts", 1, "length_mm"), 1e6),
+     "[scene.shafts.intermediate] length_mm = 1e+06: out of range, allowed [1, 100000]"),
+    ("two-stage", _set(("shafts", 1, "bearings", 0, "stiff"), 1.0),
+     "[scene.shafts.intermediate.bearings[0]] unknown key 'stiff', allowed: axial_N_per_um, "),
+    ("two-stage", _set(("shafts",), None),
+     ("[scene] model = 'lumped3d' needs [[scene.shafts]], one per shaft: input, intermediate, "
+      "output")),
+    ("two-stage", _set(("model",), "torsional"), "[scene] masses_kg: is for model = 'lumped3d'"),
+    ("flexible-idler", _set(("bodies", "idler", "gears"), 3),
+     "[scene.bodies.idler] gears = 3: must list the gears of shaft 'idler' (idler), one per "),
+    ("flexible-idler", _set(("bodies", "idler", "gears"), ["input"]),
+     "[scene.bodies.idler] gears = ['input']: must list the gears of shaft 'idler' (idler)"),
+    ("flexible-idler", _set(("bodies", "spindle"), {"body": "accessory-idler"}),
+     "[scene.bodies] unknown key 'spindle', allowed: idler, input, output"),
+    ("flexible-idler", _set(("bodies", "idler", "body"), None),
+     "[scene.bodies.idler] body: missing required key"),
+])
+def test_the_scene_words(name, change, words):
+    """``[scene]``'s refusals through the case reader, in the hand-written checks' words: the
+    positions on a shaft within its length, a bearing's stiffness 0 or above its floor, the
+    bearings that hold a shaft, the keys of one model, the tables by gear or shaft name."""
+    data = _case(name)
+    if name == "two-stage":
+        assert "masses_kg" not in data["scene"]
+        data["scene"]["masses_kg"] = {"input": 1.0}
+    change(data)
+    with pytest.raises(sc.SchemaError) as err:
+        _load(data, name)
+    assert str(err.value).startswith(words), str(err.value)
+    assert "\n" not in str(err.value)
+
+
+def test_the_scene_sections_give_the_scene():
+    """The typed sections give the scene the file says, in SI: a pair's shafts (mm → m,
+    N/µm → N/m, the diagonal bearing's defaults 200 N/µm radial, 0 axial and tilt), its body,
+    inertias and masses; a train's shafts in shaft order (the file's in another), each gear's
+    centre in gear order, its inertias and masses by gear (None where not given)."""
+    spec = jio.parse_scene({"model": "lumped3d", "pinion_shaft": _SHAFT | {
+        "bearings": [{"position_mm": 0.0, "axial_N_per_um": 50}, {"position_mm": 1.0}]},
+        "gear_shaft": _SHAFT | {"torque_position_mm": 100.0, "elements": 6.0},
+        "pinion_mass_kg": 1.5, "gear_inertia_kg_m2": 5e-3})
+    b0, b1 = spec.pinion_shaft.bearings
+    assert (b0.z, b0.radial, b0.axial, b0.tilt) == (0.0, 2e8, 5e7, 0.0)
+    assert (b1.z, b1.radial, b1.axial) == (1e-3, 2e8, 0.0)
+    g = spec.gear_shaft
+    assert (g.length, g.diameter, g.gear_z, g.torque_z) == (0.1, 0.03, 0.5e-3, 0.1)
+    assert g.elements == 6 and type(g.elements) is int
+    assert (spec.pinion_mass, spec.gear_mass, spec.gear_inertia) == (1.5, None, 5e-3)
+    data = _case("two-stage")
+    data["scene"]["shafts"].reverse()
+    data["scene"]["inertias_kg_m2"] = {"output": 2e-3}
+    data["scene"]["masses_kg"] = {"lst-pinion": 0.7}
+    case = _load(data, "two-stage")
+    shafts = {s["shaft"]: s for s in data["scene"]["shafts"]}
+    for spec, name in zip(case.scene.shafts, ("input", "intermediate", "output"), strict=True):
+        want = shafts[name]["gear_positions_mm"]
+        gears = [g for g, s in zip(case.gear_names, case.shaft_of, strict=True)
+                 if case.shaft_names[s] == name]
+        assert spec.gear_positions == pytest.approx([want[g] * 1e-3 for g in gears], rel=1e-15)
+        assert spec.length == pytest.approx(shafts[name]["length_mm"] * 1e-3, rel=1e-15)
+    inertia = dict(zip(case.gear_names, case.inertias, strict=True))
+    assert inertia["output"] == 2e-3
+    assert dict(zip(case.gear_names, case.masses, strict=True))["lst-pinion"] == 0.7

@@ -380,6 +380,17 @@ def _type_kind(t) -> tuple[str, str]:
     return {bool: "boolean", str: "string"}.get(base, ""), ""
 
 
+def _by_name(annotation):
+    """The ``dict[str, ...]`` type of a section's field that is a table by name (optional or
+    not), or None."""
+    if typing.get_origin(annotation) is dict:
+        return annotation
+    args = typing.get_args(annotation)
+    if typing.get_origin(annotation) in (typing.Union, types.UnionType) and type(None) in args:
+        return next((a for a in args if typing.get_origin(a) is dict), None)
+    return None
+
+
 def _section_kind(field) -> tuple[set, set]:
     """(kinds, allowed ranges) of a typed section's field (``jaxgear.io._sections``): a number
     or an integer in its range, an array of numbers, a name out of a few, a boolean, a string;
@@ -483,6 +494,27 @@ class _Recorder:
                     s.key(where, name).accepted = True
                     s.key(where, name).kind.add("table")
                     self.record_section(sub, table.get(name, {}), f"{where}.{name}", None)
+                if key in named:
+                    continue
+            by_name = _by_name(field.annotation)
+            if by_name is not None:  # a table by name (the train's gears or shafts)
+                info = s.key(where, key)
+                info.accepted = True
+                info.kind.add("table")
+                info.required |= field.is_required()
+                inner = table.get(key)
+                given = inner if isinstance(inner, dict) and inner else {NAME: {}}
+                for name, value in given.items():  # the file's names (or <name>)
+                    if sub is not None:  # of tables
+                        self.record_section(sub, value if isinstance(value, dict) else {},
+                                            f"{where}.{key}.{name}", None)
+                        continue
+                    kind, allowed = _type_kind(typing.get_args(by_name)[1])  # of values
+                    entry = s.key(f"{where}.{key}", name)
+                    entry.accepted = True
+                    entry.kind |= {kind} - {""}
+                    entry.allowed |= {allowed} - {""}
+                    entry.required |= field.is_required()
                 continue
             info = s.key(where, key)
             info.accepted = True

@@ -42,7 +42,7 @@ optional ``damping_matrix_SI`` (6×6): SI per DOF pair, DOF order ux, uy, uz, rx
 from __future__ import annotations
 
 import os
-from typing import ClassVar, Literal
+from typing import Any, ClassVar, Literal
 
 import numpy as np
 import pydantic
@@ -53,108 +53,154 @@ from fem_prep import schema as sc
 from ..dynamics import DIFFRAX_SOLVERS
 from ..scenes import Bearing, ShaftSpec, bearing_matrix
 from ._scene_spec import SceneSpec
-from ._sections import Section, number
+from ._sections import Section, Text, number
 
 __all__ = ["parse_scene"]
 
-_SCENE_KEYS = {
-    "model",
-    "reduction",
-    "pinion_inertia_kg_m2",
-    "gear_inertia_kg_m2",
-    "motor_inertia_kg_m2",
-    "motor_shaft_stiffness_Nm_per_rad",
-    "load_inertia_kg_m2",
-    "load_shaft_stiffness_Nm_per_rad",
-    "damping",
-    "integration",
-    "pinion_mass_kg",
-    "gear_mass_kg",
-    "pinion_shaft",
-    "gear_shaft",
-    "pinion_body",
-    "gear_body",
-}
-_BODY_KEYS = {"body"}
-_SHAFT_KEYS = {
-    "length_mm",
-    "diameter_mm",
-    "gear_position_mm",
-    "torque_position_mm",
-    "elements",
-    "bearings",
-}
 #: two radial bearings without tilt stiffness: at least 1 % of the shaft length apart
 MIN_BEARING_SPAN = 0.01
-_DIAGONAL_BEARING_KEYS = ("radial_N_per_um", "axial_N_per_um", "tilt_Nm_per_rad")
-_BEARING_KEYS = {"position_mm", *_DIAGONAL_BEARING_KEYS, "stiffness_matrix_SI", "damping_matrix_SI"}
+#: a bearing's diagonal stiffness keys: (the least stiffness above 0 (free), the most), file units
+_DIAGONAL = {"radial_N_per_um": (1e-3, 1e9), "axial_N_per_um": (1e-3, 1e9),
+             "tilt_Nm_per_rad": (1.0, 1e15)}
+_ON_SHAFT = " (not beyond the shaft length)"
 
 
-def _parse_shaft(t: dict, where: str, gears: list | None = None) -> ShaftSpec:
-    """A shaft table (its keys checked by the caller) at ``[where]``: a pair's shaft
-    (``gear_position_mm``) or, with ``gears`` (the names of the gears it carries, in gear
-    order), a train's (``gear_positions_mm = { <gear> = mm, ... }``, one per gear)."""
-    # physical lower bounds: a denormal size or stiffness passes "> 0" and fails in the solver
-    length_mm = sc.number(t, "length_mm", where, allowed="[1, 1e+05]")
-    length = length_mm * 1e-3
-    diameter = sc.number(t, "diameter_mm", where, allowed="[1, 1e+04]") * 1e-3
-    within = f"[0, {length_mm:.6g}]"
-    note = " (not beyond the shaft length)"
-    if gears is None:
-        gear_z = sc.number(t, "gear_position_mm", where, allowed=within, note=note) * 1e-3
-    else:
-        given = sc.subtable(t, "gear_positions_mm", where, gears, required=True)
-        w = f"{where}.gear_positions_mm"
-        gear_z = tuple(sc.number(given, g, w, allowed=within, note=note) * 1e-3 for g in gears)
-    torque_z = sc.number(t, "torque_position_mm", where, 0.0, allowed=within, note=note) * 1e-3
-    elements = sc.number(t, "elements", where, 4, allowed="[1, 1000]", integer=True)
-    if "bearings" not in t:
-        raise sc.fail(where, "bearings", "missing required key")
-    bearings = t["bearings"]
-    if not isinstance(bearings, list) or not bearings:
-        raise sc.fail(
-            where,
-            "bearings",
-            "must be a non-empty array of tables, e.g. "
-            "[{ position_mm = 0.0, radial_N_per_um = 200.0 }]",
-            bearings,
-        )
-    out = []
-    for i, b in enumerate(bearings):
-        w = f"{where}.bearings[{i}]"
-        if not isinstance(b, dict):
-            raise sc.fail(where, f"bearings[{i}]", "must be a table", b)
-        sc.check_keys(b, _BEARING_KEYS, w)
-        z = sc.number(b, "position_mm", w, allowed=within, note=note) * 1e-3
-        K, C = (_bearing_matrix(b, key, w) for key in ("stiffness_matrix_SI", "damping_matrix_SI"))
-        if K is None:
-            out.append(
-                Bearing(
-                    z=z,
-                    radial=_stiffness(b, "radial_N_per_um", w, 200.0, 1e-3, 1e9) * 1e6,
-                    axial=_stiffness(b, "axial_N_per_um", w, 0.0, 1e-3, 1e9) * 1e6,
-                    tilt=_stiffness(b, "tilt_Nm_per_rad", w, 0.0, 1.0, 1e15),
-                    damping=C,
-                )
-            )
-            continue
-        both = [key for key in _DIAGONAL_BEARING_KEYS if key in b]
-        if both:
+def where_of(info) -> str:
+    """The table a validator checks (:meth:`Section.read`'s ``where``)."""
+    return (info.context or {}).get("where", "")
+
+
+def on_shaft(key: str, v: float, length_mm: float | None, where: str) -> float:
+    """``v`` (mm), a position along a shaft of ``length_mm`` (None: not known, the length is
+    refused itself), or the one line that it lies beyond the shaft."""
+    within = sc.interval(f"[0, {length_mm:.6g}]") if length_mm is not None else None
+    if within is not None and v not in within:
+        raise sc.fail(where, key, f"out of range, allowed {within}{_ON_SHAFT}", v)
+    return v
+
+
+#: the type of a position along a shaft (mm; within its length: :func:`on_shaft`)
+ON_SHAFT_MM = number(note=" (within the shaft: [0, length_mm])")
+
+
+class BearingSection(Section):
+    """A ``lumped3d`` shaft's bearing (module docstring): its position on the shaft (mm, within
+    the shaft's length, the context's ``length_mm``) and its stiffness: diagonal (radial and
+    axial N/µm, tilt N·m/rad; each 0, free, or at least a floor: :data:`_DIAGONAL`; defaults
+    200, 0, 0) or a 6×6 ``stiffness_matrix_SI`` (not both), an optional 6×6
+    ``damping_matrix_SI`` (:func:`jaxgear.scenes.bearing_matrix` checks the matrices).
+    :meth:`bearing` the :class:`jaxgear.scenes.Bearing` (SI)."""
+
+    WHERE: ClassVar[str] = "scene.pinion_shaft.bearings"
+    position_mm: ON_SHAFT_MM
+    radial_N_per_um: number("[0, 1e+09]") | None = pydantic.Field(
+        None, json_schema_extra={"default": "200"})
+    axial_N_per_um: number("[0, 1e+09]") | None = pydantic.Field(
+        None, json_schema_extra={"default": "0"})
+    tilt_Nm_per_rad: number("[0, 1e+15]") | None = pydantic.Field(
+        None, json_schema_extra={"default": "0"})
+    stiffness_matrix_SI: Any = None
+    damping_matrix_SI: Any = None
+
+    @pydantic.field_validator("position_mm")
+    @classmethod
+    def _on_shaft(cls, v, info):
+        return on_shaft("position_mm", v, (info.context or {}).get("length_mm"), where_of(info))
+
+    @pydantic.field_validator(*_DIAGONAL)
+    @classmethod
+    def _free_or_stiff(cls, v, info):
+        """0 (free in that direction) or at least the key's floor."""
+        lo, hi = _DIAGONAL[info.field_name]
+        if 0 < v < lo:
+            raise sc.fail(where_of(info), info.field_name,
+                          f"out of range, allowed 0 (free) or [{lo:g}, {hi:g}]", v)
+        return v
+
+    @pydantic.field_validator("stiffness_matrix_SI", "damping_matrix_SI")
+    @classmethod
+    def _matrix(cls, v, info):
+        try:
+            bearing_matrix(v)
+        except ValueError as err:
+            # a malformed value is shown; the other errors name the offending entries themselves
+            shown = v if str(err).startswith("must be") else sc.MISSING
+            raise sc.fail(where_of(info), info.field_name, str(err), shown) from None
+        return v
+
+    @pydantic.model_validator(mode="after")
+    def _one_form(self, info):
+        both = [key for key in _DIAGONAL if key in self.given]
+        if "stiffness_matrix_SI" in self.given and both:
             raise sc.fail(
-                w,
+                where_of(info),
                 "stiffness_matrix_SI",
-                f"give either {'/'.join(_DIAGONAL_BEARING_KEYS)} or stiffness_matrix_SI, not both "
+                f"give either {'/'.join(_DIAGONAL)} or stiffness_matrix_SI, not both "
                 f"(the matrix is the whole stiffness; remove {', '.join(both)})",
             )
-        out.append(Bearing(z=z, stiffness=K, damping=C))
-    diag = [np.diag(b.stiffness_matrix()) for b in out]
-    if not any(d[2] > 0 for d in diag):
-        raise sc.SchemaError(
-            f"[{where}] bearings: needs an axial stiffness on at least one bearing "
-            "(axial_N_per_um > 0 or stiffness_matrix_SI[2][2] > 0)"
-        )
-    radial = [b.z for b, d in zip(out, diag, strict=True) if d[0] > 0 and d[1] > 0]
-    if not any(d[3] > 0 and d[4] > 0 for d in diag):
+        return self
+
+    def bearing(self) -> Bearing:
+        """The bearing in SI (m, N/m, N·m/rad)."""
+        C = None if self.damping_matrix_SI is None else bearing_matrix(self.damping_matrix_SI)
+        z = self.position_mm * 1e-3
+        if self.stiffness_matrix_SI is not None:
+            return Bearing(z=z, stiffness=bearing_matrix(self.stiffness_matrix_SI), damping=C)
+
+        def given(key, default):
+            v = getattr(self, key)
+            return default if v is None else v
+
+        return Bearing(z=z, radial=given("radial_N_per_um", 200.0) * 1e6,
+                       axial=given("axial_N_per_um", 0.0) * 1e6,
+                       tilt=given("tilt_Nm_per_rad", 0.0), damping=C)
+
+
+class ShaftKeys(Section):
+    """What a ``lumped3d`` shaft's table gives (a pair's :class:`ShaftSection`, a train's
+    ``[[scene.shafts]]`` entry, each declaring the keys in the file's order): its length and
+    diameter (mm, ``length_mm`` in [1, 1e5], ``diameter_mm`` in [1, 1e4]: a denormal size
+    passes "> 0" and fails in the solver), its gears' centres, the torque's position on it,
+    its finite elements, and its bearings (:class:`BearingSection`, at least one), which must
+    hold it (an axial stiffness, and a tilt stiffness or two radial bearings 1 % of its length
+    apart). Positions lie on the shaft ([0, length_mm])."""
+
+    @pydantic.field_validator("torque_position_mm", check_fields=False)
+    @classmethod
+    def _on_shaft(cls, v, info):
+        return on_shaft(info.field_name, v, info.data.get("length_mm"), where_of(info))
+
+    @pydantic.field_validator("bearings", mode="before", check_fields=False)
+    @classmethod
+    def _bearings(cls, v, info):
+        """Each bearing read where the file has it (``[scene.pinion_shaft.bearings[1]]``)."""
+        where = where_of(info)
+        if not isinstance(v, list) or not v:
+            raise sc.fail(
+                where,
+                "bearings",
+                "must be a non-empty array of tables, e.g. "
+                "[{ position_mm = 0.0, radial_N_per_um = 200.0 }]",
+                v,
+            )
+        context = {"length_mm": info.data.get("length_mm")}
+        return [BearingSection.read(b, f"{where}.bearings[{i}]", context=context)
+                for i, b in enumerate(v)]
+
+    @pydantic.model_validator(mode="after")
+    def _held(self, info):
+        """The bearings hold the shaft: axially, and against tilting."""
+        where = where_of(info)
+        bearings = [b.bearing() for b in self.bearings]
+        diag = [np.diag(b.stiffness_matrix()) for b in bearings]
+        if not any(d[2] > 0 for d in diag):
+            raise sc.SchemaError(
+                f"[{where}] bearings: needs an axial stiffness on at least one bearing "
+                "(axial_N_per_um > 0 or stiffness_matrix_SI[2][2] > 0)"
+            )
+        if any(d[3] > 0 and d[4] > 0 for d in diag):
+            return self
+        radial = [b.z for b, d in zip(bearings, diag, strict=True) if d[0] > 0 and d[1] > 0]
         if len(radial) < 2:
             raise sc.SchemaError(
                 f"[{where}] bearings: needs two radial bearings (or a tilt stiffness) to hold "
@@ -162,7 +208,7 @@ def _parse_shaft(t: dict, where: str, gears: list | None = None) -> ShaftSpec:
             )
         # two radial bearings at one position hold the shaft like one: it tilts freely
         span_mm = (max(radial) - min(radial)) * 1e3
-        min_span = MIN_BEARING_SPAN * length_mm
+        min_span = MIN_BEARING_SPAN * self.length_mm
         if span_mm < min_span:
             raise sc.fail(
                 where,
@@ -172,63 +218,70 @@ def _parse_shaft(t: dict, where: str, gears: list | None = None) -> ShaftSpec:
                 f"({100 * MIN_BEARING_SPAN:g} % of length_mm; closer, they do not stop the shaft "
                 "tilting) or a tilt stiffness (tilt_Nm_per_rad)",
             )
-    return ShaftSpec(
-        length=length,
-        diameter=diameter,
-        gear_z=gear_z,
-        bearings=tuple(out),
-        torque_z=torque_z,
-        elements=elements,
-    )
+        return self
 
-
-def _stiffness(b: dict, key: str, where: str, default: float, lo: float, hi: float) -> float:
-    """A bearing stiffness: 0 (free in that direction) or within [lo, hi] (file units)."""
-    v = sc.number(b, key, where, default, allowed=f"[0, {hi:g}]")
-    if 0 < v < lo:
-        raise sc.fail(
-            where, key, f"out of range, allowed 0 (free) or [{lo:g}, {hi:g}]", b.get(key, v)
+    def spec(self, gear_z: float | tuple) -> ShaftSpec:
+        """The shaft in SI, its gears' centres at ``gear_z`` (m)."""
+        return ShaftSpec(
+            length=self.length_mm * 1e-3,
+            diameter=self.diameter_mm * 1e-3,
+            gear_z=gear_z,
+            bearings=tuple(b.bearing() for b in self.bearings),
+            torque_z=self.torque_position_mm * 1e-3,
+            elements=self.elements,
         )
-    return v
 
 
-def _bearing_matrix(b: dict, key: str, where: str):
-    """``stiffness_matrix_SI`` / ``damping_matrix_SI`` of a bearing table: 6 rows of 6 numbers,
-    SI per DOF pair (DOF order ux, uy, uz, rx, ry, rz), symmetric, positive semi-definite, row
-    and column rz zero (:func:`jaxgear.scenes.bearing_matrix`); ``None`` when absent."""
-    if key not in b:
-        return None
-    v = b[key]
-    try:
-        return bearing_matrix(v)
-    except ValueError as err:
-        # a malformed value is shown; the other errors name the offending entries themselves
-        shown = v if str(err).startswith("must be") else sc.MISSING
-        raise sc.fail(where, key, str(err), shown) from None
+class ShaftSection(ShaftKeys):
+    """A pair's ``[scene.pinion_shaft]`` or ``[scene.gear_shaft]`` (:class:`ShaftKeys`), its
+    gear's centre at ``gear_position_mm`` on it."""
+
+    WHERE: ClassVar[str] = "scene.pinion_shaft"
+    length_mm: number("[1, 1e+05]")
+    diameter_mm: number("[1, 1e+04]")
+    gear_position_mm: ON_SHAFT_MM
+    torque_position_mm: ON_SHAFT_MM = 0.0
+    elements: number("[1, 1000]", integer=True) = 4
+    bearings: list[BearingSection]
+
+    @pydantic.field_validator("gear_position_mm")
+    @classmethod
+    def _gear_on_shaft(cls, v, info):
+        return on_shaft(info.field_name, v, info.data.get("length_mm"), where_of(info))
+
+    def shaft(self) -> ShaftSpec:
+        """The shaft in SI."""
+        return self.spec(self.gear_position_mm * 1e-3)
 
 
-def parse_body(table: dict, key: str, base_dir: str | None, parent: str = "scene") -> str:
-    """``[scene.<member>_body] body = ...`` (a train's ``[scene.bodies.<gear>]``, ``parent``
-    ``scene.bodies``): an embedded fem_prep body, a body TOML or a .npz, resolved against the
-    case file's folder ``base_dir``."""
-    t = sc.subtable(table, key, parent, _BODY_KEYS, required=True)
-    where = f"{parent}.{key}"
-    ref = sc.string(t, "body", where, sc.MISSING)
-    if ref.endswith((".toml", ".npz")):
-        path = ref if base_dir is None or os.path.isabs(ref) else os.path.join(base_dir, ref)
-        if not os.path.isfile(path):
-            raise _body_error(where, f"no such file {path!r}", ref)
-        _check_body_file(path, ref, where)
-        return path
-    names = fem_prep.embedded_bodies()
-    if ref not in names:
-        raise sc.fail(
-            where,
-            "body",
-            f"allowed an embedded body ({', '.join(names)}), a body .toml or a condensed .npz",
-            ref,
-        )
-    return ref
+class BodySection(Section):
+    """``[scene.<member>_body]`` (a train's ``[scene.bodies.<name>]``): a flexible member's
+    ``body``, an embedded fem_prep body's name, a body TOML or a condensed .npz (a path from
+    the case file's folder: :meth:`reference`)."""
+
+    WHERE: ClassVar[str] = "scene.gear_body"
+    body: Text
+
+    def reference(self, where: str, base_dir: str | None) -> str:
+        """The body's reference: an embedded body's name or a body file's path (from the case
+        file's folder ``base_dir``), the file read now (its kind checked) before any work."""
+        ref = self.body
+        if ref.endswith((".toml", ".npz")):
+            path = ref if base_dir is None or os.path.isabs(ref) else os.path.join(base_dir, ref)
+            if not os.path.isfile(path):
+                raise _body_error(where, f"no such file {path!r}", ref)
+            _check_body_file(path, ref, where)
+            return path
+        names = fem_prep.embedded_bodies()
+        if ref not in names:
+            raise sc.fail(
+                where,
+                "body",
+                f"allowed an embedded body ({', '.join(names)}), a body .toml or a condensed "
+                ".npz",
+                ref,
+            )
+        return ref
 
 
 def _body_error(where: str, why: str, ref: str) -> sc.SchemaError:
@@ -347,114 +400,150 @@ class IntegrationSection(Section):
         return kw
 
 
-def integration_of(table: dict) -> IntegrationSection:
-    """The ``[scene.integration]`` of a ``[scene]`` table (its defaults where it has none)."""
-    return IntegrationSection.read(table.get("integration", {}))
+def dynamics_settings(scene) -> dict:
+    """The :class:`SceneSpec` fields of a scene section's ``[scene.damping]`` and
+    ``[scene.integration]`` (a pair's or a train's; ``rotating_frame`` aside)."""
+    return scene.damping.settings() | scene.integration.settings()
 
 
-def parse_dynamics_settings(table: dict) -> dict:
-    """The ``[scene.damping]`` and ``[scene.integration]`` tables of a pair's or a train's
-    ``[scene]`` (``rotating_frame`` aside): :class:`SceneSpec` fields."""
-    return (DampingSection.read(table.get("damping", {})).settings()
-            | integration_of(table).settings())
+def needs_a_body(integration: IntegrationSection, hybrid: bool, tables: str,
+                 modal: bool = True) -> None:
+    """``[scene.integration]``'s hybrid keys refused on a scene without a condensed body
+    (``tables``: where the file gives one, in its words): the rotating frame, and with
+    ``modal`` the modal basis."""
+    if integration.rotating_frame and not hybrid:
+        raise sc.fail(
+            "scene.integration",
+            "rotating_frame",
+            f"allowed only with a condensed body ({tables}): the rigid models are written in the "
+            "fixed frame",
+            True,
+        )
+    if modal and integration.modal_basis is not None and not hybrid:
+        raise sc.fail(
+            "scene.integration",
+            "modal_basis",
+            f"allowed only with a condensed body ({tables}): the modal basis is for the hybrid "
+            "models",
+            integration.modal_basis,
+        )
+
+
+#: [scene]'s torsional keys → their :class:`SceneSpec` fields
+_TORSIONAL = {
+    "pinion_inertia_kg_m2": "pinion_inertia",
+    "gear_inertia_kg_m2": "gear_inertia",
+    "motor_inertia_kg_m2": "motor_inertia",
+    "motor_shaft_stiffness_Nm_per_rad": "motor_shaft",
+    "load_inertia_kg_m2": "load_inertia",
+    "load_shaft_stiffness_Nm_per_rad": "load_shaft",
+}
+#: the keys of a lumped 3D scene only
+_LUMPED = ("pinion_shaft", "gear_shaft", "pinion_mass_kg", "gear_mass_kg", "pinion_body",
+           "gear_body")
+
+
+def _sub(cls):
+    """A before-validator reading a sub-table as ``cls`` where the file has it
+    (``[scene.pinion_shaft]``): its own checks name it."""
+    def read(section, v, info):
+        if not isinstance(v, dict):
+            return v  # the type's words
+        return cls.read(v, f"{where_of(info)}.{info.field_name}")
+    return classmethod(read)
+
+
+class SceneSection(Section):
+    """A pair's ``[scene]`` (module docstring): the model (torsional, or lumped 3D on shafts
+    and bearings), the 1-DOF reduction (torsional), the members' inertias (kg·m²) and masses
+    (kg, lumped 3D), the motor's and the load's inertias with their shafts' stiffnesses
+    (N·m/rad, torsional, each pair both or neither), the shafts (:class:`ShaftSection`,
+    required by lumped 3D), the flexible members' bodies (:class:`BodySection`, lumped 3D),
+    damping and integration. :meth:`spec` the :class:`SceneSpec`."""
+
+    WHERE: ClassVar[str] = "scene"
+    model: Literal["torsional", "lumped3d"] = "torsional"
+    reduction: Literal["none", "relative"] = "none"
+    pinion_shaft: ShaftSection | None = None
+    gear_shaft: ShaftSection | None = None
+    pinion_body: BodySection | None = None
+    gear_body: BodySection | None = None
+    pinion_mass_kg: number("[1e-06, 1e+09]") | None = None
+    gear_mass_kg: number("[1e-06, 1e+09]") | None = None
+    pinion_inertia_kg_m2: number("[1e-09, 1e+15]") | None = None
+    gear_inertia_kg_m2: number("[1e-09, 1e+15]") | None = None
+    motor_inertia_kg_m2: number("[1e-09, 1e+15]") | None = None
+    motor_shaft_stiffness_Nm_per_rad: number("[0.001, 1e+15]") | None = None
+    load_inertia_kg_m2: number("[1e-09, 1e+15]") | None = None
+    load_shaft_stiffness_Nm_per_rad: number("[0.001, 1e+15]") | None = None
+    damping: DampingSection = pydantic.Field(default_factory=DampingSection)
+    integration: IntegrationSection = pydantic.Field(default_factory=IntegrationSection)
+
+    _shafts = pydantic.field_validator("pinion_shaft", "gear_shaft", mode="before")(
+        _sub(ShaftSection))
+    _bodies = pydantic.field_validator("pinion_body", "gear_body", mode="before")(
+        _sub(BodySection))
+
+    @pydantic.model_validator(mode="after")
+    def _related(self):
+        given = self.given
+        if self.model == "lumped3d":
+            for key in ("pinion_shaft", "gear_shaft"):
+                if key not in given:
+                    raise sc.SchemaError(
+                        f"[scene] model = 'lumped3d' needs a [scene.{key}] table")
+            for key in ("motor_inertia_kg_m2", "load_inertia_kg_m2",
+                        "motor_shaft_stiffness_Nm_per_rad", "load_shaft_stiffness_Nm_per_rad"):
+                if key in given:
+                    raise sc.fail("scene", key, "is for model = 'torsional' (lumped3d: the "
+                                  "torque acts at the shafts' torque_position_mm)")
+            if self.reduction != "none":
+                raise sc.fail("scene", "reduction", "applies to model = 'torsional' only",
+                              self.reduction)
+        else:
+            for key in _LUMPED:
+                if key in given:
+                    raise sc.fail("scene", key, "is for model = 'lumped3d'")
+        for side in ("motor", "load"):
+            inertia, shaft = f"{side}_inertia_kg_m2", f"{side}_shaft_stiffness_Nm_per_rad"
+            if (inertia in given) != (shaft in given):
+                raise sc.SchemaError(
+                    f"[scene] {inertia} and {shaft} go together: give both or neither")
+            if self.reduction == "relative" and inertia in given:
+                raise sc.SchemaError(
+                    f"[scene] reduction = 'relative' is for a rigid pinion-gear pair: "
+                    f"remove {inertia} or set reduction = 'none'"
+                )
+        needs_a_body(self.integration, bool({"pinion_body", "gear_body"} & given),
+                     "[scene] pinion_body or gear_body")
+        return self
+
+    def spec(self, base_dir: str | None = None) -> SceneSpec:
+        """The :class:`SceneSpec` (SI), the bodies' references resolved against the case
+        file's folder ``base_dir`` and their files read (:meth:`BodySection.reference`)."""
+        kw: dict = {"model": self.model, "reduction": self.reduction}
+        for member in ("pinion", "gear"):
+            shaft, body = getattr(self, f"{member}_shaft"), getattr(self, f"{member}_body")
+            if shaft is not None:
+                kw[f"{member}_shaft"] = shaft.shaft()
+            if body is not None:
+                kw[f"{member}_body"] = body.reference(f"scene.{member}_body", base_dir)
+            if getattr(self, f"{member}_mass_kg") is not None:
+                kw[f"{member}_mass"] = getattr(self, f"{member}_mass_kg")
+        kw.update({field: getattr(self, key) for key, field in _TORSIONAL.items()
+                   if key in self.given})
+        kw.update(dynamics_settings(self))
+        if "rotating_frame" in self.integration.given:
+            kw["rotating_frame"] = self.integration.rotating_frame
+        return SceneSpec(**kw)
 
 
 def parse_scene(table: dict | None, base_dir: str | None = None) -> SceneSpec:
-    """Validate a ``[scene]`` table (``None`` or ``{}``: the defaults). Body paths are resolved
-    against ``base_dir`` (the case file's folder).
+    """Validate a ``[scene]`` table (``None`` or ``{}``: the defaults; :class:`SceneSection`).
+    Body paths are resolved against ``base_dir`` (the case file's folder).
 
     Raises:
         SchemaError (a ``ValueError``): unknown keys (named), wrong types, values out of range,
             inconsistent inputs; one line, in the file's units.
     """
-    table = {} if table is None else table
-    if not isinstance(table, dict):
-        raise sc.fail("", "scene", "must be a table", table)
-    sc.check_keys(table, _SCENE_KEYS, "scene")
-    kw: dict = {}
-    model = sc.choice(table, "model", "scene", ("torsional", "lumped3d"), "torsional")
-    reduction = sc.choice(table, "reduction", "scene", ("none", "relative"), "none")
-    if model == "lumped3d":
-        for key in ("pinion_shaft", "gear_shaft"):
-            if key not in table:
-                raise sc.SchemaError(f"[scene] model = 'lumped3d' needs a [scene.{key}] table")
-            t = sc.subtable(table, key, "scene", _SHAFT_KEYS, required=True)
-            kw[key] = _parse_shaft(t, f"scene.{key}")
-        for key in (
-            "motor_inertia_kg_m2",
-            "load_inertia_kg_m2",
-            "motor_shaft_stiffness_Nm_per_rad",
-            "load_shaft_stiffness_Nm_per_rad",
-        ):
-            if key in table:
-                raise sc.fail(
-                    "scene",
-                    key,
-                    "is for model = 'torsional' (lumped3d: the torque acts at the shafts' "
-                    "torque_position_mm)",
-                )
-        if reduction != "none":
-            raise sc.fail("scene", "reduction", "applies to model = 'torsional' only", reduction)
-        for key in ("pinion_body", "gear_body"):
-            if key in table:
-                kw[key] = parse_body(table, key, base_dir)
-    else:
-        for key in (
-            "pinion_shaft",
-            "gear_shaft",
-            "pinion_mass_kg",
-            "gear_mass_kg",
-            "pinion_body",
-            "gear_body",
-        ):
-            if key in table:
-                raise sc.fail("scene", key, "is for model = 'lumped3d'")
-    for key, field in (("pinion_mass_kg", "pinion_mass"), ("gear_mass_kg", "gear_mass")):
-        if key in table:
-            kw[field] = sc.number(table, key, "scene", allowed="[1e-06, 1e+09]")
-    kw.update(model=model, reduction=reduction)
-    names = {
-        "pinion_inertia_kg_m2": "pinion_inertia",
-        "gear_inertia_kg_m2": "gear_inertia",
-        "motor_inertia_kg_m2": "motor_inertia",
-        "motor_shaft_stiffness_Nm_per_rad": "motor_shaft",
-        "load_inertia_kg_m2": "load_inertia",
-        "load_shaft_stiffness_Nm_per_rad": "load_shaft",
-    }
-    for key, field in names.items():
-        if key in table:
-            lo = "1e-09" if key.endswith("inertia_kg_m2") else "0.001"
-            kw[field] = sc.number(table, key, "scene", allowed=f"[{lo}, 1e+15]")
-    for side in ("motor", "load"):
-        if (f"{side}_inertia" in kw) != (f"{side}_shaft" in kw):
-            raise sc.SchemaError(
-                f"[scene] {side}_inertia_kg_m2 and {side}_shaft_stiffness_Nm_per_rad "
-                "go together: give both or neither"
-            )
-        if reduction == "relative" and f"{side}_inertia" in kw:
-            raise sc.SchemaError(
-                f"[scene] reduction = 'relative' is for a rigid pinion-gear pair: "
-                f"remove {side}_inertia_kg_m2 or set reduction = 'none'"
-            )
-    kw.update(parse_dynamics_settings(table))
-    w = "scene.integration"
-    integration = integration_of(table)
-    if "rotating_frame" in integration.given:
-        kw["rotating_frame"] = integration.rotating_frame
-        if kw["rotating_frame"] and not any(f"{m}_body" in kw for m in ("pinion", "gear")):
-            raise sc.fail(
-                w,
-                "rotating_frame",
-                "allowed only with a condensed body ([scene] pinion_body or gear_body): the "
-                "rigid models are written in the fixed frame",
-                True,
-            )
-    if "modal_basis" in kw and not any(f"{m}_body" in kw for m in ("pinion", "gear")):
-        raise sc.fail(
-            w,
-            "modal_basis",
-            "allowed only with a condensed body ([scene] pinion_body or gear_body): the "
-            "modal basis is for the hybrid models",
-            kw["modal_basis"],
-        )
-    return SceneSpec(**kw)
+    return SceneSection.read({} if table is None else table).spec(base_dir)

@@ -323,8 +323,11 @@ def schema_error(cls, where: str, table: dict, error: pydantic.ValidationError) 
             model = _sections(info.annotation) if info is not None else None
             where = f"{where}.{key}" + ("" if index is None else f"[{index}]")
             index = None
-        key = part
+        held, key = info, part
         info = _field(model, key)
+        if info is None and model is None and held is not None and typing.get_origin(
+                held.annotation) is dict:  # a value of a table of values by name: their type
+            info = held
         if info is not None and typing.get_origin(info.annotation) is dict and _sections(
                 info.annotation) is not None:
             model, named = _sections(info.annotation), True

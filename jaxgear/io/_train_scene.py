@@ -6,126 +6,241 @@ from __future__ import annotations
 
 import fractions
 import math
-from typing import Any
+from typing import Any, ClassVar, Literal
+
+import pydantic
 
 import fem_prep
 from fem_prep import schema as sc
 
 from ._case import Case
 from ._scene_spec import SceneSpec
-from ._scene_table import _parse_shaft, integration_of, parse_body, parse_dynamics_settings
+from ._scene_table import (
+    ON_SHAFT_MM,
+    BearingSection,
+    BodySection,
+    DampingSection,
+    IntegrationSection,
+    ShaftKeys,
+    dynamics_settings,
+    needs_a_body,
+    on_shaft,
+    where_of,
+)
+from ._sections import Section, Text, number
 
 __all__ = ["MAX_TABLE_BYTES", "check_table_size", "shaft_of_table", "train_scene"]
 
-_SCENE_KEYS = {
-    "model",
-    "inertias_kg_m2",
-    "masses_kg",
-    "shafts",
-    "bodies",
-    "damping",
-    "integration",
-}
-_TRAIN_SHAFT_KEYS = {
-    "shaft",
-    "length_mm",
-    "diameter_mm",
-    "gear_positions_mm",
-    "torque_position_mm",
-    "elements",
-    "bearings",
-}
+
+class TrainShaftSection(ShaftKeys):
+    """A ``[[scene.shafts]]`` entry: a train's shaft (:class:`ShaftKeys`) named by ``shaft``
+    (one of the train's), the centres of the gears it carries by gear name
+    (``gear_positions_mm``, one per gear: the context's ``carried``, in gear order)."""
+
+    WHERE: ClassVar[str] = "scene.shafts"
+    shaft: Text
+    length_mm: number("[1, 1e+05]")
+    diameter_mm: number("[1, 1e+04]")
+    gear_positions_mm: dict[str, ON_SHAFT_MM]
+    torque_position_mm: ON_SHAFT_MM = 0.0
+    elements: number("[1, 1000]", integer=True) = 4
+    bearings: list[BearingSection]
+
+    @pydantic.field_validator("gear_positions_mm", mode="before")
+    @classmethod
+    def _gears(cls, v, info):
+        carried = (info.context or {}).get("carried")
+        if isinstance(v, dict) and carried is not None:
+            sc.check_keys(v, carried, f"{where_of(info)}.gear_positions_mm")
+        return v
+
+    @pydantic.field_validator("gear_positions_mm")
+    @classmethod
+    def _on_shaft(cls, v, info):
+        """Every gear the shaft carries on it, in gear order."""
+        where = f"{where_of(info)}.gear_positions_mm"
+        carried = (info.context or {}).get("carried") or list(v)
+        for g in carried:
+            if g not in v:
+                raise sc.fail(where, g, "missing required key")
+            on_shaft(g, v[g], info.data.get("length_mm"), where)
+        return {g: v[g] for g in carried}
+
+    def shaft_spec(self):
+        """The shaft in SI, its gears' centres in gear order."""
+        return self.spec(tuple(z * 1e-3 for z in self.gear_positions_mm.values()))
+
+
+class TrainBodySection(BodySection):
+    """A train's ``[scene.bodies.<gear or shaft>]``: a body (:class:`BodySection`) and, for a
+    body with two rims, the gears on its rims (``gears``: the webbed wheel's, then the
+    ``[pinion_rim]``'s; checked against the shaft's gears by :func:`_bodies`)."""
+
+    WHERE: ClassVar[str] = "scene.bodies.idler"
+    gears: list[Text] | None = None
+
+    @pydantic.field_validator("gears", mode="before")
+    @classmethod
+    def _rims(cls, v, info):
+        """The gears of the body's shaft (the context's ``carried``, on shaft ``shaft``), one
+        per rim."""
+        ctx = info.context or {}
+        carried = ctx.get("carried")
+        if carried is not None and (not isinstance(v, list) or not all(
+                isinstance(x, str) for x in v) or sorted(v) != sorted(carried)):
+            raise sc.fail(
+                where_of(info),
+                "gears",
+                f"must list the gears of shaft {ctx['shaft']!r} ({', '.join(carried)}), one per "
+                "rim of the body: the webbed wheel's rim, then the [pinion_rim]",
+                v,
+            )
+        return v
+
+
+def shaft_of_table(table: dict, where: str, shaft_names: list) -> tuple[str, int]:
+    """A table's ``shaft`` key: (its name, its index), a shaft of the train."""
+    name = sc.string(table, "shaft", where)
+    if name not in shaft_names:
+        raise sc.fail(where, "shaft", f"no such shaft, allowed {', '.join(shaft_names)}", name)
+    return name, shaft_names.index(name)
+
+
+class TrainSceneSection(Section):
+    """A train's ``[scene]`` (module docstring): torsional or lumped 3D, per-gear inertias
+    (kg·m²) and masses (kg, lumped 3D), the shafts on their bearings (:class:`TrainShaftSection`,
+    one per shaft, lumped 3D), the flexible gears' bodies (:class:`TrainBodySection`, by gear
+    or shaft name, lumped 3D), damping and integration. The context names the train's gears
+    (``names``), each gear's shaft (``shafts``, indices) and the shafts (``shaft_names``)."""
+
+    WHERE: ClassVar[str] = "scene"
+    model: Literal["torsional", "lumped3d"] = "torsional"
+    inertias_kg_m2: dict[str, number("[1e-09, 1e+15]")] = pydantic.Field(default_factory=dict)
+    masses_kg: dict[str, number("[1e-06, 1e+09]")] = pydantic.Field(default_factory=dict)
+    shafts: list[TrainShaftSection] | None = None
+    bodies: dict[str, TrainBodySection] = pydantic.Field(default_factory=dict)
+    damping: DampingSection = pydantic.Field(default_factory=DampingSection)
+    integration: IntegrationSection = pydantic.Field(default_factory=IntegrationSection)
+
+    @pydantic.field_validator("inertias_kg_m2", "masses_kg", mode="before")
+    @classmethod
+    def _by_gear(cls, v, info):
+        names = (info.context or {}).get("names")
+        if isinstance(v, dict) and names is not None:
+            sc.check_keys(v, names, f"scene.{info.field_name}")
+        return v
+
+    @pydantic.field_validator("shafts", mode="before")
+    @classmethod
+    def _named_shafts(cls, v, info):
+        """Each entry read where its shaft's name puts it (``[scene.shafts.<shaft>]``), in
+        shaft order, once per shaft."""
+        ctx = info.context or {}
+        shaft_names = ctx.get("shaft_names")
+        if not isinstance(v, list) or not all(isinstance(t, dict) for t in v):
+            return v  # the type's words
+        if shaft_names is None:  # the train not known: each entry where the file has it
+            return [TrainShaftSection.read(t, f"scene.shafts[{i}]") for i, t in enumerate(v)]
+        out: dict = {}
+        for i, t in enumerate(v):
+            where = f"scene.shafts[{i}]"
+            name, s = shaft_of_table(t, where, shaft_names)
+            if s in out:
+                raise sc.fail(where, "shaft", "has a [[scene.shafts]] entry already", name)
+            carried = [g for g, sh in zip(ctx["names"], ctx["shafts"], strict=True) if sh == s]
+            out[s] = TrainShaftSection.read(t, f"scene.shafts.{name}",
+                                            context={"carried": carried})
+        return [out[s] for s in sorted(out)]
+
+    @pydantic.field_validator("bodies", mode="before")
+    @classmethod
+    def _named_bodies(cls, v, info):
+        """Each body read where the file has it (``[scene.bodies.<name>]``), named by a shaft
+        or a gear of the train."""
+        ctx = info.context or {}
+        if not isinstance(v, dict):
+            return v  # the type's words
+        if "names" not in ctx:  # the train not known
+            return {k: TrainBodySection.read(t, f"scene.bodies.{k}") for k, t in v.items()}
+        names, shafts, shaft_names = ctx["names"], ctx["shafts"], ctx["shaft_names"]
+        sc.check_keys(v, [*shaft_names, *(n for n in names if n not in shaft_names)],
+                      "scene.bodies")
+        out = {}
+        for k, t in v.items():
+            s = shaft_names.index(k) if k in shaft_names else shafts[names.index(k)]
+            carried = [g for g, sh in zip(names, shafts, strict=True) if sh == s]
+            out[k] = TrainBodySection.read(t, f"scene.bodies.{k}", context={
+                "carried": carried, "shaft": shaft_names[s]})
+        return out
+
+    @pydantic.model_validator(mode="after")
+    def _related(self, info):
+        if self.model != "lumped3d":
+            for key in ("masses_kg", "shafts", "bodies"):
+                if key in self.given:
+                    raise sc.fail("scene", key, "is for model = 'lumped3d'")
+        shaft_names = (info.context or {}).get("shaft_names")
+        if self.model == "lumped3d" and shaft_names is not None:
+            if self.shafts is None:
+                raise sc.SchemaError(
+                    "[scene] model = 'lumped3d' needs [[scene.shafts]], one per shaft: "
+                    + ", ".join(shaft_names)
+                )
+            given = {sh.shaft for sh in self.shafts}
+            missing = [n for n in shaft_names if n not in given]
+            if missing:
+                raise sc.SchemaError(f"[[scene.shafts]]: no entry for shaft "
+                                     f"{', '.join(missing)} (allowed: one per shaft)")
+        needs_a_body(self.integration, self.model == "lumped3d" and bool(self.bodies),
+                     "[scene.bodies.<gear>]", modal=False)
+        return self
 
 
 def train_scene(
     table: Any, names: list[str], shafts: list, shaft_names: list, base_dir: str | None = None
 ) -> tuple:
-    """``[scene]`` of a train: the torsional or lumped 3D model, per-gear inertias (and masses),
-    the shafts and flexible gears (lumped 3D), damping, integration. Returns (spec, inertias,
-    masses)."""
-    if not isinstance(table, dict):
-        raise sc.fail("", "scene", "must be a table", table)
-    sc.check_keys(table, _SCENE_KEYS, "scene")
-    model = sc.choice(table, "model", "scene", ("torsional", "lumped3d"), "torsional")
-    given = sc.subtable(table, "inertias_kg_m2", "scene", names)
-    inertias = tuple(
-        sc.number(given, n, "scene.inertias_kg_m2", None, allowed="[1e-09, 1e+15]") for n in names
-    )
-    given = sc.subtable(table, "masses_kg", "scene", names)
-    masses = tuple(
-        sc.number(given, n, "scene.masses_kg", None, allowed="[1e-06, 1e+09]") for n in names
-    )
-    rotating = integration_of(table).rotating_frame
+    """``[scene]`` of a train (:class:`TrainSceneSection`): the torsional or lumped 3D model,
+    per-gear inertias (and masses), the shafts and flexible gears (lumped 3D), damping,
+    integration. Returns (spec, inertias, masses)."""
+    s = TrainSceneSection.read(table, context={"names": list(names), "shafts": list(shafts),
+                                               "shaft_names": list(shaft_names)})
     specs, bodies, rims = None, (), ()
-    if model == "lumped3d":
-        specs = _train_shafts(table, names, shafts, shaft_names)
-        bodies, rims = _bodies(table, names, shafts, shaft_names, base_dir, specs)
-    else:
-        for key in ("masses_kg", "shafts", "bodies"):
-            if key in table:
-                raise sc.fail("scene", key, "is for model = 'lumped3d'")
-    if rotating and not any(b is not None for b in bodies):
-        raise sc.fail(
-            "scene.integration",
-            "rotating_frame",
-            "allowed only with a condensed body ([scene.bodies.<gear>]): the rigid models are "
-            "written in the fixed frame",
-            True,
-        )
+    if s.model == "lumped3d":
+        specs = tuple(sh.shaft_spec() for sh in s.shafts)
+        bodies, rims = _bodies(s.bodies, names, shafts, shaft_names, base_dir, specs)
     spec = SceneSpec(
-        model=model,
+        model=s.model,
         shafts=specs,
         gear_bodies=bodies,
         gear_rims=rims,
-        rotating_frame=rotating,
-        **parse_dynamics_settings(table),
+        rotating_frame=s.integration.rotating_frame,
+        **dynamics_settings(s),
     )
+    inertias = tuple(s.inertias_kg_m2.get(n) for n in names)
+    masses = tuple(s.masses_kg.get(n) for n in names)
     return spec, inertias, masses
 
 
-def _bodies(
-    table: dict, names: list, shafts: list, shaft_names: list, base_dir, specs=None
-) -> tuple:
-    """``[scene.bodies.<gear or shaft>]``: the condensed body that carries a shaft's gears
-    (a flexible gear alone on its shaft, named by the gear or the shaft; or the gears of a
-    shaft on a body with a ``[pinion_rim]``, named by the shaft, ``gears`` listing the gear on
-    each rim). Returns each gear's body reference or ``None`` and each gear's rim (0 the
-    webbed wheel's, 1 the pinion rim), () without bodies. A body file (not a condensed .npz)
-    is read now: its rim count against the shaft's gears and its pinion rim's position against
-    their ``gear_positions_mm`` (``specs``: the shafts), before any work."""
-    allowed = [*shaft_names, *(n for n in names if n not in shaft_names)]
-    given = sc.subtable(table, "bodies", "scene", allowed)
+def _bodies(given: dict, names: list, shafts: list, shaft_names: list, base_dir,
+            specs=None) -> tuple:
+    """``[scene.bodies.<gear or shaft>]`` (:class:`TrainBodySection` by name): the condensed
+    body that carries a shaft's gears (a flexible gear alone on its shaft, named by the gear or
+    the shaft; or the gears of a shaft on a body with a ``[pinion_rim]``, named by the shaft,
+    ``gears`` listing the gear on each rim). Returns each gear's body reference or ``None`` and
+    each gear's rim (0 the webbed wheel's, 1 the pinion rim), () without bodies. A body file
+    (not a condensed .npz) is read now: its rim count against the shaft's gears and its pinion
+    rim's position against their ``gear_positions_mm`` (``specs``: the shafts), before any
+    work."""
     if not given:
         return (), ()
     refs: list = [None] * len(names)
     rims = [0] * len(names)
-    for key in given:
+    for key, t in given.items():
         where = f"scene.bodies.{key}"
         s_ = shaft_names.index(key) if key in shaft_names else shafts[names.index(key)]
         carried = [names[g] for g in range(len(names)) if shafts[g] == s_]
-        t = given[key]
-        if not isinstance(t, dict):
-            raise sc.fail("scene.bodies", key, "must be a table ([scene.bodies.<name>])", t)
-        sc.check_keys(t, {"body", "gears"}, where)
-        ref = parse_body(
-            {key: {"body": t["body"]} if "body" in t else {}}, key, base_dir, "scene.bodies"
-        )
-        order = carried
-        if "gears" in t:
-            order = t["gears"]
-            if (
-                not isinstance(order, list)
-                or not all(isinstance(x, str) for x in order)
-                or sorted(order) != sorted(carried)
-            ):
-                raise sc.fail(
-                    where,
-                    "gears",
-                    "must list the gears of shaft "
-                    f"{shaft_names[s_]!r} ({', '.join(carried)}), one per rim of the body: "
-                    "the webbed wheel's rim, then the [pinion_rim]",
-                    order,
-                )
+        ref = t.reference(where, base_dir)
+        order = carried if t.gears is None else list(t.gears)  # the section's: one per rim
         _check_rims(
             ref, where, order, shaft_names[s_], None if specs is None else specs[s_], carried
         )
@@ -172,42 +287,6 @@ def _check_rims(ref: str, where: str, order: list, shaft: str, spec, carried: li
             f"{want:.6g} mm from its wheel rim (allowed: equal, to 1 µm)",
             {k: round(v * 1e3, 6) for k, v in z.items()},
         )
-
-
-def shaft_of_table(table: dict, where: str, shaft_names: list) -> tuple[str, int]:
-    """A table's ``shaft`` key: (its name, its index), a shaft of the train."""
-    name = sc.string(table, "shaft", where)
-    if name not in shaft_names:
-        raise sc.fail(where, "shaft", f"no such shaft, allowed {', '.join(shaft_names)}", name)
-    return name, shaft_names.index(name)
-
-
-def _train_shafts(table: dict, names: list, shafts: list, shaft_names: list) -> tuple:
-    """``[[scene.shafts]]``: one :class:`~jaxgear.scenes.ShaftSpec` per shaft, in shaft order,
-    each with the positions of the gears it carries."""
-    v = table.get("shafts")
-    if v is None:
-        raise sc.SchemaError(
-            "[scene] model = 'lumped3d' needs [[scene.shafts]], one per shaft: "
-            + ", ".join(shaft_names)
-        )
-    if not isinstance(v, list) or not all(isinstance(t, dict) for t in v):
-        raise sc.fail("scene", "shafts", "must be an array of tables ([[scene.shafts]])", v)
-    out: list = [None] * len(shaft_names)
-    for i, t in enumerate(v):
-        where = f"scene.shafts[{i}]"
-        sc.check_keys(t, _TRAIN_SHAFT_KEYS, where)
-        name, s = shaft_of_table(t, where, shaft_names)
-        if out[s] is not None:
-            raise sc.fail(where, "shaft", "has a [[scene.shafts]] entry already", name)
-        carried = [g for g, sh in zip(names, shafts, strict=True) if sh == s]
-        out[s] = _parse_shaft(t, f"scene.shafts.{name}", carried)
-    missing = [shaft_names[s] for s, spec in enumerate(out) if spec is None]
-    if missing:
-        raise sc.SchemaError(
-            f"[[scene.shafts]]: no entry for shaft {', '.join(missing)} (allowed: one per shaft)"
-        )
-    return tuple(out)
 
 
 #: the most bytes the dynamics' mesh table may take (1 GB: building it takes several times as
