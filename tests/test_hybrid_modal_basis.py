@@ -162,8 +162,9 @@ def test_quasi_static_limit_needs_the_static_correction(setup):
 
 def test_the_static_correction_keeps_the_static_flexibility(setup):
     """The basis itself (:func:`jaxgear.dynamics._modal_basis.modal_space_of`) on the test
-    structure held by a mesh spring k u uᵀ (u the TE vector, k = 1e8 N/m): the static response
-    X = D q + G f to a unit load along u (q from Dᵀ K D q = Dᵀ f) gives the TE compliance uᵀ X
+    structure held by a mesh spring, K_h = K + k u uᵀ (u the TE vector, k = 1e8 N/m), its basis
+    built for K_h: the static response X = D q + G f to a unit load f = u (q from
+    Dᵀ K_h D q = Dᵀ f) gives the TE compliance uᵀ X
     of the full structure (a least-squares solve on all 341 coordinates; the common rotation
     is free and u is orthogonal to it) to 1e-9 with the static correction, while the ten modes
     alone (D = T, G = 0) miss it by more than 5 % (measured 12.6 %): the statics of
