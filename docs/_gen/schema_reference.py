@@ -488,6 +488,7 @@ class _Recorder:
             arms = (field.annotation, *typing.get_args(field.annotation))
             if sub is not None and not any(typing.get_origin(a) is list for a in arms):  # a table
                 info.kind.add("table")
+                info.required |= sections.range_of(field, sections.Needed) is not None
                 inner = table.get(key)
                 self.record_section(sub, inner if isinstance(inner, dict) else {},
                                     f"{where}.{key}", None)

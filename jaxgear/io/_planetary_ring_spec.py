@@ -42,6 +42,7 @@ import fem_prep
 from fem_prep import schema as sc
 
 from ..planetary import AbstractRingModel, CondensedRing, CraigBamptonRing, RigidRing
+from ._sections import in_range
 
 __all__ = ["RING_DYNAMICS", "RING_MODELS", "CondensedRingSpec", "RigidRingSpec", "RingModelSpec",
            "parse_ring_model"]
@@ -209,11 +210,7 @@ def _count(t, key: str, where: str, default, top: int, note: str):
     """``modes`` or ``integration_modes`` (an integer, the section's) in [1, ``top``] (the ring
     body's), ``default`` where not given."""
     v = getattr(t, key)
-    if v is None:
-        return default
-    if not 1 <= v <= top:
-        raise sc.fail(where, key, f"out of range, allowed [1, {top}]{note}", v)
-    return v
+    return default if v is None else in_range(where, key, v, f"[1, {top}]", note)
 
 
 def _no_modes(t, where: str, body) -> tuple[None, None]:

@@ -76,7 +76,7 @@ pin error per planet, keys of one form only.
 from __future__ import annotations
 
 import math
-from typing import ClassVar, Literal
+from typing import Annotated, ClassVar, Literal
 
 import numpy as np
 import pydantic
@@ -97,7 +97,7 @@ from ._planetary_spec import (
     PlanetarySpec,
 )
 from ._plausibility import MIN_LINE_LOAD_N_PER_MM
-from ._sections import Section, Text, number, number_list
+from ._sections import NEEDED, Section, Text, in_range, number, number_list
 
 __all__ = [
     "MESH_STIFFNESS",
@@ -144,6 +144,7 @@ MESH_TILT_KEYS = ("sun_mesh_tilt_stiffness_Nm_per_rad", "ring_mesh_tilt_stiffnes
 GIVEN_KEYS = ("sun_mesh_stiffness_N_per_um", "ring_mesh_stiffness_N_per_um")
 #: a phase (deg) of an eccentricity, a runout or an unbalance
 _PHASE = "[-360, 360]"
+_OPERATING = " (deg, operating transverse)"
 
 
 class BodySection(Section):
@@ -156,7 +157,7 @@ class BodySection(Section):
     mass_kg: number("[1e-06, 1e+07]")
     inertia_kg_m2: number("[1e-12, 1e+09]") | None = None
     inertia_over_r2_kg: number("[1e-06, 1e+09]") | None = None
-    base_radius_mm: number("[0.001, 1e+05]") | None = None
+    base_radius_mm: Annotated[number("[0.001, 1e+05]") | None, NEEDED] = None  # lumped form
     diametral_inertia_kg_m2: number("[1e-12, 1e+09]") | None = None
 
     def inertia(self, r: float) -> float:
@@ -218,10 +219,6 @@ class PlanetSection(BodySection):
     pin_tilt_Nm_per_rad: number("[0, 1e+15]") = 0.0
 
 
-_MEMBER_SECTIONS = {"sun": CentralSection, "ring": RingSection, "carrier": CentralSection,
-                    "planet": PlanetSection}
-
-
 class PlanetarySection(Section):
     """``[planetary]`` (module docstring), both forms' keys: which key belongs to which form,
     what the gears or the ``[housing]`` bound, the assembly and the spacing are checked by
@@ -231,32 +228,34 @@ class PlanetarySection(Section):
     given once, the lumped ring's teeth beyond the sun's)."""
 
     WHERE: ClassVar[str] = "planetary"
-    # the gear form
-    sun_gear: Text | None = None
-    planet_gear: Text | None = None
-    ring_gear: Text | None = None
+    # the gear form (its names required there: NEEDED)
+    sun_gear: Annotated[Text | None, NEEDED] = None
+    planet_gear: Annotated[Text | None, NEEDED] = None
+    ring_gear: Annotated[Text | None, NEEDED] = None
     center_distance_mm: number("(0, 1e+06]") | None = None
-    mesh_stiffness: Literal[tuple(MESH_STIFFNESS)] | None = None
-    # the lumped form
-    sun_teeth: number("[3, 10000]", integer=True) | None = None
-    ring_teeth: number(integer=True) | None = None  # [sun_teeth + 6, 10000]: _related
-    sun_pressure_angle_deg: number(PRESSURE_ANGLE_DEG, note=" (deg, operating transverse)") | (
-        None) = None
-    ring_pressure_angle_deg: number(PRESSURE_ANGLE_DEG, note=" (deg, operating transverse)") | (
-        None) = None
-    helix_angle_deg: number("(-90, 90)") | None = None
-    face_width_mm: number("[0, 1e+05]") | None = None
-    # both forms
-    sun: CentralSection | None = None
-    planet: PlanetSection | None = None
-    ring: RingSection | None = None
-    carrier: CentralSection | None = None
-    planets: number("[1, 64]", integer=True) | None = None
+    mesh_stiffness: Literal[tuple(MESH_STIFFNESS)] = "iso6336"
+    # the lumped form (its teeth and angles required there)
+    sun_teeth: Annotated[number("[3, 10000]", integer=True) | None, NEEDED] = None
+    ring_teeth: Annotated[number(integer=True) | None, NEEDED] = None  # _related: its range
+    sun_pressure_angle_deg: Annotated[number(PRESSURE_ANGLE_DEG, note=_OPERATING) | None,
+                                      NEEDED] = None
+    ring_pressure_angle_deg: Annotated[number(PRESSURE_ANGLE_DEG, note=_OPERATING) | None,
+                                       NEEDED] = None
+    helix_angle_deg: number("(-90, 90)") = 0.0
+    face_width_mm: number("[0, 1e+05]") = 0.0
+    # both forms (a member's table required: _related)
+    sun: Annotated[CentralSection | None, NEEDED] = None
+    planet: Annotated[PlanetSection | None, NEEDED] = None
+    ring: Annotated[RingSection | None, NEEDED] = None
+    carrier: Annotated[CentralSection | None, NEEDED] = None
+    planets: number("[1, 64]", integer=True) | None = None  # or planet_angles_deg: _related
     planet_angles_deg: number_list("[-360, 360]", min_length=1) | None = None
     fixed: Literal[MEMBERS]
     input: Literal[MEMBERS]
-    sun_mesh_stiffness_N_per_um: number(MESH_STIFFNESS_N_PER_UM) | None = None
-    ring_mesh_stiffness_N_per_um: number(MESH_STIFFNESS_N_PER_UM) | None = None
+    # the lumped form's (or the gear form's instead of mesh_stiffness)
+    sun_mesh_stiffness_N_per_um: Annotated[number(MESH_STIFFNESS_N_PER_UM) | None, NEEDED] = None
+    ring_mesh_stiffness_N_per_um: Annotated[number(MESH_STIFFNESS_N_PER_UM) | None,
+                                            NEEDED] = None
     sun_mesh_tilt_stiffness_Nm_per_rad: number("[0, 1e+15]") | None = None
     ring_mesh_tilt_stiffness_Nm_per_rad: number("[0, 1e+15]") | None = None
     tangential_pin_errors_um: number_list("[-1e+04, 1e+04]") | None = None
@@ -269,7 +268,7 @@ class PlanetarySection(Section):
     carrier_eccentricity_phase_deg: number(_PHASE) = 0.0
     planet_runout_um: number_list("[0, 1e+04]") | None = None
     planet_runout_phase_deg: number_list(_PHASE) | None = None
-    housing_seat: number(integer=True) | None = None  # its range follows [housing]
+    housing_seat: number(integer=True) = 0  # its range follows [housing]: _housing_seat
     sun_unbalance_g_mm: number("[0, 1e+09]") = 0.0
     sun_unbalance_phase_deg: number(_PHASE) = 0.0
     ring_unbalance_g_mm: number("[0, 1e+09]") = 0.0
@@ -289,17 +288,16 @@ class PlanetarySection(Section):
             raise sc.fail(w, "input", f"is the fixed member (allowed: another of "
                           f"{', '.join(MEMBERS)})", self.input)
         if self.ring_teeth is not None and self.sun_teeth is not None:
-            lo = self.sun_teeth + 2 * MIN_PLANET_TEETH
-            if not lo <= self.ring_teeth <= 10000:
-                raise sc.fail(w, "ring_teeth", f"out of range, allowed [{lo}, 10000] (sun_teeth "
-                              f"+ 2 × {MIN_PLANET_TEETH}: planets of (ring_teeth − sun_teeth)/2 "
-                              f">= {MIN_PLANET_TEETH} teeth)", self.ring_teeth)
+            in_range(w, "ring_teeth", self.ring_teeth,
+                     f"[{self.sun_teeth + 2 * MIN_PLANET_TEETH}, 10000]",
+                     f" (sun_teeth + 2 × {MIN_PLANET_TEETH}: planets of (ring_teeth − sun_teeth)"
+                     f"/2 >= {MIN_PLANET_TEETH} teeth)")
         for m in MEMBERS:
             self._with_amplitude(f"{m}_eccentricity_um", f"{m}_eccentricity_phase_deg")
         self._with_amplitude("planet_runout_um", "planet_runout_phase_deg")
         for m in (*MEMBERS, "planet"):
             self._with_amplitude(f"{m}_unbalance_g_mm", f"{m}_unbalance_phase_deg")
-        for m, cls in _MEMBER_SECTIONS.items():
+        for m in (*MEMBERS, "planet"):
             section = getattr(self, m)
             if section is None:
                 raise sc.SchemaError(f"[{w}.{m}]: missing required table", f"[{w}.{m}]")
@@ -530,7 +528,7 @@ def parse_planetary(data: dict, base: dict, gears: dict, index: dict) -> Case:
                 "give mesh_stiffness or the two *_mesh_stiffness_N_per_um, not both",
                 t.mesh_stiffness,
             )
-        mesh_k = given or MESH_STIFFNESS[t.mesh_stiffness or "iso6336"]()
+        mesh_k = given or MESH_STIFFNESS[t.mesh_stiffness]()
         a_w = geometry.center_distance
         pairs = (geometry.sun_planet, geometry.planet_ring)
         # the gears' helix_angle_deg has no hand: the planets are taken right-hand
@@ -546,8 +544,8 @@ def parse_planetary(data: dict, base: dict, gears: dict, index: dict) -> Case:
                        for k in ("sun_pressure_angle_deg", "ring_pressure_angle_deg"))
         mesh_k = _given_stiffness(t, required=True)
         names, pairs, a_w, ring_root = (), (), None, None
-        helix = math.radians(t.helix_angle_deg or 0.0)
-        width = (t.face_width_mm or 0.0) * 1e-3
+        helix = math.radians(t.helix_angle_deg)
+        width = t.face_width_mm * 1e-3
     psi = _angles(t, z_s, z_r)
     ring_model = parse_ring_model(t.ring, z_r, ring_root)
     members = {m: _central(getattr(t, m), m, radii[m]) for m in MEMBERS}
@@ -601,17 +599,14 @@ def _housing_seat(data: dict, t: PlanetarySection) -> int:
     (default 0); refused without a ``[housing]``, or past its seats (a box: two, its end walls'
     bores round the axis; a mesh file: its ``[[housing.seats]]``)."""
     if "housing" not in data:
-        if t.housing_seat is not None:
+        if "housing_seat" in t.given:
             raise sc.fail("planetary", "housing_seat", "allowed only with a [housing]",
                           t.housing_seat)
         return 0
     h = data["housing"]
     n = len(h.get("seats", [])) if isinstance(h, dict) and "mesh_file" in h else 2
-    seat = 0 if t.housing_seat is None else t.housing_seat
-    if not 0 <= seat <= max(n - 1, 0):
-        raise sc.fail("planetary", "housing_seat", f"out of range, allowed [0, {max(n - 1, 0)}] "
-                      "(a box: 0 its x- wall's bore, 1 its x+ wall's)", seat)
-    return seat
+    return in_range("planetary", "housing_seat", t.housing_seat, f"[0, {max(n - 1, 0)}]",
+                    " (a box: 0 its x- wall's bore, 1 its x+ wall's)")
 
 
 def _check_held(t: CentralSection, member: PlanetaryMember, name: str) -> None:
@@ -631,10 +626,7 @@ def _check_held(t: CentralSection, member: PlanetaryMember, name: str) -> None:
                       "a torsional stiffness (its support), allowed >= "
                       f"{ranges['torsional_stiffness_Nm_per_rad'][0]} (or "
                       f"torsional_stiffness_N_per_um >= {MIN_SUPPORT_N_PER_UM:g})")
-    rng = sc.interval("[{}, {}]".format(*ranges[given[0]]))
-    v = getattr(t, given[0])
-    if v not in rng:
-        raise sc.fail(where, given[0], f"out of range, allowed {rng}{note}", v)
+    in_range(where, given[0], getattr(t, given[0]), "[{}, {}]".format(*ranges[given[0]]), note)
 
 
 def _check_lumped_radii(members: dict, alphas: tuple) -> None:
