@@ -499,6 +499,9 @@ class _Recorder:
                     self.record_section(sub, entry if isinstance(entry, dict) else {},
                                         f"{where}.{key}[{k}]", None)
                 continue
+            if table_path(f"{where}.{key}") in NAMED_KEYS:  # named values: its own section
+                info.kind.add("table")
+                continue
             kinds, allowed = _section_kind(field)
             info.kind |= kinds
             info.allowed |= allowed
