@@ -38,7 +38,6 @@ position of the mesh's origin), ``[[housing.seats]]`` (``centre_mm``, ``axis``,
 from __future__ import annotations
 
 import dataclasses
-import math
 import os
 import re
 from typing import Annotated, Any, ClassVar, Literal, NamedTuple
@@ -54,8 +53,8 @@ from ._sections import NEEDED, Section, Text, number, number_list
 __all__ = [
     "HOUSING_BAND",
     "HousingBody",
-    "HousingSize",
     "HousingSection",
+    "HousingSize",
     "HousingSpec",
     "build_housing",
     "check_housing_band",
@@ -132,7 +131,7 @@ class SeatEntry(Section):
 
     WHERE: ClassVar[str] = "housing.seats[]"
     centre_mm: number_list(length=3)
-    axis: number_list(length=3) = [1.0, 0.0, 0.0]
+    axis: number_list(length=3) = pydantic.Field(default_factory=lambda: [1.0, 0.0, 0.0])
     diameter_mm: number(_SIZE_MM)
     width_mm: number(_SIZE_MM)
     name: Text | None = None
@@ -177,7 +176,7 @@ class HousingSection(Section):
     # a mesh file
     mesh_file: Text | None = None
     mesh_unit: Literal["mm", "m"] = "mm"
-    offset_mm: number_list(length=3) = [0.0, 0.0, 0.0]
+    offset_mm: number_list(length=3) = pydantic.Field(default_factory=lambda: [0.0, 0.0, 0.0])
     seats: list[SeatEntry] = pydantic.Field(default_factory=list)
     feet: list[FootEntry] = pydantic.Field(default_factory=list)
 
