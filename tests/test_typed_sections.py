@@ -34,13 +34,18 @@ from jaxgear.io._case_file import (
     PairMemberSection,
     PairSection,
 )
+from jaxgear.io._gearbox_file import GearboxOperating, StageEntry
+from jaxgear.io._housing_table import FootEntry, HousingSection, SeatEntry
 from jaxgear.io._modifications_table import ModificationsSection
+from jaxgear.io._planetary_deviations_table import (
+    MemberDeviations,
+    PlanetDeviations,
+    StageDeviationsSection,
+)
+from jaxgear.io._planetary_table import PlanetarySection
 from jaxgear.io._robust_table import RobustSection
 from jaxgear.io._scene_table import DampingSection, IntegrationSection
 from jaxgear.io._train_file import GearSection, MeshEntry, PlanetaryOperating, TrainOperating
-from jaxgear.io._gearbox_file import GearboxOperating, StageEntry
-from jaxgear.io._housing_table import FootEntry, HousingSection, SeatEntry
-from jaxgear.io._planetary_table import PlanetarySection
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 
@@ -109,6 +114,12 @@ BASES = {
     SeatEntry: {"centre_mm": [0.0, 0.0, 100.0], "axis": [1.0, 0.0, 0.0], "diameter_mm": 50.0,
                 "width_mm": 10.0, "name": "left"},
     FootEntry: {"x_mm": [0.0, 30.0], "y_mm": [0.0, 30.0]},
+    StageDeviationsSection: {"grade": 6, "seed": 3, "revolutions": 2, "positions_per_pitch": 4,
+                             "sun": {"profile_slope_um": 1.0}, "ring": {"helix_form_um": -0.5}},
+    MemberDeviations: {"pitch_um": [1.0, -1.0, 0.0], "profile_slope_um": 1.0,
+                       "helix_form_um": [0.5, 0.5, 0.5]},
+    PlanetDeviations: {"sun_flank": {"pitch_um": [1.0, -1.0, 0.0]},
+                       "ring_flank": {"profile_form_um": 1.0}},
 }
 SECTIONS = tuple(BASES)
 
@@ -175,7 +186,8 @@ def _number_fields():
                                        (IntegrationSection, "steps_per_period"),  # or "auto"
                                        (IntegrationSection, "periods"),
                                        (IntegrationSection, "modal_basis"),  # or false
-                                       (StageEntry, "housing_seat")}  # its own words
+                                       (StageEntry, "housing_seat"),  # its own words
+                                       (StageDeviationsSection, "revolutions")}  # "hunting"
             if isinstance(rng, Range) and not rng.array and not one_of and not words:
                 out.append((section, key, rng))
     return out
@@ -418,8 +430,8 @@ def test_every_number_key_says_what_the_hand_written_check_says():
     (PlanetarySection, {"planets": None}, ("[planetary] planets: give planets (equally "
      "spaced) or planet_angles_deg, one of them")),
     (PlanetarySection, {"planet_angles_deg": [0.0, 120.0, 240.0]},
-     "[planetary] planets: give planets (equally spaced) or planet_angles_deg, one of them, "
-     "not both"),
+     ("[planetary] planets: give planets (equally spaced) or planet_angles_deg, one of them, "
+     "not both")),
     (PlanetarySection, {"input": "ring"},
      "[planetary] input = 'ring': is the fixed member (allowed: another of sun, ring, carrier)"),
     (PlanetarySection, {"fixed": "moon"},
@@ -462,8 +474,8 @@ def test_every_number_key_says_what_the_hand_written_check_says():
      "[planetary.planet] pin_radial_N_per_um: missing required key"),
     (PlanetarySection, {"sun": {"mass_kg": 0.4, "inertia_kg_m2": 1.0, "spin": 1.0}},
      "[planetary.sun] unknown key 'spin', allowed: axial_N_per_um, base_radius_mm"),
-    (PlanetarySection, {"sun_teth": 28}, "[planetary] unknown key 'sun_teth' (did you mean "
-     "'sun_teeth'?)"),
+    (PlanetarySection, {"sun_teth": 28}, ("[planetary] unknown key 'sun_teth' (did you mean "
+     "'sun_teeth'?)")),
     (GearboxOperating, {"torque_Nm": 0.0},
      "[operating] torque_Nm = 0: out of range, allowed (0, 1e+09]"),
     (GearboxOperating, {"speed_rad_s": None}, "[operating] speed_rad_s: missing required key"),
@@ -507,6 +519,25 @@ def test_every_number_key_says_what_the_hand_written_check_says():
      "[housing.seats[]] centre_mm = [1, 2]: must be an array of 3 numbers"),
     (FootEntry, {"x_mm": [0.0, float("inf")]},
      "[housing.feet[]] x_mm = [0, inf]: must be an array of finite numbers"),
+    (StageDeviationsSection, {"revolutions": "all"},
+     "[deviations] revolutions = 'all': allowed an integer >= 1 or \"hunting\""),
+    (StageDeviationsSection, {"revolutions": "hunting"}, None),
+    (StageDeviationsSection, {"revolutions": 0},
+     "[deviations] revolutions = 0: out of range, allowed >= 1"),
+    (StageDeviationsSection, {"grade": 12}, "[deviations] grade = 12: out of range, allowed [1, 11]"),
+    (StageDeviationsSection, {"planet_1": {}}, "[deviations] unknown key 'planet_1'"),
+    (StageDeviationsSection, {"sun": {"sun_flank": {}}},
+     "[deviations.sun] unknown key 'sun_flank'"),
+    (StageDeviationsSection, {"sun": {"profile_slope_um": "1"}},
+     "[deviations.sun] profile_slope_um = '1': must be a number, not a string"),
+    (MemberDeviations, {"pitch_um": [1.0, float("nan")]},
+     "[deviations.sun] pitch_um = [1, nan]: must be an array of finite numbers"),
+    (MemberDeviations, {"lead_um": 1.0}, "[deviations.sun] unknown key 'lead_um'"),
+    (PlanetDeviations, {"sun_flank": 3.0},
+     ("[deviations.planet_1] sun_flank = 3: must be a table ([deviations.planet_1.sun_flank]), "
+     "not a number")),
+    (PlanetDeviations, {"ring_flank": {"lead_um": 1.0}},
+     "[deviations.planet_1.ring_flank] unknown key 'lead_um'"),
     (RobustSection, {"revolutions": "all"},
      "[robust] revolutions = 'all': allowed an integer >= 1 or \"hunting\""),
     (RobustSection, {"kinds": ["pitch", "pitch"]},

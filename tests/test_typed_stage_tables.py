@@ -1,10 +1,11 @@
 """A planetary stage's, a gearbox's and a housing's tables read through their typed sections
-(``[planetary]`` and its member tables, a gearbox's ``[operating]`` and ``[[stages]]``,
-``[housing]``: :mod:`jaxgear.io._sections`), through the readers ``jaxgear run`` loads a file
-with: a table given as a number is one line (never a ``TypeError``), and a file mutated at any
+(``[planetary]`` and its member tables, a stage's ``[deviations]``, a gearbox's
+``[operating]`` and ``[[stages]]``, ``[housing]``: :mod:`jaxgear.io._sections`), through the
+readers ``jaxgear run`` loads a file with: a table given as a number is one line (never a ``TypeError``), and a file mutated at any
 key of those tables loads or is one :class:`~fem_prep.checks.SchemaError` line. Load only:
 nothing is meshed or solved (the cheap cases: Lin & Parker's lumped stage, the housed NREL
-stage, the two-stage test gearbox, the housed helical pair)."""
+stage, the two-stage test gearbox, the housed helical pair, the hunting-span example's
+``[deviations]``)."""
 
 from __future__ import annotations
 
@@ -26,6 +27,7 @@ FILES = {
     "housed-stage": ROOT / "jaxgear/cases/nrel-5mw-planetary-housed.toml",
     "gearbox": ROOT / "tests/data/gearbox/two-stage-gearbox.toml",
     "housed-pair": ROOT / "jaxgear/cases/power-helical-housed.toml",
+    "hunting": ROOT / "examples/planetary-hunting.toml",
 }
 
 
@@ -76,11 +78,15 @@ def test_the_files_load():
      "[housing] points_mm = 2: must be a table ([housing.points_mm]), not a number"),
     ("gearbox", ("stages",), 1,
      "stages = 1: must be an array of tables ([[stages]]), not a number"),
-    ("gearbox", ("stages", 0), 3, "'stages[0]' = 3: must be a table ([[stages]] entry), not a "
-     "number"),
+    ("gearbox", ("stages", 0), 3, ("'stages[0]' = 3: must be a table ([[stages]] entry), not a "
+     "number")),
     ("gearbox", ("operating",), 2,
      "operating = 2: must be a table ([operating]), not a number"),
     ("gearbox", ("housing",), 2, "housing = 2: must be a table ([housing]), not a number"),
+    ("hunting", ("deviations",), 2,
+     "deviations = 2: must be a table ([deviations]), not a number"),
+    ("hunting", ("deviations", "planet_2"), 2,
+     "[deviations] planet_2 = 2: must be a table ([deviations.planet_2]), not a number"),
 ])
 def test_a_table_given_as_a_value_is_one_line(name, path, value, words):
     data = copy.deepcopy(_data(name))
@@ -98,8 +104,8 @@ def test_a_table_given_as_a_value_is_one_line(name, path, value, words):
     ("gearbox", lambda d: d["stages"][1].update(model="planar"),
      "[stages[1]] model = 'planar': allowed 'torsional', 'lumped3d'"),
     ("gearbox", lambda d: d["stages"][0].update(model="lumped3d"),
-     "[stages[0]] model = 'lumped3d': only for a pair stage (a planetary stage's model: allowed "
-     "'torsional', 'planar')"),
+     ("[stages[0]] model = 'lumped3d': only for a pair stage (a planetary stage's model: allowed "
+     "'torsional', 'planar')")),
     ("gearbox", lambda d: d["stages"][0].update(input="gear"),
      "[stages[0]] input = 'gear': only for a pair stage"),
     ("gearbox", lambda d: d["stages"][1].update(pinion_inertia_kg_m2="heavy"),
@@ -117,8 +123,8 @@ def test_a_table_given_as_a_value_is_one_line(name, path, value, words):
     ("lumped", lambda d: d["planetary"].update(tangential_pin_errors_um=[1.0, 2.0]),
      "[planetary] tangential_pin_errors_um = [1, 2]: must hold one value per planet ("),
     ("housed-stage", lambda d: d["planetary"].update(housing_seat=2),
-     "[planetary] housing_seat = 2: out of range, allowed [0, 1] (a box: 0 its x- wall's bore, "
-     "1 its x+ wall's)"),
+     ("[planetary] housing_seat = 2: out of range, allowed [0, 1] (a box: 0 its x- wall's bore, "
+     "1 its x+ wall's)")),
     ("housed-stage", lambda d: d["housing"].update(mesh_unit="mm"),
      "[housing] mesh_unit = 'mm': a mesh file's key: allowed with mesh_file only"),
 ])
@@ -169,6 +175,7 @@ PLACES = [
     ("lumped", ("planetary", "planet")), ("housed-stage", ("planetary",)),
     ("housed-stage", ("housing",)), ("housed-pair", ("housing",)),
     ("gearbox", ("operating",)), ("gearbox", ("stages", 0)), ("gearbox", ("stages", 1)),
+    ("hunting", ("deviations",)), ("hunting", ("deviations", "planet_2")),
 ]
 
 

@@ -473,7 +473,7 @@ class _Recorder:
         from jaxgear.io import _sections as sections
 
         s = self.schema
-        named = [k for k in ("meshes", "members") if k in cls.model_fields]
+        named = [k for k in ("meshes", "members", "planets") if k in cls.model_fields]
         for key in (*cls.file_keys(context), *named):
             field = cls.model_fields[key]
             sub = sections._sections(field.annotation)
