@@ -1,11 +1,11 @@
 """A planetary stage's, a gearbox's and a housing's tables read through their typed sections
 (``[planetary]`` and its member tables, a stage's ``[deviations]``, a gearbox's
 ``[operating]`` and ``[[stages]]``, ``[housing]``: :mod:`jaxgear.io._sections`), through the
-readers ``jaxgear run`` loads a file with: a table given as a number is one line (never a ``TypeError``), and a file mutated at any
-key of those tables loads or is one :class:`~fem_prep.checks.SchemaError` line. Load only:
-nothing is meshed or solved (the cheap cases: Lin & Parker's lumped stage, the housed NREL
-stage, the two-stage test gearbox, the housed helical pair, the hunting-span example's
-``[deviations]``)."""
+readers ``jaxgear run`` loads a file with: a table given as a number is one line (never a
+``TypeError``), and a file mutated at any key of those tables loads or is one
+:class:`~fem_prep.checks.SchemaError` line. Load only: nothing is meshed or solved (the cheap
+cases: Lin & Parker's lumped stage, the housed NREL stage, the two-stage test gearbox, the
+housed helical pair, the hunting-span example's ``[deviations]``)."""
 
 from __future__ import annotations
 
