@@ -35,7 +35,15 @@ from jaxgear.io._case_file import (
     PairMemberSection,
     PairSection,
 )
+from jaxgear.io._gearbox_file import GearboxOperating, StageEntry
+from jaxgear.io._housing_table import FootEntry, HousingSection, SeatEntry
 from jaxgear.io._modifications_table import ModificationsSection
+from jaxgear.io._planetary_deviations_table import (
+    MemberDeviations,
+    PlanetDeviations,
+    StageDeviationsSection,
+)
+from jaxgear.io._planetary_table import PlanetarySection
 from jaxgear.io._robust_table import RobustSection
 from jaxgear.io._scene_table import (
     BearingSection,
@@ -91,6 +99,36 @@ BASES = {
     MeshEntry: {"driving": "input", "driven": "idler", "angle_deg": 0.0},
     RobustSection: {"grade": 6, "samples": 100, "members": ["pinion"],
                     "speeds_rad_s": [100.0, 200.0], "revolutions": "hunting"},
+    # a planetary stage (Lin & Parker's lumped form), a gearbox's tables, a housing
+    PlanetarySection: {
+        "sun_teeth": 28, "ring_teeth": 62, "sun_pressure_angle_deg": 24.6,
+        "ring_pressure_angle_deg": 24.6, "sun_mesh_stiffness_N_per_um": 500.0,
+        "ring_mesh_stiffness_N_per_um": 500.0, "planets": 3, "fixed": "ring",
+        "input": "carrier", "sun_eccentricity_um": 10.0, "tangential_pin_errors_um": [5.0, 0.0, 0.0],
+        "sun": {"mass_kg": 0.4, "inertia_over_r2_kg": 0.39, "base_radius_mm": 24.0,
+                "bearing_N_per_um": 100.0},
+        "ring": {"mass_kg": 2.35, "inertia_over_r2_kg": 3.0, "base_radius_mm": 60.0,
+                 "torsional_stiffness_Nm_per_rad": 1e9},
+        "carrier": {"mass_kg": 5.43, "inertia_over_r2_kg": 6.29, "base_radius_mm": 45.0},
+        "planet": {"mass_kg": 0.66, "inertia_over_r2_kg": 0.61, "base_radius_mm": 15.0,
+                   "pin_radial_N_per_um": 100.0, "pin_tangential_N_per_um": 100.0}},
+    GearboxOperating: {"torque_Nm": 5000.0, "speed_rad_s": 100.0},
+    StageEntry: {"case": "two-stage-gearbox-pair.toml", "input": "gear",
+                 "shaft_Nm_per_rad": 5e5, "pinion_inertia_kg_m2": 5.2e-3,
+                 "gear_inertia_kg_m2": 0.0165, "mesh_stiffness_N_per_um": 1792.0},
+    HousingSection: {"width_mm": 250.0, "height_mm": 160.0, "wall_thickness_mm": 10.0,
+                     "layers": 2, "mesher": "structured", "element": "tet4",
+                     "cutoff_Hz": 3000.0, "loss_factor": 0.02,
+                     "points_mm": {"top": [100.0, 80.0, 0.0]}},
+    SeatEntry: {"centre_mm": [0.0, 0.0, 100.0], "axis": [1.0, 0.0, 0.0], "diameter_mm": 50.0,
+                "width_mm": 10.0, "name": "left"},
+    FootEntry: {"x_mm": [0.0, 30.0], "y_mm": [0.0, 30.0]},
+    StageDeviationsSection: {"grade": 6, "seed": 3, "revolutions": 2, "positions_per_pitch": 4,
+                             "sun": {"profile_slope_um": 1.0}, "ring": {"helix_form_um": -0.5}},
+    MemberDeviations: {"pitch_um": [1.0, -1.0, 0.0], "profile_slope_um": 1.0,
+                       "helix_form_um": [0.5, 0.5, 0.5]},
+    PlanetDeviations: {"sun_flank": {"pitch_um": [1.0, -1.0, 0.0]},
+                       "ring_flank": {"profile_form_um": 1.0}},
 }
 #: a lumped 3D shaft of 100 mm, its gear at 0.5 mm, on two bearings 1 mm apart (1 % of its
 #: length: a longer shaft refuses them in words that name its length_mm)
@@ -167,7 +205,7 @@ def test_mutated_tables_are_refused_in_one_line(pick, key, value, unknown):
 def test_a_table_given_as_a_value_is_one_line(section, value):
     msg = _one_line(section, value, section.WHERE.rpartition(".")[2])
     head, _, last = section.WHERE.rpartition(".")
-    named = f"[{head}] {last}" if head else last  # a sub-table: named in its table
+    named = sc.key_path(head, last)  # a sub-table (an array's entry): named in its table
     assert msg.startswith(f"{named} = {sc.fmt(value)}: must be a table "
                           f"([{section.WHERE}]), not "), msg
 
@@ -183,7 +221,9 @@ def _number_fields():
             words = (section, key) in {(RobustSection, "revolutions"),  # or "hunting"
                                        (IntegrationSection, "steps_per_period"),  # or "auto"
                                        (IntegrationSection, "periods"),
-                                       (IntegrationSection, "modal_basis")}  # or false
+                                       (IntegrationSection, "modal_basis"),  # or false
+                                       (StageEntry, "housing_seat"),  # its own words
+                                       (StageDeviationsSection, "revolutions")}  # "hunting"
             by_name = typing.get_origin(info.annotation) is dict  # a table of numbers by name
             if isinstance(rng, Range) and not rng.array and not one_of and not words and (
                     not by_name):
@@ -425,6 +465,117 @@ def test_every_number_key_says_what_the_hand_written_check_says():
     (ModificationsSection, {"end_relief": {"edge": "z2"}},
      "[modifications.end_relief] edge = 'z2': allowed 'both', 'z0', 'z1'"),
     (ModificationsSection, {"wheel": {}}, "[modifications] unknown key 'wheel'"),
+    (PlanetarySection, {"planets": None}, ("[planetary] planets: give planets (equally "
+     "spaced) or planet_angles_deg, one of them")),
+    (PlanetarySection, {"planet_angles_deg": [0.0, 120.0, 240.0]},
+     ("[planetary] planets: give planets (equally spaced) or planet_angles_deg, one of them, "
+     "not both")),
+    (PlanetarySection, {"input": "ring"},
+     "[planetary] input = 'ring': is the fixed member (allowed: another of sun, ring, carrier)"),
+    (PlanetarySection, {"fixed": "moon"},
+     "[planetary] fixed = 'moon': allowed 'sun', 'ring', 'carrier'"),
+    (PlanetarySection, {"ring_teeth": 33},
+     ("[planetary] ring_teeth = 33: out of range, allowed [34, 10000] (sun_teeth + 2 × 3: "
+      "planets of (ring_teeth − sun_teeth)/2 >= 3 teeth)")),
+    (PlanetarySection, {"carrier_eccentricity_phase_deg": 30.0},
+     ("[planetary] carrier_eccentricity_phase_deg = 30: given without carrier_eccentricity_um "
+      "(its amplitude)")),
+    (PlanetarySection, {"planet_unbalance_phase_deg": [0.0, 0.0, 0.0]},
+     "[planetary] planet_unbalance_phase_deg = [0, 0, 0]: given without planet_unbalance_g_mm"),
+    (PlanetarySection, {"sun_eccentricity_um": -5.0},
+     "[planetary] sun_eccentricity_um = -5: out of range, allowed [0, 10000]"),
+    (PlanetarySection, {"mesh_stiffness": "weber"},
+     "[planetary] mesh_stiffness = 'weber': allowed 'iso6336', 'mean'"),
+    (PlanetarySection, {"carrier": None}, "[planetary.carrier]: missing required table"),
+    (PlanetarySection, {"sun": 3.0},
+     "[planetary] sun = 3: must be a table ([planetary.sun]), not a number"),
+    (PlanetarySection, {"sun": {"mass_kg": 0.4, "inertia_kg_m2": 1e-3, "inertia_over_r2_kg": 0.39}},
+     ("[planetary.sun] inertia_over_r2_kg = 0.39: give inertia_kg_m2 or inertia_over_r2_kg, "
+      "not both")),
+    (PlanetarySection, {"sun": {"mass_kg": 0.4}},
+     "[planetary.sun] inertia_kg_m2: missing required key (or inertia_over_r2_kg)"),
+    (PlanetarySection, {"ring": {"mass_kg": 2.35, "inertia_kg_m2": 1.0,
+                                 "torsional_stiffness_Nm_per_rad": 1e9,
+                                 "torsional_stiffness_N_per_um": 1.0}},
+     ("[planetary.ring] torsional_stiffness_N_per_um = 1: give torsional_stiffness_Nm_per_rad "
+      "or torsional_stiffness_N_per_um, not both")),
+    (PlanetarySection, {"ring": {"mass_kg": 2.35, "inertia_kg_m2": 1.0, "model": "elastic"}},
+     "[planetary.ring] model = 'elastic': allowed 'rigid', 'condensed'"),
+    (PlanetarySection, {"ring": {"mass_kg": 2.35, "inertia_kg_m2": 1.0, "modes": 8.5}},
+     "[planetary.ring] modes = 8.5: must be an integer"),
+    (PlanetarySection, {"planet": {"mass_kg": 0.66, "inertia_kg_m2": 1.0,
+                                   "pin_radial_N_per_um": 5e-324, "pin_tangential_N_per_um": 1.0}},
+     ("[planetary.planet] pin_radial_N_per_um = 4.94066e-324: out of range, allowed "
+      "[0.001, 1e+09]")),
+    (PlanetarySection, {"planet": {"mass_kg": 0.66, "inertia_kg_m2": 1.0,
+                                   "pin_tangential_N_per_um": 1.0}},
+     "[planetary.planet] pin_radial_N_per_um: missing required key"),
+    (PlanetarySection, {"sun": {"mass_kg": 0.4, "inertia_kg_m2": 1.0, "spin": 1.0}},
+     "[planetary.sun] unknown key 'spin', allowed: axial_N_per_um, base_radius_mm"),
+    (PlanetarySection, {"sun_teth": 28}, ("[planetary] unknown key 'sun_teth' (did you mean "
+     "'sun_teeth'?)")),
+    (GearboxOperating, {"torque_Nm": 0.0},
+     "[operating] torque_Nm = 0: out of range, allowed (0, 1e+09]"),
+    (GearboxOperating, {"speed_rad_s": None}, "[operating] speed_rad_s: missing required key"),
+    (StageEntry, {"case": ""}, "[stages[]] case = '': must be a non-empty string"),
+    (StageEntry, {"case": None}, "[stages[]] case: missing required key"),
+    (StageEntry, {"mesh_stiffness_N_per_um": 1e-300},
+     "[stages[]] mesh_stiffness_N_per_um = 1e-300: out of range, allowed [0.001, 1e+06]"),
+    (StageEntry, {"model": "rigid"},
+     "[stages[]] model = 'rigid': allowed 'torsional', 'lumped3d', 'planar'"),
+    (StageEntry, {"input": "ring"}, "[stages[]] input = 'ring': allowed 'pinion', 'gear'"),
+    (StageEntry, {"housing_seat": -1},
+     ("[stages[]] housing_seat = -1: allowed an integer >= 0 (the seat index of the gearbox's "
+      "[housing] the held ring is bolted to)")),
+    (StageEntry, {"housing_seat": 2.0}, None),
+    (StageEntry, {"housing_seats": [0, -2]},
+     "[stages[]] housing_seats = [0, -2]: element -2 out of range, allowed >= -1"),
+    (StageEntry, {"shaft": 1.0}, "[stages[]] unknown key 'shaft'"),
+    (HousingSection, {"cutoff_Hz": 10.0, "highest_mesh_frequency_Hz": 100.0},
+     "[housing] cutoff_Hz: give exactly one of cutoff_Hz and highest_mesh_frequency_Hz"),
+    (HousingSection, {"mesh_file": "box.msh"},
+     "[housing] width_mm = 250: a box key: not with mesh_file"),
+    (HousingSection, {"offset_mm": [0.0, 0.0, 0.0]},
+     "[housing] offset_mm = [0, 0, 0]: a mesh file's key: allowed with mesh_file only"),
+    (HousingSection, {"height_mm": None}, "[housing] height_mm: missing required key"),
+    (HousingSection, {"wall_thickness_mm": -1.0},
+     "[housing] wall_thickness_mm = -1: out of range, allowed (0, 100000]"),
+    (HousingSection, {"element": "hex8"}, "[housing] element = 'hex8': allowed 'tet10', 'tet4'"),
+    (HousingSection, {"loss_factor": 3.0}, "[housing] loss_factor = 3: out of range, allowed [0, 1]"),
+    (HousingSection, {"layers": 9}, "[housing] layers = 9: out of range, allowed [1, 8]"),
+    (HousingSection, {"points_mm": {"top": [1.0, 2.0]}},
+     "[housing.points_mm] top = [1, 2]: must be an array of 3 numbers"),
+    (HousingSection, {"points_mm": 3},
+     "[housing] points_mm = 3: must be a table ([housing.points_mm]), not a number"),
+    (HousingSection, {"seats": 5e-324},
+     ("[housing] seats = 4.94066e-324: must be an array of tables ([[housing.seats]]), not a "
+      "number")),
+    (HousingSection, {"colour": 1}, "[housing] unknown key 'colour'"),
+    (SeatEntry, {"diameter_mm": 0.0},
+     "[housing.seats[]] diameter_mm = 0: out of range, allowed (0, 100000]"),
+    (SeatEntry, {"centre_mm": [1.0, 2.0]},
+     "[housing.seats[]] centre_mm = [1, 2]: must be an array of 3 numbers"),
+    (FootEntry, {"x_mm": [0.0, float("inf")]},
+     "[housing.feet[]] x_mm = [0, inf]: must be an array of finite numbers"),
+    (StageDeviationsSection, {"revolutions": "all"},
+     "[deviations] revolutions = 'all': allowed an integer >= 1 or \"hunting\""),
+    (StageDeviationsSection, {"revolutions": "hunting"}, None),
+    (StageDeviationsSection, {"revolutions": 0},
+     "[deviations] revolutions = 0: out of range, allowed >= 1"),
+    (StageDeviationsSection, {"grade": 12}, "[deviations] grade = 12: out of range, allowed [1, 11]"),
+    (StageDeviationsSection, {"planet_1": {}}, "[deviations] unknown key 'planet_1'"),
+    (StageDeviationsSection, {"sun": {"sun_flank": {}}},
+     "[deviations.sun] unknown key 'sun_flank'"),
+    (StageDeviationsSection, {"sun": {"profile_slope_um": "1"}},
+     "[deviations.sun] profile_slope_um = '1': must be a number, not a string"),
+    (MemberDeviations, {"pitch_um": [1.0, float("nan")]},
+     "[deviations.sun] pitch_um = [1, nan]: must be an array of finite numbers"),
+    (MemberDeviations, {"lead_um": 1.0}, "[deviations.sun] unknown key 'lead_um'"),
+    (PlanetDeviations, {"sun_flank": 3.0},
+     ("[deviations.planet_1] sun_flank = 3: must be a table ([deviations.planet_1.sun_flank]), "
+     "not a number")),
+    (PlanetDeviations, {"ring_flank": {"lead_um": 1.0}},
+     "[deviations.planet_1.ring_flank] unknown key 'lead_um'"),
     (RobustSection, {"revolutions": "all"},
      "[robust] revolutions = 'all': allowed an integer >= 1 or \"hunting\""),
     (RobustSection, {"kinds": ["pitch", "pitch"]},

@@ -485,7 +485,7 @@ class _Recorder:
         from jaxgear.io import _sections as sections
 
         s = self.schema
-        named = [k for k in ("meshes", "members") if k in cls.model_fields]
+        named = [k for k in ("meshes", "members", "planets") if k in cls.model_fields]
         for key in (*cls.file_keys(context), *named):
             field = cls.model_fields[key]
             sub = sections._sections(field.annotation)
@@ -521,6 +521,7 @@ class _Recorder:
             arms = (field.annotation, *typing.get_args(field.annotation))
             if sub is not None and not any(typing.get_origin(a) is list for a in arms):  # a table
                 info.kind.add("table")
+                info.required |= sections.range_of(field, sections.Needed) is not None
                 inner = table.get(key)
                 self.record_section(sub, inner if isinstance(inner, dict) else {},
                                     f"{where}.{key}", None)
@@ -530,6 +531,9 @@ class _Recorder:
                 for k, entry in enumerate(table.get(key) or [{}]):
                     self.record_section(sub, entry if isinstance(entry, dict) else {},
                                         f"{where}.{key}[{k}]", None)
+                continue
+            if table_path(f"{where}.{key}") in NAMED_KEYS:  # named values: its own section
+                info.kind.add("table")
                 continue
             kinds, allowed = _section_kind(field)
             info.kind |= kinds

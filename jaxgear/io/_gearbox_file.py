@@ -67,8 +67,10 @@ import dataclasses
 import functools
 import math
 import os
+from typing import Annotated, ClassVar, Literal
 
 import numpy as np
+import pydantic
 
 from fem_prep import schema as sc
 
@@ -107,6 +109,7 @@ from ._housing_table import (
 from ._planetary_spec import PlanetaryForm
 from ._planetary_table import MESH_STIFFNESS_N_PER_UM, torque_floor
 from ._plausibility import MIN_LINE_LOAD_N_PER_MM
+from ._sections import NEEDED, Section, Text, in_range, number, number_list
 from ._whine_table import (
     WhineInputs,
     WhineSection,
@@ -114,22 +117,10 @@ from ._whine_table import (
     lowest_order_frequency,
 )
 
-__all__ = ["GearboxForm", "GearboxStage", "is_gearbox", "parse_gearbox"]
+__all__ = ["GearboxForm", "GearboxOperating", "GearboxStage", "StageEntry", "is_gearbox",
+           "parse_gearbox"]
 
 _KEYS = ("name", "operating", "stages", "whine", "housing")
-_STAGE_KEYS = (
-    "case",
-    "shaft_Nm_per_rad",
-    "input",
-    "pinion_inertia_kg_m2",
-    "gear_inertia_kg_m2",
-    "mesh_stiffness_N_per_um",
-    "model",
-    "housing_position_mm",
-    "housing_seats",
-    "housing_seat",
-    "housing_bore_diameter_mm",
-)
 #: the keys a planetary stage refuses (a pair stage's only)
 _PAIR_KEYS = ("input", "pinion_inertia_kg_m2", "gear_inertia_kg_m2", "mesh_stiffness_N_per_um",
               "housing_seats")
@@ -145,6 +136,57 @@ _HOUSING_KEYS = ("housing_position_mm", "housing_seats", "housing_seat",
                  "housing_bore_diameter_mm")
 #: the keys of a torsional pair stage only
 _TORSIONAL_KEYS = ("pinion_inertia_kg_m2", "gear_inertia_kg_m2", "mesh_stiffness_N_per_um")
+
+
+class GearboxOperating(Section):
+    """A gearbox's ``[operating]``: the first stage's input torque (N·m; its floor follows the
+    stages, :func:`_check_torque`) and speed (rad/s)."""
+
+    WHERE: ClassVar[str] = "operating"
+    torque_Nm: number("(0, 1e+09]")
+    speed_rad_s: number("(0, 1e+05]")
+
+
+class StageEntry(Section):
+    """A ``[[stages]]`` entry (module docstring): its ``case``, the shaft from the previous
+    stage (N·m/rad), a pair stage's ``input`` gear, torsional inertias (kg m²) and mean mesh
+    stiffness (N/µm), its ``model`` (a pair's :data:`PAIR_MODELS`, a planetary stage's
+    :data:`PLANETARY_MODELS`) and its seat in the gearbox's ``[housing]``. Which keys a stage
+    takes follows its case's form and its place in the chain, checked by
+    :func:`parse_gearbox`."""
+
+    WHERE: ClassVar[str] = "stages[]"
+    case: Text
+    # required as the stage asks (NEEDED): the shaft after the first stage, a pair's input, a
+    # torsional pair's inertias and mesh stiffness
+    shaft_Nm_per_rad: Annotated[number("(0, 1e+15]") | None, NEEDED] = None
+    input: Annotated[Literal[tuple(PAIR_INPUTS)] | None, NEEDED] = None
+    pinion_inertia_kg_m2: Annotated[number("[1e-12, 1e+09]") | None, NEEDED] = None
+    gear_inertia_kg_m2: Annotated[number("[1e-12, 1e+09]") | None, NEEDED] = None
+    mesh_stiffness_N_per_um: Annotated[number(MESH_STIFFNESS_N_PER_UM) | None, NEEDED] = None
+    model: Literal[tuple(dict.fromkeys((*PAIR_MODELS, *PLANETARY_MODELS)))] = "torsional"
+    housing_position_mm: number_list(length=3) | None = None
+    housing_seats: number_list(">= -1", integer=True,
+                               note=" (a seat index per bearing; -1 on the ground)") | None = None
+    housing_seat: number(">= 0", integer=True, note=" (the seat index of the gearbox's "
+                         "[housing] the held ring is bolted to)") | None = None
+    housing_bore_diameter_mm: number("(0, 1e+05]") | None = None
+
+    @pydantic.field_validator("housing_seat", mode="before")
+    @classmethod
+    def _seat(cls, v, info):
+        """``housing_seat`` refused in its words (an integral float as its integer)."""
+        if not ((isinstance(v, int) and not isinstance(v, bool) or type(v) is float
+                 and v.is_integer()) and v >= 0):
+            raise sc.fail(info.context["where"], "housing_seat", "allowed an integer >= 0 (the "
+                          "seat index of the gearbox's [housing] the held ring is bolted to)", v)
+        return v
+
+    def required(self, key: str, where: str):
+        """A key the stage's kind requires."""
+        if key not in self.given:
+            raise sc.fail(where, key, "missing required key")
+        return getattr(self, key)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -366,22 +408,23 @@ def is_gearbox(data: dict) -> bool:
 
 
 @functools.singledispatch
-def _stage(form, case: Case, table: dict, where: str, speed: float, torque: float):
+def _stage(form, case: Case, table: StageEntry, where: str, speed: float, torque: float):
     """(case at the carried point, ratio, torsional stage) of a stage of ``form``."""
     raise sc.fail(where, "case", f"a stage must be a planetary or a pair case, not {case.name!r}")
 
 
 @_stage.register
-def _(form: PlanetaryForm, case: Case, table: dict, where: str, speed: float, torque: float):
-    extra = sorted(set(table) & set(_PAIR_KEYS))
+def _(form: PlanetaryForm, case: Case, table: StageEntry, where: str, speed: float,
+      torque: float):
+    extra = sorted(table.given & set(_PAIR_KEYS))
     if extra:
-        raise sc.fail(where, extra[0], "only for a pair stage", table[extra[0]])
+        raise sc.fail(where, extra[0], "only for a pair stage", getattr(table, extra[0]))
     spec = form.spec
-    if table.get("model") in set(PAIR_MODELS) - set(PLANETARY_MODELS):
+    model = table.model
+    if model not in PLANETARY_MODELS:
         raise sc.fail(where, "model", "only for a pair stage (a planetary stage's model: allowed "
-                      + ", ".join(repr(m) for m in PLANETARY_MODELS) + ")", table["model"])
-    kind = PLANETARY_MODELS[sc.choice(table, "model", where, tuple(PLANETARY_MODELS),
-                                      "torsional")]
+                      + ", ".join(repr(m) for m in PLANETARY_MODELS) + ")", model)
+    kind = PLANETARY_MODELS[model]
     model = PlanetaryGearboxStage(spec.stage(case), spec.input, spec.output, model=kind)
     return _carried(case, speed, torque), spec.ratio(), model
 
@@ -397,13 +440,13 @@ def lumped_stage(case: Case, side: int, slices: int | None = None, housing=None,
     return LumpedPairGearboxStage(scene, input=side, modifications=case.modifications)
 
 
-def _lumped(case: Case, table: dict, where: str, side: int) -> LumpedPairGearboxStage:
+def _lumped(case: Case, table: StageEntry, where: str, side: int) -> LumpedPairGearboxStage:
     """``model = "lumped3d"``: the torsional keys refused, the case's scene required."""
     for key in _TORSIONAL_KEYS:
-        if key in table:
+        if key in table.given:
             raise sc.fail(where, key, 'only for model = "torsional" (a lumped 3D stage\'s '
                           "inertias and mesh stiffness are its case's [scene] and [mesh])",
-                          table[key])
+                          getattr(table, key))
     if case.scene is None or not case.lumped or case.flexible:
         has = ("no [scene]" if case.scene is None else f"[scene] model = {case.scene.model!r}"
                + (" with condensed bodies" if case.flexible else ""))
@@ -417,9 +460,11 @@ def _lumped(case: Case, table: dict, where: str, side: int) -> LumpedPairGearbox
 
 
 @_stage.register
-def _(form: PairForm, case: Case, table: dict, where: str, speed: float, torque: float):
-    side = PAIR_INPUTS[sc.choice(table, "input", where, tuple(PAIR_INPUTS))]
-    kind = sc.choice(table, "model", where, PAIR_MODELS, "torsional")
+def _(form: PairForm, case: Case, table: StageEntry, where: str, speed: float, torque: float):
+    side = PAIR_INPUTS[table.required("input", where)]
+    kind = table.model
+    if kind not in PAIR_MODELS:
+        raise sc.fail(where, "model", f"allowed {', '.join(repr(m) for m in PAIR_MODELS)}", kind)
     pair = case.pair
     z = (pair.pinion.teeth, pair.gear.teeth)
     ratio = z[1 - side] / z[side]  # ω_in/ω_out
@@ -428,11 +473,8 @@ def _(form: PairForm, case: Case, table: dict, where: str, speed: float, torque:
     if kind == "lumped3d":
         staged = _carried(case, *pinion)
         return staged, ratio, _lumped(staged, table, where, side)
-    inertias = [
-        sc.number(table, f"{g}_inertia_kg_m2", where, allowed="[1e-12, 1e+09]")
-        for g in ("pinion", "gear")
-    ]
-    k_mesh = sc.number(table, "mesh_stiffness_N_per_um", where, allowed=MESH_STIFFNESS_N_PER_UM)
+    inertias = [table.required(f"{g}_inertia_kg_m2", where) for g in ("pinion", "gear")]
+    k_mesh = table.required("mesh_stiffness_N_per_um", where)
     model = PairGearboxStage(inertias, pair.base_radii, k_mesh * 1e6, input=side)
     return _carried(case, *pinion), ratio, model
 
@@ -451,7 +493,7 @@ def _stage_floor(stage: GearboxStage) -> float:
     return pinion / stage.ratio if stage.torsional.input == 1 else pinion
 
 
-def _check_torque(op: dict, stages: list) -> None:
+def _check_torque(op: GearboxOperating, stages: list) -> None:
     """The gearbox's ``[operating] torque_Nm`` at least the torque that carries each stage's
     own floor (:func:`_stage_floor`) to it: stage k's input torque is the gearbox's times the
     ratios before it (lossless); one line."""
@@ -460,8 +502,8 @@ def _check_torque(op: dict, stages: list) -> None:
         floors.append(_stage_floor(s) / carried)
         carried *= s.ratio
     k = max(range(len(floors)), key=floors.__getitem__)
-    sc.number(op, "torque_Nm", "operating", allowed=f"[{float(f'{floors[k]:.3g}'):.3g}, 1e+09]",
-              note=f" (stage {k + 1}'s floor: its meshes strained measurably)")
+    in_range("operating", "torque_Nm", op.torque_Nm, f"[{float(f'{floors[k]:.3g}'):.3g}, 1e+09]",
+             f" (stage {k + 1}'s floor: its meshes strained measurably)")
 
 
 def _carried(case: Case, speed: float, torque: float) -> Case:
@@ -561,25 +603,25 @@ def parse_gearbox(data: dict, default_name: str, base: str | None, load_case) ->
     sc.check_keys(data, _KEYS, "")
     sc.subtables(data, ("whine", "housing"), "")  # before their readers
     name = sc.name(data, "name", "", default_name)
-    op = sc.subtable(data, "operating", "", ("torque_Nm", "speed_rad_s"), required=True)
-    torque = sc.number(op, "torque_Nm", "operating", allowed="(0, 1e+09]")
-    speed = sc.number(op, "speed_rad_s", "operating", allowed="(0, 1e+05]")
+    op = GearboxOperating.of_file(data, required=True)
+    torque, speed = op.torque_Nm, op.speed_rad_s
     if "stages" not in data:
         raise sc.SchemaError(
             "[[stages]]: missing; a gearbox file lists its stages in order, each a [[stages]] "
             'table with case = "<a pair case or a planetary stage>" (a pair case file has [pair], '
             "[pinion] and [gear] instead)"
         )
-    tables = sc.table_array(data, "stages", "", _STAGE_KEYS)
-    if not tables:
-        raise sc.fail("", "stages", "must be a non-empty array of tables ([[stages]])", tables)
+    raw = sc.table_array(data, "stages", "")
+    if not raw:
+        raise sc.fail("", "stages", "must be a non-empty array of tables ([[stages]])", raw)
+    tables = [StageEntry.read(t, f"stages[{k}]") for k, t in enumerate(raw)]
     stages = []
     for k, t in enumerate(tables):
         where = f"stages[{k}]"
-        case = _stage_case(sc.string(t, "case", where), base, load_case, where)
-        if k == 0 and "shaft_Nm_per_rad" in t:
+        case = _stage_case(t.case, base, load_case, where)
+        if k == 0 and "shaft_Nm_per_rad" in t.given:
             raise sc.fail(where, "shaft_Nm_per_rad", "the first stage has no shaft before it")
-        shaft = 0.0 if k == 0 else sc.number(t, "shaft_Nm_per_rad", where, allowed="(0, 1e+15]")
+        shaft = 0.0 if k == 0 else t.required("shaft_Nm_per_rad", where)
         if stages and stages[-1].ratio < 0:  # the chain carries each stage's drive direction
             raise sc.fail(f"stages[{k - 1}]", "case", "a stage whose output turns against its "
                           "input (a star stage: ratio < 0) is allowed only as the last stage",
@@ -665,7 +707,7 @@ def _check_band(stages, op: dict, spec: HousingSpec, table: dict) -> None:
                   f" is {spec.cutoff:.4g} Hz: give cutoff_Hz >= {need:.4g} Hz")
 
 
-def _placement(table: dict, where: str, has_housing: bool, case: Case, model) -> tuple:
+def _placement(table: StageEntry, where: str, has_housing: bool, case: Case, model) -> tuple:
     """A stage's ``housing_position_mm`` (m), ``housing_seats`` (None for -1),
     ``housing_seat`` and ``housing_bore_diameter_mm`` (m; in (0, 1e5] mm, whether it fits
     is :func:`_check_bores`'): only in a gearbox with ``[housing]``, on a stage whose case has
@@ -674,19 +716,19 @@ def _placement(table: dict, where: str, has_housing: bool, case: Case, model) ->
     integer >= 0; the other keys there only with it)."""
     lumped = isinstance(model, LumpedPairGearboxStage)
     planetary = isinstance(model, PlanetaryGearboxStage)
-    keys = [key for key in _HOUSING_KEYS if key in table]
-    if "housing_seat" in table and not planetary:
+    keys = [key for key in _HOUSING_KEYS if key in table.given]
+    if "housing_seat" in table.given and not planetary:
         raise sc.fail(where, "housing_seat", "allowed on a planetary stage only (a lumped 3D "
-                      "stage's bearings take housing_seats)", table["housing_seat"])
-    if planetary and keys and "housing_seat" not in table:
+                      "stage's bearings take housing_seats)", table.housing_seat)
+    if planetary and keys and "housing_seat" not in table.given:
         raise sc.fail(where, keys[0], "allowed on a planetary stage with housing_seat only",
-                      table[keys[0]])
+                      getattr(table, keys[0]))
     if keys and not has_housing:
         raise sc.fail(where, keys[0], 'allowed on a model = "lumped3d" or a planetary stage of '
-                      "a gearbox with [housing] only", table[keys[0]])
+                      "a gearbox with [housing] only", getattr(table, keys[0]))
     if keys and not (lumped or planetary):
         raise sc.fail(where, keys[0], 'allowed on a model = "lumped3d" stage of a gearbox with '
-                      "[housing] only", table[keys[0]])
+                      "[housing] only", getattr(table, keys[0]))
     if not has_housing or not (lumped or keys):
         return (0.0, 0.0, 0.0), None, None, None
     if case.housing is not None:
@@ -694,28 +736,23 @@ def _placement(table: dict, where: str, has_housing: bool, case: Case, model) ->
                       "in a gearbox with [housing] (its housed stages share the gearbox's)",
                       case.name)
     position = (0.0, 0.0, 0.0)
-    if "housing_position_mm" in table:
-        position = tuple(float(x) * 1e-3 for x in
-                         sc.number_list(table, "housing_position_mm", where, length=3))
+    if table.housing_position_mm is not None:
+        position = tuple(float(x) * 1e-3 for x in table.housing_position_mm)
     bore = None
-    if "housing_bore_diameter_mm" in table:
-        bore = sc.number(table, "housing_bore_diameter_mm", where, allowed="(0, 1e+05]") * 1e-3
+    if table.housing_bore_diameter_mm is not None:
+        bore = table.housing_bore_diameter_mm * 1e-3
     if planetary:
-        seat = table["housing_seat"]
-        if not (isinstance(seat, int) and not isinstance(seat, bool) and seat >= 0):
-            raise sc.fail(where, "housing_seat", "allowed an integer >= 0 (the seat index of "
-                          "the gearbox's [housing] the held ring is bolted to)", seat)
+        seat = table.housing_seat
         fixed = case.form.spec.fixed.name.lower()
         if fixed != "ring":
             raise sc.fail(where, "housing_seat", "allowed on a stage whose ring is held (this "
                           f"stage's [planetary] fixed = {fixed!r})", seat)
         return position, None, seat, bore
-    if "housing_seats" not in table:
+    if table.housing_seats is None:
         return position, None, None, bore
-    seats = table["housing_seats"]
+    seats = table.housing_seats
     n = sum(len(sh.bearings) for sh in (case.scene.pinion_shaft, case.scene.gear_shaft))
-    if not (isinstance(seats, list) and len(seats) == n and all(
-            isinstance(v, int) and not isinstance(v, bool) and v >= -1 for v in seats)):
+    if len(seats) != n:
         raise sc.fail(where, "housing_seats", f"allowed {n} integers >= -1 (a seat index per "
                       "bearing, pinion shaft's then gear shaft's; -1 on the ground)", seats)
     return position, tuple(None if v < 0 else v for v in seats), None, bore

@@ -38,20 +38,22 @@ position of the mesh's origin), ``[[housing.seats]]`` (``centre_mm``, ``axis``,
 from __future__ import annotations
 
 import dataclasses
-import math
 import os
 import re
-from typing import Any, NamedTuple
+from typing import Annotated, Any, ClassVar, Literal, NamedTuple
 
 import numpy as np
+import pydantic
 
 from fem_prep import schema as sc
 
 from ..scenes import HOUSING_BAND, band_cutoff_hz, band_holds, housing_band_hz
+from ._sections import NEEDED, Section, Text, number, number_list
 
 __all__ = [
     "HOUSING_BAND",
     "HousingBody",
+    "HousingSection",
     "HousingSize",
     "HousingSpec",
     "build_housing",
@@ -65,31 +67,6 @@ __all__ = [
 ]
 
 
-_KEYS = {
-    "width_mm",
-    "height_mm",
-    "wall_thickness_mm",
-    "length_mm",
-    "bore_diameter_mm",
-    "foot_size_mm",
-    "mesh_size_mm",
-    "layers",
-    "mesher",
-    "element",
-    "youngs_modulus_GPa",
-    "poisson_ratio",
-    "density_kg_m3",
-    "cutoff_Hz",
-    "highest_mesh_frequency_Hz",
-    "loss_factor",
-    "coupling",
-    "mesh_file",
-    "mesh_unit",
-    "offset_mm",
-    "seats",
-    "feet",
-    "points_mm",
-}
 _BOX_ONLY = (
     "width_mm",
     "height_mm",
@@ -144,27 +121,111 @@ class HousingSpec:
     cutoff_source: str = "cutoff_Hz"
 
 
-def _vec(table, key, where, n, default=None):
-    if key not in table:
-        return default
-    v = table[key]
-    ok = (
-        isinstance(v, list)
-        and len(v) == n
-        and all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in v)
-        and all(math.isfinite(x) for x in v)
-    )
-    if not ok:
-        raise sc.fail(where, key, f"allowed {n} finite numbers", v)
-    return tuple(float(x) for x in v)
+#: a box's or a seat's size (mm)
+_SIZE_MM = "(0, 1e+05]"
+
+
+class SeatEntry(Section):
+    """A ``[[housing.seats]]`` entry of a mesh file (housing frame, mm): its bore's centre,
+    axis (default x; not zero), diameter and width, and its name (default ``seat<k>``)."""
+
+    WHERE: ClassVar[str] = "housing.seats[]"
+    centre_mm: number_list(length=3)
+    axis: number_list(length=3) = pydantic.Field(default_factory=lambda: [1.0, 0.0, 0.0])
+    diameter_mm: number(_SIZE_MM)
+    width_mm: number(_SIZE_MM)
+    name: Text | None = None
+
+
+class FootEntry(Section):
+    """A ``[[housing.feet]]`` entry of a mesh file: its (min, max) along x and y (mm, housing
+    frame; max > min)."""
+
+    WHERE: ClassVar[str] = "housing.feet[]"
+    x_mm: number_list(length=2)
+    y_mm: number_list(length=2)
+
+
+class HousingSection(Section):
+    """``[housing]`` (module docstring): a box's keys or a mesh file's (one or the other), the
+    housing's material (default the case's), cut-off (``cutoff_Hz`` or
+    ``highest_mesh_frequency_Hz``, one of them; neither: derived from ``[whine]``,
+    :func:`parse_housing`), damping, coupling, element and named points (scene frame, mm)."""
+
+    WHERE: ClassVar[str] = "housing"
+    # a box (its width, height and walls required: _related)
+    width_mm: Annotated[number(_SIZE_MM) | None, NEEDED] = None
+    height_mm: Annotated[number(_SIZE_MM) | None, NEEDED] = None
+    wall_thickness_mm: Annotated[number(_SIZE_MM) | None, NEEDED] = None
+    length_mm: number(_SIZE_MM) | None = None
+    bore_diameter_mm: number(_SIZE_MM) | None = None
+    foot_size_mm: number(_SIZE_MM) | None = None
+    mesh_size_mm: number(_SIZE_MM) | None = None
+    layers: number("[1, 8]", integer=True) = 1
+    mesher: Literal[MESHERS] = "structured"
+    # both
+    element: Literal[ELEMENTS] = "tet10"
+    youngs_modulus_GPa: number("[0.1, 1e+07]") | None = None
+    poisson_ratio: number("[0, 0.5)") | None = None
+    density_kg_m3: number("[1, 1e+05]") | None = None
+    cutoff_Hz: number("(0, 1e+06]") | None = None
+    highest_mesh_frequency_Hz: number("(0, 1e+06]") | None = None
+    loss_factor: number("[0, 1]") = 0.0
+    coupling: Literal[COUPLINGS] = "rigid"
+    points_mm: dict[str, Any] = pydantic.Field(default_factory=dict)
+    # a mesh file
+    mesh_file: Text | None = None
+    mesh_unit: Literal["mm", "m"] = "mm"
+    offset_mm: number_list(length=3) = pydantic.Field(default_factory=lambda: [0.0, 0.0, 0.0])
+    seats: list[SeatEntry] = pydantic.Field(default_factory=list)
+    feet: list[FootEntry] = pydantic.Field(default_factory=list)
+
+    @pydantic.field_validator("points_mm")
+    @classmethod
+    def _points(cls, v):
+        """Each named point: 3 numbers (its own line naming the point)."""
+        for name in v:
+            sc.number_list(v, name, "housing.points_mm", length=3)
+        return v
+
+    @pydantic.model_validator(mode="after")
+    def _related(self):
+        w = self.WHERE
+        if self.cutoff_Hz is not None and self.highest_mesh_frequency_Hz is not None:
+            raise sc.fail(w, "cutoff_Hz",
+                          "give exactly one of cutoff_Hz and highest_mesh_frequency_Hz")
+        if self.mesh_file is not None:
+            for key in _BOX_ONLY:
+                if key in self.given:
+                    raise sc.fail(w, key, "a box key: not with mesh_file", getattr(self, key))
+            for k, seat in enumerate(self.seats):
+                if not any(seat.axis):
+                    raise sc.fail(f"{w}.seats[{k}]", "axis", "allowed a non-zero vector",
+                                  list(seat.axis))
+            if not self.seats:
+                raise sc.fail(w, "seats", "a mesh file needs [[housing.seats]] (one per bore)")
+            for k, foot in enumerate(self.feet):
+                for key in ("x_mm", "y_mm"):
+                    r = getattr(foot, key)
+                    if not r[1] > r[0]:
+                        raise sc.fail(f"{w}.feet[{k}]", key, "allowed [min, max], max > min", r)
+            return self
+        for key in _FILE_ONLY:
+            if key in self.given:
+                raise sc.fail(w, key, "a mesh file's key: allowed with mesh_file only",
+                              getattr(self, key))
+        for key in ("width_mm", "height_mm", "wall_thickness_mm"):
+            if key not in self.given:
+                raise sc.fail(w, key, "missing required key")
+        return self
 
 
 def parse_housing(table, base_dir: str | None = None, material=None,
                   whine: tuple[float, str] | None = None) -> HousingSpec:
-    """Check ``[housing]`` (one-line errors naming the key, its value and the allowed range,
-    before anything is built) into a :class:`HousingSpec`; ``material`` the case's (E, ν, ρ),
-    the default. ``whine``: the highest frequency (Hz) of the orders the case's ``[whine]``
-    computes at its top speed and the words that say which
+    """Read ``[housing]`` (:class:`HousingSection`: one-line errors naming the key, its value
+    and the allowed range, before anything is built) into a :class:`HousingSpec`; ``material``
+    the case's (E, ν, ρ), the default. ``whine``: the highest frequency (Hz) of the orders the
+    case's ``[whine]`` computes at its top speed and the words that say which
     (:func:`jaxgear.io._whine_table.highest_order_frequency`), None without ``[whine]``: the
     cut-off when the table gives neither ``cutoff_Hz`` nor ``highest_mesh_frequency_Hz`` is
     :func:`fem_prep.housing.housing_cutoff_hz` of it (1.5 x), recorded in
@@ -179,14 +240,12 @@ def parse_housing(table, base_dir: str | None = None, material=None,
     from fem_prep.housing import housing_cutoff_hz
 
     w = "housing"
-    table = sc.subtable({w: table}, w, "", _KEYS)
-    if "cutoff_Hz" in table and "highest_mesh_frequency_Hz" in table:
-        raise sc.fail(w, "cutoff_Hz", "give exactly one of cutoff_Hz and highest_mesh_frequency_Hz")
-    if "cutoff_Hz" in table:
-        cutoff = sc.number(table, "cutoff_Hz", w, allowed="(0, 1e+06]")
+    t = HousingSection.read(table)
+    if t.cutoff_Hz is not None:
+        cutoff = t.cutoff_Hz
         source = "cutoff_Hz"
-    elif "highest_mesh_frequency_Hz" in table:
-        top = sc.number(table, "highest_mesh_frequency_Hz", w, allowed="(0, 1e+06]")
+    elif t.highest_mesh_frequency_Hz is not None:
+        top = t.highest_mesh_frequency_Hz
         cutoff = housing_cutoff_hz(top)
         source = f"1.5 x highest_mesh_frequency_Hz = {top:g} Hz"
     elif whine is not None:
@@ -203,82 +262,43 @@ def parse_housing(table, base_dir: str | None = None, material=None,
         raise sc.fail(w, "cutoff_Hz", "required: give cutoff_Hz, highest_mesh_frequency_Hz (the "
                       "cut-off 1.5 x it) or a [whine] table to derive it from")
     E0, nu0, rho0 = material or (210e9, 0.3, 7800.0)
-    E = sc.number(table, "youngs_modulus_GPa", w, E0 * 1e-9, allowed="[0.1, 1e+07]") * 1e9
-    nu = sc.number(table, "poisson_ratio", w, nu0, allowed="[0, 0.5)")
-    rho = sc.number(table, "density_kg_m3", w, rho0, allowed="[1, 1e+05]")
-    points = []
-    for name in sc.subtable(table, "points_mm", w):
-        xyz = sc.number_list(table["points_mm"], name, "housing.points_mm", length=3)
-        points.append((str(name), tuple(float(x) * 1e-3 for x in xyz)))
+    E = (E0 * 1e-9 if t.youngs_modulus_GPa is None else t.youngs_modulus_GPa) * 1e9
+    nu = nu0 if t.poisson_ratio is None else t.poisson_ratio
+    rho = rho0 if t.density_kg_m3 is None else t.density_kg_m3
+    points = tuple((str(name), tuple(float(x) * 1e-3 for x in xyz))
+                   for name, xyz in t.points_mm.items())
     common = {
-        "points": tuple(points),
+        "points": points,
         "cutoff": cutoff,
         "cutoff_source": source,
         "material": (E, nu, rho),
-        "loss_factor": sc.number(table, "loss_factor", w, 0.0, allowed="[0, 1]"),
-        "coupling": sc.choice(table, "coupling", w, COUPLINGS, "rigid"),
-        "element": sc.choice(table, "element", w, ELEMENTS, "tet10"),
+        "loss_factor": t.loss_factor,
+        "coupling": t.coupling,
+        "element": t.element,
     }
-    if "mesh_file" in table:
-        for key in _BOX_ONLY:
-            if key in table:
-                raise sc.fail(w, key, "a box key: not with mesh_file", table[key])
-        ref = sc.string(table, "mesh_file", w)
+    if t.mesh_file is not None:
+        ref = t.mesh_file
         # the path resolved here, the file read when the housing is built (build_housing)
         path = ref if base_dir is None or os.path.isabs(ref) else os.path.join(base_dir, ref)
-        unit = sc.choice(table, "mesh_unit", w, ("mm", "m"), "mm")
-        seats = []
-        seat_keys = {"centre_mm", "axis", "diameter_mm", "width_mm", "name"}
-        for k, s in enumerate(sc.table_array(table, "seats", w, seat_keys)):
-            where = f"housing.seats[{k}]"
-            c = _vec(s, "centre_mm", where, 3)
-            if c is None:
-                raise sc.fail(where, "centre_mm", "required")
-            axis = _vec(s, "axis", where, 3, (1.0, 0.0, 0.0))
-            if not any(axis):
-                raise sc.fail(where, "axis", "allowed a non-zero vector", list(axis))
-            seats.append(
-                (
-                    tuple(x * 1e-3 for x in c),
-                    axis,
-                    sc.number(s, "diameter_mm", where, allowed="(0, 1e+05]") * 1e-3,
-                    sc.number(s, "width_mm", where, allowed="(0, 1e+05]") * 1e-3,
-                    sc.string(s, "name", where, f"seat{k}"),
-                )
-            )
-        if not seats:
-            raise sc.fail(w, "seats", "a mesh file needs [[housing.seats]] (one per bore)")
-        feet = []
-        for k, f in enumerate(sc.table_array(table, "feet", w, {"x_mm", "y_mm"})):
-            where = f"housing.feet[{k}]"
-            rx, ry = (_vec(f, key, where, 2) for key in ("x_mm", "y_mm"))
-            for key, r in (("x_mm", rx), ("y_mm", ry)):
-                if r is None or not r[1] > r[0]:
-                    raise sc.fail(where, key, "allowed [min, max], max > min", f.get(key))
-            feet.append((tuple(x * 1e-3 for x in rx), tuple(x * 1e-3 for x in ry)))
-        offset = _vec(table, "offset_mm", w, 3, (0.0, 0.0, 0.0))
+        seats = tuple((tuple(x * 1e-3 for x in s.centre_mm), tuple(float(x) for x in s.axis),
+                       s.diameter_mm * 1e-3, s.width_mm * 1e-3,
+                       f"seat{k}" if s.name is None else s.name)
+                      for k, s in enumerate(t.seats))
+        feet = tuple((tuple(x * 1e-3 for x in f.x_mm), tuple(x * 1e-3 for x in f.y_mm))
+                     for f in t.feet)
         return HousingSpec(
             **common,
             mesh_file=path,
-            mesh_scale=1e-3 if unit == "mm" else 1.0,
-            offset=tuple(x * 1e-3 for x in offset),
-            seats=tuple(seats),
-            feet=tuple(feet),
+            mesh_scale=1e-3 if t.mesh_unit == "mm" else 1.0,
+            offset=tuple(float(x) * 1e-3 for x in t.offset_mm),
+            seats=seats,
+            feet=feet,
         )
-    for key in _FILE_ONLY:
-        if key in table:
-            raise sc.fail(w, key, "a mesh file's key: allowed with mesh_file only", table[key])
-    mm = lambda key, default=sc.MISSING: sc.number(table, key, w, default, allowed="(0, 1e+05]")
-    out = {k: mm(f"{k}_mm") * 1e-3 for k in ("width", "height", "wall_thickness")}
+    out = {k: getattr(t, f"{k}_mm") * 1e-3 for k in ("width", "height", "wall_thickness")}
     for k in ("length", "bore_diameter", "foot_size", "mesh_size"):
-        v = mm(f"{k}_mm", None)
+        v = getattr(t, f"{k}_mm")
         out[k] = None if v is None else v * 1e-3
-    return HousingSpec(
-        **common,
-        **out,
-        layers=int(sc.number(table, "layers", w, 1, allowed="[1, 8]", integer=True)),
-        mesher=sc.choice(table, "mesher", w, MESHERS, "structured"),
-    )
+    return HousingSpec(**common, **out, layers=t.layers, mesher=t.mesher)
 
 
 def box_bores(spec: HousingSpec, shafts, positions, diameters=None):

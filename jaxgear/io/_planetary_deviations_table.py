@@ -10,28 +10,102 @@ stage's (``[planetary]`` eccentricities and planet runout)."""
 from __future__ import annotations
 
 import math
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
+import pydantic
 
 from fem_prep import schema as sc
 
 from .._deviations import ISO1328_SCOPE, GearDeviations, iso1328_tolerances, sample_gear_deviations
 from ..planetary import PlanetaryDeviations, PlanetFlanks, planetary_hunting_periods
-from ._deviations_table import _DEV_MEMBER_KEYS, member_values
+from ._deviations_table import member_values
 from ._modifications_table import _depth_range
+from ._sections import Section, number, number_list, one_of
 
-__all__ = ["MAX_STAGE_POSITIONS", "parse_planetary_deviations"]
+__all__ = ["MAX_STAGE_POSITIONS", "StageDeviationsSection", "parse_planetary_deviations"]
 
 #: the most positions a stage's deviation span may ask for (sun turns × z_s × positions per
 #: pitch): each position is a contact solve of all 2N meshes
 MAX_STAGE_POSITIONS = 400_000
-#: a member's keys: the pair's, without the runout (the stage's eccentricities carry it)
-STAGE_MEMBER_KEYS = _DEV_MEMBER_KEYS - {"runout_um", "runout_phase_deg"}
 #: where a member's runout goes instead ([planetary]; a planet's: planet_runout_um)
 RUNOUT_KEYS = {"sun": "sun_eccentricity_um", "ring": "ring_eccentricity_um"}
 #: a planet's flank tables: the flanks the sun loads, those the ring loads
 FLANKS = ("sun_flank", "ring_flank")
+#: a per-tooth deviation (µm): one for every tooth, or an array of one per tooth
+_PER_TOOTH = one_of(number=number(), array=number_list())
+
+
+class MemberDeviations(Section):
+    """``[deviations.sun]``, ``[deviations.ring]`` or a planet flank's table (µm): the pair's
+    member keys (:func:`jaxgear.io._deviations_table.member_values`, which checks the ranges
+    that follow the module and the lengths that follow the member's teeth), the runout keys
+    declared to be refused in their words (the stage's eccentricities carry the runout)."""
+
+    WHERE: ClassVar[str] = "deviations.sun"
+    pitch_um: number_list() | None = None
+    profile_slope_um: _PER_TOOTH | None = None
+    profile_form_um: _PER_TOOTH | None = None
+    helix_slope_um: _PER_TOOTH | None = None
+    helix_form_um: _PER_TOOTH | None = None
+    runout_um: Any = None  # refused: _refuse_runout
+    runout_phase_deg: Any = None
+
+    def values(self) -> dict:
+        """The deviation keys given (the runout's refused first), as a table."""
+        return {k: v for k, v in self.table().items() if k not in FLANKS}
+
+
+class PlanetDeviations(MemberDeviations):
+    """``[deviations.planet_<n>]``: both flanks' values, or each flank's table
+    (``sun_flank``, ``ring_flank``; not both forms: :func:`parse_planetary_deviations`)."""
+
+    WHERE: ClassVar[str] = "deviations.planet_1"
+    sun_flank: MemberDeviations | None = None
+    ring_flank: MemberDeviations | None = None
+
+
+class StageDeviationsSection(Section):
+    """``[deviations]`` of a planetary stage (module docstring): the grade, the seed, the
+    span (``revolutions``: an integer, or "hunting", as ``None``) and its positions per
+    pitch, the members' tables (the planets' named ``planet_1`` … ``planet_N``, the
+    context's ``planets``: :attr:`planets`). The span's size and the grade's scope follow the
+    stage's teeth (:func:`parse_planetary_deviations`)."""
+
+    WHERE: ClassVar[str] = "deviations"
+    grade: number("[1, 11]", integer=True) | None = None
+    seed: number(">= 0", integer=True) = 0
+    revolutions: number(">= 1", integer=True) | None = pydantic.Field(
+        None, json_schema_extra={"default": "'hunting'"})
+    positions_per_pitch: number(">= 2", integer=True) = 4
+    sun: MemberDeviations | None = None
+    ring: MemberDeviations | None = None
+    planets: dict[str, PlanetDeviations] = pydantic.Field(default_factory=dict)
+
+    @pydantic.model_validator(mode="before")
+    @classmethod
+    def _tables(cls, data, info):
+        """The planets' tables (``planet_1`` … ``planet_N``) moved to :attr:`planets`;
+        "hunting" revolutions as None, another string in the table's words."""
+        planets = (info.context or {}).get("planets", ())
+        if not isinstance(data, dict):
+            return data
+        sc.check_keys(data, {*cls.file_keys(), *planets}, "deviations")
+        own = {k: v for k, v in data.items() if k in planets}
+        for k in own:
+            sc.subtable(own, k, "deviations")
+        rev = data.get("revolutions")
+        if isinstance(rev, str):
+            if rev != "hunting":
+                raise sc.fail("deviations", "revolutions", 'allowed an integer >= 1 or "hunting"',
+                              rev)
+            data = {k: v for k, v in data.items() if k != "revolutions"}
+        return {k: v for k, v in data.items() if k not in planets} | {"planets": own}
+
+    @classmethod
+    def file_keys(cls, context: dict | None = None) -> tuple[str, ...]:
+        """The table's keys but the planets' (named by the stage: :attr:`planets`)."""
+        return tuple(k for k in cls.model_fields if k != "planets")
 
 
 def parse_planetary_deviations(table, pairs: tuple, n_planets: int) -> tuple[PlanetaryDeviations,
@@ -66,25 +140,14 @@ def parse_planetary_deviations(table, pairs: tuple, n_planets: int) -> tuple[Pla
             given both in its table and in its flank tables, a span of more than
             :data:`MAX_STAGE_POSITIONS` positions).
     """
-    if not isinstance(table, dict):
-        raise sc.fail("", "deviations", "must be a table", table)
     planets = [f"planet_{i + 1}" for i in range(n_planets)]
-    sc.check_keys(table, {"grade", "seed", "revolutions", "positions_per_pitch", "sun", "ring",
-                          *planets}, "deviations")
+    t = StageDeviationsSection.read(table, context={"planets": tuple(planets)})
     sp, pr = pairs
     z_s, z_p, z_r = int(sp.pinion.teeth), int(sp.gear.teeth), -int(pr.gear.teeth)
-    grade = sc.number(table, "grade", "deviations", None, allowed="[1, 11]", integer=True)
-    seed = sc.number(table, "seed", "deviations", 0, allowed=">= 0", integer=True)
+    grade, seed, ppp = t.grade, t.seed, t.positions_per_pitch
     hunting = planetary_hunting_periods(z_s, z_p, z_r)
-    rev = table.get("revolutions", "hunting")
-    if rev == "hunting":
-        count = hunting // z_s
-    else:
-        if isinstance(rev, str):
-            raise sc.fail("deviations", "revolutions", 'allowed an integer >= 1 or "hunting"', rev)
-        count = sc.number(table, "revolutions", "deviations", allowed=">= 1", integer=True)
-        rev = count
-    ppp = sc.number(table, "positions_per_pitch", "deviations", 4, allowed=">= 2", integer=True)
+    count = hunting // z_s if t.revolutions is None else t.revolutions
+    rev = "hunting" if t.revolutions is None else count
     if count * z_s * ppp > MAX_STAGE_POSITIONS:
         raise sc.fail(
             "deviations",
@@ -126,23 +189,25 @@ def parse_planetary_deviations(table, pairs: tuple, n_planets: int) -> tuple[Pla
     out: dict[str, Any] = {}
     for tag, _, z in members:
         planet = tag in planets
-        allowed = STAGE_MEMBER_KEYS | set(FLANKS) if planet else STAGE_MEMBER_KEYS
-        _refuse_runout(table.get(tag), f"deviations.{tag}", tag)
-        spec = sc.subtable(table, tag, "deviations", allowed)
-        given = member_values(spec, f"deviations.{tag}", z, signed, positive, note)
+        spec = (t.planets.get(tag) if planet else getattr(t, tag)) or (
+            PlanetDeviations() if planet else MemberDeviations())
+        _refuse_runout(spec, f"deviations.{tag}", tag)
+        values = spec.values()
+        given = member_values(values, f"deviations.{tag}", z, signed, positive, note)
         flanks = {}
         for flank in FLANKS if planet else ():
-            _refuse_runout(spec.get(flank), f"deviations.{tag}.{flank}", tag)
-            sub = sc.subtable(spec, flank, f"deviations.{tag}", STAGE_MEMBER_KEYS)
-            flanks[flank] = member_values(sub, f"deviations.{tag}.{flank}", z, signed,
-                                          positive, note) if flank in spec else None
+            sub = getattr(spec, flank)
+            if sub is not None:
+                _refuse_runout(sub, f"deviations.{tag}.{flank}", tag)
+            flanks[flank] = None if sub is None else member_values(
+                sub.values(), f"deviations.{tag}.{flank}", z, signed, positive, note)
         per_flank = any(v is not None for v in flanks.values())
-        flat = sorted(STAGE_MEMBER_KEYS & set(spec))
+        flat = sorted(values)
         if per_flank and flat:
             raise sc.fail(f"deviations.{tag}", flat[0], "not beside its flank tables (allowed: "
                           f"the values of both flanks in [deviations.{tag}], or each flank's "
                           f"in [deviations.{tag}.sun_flank] / [deviations.{tag}.ring_flank], "
-                          "not both)", spec[flat[0]])
+                          "not both)", values[flat[0]])
         if not planet or (grade is None and not per_flank):
             out[tag] = _gear({**drawn.get((tag, None), {}), **given}, z, alpha)
             continue
@@ -167,14 +232,14 @@ def parse_planetary_deviations(table, pairs: tuple, n_planets: int) -> tuple[Pla
     return deviations, settings
 
 
-def _refuse_runout(spec, where: str, tag: str) -> None:
+def _refuse_runout(spec: MemberDeviations, where: str, tag: str) -> None:
     """Refuse a member's (or a planet flank's) runout keys: the stage's eccentricities carry
     it (one line naming the key to use)."""
     for key in ("runout_um", "runout_phase_deg"):
-        if isinstance(spec, dict) and key in spec:
+        if key in spec.given:
             raise sc.fail(where, key, "not here in a planetary stage (allowed: the stage's "
                           f"runout, [planetary] {RUNOUT_KEYS.get(tag, 'planet_runout_um')})",
-                          spec[key])
+                          getattr(spec, key))
 
 
 def _gear(kw: dict, z: int, alpha: float) -> GearDeviations | None:

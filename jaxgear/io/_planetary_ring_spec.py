@@ -42,12 +42,11 @@ import fem_prep
 from fem_prep import schema as sc
 
 from ..planetary import AbstractRingModel, CondensedRing, CraigBamptonRing, RigidRing
+from ._sections import in_range
 
 __all__ = ["RING_DYNAMICS", "RING_MODELS", "CondensedRingSpec", "RigidRingSpec", "RingModelSpec",
            "parse_ring_model"]
 
-#: the ring model's keys in ``[planetary.ring]``
-RING_MODEL_KEYS = {"model", "body", "dynamics", "modes", "integration_modes"}
 #: ``[planetary.ring] modes`` when ``dynamics = "modal"`` does not give it, and
 #: ``integration_modes`` when ``dynamics = "craig-bampton"`` does not
 DEFAULT_RING_MODES = 24
@@ -170,15 +169,17 @@ class CondensedRingSpec(RingModelSpec):
         return f"condensed ring {self.source} ({_DYNAMICS[self.dynamics][1](self)})"
 
 
-def _rigid(t: dict, where: str, z_r: int, root_radius: float | None) -> RingModelSpec:
+def _rigid(t, where: str, z_r: int, root_radius: float | None) -> RingModelSpec:
     for key in ("body", "dynamics", "modes", "integration_modes"):
-        if key in t:
-            raise sc.fail(where, key, 'allowed only with model = "condensed"', t[key])
+        if key in t.given:
+            raise sc.fail(where, key, 'allowed only with model = "condensed"', getattr(t, key))
     return RigidRingSpec()
 
 
-def _condensed(t: dict, where: str, z_r: int, root_radius: float | None) -> RingModelSpec:
-    source = sc.string(t, "body", where)
+def _condensed(t, where: str, z_r: int, root_radius: float | None) -> RingModelSpec:
+    if t.body is None:
+        raise sc.fail(where, "body", "missing required key")
+    source = t.body
     try:
         body = fem_prep.load_ring_body(source)
     except FileNotFoundError as err:
@@ -200,40 +201,45 @@ def _condensed(t: dict, where: str, z_r: int, root_radius: float | None) -> Ring
                 f"ring body {body.name!r} root_radius_mm = {body.root_radius * 1e3:.6g} differs "
                 f"from the ring gear's root radius {root_radius * 1e3:.6g} mm by "
                 f"{100 * diff:.3g} % (allowed: within {100 * ROOT_TOLERANCE:g} %)", source)
-    dynamics = sc.choice(t, "dynamics", where, RING_DYNAMICS, "quasi-static")
+    dynamics = t.dynamics or "quasi-static"
     modes, integration = _MODE_KEYS.get(dynamics, _no_modes)(t, where, body)
     return CondensedRingSpec(body, source, dynamics, modes, integration)
 
 
-def _no_modes(t: dict, where: str, body) -> tuple[None, None]:
-    if "modes" in t:
+def _count(t, key: str, where: str, default, top: int, note: str):
+    """``modes`` or ``integration_modes`` (an integer, the section's) in [1, ``top``] (the ring
+    body's), ``default`` where not given."""
+    v = getattr(t, key)
+    return default if v is None else in_range(where, key, v, f"[1, {top}]", note)
+
+
+def _no_modes(t, where: str, body) -> tuple[None, None]:
+    if t.modes is not None:
         raise sc.fail(where, "modes", 'allowed only with dynamics = "modal" or "craig-bampton"',
-                      t["modes"])
-    if "integration_modes" in t:
+                      t.modes)
+    if t.integration_modes is not None:
         raise sc.fail(where, "integration_modes", 'allowed only with dynamics = "craig-bampton"',
-                      t["integration_modes"])
+                      t.integration_modes)
     return None, None
 
 
-def _modal_modes(t: dict, where: str, body) -> tuple[int, None]:
-    if "integration_modes" in t:
+def _modal_modes(t, where: str, body) -> tuple[int, None]:
+    if t.integration_modes is not None:
         raise sc.fail(where, "integration_modes", 'allowed only with dynamics = "craig-bampton"',
-                      t["integration_modes"])
+                      t.integration_modes)
     teeth = body.condensation.teeth
-    return sc.number(t, "modes", where, DEFAULT_RING_MODES, allowed=f"[1, {2 * teeth}]",
-                     integer=True, note=f" (2 x the ring body's {teeth} tooth stations)"), None
+    return _count(t, "modes", where, DEFAULT_RING_MODES, 2 * teeth,
+                  f" (2 x the ring body's {teeth} tooth stations)"), None
 
 
-def _craig_bampton_modes(t: dict, where: str, body) -> tuple[int | None, int]:
+def _craig_bampton_modes(t, where: str, body) -> tuple[int | None, int]:
     c = body.condensation
     top = c.teeth * (3 * c.axial_master_nodes - 2) + c.modes  # the fixed-interface DOFs
-    modes = sc.number(t, "modes", where, None, allowed=f"[1, {top}]", integer=True,
-                      note=f" (the fixed-interface DOFs of ring body {body.name!r}: its "
-                      f"{c.teeth} stations' axial masters and {c.modes} modes)")
+    modes = _count(t, "modes", where, None, top, f" (the fixed-interface DOFs of ring body "
+                   f"{body.name!r}: its {c.teeth} stations' axial masters and {c.modes} modes)")
     coords = 2 * c.teeth + (top if modes is None else modes)
-    integration = sc.number(t, "integration_modes", where, min(DEFAULT_RING_MODES, coords),
-                            allowed=f"[1, {coords}]", integer=True,
-                            note=f" (2 x the {c.teeth} stations + the fixed-interface modes)")
+    integration = _count(t, "integration_modes", where, min(DEFAULT_RING_MODES, coords), coords,
+                         f" (2 x the {c.teeth} stations + the fixed-interface modes)")
     return modes, integration
 
 
@@ -241,13 +247,13 @@ def _craig_bampton_modes(t: dict, where: str, body) -> tuple[int | None, int]:
 _MODE_KEYS = {"modal": _modal_modes, "craig-bampton": _craig_bampton_modes}
 
 
-#: ``[planetary.ring] model``: the name → its parser (table, where, z_r, root radius (m) or None)
+#: ``[planetary.ring] model``: the name → its parser (the ring's section, where, z_r, root
+#: radius (m) or None)
 RING_MODELS = {"rigid": _rigid, "condensed": _condensed}
 
 
-def parse_ring_model(t: dict, z_r: int, root_radius: float | None) -> RingModelSpec:
-    """The ring model of ``[planetary.ring]`` (module docstring), validated (one-line
-    :class:`~fem_prep.schema.SchemaError`)."""
-    where = "planetary.ring"
-    return RING_MODELS[sc.choice(t, "model", where, tuple(RING_MODELS), "rigid")](
-        t, where, z_r, root_radius)
+def parse_ring_model(t, z_r: int, root_radius: float | None) -> RingModelSpec:
+    """The ring model of ``[planetary.ring]`` (module docstring; ``t`` its
+    :class:`~jaxgear.io._planetary_table.RingSection`, whose keys are typed), validated
+    against the ring body (one-line :class:`~fem_prep.schema.SchemaError`)."""
+    return RING_MODELS[t.model](t, "planetary.ring", z_r, root_radius)

@@ -76,8 +76,10 @@ pin error per planet, keys of one form only.
 from __future__ import annotations
 
 import math
+from typing import Annotated, ClassVar, Literal
 
 import numpy as np
+import pydantic
 
 from fem_prep import schema as sc
 
@@ -86,7 +88,7 @@ from .._internal import InternalGearPair, planetary_geometry
 from ..planetary import Central, PlanetaryMember, check_assembly, closest_planets, max_planets
 from .._stiffness_models import ISO6336
 from ._case import Case
-from ._planetary_ring_spec import RING_MODEL_KEYS, parse_ring_model
+from ._planetary_ring_spec import RING_DYNAMICS, RING_MODELS, parse_ring_model
 from ._planetary_spec import (
     GivenMeshStiffness,
     ISO6336MeshStiffness,
@@ -95,9 +97,11 @@ from ._planetary_spec import (
     PlanetarySpec,
 )
 from ._plausibility import MIN_LINE_LOAD_N_PER_MM
+from ._sections import NEEDED, Section, Text, in_range, number, number_list
 
 __all__ = [
     "MESH_STIFFNESS",
+    "PlanetarySection",
     "check_internal_stiffness",
     "check_ring_teeth",
     "is_planetary",
@@ -136,51 +140,218 @@ LUMPED_FORM_KEYS = (
 )
 #: the meshes' optional tilting stiffnesses (N·m/rad; the 3D model's, both forms)
 MESH_TILT_KEYS = ("sun_mesh_tilt_stiffness_Nm_per_rad", "ring_mesh_tilt_stiffness_Nm_per_rad")
-#: keys of [planetary] (both forms; a key of the other form is refused in one line)
-PLANETARY_KEYS = {
-    *GEAR_FORM_KEYS,
-    *LUMPED_FORM_KEYS,
-    "sun",
-    "planet",
-    "ring",
-    "carrier",
-    "planets",
-    "planet_angles_deg",
-    "fixed",
-    "input",
-    "sun_mesh_stiffness_N_per_um",
-    "ring_mesh_stiffness_N_per_um",
-    *MESH_TILT_KEYS,
-    "tangential_pin_errors_um",
-    "radial_pin_errors_um",
-    *(f"{m}_eccentricity{q}" for m in ("sun", "ring", "carrier") for q in ("_um", "_phase_deg")),
-    "planet_runout_um",
-    "planet_runout_phase_deg",
-    "housing_seat",
-    *(f"{m}_unbalance{q}" for m in (*MEMBERS, "planet") for q in ("_g_mm", "_phase_deg")),
-}
-_BODY_KEYS = {
-    "mass_kg",
-    "inertia_kg_m2",
-    "inertia_over_r2_kg",
-    "base_radius_mm",
-    "diametral_inertia_kg_m2",
-}
-CENTRAL_KEYS = _BODY_KEYS | {
-    "bearing_N_per_um",
-    "torsional_stiffness_Nm_per_rad",
-    "torsional_stiffness_N_per_um",
-    "axial_N_per_um",
-    "tilt_Nm_per_rad",
-}
-PLANET_KEYS = _BODY_KEYS | {
-    "pin_radial_N_per_um",
-    "pin_tangential_N_per_um",
-    "pin_axial_N_per_um",
-    "pin_tilt_Nm_per_rad",
-}
-#: each member table's keys (the others: CENTRAL_KEYS)
-MEMBER_KEYS = {"planet": PLANET_KEYS, "ring": CENTRAL_KEYS | RING_MODEL_KEYS}
+#: the given mesh stiffnesses (N/µm; the lumped form's, or the gear form's instead of a model)
+GIVEN_KEYS = ("sun_mesh_stiffness_N_per_um", "ring_mesh_stiffness_N_per_um")
+#: a phase (deg) of an eccentricity, a runout or an unbalance
+_PHASE = "[-360, 360]"
+_OPERATING = " (deg, operating transverse)"
+
+
+class BodySection(Section):
+    """A member's body in ``[planetary.<member>]`` (module docstring): its mass (kg), polar
+    inertia (``inertia_kg_m2`` or ``inertia_over_r2_kg``: I/r_b², Lin & Parker's; one of them,
+    :meth:`PlanetarySection.members`), base radius (mm; the lumped form's only) and diametral
+    inertia (kg m²; the 3D model's). The lower ends lie far below any gear's (a gram,
+    1e-12 kg m²) and above the float range's underflow: I = (I/r²) r² stays positive."""
+
+    mass_kg: number("[1e-06, 1e+07]")
+    inertia_kg_m2: number("[1e-12, 1e+09]") | None = None
+    inertia_over_r2_kg: number("[1e-06, 1e+09]") | None = None
+    base_radius_mm: Annotated[number("[0.001, 1e+05]") | None, NEEDED] = None  # lumped form
+    diametral_inertia_kg_m2: number("[1e-12, 1e+09]") | None = None
+
+    def inertia(self, r: float) -> float:
+        """The polar inertia (kg m²) at base radius ``r`` (m)."""
+        if self.inertia_kg_m2 is not None:
+            return self.inertia_kg_m2
+        return self.inertia_over_r2_kg * r**2
+
+    def diametral(self) -> dict:
+        """:class:`~jaxgear.planetary.PlanetaryMember`'s ``diametral_inertia`` where given."""
+        if self.diametral_inertia_kg_m2 is None:
+            return {}
+        return {"diametral_inertia": self.diametral_inertia_kg_m2}
+
+
+class CentralSection(BodySection):
+    """``[planetary.sun]``, ``[planetary.carrier]`` (and the ring's, :class:`RingSection`): the
+    body, its radial bearing (N/µm, both directions; 0: floating), its torsional support
+    (``torsional_stiffness_Nm_per_rad``, or ``torsional_stiffness_N_per_um`` on u = r_b θ;
+    0 by default: free to turn) and the 3D model's axial (N/µm) and tilting (N·m/rad)
+    bearings."""
+
+    bearing_N_per_um: number("[0, 1e+09]") = 0.0
+    torsional_stiffness_Nm_per_rad: number("[0, 1e+20]") | None = None
+    torsional_stiffness_N_per_um: number("[0, 1e+09]") | None = None
+    axial_N_per_um: number("[0, 1e+09]") = 0.0
+    tilt_Nm_per_rad: number("[0, 1e+15]") = 0.0
+
+    def torsional(self, r: float) -> float:
+        """The torsional stiffness (N·m/rad) at base radius ``r`` (m); 0 when not given."""
+        if self.torsional_stiffness_Nm_per_rad is not None:
+            return self.torsional_stiffness_Nm_per_rad
+        if self.torsional_stiffness_N_per_um is not None:
+            return self.torsional_stiffness_N_per_um * 1e6 * r**2
+        return 0.0
+
+
+class RingSection(CentralSection):
+    """``[planetary.ring]``: a central member's keys and the ring's model
+    (:mod:`jaxgear.io._planetary_ring_spec`: ``model``, ``body``, ``dynamics``, ``modes``,
+    ``integration_modes``; the counts' ranges follow the ring body, checked where it is
+    read)."""
+
+    model: Literal[tuple(RING_MODELS)] = "rigid"
+    body: Text | None = None
+    dynamics: Literal[RING_DYNAMICS] | None = None
+    modes: number(integer=True) | None = None
+    integration_modes: number(integer=True) | None = None
+
+
+class PlanetSection(BodySection):
+    """``[planetary.planet]``: the body and the pin on the carrier (N/µm, radial and
+    tangential, at least :data:`MIN_SUPPORT_N_PER_UM`; the 3D model's axial (N/µm) and tilting
+    (N·m/rad))."""
+
+    pin_radial_N_per_um: number(f"[{MIN_SUPPORT_N_PER_UM:g}, 1e+09]")
+    pin_tangential_N_per_um: number(f"[{MIN_SUPPORT_N_PER_UM:g}, 1e+09]")
+    pin_axial_N_per_um: number("[0, 1e+09]") = 0.0
+    pin_tilt_Nm_per_rad: number("[0, 1e+15]") = 0.0
+
+
+class PlanetarySection(Section):
+    """``[planetary]`` (module docstring), both forms' keys: which key belongs to which form,
+    what the gears or the ``[housing]`` bound, the assembly and the spacing are checked by
+    :func:`parse_planetary`; this section checks each key's type and range, the member tables,
+    and what relates keys of the table (one of ``planets``/``planet_angles_deg``, the input not
+    the fixed member, one value per planet, a phase with its amplitude, a member's inertia
+    given once, the lumped ring's teeth beyond the sun's)."""
+
+    WHERE: ClassVar[str] = "planetary"
+    # the gear form (its names required there: NEEDED)
+    sun_gear: Annotated[Text | None, NEEDED] = None
+    planet_gear: Annotated[Text | None, NEEDED] = None
+    ring_gear: Annotated[Text | None, NEEDED] = None
+    center_distance_mm: number("(0, 1e+06]") | None = None
+    mesh_stiffness: Literal[tuple(MESH_STIFFNESS)] = "iso6336"
+    # the lumped form (its teeth and angles required there)
+    sun_teeth: Annotated[number("[3, 10000]", integer=True) | None, NEEDED] = None
+    ring_teeth: Annotated[number(integer=True) | None, NEEDED] = None  # _related: its range
+    sun_pressure_angle_deg: Annotated[number(PRESSURE_ANGLE_DEG, note=_OPERATING) | None,
+                                      NEEDED] = None
+    ring_pressure_angle_deg: Annotated[number(PRESSURE_ANGLE_DEG, note=_OPERATING) | None,
+                                       NEEDED] = None
+    helix_angle_deg: number("(-90, 90)") = 0.0
+    face_width_mm: number("[0, 1e+05]") = 0.0
+    # both forms (a member's table required: _related)
+    sun: Annotated[CentralSection | None, NEEDED] = None
+    planet: Annotated[PlanetSection | None, NEEDED] = None
+    ring: Annotated[RingSection | None, NEEDED] = None
+    carrier: Annotated[CentralSection | None, NEEDED] = None
+    planets: number("[1, 64]", integer=True) | None = None  # or planet_angles_deg: _related
+    planet_angles_deg: number_list("[-360, 360]", min_length=1) | None = None
+    fixed: Literal[MEMBERS]
+    input: Literal[MEMBERS]
+    # the lumped form's (or the gear form's instead of mesh_stiffness)
+    sun_mesh_stiffness_N_per_um: Annotated[number(MESH_STIFFNESS_N_PER_UM) | None, NEEDED] = None
+    ring_mesh_stiffness_N_per_um: Annotated[number(MESH_STIFFNESS_N_PER_UM) | None,
+                                            NEEDED] = None
+    sun_mesh_tilt_stiffness_Nm_per_rad: number("[0, 1e+15]") | None = None
+    ring_mesh_tilt_stiffness_Nm_per_rad: number("[0, 1e+15]") | None = None
+    tangential_pin_errors_um: number_list("[-1e+04, 1e+04]") | None = None
+    radial_pin_errors_um: number_list("[-1e+04, 1e+04]") | None = None
+    sun_eccentricity_um: number("[0, 1e+04]") = 0.0
+    sun_eccentricity_phase_deg: number(_PHASE) = 0.0
+    ring_eccentricity_um: number("[0, 1e+04]") = 0.0
+    ring_eccentricity_phase_deg: number(_PHASE) = 0.0
+    carrier_eccentricity_um: number("[0, 1e+04]") = 0.0
+    carrier_eccentricity_phase_deg: number(_PHASE) = 0.0
+    planet_runout_um: number_list("[0, 1e+04]") | None = None
+    planet_runout_phase_deg: number_list(_PHASE) | None = None
+    housing_seat: number(integer=True) = 0  # its range follows [housing]: _housing_seat
+    sun_unbalance_g_mm: number("[0, 1e+09]") = 0.0
+    sun_unbalance_phase_deg: number(_PHASE) = 0.0
+    ring_unbalance_g_mm: number("[0, 1e+09]") = 0.0
+    ring_unbalance_phase_deg: number(_PHASE) = 0.0
+    carrier_unbalance_g_mm: number("[0, 1e+09]") = 0.0
+    carrier_unbalance_phase_deg: number(_PHASE) = 0.0
+    planet_unbalance_g_mm: number_list("[0, 1e+09]") | None = None
+    planet_unbalance_phase_deg: number_list(_PHASE) | None = None
+
+    @pydantic.model_validator(mode="after")
+    def _related(self):
+        w = self.WHERE
+        if (self.planets is None) == (self.planet_angles_deg is None):
+            raise sc.fail(w, "planets", "give planets (equally spaced) or planet_angles_deg, "
+                          "one of them" + (", not both" if self.planets is not None else ""))
+        if self.input == self.fixed:
+            raise sc.fail(w, "input", f"is the fixed member (allowed: another of "
+                          f"{', '.join(MEMBERS)})", self.input)
+        if self.ring_teeth is not None and self.sun_teeth is not None:
+            in_range(w, "ring_teeth", self.ring_teeth,
+                     f"[{self.sun_teeth + 2 * MIN_PLANET_TEETH}, 10000]",
+                     f" (sun_teeth + 2 × {MIN_PLANET_TEETH}: planets of (ring_teeth − sun_teeth)"
+                     f"/2 >= {MIN_PLANET_TEETH} teeth)")
+        for m in MEMBERS:
+            self._with_amplitude(f"{m}_eccentricity_um", f"{m}_eccentricity_phase_deg")
+        self._with_amplitude("planet_runout_um", "planet_runout_phase_deg")
+        for m in (*MEMBERS, "planet"):
+            self._with_amplitude(f"{m}_unbalance_g_mm", f"{m}_unbalance_phase_deg")
+        for m in (*MEMBERS, "planet"):
+            section = getattr(self, m)
+            if section is None:
+                raise sc.SchemaError(f"[{w}.{m}]: missing required table", f"[{w}.{m}]")
+            _one_of(section, f"{w}.{m}", "inertia_kg_m2", "inertia_over_r2_kg", required=True)
+            if isinstance(section, CentralSection):
+                _one_of(section, f"{w}.{m}", "torsional_stiffness_Nm_per_rad",
+                        "torsional_stiffness_N_per_um")
+        return self
+
+    def check_planets(self) -> None:
+        """One value per planet in each list of them (checked once the planets can be
+        assembled and do not overlap: :func:`parse_planetary`)."""
+        n = self.n_planets
+        for key in ("tangential_pin_errors_um", "radial_pin_errors_um"):
+            v = getattr(self, key)
+            if v is not None and len(v) != n:
+                raise sc.fail(self.WHERE, key, f"must hold one value per planet ({n})", v)
+        for key in ("planet_runout_um", "planet_runout_phase_deg", "planet_unbalance_g_mm",
+                    "planet_unbalance_phase_deg"):
+            v = getattr(self, key)
+            if v is not None and len(v) != n:
+                raise sc.fail(self.WHERE, key, f"must be an array of {n} numbers", v)
+
+    def _with_amplitude(self, amp: str, phase: str) -> None:
+        if phase in self.given and amp not in self.given:
+            raise sc.fail(self.WHERE, phase, f"given without {amp} (its amplitude)",
+                          getattr(self, phase))
+
+    @property
+    def n_planets(self) -> int:
+        """The planets (``planets``, or the angles given)."""
+        return self.planets if self.planets is not None else len(self.planet_angles_deg)
+
+    def planet_angles(self) -> np.ndarray:
+        """ψ_n (rad), (N,): equally spaced, or as given."""
+        if self.planets is not None:
+            return 2 * math.pi * np.arange(self.planets) / self.planets
+        return np.radians(self.planet_angles_deg)
+
+    def per_planet(self, key: str, scale: float) -> tuple:
+        """A list of one value per planet (0 where not given), times ``scale`` (to SI)."""
+        v = getattr(self, key)
+        return tuple(x * scale for x in ([0.0] * self.n_planets if v is None else v))
+
+
+def _one_of(section: Section, where: str, first: str, second: str, required: bool = False):
+    """One of two keys of one quantity (``first`` or ``second``, not both; ``required``: one
+    of them)."""
+    given = [k for k in (first, second) if k in section.given]
+    if len(given) == 2:
+        raise sc.fail(where, second, f"give {first} or {second}, not both",
+                      getattr(section, second))
+    if required and not given:
+        raise sc.fail(where, first, f"missing required key (or {second})")
 
 
 def is_planetary(data) -> bool:
@@ -191,128 +362,56 @@ def is_planetary(data) -> bool:
 # -- parsing -----------------------------------------------------------------------------------
 
 
-def _central(table: dict, name: str, base_radius: float | None) -> PlanetaryMember:
+def _central(t: CentralSection, name: str, base_radius: float | None) -> PlanetaryMember:
     where = f"planetary.{name}"
-    r = _base_radius(table, where, base_radius)
-    mass, inertia = _body(table, where, r)
-    bearing = sc.number(table, "bearing_N_per_um", where, 0.0, allowed="[0, 1e+09]") * 1e6
-    torsional = _either(
-        table,
-        where,
-        ("torsional_stiffness_Nm_per_rad", "[0, 1e+20]", 1.0),
-        ("torsional_stiffness_N_per_um", "[0, 1e+09]", 1e6 * r**2),
-        0.0,
-    )
+    r = _base_radius(t, where, base_radius)
     return PlanetaryMember(
-        mass=mass,
-        polar_inertia=inertia,
+        mass=t.mass_kg,
+        polar_inertia=t.inertia(r),
         base_radius=r,
-        bearing_stiffness=bearing,
-        torsional_stiffness=torsional,
-        **_spatial(table, where, ""),
+        bearing_stiffness=t.bearing_N_per_um * 1e6,
+        torsional_stiffness=t.torsional(r),
+        axial_stiffness=t.axial_N_per_um * 1e6,
+        tilt_stiffness=t.tilt_Nm_per_rad,
+        **t.diametral(),
     )
 
 
-def _spatial(table: dict, where: str, prefix: str) -> dict:
-    """The 3D model's keys of a member (:class:`~jaxgear.planetary.SpatialPlanetary`): the axial and
-    tilting stiffnesses (``axial_N_per_um``, ``tilt_Nm_per_rad``; a planet's ``pin_``-named)
-    and the diametral inertia (``diametral_inertia_kg_m2``; half the polar one if absent)."""
-    out = {
-        "axial_stiffness": sc.number(
-            table, f"{prefix}axial_N_per_um", where, 0.0, allowed="[0, 1e+09]"
-        )
-        * 1e6,
-        "tilt_stiffness": sc.number(
-            table, f"{prefix}tilt_Nm_per_rad", where, 0.0, allowed="[0, 1e+15]"
-        ),
-    }
-    if "diametral_inertia_kg_m2" in table:
-        out["diametral_inertia"] = sc.number(
-            table, "diametral_inertia_kg_m2", where, allowed="[1e-12, 1e+09]"
-        )
-    return out
-
-
-def _planet(table: dict, base_radius: float | None) -> PlanetaryMember:
-    where = "planetary.planet"
-    r = _base_radius(table, where, base_radius)
-    mass, inertia = _body(table, where, r)
-    pin = [
-        sc.number(table, key, where, allowed=f"[{MIN_SUPPORT_N_PER_UM:g}, 1e+09]") * 1e6
-        for key in ("pin_radial_N_per_um", "pin_tangential_N_per_um")
-    ]
+def _planet(t: PlanetSection, base_radius: float | None) -> PlanetaryMember:
+    r = _base_radius(t, "planetary.planet", base_radius)
     return PlanetaryMember(
-        mass=mass,
-        polar_inertia=inertia,
+        mass=t.mass_kg,
+        polar_inertia=t.inertia(r),
         base_radius=r,
-        bearing_stiffness=pin,
-        **_spatial(table, where, "pin_"),
+        bearing_stiffness=[t.pin_radial_N_per_um * 1e6, t.pin_tangential_N_per_um * 1e6],
+        axial_stiffness=t.pin_axial_N_per_um * 1e6,
+        tilt_stiffness=t.pin_tilt_Nm_per_rad,
+        **t.diametral(),
     )
 
 
-def _base_radius(table: dict, where: str, from_gears: float | None) -> float:
+def _base_radius(t: BodySection, where: str, from_gears: float | None) -> float:
     if from_gears is None:
-        return sc.number(table, "base_radius_mm", where, allowed="[0.001, 1e+05]") * 1e-3
-    if "base_radius_mm" in table:
+        if t.base_radius_mm is None:
+            raise sc.fail(where, "base_radius_mm", "missing required key")
+        return t.base_radius_mm * 1e-3
+    if t.base_radius_mm is not None:
         raise sc.fail(
             where,
             "base_radius_mm",
             "allowed only in the lumped form (no [[gears]]): with gears the base radii come "
             "from their geometry",
-            table["base_radius_mm"],
+            t.base_radius_mm,
         )
     return from_gears
 
 
-def _body(table: dict, where: str, r: float) -> tuple[float, float]:
-    # lower ends far below any gear's (a gram, 1e-12 kg m²) and above the float range's
-    # underflow: I = (I/r²) r² stays a positive number
-    mass = sc.number(table, "mass_kg", where, allowed="[1e-06, 1e+07]")
-    inertia = _either(
-        table,
-        where,
-        ("inertia_kg_m2", "[1e-12, 1e+09]", 1.0),
-        ("inertia_over_r2_kg", "[1e-06, 1e+09]", r**2),
-    )
-    return mass, inertia
-
-
-def _either(table: dict, where: str, first: tuple, second: tuple, default=sc.MISSING) -> float:
-    """One of two keys (key, allowed, SI factor) of one quantity, or ``default``."""
-    values = [
-        sc.number(table, key, where, None, allowed=allowed) for key, allowed, _ in (first, second)
-    ]
-    if None not in values:
-        raise sc.fail(
-            where, second[0], f"give {first[0]} or {second[0]}, not both", table[second[0]]
-        )
-    for v, (_, _, factor) in zip(values, (first, second), strict=True):
-        if v is not None:
-            return v * factor
-    if default is sc.MISSING:
-        raise sc.fail(where, first[0], f"missing required key (or {second[0]})")
-    return default
-
-
-def _angles(t: dict, z_s: int, z_r: int) -> tuple:
-    """``planets`` (equally spaced) or ``planet_angles_deg``, the assembly condition checked."""
-    if ("planets" in t) == ("planet_angles_deg" in t):
-        raise sc.fail(
-            "planetary",
-            "planets",
-            "give planets (equally spaced) or planet_angles_deg, one of them"
-            + (", not both" if "planets" in t else ""),
-        )
-    if "planets" in t:
-        n = sc.number(t, "planets", "planetary", allowed="[1, 64]", integer=True)
-        psi = 2 * math.pi * np.arange(n) / n
-        key, shown = "planets", t["planets"]
-    else:
-        deg = sc.number_list(
-            t, "planet_angles_deg", "planetary", min_length=1, allowed="[-360, 360]"
-        )
-        psi = np.radians(deg)
-        key, shown = "planet_angles_deg", t["planet_angles_deg"]
+def _angles(t: PlanetarySection, z_s: int, z_r: int) -> tuple:
+    """The planets' angles (:meth:`PlanetarySection.planet_angles`), the assembly condition
+    checked."""
+    psi = t.planet_angles()
+    key = "planets" if t.planets is not None else "planet_angles_deg"
+    shown = getattr(t, key)
     turns = (z_s + z_r) * (psi - psi[0]) / (2 * math.pi)
     bad = np.abs(turns - np.round(turns)) > 1e-6
     if np.any(bad):
@@ -329,95 +428,57 @@ def _angles(t: dict, z_s: int, z_r: int) -> tuple:
     return tuple(float(p) for p in psi)
 
 
-def _roles(t: dict) -> tuple:
-    names = [m.lower() for m in Central.__members__]
-    fixed = sc.choice(t, "fixed", "planetary", names)
-    driver = sc.choice(t, "input", "planetary", names)
-    if driver == fixed:
-        raise sc.fail(
-            "planetary",
-            "input",
-            f"is the fixed member (allowed: another of {', '.join(names)})",
-            driver,
-        )
-    out = next(n for n in names if n not in (fixed, driver))
-    return tuple(Central[n.upper()] for n in (fixed, driver, out))
+def _roles(t: PlanetarySection) -> tuple:
+    out = next(n for n in MEMBERS if n not in (t.fixed, t.input))
+    return tuple(Central[n.upper()] for n in (t.fixed, t.input, out))
 
 
-def _pin_errors(t: dict, key: str, n: int) -> tuple:
-    v = sc.number_list(t, key, "planetary", [0.0] * n, allowed="[-1e+04, 1e+04]")
-    if len(v) != n:
-        raise sc.fail("planetary", key, f"must hold one value per planet ({n})", t[key])
-    return tuple(x * 1e-6 for x in v)
-
-
-def _eccentricities(t: dict) -> tuple:
-    """``<member>_eccentricity_um`` and ``<member>_eccentricity_phase_deg`` of the sun, ring and
-    carrier, in SI as :class:`jaxgear.planetary.Eccentricities` takes them (sun, sun_phase, ring,
-    ring_phase, carrier, carrier_phase); a phase without its amplitude is refused."""
-    out = []
-    for m in ("sun", "ring", "carrier"):
-        amp = sc.number(t, f"{m}_eccentricity_um", "planetary", 0.0, allowed="[0, 1e+04]")
-        key = f"{m}_eccentricity_phase_deg"
-        phase = sc.number(t, key, "planetary", 0.0, allowed="[-360, 360]")
-        if key in t and f"{m}_eccentricity_um" not in t:
-            raise sc.fail("planetary", key, f"given without {m}_eccentricity_um (its amplitude)",
-                          t[key])
-        out += [amp * 1e-6, math.radians(phase)]
-    return tuple(out)
-
-
-def _per_planet(t: dict, key: str, n: int, scale: float, allowed: str) -> tuple:
-    """A list of one value per planet (0 by default), times ``scale`` (to SI)."""
-    v = sc.number_list(t, key, "planetary", [0.0] * n, length=n, allowed=allowed)
-    return tuple(x * scale for x in v)
-
-
-def _with_amplitude(t: dict, amp_key: str, phase_key: str) -> None:
-    if phase_key in t and amp_key not in t:
-        raise sc.fail("planetary", phase_key, f"given without {amp_key} (its amplitude)",
-                      t[phase_key])
-
-
-def _planet_runout(t: dict, n: int) -> tuple:
-    """``planet_runout_um`` and ``planet_runout_phase_deg``, one per planet, in SI (m, rad)."""
-    _with_amplitude(t, "planet_runout_um", "planet_runout_phase_deg")
-    return (_per_planet(t, "planet_runout_um", n, 1e-6, "[0, 1e+04]"),
-            _per_planet(t, "planet_runout_phase_deg", n, math.pi / 180, "[-360, 360]"))
-
-
-def _unbalances(t: dict, n: int) -> tuple:
-    """``<member>_unbalance_g_mm`` and ``<member>_unbalance_phase_deg`` of the sun, ring,
-    carrier (one value each) and the planets (one per planet), in SI as
-    :class:`jaxgear.planetary.Unbalances` takes them (kg m, rad)."""
+def _eccentricities(t: PlanetarySection) -> tuple:
+    """The sun's, ring's and carrier's eccentricities and phases in SI as
+    :class:`jaxgear.planetary.Eccentricities` takes them (sun, sun_phase, ring, ring_phase,
+    carrier, carrier_phase)."""
     out = []
     for m in MEMBERS:
-        amp_key, phase_key = f"{m}_unbalance_g_mm", f"{m}_unbalance_phase_deg"
-        _with_amplitude(t, amp_key, phase_key)
-        out += [sc.number(t, amp_key, "planetary", 0.0, allowed="[0, 1e+09]") * 1e-6,
-                math.radians(sc.number(t, phase_key, "planetary", 0.0, allowed="[-360, 360]"))]
-    _with_amplitude(t, "planet_unbalance_g_mm", "planet_unbalance_phase_deg")
-    out += [_per_planet(t, "planet_unbalance_g_mm", n, 1e-6, "[0, 1e+09]"),
-            _per_planet(t, "planet_unbalance_phase_deg", n, math.pi / 180, "[-360, 360]")]
+        out += [getattr(t, f"{m}_eccentricity_um") * 1e-6,
+                math.radians(getattr(t, f"{m}_eccentricity_phase_deg"))]
     return tuple(out)
 
 
-def _refuse(t: dict, keys, why: str) -> None:
+def _unbalances(t: PlanetarySection) -> tuple:
+    """The sun's, ring's, carrier's (one value each) and the planets' (one per planet) mass
+    unbalances and phases in SI as :class:`jaxgear.planetary.Unbalances` takes them (kg m,
+    rad)."""
+    out = []
+    for m in MEMBERS:
+        out += [getattr(t, f"{m}_unbalance_g_mm") * 1e-6,
+                math.radians(getattr(t, f"{m}_unbalance_phase_deg"))]
+    out += [t.per_planet("planet_unbalance_g_mm", 1e-6),
+            t.per_planet("planet_unbalance_phase_deg", math.pi / 180)]
+    return tuple(out)
+
+
+def _refuse(t: PlanetarySection, keys, why: str) -> None:
     for key in keys:
-        if key in t:
-            raise sc.fail("planetary", key, why, t[key])
+        if key in t.given:
+            raise sc.fail("planetary", key, why, getattr(t, key))
 
 
-def _given_stiffness(t: dict, required: bool) -> GivenMeshStiffness | None:
-    keys = ("sun_mesh_stiffness_N_per_um", "ring_mesh_stiffness_N_per_um")
-    if not required and not any(k in t for k in keys):
+def _required(t: PlanetarySection, key: str):
+    """A key of one form that the form requires."""
+    if key not in t.given:
+        raise sc.fail("planetary", key, "missing required key")
+    return getattr(t, key)
+
+
+def _given_stiffness(t: PlanetarySection, required: bool) -> GivenMeshStiffness | None:
+    if not required and not any(k in t.given for k in GIVEN_KEYS):
         return None
-    vals = [sc.number(t, k, "planetary", allowed=MESH_STIFFNESS_N_PER_UM) * 1e6 for k in keys]
-    return GivenMeshStiffness(*vals)
+    return GivenMeshStiffness(*(_required(t, k) * 1e6 for k in GIVEN_KEYS))
 
 
 def parse_planetary(data: dict, base: dict, gears: dict, index: dict) -> Case:
-    """Validate ``[planetary]`` and build the stage's :class:`Case` (:class:`PlanetaryForm`).
+    """Validate ``[planetary]`` (:class:`PlanetarySection`) and build the stage's
+    :class:`Case` (:class:`PlanetaryForm`).
 
     Args:
         data: the parsed file; ``base``: the train fields already parsed (``name``, material,
@@ -428,7 +489,7 @@ def parse_planetary(data: dict, base: dict, gears: dict, index: dict) -> Case:
     Raises:
         SchemaError: one line, in the file's units (module docstring).
     """
-    t = sc.subtable(data, "planetary", "", PLANETARY_KEYS, required=True)
+    t = PlanetarySection.of_file(data, required=True)
     for key in ("meshes", "scene"):
         if key in data:
             raise sc.SchemaError(
@@ -445,12 +506,6 @@ def parse_planetary(data: dict, base: dict, gears: dict, index: dict) -> Case:
                 op[key],
             )
     fixed, driver, output = _roles(t)
-    tables = {
-        m: sc.subtable(
-            t, m, "planetary", MEMBER_KEYS.get(m, CENTRAL_KEYS), required=True
-        )
-        for m in (*MEMBERS, "planet")
-    }
     if gears:
         _refuse(
             t, LUMPED_FORM_KEYS, "allowed only in the lumped form (no [[gears]]): the gears give it"
@@ -466,19 +521,14 @@ def parse_planetary(data: dict, base: dict, gears: dict, index: dict) -> Case:
         }
         alphas = (geometry.sun_pressure_angle, geometry.ring_pressure_angle)
         given = _given_stiffness(t, required=False)
-        if given is not None and "mesh_stiffness" in t:
+        if given is not None and "mesh_stiffness" in t.given:
             raise sc.fail(
                 "planetary",
                 "mesh_stiffness",
                 "give mesh_stiffness or the two *_mesh_stiffness_N_per_um, not both",
-                t["mesh_stiffness"],
+                t.mesh_stiffness,
             )
-        mesh_k = (
-            given
-            or MESH_STIFFNESS[
-                sc.choice(t, "mesh_stiffness", "planetary", tuple(MESH_STIFFNESS), "iso6336")
-            ]()
-        )
+        mesh_k = given or MESH_STIFFNESS[t.mesh_stiffness]()
         a_w = geometry.center_distance
         pairs = (geometry.sun_planet, geometry.planet_ring)
         # the gears' helix_angle_deg has no hand: the planets are taken right-hand
@@ -486,41 +536,28 @@ def parse_planetary(data: dict, base: dict, gears: dict, index: dict) -> Case:
         width = float(gears[names[1]]["member"].face_width)
     else:
         _refuse(t, GEAR_FORM_KEYS, "allowed only with [[gears]] (the gear form)")
-        z_s = sc.number(t, "sun_teeth", "planetary", allowed="[3, 10000]", integer=True)
-        z_r = sc.number(
-            t,
-            "ring_teeth",
-            "planetary",
-            allowed=f"[{z_s + 2 * MIN_PLANET_TEETH}, 10000]",
-            integer=True,
-            note=f" (sun_teeth + 2 × {MIN_PLANET_TEETH}: planets of (ring_teeth − sun_teeth)/2 "
-            f">= {MIN_PLANET_TEETH} teeth)",
-        )
+        z_s = _required(t, "sun_teeth")
+        z_r = _required(t, "ring_teeth")
         z_p = None
         radii = dict.fromkeys((*MEMBERS, "planet"))
-        alphas = tuple(
-            math.radians(sc.number(t, k, "planetary", allowed=PRESSURE_ANGLE_DEG,
-                                   note=" (deg, operating transverse)"))
-            for k in ("sun_pressure_angle_deg", "ring_pressure_angle_deg")
-        )
+        alphas = tuple(math.radians(_required(t, k))
+                       for k in ("sun_pressure_angle_deg", "ring_pressure_angle_deg"))
         mesh_k = _given_stiffness(t, required=True)
         names, pairs, a_w, ring_root = (), (), None, None
-        helix = math.radians(
-            sc.number(t, "helix_angle_deg", "planetary", 0.0, allowed="(-90, 90)")
-        )
-        width = sc.number(t, "face_width_mm", "planetary", 0.0, allowed="[0, 1e+05]") * 1e-3
+        helix = math.radians(t.helix_angle_deg)
+        width = t.face_width_mm * 1e-3
     psi = _angles(t, z_s, z_r)
-    ring_model = parse_ring_model(tables["ring"], z_r, ring_root)
-    members = {m: _central(tables[m], m, radii[m]) for m in MEMBERS}
-    members["planet"] = _planet(tables["planet"], radii["planet"])
+    ring_model = parse_ring_model(t.ring, z_r, ring_root)
+    members = {m: _central(getattr(t, m), m, radii[m]) for m in MEMBERS}
+    members["planet"] = _planet(t.planet, radii["planet"])
     if a_w is None:
         a_w = float(members["carrier"].base_radius)
-    _check_held(tables[fixed.name.lower()], members[fixed.name.lower()], fixed.name.lower())
+    _check_held(getattr(t, fixed.name.lower()), members[fixed.name.lower()], fixed.name.lower())
     if not gears:
         _check_lumped_radii(members, alphas)
     _check_spacing(t, psi, a_w, float(geometry.sun_planet.tip_radii[1]) if gears
                    else float(members["planet"].base_radius), "tip" if gears else "base")
-    n = len(psi)
+    t.check_planets()
     spec = PlanetarySpec(
         teeth=(z_s, z_p, z_r),
         planet_angles=psi,
@@ -530,18 +567,17 @@ def parse_planetary(data: dict, base: dict, gears: dict, index: dict) -> Case:
         members=members,
         pressure_angles=alphas,
         mesh_stiffness=mesh_k,
-        tangential_pin_errors=_pin_errors(t, "tangential_pin_errors_um", n),
-        radial_pin_errors=_pin_errors(t, "radial_pin_errors_um", n),
+        tangential_pin_errors=t.per_planet("tangential_pin_errors_um", 1e-6),
+        radial_pin_errors=t.per_planet("radial_pin_errors_um", 1e-6),
         eccentricities=_eccentricities(t),
-        planet_runout=_planet_runout(t, n),
-        unbalances=_unbalances(t, n),
+        planet_runout=(t.per_planet("planet_runout_um", 1e-6),
+                       t.per_planet("planet_runout_phase_deg", math.pi / 180)),
+        unbalances=_unbalances(t),
         center_distance=a_w,
         ring_model=ring_model,
         helix_angle=helix,
         face_width=width,
-        mesh_tilt_stiffness=tuple(
-            sc.number(t, k, "planetary", None, allowed="[0, 1e+15]") for k in MESH_TILT_KEYS
-        ),
+        mesh_tilt_stiffness=tuple(getattr(t, k) for k in MESH_TILT_KEYS),
         housing_seat=_housing_seat(data, t),
     )
     _check_torque(data["operating"], spec, pairs)
@@ -558,22 +594,22 @@ def parse_planetary(data: dict, base: dict, gears: dict, index: dict) -> Case:
     )
 
 
-def _housing_seat(data: dict, t: dict) -> int:
+def _housing_seat(data: dict, t: PlanetarySection) -> int:
     """``[planetary] housing_seat``: the seat of ``[housing]`` the held member is bolted to
     (default 0); refused without a ``[housing]``, or past its seats (a box: two, its end walls'
     bores round the axis; a mesh file: its ``[[housing.seats]]``)."""
     if "housing" not in data:
-        if "housing_seat" in t:
+        if "housing_seat" in t.given:
             raise sc.fail("planetary", "housing_seat", "allowed only with a [housing]",
-                          t["housing_seat"])
+                          t.housing_seat)
         return 0
     h = data["housing"]
     n = len(h.get("seats", [])) if isinstance(h, dict) and "mesh_file" in h else 2
-    return int(sc.number(t, "housing_seat", "planetary", 0, allowed=f"[0, {max(n - 1, 0)}]",
-                         integer=True, note=" (a box: 0 its x- wall's bore, 1 its x+ wall's)"))
+    return in_range("planetary", "housing_seat", t.housing_seat, f"[0, {max(n - 1, 0)}]",
+                    " (a box: 0 its x- wall's bore, 1 its x+ wall's)")
 
 
-def _check_held(table: dict, member: PlanetaryMember, name: str) -> None:
+def _check_held(t: CentralSection, member: PlanetaryMember, name: str) -> None:
     """The fixed member held in rotation: a torsional stiffness of at least
     :data:`MIN_SUPPORT_N_PER_UM` on u = r_b θ (k_θ >= 1e3 N/m × r_b²), in the units of the key
     given (one line)."""
@@ -584,14 +620,13 @@ def _check_held(table: dict, member: PlanetaryMember, name: str) -> None:
     ranges = {"torsional_stiffness_N_per_um": (f"{MIN_SUPPORT_N_PER_UM:g}", "1e+09"),
               "torsional_stiffness_Nm_per_rad": (f"{MIN_SUPPORT_N_PER_UM * 1e6 * r**2:.6g}",
                                                  "1e+20")}
-    given = [k for k in ranges if k in table]
+    given = [k for k in ranges if k in t.given]
     if not given:
         raise sc.fail(where, "torsional_stiffness_Nm_per_rad", "missing: the fixed member needs "
                       "a torsional stiffness (its support), allowed >= "
                       f"{ranges['torsional_stiffness_Nm_per_rad'][0]} (or "
                       f"torsional_stiffness_N_per_um >= {MIN_SUPPORT_N_PER_UM:g})")
-    lo, hi = ranges[given[0]]
-    sc.number(table, given[0], where, allowed=f"[{lo}, {hi}]", note=note)
+    in_range(where, given[0], getattr(t, given[0]), "[{}, {}]".format(*ranges[given[0]]), note)
 
 
 def _check_lumped_radii(members: dict, alphas: tuple) -> None:
@@ -618,7 +653,7 @@ def _check_lumped_radii(members: dict, alphas: tuple) -> None:
             "ring's r_b/cos α_r)", r["carrier"] * 1e3)
 
 
-def _check_spacing(t: dict, psi: tuple, a: float, radius: float, which: str) -> None:
+def _check_spacing(t: PlanetarySection, psi: tuple, a: float, radius: float, which: str) -> None:
     """No two planets overlap: adjacent centres 2 a sin(Δψ/2) apart on the planet circle of
     radius a (m) at least twice the planets' ``which`` radius (m): their tip circles (the gear
     form) or base circles (the lumped form, which has no tip) must not intersect (one line
@@ -628,7 +663,7 @@ def _check_spacing(t: dict, psi: tuple, a: float, radius: float, which: str) -> 
     i, j, d = closest_planets(psi, a)
     if d >= 2.0 * radius:
         return
-    key = "planets" if "planets" in t else "planet_angles_deg"
+    key = "planets" if t.planets is not None else "planet_angles_deg"
     most = max_planets(a, radius)
     hint = f"; allowed planets <= {most}" if most is not None else ""
     raise sc.fail(
@@ -637,7 +672,7 @@ def _check_spacing(t: dict, psi: tuple, a: float, radius: float, which: str) -> 
         f"{math.degrees(psi[j]):.6g}°) overlap: their centres are {d * 1e3:.6g} mm apart on the "
         f"planet circle of radius {a * 1e3:.6g} mm, allowed >= 2 × the planet's {which} radius "
         f"= {2 * radius * 1e3:.6g} mm (their {which} circles must not intersect{hint})",
-        t[key])
+        getattr(t, key))
 
 
 def torque_floor(spec: PlanetarySpec, pairs: tuple) -> tuple[float, str]:
@@ -689,13 +724,13 @@ def check_ring_teeth(data: dict) -> None:
             f"allowed <= {-(z_s + 1)} (more teeth than the sun's; internal: negative)", z_r)
 
 
-def _geometry(t: dict, gears: dict):
+def _geometry(t: PlanetarySection, gears: dict):
     """The stage's pairs from the gears ``[planetary]`` names (sun, planet external, ring
     internal; one module, pressure and helix angle), at ``center_distance_mm``."""
     names = []
     for role in ("sun", "planet", "ring"):
         key = f"{role}_gear"
-        name = sc.string(t, key, "planetary")
+        name = _required(t, key)
         if name not in gears:
             raise sc.fail("planetary", key, f"no such gear, allowed {', '.join(gears)}", name)
         if name in names:
@@ -730,7 +765,7 @@ def _geometry(t: dict, gears: dict):
                 f"{label} = {', '.join(sc.fmt(x[key]) for x in g)} differ (a stage's gears share "
                 "it)"
             )
-    cd = sc.number(t, "center_distance_mm", "planetary", None, allowed="(0, 1e+06]")
+    cd = t.center_distance_mm
     if cd is not None:
         _check_center_distance(t, g, cd)
     try:
@@ -748,7 +783,7 @@ def _geometry(t: dict, gears: dict):
     return geometry, tuple(names), g[1]["member"].teeth
 
 
-def _check_center_distance(t: dict, g: list, cd: float) -> None:
+def _check_center_distance(t: PlanetarySection, g: list, cd: float) -> None:
     """``center_distance_mm`` between the sun pair's zero-backlash distance (closer, its teeth
     jam) and the ring pair's (farther, the ring's jam; :func:`jaxgear.planetary_geometry`), in
     mm (the range rounded inwards to the µm); the pairs' own checks otherwise."""
@@ -765,7 +800,7 @@ def _check_center_distance(t: dict, g: list, cd: float) -> None:
             "planetary", "center_distance_mm",
             f"out of range, allowed [{lo_mm:.3f}, {hi_mm:.3f}] (from the sun pair's "
             "zero-backlash distance, closer its teeth jam, to the ring pair's, farther the "
-            "ring's teeth jam)", t["center_distance_mm"])
+            "ring's teeth jam)", cd)
 
 
 def check_internal_stiffness(case: Case, where: str) -> None:

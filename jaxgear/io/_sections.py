@@ -404,3 +404,16 @@ def _problem(kind, ctx, v, rng, info, element, where, key, index):
             return f"must be a table ([[{inner}]] entry), not {sc.type_name(v)}"
         return f"must be a table ([{inner}]), not {sc.type_name(v)}"
     return " ".join(str(ctx.get("error", kind)).split())  # any other: pydantic's words, one line
+
+
+# --------------------------------------------------------------------------------------------
+# a range that follows the case
+
+
+def in_range(where: str, key: str, value, allowed: str | sc.Interval, note: str = ""):
+    """``value`` (a section's number, already typed) in ``allowed``, a range the section cannot
+    declare because it follows the case (another table, the gears, a body file): the value,
+    or :func:`fem_prep.checks.number`'s one line for it (``[where] key = value: out of range,
+    allowed ...``; an integer's range as an integer's)."""
+    integer = isinstance(value, int) and not isinstance(value, bool)
+    return sc.number({key: value}, key, where, allowed=allowed, integer=integer, note=note)
