@@ -313,6 +313,8 @@ PRIVATE_IN_TESTS: set[tuple[str, str]] = {
     ("test_typed_stage_tables.py", "jaxgear.io._load"),
     # the keys that take a value per gear (a number there is a valid value, not a table)
     ("test_table_types.py", "jaxgear.io._rating_table.PER_GEAR"),
+    # the modal basis itself (its statics, without the Newmark program a public run compiles)
+    ("test_hybrid_modal_basis.py", "jaxgear.dynamics._modal_basis.modal_space_of"),
 }
 
 
