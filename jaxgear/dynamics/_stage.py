@@ -20,6 +20,7 @@ speeds in rad/s (the fixed frame), forces in N (compression positive).
 from __future__ import annotations
 
 import abc
+from typing import ClassVar
 
 import equinox as eqx
 import jax.numpy as jnp
@@ -44,7 +45,14 @@ class AbstractStage(eqx.Module):
     :meth:`carrier_speed`, :meth:`speed_terms` (a stage in the fixed frame),
     :meth:`housing`, :meth:`housing_seats` (a stage on the ground) and :meth:`check_stage`
     (every instance stands in a gearbox).
+
+    ``takes_housing`` (a class attribute, False here): whether the kind's coordinates can end
+    with a flexible housing's that a gearbox shares (:meth:`housing`, :meth:`housing_seats`);
+    True on :class:`~jaxgear.planetary.PlanetaryModel` and
+    :class:`~jaxgear.gearbox.LumpedPairGearboxStage`.
     """
+
+    takes_housing: ClassVar[bool] = False
 
     # -- the torsional chain's view ---------------------------------------------------------
 

@@ -28,6 +28,8 @@ stage condensed statically onto its two torque-node rotations (Guyan, :meth:`mat
 
 from __future__ import annotations
 
+from typing import ClassVar
+
 import equinox as eqx
 import jax.numpy as jnp
 import numpy as np
@@ -66,6 +68,8 @@ class LumpedPairGearboxStage(AbstractStage):
     scene: LumpedPair
     input: int = eqx.field(static=True, default=0)
     modifications: Modifications = eqx.field(default_factory=Modifications)
+    #: its scene's bearings sit in a housing the gearbox shares
+    takes_housing: ClassVar[bool] = True
 
     def __check_init__(self):
         check_instance("scene", self.scene, LumpedPair, "a jaxgear.scenes.LumpedPair",

@@ -214,6 +214,9 @@ class PlanetaryModel(AbstractDynamicModel, AbstractStage):
     #: ``SteadyState(periods=None)``: the span from the stage's settling time
     #: (:meth:`resolve_window`, :func:`~jaxgear.planetary.time_plan`'s rule)
     automatic_span: ClassVar[bool] = True
+    #: a housing its central members' supports join (a HousedPlanetary kind), as a model and
+    #: as a gearbox stage
+    takes_housing: ClassVar[bool] = True
 
     def __check_init__(self):
         where = "PlanetaryModel"
