@@ -121,13 +121,14 @@ def test_two_joints_on_one_seat_add_and_jax_springs_give_the_same():
     np.testing.assert_allclose(np.asarray(traced), both, rtol=0,
                                atol=1e-12 * np.abs(both).max())
     assert HousingMount(housing, (j1, j2)).seats() == (0,)
+    assert HousingMount(housing, (j1, j2)).fixed_frame
+    assert not HousingMount.on_axis(housing, (("ring", 0),)).fixed_frame
+    assert HousingMount.on_axis(housing, (("ring", 0),)).joints[0].rows == (2, 5)
 
 
 @pytest.mark.parametrize("make,match", [
-    (lambda h: HousingMount(h, (MountJoint("a", 2),)), r"seat of a = 2, allowed a seat index 0 "
-                                                       r"to 1"),
-    (lambda h: HousingMount(h, (MountJoint("a", "nope"),)), r"seat of a = 'nope', allowed a "
-                                                             r"seat name"),
+    (lambda h: HousingMount(h, (MountJoint("a", 2),)), r"seat of a = 2, allowed a seat index 0 to 1"),
+    (lambda h: HousingMount(h, (MountJoint("a", "nope"),)), r"seat of a = 'nope', allowed a seat"),
     (lambda h: HousingMount(h, (MountJoint("a", 0), MountJoint("a", 1))), r"joined twice"),
     (lambda h: HousingMount(h, ("a",)), r"joints\[0\] = .*allowed a jaxgear.scenes.MountJoint"),
     (lambda h: MountJoint("a", 0, rows=(5, 2)), r"rows = \(5, 2\), allowed distinct ascending"),

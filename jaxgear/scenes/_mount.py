@@ -279,17 +279,6 @@ class HousingMount(eqx.Module):
             seat = seat + S.T @ D @ S
         return xp.block([[top, cross], [cross.T, seat]])
 
-    def pad(self, matrix, mass: bool = False):
-        """``matrix`` (n, n) grown to (n + h, n + h) with the housing's M_h (``mass``) or
-        K_h on its h coordinates and zeros between host and housing."""
-        xp = _xp(matrix)
-        m = xp.asarray(matrix)
-        n, h = m.shape[0], self.size
-        block = self.M if mass else self.K
-        block = np.asarray(block) if xp is np else jnp.asarray(block, m.dtype)
-        return xp.block([[m, xp.zeros((n, h), m.dtype)],
-                         [xp.zeros((h, n), m.dtype), block]])
-
 
 def couple_housing(
     d: dict, shafts, positions, housing: Housing | None, seats=None, frames=None
