@@ -64,7 +64,7 @@ SECTIONS = {
     "jaxgear.scenes": (
         ("Scenes", ("_scene", "_rigid", "_torsional", "_lumped3d", "_structure")),
         ("Shafts and meshes", ("_shaft", "_gear_mesh", "_window_compliance")),
-        ("A flexible housing", ("_housing",)),
+        ("A flexible housing", ("_housing", "_mount")),
         ("Condensed bodies (hybrid)", ("_hybrid", "_interface")),
         ("Trains", ("_train",)),
     ),

@@ -132,6 +132,8 @@ class HybridModel(AbstractDynamicModel):
     whine_methods: ClassVar[tuple[type, ...]] = (HarmonicBalance, TransmissionErrorSource)
     #: its response records each mesh's force and static force (a DynamicResponse)
     band_factor: ClassVar[bool] = True
+    #: the housing its hybrid scene's bearings sit in
+    takes_housing: ClassVar[bool] = True
 
     def default_settings(self):
         """Newmark with the seed's 64 steps per mesh period (IV-27), the exact law (50

@@ -100,6 +100,9 @@ class DynamicModel(AbstractDynamicModel):
     #: Newmark in the coordinates, or a diffrax solver on the first-order form
     integrators: ClassVar[tuple[type, ...]] = (Newmark, DiffraxIntegrator)
     band_factor: ClassVar[bool] = True
+    #: the housing its scene's bearings sit in (scene kinds that take one: LumpedPair,
+    #: LumpedTrain)
+    takes_housing: ClassVar[bool] = True
 
     def critical_speeds(self, harmonic: int = 1) -> Float[Array, " n"]:
         """Pinion speeds (rad/s) where the ``harmonic``-th mesh harmonic meets each natural

@@ -672,6 +672,11 @@ class AbstractDynamicModel(eqx.Module):
     #: sweep's windows of one scene period then begin after a lead where the last one ended,
     #: and :func:`~jaxgear.dynamics.simulate` takes a ``start_period``
     runs_from_position: ClassVar[bool] = False
+    #: whether the kind takes a flexible housing (a :class:`~jaxgear.scenes.HousingMount`
+    #: seating its bearings or members; a scene's model through its scene kind's own
+    #: :attr:`~jaxgear.scenes.Scene.takes_housing`): a case's ``[housing]`` is refused at
+    #: load for a kind without it
+    takes_housing: ClassVar[bool] = False
     #: the integrator kinds the kind runs (:class:`~jaxgear.dynamics.Newmark`,
     #: :class:`~jaxgear.dynamics.DiffraxIntegrator`): another is refused before any work, from
     #: the class (``jaxgear sweep --solver`` at load, :meth:`runs`) and by

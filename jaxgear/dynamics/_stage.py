@@ -20,6 +20,7 @@ speeds in rad/s (the fixed frame), forces in N (compression positive).
 from __future__ import annotations
 
 import abc
+from typing import ClassVar
 
 import equinox as eqx
 import jax.numpy as jnp
@@ -27,6 +28,7 @@ from jaxtyping import Array, Float
 
 from .._baseplane import CellRow
 from .._util import as_float
+from ..scenes import HousingMount
 
 __all__ = ["AbstractStage"]
 
@@ -42,9 +44,17 @@ class AbstractStage(eqx.Module):
     coupled model). With defaults: :meth:`coordinates` and :meth:`coordinate_ends` (a
     torsional stage's: the chain's), :meth:`on_flanks`, :meth:`excited`,
     :meth:`carrier_speed`, :meth:`speed_terms` (a stage in the fixed frame),
-    :meth:`housing`, :meth:`housing_seats` (a stage on the ground) and :meth:`check_stage`
+    :meth:`mount` (a stage on the ground; :meth:`housing` and :meth:`housing_seats` read it)
+    and :meth:`check_stage`
     (every instance stands in a gearbox).
+
+    ``takes_housing`` (a class attribute, False here): whether the kind's coordinates can end
+    with a flexible housing's that a gearbox shares (:meth:`mount`);
+    True on :class:`~jaxgear.planetary.PlanetaryModel` and
+    :class:`~jaxgear.gearbox.LumpedPairGearboxStage`.
     """
+
+    takes_housing: ClassVar[bool] = False
 
     # -- the torsional chain's view ---------------------------------------------------------
 
@@ -131,14 +141,21 @@ class AbstractStage(eqx.Module):
         z = jnp.zeros((n, n))
         return z, z
 
-    def housing(self) -> tuple[Float[Array, "h h"], Float[Array, "h h"]] | None:
-        """(K_h, M_h): the stiffness and mass of the flexible housing whose h coordinates end
-        :meth:`coordinates` (its seats' 6 each, then its modal ones), which a gearbox-level
-        housing (:attr:`jaxgear.gearbox.GearboxTorsional.housing`) shares with the other
-        stages; None (the default): the stage stands on the ground."""
+    def mount(self) -> HousingMount | None:
+        """The :class:`~jaxgear.scenes.HousingMount` whose housing's h coordinates end
+        :meth:`coordinates` (its seats' 6 each, then its modal ones) and whose joints seat the
+        stage's bearings or members, which a gearbox-level housing
+        (:attr:`jaxgear.gearbox.GearboxTorsional.housing`) shares with the other stages; None
+        (the default): the stage stands on the ground."""
         return None
 
+    def housing(self) -> tuple[Float[Array, "h h"], Float[Array, "h h"]] | None:
+        """(K_h, M_h) of :meth:`mount`'s housing, or None: the stage on the ground."""
+        mount = self.mount()
+        return None if mount is None else (mount.K, mount.M)
+
     def housing_seats(self) -> tuple[int, ...]:
-        """The seats (indices) of :meth:`housing` that the stage's bearings or members join, in
-        ascending order; () (the default) for a stage on the ground."""
-        return ()
+        """The seats (indices) :meth:`mount`'s joints use, in ascending order; () for a stage
+        on the ground."""
+        mount = self.mount()
+        return () if mount is None else mount.seats()

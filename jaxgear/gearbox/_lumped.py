@@ -28,6 +28,8 @@ stage condensed statically onto its two torque-node rotations (Guyan, :meth:`mat
 
 from __future__ import annotations
 
+from typing import ClassVar
+
 import equinox as eqx
 import jax.numpy as jnp
 import numpy as np
@@ -35,7 +37,7 @@ import numpy as np
 from .._baseplane import on_the_path
 from .._modifications import Modifications
 from .._quasi_static import separation
-from .._util import as_float, check_instance, is_traced
+from .._util import as_float, check_instance
 from ..dynamics import AbstractStage
 from ..scenes import LumpedPair
 from ._chain import mean_cell_stiffness
@@ -66,6 +68,8 @@ class LumpedPairGearboxStage(AbstractStage):
     scene: LumpedPair
     input: int = eqx.field(static=True, default=0)
     modifications: Modifications = eqx.field(default_factory=Modifications)
+    #: its scene's bearings sit in a housing the gearbox shares
+    takes_housing: ClassVar[bool] = True
 
     def __check_init__(self):
         check_instance("scene", self.scene, LumpedPair, "a jaxgear.scenes.LumpedPair",
@@ -146,30 +150,10 @@ class LumpedPairGearboxStage(AbstractStage):
         c = self.scene.bearing_damping()
         return c, jnp.zeros_like(c)
 
-    def housing(self):
-        """(K_h, M_h) of the scene's flexible housing (its part ``housing`` and its mass block
-        on the housing's coordinates, which end the scene's), or None: a grounded scene."""
-        st = self.scene.structure
-        if "housing" not in st.part_names:
-            return None
-        first = min(i for name, i in st.nodes if name.startswith("housing "))
-        return (st.stiffness_parts()["housing"][first:, first:], st.M[first:, first:])
-
-    def housing_seats(self):
-        """The seats (indices) the scene's bearings join: those whose coordinates the
-        ``bearings`` stiffness part couples to the shafts' (host side; () for a grounded scene
-        or traced arrays)."""
-        st = self.scene.structure
-        if "housing" not in st.part_names:
-            return ()
-        part = st.stiffness_parts()["bearings"]
-        if is_traced(part):
-            return ()
-        first = min(i for name, i in st.nodes if name.startswith("housing "))
-        n_seats = sum(1 for name, _ in st.nodes if name.startswith("housing "))
-        cross = np.asarray(part)[:first, first:first + 6 * n_seats]
-        used = np.any(cross.reshape(first, n_seats, 6) != 0.0, axis=(0, 2))
-        return tuple(int(k) for k in np.flatnonzero(used))
+    def mount(self):
+        """The :class:`~jaxgear.scenes.HousingMount` the scene's bearings sit in (its
+        structure's; the housing's coordinates end the scene's), or None: a grounded scene."""
+        return self.scene.structure.mount
 
     # -- the torsional chain's view ---------------------------------------------------------
     def dof_names(self):

@@ -138,6 +138,8 @@ class GearboxModel(AbstractDynamicModel):
     whine_methods: ClassVar[tuple[type, ...]] = (QuasiPeriodicBalance,)
     #: ``SteadyState(periods=None)``: the blocks from the settling time (:meth:`resolve_window`)
     automatic_span: ClassVar[bool] = True
+    #: the housing its stages share (:attr:`~jaxgear.gearbox.GearboxTorsional.housing`)
+    takes_housing: ClassVar[bool] = True
 
     # --- what the engine entries read ------------------------------------------------------
 

@@ -32,6 +32,7 @@ from ._rating_material_table import MaterialRatingKeys
 from ._rating_table import check_rating
 from ._robust_table import parse_robust
 from ._housing_table import HOUSING_BAND, check_housing_band, parse_housing
+from ._scene_spec import SceneSpec
 from ._scene_table import parse_scene
 from ._sections import Section, number
 from ._acoustics_table import AcousticsSection, check_band, parse_case_acoustics
@@ -619,12 +620,14 @@ def case_housing(data: dict, scene, base_dir, material, *, pair: bool = True, te
     if "housing" not in data:
         return None
     table = sc.subtable(data, "housing", "")  # checked by parse_housing
-    if scene is None or not scene.lumped:
+    kind = (scene or SceneSpec()).kind(pair)  # no [scene]: the torsional default
+    if not kind.takes_housing:
         raise sc.fail(
             "housing",
             None,
-            "a housing carries the bearings of a lumped 3D scene: allowed with [scene] "
-            "model = 'lumped3d' (rigid gears or condensed bodies)",
+            f"the scene kind {kind.__name__} takes no housing (a housing carries the bearings "
+            "of a lumped 3D scene): allowed with [scene] model = 'lumped3d' (rigid gears or "
+            "condensed bodies)",
         )
     if "whine" not in data:
         return parse_housing(table, base_dir, material, None)

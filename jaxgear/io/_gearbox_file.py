@@ -726,7 +726,7 @@ def _placement(table: StageEntry, where: str, has_housing: bool, case: Case, mod
     if keys and not has_housing:
         raise sc.fail(where, keys[0], 'allowed on a model = "lumped3d" or a planetary stage of '
                       "a gearbox with [housing] only", getattr(table, keys[0]))
-    if keys and not (lumped or planetary):
+    if keys and not type(model).takes_housing:
         raise sc.fail(where, keys[0], 'allowed on a model = "lumped3d" stage of a gearbox with '
                       "[housing] only", getattr(table, keys[0]))
     if not has_housing or not (lumped or keys):

@@ -18,7 +18,15 @@ from ..dynamics import (
     RayleighDamping,
     SteadyState,
 )
-from ..scenes import ShaftSpec
+from ..scenes import (
+    HybridScene,
+    LumpedPair,
+    LumpedTrain,
+    RelativeApproach,
+    ShaftSpec,
+    TorsionalDynamics,
+    TorsionalTrain,
+)
 
 __all__ = [
     "DAMPING_MODELS",
@@ -85,6 +93,22 @@ class SceneSpec:
     def lumped(self) -> bool:
         """The scene is lumped 3D (``model = "lumped3d"``: shafts on bearings)."""
         return self.model == "lumped3d"
+
+    def kind(self, pair: bool = True) -> type:
+        """The scene kind (its class) the table builds for a pair (``pair``) or a train:
+        condensed bodies a :class:`~jaxgear.scenes.HybridScene`; ``model = "lumped3d"`` a
+        :class:`~jaxgear.scenes.LumpedPair` or :class:`~jaxgear.scenes.LumpedTrain`;
+        ``"torsional"`` a :class:`~jaxgear.scenes.TorsionalDynamics` (with ``reduction =
+        "relative"`` a :class:`~jaxgear.scenes.RelativeApproach`) or a
+        :class:`~jaxgear.scenes.TorsionalTrain`. What the kind supports is read from it (its
+        :attr:`~jaxgear.scenes.Scene.takes_housing`)."""
+        if self.hybrid:
+            return HybridScene
+        if self.lumped:
+            return LumpedPair if pair else LumpedTrain
+        if not pair:
+            return TorsionalTrain
+        return RelativeApproach if self.reduction == "relative" else TorsionalDynamics
 
 
 def spec_integrator(spec: SceneSpec) -> Newmark | DiffraxIntegrator:

@@ -39,7 +39,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from .._util import check_instance, is_traced
-from ..scenes import Housing
+from ..scenes import Housing, HousingMount
 from ._stage import AbstractPlanetaryModel, PlanetaryStage
 
 __all__ = ["HousedPlanetary", "check_carrier_speed"]
@@ -48,8 +48,6 @@ __all__ = ["HousedPlanetary", "check_carrier_speed"]
 _SUFFIX = {"carrier": "c", "ring": "r", "sun": "s"}
 #: a member's 6-vector (u_x, u_y, u_z, θ_x, θ_y, θ_z) from its coordinates: name prefix per row
 _NODE = ("x", "y", "z", "theta_x", "theta_y", "u")
-#: the rows an axis joint takes (u_z, θ_z)
-_AXIS = (2, 5)
 
 
 def _pad(a, h: int, rows: bool = False):
@@ -155,15 +153,10 @@ class HousedPlanetary(AbstractPlanetaryModel):
     def seat_indices(self) -> tuple:
         """``((member, seat index), ...)``: :attr:`seats` with each seat name replaced by its
         index in the housing's :attr:`~jaxgear.scenes.Housing.seat_names`."""
-        names = self.housing.seat_names
-        return tuple((member, names.index(seat) if isinstance(seat, str) else int(seat))
-                     for member, seat in self.seats)
+        mount = self.mount
+        return tuple((j.member, mount.seat_index(k)) for k, j in enumerate(mount.joints))
 
     # -- the coupling ----------------------------------------------------------------------
-
-    def _rows(self) -> tuple:
-        """The node rows (of u_x .. θ_z) each joint takes."""
-        return tuple(range(6)) if self.carrier_held else _AXIS
 
     def _unjoined(self, stage: PlanetaryStage) -> PlanetaryStage:
         """The stage with the joined supports taken off the ground (set to 0)."""
@@ -182,10 +175,11 @@ class HousedPlanetary(AbstractPlanetaryModel):
             stage = eqx.tree_at(lambda s, member=member: getattr(s, member), stage, m)
         return stage
 
-    def _joint(self, stage: PlanetaryStage, member: str):
+    def _joint(self, stage: PlanetaryStage, member: str, rows: tuple):
         """(T, K_b): T (6, n) the member's node (u_x, u_y, u_z, θ_x, θ_y, θ_z) from the base
         coordinates (θ_z = u / r_b), zero on rows the base kind has not or the joint does not
-        take; K_b (6, 6) the member's support springs on those rows (N/m, N m/rad)."""
+        take (``rows``, its mount joint's); K_b (6, 6) the member's support springs on those
+        rows (N/m, N m/rad)."""
         m = getattr(stage, member)
         names = self.model.dof_names(stage)
         n = len(names)
@@ -194,7 +188,7 @@ class HousedPlanetary(AbstractPlanetaryModel):
                                  m.torsional_stiffness[None]]).astype(dtype)
         T = jnp.zeros((6, n), dtype)
         keep = jnp.zeros(6, dtype)
-        for row in self._rows():
+        for row in rows:
             name = f"{_NODE[row]}_{_SUFFIX[member]}"
             if name not in names:
                 continue
@@ -203,28 +197,25 @@ class HousedPlanetary(AbstractPlanetaryModel):
             keep = keep.at[row].set(1.0)
         return T, jnp.diag(k_all * keep)
 
+    @property
+    def mount(self) -> HousingMount:
+        """The :class:`~jaxgear.scenes.HousingMount` of its joints: each of ``seats``' members
+        at ``centre`` on its seat, taking the axis rows (u_z, θ_z) or, with
+        ``carrier_held``, all six."""
+        return HousingMount.on_axis(self.housing, self.seats, self.centre, self.carrier_held)
+
     def coupling(self, stage: PlanetaryStage):
-        """K_c (n + h, n + h): the joined springs between the members and their seats. Each
-        joined row r (u_z, θ_z, ...) is a spring k_r e_r e_rᵀ on the member's node at
-        ``centre``, whose blocks (A_r, B_r, D_r) per unit k are
-        :meth:`~jaxgear.scenes.Housing.seat_spring`'s (the lumped scenes' seat coupling); the
-        node is T q (:meth:`_joint`), so K_c = Σ k_r [[Tᵀ A_r T, Tᵀ B_r], [B_rᵀ T, D_r]]."""
-        n = len(self.model.dof_names(stage))
-        h = self.housing.size
-        dtype = stage.planet_angles.dtype
-        out = jnp.zeros((n + h, n + h), dtype)
-        for member, seat in self.seat_indices():
-            T, k_b = self._joint(stage, member)
-            q = slice(n + 6 * seat, n + 6 * seat + 6)
-            for r in self._rows():
-                unit = np.zeros((6, 6))
-                unit[r, r] = 1.0
-                A, B, D, _ = (jnp.asarray(a, dtype)
-                              for a in self.housing.seat_spring(seat, self.centre, unit))
-                k = k_b[r, r]
-                out = out.at[:n, :n].add(k * (T.T @ A @ T)).at[:n, q].add(k * (T.T @ B))
-                out = out.at[q, :n].add(k * (B.T @ T)).at[q, q].add(k * D)
-        return out
+        """K_c (n + h, n + h): the joined springs between the members and their seats, the
+        mount's seat coupling (:meth:`~jaxgear.scenes.HousingMount.coupling`) of each joined
+        member's node T q (:meth:`_joint`) and its support springs K_b on the joined rows:
+        K_c = Σ [[Tᵀ A T, Tᵀ B], [Bᵀ T, D]], (A, B, D) the blocks of
+        :meth:`~jaxgear.scenes.Housing.seat_spring` (the lumped scenes' seat coupling)."""
+        mount = self.mount
+        if not mount.joints:
+            n = len(self.model.dof_names(stage)) + mount.size
+            return jnp.zeros((n, n), stage.planet_angles.dtype)
+        joints = [self._joint(stage, j.member, j.rows) for j in mount.joints]
+        return mount.coupling([T for T, _ in joints], [k for _, k in joints])
 
     # -- the model kind --------------------------------------------------------------------
 

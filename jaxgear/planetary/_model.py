@@ -214,6 +214,9 @@ class PlanetaryModel(AbstractDynamicModel, AbstractStage):
     #: ``SteadyState(periods=None)``: the span from the stage's settling time
     #: (:meth:`resolve_window`, :func:`~jaxgear.planetary.time_plan`'s rule)
     automatic_span: ClassVar[bool] = True
+    #: a housing its central members' supports join (a HousedPlanetary kind), as a model and
+    #: as a gearbox stage
+    takes_housing: ClassVar[bool] = True
 
     def __check_init__(self):
         where = "PlanetaryModel"
@@ -586,18 +589,12 @@ class PlanetaryModel(AbstractDynamicModel, AbstractStage):
             c = c.at[-h:, -h:].add(jnp.asarray(self.kind.housing.C, c.dtype))
         return c, -carrier_speed**2 * rr * self.kind.centripetal_matrix(st)
 
-    def housing(self):
-        """(K_h, M_h) of a :class:`~jaxgear.planetary.HousedPlanetary` kind's housing (its
-        coordinates end :meth:`coordinates`), or None: the stage on the ground."""
-        if not isinstance(self.kind, HousedPlanetary):
-            return None
-        return self.kind.housing.K, self.kind.housing.M
-
-    def housing_seats(self):
-        """The seats the housed kind's members join (indices, ascending), () unhoused."""
-        if not isinstance(self.kind, HousedPlanetary):
-            return ()
-        return tuple(sorted({seat for _, seat in self.kind.seat_indices()}))
+    def mount(self):
+        """The :class:`~jaxgear.scenes.HousingMount` of a
+        :class:`~jaxgear.planetary.HousedPlanetary` kind (its housing's coordinates end
+        :meth:`coordinates`; its joints the joined members), or None: the stage on the
+        ground."""
+        return self.kind.mount if isinstance(self.kind, HousedPlanetary) else None
 
     def carrier_speed(self, input_speed):
         """The carrier's speed (rad/s) at the input member's ``input_speed``."""

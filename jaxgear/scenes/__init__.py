@@ -21,7 +21,9 @@ torsional (:meth:`TorsionalTrain.of`, :func:`torsional_train`), lumped 3D
 (``housing=`` of :func:`lumped_pair` and :meth:`LumpedTrain.of`) instead of the ground; the
 band its condensed response holds, cut-off / :data:`HOUSING_BAND`, and the rule a housed
 model's frequencies must keep to are the housing's (:func:`housing_band_hz`,
-:func:`band_holds`, :func:`band_cutoff_hz`, :func:`band_speed_limit`).
+:func:`band_holds`, :func:`band_cutoff_hz`, :func:`band_speed_limit`); a
+:class:`HousingMount` is the housing with the joints (:class:`MountJoint`) that seat a
+structure's or a model's nodes on it, and their one seat coupling.
 :func:`mesh_zone_load` is a unit force spread over a mesh's contact zone
 as a load on the structure (zone compliances fᵀ K⁻¹ f).
 """
@@ -60,6 +62,7 @@ from ._interface import (
     TorsionalMember as TorsionalMember,
     mortar_weights as mortar_weights,
 )
+from ._mount import HousingMount as HousingMount, MountJoint as MountJoint
 from ._lumped3d import (
     LumpedPair as LumpedPair,
     LumpedTrain as LumpedTrain,

@@ -158,6 +158,8 @@ def _body_structure(d: dict, placed: dict, nodes: tuple) -> Structure:
         reaction_names=d["reaction_names"],
         reaction_member=d["reaction_member"],
         nodes=nodes,
+        mount=d.get("mount"),
+        mount_offset=d.get("housing_offset", 0),
     )
 
 

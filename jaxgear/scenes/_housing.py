@@ -20,7 +20,7 @@ bearing transmits between shaft and housing. With a rigid, massless housing (q =
 grounded bearing of :class:`~jaxgear.scenes.Bearing` exactly. A shaft whose coordinates are
 taken in a frame turned by φ about z (a hybrid scene's condensed body's shaft, at its body
 frame's angle at θ = 0) sees the seat through Q(φ)ᵀ G (its axisymmetric bearing acts in its own
-frame; :func:`couple_housing`'s ``frames``).
+frame; :func:`~jaxgear.scenes._mount.couple_housing`'s ``frames``).
 
 Source: Craig & Bampton, AIAA J. 6 (1968); the seat coupling is the rigid-link (RBE2) relation of
 the condensed bodies' bearing masters (:func:`fem_prep.couple_masters`).
@@ -284,98 +284,3 @@ def bearing_positions(shafts, centres, gear_z) -> list[list[np.ndarray]]:
         c = np.asarray(c, float)
         out.append([c + np.array([0.0, 0.0, b.z - float(g)]) for b in spec.bearings])
     return out
-
-
-def couple_housing(
-    d: dict, shafts, positions, housing: Housing | None, seats=None, frames=None
-) -> dict:
-    """The shafts' NumPy parts (:func:`~jaxgear.scenes._shaft._shaft_arrays`) with ``housing``
-    appended after the shaft coordinates and every bearing re-seated from the ground onto a
-    seat (module docstring): M, the stiffness parts (a ``housing`` part appended; the
-    ``bearings`` part holding the bearing couplings), the damping (n', n') and the bearing
-    force rows, grown to n' = n + h. ``positions``: :func:`bearing_positions`; ``seats``: the
-    seat index of every bearing (shaft after shaft, as ``positions``; None: the nearest), an
-    entry None leaving that bearing on the ground. ``housing`` None returns ``d`` unchanged.
-    ``frames``: per shaft, the angle φ (rad) about +z of the frame its coordinates are taken in
-    (a hybrid scene's condensed body turns its shaft's frame, docs/housing.md, "Hybrid
-    scenes"), or None: every shaft in the scene frame. A bearing of a shaft at φ acts on
-    d = u_s − Q(φ)ᵀ G q (Q(φ) the rotation by φ about z on the translations and on the rotation
-    vector): its relative motion in the shaft's frame, the bearing being axisymmetric there.
-
-    Raises:
-        ValueError: ``seats`` of another length than the bearings, or a seat index out of range.
-    """
-    if housing is None:
-        return d
-    n = d["M"].shape[0]
-    h = housing.size
-    N = n + h
-    flat = [
-        (i, b, np.asarray(p))
-        for i, s in enumerate(shafts)
-        for b, p in zip(s.bearings, positions[i])
-    ]
-    if seats is None:
-        seats = [housing.nearest_seat(p) for _, _, p in flat]
-    seats = list(seats)
-    if len(seats) != len(flat):
-        raise ValueError(f"seats: {len(seats)} entries for {len(flat)} bearings, allowed one each")
-    for k, s in enumerate(seats):
-        if s is None:
-            continue
-        if (
-            isinstance(s, bool)
-            or not isinstance(s, (int, np.integer))
-            or not 0 <= s < housing.n_seats
-        ):
-            raise ValueError(
-                f"seats[{k}] = {s!r}, allowed a seat index 0 to {housing.n_seats - 1} "
-                "(None: the ground)"
-            )
-
-    def grow(a):
-        out = np.zeros(a.shape[:-2] + (N, N))
-        out[..., :n, :n] = a
-        return out
-
-    M = grow(d["M"])
-    M[n:, n:] = np.asarray(housing.M)
-    parts = grow(d["parts"])
-    housing_part = np.zeros((1, N, N))
-    housing_part[0, n:, n:] = np.asarray(housing.K)
-    parts = np.concatenate([parts, housing_part])
-    C = grow(d["bearing_C"])
-    C[n:, n:] += np.asarray(housing.C)
-    reaction = np.zeros((d["reaction"].shape[0], N))
-    reaction[:, :n] = d["reaction"]
-    offsets, mats = d["shaft_offsets"], d["mats"]
-    row = 0
-    for (i, b, p), s in zip(flat, seats, strict=True):
-        node = int(np.argmin(np.abs(mats[i].nodes - b.z)))
-        u = slice(offsets[i] + 6 * node, offsets[i] + 6 * node + 6)
-        if s is not None:  # None: the bearing stays on the ground
-            q = slice(n + 6 * s, n + 6 * s + 6)
-            phi = 0.0 if frames is None else float(frames[i] or 0.0)
-            for target, a in ((parts[-2], b.stiffness_matrix()), (C, b.damping_matrix())):
-                _, B, D, G = housing.seat_spring(s, p, a, phi)  # the shaft's A is there already
-                target[u, q] += B
-                target[q, u] += B.T
-                target[q, q] += D
-        kb = b.stiffness_matrix()
-        for k in range(3):  # the rows _shaft_arrays made, in its order
-            if np.any(kb[k] != 0):
-                if s is not None:
-                    reaction[row, n + 6 * s : n + 6 * s + 6] = -kb[k] @ G
-                row += 1
-    return dict(d, M=M, parts=parts, bearing_C=C, reaction=reaction, housing_offset=n)
-
-
-def housing_nodes(housing: Housing | None, offset: int) -> tuple:
-    """The structure's named nodes of the housing's seats, ``("housing <seat>", first DOF)``
-    (its modal coordinates follow the last seat's six): each seat's first coordinate's name
-    (:meth:`Housing.coordinate_names`) without its DOF."""
-    if housing is None:
-        return ()
-    names = housing.coordinate_names()
-    return tuple((names[6 * k].rsplit(" ", 1)[0], offset + 6 * k)
-                 for k in range(housing.n_seats))

@@ -27,6 +27,7 @@ from __future__ import annotations
 import dataclasses
 import functools
 import math
+from typing import ClassVar
 
 import equinox as eqx
 import jax
@@ -116,6 +117,9 @@ class HybridScene(AssembledScene):
     periods: int = eqx.field(static=True, default=1)
     compliance: WindowCompliance | None = None
     rigid: Float[Array, "n 1"] | None = None
+    #: its shafts' bearings sit in a housing (``hybrid_pair(..., housing=)``,
+    #: :meth:`train`)
+    takes_housing: ClassVar[bool] = True
 
     def rigid_modes(self) -> Float[Array, "n r"]:
         """The free drive rotation of the dynamics (n, 1) (every shaft and body turning at its

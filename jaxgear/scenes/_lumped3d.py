@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from typing import ClassVar
 
 import jax.numpy as jnp
 import numpy as np
@@ -28,7 +29,8 @@ from jaxtyping import Array, Float
 from .._baseplane import MeshModel
 from .._geometry import GearPair
 from ._gear_mesh import GearMesh, line_of_action, mesh_line, pair_mesh
-from ._housing import Housing, bearing_positions, couple_housing, housing_nodes
+from ._housing import Housing, bearing_positions
+from ._mount import couple_housing, housing_nodes
 from ._interface import RigidMember
 from ._scene import DynamicScene
 from ._shaft import ShaftSpec, _add_gear_body, _shaft_arrays, _shaft_structure
@@ -65,6 +67,8 @@ class LumpedPair(AssembledScene, DynamicScene):
     """
 
     rigid: Float[Array, " n"]
+    #: its bearings sit in a housing (``lumped_pair(..., housing=)``)
+    takes_housing: ClassVar[bool] = True
 
     def rigid_modes(self):
         return self.rigid[:, None]
@@ -146,7 +150,7 @@ def lumped_pair(
             each bearing.
 
     Raises:
-        ValueError: what :func:`~jaxgear.scenes._housing.couple_housing` refuses.
+        ValueError: what :func:`~jaxgear.scenes._mount.couple_housing` refuses.
     """
     d = _lumped_arrays(
         pair, pinion_shaft, gear_shaft, masses, inertias, youngs_modulus, poisson_ratio, density
@@ -270,6 +274,9 @@ class LumpedTrain(GearTrain):
     """A lumped 3D gear train: parallel shafts on bearings carrying rigid gear nodes, one mesh
     per pair of gears in contact (seed I-3 and (2.9) with several meshes), 6 DOFs per shaft
     node. Build with :meth:`of` from the train's :class:`~jaxgear.scenes.TrainSpec`."""
+
+    #: its bearings sit in a housing (``LumpedTrain.of(..., housing=)``)
+    takes_housing: ClassVar[bool] = True
 
     @classmethod
     def of(cls, spec: TrainSpec, housing: Housing | None = None, seats=None) -> LumpedTrain:

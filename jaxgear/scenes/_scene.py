@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import abc
 import fractions
+from typing import ClassVar
 
 import equinox as eqx
 import jax
@@ -40,7 +41,16 @@ __all__ = ["DynamicScene", "Grounded", "Scene", "grounded", "rigid_mode_penalty"
 
 
 class Scene(eqx.Module):
-    """Abstract linear structure seen by the contact law."""
+    """Abstract linear structure seen by the contact law.
+
+    ``takes_housing`` (a class attribute): whether the kind's bearings can sit in a flexible
+    :class:`~jaxgear.scenes.Housing` (built with ``housing=``, its :class:`HousingMount`
+    seating them); False here, True on the kinds with shafts on bearings
+    (:class:`~jaxgear.scenes.LumpedPair`, :class:`~jaxgear.scenes.LumpedTrain`,
+    :class:`~jaxgear.scenes.HybridScene`). A case's ``[housing]`` is refused at load for a
+    kind that does not declare it."""
+
+    takes_housing: ClassVar[bool] = False
 
     @abc.abstractmethod
     def stiffness(self) -> Float[Array, "n n"]:

@@ -444,6 +444,8 @@ def _shaft_structure(d: dict, part_names: tuple, nodes: tuple) -> Structure:
         reaction_names=d["reaction_names"],
         reaction_member=d["reaction_member"],
         nodes=nodes,
+        mount=d.get("mount"),
+        mount_offset=d.get("housing_offset", 0),
     )
 
 

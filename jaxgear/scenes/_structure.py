@@ -16,6 +16,7 @@ from jaxtyping import Array, Float
 
 from .._baseplane import CellRow, Cells, MeshModel
 from ._gear_mesh import only_mesh
+from ._mount import HousingMount
 from ._scene import Scene, _check_meshes
 
 __all__ = ["AssembledScene", "Structure"]
@@ -44,6 +45,10 @@ class Structure(eqx.Module):
             the gear nodes (``pinion`` and ``gear`` for a pair, ``gear<i>`` for a train).
         node_dofs: static, the DOFs of each node: 6 for shaft nodes (u_x, u_y, u_z, φ_x, φ_y,
             φ_z), 1 for a torsional structure (the rotation φ_z alone).
+        mount: the :class:`~jaxgear.scenes.HousingMount` its bearings sit in (its joints the
+            seated bearings; its housing's K_h, M_h, C_h are in the ``housing`` part, M and
+            C_bearing), or None: a structure on the ground.
+        mount_offset: static, the first of the mount's housing coordinates (its h follow).
     """
 
     K: Float[Array, "n n"]
@@ -59,6 +64,8 @@ class Structure(eqx.Module):
     reaction_member: tuple = eqx.field(static=True)
     nodes: tuple = eqx.field(static=True)
     node_dofs: int = eqx.field(static=True, default=6)
+    mount: HousingMount | None = None
+    mount_offset: int = eqx.field(static=True, default=0)
 
     @property
     def size(self) -> int:
