@@ -240,19 +240,27 @@ def test_a_grouped_sweep_runs_each_speed_on_its_own_plan():
     program per N_s (not grouped: one)."""
     speeds = [150.0, 300.0, 900.0]
     model, stage, meshes, base, carrier, v, ring = _lumped_sweep_parts(speeds)
-    plan = jp.TimePlan(np.array([24, 12, 12]), np.array([6, 5, 4]), 2, 1.0, 1.0, 0.0,
+    # the group of 12 steps spans 4 periods, 2 kept, two speeds: the program of
+    # tests/test_planetary_sweep.py's lumped sweep, and its reference's below (one compiled
+    # program each for the two files)
+    plan = jp.TimePlan(np.array([24, 12, 12]), np.array([6, 4, 3]), 2, 1.0, 1.0, 0.0,
                        (False, False))
     got = jp.steps_sweep(model, stage, meshes, base, plan, carrier, v, ring, grouped=True)
-    # the two speeds of 12 steps share a program: both integrate the longer span, 5 periods
-    own = [6, 5, 5]
+    # the two speeds of 12 steps share a program: both integrate the longer span, 4 periods
+    own = [6, 4, 4]
     assert got.programs == 2 and list(got.periods) == own
-    for k in range(3):
+
+    def direct(k):
         run = jp.PlanetaryRun(base.sun_torque, steps_per_period=int(plan.steps[k]),
                               periods=own[k], keep_periods=2,
                               tangential_pin_errors=base.tangential_pin_errors,
                               radial_pin_errors=base.radial_pin_errors)
-        d = jp.planetary_dynamics(model, stage, meshes, run, jnp.asarray(carrier[k]),
-                                  jnp.asarray(v[k]))
+        return lambda om, vi: jp.planetary_dynamics(model, stage, meshes, run, om, vi)
+
+    first = direct(0)(jnp.asarray(carrier[0]), jnp.asarray(v[0]))
+    pair = jax.vmap(direct(1))(jnp.asarray(carrier[1:]), jnp.asarray(v[1:]))
+    for k in range(3):
+        d = first if k == 0 else jax.tree.map(lambda a, k=k: a[k - 1], pair)
         f = np.concatenate([np.asarray(d.sun_mesh_forces), np.asarray(d.ring_mesh_forces)], 1)
         nominal = float(d.static_force)
         assert got.static_force == pytest.approx(nominal, rel=1e-12)
