@@ -27,7 +27,7 @@ from .._baseplane import CellRow, MeshModel, on_the_path
 from .._modifications import Modifications
 from .._quasi_static import separation
 from .._util import as_float, check_instance
-from ..dynamics import AbstractStage, cell_stiffness, matrix_modal_analysis
+from ..dynamics import AbstractStage, matrix_modal_analysis, mean_cell_stiffness
 from ..planetary import (
     AbstractPlanetaryMeshes,
     AbstractPlanetaryModel,
@@ -47,17 +47,6 @@ __all__ = [
     "PlanetaryGearboxStage",
     "gearbox_modes",
 ]
-
-
-def mean_cell_stiffness(cell_row, period, positions: int) -> Float[Array, "n n"]:
-    """K̄_m of a mesh: its cells' stiffness Σ k l V Vᵀ (:func:`jaxgear.dynamics.cell_stiffness`)
-    averaged over ``positions`` mid-points of its period ``period`` (m of mesh travel), the
-    cells from ``cell_row`` (a function of the travel, on the theoretical path: beyond it a
-    corner's cell carries load only under deflection)."""
-    x = period * (jnp.arange(positions) + 0.5) / positions
-    rows = jax.vmap(cell_row)(x)
-    kl = jnp.where(rows.mask, rows.k * rows.length, 0.0)
-    return cell_stiffness(rows.V, kl) / positions
 
 
 class PlanetaryGearboxStage(PlanetaryModel):
