@@ -177,9 +177,6 @@ class DynamicModel(AbstractDynamicModel, AbstractStage):
         return Newmark(), ExactContact(), SteadyState()
 
     def check_integrator(self, integrator) -> None:
-        """Refuse a modal basis (a hybrid model's), and every run of a model built for a
-        gearbox only (:attr:`runs_alone`)."""
-        self._check_runs()
         if isinstance(integrator, Newmark) and integrator.basis is not None:
             raise ValueError(
                 "integrator = Newmark(basis=...): a modal basis is for a hybrid model (allowed "
