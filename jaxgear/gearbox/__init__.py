@@ -25,6 +25,7 @@ from ._chain import (
     GearboxTorsional as GearboxTorsional,
     PairGearboxStage as PairGearboxStage,
     PlanetaryGearboxStage as PlanetaryGearboxStage,
+    TorsionalPairGearboxStage as TorsionalPairGearboxStage,
     gearbox_modes as gearbox_modes,
 )
 from ._compound import (
