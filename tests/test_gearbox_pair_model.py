@@ -1,10 +1,12 @@
 """A pair's own dynamic model as a gearbox stage (jaxgear.dynamics.DynamicModel given its input
 side, an AbstractStage; docs/architecture.md, "One stage contract"): two torsional pairs in
-series, each the DynamicModel of its TorsionalDynamics scene, give the coupled run of the
-torsional pair stage class (PairGearboxStage with its mesh) to 1e-12, and the chain's torsional
-natural frequencies against an eigen-solution assembled here from the inertias, base radii,
-the cells' mean stiffness and the shaft, to 1e-10. A model without its side runs alone and is
-refused in a gearbox; one built for a gearbox only is refused alone."""
+series, each the DynamicModel of its TorsionalDynamics scene, give the coupled run of a
+torsional pair stage written apart here (the gearbox's meshed pair stage as it was its own
+class: the torsional pair's vectors with the wheel's sign flipped, the mesh's separations, the
+kinematics from the base radii) to 1e-12, and the chain's torsional natural frequencies against
+an eigen-solution assembled here from the inertias, base radii, the cells' mean stiffness and
+the shaft, to 1e-10. A model without its side runs alone and is refused in a gearbox; one built
+for a gearbox only is refused alone."""
 
 from __future__ import annotations
 
@@ -18,7 +20,7 @@ import scipy.linalg
 
 import jaxgear as jg
 from jaxgear import dynamics as jd, gearbox as gb
-from jaxgear.scenes import TorsionalDynamics
+from jaxgear.scenes import TorsionalDynamics, TorsionalPair
 
 jax.config.update("jax_enable_x64", True)
 
@@ -33,6 +35,59 @@ MODS = jg.Modifications.symmetric(jg.MemberModification(tip_relief_depth=8e-6,
 PLAN = {"steps_per_period": 16, "periods": 4, "keep_periods": 1, "mean_positions": 16}
 
 
+class _ReferenceStage(jd.AbstractStage):
+    """The torsional pair on its cells, written apart: rotations (theta_pinion, theta_wheel) in
+    one sense, V = TorsionalPair's vectors times (1, -1), the cells at pinion angle x / r_b1
+    with the modifications' separations (jaxgear.separation), K_bar their k l V V^T over the
+    period's mid-points on the theoretical path, the kinematics of two gears in mesh."""
+
+    inertias: tuple
+    radii: tuple
+    side: int
+    mesh: jg.MeshModel
+    mods: jg.Modifications
+
+    def dof_names(self):
+        return ("theta_pinion", "theta_wheel")
+
+    def matrices(self):
+        return jnp.diag(jnp.asarray(self.inertias)), jnp.zeros((2, 2))
+
+    def ends(self):
+        return self.side, 1 - self.side
+
+    def dynamic_parts(self, positions):
+        x = self.mesh_period() * (jnp.arange(positions) + 0.5) / positions
+        path = self.mesh.contact_geometry.on_path(self.mesh)
+        k = jnp.zeros((2, 2))
+        for xi in x:
+            r = _ReferenceStage(self.inertias, self.radii, self.side, path, self.mods).cell_row(xi)
+            kl = jnp.where(r.mask, r.k * r.length, 0.0)
+            k = k + (r.V * kl[:, None]).T @ r.V
+        m = jnp.diag(jnp.asarray(self.inertias))
+        return m, jnp.zeros((2, 2)), k / positions, jnp.zeros(2)
+
+    def cell_row(self, x):
+        cells, _, d0 = jg.separation(self.mesh, self.mods, x / self.mesh.base_radius_pinion)
+        V = TorsionalPair(self.mesh).cell_vectors(cells) * jnp.asarray([[[1.0, -1.0]]])
+        return jg.CellRow.of(cells, V, d0)
+
+    def mesh_forces(self, forces):
+        return jnp.cos(self.mesh.base_helix_angle) * jnp.sum(forces, axis=-1, keepdims=True)
+
+    def mesh_names(self):
+        return ("pair",)
+
+    def mesh_period(self):
+        return self.mesh.base_pitch
+
+    def kinematics(self, input_speed, input_torque):
+        r_in, r_out = self.radii[self.side], self.radii[1 - self.side]
+        t = jnp.abs(jnp.asarray(input_torque, float))
+        w = jnp.asarray(input_speed, float)
+        return -w * r_in / r_out, t * r_out / r_in, r_in * jnp.abs(w), jnp.reshape(t / r_in, (1,))
+
+
 def _mesh(z1, z2, b):
     pair = jg.GearPair(jg.Member(z1, face_width=b), jg.Member(z2, face_width=b), MODULE, ALPHA,
                        helix_angle=BETA)
@@ -41,13 +96,13 @@ def _mesh(z1, z2, b):
 
 @pytest.fixture(scope="module")
 def stages():
-    """Per pair: (the torsional pair stage class, the pair's DynamicModel with its side: the
+    """Per pair: (the reference stage written apart, the pair's DynamicModel with its side: the
     first built to run alone too, the second for a gearbox only)."""
     out = []
     for k, (z1, z2, b, inertias, side) in enumerate(PAIRS):
         pair, mesh = _mesh(z1, z2, b)
-        old = gb.PairGearboxStage(inertias, pair.base_radii, 1e9, input=side, mesh=mesh,
-                                  modifications=MODS)
+        radii = tuple(float(r) for r in pair.base_radii)
+        old = _ReferenceStage(inertias, radii, side, mesh, MODS)
         scene = TorsionalDynamics(mesh, *inertias)
         if k == 0:
             new = jd.dynamic_model(scene, MODS, TORQUE, input=side)
@@ -57,7 +112,7 @@ def stages():
     return out
 
 
-def test_the_pair_model_gives_the_stage_class_coupled_run(stages):
+def test_the_pair_model_gives_the_reference_stage_coupled_run(stages):
     old = gb.GearboxTorsional(tuple(s[0] for s in stages), (SHAFT,))
     new = gb.GearboxTorsional(tuple(s[1] for s in stages), (SHAFT,))
     assert isinstance(new.stages[0], jd.DynamicModel) and new.stages[0].runs_alone
