@@ -31,13 +31,13 @@ from ..dynamics import (
     DIRECTIONS,
     MAX_STEPS_PER_SPEED,
     MIN_STEPS_PER_PERIOD,
+    DynamicModel,
     SteadyState,
     speed_sweep,
 )
 from ..gearbox import (
     OPERATING_RUN,
     GearboxRun,
-    LumpedPairGearboxStage,
     PairGearboxStage,
     campbell_crossings,
     coordinate_names,
@@ -495,7 +495,7 @@ def housing_point_spectrum(form, case, out: str) -> dict:
     chain, run, first, _ = _coupled_setup(form)
     planetary = [i for i, s in enumerate(chain.stages) if isinstance(s, PlanetaryModel)]
     pairs = [i for i, s in enumerate(chain.stages)
-             if isinstance(s, (PairGearboxStage, LumpedPairGearboxStage))]
+             if isinstance(s, (PairGearboxStage, DynamicModel))]
     if not planetary or not pairs:
         return None
     w = float(first.input_speed)

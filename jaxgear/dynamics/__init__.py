@@ -45,6 +45,7 @@ from ._build import (
     dynamic_model as dynamic_model,
     mesh_energy_shares as mesh_energy_shares,
     mesh_stiffness_means as mesh_stiffness_means,
+    stage_model as stage_model,
 )
 from ._hybrid import HybridModel as HybridModel, HybridRun as HybridRun
 from ._hybrid_damping import (
@@ -135,7 +136,7 @@ from ._settle import (
     unsettled_lines as unsettled_lines,
 )
 from ._simulate import simulate as simulate, simulate_on_table as simulate_on_table
-from ._stage import AbstractStage as AbstractStage
+from ._stage import AbstractStage as AbstractStage, mean_cell_stiffness as mean_cell_stiffness
 from ._sweep import (
     DIRECTIONS as DIRECTIONS,
     AbstractDirection as AbstractDirection,

@@ -35,7 +35,7 @@ from ._model import (
     deviations_in,
 )
 
-__all__ = ["dynamic_model", "mesh_energy_shares", "mesh_stiffness_means"]
+__all__ = ["dynamic_model", "mesh_energy_shares", "mesh_stiffness_means", "stage_model"]
 
 
 def dynamic_model(
@@ -48,6 +48,7 @@ def dynamic_model(
     contact: ContactLaw = ExactContact(),
     rotating_frame: bool = False,
     revolutions: int | None = None,
+    input: int | None = None,
 ) -> DynamicModel | HybridModel:
     """The dynamic model of a scene at an operating torque: what :func:`simulate` and
     :func:`speed_sweep` integrate.
@@ -77,11 +78,16 @@ def dynamic_model(
             lcm(z1, z2) for both, the hunting period). A span shorter than that period joins
             its end to its start (the gear's teeth jump): the steady state of a gear pair that
             repeats after the span, an approximation stated in docs/robust.md.
+        input: lumped scenes: the side a gearbox drives, 0 the pinion's torque node, 1 the
+            gear's (:attr:`DynamicModel.input`): the model then also stands in a
+            :class:`jaxgear.gearbox.GearboxTorsional` (a pair's scene); None (default): it runs
+            alone only.
 
     Raises:
         ValueError: a ``damping`` that is not a damping model; ``rotating_frame`` on a
             lumped scene; a concrete torque <= 0 for a hybrid scene; a tuple of modifications of
-            another length than the meshes.
+            another length than the meshes; ``input`` not None, 0 or 1, or given for a hybrid
+            scene.
         eqx.EquinoxRuntimeError: lumped scene: torque <= 0, or the static contact solve failed
             (jit/vmap-safe).
     """
@@ -101,9 +107,10 @@ def dynamic_model(
             f"damping = {damping!r}: allowed a jaxgear.dynamics damping model "
             "(RayleighDamping, ModalDamping, CompositeDamping, NoDamping, or Damping(name, ...))"
         )
+    _check_input(input, "dynamic_model")
     dtype = scene.base_planes[0].base_pitch.dtype
     torque = jnp.asarray(torque, dtype=dtype)
-    return _engine(
+    model = _engine(
         scene,
         mods,
         torque,
@@ -113,6 +120,56 @@ def dynamic_model(
         rotating_frame=rotating_frame,
         revolutions=revolutions,
     )
+    if input is None:
+        return model
+    if not isinstance(model, DynamicModel):
+        raise ValueError(
+            f"input = {input!r}: a gearbox stage's side is for a lumped scene's model (allowed "
+            f"None for a {type(scene).__name__})"
+        )
+    return dataclasses.replace(model, input=int(input))
+
+
+def _check_input(input, where: str) -> None:
+    if input is not None and (isinstance(input, bool) or input not in (0, 1)):
+        raise ValueError(
+            f"{where}: input = {input!r}: out of range, allowed 0 (the pinion's torque node "
+            "driven), 1 (the gear's) or None"
+        )
+
+
+def stage_model(scene: DynamicScene, mods: Modifications | None = None, *,
+                input: int) -> DynamicModel:
+    """A pair's :class:`DynamicModel` as a gearbox stage only: its scene, modifications and
+    input side, without an operating torque, the static contact solve, the modes or the damping
+    that a run alone needs (a gearbox's coupled run carries its torque and builds its own modal
+    damping, :class:`jaxgear.gearbox.GearboxTorsional`). Its runs alone are refused in one line
+    (:attr:`DynamicModel.runs_alone`); :func:`dynamic_model` with ``input`` builds a model that
+    does both.
+
+    Args:
+        scene: a pair's lumped scene with torque nodes (a lumped 3D pair,
+            :func:`~jaxgear.scenes.lumped_pair`; :class:`~jaxgear.scenes.TorsionalDynamics`).
+        mods: its flank modifications (the cells' initial separations); None: none.
+        input: 0 when the gearbox drives the pinion's torque node, 1 the gear's.
+
+    Raises:
+        ValueError: ``scene`` not a dynamic scene, ``mods`` not one
+            :class:`~jaxgear.Modifications`, ``input`` not 0 or 1, a scene that cannot stand
+            in a gearbox (:meth:`DynamicModel.check_stage`) (one line each).
+    """
+    where = "stage_model"
+    check_instance("scene", scene, DynamicScene,
+                   "a pair's lumped dynamic scene (lumped_pair(...), TorsionalDynamics)", where)
+    mods = Modifications() if mods is None else mods
+    check_instance("mods", mods, Modifications, "a jaxgear.Modifications or None", where)
+    _check_input(input, where)
+    if input is None:
+        raise ValueError(f"{where}: input = None: allowed 0 (the pinion's torque node driven) "
+                         "or 1 (the gear's)")
+    model = DynamicModel(scene, mods, None, None, None, None, input=int(input))
+    model.check_stage(where)
+    return model
 
 
 @functools.singledispatch
@@ -234,7 +291,8 @@ def _mesh_parts(model: DynamicModel, positions_per_pitch: int, contact: ContactL
     model's torque (the model's own when it holds them, :attr:`DynamicModel.held`), and each
     cell's mesh index (c,), a tuple (static)."""
     check_integer("positions_per_pitch", positions_per_pitch, 4)
-    law = contact_law(contact, model.damping.dtype)
+    model._check_runs()
+    law = contact_law(contact, model.dtype)
     prep = _held_or_prepare(
         model.held,
         model.scene,

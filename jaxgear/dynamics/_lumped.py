@@ -15,12 +15,15 @@ from typing import ClassVar
 import equinox as eqx
 import jax
 import jax.numpy as jnp
+import numpy as np
 from jaxtyping import Array, Float
 
+from .._baseplane import on_the_path
 from .._contact import ContactLaw, ExactContact, _phi, contact_law
 from .._modifications import Modifications
-from .._util import check_integer
-from ..scenes import DynamicScene
+from .._quasi_static import per_mesh_modifications, separation
+from .._util import as_float, check_integer
+from ..scenes import AssembledScene, DynamicScene
 from ._devices import several_devices, shard_speeds
 from ._modal import ModalAnalysis, excited_omega
 from ._model import (
@@ -40,6 +43,7 @@ from ._model import (
 )
 from ._newmark import LinearSystem, StepCells, newmark, newmark_counted
 from ._result import Records, steady_state, thinned
+from ._stage import AbstractStage, mean_cell_stiffness
 from ._settings import (
     DiffraxIntegrator,
     Newmark,
@@ -53,11 +57,26 @@ from ._whine_methods import HarmonicBalance, QuasiPeriodicBalance, TransmissionE
 
 __all__ = ["DynamicModel", "static_start"]
 
+#: mesh positions per period of the mean cell stiffness of a stage's torsional chain view
+#: (:meth:`DynamicModel.matrices`)
+CHAIN_POSITIONS = 64
 
-class DynamicModel(AbstractDynamicModel):
+
+class DynamicModel(AbstractDynamicModel, AbstractStage):
     """A dynamic scene at an operating torque, with its damping (build with
     :func:`~jaxgear.dynamics.dynamic_model`): the lumped engine, the cells in coordinates on a
     mesh table (:class:`MeshTable`), Newmark or a diffrax solver.
+
+    A pair's model given its ``input`` side is also a gearbox stage
+    (:class:`~jaxgear.dynamics.AbstractStage`; docs/architecture.md, "One stage contract"): the
+    object that :func:`~jaxgear.dynamics.simulate` runs alone is the object a
+    :class:`jaxgear.gearbox.GearboxTorsional` takes. The scene kind gives the part of the
+    contract on its coordinates (:attr:`~jaxgear.scenes.AssembledScene.torque_dofs`, the
+    shafts' joints; ``stage_senses``, ``stage_coordinates``, ``stage_cell_row``); the model
+    the rest once (the mean cell stiffness, the cells at a travel from its modifications'
+    separations, the kinematics from the base radii). :func:`~jaxgear.dynamics.stage_model`
+    builds a model for a gearbox only: without an operating torque, modes or damping (the
+    gearbox's coupled run carries its own), so that it cannot run alone.
 
     Attributes:
         scene: the :class:`DynamicScene` (M, K_s, V). mods: flank modifications, one
@@ -81,16 +100,24 @@ class DynamicModel(AbstractDynamicModel):
             very inputs reuses them instead of solving the static contact problem at every
             step of the period again; any other (another law or N_s, the model's scene, mods or torque replaced, traced)
             solves its own.
+        input: static, the side the previous stage (or a gearbox's input torque) drives in a
+            gearbox: 0 the pinion's torque node, 1 the gear's (the other the output); None: the
+            model runs alone only (:meth:`check_stage` refuses it in a gearbox).
+
+    ``torque``, ``damping``, ``modes`` and ``mesh_stiffness_mean`` are None in a model built
+    for a gearbox only (:func:`~jaxgear.dynamics.stage_model`), whose runs alone are refused
+    in one line.
     """
 
     scene: DynamicScene
     mods: Modifications | tuple
-    torque: Float[Array, ""]
-    damping: Float[Array, "n n"]
-    modes: ModalAnalysis
-    mesh_stiffness_mean: Float[Array, ""]
+    torque: Float[Array, ""] | None
+    damping: Float[Array, "n n"] | None
+    modes: ModalAnalysis | None
+    mesh_stiffness_mean: Float[Array, ""] | None
     deviation_span: int | None = eqx.field(static=True, default=None)
     held: _HeldTable | None = None
+    input: int | None = eqx.field(static=True, default=None)
 
     continues: ClassVar[bool] = True
     whine_methods: ClassVar[tuple[type, ...]] = (
@@ -104,15 +131,37 @@ class DynamicModel(AbstractDynamicModel):
     #: LumpedTrain)
     takes_housing: ClassVar[bool] = True
 
+    def __check_init__(self):
+        if self.input not in (None, 0, 1):
+            raise ValueError(f"DynamicModel: input = {self.input!r}: out of range, allowed 0 "
+                             "(the pinion's torque node driven), 1 (the gear's) or None")
+
+    @property
+    def runs_alone(self) -> bool:
+        """Whether the model was built to run alone (an operating torque, its modes and
+        damping: :func:`~jaxgear.dynamics.dynamic_model`), not for a gearbox only
+        (:func:`~jaxgear.dynamics.stage_model`)."""
+        return self.modes is not None
+
+    def _check_runs(self) -> None:
+        if not self.runs_alone:
+            raise ValueError(
+                "model: a DynamicModel built for a gearbox only (stage_model: no torque, modes "
+                "or damping) does not run alone: allowed dynamic_model(scene, mods, torque, "
+                "input=...)"
+            )
+
     def critical_speeds(self, harmonic: int = 1) -> Float[Array, " n"]:
         """Pinion speeds (rad/s) where the ``harmonic``-th mesh harmonic meets each natural
         frequency: Ω = ω_i · (2π/z1) / (2π · harmonic) = ω_i / (z1 · harmonic)."""
+        self._check_runs()
         return (
             self.modes.omega * self.scene.base_planes[0].mesh_period_angle / (2 * jnp.pi * harmonic)
         )
 
     def settling_measures(self):
         """(:attr:`damping`, :attr:`mesh_stiffness_mean`)."""
+        self._check_runs()
         return self.damping, self.mesh_stiffness_mean
 
     def mesh_force_ratios(self, response):
@@ -123,6 +172,7 @@ class DynamicModel(AbstractDynamicModel):
         """The lumped model's gear whine (:func:`~jaxgear.dynamics.whine_response`, whose
         arguments, result and errors these are; docs/whine.md): the harmonic balance about
         its quasi-static solution (:func:`._whine.lumped_whine`)."""
+        self._check_runs()
         return lumped_whine(self, speeds, method, positions=positions, contact=contact)
 
     def default_settings(self):
@@ -155,11 +205,13 @@ class DynamicModel(AbstractDynamicModel):
 
     def averaged_modes(self, *, speed=0.0, positions_per_pitch=64, contact=ExactContact()):
         """The model's own modes (:attr:`modes`, built with it; the arguments are not used)."""
+        self._check_runs()
         return self.modes
 
     def prepare(self, integrator, law, window, steps_per_period, outputs, modes=None):
         """The mesh table and static rows of ``steps_per_period`` steps per period over the
         model's span (:class:`LumpedRun`); ``modes`` unused (the model's own)."""
+        self._check_runs()
         cells = sum(p.n_lines * p.n_slices for p in self.scene.base_planes)
         cfg = _config(integrator, window, int(steps_per_period), outputs, cells=cells)
         return LumpedRun(_prep(self, law, cfg.steps_per_period), law, cfg)
@@ -170,6 +222,7 @@ class DynamicModel(AbstractDynamicModel):
         over the largest span), their runs from one program (the records of the largest N_s,
         the histories at the smallest); None with a diffrax solver, or where a mesh's rows are
         not in the same ratio to N_s at every N_s (:func:`mesh_rows`)."""
+        self._check_runs()
         if not integrator.traced_steps:
             return None
         steps = sorted(int(n) for n in steps)
@@ -226,6 +279,129 @@ class DynamicModel(AbstractDynamicModel):
     def continuation(self, prepared, speeds, *, start=None):
         start = _static_start(prepared.prep) if start is None else start
         return _scans(self, prepared.prep, speeds, start, prepared.law, prepared.cfg)
+
+    # -- the stage contract (AbstractStage): the scene kind's coordinates, the rest once here
+
+    def check_stage(self, where: str) -> None:
+        """Refuse (one line naming ``where``) a model that cannot stand in a gearbox: no
+        ``input`` side, a scene that is not a pair's with torque nodes (an
+        :class:`~jaxgear.scenes.AssembledScene` of one mesh: a lumped 3D pair, a torsional
+        :class:`~jaxgear.scenes.TorsionalDynamics`), a mesh with coast flanks."""
+        if self.input is None:
+            raise ValueError(
+                f"{where}: a DynamicModel without its input side: allowed "
+                "dynamic_model(..., input=0 or 1) or stage_model(scene, mods, input=0 or 1)"
+            )
+        if not isinstance(self.scene, AssembledScene) or len(self.scene.base_planes) != 1:
+            raise ValueError(
+                f"{where}: a DynamicModel of a {type(self.scene).__name__}: allowed a pair's "
+                "scene with torque nodes (a lumped 3D pair, TorsionalDynamics)"
+            )
+        if self.scene.mesh.coast:
+            raise ValueError(
+                f"{where}: the scene's mesh has coast = True: allowed False (the coupled model "
+                "carries the loaded flanks)"
+            )
+
+    def _senses(self):
+        return self.scene.stage_senses()
+
+    def _flip(self, a):
+        """``a`` (n, n) on the stage's coordinates (:meth:`stage_senses` applied both sides)."""
+        s = self._senses()
+        return s[:, None] * a * s[None, :]
+
+    def coordinates(self):
+        """The scene's coordinates (``stage_coordinates``: a lumped scene's ``"<node> <dof>"``,
+        a torsional scene's ``theta_pinion``, ``theta_wheel``), each counted in the common
+        sense (``stage_senses``)."""
+        return self.scene.stage_coordinates()
+
+    def coordinate_ends(self):
+        """The torque nodes' rotations (:attr:`~jaxgear.scenes.AssembledScene.torque_dofs`):
+        the input side's, then the other's."""
+        t = self.scene.torque_dofs
+        return t[self.input], t[1 - self.input]
+
+    def _stage_mods(self) -> Modifications:
+        return per_mesh_modifications(self.mods, 1)[0]
+
+    def dynamic_parts(self, positions):
+        """(M, K_s, K̄_m, 0): the scene's mass and structure stiffness, its cells' mean
+        stiffness over ``positions`` mid-points of a mesh period on the theoretical path
+        (:func:`~jaxgear.dynamics.mean_cell_stiffness`), no own load."""
+        m, k = self._flip(self.scene.mass()), self._flip(self.scene.stiffness())
+        k_mean = mean_cell_stiffness(on_the_path(self).cell_row, self.mesh_period(), positions)
+        return m, k, k_mean, jnp.zeros(m.shape[0], m.dtype)
+
+    def cell_row(self, x):
+        """The cells at the mesh travel ``x`` (m): pinion angle x / r_b1, the initial
+        separations of the model's modifications (:func:`jaxgear.quasi_static`'s), on the
+        scene's coordinates (``stage_cell_row``) in the common sense."""
+        mesh = self.scene.mesh
+        cells, _, delta0 = separation(mesh, self._stage_mods(), x / mesh.base_radius_pinion)
+        row = self.scene.stage_cell_row((cells,), (delta0,))
+        return row._replace(V=row.V * self._senses()[None, :])
+
+    def mesh_forces(self, forces):
+        """cos β_b Σ P: the mesh's transverse force (N) from its cell forces."""
+        return jnp.cos(self.scene.mesh.base_helix_angle) * jnp.sum(forces, axis=-1,
+                                                                  keepdims=True)
+
+    def mesh_names(self):
+        return ("pair",)
+
+    def mesh_period(self):
+        return self.scene.mesh.base_pitch
+
+    def kinematics(self, input_speed, input_torque):
+        """From the base radii: the output turns the other way at ω r_in / r_out, carries
+        T r_out / r_in; the mesh travels at r_in |ω|, its static force T / r_in."""
+        mesh = self.scene.mesh
+        r = jnp.stack([mesh.base_radius_pinion, mesh.base_radius_gear])
+        r_in, r_out = r[self.input], r[1 - self.input]
+        w = as_float(input_speed)
+        torque = jnp.abs(as_float(input_torque))
+        return (-w * r_in / r_out, torque * r_out / r_in, r_in * jnp.abs(w),
+                jnp.reshape(torque / r_in, (1,)))
+
+    def speed_terms(self, carrier_speed):
+        """(the bearings' viscous damping (units of K s), zeros): the scene turns in the fixed
+        frame (no Coriolis or centripetal terms); the bearing damping rides here as the one
+        damping the coupled model adds to its modal damping."""
+        c = self._flip(self.scene.bearing_damping())
+        return c, jnp.zeros_like(c)
+
+    def mount(self):
+        """The :class:`~jaxgear.scenes.HousingMount` the scene's bearings sit in (its
+        structure's, :attr:`~jaxgear.scenes.Structure.mount`: the housing's coordinates end the
+        scene's), or None: a grounded scene or a scene kind that takes no housing
+        (:attr:`~jaxgear.scenes.Scene.takes_housing`)."""
+        return self.scene.structure.mount if self.scene.takes_housing else None
+
+    # -- the torsional chain's view
+
+    def dof_names(self):
+        return ("theta_pinion", "theta_wheel")
+
+    def ends(self):
+        return self.input, 1 - self.input
+
+    def matrices(self):
+        """(M, K) on the two torque nodes' rotations (kg m^2, N m/rad), ``theta_pinion``,
+        ``theta_wheel`` in the common sense: the scene with its mean cell stiffness (over
+        :data:`CHAIN_POSITIONS` positions) condensed statically onto them (Guyan,
+        T = [I; -K_ii^-1 K_ie]: M = T^T M T, K = T^T K T), so that K holds the mesh, shaft
+        and bearing compliances in series."""
+        m, k, k_mean, _ = self.dynamic_parts(CHAIN_POSITIONS)
+        k = k + k_mean
+        ends = np.asarray(self.scene.torque_dofs)
+        inner = np.setdiff1d(np.arange(k.shape[0]), ends)
+        if inner.size == 0:
+            return m[np.ix_(ends, ends)], k[np.ix_(ends, ends)]
+        T = jnp.zeros((k.shape[0], 2), k.dtype).at[ends].set(jnp.eye(2, dtype=k.dtype))
+        T = T.at[inner].set(-jnp.linalg.solve(k[np.ix_(inner, inner)], k[np.ix_(inner, ends)]))
+        return T.T @ m @ T, T.T @ k @ T
 
 
 class LumpedRun(eqx.Module):
@@ -479,6 +655,7 @@ def static_start(
         (X, Ẋ), each shape (n,) (the scene's generalised coordinates, SI units).
     """
     check_integer("steps_per_period", steps_per_period, 4)
+    model._check_runs()
     law = contact_law(contact, model.scene.base_planes[0].base_pitch.dtype)
     return _static_start(_prep(model, law, int(steps_per_period)))
 

@@ -23,14 +23,28 @@ import abc
 from typing import ClassVar
 
 import equinox as eqx
+import jax
 import jax.numpy as jnp
 from jaxtyping import Array, Float
 
 from .._baseplane import CellRow
 from .._util import as_float
 from ..scenes import HousingMount
+from ._model import cell_stiffness
 
-__all__ = ["AbstractStage"]
+__all__ = ["AbstractStage", "mean_cell_stiffness"]
+
+
+def mean_cell_stiffness(cell_row, period, positions: int) -> Float[Array, "n n"]:
+    """K̄_m of a stage's meshes: their cells' stiffness Σ k l V Vᵀ (:func:`cell_stiffness`)
+    averaged over ``positions`` mid-points of the period ``period`` (m of mesh travel), the
+    cells from ``cell_row`` (a function of the travel, (n, n) on the stage's coordinates; pass
+    the stage on the theoretical path, :func:`jaxgear.on_the_path`: beyond it a corner's cell
+    carries load only under deflection)."""
+    x = period * (jnp.arange(positions) + 0.5) / positions
+    rows = jax.vmap(cell_row)(x)
+    kl = jnp.where(rows.mask, rows.k * rows.length, 0.0)
+    return cell_stiffness(rows.V, kl) / positions
 
 
 class AbstractStage(eqx.Module):

@@ -6,13 +6,15 @@
   (docs/gearbox.md); :class:`GearboxModel` is it as a :class:`jaxgear.dynamics.AbstractDynamicModel`
   (:func:`jaxgear.dynamics.simulate`, :func:`jaxgear.dynamics.speed_sweep`);
 * the stages satisfy the one stage contract, :class:`jaxgear.dynamics.AbstractStage`
-  (:class:`PairGearboxStage`; a :class:`jaxgear.planetary.PlanetaryModel` given its input and
-  output members, :class:`PlanetaryGearboxStage` its constructor in the gearbox's argument
-  order); ``AbstractGearboxStage`` is that contract's former name, served with a
+  (:class:`PairGearboxStage`, constant springs; a :class:`jaxgear.planetary.PlanetaryModel`
+  given its input and output members, :class:`PlanetaryGearboxStage` its constructor in the
+  gearbox's argument order; a pair's :class:`jaxgear.dynamics.DynamicModel` given its input
+  side, :class:`TorsionalPairGearboxStage` and :class:`LumpedPairGearboxStage` its
+  constructors); ``AbstractGearboxStage`` is that contract's former name, served with a
   ``DeprecationWarning``;
 * stage kinds added on the stage interface alone: :class:`CompoundPlanetaryStage` (stepped
-  planets) in ``_compound``, :class:`LumpedPairGearboxStage` (a parallel pair in lumped 3D
-  form: shafts and bearings) in ``_lumped``.
+  planets) in ``_compound``; :class:`LumpedPairGearboxStage` (a parallel pair in lumped 3D
+  form: shafts and bearings, the pair's model) in ``_lumped``.
 * what an NVH engineer reads off it (:func:`campbell_crossings`, :func:`housing_spectrum`): every
   stage's mesh orders against the coupled modes, and the force spectrum at a housing-fixed point
   (a ring mount, McFadden & Smith 1985; a parallel stage's bearing).
@@ -25,6 +27,7 @@ from ._chain import (
     GearboxTorsional as GearboxTorsional,
     PairGearboxStage as PairGearboxStage,
     PlanetaryGearboxStage as PlanetaryGearboxStage,
+    TorsionalPairGearboxStage as TorsionalPairGearboxStage,
     gearbox_modes as gearbox_modes,
 )
 from ._compound import (

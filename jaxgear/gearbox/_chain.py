@@ -23,11 +23,10 @@ import jax.scipy.linalg
 import numpy as np
 from jaxtyping import Array, Float
 
-from .._baseplane import CellRow, MeshModel, on_the_path
+from .._baseplane import CellRow, MeshModel
 from .._modifications import Modifications
-from .._quasi_static import separation
 from .._util import as_float, check_instance
-from ..dynamics import AbstractStage, cell_stiffness, matrix_modal_analysis
+from ..dynamics import AbstractStage, DynamicModel, matrix_modal_analysis, mean_cell_stiffness
 from ..planetary import (
     AbstractPlanetaryMeshes,
     AbstractPlanetaryModel,
@@ -38,26 +37,16 @@ from ..planetary import (
     PlanetaryStage,
     TorsionalPlanetary,
 )
-from ..scenes import Housing, TorsionalPair
+from ..scenes import Housing, TorsionalDynamics
 
 __all__ = [
     "GearboxModes",
     "GearboxTorsional",
     "PairGearboxStage",
     "PlanetaryGearboxStage",
+    "TorsionalPairGearboxStage",
     "gearbox_modes",
 ]
-
-
-def mean_cell_stiffness(cell_row, period, positions: int) -> Float[Array, "n n"]:
-    """K̄_m of a mesh: its cells' stiffness Σ k l V Vᵀ (:func:`jaxgear.dynamics.cell_stiffness`)
-    averaged over ``positions`` mid-points of its period ``period`` (m of mesh travel), the
-    cells from ``cell_row`` (a function of the travel, on the theoretical path: beyond it a
-    corner's cell carries load only under deflection)."""
-    x = period * (jnp.arange(positions) + 0.5) / positions
-    rows = jax.vmap(cell_row)(x)
-    kl = jnp.where(rows.mask, rows.k * rows.length, 0.0)
-    return cell_stiffness(rows.V, kl) / positions
 
 
 class PlanetaryGearboxStage(PlanetaryModel):
@@ -117,69 +106,76 @@ class PlanetaryGearboxStage(PlanetaryModel):
         return self.kind
 
 
-class PairGearboxStage(AbstractStage):
-    """A parallel pair in the chain: pinion and wheel rotations (rad), their polar inertias
-    (kg m^2, shape (2,)), base radii (m, shape (2,)) and the mean mesh stiffness along the line
-    of action (N/m); ``input``: 0 when the pinion is driven by the previous stage, 1 the wheel
-    (the other gear is the output). With a ``mesh`` (:class:`~jaxgear.MeshModel`, drive flanks
-    only) its contact cells are the torsional pair's (:class:`jaxgear.scenes.TorsionalPair`'s
-    structure vectors, on the mesh's base radii, the wheel's rotation counted in the chain's
-    common sense)."""
+class _PairStageMeta(type(AbstractStage)):
+    """``PairGearboxStage(...)`` with a ``mesh`` builds the pair's dynamic model
+    (:class:`TorsionalPairGearboxStage`); without one, the constant-spring stage."""
+
+    def __call__(cls, *args, **kwargs):
+        mesh = kwargs.get("mesh", args[4] if len(args) > 4 else None)
+        if cls is PairGearboxStage and mesh is not None:
+            return TorsionalPairGearboxStage(*args, **kwargs)
+        return super().__call__(*args, **kwargs)
+
+
+def _check_side(input, where: str) -> int:
+    if isinstance(input, bool) or input not in (0, 1):
+        raise ValueError(f"{where}: input = {input!r}: out of range, allowed 0 (pinion), "
+                         "1 (wheel)")
+    return int(input)
+
+
+class PairGearboxStage(AbstractStage, metaclass=_PairStageMeta):
+    """A parallel pair in the chain as constant springs: pinion and wheel rotations (rad,
+    both positive in one sense), their polar inertias (kg m^2, shape (2,)), base radii (m,
+    shape (2,)) and the mean mesh stiffness along the line of action (N/m), one cell of unit
+    length in the coupled model (no contact cells: it sets no time scale); ``input``: 0 when the
+    pinion is driven by the previous stage, 1 the wheel (the other gear is the output).
+
+    Given a ``mesh`` (:class:`~jaxgear.MeshModel`, drive flanks only) and its
+    ``modifications``, the constructor builds the pair's own dynamic model on its contact cells
+    instead, :class:`TorsionalPairGearboxStage` (a :class:`~jaxgear.dynamics.DynamicModel`;
+    not an instance of this class); ``modifications`` without a mesh have no effect.
+
+    Raises:
+        ValueError: ``input`` not 0 or 1 (one line).
+    """
 
     inertias: Float[Array, " 2"] = eqx.field(converter=as_float)
     base_radii: Float[Array, " 2"] = eqx.field(converter=as_float)
     mesh_stiffness: Float[Array, ""] = eqx.field(converter=as_float)
     input: int = eqx.field(static=True, default=1)
-    mesh: MeshModel | None = None
-    modifications: Modifications = eqx.field(default_factory=Modifications)
 
-    def __check_init__(self):
-        if self.input not in (0, 1):
-            raise ValueError(f"input = {self.input!r}: out of range, allowed 0 (pinion), 1 (wheel)")
-        if self.mesh is not None:
-            check_instance("mesh", self.mesh, MeshModel, "a jaxgear.MeshModel",
-                           "PairGearboxStage")
-            if self.mesh.coast:
-                raise ValueError("PairGearboxStage: mesh.coast = True: allowed False (the "
-                                 "coupled model carries the loaded flanks)")
+    def __init__(self, inertias, base_radii, mesh_stiffness, input: int = 1,
+                 mesh: MeshModel | None = None, modifications: Modifications | None = None):
+        del mesh, modifications  # a meshed pair is built by the metaclass; none here
+        self.inertias, self.base_radii, self.mesh_stiffness = inertias, base_radii, mesh_stiffness
+        self.input = _check_side(input, "PairGearboxStage")
 
-    # -- the coupled model: the pair's cells (or its constant spring ``mesh_stiffness``, one
-    # cell of unit length) on the deflection cos(beta_b) (r_b1 theta_1 + r_b2 theta_2)
+    # -- the coupled model: its constant spring ``mesh_stiffness``, one cell of unit length,
+    # on the deflection r_b1 theta_1 + r_b2 theta_2
     def dynamic_parts(self, positions):
         m, _ = self.matrices()
-        # the cells on the theoretical path (the mesh model's contact geometry)
-        k_mean = mean_cell_stiffness(on_the_path(self).cell_row, self.mesh_period(), positions)
+        k_mean = mean_cell_stiffness(self.cell_row, self.mesh_period(), positions)
         z = jnp.zeros_like(m)
         return m, z, k_mean, jnp.zeros(2, m.dtype)
 
     def cell_row(self, x):
         r = self.base_radii
-        if self.mesh is None:
-            one = jnp.ones((1,), r.dtype)
-            return CellRow(None, r[None, :], self.mesh_stiffness * one, one, 0.0 * one,
-                           jnp.ones((1,), bool))
-        cells, _, delta0 = separation(self.mesh, self.modifications,
-                                      x / self.mesh.base_radius_pinion)
-        # the torsional pair's structure vectors (jaxgear.scenes.TorsionalPair: each rotation
-        # positive in its own direction of motion, the tip owner's lever ratio beyond the path)
-        # on the chain's rotations, every one positive in one sense: the wheel's sign flipped
-        V = TorsionalPair(self.mesh).cell_vectors(cells) * jnp.array([[[1.0, -1.0]]], r.dtype)
-        return CellRow.of(cells, V, delta0)
+        one = jnp.ones((1,), r.dtype)
+        return CellRow(None, r[None, :], self.mesh_stiffness * one, one, 0.0 * one,
+                       jnp.ones((1,), bool))
 
     def mesh_forces(self, forces):
-        c = 1.0 if self.mesh is None else jnp.cos(self.mesh.base_helix_angle)
-        return c * jnp.sum(forces, axis=-1, keepdims=True)
+        return 1.0 * jnp.sum(forces, axis=-1, keepdims=True)
 
     def mesh_names(self):
         return ("pair",)
 
     def mesh_period(self):
-        if self.mesh is None:
-            return jnp.asarray(0.01, self.base_radii.dtype)  # sets no time scale (no cells)
-        return self.mesh.base_pitch
+        return jnp.asarray(0.01, self.base_radii.dtype)  # sets no time scale (no cells)
 
     def excited(self):
-        return self.mesh is not None
+        return False
 
     def kinematics(self, input_speed, input_torque):
         r_in, r_out = self.base_radii[self.input], self.base_radii[1 - self.input]
@@ -197,6 +193,67 @@ class PairGearboxStage(AbstractStage):
 
     def ends(self):
         return self.input, 1 - self.input
+
+
+class TorsionalPairGearboxStage(DynamicModel):
+    """A parallel pair on its contact cells in the chain: the pair's own
+    :class:`~jaxgear.dynamics.DynamicModel` of the torsional scene
+    :class:`~jaxgear.scenes.TorsionalDynamics` ``(mesh, *inertias)`` (pinion and wheel
+    rotations, the wheel's counted in the pinion's sense in the gearbox: the torsional pair's
+    structure vectors, :class:`jaxgear.scenes.TorsionalPair`), built for a gearbox only
+    (:func:`~jaxgear.dynamics.stage_model`: no operating torque, modes or damping), in
+    :class:`PairGearboxStage`'s argument order (what ``PairGearboxStage(..., mesh=)`` builds).
+    Its torsional chain's view (:meth:`matrices`) keeps the given constant spring
+    ``mesh_stiffness`` on the given ``base_radii`` (a case's estimate of the mean mesh
+    stiffness, not the cells' mean); everything else is the model's.
+
+    Args:
+        inertias: polar inertias (kg m^2, (2,)). base_radii: the chain view's base radii (m,
+            (2,)). mesh_stiffness: the chain view's mean mesh stiffness (N/m).
+        input: 0 when the pinion is driven by the previous stage, 1 the wheel.
+        mesh: the :class:`~jaxgear.MeshModel` (drive flanks only).
+        modifications: the pair's flank modifications (None: none).
+
+    Raises:
+        ValueError: ``mesh`` not a mesh model, one with coast flanks; ``input`` not 0 or 1;
+            ``modifications`` not a :class:`~jaxgear.Modifications`; an inertia not > 0 (one
+            line each).
+    """
+
+    base_radii: Float[Array, " 2"]
+    mesh_stiffness: Float[Array, ""]
+
+    def __init__(self, inertias, base_radii, mesh_stiffness, input: int = 1,
+                 mesh: MeshModel | None = None, modifications: Modifications | None = None):
+        where = "PairGearboxStage"
+        check_instance("mesh", mesh, MeshModel, "a jaxgear.MeshModel", where)
+        mods = Modifications() if modifications is None else modifications
+        check_instance("modifications", mods, Modifications, "a jaxgear.Modifications", where)
+        inertias = as_float(inertias)
+        self.scene = TorsionalDynamics(mesh, inertias[0], inertias[1])
+        self.mods, self.input = mods, _check_side(input, where)
+        self.torque = self.damping = self.modes = self.mesh_stiffness_mean = None
+        self.deviation_span, self.held = None, None
+        self.base_radii, self.mesh_stiffness = as_float(base_radii), as_float(mesh_stiffness)
+
+    def __check_init__(self):
+        self.check_stage("PairGearboxStage")
+
+    @property
+    def inertias(self) -> Float[Array, " 2"]:
+        """The pinion's and wheel's polar inertias (kg m^2, (2,))."""
+        return jnp.diag(self.scene.mass())
+
+    @property
+    def modifications(self) -> Modifications:
+        """The pair's flank modifications (the model's ``mods``)."""
+        return self.mods
+
+    def matrices(self):
+        """(M, K): diag(inertias), ``mesh_stiffness`` r rᵀ on ``base_radii`` (kg m^2,
+        N m/rad)."""
+        r = self.base_radii
+        return jnp.diag(self.inertias), self.mesh_stiffness * jnp.outer(r, r)
 
 
 class GearboxTorsional(eqx.Module):

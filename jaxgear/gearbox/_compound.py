@@ -66,9 +66,8 @@ from .._internal import InternalGearPair
 from .._modifications import Modifications
 from .._quasi_static import separation
 from .._util import as_float, check_instance, check_integer, check_real
-from ..dynamics import AbstractStage
+from ..dynamics import AbstractStage, mean_cell_stiffness
 from ..planetary import Central
-from ._chain import mean_cell_stiffness
 
 __all__ = ["CompoundPlanetaryStage", "stepped_planet_phases"]
 

@@ -55,7 +55,9 @@ from jaxtyping import Array, Float
 
 from .._contact import AbstractContactLaw, ExactContact
 from .._util import as_float, check_instance, check_integer, check_real
+from ..dynamics import DynamicModel
 from ..planetary import Central, HousedPlanetary, PlanetaryModel, ring_transducer_signal
+from ..scenes import LumpedPair
 from ._chain import GearboxTorsional, PairGearboxStage
 from ._coupled import (
     CoupledModes,
@@ -68,7 +70,6 @@ from ._coupled import (
     coupled_mode_table,
     mesh_names,
 )
-from ._lumped import LumpedPairGearboxStage
 
 __all__ = [
     "HousingSignals",
@@ -208,9 +209,15 @@ def window_share(window_power: int) -> float:
     return math.comb(2 * window_power, window_power) / 4.0**window_power
 
 
-#: the stage kinds whose bearing the housing signals read (the torsional pair's is its mesh
-#: force; a lumped 3D pair's its output shaft's bearings)
-BEARING_STAGES = (PairGearboxStage, LumpedPairGearboxStage)
+#: the stage kinds whose bearing the housing signals read (a torsional pair's is its mesh
+#: force; a lumped 3D pair's its output shaft's bearings): the torsional pair stage and a
+#: pair's dynamic model (:class:`~jaxgear.gearbox.LumpedPairGearboxStage` builds one)
+BEARING_STAGES = (PairGearboxStage, DynamicModel)
+
+
+def lumped_pair_stage(stage) -> bool:
+    """Whether ``stage`` is a pair's dynamic model on a lumped 3D scene (its bearings)."""
+    return isinstance(stage, DynamicModel) and isinstance(stage.scene, LumpedPair)
 
 
 def _defaults(chain, ring_stage, bearing_stage, where):
@@ -292,7 +299,7 @@ def housing_signals(
     support = (st.ring.torsional_stiffness * _ring_twist(chain, dynamics, ring_stage)
                / st.ring.base_radius)
     support = support * jnp.sign(jnp.mean(support)) * jnp.sign(jnp.mean(jnp.sum(f_ring, 1)))
-    if isinstance(chain.stages[bearing_stage], LumpedPairGearboxStage):
+    if lumped_pair_stage(chain.stages[bearing_stage]):
         bearing = _shaft_bearings(chain, dynamics, bearing_stage)
     else:
         bearing = dynamics.mesh_forces[:, _stage_meshes(chain, bearing_stage)[0]]

@@ -89,6 +89,7 @@ from ..gearbox import (
     LumpedPairGearboxStage,
     PairGearboxStage,
     PlanetaryGearboxStage,
+    TorsionalPairGearboxStage,
 )
 from ..planetary import HousedPlanetary, PlanarPlanetary, TorsionalPlanetary
 from ..scenes import HOUSING_BAND, Housing, band_cutoff_hz, band_holds, housing_band_hz
@@ -337,9 +338,11 @@ class GearboxForm(CaseForm):
             elif isinstance(t, LumpedPairGearboxStage):
                 stages.append(lumped_stage(s.case, t.input, slices, housing, s.housing_seats))
             else:
-                stages.append(PairGearboxStage(t.inertias, t.base_radii, t.mesh_stiffness,
-                                               t.input, s.case.mesh_model(slices),
-                                               s.case.modifications))
+                # the pair's own dynamic model on its cells (its chain view the given spring)
+                stages.append(TorsionalPairGearboxStage(t.inertias, t.base_radii,
+                                                        t.mesh_stiffness, t.input,
+                                                        s.case.mesh_model(slices),
+                                                        s.case.modifications))
         return GearboxTorsional(tuple(stages), self.torsional().shaft_stiffnesses,
                                 housing=shared)
 

@@ -155,6 +155,39 @@ class AssembledScene(Scene):
         last = self.structure.node_dofs - 1
         return self.structure.node("input") + last, self.structure.node("output") + last
 
+    # -- the scene's part of a gearbox stage (jaxgear.dynamics.AbstractStage, written once on
+    # the dynamic model): its coordinates' names and senses, its cells as the stage takes them
+
+    def stage_senses(self) -> Float[Array, " n"]:
+        """±1 per coordinate (n,): the sign that counts it as a gearbox stage counts its
+        coordinates, every rotation positive about one common axis direction (the chain's sense,
+        :class:`jaxgear.dynamics.AbstractStage`): all +1 here (the shafts' φ_z of a lumped
+        scene are all about +z); a torsional scene, whose rotations are each positive in their
+        own direction of motion, flips the driven side's."""
+        return jnp.ones((self.structure.size,), self.structure.K.dtype)
+
+    def stage_coordinates(self) -> tuple[str, ...]:
+        """One name per coordinate (n,): ``"<node> <dof>"`` on the structure's named nodes of
+        6 coordinates (``pinion``, ``gear``, ``input``, ``output``, a housing's seats;
+        coincident nodes joined by "/"; dof u_x, u_y, u_z in m, phi_x, phi_y, phi_z in rad),
+        ``"q<i>"`` elsewhere."""
+        dofs = ("u_x", "u_y", "u_z", "phi_x", "phi_y", "phi_z")
+        width = self.structure.node_dofs
+        names: dict[int, list[str]] = {}
+        for key, first in self.structure.nodes:
+            names.setdefault(first, []).append(key)
+        out = []
+        for i in range(self.structure.size):
+            first = i - i % width if width == 6 else i
+            keys = names.get(first)
+            out.append(f"{'/'.join(keys)} {dofs[i - first]}" if keys and width == 6 else f"q{i}")
+        return tuple(out)
+
+    def stage_cell_row(self, cells: tuple[Cells, ...], delta0: tuple) -> CellRow:
+        """The cells as a gearbox stage takes them, on the scene's own coordinates (before
+        :meth:`stage_senses`): :meth:`cell_row` here."""
+        return self.cell_row(cells, delta0)
+
     @property
     def reaction_names(self) -> tuple:
         """Names of the bearing force components of :meth:`reaction_matrix`."""

@@ -12,12 +12,12 @@ import jax.numpy as jnp
 from jaxtyping import Array, Float
 
 from .._backlash import cell_flank
-from .._baseplane import MeshModel
+from .._baseplane import CellRow, MeshModel
 from .._util import as_float, check_instance, check_real
 from ._gear_mesh import GearMesh, pair_mesh
 from ._interface import TorsionalMember
 from ._rigid import RigidMesh
-from ._scene import DynamicScene, Scene
+from ._scene import DynamicScene, Scene, _check_meshes
 from ._structure import AssembledScene, Structure
 from ._train import (
     GearTrain,
@@ -211,6 +211,34 @@ class TorsionalDynamics(AssembledScene, DynamicScene):
     def inertia_gear(self) -> Float[Array, ""]:
         """I2 (kg·m²)."""
         return self.structure.M[self.gear_index, self.gear_index]
+
+    def stage_senses(self):
+        """+1 for the rotations on the pinion's side (motor, pinion), −1 on the gear's (gear,
+        load): each rotation counted positive in the pinion's direction of motion, the common
+        sense of a gearbox stage."""
+        n = self.n_dof
+        return jnp.where(jnp.arange(n) <= self.pinion_index, 1.0, -1.0).astype(
+            self.structure.M.dtype
+        )
+
+    def stage_coordinates(self):
+        """``theta_motor``, ``theta_pinion``, ``theta_wheel``, ``theta_load`` (those present)."""
+        names = ("theta_pinion", "theta_wheel")
+        return (("theta_motor",) if self.has_motor else ()) + names + (
+            ("theta_load",) if self.has_load else ()
+        )
+
+    def stage_cell_row(self, cells, delta0):
+        """The torsional pair's structure vectors (:class:`TorsionalPair`: each rotation
+        positive in its own direction of motion, the tip owner's lever ratio beyond the path)
+        on the pinion and gear rotations. Unlike :meth:`cell_row`, a corner cell's vector beyond
+        the path is not projected off the free drive rotation (a lumped scene's stage takes its
+        :meth:`cell_row`, projected: the two stage kinds differ there)."""
+        _check_meshes(self, cells)
+        V2 = TorsionalPair(self.mesh).cell_vectors(cells[0])
+        idx = jnp.asarray([self.pinion_index, self.gear_index])
+        V = jnp.zeros(V2.shape[:-1] + (self.n_dof,), V2.dtype).at[..., idx].set(V2)
+        return CellRow.of(cells[0], V, delta0[0])
 
     def rigid_modes(self):
         # the pair's rigid rotation: its gear ratio (every mesh of the pair's structure, such as
