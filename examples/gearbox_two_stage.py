@@ -50,8 +50,8 @@ def two_stage(shaft=5e5, output=5e5, torque=5000.0, slices=1, **run):
     planetary = gb.PlanetaryGearboxStage(stage, jp.Central.CARRIER, jp.Central.SUN, meshes)
     pair = jg.GearPair(jg.Member(24, face_width=b2), jg.Member(32, face_width=b2), MODULE, ALPHA)
     mesh = jg.MeshModel.from_pair(pair, *jg.stiffness_table(pair, jg.Uniform(K_U)), slices)
-    parallel = gb.PairGearboxStage((5.2e-3, 0.0165), pair.base_radii, K_U * b2 * 1.6, input=1,
-                                   mesh=mesh)
+    parallel = gb.TorsionalPairGearboxStage((5.2e-3, 0.0165), pair.base_radii, K_U * b2 * 1.6,
+                                            input=1, mesh=mesh)
     chain = gb.GearboxTorsional((planetary, parallel), [shaft])
     return chain, gb.GearboxRun(torque, output, **run)
 

@@ -272,8 +272,8 @@ def test_coupled_run_of_the_stage_driving_a_pair():
     stage = _stage(C.CARRIER, C.SUN)
     pair = jg.GearPair(jg.Member(24, face_width=0.08), jg.Member(36, face_width=0.08), M_N, ALPHA)
     mesh = jg.MeshModel.from_pair(pair, *jg.stiffness_table(pair, jg.Uniform(K_U)), 1)
-    par = gb.PairGearboxStage((5.2e-3, 0.02), pair.base_radii, K_U * 0.08 * 1.6, input=1,
-                              mesh=mesh)
+    par = gb.TorsionalPairGearboxStage((5.2e-3, 0.02), pair.base_radii, K_U * 0.08 * 1.6,
+                                       input=1, mesh=mesh)
     chain = gb.GearboxTorsional((stage, par), [5e5])
     assert gb.mesh_names(chain)[-1] == "2:pair" and len(gb.mesh_names(chain)) == 9
     # one run of 120 blocks keeping the last 60: its two windows of 30 blocks are those of runs

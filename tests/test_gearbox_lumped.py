@@ -84,7 +84,7 @@ def test_chain_view_is_the_torsional_pair_when_shafts_and_bearings_are_stiff():
     """The torsional chain's 2-DOF view (Guyan onto the torque nodes) tends to the torsional
     pair of the rigid shafts' inertias (body + rho pi d^4 L / 32) and the mean mesh spring."""
     pair, mesh = _pair()
-    ref = gb.PairGearboxStage(J_TOTAL, pair.base_radii, 1.0, input=0, mesh=mesh)
+    ref = gb.TorsionalPairGearboxStage(J_TOTAL, pair.base_radii, 1.0, input=0, mesh=mesh)
     m_ref, _, k_ref, _ = ref.dynamic_parts(64)
     errs = []
     for s in (1.0, 1e2, 1e4):
@@ -139,7 +139,7 @@ def test_stiff_supports_tend_to_the_torsional_pair():
     hold), the error falling with the support's compliance."""
     pair, mesh = _pair()
     run = gb.GearboxRun(500.0, 1e5)
-    ref = gb.PairGearboxStage(J_TOTAL, pair.base_radii, 1.0, input=0, mesh=mesh)
+    ref = gb.TorsionalPairGearboxStage(J_TOTAL, pair.base_radii, 1.0, input=0, mesh=mesh)
     f_ref = np.asarray(gb.gearbox_coupled_modes(gb.GearboxTorsional((ref,), []), run)
                        .analysis.frequency)
     errs = []

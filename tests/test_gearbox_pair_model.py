@@ -178,3 +178,26 @@ def test_refusals_one_line(stages):
         jd.stage_model(TorsionalDynamics(mesh, 1e-3, 2e-3), None, input=2)
     assert model.input == 0 and jd.dynamic_model(
         TorsionalDynamics(mesh, 1e-3, 2e-3), None, TORQUE, input=1).input == 1
+
+
+def test_the_meshed_pair_gearbox_stage_form_is_deprecated():
+    """``PairGearboxStage(..., mesh=)`` (the meshed pair's old constructor) warns, naming
+    :class:`jaxgear.gearbox.TorsionalPairGearboxStage`, and builds that model: the same parts
+    as the class built directly (bitwise); without a mesh it is the constant-spring stage,
+    with no warning."""
+    import warnings
+
+    z1, z2, b, inertias, side = PAIRS[0]
+    pair, mesh = _mesh(z1, z2, b)
+    radii = tuple(float(r) for r in pair.base_radii)
+    with pytest.warns(DeprecationWarning, match=r"jaxgear\.gearbox\.TorsionalPairGearboxStage"):
+        old = gb.PairGearboxStage(inertias, radii, 5e8, input=side, mesh=mesh, modifications=MODS)
+    new = gb.TorsionalPairGearboxStage(inertias, radii, 5e8, input=side, mesh=mesh,
+                                       modifications=MODS)
+    assert type(old) is gb.TorsionalPairGearboxStage
+    for a, c in zip(old.dynamic_parts(8), new.dynamic_parts(8)):
+        np.testing.assert_array_equal(np.asarray(a), np.asarray(c))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        springs = gb.PairGearboxStage(inertias, radii, 5e8, input=side)
+    assert type(springs) is gb.PairGearboxStage

@@ -50,8 +50,8 @@ def _stage(z1, z2, relief=0.0):
     if relief:
         mods = jg.Modifications.symmetric(
             jg.MemberModification(tip_relief_depth=relief, tip_relief_extent=0.3))
-    stage = gb.PairGearboxStage((_disc(z1), _disc(z2)), pair.base_radii, K_U * B * 1.6,
-                                input=0, mesh=mesh, modifications=mods)
+    stage = gb.TorsionalPairGearboxStage((_disc(z1), _disc(z2)), pair.base_radii, K_U * B * 1.6,
+                                         input=0, mesh=mesh, modifications=mods)
     return stage, mesh
 
 

@@ -16,6 +16,8 @@ to the strain energy.
 
 from __future__ import annotations
 
+import warnings
+
 import equinox as eqx
 import jax
 import jax.numpy as jnp
@@ -107,12 +109,17 @@ class PlanetaryGearboxStage(PlanetaryModel):
 
 
 class _PairStageMeta(type(AbstractStage)):
-    """``PairGearboxStage(...)`` with a ``mesh`` builds the pair's dynamic model
-    (:class:`TorsionalPairGearboxStage`); without one, the constant-spring stage."""
+    """Deprecated form, kept for a release: ``PairGearboxStage(...)`` with a ``mesh`` builds
+    the pair's dynamic model (:class:`TorsionalPairGearboxStage`, with a DeprecationWarning
+    naming it); without one, the constant-spring stage."""
 
     def __call__(cls, *args, **kwargs):
         mesh = kwargs.get("mesh", args[4] if len(args) > 4 else None)
         if cls is PairGearboxStage and mesh is not None:
+            warnings.warn(
+                "PairGearboxStage(..., mesh=) is deprecated: use "
+                "jaxgear.gearbox.TorsionalPairGearboxStage(...) (the same arguments), the "
+                "pair's dynamic model", DeprecationWarning, stacklevel=2)
             return TorsionalPairGearboxStage(*args, **kwargs)
         return super().__call__(*args, **kwargs)
 
