@@ -11,7 +11,7 @@ one integer rule:
   (``teeth = 45.5``); booleans are never numbers; numbers must be finite.
 * Unknown keys are errors that list the allowed keys (and suggest the closest one).
 
-The typed sections of both packages (a table as a pydantic model: ``fem_prep._sections`` for the
+The typed sections of both packages (a table as a pydantic model: ``fem_prep.sections`` for the
 body files, ``jaxgear.io._sections`` for the case files) turn pydantic's errors into these
 messages; the hand-written checks below (:func:`number`, :func:`choice`, :func:`subtable`, ...)
 serve the case tables that are not sections yet. The atomic file writers and the embedded input

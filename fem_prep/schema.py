@@ -9,7 +9,7 @@ more class beside its algorithm and one more entry here).  All lengths in the fi
 modulus in GPa; :class:`~fem_prep.Body` stores SI values (m, Pa, kg/m^3) next to the raw text.
 
 Each table of a body file (and of a ring-gear file, :func:`parse_ring_body`) is a typed section
-(:class:`fem_prep._sections.Section`, a pydantic model: :class:`BodyFile`, :class:`BodyTable`,
+(:class:`fem_prep.sections.Section`, a pydantic model: :class:`BodyFile`, :class:`BodyTable`,
 :class:`BearingTable`, ...) that declares its keys, their types and ranges once; what relates
 two tables (the bearings and the element sizes to the body, the pinion rim's place) is checked
 here after them. Every error is a :class:`SchemaError` (a ``ValueError``) whose one-line message
@@ -50,7 +50,6 @@ from ._elements import Hex20, Hex27
 from ._kinds import Kind
 from ._prepare import Bearings, Free
 from ._ring import BoltedFlange, ElasticFoundation, FreeRing, RingBody
-from ._sections import Section, number as _number  # schema.number: checks.number's
 
 # the shared helpers, re-exported (import them from fem_prep.checks / fem_prep.files)
 from .checks import (  # noqa: F401
@@ -89,6 +88,7 @@ from .files import (  # noqa: F401
     recorded_outputs as recorded_outputs,
     write_new_file as write_new_file,
 )
+from .sections import Section, number as _number  # schema.number: checks.number's
 
 __all__ = [
     "COUPLINGS",
@@ -282,7 +282,7 @@ class ModalTable(Section):
     WHERE: ClassVar[str] = "modal"
     support: Literal[tuple(SUPPORTS)] = "bearings"
     n_frequencies: _number("[1, 200]", integer=True) = 20
-    vtu_modes: _number(integer=True) = Field(10, **_words("[0, n_frequencies]"))
+    vtu_modes: _number(integer=True, any_size=True) = Field(10, **_words("[0, n_frequencies]"))
 
     @pydantic.model_validator(mode="after")
     def _shapes(self):

@@ -3,7 +3,7 @@
 The validators of :mod:`jaxgear.io` (case files) declare every key where they check it, through
 the helpers of :mod:`fem_prep.checks` (``check_keys``, ``subtable``, ``number``, ``number_list``,
 ``choice``, ``boolean``, ``string``, ``name``) or a typed section (``jaxgear.io._sections``);
-those of :mod:`fem_prep.schema` (body files) are typed sections (``fem_prep._sections``), read
+those of :mod:`fem_prep.schema` (body files) are typed sections (``fem_prep.sections``), read
 as they are. This module runs the case validators on a set of sample files while recording
 those calls (read-only: the helpers are wrapped for the duration of the run and restored), and
 writes what they declared:
@@ -358,7 +358,7 @@ def _fmt(v: Any) -> str:
 
 def _type_kind(t) -> tuple[str, str]:
     """(kind, allowed) of one type of a typed section's field (``jaxgear.io._sections``)."""
-    from jaxgear.io import _sections as sections
+    from fem_prep import sections
 
     base = typing.get_origin(t) is typing.Annotated and t.__origin__ or t
     rng = sections._marker_in(t, sections.Range)
@@ -396,7 +396,7 @@ def _section_kind(field) -> tuple[set, set]:
     or an integer in its range, an array of numbers, a name out of a few, a boolean, a string;
     a field of several kinds (``one_of``) each of them, its range once; a field the section
     leaves to another reader (``Any``) none."""
-    from jaxgear.io import _sections as sections
+    from fem_prep import sections
 
     t, args = field.annotation, typing.get_args(field.annotation)
     if typing.get_origin(t) in (typing.Union, types.UnionType) and type(None) in args:
@@ -482,7 +482,8 @@ class _Recorder:
         declares, with its type, default and range (sub-tables: their own sections)."""
         if self.depth_in_body or not isinstance(table, dict):
             return
-        from jaxgear.io import _sections as sections
+        from fem_prep import sections
+        from jaxgear.io._sections import Needed
 
         s = self.schema
         named = [k for k in ("meshes", "members", "planets") if k in cls.model_fields]
@@ -521,7 +522,7 @@ class _Recorder:
             arms = (field.annotation, *typing.get_args(field.annotation))
             if sub is not None and not any(typing.get_origin(a) is list for a in arms):  # a table
                 info.kind.add("table")
-                info.required |= sections.range_of(field, sections.Needed) is not None
+                info.required |= sections.range_of(field, Needed) is not None
                 inner = table.get(key)
                 self.record_section(sub, inner if isinstance(inner, dict) else {},
                                     f"{where}.{key}", None)
@@ -538,7 +539,7 @@ class _Recorder:
             kinds, allowed = _section_kind(field)
             info.kind |= kinds
             info.allowed |= allowed
-            if field.is_required() or sections.range_of(field, sections.Needed) is not None:
+            if field.is_required() or sections.range_of(field, Needed) is not None:
                 info.required = True
             elif field.get_default(call_default_factory=True) is not None and kinds:
                 info.defaults.add(_fmt(field.get_default(call_default_factory=True)))
@@ -552,11 +553,11 @@ class _Recorder:
         saved_load = fem_prep.load_body
         from jaxgear.io._sections import Section
 
-        saved_read = Section.__dict__["read"]
+        saved_read = Section.read.__func__  # fem_prep.sections.Section's, inherited
 
         def read(cls, table, where=None, *, context=None):
             self.record_section(cls, table, cls.WHERE if where is None else where, context)
-            return saved_read.__func__(cls, table, where, context=context)
+            return saved_read(cls, table, where, context=context)
 
         Section.read = classmethod(read)
         saved_of_file = Section.__dict__["of_file"]
@@ -596,7 +597,7 @@ class _Recorder:
                 setattr(checks, n, f)
                 setattr(body_schema, n, f)
             fem_prep.load_body = saved_load
-            Section.read = saved_read
+            del Section.read  # the inherited one again
             Section.of_file = saved_of_file
 
 
@@ -864,23 +865,23 @@ def trace_bodies() -> Schema:
 
 
 def _body_section(schema: Schema, cls, where: str) -> None:
-    """Record the keys of a body file's section ``cls`` (:mod:`fem_prep._sections`) at
+    """Record the keys of a body file's section ``cls`` (:mod:`fem_prep.sections`) at
     ``where``, its sub-tables in their turn (an array of tables as ``key[0]``)."""
-    from fem_prep import _sections as sections
+    from fem_prep import sections
 
     for key, field in cls.model_fields.items():
         info = schema.key(where, key)
         info.accepted = True
         info.required |= field.is_required()
         words = field.json_schema_extra if isinstance(field.json_schema_extra, dict) else {}
-        sub = sections._section(field.annotation)
+        sub = sections._sections(field.annotation)
         if sub is not None:
             info.kind.add("table")
             arms = (field.annotation, *typing.get_args(field.annotation))
             inner = key + ("[0]" if any(typing.get_origin(a) is list for a in arms) else "")
             _body_section(schema, sub, f"{where}.{inner}" if where else inner)
             continue
-        rng = sections._range(field)
+        rng = sections.range_of(field)
         if rng is not None:
             info.kind.add("integer" if rng.integer else "number")
             info.allowed.add(words.get("allowed") or str(rng.interval) + rng.note)
