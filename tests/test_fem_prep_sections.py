@@ -1,4 +1,4 @@
-"""The body file's and the ring-gear file's tables as typed sections (fem_prep._sections): an
+"""The body file's and the ring-gear file's tables as typed sections (fem_prep.sections): an
 unknown key, a table given as a number, a string or an array, and a wrong value each give the
 one line of fem_prep.checks naming the key, its value as written and what is allowed (the
 messages written out here by hand), never a TypeError or pydantic's many-line report."""
