@@ -172,21 +172,13 @@ class HousingSection(Section):
     highest_mesh_frequency_Hz: number("(0, 1e+06]") | None = None
     loss_factor: number("[0, 1]") = 0.0
     coupling: Literal[COUPLINGS] = "rigid"
-    points_mm: dict[str, Any] = pydantic.Field(default_factory=dict)
+    points_mm: dict[str, number_list(length=3)] = pydantic.Field(default_factory=dict)
     # a mesh file
     mesh_file: Text | None = None
     mesh_unit: Literal["mm", "m"] = "mm"
     offset_mm: number_list(length=3) = pydantic.Field(default_factory=lambda: [0.0, 0.0, 0.0])
     seats: list[SeatEntry] = pydantic.Field(default_factory=list)
     feet: list[FootEntry] = pydantic.Field(default_factory=list)
-
-    @pydantic.field_validator("points_mm")
-    @classmethod
-    def _points(cls, v):
-        """Each named point: 3 numbers (its own line naming the point)."""
-        for name in v:
-            sc.number_list(v, name, "housing.points_mm", length=3)
-        return v
 
     @pydantic.model_validator(mode="after")
     def _related(self):
