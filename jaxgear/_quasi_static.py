@@ -440,6 +440,28 @@ def quasi_static(
         eqx.EquinoxRuntimeError: a traced torque <= 0 (== 0 with coast flanks), width <= 0, a
             traced negative speed, solver failure (with ``throw``).
     """
+    return _solve(
+        scene, modifications, torque, theta, speed, contact, positions_per_pitch, periods, throw
+    )
+
+
+def _solve(
+    scene,
+    modifications,
+    torque,
+    theta,
+    speed,
+    contact,
+    positions_per_pitch=64,
+    periods=1,
+    throw=True,
+    host_checked=False,
+):
+    """:func:`quasi_static` (the same arguments); ``host_checked``: the torque and speed, traced
+    here, were checked on the host before the caller's trace (a dynamic model's torque when
+    it was built, the speeds of a run before its program): the solve then holds no
+    ``eqx.error_if`` of them, whose Python callback would keep the caller's program out of
+    JAX's persistent compilation cache."""
     check_positions(positions_per_pitch, periods)
     check_operating("quasi_static", scene, modifications, torque, theta, speed)
     planes = scene.base_planes  # a MeshModel's: itself
@@ -468,7 +490,7 @@ def quasi_static(
         law,
         bool(throw) and not concrete,
         (int(positions_per_pitch), int(periods)),
-        not concrete,
+        not concrete and not host_checked,
     )
     if concrete and throw:
         raise_if_failed(res.result, ContactResult, "quasi_static")

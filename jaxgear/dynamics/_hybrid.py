@@ -49,7 +49,7 @@ from .._contact import ContactLaw, ExactContact
 from .._modifications import Modifications
 from .._quasi_static import per_mesh_modifications
 from .._results import DynamicsResult
-from .._util import check_integer, compiled_when_eager
+from .._util import check_integer, compiled_when_eager, is_traced
 from ..scenes import HybridPair
 from ._damping import AbstractDamping
 from ._devices import several_devices, shard_speeds
@@ -191,14 +191,17 @@ class HybridModel(AbstractDynamicModel):
                 "state0: a hybrid model starts from its quasi-static state (allowed None)"
             )
         law, cfg, omega, space = prepared.law, prepared.cfg, prepared.omega, prepared.space
+        # concrete: the torque (when the model was built), law and speeds (by the callers) are
+        # checked on the host, so the program holds no eqx.error_if of them
+        checked = not is_traced((self, law, speeds))
         if jnp.ndim(speeds) == 0:
-            r = sweep(self, jnp.reshape(speeds, (1,)), law, cfg, omega, space)
+            r = sweep(self, jnp.reshape(speeds, (1,)), law, cfg, omega, space, checked)
             return _first(r)
         if not several_devices(shard, speeds):
-            return sweep(self, speeds, law, cfg, omega, space)
+            return sweep(self, speeds, law, cfg, omega, space, checked)
         # one row of speeds per device, each row one speed after the other
         rows, _ = shard_speeds(speeds, rows=True)
-        r = sweep(self, rows, law, cfg, omega, space)
+        r = sweep(self, rows, law, cfg, omega, space, checked)
         return jax.tree.map(lambda a: a.reshape((-1,) + a.shape[2:])[: speeds.shape[0]], r)
 
 
@@ -241,15 +244,18 @@ def modal_space(model: HybridModel, law: ContactLaw, cfg: _Config) -> ModalSpace
             f"modal basis modes = {basis.modes} is out of range: allowed 1 … {n} (the "
             "structure's coordinates)"
         )
-    return _modal_space(model, law, cfg.steps_per_period, basis)
+    checked = not is_traced((model, law, basis))  # as HybridModel.independent's
+    return _modal_space(model, law, cfg.steps_per_period, basis, checked)
 
 
 @eqx.filter_jit
-def _modal_space(model: HybridModel, law: ContactLaw, spp: int, basis: ModalBasis) -> ModalSpace:
+def _modal_space(
+    model: HybridModel, law: ContactLaw, spp: int, basis: ModalBasis, host_checked: bool = False
+) -> ModalSpace:
     scene = model.scene
     dtype = scene.structure.K.dtype
     speed = jnp.asarray(basis.speed, dtype)
-    qs, _ = _period_statics(scene, model.mods, model.torque, speed, spp, law)
+    qs, _ = _period_statics(scene, model.mods, model.torque, speed, spp, law, host_checked)
     loaded = _loaded(qs)
     period_angle = scene.base_planes[0].mesh_period_angle
 
@@ -269,7 +275,15 @@ def _modal_space(model: HybridModel, law: ContactLaw, spp: int, basis: ModalBasi
     )
 
 
-def _run(model: HybridModel, speed, law: ContactLaw, cfg: _Config, omega_excited, space=None):
+def _run(
+    model: HybridModel,
+    speed,
+    law: ContactLaw,
+    cfg: _Config,
+    omega_excited,
+    space=None,
+    host_checked: bool = False,
+):
     scene, mods, torque = model.scene, model.mods, model.torque
     spp, states, blowup = cfg.steps_per_period, cfg.states, cfg.blowup
     n_steps, keep = spp * cfg.periods, spp * cfg.keep_periods
@@ -280,7 +294,7 @@ def _run(model: HybridModel, speed, law: ContactLaw, cfg: _Config, omega_excited
     M = scene.structure.M
     # the quasi-static states at the step positions of the first period (the start: row 0, at
     # speed Ω, centrifugal load on, at rest) and the damping with its mesh share per period
-    qs, block, damp = _speed_damping(model, speed, law, spp)
+    qs, block, damp = _speed_damping(model, speed, law, spp, host_checked)
     C = damp.C
     # the mesh share of C follows the mesh: c_m Rᵀ K̄_m(k) R in period k
     mesh_damping = None if damp.c_m is None else MeshDamping(block, damp.c_m, damp.R)
@@ -414,17 +428,30 @@ def run_config(
 
 
 @eqx.filter_jit
-def sweep(model: HybridModel, speeds, law: ContactLaw, cfg: _Config, omega_excited, space=None):
+def sweep(
+    model: HybridModel,
+    speeds,
+    law: ContactLaw,
+    cfg: _Config,
+    omega_excited,
+    space=None,
+    host_checked: bool = False,
+):
     """The hybrid model at each speed of ``speeds`` (S,), one after the other (``jax.lax.map``:
     one effective compliance of n² in memory at a time), with the run's settings ``cfg``
     (:func:`run_config`) and the highest excited mode ``omega_excited`` (rad/s; NaN: unknown):
     :class:`~jaxgear.dynamics.DynamicResponse` with a leading speed axis. ``speeds`` (D, S) runs
     the D rows side by side (``jax.vmap``; rows placed one per device run there in parallel),
     each row's speeds one after the other: leading axes (D, S). ``space``: the modal basis
-    (:func:`modal_space`) when the integrator has one, else None."""
+    (:func:`modal_space`) when the integrator has one, else None. ``host_checked``: the
+    model's torque, the law and the speeds were checked on the host (concrete before this
+    program): the program then holds no ``eqx.error_if`` of them, whose Python callback
+    would keep it out of JAX's persistent compilation cache."""
 
     def one_after_another(row):
-        return jax.lax.map(lambda w: _run(model, w, law, cfg, omega_excited, space), row)
+        return jax.lax.map(
+            lambda w: _run(model, w, law, cfg, omega_excited, space, host_checked), row
+        )
 
     if speeds.ndim == 2:
         return jax.vmap(one_after_another)(speeds)

@@ -59,14 +59,17 @@ def _damping(scene: HybridPair, Km, damping: AbstractDamping) -> _HybridDamping:
     return _HybridDamping(C + scene.bearing_damping(), c_m, R)
 
 
-def _speed_damping(model: AbstractDynamicModel, speed, law: ContactLaw, spp: int):
+def _speed_damping(
+    model: AbstractDynamicModel, speed, law: ContactLaw, spp: int, host_checked: bool = False
+):
     """The quasi-static result at the ``spp`` step positions of the first mesh period at speed
     Ω (:func:`_period_statics`), the mesh stiffness of period p, ``block(p)``
     (:func:`_mesh_block` on the cells loaded there), and the damping (:func:`_damping`; the modal
-    models' modes with K̄_m averaged round the wheel)."""
+    models' modes with K̄_m averaged round the wheel). ``host_checked``: as
+    :func:`_period_statics`."""
     scene = model.scene
     period_angle = scene.base_planes[0].mesh_period_angle
-    qs, _ = _period_statics(scene, model.mods, model.torque, speed, spp, law)
+    qs, _ = _period_statics(scene, model.mods, model.torque, speed, spp, law, host_checked)
     loaded = _loaded(qs)
 
     def block(p):  # K̄_m(p) on the stations under the meshes in period p

@@ -16,7 +16,7 @@ from jaxtyping import Array, Float
 
 from .._baseplane import CellRow
 from .._contact import ContactLaw, ExactContact, contact_law
-from .._quasi_static import mesh_separations, per_mesh_modifications, quasi_static
+from .._quasi_static import _solve, mesh_separations, per_mesh_modifications
 from .._util import compiled_when_eager, safe_max
 from ..scenes import HybridPair, HybridScene
 from ._model import cell_stiffness, cells_from_reference, mesh_te
@@ -225,19 +225,14 @@ def _mesh_block(scene: HybridPair, theta, loaded, pad: int = 1):
     return U, B / theta.shape[0], jnp.all(ok)
 
 
-def _period_statics(scene: HybridPair, mods, torque, speed, spp, law: ContactLaw):
+def _period_statics(
+    scene: HybridPair, mods, torque, speed, spp, law: ContactLaw, host_checked: bool = False
+):
     """Quasi-static result at pinion speed Ω (centrifugal loads) at the ``spp`` step positions
-    of one mesh period, and K̄_m there (all meshes)."""
+    of one mesh period, and K̄_m there (all meshes). ``host_checked``: the torque, speed and
+    law were checked on the host before the caller's trace (no ``eqx.error_if`` of them)."""
     theta = (jnp.arange(spp) + 0.5) * scene.base_planes[0].mesh_period_angle / spp
-    qs = quasi_static(
-        scene,
-        mods,
-        torque,
-        theta,
-        speed=speed,
-        contact=law,
-        throw=False,
-    )
+    qs = _solve(scene, mods, torque, theta, speed, law, throw=False, host_checked=host_checked)
     U, B, _ = _mesh_block(scene, theta, _loaded(qs))
     return qs, _scattered(U, B, scene.structure.size)
 

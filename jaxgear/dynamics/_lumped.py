@@ -439,6 +439,7 @@ def _newmark(
     record: bool = False,
     factors=None,
     counted: bool = False,
+    window: tuple[int, int] | None = None,
 ):
     """Newmark steps (:func:`~jaxgear.dynamics._newmark.newmark`, the contact in coordinates)
     of the prepared ``run`` (its table, the coordinates each step's contact is condensed onto,
@@ -453,7 +454,9 @@ def _newmark(
     (r,)) ``reac``; (X, Ẋ) ``states`` when the settings record them; the cell forces P (N,
     (c,)) ``cells`` when they record the cell loads; with ``factors`` (the table's E*/(π R)
     per row and cell, (R, c)), each mesh's largest p₀² = w E*/(π R) over its cells (Pa²,
-    (m,)) ``p2``, reduced here in the loop."""
+    (m,)) ``p2``, reduced here in the loop. ``window`` (static, with ``record``): (S, k), the n
+    steps in blocks of S (n a multiple of S), the last k blocks recorded in the same loop as
+    the blocks before them (one compiled step); None: all recorded."""
     table, cfg = run.prep.table, run.cfg
     start, n_steps = steps
     record_states, record_cells = record and cfg.states, record and cfg.cell_loads
@@ -467,7 +470,7 @@ def _newmark(
     def check(X, Xd, forces):
         return _divergence_code(Xd, X, jnp.sum(forces), M, fs, e_ref, cfg.blowup)
 
-    def kept(X, Xd, forces, j):
+    def kept_records(X, Xd, forces, j):
         fm, lines = table.mesh_forces(forces)
         out = {"fm": fm, "te": te_of(X), "lines": lines, "reac": R @ X}
         if table.flank is not None:  # coast flanks: their force counts negative in F_m
@@ -493,19 +496,21 @@ def _newmark(
             start,
             n_steps,
             StepCells(table.at, run.law),
-            kept if record else None,
+            kept_records if record else None,
             size,
             checks=(check, None),
         )
-    rows = (jnp.arange(n_steps) + 1 + start)[None, :]
+    rows = jnp.arange(n_steps) + 1 + start
+    blocks, keep_blocks = (1, None) if window is None else (n_steps // window[0], window[1])
     return newmark(
         system,
         dt,
         state,
-        rows,
+        rows.reshape(blocks, -1),
         StepCells(table.at, run.law),
-        kept if record else None,
+        kept_records if record else None,
         checks=(check, None),
+        keep_blocks=keep_blocks,
     )
 
 
@@ -550,18 +555,31 @@ def _one_speed(
         factors = pressure_factors(cfg.pressure, table.sizes, geometry[0], table.mask)
     states = forces = p2 = None
     if cfg.newmark:
-        # the transient unrecorded, then the kept periods recorded from the row where the
-        # transient ended (memory ∝ keep_periods only)
+        # the transient and the kept periods, only the kept ones recorded (memory ∝
+        # keep_periods only)
         carry0 = (*state, jnp.array(0), jnp.array(0))
         run = LumpedRun(static, law, cfg)
         if lead is not None:  # `lead` steps (traced) before the window, from step row0
             carry0, _ = _newmark(model, run, dt, carry0, (row0, lead), fs, counted=True)
             row0 = row0 + lead
             lead_end = carry0[:2]
-        carry, _ = _newmark(model, run, dt, carry0, (row0, n_trans), fs)
-        carry, rec = _newmark(
-            model, run, dt, carry, (row0 + n_trans, n_keep), fs, record=True, factors=factors
-        )
+        if table.steps is not None:  # traced step counts: two counted loops
+            carry, _ = _newmark(model, run, dt, carry0, (row0, n_trans), fs)
+            carry, rec = _newmark(
+                model, run, dt, carry, (row0 + n_trans, n_keep), fs, record=True, factors=factors
+            )
+        else:  # one loop over the transient and the kept steps (one compiled Newmark step)
+            carry, rec = _newmark(
+                model,
+                run,
+                dt,
+                carry0,
+                (row0, n_trans + n_keep),
+                fs,
+                record=True,
+                factors=factors,
+                window=(P, cfg.keep_periods),
+            )
         fm, te, lines, reac = rec["fm"], rec["te"], rec["lines"], rec["reac"]
         coast = rec.get("coast")
         if cfg.states:

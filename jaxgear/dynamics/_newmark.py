@@ -642,19 +642,35 @@ def _window_contact(row, W, x, law: ContactLaw, dtype):
 
 
 def _scan_blocks(run_block, state, inputs, record, keep_blocks):
-    """Scan ``run_block(carry, (p, entries), keep)`` over the B blocks of ``inputs``: the first
-    B − keep_blocks without records (``keep`` None), the last ``keep_blocks`` (all with None)
-    with ``record``; returns the final carry and the records flattened over the recorded blocks
-    (or None)."""
+    """Scan ``run_block(carry, (p, entries), keep)`` over the B blocks of ``inputs``: the last
+    ``keep_blocks`` (all with None) recorded with ``record``; returns the final carry and the
+    records flattened over the recorded blocks (or None).
+
+    One scan over all B blocks, so that the step (the contact solve) is traced and compiled
+    once: with a transient (keep_blocks < B) each block records into a buffer of the kept
+    blocks, the transient blocks into its first slot, which the first kept block overwrites
+    (the records of a step are a few products of its state, the contact solve its cost)."""
     n_blocks = jax.tree.leaves(inputs)[0].shape[0]
     kept = n_blocks if keep_blocks is None or record is None else min(int(keep_blocks), n_blocks)
     blocks = (jnp.arange(n_blocks), inputs)
-    carry = state
-    if kept < n_blocks:  # the transient: no records
-        head = jax.tree.map(lambda x: x[: n_blocks - kept], blocks)
-        carry, _ = jax.lax.scan(lambda c, b: run_block(c, b, None), carry, head)
-    tail = jax.tree.map(lambda x: x[n_blocks - kept :], blocks)
-    carry, out = jax.lax.scan(lambda c, b: run_block(c, b, record), carry, tail)
+    if kept == n_blocks:
+        carry, out = jax.lax.scan(lambda c, b: run_block(c, b, record), state, blocks)
+    else:
+        transient = n_blocks - kept
+        first = jax.tree.map(lambda x: x[0], blocks)
+        shapes = jax.eval_shape(lambda c, b: run_block(c, b, record)[1], state, first)
+        buffer = jax.tree.map(lambda s: jnp.zeros((kept,) + s.shape, s.dtype), shapes)
+
+        def body(c, b):
+            carry, buf = c
+            carry, rec = run_block(carry, b, record)
+            slot = jnp.maximum(b[0] - transient, 0)
+            buf = jax.tree.map(
+                lambda x, r: jax.lax.dynamic_update_index_in_dim(x, r, slot, 0), buf, rec
+            )
+            return (carry, buf), None
+
+        (carry, out), _ = jax.lax.scan(body, (state, buffer), blocks)
     if record is None:
         return carry, None
     return carry, jax.tree.map(lambda x: x.reshape((x.shape[0] * x.shape[1],) + x.shape[2:]), out)
