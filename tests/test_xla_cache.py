@@ -293,3 +293,27 @@ def test_harris_map_refuses_bad_torques_in_one_line():
     for bad in ([100.0, -5.0], [float("nan")], []):
         with pytest.raises(ValueError, match=r"^torques = .*allowed a non-empty 1-D array"):
             jg.harris_map(mesh, jg.Modifications(), bad, positions_per_pitch=8)
+
+
+@pytest.mark.slow
+def test_second_hybrid_sweep_reads_back_every_program_it_wrote(tmp_path, fem_prep_cache):
+    """A hybrid sweep (tests/data/hybrid-test-case.toml: a condensed wheel, the hybrid Newmark
+    at three speeds): its sweep program holds no Python callback (the quasi-static solve inside
+    it runs without ``eqx.error_if`` once the torque, law and speeds were checked on the host),
+    so the first run writes every program it compiles to the cache (77 at 817cc047) and the
+    second reads all of them back and compiles none, with the same numbers."""
+    case = str(pathlib.Path(__file__).parent / "data" / "hybrid-test-case.toml")
+    command = ("sweep", "--speeds", "300:900:3", "--periods", "4", "--keep-periods", "2",
+               "--steps-per-period", "16")
+    cache = tmp_path / "xla"
+    out1, first = _run(tmp_path, cache, "first", case, command)
+    written = first.get(MISSES, 0)
+    assert written > 0
+    assert first.get(REQUESTS, 0) == written  # every program it compiled was written
+    out2, second = _run(tmp_path, cache, "second", case, command)
+    assert second.get(MISSES, 0) == 0
+    assert second.get(REQUESTS, 0) == second.get(HITS, 0) == written
+    sweeps = [json.loads((o / "sweep.json").read_text()) for o in (out1, out2)]
+    for s in sweeps:
+        s.pop("elapsed_s", None)
+    assert sweeps[0] == sweeps[1]
