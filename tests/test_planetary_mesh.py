@@ -12,6 +12,7 @@ from scipy.optimize import brentq
 import jaxgear as jg
 import jaxgear.planetary as jp
 from _planetary_stage import INPHASE, K0, SEQ, counted_stiffness, geometry, stage, with_meshes
+from _tracing import traced
 
 jax.config.update("jax_enable_x64", True)
 
@@ -256,3 +257,19 @@ def test_float32_runs():
             out[x64] = np.asarray(got.k_gamma)
             assert out[x64].dtype == (np.float64 if x64 else np.float32)
     np.testing.assert_allclose(out[False], out[True], rtol=1e-4)
+
+
+def test_a_new_python_torque_reruns_the_program():
+    """planetary_quasi_static with a Python-number torque and pin errors: a second torque
+    traces nothing (the numbers enter the program as arrays, not as constants of a program per
+    value) and gives its own answer: equal sharing of the torque, each sun mesh T / (N r_bs)
+    (torsional model, constant meshes, no pin error; to the floating planets' 1e-12 hold)."""
+    st = stage(geometry(**SEQ), 3)
+    x = jp.ConstantMeshes().positions(4, 1)
+    jp.planetary_quasi_static(jp.TorsionalPlanetary(), st, jp.ConstantMeshes(), 700.0, x, 0.0)
+    with traced() as names:
+        got = jp.planetary_quasi_static(jp.TorsionalPlanetary(), st, jp.ConstantMeshes(), 900.0,
+                                        x, 0.0)
+    assert not [n for n in names if n.endswith("planetary_quasi_static")], names
+    want = 900.0 / (3 * float(st.sun.base_radius))
+    np.testing.assert_allclose(np.asarray(got.sun_mesh_forces), want, rtol=1e-9)

@@ -791,7 +791,6 @@ def sun_load(model, stage, sun_torque, f_err):
     return f_err.at[i].add(as_float(sun_torque) / stage.sun.base_radius)
 
 
-@eqx.filter_jit
 def planetary_quasi_static(
     model: AbstractPlanetaryModel,
     stage: PlanetaryStage,
@@ -842,6 +841,22 @@ def planetary_quasi_static(
     check_real("positions", positions, "m", shape=(None,), shape_text="(p,)", where=where)
     check_instance("ring", ring, AbstractRingModel, "a jaxgear.planetary.RigidRing or CondensedRing",
                    "planetary_quasi_static")
+    for name, value in (("tangential_pin_errors", tangential_pin_errors),
+                        ("radial_pin_errors", radial_pin_errors)):
+        check_real(name, value, "m", where=where)
+    # checked: Python numbers enter the program as arrays (eqx.filter_jit holds a Python
+    # number as a constant of the program, one program per value: a CLI run's torque)
+    sun_torque, tangential_pin_errors, radial_pin_errors = (
+        as_float(v) if isinstance(v, int | float) else v
+        for v in (sun_torque, tangential_pin_errors, radial_pin_errors))
+    return _planetary_quasi_static(model, stage, meshes, sun_torque, positions,
+                                   tangential_pin_errors, radial_pin_errors, law, ring)
+
+
+@eqx.filter_jit
+def _planetary_quasi_static(model, stage, meshes, sun_torque, positions, tangential_pin_errors,
+                            radial_pin_errors, law, ring) -> PlanetaryQuasiStatic:
+    """:func:`planetary_quasi_static`'s program (the arguments checked there)."""
     f_err, d_s, d_r = pin_terms(model, stage, tangential_pin_errors, radial_pin_errors,
                                 "planetary_quasi_static")
     f = sun_load(model, stage, sun_torque, f_err)
