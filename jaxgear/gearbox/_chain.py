@@ -237,10 +237,9 @@ class TorsionalPairGearboxStage(DynamicModel):
         mods = Modifications() if modifications is None else modifications
         check_instance("modifications", mods, Modifications, "a jaxgear.Modifications", where)
         inertias = as_float(inertias)
-        self.scene = TorsionalDynamics(mesh, inertias[0], inertias[1])
-        self.mods, self.input = mods, _check_side(input, where)
-        self.torque = self.damping = self.modes = self.mesh_stiffness_mean = None
-        self.deviation_span, self.held = None, None
+        # the model of stage_model: no torque, damping, modes or mean stiffness (a stage's)
+        super().__init__(TorsionalDynamics(mesh, inertias[0], inertias[1]), mods, None, None,
+                         None, None, input=_check_side(input, where))
         self.base_radii, self.mesh_stiffness = as_float(base_radii), as_float(mesh_stiffness)
 
     def __check_init__(self):

@@ -69,9 +69,8 @@ class LumpedPairGearboxStage(DynamicModel):
                              "shaft), 1 (gear shaft)")
         mods = Modifications() if modifications is None else modifications
         check_instance("modifications", mods, Modifications, "a jaxgear.Modifications", where)
-        self.scene, self.mods, self.input = scene, mods, int(input)
-        self.torque = self.damping = self.modes = self.mesh_stiffness_mean = None
-        self.deviation_span, self.held = None, None
+        # the model of stage_model: no torque, damping, modes or mean stiffness (a stage's)
+        super().__init__(scene, mods, None, None, None, None, input=int(input))
 
     def __check_init__(self):
         self.check_stage("LumpedPairGearboxStage")
