@@ -50,6 +50,7 @@ from ._deviations import (
     hunting_revolutions as hunting_revolutions,
     iso1328_round as iso1328_round,
     iso1328_tolerances as iso1328_tolerances,
+    iso1328_tolerances_array as iso1328_tolerances_array,
     sample_gear_deviations as sample_gear_deviations,
 )
 from ._extended import (
