@@ -8,7 +8,11 @@ every (m_n, z1, z2) in them within the ratio tolerance and the centre-distance w
 (``import jaxgear.sizing``); the spec file and ``jaxgear size`` are :mod:`jaxgear.io`'s and the
 CLI's. SI units throughout (docs/sizing.md)."""
 
-from ._candidates import Candidates as Candidates, enumerate_candidates as enumerate_candidates
+from ._candidates import (
+    Candidates as Candidates,
+    enumerate_candidates as enumerate_candidates,
+    ratio_pairs as ratio_pairs,
+)
 from ._size import (
     CHECKS as CHECKS,
     GEOMETRIC as GEOMETRIC,

@@ -11,7 +11,7 @@ import numpy as np
 
 from ._spec import SizingSpec
 
-__all__ = ["Candidates", "enumerate_candidates"]
+__all__ = ["RATIO_SLACK", "Candidates", "enumerate_candidates", "ratio_pairs"]
 
 #: the relative slack of the ratio tolerance's bound (a z2/z1 on the bound is in, whatever the
 #: binary round-off of u (1 ± tolerance))
