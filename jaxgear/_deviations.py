@@ -243,8 +243,8 @@ def iso1328_tolerances_array(normal_module, reference_diameter, face_width, grad
     dimensions (traceable, broadcasting over gears or candidates): f_pT (5), f_fαT (8) and
     f_HβT (10) (m), rounded by 5.2.3, the formulas of :func:`iso1328_tolerances` in binary
     floats (a decimal tie lifted by :data:`TIE_LIFT` so that it rounds up as there). Equal to
-    :func:`iso1328_tolerances` but where a value lies within 1e-11 of a rounding step without
-    being on it. The standard's scope (m_n, d, b) is not checked (values may be traced): check
+    :func:`iso1328_tolerances` to the last bit or one ulp (the rounded µm value carried to m),
+    but where a value lies within 1e-11 of a rounding step without being on it. The standard's scope (m_n, d, b) is not checked (values may be traced): check
     it where the dimensions are known (:data:`ISO1328_SCOPE`).
 
     Args:

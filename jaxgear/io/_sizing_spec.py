@@ -57,6 +57,7 @@ import pydantic
 
 from fem_prep import schema as sc
 
+from .._util import as_float
 from ..sizing import SizingSpec, enumerate_candidates, module_series, ratio_pairs
 from ._case_file import MaterialSection
 from ._rating_inputs import modification_inputs
@@ -242,7 +243,7 @@ def _grade_only(grade: int):
     candidate is rated with its own, :meth:`jaxgear.rating.GearAccuracy.from_dimensions`)."""
     from ..rating import GearAccuracy
 
-    return GearAccuracy(float("nan"), float("nan"), float("nan"), int(grade))
+    return GearAccuracy(*(as_float(float("nan")),) * 3, int(grade))
 
 
 def _refuse_empty(spec: SizingSpec, sz: SizingSection) -> None:

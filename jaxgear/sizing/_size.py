@@ -155,7 +155,7 @@ class SizingTable:
         return idx[np.lexsort((-margin, mass))]
 
 
-def size(spec: SizingSpec, *, chunk: int = 4096,
+def size(spec: SizingSpec, *, chunk: int = 2048,
          progress: Callable[[int, int], None] | None = None) -> SizingTable:
     """Rate every candidate of ``spec`` (:func:`jaxgear.sizing.enumerate_candidates`): geometry,
     validity and ISO 6336 (the settings' standard, :func:`jaxgear.rating.rate` of a
@@ -164,8 +164,9 @@ def size(spec: SizingSpec, *, chunk: int = 4096,
 
     Args:
         spec: the :class:`SizingSpec`.
-        chunk: candidates per call of the compiled program (memory: about 20 kB each); the last
-            chunk is padded with copies of the last candidate and the copies dropped.
+        chunk: candidates per call of the compiled program (memory: about 20 kB each); every
+            call takes a whole chunk (one compiled shape): the last is padded with copies of
+            the last candidate and the copies dropped.
         progress: called as ``progress(done, total)`` after each chunk, or None.
 
     Returns:
@@ -186,23 +187,28 @@ def size(spec: SizingSpec, *, chunk: int = 4096,
               "b": cands.face_width}
     n_checks = sum(1 for k in CHECKS if k not in ("face_width", "outer_diameter"))
     outs, checks = np.zeros((n, len(OUTPUTS))), np.zeros((n, n_checks), bool)
-    if n:
-        program = _program(static, spec.settings, spec.operating)
-        size_ = min(chunk, n)
-        for start in range(0, n, size_):
-            stop = min(start + size_, n)
-            pad = np.r_[np.arange(start, stop), np.full(size_ - (stop - start), stop - 1)]
-            batch = {k: jnp.asarray(v[pad], dtype=float) for k, v in fields.items()}
-            o, c = program(batch)
-            outs[start:stop] = np.asarray(o)[: stop - start]
-            checks[start:stop] = np.asarray(c)[: stop - start]
-            if progress is not None:
-                progress(stop, n)
+    # numbers as arrays: specs that differ in them share the compiled program
+    settings, operating = jax.tree_util.tree_map(
+        lambda v: jnp.asarray(v, dtype=float) if isinstance(v, float) else v,
+        (spec.settings, spec.operating))
+    for start in range(0, n, chunk):
+        stop = min(start + chunk, n)
+        pad = np.r_[np.arange(start, stop), np.full(chunk - (stop - start), stop - 1)]
+        batch = {k: jnp.asarray(v[pad], dtype=float) for k, v in fields.items()}
+        o, c = _program(static, settings, operating, batch)
+        outs[start:stop] = np.asarray(o)[: stop - start]
+        checks[start:stop] = np.asarray(c)[: stop - start]
+        if progress is not None:
+            progress(stop, n)
     return _table(spec, cands, outs, checks)
 
 
-def _program(static, settings, operating):
-    return jax.jit(jax.vmap(lambda c: _one(c, static, settings, operating)))
+@eqx.filter_jit
+def _program(static, settings, operating, batch):
+    """:func:`_one` mapped over a chunk of candidates: one compiled program per chunk size and
+    per spec's static values (angles, rack, grade, tip thickness; the settings' and operating
+    point's numbers are arguments, so specs that differ in them share it)."""
+    return jax.vmap(lambda c: _one(c, static, settings, operating))(batch)
 
 
 def _table(spec: SizingSpec, cands: Candidates, outs, checks) -> SizingTable:
