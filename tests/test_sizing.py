@@ -141,20 +141,20 @@ def test_operating_needs_one_of_torque_or_power():
 
 
 def test_traced_iso1328_tolerances_equal_the_standards_decimal_arithmetic():
-    """Every module of ISO 54 (1-10 mm), pinion and gear diameters of 10-200 teeth spur and
-    helical, face widths of whole and odd millimetres, every class: the jnp path rounds as the
+    """Every module of ISO 54 (1-10 mm), diameters of 10-200 teeth spur and helical, face
+    widths of whole and odd millimetres, the classes 1-6, 9, 11 (the odd and even steps): the jnp path rounds as the
     standard's decimal arithmetic (ties included) does: the same values to the last bit but
     one (the µm-to-m product of a rounded value may land one ulp apart; a rounding step apart
     would be 1e-3 relative or more)."""
     mods = [m * 1e-3 for m in js.ISO54_FIRST + js.ISO54_SECOND if m <= 10]
     rows = []
     for m in mods:
-        for z in (10, 17, 23, 40, 81, 200):
+        for z in (10, 23, 81, 200):
             for beta in (0.0, math.radians(15.0)):
-                for b in (0.004, 0.0125, 0.03, 0.0577):
+                for b in (0.004, 0.0125, 0.0577):
                     rows.append((m, z * m / math.cos(beta), b))
     mn, d, b = (np.array(c) for c in zip(*rows))
-    for grade in range(1, 12):
+    for grade in (1, 2, 3, 4, 5, 6, 9, 11):
         got = np.stack([np.asarray(v) for v in jg.iso1328_tolerances_array(mn, d, b, grade)])
         ref = np.array([[t.single_pitch, t.profile_form, t.helix_slope] for t in
                         (jg.iso1328_tolerances(*r, grade) for r in rows)]).T
@@ -164,7 +164,7 @@ def test_traced_iso1328_tolerances_equal_the_standards_decimal_arithmetic():
 @pytest.fixture(scope="module")
 def sized():
     spec, tables = jio.parse_sizing_spec(_spec())
-    return spec, tables, js.size(spec, chunk=64)
+    return spec, tables, js.size(spec)  # the default chunk: jaxgear size's program
 
 
 def _pair(row, spec):
@@ -261,3 +261,40 @@ def _toml(data) -> str:
             for k, v in values.items():
                 lines.append(f"{k} = " + (f'"{v}"' if isinstance(v, str) else repr(v)))
     return "\n".join(lines) + "\n"
+
+
+# default tier: test_a_written_candidate_rates_to_the_tables_numbers (the same claim through
+# the case reader's rating, without the rest of jaxgear run)
+@pytest.mark.slow
+def test_jaxgear_run_rates_a_written_candidate_to_the_tables_numbers(sized, tmp_path):
+    """The whole ``jaxgear run`` on a written candidate (its quasi-static analysis too):
+    summary.json's rating and geometry equal the table's row to 1e-9."""
+    import json
+
+    spec, tables, table = sized
+    k = int(table.ranked()[0])
+    row = {n: v[k] for n, v in table.columns.items()}
+    path = tmp_path / "candidate.toml"
+    path.write_text(jio.candidate_case_text(tables, spec, row, k), encoding="utf-8")
+    assert main(["run", str(path), "--out", str(tmp_path / "run"), "--quiet"]) == 0
+    summary = json.loads((tmp_path / "run" / "summary.json").read_text(encoding="utf-8"))
+    r, g = summary["rating"], summary["geometry"]
+    np.testing.assert_allclose(r["pitting"]["S_H"], [row["S_H1"], row["S_H2"]], rtol=1e-9)
+    np.testing.assert_allclose(r["bending"]["S_F"], [row["S_F1"], row["S_F2"]], rtol=1e-9)
+    np.testing.assert_allclose(g["transverse_contact_ratio"], row["eps_alpha"], rtol=1e-9)
+    np.testing.assert_allclose(g["overlap_ratio"], row["eps_beta"], rtol=1e-9)
+
+
+# default tier: tests/test_sizing.py::test_jaxgear_size_writes_the_table_and_a_candidate (the
+# command on a small spec)
+@pytest.mark.slow
+def test_example_spec_sizes_and_ranks(tmp_path, capsys):
+    """The example spec (examples/sizing-helical.toml): every candidate rated, some feasible,
+    the printed ranking lightest first."""
+    import pathlib
+
+    spec_path = pathlib.Path(__file__).resolve().parents[1] / "examples" / "sizing-helical.toml"
+    assert main(["size", str(spec_path), "--out", str(tmp_path / "o"), "--top", "3"]) == 0
+    text = capsys.readouterr().out
+    masses = [float(line.split()[5]) for line in text.splitlines()[3:6]]
+    assert masses == sorted(masses) and len(masses) == 3, text
