@@ -289,11 +289,11 @@ def test_jaxgear_run_rates_a_written_candidate_to_the_tables_numbers(sized, tmp_
 # command on a small spec)
 @pytest.mark.slow
 def test_example_spec_sizes_and_ranks(tmp_path, capsys):
-    """The example spec (examples/sizing-helical.toml): every candidate rated, some feasible,
+    """The example spec (examples/sizing/helical.toml): every candidate rated, some feasible,
     the printed ranking lightest first."""
     import pathlib
 
-    spec_path = pathlib.Path(__file__).resolve().parents[1] / "examples" / "sizing-helical.toml"
+    spec_path = pathlib.Path(__file__).resolve().parents[1] / "examples" / "sizing" / "helical.toml"
     assert main(["size", str(spec_path), "--out", str(tmp_path / "o"), "--top", "3"]) == 0
     text = capsys.readouterr().out
     masses = [float(line.split()[5]) for line in text.splitlines()[3:6]]

@@ -114,7 +114,7 @@ EXAMPLES = {
     "sweep": "jaxgear sweep my-case.toml --speeds-rpm 2000:30000:60   # or --speeds in rad/s",
     "modes": "jaxgear modes lin-parker-1999",
     "robust": "jaxgear robust accessory-spur --grade 6 --samples 100",
-    "size": "jaxgear size examples/sizing-helical.toml --out results/sizing --write 0",
+    "size": "jaxgear size examples/sizing/helical.toml --out results/sizing --write 0",
     "optimise": "jaxgear optimise accessory-spur --vars tip_relief.depth,tip_relief.extent",
     "master-curve": "jaxgear master-curve accessory-spur --extents 0.1:0.5:9",
 }
