@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import copy
 import csv
+import dataclasses
 import math
 import tomllib
 from fractions import Fraction
@@ -298,3 +299,55 @@ def test_example_spec_sizes_and_ranks(tmp_path, capsys):
     text = capsys.readouterr().out
     masses = [float(line.split()[5]) for line in text.splitlines()[3:6]]
     assert masses == sorted(masses) and len(masses) == 3, text
+
+
+def test_traced_teeth_geometry_and_accuracy_from_dimensions_refuse_and_agree():
+    """The batch kinds' own refusals (one line naming the argument), and the accuracy of a
+    pair's dimensions equal to the pair's (the decimal path) for a helical pair."""
+    pair = jg.GearPair(jg.Member(23, 0.2, face_width=0.03), jg.Member(79, 0.0, face_width=0.028),
+                       normal_module=2.75e-3, normal_pressure_angle=math.radians(20),
+                       helix_angle=math.radians(15))
+    g = jr.TracedTeethRatingGeometry.of(pair)
+    assert g.teeth.shape == (2,) and list(np.asarray(g.teeth)) == [23.0, 79.0]
+    fields = {f.name: getattr(g, f.name) for f in dataclasses.fields(g)}
+    with pytest.raises(ValueError, match=r"^TracedTeethRatingGeometry: teeth of shape \(3,\)"):
+        jr.TracedTeethRatingGeometry(**(fields | {"teeth": np.array([23.0, 79.0, 5.0])}))
+    with pytest.raises(ValueError, match=r"^TracedTeethRatingGeometry.of_geometry: geometry = "
+                       r".*\(GearPair\) is out of range: allowed a jaxgear.rating.RatingGeometry"):
+        jr.TracedTeethRatingGeometry.of_geometry(pair)
+    d = np.array(pair.pitch_radii) * 2
+    got = jr.GearAccuracy.from_dimensions(2.75e-3, d, [0.03, 0.028], 7)
+    ref = jr.GearAccuracy.from_grade(pair, 7)
+    for name in ("base_pitch", "profile_form", "helix_slope"):
+        np.testing.assert_allclose(getattr(got, name), getattr(ref, name), rtol=3e-16)
+    assert got.grade == 7
+    with pytest.raises(ValueError, match=r"^ISO 1328-1 grade = 12 is out of range"):
+        jr.GearAccuracy.from_dimensions(2.75e-3, d, [0.03, 0.028], 12)
+
+
+def test_jaxgear_size_refuses_a_bad_spec_in_one_line_before_work(tmp_path, capsys):
+    bad = copy.deepcopy(SPEC)
+    bad["sizing"]["z1_max"] = 10
+    path = tmp_path / "bad.toml"
+    path.write_text(_toml(bad))
+    out = tmp_path / "out"
+    assert main(["size", str(path), "--out", str(out)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "[sizing] z1_max = 10: below z1_min = 12: an empty range" in err[0]
+    assert not out.exists()
+    assert main(["size", str(tmp_path / "none.toml")]) == 2
+    assert "none.toml: no such sizing spec file" in capsys.readouterr().err
+
+
+def test_the_table_as_parquet_equals_the_csv(request, tmp_path):
+    """Where pyarrow is installed, sizing.parquet holds the table (read back column by
+    column)."""
+    pq = pytest.importorskip("pyarrow.parquet")
+    spec, tables, table = request.getfixturevalue("sized")
+    path = tmp_path / "small.toml"
+    path.write_text(_toml(SPEC))
+    assert main(["size", str(path), "--out", str(tmp_path / "o"), "--quiet"]) == 0
+    got = pq.read_table(tmp_path / "o" / "sizing.parquet").to_pydict()
+    for name, col in table.columns.items():
+        np.testing.assert_array_equal(np.asarray(got[name], dtype=float), col.astype(float))
+    assert got["rejected"] == table.reasons()
