@@ -218,7 +218,7 @@ def test_a_written_candidate_rates_to_the_tables_numbers(sized):
     k = int(table.ranked()[0])
     row = {n: v[k] for n, v in table.columns.items()}
     case, rating = _rated_case(jio.candidate_case_text(tables, spec, row, k))
-    close = lambda a, b: np.testing.assert_allclose(a, b, rtol=1e-9, atol=0)  # noqa: E731
+    close = lambda a, b: np.testing.assert_allclose(a, b, rtol=1e-9, atol=0)
     close(rating.pitting.S_H, [row["S_H1"], row["S_H2"]])
     close(rating.bending.S_F, [row["S_F1"], row["S_F2"]])
     close(rating.factors.K_v, row["K_v"])
@@ -349,7 +349,7 @@ def test_the_table_as_parquet_equals_the_csv(request, tmp_path):
     """Where pyarrow is installed, sizing.parquet holds the table (read back column by
     column)."""
     pq = pytest.importorskip("pyarrow.parquet")
-    spec, tables, table = request.getfixturevalue("sized")
+    table = request.getfixturevalue("sized")[2]
     path = tmp_path / "small.toml"
     path.write_text(_toml(SPEC))
     assert main(["size", str(path), "--out", str(tmp_path / "o"), "--quiet"]) == 0

@@ -131,8 +131,8 @@ __all__ = [
     "parse_rating",
     "parse_train_rating",
     "rating_of",
-    "rating_speed",
     "rating_settings",
+    "rating_speed",
     "ratings_of",
     "ring_cutter",
 ]

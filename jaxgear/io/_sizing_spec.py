@@ -195,7 +195,6 @@ def parse_sizing_spec(data: dict) -> tuple[SizingSpec, dict]:
     refuse_unread_material(data["material"], [MaterialRatingKeys.of_mesh(
         data["material"]).treatment_names()])
     rt = rating.keys()
-    grade = rt.accuracy_grade
     settings, operating, _, _ = rating_settings(
         rt, data["material"], {"torque_Nm": op.torque(), "speed_rpm": op.speed_rpm},
         mat.material(), lambda g: _grade_only(g), modification_inputs(
@@ -318,8 +317,8 @@ def candidate_case_text(tables: dict, spec: SizingSpec, row: dict, index: int) -
         f"name = {_toml_value(name)}",
         "[pair]",
         f"normal_module_mm = {_toml_value(float(row['normal_module_m']) * 1e3)}",
-        "normal_pressure_angle_deg = "
-        f"{_toml_value(float(deg('normal_pressure_angle_deg', spec.normal_pressure_angle)))}",
+        ("normal_pressure_angle_deg = "
+         f"{_toml_value(float(deg('normal_pressure_angle_deg', spec.normal_pressure_angle)))}"),
         f"helix_angle_deg = {_toml_value(float(deg('helix_angle_deg', spec.helix_angle)))}",
     ]
     for tag, z, x in (("pinion", "z1", "x1"), ("gear", "z2", "x2")):

@@ -107,8 +107,7 @@ def enumerate_candidates(spec: SizingSpec) -> Candidates:
         keep = ok
         if spec.centre_distance is not None:
             keep = keep & (centre >= spec.centre_distance[0]) & (centre <= spec.centre_distance[1])
-    b_min, b_max = spec.face_width
-    b = np.full(z1.shape, float(b_max))
+    b = np.full(z1.shape, float(spec.face_width[1]))
     if spec.face_width_ratio is not None:
         b = np.minimum(b, spec.face_width_ratio * d1)
     out = Candidates(m, z1.astype(int), z2.astype(int), x1, x2, b, centre)
