@@ -3,8 +3,8 @@
 6336 rating) against a loop over the candidates of the same formulas in NumPy, one candidate at
 a time, in one process so that the ratio holds under any load.
 
-The NumPy loop is the library's own code evaluated by NumPy: the modules the candidate's
-evaluation runs through (the rating, its geometry and tooth form, the ISO 1328-1 tolerances,
+The NumPy loop is the library's own code evaluated by NumPy (``jaxgear.sizing.candidate_outputs``,
+one candidate): the modules the candidate's evaluation runs through (the rating, its geometry and tooth form, the ISO 1328-1 tolerances,
 the sizing's candidate function) have their ``jax.numpy`` name pointed at NumPy for the loop,
 so it computes the very formulas the batched program compiles, on NumPy scalars, with no JAX
 dispatch (a careful hand port would do the same operations; it would not be faster by more
@@ -88,13 +88,9 @@ def main(path: pathlib.Path = OUT) -> None:
         runs.append(time.perf_counter() - t)
     batched = min(runs)
     # the NumPy loop: the same candidate function, one candidate at a time, NumPy inside
-    from jaxgear.sizing import _size
-
     cands = js.enumerate_candidates(spec)
-    static = (spec.normal_pressure_angle, spec.helix_angle, spec.addendum_coeff,
-              spec.dedendum_coeff, spec.fillet_radius_coeff, spec.settings.accuracy.grade,
-              spec.tip_thickness_min)
     settings, operating = jax.tree_util.tree_map(np.asarray, (spec.settings, spec.operating))
+    spec_np = dataclasses.replace(spec, settings=settings, operating=operating)
     k = min(LOOP, n)
     loop_runs, outs = [], None
     with numpy_formulas():
@@ -102,10 +98,9 @@ def main(path: pathlib.Path = OUT) -> None:
             t = time.perf_counter()
             rows = []
             for i in range(k):
-                c = {"m": cands.normal_module[i], "z1": float(cands.z1[i]),
-                     "z2": float(cands.z2[i]), "x1": cands.x1[i], "x2": cands.x2[i],
-                     "b": cands.face_width[i]}
-                rows.append(_size._one(c, static, settings, operating)[0])
+                rows.append(js.candidate_outputs(
+                    spec_np, cands.normal_module[i], float(cands.z1[i]), float(cands.z2[i]),
+                    cands.x1[i], cands.x2[i], cands.face_width[i])[0])
             loop_runs.append(time.perf_counter() - t)
             outs = np.array(rows)
     ref = np.stack([table.columns[name][:k] for name in js.OUTPUTS], axis=1)

@@ -19,6 +19,7 @@ from ._size import (
     OUTPUTS as OUTPUTS,
     SizingTable as SizingTable,
     blank_mass as blank_mass,
+    candidate_outputs as candidate_outputs,
     size as size,
 )
 from ._spec import (

@@ -19,7 +19,8 @@ from ..rating import GearAccuracy, TracedTeethRatingGeometry, rate
 from ._candidates import Candidates, enumerate_candidates
 from ._spec import SizingSpec
 
-__all__ = ["CHECKS", "GEOMETRIC", "OUTPUTS", "SizingTable", "blank_mass", "size"]
+__all__ = ["CHECKS", "GEOMETRIC", "OUTPUTS", "SizingTable", "blank_mass", "candidate_outputs",
+           "size"]
 
 #: every check a candidate may fail, in the order the reasons are listed: name → what it asks
 CHECKS = {
@@ -56,6 +57,33 @@ def blank_mass(tip_diameter, root_diameter, face_width, density):
     with the teeth as half the annulus up to the tip (the teeth fill about half the ring
     between the root and tip circles), ρ b π (d_a² + d_f²)/8; no bore, web or hub."""
     return density * face_width * jnp.pi * (tip_diameter**2 + root_diameter**2) / 8
+
+
+def _static(spec: SizingSpec) -> tuple:
+    """The values of ``spec`` that shape the compiled program (angles, rack, grade, tip
+    thickness limit)."""
+    return (spec.normal_pressure_angle, spec.helix_angle, spec.addendum_coeff,
+            spec.dedendum_coeff, spec.fillet_radius_coeff, spec.settings.accuracy.grade,
+            spec.tip_thickness_min)
+
+
+def candidate_outputs(spec: SizingSpec, normal_module, z1, z2, x1, x2, face_width):
+    """One candidate's outputs and checks, the function :func:`size` maps over the candidates
+    (``jax.numpy``: traceable; called eagerly it rates one candidate).
+
+    Args:
+        spec: the :class:`SizingSpec` (its angles, rack, settings and operating point).
+        normal_module: m_n (m). z1, z2: the tooth counts (floats, whole numbers). x1, x2: the
+            profile shifts. face_width: b (m), both gears.
+
+    Returns:
+        (outputs, passed): outputs (len(:data:`OUTPUTS`),) in that order (SI; the rating's
+        entries meaningless where the geometry is invalid); passed, booleans of the checks
+        of :data:`CHECKS` but ``face_width`` and ``outer_diameter`` (the space limits
+        :func:`size` reads off the table), in that order, True where passed.
+    """
+    c = {"m": normal_module, "z1": z1, "z2": z2, "x1": x1, "x2": x2, "b": face_width}
+    return _one(c, _static(spec), spec.settings, spec.operating)
 
 
 def _one(c, spec_static, settings, operating):
@@ -164,7 +192,7 @@ def size(spec: SizingSpec, *, chunk: int = 2048,
 
     Args:
         spec: the :class:`SizingSpec`.
-        chunk: candidates per call of the compiled program (memory: about 20 kB each); every
+        chunk: candidates per call of the compiled program (its memory grows with it); every
             call takes a whole chunk (one compiled shape): the last is padded with copies of
             the last candidate and the copies dropped.
         progress: called as ``progress(done, total)`` after each chunk, or None.
@@ -179,9 +207,7 @@ def size(spec: SizingSpec, *, chunk: int = 2048,
         raise ValueError(f"size: chunk = {chunk!r} is out of range: allowed an integer >= 1")
     cands = enumerate_candidates(spec)
     n = len(cands)
-    static = (spec.normal_pressure_angle, spec.helix_angle, spec.addendum_coeff,
-              spec.dedendum_coeff, spec.fillet_radius_coeff, spec.settings.accuracy.grade,
-              spec.tip_thickness_min)
+    static = _static(spec)
     fields = {"m": cands.normal_module, "z1": cands.z1.astype(float),
               "z2": cands.z2.astype(float), "x1": cands.x1, "x2": cands.x2,
               "b": cands.face_width}
