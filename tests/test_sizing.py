@@ -258,6 +258,12 @@ def test_jaxgear_size_writes_the_table_and_a_candidate(sized, tmp_path, capsys):
         row["S_H1"], row["S_F2"], row["mass_kg"]]  # full precision in the CSV
     assert main(["size", str(path), "--out", str(out), "--write", "100000"]) == 2
     assert "--write 100000: out of range, allowed a candidate row 0" in capsys.readouterr().err
+    bad = int(np.flatnonzero(np.isnan(table.columns["S_H1"]))[0])  # an undercut pinion
+    assert main(["size", str(path), "--out", str(tmp_path / "o2"), "--write", str(bad),
+                 "--quiet"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and f"--write {bad}: candidate {bad} has no valid geometry (" in err[0]
+    assert not (tmp_path / "o2").exists()
 
 
 def _toml(data) -> str:

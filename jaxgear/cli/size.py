@@ -92,6 +92,15 @@ def run_size(args) -> int:
     seconds = time.perf_counter() - t0
     ranked = table.ranked()
     cols = table.columns
+    if args.write is not None:
+        geometric = [k for k in sizing.GEOMETRIC
+                     if table.failed[args.write, list(sizing.CHECKS).index(k)]]
+        if geometric:
+            raise ValueError(
+                f"--write {args.write}: candidate {args.write} has no valid geometry "
+                f"({', '.join(geometric)}): its case file would not load; allowed a candidate "
+                "that fails none of " + ", ".join(sizing.GEOMETRIC) + " (sizing.csv's rejected "
+                "column; nothing written)")
     summary = {
         "spec": tables["name"],
         "candidates": len(table),
