@@ -363,3 +363,25 @@ def test_the_table_as_parquet_equals_the_csv(request, tmp_path):
     for name, col in table.columns.items():
         np.testing.assert_array_equal(np.asarray(got[name], dtype=float), col.astype(float))
     assert got["rejected"] == table.reasons()
+
+
+@pytest.mark.parametrize("table,key,value,message", [
+    ("rating", "use_measured", ["K_Hbeta"], "[rating] use_measured: not read by a sizing"),
+    ("rating", "life_h", None, "[rating] life_h: missing required key"),
+    ("material", "sigma_H_lim_MPa", 5.0, "[material] sigma_H_lim_MPa = 5: out of range"),
+    ("operating", "speed_rpm", None, "[operating]"),
+    ("sizing", None, None, "[sizing]: missing required table"),
+])
+def test_the_case_tables_of_a_spec_are_the_case_readers(table, key, value, message):
+    """``[material]`` and ``[rating]`` refused as a case's are (their readers), the sizing's
+    own tables required."""
+    data = _spec()
+    if key is None:
+        del data[table]
+    elif value is None:
+        del data[table][key]
+    else:
+        data[table][key] = value
+    with pytest.raises(ValueError) as err:
+        jio.parse_sizing_spec(data)
+    assert str(err.value).startswith(message) and "\n" not in str(err.value), str(err.value)
