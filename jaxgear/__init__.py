@@ -8,8 +8,8 @@ ISO 1328 deviations and their Monte Carlo sampling. Each subpackage's names are 
 subpackage, which ``import jaxgear`` loads: :mod:`jaxgear.scenes` (structures),
 :mod:`jaxgear.dynamics` (runs, sweeps, modes, whine), :mod:`jaxgear.planetary` (planetary
 stages), :mod:`jaxgear.gearbox` (stages joined by shafts), :mod:`jaxgear.rating` (load capacity,
-ISO 6336); :mod:`jaxgear.tribology`, :mod:`jaxgear.acoustics` and the case files,
-:mod:`jaxgear.io`, are imported on their own. A name that left the top level still resolves here
+ISO 6336); :mod:`jaxgear.tribology`, :mod:`jaxgear.acoustics`, :mod:`jaxgear.sizing` (gear sizing from
+requirements) and the case files, :mod:`jaxgear.io`, are imported on their own. A name that left the top level still resolves here
 for one release, with a ``DeprecationWarning`` naming its home (``_MOVED_TO`` below). The
 application (:mod:`jaxgear.cli`) is not imported here.
 
@@ -50,6 +50,7 @@ from ._deviations import (
     hunting_revolutions as hunting_revolutions,
     iso1328_round as iso1328_round,
     iso1328_tolerances as iso1328_tolerances,
+    iso1328_tolerances_array as iso1328_tolerances_array,
     sample_gear_deviations as sample_gear_deviations,
 )
 from ._extended import (

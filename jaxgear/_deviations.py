@@ -46,6 +46,7 @@ __all__ = [
     "hunting_revolutions",
     "iso1328_round",
     "iso1328_tolerances",
+    "iso1328_tolerances_array",
     "sample_gear_deviations",
 ]
 
@@ -218,6 +219,54 @@ def iso1328_tolerances(
         return ISO1328Tolerances(
             **{k: float(rnd(v)) * 1e-6 for k, v in raw.items()}, grade=grade
         )
+
+
+#: the relative amount :func:`iso1328_tolerances_array` lifts a value before it rounds, so that
+#: a decimal tie (2.35 µm read in binary as 2.3499…) rounds up as the standard's decimal
+#: arithmetic does; far above float64's round-off of the formulas (1e-15) and far below any
+#: step of the rounding (0.1 µm in 5 µm: 2e-2)
+TIE_LIFT = 1e-11
+
+
+def _round_5_2_3_array(um):
+    """5.2.3's rounding (:func:`iso1328_round`) of an array of tolerances (µm), jnp: halves up
+    after a lift of :data:`TIE_LIFT` (a decimal tie read in binary)."""
+    v = um * (1 + TIE_LIFT)
+    return jnp.where(
+        v > 10, jnp.floor(v + 0.5), jnp.where(v >= 5, jnp.floor(2 * v + 0.5) / 2,
+                                              jnp.floor(10 * v + 0.5) / 10)
+    )
+
+
+def iso1328_tolerances_array(normal_module, reference_diameter, face_width, grade: int):
+    """The tolerances of ISO 1328-1:2013 the rating reads, as ``jax.numpy`` functions of the
+    dimensions (traceable, broadcasting over gears or candidates): f_pT (5), f_fαT (8) and
+    f_HβT (10) (m), rounded by 5.2.3, the formulas of :func:`iso1328_tolerances` in binary
+    floats (a decimal tie lifted by :data:`TIE_LIFT` so that it rounds up as there). Equal to
+    :func:`iso1328_tolerances` to the last bit or one ulp (the rounded µm value carried to m),
+    but where a value lies within 1e-11 of a rounding step without being on it. The standard's scope (m_n, d, b) is not checked (values may be traced): check
+    it where the dimensions are known (:data:`ISO1328_SCOPE`).
+
+    Args:
+        normal_module: m_n (m). reference_diameter: d (m). face_width: b (m); arrays that
+            broadcast. grade: the flank tolerance class A, a Python integer in [1, 11]
+            (static).
+
+    Returns:
+        (f_pT, f_fαT, f_HβT) in metres, each of the broadcast shape.
+
+    Raises:
+        ValueError: a grade that is not an integer in [1, 11].
+    """
+    if isinstance(grade, bool) or int(grade) != grade:
+        raise ValueError(f"ISO 1328-1 grade = {grade!r} is out of range: allowed an integer 1-11")
+    _check_scope("grade", int(grade))
+    step = float(_class_step(int(grade)))
+    m, d, b = normal_module * 1e3, reference_diameter * 1e3, face_width * 1e3
+    f_pt = (0.001 * d + 0.4 * m + 5) * step
+    f_fa = (0.55 * m + 5) * step
+    f_hb = (0.05 * jnp.sqrt(d) + 0.35 * jnp.sqrt(b) + 4) * step
+    return tuple(_round_5_2_3_array(v) * 1e-6 for v in (f_pt, f_fa, f_hb))
 
 
 def hunting_revolutions(teeth_pinion: int, teeth_gear: int) -> int:

@@ -30,6 +30,7 @@ MODEL_SUBPACKAGES = (
     "jaxgear.tribology",
     "jaxgear.acoustics",
     "jaxgear.io",
+    "jaxgear.sizing",
 )
 FORBIDDEN_IN_MODEL = (
     "argparse",

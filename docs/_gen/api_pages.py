@@ -29,6 +29,7 @@ PACKAGES = (
     ("jaxgear.gearbox", "jaxgear.gearbox.md", "stages joined by shafts: the chain, the coupled model, its Campbell diagram and housing spectrum"),
     ("jaxgear.tribology", "jaxgear.tribology.md", "lubricant film along the path of contact, tooth friction, mesh power loss and efficiency"),
     ("jaxgear.acoustics", "jaxgear.acoustics.md", "the housing's surface vibration, its equivalent radiated power (ERP) and radiated sound power from a cached radiation resistance, levels, A weighting"),
+    ("jaxgear.sizing", "jaxgear.sizing.md", "gear sizing: every (module, z1, z2) of a spec's ranges, its geometry, validity and ISO 6336 rating at once"),
     ("jaxgear.io", "jaxgear.io.md", "case files: names to objects, cases to models"),
     ("optimise", "optimise.md", "objectives, problems and minimisers"),
     ("fem_prep", "fem_prep.md", "meshing and condensation of gear bodies"),
@@ -126,6 +127,7 @@ SECTIONS = {
     ),
     "jaxgear.io": (
         ("Loading a case", ("_load", "_case_file", "_case", "_names", "_plausibility")),
+        ("A sizing spec and its candidates' case files", ("_sizing_spec",)),
         ("From a case to models", ("_case_model", "_scene_spec", "_scene_table", "_problem",
                                    "_acoustic_path",
                                    "_planetary_spec", "_train_file", "_gearbox_file")),

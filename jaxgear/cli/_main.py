@@ -1,4 +1,4 @@
-"""Command line: ``jaxgear run | cases | optimise | master-curve | sweep | modes | robust | bench | prep``.
+"""Command line: ``jaxgear run | cases | optimise | master-curve | sweep | modes | robust | size | bench | prep``.
 
 The command line is parsed and its options checked before the model is imported: this module
 imports neither JAX nor equinox, so that ``jaxgear --help``, ``--version``, a subcommand's

@@ -194,7 +194,19 @@ def _no_checks(args) -> None:
 
 
 #: each command's own checks (by its name on the command line); the others have none
+def _check_size(args) -> None:
+    """``jaxgear size``: the spec a file; ``--write`` and ``--top`` not negative (``--write``'s
+    upper bound follows the spec: checked once it is read)."""
+    if not os.path.isfile(args.spec):
+        raise ValueError(f"{args.spec}: no such sizing spec file")
+    for name in ("write", "top"):
+        v = getattr(args, name)
+        if v is not None and v < 0:
+            raise ValueError(f"--{name} {v}: out of range, allowed >= 0")
+
+
 _CHECKS = {
+    "size": _check_size,
     "robust": _check_robust,
     "optimise": _check_optimise,
     "master-curve": _check_master_curve,

@@ -53,6 +53,7 @@ COMMANDS = {
     "sweep": Command("jaxgear.cli.sweep:run_sweep"),
     "modes": Command("jaxgear.cli.modes:run_modes"),
     "robust": Command("jaxgear.cli.robust:run_robust"),
+    "size": Command("jaxgear.cli.size:run_size"),
     "bench": Command("jaxgear.cli.bench:run_bench"),
     "prep": Command("jaxgear.cli.bench:run_prep", jax=False),
 }
@@ -113,6 +114,7 @@ EXAMPLES = {
     "sweep": "jaxgear sweep my-case.toml --speeds-rpm 2000:30000:60   # or --speeds in rad/s",
     "modes": "jaxgear modes lin-parker-1999",
     "robust": "jaxgear robust accessory-spur --grade 6 --samples 100",
+    "size": "jaxgear size examples/sizing/helical.toml --out results/sizing --write 0",
     "optimise": "jaxgear optimise accessory-spur --vars tip_relief.depth,tip_relief.extent",
     "master-curve": "jaxgear master-curve accessory-spur --extents 0.1:0.5:9",
 }
@@ -374,6 +376,18 @@ def _add_robust(r) -> None:
     r.add_argument("--quiet", action="store_true", help="no summary line")
 
 
+def _add_size(s) -> None:
+    s.add_argument("spec", help="TOML sizing spec ([operating], [material], [rating], [sizing])")
+    s.add_argument("--out", help="output folder (default: jaxgear-out/<spec name>/size/)")
+    s.add_argument("--write", type=int, metavar="K",
+                   help="also write candidate K (a row of sizing.csv) as a case file, "
+                   "candidate_K.toml, that jaxgear run rates")
+    s.add_argument("--top", type=int, default=20,
+                   help="feasible candidates printed, lightest first (default: 20)")
+    s.add_argument("--force", action="store_true", help=FORCE_HELP)
+    s.add_argument("--quiet", action="store_true", help="no progress bar nor ranked list")
+
+
 #: each subcommand's one-line help (``jaxgear --help``) and, where it says more, description
 _HELP = {
     "run": (
@@ -409,6 +423,14 @@ _HELP = {
         "(--speed-rpm, --speeds-rpm, as the case files' speed_rpm).",
     ),
     "master-curve": ("Master Curve: optimal tip relief depth for each extent",),
+    "size": (
+        "gear sizing: every (module, z1, z2) of a spec's ranges rated (ISO 6336), the "
+        "feasible ones ranked by mass",
+        "Gear sizing from requirements: every (normal module, z1, z2) of the spec's ranges "
+        "within the ratio tolerance and the centre-distance window, its geometry, validity and "
+        "ISO 6336 rating, in one table (sizing.csv) with the reason each rejected candidate "
+        "fails; the feasible ones printed lightest first.",
+    ),
 }
 
 #: each subcommand's options, in the order ``jaxgear --help`` lists the subcommands
@@ -422,4 +444,5 @@ _ADDERS = {
     "robust": _add_robust,
     "optimise": _add_optimise,
     "master-curve": _add_master_curve,
+    "size": _add_size,
 }

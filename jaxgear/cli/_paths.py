@@ -111,6 +111,8 @@ OUTPUT_FILES: dict[str, tuple[str, ...]] = {
                   "microphones.png", "intensity.vtu", "intensity.png"),
     "master-curve": ("master_curve.json", "master_curve.png"),
     "robust": ("robust.json", "samples.csv", "robust_distributions.png", "robust_speed_bands.png"),
+    # jaxgear size: the table of every candidate, the summary, the --write case files
+    "size": ("sizing.csv", "sizing.parquet", "sizing.json", "candidate_*.toml"),
     "bench quasi-static": ("bench_quasi_static.json", "speed_accuracy_quasi_static.png"),
     "bench optimise": ("bench_optimise.json",),
     "bench dynamics": ("bench_dynamics.json", "stability_map.json", "stability_map.png"),

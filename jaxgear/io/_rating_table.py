@@ -131,6 +131,7 @@ __all__ = [
     "parse_rating",
     "parse_train_rating",
     "rating_of",
+    "rating_settings",
     "rating_speed",
     "ratings_of",
     "ring_cutter",
@@ -357,6 +358,32 @@ def _mesh_rating(
     resolved), ``mat`` (``[material]``, the mesh's per-gear values resolved) and ``op`` (its
     ``torque_Nm`` and speed), its ``[material]`` keys' use left to the caller (a train's or a
     stage's shared keys are read by some of its meshes only)."""
+    ca = rt.tip_relief_um
+    inputs = modification_inputs(None if ca is None else ca * 1e-6, modifications)
+    settings, operating, designation, hardness = rating_settings(
+        rt, mat, op, material, functools.partial(GearAccuracy.from_grade, pair), inputs
+    )
+    return RatingCase(
+        GEOMETRIES[type(pair)](pair),
+        operating,
+        settings,
+        tuple(rt.use_measured),
+        modification_inputs=inputs,
+        designation=designation,
+        surface_hardness=hardness,
+    )
+
+
+def rating_settings(rt: RatingKeys, mat: dict, op: dict, material: tuple[float, float, float],
+                    accuracy_of, inputs: dict) -> tuple:
+    """A mesh's :class:`jaxgear.rating.RatingSettings` and :class:`jaxgear.rating.OperatingPoint`
+    from its rating keys ``rt``, ``[material]`` (``mat``, its per-gear values resolved) and
+    ``[operating]`` (``op``: ``torque_Nm`` and the speed), ``material`` (E Pa, ν, ρ kg/m³),
+    ``accuracy_of(grade)`` (the :class:`jaxgear.rating.GearAccuracy` of ``[rating]
+    accuracy_grade``; a ``ValueError`` of it refused naming that key) and ISO's modification
+    ``inputs`` (:func:`modification_inputs`): what :func:`parse_rating` rates a case's pair
+    with, and what ``jaxgear size`` rates every candidate with (each with its own accuracy).
+    Returns (settings, operating, designation, surface hardness)."""
     for key in ("sigma_H_lim_MPa", "sigma_F_lim_MPa"):
         _need(mat, key, "material")
     for key in ("life_h", "viscosity_40C_mm2_s", "roughness_Rz_flank_um", "roughness_Rz_root_um"):
@@ -367,12 +394,10 @@ def _mesh_rating(
     designation, hardness = m.identity()
     treatment = m.treatment_of()
     speed = rating_speed(op)
-    ca = rt.tip_relief_um
-    inputs = modification_inputs(None if ca is None else ca * 1e-6, modifications)
     E, nu, rho = material
     grade = rt.accuracy_grade
     try:
-        accuracy = GearAccuracy.from_grade(pair, grade)
+        accuracy = accuracy_of(grade)
     except ValueError as err:  # outside ISO 1328-1's scope (module, diameter, face width)
         raise sc.fail("rating", "accuracy_grade", f"{err}", grade) from None
     settings = RatingSettings(
@@ -393,15 +418,7 @@ def _mesh_rating(
         crowning=inputs["crowning_m"],
     )
     torque = sc.number(op, "torque_Nm", "operating")
-    return RatingCase(
-        GEOMETRIES[type(pair)](pair),
-        OperatingPoint(torque, speed),
-        settings,
-        tuple(rt.use_measured),
-        modification_inputs=inputs,
-        designation=designation,
-        surface_hardness=hardness,
-    )
+    return settings, OperatingPoint(torque, speed), designation, hardness
 
 
 def check_rating(data: dict, pair: GearPair, material: tuple[float, float, float]

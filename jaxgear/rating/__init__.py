@@ -35,6 +35,7 @@ from ._factors import (
 from ._geometry import (
     AbstractRatingGeometry as AbstractRatingGeometry,
     RatingGeometry as RatingGeometry,
+    TracedTeethRatingGeometry as TracedTeethRatingGeometry,
 )
 from ._internal import (
     AbstractRootSection as AbstractRootSection,

@@ -13,6 +13,7 @@ Sources: ISO 21771:2007 (involute geometry, profile shift, operating pressure an
 from __future__ import annotations
 
 import abc
+import dataclasses
 from typing import NamedTuple
 
 import equinox as eqx
@@ -23,7 +24,7 @@ from .._geometry import GearPair, inverse_involute, involute
 from .._util import as_float, check_instance
 from ._bending import ToothFormFactors, member_form
 
-__all__ = ["AbstractRatingGeometry", "RatingGeometry"]
+__all__ = ["AbstractRatingGeometry", "RatingGeometry", "TracedTeethRatingGeometry"]
 
 
 class Derived(NamedTuple):
@@ -205,6 +206,48 @@ class RatingGeometry(AbstractRatingGeometry):
         """ISO 6336-1 method B's reduced mass per face width of the pair from the members'
         m* = π/8 ρ d_m⁴/d_b² (kg/m): m*₁ m*₂/(m*₁ + m*₂)."""
         return m_star[0] * m_star[1] / (m_star[0] + m_star[1])
+
+
+class TracedTeethRatingGeometry(RatingGeometry):
+    """An external pair's rating geometry whose tooth counts are an array leaf, ``teeth``
+    (z1, z2) as floats of shape (2,), instead of :class:`RatingGeometry`'s static integers: the
+    same fields and formulas otherwise, so that :func:`jax.vmap` maps :func:`jaxgear.rating.rate`
+    over candidates of different tooth counts and one compiled program rates them all (the
+    static counts compile one program per pair). The counts are whole numbers still (the
+    formulas are ISO's for integer teeth); nothing here checks them (they may be traced): build
+    each candidate from a valid pair, as :class:`jaxgear.GearPair` would check it. Its rating
+    equals :class:`RatingGeometry`'s of the same pair to round-off (XLA folds the static counts
+    into constants, which may move the last bits).
+
+    :meth:`of` builds it from a :class:`jaxgear.GearPair`; :meth:`of_geometry` from a
+    :class:`RatingGeometry`. A gradient of the rating with respect to the geometry then has a
+    (meaningless) component for ``teeth``: differentiate with respect to the other fields.
+    """
+
+    teeth: Float[Array, 2]
+
+    def __check_init__(self):
+        """``teeth`` of shape (2,) (one line naming it); its values are not checked."""
+        shape = jnp.shape(self.teeth)
+        if shape != (2,):
+            raise ValueError(
+                f"TracedTeethRatingGeometry: teeth of shape {shape} is out of range: allowed "
+                "(2,), the tooth counts (z1, z2)"
+            )
+
+    @classmethod
+    def of(cls, pair: GearPair) -> TracedTeethRatingGeometry:
+        """The parameters of ``pair`` (as :meth:`RatingGeometry.of`), its teeth an array."""
+        check_instance("pair", pair, GearPair, "a jaxgear.GearPair", "TracedTeethRatingGeometry.of")
+        return cls.of_geometry(RatingGeometry.of(pair))
+
+    @classmethod
+    def of_geometry(cls, geometry: RatingGeometry) -> TracedTeethRatingGeometry:
+        """``geometry``'s fields with its tooth counts as a float array (2,)."""
+        check_instance("geometry", geometry, RatingGeometry, "a jaxgear.rating.RatingGeometry",
+                       "TracedTeethRatingGeometry.of_geometry")
+        fields = {f.name: getattr(geometry, f.name) for f in dataclasses.fields(geometry)}
+        return cls(**(fields | {"teeth": as_float(fields["teeth"])}))
 
 
 def pair_derived(p, sign: float) -> Derived:

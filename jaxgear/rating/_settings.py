@@ -12,7 +12,7 @@ import equinox as eqx
 import jax.numpy as jnp
 from jaxtyping import Array, Float
 
-from .._deviations import iso1328_tolerances
+from .._deviations import iso1328_tolerances, iso1328_tolerances_array
 from .._geometry import GearPair
 from .._util import as_float, check_instance, check_real
 from ._iso6336 import Edition2019
@@ -153,7 +153,8 @@ class GearAccuracy(eqx.Module):
     """The deviations of the load factors (m): ``base_pitch`` f_pb, ``profile_form`` f_fα and
     ``helix_slope`` f_Hβ (each the larger of the two gears'), and the ISO 1328-1 flank
     tolerance class ``grade`` (static; Y_DT and the report). :meth:`from_grade` takes them from
-    the tolerances of ISO 1328-1:2013 (f_pb = f_pT, f_fα = f_fαT, f_Hβ = f_HβT)."""
+    the tolerances of ISO 1328-1:2013 (f_pb = f_pT, f_fα = f_fαT, f_Hβ = f_HβT) of a pair;
+    :meth:`from_dimensions` the same from the gears' dimensions as arrays (traceable)."""
 
     base_pitch: Float[Array, ""]
     profile_form: Float[Array, ""]
@@ -175,6 +176,38 @@ class GearAccuracy(eqx.Module):
             base_pitch=as_float(max(t.single_pitch for t in tol)),
             profile_form=as_float(max(t.profile_form for t in tol)),
             helix_slope=as_float(max(t.helix_slope for t in tol)),
+            grade=int(grade),
+        )
+
+
+    @classmethod
+    def from_dimensions(cls, normal_module, reference_diameter, face_width,
+                        grade: int) -> GearAccuracy:
+        """:meth:`from_grade` from the gears' dimensions as ``jax.numpy`` values (traceable:
+        one program for a batch of candidates under :func:`jax.vmap`):
+        :func:`jaxgear.iso1328_tolerances_array`, the larger of the two gears' each.
+
+        Args:
+            normal_module: m_n (m), a scalar. reference_diameter: (d1, d2) (m), shape (2,).
+            face_width: (b1, b2) (m), shape (2,). grade: the flank tolerance class, a Python
+                integer 1-11 (static).
+
+        Returns:
+            The accuracy, equal to :meth:`from_grade`'s of the same pair (but where a
+            tolerance lies within 1e-11 of a rounding step of ISO 1328-1 5.2.3 without being
+            on it). The standard's scope (m_n, d, b) is not checked here (values may be
+            traced).
+
+        Raises:
+            ValueError: a grade that is not an integer in [1, 11].
+        """
+        f_pt, f_fa, f_hb = iso1328_tolerances_array(
+            normal_module, as_float(reference_diameter), as_float(face_width), grade
+        )
+        return cls(
+            base_pitch=jnp.max(f_pt),
+            profile_form=jnp.max(f_fa * jnp.ones(2)),
+            helix_slope=jnp.max(f_hb),
             grade=int(grade),
         )
 

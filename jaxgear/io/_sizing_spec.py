@@ -1,0 +1,340 @@
+"""A sizing spec file (``jaxgear size SPEC.toml``): what a designer knows before the gears,
+checked whole before any work and mapped to :class:`jaxgear.sizing.SizingSpec`; and a
+candidate of the result written as a case file that ``jaxgear run`` rates
+(:func:`candidate_case_text`).
+
+Tables (file units in the key names)::
+
+    name = "helical-reducer"
+    [operating]
+    torque_Nm = 500.0               # the pinion's torque, (0, 1e7]; or
+    power_kW = 78.5                 # the power, (0, 1e5] kW (T₁ = P/ω₁); one of the two
+    speed_rpm = 1500.0              # the pinion's speed, (0, 1e6] 1/min
+    [material]                      # a case file's [material] (σ_Hlim, σ_Flim, treatment, E,
+                                    # ν, ρ; jaxgear.io._rating_table)
+    [rating]                        # a case file's [rating]: life_h, application_factor,
+                                    # min_safety_pitting, min_safety_bending (the feasibility
+                                    # limits), lubricant, roughness, accuracy_grade, edition
+    [sizing]
+    ratio = 3.5                     # target u = z2/z1, [1, 20]
+    ratio_tolerance_percent = 2.0   # |z2/z1 − u| <= tolerance · u, [0, 20], default 2
+    normal_module_min_mm = 2.0      # the modules searched: ISO 54's series between these,
+    normal_module_max_mm = 6.0      # [1, 50] mm
+    module_series = "first"         # "first" | "second" | "both" (ISO 54's choices)
+    z1_min = 17                     # the pinion teeth searched, [5, 300]
+    z1_max = 35
+    normal_pressure_angle_deg = 20.0    # (10, 35), default 20
+    helix_angle_deg = 15.0          # [0, 40), default 0
+    profile_shift = [0.2, 0.0]      # x1, x2, each [-1, 2], default [0, 0]; with a fixed
+                                    # centre distance x2 follows from it (x1 given)
+    addendum_coeff = 1.0            # the basic rack: h_aP/m_n (0, 2], h_fP/m_n (0, 2],
+    dedendum_coeff = 1.25           # ρ_fP/m_n [0, dedendum_coeff); defaults 1, 1.25, 0.38
+    fillet_radius_coeff = 0.38
+    centre_distance_mm = 150.0      # fixed, (0, 1e5]; or a window:
+    centre_distance_min_mm = 120.0  # centre_distance_min_mm, centre_distance_max_mm
+    profile_shift_sum_min = -1.0    # with a fixed centre distance: the sums x1 + x2 allowed,
+    profile_shift_sum_max = 2.0     # [-3, 5], defaults -1 and 2
+    face_width_min_mm = 10.0        # [4, 1200], default 4 (ISO 1328-1's scope)
+    face_width_max_mm = 80.0        # [4, 1200], required
+    face_width_ratio_max = 0.8      # the largest b/d1, (0, 3]; optional
+    outer_diameter_max_mm = 400.0   # the largest tip diameter, (0, 1e5]; optional
+    tip_thickness_min = 0.2         # the least normal tip thickness / m_n, [0, 1], default 0.2
+
+Each candidate's face width is the widest allowed, min(face_width_max_mm, face_width_ratio_max
+d1). A spec that can give no candidate (no tooth counts within the ratio tolerance, none in the
+centre-distance window, no module of the series between the bounds) is refused in one line
+naming the key, before any work.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import tomllib
+from typing import Any, ClassVar, Literal
+
+import pydantic
+
+from fem_prep import schema as sc
+
+from .._util import as_float
+from ..sizing import SizingSpec, enumerate_candidates, module_series, ratio_pairs
+from ._case_file import MaterialSection
+from ._rating_inputs import modification_inputs
+from ._rating_material_table import MaterialRatingKeys, refuse_unread_material
+from ._rating_table import RatingSection, rating_settings
+from ._sections import Section, number, number_list
+
+__all__ = ["SizingSection", "SpecOperating", "candidate_case_text", "load_sizing_spec",
+           "parse_sizing_spec"]
+
+RPM = math.pi / 30
+
+
+class SpecOperating(Section):
+    """A sizing spec's ``[operating]``: the pinion's torque or the power, and its speed."""
+
+    WHERE: ClassVar[str] = "operating"
+    torque_Nm: number("(0, 1e+07]") | None = None
+    power_kW: number("(0, 1e+05]") | None = None
+    speed_rpm: number("(0, 1e+06]")
+
+    @pydantic.model_validator(mode="after")
+    def _one_load(self):
+        if (self.torque_Nm is None) == (self.power_kW is None):
+            raise sc.fail("operating", "torque_Nm", "give one of torque_Nm or power_kW",
+                          self.torque_Nm if self.torque_Nm is not None else sc.MISSING)
+        return self
+
+    def torque(self) -> float:
+        """T₁ (N·m): the given torque, or P/ω₁."""
+        if self.torque_Nm is not None:
+            return self.torque_Nm
+        return self.power_kW * 1e3 / (self.speed_rpm * RPM)
+
+
+class SizingSection(Section):
+    """A sizing spec's ``[sizing]`` (module docstring): the ratio, the ranges searched, the
+    basic rack, the limits; each key's range declared here, the relations between keys in
+    :meth:`_related`."""
+
+    WHERE: ClassVar[str] = "sizing"
+    ratio: number("[1, 20]")
+    ratio_tolerance_percent: number("[0, 20]") = 2.0
+    normal_module_min_mm: number("[1, 50]")
+    normal_module_max_mm: number("[1, 50]")
+    module_series: Literal["first", "second", "both"] = "first"
+    z1_min: number("[5, 300]", integer=True)
+    z1_max: number("[5, 300]", integer=True)
+    normal_pressure_angle_deg: number("(10, 35)") = 20.0
+    helix_angle_deg: number("[0, 40)") = 0.0
+    profile_shift: number_list("[-1, 2]", length=2) = pydantic.Field(
+        default_factory=lambda: [0.0, 0.0])
+    addendum_coeff: number("(0, 2]") = 1.0
+    dedendum_coeff: number("(0, 2]") = 1.25
+    fillet_radius_coeff: number("[0, 2)") = 0.38
+    centre_distance_mm: number("(0, 1e+05]") | None = None
+    centre_distance_min_mm: number("(0, 1e+05]") | None = None
+    centre_distance_max_mm: number("(0, 1e+05]") | None = None
+    profile_shift_sum_min: number("[-3, 5]") = -1.0
+    profile_shift_sum_max: number("[-3, 5]") = 2.0
+    face_width_min_mm: number("[4, 1200]") = 4.0
+    face_width_max_mm: number("[4, 1200]")
+    face_width_ratio_max: number("(0, 3]") | None = None
+    outer_diameter_max_mm: number("(0, 1e+05]") | None = None
+    tip_thickness_min: number("[0, 1]") = 0.2
+
+    @pydantic.model_validator(mode="after")
+    def _related(self):
+        w = self.WHERE
+        for lo, hi in (("normal_module_min_mm", "normal_module_max_mm"), ("z1_min", "z1_max"),
+                       ("face_width_min_mm", "face_width_max_mm"),
+                       ("centre_distance_min_mm", "centre_distance_max_mm"),
+                       ("profile_shift_sum_min", "profile_shift_sum_max")):
+            a, b = getattr(self, lo), getattr(self, hi)
+            if a is not None and b is not None and b < a:
+                raise sc.fail(w, hi, f"below {lo} = {sc.fmt(a)}: an empty range", b)
+        window = (self.centre_distance_min_mm, self.centre_distance_max_mm)
+        if self.centre_distance_mm is not None and any(v is not None for v in window):
+            raise sc.fail(w, "centre_distance_mm", "give a fixed centre distance or a window "
+                          "(centre_distance_min_mm, centre_distance_max_mm), not both",
+                          self.centre_distance_mm)
+        if (window[0] is None) != (window[1] is None):
+            given = "centre_distance_min_mm" if window[0] is not None else "centre_distance_max_mm"
+            raise sc.fail(w, given, "a window needs both centre_distance_min_mm and "
+                          "centre_distance_max_mm", window[0] if window[0] is not None
+                          else window[1])
+        if not self.fillet_radius_coeff < self.dedendum_coeff:
+            raise sc.fail(w, "fillet_radius_coeff", "out of range, allowed [0, dedendum_coeff = "
+                          f"{sc.fmt(self.dedendum_coeff)})", self.fillet_radius_coeff)
+        if self.face_width_ratio_max is not None:
+            d_most = self.z1_max * self.normal_module_max_mm / math.cos(
+                math.radians(self.helix_angle_deg))
+            if self.face_width_ratio_max * d_most < self.face_width_min_mm:
+                raise sc.fail(w, "face_width_ratio_max", "below face_width_min_mm = "
+                              f"{sc.fmt(self.face_width_min_mm)} / the largest pinion diameter "
+                              f"{sc.fmt(d_most)} mm: every face width too narrow",
+                              self.face_width_ratio_max)
+        if self.outer_diameter_max_mm is not None:
+            d_least = (self.z1_min * self.ratio * (1 - self.ratio_tolerance_percent / 100)
+                       * self.normal_module_min_mm / math.cos(math.radians(self.helix_angle_deg)))
+            if d_least >= self.outer_diameter_max_mm:
+                raise sc.fail(w, "outer_diameter_max_mm", "at or below the smallest gear's "
+                              f"reference diameter {sc.fmt(d_least)} mm the ranges allow",
+                              self.outer_diameter_max_mm)
+        return self
+
+
+#: the tables of a sizing spec
+SPEC_TABLES = ("operating", "material", "rating", "sizing")
+
+
+def parse_sizing_spec(data: dict) -> tuple[SizingSpec, dict]:
+    """Check a parsed spec (a dict, module docstring) whole and build the
+    :class:`jaxgear.sizing.SizingSpec`; returns it and the spec's tables (for
+    :func:`candidate_case_text`). Every refusal is one line naming the key, before any work;
+    a spec that can give no candidate is refused too (naming the key that empties it).
+
+    Raises:
+        SchemaError (a ``ValueError``): as above.
+    """
+    if not isinstance(data, dict):
+        raise sc.SchemaError(f"a sizing spec must be a table of tables, not {type(data).__name__}")
+    sc.check_keys(data, {"name", *SPEC_TABLES}, "")
+    sc.subtables(data, SPEC_TABLES, "")
+    for table in ("operating", "material", "rating", "sizing"):
+        if table not in data:
+            raise sc.SchemaError(f"[{table}]: missing required table", f"[{table}]")
+    sz = SizingSection.of_file(data, required=True)
+    op = SpecOperating.of_file(data, required=True)
+    mat = MaterialSection.of_file(data)
+    rating = RatingSection.of(data["rating"])
+    if rating.spectrum is not None or rating.use_measured:
+        key = "spectrum" if rating.spectrum is not None else "use_measured"
+        raise sc.fail("rating", key, "not read by a sizing (one operating point, ISO's factors)")
+    refuse_unread_material(data["material"], [MaterialRatingKeys.of_mesh(
+        data["material"]).treatment_names()])
+    rt = rating.keys()
+    settings, operating, _, _ = rating_settings(
+        rt, data["material"], {"torque_Nm": op.torque(), "speed_rpm": op.speed_rpm},
+        mat.material(), lambda g: _grade_only(g), modification_inputs(
+            None if rt.tip_relief_um is None else rt.tip_relief_um * 1e-6, None),
+    )
+    modules = module_series(sz.normal_module_min_mm * 1e-3, sz.normal_module_max_mm * 1e-3,
+                            sz.module_series)
+    if not modules:
+        raise sc.fail("sizing", "normal_module_max_mm", f"no module of ISO 54's "
+                      f"{sz.module_series} choice between normal_module_min_mm = "
+                      f"{sc.fmt(sz.normal_module_min_mm)} and this", sz.normal_module_max_mm)
+    if sz.centre_distance_mm is not None:
+        window = (sz.centre_distance_mm * 1e-3,) * 2
+    elif sz.centre_distance_min_mm is not None:
+        window = (sz.centre_distance_min_mm * 1e-3, sz.centre_distance_max_mm * 1e-3)
+    else:
+        window = None
+    spec = SizingSpec(
+        operating=operating,
+        settings=settings,
+        ratio=sz.ratio,
+        ratio_tolerance=sz.ratio_tolerance_percent / 100,
+        normal_modules=modules,
+        pinion_teeth=(sz.z1_min, sz.z1_max),
+        normal_pressure_angle=math.radians(sz.normal_pressure_angle_deg),
+        helix_angle=math.radians(sz.helix_angle_deg),
+        addendum_coeff=sz.addendum_coeff,
+        dedendum_coeff=sz.dedendum_coeff,
+        fillet_radius_coeff=sz.fillet_radius_coeff,
+        profile_shift=tuple(sz.profile_shift),
+        centre_distance=window,
+        profile_shift_sum=(sz.profile_shift_sum_min, sz.profile_shift_sum_max),
+        face_width=(sz.face_width_min_mm * 1e-3, sz.face_width_max_mm * 1e-3),
+        face_width_ratio=sz.face_width_ratio_max,
+        outer_diameter_max=None if sz.outer_diameter_max_mm is None
+        else sz.outer_diameter_max_mm * 1e-3,
+        tip_thickness_min=sz.tip_thickness_min,
+    )
+    _refuse_empty(spec, sz)
+    return spec, data
+
+
+def _grade_only(grade: int):
+    """The accuracy the spec's settings hold: the grade, the tolerances of no candidate (each
+    candidate is rated with its own, :meth:`jaxgear.rating.GearAccuracy.from_dimensions`)."""
+    from ..rating import GearAccuracy
+
+    return GearAccuracy(*(as_float(float("nan")),) * 3, int(grade))
+
+
+def _refuse_empty(spec: SizingSpec, sz: SizingSection) -> None:
+    """One line naming the key that leaves the spec no candidate."""
+    z1, _ = ratio_pairs(spec)
+    if z1.size == 0:
+        raise sc.fail("sizing", "ratio_tolerance_percent", "no tooth counts z1 in "
+                      f"[{sz.z1_min}, {sz.z1_max}] give a ratio z2/z1 within it of ratio = "
+                      f"{sc.fmt(sz.ratio)}: widen it or the z1 range", sz.ratio_tolerance_percent)
+    if len(enumerate_candidates(spec)) == 0:
+        if sz.centre_distance_mm is not None:
+            raise sc.fail("sizing", "centre_distance_mm", "no candidate reaches it with a "
+                          f"profile shift sum in [{sc.fmt(sz.profile_shift_sum_min)}, "
+                          f"{sc.fmt(sz.profile_shift_sum_max)}]", sz.centre_distance_mm)
+        raise sc.fail("sizing", "centre_distance_min_mm", "no candidate's centre distance lies "
+                      f"in [{sc.fmt(sz.centre_distance_min_mm)}, "
+                      f"{sc.fmt(sz.centre_distance_max_mm)}] mm", sz.centre_distance_min_mm)
+
+
+def load_sizing_spec(path: str) -> tuple[SizingSpec, dict]:
+    """Read and check the sizing spec file ``path`` (:func:`parse_sizing_spec`); returns the
+    spec and its tables (with ``name``: the file's, else the file name's stem).
+
+    Raises:
+        SchemaError (a ``ValueError``): a file that is not TOML, or as
+            :func:`parse_sizing_spec`. FileNotFoundError: no such file.
+    """
+    with open(path, "rb") as f:
+        try:
+            data = tomllib.load(f)
+        except tomllib.TOMLDecodeError as err:
+            raise sc.SchemaError(f"{path}: not a TOML file ({err})") from None
+    spec, tables = parse_sizing_spec(data)
+    name = tables.get("name") or os.path.splitext(os.path.basename(path))[0]
+    return spec, tables | {"name": str(name)}
+
+
+def _toml_value(v: Any) -> str:
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, int | float):
+        return repr(float(v)) if isinstance(v, float) else str(v)
+    if isinstance(v, str):
+        return '"' + v.replace("\\", "\\\\").replace('"', '\\"') + '"'
+    if isinstance(v, list | tuple):
+        return "[" + ", ".join(_toml_value(x) for x in v) + "]"
+    if isinstance(v, dict):
+        return "{ " + ", ".join(f"{k} = {_toml_value(x)}" for k, x in v.items()) + " }"
+    raise TypeError(f"no TOML value for {type(v).__name__}")
+
+
+def candidate_case_text(tables: dict, spec: SizingSpec, row: dict, index: int) -> str:
+    """The case file (TOML text) of one candidate of a sizing: ``[pair]``, ``[pinion]`` and
+    ``[gear]`` of the candidate (values written to full precision, so that ``jaxgear run``
+    rates the same numbers), the spec's ``[material]`` and ``[rating]``, ``[operating]`` the
+    pinion's torque and speed, and a light ``[mesh]`` (Weber stiffness) for the rest of the
+    run.
+
+    Args:
+        tables: the spec's tables (:func:`load_sizing_spec`). spec: its
+            :class:`jaxgear.sizing.SizingSpec`. row: the candidate's columns
+            (:class:`jaxgear.sizing.SizingTable`, one value each). index: its row number.
+    """
+    name = f"{tables.get('name', 'sizing')}-candidate-{index}"
+    sz, op = tables.get("sizing", {}), tables.get("operating", {})
+
+    def deg(key, radians):  # the spec's own value where it gave one (no round trip)
+        return sz.get(key, math.degrees(radians))
+    lines = [
+        f"# Candidate {index} of the sizing spec {tables.get('name', '')!r} (jaxgear size):",
+        "# the spec's material, rating and operating point; the geometry it enumerated.",
+        f"name = {_toml_value(name)}",
+        "[pair]",
+        f"normal_module_mm = {_toml_value(float(row['normal_module_m']) * 1e3)}",
+        ("normal_pressure_angle_deg = "
+         f"{_toml_value(float(deg('normal_pressure_angle_deg', spec.normal_pressure_angle)))}"),
+        f"helix_angle_deg = {_toml_value(float(deg('helix_angle_deg', spec.helix_angle)))}",
+    ]
+    for tag, z, x in (("pinion", "z1", "x1"), ("gear", "z2", "x2")):
+        lines += [
+            f"[{tag}]",
+            f"teeth = {int(row[z])}",
+            f"profile_shift = {_toml_value(float(row[x]))}",
+            f"addendum_coeff = {_toml_value(float(spec.addendum_coeff))}",
+            f"dedendum_coeff = {_toml_value(float(spec.dedendum_coeff))}",
+            f"fillet_radius_coeff = {_toml_value(float(spec.fillet_radius_coeff))}",
+            f"face_width_mm = {_toml_value(float(row['face_width_m']) * 1e3)}",
+        ]
+    lines += ["[operating]", f"torque_Nm = {_toml_value(float(spec.operating.torque))}",
+              f"speed_rpm = {_toml_value(float(op.get('speed_rpm', spec.operating.speed / RPM)))}"]
+    for table in ("material", "rating"):
+        lines.append(f"[{table}]")
+        lines += [f"{k} = {_toml_value(v)}" for k, v in tables[table].items()]
+    lines += ["[mesh]", 'stiffness = "weber"', "slices = 20", "positions_per_pitch = 16"]
+    return "\n".join(lines) + "\n"
