@@ -1,6 +1,6 @@
 """``jaxgear size SPEC.toml --out DIR``: every candidate of a sizing spec rated
 (:func:`jaxgear.sizing.size`), the table of them all written (``sizing.csv``; ``sizing.parquet``
-too where pyarrow is installed; ``sizing.json`` the spec's summary and the ranked feasible
+the same for queries; ``sizing.json`` the spec's summary and the ranked feasible
 candidates), the feasible ones printed lightest first; ``--write K`` writes candidate K (a
 row number of the table) as a case file, ``candidate_K.toml``, that ``jaxgear run`` rates to
 the same numbers (docs/sizing.md)."""
@@ -19,10 +19,7 @@ from ..io import SchemaError, atomic_open, candidate_case_text, load_sizing_spec
 from ._paths import check_foreign_files, check_output_dir, staged_outputs
 from ._progress import progress
 
-__all__ = ["SIZE_FILES", "run_size", "write_table"]
-
-#: the files ``jaxgear size`` writes into its folder (:data:`jaxgear.cli.OUTPUT_FILES`)
-SIZE_FILES = ("sizing.csv", "sizing.parquet", "sizing.json", "candidate_*.toml")
+__all__ = ["run_size", "write_table"]
 
 
 def write_table(path: str, table: sizing.SizingTable) -> None:
@@ -43,18 +40,16 @@ def write_table(path: str, table: sizing.SizingTable) -> None:
             w.writerow([*row, int(reasons[i] == ""), reasons[i]])
 
 
-def _write_parquet(path: str, table: sizing.SizingTable) -> bool:
-    """The table as Parquet (pyarrow), atomically, where pyarrow is installed; False without."""
-    try:
-        import pyarrow as pa
-        import pyarrow.parquet as pq
-    except ImportError:
-        return False
+def _write_parquet(path: str, table: sizing.SizingTable) -> None:
+    """The table as Parquet (pyarrow, imported here: the other commands never load it),
+    atomically."""
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
     data = {"candidate": np.arange(len(table))} | dict(table.columns)
     data |= {"feasible": table.feasible, "rejected": table.reasons()}
     with atomic_open(path, "wb") as f:
         pq.write_table(pa.table(data), f)
-    return True
 
 
 def _line(i: int, c: dict) -> str:
@@ -114,7 +109,7 @@ def run_size(args) -> int:
     }
     with staged_outputs(out, "size") as work:
         write_table(os.path.join(work, "sizing.csv"), table)
-        summary["parquet"] = _write_parquet(os.path.join(work, "sizing.parquet"), table)
+        _write_parquet(os.path.join(work, "sizing.parquet"), table)
         write_json(os.path.join(work, "sizing.json"), summary)
         if args.write is not None:
             k = args.write
