@@ -83,6 +83,16 @@ def test_run_case_summary_holds_versions_files_and_two_periods(tmp_path):
     assert {"max_contact_pressure_Pa", "contact_half_width_at_max_m"} <= set(q)
     ref = jg.quasi_static(case.mesh_model(), case.modifications, case.torque, positions_per_pitch=8)
     assert q["te_rms_m"] == pytest.approx(float(ref.te_rms), rel=1e-9)
+    # the case's tip relief (near the optimum, E = 15 µm, Γ = 0.25) more than halves the TE
+    # fluctuation (examples/quickstart.py, the slow tier's test_quickstart_example_runs)
+    assert float(ref.te_rms) < 0.5 * float(res.te_rms)
+    # the contact pressure: the summary's maximum is the largest value of its column in
+    # mesh_stiffness.csv (one field, two outputs), a Hertzian value for steel
+    assert 5e8 < q["max_contact_pressure_Pa"] < 2e9 and q["contact_half_width_at_max_m"] > 0
+    with open(tmp_path / "mesh_stiffness.csv", newline="") as f:
+        table = list(csv.DictReader(f))
+    column = [float(r["max_contact_pressure_exact_modified_Pa"]) for r in table]
+    assert max(column) == pytest.approx(q["max_contact_pressure_Pa"], rel=1e-9)
     t = summary["harris_map"]["torque_Nm"]
     assert t[0] == pytest.approx(0.1 * case.torque) and t[-1] == pytest.approx(2 * case.torque)
     with open(tmp_path / "te.csv", newline="") as f:
