@@ -115,6 +115,8 @@ def test_atomic_open_keeps_the_old_file_when_interrupted(tmp_path):
     assert target.read_text() == "new"
 
 
+# default tier: tests/test_readme_claims.py::test_run_case_summary_holds_versions_files_and_two_periods (the same run_case on accessory-spur at 2 slices: its files, the relief halving the TE RMS, the pressure column's maximum the summary's)
+@pytest.mark.slow
 def test_quickstart_example_runs(tmp_path):
     mod = load_example("quickstart")
     res = mod.main(str(tmp_path))

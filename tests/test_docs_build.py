@@ -1,7 +1,9 @@
 """The documentation site builds with warnings as errors (``mkdocs build --strict``: broken
 links, missing pages, unresolved API names and docstrings griffe cannot parse fail), and the
 generated pages hold what they are generated from: the case-file reference the validator's keys,
-the API pages the public names with their signatures. About 6 s."""
+the API pages the public names with their signatures. The build (about 15 s of CPU) is the slow
+tier's; the default tier checks the same pages and pictures on the Markdown the build reads
+(the configuration loaded by mkdocs with its plugins and hooks, in process)."""
 
 import os
 import pathlib
@@ -42,6 +44,8 @@ def site(tmp_path_factory):
     return out
 
 
+# default tier: tests/test_docs_build.py::test_navigation_pages_exist_and_the_configuration_loads (every page of the navigation, the configuration as mkdocs loads it)
+@pytest.mark.slow
 def test_strict_build_and_navigation(site):
     """Every section of the navigation is a page of the site."""
     for page in (
@@ -78,6 +82,8 @@ IMG = re.compile(r'<img[^>]*\bsrc="([^"]+)"')
 NO_FIGURE = {"stiffness_table": "stiffness/"}  # a table of mean mesh stiffnesses
 
 
+# default tier: tests/test_docs_build.py::test_example_pages_show_their_figures (the generated Markdown of each example's page)
+@pytest.mark.slow
 def test_every_example_has_a_page_with_its_figure(site):
     """Each script and notebook of examples/ has a page (generated, listed under Examples) that
     shows the figures it draws: a script's PNG files (docs/bench/, docs/img/), a notebook's
@@ -100,6 +106,8 @@ def test_every_example_has_a_page_with_its_figure(site):
         assert len(IMG.findall(html)) >= n, stem
 
 
+# default tier: tests/test_docs_build.py::test_every_picture_a_page_shows_is_a_file (the pictures of the Markdown pages)
+@pytest.mark.slow
 def test_every_image_of_the_site_exists(site):
     """Every picture a page shows is a file of the site (generated figures included)."""
     broken = []
@@ -112,6 +120,8 @@ def test_every_image_of_the_site_exists(site):
     assert not broken, broken
 
 
+# default tier: tests/test_docs_build.py::test_every_picture_a_page_shows_is_a_file (the guide's Markdown shows bench/planetary_campbell.png)
+@pytest.mark.slow
 def test_planetary_guide_shows_its_campbell_diagram(site):
     """The planetary guide page shows the Campbell diagram that examples/planetary_campbell.py
     draws."""
@@ -135,6 +145,8 @@ def test_outputs_reference_names_every_file_jaxgear_run_writes():
         assert f"`{folder}/`" in text, folder
 
 
+# default tier: tests/test_docs_build.py::test_generated_markdown_holds_keys_and_names (the Markdown the build renders)
+@pytest.mark.slow
 def test_generated_pages_hold_keys_and_signatures(site):
     """The case-file reference lists a key with its unit and range (``[pinion] face_width_mm``,
     required, > 0); the API page of jaxgear documents ``quasi_static`` with its signature and
@@ -218,3 +230,120 @@ def test_notebook_pages_show_their_stored_outputs(tmp_path):
     assert "![output 1](demo-1.png)" in text and "<Fig>" not in text
     assert figures == {"examples/demo-1.png": png}
     assert example_pages.notebook_page(path) == (title, text)
+
+
+def _nav_paths(nav) -> list[str]:
+    """The Markdown paths of a navigation (nested sections flattened)."""
+    if isinstance(nav, str):
+        return [nav]
+    if isinstance(nav, dict):
+        return [p for v in nav.values() for p in _nav_paths(v)]
+    return [p for item in nav for p in _nav_paths(item)]
+
+
+@pytest.fixture(scope="module")
+def markdown():
+    """The site's pages as the build reads them, without building it: the configuration
+    loaded and validated by mkdocs (its theme, plugins and hooks imported; the hooks' Examples
+    section in the navigation), the Markdown files of docs/ and the generated pages (the API
+    pages, a page per example) with the notebooks' stored figures."""
+    for module in ("mkdocs", "mkdocstrings", "material"):  # the [docs] extra (also in [test])
+        pytest.importorskip(module, reason=f'{module} is not installed (pip install -e ".[docs]")')
+    from mkdocs.config import load_config
+
+    from docs._gen import api_pages, example_pages
+
+    config = load_config(str(ROOT / "mkdocs.yml"))
+    config = config.plugins.on_config(config)
+    pages = {
+        str(p.relative_to(ROOT / "docs")): p.read_text(encoding="utf-8")
+        for p in (ROOT / "docs").rglob("*.md")
+        if "_gen" not in p.parts and p.parent.name != "bench"  # exclude_docs
+    }
+    pages.update(api_pages.pages())
+    pages.update({path: text for path, (_, text) in example_pages.pages().items()})
+    return config, pages, set(example_pages.figures())
+
+
+def test_navigation_pages_exist_and_the_configuration_loads(markdown):
+    """Every page of the navigation is a page of the site (a file of docs/ or a generated
+    page), the sections the strict build's test checks included."""
+    config, pages, _ = markdown
+    assert config["strict"] and config["docs_dir"] == str(ROOT / "docs")
+    nav = _nav_paths(config["nav"])
+    missing = [p for p in nav if p not in pages]
+    assert not missing, missing
+    for page in (
+        "getting-started", "guide/pair", "guide/modifications", "guide/dynamics",
+        "guide/trains", "guide/flexible", "guide/deviations", "guide/rating", "guide/planetary",
+        "reference/case-file", "reference/train-file", "reference/body-file",
+        "reference/outputs", "api/jaxgear", "api/jaxgear.scenes", "api/jaxgear.dynamics",
+        "api/jaxgear.io", "api/optimise", "api/fem_prep", "examples", "design", "benchmarks",
+        "changelog", "developers",
+    ):  # fmt: skip
+        assert f"{page}.md" in nav, page
+    # the hooks listed a page per example under Examples
+    for path in [*(ROOT / "examples").glob("*.py"), *(ROOT / "examples").glob("*.ipynb")]:
+        assert f"examples/{path.stem}.md" in nav, path.name
+
+
+MD_IMG = re.compile(r"!\[[^\]]*\]\(([^)\s]+)[^)]*\)|<img[^>]*\bsrc=\"([^\"]+)\"")
+
+
+def test_example_pages_show_their_figures(markdown):
+    """Each script and notebook of examples/ has a generated page that shows a figure (the
+    one example that writes a table links the page that holds it); the notebooks' pages show
+    every figure stored in them."""
+    _, pages, _ = markdown
+    missing = []
+    for path in [*(ROOT / "examples").glob("*.py"), *(ROOT / "examples").glob("*.ipynb")]:
+        text = pages[f"examples/{path.stem}.md"]
+        if path.stem in NO_FIGURE:
+            assert f"../{NO_FIGURE[path.stem].rstrip('/')}.md" in text, path.name
+        elif not MD_IMG.search(text):
+            missing.append(path.name)
+    assert not missing, f"example pages without a figure: {missing}"
+    assert "../bench/pressure_crowning.png" in pages["examples/pressure_crowning.md"]
+    for stem, n in (("master_curve", 3), ("thin_webbed_gear", 4)):
+        assert len(MD_IMG.findall(pages[f"examples/{stem}.md"])) >= n, stem
+
+
+def test_every_picture_a_page_shows_is_a_file(markdown):
+    """Every picture a Markdown page shows is a file of docs/ or a figure the hooks generate;
+    the planetary guide shows the Campbell diagram examples/planetary_campbell.py draws."""
+    _, pages, figures = markdown
+    broken = []
+    for path, text in pages.items():
+        for groups in MD_IMG.findall(text):
+            src = (groups[0] or groups[1]).split("#")[0]
+            if src.startswith(("http:", "https:", "data:")):
+                continue
+            target = (pathlib.PurePosixPath(path).parent / src).as_posix()
+            parts = []
+            for part in target.split("/"):
+                if part == "..":
+                    parts.pop() if parts else broken.append(f"{path}: {src}")
+                elif part not in ("", "."):
+                    parts.append(part)
+            target = "/".join(parts)
+            if not ((ROOT / "docs" / target).is_file() or target in figures):
+                broken.append(f"{path}: {src}")
+    assert not broken, broken
+    assert "../bench/planetary_campbell.png" in pages["guide/planetary.md"]
+
+
+def test_generated_markdown_holds_keys_and_names(markdown):
+    """The case-file reference lists a key with its unit and range; the API page of jaxgear
+    documents ``quasi_static`` and ``GearPair``; the griffe extension the configuration names
+    shows the docstrings' Sphinx roles as code."""
+    config, pages, _ = markdown
+    ref = pages["reference/case-file.md"]
+    assert "face_width_mm" in ref and "youngs_modulus_GPa" in ref and "[0.1, 10000]" in ref
+    api = pages["api/jaxgear.md"]
+    assert "::: jaxgear.quasi_static\n" in api and "::: jaxgear.GearPair\n" in api
+    handler = config["plugins"]["mkdocstrings"].config["handlers"]["python"]
+    assert "docs/_gen/griffe_roles.py:SphinxRoles" in handler["options"]["extensions"]
+    from docs._gen.griffe_roles import plain
+
+    text = "see :class:`~jaxgear.Weber`, :func:`jaxgear.quasi_static` and :attr:`x`"
+    assert plain(text) == "see `Weber`, `jaxgear.quasi_static` and `x`"

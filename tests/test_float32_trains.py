@@ -10,7 +10,7 @@ intermediate shaft numbered last (another elimination order; non-finite at 4 of 
 float32 and in float64, 447 and 416 of 1016 over the span), and an idler train of equal gears
 (exact cancellation: 5 of 8 positions in float32, 4 of 8 in float64).
 
-The float32 tests also run in a subprocess with XLA's CPU code limited to AVX2
+In the slow tier the float32 tests also run in a subprocess with XLA's CPU code limited to AVX2
 (``--xla_cpu_max_isa``, read when JAX starts), so that the suite covers both instruction sets.
 """
 
@@ -112,7 +112,9 @@ def test_idler_train_of_equal_gears(x64):
         np.testing.assert_allclose(m.transmission_error, ref.transmission_error, rtol=rtol)
 
 
-@pytest.mark.parametrize("tier", ["default", pytest.param("slow", marks=pytest.mark.slow)])
+# default tier: tests/test_float32_trains.py::test_free_two_stage_train_whatever_the_numbering (the same float32 solves, in process, on this CPU's instruction set)
+@pytest.mark.slow
+@pytest.mark.parametrize("tier", ["default", "slow"])
 def test_float32_tests_on_avx2(tier):
     """The float32 tests of :data:`FLOAT32_TESTS` pass with XLA's CPU code limited to AVX2 (a
     subprocess: the flag is read when JAX starts; without the compilation cache, whose entries

@@ -55,12 +55,16 @@ def _modules_after(statement: str) -> set[str]:
     return set(out.split())
 
 
+# the modules one import loads are among those its union with others loads: the union (one
+# interpreter) in the default tier, each statement alone (an interpreter each) in the slow tier
 @pytest.mark.parametrize(
     "statement",
     [
-        "import jaxgear",
-        "import jaxgear.scenes, jaxgear.dynamics",
-        "import optimise",
+        "import jaxgear, jaxgear.scenes, jaxgear.dynamics, optimise",
+        # default tier: tests/test_layout.py::test_model_and_optimise_load_no_application_module[import jaxgear, jaxgear.scenes, jaxgear.dynamics, optimise] (the union of these imports)
+        pytest.param("import jaxgear", marks=pytest.mark.slow),
+        pytest.param("import jaxgear.scenes, jaxgear.dynamics", marks=pytest.mark.slow),
+        pytest.param("import optimise", marks=pytest.mark.slow),
     ],
 )
 def test_model_and_optimise_load_no_application_module(statement):

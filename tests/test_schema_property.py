@@ -11,8 +11,8 @@ The stage after loading: mildly mutated train, deviation, backlash and ``[robust
 load are built (2 slices) and solved quasi-statically at 3 positions; only a one-line
 ``ValueError``, finite results or the solver's own result codes may come out.
 
-The default suite runs 300 derandomised examples per schema test and 10 of the model stage
-(reproducible; about a minute in all on a shared machine); the slow suite runs 10 000 per
+The default suite runs 100 derandomised examples per schema test and 10 of the model stage
+(reproducible; each key at each numeric extreme besides); the slow suite runs 10 000 per
 schema and 300 of the model stage with a fixed seed.
 """
 
@@ -117,7 +117,7 @@ STAGE_BASES = {
 }
 
 DEFAULT = settings(
-    max_examples=300,
+    max_examples=100,
     deadline=None,
     derandomize=True,
     database=None,
@@ -502,7 +502,7 @@ def test_mutated_bodies_give_a_body_or_one_schema_error(tmp, example):
     _check_body(*example, tmp)
 
 
-@DEFAULT
+@settings(DEFAULT, max_examples=300)  # cheap, and no slow twin
 @given(st.text(max_size=200) | st.binary(max_size=200))
 def test_random_text_gives_one_schema_error(tmp, text):
     raw = text.encode("utf-8", "surrogatepass") if isinstance(text, str) else text

@@ -109,6 +109,8 @@ def test_second_planetary_run_compiles_nothing_again(tmp_path):
     assert sweeps[0] == sweeps[1]
 
 
+# default tier: tests/test_xla_cache.py::test_a_program_is_written_and_read_back_in_process (the cache writes a program and reads it back with the same numbers) and ::test_import_compiles_nothing
+@pytest.mark.slow
 def test_second_planetary_sweep_compiles_nothing_again(tmp_path, no_figures):
     """``jaxgear sweep`` on lin-parker-1999 (2 speeds, an explicit plan of 4 periods of 64
     steps: the cache's behaviour does not depend on the plan's size, and the under-resolution
@@ -134,6 +136,78 @@ def test_second_planetary_sweep_compiles_nothing_again(tmp_path, no_figures):
         s.pop("elapsed_s")  # wall time of the sweep, the one entry that differs
     assert sweeps[0] == sweeps[1]
     assert sweeps[0]["campbell"] and sweeps[0]["ring_spectrum"]
+
+
+def test_a_program_is_written_and_read_back_in_process(monkeypatch):
+    """The persistent cache in this process (the suite's folder, tests/conftest.py; every
+    program written, as the CLI's :data:`MIN_COMPILE_SECS`): a program compiled once is written
+    (a cache miss), and the same program traced again from a new function object (nothing in
+    memory to reuse) is read back (a hit, no miss) and gives the same numbers. The CLI's runs
+    twice in subprocesses are the slow tier's."""
+    import uuid
+
+    import jax
+    import jax.numpy as jnp
+    from jax import monitoring
+
+    events = []
+
+    def listen(name, **kw):
+        events.append(name)
+
+    salt = 1.0 + uuid.uuid4().int % 10**6 / 10**7  # a program no earlier run wrote
+
+    def make():
+        def program(x):
+            return jnp.cumsum(jnp.sin(x) * salt) @ x
+
+        return jax.jit(program)
+
+    x = jnp.linspace(0.0, 1.0, 7)
+    before = jax.config.values["jax_persistent_cache_min_compile_time_secs"]
+    monitoring.register_event_listener(listen)
+    try:
+        jax.config.update("jax_persistent_cache_min_compile_time_secs", xc.MIN_COMPILE_SECS)
+        first = float(make()(x))
+        written = events.count(MISSES)
+        del events[:]
+        second = float(make()(x))
+    finally:
+        monitoring.unregister_event_listener(listen)
+        jax.config.update("jax_persistent_cache_min_compile_time_secs", before)
+    assert written == 1
+    assert events.count(HITS) == 1 and events.count(MISSES) == 0
+    assert second == first
+
+
+def test_enable_makes_the_default_folder_or_switches_off(monkeypatch, tmp_path):
+    """:func:`enable` (what the CLI calls before computing) with no setting makes the default
+    folder under the home's cache and gives it to JAX; ``JAXGEAR_XLA_CACHE=off`` makes none and
+    switches JAX's cache off. JAX's settings are put back after (the cache JAX opened first in
+    this process is the one it keeps)."""
+    import jax
+
+    keys = ("jax_compilation_cache_dir", "jax_enable_compilation_cache",
+            "jax_persistent_cache_min_compile_time_secs")  # fmt: skip
+    saved = {k: jax.config.values[k] for k in keys}
+    for name in ("JAXGEAR_XLA_CACHE", "JAX_COMPILATION_CACHE_DIR", "XDG_CACHE_HOME",
+                 "JAX_PERSISTENT_CACHE_MIN_COMPILE_TIME_SECS"):  # fmt: skip
+        monkeypatch.delenv(name, raising=False)
+    monkeypatch.setenv("HOME", str(tmp_path / "home"))
+    try:
+        jax.config.update("jax_compilation_cache_dir", None)
+        folder = tmp_path / "home" / ".cache" / "jaxgear" / "xla"
+        assert xc.enable() == folder and folder.is_dir()
+        assert jax.config.values["jax_compilation_cache_dir"] == str(folder)
+        assert jax.config.values["jax_persistent_cache_min_compile_time_secs"] == 0.0
+        monkeypatch.setenv("JAXGEAR_XLA_CACHE", "off")
+        monkeypatch.setenv("HOME", str(tmp_path / "home-off"))
+        assert xc.enable() is None
+        assert jax.config.values["jax_enable_compilation_cache"] is False
+        assert not (tmp_path / "home-off").exists()
+    finally:
+        for k, v in saved.items():
+            jax.config.update(k, v)
 
 
 def test_import_compiles_nothing():
@@ -263,6 +337,8 @@ def test_bench_cases_option(tmp_path, capsys):
     assert "--cases is an option of bench xla-cache" in capsys.readouterr().err
 
 
+# default tier: tests/test_xla_cache.py::test_enable_makes_the_default_folder_or_switches_off (the same folders, in process) and ::test_bad_bound_is_an_input_error (the CLI calls it)
+@pytest.mark.slow
 def test_cli_default_folder_and_off(tmp_path):
     """With no setting, a CLI command that computes makes the default folder under the home's
     cache (here a temporary home, the case not found after); ``JAXGEAR_XLA_CACHE=off`` makes
