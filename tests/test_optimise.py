@@ -112,6 +112,10 @@ def test_optimiser_reaches_the_grid_optimum_from_three_starts(problem):
     assert max(evals) < grid.size / 10  # far fewer evaluations than the 41×41 grid
 
 
+# default tier: tests/test_optimise.py::test_objective_gradients_match_central_differences
+# (robust_te_rms over torques, against differences) and
+# ::test_optimiser_reaches_the_grid_optimum_from_three_starts (the optimiser finds the optimum)
+@pytest.mark.slow
 @pytest.mark.filterwarnings("ignore:optimiser stopped at the iteration cap")
 def test_robust_design_beats_single_load_optimum_in_the_worst_case(case):
     torques = np.linspace(40.0, 120.0, 5)

@@ -238,6 +238,10 @@ def test_cli_settings_take_the_tribology_objectives(case):
         check_settings({**ok, "torques": None}, jio.load_case("accessory-spur"))
 
 
+# default tier: tests/test_optimise_tribology.py::test_power_loss_objective_is_the_sliding_loss_by_hand
+# (the example's power-loss objective by hand), tests/test_optimise_objects.py::
+# test_a_new_objective_is_one_class (its weighted sum: a new objective is one class)
+@pytest.mark.slow
 def test_te_vs_power_loss_example_front(tmp_path):
     """examples/te_vs_power_loss.py at a small size (7 × 7 designs, 16 positions, two weights,
     two L-BFGS steps): its front is the non-dominated set of its map (checked by brute force
