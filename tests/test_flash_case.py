@@ -17,7 +17,6 @@ import pytest
 import jaxgear.io as jio
 import jaxgear.tribology as tr
 from jaxgear.cli.run import run_case, run_lines
-from jaxgear.cli.run import tribology_outputs as cli_tribology_outputs
 
 EXAMPLE = pathlib.Path(__file__).resolve().parents[1] / "examples" / "fzg-c14-lubricated.toml"
 
@@ -74,14 +73,14 @@ def test_tribology_outputs_write_the_flash_temperature(tmp_path):
     maximum and the bulk temperature, near zero at the pitch point; S_λ the CSV's least λ over
     Figure A.1's; the run lines name both."""
     import jaxgear as jg
-    from jaxgear.cli.run import tribology_run_line
+    from jaxgear.cli.run import tribology_outputs, tribology_run_line
 
     data = _data(fzg_load_stage=10, micropitting_load_stage=8)
     data["mesh"] |= {"slices": 1, "positions_per_pitch": 16}
     case = jio.parse_case(data)
     res = jg.quasi_static(case.mesh_model(), case.modifications, case.torque,
                           positions_per_pitch=case.positions_per_pitch)
-    section = cli_tribology_outputs(case, str(tmp_path), res)
+    section = tribology_outputs(case, str(tmp_path), res)
     sc = section["scuffing"]
     on_disk = json.loads((tmp_path / "tribology.json").read_text())
     assert on_disk["scuffing"]["scuffing_safety_factor"] == pytest.approx(
