@@ -91,7 +91,7 @@ def test_safe_max_falls_back_to_the_first_maximum_where_no_element_equals_it(mon
     maximum is computed in a kernel that rounds differently from the elements compared with it
     (no element equals it: jnp.max's derivative divides by that count of 0 and is NaN),
     :func:`jaxgear.safe_max`'s derivative is the tangent at the first maximum (jnp.argmax).
-    The maximum here: jnp.max raised by 1e-9 of itself inside safe_max's module alone."""
+    The maximum here: jnp.max raised by 1e-9 (|max| + 1), inside safe_max's module alone."""
     import jaxgear._util as util
 
     class Rounded:  # jax.numpy, but a maximum that no element compares equal to
