@@ -65,6 +65,57 @@ def test_scuffing_keys_bad_input_one_line(change, match):
     assert "\n" not in str(err.value)
 
 
+def test_tribology_outputs_write_the_flash_temperature(tmp_path):
+    """The files ``jaxgear run`` writes of the scuffing and micropitting keys, from the
+    tribology outputs of the quasi-static result at the small size of
+    tests/test_micropitting_case.py (1 slice, 16 positions per pitch: its programs): θ_S from
+    the load stage, S_B from the files' own temperatures, the CSV's flash temperature its
+    maximum and the bulk temperature, near zero at the pitch point; S_λ the CSV's least λ over
+    Figure A.1's; the run lines name both."""
+    import jaxgear as jg
+    from jaxgear.cli.run import tribology_outputs, tribology_run_line
+
+    data = _data(fzg_load_stage=10, micropitting_load_stage=8)
+    data["mesh"] |= {"slices": 1, "positions_per_pitch": 16}
+    case = jio.parse_case(data)
+    res = jg.quasi_static(case.mesh_model(), case.modifications, case.torque,
+                          positions_per_pitch=case.positions_per_pitch)
+    section = tribology_outputs(case, str(tmp_path), res)
+    sc = section["scuffing"]
+    on_disk = json.loads((tmp_path / "tribology.json").read_text())
+    assert on_disk["scuffing"]["scuffing_safety_factor"] == pytest.approx(
+        sc["scuffing_safety_factor"])
+    oil = 75.0  # the example's oil temperature
+    assert sc["scuffing_temperature_C"] == pytest.approx(80.0 + 2.25 * 100.0)
+    assert sc["scuffing_safety_factor"] == pytest.approx(
+        (sc["scuffing_temperature_C"] - oil) / (sc["max_contact_temperature_C"] - oil)
+    )
+    with open(tmp_path / "tribology.csv") as f:
+        rows = list(csv.DictReader(f))
+    fl = np.array([float(r["flash_temperature_K"]) for r in rows])
+    tb = np.array([float(r["contact_temperature_C"]) for r in rows])
+    assert fl.max() == pytest.approx(sc["max_flash_temperature_K"], rel=1e-5)
+    np.testing.assert_allclose(tb - fl, sc["bulk_temperature_C"], rtol=1e-6)
+    s = np.array([float(r["s_m"]) for r in rows])
+    s_c = tr.pitch_point_roll(case.pair)
+    assert fl[np.argmin(np.abs(s - s_c))] < 0.05 * fl.max()
+    mp = section["micropitting"]
+    for key in ("min_specific_film", "safety_factor", "bulk_temperature_C"):
+        assert on_disk["micropitting"][key] == pytest.approx(mp[key])
+    lam = np.array([float(r["micropitting_specific_film"]) for r in rows])
+    assert mp["min_specific_film"] == pytest.approx(lam.min(), rel=1e-5)
+    lam_p = tr.figure_a1_permissible_film(8, 315.997e-6)  # the example's ν₄₀
+    assert mp["permissible_specific_film"] == pytest.approx(lam_p)
+    assert mp["safety_factor"] == pytest.approx(lam.min() / lam_p, rel=1e-5)
+    lines = tribology_run_line(section)
+    assert any("scuffing: max flash" in line for line in lines)
+    assert any(line.startswith("micropitting (ISO/TS 6336-22)") for line in lines)
+
+
+# default tier: tests/test_flash_case.py::test_tribology_outputs_write_the_flash_temperature
+# (the same files and lines at 1 slice, 16 positions), tests/test_tribology_case.py::
+# test_run_writes_film_and_loss_files (jaxgear run's tribology files on this example)
+@pytest.mark.slow
 def test_run_writes_the_flash_temperature(tmp_path):
     # the micropitting keys ride along (tests/test_micropitting_case.py reads their outputs)
     case = jio.parse_case(_data(fzg_load_stage=10, micropitting_load_stage=8))

@@ -99,6 +99,9 @@ def test_grad_wrt_torque_smooth():
     assert g == pytest.approx(fd, rel=1e-6)
 
 
+# default tier: tests/test_gradients.py::test_hessian_matches_finite_differences_of_the_gradient
+# (the same second derivatives through the smooth contact, fwd-over-rev, against differences)
+@pytest.mark.slow
 def test_check_grads_smooth_second_order_fwd_and_rev():
     """Second derivatives of TE RMS (relief depth, extent, crowning) through the smooth contact:
     the implicit-function derivatives (jax.lax.custom_root) are exact at every order."""

@@ -2,7 +2,8 @@
 ISO/TS 6336-22, on examples/fzg-c14-lubricated.toml with the keys added.
 The references: λ_GFP read from the TS's Figure A.1 (jaxgear.tribology.figure_a1_permissible_film,
 tests/test_micropitting.py) or given, S_λ from the CSV's per-cell λ. The full ``jaxgear run``
-(tribology.json, summary.json, the run line) rides on tests/test_flash_case.py's run."""
+(tribology.json, summary.json, the run line) rides on tests/test_flash_case.py's run
+(slow; its default twin there writes the same files from the tribology outputs)."""
 
 from __future__ import annotations
 

@@ -112,6 +112,10 @@ def test_optimiser_reaches_the_grid_optimum_from_three_starts(problem):
     assert max(evals) < grid.size / 10  # far fewer evaluations than the 41×41 grid
 
 
+# default tier: tests/test_optimise.py::test_objective_gradients_match_central_differences
+# (robust_te_rms over torques, against differences) and
+# ::test_optimiser_reaches_the_grid_optimum_from_three_starts (the optimiser finds the optimum)
+@pytest.mark.slow
 @pytest.mark.filterwarnings("ignore:optimiser stopped at the iteration cap")
 def test_robust_design_beats_single_load_optimum_in_the_worst_case(case):
     torques = np.linspace(40.0, 120.0, 5)
@@ -237,6 +241,41 @@ max_iterations = 15
 )
 
 
+def test_cli_master_curve_writes_its_rows_and_refuses_bad_input(tmp_path):
+    """``jaxgear master-curve`` on the small case at two extents: master_curve.json's rows (the
+    keys, E* > 0) and its figure; bad [optimise] keys, an unknown variable and a zero-width
+    extent range refused (exit 2) before any work."""
+    import json
+
+    from jaxgear.cli import main
+
+    path = tmp_path / "c.toml"
+    path.write_text(SMALL_CASE)
+    mc = tmp_path / "mc"
+    assert main(["master-curve", str(path), "--extents", "0.2:0.29:2", "--out", str(mc)]) == 0
+    rows = json.loads((mc / "master_curve.json").read_text())["master_curve"]
+    assert [sorted(r) for r in rows][0] == [
+        "depth_um",
+        "extent",
+        "on_bound",
+        "te_rms_m",
+        "te_rms_smooth_m",
+    ]
+    assert [r["extent"] for r in rows] == pytest.approx([0.2, 0.29])
+    assert all(r["depth_um"] > 0 for r in rows)
+    assert (mc / "master_curve.png").exists()
+    bad = tmp_path / "bad.toml"
+    bad.write_text(SMALL_CASE.replace('objective = "te_rms"', 'objective = "te_rms"\nstep = 3'))
+    assert main(["optimise", str(bad), "--quiet"]) == 2
+    assert main(["optimise", str(path), "--vars", "tip_relief.width", "--quiet"]) == 2
+    assert main(["master-curve", str(path), "--extents", "0.3:0.3:3"]) == 2
+
+
+# default tier: tests/test_optimise.py::test_cli_master_curve_writes_its_rows_and_refuses_bad_input
+# (master-curve and the refusals), tests/test_optimise_candidates.py::
+# test_tip_relief_bounded_short_keeps_the_case_design_and_run_agrees (jaxgear optimise, and run
+# with an [optimise] table)
+@pytest.mark.slow
 def test_cli_optimise_master_curve_and_run_with_optimise_table(tmp_path, monkeypatch):
     import json
 

@@ -86,12 +86,12 @@ def test_dynamic_factor_gradient_at_x_matches_finite_differences(problem):
     assert abs(g) > 1e-3  # the relief does move the dynamic factor
 
 
-def test_dynamic_factor_objective_needs_a_band_and_a_hybrid_scene(problem):
-    case = jio.load_case(DATA / "hybrid-test-case.toml")
+def test_dynamic_factor_objective_needs_a_band_and_a_hybrid_scene(hybrid):
+    case, scene = hybrid
     with pytest.raises(ValueError, match="condensed bodies"):
         jio.case_problem(case, "tip_relief.depth", "dynamic_factor", speeds=SPEEDS)
     with pytest.raises(ValueError, match=r"speeds = \[\] rad/s"):
-        jio.case_problem(case, "tip_relief.depth", "dynamic_factor", scene=problem.mesh, speeds=[])
+        jio.case_problem(case, "tip_relief.depth", "dynamic_factor", scene=scene, speeds=[])
 
 
 def test_cli_dynamic_factor_errors(tmp_path, capsys):

@@ -358,6 +358,10 @@ def test_speed_on_a_rigid_case_is_a_one_line_error(tmp_path, capsys):
     _one_line_error(capsys, "--speed 3000", "condensed bodies")
 
 
+# default tier: tests/test_optimise_speed.py::test_load_centroid_optimum_matches_a_grid_scan_at_speed
+# (the same problem and optimum at 3000 rad/s, 8 positions) and
+# ::test_speed_on_a_rigid_case_is_a_one_line_error (the command's --speed)
+@pytest.mark.slow
 def test_jaxgear_optimise_load_centroid_at_speed_on_the_small_case(tmp_path, capsys, monkeypatch):
     """`jaxgear optimise CASE --objective load_centroid --speed 3000 --vars
     pinion.end_relief.depth` on the small flexible-wheel case with a 20 µm helix slope and a

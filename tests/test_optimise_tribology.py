@@ -193,7 +193,12 @@ def test_power_loss_on_the_path_does_not_depend_on_crowning(case):
     assert float(jnp.max(jnp.abs(dpair))) < 1e-8 * float(jnp.max(w))  # ... not between pairs
 
 
-@pytest.mark.parametrize("name", ["efficiency_loss", "min_specific_film"])
+@pytest.mark.parametrize("name", [
+    # default tier: the min_specific_film case below (a tribology objective built and
+    # differentiated in float32 against float64)
+    pytest.param("efficiency_loss", marks=pytest.mark.slow),
+    "min_specific_film",
+])
 def test_float32_objective_and_gradient(beyond, name):
     """The problem built and evaluated in float32, with contact beyond the path, gives the
     float64 value and gradient within float32's reach (the gradient finite). The float64
@@ -238,6 +243,10 @@ def test_cli_settings_take_the_tribology_objectives(case):
         check_settings({**ok, "torques": None}, jio.load_case("accessory-spur"))
 
 
+# default tier: tests/test_optimise_tribology.py::test_power_loss_objective_is_the_sliding_loss_by_hand
+# (the example's power-loss objective by hand), tests/test_optimise_objects.py::
+# test_a_new_objective_is_one_class (its weighted sum: a new objective is one class)
+@pytest.mark.slow
 def test_te_vs_power_loss_example_front(tmp_path):
     """examples/te_vs_power_loss.py at a small size (7 × 7 designs, 16 positions, two weights,
     two L-BFGS steps): its front is the non-dominated set of its map (checked by brute force

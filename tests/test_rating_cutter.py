@@ -214,25 +214,14 @@ def test_section_is_the_numerical_envelope_of_the_tip_rounding(zr, xr, mn, z0, x
     assert s_fn / mn < 3.5 and rho_f >= rho_s * mn  # (was 58.3, 27.6, 17.2 and 82.4 m_n)
 
 
-def test_probe_grid_is_physical_or_refused():
-    """Over a grid of cutters on the rings of the NREL 5 MW cases (z0 = 11, 47, 83 on stage 2's
-    ring, 11, 35, 41 on stage 1's, the largest where the probe found sections tens of modules
-    wide; x0 in {−0.2, −0.1, 0, 0.25, 0.5, 1, 1.5}; ρ_a0/m_n in {0.02, 0.1, 0.3, 0.6}) every
-    section is either refused (jg.rating.ShaperCutterSection.result nonzero, the section NaN) or
-    physical against bounds drawn from the ring alone: the chord s_Fn between the ring's tooth
-    thickness on its reference circle m (π/2 + 2 x2 tan α) and the pitch chord at its radius,
-    ρ_F at least the rounding's ρ_a0 and under 2 m_n, the chord's ends within the dedendum
-    (r_f − 1.25 m, r_f]. The probe's wrong-branch points are sectioned, not refused; the
-    refusals are the cutters that cannot generate the fillet (pointed at the tip circle that
-    cuts the root, no cutting mesh, or the rounding's centre inside the cutting pitch
-    circle)."""
+def _probe_grid(rings, sectioned):
+    """The check of the tests below over ``rings`` ((case name, cutter teeth z0), ...): every
+    section refused or physical, the points of ``sectioned`` sectioned, some refused."""
     xs = jax.numpy.array([-0.2, -0.1, 0.0, 0.25, 0.5, 1.0, 1.5])
     rs = jax.numpy.array([0.02, 0.1, 0.3, 0.6])
-    sectioned = {("nrel-5mw-planetary", 41, 0.0, 0.02), ("nrel-5mw-planetary", 41, 0.0, 0.1),
-                 ("nrel-5mw-planetary", 35, -0.2, 0.1), ("nrel-5mw-stage2", 83, -0.2, 0.02),
-                 ("nrel-5mw-stage2", 83, -0.2, 0.1), ("nrel-5mw-stage2", 83, -0.2, 0.3)}
     seen = set()
-    for name, teeth in (("nrel-5mw-stage2", (11, 47, 83)), ("nrel-5mw-planetary", (11, 35, 41))):
+    refused = 0
+    for name, teeth in rings:
         pair = jio.load_case(name).pairs[1]
         geometry = jr.InternalRatingGeometry.of(pair)
         g = geometry.derived()
@@ -251,6 +240,7 @@ def test_probe_grid_is_physical_or_refused():
 
             out, codes = (np.asarray(t) for t in grid(xs, rs))
             ok = codes == 0
+            refused += int((~ok).sum())
             assert np.isnan(out[~ok]).all() and np.isfinite(out[ok]).all()
             s, rho, d_s = out[ok].T
             r_s = d_s / 2
@@ -261,7 +251,37 @@ def test_probe_grid_is_physical_or_refused():
             assert (r_s <= r_f * (1 + 1e-12)).all() and (r_s > r_f - 1.25 * mn).all()
             for i, j in zip(*np.nonzero(ok)):
                 seen.add((name, z0, round(float(xs[i]), 2), round(float(rs[j]), 2)))
-    assert sectioned <= seen
+    assert sectioned <= seen and refused > 0
+
+
+def test_probe_grid_is_physical_or_refused():
+    """The grid of the slow test below on stage 2's ring with its largest cutter (z0 = 83):
+    every section either refused or physical against the ring's own bounds, the probe's
+    wrong-branch points there sectioned, some cutters refused."""
+    _probe_grid((("nrel-5mw-stage2", (83,)),),
+                {("nrel-5mw-stage2", 83, -0.2, 0.02), ("nrel-5mw-stage2", 83, -0.2, 0.1),
+                 ("nrel-5mw-stage2", 83, -0.2, 0.3)})
+
+
+# default tier: tests/test_rating_cutter.py::test_probe_grid_is_physical_or_refused (the same
+# claim on one ring and one cutter size)
+@pytest.mark.slow
+def test_probe_grid_over_both_rings_is_physical_or_refused():
+    """Over a grid of cutters on the rings of the NREL 5 MW cases (z0 = 11, 47, 83 on stage 2's
+    ring, 11, 35, 41 on stage 1's, the largest where the probe found sections tens of modules
+    wide; x0 in {−0.2, −0.1, 0, 0.25, 0.5, 1, 1.5}; ρ_a0/m_n in {0.02, 0.1, 0.3, 0.6}) every
+    section is either refused (jg.rating.ShaperCutterSection.result nonzero, the section NaN) or
+    physical against bounds drawn from the ring alone: the chord s_Fn between the ring's tooth
+    thickness on its reference circle m (π/2 + 2 x2 tan α) and the pitch chord at its radius,
+    ρ_F at least the rounding's ρ_a0 and under 2 m_n, the chord's ends within the dedendum
+    (r_f − 1.25 m, r_f]. The probe's wrong-branch points are sectioned, not refused; the
+    refusals are the cutters that cannot generate the fillet (pointed at the tip circle that
+    cuts the root, no cutting mesh, or the rounding's centre inside the cutting pitch
+    circle)."""
+    _probe_grid((("nrel-5mw-stage2", (11, 47, 83)), ("nrel-5mw-planetary", (11, 35, 41))),
+                {("nrel-5mw-planetary", 41, 0.0, 0.02), ("nrel-5mw-planetary", 41, 0.0, 0.1),
+                 ("nrel-5mw-planetary", 35, -0.2, 0.1), ("nrel-5mw-stage2", 83, -0.2, 0.02),
+                 ("nrel-5mw-stage2", 83, -0.2, 0.1), ("nrel-5mw-stage2", 83, -0.2, 0.3)})
 
 
 @pytest.mark.slow

@@ -29,6 +29,9 @@ def _finite(x):
     return bool(np.all(np.isfinite(a)))
 
 
+# default tier: tests/test_rating.py::test_safety_factor_gradients_match_central_differences
+# (dS_H, dS_F/dx1 by jax.jacfwd against central differences, every factor computed)
+@pytest.mark.slow
 def test_rating_profile_shift_example_writes_slopes_that_match_central_differences(tmp_path):
     """Three shifts about 0.3 and 0.6 (h = 1e-4): the example's dS/dx₁ (jax.jacfwd) at the
     middle ones against (S(x + h) − S(x − h))/2h of its own S, all four safety factors."""

@@ -251,6 +251,10 @@ def test_planetary_rating_refused_in_one_line_before_work(tmp_path):
         _rated_stage2(tmp_path, STAGE2_RATING.replace("edition", "wrong_key = 1.0\nedition"))
 
 
+# default tier: tests/test_rating_internal.py::test_planetary_stage_rates_both_meshes_per_planet_path_with_k_gamma
+# (rating_section of a stage against its report, 0.5 %); Y_δrelT by hand from proof_stress_MPa:
+# tests/test_rating_slip_layer.py::test_case_key_proof_stress_selects_rho_and_y_delta_rel_t
+@pytest.mark.slow
 def test_nrel_stage1_case_is_rated_as_the_report(tmp_path):
     """The embedded nrel-5mw-planetary's ``[rating]`` (the KISSsoft report of stage 1: the
     strengths, per-gear treatments, K_A, life, oil, roughness, profiles A and B, the 2006

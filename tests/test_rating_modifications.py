@@ -162,6 +162,25 @@ def test_least_safety_rates_each_design_with_its_own_relief_and_iso_k_halpha():
     assert rating.factors.sources["K_Falpha"] == "ISO 6336-1 method B"
 
 
+def test_least_safety_keeps_the_tip_relief_of_power_helical():
+    """The slow test below's least_safety claim on the case file's contact (beyond the path),
+    power-helical at 8 slices and 16 positions per pitch, exact contact, sharp relief starts:
+    the case's 10 µm tip relief gives a lower least_safety objective (a higher least safety
+    factor) than no relief."""
+    case = jio.parse_case(_power_helical(8, 16, **{"mesh/extended_contact": True}))
+    prob = jio.case_problem(case, "tip_relief.depth", "least_safety").sharp()
+    least = [
+        float(prob.value(jnp.asarray(prob.from_physical({"tip_relief.depth": d})),
+                         jg.ExactContact()))
+        for d in (0.0, 10.0)
+    ]
+    assert least[1] < least[0] - 1e-3, least
+
+
+# default tier: tests/test_rating_modifications.py::test_least_safety_keeps_the_tip_relief_of_power_helical
+# (the least_safety claim), tests/test_extended_contact.py::test_enough_tip_relief_leaves_no_offline_contact
+# (TE beyond the path equals the path's once no corner touches, 1e-9)
+@pytest.mark.slow
 def test_least_safety_and_te_rms_both_keep_the_tip_relief_of_power_helical():
     """power-helical (8 slices, 16 positions per pitch), the tip relief depth the variable,
     exact contact, sharp relief starts. On the theoretical path the case's 10 µm gives a lower

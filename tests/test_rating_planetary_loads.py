@@ -18,6 +18,7 @@ References, independent of the stage code:
   stress: the FE is below ISO's by 1 to 18 % on spur teeth under ISO's own load).
 """
 
+import functools
 import math
 import tomllib
 import warnings
@@ -63,6 +64,13 @@ def _loads(case):
     return stage_loads(case, spec, stage, sharing_models(spec, stage))
 
 
+@functools.cache
+def _in_phase_loads():
+    """The stage loads of stage 2 with the 60 µm sun relief on the theoretical path, computed
+    once for the tests that read them (the rating keys do not enter the loads)."""
+    return _loads(_stage2(relief_um=60.0, extended=False))
+
+
 def _pair_result(case, k, positions):
     """Mesh k's pair run alone (its rigid mesh, exact contact, its gears' modifications, the
     mean planet load), at the stage's positions: the sun mesh's pinion angles x/r_bs, the ring
@@ -95,7 +103,7 @@ def test_in_phase_stage_meshes_equal_the_pairs_run_alone(tmp_path):
     # owner's rotation times λ, translations turned) but carried by the pinion alone with the
     # gear held in the pair's rigid mesh (13 % apart at one position with the default)
     case = _stage2(relief_um=60.0, extended=False)
-    loads = _loads(case)
+    loads = _in_phase_loads()
     want = []
     for k in (0, 1):
         pair_res = _pair_result(case, k, case.positions_per_pitch)
@@ -193,8 +201,10 @@ def test_use_measured_k_h_alpha_rates_each_mesh_with_the_stages(tmp_path):
 
     # one rating with K_v named too (not measured here): its one use_measured warning names K_v
     # alone (K_Halpha is measured: no warning of it)
-    case = _stage2(relief_um=60.0, use=["K_Halpha", "K_v"])
-    loads = _loads(case)
+    # the in-phase stage's loads on the theoretical path (the test above's): the contact
+    # geometry does not enter what is rated with them
+    case = _stage2(relief_um=60.0, use=["K_Halpha", "K_v"], extended=False)
+    loads = _in_phase_loads()
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         sec = rating_section(case, str(tmp_path), 1.0, loads=loads, table=stub_table)
@@ -276,6 +286,11 @@ def _k_h_alpha_reference(w, s, mask, g, loaded=1e-2):
     return best
 
 
+# default tier: tests/test_rating_measured.py::test_transverse_load_factor_beyond_the_path_by_hand
+# (corner cells beyond the path relieve a pair, by hand) and
+# tests/test_rating_planetary_loads.py::test_in_phase_stage_meshes_equal_the_pairs_run_alone
+# (the stage's measured K_Halpha per mesh against the pair's)
+@pytest.mark.slow
 def test_nrel_stage1_k_h_alpha_beyond_the_path_against_a_reference():
     """nrel-5mw-planetary as the case file has it (contact beyond the path), 2 slices and 16
     positions: the unmodified spur meshes share evenly between their pairs on the path, and the

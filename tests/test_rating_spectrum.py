@@ -299,6 +299,10 @@ def test_bad_spectrum_keys_are_one_line_naming_the_key(spectrum, message):
     assert "\n" not in str(err.value)
 
 
+# default tier: tests/test_rating_spectrum.py::test_annex_c_cycles_to_failure_damage_and_safety_factor
+# (Miner damage and the spectrum's S against ISO 6336-6 Annex C) and
+# ::test_case_file_spectrum_is_the_api_spectrum_and_run_reports_each_bin (a case's spectrum rated)
+@pytest.mark.slow
 def test_wind_spectrum_example_counts_the_rayleigh_hours_and_writes_its_figure(tmp_path):
     """examples/load_spectrum_wind.py: the hours at load are the Rayleigh share of the winds
     between cut-in and cut-out (analytic), the bins above rated wind carry the case's rated
@@ -333,6 +337,9 @@ def _guide_spectrum_case(keep_modifications: bool):
     return jio.rating_of(jio.parse_case(data, "guide"))
 
 
+# default tier: tests/test_rating_spectrum.py::test_case_file_spectrum_is_the_api_spectrum_and_run_reports_each_bin
+# (a case file's spectrum equals the API's, 1e-9); the guide's printed figures at its size here
+@pytest.mark.slow
 def test_guide_spectrum_figures():
     """The guide's figures: its tables on the bare ``power-helical`` rate as its Python example
     (the API's spectrum on RatingGeometry.of(pair), K_A = 1, accuracy class 6: the same S_F to

@@ -84,13 +84,27 @@ def test_sampler_meets_every_tolerance_and_the_stated_statistics(spur):
 
 
 def test_sampler_has_the_distribution_of_the_numpy_draw():
+    """The slow test below with 1000 gears: the same statistics, the same thresholds (the
+    two-sample KS test's p > 0.001 holds at any size when the distributions agree; the pooled
+    std's standard error is 0.8 % at 8000 draws, well inside 5 %)."""
+    _sampler_against_the_numpy_draw(1000)
+
+
+# default tier: tests/test_robust.py::test_sampler_has_the_distribution_of_the_numpy_draw (the
+# same claim with 1000 gears)
+@pytest.mark.slow
+def test_sampler_has_the_distribution_of_the_numpy_draw_at_3000_gears():
     """The JAX sampler against the NumPy draw written separately (jaxgear.sample_gear_deviations,
     3000 gears of 8 teeth each): per gear, the largest |f_pt|, the range F_p of the cumulative
     pitch, F_r, and tooth 0's profile and helix slopes agree in distribution (two-sample
     Kolmogorov-Smirnov, p > 0.001), and the pooled single pitch std is f_pT/√3 · √(1 − 1/z)
     within 5 % (the scaling seldom acts for 8 teeth)."""
+    _sampler_against_the_numpy_draw(3000)
+
+
+def _sampler_against_the_numpy_draw(n):
     tol = jg.iso1328_tolerances(1.5e-3, 12e-3, 10e-3, 6)
-    n, z = 3000, 8
+    z = 8
     g = _draws(jg.DeviationSampler(pinion=jg.GearSampler.of(tol, z)), n).pinion
     rng = np.random.default_rng(5)
     ref = [jg.sample_gear_deviations(rng, z, tol) for _ in range(n)]
@@ -160,12 +174,25 @@ def test_runout_realisations_give_their_closed_form_te_rms(spur):
 
 
 def test_sampled_mean_and_percentiles_converge_as_one_over_root_n(spur):
+    """The slow test below at its first two levels, N = 250 and 1000: the same bounds, the
+    same halving of the error per 4× N."""
+    _sampled_statistics_converge(spur, (250, 1000))
+
+
+# default tier: tests/test_robust.py::test_sampled_mean_and_percentiles_converge_as_one_over_root_n
+# (the same claim, two levels)
+@pytest.mark.slow
+def test_sampled_mean_and_percentiles_converge_at_three_levels(spur):
     """The TE RMS of a pinion runout F_r ~ U(0, F_rT) (grade 6) has a known distribution: g(F_r)
     with g the closed form above, increasing, so its p-quantile is g(p F_rT) and its mean
     (1/a)∫₀ᵃ √(r0² + x²/8) dx = [x/2 √(r0² + x²/8) + √8 r0²/2 asinh(x/(√8 r0))]₀ᵃ / a.
     Over 40 seeds, the RMS error of sample_statistics' mean, median and 95th percentile at
     N = 250, 1000, 4000: within 1.5 × their asymptotic standard error (σ/√N for the mean,
     √(p(1−p)/N)/f(q_p) for a percentile) and halving (ratio 2 within ±25 %) per 4× N."""
+    _sampled_statistics_converge(spur, (250, 1000, 4000))
+
+
+def _sampled_statistics_converge(spur, ns):
     sampler, _, r0, frt = _runout_setup(spur)
     a = float(frt)
     c = math.sqrt(8.0)
@@ -179,7 +206,7 @@ def test_sampled_mean_and_percentiles_converge_as_one_over_root_n(spur):
         x = p * a
         return math.sqrt(p * (1 - p) / n) * a * x / (8 * g(x))
 
-    ns, seeds = (250, 1000, 4000), 40
+    seeds = 40
     errors = {"mean": [], "50": [], "95": []}
     for n in ns:
         e = {k: [] for k in errors}
