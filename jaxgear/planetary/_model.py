@@ -35,7 +35,6 @@ from jaxtyping import Array, Float
 
 from .._contact import ContactLaw, ExactContact
 from .._util import as_float, check_instance, is_traced
-from ..scenes import HousingMount
 from ..dynamics import (
     AbstractDynamicModel,
     AbstractStage,
@@ -50,6 +49,7 @@ from ..dynamics import (
     settling_time,
     speed_sweep,
 )
+from ..scenes import HousingMount
 from ._dynamics import (
     PlanetaryDynamics,
     PlanetaryRun,
@@ -250,7 +250,7 @@ class PlanetaryModel(AbstractDynamicModel, AbstractStage):
         if self.housing_mount is not None:
             check_instance("mount", self.housing_mount, HousingMount,
                            "a jaxgear.scenes.HousingMount or None", where)
-            self.mounted_kind  # the joints' checks (central members on the stage axis)
+            self.kind.on(self.housing_mount)  # its joints: central members on the stage axis
         if (self.input is None) != (self.output is None):
             raise ValueError(f"{where}: input = {self.input!r}, output = {self.output!r}: "
                              "allowed both central members or neither")
