@@ -39,8 +39,8 @@ from pydantic import BaseModel, BeforeValidator, ConfigDict, Discriminator, Fiel
 
 from . import checks as sc
 
-__all__ = ["Range", "Section", "Text", "by_sign", "number", "number_list", "one_of", "range_of",
-           "schema_error"]
+__all__ = ["Range", "Section", "Text", "by_sign", "named_keys", "number", "number_list", "one_of",
+           "range_of", "schema_error"]
 
 #: the prefix of a union member's tag (:func:`one_of`), which the error's location skips
 _TAG = "§"
@@ -144,6 +144,40 @@ def by_sign(positive, negative):
 
 #: the type of a non-empty text key (a name, a designation)
 Text = Annotated[str, Field(pattern=r"\S")]
+
+
+def named_keys(data: Any, names, where: str, keys=(), *, tables=(),
+               into: str | None = None) -> Any:
+    """A table whose keys are the section's own ``keys`` and the case's ``names`` (its members,
+    planets, meshes, gears: what the validation context names), as a section's validator
+    takes it before pydantic reads it: every key checked to be one of them
+    (:func:`~fem_prep.checks.check_keys`: an unknown key in one line naming the table
+    ``where``), then each of ``tables`` (own keys whose values are tables) and, with ``into``,
+    each named entry checked to be a table (:func:`~fem_prep.checks.subtable`), the named
+    entries moved to the field ``into`` (``{name: table}``, in the file's order).
+
+    ``data`` not a dict, or ``names`` None (the case not known): ``data`` as given (the
+    field's type, or no check of the names).
+
+    Returns:
+        ``data`` (checked), or with ``into`` a new dict: ``data`` without the named entries,
+        and ``into`` holding them.
+
+    Raises:
+        SchemaError: an unknown key, or a ``tables`` or named entry that is not a table (one
+            line).
+    """
+    if not isinstance(data, dict) or names is None:
+        return data
+    sc.check_keys(data, {*keys, *names}, where)
+    for k in tables:
+        sc.subtable(data, k, where)
+    if into is None:
+        return data
+    own = {k: v for k, v in data.items() if k in names}
+    for k in own:
+        sc.subtable(own, k, where)
+    return {k: v for k, v in data.items() if k not in names} | {into: own}
 
 
 class Section(BaseModel):

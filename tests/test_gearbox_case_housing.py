@@ -36,7 +36,7 @@ from jaxgear import gearbox as gb
 from jaxgear.cli import main
 from jaxgear.cli.gearbox import COUPLED_RUN, chain_modes, gearbox_whine_outputs
 from jaxgear.dynamics import QuasiPeriodicBalance
-from jaxgear.scenes import Housing
+from jaxgear.scenes import Housing, HousingMount
 
 DATA = pathlib.Path(__file__).parent / "data" / "gearbox"
 CASE = DATA / "two-pair-housed.toml"
@@ -289,23 +289,21 @@ def _planar_supports(stage):
 
 
 def _planetary_by_hand(ch, off, kind=None, **run):
-    """The file's gearbox built here: the example's planetary stage as a HousedPlanetary of
-    ``kind`` (default the torsional one; the planar one on the stage with its in-plane
-    supports) with the ring on seat 0, the pair's lumped scene on the nearest seats; ``ch``
+    """The file's gearbox built here: the example's planetary stage of ``kind`` (default the torsional one; the planar one on the stage with its in-plane
+    supports) on a mount of the box with the ring on seat 0, the pair's lumped scene on the nearest seats; ``ch``
     None: the same gearbox on the ground (the ring held by its torsional spring, the pair's
     bearings grounded)."""
     planetary = load_example("gearbox_two_stage").two_stage()[0].stages[0]
     kind = jp.TorsionalPlanetary() if kind is None else kind
     stage = (planetary.stage if isinstance(kind, jp.TorsionalPlanetary)
              else _planar_supports(planetary.stage))
-    hp = hl = model = None
+    hp = hl = None
     if ch is not None:
         hp = Housing.of(ch, loss_factor=0.02, rotation=R, offset=off)
         hl = Housing.of(ch, loss_factor=0.02, rotation=R, offset=off - STAGE2)
-    model = kind if ch is None else jg.planetary.HousedPlanetary(kind, hp,
-                                                                   seats=(("ring", RING_SEAT),))
+    mount = None if ch is None else HousingMount.on_axis(hp, (("ring", RING_SEAT),))
     housed = gb.PlanetaryGearboxStage(stage, planetary.input, planetary.output,
-                                      planetary.meshes, model=model)
+                                      planetary.meshes, model=kind, mount=mount)
     lumped = lumped_pair_stage(TEETH[1], POLAR[1], input=1, housing=hl)
     opts = {"mean_positions": COUPLED_RUN["mean_positions"]} | run
     return (gb.GearboxTorsional((housed, lumped), [P_SHAFT], housing=hp),
@@ -480,15 +478,16 @@ def planar_box():
 
 def test_the_file_builds_the_hand_built_planar_planetary_in_the_box(planar_box):
     """``model = "planar"`` and ``housing_bore_diameter_mm`` on a housed planetary stage: the
-    reader's coupled chain (a HousedPlanetary of the planar kind, the box with a 75 mm bore
+    reader's coupled chain (the planar kind on a mount of the box, the box with a 75 mm bore
     round the planetary's axis and 70 mm ones round the pair's shafts) has the coordinates,
     coupled modes (1e-10) and housing energies (1e-8) of the gearbox built here (the box in
-    numbers, the example's stage with the file's in-plane supports, HousedPlanetary(
-    PlanarPlanetary())), and ``jaxgear run``'s modes are these."""
+    numbers, the example's stage with the file's in-plane supports, PlanarPlanetary() on
+    a HousingMount), and ``jaxgear run``'s modes are these."""
     case = jio.load_case(str(PLANAR_CASE))
     assert case.form.stages[0].housing_bore_diameter == pytest.approx(RING_BORE)
     coupled = case.form.coupled()
-    assert isinstance(coupled.stages[0].model.model, jp.PlanarPlanetary)
+    assert isinstance(coupled.stages[0].model, jp.PlanarPlanetary)
+    assert coupled.stages[0].mount() is not None
     assert [s.housing_seats() for s in coupled.stages] == [(0,), (1, 2, 4, 5)]
     chain, run = _planetary_by_hand(*planar_box, kind=jp.PlanarPlanetary())
     ref = _same_coupled_modes(case.form, coupled, chain, run)

@@ -2,7 +2,7 @@
 ``housing``; docs/gearbox.md, "One housing for several stages"): two lumped 3D parallel stages
 in one box, their bearings on their own seats; then a planetary stage whose held ring is bolted
 to a seat of the same box as a lumped pair's bearings (a PlanetaryGearboxStage with a
-HousedPlanetary model; docs/gearbox.md, "A planetary stage in the shared housing"). Evidence
+planetary model on a HousingMount; docs/gearbox.md, "A planetary stage in the shared housing"). Evidence
 against a hand assembly written here (the grounded stages' matrices, the condensed housing's K
 and M and the seats' rigid levers), the stiff-housing limit (the grounded gearbox), the balance
 of the bearing forces, the ring seat's reaction against the ring torque of the stage's torque
@@ -24,7 +24,7 @@ import jaxgear.planetary as jp
 from fem_prep.housing import Bore, Foot, HousingBox, Tet4, mesh_box, prepare_housing
 from jaxgear import gearbox as gb
 from jaxgear.dynamics import QuasiPeriodicBalance
-from jaxgear.scenes import Bearing, Housing, ShaftSpec, lumped_pair
+from jaxgear.scenes import Bearing, Housing, HousingMount, ShaftSpec, lumped_pair
 
 EX = load_example("gearbox_two_stage")
 L, D = 0.12, 0.06  # each shaft: length, diameter (m); bearings at both ends, the gear mid-way
@@ -262,7 +262,7 @@ def test_housing_coordinates_have_one_name_on_every_path(steel):
     first = st.size - h.size
     assert nodes == {names[6 * k].rsplit(" ", 1)[0]: first + 6 * k for k in range(n_seats)}
     planetary = EX.two_stage()[0].stages[0].stage
-    model = jg.planetary.HousedPlanetary(jp.TorsionalPlanetary(), h)
+    model = jp.TorsionalPlanetary().on(HousingMount.on_axis(h, (("ring", 0),)))
     own = jp.TorsionalPlanetary().dof_names(planetary)
     assert model.dof_names(planetary) == tuple(own) + names
 
@@ -351,10 +351,10 @@ def _planetary_chains(ch, loss_factor=0.0, ring_seat="seat4", **run):
     hp = Housing.of(ch, loss_factor=loss_factor, rotation=R, offset=_planet_offset())
     hl = Housing.of(ch, loss_factor=loss_factor, rotation=R, offset=_pair_offset())
     planetary = EX.two_stage()[0].stages[0]
-    model = jg.planetary.HousedPlanetary(jp.TorsionalPlanetary(), hp,
-                                         seats=(("ring", ring_seat),))
+    mount = HousingMount.on_axis(hp, (("ring", ring_seat),))
     housed_p = gb.PlanetaryGearboxStage(planetary.stage, planetary.input, planetary.output,
-                                        planetary.meshes, model=model)
+                                        planetary.meshes, model=jp.TorsionalPlanetary(),
+                                        mount=mount)
     pair, mesh = PAIRS[1]
     scenes = [lumped_pair(pair, mesh, _shaft(), _shaft(), masses=MASSES, inertias=INERTIAS,
                           housing=h, seats=s) for h, s in ((hl, (0, 1, 2, 3)), (None, None))]
@@ -540,16 +540,15 @@ def test_planetary_ring_in_the_shared_housing_whine_against_newmark(planetary_bo
 def test_planetary_ring_in_the_shared_housing_bad_input_one_line(planetary_box):
     hp = Housing.of(planetary_box, rotation=R, offset=_planet_offset())
     with pytest.raises(ValueError, match="seat of ring = 'bore9'") as err:
-        jg.planetary.HousedPlanetary(jp.TorsionalPlanetary(), hp, seats=(("ring", "bore9"),))
+        HousingMount.on_axis(hp, (("ring", "bore9"),))
     assert "\n" not in str(err.value)
     # the ring on seat 0, which the pair's pinion bearing holds already
     with pytest.raises(ValueError, match="seat 'seat0' .* used twice") as err:
         _planetary_chains(planetary_box, ring_seat="seat0")
     assert "\n" not in str(err.value)
     planetary = EX.two_stage()[0].stages[0]
-    star = jg.planetary.HousedPlanetary(jp.TorsionalPlanetary(), hp, seats=(("ring", 4),),
-                                        carrier_held=True)
-    with pytest.raises(ValueError, match="carrier_held=True") as err:
+    star = HousingMount.on_axis(hp, (("ring", 4),), fixed_frame=True)
+    with pytest.raises(ValueError, match="joins every support") as err:
         gb.PlanetaryGearboxStage(planetary.stage, planetary.input, planetary.output,
-                                 planetary.meshes, model=star)
+                                 planetary.meshes, model=jp.TorsionalPlanetary(), mount=star)
     assert "\n" not in str(err.value)

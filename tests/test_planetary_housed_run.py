@@ -1,9 +1,9 @@
 """``jaxgear run`` on a housed planetary case (a planetary case with ``[housing]``): its
-modes.json, load sharing and Campbell diagram come from the case's HousedPlanetary kinds
+modes.json, load sharing and Campbell diagram come from the case's kinds on its mount
 (jaxgear.io.planetary_kind), not the grounded ones. Evidence, on lin-parker-1999 in a small box
-round the stage: (1) the run's planar and torsional modes are those of a HousedPlanetary built
-here from the public API, solved by SciPy's generalized eigensolver, and each mode's housing
-kinetic energy share is that eigensolver's φ_hᵀ M_hh φ_h; (2) the same box 1000 x stiffer gives
+round the stage: (1) the run's planar and torsional modes are those of the kinds on a
+HousingMount built here from the public API, solved by SciPy's generalized eigensolver, and
+each mode's housing kinetic energy share is that eigensolver's φ_hᵀ M_hh φ_h; (2) the same box 1000 x stiffer gives
 the grounded case's modes (below 20 kHz) within 1e-4 (the ring's 1e9 N/m torsional support in
 series with the box), and the static load sharing is the grounded one's in any box; (3) the steel box adds modes whose kinetic energy is
 mostly the housing's, which the grounded run has not."""
@@ -20,6 +20,7 @@ import jaxgear as jg
 import jaxgear.io as jio
 import jaxgear.planetary as jp
 from jaxgear.cli.planetary import planetary_files
+from jaxgear.scenes import HousingMount
 
 # the box round the stage (tests/_housing.PLANETARY_BOX), as test_planetary_housing.py's
 STEEL = PLANETARY_BOX.format(E=210.0, fc=3000.0)
@@ -57,15 +58,15 @@ def runs(tmp_path_factory):
 
 
 def test_run_modes_are_the_housed_models(runs):
-    """modes.json of the housed run against an independent solve: the HousedPlanetary of the
-    base kinds on the case's housing (the ring on seat 0), K and M handed to
+    """modes.json of the housed run against an independent solve: the base kinds on a mount of
+    the case's housing (the ring on seat 0), K and M handed to
     scipy.linalg.eigh; frequencies to 1e-8 (above 1 Hz), and each non-degenerate mode's housing
     kinetic energy share (the M-normalised shape's φ_hᵀ M_hh φ_h) to 1e-6."""
     case, summary, modes = runs["steel"]
     housing = case.housing_body().housing
     stage = case.form.spec.stage(case)
     for name, base in (("planar", jp.PlanarPlanetary()), ("torsional", jp.TorsionalPlanetary())):
-        kind = jp.HousedPlanetary(base, housing, seats=(("ring", 0),))
+        kind = base.on(HousingMount.on_axis(housing, (("ring", 0),)))
         M = np.asarray(kind.mass_matrix(stage))
         K = np.asarray(kind.stiffness_matrix(stage))
         lam, phi = sla.eigh(K, M)
@@ -130,15 +131,17 @@ def test_steel_box_adds_housing_modes(runs):
 
 
 def test_planetary_kind(runs):
-    """jaxgear.io.planetary_kind: a grounded case's kind as given; a housed case's a
-    HousedPlanetary of it with the held ring on seat ``housing_seat`` (its axis rows only); a
-    case that is not a planetary stage's refused in one line."""
+    """jaxgear.io.planetary_kind: a grounded case's kind as given; a housed case's the kind on a
+    mount with the held ring on seat ``housing_seat`` (its axis rows only), the dynamic
+    model's mount; a case that is not a planetary stage's refused in one line."""
     kind = jp.SpatialPlanetary()
     grounded, steel = runs["grounded"][0], runs["steel"][0]
     assert jio.planetary_kind(grounded, kind) is kind
     housed = jio.planetary_kind(steel, kind)
-    assert isinstance(housed, jp.HousedPlanetary) and housed.model is kind
-    assert housed.seats == (("ring", 0),) and not housed.carrier_held
+    assert housed.unmounted() is kind and housed.seat_indices() == (("ring", 0),)
+    assert housed.mount().joints[0].rows == (2, 5) and not housed.mount().fixed_frame
+    model, _ = jio.build_dynamic_model(steel)
+    assert model.mount().joints == housed.mount().joints
     with pytest.raises(TypeError, match="planetary_kind") as e:
         jio.planetary_kind(jio.load_case("power-helical"), kind)
     assert "\n" not in str(e.value)

@@ -1,5 +1,5 @@
-"""A planetary stage whose held ring is bolted to a condensed housing
-(jaxgear.planetary.HousedPlanetary): the ring's torsional support (and, in the
+"""A planetary stage whose held ring is bolted to a condensed housing (a kind on a
+jaxgear.scenes.HousingMount: ``kind.on(mount)``, ``PlanetaryModel(..., mount=)``): the ring's torsional support (and, in the
 3D model, its axial one) joins a seat of a small box instead of the ground. Evidence: the
 grounded stage's modes as the housing grows stiff (E x 10, 100, 1000), the same modes from a
 hand assembly written here, the ring's reaction torque reaching the seat in the quasi-static
@@ -21,7 +21,7 @@ import jaxgear as jg
 import jaxgear.planetary as jp
 from fem_prep.housing import Bore, Foot, HousingBox, Tet4, mesh_box, prepare_housing
 from jaxgear.dynamics import HarmonicBalance
-from jaxgear.scenes import Housing
+from jaxgear.scenes import Housing, HousingMount, MountJoint
 
 jax.config.update("jax_enable_x64", True)
 
@@ -66,6 +66,12 @@ def _stage(spatial=False):
     return st
 
 
+def _on(kind, housing, seats=(("ring", 0),), held=False):
+    """``kind`` on a mount of ``housing``: ``seats``' members at the stage centre, on the axis
+    rows (``held``: all six, the carrier held)."""
+    return kind.on(HousingMount.on_axis(housing, seats, fixed_frame=held))
+
+
 def _low(f, n):
     return np.sort(np.asarray(f))[:n]
 
@@ -83,7 +89,7 @@ def test_stiff_housing_gives_the_grounded_stage(kind):
     n = int(np.sum(f0 < 2e4))
     errors = []
     for scale in (10.0, 100.0, 1000.0):
-        housed = jp.HousedPlanetary(kind, _housing(scale), seats=(("ring", 0),))
+        housed = _on(kind, _housing(scale), seats=(("ring", 0),))
         f = _low(jp.planetary_modes(housed, st).frequencies, n)
         errors.append(float(np.max(np.abs(f / f0[:n] - 1))))
     print("errors", errors)
@@ -114,7 +120,7 @@ def test_hand_assembly_gives_the_same_modes():
     a = np.zeros(n + h)
     a[i_r], a[n + 3] = 1.0 / r_r, -1.0
     K += k_t * np.outer(a, a)
-    housed = jp.HousedPlanetary(kind, hs)
+    housed = _on(kind, hs)
     np.testing.assert_allclose(np.asarray(housed.stiffness_matrix(st)), K, rtol=1e-12,
                                atol=1e-12 * np.max(np.abs(K)))
     f_ref = np.sqrt(np.abs(sla.eigh(K, M, eigvals_only=True))) / (2 * np.pi)
@@ -135,7 +141,7 @@ def test_ring_torque_reaches_the_seat(kind):
     st = _stage(spatial)
     geo = geometry(**SEQ)
     hs = _housing(1.0)
-    housed = jp.HousedPlanetary(kind, hs)
+    housed = _on(kind, hs)
     meshes = jp.ContactMeshes.from_geometry(geo, st.planet_angles, jg.Uniform(K0))
     x = meshes.positions(4, 1)
     qs = jp.planetary_quasi_static(housed, st, meshes, 1000.0, x)
@@ -175,7 +181,7 @@ def test_whine_at_a_near_rigid_housing():
     run = jp.PlanetaryRun(1000.0, steps_per_period=64, periods=1, keep_periods=1,
                           damping_ratio=0.05)
     out = []
-    for model in (kind, jp.HousedPlanetary(kind, _housing(1000.0))):
+    for model in (kind, _on(kind, _housing(1000.0))):
         w = jp.planetary_whine(model, st, meshes, run, 50.0, HarmonicBalance(4), positions=24)
         j = list(w.moment_names).index("ring torque")
         out.append(np.asarray(w.support_moment[0, :, j]))
@@ -190,11 +196,11 @@ def test_bad_inputs():
     kind = jp.TorsionalPlanetary()
     hs = _housing(1.0)
     with pytest.raises(ValueError, match="seat of ring"):
-        jp.HousedPlanetary(kind, hs, seats=(("ring", 3),))
+        _on(kind, hs, seats=(("ring", 3),))
     with pytest.raises(ValueError, match="member 'planet'"):
-        jp.HousedPlanetary(kind, hs, seats=(("planet", 0),))
+        _on(kind, hs, seats=(("planet", 0),))
     with pytest.raises(ValueError, match="housing"):
-        jp.HousedPlanetary(kind, "box")
+        _on(kind, "box")
 
 
 # -- a star stage: the carrier held (Ω = 0), every support of the joined members on the seat ----
@@ -223,7 +229,7 @@ def test_star_stage_stiff_housing_and_hand_assembly():
     st = _star()
     hs = _housing(1.0)
     seats = (("carrier", 0), ("ring", 0))
-    housed = jp.HousedPlanetary(kind, hs, seats=seats, carrier_held=True)
+    housed = _on(kind, hs, seats=seats, held=True)
     names = kind.dof_names(st)
     free = st
     for m in ("carrier", "ring"):
@@ -265,7 +271,7 @@ def test_star_stage_stiff_housing_and_hand_assembly():
     keep = (f0 > 1.0) & (f0 < 2e4)
     errors = []
     for scale in (100.0, 1000.0):
-        stiff = jp.HousedPlanetary(kind, _housing(scale), seats=seats, carrier_held=True)
+        stiff = _on(kind, _housing(scale), seats=seats, held=True)
         f1 = np.sort(np.asarray(jp.planetary_modes(stiff, st).frequencies))[: f0.size]
         errors.append(float(np.max(np.abs(f1[keep] / f0[keep] - 1))))
     print("star errors", errors)
@@ -282,7 +288,7 @@ def test_star_stage_carrier_torque_reaches_the_seat():
     kind = jp.PlanarPlanetary()
     st = _star(K_RING)
     hs = _housing(1.0)
-    housed = jp.HousedPlanetary(kind, hs, seats=(("carrier", 0),), carrier_held=True)
+    housed = _on(kind, hs, seats=(("carrier", 0),), held=True)
     meshes = jp.ContactMeshes.from_geometry(geometry(**SEQ), st.planet_angles, jg.Uniform(K0))
     qs = jp.planetary_quasi_static(housed, st, meshes, 1000.0, meshes.positions(4, 1))
     assert np.all(np.asarray(qs.result) == 0)
@@ -311,18 +317,20 @@ def test_a_turning_carrier_is_refused_with_in_plane_joints():
     one line naming why (the blocks would carry cos Ωt); at Ω = 0 the model builds."""
     kind = jp.PlanarPlanetary()
     st = _star(K_RING)
-    housed = jp.HousedPlanetary(kind, _housing(1.0), seats=(("carrier", 0),), carrier_held=True)
+    mount = HousingMount.on_axis(_housing(1.0), (("carrier", 0),), fixed_frame=True)
+    housed = kind.on(mount)
     meshes = jp.ContactMeshes.from_geometry(geometry(**SEQ), st.planet_angles, jg.Uniform(K0))
     run = jp.PlanetaryRun(1000.0, steps_per_period=16, periods=1, keep_periods=1)
     for call in (
         lambda: jp.planetary_dynamics(housed, st, meshes, run, 10.0),
         lambda: jp.planetary_whine(housed, st, meshes, run, 10.0),
-        lambda: jp.PlanetaryModel(housed, st, meshes, run, carrier_per_input=1.0),
+        lambda: jp.PlanetaryModel(kind, st, meshes, run, carrier_per_input=1.0, mount=mount),
         lambda: jp.planetary_speed_sweep(housed, st, meshes, run, jnp.array([10.0])),
     ):
         with pytest.raises(ValueError, match="cos Ωt"):
             call()
-    jp.PlanetaryModel(housed, st, meshes, run, carrier_per_input=0.0, mesh_speed_per_input=0.1)
+    jp.PlanetaryModel(kind, st, meshes, run, carrier_per_input=0.0, mesh_speed_per_input=0.1,
+                      mount=mount)
 
 
 @pytest.mark.slow  # 40-160 s on the shared 2-core host (two Newmark runs compiled)
@@ -336,7 +344,7 @@ def test_newmark_at_a_near_rigid_housing():
     run = jp.PlanetaryRun(1000.0, steps_per_period=32, periods=6, keep_periods=2,
                           damping_ratio=0.05)
     out = []
-    for model in (kind, jp.HousedPlanetary(kind, _housing(1000.0))):
+    for model in (kind, _on(kind, _housing(1000.0))):
         r = jp.planetary_dynamics(model, st, meshes, run, jnp.asarray(50.0))
         assert int(r.result) == 0
         sup = jp.support_reactions(model, st)
@@ -370,7 +378,7 @@ def _case(tmp_path, table="", seat=None, name="housed"):
 
 def test_case_file_housing_round_the_stage(tmp_path):
     """lin-parker-1999 with a [housing] box round the stage (its end walls' bores round the
-    axis, 1000 x stiffer than steel): the case's dynamic model is a HousedPlanetary with the
+    axis, 1000 x stiffer than steel): the case's dynamic model stands on a mount with the
     held ring on seat ``housing_seat``, and its modes are the grounded case's within 1e-4 (the
     ring's torsional support 1e9 N/m on u, in series with the box; measured 7.2e-5)."""
     import jaxgear.io as jio
@@ -378,10 +386,11 @@ def test_case_file_housing_round_the_stage(tmp_path):
     grounded, _ = jio.build_dynamic_model(_case(tmp_path, name="grounded"))
     case = _case(tmp_path, HOUSING_CASE.format(E=210e3, fc=5e4), seat=1)
     model, _ = jio.build_dynamic_model(case)
-    kind = model.kind
-    assert isinstance(kind, jp.HousedPlanetary) and kind.seats == (("ring", 1),)
-    assert not kind.carrier_held and kind.housing.n_seats == 2
-    assert kind.housing.seat_positions[1][2] > 0 > kind.housing.seat_positions[0][2]
+    mount = model.mount()
+    assert [(j.member, j.seat) for j in mount.joints] == [("ring", 1)]
+    assert not mount.fixed_frame and mount.housing.n_seats == 2
+    assert mount.housing.seat_positions[1][2] > 0 > mount.housing.seat_positions[0][2]
+    kind = model.mounted_kind
     f0 = np.asarray(jp.planetary_modes(grounded.kind, grounded.stage).frequencies)
     f = np.sort(np.asarray(jp.planetary_modes(kind, model.stage).frequencies))[: f0.size]
     keep = f0 < 2e4
@@ -440,10 +449,10 @@ def test_nrel_planetary_stage_in_a_box(tmp_path):
         path = tmp_path / f"{name}.toml"
         path.write_text(base + table)
         models.append(jio.build_dynamic_model(jio.load_case(str(path)))[0])
-    freqs = [np.sort(np.asarray(jp.planetary_modes(m.kind, m.stage).frequencies))
+    freqs = [np.sort(np.asarray(jp.planetary_modes(m.mounted_kind, m.stage).frequencies))
              for m in models]
     f0, f1, f2 = freqs
-    assert isinstance(models[1].kind, jp.HousedPlanetary)
+    assert models[0].mount() is None and models[1].mount() is not None
     pairs = f0[:-1][np.isclose(f0[:-1], f0[1:], rtol=1e-9)]  # the translational pairs
     assert pairs.size >= 3
     for f in pairs[pairs < 2000]:
@@ -455,19 +464,47 @@ def test_nrel_planetary_stage_in_a_box(tmp_path):
 
 
 def test_bad_inputs_more():
-    """Lists are taken as tuples; a member twice, a bad centre or a housed kind inside another
-    are refused in one line."""
+    """Lists are taken as tuples; a member twice, a bad centre, a kind on a mount put on
+    another, joints off the axis rows or at two points are refused in one line."""
     kind = jp.TorsionalPlanetary()
     hs = _housing(1.0)
-    assert jp.HousedPlanetary(kind, hs, seats=[["ring", 0]]).seats == (("ring", 0),)
-    with pytest.raises(ValueError, match="one each"):
-        jp.HousedPlanetary(kind, hs, seats=(("ring", 0), ("ring", 0)))
-    with pytest.raises(ValueError, match="centre"):
-        jp.HousedPlanetary(kind, hs, centre=(0.0, 0.0))
-    with pytest.raises(ValueError, match="unhoused"):
-        jp.HousedPlanetary(jp.HousedPlanetary(kind, hs), hs)
-    with pytest.raises(ValueError, match="carrier_held"):
-        jp.HousedPlanetary(kind, hs, carrier_held=1)
+    assert _on(kind, hs, seats=[["ring", 0]]).seat_indices() == (("ring", 0),)
+    with pytest.raises(ValueError, match="twice"):
+        _on(kind, hs, seats=(("ring", 0), ("ring", 0)))
+    with pytest.raises(ValueError, match="point"):
+        HousingMount.on_axis(hs, (("ring", 0),), centre=(0.0, 0.0))
+    with pytest.raises(ValueError, match="on a mount already"):
+        _on(_on(kind, hs), hs)
+    with pytest.raises(ValueError, match="rows"):
+        kind.on(HousingMount(hs, (MountJoint("ring", 0, rows=(5,)),)))
+    with pytest.raises(ValueError, match="one\\s+stage centre"):
+        kind.on(HousingMount(hs, (MountJoint("ring", 0, rows=(2, 5)),
+                                  MountJoint("sun", 0, (0.0, 0.0, 0.1), rows=(2, 5)))))
+
+
+def test_housed_planetary_alias_warns_and_builds_the_mounted_kind():
+    """``HousedPlanetary(...)`` (deprecated) warns and gives the kind on the mount of the same
+    seats, centre and frame: the same mount, matrices and names; a dynamic model given it
+    takes it apart into its kind and its mount."""
+    kind = jp.PlanarPlanetary()
+    st = _star(K_RING)
+    hs = _housing(1.0)
+    with pytest.warns(DeprecationWarning, match="HousedPlanetary"):
+        old = jp.HousedPlanetary(kind, hs, seats=(("carrier", 0),), carrier_held=True)
+    new = _on(kind, hs, seats=(("carrier", 0),), held=True)
+    assert isinstance(old, jp.HousedPlanetary) and not isinstance(kind, jp.HousedPlanetary)
+    assert old.mount().joints == new.mount().joints and old.mount().fixed_frame
+    assert old.dof_names(st) == new.dof_names(st)
+    np.testing.assert_array_equal(np.asarray(old.stiffness_matrix(st)),
+                                  np.asarray(new.stiffness_matrix(st)))
+    np.testing.assert_array_equal(np.asarray(old.mass_matrix(st)),
+                                  np.asarray(new.mass_matrix(st)))
+    meshes = jp.ContactMeshes.from_geometry(geometry(**SEQ), st.planet_angles, jg.Uniform(K0))
+    model = jp.PlanetaryModel(old, st, meshes, jp.PlanetaryRun(1000.0), carrier_per_input=0.0,
+                              mesh_speed_per_input=0.1)
+    assert model.kind is kind and model.mount() is old.mount()
+    with pytest.warns(DeprecationWarning), pytest.raises(ValueError, match="unhoused"):
+        jp.HousedPlanetary(old, hs)
 
 
 @pytest.mark.slow  # about 45 s on the shared 2-core host (the balance, then Newmark)
@@ -493,9 +530,10 @@ def test_housed_stage_whine_against_newmark():
     run = jp.PlanetaryRun(1000.0, steps_per_period=steps, periods=40, keep_periods=4,
                           damping_ratio=0.05)
     ch = prepare_housing(_mesh(), fem_prep.Material(21e9, 0.3, 7800.0), 2500.0)
-    housed = jp.HousedPlanetary(kind, Housing.of(ch.condensed_housing(), rotation=R,
-                                                 offset=OFFSET))
-    model = jp.PlanetaryModel(housed, st, meshes, run)
+    mount = HousingMount.on_axis(Housing.of(ch.condensed_housing(), rotation=R, offset=OFFSET),
+                                 (("ring", 0),))
+    housed = kind.on(mount)
+    model = jp.PlanetaryModel(kind, st, meshes, run, mount=mount)
     omega = float(excited_omega(model.averaged_modes()))
     speed = 0.1 * omega / (2 * np.pi) * float(model.mesh_period_angle())
     w = whine_response(model, speed, HarmonicBalance(64), positions=steps)

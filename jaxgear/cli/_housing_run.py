@@ -1,6 +1,6 @@
 """``jaxgear run``'s housing outputs, for a pair, train or planetary case with ``[housing]`` and
 ``[whine]`` (docs/housing.md, "In jaxgear run"): the housing is a body of the case's lumped 3D
-scene (a planetary stage's: of its :class:`~jaxgear.planetary.HousedPlanetary` kind, its
+scene (a planetary stage's: of its :class:`~jaxgear.planetary.PlanetaryModel` on its mount, its
 coordinates after the stage's), so the whine response holds its condensed coordinates; their full-field recovery on the
 outer skin (:func:`jaxgear.acoustics.housing_vibration`, the path the one-way
 :func:`~jaxgear.acoustics.housing_response` ends in) gives the normal velocity at the named
@@ -67,7 +67,7 @@ def housed_run(case, model) -> HousedRun | None:
         return None
     body = housed.body
     if isinstance(model, PlanetaryModel):  # a housed stage's: the housing's h follow the stage's
-        first = len(model.kind.dof_names(model.stage)) - model.kind.housing.size
+        first = len(model.coordinates()) - model.mount().size
     else:
         first = model.scene.structure.node(f"housing {body.condensed.seat_names[0]}")
     return HousedRun(body, housed.surface, housed.acoustics, int(first))

@@ -27,7 +27,6 @@ from ..planetary import (
     LUMPED_MODELS,
     TURN_POSITIONS,
     ConstantMeshes,
-    HousedPlanetary,
     ModeType,
     PlanetaryModes,
     Unbalances,
@@ -486,8 +485,8 @@ def phases_summary(spec) -> dict:
 
 def mode_list(model, stage) -> list:
     """``modes.json``'s list of ``model``'s modes of ``stage``: each one's frequency, type and
-    multiplicity (:func:`jaxgear.planetary.classify_modes`); a
-    :class:`~jaxgear.planetary.HousedPlanetary`'s also ``housing_kinetic_energy_share``
+    multiplicity (:func:`jaxgear.planetary.classify_modes`); a kind on a mount's
+    (:meth:`~jaxgear.planetary.AbstractPlanetaryModel.mount`) also ``housing_kinetic_energy_share``
     (:func:`housing_shares`), and a mode whose share exceeds :data:`HOUSING_DOMINATED` is
     typed ``"housing"`` (the classifier's types are the stage's symmetry classes, which a
     mode of the box alone has not)."""
@@ -504,28 +503,30 @@ def mode_list(model, stage) -> list:
 
 def _stage_part(modes, model, stage) -> tuple:
     """(modes, kind) that :func:`~jaxgear.planetary.classify_modes` types: ``model``'s own,
-    or a :class:`~jaxgear.planetary.HousedPlanetary`'s shapes on the stage's coordinates with
-    its base kind. The housing joins the held member's rotation about the axis (and motion
-    along it), coordinates of the rotational class, so a mode's stage part keeps the class of
-    the whole; a mode that is mostly the housing's is typed ``"housing"`` after
-    (:func:`mode_list`)."""
-    if not isinstance(model, HousedPlanetary):
+    or a kind on a mount's shapes on the stage's coordinates with the kind on the ground
+    (:meth:`~jaxgear.planetary.AbstractPlanetaryModel.unmounted`). The housing joins the held
+    member's rotation about the axis (and motion along it), coordinates of the rotational class, so
+    a mode's stage part keeps the class of the whole; a mode that is mostly the housing's is typed
+    ``"housing"`` after (:func:`mode_list`)."""
+    if model.mount() is None:
         return modes, model
-    n = len(model.model.dof_names(stage))
-    return PlanetaryModes(modes.frequencies, modes.shapes[:n]), model.model
+    base = model.unmounted()
+    n = len(base.dof_names(stage))
+    return PlanetaryModes(modes.frequencies, modes.shapes[:n]), base
 
 
 def housing_shares(model, stage, shapes) -> np.ndarray | None:
     """Each mode's (columns of ``shapes``, (n + h, m)) share of its kinetic energy in the
-    housing of a :class:`~jaxgear.planetary.HousedPlanetary` ``model``: e_i = Σ_{j ∈ housing}
+    housing of a kind on a mount ``model``: e_i = Σ_{j ∈ housing}
     φ_ji (M φ_i)_j / φ_iᵀ M φ_i over the housing's h coordinates (the last h: its seats' and
     its modal ones), M the model's mass matrix (the stage's and the housing's M_h, which do not
     couple: their coupling is in K); None for an unhoused kind."""
-    if not isinstance(model, HousedPlanetary):
+    mount = model.mount()
+    if mount is None:
         return None
     phi = np.asarray(shapes)
     energy = phi * (np.asarray(model.mass_matrix(stage)) @ phi)
-    h = int(model.housing.size)
+    h = int(mount.size)
     return energy[-h:].sum(axis=0) / energy.sum(axis=0)
 
 
@@ -580,7 +581,7 @@ def campbell_section(case, spec, stage, path: str) -> dict:
     per_input = spec.speeds(1.0)  # every speed per rad/s of the input
     f_mesh = spec.mesh_frequency(1.0)  # Hz per rad/s of the input
     model = planetary_kind(case, MODELS["planar"])
-    housed = isinstance(model, HousedPlanetary)
+    housed = model.mount() is not None
     f0 = np.asarray(planetary_modes(model, stage).frequencies)
     nonzero = f0[f0 > RIGID_SHARE * max(f0.max(), 1.0)]
     reach = nonzero[min(1, nonzero.size - 1)] * 1.2 / f_mesh if nonzero.size else 1.0

@@ -66,7 +66,7 @@ def run_at_speed(form, case, speed: float, steps_per_period: int | None = None,
                    outputs=Outputs(cell_loads=True))
     meshes = model.meshes
     full = spec.stage(case)
-    words = {"model": model_words(model.kind), "ring": spec.ring_model.words(),
+    words = {"model": model_words(model.mounted_kind), "ring": spec.ring_model.words(),
              "periods": window.periods, "keep": window.keep_periods, "speed": float(speed)}
     return stage_at_speed(case, spec, full, sharing_models(spec, full, case), dyn, meshes, words,
                           spec.ring_model.ring())

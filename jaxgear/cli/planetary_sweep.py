@@ -61,7 +61,6 @@ from ..dynamics import (
 from ..io import CaseWarning, build_dynamic_model, write_json
 from ..planetary import (
     NO_EXCITATION_TOL,
-    HousedPlanetary,
     PlanarPlanetary,
     PlanetaryModel,
     PlanetaryRun,
@@ -144,10 +143,10 @@ MODEL_WORDS = {
 
 
 def model_words(kind) -> str:
-    """The sweep's model kind in words (:data:`MODEL_WORDS`; a
-    :class:`~jaxgear.planetary.HousedPlanetary`'s: its base kind's, on the housing)."""
-    if isinstance(kind, HousedPlanetary):
-        return MODEL_WORDS[type(kind.model)] + ", the held member on the housing's seat"
+    """The sweep's model kind in words (:data:`MODEL_WORDS`; a kind on a mount's: the kind
+    on the ground's, on the housing)."""
+    if kind.mount() is not None:
+        return MODEL_WORDS[type(kind.unmounted())] + ", the held member on the housing's seat"
     return MODEL_WORDS[type(kind)]
 
 
@@ -344,7 +343,7 @@ def sweep_summary(
     spec = form.spec
     planetary_run(form, case, steps_per_period, periods, keep_periods)  # the options' checks
     dyn, _ = build_dynamic_model(case, slices=slices)
-    stage, meshes, ring, model, base = dyn.stage, dyn.meshes, dyn.ring, dyn.kind, dyn.run
+    stage, meshes, ring, model, base = dyn.stage, dyn.meshes, dyn.ring, dyn.mounted_kind, dyn.run
     speeds = np.asarray(speeds, dtype=float)
     f_mesh = spec.mesh_frequency(1.0)  # Hz per rad/s of the input
     flexible = dyn.flexible_ring()

@@ -67,32 +67,35 @@ class PlanetaryGearboxStage(PlanetaryModel):
         meshes: the stage's meshes (:class:`~jaxgear.planetary.ContactMeshes`, ...); None:
             :class:`~jaxgear.planetary.ConstantMeshes` (constant springs, no contact cells).
         model: the planetary model kind (None: :class:`~jaxgear.planetary.TorsionalPlanetary`;
-            :class:`~jaxgear.planetary.PlanarPlanetary`; either in a
-            :class:`~jaxgear.planetary.HousedPlanetary`: the stage on a condensed housing, its
-            held member's torsional support (about the stage axis) joining a seat instead of
-            the ground through the housing's seat coupling; the housing's coordinates end
-            :meth:`coordinates`, so that a gearbox-level :attr:`GearboxTorsional.housing`
-            shares them with the other housed stages, docs/gearbox.md, "A planetary stage in
-            the shared housing"; its damping C_h rides in :meth:`speed_terms`, as a lumped
-            stage's does). Read back as :attr:`model` (the model's ``kind``).
+            :class:`~jaxgear.planetary.PlanarPlanetary`). Read back as :attr:`model` (the
+            model's ``kind``).
         run: a :class:`~jaxgear.planetary.PlanetaryRun` (its pin errors); None: no pin errors.
+        mount: a :class:`~jaxgear.scenes.HousingMount` (keyword; None: the stage on the
+            ground): the stage on a condensed housing, its held member's torsional support
+            (about the stage axis) joining a seat instead of the ground through the mount's
+            seat coupling (:class:`~jaxgear.planetary.PlanetaryModel` ``mount=``); the
+            housing's coordinates end :meth:`coordinates`, so that a gearbox-level
+            :attr:`GearboxTorsional.housing` shares them with the other housed stages,
+            docs/gearbox.md, "A planetary stage in the shared housing"; its damping C_h rides
+            in :meth:`speed_terms`, as a lumped stage's does.
 
     Raises:
         ValueError: ``input`` = ``output``; ``meshes`` or ``model`` of another kind, or a model
-            without contact cells; a ``HousedPlanetary`` with ``carrier_held`` whose carrier is
-            the input or output member (it turns) (one line each).
+            without contact cells; a mount that joins every support (the carrier held) whose
+            carrier is the input or output member (it turns) (one line each).
     """
 
     def __init__(self, stage: PlanetaryStage, input: Central, output: Central,
                  meshes: AbstractPlanetaryMeshes | None = None,
                  model: AbstractPlanetaryModel | None = None,
-                 run: PlanetaryRun | None = None):
+                 run: PlanetaryRun | None = None, *, mount=None):
         if input == output:  # before Willis' relation, which has no solution then
             raise ValueError(f"PlanetaryGearboxStage: input = output = {input!r}: allowed "
                              "two different central members")
         super().__init__(TorsionalPlanetary() if model is None else model, stage,
                          ConstantMeshes() if meshes is None else meshes,
-                         PlanetaryRun(0.0) if run is None else run, input=input, output=output)
+                         PlanetaryRun(0.0) if run is None else run, input=input, output=output,
+                         mount=mount)
 
     def __check_init__(self):
         where = "PlanetaryGearboxStage"
@@ -276,15 +279,15 @@ class GearboxTorsional(eqx.Module):
     a :class:`~jaxgear.gearbox.LumpedPairGearboxStage` whose scene was built with this same
     condensed housing (``lumped_pair(..., housing=, seats=)``, the housing placed in that
     scene's frame, with the same loss factor): its bearings are joined to its seats there, by
-    the scenes' one seat coupling; or a :class:`PlanetaryGearboxStage` whose model is a
-    :class:`~jaxgear.planetary.HousedPlanetary` on this same condensed housing (placed in the
-    stage's frame, the stage axis its +z): its held member's torsional support joined to its
-    seat by the same coupling. The coupled model (:func:`gearbox_coupled_modes`,
-    :func:`gearbox_dynamics`, :func:`gearbox_whine`) then keeps the housing's coordinates
-    once, after every stage's own, and its K_h, M_h and damping C_h once. Stages without a
-    housing (torsional, an unhoused planetary model, a grounded lumped stage) stay on the
-    ground. The torsional chain's view (:meth:`matrices`, :func:`gearbox_modes`) does not take
-    a shared housing.
+    the scenes' one seat coupling; or a planetary stage (:class:`PlanetaryGearboxStage`,
+    :class:`~jaxgear.planetary.PlanetaryModel`) given a ``mount=`` on this same condensed
+    housing (placed in the stage's frame, the stage axis its +z): its held member's torsional
+    support joined to its seat by the same coupling. The coupled model
+    (:func:`gearbox_coupled_modes`, :func:`gearbox_dynamics`, :func:`gearbox_whine`) then keeps the
+    housing's coordinates once, after every stage's own, and its K_h, M_h and damping C_h once.
+    Stages without a housing (torsional, an unhoused planetary model, a grounded lumped stage) stay
+    on the ground. The torsional chain's view (:meth:`matrices`, :func:`gearbox_modes`) does not
+    take a shared housing.
 
     Raises:
         ValueError: no stages; a stage not an :class:`~jaxgear.dynamics.AbstractStage`, or one
@@ -377,8 +380,7 @@ def _check_housing(stages, housing):
         raise ValueError("GearboxTorsional: housing is given but no stage sits in it: allowed "
                          "None, or a LumpedPairGearboxStage whose scene is built with "
                          "housing=, or a planetary stage (PlanetaryModel, PlanetaryGearboxStage) "
-                         "whose model is a HousedPlanetary (torsional stages stay on the "
-                         "ground)")
+                         "given a mount= (torsional stages stay on the ground)")
     # a seat a planetary stage's member is bolted to is that member's alone
     for k, s in enumerate(stages):
         if not isinstance(s, PlanetaryModel):

@@ -56,7 +56,7 @@ from jaxtyping import Array, Float
 from .._contact import AbstractContactLaw, ExactContact
 from .._util import as_float, check_instance, check_integer, check_real
 from ..dynamics import DynamicModel
-from ..planetary import Central, HousedPlanetary, PlanetaryModel, ring_transducer_signal
+from ..planetary import Central, PlanetaryModel, ring_transducer_signal
 from ..scenes import LumpedPair
 from ._chain import GearboxTorsional, PairGearboxStage
 from ._coupled import (
@@ -188,8 +188,8 @@ class HousingSignals(eqx.Module):
             mesh forces plus the window's share of the ring's support reaction.
         ring_meshes: the windowed ring-planet mesh forces alone (N, (t,)).
         ring_support: the ring's torsional support reaction R = k_t theta_r / r_br (N, (t,),
-            sign: its mean that of the ring meshes' forces); a ring on a housing's seat
-            (:class:`~jaxgear.planetary.HousedPlanetary`): k_t (theta_r − theta_seat) / r_br.
+            sign: its mean that of the ring meshes' forces); a ring on a housing's seat (the
+            stage's ``mount()`` joins it): k_t (theta_r − theta_seat) / r_br.
         bearing: the parallel stage's bearing force along its line of action (N, (t,)): a
             torsional pair's mesh force; a lumped 3D pair's output-shaft bearings' in-plane
             elastic force along its mean's direction (module docstring).
@@ -308,19 +308,21 @@ def housing_signals(
 
 def _ring_twist(chain, dynamics, k):
     """The ring's turn on its torsional support (rad, (t,)): θ_r, or on a housing's seat
-    (a :class:`~jaxgear.planetary.HousedPlanetary` whose ring is joined) θ_r − θ_seat, θ_seat
-    the seat's rotation about the stage axis at the stage's centre (the last row of
-    :meth:`~jaxgear.scenes.Housing.seat_transform` on the seat's coordinates)."""
+    (a stage whose :meth:`~jaxgear.dynamics.AbstractStage.mount` joins its ring) θ_r −
+    θ_seat, θ_seat the seat's rotation about the stage axis at the joint's point, the stage
+    centre (the last row of :meth:`~jaxgear.scenes.Housing.seat_transform` on the seat's
+    coordinates)."""
     stage = chain.stages[k]
     x = dynamics.displacement[:, _layout(chain.stages, chain.housing)[0][k]]
     names = stage.coordinates()
     twist = x[:, names.index("theta_r")]
-    model = stage.kind
-    if isinstance(model, HousedPlanetary):
-        n = len(model.model.dof_names(stage.stage))
-        for member, seat in model.seat_indices():
-            if member == "ring":
-                g = jnp.asarray(model.housing.seat_transform(seat, model.centre)[5], x.dtype)
+    mount = stage.mount()
+    if mount is not None:
+        n = len(names) - mount.size
+        for j, joint in enumerate(mount.joints):
+            if joint.member == "ring":
+                seat = mount.seat_index(j)
+                g = jnp.asarray(mount.housing.seat_transform(seat, joint.point)[5], x.dtype)
                 twist = twist - x[:, n + 6 * seat:n + 6 * seat + 6] @ g
     return twist
 

@@ -28,13 +28,13 @@ from ..dynamics import (
 )
 from ..planetary import (
     ConstantMeshes,
-    HousedPlanetary,
     PlanetaryModel,
     PlanetaryRun,
     SpatialPlanetary,
     planetary_model_for,
 )
 from ..scenes import (
+    HousingMount,
     Material,
     TorsionalDynamics,
     disc_inertia,
@@ -217,8 +217,8 @@ def _planetary_model(form: PlanetaryForm, case: Case, spec: SceneSpec, slices, b
     :func:`~jaxgear.planetary.planetary_model_for` picks (a 3D model's constant springs, in
     the lumped form, at its Gauss points across the face), the case's pin errors and ring
     model (``[planetary.ring]``), the damping ratio 0.05, and with a ``[housing]`` the held
-    member bolted to its seat ``[planetary] housing_seat``
-    (:class:`~jaxgear.planetary.HousedPlanetary`); its speed is the input member's
+    member bolted to its seat ``[planetary] housing_seat`` (the model's ``mount``,
+    :func:`planetary_mount`); its speed is the input member's
     (the carrier's and the mesh travel's per input speed from Willis). ``spec`` and
     ``bodies`` are not used (a stage has no ``[scene]``)."""
     p = form.spec
@@ -228,7 +228,6 @@ def _planetary_model(form: PlanetaryForm, case: Case, spec: SceneSpec, slices, b
     kind = planetary_model_for(stage)
     if isinstance(kind, SpatialPlanetary) and not case.pairs:
         meshes = ConstantMeshes(meshes.base_pitch, face_points=kind.face_points)
-    kind = planetary_kind(case, kind)  # [housing]: the held member bolted to a seat
     run = PlanetaryRun(
         abs(p.torques(case.torque)["sun"]),
         tangential_pin_errors=np.asarray(p.tangential_pin_errors),
@@ -242,33 +241,47 @@ def _planetary_model(form: PlanetaryForm, case: Case, spec: SceneSpec, slices, b
         carrier_per_input=p.speeds(1.0)["carrier"],
         mesh_speed_per_input=p.mesh_speed(1.0),
         ring=p.ring_model.dynamic_ring(),
+        mount=planetary_mount(case),  # [housing]: the held member bolted to a seat
     )
+
+
+def planetary_mount(case: Case, where: str = "planetary_mount") -> HousingMount | None:
+    """The :class:`~jaxgear.scenes.HousingMount` a planetary case's stage stands on: None
+    without a ``[housing]``; with one, the case's housing (:meth:`Case.housing_body`: the box
+    round the stage axis) with the held member (``[planetary] fixed``) bolted to the seat
+    ``[planetary] housing_seat`` on the stage axis (a held carrier by every support: the
+    mount's fixed frame, :meth:`~jaxgear.scenes.HousingMount.on_axis`). The one place a
+    planetary case's stage gets its housing: the dynamic model (:func:`build_dynamic_model`,
+    ``mount=``) and ``jaxgear run``'s modes, load sharing and Campbell diagram
+    (:func:`planetary_kind`) all take theirs from here.
+
+    Raises:
+        TypeError: ``case`` not a planetary stage's (its form not a
+            :class:`~jaxgear.io.PlanetaryForm`), in one line naming ``where``.
+    """
+    if not isinstance(case.form, PlanetaryForm):
+        raise TypeError(f"{where}: case {case.name!r} is a "
+                        f"{type(case.form).__name__} case, allowed a planetary stage's")
+    if case.housing is None:
+        return None
+    held = case.form.spec.fixed.name.lower()
+    return HousingMount.on_axis(case.housing_body().housing,
+                                ((held, case.form.spec.housing_seat),),
+                                fixed_frame=held == "carrier")
 
 
 def planetary_kind(case: Case, kind):
     """The planetary model kind ``kind`` (:class:`~jaxgear.planetary.TorsionalPlanetary`,
     :class:`~jaxgear.planetary.PlanarPlanetary`, :class:`~jaxgear.planetary.SpatialPlanetary`) as a
-    planetary case runs it: unchanged without a ``[housing]``; with one, a
-    :class:`~jaxgear.planetary.HousedPlanetary` of it on the case's housing
-    (:meth:`Case.housing_body`: the box round the stage axis), the held member (``[planetary]
-    fixed``) bolted to the seat ``[planetary] housing_seat`` (a held carrier by every support:
-    ``carrier_held``). The one place a planetary case's kinds get their housing: the dynamic
-    model (:func:`build_dynamic_model`) and ``jaxgear run``'s modes, load sharing and Campbell
-    diagram all take theirs from here.
+    planetary case runs it: unchanged without a ``[housing]``; with one, on the case's mount
+    (:func:`planetary_mount`; :meth:`~jaxgear.planetary.AbstractPlanetaryModel.on`), for the
+    functional entries (modes, load sharing, Campbell diagram) that take a kind alone.
 
     Raises:
         TypeError: ``case`` not a planetary stage's (its form not a
             :class:`~jaxgear.io.PlanetaryForm`).
     """
-    if not isinstance(case.form, PlanetaryForm):
-        raise TypeError(f"planetary_kind: case {case.name!r} is a "
-                        f"{type(case.form).__name__} case, allowed a planetary stage's")
-    if case.housing is None:
-        return kind
-    held = case.form.spec.fixed.name.lower()
-    return HousedPlanetary(kind, case.housing_body().housing,
-                           seats=((held, case.form.spec.housing_seat),),
-                           carrier_held=held == "carrier")
+    return kind.on(planetary_mount(case, "planetary_kind"))
 
 
 #: a planetary stage's refusal of the scene-based static solves (:func:`static_scene`), one

@@ -36,11 +36,11 @@ shaft's bearings, then its gear shaft's; -1 keeps one on the ground; default the
 A planetary stage whose ring is held joins the box with ``housing_seat`` (the seat its ring is
 bolted to) and ``housing_position_mm`` (its centre; its axis the gearbox frame's z): one more
 axis of the box (a bore round it in both end walls, in stage order), the stage a
-:class:`~jaxgear.planetary.HousedPlanetary` of its kind, its ring's torsional support on that
-seat. Every bore is the ``[housing]``'s ``bore_diameter_mm`` unless its stage gives
-``housing_bore_diameter_mm`` (the bores round its axes: a lumped stage's two shafts, a
-planetary stage's ring seat), each checked to lie within the end walls' inner faces and clear
-of the other bores before the box is meshed. Torsional stages, and planetary stages without
+planetary stage of its kind on a :class:`~jaxgear.scenes.HousingMount` of the box (``mount=``),
+its ring's torsional support on that seat. Every bore is the ``[housing]``'s ``bore_diameter_mm``
+unless its stage gives ``housing_bore_diameter_mm`` (the bores round its axes: a lumped stage's two
+shafts, a planetary stage's ring seat), each checked to lie within the end walls' inner faces and
+clear of the other bores before the box is meshed. Torsional stages, and planetary stages without
 ``housing_seat``, stay on the ground.
 
 A planetary stage's ``model`` is its kind in the coupled chain (:data:`PLANETARY_MODELS`:
@@ -91,8 +91,15 @@ from ..gearbox import (
     PlanetaryGearboxStage,
     TorsionalPairGearboxStage,
 )
-from ..planetary import HousedPlanetary, PlanarPlanetary, TorsionalPlanetary
-from ..scenes import HOUSING_BAND, Housing, band_cutoff_hz, band_holds, housing_band_hz
+from ..planetary import PlanarPlanetary, TorsionalPlanetary
+from ..scenes import (
+    HOUSING_BAND,
+    Housing,
+    HousingMount,
+    band_cutoff_hz,
+    band_holds,
+    housing_band_hz,
+)
 from ._case import Case, CaseForm, PairForm
 from ._case_model import PAIR_SCENES, _case_model, dynamic_model_kind
 from ._housing_table import (
@@ -314,9 +321,10 @@ class GearboxForm(CaseForm):
         modifications, ``slices`` slices per contact line; a lumped 3D stage its case's scene,
         with ``[housing]`` on the shared housing (placed in its scene frame: x_stage =
         R x_housing + t − its ``housing_position``), which the chain keeps once; a planetary
-        stage with ``housing_seat`` a :class:`~jaxgear.planetary.HousedPlanetary` of its
-        ``model`` kind (:data:`PLANETARY_MODELS`) on the shared housing (placed alike, the stage
-        centre its frame's origin), its ring's torsional support joined to that seat."""
+        stage with ``housing_seat`` its ``model`` kind (:data:`PLANETARY_MODELS`) on a
+        :class:`~jaxgear.scenes.HousingMount` of the shared housing (placed alike, the stage
+        centre its frame's origin: :meth:`~jaxgear.scenes.HousingMount.on_axis`), its ring's
+        torsional support joined to that seat."""
         stages, shared = [], None
         housed = self.housed()
         for k, s in enumerate(self.stages):
@@ -330,11 +338,10 @@ class GearboxForm(CaseForm):
                 shared = housing if shared is None else shared
             if isinstance(t, PlanetaryGearboxStage):
                 meshes = s.case.form.spec.dynamic_meshes(s.case, slices)
-                model = t.model
-                if housing is not None:
-                    model = HousedPlanetary(model, housing, seats=(("ring", s.housing_seat),))
+                mount = (None if housing is None else
+                         HousingMount.on_axis(housing, (("ring", s.housing_seat),)))
                 stages.append(PlanetaryGearboxStage(t.stage, t.input, t.output, meshes,
-                                                    model=model))
+                                                    model=t.model, mount=mount))
             elif isinstance(t, LumpedPairGearboxStage):
                 stages.append(lumped_stage(s.case, t.input, slices, housing, s.housing_seats))
             else:

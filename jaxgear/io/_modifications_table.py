@@ -23,7 +23,7 @@ from .._modifications import (
     Modifications,
     ParabolicRelief,
 )
-from ._sections import Section, number, number_list
+from ._sections import Section, named_keys, number, number_list
 
 __all__ = [
     "END_RELIEF_EDGES",
@@ -129,16 +129,13 @@ class ModificationsSection(ModificationSet):
         names = (info.context or {}).get("members", ("pinion", "gear"))
         if not isinstance(data, dict):
             return data
-        sc.check_keys(data, {*_MOD_KEYS, *names}, cls.WHERE)
-        own = {k: v for k, v in data.items() if k in names}
-        for k in own:
-            sc.subtable(own, k, cls.WHERE)
+        data = named_keys(data, names, cls.WHERE, _MOD_KEYS, into="members")
         for where, table in ((cls.WHERE, data), *((f"{cls.WHERE}.{k}", v) for k, v in
-                                                  own.items())):
+                                                  data["members"].items())):
             for k in _MOD_KEYS:
                 if k in table and not isinstance(table[k], dict):
                     raise sc.fail(where, k, _NOT_A_TABLE, table[k])
-        return {k: v for k, v in data.items() if k not in names} | {"members": own}
+        return data
 
     @classmethod
     def file_keys(cls, context: dict | None = None) -> tuple[str, ...]:

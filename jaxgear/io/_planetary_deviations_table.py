@@ -21,7 +21,7 @@ from .._deviations import ISO1328_SCOPE, GearDeviations, iso1328_tolerances, sam
 from ..planetary import PlanetaryDeviations, PlanetFlanks, planetary_hunting_periods
 from ._deviations_table import member_values
 from ._modifications_table import _depth_range
-from ._sections import Section, number, number_list, one_of
+from ._sections import Section, named_keys, number, number_list, one_of
 
 __all__ = ["MAX_STAGE_POSITIONS", "StageDeviationsSection", "parse_planetary_deviations"]
 
@@ -90,17 +90,14 @@ class StageDeviationsSection(Section):
         planets = (info.context or {}).get("planets", ())
         if not isinstance(data, dict):
             return data
-        sc.check_keys(data, {*cls.file_keys(), *planets}, "deviations")
-        own = {k: v for k, v in data.items() if k in planets}
-        for k in own:
-            sc.subtable(own, k, "deviations")
+        data = named_keys(data, planets, "deviations", cls.file_keys(), into="planets")
         rev = data.get("revolutions")
         if isinstance(rev, str):
             if rev != "hunting":
                 raise sc.fail("deviations", "revolutions", 'allowed an integer >= 1 or "hunting"',
                               rev)
             data = {k: v for k, v in data.items() if k != "revolutions"}
-        return {k: v for k, v in data.items() if k not in planets} | {"planets": own}
+        return data
 
     @classmethod
     def file_keys(cls, context: dict | None = None) -> tuple[str, ...]:

@@ -144,7 +144,7 @@ class PlanetarySpec:
             ``sun_mesh_tilt_stiffness``, ``ring_mesh_tilt_stiffness``.
         housing_seat: the seat of the case's ``[housing]`` the held member is bolted to
             (``[planetary] housing_seat``; its supports about and along the axis there, every
-            support of a held carrier: :class:`~jaxgear.planetary.HousedPlanetary`).
+            support of a held carrier: the dynamic model's ``mount()``).
     """
 
     teeth: tuple

@@ -109,7 +109,7 @@ from ._rating_material_table import (
     per_gear_pair,
     refuse_unread_material,
 )
-from ._sections import NEEDED, Section, number
+from ._sections import NEEDED, Section, named_keys, number
 from ._spectrum_table import parse_spectrum
 
 __all__ = [
@@ -232,14 +232,8 @@ class RatingSection(RatingKeys):
         a planetary stage's with its keys), the mesh tables moved to :attr:`meshes`."""
         context = info.context or {}
         meshes = context.get("meshes", ())
-        if not isinstance(data, dict):
-            return data
-        sc.check_keys(data, {*cls.file_keys(context), *meshes}, "rating")
-        sc.subtable(data, "spectrum", "rating")
-        own = {k: v for k, v in data.items() if k in meshes}
-        for k in own:
-            sc.subtable(own, k, "rating")
-        return {k: v for k, v in data.items() if k not in meshes} | {"meshes": own}
+        return named_keys(data, meshes, "rating", cls.file_keys(context), tables=("spectrum",),
+                          into="meshes")
 
     @classmethod
     def file_keys(cls, context: dict | None = None) -> tuple[str, ...]:

@@ -35,6 +35,7 @@ from fem_prep.sections import (
     Range,
     Text,
     by_sign,
+    named_keys,
     number,
     number_list,
     one_of,
@@ -42,8 +43,8 @@ from fem_prep.sections import (
     schema_error,
 )
 
-__all__ = ["NEEDED", "Needed", "Range", "Section", "Text", "by_sign", "number", "number_list",
-           "one_of", "range_of", "schema_error"]
+__all__ = ["NEEDED", "Needed", "Range", "Section", "Text", "by_sign", "named_keys", "number",
+           "number_list", "one_of", "range_of", "schema_error"]
 
 
 @dataclasses.dataclass(frozen=True)

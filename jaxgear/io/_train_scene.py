@@ -27,7 +27,7 @@ from ._scene_table import (
     on_shaft,
     where_of,
 )
-from ._sections import Section, Text, number
+from ._sections import Section, Text, named_keys, number
 
 __all__ = ["MAX_TABLE_BYTES", "check_table_size", "shaft_of_table", "train_scene"]
 
@@ -50,9 +50,7 @@ class TrainShaftSection(ShaftKeys):
     @classmethod
     def _gears(cls, v, info):
         carried = (info.context or {}).get("carried")
-        if isinstance(v, dict) and carried is not None:
-            sc.check_keys(v, carried, f"{where_of(info)}.gear_positions_mm")
-        return v
+        return named_keys(v, carried, f"{where_of(info)}.gear_positions_mm")
 
     @pydantic.field_validator("gear_positions_mm")
     @classmethod
@@ -125,10 +123,7 @@ class TrainSceneSection(Section):
     @pydantic.field_validator("inertias_kg_m2", "masses_kg", mode="before")
     @classmethod
     def _by_gear(cls, v, info):
-        names = (info.context or {}).get("names")
-        if isinstance(v, dict) and names is not None:
-            sc.check_keys(v, names, f"scene.{info.field_name}")
-        return v
+        return named_keys(v, (info.context or {}).get("names"), f"scene.{info.field_name}")
 
     @pydantic.field_validator("shafts", mode="before")
     @classmethod
@@ -163,8 +158,7 @@ class TrainSceneSection(Section):
         if "names" not in ctx:  # the train not known
             return {k: TrainBodySection.read(t, f"scene.bodies.{k}") for k, t in v.items()}
         names, shafts, shaft_names = ctx["names"], ctx["shafts"], ctx["shaft_names"]
-        sc.check_keys(v, [*shaft_names, *(n for n in names if n not in shaft_names)],
-                      "scene.bodies")
+        named_keys(v, [*shaft_names, *names], "scene.bodies")
         out = {}
         for k, t in v.items():
             s = shaft_names.index(k) if k in shaft_names else shafts[names.index(k)]

@@ -17,8 +17,10 @@ from :mod:`jaxgear` too; the rest lives here only. Modules:
   :class:`CraigBamptonRing`);
 - ``_runout``: eccentricities and unbalances; ``_hunting``: per-tooth deviations and the
   hunting period;
-- ``_housed``: :class:`HousedPlanetary` (a model kind whose members' supports about and
-  along the axis join a condensed housing's seat);
+- ``_housed``: a kind on a :class:`~jaxgear.scenes.HousingMount`
+  (:meth:`AbstractPlanetaryModel.on`, :class:`PlanetaryModel` ``mount=``: its members'
+  supports about and along the axis join a condensed housing's seat) and the deprecated
+  :class:`HousedPlanetary`;
 - ``_analysis``: modes, mode types, Campbell diagram, mesh phasing, load sharing;
 - ``_dynamics``: :func:`planetary_dynamics`, :func:`planetary_speed_sweep`,
   :func:`planetary_mesh_modes`, the dynamic load sharing factor (:func:`dynamic_load_sharing`),

@@ -49,6 +49,7 @@ from ..dynamics import (
     settling_time,
     speed_sweep,
 )
+from ..scenes import HousingMount
 from ._dynamics import (
     PlanetaryDynamics,
     PlanetaryRun,
@@ -57,7 +58,7 @@ from ._dynamics import (
     planetary_mesh_modes,
     planetary_stage_system,
 )
-from ._housed import HousedPlanetary, check_carrier_speed
+from ._housed import check_carrier_speed
 from ._meshes import AbstractPlanetaryMeshes, ConstantMeshes
 from ._plan import (
     KEEP_OTHER,
@@ -148,13 +149,22 @@ class PlanetaryModel(AbstractDynamicModel, AbstractStage):
             ``mesh_speed_per_input`` by Willis' relation on base radii (r_bs ω_s + r_br ω_r =
             (r_bs + r_br) Ω, the third member at rest; v = r_bs |ω_s − Ω|): both are then left
             None.
+        mount: keyword, a :class:`~jaxgear.scenes.HousingMount` the stage's central members
+            stand on (docs/planetary.md, "On a housing": its joints ``"ring"``, ``"carrier"``,
+            ``"sun"`` at the stage centre, :meth:`~jaxgear.scenes.HousingMount.on_axis`; its
+            housing placed in the stage's scene frame), or None (default): the stage on the
+            ground. Read back as :meth:`mount`; the engines run :attr:`mounted_kind` (the kind
+            on it: its coordinates then the housing's). A ``kind`` given on a mount
+            (:meth:`~jaxgear.planetary.AbstractPlanetaryModel.on`) is taken apart into its
+            kind and its mount.
 
     ``scene`` (and :attr:`stage`) is the stage and ``torque`` the sun torque T_s (N m): the
     engine entries read neither (they ask the model's methods); ``mods`` is None (a stage's
     deviations live in its meshes).
 
     Raises:
-        ValueError: a kind, stage, meshes, run or ring of another type, ``carrier_per_input``
+        ValueError: a kind, stage, meshes, run, ring or mount of another type, a kind on a
+            mount with a ``mount`` too, ``carrier_per_input``
             zero without a ``mesh_speed_per_input``, ``mesh_speed_per_input`` not > 0; one of
             ``input`` and ``output`` without the other, either not a ``Central`` member, the
             two the same, or given with ``carrier_per_input`` or ``mesh_speed_per_input`` (one
@@ -170,6 +180,7 @@ class PlanetaryModel(AbstractDynamicModel, AbstractStage):
     carrier_per_input: Float[Array, ""]
     mesh_speed_per_input: Float[Array, ""] | None
     ring: AbstractRingModel
+    housing_mount: HousingMount | None
     input: Central | None = eqx.field(static=True)
     output: Central | None = eqx.field(static=True)
 
@@ -185,8 +196,15 @@ class PlanetaryModel(AbstractDynamicModel, AbstractStage):
         *,
         input: Central | None = None,
         output: Central | None = None,
+        mount: HousingMount | None = None,
     ):
+        if isinstance(kind, AbstractPlanetaryModel) and kind.mount() is not None:
+            if mount is not None:
+                raise ValueError("PlanetaryModel: a kind on a mount and mount= both given: "
+                                 "allowed one (the kind on the ground and mount=)")
+            kind, mount = kind.unmounted(), kind.mount()
         self.kind, self.scene, self.meshes, self.run, self.ring = kind, stage, meshes, run, ring
+        self.housing_mount = mount
         self.mods = None
         # another run type is refused in one line by __check_init__
         self.torque = run.sun_torque if isinstance(run, PlanetaryRun) else None
@@ -214,8 +232,8 @@ class PlanetaryModel(AbstractDynamicModel, AbstractStage):
     #: ``SteadyState(periods=None)``: the span from the stage's settling time
     #: (:meth:`resolve_window`, :func:`~jaxgear.planetary.time_plan`'s rule)
     automatic_span: ClassVar[bool] = True
-    #: a housing its central members' supports join (a HousedPlanetary kind), as a model and
-    #: as a gearbox stage
+    #: a housing its central members' supports join (``mount=``), as a model and as a gearbox
+    #: stage
     takes_housing: ClassVar[bool] = True
 
     def __check_init__(self):
@@ -229,6 +247,10 @@ class PlanetaryModel(AbstractDynamicModel, AbstractStage):
         check_instance("run", self.run, PlanetaryRun, "a jaxgear.planetary.PlanetaryRun", where)
         check_instance("ring", self.ring, AbstractRingModel,
                        "a jaxgear ring model (RigidRing, CondensedRing, CraigBamptonRing)", where)
+        if self.housing_mount is not None:
+            check_instance("mount", self.housing_mount, HousingMount,
+                           "a jaxgear.scenes.HousingMount or None", where)
+            self.kind.on(self.housing_mount)  # its joints: central members on the stage axis
         if (self.input is None) != (self.output is None):
             raise ValueError(f"{where}: input = {self.input!r}, output = {self.output!r}: "
                              "allowed both central members or neither")
@@ -239,7 +261,7 @@ class PlanetaryModel(AbstractDynamicModel, AbstractStage):
         if self.input is not None and self.input == self.output:
             raise ValueError(f"{where}: input = output = {self.input!r}: allowed two different "
                              "central members")
-        check_carrier_speed(self.kind, self.carrier_per_input,
+        check_carrier_speed(self.mounted_kind, self.carrier_per_input,
                             "PlanetaryModel (carrier_per_input times the input speed)")
         v = self.mesh_speed_per_input
         if v is None and not is_traced(self.carrier_per_input) and not (
@@ -259,6 +281,13 @@ class PlanetaryModel(AbstractDynamicModel, AbstractStage):
     def stage(self) -> PlanetaryStage:
         """The stage (the model's ``scene``)."""
         return self.scene
+
+    @property
+    def mounted_kind(self) -> AbstractPlanetaryModel:
+        """The kind on :meth:`mount` (:meth:`~jaxgear.planetary.AbstractPlanetaryModel.on`:
+        its coordinates then the housing's, the joined supports on their seats), or ``kind``
+        on the ground: the kind every engine entry of the model runs."""
+        return self.kind.on(self.housing_mount)
 
     @property
     def mesh(self):
@@ -300,7 +329,7 @@ class PlanetaryModel(AbstractDynamicModel, AbstractStage):
     def structure_matrices(self) -> tuple:
         """(M, K_b): the stage's mass and its structure without the meshes (the run's pin
         errors' offsets in the holds), each (n_dof, n_dof)."""
-        s = planetary_stage_system(self.kind, self.stage, self.meshes, self.run, 1)
+        s = planetary_stage_system(self.mounted_kind, self.stage, self.meshes, self.run, 1)
         return s.m, s.k_b
 
     def whine(self, speeds, method, *, positions: int = 256, contact=ExactContact()):
@@ -309,7 +338,7 @@ class PlanetaryModel(AbstractDynamicModel, AbstractStage):
         (:func:`jaxgear.dynamics.whine_response` delegates here)."""
         check_whine_speeds(speeds, "input")
         s = jnp.atleast_1d(jnp.asarray(speeds, self.dtype))
-        w = planetary_whine(self.kind, self.stage, self.meshes, self.run,
+        w = planetary_whine(self.mounted_kind, self.stage, self.meshes, self.run,
                             self.carrier_per_input * s, method, mesh_speeds=self._mesh_speed(s),
                             ring=self.ring, positions=positions, contact=contact)
         return eqx.tree_at(lambda r: r.speed, w, s)
@@ -393,7 +422,7 @@ class PlanetaryModel(AbstractDynamicModel, AbstractStage):
         """:func:`~jaxgear.planetary.planetary_mesh_modes` of the stage at
         ``positions_per_pitch`` travels of a mesh period (``speed`` and ``contact`` not
         used: the meshes' cells are averaged loaded or not, as the run's damping takes them)."""
-        return planetary_mesh_modes(self.kind, self.stage, self.meshes, self.run,
+        return planetary_mesh_modes(self.mounted_kind, self.stage, self.meshes, self.run,
                                     int(positions_per_pitch))
 
     def _run_of(self, steps: int, periods: int, keep: int, outputs: Outputs) -> PlanetaryRun:
@@ -465,7 +494,7 @@ class PlanetaryModel(AbstractDynamicModel, AbstractStage):
             run = eqx.tree_at(lambda r: r.mesh_steps, run, n, is_leaf=lambda x: x is None)
 
         def one(speed) -> PlanetaryDynamics:
-            return planetary_dynamics(self.kind, self.stage, self.meshes, run,
+            return planetary_dynamics(self.mounted_kind, self.stage, self.meshes, run,
                                       self.carrier_per_input * speed, self._mesh_speed(speed),
                                       prepared.law, self.ring)
 
@@ -480,8 +509,8 @@ class PlanetaryModel(AbstractDynamicModel, AbstractStage):
     def check_stage(self, where: str) -> None:
         """Refuse (one line naming ``where``) a model that cannot stand in a gearbox: no
         ``input`` and ``output`` members, a flexible ring (the coupled model takes a rigid
-        ring's cells), a kind without contact cells, or a
-        :class:`~jaxgear.planetary.HousedPlanetary` with ``carrier_held`` whose carrier is the
+        ring's cells), a kind without contact cells, or a mount that joins every support (the
+        carrier held, :attr:`~jaxgear.scenes.HousingMount.fixed_frame`) whose carrier is the
         input or output member (it turns)."""
         if self.input is None:
             raise ValueError(f"{where}: a PlanetaryModel without its input and output members: "
@@ -492,14 +521,14 @@ class PlanetaryModel(AbstractDynamicModel, AbstractStage):
                              "coupled gearbox takes a rigid ring's cells)")
         if not self.kind.contact_solve:
             raise ValueError(f"{where}: model {type(self.kind).__name__} has no contact cells: "
-                             "allowed TorsionalPlanetary, PlanarPlanetary (or either in a "
-                             "HousedPlanetary)")
-        if (isinstance(self.kind, HousedPlanetary) and self.kind.carrier_held
+                             "allowed TorsionalPlanetary, PlanarPlanetary (either on a mount)")
+        mount = self.housing_mount
+        if (mount is not None and mount.fixed_frame
                 and Central.CARRIER in (self.input, self.output)):
             role = "input" if self.input == Central.CARRIER else "output"
-            raise ValueError(f"{where}: model HousedPlanetary(carrier_held=True) with the "
-                             f"carrier the {role} member: allowed a star stage (sun and ring "
-                             "the shafts' members, the carrier held)")
+            raise ValueError(f"{where}: a mount that joins every support (the carrier held) "
+                             f"with the carrier the {role} member: allowed a star stage (sun "
+                             "and ring the shafts' members, the carrier held)")
 
     def _scale(self):
         """r per coordinate: a rotation's u = r theta radius (the planet's, a central
@@ -508,30 +537,31 @@ class PlanetaryModel(AbstractDynamicModel, AbstractStage):
         radius = {"c": st.carrier.base_radius, "r": st.ring.base_radius,
                   "s": st.sun.base_radius}
         r = [radius.get(n[2:], st.planet.base_radius) if n.startswith("u_") else 1.0
-             for n in self.kind.dof_names(st)]
+             for n in self.mounted_kind.dof_names(st)]
         return jnp.stack([jnp.asarray(v, dtype=st.planet_angles.dtype) for v in r])
 
     def coordinates(self):
         """The kind's coordinates (``dof_names``), each rotation's ``u_<m>`` (m) named
         ``theta_<m>`` (rad)."""
         return tuple(("theta_" + n[2:]) if n.startswith("u_") else n
-                     for n in self.kind.dof_names(self.stage))
+                     for n in self.mounted_kind.dof_names(self.stage))
 
     def coordinate_ends(self):
-        names = self.kind.dof_names(self.stage)
+        names = self.mounted_kind.dof_names(self.stage)
         key = {Central.CARRIER: "u_c", Central.RING: "u_r", Central.SUN: "u_s"}
         return names.index(key[self.input]), names.index(key[self.output])
 
     def dynamic_parts(self, positions):
         """(M, K_b, K̄_m, F) of :func:`~jaxgear.planetary.planetary_stage_system` (the run's
         pin errors) on :meth:`coordinates`."""
-        parts = planetary_stage_system(self.kind, self.stage, self.meshes, self.run, positions)
+        parts = planetary_stage_system(self.mounted_kind, self.stage, self.meshes, self.run,
+                                       positions)
         r = self._scale()
         rr = r[:, None] * r[None, :]
         return rr * parts.m, rr * parts.k_b, rr * parts.k_mean, r * parts.f
 
     def cell_row(self, x):
-        row = planetary_cell_row(self.kind, self.stage, self.meshes, self.run, x)
+        row = planetary_cell_row(self.mounted_kind, self.stage, self.meshes, self.run, x)
         return row._replace(V=row.V * self._scale()[None, :])
 
     def mesh_forces(self, forces):
@@ -577,24 +607,24 @@ class PlanetaryModel(AbstractDynamicModel, AbstractStage):
         return out_speed, out_torque, v, jnp.full((2 * st.n_planets,), f)
 
     def speed_terms(self, carrier_speed):
-        """(C_Omega, K_Omega) of the kind at ``carrier_speed`` (rad/s), with a housed kind
-        the housing's damping C_h on its coordinates added to C_Omega (the coupled model's
+        """(C_Omega, K_Omega) of the kind at ``carrier_speed`` (rad/s), on a mount the
+        housing's damping C_h on its coordinates added to C_Omega (the coupled model's
         constant damping term, which carries a lumped stage's housing damping as well)."""
         r = self._scale()
         rr = r[:, None] * r[None, :]
         st = self.stage
-        c = carrier_speed * rr * self.kind.gyroscopic_matrix(st)
-        if isinstance(self.kind, HousedPlanetary):
-            h = self.kind.housing.size
-            c = c.at[-h:, -h:].add(jnp.asarray(self.kind.housing.C, c.dtype))
-        return c, -carrier_speed**2 * rr * self.kind.centripetal_matrix(st)
+        kind, mount = self.mounted_kind, self.housing_mount
+        c = carrier_speed * rr * kind.gyroscopic_matrix(st)
+        if mount is not None:
+            h = mount.size
+            c = c.at[-h:, -h:].add(jnp.asarray(mount.C, c.dtype))
+        return c, -carrier_speed**2 * rr * kind.centripetal_matrix(st)
 
     def mount(self):
-        """The :class:`~jaxgear.scenes.HousingMount` of a
-        :class:`~jaxgear.planetary.HousedPlanetary` kind (its housing's coordinates end
-        :meth:`coordinates`; its joints the joined members), or None: the stage on the
-        ground."""
-        return self.kind.mount if isinstance(self.kind, HousedPlanetary) else None
+        """The :class:`~jaxgear.scenes.HousingMount` the stage stands on (``mount=``: its
+        housing's coordinates end :meth:`coordinates`; its joints the joined members), or
+        None: the stage on the ground."""
+        return self.housing_mount
 
     def carrier_speed(self, input_speed):
         """The carrier's speed (rad/s) at the input member's ``input_speed``."""

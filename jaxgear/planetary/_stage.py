@@ -42,6 +42,7 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Float
 
+from ..scenes import ALL_ROWS, AXIS_ROWS, Housing, HousingMount
 from ._runout import Eccentricities, Unbalances
 from .._util import (
     as_float,
@@ -52,12 +53,14 @@ from .._util import (
     is_traced,
 )
 
+
 __all__ = [
     "AbstractPlanetaryModel",
     "Central",
     "Eccentricities",
     "PlanarPlanetary",
     "PlanetaryMember",
+    "PlanetaryOnMount",
     "PlanetaryStage",
     "TorsionalPlanetary",
     "Unbalances",
@@ -560,6 +563,32 @@ class AbstractPlanetaryModel(eqx.Module):
         (m, (n_planets,)) that planet-pin position errors cause: ``tangential_errors`` along
         eta, ``radial_errors`` along zeta (outward), both (m, (n_planets,))."""
 
+    # -- the housing (a kind on a mount) ---------------------------------------------------
+
+    def mount(self) -> HousingMount | None:
+        """The :class:`~jaxgear.scenes.HousingMount` the kind's members stand on (its housing's
+        h coordinates end :meth:`dof_names`), or None (the default): the stage on the ground."""
+        return None
+
+    def unmounted(self) -> AbstractPlanetaryModel:
+        """The kind on the ground: itself (a kind on a mount: the kind it stands on)."""
+        return self
+
+    def on(self, mount: HousingMount | None) -> AbstractPlanetaryModel:
+        """The kind on ``mount`` (docs/planetary.md, "On a housing"): its coordinates then the
+        housing's, the supports the mount's joints take (``"ring"``, ``"carrier"``, ``"sun"``
+        at the stage centre: :meth:`~jaxgear.scenes.HousingMount.on_axis`) moved from the
+        ground onto their seats; None: the kind on the ground (:meth:`unmounted`).
+
+        Raises:
+            ValueError: a kind on a mount already (one mount per stage: ``unmounted().on``),
+                a mount of another type, or one whose joints are not central members on the
+                stage axis (one line)."""
+        if self.mount() is not None:
+            raise ValueError(f"{type(self).__name__}.on: the kind stands on a mount already, "
+                             "allowed a kind on the ground (kind.unmounted().on(mount))")
+        return self if mount is None else PlanetaryOnMount(self, mount)
+
     def mode_types(self) -> tuple[str, str]:
         """The names (:class:`~jaxgear.planetary.ModeType` values) of the modes in which only the
         :meth:`central_rotations` move, and only the :meth:`central_translations`."""
@@ -729,6 +758,268 @@ class TorsionalPlanetary(AbstractPlanetaryModel):
         f = -self.reduction(stage).T @ (_planar_mesh_stiffness(stage) @ q0)
         v_s, v_r = mesh_rows(stage)
         return f, v_s @ q0, v_r @ q0
+
+
+# -- a kind on a housing mount ---------------------------------------------------------------
+# (docs/planetary.md, "On a housing"; docs/housing.md, "Planetary stages")
+#
+# A kind on a mount (:class:`PlanetaryOnMount`) is a kind (torsional, planar or 3D) on a
+# :class:`~jaxgear.scenes.HousingMount` (``kind.on(mount)``, or the kind and the mount of a
+# :class:`~jaxgear.planetary.PlanetaryModel`): it appends the mount's housing's h coordinates
+# (its seats' 6-DOF masters and interior modal coordinates, fixed frame) after the stage's. Every
+# matrix the engines read is the base kind's, grown by h zero columns (meshes, pins, Coriolis and
+# centripetal terms act on the stage only), except
+#
+# - M: the housing's M_h on its coordinates;
+# - K: the housing's K_h, and each joined support's spring taken off the ground and put between
+#   the member and its seat through the seat's rigid lever G
+#   (:meth:`~jaxgear.scenes.Housing.seat_spring`, the lumped scenes' coupling
+#   d = u − G q restricted to the joined rows).
+#
+# Why only the axis. The stage's coordinates are taken in the frame turning with the carrier;
+# the seat stands still. A member's rotation about the stage axis (θ_z = u / r_b) and its motion
+# along it (z) are the same in both frames, so those springs join the seat with constant blocks.
+# An in-plane translation or tilt seen from the seat is R(Ωt) times its carrier-frame one: its
+# blocks would carry cos Ωt and sin Ωt, which the engines' constant structure matrices
+# (:func:`~jaxgear.planetary.planetary_dynamics`, :func:`~jaxgear.planetary.planetary_whine`)
+# cannot hold; they stay on their grounded springs. A stage whose carrier does not turn (a star
+# stage, Ω = 0) has its carrier frame fixed: there a mount of all six rows
+# (``HousingMount.on_axis(..., fixed_frame=True)``) joins every support of the joined members
+# (x, y, z, tilts, θ_z) and the dynamics must run at Ω = 0.
+#
+# The stage axis is the scene's +z through the joints' point (m, scene frame), the frame
+# :meth:`~jaxgear.scenes.Housing.of` places the housing in; the carrier frame's x axis is the
+# scene's x (at Ω = 0, or for the axis rows, which do not depend on it).
+#
+# Source: Craig & Bampton, AIAA J. 6 (1968) for the condensed housing; the rigid seat lever is
+# the lumped scenes' (docs/housing.md, "The coupling"). ``HousedPlanetary`` (``_housed.py``,
+# deprecated) builds the same kind from a housing, seats, a centre and ``carrier_held``.
+
+#: the central members' coordinate suffixes (their names in ``dof_names``)
+_SUFFIX = {"carrier": "c", "ring": "r", "sun": "s"}
+#: a member's 6-vector (u_x, u_y, u_z, θ_x, θ_y, θ_z) from its coordinates: name prefix per row
+_NODE = ("x", "y", "z", "theta_x", "theta_y", "u")
+
+
+def _pad(a, h: int, rows: bool = False):
+    """``a`` (..., n) with h zero columns appended (and h zero rows where ``rows``)."""
+    a = jnp.asarray(a)
+    out = jnp.concatenate([a, jnp.zeros(a.shape[:-1] + (h,), a.dtype)], axis=-1)
+    if rows:
+        out = jnp.concatenate([out, jnp.zeros((h,) + out.shape[1:], a.dtype)], axis=0)
+    return out
+
+
+class PlanetaryOnMount(AbstractPlanetaryModel):
+    """A planetary model kind on a housing mount (the section's comment above): ``model``'s
+    coordinates (n) then the mount's housing's (h), the supports its joints take between the
+    member and its seat. Built by a kind's :meth:`~jaxgear.planetary.AbstractPlanetaryModel.on` (the
+    functional entries' form) and by :class:`~jaxgear.planetary.PlanetaryModel` ``(...,
+    mount=)`` (the dynamic model's); not constructed by hand.
+
+    Attributes:
+        model: the kind on the ground (:class:`~jaxgear.planetary.TorsionalPlanetary`,
+            :class:`~jaxgear.planetary.PlanarPlanetary`,
+            :class:`~jaxgear.planetary.SpatialPlanetary`).
+        housing_mount: the :class:`~jaxgear.scenes.HousingMount` (:meth:`mount`): its housing
+            placed in the stage's scene frame (the stage axis +z through its joints' point),
+            its joints the central members ``"ring"``, ``"carrier"``, ``"sun"``, each at the
+            stage centre on the axis rows (u_z, θ_z; the carrier frame turns) or on all six
+            (the carrier held, a star stage: the dynamics at Ω = 0)
+            (:meth:`~jaxgear.scenes.HousingMount.on_axis`).
+
+    Coordinates: ``model.dof_names`` then the housing's
+    (:meth:`~jaxgear.scenes.Housing.coordinate_names`: ``"housing <seat> u_x" .. "housing
+    <seat> phi_z"`` per seat and ``"housing mode <k>"`` per kept interior mode). The joined springs'
+    reactions (:func:`~jaxgear.planetary.support_reactions`) are what the member puts on its
+    seat: the ring's reaction torque k_θ (θ_r − θ_seat) about the axis.
+
+    Raises:
+        ValueError: a kind on a mount or of another type, a mount of another type, a joint
+            whose member is not a central member, whose rows are neither the axis rows nor
+            all six (or differ between joints), whose frame is turned, or whose point is not
+            the joints' one stage centre (one line).
+    """
+
+    model: AbstractPlanetaryModel
+    housing_mount: HousingMount
+
+    def __check_init__(self):
+        where = "a planetary kind on a mount"
+        check_instance("model", self.model, AbstractPlanetaryModel,
+                       "a planetary model kind (TorsionalPlanetary, PlanarPlanetary, "
+                       "SpatialPlanetary)", where)
+        if self.model.mount() is not None:
+            raise ValueError(f"{where}: model = {self.model!r}, allowed a kind on the ground "
+                             "(one mount per stage)")
+        check_instance("mount", self.housing_mount, HousingMount,
+                       "a jaxgear.scenes.HousingMount", where)
+        joints = self.housing_mount.joints
+        for j in joints:
+            if j.member not in _SUFFIX:
+                raise ValueError(f"{where}: joint member {j.member!r}, allowed one each of "
+                                 "'ring', 'carrier', 'sun'")
+            if j.rows not in (AXIS_ROWS, ALL_ROWS) or j.rows != joints[0].rows:
+                raise ValueError(f"{where}: joint {j.member!r} rows = {j.rows!r}, allowed the "
+                                 f"axis rows {AXIS_ROWS} (the carrier turns) or all six "
+                                 f"{ALL_ROWS} (the carrier held), the same for every joint")
+            if j.frame != 0.0 or j.point != joints[0].point:
+                raise ValueError(f"{where}: joint {j.member!r} at {j.point!r} in a frame "
+                                 f"turned {j.frame!r} rad, allowed every joint at the one "
+                                 "stage centre in the scene frame (HousingMount.on_axis)")
+
+    # -- the kind's mount (AbstractPlanetaryModel) ------------------------------------------
+
+    def mount(self) -> HousingMount:
+        """The :class:`~jaxgear.scenes.HousingMount` the kind stands on."""
+        return self.housing_mount
+
+    def unmounted(self) -> AbstractPlanetaryModel:
+        """The kind on the ground (:attr:`model`)."""
+        return self.model
+
+    @property
+    def housing(self) -> Housing:
+        """The mount's :class:`~jaxgear.scenes.Housing`."""
+        return self.housing_mount.housing
+
+    @property
+    def carrier_held(self) -> bool:
+        """Whether the joints take all six rows (a star stage: the carrier does not turn)."""
+        return self.housing_mount.fixed_frame
+
+    def seat_indices(self) -> tuple:
+        """``((member, seat index), ...)``: the joints' members and their seats' indices in the
+        housing's :attr:`~jaxgear.scenes.Housing.seat_names`."""
+        mount = self.housing_mount
+        return tuple((j.member, mount.seat_index(k)) for k, j in enumerate(mount.joints))
+
+    # -- the coupling ----------------------------------------------------------------------
+
+    def _unjoined(self, stage: PlanetaryStage) -> PlanetaryStage:
+        """The stage with the supports the joints take off the ground (set to 0): on the axis
+        rows the axial and torsional springs, on all six also the bearings and the tilts."""
+        for j in self.housing_mount.joints:
+            m = getattr(stage, j.member)
+            zero = jnp.zeros_like(m.torsional_stiffness)
+            if j.rows == ALL_ROWS:
+                m = eqx.tree_at(
+                    lambda m: (m.bearing_stiffness, m.axial_stiffness, m.tilt_stiffness,
+                               m.torsional_stiffness),
+                    m, (jnp.zeros_like(m.bearing_stiffness), zero,
+                        jnp.zeros_like(m.tilt_stiffness), zero))
+            else:
+                m = eqx.tree_at(lambda m: (m.axial_stiffness, m.torsional_stiffness), m,
+                                (zero, zero))
+            stage = eqx.tree_at(lambda s, member=j.member: getattr(s, member), stage, m)
+        return stage
+
+    def _joint(self, stage: PlanetaryStage, member: str, rows: tuple):
+        """(T, K_b): T (6, n) the member's node (u_x, u_y, u_z, θ_x, θ_y, θ_z) from the base
+        coordinates (θ_z = u / r_b), zero on rows the base kind has not or the joint does not
+        take (``rows``, its mount joint's); K_b (6, 6) the member's support springs on those
+        rows (N/m, N m/rad)."""
+        m = getattr(stage, member)
+        names = self.model.dof_names(stage)
+        n = len(names)
+        dtype = stage.planet_angles.dtype
+        k_all = jnp.concatenate([m.bearing_stiffness, m.axial_stiffness[None], m.tilt_stiffness,
+                                 m.torsional_stiffness[None]]).astype(dtype)
+        T = jnp.zeros((6, n), dtype)
+        keep = jnp.zeros(6, dtype)
+        for row in rows:
+            name = f"{_NODE[row]}_{_SUFFIX[member]}"
+            if name not in names:
+                continue
+            scale = 1.0 / m.base_radius if row == 5 else 1.0
+            T = T.at[row, names.index(name)].set(scale)
+            keep = keep.at[row].set(1.0)
+        return T, jnp.diag(k_all * keep)
+
+    def coupling(self, stage: PlanetaryStage):
+        """K_c (n + h, n + h): the joined springs between the members and their seats, the
+        mount's seat coupling (:meth:`~jaxgear.scenes.HousingMount.coupling`) of each joined
+        member's node T q (:meth:`_joint`) and its support springs K_b on the joined rows:
+        K_c = Σ [[Tᵀ A T, Tᵀ B], [Bᵀ T, D]], (A, B, D) the blocks of
+        :meth:`~jaxgear.scenes.Housing.seat_spring` (the lumped scenes' seat coupling)."""
+        mount = self.housing_mount
+        if not mount.joints:
+            n = len(self.model.dof_names(stage)) + mount.size
+            return jnp.zeros((n, n), stage.planet_angles.dtype)
+        joints = [self._joint(stage, j.member, j.rows) for j in mount.joints]
+        return mount.coupling([T for T, _ in joints], [k for _, k in joints])
+
+    # -- the model kind --------------------------------------------------------------------
+
+    @property
+    def contact_solve(self) -> bool:
+        return self.model.contact_solve
+
+    @property
+    def face_points(self) -> int:
+        return self.model.face_points
+
+    def reduction(self, stage):
+        return _pad(self.model.reduction(stage), self.housing_mount.size)
+
+    def dof_names(self, stage):
+        return tuple(self.model.dof_names(stage)) + self.housing_mount.coordinate_names()
+
+    def central_translations(self, stage):
+        return self.model.central_translations(stage)
+
+    def central_rotations(self, stage):
+        return self.model.central_rotations(stage)
+
+    def mode_types(self):
+        return self.model.mode_types()
+
+    def gyroscopic_matrix(self, stage):
+        return _pad(self.model.gyroscopic_matrix(stage), self.housing_mount.size, rows=True)
+
+    def centripetal_matrix(self, stage):
+        return _pad(self.model.centripetal_matrix(stage), self.housing_mount.size, rows=True)
+
+    def spin_matrices(self, stage):
+        return tuple(_pad(a, self.housing_mount.size, rows=True)
+                     for a in self.model.spin_matrices(stage))
+
+    def pin_error_terms(self, stage, tangential_errors, radial_errors):
+        f, d_s, d_r = self.model.pin_error_terms(stage, tangential_errors, radial_errors)
+        return _pad(f, self.housing_mount.size), d_s, d_r
+
+    def error_terms(self, stage, tangential_errors, radial_errors, travel=0.0):
+        f, d_s, d_r = self.model.error_terms(stage, tangential_errors, radial_errors, travel)
+        return _pad(f, self.housing_mount.size), d_s, d_r
+
+    def mass_matrix(self, stage):
+        m = _pad(self.model.mass_matrix(stage), self.housing_mount.size, rows=True)
+        n = m.shape[0] - self.housing_mount.size
+        return m.at[n:, n:].set(jnp.asarray(self.housing_mount.M, m.dtype))
+
+    def stiffness_matrix(self, stage):
+        h = self.housing_mount.size
+        k = _pad(self.model.stiffness_matrix(self._unjoined(stage)), h, rows=True)
+        n = k.shape[0] - self.housing_mount.size
+        return k.at[n:, n:].add(jnp.asarray(self.housing_mount.K, k.dtype)) + self.coupling(stage)
+
+    def mesh_deflection_rows(self, stage):
+        h = self.housing_mount.size
+        return tuple(_pad(v, h) for v in self.model.mesh_deflection_rows(stage))
+
+    def face_rows(self, stage):
+        return tuple(tuple(_pad(v, self.housing_mount.size) for v in mesh)
+                     for mesh in self.model.face_rows(stage))
+
+    def corner_rows(self, stage):
+        return tuple(tuple(_pad(v, self.housing_mount.size) for v in mesh)
+                     for mesh in self.model.corner_rows(stage))
+
+    def line_rows(self, stage):
+        return tuple(_pad(v, self.housing_mount.size) for v in self.model.line_rows(stage))
+
+    def spring_cos(self, stage):
+        return self.model.spring_cos(stage)
 
 
 # -- kinematics --------------------------------------------------------------------------------

@@ -62,7 +62,12 @@ from ._interface import (
     TorsionalMember as TorsionalMember,
     mortar_weights as mortar_weights,
 )
-from ._mount import HousingMount as HousingMount, MountJoint as MountJoint
+from ._mount import (
+    ALL_ROWS as ALL_ROWS,
+    AXIS_ROWS as AXIS_ROWS,
+    HousingMount as HousingMount,
+    MountJoint as MountJoint,
+)
 from ._lumped3d import (
     LumpedPair as LumpedPair,
     LumpedTrain as LumpedTrain,
