@@ -570,6 +570,8 @@ def test_two_stage_refusals():
             jio.parse_train(data)
 
 
+# default tier: tests/test_lumped_train.py::test_jaxgear_run_on_the_two_stage_case_writes_bearing_forces (same claims on the embedded two-stage train: span rows, shafts, output torque, mesh frequencies, orders, per-mesh critical speeds)
+@pytest.mark.slow
 def test_jaxgear_run_on_the_two_stage_example_solves_over_the_span(tmp_path, no_figures):
     data = _two_stage_data()
     data["mesh"].update(slices=2, positions_per_pitch=PPP)
