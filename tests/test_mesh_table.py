@@ -188,7 +188,8 @@ def test_diffrax_records_take_each_mesh_at_its_own_row():
         assert np.percentile(diff, 95) < 1e-2, np.percentile(diff, 95)
 
 
-@pytest.mark.parametrize("model", ["torsional", "lumped3d"])
+# default tier: tests/test_mesh_table.py::test_two_stage_train_builds_in_float32[torsional] (same claim on the same case's torsional train; [lumped3d] is slow)
+@pytest.mark.parametrize("model", ["torsional", pytest.param("lumped3d", marks=pytest.mark.slow)])
 def test_two_stage_train_builds_in_float32(model):
     """float32 must run: the span and the period ratios of ``two-stage`` come from the tooth
     counts, not from float32 base radii (127/35 there was refused as 'not a ratio of tooth
