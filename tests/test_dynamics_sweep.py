@@ -247,6 +247,8 @@ def small_model():
     return build_dynamic_model(case, spec)[0]
 
 
+# default tier: tests/test_mesh_table.py::test_diffrax_records_take_each_mesh_at_its_own_row (same claim, Tsit5 with the smooth law agrees with Newmark on each dynamic factor within 0.5 %, on the torsional two-stage train)
+@pytest.mark.slow
 def test_diffrax_explicit_agrees_with_newmark(small_model):
     kw = dict(contact=jg.SmoothContact(1e-7), window=SteadyState(8, 2))
     nm = jd.simulate(small_model, 700.0, integrator=Newmark(32), **kw)
