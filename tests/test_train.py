@@ -110,7 +110,8 @@ def _idler_train(mesh_a, mesh_b, phase_b):
     return AssembledScene(structure, meshes, members, jnp.eye(n)[0])
 
 
-@pytest.mark.parametrize("contact", ["exact", "smooth"])
+# default tier: tests/test_train.py::test_idler_train_meshes_equal_their_pairs_at_their_own_angles[exact] (same claim with the exact law; [smooth] is slow)
+@pytest.mark.parametrize("contact", ["exact", pytest.param("smooth", marks=pytest.mark.slow)])
 def test_idler_train_meshes_equal_their_pairs_at_their_own_angles(contact):
     """Each mesh of the idler train has its pair's TE, mesh stiffness and line loads at the
     mesh's own angle and the force the train passes on (the idler's torque T r_b,idler/r_b,in),
