@@ -329,6 +329,12 @@ def test_jaxgear_run_on_the_two_stage_case_writes_bearing_forces(tmp_path, no_fi
     sweep = json.loads((tmp_path / "o" / "sweep" / "sweep.json").read_text())
     np.testing.assert_allclose(sweep["mesh_orders"], [28.0, 35 * 28 / 127], rtol=1e-12)
     assert sweep["model"] == "lumped3d"
+    # a dynamic factor per mesh at each of a train's default 30 speeds, the worst the scene's;
+    # each mesh's mean stiffness
+    per = np.asarray(sweep["dynamic_factor_mesh"])
+    assert per.shape == (30, 2) and all(v == 0 for v in sweep["result"])
+    np.testing.assert_allclose(sweep["dynamic_factor"], per.max(axis=1))
+    assert len(sweep["mesh_stiffness_mean_N_per_m"]) == 2
     # the span in te.csv (127 periods of 2 positions), the compound shaft, the output torque
     # by the tooth ratios, each mesh's frequency and its coincidences ω / (h z_k)
     assert len((tmp_path / "o" / "te.csv").read_text().splitlines()) == 1 + 127 * 2
