@@ -100,6 +100,8 @@ def test_low_speed_cell_loads_and_pressures_are_the_quasi_static_ones(accessory)
     assert float(r.max_pressure) == pytest.approx(p.max(), rel=1e-12)
 
 
+# default tier: tests/test_dynamic_pressure.py::test_in_loop_max_pressure_is_the_max_of_the_recorded_pressures (same claim, cell loads summing to the line forces, on the torsional scene's sweep)
+@pytest.mark.slow
 def test_cell_loads_sum_to_the_line_forces(accessory):
     """Σ over a contact line's cells of line load × cell length is the line force the loop
     records separately (``line_force``), to round-off: the accessory pair's lumped 3D scene

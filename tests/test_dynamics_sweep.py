@@ -213,6 +213,8 @@ def test_cli_sweep_writes_json_and_plots(tmp_path, capsys):
     assert main(["sweep", str(case), "--speeds", "300:100:5", "--out", str(out)]) == 2
 
 
+# default tier: tests/test_dynamics_sweep.py::test_chunked_sweep_is_the_whole_sweep_with_progress (a batched sweep equals the whole one; the split over 4 forced CPU devices needs this subprocess)
+@pytest.mark.slow
 def test_sharded_sweep_matches_unsharded_on_four_cpu_devices():
     script = textwrap.dedent("""
         import jax, numpy as np
@@ -245,6 +247,8 @@ def small_model():
     return build_dynamic_model(case, spec)[0]
 
 
+# default tier: tests/test_mesh_table.py::test_diffrax_records_take_each_mesh_at_its_own_row (same claim, Tsit5 with the smooth law agrees with Newmark on each dynamic factor within 0.5 %, on the torsional two-stage train)
+@pytest.mark.slow
 def test_diffrax_explicit_agrees_with_newmark(small_model):
     kw = dict(contact=jg.SmoothContact(1e-7), window=SteadyState(8, 2))
     nm = jd.simulate(small_model, 700.0, integrator=Newmark(32), **kw)
@@ -285,6 +289,8 @@ def test_example_tip_relief_lowers_the_peak_and_removes_the_jump(tmp_path):
     assert (tmp_path / "speed_sweep.png").exists()
 
 
+# default tier: tests/test_regression.py::test_same_numbers_as_recorded[sweep-accessory-spur] (same claim, jaxgear sweep on a lumped 3D pair: its model, energy parts, 60 frequencies, 10 bearing forces, results, against the record)
+@pytest.mark.slow
 def test_cli_sweep_lumped3d_scene(tmp_path, no_figures):
     text = CASE + textwrap.dedent("""
         [scene.pinion_shaft]

@@ -329,6 +329,26 @@ def test_jaxgear_run_on_the_two_stage_case_writes_bearing_forces(tmp_path, no_fi
     sweep = json.loads((tmp_path / "o" / "sweep" / "sweep.json").read_text())
     np.testing.assert_allclose(sweep["mesh_orders"], [28.0, 35 * 28 / 127], rtol=1e-12)
     assert sweep["model"] == "lumped3d"
+    # a dynamic factor per mesh at each of a train's default 30 speeds, the worst the scene's;
+    # each mesh's mean stiffness
+    per = np.asarray(sweep["dynamic_factor_mesh"])
+    assert per.shape == (30, 2) and all(v == 0 for v in sweep["result"])
+    np.testing.assert_allclose(sweep["dynamic_factor"], per.max(axis=1))
+    assert len(sweep["mesh_stiffness_mean_N_per_m"]) == 2
+    # the span in te.csv (127 periods of 2 positions), the compound shaft, the output torque
+    # by the tooth ratios, each mesh's frequency and its coincidences ω / (h z_k)
+    assert len((tmp_path / "o" / "te.csv").read_text().splitlines()) == 1 + 127 * 2
+    shafts = {g["name"]: g["shaft"] for g in summary["gears"]}
+    assert shafts["lst-pinion"] == shafts["hst-wheel"] != shafts["output"]
+    torque = data["operating"]["torque_Nm"]
+    assert summary["operating"]["output_torque_Nm"] == pytest.approx(torque * 127 / 28 * 68 / 35)
+    f = np.asarray(sweep["mesh_frequency_mesh_Hz"])
+    np.testing.assert_allclose(f[:, 1] / f[:, 0], 35 / 127, rtol=1e-12)
+    for z, row in zip((28.0, 35 * 28 / 127), sweep["critical_speeds_mesh"], strict=True):
+        assert row
+        for c in row:
+            w = 2 * math.pi * c["frequency_Hz"]
+            assert c["speed_rad_s"] == pytest.approx(w / (c["harmonic"] * z), rel=1e-12)
 
 
 EXAMPLE = pathlib.Path(__file__).resolve().parents[1] / "examples" / "idler-train-lumped3d.toml"

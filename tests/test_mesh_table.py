@@ -137,7 +137,9 @@ def _assert_same_run(own, long):
     np.testing.assert_allclose(np.asarray(own.theta), np.asarray(long.theta), rtol=1e-14)
 
 
-@pytest.mark.parametrize("case", [pytest.param("two-stage", marks=pytest.mark.slow), "idler"])
+# default tier: tests/test_mesh_table.py::test_own_period_tables_run_the_long_table_dynamics (same claim on the torsional two-stage train, whose own-period rows differ from the span's; the idler's are the same rows) and test_static_rows_are_each_steps_static_solve[idler] (the lumped idler's own-period run)
+@pytest.mark.slow
+@pytest.mark.parametrize("case", ["two-stage", "idler"])
 def test_lumped_trains_on_own_period_tables_run_the_long_table_dynamics(case):
     """The embedded lumped 3D ``two-stage`` case (2 slices, 35 steps per HST period: its LST
     mesh's 127/35 periods are 127 steps; the table has 127 rows against the span's 4445; slow:
@@ -188,7 +190,8 @@ def test_diffrax_records_take_each_mesh_at_its_own_row():
         assert np.percentile(diff, 95) < 1e-2, np.percentile(diff, 95)
 
 
-@pytest.mark.parametrize("model", ["torsional", "lumped3d"])
+# default tier: tests/test_mesh_table.py::test_two_stage_train_builds_in_float32[torsional] (same claim on the same case's torsional train; [lumped3d] is slow)
+@pytest.mark.parametrize("model", ["torsional", pytest.param("lumped3d", marks=pytest.mark.slow)])
 def test_two_stage_train_builds_in_float32(model):
     """float32 must run: the span and the period ratios of ``two-stage`` come from the tooth
     counts, not from float32 base radii (127/35 there was refused as 'not a ratio of tooth

@@ -170,6 +170,8 @@ def test_smooth_contact_first_order_in_width_golden_ratio():
     assert slope == pytest.approx(1.0, abs=1e-6)
 
 
+# default tier: tests/test_quasi_static.py::test_smooth_contact_first_order_in_width_golden_ratio (same claim, the smooth law's TE tends to the exact one at first order in w, exactly, on a problem with a cell at zero gap)
+@pytest.mark.slow
 def test_smooth_converges_to_exact_at_least_first_order_real_case():
     """power-helical (Weber, tip relief + crowning): max |TE_smooth − TE_exact| over the positions
     decreases at least linearly in w (the O(w) bound of docs/design.md, "Contact laws", is attained

@@ -110,7 +110,8 @@ def _idler_train(mesh_a, mesh_b, phase_b):
     return AssembledScene(structure, meshes, members, jnp.eye(n)[0])
 
 
-@pytest.mark.parametrize("contact", ["exact", "smooth"])
+# default tier: tests/test_train.py::test_idler_train_meshes_equal_their_pairs_at_their_own_angles[exact] (same claim with the exact law; [smooth] is slow)
+@pytest.mark.parametrize("contact", ["exact", pytest.param("smooth", marks=pytest.mark.slow)])
 def test_idler_train_meshes_equal_their_pairs_at_their_own_angles(contact):
     """Each mesh of the idler train has its pair's TE, mesh stiffness and line loads at the
     mesh's own angle and the force the train passes on (the idler's torque T r_b,idler/r_b,in),
@@ -349,6 +350,8 @@ def two_stage_train(planes=None):
     return planes, pairs, train
 
 
+# default tier: tests/test_train.py::test_two_stage_dynamic_factor_per_mesh_against_a_segmented_reference (same claims on the same train: each mesh's response against a reference written apart, at 256 steps, and the forces repeating over the 4-period span) and test_idler_train_dynamics_converge_to_an_independent_reference (a train's TE converging at 256 and 512 steps)
+@pytest.mark.slow
 def test_two_stage_train_dynamics_converge_to_an_independent_reference():
     """A two-stage torsional train: 20 → 40 teeth, then a 30-tooth pinion on the 40's shaft (a
     compound gear: one rotation, both gears' inertia) → 45 teeth. Its meshes pass teeth at 20 Ω
@@ -488,7 +491,8 @@ def test_two_stage_dynamic_factor_per_mesh_against_a_segmented_reference():
     mesh's dynamic factor within 2 % of the reference written apart from the model (exact
     between the stiffness jumps, :func:`_segmented_reference`), read at the records' angles
     (measured: at most 0.60 % over the speeds and meshes at 256 steps per period, 0.19 % at
-    512)."""
+    512). The meshes repeat together every 4 first-mesh periods: the mesh forces over the last
+    two spans repeat over a span, not over one period."""
     k0 = 1.4e10  # N/m per m of contact line
     pairs = (_pair(20, 40), _pair(30, 45))
     planes = tuple(
@@ -517,6 +521,11 @@ def test_two_stage_dynamic_factor_per_mesh_against_a_segmented_reference():
         U = np.asarray(train.te_vectors())
         for k, mesh in enumerate(r.meshes):
             assert float(mesh.contact_loss) == 0.0, (fraction, k)
+            # the forces repeat over the span of four first-mesh periods, not over one
+            fm = np.asarray(mesh.mesh_force)
+            one, span = steps, 4 * steps
+            repeat = np.max(np.abs(fm[-span:] - fm[-2 * span : -span]))
+            assert np.max(np.abs(fm[-one:] - fm[-2 * one : -one])) > 10 * repeat, (fraction, k)
             force = np.array([meshes[k][4] * n_pairs(k, ti) for ti in t]) * (X @ U[k])
             df_ref = force.max() / static[k]
             assert float(mesh.static_force) == pytest.approx(static[k], rel=1e-6)

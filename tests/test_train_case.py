@@ -338,12 +338,14 @@ def test_train_case_refusals_are_one_line_in_file_units():
 @pytest.fixture(scope="module")
 def branch_run(tmp_path_factory):
     """``jaxgear run`` on the idler train whose input also drives an accessory (at 180°, loaded
-    with −30 N·m), small settings (2 slices, 48 positions per pitch, a short sweep): the case's
-    data, the output folder and what the run printed. One run read by the two tests below (each
-    asserts other outputs of it)."""
+    with −30 N·m), small settings (2 slices, 48 positions per pitch), on rigid shafts (no
+    ``[scene]``: the quasi-static run and its files, no sweep; a train's sweep per mesh is
+    tests/test_lumped_train.py's default jaxgear run, the torsional train's run
+    tests/test_every_kind.py's): the case's data, the output folder and what the run printed.
+    One run read by the two tests below (each asserts other outputs of it)."""
     data = _train_data()
     data["mesh"].update(slices=2, positions_per_pitch=PPP)
-    data["scene"]["integration"] = {"steps_per_period": 16, "periods": 4, "keep_periods": 2}
+    del data["scene"]
     acc = dict(_gear_table(data, "output"), name="accessory", teeth=50, profile_shift=0.4)
     data["gears"].append(acc)
     data["meshes"].append({"driving": "input", "driven": "accessory", "angle_deg": 180.0})
@@ -359,11 +361,12 @@ def branch_run(tmp_path_factory):
     return data, out, printed.getvalue()
 
 
-def test_jaxgear_run_on_a_train_writes_per_mesh_files_and_sweep(branch_run):
+def test_jaxgear_run_on_a_train_writes_per_mesh_files(branch_run):
     """``jaxgear run`` on a small train case file (the branching train of :func:`branch_run`):
     summary.json holds a ``meshes`` entry per mesh with the pair keys of ``quasi_static``, te.csv
-    a column per mesh, a load map per mesh and the phasing figure; the sweep has a dynamic
-    factor per mesh whose worst is the scene's. (The balancing output torque without loads,
+    a column per mesh, a load map per mesh and the phasing figure. (A sweep's dynamic factor per
+    mesh, whose worst is the scene's: tests/test_lumped_train.py's
+    test_jaxgear_run_on_the_two_stage_case_writes_bearing_forces. The balancing output torque without loads,
     T z_out / z_in, is the power balance of test_jaxgear_run_on_an_input_driving_two_meshes
     with no accessory load: one formula, asserted there.)"""
     _, out, printed = branch_run
@@ -387,11 +390,7 @@ def test_jaxgear_run_on_a_train_writes_per_mesh_files_and_sweep(branch_run):
         # the mesh's name in snake case (input-idler -> input_idler)
         assert f"transmission_error_exact_modified_{name.replace('-', '_')}_m" in header
     assert (out / "phasing.png").stat().st_size > 0
-    sweep = json.loads((out / "sweep" / "sweep.json").read_text())
-    per = np.asarray(sweep["dynamic_factor_mesh"])
-    assert per.shape == (30, 3)  # a train's default sweep: 30 speeds
-    np.testing.assert_allclose(sweep["dynamic_factor"], per.max(axis=1))
-    assert len(sweep["mesh_stiffness_mean_N_per_m"]) == 3
+    assert not (out / "sweep").exists()  # rigid shafts: no dynamics
     assert "input-idler" in printed
 
 
@@ -482,18 +481,16 @@ def test_loads_are_refused_in_one_line():
 
 def test_jaxgear_run_on_an_input_driving_two_meshes(branch_run):
     """The input drives the idler and an accessory (at 180°, loaded with −30 N·m): ``jaxgear
-    run`` with its sweep completes, and the balancing output's torque is what the power balance
-    written here leaves, T_out = −(T ω_0 + T_acc ω_acc)/ω_out."""
+    run`` completes, and the balancing output's torque is what the power balance written here
+    leaves, T_out = −(T ω_0 + T_acc ω_acc)/ω_out."""
     data, out, _ = branch_run
     summary = json.loads((out / "summary.json").read_text())
     z = {g["name"]: g["teeth"] for g in data["gears"]}
     w_acc, w_out = z["input"] / z["accessory"], z["input"] / z["output"]  # per unit ω_0
     expected = (80.0 - 30.0 * w_acc) / w_out
     assert summary["operating"]["output"] == "output"
+    assert summary["complete"] is True
     assert summary["operating"]["output_torque_Nm"] == pytest.approx(expected, rel=1e-12)
-    sweep = json.loads((out / "sweep" / "sweep.json").read_text())
-    assert np.asarray(sweep["dynamic_factor_mesh"]).shape == (30, 3)
-    assert all(v == 0 for v in sweep["result"])
 
 
 EXAMPLE = pathlib.Path(__file__).resolve().parents[1] / "examples" / "two-stage-torsional.toml"
@@ -570,6 +567,8 @@ def test_two_stage_refusals():
             jio.parse_train(data)
 
 
+# default tier: tests/test_lumped_train.py::test_jaxgear_run_on_the_two_stage_case_writes_bearing_forces (same claims on the embedded two-stage train: span rows, shafts, output torque, mesh frequencies, orders, per-mesh critical speeds)
+@pytest.mark.slow
 def test_jaxgear_run_on_the_two_stage_example_solves_over_the_span(tmp_path, no_figures):
     data = _two_stage_data()
     data["mesh"].update(slices=2, positions_per_pitch=PPP)

@@ -145,6 +145,8 @@ def test_multi_dof_balance_on_a_basis_equals_the_dense_system_over_a_speed_map()
         np.testing.assert_allclose(Y, ref, rtol=0, atol=1e-12 * np.max(np.abs(ref)))
 
 
+# default tier: tests/test_whine.py::test_oscillator_converges_to_the_continued_fraction_solution (same claim, the untruncated balance of the oscillator against a solution written apart, the continued fraction)
+@pytest.mark.slow
 def test_oscillator_against_time_integration():
     """H = 24 against DOP853 (rtol 1e-12) after 400 periods: the first three harmonics'
     amplitudes to 1e-6 of the fundamental's, phases to 1e-4 rad."""
@@ -235,7 +237,8 @@ def _linear_periodic_reference(model, speed, P, orders=4, sub=8):
     return np.array([2 * np.mean(te * np.exp(-1j * h * w * t)) for h in range(orders)])
 
 
-@pytest.mark.parametrize("ratio", [0.15, 0.45])
+# default tier: tests/test_whine.py::test_pair_equals_the_exact_linear_periodic_solution[0.15] (same claim at one speed; [0.45] is slow)
+@pytest.mark.parametrize("ratio", [0.15, pytest.param(0.45, marks=pytest.mark.slow)])
 def test_pair_equals_the_exact_linear_periodic_solution(ratio):
     """The relieved pair (1-DOF relative approach), 256 positions: orders 1-3 of the TE from
     the harmonic balance (H = 64) equal the exact periodic solution of the same linear

@@ -88,14 +88,24 @@ def test_two_parametric_stiffnesses_against_the_perturbation_solution():
     assert abs(Y[(-1, -1)] - np.conj(Y[(1, 1)])) < 1e-12 * abs(Y[(1, 1)])
 
 
-def test_bad_inputs():
+@pytest.fixture(scope="module")
+def two_stage():
+    """The embedded ``two-stage`` case, its dynamic model (2 slices) and that model's balance
+    QuasiPeriodicBalance(2, 0) at 50 rad/s on one table of 35 positions: built once for the
+    tests below (each build solves the case's quasi-static rows)."""
+    case = jio.load_case("two-stage")
+    model, _ = jio.build_dynamic_model(case, slices=2)
+    one = whine_response(model, 50.0, QuasiPeriodicBalance(2, 0), positions=35)
+    return case, model, one
+
+
+def test_bad_inputs(two_stage):
     """One-line errors before any computation."""
     with pytest.raises(ValueError, match="sidebands"):
         QuasiPeriodicBalance(4, 5)
     with pytest.raises(ValueError, match="harmonics"):
         QuasiPeriodicBalance(0, 0)
-    case = jio.load_case("two-stage")
-    model, _ = jio.build_dynamic_model(case, slices=2)
+    case, model, _ = two_stage
     # the groups a case file's [whine] is checked against at load, from its tooth counts: the
     # model's
     assert mesh_frequency_periods(case) == mesh_groups(model)[1]
@@ -110,27 +120,25 @@ def test_bad_inputs():
         assert "\n" not in str(e.value)
 
 
-def test_a_failed_static_solve_on_the_torus_grid_is_an_error():
+def test_a_failed_static_solve_on_the_torus_grid_is_an_error(two_stage):
     """The torque turned against the drive flanks (the flanks open: no contact anywhere on the
     grid): the balance raises, one line, instead of returning a response about a wrong
     operating point."""
     import equinox as eqx
 
-    model, _ = jio.build_dynamic_model(jio.load_case("two-stage"), slices=2)
+    _, model, one = two_stage
     opened = eqx.tree_at(lambda m: m.torque, model, -model.torque)
     with pytest.raises(eqx.EquinoxRuntimeError, match="torus grid") as e:
         whine_response(opened, 50.0, QuasiPeriodicBalance(2, 0), positions=35)
     assert "\n" not in str(e.value)
-    assert np.all(np.isfinite(np.asarray(
-        whine_response(model, 50.0, QuasiPeriodicBalance(2, 0), positions=35).mesh_force)))
+    assert np.all(np.isfinite(np.asarray(one.mesh_force)))
 
 
-def test_positions_per_group_join_the_groups_tables():
+def test_positions_per_group_join_the_groups_tables(two_stage):
     """``positions=(35, 35)`` (each group's table of its own, joined) gives the grid of
     ``positions=35`` (one table for every mesh): the same lines to 1e-12."""
-    model, _ = jio.build_dynamic_model(jio.load_case("two-stage"), slices=2)
+    _, model, one = two_stage
     method = QuasiPeriodicBalance(2, 0)
-    one = whine_response(model, 50.0, method, positions=35)
     joined = whine_response(model, 50.0, method, positions=(35, 35))
     for name in ("coordinates", "transmission_error", "mesh_force", "bearing_force"):
         a, b = np.asarray(getattr(one, name)), np.asarray(getattr(joined, name))
