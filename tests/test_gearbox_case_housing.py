@@ -312,6 +312,8 @@ def _planetary_by_hand(ch, off, kind=None, **run):
             gb.GearboxRun(P_TORQUE, P_SHAFT, **opts))
 
 
+# default tier: tests/test_gearbox_case_housing.py::test_the_file_builds_the_hand_built_planar_planetary_in_the_box (the same reader path, the planar kind) and ::test_file_planetary_ring_seat_carries_the_ring_torque (this file's chain run)
+@pytest.mark.slow
 def test_the_file_builds_the_hand_built_planetary_in_the_box():
     """A planetary stage with ``housing_seat``: the reader's coupled chain (the ring on seat 0
     of the box round the planetary's axis and the pair's shafts, the pair's bearings on seats

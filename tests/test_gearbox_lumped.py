@@ -28,6 +28,8 @@ J_TOTAL = (5.2e-3, 0.0165)
 # a stage's parts (M, K_s, K̄_m, F) by one compiled program per kind of stage (evaluated op by
 # op: several hundred small ones); the same function of the stage's leaves
 _parts = eqx.filter_jit(lambda stage, positions: stage.dynamic_parts(positions))
+# its chain view (M, K) on the torque nodes likewise
+_matrices = eqx.filter_jit(lambda stage: stage.matrices())
 
 
 def _pair():
@@ -94,7 +96,7 @@ def test_chain_view_is_the_torsional_pair_when_shafts_and_bearings_are_stiff():
     m_ref, _, k_ref, _ = _parts(ref, 64)
     errs = []
     for s in (1.0, 1e2, 1e4):
-        m, k = gb.LumpedPairGearboxStage(_scene(s)).matrices()
+        m, k = _matrices(gb.LumpedPairGearboxStage(_scene(s)))
         errs.append(abs(float(np.asarray(k)[0, 0] / np.asarray(k_ref)[0, 0]) - 1.0))
         if s == 1e4:
             np.testing.assert_allclose(np.asarray(m), np.asarray(m_ref), atol=5e-3 * J_TOTAL[1])
@@ -199,7 +201,7 @@ def test_guyan_view_against_a_dense_reduction():
     scene's K + mean mesh stiffness onto the torque nodes."""
     scene = _scene(torque_z=0.0, elements=2)
     stage = gb.LumpedPairGearboxStage(scene)
-    m, k = (np.asarray(a) for a in eqx.filter_jit(lambda st: st.matrices())(stage))
+    m, k = (np.asarray(a) for a in _matrices(stage))
     mm, ks, km, _ = (np.asarray(a) for a in _parts(stage, 64))
     kk = ks + km
     e = list(scene.torque_dofs)
