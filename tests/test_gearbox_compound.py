@@ -261,6 +261,8 @@ def test_quasi_static_torque_balance_of_a_coupled_run():
     assert carrier == pytest.approx(torque * (1 + Z_R * Z_P1 / (Z_S * Z_P2)), rel=1e-5)
 
 
+# default tier: tests/test_gearbox_compound.py::test_quasi_static_torque_balance_of_a_coupled_run (the stepped stage's coupled run, static forces) and ::test_equal_planet_gears_give_the_simple_stage (its cells on both flanks)
+@pytest.mark.slow
 def test_coupled_run_of_the_stage_driving_a_pair():
     """The stepped stage (carrier in 5000 N m at 10 rad/s, ring held, sun out: its planets drive
     the sun, the other flanks) whose sun drives a spur pair 36 / 24 through a shaft, every mesh on

@@ -102,6 +102,11 @@ def steel():
     return _condensed(210e9, 7800.0, 8000.0)  # 6 interior modes kept (5.1 to 8 kHz)
 
 
+# a stage's parts (M, K_s, K̄_m, F) by one compiled program per kind of stage (evaluated op by
+# op: several hundred small ones); the same function of the stage's leaves
+_parts = eqx.filter_jit(lambda stage, positions: stage.dynamic_parts(positions))
+
+
 def _skew(a):
     return np.array([[0, -a[2], a[1]], [a[2], 0, -a[0]], [-a[1], a[0], 0]])
 
@@ -136,7 +141,7 @@ def _hand_assembly(ch, grounded):
     for k, (stage, scene) in enumerate(zip(grounded.stages, scenes, strict=True)):
         o, w = offs[k], sizes[k]
         K[o:o + w, o:o + w] += np.asarray(scene.structure.K)
-        K[o:o + w, o:o + w] += np.asarray(stage.dynamic_parts(RUN.mean_positions)[2])
+        K[o:o + w, o:o + w] += np.asarray(_parts(stage, RUN.mean_positions)[2])
         M[o:o + w, o:o + w] += np.asarray(scene.structure.M)
         positions = [np.array([x, 0.0, z]) for x in (0.0, A) for z in (-0.5 * L, 0.5 * L)]
         for (u, kb), p, s in zip(_bearings(scene), positions, _seats(k), strict=True):
@@ -380,7 +385,7 @@ def _planetary_hand_assembly(ch, grounded, run):
     K and M once; the shaft sun–wheel and the hold on the pinion."""
     planetary, pair = grounded.stages
     free = eqx.tree_at(lambda s: s.stage.ring.torsional_stiffness, planetary, jnp.asarray(0.0))
-    mp, kp, kmp, _ = (np.asarray(a) for a in free.dynamic_parts(run.mean_positions))
+    mp, kp, kmp, _ = (np.asarray(a) for a in _parts(free, run.mean_positions))
     scene = pair.scene
     n1, n2, h = mp.shape[0], scene.structure.size, ch.K.shape[0]
     n = n1 + n2 + h
@@ -389,7 +394,7 @@ def _planetary_hand_assembly(ch, grounded, run):
     K[:n1, :n1] = kp + kmp
     M[:n1, :n1] = mp
     o = slice(n1, n1 + n2)
-    K[o, o] = np.asarray(scene.structure.K) + np.asarray(pair.dynamic_parts(run.mean_positions)[2])
+    K[o, o] = np.asarray(scene.structure.K) + np.asarray(_parts(pair, run.mean_positions)[2])
     M[o, o] = np.asarray(scene.structure.M)
     K[q0:, q0:] = ch.K
     M[q0:, q0:] = ch.M
@@ -444,6 +449,8 @@ def test_planetary_ring_in_the_shared_housing_matches_a_hand_assembly(planetary_
     np.testing.assert_allclose(total, 1.0, atol=1e-9)
 
 
+# default tier: tests/test_gearbox_case_housing.py::test_planar_ring_on_a_stiff_box_is_the_grounded_gearbox (same claim, planar kind)
+@pytest.mark.slow
 def test_stiff_box_with_a_planetary_ring_is_the_grounded_gearbox(planetary_box):
     """The box 1000 and 10 000 x stiffer than steel (steel's density): the coupled modes below
     5 kHz tend to those of the gearbox whose ring is held by its torsional spring to the ground
@@ -465,6 +472,8 @@ def test_stiff_box_with_a_planetary_ring_is_the_grounded_gearbox(planetary_box):
     assert errs[0] / errs[1] > 8.0 and errs[1] < 2e-3
 
 
+# default tier: tests/test_gearbox_case_housing.py::test_file_planetary_ring_seat_carries_the_ring_torque (same claim, file-built, 1e-3)
+@pytest.mark.slow
 def test_planetary_ring_seat_carries_the_ring_torque(planetary_box):
     """A Newmark run (``gearbox_dynamics``) of the chain in the box (2 % loss factor) at a
     carrier speed of 2 rad/s (quasi-static: the mesh frequencies far below the modes): it

@@ -5,6 +5,7 @@ the two-stage example with its parallel stage in 3D form."""
 
 import math
 
+import equinox as eqx
 import numpy as np
 import pytest
 import scipy.linalg
@@ -22,6 +23,13 @@ L, D, RHO = 0.12, 0.06, 7800.0  # each shaft: length, diameter (m), density
 J_SHAFT = RHO * math.pi * D**4 / 32 * L  # a shaft's polar inertia (kg m^2)
 # the gear bodies' polar inertias: with the shaft's, the example's pair (5.2e-3, 0.0165)
 J_TOTAL = (5.2e-3, 0.0165)
+
+
+# a stage's parts (M, K_s, K̄_m, F) by one compiled program per kind of stage (evaluated op by
+# op: several hundred small ones); the same function of the stage's leaves
+_parts = eqx.filter_jit(lambda stage, positions: stage.dynamic_parts(positions))
+# its chain view (M, K) on the torque nodes likewise
+_matrices = eqx.filter_jit(lambda stage: stage.matrices())
 
 
 def _pair():
@@ -85,10 +93,10 @@ def test_chain_view_is_the_torsional_pair_when_shafts_and_bearings_are_stiff():
     pair of the rigid shafts' inertias (body + rho pi d^4 L / 32) and the mean mesh spring."""
     pair, mesh = _pair()
     ref = gb.TorsionalPairGearboxStage(J_TOTAL, pair.base_radii, 1.0, input=0, mesh=mesh)
-    m_ref, _, k_ref, _ = ref.dynamic_parts(64)
+    m_ref, _, k_ref, _ = _parts(ref, 64)
     errs = []
     for s in (1.0, 1e2, 1e4):
-        m, k = gb.LumpedPairGearboxStage(_scene(s)).matrices()
+        m, k = _matrices(gb.LumpedPairGearboxStage(_scene(s)))
         errs.append(abs(float(np.asarray(k)[0, 0] / np.asarray(k_ref)[0, 0]) - 1.0))
         if s == 1e4:
             np.testing.assert_allclose(np.asarray(m), np.asarray(m_ref), atol=5e-3 * J_TOTAL[1])
@@ -193,8 +201,8 @@ def test_guyan_view_against_a_dense_reduction():
     scene's K + mean mesh stiffness onto the torque nodes."""
     scene = _scene(torque_z=0.0, elements=2)
     stage = gb.LumpedPairGearboxStage(scene)
-    m, k = (np.asarray(a) for a in stage.matrices())
-    mm, ks, km, _ = (np.asarray(a) for a in stage.dynamic_parts(64))
+    m, k = (np.asarray(a) for a in _matrices(stage))
+    mm, ks, km, _ = (np.asarray(a) for a in _parts(stage, 64))
     kk = ks + km
     e = list(scene.torque_dofs)
     i = [j for j in range(kk.shape[0]) if j not in e]

@@ -5,6 +5,7 @@ did, and the kind's contract answers (docs/gearbox.md, "The gearbox as a dynamic
 import json
 import pathlib
 
+import jax.numpy as jnp
 import numpy as np
 import pytest
 from _examples import load_example
@@ -126,7 +127,32 @@ def test_a_gearbox_case_builds_its_coupled_model_at_the_operating_point():
 def test_whine_response_of_a_gearbox_model_is_gearbox_whine():
     """jaxgear.dynamics.whine_response on a GearboxModel gives jaxgear.gearbox.gearbox_whine's
     response (the kind's whine, GearboxModel.whine), and refuses a method the kind does not
-    declare in one line."""
+    declare in one line: on tests/test_gearbox_whine.py's two spur pairs at its smallest balance
+    (QuasiPeriodicBalance(2, 0), 12 positions, one speed; the program its
+    test_bad_inputs_one_line compiles)."""
+    from test_gearbox_whine import _two_pairs
+
+    chain, run = _two_pairs(relief=0.0)
+    model = gb.GearboxModel(chain, run)
+    method = jd.QuasiPeriodicBalance(2, 0)
+    speeds = jnp.array([10.0])
+    got = jd.whine_response(model, speeds, method, positions=12)
+    want = gb.gearbox_whine(chain, run, speeds, method, positions=12)
+    assert np.all(np.isfinite(np.asarray(got.mesh_force)))
+    for a, b in ((got.mesh_force, want.mesh_force), (got.frequency, want.frequency),
+                 (got.transmission_error, want.transmission_error)):
+        np.testing.assert_allclose(np.asarray(a), np.asarray(b), rtol=1e-12, atol=0)
+    with pytest.raises(TypeError, match="its whine methods: QuasiPeriodicBalance") as e:
+        jd.whine_response(model, speeds, jd.HarmonicBalance(2), positions=12)
+    assert "\n" not in str(e.value)
+
+
+# default tier: tests/test_gearbox_model.py::test_whine_response_of_a_gearbox_model_is_gearbox_whine (same claim on two pairs, 1 speed)
+@pytest.mark.slow
+def test_whine_response_of_the_two_stage_gearbox_model_is_gearbox_whine():
+    """jaxgear.dynamics.whine_response on a GearboxModel gives jaxgear.gearbox.gearbox_whine's
+    response (the kind's whine, GearboxModel.whine), and refuses a method the kind does not
+    declare in one line: the two-stage example at two speeds."""
     chain, run = EX.two_stage(mean_positions=16)
     model = gb.GearboxModel(chain, run)
     method = jd.QuasiPeriodicBalance(2, 1)
@@ -161,6 +187,27 @@ def test_automatic_span_is_the_engines_settling_time_in_blocks():
         assert window.keep_periods == 2
 
 
+def test_an_input_turning_backwards_runs_as_its_magnitude_on_two_torsional_pairs():
+    """gearbox_dynamics at a negative input speed (the engine entries take speeds > 0: the run
+    is planned on the magnitude and run at the signed speed): on a torsional chain the speed
+    enters through the mesh travel speeds |v_k| alone (no rotating-frame terms), so that the
+    mesh forces at -ω are those at +ω. On tests/test_gearbox_whine.py's two spur pairs joined by
+    a shaft, on the plan of tests/test_gearbox_coupled.py::test_sweep_is_each_speed_run_alone
+    (32 steps per period, 6 blocks, 2 kept: its compiled run)."""
+    from test_gearbox_whine import _two_pairs
+
+    chain, run = _two_pairs(steps_per_period=32, periods=6, keep_periods=2)
+    ahead = gb.gearbox_dynamics(chain, run, 30.0)
+    back = gb.gearbox_dynamics(chain, run, -30.0)
+    assert int(ahead.result) == 0 and int(back.result) == 0
+    np.testing.assert_allclose(np.asarray(back.mesh_forces), np.asarray(ahead.mesh_forces),
+                               rtol=1e-12, atol=1e-9 * float(np.max(ahead.static_forces)))
+    assert float(np.ptp(np.asarray(ahead.mesh_forces))) > 1e-3 * float(
+        np.max(ahead.static_forces))  # the meshes' forces vary: the comparison sees the speed
+
+
+# default tier: tests/test_gearbox_model.py::test_an_input_turning_backwards_runs_as_its_magnitude_on_two_torsional_pairs (same claim on two pairs)
+@pytest.mark.slow
 def test_an_input_turning_backwards_runs_as_its_magnitude_on_a_torsional_chain():
     """gearbox_dynamics at a negative input speed (the engine entries take speeds > 0: the run
     is planned on the magnitude and run at the signed speed): on a torsional chain the speed

@@ -56,15 +56,27 @@ def test_other_flanks_sun_ring_offset_is_the_reference_derivation():
     assert abs(float(meshes.ring_offset) - want) > 1e-3
 
 
-def test_coupled_dynamic_factors_match_the_independent_reference():
+def _dynamic_factors_match_the_reference(speeds):
     chain, run = EX.two_stage(steps_per_period=64, periods=150, keep_periods=1)
-    out = gb.gearbox_speed_sweep(chain, run, np.array(SPEEDS))
+    out = gb.gearbox_speed_sweep(chain, run, np.array(speeds))
     df = np.asarray(out.dynamic_factors)
-    assert df.shape == (len(SPEEDS), 9)
-    for i, w in enumerate(SPEEDS):
+    assert df.shape == (len(speeds), 9)
+    for i, w in enumerate(speeds):
         ref = _recorded(w)
         rel = np.abs(df[i] / ref - 1.0)
         assert np.max(rel) < 0.02, (w, df[i], ref)
+
+
+def test_coupled_dynamic_factors_match_the_independent_reference_at_two_speeds():
+    """Every mesh's dynamic factor within 2 % of the reference's at two of the record's speeds
+    (one below the planet modes, one above)."""
+    _dynamic_factors_match_the_reference((170.0, 431.0))
+
+
+# default tier: tests/test_gearbox_reference.py::test_coupled_dynamic_factors_match_the_independent_reference_at_two_speeds (same claim at 2 speeds)
+@pytest.mark.slow
+def test_coupled_dynamic_factors_match_the_independent_reference():
+    _dynamic_factors_match_the_reference(SPEEDS)
 
 
 @pytest.mark.slow

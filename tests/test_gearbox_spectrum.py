@@ -211,6 +211,27 @@ def test_refusals():
         gb.housing_lines(chain, 60.0, ring_stage=1)
 
 
+def test_jaxgear_run_campbell(tmp_path):
+    """jaxgear run's Campbell section of a gearbox on the two-stage case file (20/30/-80, 4
+    planets, carrier in; the pair's 32-tooth wheel on the sun): files written; the mesh orders'
+    slopes 80 / 2 pi and 32 (1 + 80/20) / 2 pi Hz per rad/s; the crossings counted."""
+    import json
+
+    from jaxgear.cli.gearbox import coupled_campbell
+    from jaxgear.io import load_case
+
+    case = load_case(str(ROOT / "tests" / "data" / "gearbox" / "two-stage-gearbox.toml"))
+    c = coupled_campbell(case.form, case, str(tmp_path))
+    for name in ("campbell.json", "campbell.png"):
+        assert (tmp_path / name).is_file()
+    data = json.loads((tmp_path / "campbell.json").read_text())
+    np.testing.assert_allclose(data["mesh_Hz_per_rad_s"], [80 / (2 * np.pi), 160 / (2 * np.pi)],
+                               rtol=1e-12)
+    assert c["crossings"] == len(data["crossings"]) > 0
+
+
+# default tier: tests/test_gearbox_spectrum.py::test_ring_point_lines_mcfadden_smith (housing_spectrum's lines) and ::test_housing_lines_positions (the lines the summary reads)
+@pytest.mark.slow
 def test_jaxgear_run_campbell_and_housing_spectrum(tmp_path):
     """jaxgear run's Campbell and housing-spectrum sections of a gearbox on the two-stage case
     file (20/30/-80, 4 planets, carrier in at 100 rad/s; the pair's 32-tooth wheel on the sun):

@@ -190,8 +190,7 @@ class GearboxModel(AbstractDynamicModel):
     def structure_matrices(self) -> tuple:
         """(M, K_s): the coupled mass and the structure's stiffness with the shafts and the
         output hold (no mesh, no rotating-frame terms), each (n, n)."""
-        m, _, k, *_ = _assemble(self.chain, self.run, jnp.ones((), self.dtype))
-        return m, k
+        return _structure_matrices(self.chain, self.run, jnp.ones((), self.dtype))
 
     def steps_per_mode(self) -> int:
         """The automatic step's steps per period of the highest excited mode (the run's
@@ -352,6 +351,14 @@ def _chain_modes(chain: GearboxTorsional) -> ModalAnalysis:
     per_stage = belongs @ energy
     per_stage = per_stage / per_stage.sum(axis=0, keepdims=True)
     return dataclasses.replace(modes, kinetic=per_stage, groups=_stage_groups(chain))
+
+
+@eqx.filter_jit
+def _structure_matrices(chain, run, speed):
+    """(M, K_s) of :meth:`GearboxModel.structure_matrices`: one compiled program (the stages'
+    parts evaluated op by op took seconds of small compilations)."""
+    m, _, k, *_ = _assemble(chain, run, speed)
+    return m, k
 
 
 def gearbox_dynamics(

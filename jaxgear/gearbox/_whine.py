@@ -75,13 +75,20 @@ def _embedded(stages, housing, sign_of, rows_of):
     return out
 
 
+@eqx.filter_jit
+def _cell_rows(stage, xs):
+    """The stage's cell rows at the travels ``xs`` (m), (n,): one compiled program per kind of
+    stage (the rows evaluated op by op took seconds of small compilations)."""
+    return jax.vmap(stage.cell_row)(xs)
+
+
 def _repeats(stage, dtype) -> bool:
     """Whether the stage's cells repeat after one mesh period (host side): the cells' stiffness
     matrix Σ k l V Vᵀ, load Σ k l δ0 V and Σ k l δ0² (invariant under a renumbering of the
     contact lines) at 16 travels x and x + p_b."""
     p = float(stage.mesh_period())
     xs = (np.arange(16) + 0.37) * p / 16
-    rows = jax.vmap(stage.cell_row)(jnp.asarray(np.concatenate([xs, xs + p]), dtype))
+    rows = _cell_rows(stage, jnp.asarray(np.concatenate([xs, xs + p]), dtype))
     for i in range(16):
         a, b = (jax.tree.map(lambda f, j=j: f[j], rows) for j in (i, i + 16))
         prints = []
