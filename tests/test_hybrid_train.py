@@ -57,8 +57,6 @@ def test_each_tooth_in_contact_sits_on_a_rim_station_in_both_meshes(scene):
             assert off.size and np.abs(off).max() < 1e-9, (k, theta, off)
 
 
-# default tier: test_rigidified_idler_train_dynamics_equal_the_rigid_node_train (the same rigidified idler against the rigid-node train, from the quasi-static start through the Newmark)
-@pytest.mark.slow
 def test_rigidified_idler_reproduces_the_rigid_node_train(case):
     """The idler's body a thousand times stiffer (E × 1000) on the same shafts gives each mesh's
     TE of the rigid-node lumped train (uniform mesh stiffness: no foundation term): mean within
