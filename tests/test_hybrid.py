@@ -57,16 +57,19 @@ def scene(case, body):
     return static_scene(case, bodies=(None, body))[0]
 
 
+# default tier: tests/test_contact_stopping.py::test_cell_space_smooth_matches_brentq_and_flags_its_cap (the smooth law's cell-space solve against brentq) and [H2-exact] here (both members flexible: the one-member cases' paths)
 @pytest.mark.parametrize(
-    "model",
-    # both members flexible (H2) in the default run: it takes both paths of the one-member cases
+    ("model", "mode"),
     [
-        pytest.param("H1", marks=pytest.mark.slow),
-        "H2",
-        pytest.param("pinion", marks=pytest.mark.slow),
+        pytest.param("H1", "exact", marks=pytest.mark.slow),
+        pytest.param("H1", "smooth", marks=pytest.mark.slow),
+        ("H2", "exact"),
+        pytest.param("H2", "smooth", marks=pytest.mark.slow),
+        pytest.param("pinion", "exact", marks=pytest.mark.slow),
+        pytest.param("pinion", "smooth", marks=pytest.mark.slow),
     ],
 )
-def test_cell_space_solve_equals_full_coordinates(case, body, pinion_body, model):
+def test_cell_space_solve_equals_full_coordinates(case, body, pinion_body, model, mode):
     """The cell-space solve (structure factored once, C = V G Vᵀ) gives the solution of the
     contact problem on the full coordinates X (output rotation grounded), exact and smooth, with
     a flexible wheel (H1), both members flexible (H2) or a flexible pinion only."""
@@ -74,14 +77,13 @@ def test_cell_space_solve_equals_full_coordinates(case, body, pinion_body, model
     scene = static_scene(case, bodies=bodies[model])[0]
     full = grounded(scene, (scene.torque_dofs[1],), factor=1e8)
     theta = jg.mesh_positions(scene.mesh, 4, periods=2)
-    for mode in ("exact", "smooth"):
-        law = case.contact_law(mode)
-        a = jg.quasi_static(scene, case.modifications, case.torque, theta, contact=law)
-        b = jg.quasi_static(full, case.modifications, case.torque, theta, contact=law)
-        assert np.all(np.asarray(a.result) == 0)
-        ll = float(jnp.max(a.line_load))
-        np.testing.assert_allclose(a.line_load, b.line_load, atol=1e-7 * ll)
-        np.testing.assert_allclose(a.transmission_error, b.transmission_error, rtol=1e-6)
+    law = case.contact_law(mode)
+    a = jg.quasi_static(scene, case.modifications, case.torque, theta, contact=law)
+    b = jg.quasi_static(full, case.modifications, case.torque, theta, contact=law)
+    assert np.all(np.asarray(a.result) == 0)
+    ll = float(jnp.max(a.line_load))
+    np.testing.assert_allclose(a.line_load, b.line_load, atol=1e-7 * ll)
+    np.testing.assert_allclose(a.transmission_error, b.transmission_error, rtol=1e-6)
 
 
 def _rigid_motion(scene, member, a_body, w_body):
@@ -191,6 +193,8 @@ def _check_rigid_motion(case, body, pinion_body, helix, member_index):
                 assert err <= tol, (theta, a_b, w_b, err)
 
 
+# default tier: tests/test_hybrid_train.py::test_rigidified_idler_reproduces_the_rigid_node_train (the same claim on the idler train: a body 1000× stiffer gives the rigid-node TE, mean 0.5 %, RMS 3 %)
+@pytest.mark.slow
 def test_rigidified_body_reproduces_the_rigid_node_scene(case, body, cache, tmp_path):
     """A body 1000× stiffer (E × 1000) on the same shafts gives the TE of the rigid-node lumped
     scene: mean within 0.5 %, RMS within 3 % (uniform mesh stiffness: no foundation term)."""
@@ -262,6 +266,8 @@ def test_centrifugal_growth_of_a_plain_disc_matches_plane_stress(case, cache):
     assert got == pytest.approx(want, rel=1e-2)
 
 
+# default tier: tests/test_optimise_dynamic.py::test_dynamic_factor_gradient_matches_finite_differences (smooth contact's implicit derivative through the hybrid solves against a central difference) and tests/test_optimise_speed.py::test_design_variable_gradients_match_central_differences_in_exact_contact (tip relief and crowning through the hybrid quasi-static solve, directional)
+@pytest.mark.slow
 def test_gradients_through_the_hybrid_solve_match_finite_differences(case, scene):
     """d(TE RMS)/d(tip relief depth) and d(max line load)/d(crowning) through the cell-space
     solve (smooth contact: implicit function theorem) vs central differences."""
@@ -427,6 +433,8 @@ def test_the_speed_is_an_argument_of_the_solve(case, scene):
     assert float(a.te_mean) == float(b.te_mean)
 
 
+# default tier: tests/test_hybrid_train.py::test_cached_train_equals_the_uncached_solve (the cached window compliance gives the uncached solve, exact law at two torques and the smooth law)
+@pytest.mark.slow
 def test_cached_window_compliance_gives_the_same_solve(case, body):
     """The window compliance cached per position (it depends on the scene and the position
     only) gives the quasi-static result formed at each position: TE, line loads and coordinates

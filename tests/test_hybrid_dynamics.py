@@ -313,6 +313,8 @@ def test_speed_sweep_maps_single_speeds(setup):
         speed_sweep(_model(scene, None, case.torque), [900.0], direction=Up())
 
 
+# default tier: tests/test_hybrid_train.py::test_rigidified_idler_train_dynamics_equal_the_rigid_node_train (two meshes on one condensed body in the hybrid Newmark) and tests/test_hybrid.py::test_a_pair_cut_into_two_half_face_meshes_gives_the_pair_result (the split pair, quasi-static)
+@pytest.mark.slow
 def test_dynamics_of_a_pair_cut_into_two_half_face_meshes_give_the_pair_response(setup):
     """The hybrid dynamics over every mesh of a scene: the spur pair cut across the face into
     two half-face meshes on the same members (the wheel condensed) is the same Newmark run in
@@ -368,6 +370,8 @@ def test_dynamics_of_a_pair_cut_into_two_half_face_meshes_give_the_pair_response
         )
 
 
+# default tier: tests/test_dynamics_sweep.py::test_sharded_sweep_matches_unsharded_on_four_cpu_devices (a sweep sharded over 4 CPU devices) and test_speed_sweep_maps_single_speeds (the hybrid sweep)
+@pytest.mark.slow
 def test_hybrid_sweep_sharded_over_four_cpu_devices_matches_one_device(setup):
     """With several devices a hybrid sweep runs one row of speeds per device (each row one
     speed after the other): on 4 CPU devices (a separate process), 6 speeds (padded to 8) give
@@ -443,9 +447,10 @@ def _rigidified_vs_lumped(case, speeds, rotating_frame=False):
     return np.asarray(sw.dynamic_factor), lumped_df, lumped_min
 
 
+# default tier: tests/test_hybrid_train.py::test_rigidified_idler_train_dynamics_equal_the_rigid_node_train (a rigidified body's hybrid Newmark against the rigid-node lumped one, 2 speeds)
 @pytest.mark.slow
 def test_rigidified_body_reproduces_the_lumped_dynamic_factor(setup):
-    """(Slow: the composite-damping comparison below stays in the default run.) A body 1000× stiffer on the same shafts, against the rigid-node lumped
+    """A body 1000× stiffer on the same shafts, against the rigid-node lumped
     model given its mass and inertias: the dynamic factor after 60 mesh periods agrees within
     1 % at 150, 800 and 2100 rad/s (measured 0.01 %, 0.04 %, 0.07 %; with tooth separation down
     to 0.52 F_s at 2100). The flank gaps are measured from one time-constant reference in both.
@@ -473,6 +478,8 @@ def test_rigidified_body_reproduces_the_lumped_sweep(setup, rotating_frame):
     assert np.all(err < (2e-3 if rotating_frame else 1e-2)), (speeds, err)
 
 
+# default tier: tests/test_optimise_speed.py::test_load_centroid_optimum_matches_a_grid_scan_at_speed (the optimiser on the small hybrid case at 3000 rad/s against a grid scan in exact contact)
+@pytest.mark.slow
 def test_crowning_optimisation_on_the_hybrid_scene_at_speed(setup):
     """the optimiser runs on the hybrid scene at 3000 rad/s
     (centrifugal loads): with a 10 µm helix-slope deviation on the pinion, the crowning that
@@ -754,6 +761,8 @@ def test_free_vibration_flags_contact_loss(setup):
     assert not bool(fv.contact_held)
 
 
+# default tier: tests/test_hybrid_train.py::test_rigidified_idler_train_dynamics_equal_the_rigid_node_train (a rigidified body's hybrid Newmark against the rigid-node lumped one), tests/test_hybrid_composite.py::test_composite_equals_the_mesh_following_reference (the composite damping in the hybrid Newmark) and test_low_speed_tooth_factor_states_and_bearing_forces (the per-tooth dynamic factor)
+@pytest.mark.slow
 def test_rigidified_body_composite_damping_and_tooth_factor(setup):
     """Composite modal damping (seed (2.36): ξ_i = 0.07 e_i + 0.01 (1 − e_i)) in the hybrid
     Newmark against the lumped model's, on the rigidified body at 800 and 2100 rad/s over one

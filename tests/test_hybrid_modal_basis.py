@@ -121,6 +121,8 @@ def test_dynamic_factor_converges_with_the_modes(setup):
     assert bare > 1.5 * err[20]
 
 
+# default tier: test_all_modes_is_the_cell_space_result[rayleigh] (the modal-basis Newmark) and test_the_static_correction_keeps_the_static_flexibility (ten modes with the correction keep the static TE compliance)
+@pytest.mark.slow
 def test_quasi_static_limit_with_few_modes(setup):
     """At 2 rad/s (mesh frequency 6 Hz, far below the modes) ten modes with the static
     correction follow the quasi-static TE and mesh force, as the cell space does: the static

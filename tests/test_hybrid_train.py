@@ -14,6 +14,7 @@ from __future__ import annotations
 import dataclasses
 import pathlib
 
+import equinox as eqx
 import meshio
 import numpy as np
 import pytest
@@ -234,9 +235,11 @@ def test_cached_train_equals_the_uncached_solve(case, scene):
     """The flexible idler train (two meshes on one body, two rigid-body amplitudes) with its
     window compliance cached (the exact law on the factored full contact set) against the
     uncached cell-space solve: both meshes' TE, the line loads and the coordinates to 1e-10,
-    with a tip relief and a crowning that lift cells off the flanks, at two torques. Both at
-    quasi_static's default positions (64 per pitch, the cache's default too): the uncached
-    solve is then the program of the module's other solves on the scene."""
+    with a tip relief and a crowning that lift cells off the flanks, at two torques; the smooth
+    law (which reads the cached compliance C, not the factor) to 1e-10 of the TE; a position
+    that is not cached raises. Both at quasi_static's default positions (64 per pitch, the
+    cache's default too): the uncached exact solve is then the program of the module's other
+    solves on the scene."""
     from jaxgear.scenes import cache_window_compliance
 
     cached = cache_window_compliance(scene)
@@ -254,3 +257,12 @@ def test_cached_train_equals_the_uncached_solve(case, scene):
                 x, y = np.asarray(getattr(ma, f)), np.asarray(getattr(mb, f))
                 np.testing.assert_allclose(y, x, rtol=0, atol=1e-10 * np.abs(x).max())
         np.testing.assert_allclose(b.x, a.x, rtol=0, atol=1e-10 * np.abs(np.asarray(a.x)).max())
+    smooth = jg.SmoothContact(1e-7)
+    a = jg.quasi_static(scene, relief, case.torque, contact=smooth)
+    b = jg.quasi_static(cached, relief, case.torque, contact=smooth)
+    for ma, mb in zip(a.meshes, b.meshes, strict=True):
+        x, y = np.asarray(ma.transmission_error), np.asarray(mb.transmission_error)
+        np.testing.assert_allclose(y, x, rtol=0, atol=1e-10 * np.abs(x).max())
+    theta = jg.mesh_positions(scene.base_planes[0], 64, 1)  # the cached positions, moved
+    with pytest.raises(eqx.EquinoxRuntimeError, match="not one of the cached positions"):
+        jg.quasi_static(cached, relief, case.torque, theta + 1e-4)
