@@ -270,6 +270,9 @@ PROJECT = ("jaxgear", "fem_prep", "optimise", "benchmarks")
 # The private names tests still reach, as (test file, dotted name or the private module it is
 # reached through): each a white-box check with no public way to the same assertion.
 PRIVATE_IN_TESTS: set[tuple[str, str]] = {
+    # safe_max's fallback shown at its smallest: the jax.numpy its module computes with patched
+    # so that no element equals the maximum (what XLA's -O0 kernels do in the slow test)
+    ("test_optimise_robust.py", "jaxgear._util"),
     # jaxgear run's sweep section with the sweep stubbed: the speeds it hands the sweep and the
     # dynamics section it writes on a housed case, without a whole run (minutes a case)
     ("test_housed_first_look.py", "jaxgear.cli.run._sweep_section"),
