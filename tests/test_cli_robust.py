@@ -219,6 +219,34 @@ def test_library_warnings_reach_the_user_as_one_line(monkeypatch, capsys):
     assert warnings.showwarning is saved  # restored after the command
 
 
+def test_broken_pipe_in_process_exits_0_quietly(tmp_path, monkeypatch, capsys):
+    """The reader of stdout went away (``jaxgear cases | head``): main returns 0, writes
+    nothing to stderr, and points stdout at the null device so that the interpreter's flush at
+    exit cannot raise again (the subprocess form is the slow tier's)."""
+
+    class ClosedPipe:
+        def __init__(self, fd):
+            self.fd = fd
+
+        def write(self, text):
+            raise BrokenPipeError(32, "Broken pipe")
+
+        def flush(self):
+            raise BrokenPipeError(32, "Broken pipe")
+
+        def fileno(self):
+            return self.fd
+
+    with open(tmp_path / "stdout", "w") as f:
+        monkeypatch.setattr(sys, "stdout", ClosedPipe(f.fileno()))
+        assert main(["cases"]) == 0
+        os.write(f.fileno(), b"after")  # the descriptor now writes to the null device
+    assert capsys.readouterr().err == ""
+    assert (tmp_path / "stdout").read_bytes() == b""
+
+
+# default tier: tests/test_cli_robust.py::test_broken_pipe_in_process_exits_0_quietly (main on a closed stdout)
+@pytest.mark.slow
 def test_broken_pipe_exits_quietly():
     res = subprocess.run(
         f"{sys.executable} -c '{ENTRY}' cases | head -c 10",
