@@ -66,6 +66,9 @@ def test_run_case_summary_holds_versions_files_and_two_periods(tmp_path):
         only_with = ("rating", "root_stress", "spectrum", "tribology", "loaded_path")
         if "/" not in name and name not in skip and not name.startswith(only_with):
             assert (tmp_path / name).stat().st_size > 0, name
+    for name in ("transmission_error.png", "mesh_stiffness.png", "load_map.png", "harris_map.png"):
+        data = (tmp_path / name).read_bytes()
+        assert data[:8] == b"\x89PNG\r\n\x1a\n" and len(data) > 5000, name
     # docs/getting-started.md "Reading the outputs": its table names every file written here
     page = (ROOT / "docs" / "getting-started.md").read_text(encoding="utf-8")
     table = set(re.findall(r"^\|[^|]*\|", page, re.M))

@@ -97,8 +97,8 @@ SUMMARY = ("summary.json",)
 SUMMARY_AND_SWEEP = ("summary.json", "sweep/sweep.json")
 
 RUNS = {  # name: (argv after the command, output file(s) to compare, in the default suite)
-    # default tier: tests/test_cli.py::test_run_writes_summary_csv_and_plots (jaxgear run on a
-    # rigid helical pair end to end) and tests/test_every_kind.py's run of a rigid spur pair
+    # default tier: tests/test_cli_robust.py::test_run_stores_values_that_agree_with_independent_figures
+    # (jaxgear run on a rigid pair end to end) and tests/test_every_kind.py's run of a rigid pair
     "run-power-helical": (["run", "power-helical"], "summary.json", False),
     "run-accessory-spur": (["run", "accessory-spur"], "summary.json", False),
     "run-accessory-spur-flexible": (["run", "accessory-spur-flexible"], "summary.json", False),
