@@ -377,7 +377,7 @@ def test_run_stores_values_that_agree_with_independent_figures(khk, tmp_path, ca
     # TE in te.csv is the TE the summary describes: two mesh periods, theta and 4 curves
     with open(out / "te.csv") as f:
         rows = list(csv.DictReader(f))
-    assert len(rows) == 2 * 16 and list(rows[0])[0] == "theta_rad" and len(rows[0]) == 5
+    assert len(rows) == 2 * 16 and next(iter(rows[0])) == "theta_rad" and len(rows[0]) == 5
     for lab, key in (("modified", "quasi_static"), ("unmodified", "quasi_static_unmodified")):
         for mode in ("exact", "smooth"):
             te = np.array([float(r[f"te_{mode}_{lab}_m"]) for r in rows])
