@@ -24,6 +24,8 @@ crowning = { depth_um = 4.0 }
 PNGS = ["transmission_error.png", "mesh_stiffness.png", "load_map.png", "harris_map.png"]
 
 
+# default tier: tests/test_cli_robust.py::test_run_stores_values_that_agree_with_independent_figures (jaxgear run on a rigid pair: --json, the geometry, the quasi-static keys and order, te.csv, no temporary files, the printed TE) and tests/test_readme_claims.py::test_run_case_summary_holds_versions_files_and_two_periods (every file, the four PNGs)
+@pytest.mark.slow
 def test_run_writes_summary_csv_and_plots(tmp_path, capsys):
     case = tmp_path / "small.toml"
     case.write_text(SMALL)

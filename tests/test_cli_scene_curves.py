@@ -1,9 +1,11 @@
 """``jaxgear run`` on a case with a scene: ``te.csv``, ``mesh_stiffness.csv`` and their plots
 hold the scene model's own curves beside the rigid mesh's (a flexible case's files
-were the rigid case's under its name), each column and legend named by its model."""
+were the rigid case's under its name), each column and legend named by its model; the scene's
+steps have their own progress bar."""
 
 import csv
 import json
+import re
 
 import numpy as np
 import pytest
@@ -34,8 +36,13 @@ def test_run_writes_the_scene_te_and_stiffness_beside_the_rigid_mesh(
 
     monkeypatch.setattr(sweep_module, "sweep_case_run", no_sweep)  # (summary, worst run)
     out = tmp_path / "o"
-    assert main(["run", str(small_lumped3d), "--out", str(out), "--quiet"]) == 0
-    capsys.readouterr()
+    assert main(["run", str(small_lumped3d), "--out", str(out)]) == 0
+    # after the run's bar, a bar over the scene's steps (the scene, its quasi-static solves,
+    # maps and files) ends full and names its solves
+    err = capsys.readouterr().err
+    states = re.findall(r"jaxgear run accessory-spur: scene:\s+\d+%\|[^|]*\|\s*(\d+)/(\d+)", err)
+    assert states and states[-1] == ("3", "3"), err[-2000:]
+    assert "quasi-static, exact contact" in err and "quasi-static, smooth contact" in err
     with open(out / "te.csv", newline="") as f:
         rows = list(csv.DictReader(f))
     assert len(rows) == 2 * 8

@@ -8,12 +8,15 @@ against jaxgear's ShaperCutterSection (a separate JAX envelope of the same cutte
 from __future__ import annotations
 
 import numpy as np
+import pytest
 from _examples import load_example
 
 import jaxgear as jg
 import jaxgear.rating as jr
 
 
+# default tier: tests/test_weber_internal.py::test_internal_mesh_stiffness_against_iso6336 (the internal Weber mesh stiffness over ISO's c_ga) and tests/test_rating_cutter.py::test_section_is_the_cut_spaces_60_degree_point (the shaper cutter's section); the page's figures at the example's size here
+@pytest.mark.slow
 def test_internal_mesh_example(tmp_path):
     example = load_example("internal_mesh")
     out = example.main(tmp_path, n_points=17, n_loads=2)

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import ast
 import fnmatch
+import functools
 import pathlib
 import re
 import subprocess
@@ -78,8 +79,14 @@ def test_fem_prep_never_imports_jax():
     assert not any(m == "jax" or m.startswith(("jax.", "jaxgear")) for m in loaded)
 
 
+@functools.cache
+def _tree(path: pathlib.Path) -> ast.Module:
+    """The parsed source of ``path``, parsed once for the module's tests (they only read it)."""
+    return ast.parse(path.read_text(encoding="utf-8"))
+
+
 def _imports(path: pathlib.Path):
-    tree = ast.parse(path.read_text(encoding="utf-8"))
+    tree = _tree(path)
     pkg = ".".join(path.relative_to(ROOT).with_suffix("").parts[:-1])
     for node in ast.walk(tree):
         if isinstance(node, ast.Import):
@@ -209,7 +216,7 @@ def test_no_import_cycle():
         # a package's relative imports start from the package itself
         pkg = (name if path.name == "__init__.py" else name.rpartition(".")[0]).split(".")
         imports = []
-        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        for node in ast.walk(_tree(path)):
             if isinstance(node, ast.Import):
                 imports += [a.name for a in node.names]
             elif isinstance(node, ast.ImportFrom):

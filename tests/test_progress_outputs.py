@@ -220,6 +220,8 @@ def test_interrupted_plots_leave_the_marker_until_a_run_finishes(tmp_path, monke
     assert rep["final"]["objective_exact_m"] < rep["initial"]["objective_exact_m"]
 
 
+# default tier: tests/test_cli_scene_curves.py::test_run_writes_the_scene_te_and_stiffness_beside_the_rigid_mesh (the scene's bar over its steps ends full and names its solves, on a lumped 3D pair; te.csv's scene curves its quasi-static solution) and tests/test_every_kind.py::test_run_every_scene_kind[pair-hybrid] (jaxgear run's hybrid scene outputs)
+@pytest.mark.slow
 def test_run_scene_bar_covers_the_steps_after_the_quasi_static_bar(hybrid_setup, tmp_path, capsys):
     """``jaxgear run`` on a hybrid case: after its 7-step bar, a bar over the scene's steps
     (the condensed bodies, the scene, exact and smooth solves, maps and VTU files) ends full."""

@@ -66,6 +66,9 @@ def test_run_case_summary_holds_versions_files_and_two_periods(tmp_path):
         only_with = ("rating", "root_stress", "spectrum", "tribology", "loaded_path")
         if "/" not in name and name not in skip and not name.startswith(only_with):
             assert (tmp_path / name).stat().st_size > 0, name
+    for name in ("transmission_error.png", "mesh_stiffness.png", "load_map.png", "harris_map.png"):
+        data = (tmp_path / name).read_bytes()
+        assert data[:8] == b"\x89PNG\r\n\x1a\n" and len(data) > 5000, name
     # docs/getting-started.md "Reading the outputs": its table names every file written here
     page = (ROOT / "docs" / "getting-started.md").read_text(encoding="utf-8")
     table = set(re.findall(r"^\|[^|]*\|", page, re.M))
@@ -103,6 +106,8 @@ def test_run_case_summary_holds_versions_files_and_two_periods(tmp_path):
     assert theta[-1] - theta[0] == pytest.approx(2 * period * (15 / 16), rel=1e-12)
 
 
+# default tier: tests/test_cli_scene_curves.py::test_run_writes_the_scene_te_and_stiffness_beside_the_rigid_mesh (jaxgear run's quasi_static_scene on the default case: the scene's mean TE above the rigid mesh's by > 10 um, at 2 slices)
+@pytest.mark.slow
 def test_lumped3d_mean_te_35um_against_12um_rigid():
     """docs/guide/pair.md: "a `lumped3d` scene also gets `quasi_static_scene` (…): 35 µm mean TE
     for the default case against 12 µm for rigid bodies"; docs/dynamics.md: "the static TE mean is
@@ -171,6 +176,8 @@ def test_objective_normalisation_and_default_bounds(accessory_problem):
     np.testing.assert_array_equal(np.asarray(p.upper), [3.0, 0.98])
 
 
+# default tier: tests/test_optimise.py::test_optimiser_reaches_the_grid_optimum_from_three_starts (op.contour_map's TE RMS grid on the small case, its minimum the optimiser's)
+@pytest.mark.slow
 def test_te_rms_landscape_has_two_valleys(accessory_problem):
     """docs/guide/modifications.md: "The TE RMS landscape of the accessory pair has two valleys:
     the Master Curve (short relief, Γ ≈ 0.26, E ≈ 11.5 µm, …) and a long-relief branch
@@ -196,6 +203,8 @@ def test_te_rms_landscape_has_two_valleys(accessory_problem):
     assert ridge > 4 * max(v1, v2)  # two separate valleys, not one
 
 
+# default tier: tests/test_dynamics.py::test_disc_inertia_and_torsional_frequency (the accessory pair's torsional mode and main critical speed against the analytic two-inertia frequency)
+@pytest.mark.slow
 def test_torsional_mode_and_critical_speeds_of_the_accessory_pair():
     """docs/dynamics.md: "The torsional mode of the accessory pair (disc inertias, Weber stiffness,
     k̄ = 2.72e8 N/m) is at 6201 Hz, so the main tooth critical speed is 866 rad/s (H2: 433, H3:
@@ -215,6 +224,8 @@ def test_torsional_mode_and_critical_speeds_of_the_accessory_pair():
         assert float(m.critical_speeds(h)[1]) == pytest.approx(ref, abs=0.5)
 
 
+# default tier: tests/test_regression.py::test_same_numbers_as_recorded[sweep-accessory-spur] (the lumped 3D pair's modes and speed sweep against its record) and tests/test_dynamics.py::test_main_critical_speed_linear_case (the peak at the mode's critical speed)
+@pytest.mark.slow
 def test_lumped3d_example_peak_and_mode():
     """docs/dynamics.md: "`jaxgear sweep examples/accessory-lumped3d.toml --speeds 200:2000:40`
     (…) puts the main peak (dynamic factor 1.67; …) at 938 rad/s against 939 rad/s predicted by
