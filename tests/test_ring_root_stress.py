@@ -93,7 +93,9 @@ def _pair(z2=-70, rho=0.25):
     return jg.InternalGearPair(planet, ring, 3e-3, ALPHA)
 
 
-@pytest.mark.parametrize(("z0", "above"), [(18, 1.15), (40, 1.04)])
+@pytest.mark.parametrize(("z0", "above"), [
+    # default tier: test_ring_fe_on_its_generated_form_against_iso_with_the_same_cutter[40-1.04]
+    pytest.param(18, 1.15, marks=pytest.mark.slow), (40, 1.04)])
 def test_ring_fe_on_its_generated_form_against_iso_with_the_same_cutter(z0, above):
     """Ring z2 = −70, m 3 mm, ρ_a0 = 0.25 m_n, cut by z0 = 18 and z0 = 40: the FE fillet peak on
     the generated form over ISO's σ_F0 with the same cutter's section is 0.856 and 0.855
@@ -147,6 +149,8 @@ def test_ring_fillet_stress_on_the_generated_form_converges():
     assert np.all(np.abs(np.subtract(*both)) < 0.02), both
 
 
+# default tier: test_fe2d_takes_the_ring_cutter (the generated ring's compliance a little off the stand-in's, < 5 %) and tests/test_internal_tooth_fe.py::test_tooth_only_agrees_with_the_tooth_clamped_at_its_root
+@pytest.mark.slow
 def test_generated_ring_compliance_converges_under_refinement():
     """|z| = 60, m 1 mm, cut by z0 = 18 (ρ_a0 0.25 m_n), ring 3.5 m_n deep clamped outside:
     sizes m/3, m/6, m/12 (the stand-in's test, tests/test_internal_tooth_fe.py): monotone from
