@@ -244,6 +244,8 @@ def test_bad_inputs_one_line():
                                   np.zeros(1), np.zeros(2))
 
 
+# default tier: tests/test_planetary.py::test_float32_runs[campbell] (float32 against float64; float32 is a slow-tier environment property)
+@pytest.mark.slow
 def test_float32_runs():
     """With x64 off the contact meshes' quasi-static solve runs in float32 (the assembly check
     taking float32 angles) and its K_gamma agrees with float64 to 1e-4 (pins 5e8, sun bearing
