@@ -65,7 +65,7 @@ def test_stand_in_form_is_the_involute_and_a_tangent_circle():
     assert math.hypot(cx, cy) == pytest.approx(g.root_radius - rho, rel=1e-9)
 
 
-# default tier: test_tooth_only_agrees_with_the_tooth_clamped_at_its_root (the ring's tooth_compliance at m/8 against an independent clamped solve, 5 %)
+# default tier: test_compliance_agrees_on_two_meshes (the same convergence from below, m/3 and m/6)
 @pytest.mark.slow
 def test_compliance_converges_under_refinement():
     """|z| = 60, m 1 mm, ring depth 3.5 m_n clamped outside: element sizes m/3, m/6, m/12.
@@ -83,6 +83,22 @@ def test_compliance_converges_under_refinement():
     assert dt[1] < 0.35 * dt[0] and abs(tooth[1] / tooth[-1] - 1) < 0.005
     assert runs[0].rim_radius == pytest.approx(_ring().root_radius + 3.5e-3, rel=1e-12)
     assert runs[0].roll[0] < runs[0].roll[-1]  # tip roll to form roll, increasing
+
+
+
+def test_compliance_agrees_on_two_meshes():
+    """The fast twin of the three-mesh study (slow): |z| = 60, m 1 mm, ring depth 3.5 m_n
+    clamped outside, sizes m/3 and m/6: the compliance grows under refinement (from below)
+    by under 1 % (measured 0.65 %), its tooth-only part by under 0.5 % (measured 0.35 %)."""
+    model = fem_prep.SectorModel(n_roll=9)
+    coarse, fine = (
+        fem_prep.tooth_compliance(_ring(), size=1e-3 / k, use_cache=False, model=model)
+        for k in (3, 6)
+    )
+    full = coarse.compliance.mean(), fine.compliance.mean()
+    tooth = coarse.compliance_tooth.mean(), fine.compliance_tooth.mean()
+    assert full[0] < full[1] < 1.01 * full[0], full
+    assert abs(tooth[1] / tooth[0] - 1) < 0.005, tooth
 
 
 def _tooth_only_at_heights(z, size):
@@ -103,8 +119,6 @@ def _tooth_only_at_heights(z, size):
     return out[0] / out[1]
 
 
-# default tier: test_ring_root_stress_near_the_external_tooth_of_the_same_rack (ring against the external tooth of the same rack at |z| = 100)
-@pytest.mark.slow
 def test_a_large_ring_tends_to_the_rack():
     """As |z| grows the ring tooth and the external tooth of the same basic rack both tend to
     the rack's tooth (the stand-in fillet, a circle tangent to the involute and the root circle,
@@ -353,17 +367,8 @@ def test_ring_root_stress_against_iso6336_3_substitute_rack():
     fillet is that rounding, tangent to the involute. FE/ISO 0.81 at z2 = −70 and 0.85 at
     −140 (measured): below 1 as for external teeth (docs/rating.md: FE 1-18 % below ISO's
     σ_F0) and more so for the smaller ring, whose concave tooth widens towards its root faster
-    than the rack's. Asserted: z2 = −70 in (0.75, 0.95); the slow test below adds −140 and the
-    rise with |z2|."""
-    small = _fe_over_iso(-70)
-    assert 0.75 < small < 0.95, small
-
-
-# default tier: test_ring_root_stress_against_iso6336_3_substitute_rack (the band at z2 = -70)
-@pytest.mark.slow
-def test_ring_root_stress_over_iso_rises_with_the_ring_towards_the_rack():
-    """FE/ISO rises with |z2| towards the rack, where ISO's tooth is the modelled one: both
-    z2 = −70 and −140 in (0.75, 0.95), increasing with |z2|."""
+    than the rack's; rising with |z2| towards the rack, where ISO's tooth is the modelled one.
+    Asserted: both in (0.75, 0.95), increasing with |z2|."""
     small, large = _fe_over_iso(-70), _fe_over_iso(-140)
     assert 0.75 < small < large < 0.95, (small, large)
 
