@@ -65,7 +65,7 @@ def test_stand_in_form_is_the_involute_and_a_tangent_circle():
     assert math.hypot(cx, cy) == pytest.approx(g.root_radius - rho, rel=1e-9)
 
 
-# default tier: test_compliance_agrees_on_two_meshes (the same convergence from below, m/3 and m/6)
+# default tier: tests/test_internal_tooth_fe.py::test_compliance_agrees_on_two_meshes (the same convergence from below, m/3 and m/6)
 @pytest.mark.slow
 def test_compliance_converges_under_refinement():
     """|z| = 60, m 1 mm, ring depth 3.5 m_n clamped outside: element sizes m/3, m/6, m/12.

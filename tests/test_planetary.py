@@ -385,7 +385,7 @@ def test_frequency_gradient_against_finite_difference():
 
 
 @pytest.mark.parametrize("what", [
-    # default tier: test_float32_runs[campbell] (float32 against float64 on the same stage)
+    # default tier: tests/test_planetary.py::test_float32_runs[campbell] (float32 against float64 on the same stage)
     pytest.param("modes_and_load_sharing", marks=pytest.mark.slow), "campbell"])
 def test_float32_runs(what):
     """With x64 off the modes, the load sharing and the Campbell frequencies run in float32

@@ -131,7 +131,7 @@ def test_constant_meshes_reduce_to_load_sharing(model):
         assert float(got.k_gamma[i]) == pytest.approx(float(want.k_gamma), rel=1e-10)
 
 
-# default tier: test_k_gamma_with_one_pin_error_against_a_spring_model (the same contact solve against the lines counted by hand)
+# default tier: tests/test_planetary_mesh.py::test_k_gamma_with_one_pin_error_against_a_spring_model (the same contact solve against the lines counted by hand)
 @pytest.mark.slow
 def test_uniform_contact_equals_load_sharing_with_the_lines_counted_by_hand(seq):
     """Uniform k0, spur, rigid teeth otherwise: at each position each mesh is k0 b n(x), n the

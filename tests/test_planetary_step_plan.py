@@ -243,7 +243,7 @@ def test_the_speeds_are_grouped_by_their_step():
     assert [g.tolist() for g in jp.speed_groups(plan, True)] == [[1, 3], [0], [2]]
 
 
-# default tier: test_the_speeds_are_grouped_by_their_step (the groups) and tests/test_planetary_model.py::test_a_sweep_of_several_automatic_steps_runs_each_at_its_own (each speed at its own N_s = planetary_dynamics)
+# default tier: tests/test_planetary_step_plan.py::test_the_speeds_are_grouped_by_their_step (the groups) and tests/test_planetary_model.py::test_a_sweep_of_several_automatic_steps_runs_each_at_its_own (each speed at its own N_s = planetary_dynamics)
 @pytest.mark.slow
 def test_a_grouped_sweep_runs_each_speed_on_its_own_plan():
     """Grouped by N_s (the flexible ring's sweep), each speed integrates its own group's span

@@ -94,7 +94,7 @@ def _pair(z2=-70, rho=0.25):
 
 
 @pytest.mark.parametrize(("z0", "above"), [
-    # default tier: test_ring_fe_on_its_generated_form_against_iso_with_the_same_cutter[40-1.04]
+    # default tier: tests/test_ring_root_stress.py::test_ring_fe_on_its_generated_form_against_iso_with_the_same_cutter[40-1.04]
     pytest.param(18, 1.15, marks=pytest.mark.slow), (40, 1.04)])
 def test_ring_fe_on_its_generated_form_against_iso_with_the_same_cutter(z0, above):
     """Ring z2 = −70, m 3 mm, ρ_a0 = 0.25 m_n, cut by z0 = 18 and z0 = 40: the FE fillet peak on
@@ -149,7 +149,7 @@ def test_ring_fillet_stress_on_the_generated_form_converges():
     assert np.all(np.abs(np.subtract(*both)) < 0.02), both
 
 
-# default tier: test_generated_ring_compliance_agrees_on_two_meshes (the same convergence from below and the same band over the stand-in, m/3 and m/6)
+# default tier: tests/test_ring_root_stress.py::test_generated_ring_compliance_agrees_on_two_meshes (the same convergence from below and the same band over the stand-in, m/3 and m/6)
 @pytest.mark.slow
 def test_generated_ring_compliance_converges_under_refinement():
     """|z| = 60, m 1 mm, cut by z0 = 18 (ρ_a0 0.25 m_n), ring 3.5 m_n deep clamped outside:

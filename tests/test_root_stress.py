@@ -67,7 +67,7 @@ def _tooth(pair, i):
     )
 
 
-# default tier: test_fillet_stress_agrees_on_two_meshes (the same peak from below on m_n/9 and m_n/13.5)
+# default tier: tests/test_root_stress.py::test_fillet_stress_agrees_on_two_meshes (the same peak from below on m_n/9 and m_n/13.5)
 @pytest.mark.slow
 def test_fillet_stress_converges_under_refinement():
     """The pinion's peak fillet stress on meshes of m_n/9, m_n/13.5 and m_n/20.25 (one tooth

@@ -41,7 +41,7 @@ def test_a_thick_rim_gives_the_solid_blanks_fillet_stress():
         assert ratio == pytest.approx(1.0, abs=tol), (n, ratio)
 
 
-# default tier: test_the_rim_ratios_agree_on_two_meshes (the ratio at s_R/h_t = 0.5 on m_n/6 and m_n/9)
+# default tier: tests/test_root_stress_rim.py::test_the_rim_ratios_agree_on_two_meshes (the ratio at s_R/h_t = 0.5 on m_n/6 and m_n/9)
 @pytest.mark.slow
 def test_rim_ratio_converges_under_refinement():
     """The ratio at s_R/h_t = 0.5 (3 pitches) on meshes of m_n/6, m_n/9 and m_n/13.5 (ratio and
@@ -52,7 +52,7 @@ def test_rim_ratio_converges_under_refinement():
     assert d2 < 0.01, r
 
 
-# default tier: test_the_rim_ratios_agree_on_two_meshes (the same order of the ratios at m_n/6)
+# default tier: tests/test_root_stress_rim.py::test_the_rim_ratios_agree_on_two_meshes (the same order of the ratios at m_n/6)
 @pytest.mark.slow
 def test_rim_ratio_grows_as_the_rim_thins():
     """Segment of 3 pitches, m_n/9: the ratio grows from s_R/h_t = 0.8 to 0.6 to 0.5, and at 0.5
@@ -65,7 +65,7 @@ def test_rim_ratio_grows_as_the_rim_thins():
     assert r08 < r2 < 1.0
 
 
-# default tier: test_the_rim_ratios_agree_on_two_meshes (the same limits and order at m_n/6)
+# default tier: tests/test_root_stress_rim.py::test_the_rim_ratios_agree_on_two_meshes (the same limits and order at m_n/6)
 @pytest.mark.slow
 def test_a_rim_on_a_web_grows_as_it_thins_and_is_solid_when_thick():
     """The whole ring on a web of 0.1 × the face width down to half the rim's inner radius
@@ -79,7 +79,7 @@ def test_a_rim_on_a_web_grows_as_it_thins_and_is_solid_when_thick():
     assert r05 > 1.05
 
 
-# default tier: test_the_rim_ratios_agree_on_two_meshes (the ratio at s_R/h_t = 0.5 on m_n/6 and m_n/9)
+# default tier: tests/test_root_stress_rim.py::test_the_rim_ratios_agree_on_two_meshes (the ratio at s_R/h_t = 0.5 on m_n/6 and m_n/9)
 @pytest.mark.slow
 def test_rim_on_a_web_converges_under_refinement():
     """The web model's ratio at s_R/h_t = 0.5 on meshes of m_n/6, m_n/9 and m_n/13.5 (ratio and
