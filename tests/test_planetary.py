@@ -384,7 +384,9 @@ def test_frequency_gradient_against_finite_difference():
     assert float(g) == pytest.approx(float(fd), rel=1e-5)
 
 
-@pytest.mark.parametrize("what", ["modes_and_load_sharing", "campbell"])
+@pytest.mark.parametrize("what", [
+    # default tier: tests/test_planetary.py::test_float32_runs[campbell] (float32 against float64 on the same stage)
+    pytest.param("modes_and_load_sharing", marks=pytest.mark.slow), "campbell"])
 def test_float32_runs(what):
     """With x64 off the modes, the load sharing and the Campbell frequencies run in float32
     and agree with float64 (a moderate conditioning: bearings 1e8 N/m, Cooley & Parker's

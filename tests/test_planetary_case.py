@@ -364,6 +364,8 @@ def test_bad_input_is_one_line_before_any_work(tmp_path, capsys, change, words):
     assert not out.exists()
 
 
+# default tier: tests/test_docs_reference.py::test_committed_reference_pages_are_the_validators (the committed train-file.md, which lists these [planetary] keys, is the trace's page)
+@pytest.mark.slow
 def test_the_case_file_reference_lists_the_planetary_keys():
     _, train = sr.trace_cases()
     keys = set(train.tables["planetary"])

@@ -118,6 +118,8 @@ def _check_against_reference(geo, st, meshes, got, omega):
     return df
 
 
+# default tier: tests/test_planetary_dynamics.py::test_planar_dynamics_at_speed_against_a_rotating_frame_reference (planetary_dynamics at speed against a DOP853 reference, planar)
+@pytest.mark.slow
 def test_torsional_dynamics_near_a_resonance_against_the_reference(seq):
     """Fast twin of the sweep below: one speed, the mesh frequency at 0.9 of the first mode."""
     geo, st, meshes = seq
@@ -146,6 +148,8 @@ def test_torsional_speed_sweep_against_the_reference(seq):
         _check_against_reference(geo, st, meshes, one, omega)
 
 
+# default tier: tests/test_planetary_model.py::test_simulate_at_a_very_low_speed_is_the_quasi_static_solve (same claim, torsional, at 1e-3 of the nominal force)
+@pytest.mark.slow
 def test_zero_speed_limit_torsional(seq):
     """Fast twin of the planar test below (the resonance test's compiled run): at 1e-7 rad/s
     the recorded forces are the quasi-static ones at the same travels, to 1e-8 (the difference
@@ -388,6 +392,8 @@ def _integrate(k_eff, c_eff, m, f, kmesh, x0, speed, cuts, t_keep, size, n):
     return peaks
 
 
+# default tier: tests/test_planetary_dynamics.py::test_dynamic_load_sharing_of_a_synthetic_force_history (the engagement jump's K_γ, analytic) and ::test_dynamic_k_gamma_constant_meshes_pin_error_is_the_quasi_static
+@pytest.mark.slow
 def test_quasi_static_speed_resolved_engagement_jump_floating_sun():
     """The diagnostic on a floating sun (planar model, no sun bearing, a 10 µm pin
     error) at a mesh frequency of 40 Hz, far below the stage's mesh modes (2.9 to 12 kHz), the

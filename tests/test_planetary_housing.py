@@ -76,8 +76,10 @@ def _low(f, n):
     return np.sort(np.asarray(f))[:n]
 
 
-@pytest.mark.parametrize("kind", [jp.TorsionalPlanetary(), jp.SpatialPlanetary()],
-                         ids=["torsional", "3d"])
+@pytest.mark.parametrize("kind", [
+    # default tier: tests/test_planetary_housing.py::test_stiff_housing_gives_the_grounded_stage[3d] (the same limit on the 3D kind)
+    pytest.param(jp.TorsionalPlanetary(), marks=pytest.mark.slow, id="torsional"),
+    pytest.param(jp.SpatialPlanetary(), id="3d")])
 def test_stiff_housing_gives_the_grounded_stage(kind):
     """As the box grows stiff (E x 10, 100, 1000) the housed stage's modes below 20 kHz tend
     to the grounded stage's (the ring's torsional and axial springs to ground), the error
@@ -128,8 +130,11 @@ def test_hand_assembly_gives_the_same_modes():
     np.testing.assert_allclose(np.sort(f), np.sort(f_ref), rtol=1e-9)
 
 
-@pytest.mark.parametrize("kind", [jp.TorsionalPlanetary(), jp.SpatialPlanetary()],
-                         ids=["torsional", "3d"])
+@pytest.mark.parametrize("kind", [
+    pytest.param(jp.TorsionalPlanetary(), id="torsional"),
+    # default tier: tests/test_planetary_housing.py::test_ring_torque_reaches_the_seat[torsional] (same claim) and
+    # tests/test_planetary_housing.py::test_stiff_housing_gives_the_grounded_stage[3d] (the 3D kind on the housing)
+    pytest.param(jp.SpatialPlanetary(), marks=pytest.mark.slow, id="3d")])
 def test_ring_torque_reaches_the_seat(kind):
     """The quasi-static contact solve on the housed stage (sun torque 1000 N m, carrier held):
     the ring's reaction torque (support_reactions' "ring torque" row) is the meshes' torque on
@@ -278,6 +283,8 @@ def test_star_stage_stiff_housing_and_hand_assembly():
     assert errors[1] < 5e-4 and errors[0] / errors[1] > 8  # about 10: the compliance's 1/E
 
 
+# default tier: tests/test_planetary_housing.py::test_ring_torque_reaches_the_seat[torsional] (a member's reaction torque reaches its seat) and tests/test_planetary_housing.py::test_star_stage_stiff_housing_and_hand_assembly (the carrier's seat joints)
+@pytest.mark.slow
 def test_star_stage_carrier_torque_reaches_the_seat():
     """The star stage's carrier on the seat (all its supports), its ring held by the output
     (a torsional support to ground, 5e8 N/m on u): in the quasi-static contact solve (sun

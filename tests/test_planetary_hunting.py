@@ -222,6 +222,8 @@ def _solve(model, st, meshes, x, errors=np.zeros(3)):
     return r
 
 
+# default tier: tests/test_planetary_hunting.py::test_one_planet_tooth_is_seen_where_it_meshes_and_every_planet_turn (away from the moved tooth the deviation meshes are the contact meshes, TE to 1e-15)
+@pytest.mark.slow
 def test_zero_deviations_are_the_contact_meshes(seq, nominal):
     """Every deviation 0: forces, TE, displacements and K_gamma of the contact meshes
     (1e-12), plain, with a pin error and with tip relief on both pairs."""

@@ -185,6 +185,8 @@ def _class6(rng, z):
     return np.asarray(jg.sample_gear_deviations(rng, z, tol).single_pitch)
 
 
+# default tier: tests/test_planetary_hunting.py::test_k_gamma_with_a_pin_error_and_deviations_against_a_spring_model (the same spring model) and tests/test_planetary_hunting_flanks.py::test_a_ring_flank_deviation_is_seen_in_that_planets_ring_mesh_only (flank tables)
+@pytest.mark.slow
 def test_k_gamma_with_one_flank_pitch_errors_against_a_spring_model(seq, drawn_d):
     """A 6 um tangential error on planet 1's pin, every planet's ring-side flanks drawn at
     ISO 1328-1 class 6 (the sun-side flanks perfect) and a profile slope on every sun and ring

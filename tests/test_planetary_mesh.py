@@ -131,6 +131,8 @@ def test_constant_meshes_reduce_to_load_sharing(model):
         assert float(got.k_gamma[i]) == pytest.approx(float(want.k_gamma), rel=1e-10)
 
 
+# default tier: tests/test_planetary_mesh.py::test_k_gamma_with_one_pin_error_against_a_spring_model (the same contact solve against the lines counted by hand)
+@pytest.mark.slow
 def test_uniform_contact_equals_load_sharing_with_the_lines_counted_by_hand(seq):
     """Uniform k0, spur, rigid teeth otherwise: at each position each mesh is k0 b n(x), n the
     lines counted here; load_sharing with those per-planet stiffnesses gives the same forces."""
@@ -151,6 +153,8 @@ def test_uniform_contact_equals_load_sharing_with_the_lines_counted_by_hand(seq)
     assert len(seen) > 3  # the stiffness really varies over the period
 
 
+# default tier: tests/test_planetary_dynamics.py::test_net_mesh_excitation_cancellation_follows_the_phasing_rule (each planet's contact-cell mesh stiffness at its phase, sequential and in phase)
+@pytest.mark.slow
 def test_planet_forces_follow_the_mesh_phases(seq):
     """Equally spaced planets, no error: planet n's forces are planet 1's a phase gamma_n later
     (sequential 19/-53, N = 3); in phase (20/-52, N = 4) the planets' forces are equal."""
@@ -240,6 +244,8 @@ def test_bad_inputs_one_line():
                                   np.zeros(1), np.zeros(2))
 
 
+# default tier: tests/test_planetary.py::test_float32_runs[campbell] (float32 against float64; float32 is a slow-tier environment property)
+@pytest.mark.slow
 def test_float32_runs():
     """With x64 off the contact meshes' quasi-static solve runs in float32 (the assembly check
     taking float32 angles) and its K_gamma agrees with float64 to 1e-4 (pins 5e8, sun bearing

@@ -27,13 +27,15 @@ jax.config.update("jax_enable_x64", True)
 SEQ19 = {"z_s": 19, "z_p": 17, "x_s": 0.3, "x_p": 0.3}  # 19/17/-53: z_s + z_r = 72
 IN20 = {"z_s": 20, "z_p": 16, "x_s": 0.2, "x_p": 0.2}  # 20/16/-52: z_s + z_r = 72
 SEQ22 = {"z_s": 22, "z_p": 18, "x_s": 0.25, "x_p": 0.35}  # 22/18/-58: z_s + z_r = 80
+# default tier: tests/test_planetary_phasing_flanks.py::test_planet_phases_against_contact_points_on_the_flanks[params0-psi_deg0] (sequential, N = 3) and tests/test_planetary_phasing_flanks.py::test_planet_phases_against_contact_points_on_the_flanks[params4-psi_deg4] (unequally spaced, N = 3) for the slow ones below
+_MORE = pytest.mark.slow
 CASES = [
     (SEQ19, (0.0, 120.0, 240.0)),  # sequentially phased, N = 3
-    (SEQ19, (0.0, 90.0, 180.0, 270.0)),  # sequentially phased, N = 4
+    pytest.param(SEQ19, (0.0, 90.0, 180.0, 270.0), marks=_MORE),  # sequentially phased, N = 4
     (IN20, (0.0, 90.0, 180.0, 270.0)),  # in phase, N = 4
-    (SEQ22, (0.0, 72.0, 144.0, 216.0, 288.0)),  # sequentially phased, N = 5
+    pytest.param(SEQ22, (0.0, 72.0, 144.0, 216.0, 288.0), marks=_MORE),  # sequential, N = 5
     (SEQ19, (0.0, 115.0, 240.0)),  # unequally spaced, 72 psi / 360 integer
-    (SEQ22, (0.0, 67.5, 144.0, 211.5, 288.0)),  # unequally spaced, 80 psi / 360 integer
+    pytest.param(SEQ22, (0.0, 67.5, 144.0, 211.5, 288.0), marks=_MORE),  # unequal, N = 5
 ]
 
 

@@ -94,6 +94,8 @@ def with_ring_k(st, k_r):
     return eqx.tree_at(lambda s: s.ring_mesh_stiffness, st, np.asarray(k_r, float))
 
 
+# default tier: tests/test_planetary_ring.py::test_station_compliance_adds_in_series (the flexible ring's contact solve against series springs) and tests/test_planetary_ring_dynamics.py::test_stiff_fe_ring_equals_the_rigid_ring_constant_meshes
+@pytest.mark.slow
 def test_stiff_flexible_ring_equals_rigid_ring_and_soft_one_lowers_k_gamma(seq, fe_ring):
     """The FE ring made 10^3 stiffer (its compliance / 10^3: E x 10^3, linear elasticity)
     equals the lumped rigid ring within 0.5 % (forces and K_gamma); the real ring relieves the

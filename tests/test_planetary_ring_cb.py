@@ -237,6 +237,8 @@ def _stiffer(st, factor, modes):
                                np.asarray(st.interior_eigenvalues) * factor, st.coupling)
 
 
+# default tier: tests/test_planetary_ring_dynamics.py::test_stiff_fe_ring_equals_the_rigid_ring_constant_meshes (stiff flexible ring = rigid) and tests/test_planetary_ring_cb.py::test_zero_speed_cb_ring_is_the_station_rings_quasi_static_solution (the CB ring's run)
+@pytest.mark.slow
 def test_stiff_cb_ring_equals_the_rigid_ring(seq, stations):
     """The condensed ring made 10^3 stiffer (all its coupled fixed-interface modes, in 8 modes
     plus the static correction), constant meshes, 60 rad/s, a pin error: the rigid ring's mesh

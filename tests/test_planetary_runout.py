@@ -80,6 +80,8 @@ def test_planet_runout_over_a_planet_turn_against_the_spring_model():
     np.testing.assert_allclose(q.sun_mesh_forces, want_f[::6], rtol=1e-9)
 
 
+# default tier: tests/test_planetary_eccentricity.py::test_dynamics_at_a_crawl_follow_the_turning_eccentricity (turning offsets in planetary_dynamics at a crawl) and tests/test_planetary_runout.py::test_planet_runout_over_a_planet_turn_against_the_spring_model
+@pytest.mark.slow
 def test_planet_runout_in_the_dynamics_at_a_crawl():
     """planetary_dynamics at 1e-7 rad/s over one planet turn (8 mesh periods of the constant
     meshes): the recorded forces are the spring model's at the recorded travels (1e-8)."""

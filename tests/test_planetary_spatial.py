@@ -431,6 +431,8 @@ def helical():
             _with_supports(st, beta_b, 2e8, 2e5))
 
 
+# default tier: tests/test_planetary_spatial.py::test_helical_k_gamma_with_one_pin_error_against_a_spring_model (the 3D contact solve against a spring model) and tests/test_planetary_spatial.py::test_load_sharing_on_the_3d_model_at_beta_zero_is_the_planar_one
+@pytest.mark.slow
 def test_contact_solve_at_beta_zero_is_the_planar_one():
     """Spur stage (19/17/-53, 2 slices per line so that the cells spread over the face), stiff
     axial and tilting supports, a pin error: the 3D model's mesh forces, TE and K_gamma over the

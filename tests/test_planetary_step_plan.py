@@ -232,6 +232,19 @@ def _lumped_sweep_parts(speeds):
             speeds * spec.mesh_speed(1.0), spec.ring_model.dynamic_ring())
 
 
+def test_the_speeds_are_grouped_by_their_step():
+    """speed_groups (what steps_sweep compiles): not grouped, every speed in one program;
+    grouped, one program per N_s in increasing N_s, the speeds of that N_s in it (each group's
+    records: tests/test_planetary_model.py's sweep of two automatic steps, each speed's records
+    planetary_dynamics' at its own N_s)."""
+    plan = jp.TimePlan(np.array([24, 12, 48, 12]), np.array([6, 4, 8, 3]), 2, 1.0, 1.0, 0.0,
+                       (False, False))
+    assert [g.tolist() for g in jp.speed_groups(plan, False)] == [[0, 1, 2, 3]]
+    assert [g.tolist() for g in jp.speed_groups(plan, True)] == [[1, 3], [0], [2]]
+
+
+# default tier: tests/test_planetary_step_plan.py::test_the_speeds_are_grouped_by_their_step (the groups) and tests/test_planetary_model.py::test_a_sweep_of_several_automatic_steps_runs_each_at_its_own (each speed at its own N_s = planetary_dynamics)
+@pytest.mark.slow
 def test_a_grouped_sweep_runs_each_speed_on_its_own_plan():
     """Grouped by N_s (the flexible ring's sweep), each speed integrates its own group's span
     at its own step: its kept forces equal planetary_dynamics called here on a run of the

@@ -106,7 +106,10 @@ def _rated(case) -> list:
             for rc in jio.ratings_of(case)]
 
 
-@pytest.mark.parametrize("name, z0", [("nrel-5mw-planetary", 36), ("nrel-5mw-stage2", 30)])
+@pytest.mark.parametrize("name, z0", [
+    ("nrel-5mw-planetary", 36),
+    # default tier: tests/test_ring_cutter_keys.py::test_older_spelling_alone_rates_identically_and_reaches_weber[nrel-5mw-planetary-36]
+    pytest.param("nrel-5mw-stage2", 30, marks=pytest.mark.slow)])
 def test_older_spelling_alone_rates_identically_and_reaches_weber(tmp_path, name, z0):
     """An embedded NREL stage with its cutter in the older ``[rating] ring_cutter_*`` spelling:
     the same root section and every rating value of both meshes within 1e-12 of the [[gears]]

@@ -67,6 +67,8 @@ def _tooth(pair, i):
     )
 
 
+# default tier: tests/test_root_stress.py::test_fillet_stress_agrees_on_two_meshes (the same peak from below on m_n/9 and m_n/13.5)
+@pytest.mark.slow
 def test_fillet_stress_converges_under_refinement():
     """The pinion's peak fillet stress on meshes of m_n/9, m_n/13.5 and m_n/20.25 (one tooth
     on the rim ring): the change halves at least from one refinement to the next, and the last
@@ -79,6 +81,18 @@ def test_fillet_stress_converges_under_refinement():
     d1, d2 = abs(peaks[1] - peaks[0]), abs(peaks[2] - peaks[1])
     assert d2 < 0.5 * d1, peaks
     assert d2 < 0.01 * peaks[2], peaks
+
+
+
+def test_fillet_stress_agrees_on_two_meshes():
+    """The fast twin of the three-mesh study (slow): the pinion's peak fillet stress on m_n/9
+    and m_n/13.5 rises under refinement by under 1.5 % (measured 0.79 %: 1328 to 1339 Pa per
+    N/m)."""
+    pair = _spur_20_40()
+    tooth, r = _tooth(pair, 0), _outer_single_contact_radius(pair, 0)
+    mn = pair.normal_module
+    coarse, fine = (fem_prep.fillet_stress(tooth, r, size=mn / d).peak for d in (9.0, 13.5))
+    assert coarse < fine < 1.015 * coarse, (coarse, fine)
 
 
 def test_fillet_stress_of_a_standard_tooth_agrees_with_iso_method_b():
