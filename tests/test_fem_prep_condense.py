@@ -49,7 +49,12 @@ def held_full(coupled):
     return free, K, M, factorize(K)
 
 
-@pytest.mark.parametrize("method", [Guyan(), CraigBampton(), Herting()], ids=str)
+# default tier: [craig-bampton] and [herting] here (the same claim; Guyan's condensation runs in test_condensed_stiffness_has_rigid_body_modes)
+@pytest.mark.parametrize(
+    "method",
+    [pytest.param(Guyan(), marks=pytest.mark.slow), CraigBampton(), Herting()],
+    ids=str,
+)
 def test_static_response_at_masters_is_exact(coupled, held_full, method):
     """Guyan property: loads on master DOFs give the full model's master displacements."""
     body, bm, ms, cp, mdofs = coupled
@@ -77,7 +82,10 @@ def test_static_response_at_masters_is_exact(coupled, held_full, method):
     assert np.linalg.norm(ub_c - ub_full) <= 1e-8 * np.linalg.norm(ub_full)
 
 
-@pytest.mark.parametrize("method", [CraigBampton(), Herting()], ids=str)
+# default tier: [craig-bampton] here (the same claim; Herting's condensation runs in test_static_response_at_masters_is_exact[herting])
+@pytest.mark.parametrize(
+    "method", [CraigBampton(), pytest.param(Herting(), marks=pytest.mark.slow)], ids=str
+)
 def test_centrifugal_field_is_recovered_with_the_static_correction_vector(
     coupled, held_full, method
 ):
