@@ -49,7 +49,12 @@ def held_full(coupled):
     return free, K, M, factorize(K)
 
 
-@pytest.mark.parametrize("method", [Guyan(), CraigBampton(), Herting()], ids=str)
+# default tier: [craig-bampton] and [herting] here (the same claim; Guyan's condensation runs in test_condensed_stiffness_has_rigid_body_modes)
+@pytest.mark.parametrize(
+    "method",
+    [pytest.param(Guyan(), marks=pytest.mark.slow), CraigBampton(), Herting()],
+    ids=str,
+)
 def test_static_response_at_masters_is_exact(coupled, held_full, method):
     """Guyan property: loads on master DOFs give the full model's master displacements."""
     body, bm, ms, cp, mdofs = coupled
@@ -77,7 +82,10 @@ def test_static_response_at_masters_is_exact(coupled, held_full, method):
     assert np.linalg.norm(ub_c - ub_full) <= 1e-8 * np.linalg.norm(ub_full)
 
 
-@pytest.mark.parametrize("method", [CraigBampton(), Herting()], ids=str)
+# default tier: [craig-bampton] here (the same claim; Herting's condensation runs in test_static_response_at_masters_is_exact[herting])
+@pytest.mark.parametrize(
+    "method", [CraigBampton(), pytest.param(Herting(), marks=pytest.mark.slow)], ids=str
+)
 def test_centrifugal_field_is_recovered_with_the_static_correction_vector(
     coupled, held_full, method
 ):
@@ -245,12 +253,37 @@ def test_web_holes_shift_frequencies_and_keep_families(prepared_cb):
 
 
 def test_cholmod_matches_superlu_and_eigsh_returns_both_members_of_nd_pairs(coupled, held_full):
-    """CHOLMOD (cholespy) and SuperLU give the same solves and modes; shift-invert eigsh returns
-    both members of every degenerate nodal-diameter pair (the reason the hand-written block
-    solver once existed: it does not reproduce); the free structure's six rigid-body modes."""
-    from fem_prep import CholmodFactor, SparseFactor, factorize, shift_invert_modes
+    """Shift-invert eigsh on the CHOLMOD (cholespy) factor returns eigenpairs of (K, M) and both
+    members of every degenerate nodal-diameter pair (the reason the hand-written block solver
+    once existed: it does not reproduce); the free structure's six rigid-body modes. SuperLU
+    against CHOLMOD on this structure: test_cholmod_and_superlu_agree_on_the_held_structure
+    (slow; every backend's solves against a dense Cholesky: tests/test_fem_prep_backends.py)."""
+    from fem_prep import CholmodFactor, factorize, shift_invert_modes
 
     cp = coupled[3]
+    K, M = held_full[1], held_full[2]
+    cf = factorize(K, method=CholmodFactor)
+    l1, p1 = shift_invert_modes(K, M, 12, factor=cf)
+    # each returned pair is an eigenpair of (K, M) (the dense reference of every eigenvalue
+    # with its multiplicity: the slow test below)
+    r = K @ p1 - (M @ p1) * l1
+    assert np.all(np.linalg.norm(r, axis=0) < 1e-8 * np.linalg.norm(K @ p1, axis=0))
+    # degenerate pairs (ND >= 1) come out twice: adjacent eigenvalues equal to 1e-6
+    ratios = l1[1:] / l1[:-1] - 1
+    assert np.sum(ratios < 1e-6) >= 3, l1
+    # free structure (rigid-body modes) with a negative shift, as the pipeline does: six
+    # rigid-body modes, then the elastic ones (SuperLU's on the same shift: the slow test below)
+    l3 = _free_structure_modes(cp, CholmodFactor)
+    assert np.all(np.abs(l3[:6]) < 1e-6 * l3[6])
+
+
+# default tier: tests/test_fem_prep_backends.py::test_solves_match_a_dense_cholesky[scipy] and [cholespy] (SuperLU's and CHOLMOD's solves against a dense Cholesky) and test_condensation_equals_the_cholespy_path[scipy] (SuperLU's modes in a condensation)
+@pytest.mark.slow
+def test_cholmod_and_superlu_agree_on_the_held_structure(coupled, held_full):
+    """CHOLMOD (cholespy) and SuperLU give the same solves (1e-9) and the same 12 lowest modes
+    (1e-9) of the held wheel, each an eigenpair of (K, M)."""
+    from fem_prep import CholmodFactor, SparseFactor, factorize, shift_invert_modes
+
     K, M = held_full[1], held_full[2]
     cf, sf = factorize(K, method=CholmodFactor), factorize(K, method=SparseFactor)
     B = np.random.default_rng(2).standard_normal((K.shape[0], 7))
@@ -260,18 +293,9 @@ def test_cholmod_matches_superlu_and_eigsh_returns_both_members_of_nd_pairs(coup
     l1, p1 = shift_invert_modes(K, M, 12, factor=cf)
     l2, p2 = shift_invert_modes(K, M, 12, factor=sf)
     assert np.allclose(l1, l2, rtol=1e-9)
-    # each returned pair is an eigenpair of (K, M), whatever factor found it (the dense
-    # reference of every eigenvalue with its multiplicity: the slow test below)
     for lam, phi in ((l1, p1), (l2, p2)):
         r = K @ phi - (M @ phi) * lam
         assert np.all(np.linalg.norm(r, axis=0) < 1e-8 * np.linalg.norm(K @ phi, axis=0))
-    # degenerate pairs (ND >= 1) come out twice: adjacent eigenvalues equal to 1e-6
-    ratios = l1[1:] / l1[:-1] - 1
-    assert np.sum(ratios < 1e-6) >= 3, l1
-    # free structure (rigid-body modes) with a negative shift, as the pipeline does: six
-    # rigid-body modes, then the elastic ones (SuperLU's on the same shift: the slow test below)
-    l3 = _free_structure_modes(cp, CholmodFactor)
-    assert np.all(np.abs(l3[:6]) < 1e-6 * l3[6])
 
 
 def _free_structure_modes(cp, method):

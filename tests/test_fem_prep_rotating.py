@@ -61,7 +61,8 @@ def prepared():
     cache.clear()
 
 
-@pytest.fixture(params=["rigid", "averaging"])
+# default tier: the [rigid] cases of test_rigid_tilt_virtual_work and test_drive_rotation_is_neutral (the same claims; the rotating operators do not depend on the coupling) with tests/test_fem_prep_condense.py::test_condensed_stiffness_has_rigid_body_modes[averaging-distributing] (the averaging coupling's rows)
+@pytest.fixture(params=["rigid", pytest.param("averaging", marks=pytest.mark.slow)])
 def prep(request, prepared):
     return prepared(request.param)
 

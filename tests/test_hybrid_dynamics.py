@@ -447,7 +447,7 @@ def _rigidified_vs_lumped(case, speeds, rotating_frame=False):
     return np.asarray(sw.dynamic_factor), lumped_df, lumped_min
 
 
-# default tier: tests/test_hybrid_train.py::test_rigidified_idler_train_dynamics_equal_the_rigid_node_train (a rigidified body's hybrid Newmark against the rigid-node lumped one, 2 speeds)
+# default tier: tests/test_hybrid_train.py::test_rigidified_idler_train_dynamics_equal_the_rigid_node_train (a rigidified body's hybrid Newmark against the rigid-node lumped one, at 1000 rad/s)
 @pytest.mark.slow
 def test_rigidified_body_reproduces_the_lumped_dynamic_factor(setup):
     """A body 1000× stiffer on the same shafts, against the rigid-node lumped

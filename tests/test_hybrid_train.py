@@ -199,7 +199,19 @@ def test_rigidified_idler_train_dynamics_equal_the_rigid_node_train(case):
     polar inertia (its diametral inertia the disc formula's), Rayleigh damping (25 1/s,
     2.5e-6 s) in both, uniform mesh stiffness, 64 steps per period, 12 periods (the last 4
     recorded): each mesh's dynamic factor within 2 % at 1000 rad/s (near a coincidence, DF
-    1.89 and 1.70) and 2000 rad/s (measured 0.03 to 0.7 %; after 30 periods 0.05 to 0.7 %)."""
+    1.89 and 1.70; measured 0.03 to 0.7 % with 2000 rad/s, after 30 periods 0.05 to 0.7 %).
+    The same at 2000 rad/s: test_rigidified_idler_train_dynamics_at_2000_rad_s (slow)."""
+    _rigidified_idler_dynamics(case, [1000.0])
+
+
+# default tier: test_rigidified_idler_train_dynamics_equal_the_rigid_node_train (the same claim at 1000 rad/s)
+@pytest.mark.slow
+def test_rigidified_idler_train_dynamics_at_2000_rad_s(case):
+    """test_rigidified_idler_train_dynamics_equal_the_rigid_node_train at 2000 rad/s."""
+    _rigidified_idler_dynamics(case, [2000.0])
+
+
+def _rigidified_idler_dynamics(case, speeds):
     stiff = stiffened_body(DATA / "hybrid-test-wheel.toml", 1000.0)
     # on the theoretical path (an open question): beyond it the two scenes' corner rows differ by
     # the drive-rotation step, which takes a corner cell's part along the free rotation off
@@ -220,7 +232,6 @@ def test_rigidified_idler_train_dynamics_equal_the_rigid_node_train(case):
         uni.hybrid_train((None, stiff, None), tooth_mass=False), mods, uni.torque, damping
     )
     lumped = dynamic_model(rigid.lumped_train(), mods, uni.torque, damping)
-    speeds = [1000.0, 2000.0]
     kw = dict(integrator=Newmark(64), window=SteadyState(12, 4))
     got = speed_sweep(hybrid, speeds, **kw).results
     ref = speed_sweep(lumped, speeds, **kw).results
@@ -228,7 +239,8 @@ def test_rigidified_idler_train_dynamics_equal_the_rigid_node_train(case):
     for k in range(2):
         df, df_ref = (np.asarray(r.meshes[k].dynamic_factor) for r in (got, ref))
         np.testing.assert_allclose(df, df_ref, rtol=2e-2)
-    assert float(np.asarray(ref.meshes[0].dynamic_factor)[0]) > 1.5  # near a resonance
+    if speeds[0] == 1000.0:
+        assert float(np.asarray(ref.meshes[0].dynamic_factor)[0]) > 1.5  # near a resonance
 
 
 def test_cached_train_equals_the_uncached_solve(case, scene):
