@@ -85,7 +85,12 @@ def test_factored_solve_equals_the_per_pass_factorisation(r, kind, lines):
         np.testing.assert_allclose(np.asarray(al), np.asarray(al_ref), rtol=1e-12, atol=0)
 
 
-@pytest.mark.parametrize("kind", ["few", "most", "line"])
+# default tier for "most" and "line": the "few" derivative here (the same implicit derivative of
+# the factored solve) and test_factored_solve_equals_the_per_pass_factorisation (their branches)
+@pytest.mark.parametrize(
+    "kind", ["few", pytest.param("most", marks=pytest.mark.slow),
+             pytest.param("line", marks=pytest.mark.slow)]
+)
 def test_factored_solve_derivatives_equal_central_differences(kind):
     """d(Σ P_c² + α²)/d(gap shift) and d/d(load), forward and reverse, against central
     differences (the active set does not change within the step)."""

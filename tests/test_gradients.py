@@ -59,7 +59,9 @@ def _central(f, p, i, h):
     return (float(f(jnp.asarray(p + e))) - float(f(jnp.asarray(p - e)))) / (2 * h)
 
 
-@pytest.mark.parametrize("contact", ["smooth", "exact"])
+# default tier for "exact": the "smooth" case here (the same claim, another contact law); the
+# exact law's derivatives in default: tests/test_optimise_speed.py's exact-contact Jacobian
+@pytest.mark.parametrize("contact", ["smooth", pytest.param("exact", marks=pytest.mark.slow)])
 def test_grad_te_rms_matches_central_differences(contact):
     f, grad = _jitted(contact)
     g = np.asarray(grad(jnp.asarray(P0)))

@@ -60,6 +60,10 @@ def _optimise(tmp_path, text, capsys):
         written
 
 
+# default tier: test_tip_relief_bounded_short_keeps_the_case_design_and_run_agrees below (jaxgear
+# optimise on this spur pair: the candidates recomputed by hand, a bound flagged, --write of
+# the best) and tests/test_rating_modifications.py's --write round trip (the optimum written)
+@pytest.mark.slow
 @pytest.mark.filterwarnings("ignore:optimiser stopped at the iteration cap")  # at a bound
 def test_crowning_against_max_line_load_writes_the_bare_flanks(tmp_path, capsys):
     """An aligned spur pair, the crowning its one variable with bounds (0.5, 3) δ_m against

@@ -277,6 +277,11 @@ def test_design_variable_gradients_match_central_differences_per_variable(hybrid
         np.testing.assert_allclose(J[:, i], fd, rtol=1e-5, atol=1e-7, err_msg=pc.names[i])
 
 
+# default tier: tests/test_optimise.py::test_optimiser_reaches_the_grid_optimum_from_three_starts
+# (the optimiser reaches the grid optimum) and
+# ::test_design_variable_gradients_match_central_differences_in_exact_contact (load_centroid
+# on the hybrid scene at speed, its value and derivatives)
+@pytest.mark.slow
 def test_load_centroid_optimum_matches_a_grid_scan_at_speed(hybrid):
     """On the small hybrid case at 3000 rad/s, the 30 µm helix slope loads the z = b edge; the
     gradient optimum of load_centroid over the depth of the z = b end relief (smooth contact,

@@ -135,6 +135,10 @@ def test_work_hardening_factor_of_a_soft_ring_against_a_hardened_planet():
     np.testing.assert_allclose(jr.CaseHardened().work_hardening_factors(), [1.0, 1.0])
 
 
+# default tier: tests/test_rating_cutter.py::test_rating_derivative_through_the_cutter_section_against_central_differences
+# (the internal pair's rating derivative, its ring section from the cutter) and
+# tests/test_rating.py::test_safety_factor_gradients_match_central_differences
+@pytest.mark.slow
 def test_internal_rating_gradients_match_central_differences():
     """dS_H/dx1 and dS_F/dx1 (planet and ring) of the internal pair by jax.grad against central
     differences (float64; K_v, K_Hβ, K_Hα computed by ISO 6336-1 method B, the substitute rack

@@ -195,6 +195,11 @@ def test_rigid_train_measures_each_mesh_as_alone():
         assert "coupled train: torsional" in m["K_Hbeta"]["source"]
 
 
+# default tier: test_off_centre_pinion_tilts_the_mesh_as_beam_theory_says above (a shaft's
+# slope raises the measured K_Hbeta, against beam theory), test_rigid_train_measures_each_mesh_as_alone
+# (a train's coupled loads read per mesh); a lumped 3D train's jaxgear run stays in default
+# (tests/test_every_kind.py's note on which test runs it)
+@pytest.mark.slow
 def test_flexible_idler_shaft_raises_the_coupled_face_load_factor():
     """The lumped idler train of examples/ without lead modifications (alone, every mesh reads
     K_Hβ = 1), the idler moved to 10 of its 40 mm on a 10 mm shaft: the idler tilts, and both

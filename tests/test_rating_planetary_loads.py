@@ -132,13 +132,13 @@ def test_in_phase_stage_meshes_equal_the_pairs_run_alone(tmp_path):
 
 def test_planet_mesh_loads_place_each_planets_cells():
     """:func:`jaxgear.planetary.planet_mesh_loads` on the stage's quasi-static solve (the spur
-    nrel-5mw-stage2, 3 planets): each planet's sun-mesh and ring-mesh cells, placed on its own
+    nrel-5mw-stage2, 3 planets, the sun's 60 µm relief, on the path): each planet's sun-mesh and ring-mesh cells, placed on its own
     mesh, carry the solve's own mesh force of that planet at every position (Σ line load ×
     length = the transverse mesh force, spur: 1e-9 of it; the forces are the solver's, not the
     cells'); the cells' forces given back with ``per_length`` give the line loads."""
     import jaxgear.planetary as jp
 
-    case = _stage2()
+    case = _stage2(relief_um=60.0, extended=False)  # the in-phase loads' stage: their programs
     spec = case.form.spec
     meshes = spec.dynamic_meshes(case, case.slices)
     x = meshes.positions(case.positions_per_pitch)
@@ -224,6 +224,12 @@ def test_use_measured_k_h_alpha_rates_each_mesh_with_the_stages(tmp_path):
     assert md.count("| σ_F,FE max | ") == 2 and "not computed" not in md  # the ring: its cutter
 
 
+# default tier: tests/test_rating_examples.py::
+# test_root_stress_map_example_with_five_load_radii_is_below_iso (a pair's FE map below ISO's
+# sigma_F0), tests/test_ring_root_stress.py::test_nrel_ring_fe_over_iso (stage 1's ring on its
+# cutter's form, in the band) and test_in_phase_stage_meshes_equal_the_pairs_run_alone above
+# (the stage's map is the pair's at the same loads)
+@pytest.mark.slow
 @pytest.mark.parametrize("resolution", [
     (2, 16),
     pytest.param(None, marks=pytest.mark.slow),  # the run's: 40 slices, 32 positions, ~13 s

@@ -92,6 +92,11 @@ def test_the_rating_reports_each_meshs_largest_face_load_k_hbeta_not_used(tmp_pa
     assert "K_Hβ measured" not in (tmp_path / "rating.md").read_text()
 
 
+# default tier: tests/test_rating_planetary_speed.py::
+# test_use_measured_k_v_rates_each_mesh_with_the_sweeps (use_measured rates the stage's meshes
+# with a measured factor, the stresses scaling by hand) and
+# test_a_helical_stage_on_its_supports_rates_with_its_own_face_load below (the helical K_Hbeta)
+@pytest.mark.slow
 def test_use_measured_rates_with_the_face_load_k_hbeta(tmp_path):
     """`[rating] use_measured = ["K_Hbeta"]`: each mesh rated with its measured K_Hbeta in place
     of ISO's, σ_H scaling by √(K_Hβ measured / K_Hβ ISO) (σ_H ∝ √(K_A K_γ K_v K_Hβ K_Hα), the

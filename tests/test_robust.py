@@ -166,7 +166,7 @@ def test_runout_realisations_give_their_closed_form_te_rms(spur):
     TE RMS equals √(r0² + (F_r/2)²/2) with its own F_r, to 1e-9."""
     sampler, problem, r0, _ = _runout_setup(spur)
     key = jax.random.key(7)
-    out = jg.robust_samples(problem, sampler, key, 16, batch_size=5)
+    out = jg.robust_samples(problem, sampler, key, 16, batch_size=4)
     fr = np.asarray(_draws(sampler, 16, 7).pinion.runout)
     assert np.all(out.result == 0)
     assert out.te_rms == pytest.approx(_runout_te_rms(r0, fr), rel=1e-9)

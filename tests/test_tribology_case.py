@@ -70,10 +70,37 @@ def test_lubricant_needs_a_speed():
         jio.parse_case(data)
 
 
+def test_tribology_outputs_write_film_and_loss_files(tmp_path):
+    """The film and loss files ``jaxgear run`` writes, from the tribology outputs of the
+    example's quasi-static result at 1 slice and 16 positions per pitch (tests/
+    test_flash_case.py's twin: its programs): the checks below (GEARpie's μ and H_V depend on
+    the geometry and the oil alone)."""
+    import jaxgear as jg
+    from jaxgear.cli.run import tribology_outputs, tribology_run_line
+
+    data = _data()
+    data["mesh"] |= {"slices": 1, "positions_per_pitch": 16}
+    case = jio.parse_case(data)
+    res = jg.quasi_static(case.mesh_model(), case.modifications, case.torque,
+                          positions_per_pitch=case.positions_per_pitch)
+    section = tribology_outputs(case, str(tmp_path), res)
+    _film_and_loss_files(case, tmp_path, section, tribology_run_line(section))
+
+
+# default tier: test_tribology_outputs_write_film_and_loss_files above (the same files and
+# lines at 1 slice, 16 positions); tests/test_every_kind.py runs jaxgear run on a pair
+@pytest.mark.slow
 def test_run_writes_film_and_loss_files(tmp_path):
+    """The checks below on ``jaxgear run``'s own files (run_case) at the example's size."""
     case = jio.load_case(EXAMPLE)
     summary = run_case(case, str(tmp_path), show_progress=False)
-    section = summary["tribology"]
+    _film_and_loss_files(case, tmp_path, summary["tribology"], run_lines(case.form, case, summary))
+
+
+def _film_and_loss_files(case, tmp_path, section, lines):
+    """GEARpie's μ and H_V in tribology.json, the loss μ H_V P_in, the CSV's rows on the loaded
+    path and beyond it, the figure, the printed line, Blok's flash temperature at the hottest
+    cell from the file's own columns."""
     on_disk = json.loads((tmp_path / "tribology.json").read_text())
     assert on_disk["friction_coefficient"] == pytest.approx(0.0483, abs=5e-5)  # GEARpie
     assert on_disk["loss_factor_ohlendorf"] == pytest.approx(0.1950, abs=5e-5)  # GEARpie
@@ -98,14 +125,14 @@ def test_run_writes_film_and_loss_files(tmp_path):
     assert s.min() < 0.0 and s.max() > g  # the loaded corners' rows are there
     assert s.min() >= -before * (1 + 1e-6) and s.max() <= (g + after) * (1 + 1e-6)
     assert (tmp_path / "tribology.png").stat().st_size > 10_000
-    assert any("film and loss" in line for line in run_lines(case.form, case, summary))
+    assert any("film and loss" in line for line in lines)
     # Blok's flash temperature along the path, written without the scuffing keys: at the
     # hottest cell, Blok's formula again from the file's own columns (spur: speeds normal to
     # the line are the transverse ones; R from p₀ = √(w E*/(π R)), b_H = √(4 w R/(π E*)))
     fl = np.array([float(r["flash_temperature_K"]) for r in rows])
     assert fl.max() == pytest.approx(section["max_flash_temperature_K"], rel=1e-9)
     # the printed line names it (no scuffing keys here: the film line carries it)
-    (film_line,) = [ln for ln in run_lines(case.form, case, summary) if "film and loss" in ln]
+    (film_line,) = [ln for ln in lines if "film and loss" in ln]
     assert f"max flash temperature {fl.max():.1f} K" in film_line
     hot = rows[int(np.argmax(fl))]
     w, p0 = float(hot["line_load_N_per_m"]), float(hot["max_pressure_Pa"])
