@@ -354,6 +354,8 @@ def test_jaxgear_run_on_the_two_stage_case_writes_bearing_forces(tmp_path, no_fi
 EXAMPLE = pathlib.Path(__file__).resolve().parents[1] / "examples" / "idler-train-lumped3d.toml"
 
 
+# default tier: tests/test_dynamics_resolution.py::test_low_speed_limit_and_under_resolved_flag (same claim, the dynamics' low-speed limit is the quasi-static result, on a pair); the lumped idler train's dynamics run in tests/test_mesh_table.py::test_static_rows_are_each_steps_static_solve[idler]
+@pytest.mark.slow
 def test_lumped_idler_train_dynamics_reach_the_quasi_static_limit():
     """The example lumped idler train (examples/idler-train-lumped3d.toml) in the one dynamics
     stack at 20 rad/s, its mesh frequency (143 Hz) far below its first elastic mode: each mesh's

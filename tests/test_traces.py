@@ -12,6 +12,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 import optimistix as optx
+import pytest
 
 from _tracing import traced
 
@@ -93,6 +94,8 @@ def test_minimise_traces_once_for_new_starts_tolerances_and_caps():
     assert _first_then_none(minimise, first, new) == []
 
 
+# default tier: tests/test_traces.py::test_minimise_traces_once_for_new_starts_tolerances_and_caps (same claim, an optimise entry point's values traced, not static; master_curve's path runs in tests/test_cli_robust.py::test_master_curve_flags_points_on_a_bound)
+@pytest.mark.slow
 def test_master_curve_traces_once_for_new_extents():
     problem = _tip_relief_problem("tip_relief.depth,tip_relief.extent")
     kw = {"coarse_depths": np.linspace(0.0, 3.0, 9), "iterations": 8}

@@ -87,6 +87,8 @@ def train():
     return data, jio.parse_train(copy.deepcopy(data), "accessory-idler-train")
 
 
+# default tier: tests/test_train_case.py::test_two_stage_case_each_mesh_equals_its_pair_alone_over_the_span (same claim, each mesh of a train case equals its pair case alone, on the two-stage case)
+@pytest.mark.slow
 def test_each_mesh_equals_its_pair_alone(train):
     """Quasi-static contact of both meshes at once on the torsional train against each pair
     solved alone at its own angle (the pair case files written above): TE and mesh stiffness
