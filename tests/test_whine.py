@@ -368,6 +368,8 @@ def test_gradient_wrt_tip_relief_matches_central_differences():
     np.testing.assert_allclose(grad, fd, rtol=1e-5)
 
 
+# default tier: tests/test_whine.py::test_pair_against_newmark_in_its_linear_regime (same claim, the balance's orders within 1 % and 1° of Newmark's, on the torsional pair); a train's whine runs in test_a_train_spanning_several_mesh_periods_reports_the_first_meshs_frequency
+@pytest.mark.slow
 def test_idler_train_against_newmark_mesh_by_mesh():
     """The torsional ``accessory-idler-train`` (3 shafts, 2 meshes in their phases) at 0.2 of
     the speed where order 1 meets its most excited mode: each mesh's orders 1 and 2 of the TE
