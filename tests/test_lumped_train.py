@@ -59,6 +59,8 @@ def _solve(case):
     return res, bearing_forces(scene, res)
 
 
+# default tier: tests/test_dynamics_lumped.py::test_stiff_shafts_and_bearings_recover_the_rigid_mesh_te (same claim, stiff shafts and bearings give the rigid scene's TE, on a pair); a lumped train's quasi-static runs in test_each_shaft_bearings_balance_the_nominal_mesh_forces
+@pytest.mark.slow
 def test_stiff_lumped_idler_train_equals_the_torsional_train():
     """The idler train on shafts and bearings a thousand times stiffer than the meshes: each
     mesh's quasi-static TE equals the torsional train's (mean within 0.5 %, measured 0.1 %)."""

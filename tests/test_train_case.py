@@ -148,6 +148,8 @@ def test_one_modifications_for_every_mesh_is_the_per_mesh_solve(train):
             np.testing.assert_array_equal(got.transmission_error, want.transmission_error)
 
 
+# default tier: tests/test_dynamics.py::test_disc_inertia_and_torsional_frequency (same claim, the model's modes against the chain written out, on the torsional pair); a train's modes are written by tests/test_every_kind.py's train-torsional run
+@pytest.mark.slow
 def test_natural_frequencies_equal_a_three_inertia_chain(train):
     """The train's modes (time-averaged mesh stiffness) against the chain written out: three
     solid-disc inertias ½ ρ π b r_a⁴, two mesh springs of each pair's mean stiffness (alone,
