@@ -55,14 +55,14 @@ def _csv_finite(path: Path) -> None:
 # tests/test_hybrid_dynamics.py's default jaxgear sweep on a hybrid pair and by a lumped 3D train's
 # run (below) for a train's keys. Runs: a torsional pair's run is pair-rigid's run_case and
 # pair-rigid's sweep (the default scene of a case without one is that torsional pair); a lumped 3D
-# train's whole run is train-lumped3d's here (the two-stage lumped train's run, its span of two
-# periods, and tests/test_lumped_train.py's run on the embedded two-stage case are slow: a train's
-# span and orders are checked by default on the torsional two-stage case in
-# tests/test_train_case.py and on every train's run here); a lumped 3D pair's run is
+# train's whole run (its 60-speed sweep included, the two-stage train's path) is
+# tests/test_lumped_train.py's default jaxgear run on the two-stage lumped 3D train
+# (test_jaxgear_run_on_the_two_stage_case_writes_bearing_forces: measured as costly as
+# train-lumped3d's run here, and it asserts more); a lumped 3D pair's run is
 # tests/test_cli_scene_curves.py's default run of a small lumped 3D pair (its scene's curves and
 # files) with tests/test_regression.py's default sweep-accessory-spur (the sweep_case of a lumped
 # 3D pair, against its record).
-SLOW_RUN = {"train-two-stage", "pair-torsional", "pair-lumped3d"}
+SLOW_RUN = {"train-two-stage", "pair-torsional", "train-lumped3d", "pair-lumped3d"}
 # The commands here that are also tests/test_regression.py's records (the same case text, the
 # same options): their outputs are compared with the record here, and the regression test runs
 # them only in the slow suite (one run of each in the default suite, not two).

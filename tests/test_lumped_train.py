@@ -307,8 +307,6 @@ def test_lumped_train_refusals_are_one_line():
             jio.parse_train(data)
 
 
-# default tier: tests/test_every_kind.py::test_run_every_scene_kind[train-lumped3d] (jaxgear run on a lumped 3D train: its sweep per mesh, orders and coincidences, output torque), tests/test_train_case.py::test_two_stage_case_each_mesh_equals_its_pair_alone_over_the_span (a two-stage case's span and orders) and test_each_shaft_bearings_balance_the_nominal_mesh_forces[right] (the bearing balance on this case)
-@pytest.mark.slow
 def test_jaxgear_run_on_the_two_stage_case_writes_bearing_forces(tmp_path, no_figures):
     """``jaxgear run`` on the lumped two-stage case (coarse settings): per-mesh summary over the
     127-period span and the mean bearing forces of every shaft, which balance the mesh forces."""
