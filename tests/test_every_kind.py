@@ -141,7 +141,10 @@ def _train_outputs(path: Path, out: Path, s: dict) -> None:
     header = (out / "te.csv").read_text().splitlines()[0].split(",")
     for m in s["meshes"]:
         assert set(m["quasi_static"]["exact"]) >= {
-            "te_mean_m", "te_rms_m", "mesh_stiffness_mean_N_per_m", "max_line_load_N_per_m"
+            "te_mean_m",
+            "te_rms_m",
+            "mesh_stiffness_mean_N_per_m",
+            "max_line_load_N_per_m",
         }
         assert (out / f"load_map_{m['name']}.png").read_bytes()[:4] == b"\x89PNG"
         # the mesh's name in snake case (input-idler -> input_idler)

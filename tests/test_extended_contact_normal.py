@@ -301,7 +301,9 @@ def test_on_the_line_of_action_and_with_tip_relief_results_are_todays():
 @pytest.mark.slow
 def test_with_tip_relief_the_lumped_pair_gives_the_theoretical_results():
     pair = _pair(beta=math.radians(12.0))
-    _relieved_results_are_theoretical(pair, _mesh(pair, slices=4), lambda m: _lumped(pair, m), 300.0)
+    _relieved_results_are_theoretical(
+        pair, _mesh(pair, slices=4), lambda m: _lumped(pair, m), 300.0
+    )
 
 
 def _planetary():
@@ -521,8 +523,9 @@ def test_hybrid_free_drive_rotation_carries_no_contact_force(hybrid):
     c = np.linalg.svd((u @ null)[None])[2][-1]
     ref = null @ c
     R = np.asarray(sc.rigid_modes())[:, 0]
-    np.testing.assert_allclose(R / np.linalg.norm(R) * np.sign(R @ ref), ref / np.linalg.norm(ref),
-                               atol=1e-9)
+    np.testing.assert_allclose(
+        R / np.linalg.norm(R) * np.sign(R @ ref), ref / np.linalg.norm(ref), atol=1e-9
+    )
     g = case.pair.path_of_contact
     beyond = 0
     for p in range(len(thetas)):

@@ -206,7 +206,7 @@ def test_two_stage_train_builds_in_float32():
     import fractions
 
     with jax.enable_x64(False):
-        case32, scene32 = _two_stage_scene("torsional")
+        _, scene32 = _two_stage_scene("torsional")
         assert np.asarray(scene32.meshes[0].base_plane.mesh_period_angle).dtype == np.float32
     # the second stage's 35-tooth pinion on the 127-tooth wheel's shaft (docs/trains.md)
     assert scene32.period_ratios == (1, fractions.Fraction(127, 35))
