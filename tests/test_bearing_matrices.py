@@ -461,6 +461,8 @@ def _hybrid_spec(case, gear_bearings):
     return parse_scene(raw, base_dir=str(DATA))
 
 
+# default tier: tests/test_bearing_matrices.py::test_diagonal_matrix_gives_the_same_K_and_quasi_static_solution and test_bearing_damping_is_assembled_at_the_bearing_nodes (same claims on the lumped 3D scene: matrix keys give the diagonal keys' K, the damping block at the bearing node); a hybrid scene's bearings run in tests/test_every_kind.py's pair-hybrid run and test_hybrid_refuses_a_non_axisymmetric_bearing_on_a_flexible_shaft
+@pytest.mark.slow
 def test_hybrid_scene_assembles_matrices_and_exposes_bearing_damping(hybrid):
     """Diagonal keys as matrices: the hybrid K bit for bit. An axisymmetric coupled matrix with
     damping on the flexible wheel's shaft: K changes by exactly its block, bearing_damping()

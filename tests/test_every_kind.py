@@ -18,10 +18,12 @@ import json
 import math
 from pathlib import Path
 
+import numpy as np
 import pytest
 from _kinds import KINDS
 from test_regression import _compare, _files, _recorded_files
 
+import jaxgear.io as jio
 from jaxgear.cli import main
 
 
@@ -55,7 +57,8 @@ def _csv_finite(path: Path) -> None:
 # pair-rigid's sweep (the default scene of a case without one is that torsional pair); a lumped 3D
 # train's whole run (its 60-speed sweep included, the two-stage train's path) is
 # tests/test_lumped_train.py's default jaxgear run on the two-stage lumped 3D train
-# (test_jaxgear_run_on_the_two_stage_case_writes_bearing_forces); a lumped 3D pair's run is
+# (test_jaxgear_run_on_the_two_stage_case_writes_bearing_forces: measured as costly as
+# train-lumped3d's run here, and it asserts more); a lumped 3D pair's run is
 # tests/test_cli_scene_curves.py's default run of a small lumped 3D pair (its scene's curves and
 # files) with tests/test_regression.py's default sweep-accessory-spur (the sweep_case of a lumped
 # 3D pair, against its record).
@@ -121,6 +124,54 @@ def test_run_every_scene_kind(kind, tmp_path, capsys, request):
         assert (out / "body_idler.vtu").is_file()
     assert not [p for p in out.iterdir() if p.name.startswith(".jaxgear-staging-")]
     _same_as_recorded("run", kind, out)
+    if kind.startswith("train-") and "hybrid" not in kind:
+        _train_outputs(path, out, s)
+
+
+def _train_outputs(path: Path, out: Path, s: dict) -> None:
+    """A train's run, per mesh: summary.json a ``meshes`` entry per mesh with the pair keys of
+    ``quasi_static``, te.csv a column per mesh, a load map per mesh, the phasing figure; the
+    balancing output's torque T z_out / z_in (the tooth ratios: no loads, the power balance).
+    With a sweep (a dynamic scene): each mesh's dynamic factor at every speed, the worst the
+    scene's, each mesh's mean stiffness, and each mesh's order, its driving gear's teeth per
+    input turn (the case's exact tooth-count orders), with its Campbell coincidences ω / (h z_k)."""
+    case = jio.load_case(str(path))
+    names = [case.mesh_name(k) for k in range(len(case.pairs))]
+    assert [m["name"] for m in s["meshes"]] == names
+    header = (out / "te.csv").read_text().splitlines()[0].split(",")
+    for m in s["meshes"]:
+        assert set(m["quasi_static"]["exact"]) >= {
+            "te_mean_m",
+            "te_rms_m",
+            "mesh_stiffness_mean_N_per_m",
+            "max_line_load_N_per_m",
+        }
+        assert (out / f"load_map_{m['name']}.png").read_bytes()[:4] == b"\x89PNG"
+        # the mesh's name in snake case (input-idler -> input_idler)
+        assert f"transmission_error_exact_modified_{m['name'].replace('-', '_')}_m" in header
+    assert (out / "phasing.png").read_bytes()[:4] == b"\x89PNG"
+    if "idler" in case.gear_names:  # the idler passes the normal force on: equal in its meshes
+        loads = [m["normal_load_N"] for m in s["meshes"]]
+        assert loads[1] == pytest.approx(loads[0], rel=1e-12)
+    # the output turns at o_last / z_out of the input (o_last: the last mesh's order)
+    z_out = int(case.pairs[-1].gear.teeth)
+    expected = case.torque * z_out / float(case.mesh_orders[-1])
+    assert s["operating"]["output_torque_Nm"] == pytest.approx(expected, rel=1e-12)
+    sweep = out / "sweep" / "sweep.json"
+    if not sweep.exists():
+        return
+    sw = json.loads(sweep.read_text())
+    per = np.asarray(sw["dynamic_factor_mesh"])
+    assert per.shape == (len(sw["speeds_rad_s"]), len(names))
+    np.testing.assert_allclose(sw["dynamic_factor"], per.max(axis=1))
+    assert len(sw["mesh_stiffness_mean_N_per_m"]) == len(names)
+    orders = [float(o) for o in case.mesh_orders]
+    np.testing.assert_allclose(sw["mesh_orders"], orders, rtol=1e-12)
+    for z, row in zip(orders, sw["critical_speeds_mesh"], strict=True):
+        assert row
+        for c in row:
+            w = 2 * math.pi * c["frequency_Hz"]
+            assert c["speed_rad_s"] == pytest.approx(w / (c["harmonic"] * z), rel=1e-12)
 
 
 @pytest.mark.filterwarnings("ignore:.*under-resolved")

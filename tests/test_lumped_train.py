@@ -59,6 +59,8 @@ def _solve(case):
     return res, bearing_forces(scene, res)
 
 
+# default tier: tests/test_dynamics_lumped.py::test_stiff_shafts_and_bearings_recover_the_rigid_mesh_te (same claim, stiff shafts and bearings give the rigid scene's TE, on a pair); a lumped train's quasi-static runs in test_each_shaft_bearings_balance_the_nominal_mesh_forces
+@pytest.mark.slow
 def test_stiff_lumped_idler_train_equals_the_torsional_train():
     """The idler train on shafts and bearings a thousand times stiffer than the meshes: each
     mesh's quasi-static TE equals the torsional train's (mean within 0.5 %, measured 0.1 %)."""
@@ -354,6 +356,8 @@ def test_jaxgear_run_on_the_two_stage_case_writes_bearing_forces(tmp_path, no_fi
 EXAMPLE = pathlib.Path(__file__).resolve().parents[1] / "examples" / "idler-train-lumped3d.toml"
 
 
+# default tier: tests/test_dynamics_resolution.py::test_low_speed_limit_and_under_resolved_flag (same claim, the dynamics' low-speed limit is the quasi-static result, on a pair); the lumped idler train's dynamics run in tests/test_mesh_table.py::test_static_rows_are_each_steps_static_solve[idler]
+@pytest.mark.slow
 def test_lumped_idler_train_dynamics_reach_the_quasi_static_limit():
     """The example lumped idler train (examples/idler-train-lumped3d.toml) in the one dynamics
     stack at 20 rad/s, its mesh frequency (143 Hz) far below its first elastic mode: each mesh's

@@ -190,30 +190,46 @@ def test_diffrax_records_take_each_mesh_at_its_own_row():
         assert np.percentile(diff, 95) < 1e-2, np.percentile(diff, 95)
 
 
-# default tier: tests/test_mesh_table.py::test_two_stage_train_builds_in_float32[torsional] (same claim on the same case's torsional train; [lumped3d] is slow)
-@pytest.mark.parametrize("model", ["torsional", pytest.param("lumped3d", marks=pytest.mark.slow)])
-def test_two_stage_train_builds_in_float32(model):
-    """float32 must run: the span and the period ratios of ``two-stage`` come from the tooth
-    counts, not from float32 base radii (127/35 there was refused as 'not a ratio of tooth
-    counts'), and its quasi-static TE per mesh stays within 1e-3 of float64's."""
+def _two_stage_scene(model):
+    """The embedded ``two-stage`` case and its torsional train or lumped static train (2
+    slices), built in the current precision."""
+    case = jio.load_case("two-stage")
+    if model == "torsional":
+        return case, case.torsional_train(slices=2)
+    return case, case.static_train(slices=2)
+
+
+def test_two_stage_train_builds_in_float32():
+    """float32 must build: the span and the period ratios of ``two-stage``'s torsional train come
+    from the tooth counts, not from float32 base radii (127/35 there was refused as 'not a
+    ratio of tooth counts')."""
     import fractions
 
-    def build():
-        case = jio.load_case("two-stage")
-        if model == "torsional":
-            return case, case.torsional_train(slices=2)
-        return case, case.static_train(slices=2)
+    with jax.enable_x64(False):
+        _, scene32 = _two_stage_scene("torsional")
+        assert np.asarray(scene32.meshes[0].base_plane.mesh_period_angle).dtype == np.float32
+    # the second stage's 35-tooth pinion on the 127-tooth wheel's shaft (docs/trains.md)
+    assert scene32.period_ratios == (1, fractions.Fraction(127, 35))
+    assert scene32.periods == 127
+
+
+# default tier: tests/test_mesh_table.py::test_two_stage_train_builds_in_float32 (the float32 build of this train) and tests/test_quasi_static.py::test_float32_runs_and_matches_float64 (same claim, a float32 quasi-static TE within 1e-3 of float64's, on a pair)
+@pytest.mark.slow
+@pytest.mark.parametrize("model", ["torsional", "lumped3d"])
+def test_two_stage_train_quasi_static_in_float32_is_float64s(model):
+    """float32 must run: the quasi-static TE per mesh of ``two-stage`` stays within 1e-3 of
+    float64's, the span from the tooth counts in both."""
+    import fractions
 
     def te(case, scene):
         res = jg.quasi_static(scene, case.mesh_modifications(), case.torque, positions_per_pitch=8)
         return [np.asarray(m.transmission_error) for m in res.meshes]
 
-    case64, scene64 = build()
+    case64, scene64 = _two_stage_scene(model)
     with jax.enable_x64(False):
-        case32, scene32 = build()
+        case32, scene32 = _two_stage_scene(model)
         te32 = te(case32, scene32)
         assert te32[0].dtype == np.float32
-    # the second stage's 35-tooth pinion on the 127-tooth wheel's shaft (docs/trains.md)
     train32, train64 = (getattr(s, "base", s) for s in (scene32, scene64))  # lumped: Grounded
     assert train32.period_ratios == (1, fractions.Fraction(127, 35))
     assert train32.periods == train64.periods == 127

@@ -114,6 +114,8 @@ def test_a_pair_cut_into_two_half_face_meshes_gives_the_pair_result(case, solved
     assert_split_equals_whole(whole, split, 1e-9)
 
 
+# default tier: tests/test_dynamics.py::test_torsional_pair_cut_into_two_half_face_meshes_gives_the_pair_response (same claim on the torsional scene); a lumped 3D pair's dynamics run in tests/test_dynamics_lumped.py::test_lumped_modes_energy_and_simulation
+@pytest.mark.slow
 def test_dynamics_of_a_pair_cut_into_two_half_face_meshes_give_the_pair_response(case, solved):
     """The lumped dynamics over every mesh of a scene: the spur pair as two half-face meshes
     on the same gear nodes has the pair's modes, mean mesh stiffness (summed over the meshes)

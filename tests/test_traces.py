@@ -12,6 +12,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 import optimistix as optx
+import pytest
 
 from _tracing import traced
 
@@ -79,6 +80,8 @@ def _tip_relief_problem(variables):
     return jio.case_problem(case, variables, "te_rms", relief_blend=0.0)
 
 
+# default tier: tests/test_traces.py::test_quasi_static_traces_once_for_new_values and test_simulate_traces_once_for_new_speeds (same claim, an entry point's new values trace nothing); minimise's path runs in tests/test_optimise.py
+@pytest.mark.slow
 def test_minimise_traces_once_for_new_starts_tolerances_and_caps():
     """One optimistix solve per call, traced once: x0, tol, max_iterations and the learning
     rate are traced values (the old chunked loop traced twice per call and again per tol)."""
@@ -93,6 +96,8 @@ def test_minimise_traces_once_for_new_starts_tolerances_and_caps():
     assert _first_then_none(minimise, first, new) == []
 
 
+# default tier: tests/test_traces.py::test_quasi_static_traces_once_for_new_values (same claim, an entry point's new values trace nothing; master_curve's path runs in tests/test_cli_robust.py::test_master_curve_flags_points_on_a_bound)
+@pytest.mark.slow
 def test_master_curve_traces_once_for_new_extents():
     problem = _tip_relief_problem("tip_relief.depth,tip_relief.extent")
     kw = {"coarse_depths": np.linspace(0.0, 3.0, 9), "iterations": 8}

@@ -272,6 +272,8 @@ def _rk4_reference(train, planes, model, torque, speed, periods, steps):
     return np.arange(t.size + 1) * h, np.array(xs)
 
 
+# default tier: tests/test_train.py::test_two_stage_dynamic_factor_per_mesh_against_a_segmented_reference (same claim, a torsional train's Newmark response per mesh against a reference written apart, on the two-stage train)
+@pytest.mark.slow
 def test_idler_train_dynamics_converge_to_an_independent_reference():
     """torsional_train + the one dynamics stack on the idler train (disc inertias, 120 N·m,
     mesh frequency at 0.6 of the first elastic mode, composite damping, no contact loss): each
@@ -350,7 +352,7 @@ def two_stage_train(planes=None):
     return planes, pairs, train
 
 
-# default tier: tests/test_train.py::test_two_stage_dynamic_factor_per_mesh_against_a_segmented_reference (same claims on the same train: each mesh's response against a reference written apart, at 256 steps, and the forces repeating over the 4-period span) and test_idler_train_dynamics_converge_to_an_independent_reference (a train's TE converging at 256 and 512 steps)
+# default tier: tests/test_train.py::test_two_stage_dynamic_factor_per_mesh_against_a_segmented_reference (same claims on the same train: each mesh's response against a reference written apart, at 256 steps, and the forces repeating over the 4-period span)
 @pytest.mark.slow
 def test_two_stage_train_dynamics_converge_to_an_independent_reference():
     """A two-stage torsional train: 20 → 40 teeth, then a 30-tooth pinion on the 40's shaft (a

@@ -87,6 +87,8 @@ def train():
     return data, jio.parse_train(copy.deepcopy(data), "accessory-idler-train")
 
 
+# default tier: tests/test_train_case.py::test_two_stage_case_each_mesh_equals_its_pair_alone_over_the_span (same claim, each mesh of a train case equals its pair case alone, on the two-stage case)
+@pytest.mark.slow
 def test_each_mesh_equals_its_pair_alone(train):
     """Quasi-static contact of both meshes at once on the torsional train against each pair
     solved alone at its own angle (the pair case files written above): TE and mesh stiffness
@@ -146,6 +148,8 @@ def test_one_modifications_for_every_mesh_is_the_per_mesh_solve(train):
             np.testing.assert_array_equal(got.transmission_error, want.transmission_error)
 
 
+# default tier: tests/test_dynamics.py::test_disc_inertia_and_torsional_frequency (same claim, the model's modes against the chain written out, on the torsional pair); a train's modes are written by tests/test_every_kind.py's train-torsional run
+@pytest.mark.slow
 def test_natural_frequencies_equal_a_three_inertia_chain(train):
     """The train's modes (time-averaged mesh stiffness) against the chain written out: three
     solid-disc inertias ½ ρ π b r_a⁴, two mesh springs of each pair's mean stiffness (alone,
@@ -361,6 +365,8 @@ def branch_run(tmp_path_factory):
     return data, out, printed.getvalue()
 
 
+# default tier: tests/test_every_kind.py::test_run_every_scene_kind[train-rigid] (one jaxgear run of a rigid train: the same per-mesh summary keys, te.csv columns, load maps, phasing figure, output torque)
+@pytest.mark.slow
 def test_jaxgear_run_on_a_train_writes_per_mesh_files(branch_run):
     """``jaxgear run`` on a small train case file (the branching train of :func:`branch_run`):
     summary.json holds a ``meshes`` entry per mesh with the pair keys of ``quasi_static``, te.csv
@@ -479,6 +485,8 @@ def test_loads_are_refused_in_one_line():
     )
 
 
+# default tier: tests/test_train_case.py::test_a_branching_train_shares_the_power_by_statics (the same branching train's power balance, solved) and tests/test_every_kind.py::test_run_every_scene_kind[train-rigid] (a rigid train's jaxgear run and its output torque)
+@pytest.mark.slow
 def test_jaxgear_run_on_an_input_driving_two_meshes(branch_run):
     """The input drives the idler and an accessory (at 180°, loaded with −30 N·m): ``jaxgear
     run`` completes, and the balancing output's torque is what the power balance written here
@@ -515,6 +523,8 @@ def test_two_stage_case_each_mesh_equals_its_pair_alone_over_the_span():
     data.setdefault("mesh", {})["extended_contact"] = False
     case = jio.parse_train(copy.deepcopy(data))
     assert case.span_periods == 4
+    # each mesh's order: its driving gear's teeth per input turn (20, then 30 × 20/40)
+    assert case.mesh_orders == (20, 15)
     res = jg.quasi_static(
         case.static_train(),
         case.mesh_modifications(),

@@ -237,8 +237,9 @@ def _linear_periodic_reference(model, speed, P, orders=4, sub=8):
     return np.array([2 * np.mean(te * np.exp(-1j * h * w * t)) for h in range(orders)])
 
 
-# default tier: tests/test_whine.py::test_pair_equals_the_exact_linear_periodic_solution[0.15] (same claim at one speed; [0.45] is slow)
-@pytest.mark.parametrize("ratio", [0.15, pytest.param(0.45, marks=pytest.mark.slow)])
+# default tier: tests/test_whine.py::test_pair_against_newmark_in_its_linear_regime (same claim, the balance's orders equal the pair's periodic response, against Newmark's; the relative scene's dynamics run in tests/test_every_kind.py's pair-relative runs)
+@pytest.mark.slow
+@pytest.mark.parametrize("ratio", [0.15, 0.45])
 def test_pair_equals_the_exact_linear_periodic_solution(ratio):
     """The relieved pair (1-DOF relative approach), 256 positions: orders 1-3 of the TE from
     the harmonic balance (H = 64) equal the exact periodic solution of the same linear
@@ -323,6 +324,8 @@ def test_bad_inputs():
         whine_response(model.scene, 100.0)
 
 
+# default tier: tests/test_whine.py::test_pair_against_newmark_in_its_linear_regime (same claim on the torsional pair); a lumped 3D scene's whine runs in test_a_train_spanning_several_mesh_periods_reports_the_first_meshs_frequency (the lumped two-stage train of tests/_kinds.py)
+@pytest.mark.slow
 def test_lumped3d_pair_against_newmark():
     """The case's own lumped 3D scene of ``accessory-spur`` (60 coordinates: shafts, bearings,
     the mesh spanning 2 of them) at 0.2 of the speed where order 1 meets its most excited
@@ -345,6 +348,8 @@ def test_lumped3d_pair_against_newmark():
         np.testing.assert_allclose(np.degrees(np.angle(got / ref)), 0.0, atol=1.0)
 
 
+# default tier: tests/test_whine.py::test_gradient_wrt_speed_under_jit (same claim, jax.grad of an order's amplitude equals the central difference, through a traced speed)
+@pytest.mark.slow
 def test_gradient_wrt_tip_relief_matches_central_differences():
     """d|F_m,1|/d(tip relief depth of both members) at 0.3 of the critical speed by jax.grad
     equals the central difference (step 1e-7 of the depth) to 1e-5 (measured 1e-8): the
@@ -368,6 +373,8 @@ def test_gradient_wrt_tip_relief_matches_central_differences():
     np.testing.assert_allclose(grad, fd, rtol=1e-5)
 
 
+# default tier: tests/test_whine.py::test_pair_against_newmark_in_its_linear_regime (same claim, the balance's orders within 1 % and 1° of Newmark's, on the torsional pair); a train's whine runs in test_a_train_spanning_several_mesh_periods_reports_the_first_meshs_frequency
+@pytest.mark.slow
 def test_idler_train_against_newmark_mesh_by_mesh():
     """The torsional ``accessory-idler-train`` (3 shafts, 2 meshes in their phases) at 0.2 of
     the speed where order 1 meets its most excited mode: each mesh's orders 1 and 2 of the TE
