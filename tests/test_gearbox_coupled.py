@@ -230,6 +230,8 @@ def test_quasi_static_limit_gives_the_torque_ratios():
     np.testing.assert_allclose(np.mean(f, axis=0), want, rtol=1e-6)
 
 
+# default tier: tests/test_planetary_sweep.py::test_the_lumped_sweep_is_planetary_dynamics_at_each_speed (the sweep is the single runs, the planetary kind); the gearbox's sweep over two speeds: tests/test_gearbox_coupled.py::test_jaxgear_runs_coupled_section
+@pytest.mark.slow
 def test_sweep_is_each_speed_run_alone():
     """The vmapped sweep is the single runs at its speeds (the engine's vectorisation), on
     tests/test_gearbox_whine.py's two spur pairs joined by a shaft at 32 steps per period (the
