@@ -183,7 +183,7 @@ def test_torsional_stages_give_the_torsional_chain():
     np.testing.assert_allclose(got[elastic], want[elastic], rtol=1e-9)
 
 
-# default tier: tests/test_gearbox_reference.py::test_coupled_dynamic_factors_match_the_independent_reference_at_one_speed (the planetary stage's dynamics in the chain, every mesh against an independent reference, 2 %)
+# default tier: tests/test_gearbox_reference.py::test_coupled_dynamic_factors_match_the_independent_reference_at_two_speeds (the planetary stage's dynamics in the chain, every mesh against an independent reference, 2 %)
 @pytest.mark.slow
 def test_stage_alone_equals_its_own_dynamics():
     """Stage 1 alone (sun in, carrier out held by a spring): the coupled run's mesh forces are
