@@ -27,7 +27,6 @@ from test_gearbox_case_lumped import lumped_pair_stage
 from test_gearbox_whine import TEETH
 
 import fem_prep
-import jaxgear as jg
 import jaxgear.io as jio
 import jaxgear.planetary as jp
 from fem_prep.housing import Bore, Foot, HousingBox, Tet4, condensed_housing, mesh_box
@@ -310,7 +309,7 @@ def _planetary_by_hand(ch, off, kind=None, **run):
             gb.GearboxRun(P_TORQUE, P_SHAFT, **opts))
 
 
-# default tier: tests/test_gearbox_case_housing.py::test_the_file_builds_the_hand_built_planar_planetary_in_the_box (the same reader path, the planar kind) and ::test_file_planetary_ring_seat_carries_the_ring_torque (this file's chain run)
+# default tier: tests/test_gearbox_case_housing.py::test_the_file_builds_the_hand_built_housed_gearbox (the same claim, the pairs in the box) and ::test_file_planetary_ring_seat_carries_the_ring_torque (this file's chain run)
 @pytest.mark.slow
 def test_the_file_builds_the_hand_built_planetary_in_the_box():
     """A planetary stage with ``housing_seat``: the reader's coupled chain (the ring on seat 0
@@ -489,6 +488,8 @@ def planar_box():
     return _planetary_box(RING_BORE)
 
 
+# default tier: tests/test_gearbox_case_housing.py::test_the_file_builds_the_hand_built_housed_gearbox (the same claim, the pairs in the box); the file's planetary in the box: ::test_file_planetary_ring_seat_carries_the_ring_torque; the planar kind on a mount: ::test_planar_ring_on_a_stiff_box_is_the_grounded_gearbox
+@pytest.mark.slow
 def test_the_file_builds_the_hand_built_planar_planetary_in_the_box(planar_box):
     """``model = "planar"`` and ``housing_bore_diameter_mm`` on a housed planetary stage: the
     reader's coupled chain (the planar kind on a mount of the box, the box with a 75 mm bore

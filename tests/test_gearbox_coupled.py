@@ -183,6 +183,8 @@ def test_torsional_stages_give_the_torsional_chain():
     np.testing.assert_allclose(got[elastic], want[elastic], rtol=1e-9)
 
 
+# default tier: tests/test_gearbox_reference.py::test_coupled_dynamic_factors_match_the_independent_reference_at_two_speeds (the planetary stage's dynamics in the chain, every mesh against an independent reference, 2 %)
+@pytest.mark.slow
 def test_stage_alone_equals_its_own_dynamics():
     """Stage 1 alone (sun in, carrier out held by a spring): the coupled run's mesh forces are
     jaxgear.planetary.planetary_dynamics' of the stage with its carrier held by that spring."""
@@ -206,6 +208,8 @@ def test_stage_alone_equals_its_own_dynamics():
                                atol=1e-9 * float(np.max(want)))
 
 
+# default tier: tests/test_gearbox_compound.py::test_quasi_static_torque_balance_of_a_coupled_run (mean mesh forces the static ones at 0.5 rad/s, a stepped stage) and tests/test_gearbox_coupled.py::test_jaxgear_runs_coupled_section (this chain's static forces from the torque ratios, 1e-12)
+@pytest.mark.slow
 def test_quasi_static_limit_gives_the_torque_ratios():
     """At a carrier speed whose mesh frequencies lie far below every mode (0.5 rad/s: 6.4 and
     12.7 Hz against 448 Hz and up), each mesh force is the static one from the torque ratios
@@ -226,6 +230,8 @@ def test_quasi_static_limit_gives_the_torque_ratios():
     np.testing.assert_allclose(np.mean(f, axis=0), want, rtol=1e-6)
 
 
+# default tier: tests/test_planetary_sweep.py::test_the_lumped_sweep_is_planetary_dynamics_at_each_speed (the sweep is the single runs, the planetary kind); the gearbox's sweep over two speeds: tests/test_gearbox_coupled.py::test_jaxgear_runs_coupled_section
+@pytest.mark.slow
 def test_sweep_is_each_speed_run_alone():
     """The vmapped sweep is the single runs at its speeds (the engine's vectorisation), on
     tests/test_gearbox_whine.py's two spur pairs joined by a shaft at 32 steps per period (the
@@ -263,6 +269,8 @@ def case_modes():
     return chain, np.asarray(gb.gearbox_coupled_modes(chain, run).analysis.frequency)
 
 
+# default tier: tests/test_gearbox_case_housing.py::test_a_planar_planetary_stage_on_the_ground (this file, its planetary stage planar, against the example's build, 1e-10) and tests/test_gearbox_coupled.py::test_jaxgear_runs_coupled_section (this file's torsional chain: static forces, highest mode)
+@pytest.mark.slow
 def test_the_case_file_builds_the_example(case_modes):
     """tests/data/gearbox/two-stage-gearbox.toml (the same gearbox as case files: a planetary
     case, a pair case, the gearbox's [[stages]]) gives, through jaxgear.io's GearboxForm.coupled,
@@ -304,6 +312,8 @@ def test_extended_contact_leaves_the_mesh_averaged_modes(tmp_path, case_modes):
     np.testing.assert_allclose(f_ext, f_path, rtol=1e-10)
 
 
+# default tier: tests/test_dynamics_resolution.py::test_default_step_matches_continuous_reference (the automatic step against a continuous reference) and tests/test_gearbox_model.py::test_automatic_step_is_the_engines_rule_on_the_highest_excited_mode (the gearbox's step is that rule)
+@pytest.mark.slow
 def test_automatic_time_plan_converges_on_two_pairs():
     """The automatic plan (40 steps per period of the highest mode the meshes excite, 8 time
     constants of the lowest to settle) against twice its steps on the same blocks: every
@@ -326,7 +336,7 @@ def test_automatic_time_plan_converges_on_two_pairs():
                                np.asarray(fine.dynamic_factors), rtol=1.5e-2)
 
 
-# default tier: tests/test_gearbox_coupled.py::test_automatic_time_plan_converges_on_two_pairs (same claim on two pairs)
+# default tier: tests/test_dynamics_resolution.py::test_default_step_matches_continuous_reference (the automatic step against a continuous reference) and tests/test_gearbox_model.py::test_automatic_step_is_the_engines_rule_on_the_highest_excited_mode (the gearbox's step is that rule)
 @pytest.mark.slow
 def test_automatic_time_plan_converges():
     """The automatic plan (40 steps per period of the highest mode the meshes excite, 8 time
@@ -390,6 +400,8 @@ def test_jaxgear_runs_coupled_section(tmp_path, monkeypatch):
                                [max(at[:4]), max(at[4:8]), at[8]], rtol=1e-14)
 
 
+# default tier: tests/test_gearbox_coupled.py::test_shaft_limits (the soft-shaft limit, torsional stages); the planar stage in a chain: tests/test_gearbox_case_housing.py::test_a_planar_planetary_stage_on_the_ground
+@pytest.mark.slow
 def test_planar_stage_soft_shaft_limit():
     """A planar planetary stage (PlanarPlanetary: translations in its carrier frame, bearings
     1e8 N/m) joined by a shaft 10³ softer than the example's: the coupled modes tend to the

@@ -197,6 +197,8 @@ def test_two_stages_in_one_housing_match_a_hand_assembly(steel):
     assert any(r["type"] == "housing" for r in table)  # the box's own modes are in the band
 
 
+# default tier: tests/test_gearbox_case_housing.py::test_planar_ring_on_a_stiff_box_is_the_grounded_gearbox (same claim, a planar planetary and a pair in the box)
+@pytest.mark.slow
 def test_stiff_shared_housing_is_the_grounded_gearbox():
     """The box 100 and 1000 x stiffer than steel (steel's density): the coupled modes below
     5 kHz tend to the grounded gearbox's as the box's compliance (the difference falls about
@@ -214,6 +216,8 @@ def test_stiff_shared_housing_is_the_grounded_gearbox():
     assert errs[0] / errs[1] > 8.0 and errs[1] < 3e-4
 
 
+# default tier: tests/test_gearbox_case_housing.py::test_file_planetary_ring_seat_carries_the_ring_torque (a housed chain's quasi-static run: mean mesh forces the static ones, the seat's load the torque balance's) and ::test_housing_signals_read_the_housed_file (the pair's bearing forces by hand, their mean the mesh force)
+@pytest.mark.slow
 def test_shared_housing_run_balances_the_bearing_forces(steel):
     """A Newmark run of the housed gearbox at a low speed (quasi-static: the mesh frequencies
     far below the modes) completes with finite values, each shaft's two bearings carry its
@@ -423,6 +427,8 @@ def _planetary_hand_assembly(ch, grounded, run):
     return M, K
 
 
+# default tier: tests/test_gearbox_housing.py::test_two_stages_in_one_housing_match_a_hand_assembly (the shared box against a hand assembly, the pairs' seats); the ring's mount in a run: tests/test_gearbox_case_housing.py::test_file_planetary_ring_seat_carries_the_ring_torque
+@pytest.mark.slow
 def test_planetary_ring_in_the_shared_housing_matches_a_hand_assembly(planetary_box):
     """The planetary stage's ring on its own seat of the box the lumped pair's bearings sit in
     (seat given by name): the housing's coordinates once, after both stages' own, and the

@@ -167,6 +167,8 @@ def _two_stage(support):
     return gb.GearboxTorsional((chain.stages[0], stage), chain.shaft_stiffnesses), chain, run
 
 
+# default tier: tests/test_gearbox_lumped.py::test_stiff_supports_tend_to_the_torsional_pair (the 3D pair's modes tend to the torsional pair's as the supports stiffen, one stage); a 3D pair beside a planetary stage: tests/test_gearbox_case_housing.py::test_file_planetary_ring_seat_carries_the_ring_torque
+@pytest.mark.slow
 def test_two_stage_example_with_its_pair_in_3d_form():
     """The example's two-stage gearbox with its spur pair in lumped 3D form: the 9 coupled modes
     of the torsional example move by an amount that shrinks as 1 / the supports' stiffness."""
@@ -246,6 +248,8 @@ def _housed_one_stage(tmp_path):
     return chains, run
 
 
+# default tier: tests/test_gearbox_case_housing.py::test_planar_ring_on_a_stiff_box_is_the_grounded_gearbox (same claim, a planar planetary and a 3D pair in the box)
+@pytest.mark.slow
 def test_stage_in_a_stiff_housing_is_the_grounded_stage(tmp_path):
     """The stage's scene built with a housing (its bearings on the seats, the housing's
     coordinates in the stage): in a box 1000 x stiffer than steel the one-stage gearbox's

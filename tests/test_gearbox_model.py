@@ -192,8 +192,8 @@ def test_an_input_turning_backwards_runs_as_its_magnitude_on_two_torsional_pairs
     is planned on the magnitude and run at the signed speed): on a torsional chain the speed
     enters through the mesh travel speeds |v_k| alone (no rotating-frame terms), so that the
     mesh forces at -ω are those at +ω. On tests/test_gearbox_whine.py's two spur pairs joined by
-    a shaft, on the plan of tests/test_gearbox_coupled.py::test_sweep_is_each_speed_run_alone
-    (32 steps per period, 6 blocks, 2 kept: its compiled run)."""
+    a shaft, 32 steps per period, 6 blocks, 2 kept (the plan of the slow
+    tests/test_gearbox_coupled.py::test_sweep_is_each_speed_run_alone: its compiled run)."""
     from test_gearbox_whine import _two_pairs
 
     chain, run = _two_pairs(steps_per_period=32, periods=6, keep_periods=2)

@@ -26,7 +26,6 @@ import numpy as np
 import pytest
 from _examples import load_example
 
-import jaxgear as jg
 import jaxgear.planetary as jp
 from benchmarks import TwoStageReference, two_stage_dynamic_factors
 from jaxgear import gearbox as gb
