@@ -436,8 +436,11 @@ def test_readme_command_lines_parse_and_check(monkeypatch, tmp_path):
     text = (ROOT / "README.md").read_text(encoding="utf-8")
     block = text.split("## Command line", 1)[1].split("```bash\n", 1)[1].split("```", 1)[0]
     lines = [ln.split("#", 1)[0].split() for ln in block.splitlines() if ln.strip()]
-    assert len(lines) == 5 and all(ln[0] == "jaxgear" for ln in lines)
+    assert len(lines) == 6 and all(ln[0] == "jaxgear" for ln in lines)
     monkeypatch.chdir(tmp_path)  # `jaxgear cases ... --write my-case.toml` writes here
+    spec = tmp_path / "examples" / "sizing" / "helical.toml"  # `jaxgear size`'s, from the checkout
+    spec.parent.mkdir(parents=True)
+    spec.write_text((ROOT / "examples" / "sizing" / "helical.toml").read_text(encoding="utf-8"))
 
     class Checked(Exception):
         pass
