@@ -65,6 +65,31 @@ def test_scuffing_keys_bad_input_one_line(change, match):
     assert "\n" not in str(err.value)
 
 
+def _scuffing_files(folder, sc: dict, case) -> list:
+    """The scuffing section ``sc`` and the files in ``folder`` agree: tribology.json's safety
+    factor, the scuffing temperature of the example's oil (80 + 2.25 × 100 °C), S_S = (θ_S −
+    θ_oil)/(θ_B,max − θ_oil), tribology.csv's largest flash temperature and its bulk
+    temperature, and zero flash temperature where the sliding vanishes (the pitch point).
+    Returns the CSV's rows."""
+    on_disk = json.loads((folder / "tribology.json").read_text())["scuffing"]
+    assert on_disk["scuffing_safety_factor"] == pytest.approx(sc["scuffing_safety_factor"])
+    oil = 75.0  # the example's oil temperature
+    assert sc["scuffing_temperature_C"] == pytest.approx(80.0 + 2.25 * 100.0)
+    assert sc["scuffing_safety_factor"] == pytest.approx(
+        (sc["scuffing_temperature_C"] - oil) / (sc["max_contact_temperature_C"] - oil)
+    )
+    with open(folder / "tribology.csv") as f:
+        rows = list(csv.DictReader(f))
+    fl = np.array([float(r["flash_temperature_K"]) for r in rows])
+    tb = np.array([float(r["contact_temperature_C"]) for r in rows])
+    assert fl.max() == pytest.approx(sc["max_flash_temperature_K"], rel=1e-5)
+    np.testing.assert_allclose(tb - fl, sc["bulk_temperature_C"], rtol=1e-6)
+    s = np.array([float(r["s_m"]) for r in rows])
+    s_c = tr.pitch_point_roll(case.pair)
+    assert fl[np.argmin(np.abs(s - s_c))] < 0.05 * fl.max()
+    return rows
+
+
 def test_tribology_outputs_write_the_flash_temperature(tmp_path):
     """The files ``jaxgear run`` writes of the scuffing and micropitting keys, from the
     tribology outputs of the quasi-static result at the small size of
@@ -82,26 +107,11 @@ def test_tribology_outputs_write_the_flash_temperature(tmp_path):
                           positions_per_pitch=case.positions_per_pitch)
     section = tribology_outputs(case, str(tmp_path), res)
     sc = section["scuffing"]
-    on_disk = json.loads((tmp_path / "tribology.json").read_text())
-    assert on_disk["scuffing"]["scuffing_safety_factor"] == pytest.approx(
-        sc["scuffing_safety_factor"])
-    oil = 75.0  # the example's oil temperature
-    assert sc["scuffing_temperature_C"] == pytest.approx(80.0 + 2.25 * 100.0)
-    assert sc["scuffing_safety_factor"] == pytest.approx(
-        (sc["scuffing_temperature_C"] - oil) / (sc["max_contact_temperature_C"] - oil)
-    )
-    with open(tmp_path / "tribology.csv") as f:
-        rows = list(csv.DictReader(f))
-    fl = np.array([float(r["flash_temperature_K"]) for r in rows])
-    tb = np.array([float(r["contact_temperature_C"]) for r in rows])
-    assert fl.max() == pytest.approx(sc["max_flash_temperature_K"], rel=1e-5)
-    np.testing.assert_allclose(tb - fl, sc["bulk_temperature_C"], rtol=1e-6)
-    s = np.array([float(r["s_m"]) for r in rows])
-    s_c = tr.pitch_point_roll(case.pair)
-    assert fl[np.argmin(np.abs(s - s_c))] < 0.05 * fl.max()
+    rows = _scuffing_files(tmp_path, sc, case)
     mp = section["micropitting"]
+    on_disk = json.loads((tmp_path / "tribology.json").read_text())["micropitting"]
     for key in ("min_specific_film", "safety_factor", "bulk_temperature_C"):
-        assert on_disk["micropitting"][key] == pytest.approx(mp[key])
+        assert on_disk[key] == pytest.approx(mp[key])
     lam = np.array([float(r["micropitting_specific_film"]) for r in rows])
     assert mp["min_specific_film"] == pytest.approx(lam.min(), rel=1e-5)
     lam_p = tr.figure_a1_permissible_film(8, 315.997e-6)  # the example's ν₄₀
@@ -121,23 +131,7 @@ def test_run_writes_the_flash_temperature(tmp_path):
     case = jio.parse_case(_data(fzg_load_stage=10, micropitting_load_stage=8))
     summary = run_case(case, str(tmp_path), show_progress=False)
     sc = summary["tribology"]["scuffing"]
-    on_disk = json.loads((tmp_path / "tribology.json").read_text())["scuffing"]
-    assert on_disk["scuffing_safety_factor"] == pytest.approx(sc["scuffing_safety_factor"])
-    oil = 75.0  # the example's oil temperature
-    assert sc["scuffing_temperature_C"] == pytest.approx(80.0 + 2.25 * 100.0)
-    assert sc["scuffing_safety_factor"] == pytest.approx(
-        (sc["scuffing_temperature_C"] - oil) / (sc["max_contact_temperature_C"] - oil)
-    )
-    with open(tmp_path / "tribology.csv") as f:
-        rows = list(csv.DictReader(f))
-    fl = np.array([float(r["flash_temperature_K"]) for r in rows])
-    tb = np.array([float(r["contact_temperature_C"]) for r in rows])
-    assert fl.max() == pytest.approx(sc["max_flash_temperature_K"], rel=1e-5)
-    np.testing.assert_allclose(tb - fl, sc["bulk_temperature_C"], rtol=1e-6)
-    # zero flash temperature where the sliding vanishes: at the pitch point
-    s = np.array([float(r["s_m"]) for r in rows])
-    s_c = tr.pitch_point_roll(case.pair)
-    assert fl[np.argmin(np.abs(s - s_c))] < 0.05 * fl.max()
+    rows = _scuffing_files(tmp_path, sc, case)
     assert (tmp_path / "tribology.png").stat().st_size > 10_000
     lines = run_lines(case.form, case, summary)
     assert any("scuffing: max flash" in line for line in lines)

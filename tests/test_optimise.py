@@ -244,6 +244,18 @@ max_iterations = 15
 )
 
 
+def _refusals(tmp_path, path) -> None:
+    """The commands refuse in one exit status 2: an unknown ``[optimise]`` key, an unknown
+    design variable, an empty extents range."""
+    from jaxgear.cli import main
+
+    bad = tmp_path / "bad.toml"
+    bad.write_text(SMALL_CASE.replace('objective = "te_rms"', 'objective = "te_rms"\nstep = 3'))
+    assert main(["optimise", str(bad), "--quiet"]) == 2
+    assert main(["optimise", str(path), "--vars", "tip_relief.width", "--quiet"]) == 2
+    assert main(["master-curve", str(path), "--extents", "0.3:0.3:3"]) == 2
+
+
 def test_cli_master_curve_writes_its_rows_and_refuses_bad_input(tmp_path):
     """``jaxgear master-curve`` on the small case at two extents: master_curve.json's rows (the
     keys, E* > 0) equal to the zero-fluctuation family (5e-3) with TE RMS below 3e-4 of the
@@ -277,11 +289,7 @@ def test_cli_master_curve_writes_its_rows_and_refuses_bad_input(tmp_path):
     np.testing.assert_allclose([r["depth_um"] for r in rows], family["depth_um"], rtol=5e-3)
     assert all(r["te_rms_m"] < 3e-4 * report["unmodified_te_rms_m"] for r in rows)
     assert (mc / "master_curve.png").exists()
-    bad = tmp_path / "bad.toml"
-    bad.write_text(SMALL_CASE.replace('objective = "te_rms"', 'objective = "te_rms"\nstep = 3'))
-    assert main(["optimise", str(bad), "--quiet"]) == 2
-    assert main(["optimise", str(path), "--vars", "tip_relief.width", "--quiet"]) == 2
-    assert main(["master-curve", str(path), "--extents", "0.3:0.3:3"]) == 2
+    _refusals(tmp_path, path)
 
 
 # default tier: tests/test_optimise.py::test_cli_master_curve_writes_its_rows_and_refuses_bad_input
@@ -324,11 +332,7 @@ def test_cli_optimise_master_curve_and_run_with_optimise_table(tmp_path, monkeyp
     summary = json.loads((run / "summary.json").read_text())
     assert summary["optimise"]["objective"] == "te_rms"
     assert (run / "optimise" / "optimum.json").exists()
-    bad = tmp_path / "bad.toml"
-    bad.write_text(SMALL_CASE.replace('objective = "te_rms"', 'objective = "te_rms"\nstep = 3'))
-    assert main(["optimise", str(bad), "--quiet"]) == 2
-    assert main(["optimise", str(path), "--vars", "tip_relief.width", "--quiet"]) == 2
-    assert main(["master-curve", str(path), "--extents", "0.3:0.3:3"]) == 2
+    _refusals(tmp_path, path)
 
 
 @pytest.mark.slow
