@@ -244,6 +244,27 @@ max_iterations = 15
 )
 
 
+def _master_curve_rows(path, out, extents: str) -> list:
+    """``jaxgear master-curve`` of the case file ``path`` over ``extents`` into ``out``: its
+    rows (master_curve.json) with their five keys and a positive depth each, and its figure."""
+    import json
+
+    from jaxgear.cli import main
+
+    assert main(["master-curve", str(path), "--extents", extents, "--out", str(out)]) == 0
+    rows = json.loads((out / "master_curve.json").read_text())["master_curve"]
+    assert [sorted(r) for r in rows][0] == [
+        "depth_um",
+        "extent",
+        "on_bound",
+        "te_rms_m",
+        "te_rms_smooth_m",
+    ]
+    assert all(r["depth_um"] > 0 for r in rows)
+    assert (out / "master_curve.png").exists()
+    return rows
+
+
 def _refusals(tmp_path, path) -> None:
     """The commands refuse in one exit status 2: an unknown ``[optimise]`` key, an unknown
     design variable, an empty extents range."""
@@ -263,22 +284,11 @@ def test_cli_master_curve_writes_its_rows_and_refuses_bad_input(tmp_path):
     extent range refused (exit 2) before any work."""
     import json
 
-    from jaxgear.cli import main
-
     path = tmp_path / "c.toml"
     path.write_text(SMALL_CASE)
     mc = tmp_path / "mc"
-    assert main(["master-curve", str(path), "--extents", "0.2:0.29:2", "--out", str(mc)]) == 0
-    rows = json.loads((mc / "master_curve.json").read_text())["master_curve"]
-    assert [sorted(r) for r in rows][0] == [
-        "depth_um",
-        "extent",
-        "on_bound",
-        "te_rms_m",
-        "te_rms_smooth_m",
-    ]
+    rows = _master_curve_rows(path, mc, "0.2:0.29:2")
     assert [r["extent"] for r in rows] == pytest.approx([0.2, 0.29])
-    assert all(r["depth_um"] > 0 for r in rows)
     # the uniform spur pair (ε_α = 1.42 < 2): the Master Curve is the zero-fluctuation family
     # of docs/design.md, "Optimisation" (written in optimise.zero_fluctuation_depth from the
     # thesis's closed form), with TE RMS near zero (the slow test above at 64 positions)
@@ -288,7 +298,6 @@ def test_cli_master_curve_writes_its_rows_and_refuses_bad_input(tmp_path):
     # 5e-3: the 24 positions' sampling of the TE (measured 3.4e-3; 2e-4 to 5e-4 at 64)
     np.testing.assert_allclose([r["depth_um"] for r in rows], family["depth_um"], rtol=5e-3)
     assert all(r["te_rms_m"] < 3e-4 * report["unmodified_te_rms_m"] for r in rows)
-    assert (mc / "master_curve.png").exists()
     _refusals(tmp_path, path)
 
 
@@ -314,17 +323,7 @@ def test_cli_optimise_master_curve_and_run_with_optimise_table(tmp_path, monkeyp
     for f in ("convergence.png", "path.png", "harris.png"):
         assert (out / f).read_bytes()[:4] == b"\x89PNG"
     mc = tmp_path / "mc"
-    assert main(["master-curve", str(path), "--extents", "0.2:0.29:4", "--out", str(mc)]) == 0
-    rows = json.loads((mc / "master_curve.json").read_text())["master_curve"]
-    assert [sorted(r) for r in rows][0] == [
-        "depth_um",
-        "extent",
-        "on_bound",
-        "te_rms_m",
-        "te_rms_smooth_m",
-    ]
-    assert len(rows) == 4 and all(r["depth_um"] > 0 for r in rows)
-    assert (mc / "master_curve.png").exists()
+    assert len(_master_curve_rows(path, mc, "0.2:0.29:4")) == 4
     # jaxgear run's figures are not read here (tests/conftest.py's no_figures, for this run on)
     monkeypatch.setenv("JAXGEAR_TEST_NO_FIGURES", "1")
     run = tmp_path / "r"

@@ -9,6 +9,7 @@ import math
 
 import numpy as np
 
+from .._geometry import inverse_involute, involute
 from ._spec import SizingSpec
 
 __all__ = ["RATIO_SLACK", "Candidates", "enumerate_candidates", "ratio_pairs"]
@@ -39,18 +40,6 @@ class Candidates:
     def take(self, index) -> Candidates:
         """The candidates at ``index`` (an index array or a mask)."""
         return Candidates(*(getattr(self, f.name)[index] for f in dataclasses.fields(self)))
-
-
-def _involute(a):
-    return np.tan(a) - a
-
-
-def _inverse_involute(v):
-    """α of inv α = v (v > 0), Newton's method from a cube-root start (to round-off)."""
-    a = np.cbrt(3.0 * v)
-    for _ in range(30):
-        a = a - (np.tan(a) - a - v) / np.tan(a) ** 2
-    return a
 
 
 def ratio_pairs(spec: SizingSpec) -> tuple[np.ndarray, np.ndarray]:
@@ -93,16 +82,16 @@ def enumerate_candidates(spec: SizingSpec) -> Candidates:
         cos_awt = (d1 + d2) * math.cos(at) / (2 * a)
         ok = cos_awt < 1.0
         awt = np.arccos(np.where(ok, cos_awt, 0.5))
-        total = (_involute(awt) - _involute(at)) * (z1 + z2) / (2 * math.tan(an))
+        total = (involute(awt) - involute(at)) * (z1 + z2) / (2 * math.tan(an))
         lo, hi = spec.profile_shift_sum
         keep = ok & (total >= lo) & (total <= hi)
         x2 = total - x1
         centre = np.full(z1.shape, float(a))
     else:
         x2 = np.full(z1.shape, float(spec.profile_shift[1]))
-        inv_awt = _involute(at) + 2 * math.tan(an) * (x1 + x2) / (z1 + z2)
+        inv_awt = involute(at) + 2 * math.tan(an) * (x1 + x2) / (z1 + z2)
         ok = inv_awt > 0
-        awt = _inverse_involute(np.where(ok, inv_awt, 1e-3))
+        awt = inverse_involute(np.where(ok, inv_awt, 1e-3))
         centre = (d1 + d2) / 2 * math.cos(at) / np.cos(awt)
         keep = ok
         if spec.centre_distance is not None:
