@@ -3,7 +3,6 @@ member), depths in µm within one normal module."""
 
 from __future__ import annotations
 
-import functools
 import itertools
 import re
 import tomllib
@@ -24,6 +23,7 @@ from .._modifications import (
     ParabolicRelief,
 )
 from ._sections import Section, named_keys, number, number_list
+from ._writers import toml_value
 
 __all__ = [
     "END_RELIEF_EDGES",
@@ -248,51 +248,15 @@ def modifications_with(table: dict | None, values: dict) -> dict:
     return out
 
 
-@functools.singledispatch
-def _toml_value(v) -> str:
-    raise TypeError(f"modifications: cannot write {v!r} as TOML")
-
-
-@_toml_value.register(bool)
-def _(v) -> str:
-    return "true" if v else "false"
-
-
-@_toml_value.register(int)
-def _(v) -> str:
-    return str(v)
-
-
-@_toml_value.register(float)
-def _(v) -> str:
-    return repr(v)  # reads back to the same double
-
-
-@_toml_value.register(str)
-def _(v) -> str:
-    return '"' + v.replace("\\", "\\\\").replace('"', '\\"') + '"'
-
-
-@_toml_value.register(list)
-@_toml_value.register(tuple)
-def _(v) -> str:
-    return "[" + ", ".join(_toml_value(x) for x in v) + "]"
-
-
-@_toml_value.register(dict)
-def _(v) -> str:
-    return "{ " + ", ".join(f"{k} = {_toml_value(x)}" for k, x in v.items()) + " }"
-
-
 def modifications_toml(table: dict) -> str:
     """``[modifications]`` (and its member tables) as TOML text, each modification an inline
     table, floats written in full (``repr``: they read back to the same double)."""
     lines = ["[modifications]"]
-    lines += [f"{k} = {_toml_value(v)}" for k, v in table.items() if k not in _MEMBERS]
+    lines += [f"{k} = {toml_value(v)}" for k, v in table.items() if k not in _MEMBERS]
     for m in _MEMBERS:
         if m in table:
             lines += ["", f"[modifications.{m}]"]
-            lines += [f"{k} = {_toml_value(v)}" for k, v in table[m].items()]
+            lines += [f"{k} = {toml_value(v)}" for k, v in table[m].items()]
     return "\n".join(lines) + "\n"
 
 

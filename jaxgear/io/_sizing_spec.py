@@ -51,7 +51,7 @@ from __future__ import annotations
 import math
 import os
 import tomllib
-from typing import Any, ClassVar, Literal
+from typing import ClassVar, Literal
 
 import pydantic
 
@@ -64,6 +64,7 @@ from ._rating_inputs import modification_inputs
 from ._rating_material_table import MaterialRatingKeys, refuse_unread_material
 from ._rating_table import RatingSection, rating_settings
 from ._sections import Section, number, number_list
+from ._writers import toml_value
 
 __all__ = ["SizingSection", "SpecOperating", "candidate_case_text", "load_sizing_spec",
            "parse_sizing_spec"]
@@ -280,20 +281,6 @@ def load_sizing_spec(path: str) -> tuple[SizingSpec, dict]:
     return spec, tables | {"name": str(name)}
 
 
-def _toml_value(v: Any) -> str:
-    if isinstance(v, bool):
-        return "true" if v else "false"
-    if isinstance(v, int | float):
-        return repr(float(v)) if isinstance(v, float) else str(v)
-    if isinstance(v, str):
-        return '"' + v.replace("\\", "\\\\").replace('"', '\\"') + '"'
-    if isinstance(v, list | tuple):
-        return "[" + ", ".join(_toml_value(x) for x in v) + "]"
-    if isinstance(v, dict):
-        return "{ " + ", ".join(f"{k} = {_toml_value(x)}" for k, x in v.items()) + " }"
-    raise TypeError(f"no TOML value for {type(v).__name__}")
-
-
 def candidate_case_text(tables: dict, spec: SizingSpec, row: dict, index: int) -> str:
     """The case file (TOML text) of one candidate of a sizing: ``[pair]``, ``[pinion]`` and
     ``[gear]`` of the candidate (values written to full precision, so that ``jaxgear run``
@@ -314,27 +301,27 @@ def candidate_case_text(tables: dict, spec: SizingSpec, row: dict, index: int) -
     lines = [
         f"# Candidate {index} of the sizing spec {tables.get('name', '')!r} (jaxgear size):",
         "# the spec's material, rating and operating point; the geometry it enumerated.",
-        f"name = {_toml_value(name)}",
+        f"name = {toml_value(name)}",
         "[pair]",
-        f"normal_module_mm = {_toml_value(float(row['normal_module_m']) * 1e3)}",
+        f"normal_module_mm = {toml_value(float(row['normal_module_m']) * 1e3)}",
         ("normal_pressure_angle_deg = "
-         f"{_toml_value(float(deg('normal_pressure_angle_deg', spec.normal_pressure_angle)))}"),
-        f"helix_angle_deg = {_toml_value(float(deg('helix_angle_deg', spec.helix_angle)))}",
+         f"{toml_value(float(deg('normal_pressure_angle_deg', spec.normal_pressure_angle)))}"),
+        f"helix_angle_deg = {toml_value(float(deg('helix_angle_deg', spec.helix_angle)))}",
     ]
     for tag, z, x in (("pinion", "z1", "x1"), ("gear", "z2", "x2")):
         lines += [
             f"[{tag}]",
             f"teeth = {int(row[z])}",
-            f"profile_shift = {_toml_value(float(row[x]))}",
-            f"addendum_coeff = {_toml_value(float(spec.addendum_coeff))}",
-            f"dedendum_coeff = {_toml_value(float(spec.dedendum_coeff))}",
-            f"fillet_radius_coeff = {_toml_value(float(spec.fillet_radius_coeff))}",
-            f"face_width_mm = {_toml_value(float(row['face_width_m']) * 1e3)}",
+            f"profile_shift = {toml_value(float(row[x]))}",
+            f"addendum_coeff = {toml_value(float(spec.addendum_coeff))}",
+            f"dedendum_coeff = {toml_value(float(spec.dedendum_coeff))}",
+            f"fillet_radius_coeff = {toml_value(float(spec.fillet_radius_coeff))}",
+            f"face_width_mm = {toml_value(float(row['face_width_m']) * 1e3)}",
         ]
-    lines += ["[operating]", f"torque_Nm = {_toml_value(float(spec.operating.torque))}",
-              f"speed_rpm = {_toml_value(float(op.get('speed_rpm', spec.operating.speed / RPM)))}"]
+    lines += ["[operating]", f"torque_Nm = {toml_value(float(spec.operating.torque))}",
+              f"speed_rpm = {toml_value(float(op.get('speed_rpm', spec.operating.speed / RPM)))}"]
     for table in ("material", "rating"):
         lines.append(f"[{table}]")
-        lines += [f"{k} = {_toml_value(v)}" for k, v in tables[table].items()]
+        lines += [f"{k} = {toml_value(v)}" for k, v in tables[table].items()]
     lines += ["[mesh]", 'stiffness = "weber"', "slices = 20", "positions_per_pitch = 16"]
     return "\n".join(lines) + "\n"
