@@ -20,6 +20,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import pathlib
+import tomllib
 
 import equinox as eqx
 import numpy as np
@@ -158,6 +159,26 @@ def test_the_published_design_rates_to_its_published_rating(table):
     np.testing.assert_allclose(s_f * f, PRINTED["S_F"], rtol=5e-3)
     assert np.all(s_h >= PRINTED["S_H"]) and np.all(s_h / PRINTED["S_H"] - 1 < 0.03)
     assert np.all(s_f >= PRINTED["S_F"]) and np.all(s_f / PRINTED["S_F"] - 1 < 0.03)
+
+
+def test_the_published_row_written_as_a_case_is_the_published_pair(spec, table):
+    """``--write`` of the published row gives the pair of the embedded case ``nrel-5mw-stage3``
+    (Table V's design, typed separately from the report and the paper): the same members and
+    tooth form, the same flanks and tips; its centre distance the zero-backlash one of the
+    shifts, the case's Table V 861 mm to 1.2 µm."""
+    tables = jio.load_sizing_spec(str(EXAMPLE))[1]
+    k = _published_row(table.columns)
+    row = {name: v[k] for name, v in table.columns.items()}
+    written = jio.parse_case(tomllib.loads(jio.candidate_case_text(tables, spec, row, k))).pair
+    published = jio.load_case("nrel-5mw-stage3").pair
+    for member in ("pinion", "gear"):
+        assert getattr(written, member) == getattr(published, member), member
+    for name in ("normal_module", "normal_pressure_angle", "helix_angle"):
+        assert float(getattr(written, name)) == pytest.approx(
+            float(getattr(published, name)), rel=1e-15), name
+    np.testing.assert_allclose(written.tip_radii, published.tip_radii, rtol=1e-15)
+    np.testing.assert_allclose(written.root_radii, published.root_radii, rtol=1e-15)
+    assert abs(float(written.center_distance) - float(published.center_distance)) < 1.2e-6
 
 
 def test_with_its_own_safety_factors_as_minimums_the_published_design_is_the_lightest(spec, table):
