@@ -35,7 +35,7 @@ __all__ = ["MESH_LOSS_COLUMNS", "OBJECTIVES", "MeshLossInputs", "envelope_volume
 OBJECTIVES = {
     "mass_kg": ("min", "blanks' mass (kg)", 1.0),
     "volume_m3": ("min", "envelope volume (dm³)", 1e3),
-    "least_margin": ("max", "least safety margin min(S_H/S_Hmin, S_F/S_Fmin)", 1.0),
+    "least_margin": ("max", "least margin min(S/S_min)", 1.0),
     "mesh_loss_W": ("min", "mesh power loss P_VZP (W)", 1.0),
     "efficiency": ("max", "mesh efficiency η_Z (%)", 100.0),
 }
