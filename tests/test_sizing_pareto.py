@@ -202,7 +202,7 @@ def test_mesh_loss_equals_the_tribology_model_on_each_candidates_pair(sized):
         pair = _pair(row, spec)
         mu = float(tr.Schlenk(0.85).coefficient(pair, lub, torque, speed, (0.5e-6, 0.7e-6)))
         h_v = tr.ohlendorf_loss_factor(pair)
-        close = lambda a, b: np.testing.assert_allclose(a, b, rtol=1e-9, atol=0)  # noqa: E731
+        close = lambda a, b: np.testing.assert_allclose(a, b, rtol=1e-9, atol=0)
         close(row["friction_coefficient"], mu)
         close(row["loss_factor"], h_v)
         close(row["mesh_loss_W"], mu * h_v * torque * speed)
@@ -217,7 +217,7 @@ def test_mesh_loss_equals_the_tribology_model_on_each_candidates_pair(sized):
 def test_a_given_friction_coefficient_gives_the_loss_of_that_mu(sized):
     """[lubricant] friction_coefficient: μ is that value for every candidate and the loss
     μ H_V T ω (H_V unchanged); the objectives default to mass and margin without [pareto]."""
-    spec, _, table = sized
+    table = sized[2]
     lub = dict(SPEC["lubricant"])
     del lub["lubricant_factor"]
     given_spec, _ = jio.parse_sizing_spec(
@@ -269,8 +269,8 @@ def _toml(data) -> str:
 def test_jaxgear_size_writes_the_rank_column_the_front_and_its_figures(sized, tmp_path):
     """sizing.csv's pareto_rank: 1 exactly on the feasible rows no feasible row dominates in
     (mass, mesh loss, −margin) (brute force here), 0 on the infeasible; sizing.json's front,
-    chosen design (on the front) and figures, each written as a PNG."""
-    spec, _, table = sized
+    chosen design (on the front) and figures, each written as a PNG (``sized``: the program
+    the command reuses, compiled once)."""
     path = tmp_path / "small.toml"
     path.write_text(_toml(SPEC), encoding="utf-8")
     out = tmp_path / "out"
@@ -308,11 +308,10 @@ BAD = [
     ({"pareto": {"choose": "lightest"}}, "[pareto] choose = 'lightest': allowed 'knee', 'mass_kg'"),
     ({"pareto": {"minimize": ["mass_kg"]}}, "[pareto] unknown key 'minimize'"),
     ({"pareto": {"minimise": "mass_kg"}}, "[pareto] minimise = 'mass_kg': allowed a list"),
-    ({"lubricant": None}, "[pareto] minimise = ['mass_kg', 'mesh_loss_W']: 'mesh_loss_W' needs "
-     "a [lubricant] table"),
+    ({"lubricant": None},
+     "[pareto] minimise = ['mass_kg', 'mesh_loss_W']: 'mesh_loss_W' needs a [lubricant] table"),
     ({"lubricant": {"film": "grubin"}}, "[lubricant] film: not read by a sizing"),
-    ({"lubricant": {"oil_temperature_C": 300.0}}, "[lubricant] oil_temperature_C = 300: out of "
-     "range"),
+    ({"lubricant": {"oil_temperature_C": 300.0}}, "[lubricant] oil_temperature_C = 300: out"),
 ]
 
 

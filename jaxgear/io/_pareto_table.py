@@ -20,8 +20,7 @@ from __future__ import annotations
 
 from fem_prep import schema as sc
 
-from ..sizing import OBJECTIVES, MeshLossInputs
-from ..sizing._pareto import CHOICES, DEFAULT_OBJECTIVES, MOST_OBJECTIVES
+from ..sizing import CHOICES, DEFAULT_OBJECTIVES, MOST_OBJECTIVES, OBJECTIVES, MeshLossInputs
 from ._lubricant_table import LubricantSection
 
 __all__ = ["PARETO_KEYS", "SIZING_LUBRICANT_KEYS", "parse_pareto", "parse_sizing_lubricant"]

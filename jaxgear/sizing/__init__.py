@@ -24,7 +24,9 @@ from ._objectives import (
     objective_columns as objective_columns,
 )
 from ._pareto import (
+    CHOICES as CHOICES,
     DEFAULT_OBJECTIVES as DEFAULT_OBJECTIVES,
+    MOST_OBJECTIVES as MOST_OBJECTIVES,
     ParetoFront as ParetoFront,
     pareto_front as pareto_front,
 )

@@ -24,7 +24,8 @@ import numpy as np
 
 from ._objectives import OBJECTIVES
 
-__all__ = ["CHOICES", "DEFAULT_OBJECTIVES", "ParetoFront", "check_objectives", "pareto_front"]
+__all__ = ["CHOICES", "DEFAULT_OBJECTIVES", "MOST_OBJECTIVES", "ParetoFront", "check_objectives",
+           "pareto_front"]
 
 #: the objectives of a sizing that names none: the lightest, with the largest margin
 DEFAULT_OBJECTIVES = (("mass_kg", "min"), ("least_margin", "max"))
