@@ -329,3 +329,43 @@ def test_bad_pareto_and_lubricant_tables_are_refused_in_one_line(change, message
         jio.parse_sizing_spec(data)
     text = str(err.value)
     assert text.startswith(message) and "\n" not in text, text
+
+
+# default tier: the notebook's pieces (the fronts, the case file's rating in tests/test_sizing.py)
+# and its stored outputs (tests/test_notebook_outputs.py)
+@pytest.mark.slow
+def test_explore_notebook_executes(tmp_path):
+    """examples/sizing/explore.ipynb runs in a fresh kernel (the example spec copied beside
+    it): its front 1 is the brute-force one over (mass, loss, −margin), its pick the lightest
+    of front 1 with a margin of 1.2 or more, and the case file it writes rates to the table's
+    S_H and S_F to 1e-9; two figures inline, numbers for people."""
+    import pathlib
+    import re
+    import shutil
+
+    import nbformat
+    from _notebooks import execute_with_probe
+
+    folder = pathlib.Path(__file__).resolve().parents[1] / "examples" / "sizing"
+    shutil.copy(folder / "helical.toml", tmp_path / "helical.toml")
+    nb = nbformat.read(folder / "explore.ipynb", as_version=4)
+    probe = """import json
+print("PROBE" + json.dumps({
+    "points": np.stack([cols["mass_kg"], cols["mesh_loss_W"], -cols["least_margin"]], 1).tolist(),
+    "feasible": table.feasible.tolist(), "rank": front.rank.tolist(), "knee": front.chosen,
+    "lightest": lightest, "S_H": np.asarray(rating.pitting.S_H).tolist(),
+    "S_F": np.asarray(rating.bending.S_F).tolist(),
+    "row": [row["S_H1"], row["S_H2"], row["S_F1"], row["S_F2"]], "path": str(path)}))"""
+    code, text, got = execute_with_probe(nb, probe, tmp_path)
+    pngs = [o for c in code for o in c.outputs if "image/png" in o.get("data", {})]
+    assert len(pngs) == 2
+    assert not re.search(r"\d\.\d{7,}", text) and "array(" not in text, text
+    pts = np.array(got["points"], float)
+    feasible = np.flatnonzero(got["feasible"])
+    front = [i for i in feasible if not any(_dominates(pts[j], pts[i]) for j in feasible)]
+    assert sorted(front) == [i for i, r in enumerate(got["rank"]) if r == 1]
+    assert got["knee"] in front
+    reserve = [i for i in front if -pts[i, 2] >= 1.2]
+    assert got["lightest"] == min(reserve, key=lambda i: (pts[i, 0], i))
+    np.testing.assert_allclose([*got["S_H"], *got["S_F"]], got["row"], rtol=1e-9)
+    assert (tmp_path / got["path"]).is_file()
