@@ -77,7 +77,8 @@ def ohlendorf_formula(gear_ratio, pinion_teeth, cos_base_helix, transverse_conta
 
 class AbstractFriction(eqx.Module):
     """The mean coefficient of friction of a mesh: ``coefficient(pair, lubricant, torque,
-    speed, roughness)`` (-). A new law is a subclass."""
+    speed, roughness)`` (-) of one pair, and ``at_pitch_point(...)`` of a batch of pairs from
+    their pitch points' quantities (a sizing's candidates). A new law is a subclass."""
 
     name: eqx.AbstractClassVar[str]
 
