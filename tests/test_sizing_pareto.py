@@ -269,8 +269,8 @@ def _toml(data) -> str:
 def test_jaxgear_size_writes_the_rank_column_the_front_and_its_figures(sized, tmp_path):
     """sizing.csv's pareto_rank: 1 exactly on the feasible rows no feasible row dominates in
     (mass, mesh loss, −margin) (brute force here), 0 on the infeasible; sizing.json's front,
-    chosen design (on the front) and figures, each written as a PNG (``sized``: the program
-    the command reuses, compiled once)."""
+    chosen design (on the front) and figures, each written as a PNG; none of them without a
+    feasible candidate (``sized``: the program the command reuses, compiled once)."""
     path = tmp_path / "small.toml"
     path.write_text(_toml(SPEC), encoding="utf-8")
     out = tmp_path / "out"
@@ -296,6 +296,14 @@ def test_jaxgear_size_writes_the_rank_column_the_front_and_its_figures(sized, tm
                                 "pareto_mesh_loss_W__least_margin.png", "contact_ratios.png"]
     for name in summary["plots"]:
         assert (out / name).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n", name
+    # no feasible candidate: no front, no chosen design, no figure
+    heavy = copy.deepcopy(SPEC)
+    heavy["operating"]["torque_Nm"] = 5000.0
+    path.write_text(_toml(heavy), encoding="utf-8")
+    assert main(["size", str(path), "--out", str(tmp_path / "none"), "--quiet"]) == 0
+    summary = json.loads((tmp_path / "none" / "sizing.json").read_text(encoding="utf-8"))
+    assert summary["feasible"] == 0 and summary["chosen"] is None and summary["plots"] == []
+    assert not list((tmp_path / "none").glob("*.png"))
 
 
 BAD = [

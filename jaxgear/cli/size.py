@@ -173,7 +173,10 @@ def _pareto_summary(spec, table: sizing.SizingTable, front: sizing.ParetoFront) 
 
 
 def _plot_names(front: sizing.ParetoFront) -> list[str]:
-    """The figures' file names: one per pair of objectives, and the contact ratios'."""
+    """The figures' file names: one per pair of objectives, and the contact ratios'; none
+    without a front (no feasible candidate: nothing to draw)."""
+    if front.chosen is None:
+        return []
     pairs = itertools.combinations([n for n, _ in front.objectives], 2)
     return [f"pareto_{x}__{y}.png" for x, y in pairs] + ["contact_ratios.png"]
 
@@ -188,6 +191,8 @@ def _pareto_plots(folder: str, table: sizing.SizingTable, front: sizing.ParetoFr
     n_feasible = int(table.feasible.sum())
     title = f"{name}: {n_feasible} feasible of {len(table)} candidates"
     names = _plot_names(front)
+    if not names:
+        return
     for (x, y), file in zip(itertools.combinations(senses, 2), names, strict=False):
         pareto_pair_plot(os.path.join(folder, file), table.columns, table.feasible, front.rank,
                          front.chosen, x, y, words=words, senses=senses, title=title)
