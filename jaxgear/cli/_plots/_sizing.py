@@ -84,32 +84,44 @@ def _whole_numbers(ax, values, axis: str) -> None:
 
 def contact_ratio_plot(path, columns: dict, feasible, rank, chosen, objectives, *,
                        words: dict, title: str) -> None:
-    """One panel per objective: the feasible candidates in the plane of the transverse and
-    overlap contact ratios (ε_α, ε_β), coloured by the objective; the front ringed, the chosen
-    design a star, whole numbers of ε_α and ε_β dashed (TE is least near them), the axes
-    from the whole number below the candidates to the one above."""
-    fig = Figure(figsize=(4.2 * len(objectives), 4.6), layout="constrained")
+    """One column of panels per objective, over the contact ratios of the feasible candidates:
+    above, the objective against the transverse contact ratio ε_α, coloured by the overlap
+    ratio ε_β; below, the (ε_α, ε_β) plane coloured by the objective. The front ringed, the
+    chosen design a star, whole numbers of ε_α and ε_β dashed (TE is least near them), the
+    contact ratios' axes from the whole number below the candidates to the one above."""
+    k = len(objectives)
+    fig = Figure(figsize=(4.2 * k, 8.4), layout="constrained")
     FigureCanvasAgg(fig)
-    axes = fig.subplots(1, len(objectives), sharex=True, sharey=True, squeeze=False)[0]
+    axes = fig.subplots(2, k, sharex=True, squeeze=False)
     ea, eb = np.asarray(columns["eps_alpha"], float), np.asarray(columns["eps_beta"], float)
     ok = np.asarray(feasible) & np.isfinite(ea) & np.isfinite(eb)
     front = np.flatnonzero(np.asarray(rank) == 1)
-    for ax, (name, sense) in zip(axes, objectives, strict=True):
+    ring = {"s": 34, "facecolors": "none", "edgecolors": "C3", "linewidths": 0.8}
+    for j, (name, sense) in enumerate(objectives):
+        top, ax = axes[0, j], axes[1, j]
         label, factor = _axis(name, words)
+        better = "lower" if sense == "min" else "higher"
         v = np.asarray(columns[name], float) * factor
+        by_beta = top.scatter(ea[ok], v[ok], c=eb[ok], s=14, cmap="viridis", linewidths=0)
+        top.scatter(ea[front], v[front], label="Pareto front", **ring)
+        top.set_ylabel(f"{label}\n({better} is better)", fontsize=9)
         cmap = "viridis_r" if sense == "min" else "viridis"  # yellow is better either way
         sc = ax.scatter(ea[ok], eb[ok], c=v[ok], s=14, cmap=cmap, linewidths=0)
-        ax.scatter(ea[front], eb[front], s=34, facecolors="none", edgecolors="C3",
-                   linewidths=0.8, label="Pareto front")
+        ax.scatter(ea[front], eb[front], **ring)
         if chosen is not None:
-            ax.scatter([ea[chosen]], [eb[chosen]], label="chosen", **CHOSEN)
+            top.scatter([ea[chosen]], [v[chosen]], label="chosen", **CHOSEN)
+            ax.scatter([ea[chosen]], [eb[chosen]], **CHOSEN)
         fig.colorbar(sc, ax=ax, location="bottom", shrink=0.9, pad=0.02).set_label(
-            f"{label} ({'lower' if sense == 'min' else 'higher'} is better)", fontsize=8)
+            f"{label} ({better} is better)", fontsize=8)
         _whole_numbers(ax, ea[ok], "x")
         _whole_numbers(ax, eb[ok], "y")
+        _whole_numbers(top, ea[ok], "x")
         ax.set_xlabel("transverse contact ratio ε_α")
-        ax.grid(alpha=0.3)
-    axes[0].set_ylabel("overlap ratio ε_β")
-    axes[0].legend(fontsize=8, loc="best", framealpha=0.9)
+        ax.set_ylabel("overlap ratio ε_β")
+        for a in (top, ax):
+            a.grid(alpha=0.3)
+    fig.colorbar(by_beta, ax=axes[0, -1], location="right", shrink=0.9).set_label(
+        "overlap ratio ε_β (colour, above)", fontsize=8)
+    axes[0, 0].legend(fontsize=8, loc="best", framealpha=0.9)
     fig.suptitle(title)
     savefig(fig, path)
