@@ -15,7 +15,8 @@ import pathlib
 import pytest
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
-NOTEBOOKS = sorted((ROOT / "examples").glob("*.ipynb"))
+# the examples' notebooks and those of their folders (examples/sizing/explore.ipynb)
+NOTEBOOKS = sorted([*(ROOT / "examples").glob("*.ipynb"), *(ROOT / "examples").glob("*/*.ipynb")])
 
 
 def code_hash(cells: list[dict]) -> str:

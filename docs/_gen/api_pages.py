@@ -29,7 +29,7 @@ PACKAGES = (
     ("jaxgear.gearbox", "jaxgear.gearbox.md", "stages joined by shafts: the chain, the coupled model, its Campbell diagram and housing spectrum"),
     ("jaxgear.tribology", "jaxgear.tribology.md", "lubricant film along the path of contact, tooth friction, mesh power loss and efficiency"),
     ("jaxgear.acoustics", "jaxgear.acoustics.md", "the housing's surface vibration, its equivalent radiated power (ERP) and radiated sound power from a cached radiation resistance, levels, A weighting"),
-    ("jaxgear.sizing", "jaxgear.sizing.md", "gear sizing: every (module, z1, z2) of a spec's ranges, its geometry, validity and ISO 6336 rating at once"),
+    ("jaxgear.sizing", "jaxgear.sizing.md", "gear sizing: every (module, z1, z2) of a spec's ranges, its geometry, validity and ISO 6336 rating at once; the objectives and the Pareto front"),
     ("jaxgear.io", "jaxgear.io.md", "case files: names to objects, cases to models"),
     ("optimise", "optimise.md", "objectives, problems and minimisers"),
     ("fem_prep", "fem_prep.md", "meshing and condensation of gear bodies"),

@@ -429,7 +429,9 @@ _HELP = {
         "Gear sizing from requirements: every (normal module, z1, z2) of the spec's ranges "
         "within the ratio tolerance and the centre-distance window, its geometry, validity and "
         "ISO 6336 rating, in one table (sizing.csv) with the reason each rejected candidate "
-        "fails; the feasible ones printed lightest first.",
+        "fails; the feasible ones printed lightest first; the Pareto front over the spec's "
+        "objectives ([pareto]: mass, margin, with [lubricant] the mesh loss) with its chosen "
+        "design and a figure per pair of objectives.",
     ),
 }
 

@@ -112,7 +112,8 @@ OUTPUT_FILES: dict[str, tuple[str, ...]] = {
     "master-curve": ("master_curve.json", "master_curve.png"),
     "robust": ("robust.json", "samples.csv", "robust_distributions.png", "robust_speed_bands.png"),
     # jaxgear size: the table of every candidate, the summary, the --write case files
-    "size": ("sizing.csv", "sizing.parquet", "sizing.json", "candidate_*.toml"),
+    "size": ("sizing.csv", "sizing.parquet", "sizing.json", "candidate_*.toml", "pareto_*.png",
+             "contact_ratios.png"),
     "bench quasi-static": ("bench_quasi_static.json", "speed_accuracy_quasi_static.png"),
     "bench optimise": ("bench_optimise.json",),
     "bench dynamics": ("bench_dynamics.json", "stability_map.json", "stability_map.png"),

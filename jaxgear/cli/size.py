@@ -3,11 +3,15 @@
 the same for queries; ``sizing.json`` the spec's summary and the ranked feasible
 candidates), the feasible ones printed lightest first; ``--write K`` writes candidate K (a
 row number of the table) as a case file, ``candidate_K.toml``, that ``jaxgear run`` rates to
-the same numbers (docs/sizing.md)."""
+the same numbers; the Pareto front over the spec's objectives (the table's ``pareto_rank``,
+the chosen design in ``sizing.json``, ``pareto_X__Y.png`` for each pair of objectives and
+``contact_ratios.png``) (docs/sizing.md)."""
 
 from __future__ import annotations
 
 import csv
+import dataclasses
+import itertools
 import math
 import os
 import time
@@ -85,6 +89,8 @@ def run_size(args) -> int:
         if bar is not None:
             bar.close()
     seconds = time.perf_counter() - t0
+    front = sizing.pareto_front(table, spec.objectives, spec.chosen)
+    table = dataclasses.replace(table, columns=table.columns | {"pareto_rank": front.rank})
     ranked = table.ranked()
     cols = table.columns
     if args.write is not None:
@@ -106,11 +112,12 @@ def run_size(args) -> int:
         "blank_mass": "solid root cylinder plus half the annulus to the tip, ρ b π (d_a² + "
                       "d_f²)/8 per gear",
         "seconds": round(seconds, 3),
-    }
+    } | _pareto_summary(spec, table, front)
     with staged_outputs(out, "size") as work:
         write_table(os.path.join(work, "sizing.csv"), table)
         _write_parquet(os.path.join(work, "sizing.parquet"), table)
         write_json(os.path.join(work, "sizing.json"), summary)
+        _pareto_plots(work, table, front, tables["name"])
         if args.write is not None:
             k = args.write
             row = {name: v[k] for name, v in cols.items()}
@@ -124,6 +131,71 @@ def run_size(args) -> int:
             print("    row   m_n  z1/z2     a (mm)  b (mm)  mass (kg)  S_H    S_F    ε_α    ε_β")
             for i in ranked[: args.top]:
                 print(_line(int(i), cols))
+        if front.chosen is not None:
+            k = front.chosen
+            print(f"  chosen ({_rule_words(front)}): row {k}, "
+                  + ", ".join(f"{n} {cols[n][k]:.4g}" for n, _ in front.objectives)
+                  + f"; {front.front.size} on the front")
         if args.write is not None:
             print(f"  candidate {args.write} → {out}/candidate_{args.write}.toml")
     return 0
+
+
+def _rule_words(front: sizing.ParetoFront) -> str:
+    """How the chosen design was picked, in words."""
+    names = ", ".join(f"{n} ({s})" for n, s in front.objectives)
+    if front.rule == "knee":
+        return f"the knee of the front of {names}"
+    return f"the best {front.rule} on the front of {names}"
+
+
+def _pareto_summary(spec, table: sizing.SizingTable, front: sizing.ParetoFront) -> dict:
+    """sizing.json's objectives, front and chosen design (and the mesh loss's model)."""
+    cols = table.columns
+    chosen = None
+    if front.chosen is not None:
+        k = front.chosen
+        keep = ("normal_module_m", "z1", "z2", "x1", "x2", "face_width_m", "centre_distance_m",
+                "eps_alpha", "eps_beta", *(n for n, _ in front.objectives))
+        chosen = {"row": k, "rule": front.rule, "words": _rule_words(front),
+                  "columns": {n: cols[n][k].item() for n in dict.fromkeys(keep)}}
+    out = {
+        "objectives": [{"column": n, "sense": s} for n, s in front.objectives],
+        "pareto_front": [int(i) for i in front.front],
+        "chosen": chosen,
+        "plots": _plot_names(front),
+    }
+    if spec.mesh_loss is not None:
+        out["mesh_loss"] = ("ISO/TR 14179-2 closed form: P_VZP = mu_mZ H_V T1 omega1, Schlenk's "
+                            "mu_mZ at the pitch point (or the given mu), Ohlendorf's H_V; teeth "
+                            "sliding only")
+    return out
+
+
+def _plot_names(front: sizing.ParetoFront) -> list[str]:
+    """The figures' file names: one per pair of objectives, and the contact ratios'; none
+    without a front (no feasible candidate: nothing to draw)."""
+    if front.chosen is None:
+        return []
+    pairs = itertools.combinations([n for n, _ in front.objectives], 2)
+    return [f"pareto_{x}__{y}.png" for x, y in pairs] + ["contact_ratios.png"]
+
+
+def _pareto_plots(folder: str, table: sizing.SizingTable, front: sizing.ParetoFront,
+                  name: str) -> None:
+    """The Pareto figures (:func:`_plot_names`) into ``folder`` (atomically, the plots' rule)."""
+    from ._plots import contact_ratio_plot, pareto_pair_plot
+
+    words = {n: (label, factor) for n, (_, label, factor) in sizing.OBJECTIVES.items()}
+    senses = dict(front.objectives)
+    n_feasible = int(table.feasible.sum())
+    title = f"{name}: {n_feasible} feasible of {len(table)} candidates"
+    names = _plot_names(front)
+    if not names:
+        return
+    for (x, y), file in zip(itertools.combinations(senses, 2), names, strict=False):
+        pareto_pair_plot(os.path.join(folder, file), table.columns, table.feasible, front.rank,
+                         front.chosen, x, y, words=words, senses=senses, title=title)
+    contact_ratio_plot(os.path.join(folder, names[-1]), table.columns, table.feasible,
+                       front.rank, front.chosen, front.objectives, words=words,
+                       title=f"{title}: the objectives over the contact ratios")

@@ -39,6 +39,8 @@ Tables (file units in the key names)::
     face_width_ratio_max = 0.8      # the largest b/d1, (0, 3]; optional
     outer_diameter_max_mm = 400.0   # the largest tip diameter, (0, 1e5]; optional
     tip_thickness_min = 0.2         # the least normal tip thickness / m_n, [0, 1], default 0.2
+    [lubricant]                     # optional: the oil of the mesh loss columns, and
+    [pareto]                        # the objectives of the front (jaxgear.io._pareto_table)
 
 Each candidate's face width is the widest allowed, min(face_width_max_mm, face_width_ratio_max
 d1). A spec that can give no candidate (no tooth counts within the ratio tolerance, none in the
@@ -60,6 +62,7 @@ from fem_prep import schema as sc
 from .._util import as_float
 from ..sizing import SizingSpec, enumerate_candidates, module_series, ratio_pairs
 from ._case_file import MaterialSection
+from ._pareto_table import parse_pareto, parse_sizing_lubricant
 from ._rating_inputs import modification_inputs
 from ._rating_material_table import MaterialRatingKeys, refuse_unread_material
 from ._rating_table import RatingSection, rating_settings
@@ -167,7 +170,7 @@ class SizingSection(Section):
 
 
 #: the tables of a sizing spec
-SPEC_TABLES = ("operating", "material", "rating", "sizing")
+SPEC_TABLES = ("operating", "material", "rating", "sizing", "lubricant", "pareto")
 
 
 def parse_sizing_spec(data: dict) -> tuple[SizingSpec, dict]:
@@ -233,9 +236,19 @@ def parse_sizing_spec(data: dict) -> tuple[SizingSpec, dict]:
         outer_diameter_max=None if sz.outer_diameter_max_mm is None
         else sz.outer_diameter_max_mm * 1e-3,
         tip_thickness_min=sz.tip_thickness_min,
+        **_objectives(data),
     )
     _refuse_empty(spec, sz)
     return spec, data
+
+
+def _objectives(data: dict) -> dict:
+    """The mesh loss's inputs of ``[lubricant]`` and the front's of ``[pareto]``
+    (:mod:`jaxgear.io._pareto_table`), as :class:`jaxgear.sizing.SizingSpec`'s keywords."""
+    lub = data.get("lubricant")
+    mesh_loss = None if lub is None else parse_sizing_lubricant(lub, data["operating"])
+    objectives, chosen = parse_pareto(data.get("pareto"), lub is not None)
+    return {"mesh_loss": mesh_loss, "objectives": objectives, "chosen": chosen}
 
 
 def _grade_only(grade: int):
@@ -284,7 +297,8 @@ def load_sizing_spec(path: str) -> tuple[SizingSpec, dict]:
 def candidate_case_text(tables: dict, spec: SizingSpec, row: dict, index: int) -> str:
     """The case file (TOML text) of one candidate of a sizing: ``[pair]``, ``[pinion]`` and
     ``[gear]`` of the candidate (values written to full precision, so that ``jaxgear run``
-    rates the same numbers), the spec's ``[material]`` and ``[rating]``, ``[operating]`` the
+    rates the same numbers), the spec's ``[material]``, ``[rating]`` and ``[lubricant]`` (where
+    it gives one), ``[operating]`` the
     pinion's torque and speed, and a light ``[mesh]`` (Weber stiffness) for the rest of the
     run.
 
@@ -320,7 +334,7 @@ def candidate_case_text(tables: dict, spec: SizingSpec, row: dict, index: int) -
         ]
     lines += ["[operating]", f"torque_Nm = {toml_value(float(spec.operating.torque))}",
               f"speed_rpm = {toml_value(float(op.get('speed_rpm', spec.operating.speed / RPM)))}"]
-    for table in ("material", "rating"):
+    for table in ("material", "rating", *(("lubricant",) if "lubricant" in tables else ())):
         lines.append(f"[{table}]")
         lines += [f"{k} = {toml_value(v)}" for k, v in tables[table].items()]
     lines += ["[mesh]", 'stiffness = "weber"', "slices = 20", "positions_per_pitch = 16"]

@@ -6,12 +6,29 @@ every (m_n, z1, z2) in them within the ratio tolerance and the centre-distance w
 :class:`jaxgear.rating.TracedTeethRatingGeometry` under ``jit(vmap)``) into a
 :class:`SizingTable` with the reasons each rejected candidate fails. Imported on its own
 (``import jaxgear.sizing``); the spec file and ``jaxgear size`` are :mod:`jaxgear.io`'s and the
-CLI's. SI units throughout (docs/sizing.md)."""
+CLI's. SI units throughout (docs/sizing.md). The objectives a designer ranks by are columns
+(:data:`OBJECTIVES`: mass, envelope volume, least margin, mesh loss and efficiency with
+:class:`MeshLossInputs`), and :func:`pareto_front` sorts the feasible candidates into
+non-dominated fronts over some of them and picks a design."""
 
 from ._candidates import (
     Candidates as Candidates,
     enumerate_candidates as enumerate_candidates,
     ratio_pairs as ratio_pairs,
+)
+from ._objectives import (
+    MESH_LOSS_COLUMNS as MESH_LOSS_COLUMNS,
+    OBJECTIVES as OBJECTIVES,
+    MeshLossInputs as MeshLossInputs,
+    envelope_volume as envelope_volume,
+    objective_columns as objective_columns,
+)
+from ._pareto import (
+    CHOICES as CHOICES,
+    DEFAULT_OBJECTIVES as DEFAULT_OBJECTIVES,
+    MOST_OBJECTIVES as MOST_OBJECTIVES,
+    ParetoFront as ParetoFront,
+    pareto_front as pareto_front,
 )
 from ._size import (
     CHECKS as CHECKS,

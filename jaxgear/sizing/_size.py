@@ -17,6 +17,7 @@ import numpy as np
 from .._geometry import involute
 from ..rating import GearAccuracy, TracedTeethRatingGeometry, rate
 from ._candidates import Candidates, enumerate_candidates
+from ._objectives import objective_columns
 from ._spec import SizingSpec
 
 __all__ = ["CHECKS", "GEOMETRIC", "OUTPUTS", "SizingTable", "blank_mass", "candidate_outputs",
@@ -153,7 +154,10 @@ class SizingTable:
             the operating pressure angle, ε_α, ε_β, ε_γ, normal tip thicknesses, the rack's form
             circle roll, the blanks' mass (:func:`blank_mass`), K_v, K_Hβ, K_Hα, S_H and S_F per
             gear: NaN where the geometry is invalid, :data:`GEOMETRIC`); ``least_margin`` the
-            least of S_H/S_Hmin and S_F/S_Fmin (NaN likewise).
+            least of S_H/S_Hmin and S_F/S_Fmin (NaN likewise); ``volume_m3`` the envelope's
+            and, with the spec's ``mesh_loss``, the mesh loss's ``friction_coefficient``,
+            ``loss_factor``, ``mesh_loss_W``, ``efficiency`` (NaN likewise;
+            :func:`jaxgear.sizing.objective_columns`).
         failed: (n, len(CHECKS)) booleans, True where the candidate fails the check
             (:data:`CHECKS`, in that order).
     """
@@ -260,4 +264,5 @@ def _table(spec: SizingSpec, cands: Candidates, outs, checks) -> SizingTable:
         "face_width_m": cands.face_width, "centre_distance_m": cands.centre_distance,
         **col, "least_margin": margin,
     }
+    columns |= objective_columns(spec, columns, geometric)  # volume, mesh loss
     return SizingTable(columns, failed)

@@ -8,6 +8,8 @@ import math
 
 from .._util import check_instance
 from ..rating import OperatingPoint, RatingSettings
+from ._objectives import MeshLossInputs
+from ._pareto import DEFAULT_OBJECTIVES, check_objectives
 
 __all__ = ["ISO54_FIRST", "ISO54_SECOND", "SizingSpec", "module_series"]
 
@@ -64,6 +66,12 @@ class SizingSpec:
             d1); below b_min the candidate is rejected.
         outer_diameter_max: the largest tip diameter of either gear (m), or None.
         tip_thickness_min: the least normal tooth thickness at the tip, as a multiple of m_n.
+        mesh_loss: the oil, roughness and friction law of the mesh loss columns
+            (:class:`jaxgear.sizing.MeshLossInputs`), or None: no mesh loss.
+        objectives: the Pareto front's objectives, (column, ``"min"`` | ``"max"``) pairs
+            (:data:`jaxgear.sizing.OBJECTIVES`); default the mass and the least margin.
+        chosen: the chosen design on the front, ``"knee"`` or an objective's column
+            (:func:`jaxgear.sizing.pareto_front`).
     """
 
     operating: OperatingPoint
@@ -84,6 +92,9 @@ class SizingSpec:
     face_width_ratio: float | None = None
     outer_diameter_max: float | None = None
     tip_thickness_min: float = 0.2
+    mesh_loss: MeshLossInputs | None = None
+    objectives: tuple = DEFAULT_OBJECTIVES
+    chosen: str = "knee"
 
     def __post_init__(self):
         w = "SizingSpec"
@@ -101,6 +112,10 @@ class SizingSpec:
         if not self.ratio >= 1.0 or not self.ratio_tolerance >= 0.0:
             raise ValueError(f"{w}: ratio = {self.ratio!r}, ratio_tolerance = "
                              f"{self.ratio_tolerance!r}: allowed ratio >= 1, tolerance >= 0")
+        if self.mesh_loss is not None:
+            check_instance("mesh_loss", self.mesh_loss, MeshLossInputs,
+                           "a jaxgear.sizing.MeshLossInputs or None", w)
+        check_objectives(self.objectives, self.chosen, w)
 
     @property
     def fixed_centre_distance(self) -> bool:

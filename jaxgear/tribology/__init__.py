@@ -52,6 +52,7 @@ from ._loss import (
     AbstractFriction as AbstractFriction,
     GivenFriction as GivenFriction,
     Schlenk as Schlenk,
+    ohlendorf_formula as ohlendorf_formula,
     ohlendorf_loss_factor as ohlendorf_loss_factor,
     pitch_point_roll as pitch_point_roll,
 )

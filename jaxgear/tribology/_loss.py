@@ -40,6 +40,7 @@ __all__ = [
     "AbstractFriction",
     "GivenFriction",
     "Schlenk",
+    "ohlendorf_formula",
     "ohlendorf_loss_factor",
     "pitch_point_roll",
 ]
@@ -55,24 +56,43 @@ def ohlendorf_loss_factor(pair: AbstractGearPair) -> float:
     s_c = pitch_point_roll(pair)
     e2 = s_c / pair.base_pitch
     e1 = (pair.path_of_contact - s_c) / pair.base_pitch
-    u = pair.gear_ratio
+    return ohlendorf_formula(pair.gear_ratio, pair.pinion.teeth,
+                             math.cos(pair.base_helix_angle), pair.transverse_contact_ratio,
+                             e1, e2)
+
+
+def ohlendorf_formula(gear_ratio, pinion_teeth, cos_base_helix, transverse_contact_ratio,
+                      e1, e2):
+    """Ohlendorf's H_V (-) from its terms (the module docstring): u, z₁, cos β_b, ε_α and the
+    addendum contact ratios ε₁ (pinion), ε₂ (gear). Plain arithmetic: floats, NumPy or JAX
+    arrays of one shape (a batch of pairs). :func:`ohlendorf_loss_factor` of a pair."""
+    u = gear_ratio
     return (
         math.pi
         * (u + 1.0)
-        / (pair.pinion.teeth * u * math.cos(pair.base_helix_angle))
-        * (1.0 - pair.transverse_contact_ratio + e1**2 + e2**2)
+        / (pinion_teeth * u * cos_base_helix)
+        * (1.0 - transverse_contact_ratio + e1**2 + e2**2)
     )
 
 
 class AbstractFriction(eqx.Module):
     """The mean coefficient of friction of a mesh: ``coefficient(pair, lubricant, torque,
-    speed, roughness)`` (-). A new law is a subclass."""
+    speed, roughness)`` (-) of one pair, and ``at_pitch_point(...)`` of a batch of pairs from
+    their pitch points' quantities (a sizing's candidates). A new law is a subclass."""
 
     name: eqx.AbstractClassVar[str]
 
     @abc.abstractmethod
     def coefficient(self, pair, lubricant, torque, speed, roughness) -> Float[Array, ""]:
         """What a kind supplies (the class docstring)."""
+
+    @abc.abstractmethod
+    def at_pitch_point(self, load_per_width, sum_speed, radius, viscosity, roughness):
+        """μ from the pitch point's quantities, in SI, for a batch of pairs (plain arithmetic:
+        NumPy or JAX arrays of one shape): the transverse base-circle load per face width
+        F_bt/b (N/m), the sum of the flanks' speeds v_ΣC (m/s), the transverse relative
+        radius of curvature ρ_C (m), the oil's dynamic viscosity η (Pa·s) and R_a = (R_a1 +
+        R_a2)/2 (m). :meth:`coefficient` of a pair is this at its pitch point."""
 
 
 class GivenFriction(AbstractFriction):
@@ -87,6 +107,9 @@ class GivenFriction(AbstractFriction):
 
     def coefficient(self, pair, lubricant, torque, speed, roughness):
         return self.value
+
+    def at_pitch_point(self, load_per_width, sum_speed, radius, viscosity, roughness):
+        return self.value + 0.0 * load_per_width
 
 
 class Schlenk(AbstractFriction):
@@ -108,13 +131,18 @@ class Schlenk(AbstractFriction):
         rho1, rho2 = rb1 * t, rb2 * t
         # transverse relative radius at the pitch point (internal: the concave ring flank)
         rho_c = rho1 * rho2 / (rho2 + (1.0 if pair.gear.teeth > 0 else -1.0) * rho1)
-        f_bt_b = torque / rb1 / pair.face_width * 1e-3  # N/mm
         v_sum = 2.0 * speed * rho1  # 2 v_t sin α_wt (m/s)
-        eta = lubricant.dynamic_viscosity * 1e3  # mPa·s
-        ra = 0.5 * (roughness[0] + roughness[1]) * 1e6  # µm
+        return self.at_pitch_point(torque / rb1 / pair.face_width, v_sum, rho_c,
+                                   lubricant.dynamic_viscosity,
+                                   0.5 * (roughness[0] + roughness[1]))
+
+    def at_pitch_point(self, load_per_width, sum_speed, radius, viscosity, roughness):
+        f_bt_b = load_per_width * 1e-3  # N/mm
+        eta = viscosity * 1e3  # mPa·s
+        ra = roughness * 1e6  # µm
         return (
             0.048
-            * (f_bt_b / (v_sum * rho_c * 1e3)) ** 0.2
+            * (f_bt_b / (sum_speed * radius * 1e3)) ** 0.2
             * eta**-0.05
             * ra**0.25
             * self.lubricant_factor

@@ -7,7 +7,8 @@ plotting never changes the process's pyplot backend (a notebook keeps its inline
 module per what they draw: the figure itself (``_figure``), ``jaxgear run``'s quasi-static
 curves and maps (``_quasi_static``), the sweep's dynamic factor and pressures (``_sweep``), its
 Campbell diagram (``_campbell``), the coupled gearbox's Campbell diagram and housing spectrum
-(``_gearbox``), the optimisation's (``_optimisation``), the radiated noise's (``_acoustics``).
+(``_gearbox``), the optimisation's (``_optimisation``), the radiated noise's (``_acoustics``),
+the sizing's Pareto fronts (``_sizing``).
 """
 
 from ._acoustics import (
@@ -63,6 +64,10 @@ from ._sweep import (
     mode_number as mode_number,
     name_peaks as name_peaks,
     pressure_speed_plot as pressure_speed_plot,
+)
+from ._sizing import (
+    contact_ratio_plot as contact_ratio_plot,
+    pareto_pair_plot as pareto_pair_plot,
 )
 from ._tribology import path_of_contact_plot as path_of_contact_plot
 from ._whine import (
