@@ -29,6 +29,7 @@ from .. import (
     robust_samples,
     sample_statistics,
 )
+from .._sharding import join_processes
 from ..dynamics import DynamicMetrics, Newmark, SteadyState, dynamic_model
 from ..io import SchemaError, TrainForm, build_dynamic_model, parse_robust, write_csv, write_json
 from ..scenes import TorsionalDynamics, disc_inertia
@@ -120,12 +121,7 @@ def _dynamic_problem(case, st, mesh):
 
 
 def run_robust(args) -> int:
-    if args.num_processes is not None and args.num_processes > 1:
-        jax.distributed.initialize(
-            coordinator_address=args.coordinator_address,
-            num_processes=args.num_processes,
-            process_id=args.process_id,
-        )
+    join_processes(args.coordinator_address, args.num_processes, args.process_id)
     case = case_io.load_case(args.case)
     st = _settings(case, args)
     out_dir = args.out or os.path.join("jaxgear-out", case.name, "robust")
