@@ -1,6 +1,5 @@
-"""Work spread over processes joined by ``jax.distributed``: joining them, and results gathered
-whole on every process. ``jaxgear robust``'s realisations and ``jaxgear size``'s chunks of
-candidates both run through it."""
+"""Results of work spread over processes joined by ``jax.distributed``, gathered whole on every
+process: ``jaxgear robust``'s realisations and ``jaxgear size``'s chunks of candidates."""
 
 from __future__ import annotations
 
@@ -8,17 +7,7 @@ import jax
 import numpy as np
 from jax.experimental import multihost_utils
 
-__all__ = ["gathered", "join_processes"]
-
-
-def join_processes(coordinator_address: str | None, num_processes: int | None,
-                   process_id: int | None) -> None:
-    """Join ``jax.distributed`` as process ``process_id`` of ``num_processes`` (the coordinator
-    at ``coordinator_address``, HOST:PORT, process 0's host); nothing for one process (None or
-    1). Called before any other JAX work of the process."""
-    if num_processes is not None and num_processes > 1:
-        jax.distributed.initialize(coordinator_address=coordinator_address,
-                                   num_processes=num_processes, process_id=process_id)
+__all__ = ["gathered"]
 
 
 def gathered(tree):

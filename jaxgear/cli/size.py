@@ -21,8 +21,8 @@ import jax
 import numpy as np
 
 from .. import sizing
-from .._sharding import join_processes
 from ..io import SchemaError, atomic_open, candidate_case_text, load_sizing_spec, write_json
+from ._distributed import join_processes
 from ._paths import check_foreign_files, check_output_dir, staged_outputs
 from ._progress import progress
 
@@ -83,7 +83,7 @@ def _store_folder(out: str) -> str:
 
 
 def run_size(args) -> int:
-    join_processes(args.coordinator_address, args.num_processes, args.process_id)
+    join_processes(args)
     try:
         spec, tables = load_sizing_spec(args.spec)
     except SchemaError as err:
