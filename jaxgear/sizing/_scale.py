@@ -31,7 +31,9 @@ __all__ = ["ChunkStore", "rate_chunks", "sizing_digest"]
 #: the layout of a store's chunk files (a change of it makes older stores another sizing's)
 STORE_FORMAT = 1
 _CHUNK = re.compile(r"chunk_(\d+)\.npz")
-_TEMPORARY = ".tmp-chunk_"  # fem_prep.files.atomic_open's temporary files of the chunk files
+_TEMPORARY = ".tmp-chunk_"
+#: under ``jax.distributed``, the candidates a process rates between two gathers of the results
+GATHER = 1 << 16  # fem_prep.files.atomic_open's temporary files of the chunk files
 
 
 def _jaxgear_version() -> str:
@@ -214,8 +216,10 @@ def rate_chunks(local: Callable, static, args, fields: dict, n: int, chunk: int,
     of processes 0 … p−1; the last round's spare devices repeat its last chunk, the last chunk
     is padded with copies of its last candidate: every call has one shape), each device
     running ``local(static, *args, batch)`` on its ``chunk`` candidates, compiled once for one
-    device (its calls on the devices of a process dispatched together); the round's results
-    gathered on every process, and each finished chunk written to ``store`` by process 0.
+    device (its calls on the devices of a process dispatched together); the results gathered
+    on every process (each round's, or under ``jax.distributed`` those of the rounds of about
+    :data:`GATHER` candidates a process), and each finished chunk written to ``store`` by
+    process 0.
 
     Args:
         local: the per-chunk function, ``(static, *args, batch) → (outputs (chunk, w0),
@@ -254,28 +258,37 @@ def rate_chunks(local: Callable, static, args, fields: dict, n: int, chunk: int,
     todo = [k for k in range(n_chunks) if k not in done]
     if not todo:
         return outs, checks
-    per_process = len(chosen)
-    per_round = per_process * jax.process_count()
+    per_process, processes, me = len(chosen), jax.process_count(), jax.process_index()
+    per_round = per_process * processes
+    rounds = [todo[r: r + per_round] for r in range(0, len(todo), per_round)]
+    rounds[-1] = rounds[-1] + [rounds[-1][-1]] * (per_round - len(rounds[-1]))
+    # one process: each round's results at once; several: gathered every GATHER candidates a
+    # process (each gather waits for the slowest process)
+    group = 1 if processes == 1 else max(1, GATHER // (chunk * per_process))
     on_device = [jax.device_put(args, d) for d in chosen]
-    writer = store is not None and jax.process_index() == 0
-    mine = slice(jax.process_index() * per_process, (jax.process_index() + 1) * per_process)
-    for r in range(0, len(todo), per_round):
-        ks = todo[r: r + per_round]
-        ks = ks + [ks[-1]] * (per_round - len(ks))
+    writer = store is not None and me == 0
+    for g in range(0, len(rounds), group):
+        block = rounds[g: g + group]
         calls = []
-        for j, k in enumerate(ks[mine]):
+        for ks in block:
+            for j, k in enumerate(ks[me * per_process: (me + 1) * per_process]):
+                start, stop = _rows(k, chunk, n)
+                pad = np.r_[np.arange(start, stop), np.full(chunk - (stop - start), stop - 1)]
+                batch = jax.device_put({name: np.asarray(v[pad], dtype=float)
+                                        for name, v in fields.items()}, chosen[j])
+                calls.append(_program(local, static, on_device[j], batch))
+        o, c = gathered((np.concatenate([np.asarray(r[0]) for r in calls]),
+                         np.concatenate([np.asarray(r[1]) for r in calls])))
+        # process p's results of round r on its device j at ((p·rounds + r)·devices + j)·chunk
+        at = {}
+        for r, ks in enumerate(block):
+            for i, k in enumerate(ks):
+                p, j = divmod(i, per_process)
+                at.setdefault(k, ((p * len(block) + r) * per_process + j) * chunk)
+        for k in sorted(at):
             start, stop = _rows(k, chunk, n)
-            pad = np.r_[np.arange(start, stop), np.full(chunk - (stop - start), stop - 1)]
-            batch = jax.device_put({name: np.asarray(v[pad], dtype=float)
-                                    for name, v in fields.items()}, chosen[j])
-            calls.append(_program(local, static, on_device[j], batch))
-        o = np.concatenate([np.asarray(c[0]) for c in calls])
-        c = np.concatenate([np.asarray(c[1]) for c in calls])
-        o, c = gathered((o, c))
-        for j, k in enumerate(dict.fromkeys(ks)):
-            start, stop = _rows(k, chunk, n)
-            outs[start:stop] = o[j * chunk: j * chunk + stop - start]
-            checks[start:stop] = c[j * chunk: j * chunk + stop - start]
+            outs[start:stop] = o[at[k]: at[k] + stop - start]
+            checks[start:stop] = c[at[k]: at[k] + stop - start]
             if writer:
                 store.write(k, outs[start:stop], checks[start:stop])
             finished += stop - start
