@@ -31,9 +31,9 @@ __all__ = ["ChunkStore", "rate_chunks", "sizing_digest"]
 #: the layout of a store's chunk files (a change of it makes older stores another sizing's)
 STORE_FORMAT = 1
 _CHUNK = re.compile(r"chunk_(\d+)\.npz")
-_TEMPORARY = ".tmp-chunk_"
+_TEMPORARY = ".tmp-chunk_"  # fem_prep.files.atomic_open's temporary files of the chunk files
 #: under ``jax.distributed``, the candidates a process rates between two gathers of the results
-GATHER = 1 << 16  # fem_prep.files.atomic_open's temporary files of the chunk files
+GATHER = 1 << 16
 
 
 def _jaxgear_version() -> str:
