@@ -13,7 +13,7 @@ over the global device mesh and, across processes, run with ``jax.distributed``
   ``jax.random.fold_in(key, i)``, whatever the number of devices or processes), sharded over a
   1-D mesh of every global device (``jax.shard_map``), in batches of ``batch_size`` per device
   (``jax.lax.map``), gathered on every process
-  (``jax.experimental.multihost_utils.process_allgather``).
+  (:func:`jaxgear._sharding.gathered`).
 * :func:`sample_statistics` (NumPy): mean, standard deviation and percentiles with confidence
   intervals (the mean's from the normal approximation, the percentiles' distribution-free from
   the order statistics and the binomial distribution).
@@ -30,7 +30,6 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
-from jax.experimental import multihost_utils
 from jax.sharding import Mesh, NamedSharding, PartitionSpec as P
 from jaxtyping import Array, Float, Int
 
@@ -39,6 +38,7 @@ from ._contact import ContactLaw, ExactContact
 from ._deviations import Deviations, GearDeviations, iso1328_tolerances
 from ._modifications import Modifications
 from ._quasi_static import quasi_static
+from ._sharding import gathered
 from ._util import NamedKind, compiled_when_eager
 from .scenes import Scene
 
@@ -500,9 +500,7 @@ def robust_samples(
     index = jax.make_array_from_callback(index.shape, sharding, lambda idx: index[idx])
     problem, sampler, key = _replicated((problem, sampler, key), mesh)
     out = _sharded(problem, sampler, key, index, mesh, min(int(batch_size), per_device))
-    if jax.process_count() > 1:
-        out = multihost_utils.process_allgather(out, tiled=True)
-    return jax.tree.map(lambda a: np.asarray(a)[: int(samples)], out)
+    return jax.tree.map(lambda a: a[: int(samples)], gathered(out))
 
 
 # --------------------------------------------------------------------------------------------

@@ -95,6 +95,11 @@ def _check_robust(args) -> None:
         if v is not None and (v < lo or (hi is not None and v > hi)):
             allowed = f"[{lo}, {hi}]" if hi is not None else f">= {lo}"
             raise ValueError(f"--{name} = {v}: out of range, allowed {allowed}")
+    _check_distributed(args)
+
+
+def _check_distributed(args) -> None:
+    """The ``jax.distributed`` options (``robust``, ``size``): together and in range."""
     dist = (args.coordinator_address, args.num_processes, args.process_id)
     if any(v is not None for v in dist):
         if any(v is None for v in dist):
@@ -203,6 +208,9 @@ def _check_size(args) -> None:
         v = getattr(args, name)
         if v is not None and v < 0:
             raise ValueError(f"--{name} {v}: out of range, allowed >= 0")
+    if args.chunk < 1:
+        raise ValueError(f"--chunk {args.chunk}: out of range, allowed >= 1")
+    _check_distributed(args)
 
 
 _CHECKS = {

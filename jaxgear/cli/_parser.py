@@ -367,13 +367,19 @@ def _add_robust(r) -> None:
     )
     r.add_argument("--out", help="output folder (default: jaxgear-out/<case>/robust/)")
     r.add_argument("--force", action="store_true", help=FORCE_HELP)
-    r.add_argument(
+    _add_distributed(r)
+    r.add_argument("--quiet", action="store_true", help="no summary line")
+
+
+def _add_distributed(p) -> None:
+    """The ``jax.distributed`` options of the commands that run on several processes
+    (``robust``, ``size``)."""
+    p.add_argument(
         "--coordinator-address",
         help="jax.distributed coordinator HOST:PORT (process 0's host), with --num-processes",
     )
-    r.add_argument("--num-processes", type=int, help="jax.distributed: processes (one per host)")
-    r.add_argument("--process-id", type=int, help="jax.distributed: this process, 0 … N-1")
-    r.add_argument("--quiet", action="store_true", help="no summary line")
+    p.add_argument("--num-processes", type=int, help="jax.distributed: processes (one per host)")
+    p.add_argument("--process-id", type=int, help="jax.distributed: this process, 0 … N-1")
 
 
 def _add_size(s) -> None:
@@ -385,6 +391,11 @@ def _add_size(s) -> None:
     s.add_argument("--top", type=int, default=20,
                    help="feasible candidates printed, lightest first (default: 20)")
     s.add_argument("--force", action="store_true", help=FORCE_HELP)
+    s.add_argument("--chunk", type=int, default=2048,
+                   help="candidates per call of the compiled program, per device (default: "
+                   "2048); the results store (OUT/store/) keeps each finished chunk, and a rerun "
+                   "of the same spec and chunk resumes from it")
+    _add_distributed(s)
     s.add_argument("--quiet", action="store_true", help="no progress bar nor ranked list")
 
 

@@ -33,6 +33,7 @@ from ..dynamics import DynamicMetrics, Newmark, SteadyState, dynamic_model
 from ..io import SchemaError, TrainForm, build_dynamic_model, parse_robust, write_csv, write_json
 from ..scenes import TorsionalDynamics, disc_inertia
 from ._case_kinds import refuse_stages
+from ._distributed import join_processes
 from ._paths import OUTPUT_FILES, check_case_outputs, staged_outputs
 from ._plots import new_figure, savefig
 
@@ -120,12 +121,7 @@ def _dynamic_problem(case, st, mesh):
 
 
 def run_robust(args) -> int:
-    if args.num_processes is not None and args.num_processes > 1:
-        jax.distributed.initialize(
-            coordinator_address=args.coordinator_address,
-            num_processes=args.num_processes,
-            process_id=args.process_id,
-        )
+    join_processes(args)
     case = case_io.load_case(args.case)
     st = _settings(case, args)
     out_dir = args.out or os.path.join("jaxgear-out", case.name, "robust")

@@ -5,25 +5,35 @@ candidates), the feasible ones printed lightest first; ``--write K`` writes cand
 row number of the table) as a case file, ``candidate_K.toml``, that ``jaxgear run`` rates to
 the same numbers; the Pareto front over the spec's objectives (the table's ``pareto_rank``,
 the chosen design in ``sizing.json``, ``pareto_X__Y.png`` for each pair of objectives and
-``contact_ratios.png``) (docs/sizing.md)."""
+``contact_ratios.png``); each finished chunk of candidates is kept in the results store
+(``store/``), which a rerun of the same spec into the same folder resumes from. With
+``--num-processes N`` it runs as process ``--process-id`` of N joined by ``jax.distributed``,
+the chunks spread over every process's devices; process 0 writes the files (docs/sizing.md)."""
 
 from __future__ import annotations
 
+import contextlib
 import csv
 import dataclasses
 import itertools
 import math
 import os
+import shutil
 import time
 
+import jax
 import numpy as np
 
 from .. import sizing
 from ..io import SchemaError, atomic_open, candidate_case_text, load_sizing_spec, write_json
+from ._distributed import join_processes
 from ._paths import check_foreign_files, check_output_dir, staged_outputs
 from ._progress import progress
 
-__all__ = ["run_size", "write_table"]
+__all__ = ["STORE", "run_size", "write_table"]
+
+#: the results store's folder inside the output folder (one file per finished chunk)
+STORE = "store"
 
 
 def write_table(path: str, table: sizing.SizingTable) -> None:
@@ -64,19 +74,36 @@ def _line(i: int, c: dict) -> str:
             f"{c['eps_beta'][i]:5.3f}")
 
 
+def _store_folder(out: str) -> str:
+    """``OUT/store``, the results store (:func:`jaxgear.sizing.size`'s ``store``), refused in
+    one line where it leads out of the output folder through a link."""
+    store = os.path.join(out, STORE)
+    real = os.path.realpath(store)
+    if os.path.lexists(store) and os.path.commonpath([real, os.path.realpath(out)]) != \
+            os.path.realpath(out):
+        raise ValueError(f"--out {out}: {store} leads to {real}, outside the output folder, "
+                         "through a symbolic link (jaxgear writes only inside it): remove the link")
+    return store
+
+
 def run_size(args) -> int:
+    join_processes(args)
     try:
         spec, tables = load_sizing_spec(args.spec)
     except SchemaError as err:
         raise ValueError(f"{args.spec}: {err}") from None
     out = check_output_dir(args.out or os.path.join("jaxgear-out", tables["name"], "size"))
-    check_foreign_files(out, "size", force=args.force)
+    writer = jax.process_index() == 0
+    if writer:
+        check_foreign_files(out, "size", force=args.force)
+    store = _store_folder(out)
+    made = not os.path.lexists(out)
     n = len(sizing.enumerate_candidates(spec))
     if args.write is not None and not 0 <= args.write < n:
         raise ValueError(f"--write {args.write}: out of range, allowed a candidate row 0 … "
                          f"{n - 1} (this spec enumerates {n})")
-    bar = None if args.quiet else progress(total=n, desc=f"jaxgear size {tables['name']}",
-                                           unit="candidate")
+    bar = None if args.quiet or not writer else progress(
+        total=n, desc=f"jaxgear size {tables['name']}", unit="candidate")
 
     def step(done, total):
         if bar is not None:
@@ -84,11 +111,14 @@ def run_size(args) -> int:
 
     t0 = time.perf_counter()
     try:
-        table = sizing.size(spec, progress=step)
+        table = sizing.size(spec, chunk=args.chunk, progress=step, store=store,
+                            restart=args.force)
     finally:
         if bar is not None:
             bar.close()
     seconds = time.perf_counter() - t0
+    if not writer:
+        return 0
     front = sizing.pareto_front(table, spec.objectives, spec.chosen)
     table = dataclasses.replace(table, columns=table.columns | {"pareto_rank": front.rank})
     ranked = table.ranked()
@@ -97,11 +127,18 @@ def run_size(args) -> int:
         geometric = [k for k in sizing.GEOMETRIC
                      if table.failed[args.write, list(sizing.CHECKS).index(k)]]
         if geometric:
+            kept = "nothing written"
+            if made:  # the folder this run made holds only its store: both removed
+                shutil.rmtree(store, ignore_errors=True)
+                with contextlib.suppress(OSError):
+                    os.rmdir(out)
+            else:
+                kept = f"no output written; the rated chunks kept in {STORE}/ for a rerun"
             raise ValueError(
                 f"--write {args.write}: candidate {args.write} has no valid geometry "
                 f"({', '.join(geometric)}): its case file would not load; allowed a candidate "
                 "that fails none of " + ", ".join(sizing.GEOMETRIC) + " (sizing.csv's rejected "
-                "column; nothing written)")
+                f"column; {kept})")
     summary = {
         "spec": tables["name"],
         "candidates": len(table),
@@ -112,6 +149,11 @@ def run_size(args) -> int:
         "blank_mass": "solid root cylinder plus half the annulus to the tip, ρ b π (d_a² + "
                       "d_f²)/8 per gear",
         "seconds": round(seconds, 3),
+        "chunk": args.chunk,
+        "processes": jax.process_count(),
+        "devices": jax.device_count(),
+        "store": f"{STORE}/: one file per finished chunk of {args.chunk} candidates; a rerun "
+                 "of the same spec and chunk rates only the chunks missing",
     } | _pareto_summary(spec, table, front)
     with staged_outputs(out, "size") as work:
         write_table(os.path.join(work, "sizing.csv"), table)

@@ -18,6 +18,7 @@ from .._geometry import involute
 from ..rating import GearAccuracy, TracedTeethRatingGeometry, rate
 from ._candidates import Candidates, enumerate_candidates
 from ._objectives import objective_columns
+from ._scale import ChunkStore, rate_chunks, sizing_digest
 from ._spec import SizingSpec
 
 __all__ = ["CHECKS", "GEOMETRIC", "OUTPUTS", "SizingTable", "blank_mass", "candidate_outputs",
@@ -188,24 +189,37 @@ class SizingTable:
 
 
 def size(spec: SizingSpec, *, chunk: int = 2048,
-         progress: Callable[[int, int], None] | None = None) -> SizingTable:
+         progress: Callable[[int, int], None] | None = None, devices=None,
+         store=None, restart: bool = False) -> SizingTable:
     """Rate every candidate of ``spec`` (:func:`jaxgear.sizing.enumerate_candidates`): geometry,
     validity and ISO 6336 (the settings' standard, :func:`jaxgear.rating.rate` of a
     :class:`jaxgear.rating.TracedTeethRatingGeometry`, each candidate with the ISO 1328-1
-    tolerances of its own dimensions) in one compiled ``jit(vmap)`` program per chunk size.
+    tolerances of its own dimensions) in one compiled ``vmap`` program per chunk size, the
+    chunks sharded over the devices (one chunk per device at a time) and, under
+    ``jax.distributed``, over every process's devices (every process calling this with the
+    same arguments, every process receiving the whole table). A candidate's numbers are the
+    same bits whatever the devices, the processes, or a resumed store.
 
     Args:
         spec: the :class:`SizingSpec`.
-        chunk: candidates per call of the compiled program (its memory grows with it); every
-            call takes a whole chunk (one compiled shape): the last is padded with copies of
-            the last candidate and the copies dropped.
-        progress: called as ``progress(done, total)`` after each chunk, or None.
+        chunk: candidates per call of the compiled program on one device (its memory grows
+            with it); every call takes a whole chunk (one compiled shape): the last is padded
+            with copies of the last candidate and the copies dropped.
+        progress: called as ``progress(done, total)`` after each chunk (and once with the
+            candidates a resumed store held), or None.
+        devices: the devices to shard the chunks over (default: ``jax.devices()``, every
+            global device).
+        store: a folder for the results store (one file per finished chunk, written by process
+            0; a rerun of the same sizing into it rates only the chunks missing), or None.
+        restart: a store holding another sizing's chunks (another spec, chunk or jaxgear
+            version) emptied instead of refused.
 
     Returns:
         :class:`SizingTable` of every candidate (possibly none: an empty table).
 
     Raises:
-        ValueError: ``chunk`` not a positive integer.
+        ValueError: ``chunk`` not a positive integer; ``store`` holding another sizing's
+            chunks (without ``restart``); one line each, before any candidate is rated.
     """
     if isinstance(chunk, bool) or not isinstance(chunk, int) or chunk < 1:
         raise ValueError(f"size: chunk = {chunk!r} is out of range: allowed an integer >= 1")
@@ -216,28 +230,26 @@ def size(spec: SizingSpec, *, chunk: int = 2048,
               "z2": cands.z2.astype(float), "x1": cands.x1, "x2": cands.x2,
               "b": cands.face_width}
     n_checks = sum(1 for k in CHECKS if k not in ("face_width", "outer_diameter"))
-    outs, checks = np.zeros((n, len(OUTPUTS))), np.zeros((n, n_checks), bool)
     # numbers as arrays: specs that differ in them share the compiled program
     settings, operating = jax.tree_util.tree_map(
         lambda v: jnp.asarray(v, dtype=float) if isinstance(v, float) else v,
         (spec.settings, spec.operating))
-    for start in range(0, n, chunk):
-        stop = min(start + chunk, n)
-        pad = np.r_[np.arange(start, stop), np.full(chunk - (stop - start), stop - 1)]
-        batch = {k: jnp.asarray(v[pad], dtype=float) for k, v in fields.items()}
-        o, c = _program(static, settings, operating, batch)
-        outs[start:stop] = np.asarray(o)[: stop - start]
-        checks[start:stop] = np.asarray(c)[: stop - start]
-        if progress is not None:
-            progress(stop, n)
+    widths = (len(OUTPUTS), n_checks)
+    if store is not None:
+        names = (OUTPUTS, tuple(CHECKS))
+        digest = sizing_digest(chunk, names, static, (settings, operating), fields)
+        store = ChunkStore(store, digest, n, chunk)
+    outs, checks = rate_chunks(_local, static, (settings, operating), fields, n, chunk, widths,
+                               devices=devices, store=store, restart=restart,
+                               progress=progress)
     return _table(spec, cands, outs, checks)
 
 
-@eqx.filter_jit
-def _program(static, settings, operating, batch):
-    """:func:`_one` mapped over a chunk of candidates: one compiled program per chunk size and
-    per spec's static values (angles, rack, grade, tip thickness; the settings' and operating
-    point's numbers are arguments, so specs that differ in them share it)."""
+def _local(static, settings, operating, batch):
+    """:func:`_one` mapped over a chunk of candidates (one device's share: the program
+    :func:`jaxgear.sizing._scale.rate_chunks` compiles once per chunk size and per spec's
+    static values: angles, rack, grade, tip thickness; the settings' and operating point's
+    numbers are arguments, so specs that differ in them share it)."""
     return jax.vmap(lambda c: _one(c, static, settings, operating))(batch)
 
 
