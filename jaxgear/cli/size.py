@@ -15,7 +15,14 @@ import time
 import numpy as np
 
 from .. import sizing
-from ..io import SchemaError, atomic_open, candidate_case_text, load_sizing_spec, write_json
+from ..io import (
+    SchemaError,
+    atomic_open,
+    candidate_case_text,
+    load_sizing_spec,
+    sizing_te_settings,
+    write_json,
+)
 from ._paths import check_foreign_files, check_output_dir, staged_outputs
 from ._progress import progress
 
@@ -36,7 +43,8 @@ def write_table(path: str, table: sizing.SizingTable) -> None:
             row = [i]
             for c in cols:
                 v = c[i].item()
-                row.append("" if isinstance(v, float) and math.isnan(v) else repr(v))
+                row.append("" if isinstance(v, float) and math.isnan(v)
+                           else v if isinstance(v, str) else repr(v))
             w.writerow([*row, int(reasons[i] == ""), reasons[i]])
 
 
@@ -71,6 +79,10 @@ def run_size(args) -> int:
     if args.write is not None and not 0 <= args.write < n:
         raise ValueError(f"--write {args.write}: out of range, allowed a candidate row 0 … "
                          f"{n - 1} (this spec enumerates {n})")
+    if args.te is not None and args.te < 0:
+        raise ValueError(f"--te {args.te}: out of range, allowed an integer >= 0 (the best "
+                         "feasible candidates the transmission-error stage evaluates)")
+    te_settings = sizing_te_settings(tables, args.te)
     bar = None if args.quiet else progress(total=n, desc=f"jaxgear size {tables['name']}",
                                            unit="candidate")
 
@@ -96,6 +108,8 @@ def run_size(args) -> int:
                 f"({', '.join(geometric)}): its case file would not load; allowed a candidate "
                 "that fails none of " + ", ".join(sizing.GEOMETRIC) + " (sizing.csv's rejected "
                 "column; nothing written)")
+    table, te_seconds = _te_stage(spec, table, te_settings, args.quiet)
+    cols = table.columns
     summary = {
         "spec": tables["name"],
         "candidates": len(table),
@@ -106,6 +120,16 @@ def run_size(args) -> int:
         "blank_mass": "solid root cylinder plus half the annulus to the tip, ρ b π (d_a² + "
                       "d_f²)/8 per gear",
         "seconds": round(seconds, 3),
+        "te_stage": {
+            "candidates": [int(i) for i in np.flatnonzero(cols["stage"] == "te")],
+            "torque_Nm": (float(spec.operating.torque)
+                          * np.asarray(te_settings.torque_fractions)).tolist(),
+            "variables": list(sizing.TE_VARIABLES),
+            "objective": "te_ptp at the rated torque (optimise.TePeakToPeak)",
+            "max_iterations": te_settings.max_iterations,
+            "mesh": sizing.CANDIDATE_MESH,
+            "seconds": round(te_seconds, 3),
+        },
     }
     with staged_outputs(out, "size") as work:
         write_table(os.path.join(work, "sizing.csv"), table)
@@ -116,6 +140,9 @@ def run_size(args) -> int:
             row = {name: v[k] for name, v in cols.items()}
             with atomic_open(os.path.join(work, f"candidate_{k}.toml"), "w") as f:
                 f.write(candidate_case_text(tables, spec, row, k))
+            if row["stage"] == "te":  # its modified flanks beside (their rating differs)
+                with atomic_open(os.path.join(work, f"candidate_{k}_modified.toml"), "w") as f:
+                    f.write(candidate_case_text(tables, spec, row, k, modified=True))
     if not args.quiet:
         print(f"{tables['name']}: {len(table)} candidates, {int(table.feasible.sum())} feasible "
               f"({seconds:.2f} s) → {out}/sizing.csv")
@@ -124,6 +151,42 @@ def run_size(args) -> int:
             print("    row   m_n  z1/z2     a (mm)  b (mm)  mass (kg)  S_H    S_F    ε_α    ε_β")
             for i in ranked[: args.top]:
                 print(_line(int(i), cols))
+        _print_te(table, te_seconds)
         if args.write is not None:
             print(f"  candidate {args.write} → {out}/candidate_{args.write}.toml")
     return 0
+
+
+def _te_stage(spec, table, settings, quiet):
+    """The transmission-error stage (:func:`jaxgear.sizing.te_stage`) with a progress bar;
+    (the table with its columns, seconds)."""
+    k = min(settings.candidates, int(table.feasible.sum()))
+    bar = None if quiet or k == 0 else progress(total=k, desc="transmission-error stage",
+                                                unit="candidate")
+
+    def step(done, total):
+        if bar is not None:
+            bar.update(done - bar.n)
+
+    t0 = time.perf_counter()
+    try:
+        table = sizing.te_stage(spec, table, settings, progress=step)
+    finally:
+        if bar is not None:
+            bar.close()
+    return table, time.perf_counter() - t0
+
+
+def _print_te(table, seconds: float) -> None:
+    c = table.columns
+    rows = np.flatnonzero(c["stage"] == "te")
+    if not rows.size:
+        return
+    print(f"  transmission-error stage ({seconds:.1f} s): TE peak-to-peak (µm) at the rated "
+          "torque, the largest over the range; plain → tip relief and crowning optimised")
+    print("    row   plain  (max)   modified  (max)   relief (µm, Γ)   crowning (µm)")
+    for i in rows:
+        print(f"{i:>7d}  {c['te_ppk_m'][i] * 1e6:6.3f} ({c['te_ppk_max_m'][i] * 1e6:6.3f})"
+              f"  {c['te_ppk_modified_m'][i] * 1e6:6.3f} ({c['te_ppk_max_modified_m'][i] * 1e6:6.3f})"
+              f"   {c['tip_relief_depth_m'][i] * 1e6:6.2f}, {c['tip_relief_extent'][i]:4.2f}"
+              f"     {c['crowning_depth_m'][i] * 1e6:6.3f}")
