@@ -41,6 +41,9 @@ __all__ = ["CANDIDATE_MESH", "TE_COLUMNS", "TE_VARIABLES", "TeSettings", "candid
 CANDIDATE_MESH = {"stiffness": "weber", "slices": 20, "positions_per_pitch": 16,
                   "extended_contact": True}
 
+#: :func:`te_curves` pads a group of meshes to a power of two up to this, then to a multiple
+BATCH_STEP = 8
+
 #: the design variables of the modified flanks (both members alike), the optimiser's names
 TE_VARIABLES = ("tip_relief.depth", "tip_relief.extent", "crowning.depth")
 
@@ -149,9 +152,10 @@ def te_curves(meshes, modifications, torques, *, positions_per_pitch: int | None
     period (:func:`jaxgear.quasi_static` at rest, exact contact): shape (n, T, P).
 
     The meshes of one static layout (the cell arrays' shapes, ``MeshModel``'s static fields)
-    go through one compiled ``jax.vmap`` program, a group padded to a power of two with copies
-    of its last mesh (one program per layout and padded size); ``batched=False`` solves them
-    one at a time (the program of one mesh; the benchmark's loop).
+    go through one compiled ``jax.vmap`` program, a group padded with copies of its last mesh
+    to a power of two up to :data:`BATCH_STEP`, then to a multiple of it (one program per
+    layout and padded size); ``batched=False`` solves them one at a time (the program of one
+    mesh; the benchmark's loop).
 
     Args:
         meshes: :class:`jaxgear.MeshModel` s, (n,). modifications: one
@@ -183,13 +187,21 @@ def te_curves(meshes, modifications, torques, *, positions_per_pitch: int | None
         leaves, tree = jax.tree.flatten((mesh, mods[i]))
         groups.setdefault((tree, tuple(np.shape(v) for v in leaves)), []).append(i)
     for idx in groups.values():
-        size = 1 << (len(idx) - 1).bit_length()
+        size = _padded(len(idx))
         padded = idx + [idx[-1]] * (size - len(idx))
         te, codes = _batched(_stack([meshes[i] for i in padded]),
                              _stack([mods[i] for i in padded]), torques, ppp)
         raise_if_failed(codes[: len(idx)], ContactResult, "quasi_static")
         out[idx] = np.asarray(te)[: len(idx)]
     return out
+
+
+def _padded(n: int) -> int:
+    """The batch a group of ``n`` meshes is padded to: the next power of two up to
+    :data:`BATCH_STEP`, then the next multiple of it (few compiled sizes, little waste)."""
+    if n <= BATCH_STEP:
+        return 1 << (n - 1).bit_length()
+    return -(-n // BATCH_STEP) * BATCH_STEP
 
 
 def _batched(meshes, mods, torques, ppp):
