@@ -76,7 +76,7 @@ def test_te_columns_equal_the_quasi_static_solve_of_the_written_cases(staged):
     assert evaluated.tolist() == table.ranked()[:1].tolist()
     k = int(evaluated[0])
     row = {n: v[k] for n, v in c.items()}
-    close = lambda a, b: np.testing.assert_allclose(a, b, rtol=1e-9, atol=0)  # noqa: E731
+    close = lambda a, b: np.testing.assert_allclose(a, b, rtol=1e-9, atol=0)
     torques = float(spec.operating.torque) * np.asarray(settings.torque_fractions)
     for suffix, modified in (("", False), ("_modified", True)):
         case = _case(jio.candidate_case_text(tables, spec, row, k, modified=modified))
@@ -133,7 +133,7 @@ def test_batched_curves_equal_one_candidate_at_a_time(staged):
 
 
 def test_the_stage_settings_of_a_spec():
-    spec, tables = jio.parse_sizing_spec(_spec(te_torques=4, te_torque_min_percent=25.0))
+    _, tables = jio.parse_sizing_spec(_spec(te_torques=4, te_torque_min_percent=25.0))
     s = jio.sizing_te_settings(tables)
     assert s.torque_fractions == (0.25, 0.5, 0.75, 1.0) and s.candidates == 1
     assert jio.sizing_te_settings(tables, 0).candidates == 0
@@ -215,3 +215,26 @@ def test_jaxgear_size_runs_the_stage_and_writes_both_cases(staged, tmp_path, cap
         other = int(np.flatnonzero(table.columns["stage"] != "te")[0])
         jio.candidate_case_text(tables, spec, {n: v[other] for n, v in
                                                table.columns.items()}, other, modified=True)
+
+
+# default tier: test_te_columns_equal_the_quasi_static_solve_of_the_written_cases (the solve
+# jaxgear run makes, without the rest of the run)
+@pytest.mark.slow
+def test_jaxgear_run_on_the_written_cases_gives_the_te_columns(staged, tmp_path):
+    """The whole ``jaxgear run`` on the plain and the modified case files of an evaluated
+    candidate: summary.json's exact-contact TE peak-to-peak at the rated torque, unmodified
+    and modified, equal the row's to 1e-9."""
+    import json
+
+    spec, tables, table, _ = staged
+    k = int(np.flatnonzero(table.columns["stage"] == "te")[0])
+    row = {n: v[k] for n, v in table.columns.items()}
+    for modified, key, column in ((False, "quasi_static_unmodified", "te_ppk_m"),
+                                  (True, "quasi_static", "te_ppk_modified_m")):
+        path = tmp_path / f"candidate_{modified}.toml"
+        path.write_text(jio.candidate_case_text(tables, spec, row, k, modified=modified),
+                        encoding="utf-8")
+        out = tmp_path / f"run_{modified}"
+        assert main(["run", str(path), "--out", str(out), "--quiet"]) == 0
+        summary = json.loads((out / "summary.json").read_text(encoding="utf-8"))
+        np.testing.assert_allclose(summary[key]["exact"]["te_ptp_m"], row[column], rtol=1e-9)
