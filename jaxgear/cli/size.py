@@ -154,6 +154,8 @@ def run_size(args) -> int:
         _print_te(table, te_seconds)
         if args.write is not None:
             print(f"  candidate {args.write} → {out}/candidate_{args.write}.toml")
+            if cols["stage"][args.write] == "te":
+                print(f"  its optimised flanks → {out}/candidate_{args.write}_modified.toml")
     return 0
 
 
@@ -179,13 +181,16 @@ def _te_stage(spec, table, settings, quiet):
 
 def _print_te(table, seconds: float) -> None:
     c = table.columns
-    rows = np.flatnonzero(c["stage"] == "te")
+    rows = np.flatnonzero(np.char.startswith(c["stage"].astype(str), "te"))
     if not rows.size:
         return
     print(f"  transmission-error stage ({seconds:.1f} s): TE peak-to-peak (µm) at the rated "
           "torque, the largest over the range; plain → tip relief and crowning optimised")
     print("    row   plain  (max)   modified  (max)   relief (µm, Γ)   crowning (µm)")
     for i in rows:
+        if c["stage"][i] != "te":
+            print(f"{i:>7d}  failed: a contact solve or the optimiser (stage {c['stage'][i]})")
+            continue
         print(f"{i:>7d}  {c['te_ppk_m'][i] * 1e6:6.3f} ({c['te_ppk_max_m'][i] * 1e6:6.3f})"
               f"  {c['te_ppk_modified_m'][i] * 1e6:6.3f} ({c['te_ppk_max_modified_m'][i] * 1e6:6.3f})"
               f"   {c['tip_relief_depth_m'][i] * 1e6:6.2f}, {c['tip_relief_extent'][i]:4.2f}"

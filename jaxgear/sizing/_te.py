@@ -23,7 +23,6 @@ from .._contact_geometry import BeyondPath, TheoreticalPath
 from .._geometry import GearPair, Member
 from .._modifications import Modifications
 from .._quasi_static import at_torques
-from .._results import ContactResult, raise_if_failed
 from .._spectrum import te_spectrum
 from .._stiffness import WeberFoundation
 from .._stiffness_models import Weber, stiffness_table
@@ -149,7 +148,9 @@ def _stack(trees):
 def te_curves(meshes, modifications, torques, *, positions_per_pitch: int | None = None,
               batched: bool = True) -> np.ndarray:
     """The quasi-static TE (m) of each mesh with its modifications at each torque over one mesh
-    period (:func:`jaxgear.quasi_static` at rest, exact contact): shape (n, T, P).
+    period (:func:`jaxgear.quasi_static` at rest, exact contact): shape (n, T, P); NaN for a
+    mesh whose contact solve failed at some position and torque (:class:`jaxgear.ContactResult`
+    not converged: no contact, the cells beyond the path overrun, ...).
 
     The meshes of one static layout (the cell arrays' shapes, ``MeshModel``'s static fields)
     go through one compiled ``jax.vmap`` program, a group padded with copies of its last mesh
@@ -165,8 +166,6 @@ def te_curves(meshes, modifications, torques, *, positions_per_pitch: int | None
 
     Raises:
         ValueError: torques not > 0 (:func:`jaxgear.quasi_static`'s one-line refusals).
-        EquinoxRuntimeError-like ``RuntimeError``: a contact solve that failed
-            (:class:`jaxgear.ContactResult`).
     """
     ppp = CANDIDATE_MESH["positions_per_pitch"] if positions_per_pitch is None \
         else int(positions_per_pitch)
@@ -179,8 +178,7 @@ def te_curves(meshes, modifications, torques, *, positions_per_pitch: int | None
     if not batched:
         for i in range(n):
             te, codes = at_torques(meshes[i], mods[i], torques, read, positions_per_pitch=ppp)
-            raise_if_failed(codes, ContactResult, "quasi_static")
-            out[i] = np.asarray(te)
+            out[i] = np.where(np.any(np.asarray(codes) != 0), np.nan, np.asarray(te))
         return out
     groups: dict = {}
     for i, mesh in enumerate(meshes):
@@ -191,8 +189,8 @@ def te_curves(meshes, modifications, torques, *, positions_per_pitch: int | None
         padded = idx + [idx[-1]] * (size - len(idx))
         te, codes = _batched(_stack([meshes[i] for i in padded]),
                              _stack([mods[i] for i in padded]), torques, ppp)
-        raise_if_failed(codes[: len(idx)], ContactResult, "quasi_static")
-        out[idx] = np.asarray(te)[: len(idx)]
+        failed = np.any(np.asarray(codes)[: len(idx)] != 0, axis=(1, 2))
+        out[idx] = np.where(failed[:, None, None], np.nan, np.asarray(te)[: len(idx)])
     return out
 
 
@@ -259,7 +257,10 @@ def te_stage(spec: SizingSpec, table: SizingTable, settings: TeSettings | None =
 
     Returns:
         A :class:`SizingTable` of ``table``'s columns and :data:`TE_COLUMNS` (NaN where not
-        evaluated) and ``stage`` ("te" where evaluated, else "rating"); ``failed`` unchanged.
+        evaluated) and ``stage``: "te" where evaluated, "te_failed" where a contact solve or
+        the optimiser failed on the way (no contact, the tip corners' cells overrun, a
+        non-finite objective; the columns of what failed NaN), else "rating"; ``failed``
+        unchanged.
 
     Raises:
         ValueError: a settings object that is not a :class:`TeSettings`.
@@ -279,25 +280,42 @@ def te_stage(spec: SizingSpec, table: SizingTable, settings: TeSettings | None =
     pairs = [candidate_pair(spec, r) for r in rows]
     meshes = [candidate_mesh(spec, p) for p in pairs]
     plain = te_curves(meshes, None, torques)
+    nan = {"tip_relief_depth_m": math.nan, "tip_relief_extent": math.nan,
+           "crowning_depth_m": math.nan}
     designs, iterations = [], []
     for j, mesh in enumerate(meshes):
-        problem = optimise.make_problem(mesh, None, rated, ",".join(TE_VARIABLES),
-                                        optimise.TePeakToPeak(), positions_per_pitch=ppp)
-        with warnings.catch_warnings():  # the cap: the iterations are a column
-            warnings.simplefilter("ignore", UserWarning)
-            res = optimise.minimise(problem, _start(problem),
-                                    max_iterations=settings.max_iterations, progress=False)
-        values = problem.to_physical(res.x)
-        designs.append({"tip_relief_depth_m": values["tip_relief.depth"] * 1e-6,
-                        "tip_relief_extent": values["tip_relief.extent"],
-                        "crowning_depth_m": values["crowning.depth"] * 1e-6})
-        iterations.append(res.iterations)
+        design, its = nan, math.nan
+        if np.all(np.isfinite(plain[j])):
+            try:
+                problem = optimise.make_problem(mesh, None, rated, ",".join(TE_VARIABLES),
+                                                optimise.TePeakToPeak(),
+                                                positions_per_pitch=ppp)
+                with warnings.catch_warnings():  # the cap: the iterations are a column
+                    warnings.simplefilter("ignore", UserWarning)
+                    res = optimise.minimise(problem, _start(problem),
+                                            max_iterations=settings.max_iterations,
+                                            progress=False)
+                values = problem.to_physical(res.x)
+                design = {"tip_relief_depth_m": values["tip_relief.depth"] * 1e-6,
+                          "tip_relief_extent": values["tip_relief.extent"],
+                          "crowning_depth_m": values["crowning.depth"] * 1e-6}
+                its = res.iterations
+            except (FloatingPointError, eqx.EquinoxRuntimeError):
+                pass  # a solve that failed on the way: the stage names the candidate
+        designs.append(design)
+        iterations.append(its)
         if progress is not None:
             progress(j + 1, len(meshes))
-    modified = te_curves(meshes, [candidate_modifications(d) for d in designs], torques)
+    ok = [j for j, d in enumerate(designs) if np.isfinite(d["tip_relief_depth_m"])]
+    modified = np.full_like(plain, math.nan)
+    if ok:
+        modified[ok] = te_curves([meshes[j] for j in ok],
+                                 [candidate_modifications(designs[j]) for j in ok], torques)
     for j, i in enumerate(chosen):
         teeth = (int(rows[j]["z1"]), int(rows[j]["z2"]))
         for suffix, curves in (("", plain[j]), ("_modified", modified[j])):
+            if not np.all(np.isfinite(curves)):
+                continue
             ppk, ppk_max, h1, h2 = _te_numbers(curves, teeth, ppp)
             columns[f"te_ppk{suffix}_m"][i] = ppk
             columns[f"te_ppk_max{suffix}_m"][i] = ppk_max
@@ -306,6 +324,6 @@ def te_stage(spec: SizingSpec, table: SizingTable, settings: TeSettings | None =
         for k, v in designs[j].items():
             columns[k][i] = v
         columns["te_iterations"][i] = iterations[j]
-        stage[i] = "te"
+        stage[i] = "te" if np.all(np.isfinite(modified[j])) else "te_failed"
     return dataclasses.replace(table, columns=table.columns | {"stage": stage.astype(str)}
                                | columns)
