@@ -1,10 +1,10 @@
 """The transmission-error stage of a sizing: for the best feasible candidates, the quasi-static
 transmission error over a torque range, first of the plain flanks, then with the tip relief and
 crowning that the optimiser (:mod:`optimise`, :class:`optimise.TePeakToPeak`) finds at the rated
-torque (:func:`te_stage`). A candidate becomes the library's pair (:func:`candidate_pair`) and its
-rigid mesh model (:func:`candidate_mesh`) as the case file ``jaxgear size --write`` writes
-of it does; the candidates whose meshes share one shape (the static layout of their cells) are
-solved by one compiled ``vmap`` program (:func:`te_curves`)."""
+torque (:func:`te_stage`). A candidate becomes the library's pair (:func:`candidate_pair`) and
+its rigid mesh model (:func:`candidate_mesh`), the pair and mesh of the case file that
+``jaxgear size --write`` writes of it; the candidates whose meshes share one static layout of
+their cells are solved by one compiled ``vmap`` program (:func:`te_curves`)."""
 
 from __future__ import annotations
 
@@ -46,8 +46,8 @@ BATCH_STEP = 8
 #: the design variables of the modified flanks (both members alike), the optimiser's names
 TE_VARIABLES = ("tip_relief.depth", "tip_relief.extent", "crowning.depth")
 
-#: the columns the stage adds to the table (NaN where a candidate was not evaluated; ``stage``
-#: "te" where it was, else "rating"): plain and modified flanks, the rated torque's TE
+#: the columns the stage adds to the table (NaN where a candidate was not evaluated; beside
+#: them ``stage``: "te", "te_failed" or "rating", :func:`te_stage`): plain and modified flanks, the rated torque's TE
 #: peak-to-peak and its first two mesh-order amplitudes, the largest peak-to-peak over the
 #: torque range, the modification's amounts (both members), the optimiser's iterations
 TE_COLUMNS = (
