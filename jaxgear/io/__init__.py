@@ -142,7 +142,6 @@ from ._scuffing_table import (
     ScuffingInputs as ScuffingInputs,
     parse_scuffing as parse_scuffing,
 )
-from ._sections import Range as Range, Section as Section, range_of as range_of
 from ._sizing_spec import (
     SizingSection as SizingSection,
     candidate_case_text as candidate_case_text,
@@ -150,6 +149,7 @@ from ._sizing_spec import (
     parse_sizing_spec as parse_sizing_spec,
     sizing_te_settings as sizing_te_settings,
 )
+from ._sections import Range as Range, Section as Section, range_of as range_of
 from ._train_file import parse_train as parse_train
 from ._whine_table import (
     WHINE_KEYS as WHINE_KEYS,
