@@ -121,20 +121,20 @@ def test_batched_curves_equal_one_candidate_at_a_time(staged):
     """te_curves' batched program (meshes grouped by their static layout, padded to a power of
     two) gives each candidate's curves as the single-candidate solve does; a failed solve
     gives NaN curves."""
-    spec, _, table, _ = staged
+    spec, _, table, settings = staged
     idx = table.ranked()[:3]
     meshes = [js.candidate_mesh(spec, js.candidate_pair(spec, {n: v[i] for n, v in
                                                               table.columns.items()}))
               for i in idx]
-    torques = [float(spec.operating.torque)]
+    torques = float(spec.operating.torque) * np.asarray(settings.torque_fractions)
     batched = js.te_curves(meshes, None, torques)
     loop = js.te_curves(meshes, None, torques, batched=False)
-    assert batched.shape == (3, 1, 16)
+    assert batched.shape == (3, 2, 16)
     np.testing.assert_allclose(batched, loop, rtol=1e-12, atol=1e-20)
     # a load that closes the tip corners' gap at the far end of the cells: the solve fails
     # (jaxgear.ContactResult), the curves are NaN, batched or not
     for b in (True, False):
-        assert np.all(np.isnan(js.te_curves(meshes[:1], None, [1e8], batched=b)))
+        assert np.all(np.isnan(js.te_curves(meshes[:1], None, [1e8, 2e8], batched=b)))
 
 
 def test_the_stage_settings_of_a_spec():
