@@ -241,7 +241,8 @@ def test_jaxgear_size_writes_the_table_and_a_candidate(sized, tmp_path, capsys):
     path.write_text(_toml(SPEC))
     out = tmp_path / "out"
     k = int(table.ranked()[1])
-    assert main(["size", str(path), "--out", str(out), "--write", str(k), "--quiet"]) == 0
+    assert main(["size", str(path), "--out", str(out), "--write", str(k), "--quiet",
+                 "--te", "0"]) == 0  # the TE stage: tests/test_sizing_te.py
     with open(out / "sizing.csv", encoding="utf-8") as f:
         rows = list(csv.DictReader(f))
     assert len(rows) == len(table)
@@ -358,7 +359,7 @@ def test_the_table_as_parquet_equals_the_csv(request, tmp_path):
     table = request.getfixturevalue("sized")[2]
     path = tmp_path / "small.toml"
     path.write_text(_toml(SPEC))
-    assert main(["size", str(path), "--out", str(tmp_path / "o"), "--quiet"]) == 0
+    assert main(["size", str(path), "--out", str(tmp_path / "o"), "--quiet", "--te", "0"]) == 0
     got = pq.read_table(tmp_path / "o" / "sizing.parquet").to_pydict()
     for name, col in table.columns.items():
         np.testing.assert_array_equal(np.asarray(got[name], dtype=float), col.astype(float))

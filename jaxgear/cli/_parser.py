@@ -390,6 +390,9 @@ def _add_size(s) -> None:
                    "candidate_K.toml, that jaxgear run rates")
     s.add_argument("--top", type=int, default=20,
                    help="feasible candidates printed, lightest first (default: 20)")
+    s.add_argument("--te", type=int, metavar="N",
+                   help="the transmission-error stage for the N best feasible candidates "
+                   "(default: the spec's te_candidates, 3; 0: none)")
     s.add_argument("--force", action="store_true", help=FORCE_HELP)
     s.add_argument("--chunk", type=int, default=2048,
                    help="candidates per call of the compiled program, per device (default: "

@@ -25,7 +25,14 @@ import jax
 import numpy as np
 
 from .. import sizing
-from ..io import SchemaError, atomic_open, candidate_case_text, load_sizing_spec, write_json
+from ..io import (
+    SchemaError,
+    atomic_open,
+    candidate_case_text,
+    load_sizing_spec,
+    sizing_te_settings,
+    write_json,
+)
 from ._distributed import join_processes
 from ._paths import check_foreign_files, check_output_dir, staged_outputs
 from ._progress import progress
@@ -50,7 +57,8 @@ def write_table(path: str, table: sizing.SizingTable) -> None:
             row = [i]
             for c in cols:
                 v = c[i].item()
-                row.append("" if isinstance(v, float) and math.isnan(v) else repr(v))
+                row.append("" if isinstance(v, float) and math.isnan(v)
+                           else v if isinstance(v, str) else repr(v))
             w.writerow([*row, int(reasons[i] == ""), reasons[i]])
 
 
@@ -102,6 +110,10 @@ def run_size(args) -> int:
     if args.write is not None and not 0 <= args.write < n:
         raise ValueError(f"--write {args.write}: out of range, allowed a candidate row 0 … "
                          f"{n - 1} (this spec enumerates {n})")
+    if args.te is not None and args.te < 0:
+        raise ValueError(f"--te {args.te}: out of range, allowed an integer >= 0 (the best "
+                         "feasible candidates the transmission-error stage evaluates)")
+    te_settings = sizing_te_settings(tables, args.te)
     bar = None if args.quiet or not writer else progress(
         total=n, desc=f"jaxgear size {tables['name']}", unit="candidate")
 
@@ -119,10 +131,6 @@ def run_size(args) -> int:
     seconds = time.perf_counter() - t0
     if not writer:
         return 0
-    front = sizing.pareto_front(table, spec.objectives, spec.chosen)
-    table = dataclasses.replace(table, columns=table.columns | {"pareto_rank": front.rank})
-    ranked = table.ranked()
-    cols = table.columns
     if args.write is not None:
         geometric = [k for k in sizing.GEOMETRIC
                      if table.failed[args.write, list(sizing.CHECKS).index(k)]]
@@ -139,6 +147,12 @@ def run_size(args) -> int:
                 f"({', '.join(geometric)}): its case file would not load; allowed a candidate "
                 "that fails none of " + ", ".join(sizing.GEOMETRIC) + " (sizing.csv's rejected "
                 f"column; {kept})")
+    table, te_seconds = _te_stage(spec, table, te_settings, args.quiet)
+    # the front after the stages that add objectives' columns (the TE stage's)
+    front = sizing.pareto_front(table, spec.objectives, spec.chosen)
+    table = dataclasses.replace(table, columns=table.columns | {"pareto_rank": front.rank})
+    ranked = table.ranked()
+    cols = table.columns
     summary = {
         "spec": tables["name"],
         "candidates": len(table),
@@ -154,6 +168,16 @@ def run_size(args) -> int:
         "devices": jax.device_count(),
         "store": f"{STORE}/: one file per finished chunk of {args.chunk} candidates; a rerun "
                  "of the same spec and chunk rates only the chunks missing",
+        "te_stage": {
+            "candidates": [int(i) for i in np.flatnonzero(cols["stage"] == "te")],
+            "torque_Nm": (float(spec.operating.torque)
+                          * np.asarray(te_settings.torque_fractions)).tolist(),
+            "variables": list(sizing.TE_VARIABLES),
+            "objective": "te_ptp at the rated torque (optimise.TePeakToPeak)",
+            "max_iterations": te_settings.max_iterations,
+            "mesh": sizing.CANDIDATE_MESH,
+            "seconds": round(te_seconds, 3),
+        },
     } | _pareto_summary(spec, table, front)
     with staged_outputs(out, "size") as work:
         write_table(os.path.join(work, "sizing.csv"), table)
@@ -165,6 +189,9 @@ def run_size(args) -> int:
             row = {name: v[k] for name, v in cols.items()}
             with atomic_open(os.path.join(work, f"candidate_{k}.toml"), "w") as f:
                 f.write(candidate_case_text(tables, spec, row, k))
+            if row["stage"] == "te":  # its modified flanks beside (their rating differs)
+                with atomic_open(os.path.join(work, f"candidate_{k}_modified.toml"), "w") as f:
+                    f.write(candidate_case_text(tables, spec, row, k, modified=True))
     if not args.quiet:
         print(f"{tables['name']}: {len(table)} candidates, {int(table.feasible.sum())} feasible "
               f"({seconds:.2f} s) → {out}/sizing.csv")
@@ -173,6 +200,7 @@ def run_size(args) -> int:
             print("    row   m_n  z1/z2     a (mm)  b (mm)  mass (kg)  S_H    S_F    ε_α    ε_β")
             for i in ranked[: args.top]:
                 print(_line(int(i), cols))
+        _print_te(table, te_seconds)
         if front.chosen is not None:
             k = front.chosen
             print(f"  chosen ({_rule_words(front)}): row {k}, "
@@ -180,6 +208,8 @@ def run_size(args) -> int:
                   + f"; {front.front.size} on the front")
         if args.write is not None:
             print(f"  candidate {args.write} → {out}/candidate_{args.write}.toml")
+            if cols["stage"][args.write] == "te":
+                print(f"  its optimised flanks → {out}/candidate_{args.write}_modified.toml")
     return 0
 
 
@@ -241,3 +271,41 @@ def _pareto_plots(folder: str, table: sizing.SizingTable, front: sizing.ParetoFr
     contact_ratio_plot(os.path.join(folder, names[-1]), table.columns, table.feasible,
                        front.rank, front.chosen, front.objectives, words=words,
                        title=f"{title}: the objectives over the contact ratios")
+
+
+def _te_stage(spec, table, settings, quiet):
+    """The transmission-error stage (:func:`jaxgear.sizing.te_stage`) with a progress bar;
+    (the table with its columns, seconds)."""
+    k = min(settings.candidates, int(table.feasible.sum()))
+    bar = None if quiet or k == 0 else progress(total=k, desc="transmission-error stage",
+                                                unit="candidate")
+
+    def step(done, total):
+        if bar is not None:
+            bar.update(done - bar.n)
+
+    t0 = time.perf_counter()
+    try:
+        table = sizing.te_stage(spec, table, settings, progress=step)
+    finally:
+        if bar is not None:
+            bar.close()
+    return table, time.perf_counter() - t0
+
+
+def _print_te(table, seconds: float) -> None:
+    c = table.columns
+    rows = np.flatnonzero(np.char.startswith(c["stage"].astype(str), "te"))
+    if not rows.size:
+        return
+    print(f"  transmission-error stage ({seconds:.1f} s): TE peak-to-peak (µm) at the rated "
+          "torque, the largest over the range; plain → tip relief and crowning optimised")
+    print("    row   plain  (max)   modified  (max)   relief (µm, Γ)   crowning (µm)")
+    for i in rows:
+        if c["stage"][i] != "te":
+            print(f"{i:>7d}  failed: a contact solve or the optimiser (stage {c['stage'][i]})")
+            continue
+        print(f"{i:>7d}  {c['te_ppk_m'][i] * 1e6:6.3f} ({c['te_ppk_max_m'][i] * 1e6:6.3f})"
+              f"  {c['te_ppk_modified_m'][i] * 1e6:6.3f} ({c['te_ppk_max_modified_m'][i] * 1e6:6.3f})"
+              f"   {c['tip_relief_depth_m'][i] * 1e6:6.2f}, {c['tip_relief_extent'][i]:4.2f}"
+              f"     {c['crowning_depth_m'][i] * 1e6:6.3f}")

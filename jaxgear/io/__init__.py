@@ -147,6 +147,7 @@ from ._sizing_spec import (
     candidate_case_text as candidate_case_text,
     load_sizing_spec as load_sizing_spec,
     parse_sizing_spec as parse_sizing_spec,
+    sizing_te_settings as sizing_te_settings,
 )
 from ._sections import Range as Range, Section as Section, range_of as range_of
 from ._train_file import parse_train as parse_train

@@ -39,6 +39,13 @@ Tables (file units in the key names)::
     face_width_ratio_max = 0.8      # the largest b/d1, (0, 3]; optional
     outer_diameter_max_mm = 400.0   # the largest tip diameter, (0, 1e5]; optional
     tip_thickness_min = 0.2         # the least normal tip thickness / m_n, [0, 1], default 0.2
+    te_candidates = 3               # the transmission-error stage: the best feasible
+                                    # candidates evaluated, [0, 1000], default 3 (0: none)
+    te_torque_min_percent = 25.0    # its torque range: from this % of the rated torque,
+                                    # (0, 100], default 25
+    te_torques = 4                  # to the rated one in this many equal steps, [1, 16],
+                                    # default 4 (1: the rated torque alone)
+    te_max_iterations = 50          # the modification optimiser's cap, [1, 1000], default 50
     [lubricant]                     # optional: the oil of the mesh loss columns, and
     [pareto]                        # the objectives of the front (jaxgear.io._pareto_table)
 
@@ -60,8 +67,17 @@ import pydantic
 from fem_prep import schema as sc
 
 from .._util import as_float
-from ..sizing import SizingSpec, enumerate_candidates, module_series, ratio_pairs
+from ..sizing import (
+    CANDIDATE_MESH,
+    SizingSpec,
+    TeSettings,
+    candidate_pair,
+    enumerate_candidates,
+    module_series,
+    ratio_pairs,
+)
 from ._case_file import MaterialSection
+from ._modifications_table import modifications_toml, modifications_with
 from ._pareto_table import parse_pareto, parse_sizing_lubricant
 from ._rating_inputs import modification_inputs
 from ._rating_material_table import MaterialRatingKeys, refuse_unread_material
@@ -70,7 +86,7 @@ from ._sections import Section, number, number_list
 from ._writers import toml_value
 
 __all__ = ["SizingSection", "SpecOperating", "candidate_case_text", "load_sizing_spec",
-           "parse_sizing_spec"]
+           "parse_sizing_spec", "sizing_te_settings"]
 
 RPM = math.pi / 30
 
@@ -127,6 +143,10 @@ class SizingSection(Section):
     face_width_ratio_max: number("(0, 3]") | None = None
     outer_diameter_max_mm: number("(0, 1e+05]") | None = None
     tip_thickness_min: number("[0, 1]") = 0.2
+    te_candidates: number("[0, 1000]", integer=True) = 3
+    te_torque_min_percent: number("(0, 100]") = 25.0
+    te_torques: number("[1, 16]", integer=True) = 4
+    te_max_iterations: number("[1, 1000]", integer=True) = 50
 
     @pydantic.model_validator(mode="after")
     def _related(self):
@@ -294,7 +314,23 @@ def load_sizing_spec(path: str) -> tuple[SizingSpec, dict]:
     return spec, tables | {"name": str(name)}
 
 
-def candidate_case_text(tables: dict, spec: SizingSpec, row: dict, index: int) -> str:
+def sizing_te_settings(tables: dict, candidates: int | None = None) -> TeSettings:
+    """The transmission-error stage's settings (:class:`jaxgear.sizing.TeSettings`) of a
+    spec's checked tables (:func:`load_sizing_spec`): ``[sizing]``'s ``te_candidates`` (or
+    ``candidates``, ``jaxgear size --te N``, where given), ``te_max_iterations`` and the torque
+    range, ``te_torques`` fractions of the rated torque equally spaced from
+    ``te_torque_min_percent`` % to 1 (one: the rated torque alone)."""
+    sz = SizingSection.of_file(tables, required=True)
+    n = sz.te_torques
+    lo = sz.te_torque_min_percent / 100
+    fractions = (1.0,) if n == 1 else tuple(lo + (1.0 - lo) * k / (n - 1) for k in range(n))
+    return TeSettings(candidates=sz.te_candidates if candidates is None else int(candidates),
+                      torque_fractions=fractions[:-1] + (1.0,),
+                      max_iterations=sz.te_max_iterations)
+
+
+def candidate_case_text(tables: dict, spec: SizingSpec, row: dict, index: int,
+                        modified: bool = False) -> str:
     """The case file (TOML text) of one candidate of a sizing: ``[pair]``, ``[pinion]`` and
     ``[gear]`` of the candidate (values written to full precision, so that ``jaxgear run``
     rates the same numbers), the spec's ``[material]``, ``[rating]`` and ``[lubricant]`` (where
@@ -306,9 +342,21 @@ def candidate_case_text(tables: dict, spec: SizingSpec, row: dict, index: int) -
         tables: the spec's tables (:func:`load_sizing_spec`). spec: its
             :class:`jaxgear.sizing.SizingSpec`. row: the candidate's columns
             (:class:`jaxgear.sizing.SizingTable`, one value each). index: its row number.
+        modified: also ``[modifications]``, the tip relief and crowning the transmission-error
+            stage found (the row's ``tip_relief_depth_m``, ``tip_relief_extent``,
+            ``crowning_depth_m``; a row of that stage, ``stage`` "te"). Its rating then takes
+            ISO's C_a and C_β from them (K_v, K_Hβ): the table's rating is the plain flanks'.
+
+    Raises:
+        ValueError: ``modified`` for a row the stage did not evaluate.
     """
-    name = f"{tables.get('name', 'sizing')}-candidate-{index}"
+    if modified and row.get("stage") != "te":
+        raise ValueError(f"candidate_case_text: modified = True for candidate {index}, which "
+                         "the transmission-error stage did not evaluate: allowed a row of "
+                         "stage 'te'")
+    name = f"{tables.get('name', 'sizing')}-candidate-{index}" + ("-modified" if modified else "")
     sz, op = tables.get("sizing", {}), tables.get("operating", {})
+    pair = candidate_pair(spec, row)  # the numbers the sizing's stages analyse
 
     def deg(key, radians):  # the spec's own value where it gave one (no round trip)
         return sz.get(key, math.degrees(radians))
@@ -317,25 +365,35 @@ def candidate_case_text(tables: dict, spec: SizingSpec, row: dict, index: int) -
         "# the spec's material, rating and operating point; the geometry it enumerated.",
         f"name = {toml_value(name)}",
         "[pair]",
-        f"normal_module_mm = {toml_value(float(row['normal_module_m']) * 1e3)}",
+        f"normal_module_mm = {toml_value(pair.normal_module * 1e3)}",
         ("normal_pressure_angle_deg = "
          f"{toml_value(float(deg('normal_pressure_angle_deg', spec.normal_pressure_angle)))}"),
         f"helix_angle_deg = {toml_value(float(deg('helix_angle_deg', spec.helix_angle)))}",
     ]
-    for tag, z, x in (("pinion", "z1", "x1"), ("gear", "z2", "x2")):
+    for tag, m in (("pinion", pair.pinion), ("gear", pair.gear)):
         lines += [
             f"[{tag}]",
-            f"teeth = {int(row[z])}",
-            f"profile_shift = {toml_value(float(row[x]))}",
-            f"addendum_coeff = {toml_value(float(spec.addendum_coeff))}",
-            f"dedendum_coeff = {toml_value(float(spec.dedendum_coeff))}",
-            f"fillet_radius_coeff = {toml_value(float(spec.fillet_radius_coeff))}",
-            f"face_width_mm = {toml_value(float(row['face_width_m']) * 1e3)}",
+            f"teeth = {int(m.teeth)}",
+            f"profile_shift = {toml_value(float(m.profile_shift))}",
+            f"addendum_coeff = {toml_value(float(m.addendum_coeff))}",
+            f"dedendum_coeff = {toml_value(float(m.dedendum_coeff))}",
+            f"fillet_radius_coeff = {toml_value(float(m.fillet_radius_coeff))}",
+            f"face_width_mm = {toml_value(float(m.face_width) * 1e3)}",
         ]
     lines += ["[operating]", f"torque_Nm = {toml_value(float(spec.operating.torque))}",
               f"speed_rpm = {toml_value(float(op.get('speed_rpm', spec.operating.speed / RPM)))}"]
     for table in ("material", "rating", *(("lubricant",) if "lubricant" in tables else ())):
         lines.append(f"[{table}]")
         lines += [f"{k} = {toml_value(v)}" for k, v in tables[table].items()]
-    lines += ["[mesh]", 'stiffness = "weber"', "slices = 20", "positions_per_pitch = 16"]
-    return "\n".join(lines) + "\n"
+    lines += ["[mesh]"] + [f"{k} = {toml_value(v)}" for k, v in CANDIDATE_MESH.items()]
+    text = "\n".join(lines) + "\n"
+    if modified:  # the transmission-error stage's optimised flanks
+        depth, extent, crown = (float(row[k]) for k in (
+            "tip_relief_depth_m", "tip_relief_extent", "crowning_depth_m"))
+        both = ("pinion", "gear")
+        text += "# the tip relief and crowning of the sizing's transmission-error stage\n"
+        text += modifications_toml(modifications_with(None, {
+            (both, "tip_relief", "depth_um"): depth * 1e6,
+            (both, "tip_relief", "extent"): extent,
+            (both, "crowning", "depth_um"): crown * 1e6}))
+    return text

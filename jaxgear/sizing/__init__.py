@@ -6,10 +6,12 @@ every (m_n, z1, z2) in them within the ratio tolerance and the centre-distance w
 :class:`jaxgear.rating.TracedTeethRatingGeometry` under ``jit(vmap)``) into a
 :class:`SizingTable` with the reasons each rejected candidate fails. Imported on its own
 (``import jaxgear.sizing``); the spec file and ``jaxgear size`` are :mod:`jaxgear.io`'s and the
-CLI's. SI units throughout (docs/sizing.md). The objectives a designer ranks by are columns
-(:data:`OBJECTIVES`: mass, envelope volume, least margin, mesh loss and efficiency with
-:class:`MeshLossInputs`), and :func:`pareto_front` sorts the feasible candidates into
-non-dominated fronts over some of them and picks a design."""
+CLI's. :func:`te_stage` adds the quasi-static transmission error of the best feasible
+candidates, plain and with optimised tip relief and crowning. SI units throughout
+(docs/sizing.md). The objectives a designer ranks by are columns (:data:`OBJECTIVES`: mass,
+envelope volume, least margin, mesh loss and efficiency with :class:`MeshLossInputs`), and
+:func:`pareto_front` sorts the feasible candidates into non-dominated fronts over some of them
+and picks a design."""
 
 from ._candidates import (
     Candidates as Candidates,
@@ -44,4 +46,15 @@ from ._spec import (
     ISO54_SECOND as ISO54_SECOND,
     SizingSpec as SizingSpec,
     module_series as module_series,
+)
+from ._te import (
+    CANDIDATE_MESH as CANDIDATE_MESH,
+    TE_COLUMNS as TE_COLUMNS,
+    TE_VARIABLES as TE_VARIABLES,
+    TeSettings as TeSettings,
+    candidate_mesh as candidate_mesh,
+    candidate_modifications as candidate_modifications,
+    candidate_pair as candidate_pair,
+    te_curves as te_curves,
+    te_stage as te_stage,
 )

@@ -38,6 +38,10 @@ OBJECTIVES = {
     "least_margin": ("max", "least margin min(S/S_min)", 1.0),
     "mesh_loss_W": ("min", "mesh power loss P_VZP (W)", 1.0),
     "efficiency": ("max", "mesh efficiency η_Z (%)", 100.0),
+    # the transmission-error stage's (jaxgear.sizing.te_stage): NaN, so off the front, for the
+    # candidates it did not evaluate
+    "te_ppk_m": ("min", "TE peak-to-peak, plain flanks (µm)", 1e6),
+    "te_ppk_modified_m": ("min", "TE peak-to-peak, optimised flanks (µm)", 1e6),
 }
 
 #: the columns of the mesh loss (with :attr:`SizingSpec.mesh_loss <jaxgear.sizing.SizingSpec>`):
