@@ -112,14 +112,19 @@ def test_half_loaded_raceway_axial_to_radial_ratio():
     assert float(f[2] / (f[0] * math.tan(alpha))) == pytest.approx(Ja / Jr, rel=5e-4)
 
 
-def test_uniform_approach_gives_the_whole_roller_and_slices_converge():
-    """A roller's slices share its constant (a uniform approach: Q = K_n δ^(10/9) whatever
-    the slice count), and a tilt's moment converges as the slices refine (10 → 40 → 160: the
-    change falls by more than 4 each time)."""
+def test_uniform_approach_gives_the_whole_roller():
+    """A roller's slices share its constant: a uniform approach gives Q = K_n δ^(10/9)
+    whatever the slice count."""
     b = jb.catalogue("NU 205")
     d = jnp.array([4e-6, 0, 0, 0, 0])
     Q = b.element_loads(d).sum(axis=1)[0]
     assert float(Q) == pytest.approx(float(b.hertz_constant * 4e-6 ** (10 / 9)), rel=1e-12)
+
+
+@pytest.mark.slow  # three programs (10, 40, 160 slices), ~6 s on the loaded 2-core machine
+def test_tilt_moment_converges_as_the_slices_refine():
+    """A tilt's moment converges as the slices refine (10 → 40 → 160: the change falls by more
+    than 4 each time, below 1e-3 at the end)."""
     tilt = jnp.array([4e-6, 0, 0, 0, 2e-4])
     m = [float(jb.catalogue("NU 205", slices=s).load(tilt)[4]) for s in (10, 40, 160)]
     assert abs(m[2] - m[1]) < abs(m[1] - m[0]) / 4
@@ -180,7 +185,13 @@ OPERATING = {
 }
 
 
-@pytest.fixture(scope="module", params=sorted(OPERATING))
+@pytest.fixture(scope="module", params=[
+    "6205", "30205",
+    # default tier: a ball kind (with clearance) and a roller kind (tilted, sliced); the 7205 B's
+    # stiffness is checked in the default tier against the closed form below
+    pytest.param("7205 B", marks=pytest.mark.slow),
+    pytest.param("NU 205", marks=pytest.mark.slow),
+])
 def kind_at_point(request):
     b = jb.catalogue(request.param, clearance=4e-6 if request.param == "6205" else 0.0)
     return b, jnp.array(OPERATING[request.param])
@@ -284,7 +295,13 @@ LOADS = {
 }
 
 
-@pytest.mark.parametrize("name", sorted(LOADS))
+@pytest.mark.parametrize("name", [
+    "6205", "30205",
+    # default tier: the 6205 (point contact, clearance) and 30205 (line contact, one-way axial)
+    # compile the solve of each contact law; the other two kinds in the slow tier
+    pytest.param("7205 B", marks=pytest.mark.slow),
+    pytest.param("NU 205", marks=pytest.mark.slow),
+])
 def test_solve_carries_the_load(name):
     """load(solve(F)) = F to 1e-9 of the largest load (moments over the pitch radius), in
     fewer than 100 BFGS and 8 Newton steps; the state's stiffness is the Jacobian there."""
@@ -301,6 +318,7 @@ def test_solve_carries_the_load(name):
                                atol=1e-12 * float(jnp.abs(s.stiffness).max()))
 
 
+@pytest.mark.slow  # differentiates through the solve: its own program, ~8 s loaded
 def test_solve_derivative_is_the_compliance():
     """∂d/∂F of the solve (optimistix's implicit derivative) is inv(K) at the solution, and
     agrees with a finite difference of two solves."""

@@ -27,7 +27,7 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Float
 
-from .._util import check_integer, check_real
+from .._util import as_float, check_integer, check_real
 from ._hertz import line_contact_constant, point_contact_constant
 
 __all__ = [
@@ -47,6 +47,19 @@ STEEL_E, STEEL_NU = 2.075e11, 0.3
 def _jacobian(bearing, d):
     """∂f/∂d of ``bearing.load`` at d, compiled once per kind and element count."""
     return jax.jacfwd(bearing.load)(d)
+
+
+def _optional(value):
+    """A rating: ``None`` kept, a number as an array leaf."""
+    return None if value is None else as_float(value)
+
+
+def _real(default=None):
+    """A real field stored as an array leaf (traced by ``jit``, not a static value that would
+    compile a program per bearing); ``default`` if given."""
+    if default is None:
+        return eqx.field(converter=as_float)
+    return eqx.field(converter=as_float, default=default)
 
 
 class AbstractRollingBearing(eqx.Module):
@@ -142,7 +155,7 @@ class LinearSpring(AbstractRollingBearing):
         for name, value, unit in (("radial", radial, "N/m"), ("axial", axial, "N/m"),
                                   ("tilt", tilt, "N·m/rad")):
             check_real(name, value, unit, lo=0.0, where="LinearSpring")
-        self.radial, self.axial, self.tilt = radial, axial, tilt
+        self.radial, self.axial, self.tilt = as_float(radial), as_float(axial), as_float(tilt)
 
     def _diagonal(self):
         k_r, k_a, k_t = self.radial, self.axial, self.tilt
@@ -206,19 +219,19 @@ class _Ball(AbstractRollingBearing):
     ball's contact angle of Jones and Harris).
     """
 
-    bore: float
-    outer_diameter: float
-    width: float
+    bore: float = _real()
+    outer_diameter: float = _real()
+    width: float = _real()
     elements: int = eqx.field(static=True)
-    element_diameter: float
-    pitch_diameter: float
-    clearance: float = 0.0
-    inner_conformity: float = 0.52
-    outer_conformity: float = 0.52
-    youngs_modulus: float = STEEL_E
-    poisson_ratio: float = STEEL_NU
-    dynamic_rating: float | None = None
-    static_rating: float | None = None
+    element_diameter: float = _real()
+    pitch_diameter: float = _real()
+    clearance: float = _real(0.0)
+    inner_conformity: float = _real(0.52)
+    outer_conformity: float = _real(0.52)
+    youngs_modulus: float = _real(STEEL_E)
+    poisson_ratio: float = _real(STEEL_NU)
+    dynamic_rating: float | None = eqx.field(default=None, converter=_optional)
+    static_rating: float | None = eqx.field(default=None, converter=_optional)
 
     contact_exponent: ClassVar[float] = 1.5
     life_exponent: ClassVar[float | None] = 3.0
@@ -312,7 +325,7 @@ class DeepGrooveBall(_Ball):
             ball, too many balls for the pitch circle, ...).
     """
 
-    iso281_f0: float | None = None
+    iso281_f0: float | None = eqx.field(default=None, converter=_optional)
 
     axial_load: ClassVar[str] = "both"
 
@@ -402,7 +415,7 @@ class AngularContactBall(_Ball):
             kind here).
     """
 
-    contact_angle: float = 0.6981317007977318  # 40°, the "B" series
+    contact_angle: float = _real(0.6981317007977318)  # 40°, the "B" series
 
     axial_load: ClassVar[str] = "positive"
 
@@ -451,17 +464,17 @@ class _Roller(AbstractRollingBearing):
     line-contact constant is Palmgren's steel relation).
     """
 
-    bore: float
-    outer_diameter: float
-    width: float
+    bore: float = _real()
+    outer_diameter: float = _real()
+    width: float = _real()
     elements: int = eqx.field(static=True)
-    element_diameter: float
-    pitch_diameter: float
-    effective_length: float
-    clearance: float = 0.0
+    element_diameter: float = _real()
+    pitch_diameter: float = _real()
+    effective_length: float = _real()
+    clearance: float = _real(0.0)
     slices: int = eqx.field(static=True, default=10)
-    dynamic_rating: float | None = None
-    static_rating: float | None = None
+    dynamic_rating: float | None = eqx.field(default=None, converter=_optional)
+    static_rating: float | None = eqx.field(default=None, converter=_optional)
 
     contact_exponent: ClassVar[float] = 10.0 / 9.0
     life_exponent: ClassVar[float | None] = 10.0 / 3.0
@@ -577,7 +590,7 @@ class TaperedRoller(_Roller):
         ValueError: as :class:`CylindricalRoller`; α = 0 or >= 90°.
     """
 
-    contact_angle: float = 0.25  # rad
+    contact_angle: float = _real(0.25)  # rad
 
     axial_load: ClassVar[str] = "positive"
 
