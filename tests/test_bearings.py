@@ -53,7 +53,7 @@ def sjovall(n, eps=0.5):
     """The Sjövall integrals J_r(ε), J_a(ε) for Q = K δ^n (by quadrature): the load zone
     δ(ψ) ∝ 1 − (1 − cos ψ)/(2ε)."""
     lim = math.acos(max(1 - 2 * eps, -1.0))
-    g = lambda psi: max(1 - (1 - math.cos(psi)) / (2 * eps), 0.0) ** n  # noqa: E731
+    g = lambda psi: max(1 - (1 - math.cos(psi)) / (2 * eps), 0.0) ** n
     Jr = integrate.quad(lambda p: g(p) * math.cos(p), -lim, lim)[0] / (2 * math.pi)
     Ja = integrate.quad(g, -lim, lim)[0] / (2 * math.pi)
     return Jr, Ja
@@ -134,8 +134,8 @@ def test_tilt_moment_converges_as_the_slices_refine():
 # ---------------------------------------------------------------- Hertz constant
 
 
-def exact_hertz_K(D, d_m, alpha, f, E, nu, inner):
-    """One ball–raceway contact's K (N/m^1.5) by the exact Hertz theory: curvatures from
+def exact_hertz(D, d_m, alpha, f, inner):
+    """(κ, ℰ, ℱ, R) of one ball–raceway contact by the exact Hertz theory: curvatures from
     Harris & Kotzalas's definitions, the ellipticity κ solving
     F(ρ) = ((κ² + 1) ℰ − 2 ℱ) / ((κ² − 1) ℰ) with scipy's complete elliptic integrals."""
     g = D * math.cos(alpha) / d_m
@@ -152,10 +152,15 @@ def exact_hertz_K(D, d_m, alpha, f, E, nu, inner):
 
     kappa = optimize.brentq(eqn, 1.0001, 100.0, xtol=1e-14)
     m = 1 - 1 / kappa**2
-    Ek, Fk = special.ellipe(m), special.ellipk(m)
+    return kappa, special.ellipe(m), special.ellipk(m), 1 / total
+
+
+def exact_hertz_K(D, d_m, alpha, f, E, nu, inner):
+    """One ball–raceway contact's K (N/m^1.5) by the exact Hertz theory:
+    δ = ℱ [(9 / (2 ℰ R)) (Q / (π κ E'))²]^(1/3)  ->  Q = K δ^1.5."""
+    kappa, Ek, Fk, R = exact_hertz(D, d_m, alpha, f, inner)
     Ep = E / (1 - nu**2)
-    # δ = ℱ [(9 / (2 ℰ R)) (Q / (π κ E'))²]^(1/3), R = 1/Σρ  ->  Q = K δ^1.5
-    return math.pi * kappa * Ep * math.sqrt(2 * Ek / (total * 9 * Fk**3))
+    return math.pi * kappa * Ep * math.sqrt(2 * Ek * R / (9 * Fk**3))
 
 
 @pytest.mark.parametrize("alpha_deg,f", [(0.0, 0.52), (40.0, 0.52), (15.0, 0.515), (25.0, 0.53)])
@@ -172,6 +177,40 @@ def test_hertz_constant_against_exact_hertz(alpha_deg, f):
         Ko, rel=0.03)
     Kn = (Ki ** (-2 / 3) + Ko ** (-2 / 3)) ** -1.5
     assert float(jb.point_contact_constant(D, dm, a, f, f, E, nu)) == pytest.approx(Kn, rel=0.03)
+
+
+def test_contact_pressure_against_exact_hertz():
+    """The 6205's most loaded ball under 2 kN: each contact's p_max = 3Q/(2πab) within 2 % of
+    the exact Hertz ellipse (a = (6κ²ℰQR/(πE'))^(1/3), b = (6ℰQR/(πκE'))^(1/3) with the exact
+    κ, ℰ), the inner contact the higher; at F_r = C₀ the inner contact near ISO 76's 4200 MPa;
+    a roller slice's p_max
+    against the Hertz line contact's half width b = √(8wR/(πE')), p_max = 2w/(πb)."""
+    b = jb.catalogue("6205")
+    s = jb.solve_displacement(b, jnp.array([2000.0, 0, 0, 0, 0]))
+    p = np.asarray(b.contact_pressure(s.displacement))
+    Q = float(b.element_loads(s.displacement)[0])
+    Ep = 2.075e11 / (1 - 0.3**2)
+    for col, inner in ((0, True), (1, False)):
+        kappa, Ek, _, R = exact_hertz(float(b.element_diameter), float(b.pitch_diameter), 0.0,
+                                      0.52, inner)
+        a = (6 * kappa**2 * Ek * Q * R / (math.pi * Ep)) ** (1 / 3)
+        bb = (6 * Ek * Q * R / (math.pi * kappa * Ep)) ** (1 / 3)
+        assert p[0, col] == pytest.approx(3 * Q / (2 * math.pi * a * bb), rel=0.02)
+    assert p[0, 0] > p[0, 1]
+    assert np.all(p[np.asarray(b.element_loads(s.displacement)) == 0] == 0)
+    # ISO 76: a radial ball bearing's static rating C0 is the load at which the most loaded
+    # contact reaches 4200 MPa (its Q_max = 5 F_r / Z; zero clearance gives 4.37: (4.37/5)^(1/3)
+    # = 0.956 of it): the 6205 under F_r = C0 = 7.8 kN within 8 %
+    s0 = jb.solve_displacement(b, jnp.array([7800.0, 0, 0, 0, 0]))
+    assert float(b.contact_pressure(s0.displacement)[0, 0]) == pytest.approx(4.2e9, rel=0.08)
+    r = jb.catalogue("NU 205")
+    d = jnp.array([5e-6, 0, 0, 0, 0])
+    w = float(r.element_loads(d)[0, 0]) / (float(r.effective_length) / r.slices)
+    g = float(r.element_diameter) / float(r.pitch_diameter)
+    R = 0.5 * float(r.element_diameter) * (1 - g)
+    half = math.sqrt(8 * w * R / (math.pi * Ep))
+    assert float(r.contact_pressure(d)[0, 0, 0]) == pytest.approx(2 * w / (math.pi * half),
+                                                                  rel=1e-12)
 
 
 # ---------------------------------------------------------------- stiffness
@@ -309,7 +348,7 @@ def test_solve_carries_the_load(name):
     F = jnp.array(LOADS[name])
     s = jb.solve_displacement(b, F)
     r = b.pitch_diameter / 2
-    scaled = lambda f: np.concatenate([np.asarray(f)[:3], np.asarray(f)[3:] / r])  # noqa: E731
+    scaled = lambda f: np.concatenate([np.asarray(f)[:3], np.asarray(f)[3:] / r])
     assert float(s.residual) < 1e-9
     np.testing.assert_allclose(scaled(b.load(s.displacement)), scaled(F), rtol=0,
                                atol=1e-9 * np.abs(scaled(F)).max())
@@ -324,7 +363,7 @@ def test_solve_derivative_is_the_compliance():
     agrees with a finite difference of two solves."""
     b = jb.catalogue("6205", clearance=10e-6)
     F = jnp.array(LOADS["6205"])
-    d_of = lambda F: jb.solve_displacement(b, F).displacement  # noqa: E731
+    d_of = lambda F: jb.solve_displacement(b, F).displacement
     J = np.asarray(jax.jacfwd(d_of)(F))
     K = np.asarray(b.stiffness(d_of(F)))
     np.testing.assert_allclose(J @ K, np.eye(5), atol=1e-6)
@@ -383,7 +422,7 @@ def test_spectrum_life_palmgren_miner_by_hand():
     0.222100 + 0.444199, life = 1500 h / 0.666299 = 2251.25 h, P_eq = ((9e7 · 2000³ + 2.25e7
     · 4000³) / 1.125e8)^(1/3) = (1.92e10)^(1/3) = 2677.73 N; one bin is :func:`rating_life`."""
     b = jb.catalogue("6205")
-    w = lambda rpm: rpm * 2 * math.pi / 60  # noqa: E731
+    w = lambda rpm: rpm * 2 * math.pi / 60
     spec = jb.BearingSpectrum([2000.0, 4000.0], [0.0, 0.0], [w(1500), w(750)],
                               [1000 * 3600.0, 500 * 3600.0])
     life = jb.spectrum_life(b, spec)

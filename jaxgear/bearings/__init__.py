@@ -16,6 +16,7 @@ will enter).
 from ._catalogue import CATALOGUE as CATALOGUE, catalogue as catalogue
 from ._hertz import (
     line_contact_constant as line_contact_constant,
+    line_pressure as line_pressure,
     point_contact as point_contact,
     point_contact_constant as point_contact_constant,
 )

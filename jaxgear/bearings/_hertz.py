@@ -31,7 +31,7 @@ from __future__ import annotations
 
 import jax.numpy as jnp
 
-__all__ = ["line_contact_constant", "point_contact", "point_contact_constant"]
+__all__ = ["line_contact_constant", "line_pressure", "point_contact", "point_contact_constant"]
 
 #: Palmgren's line-contact compliance for one steel contact: δ = c Q^0.9 / l^0.8 (mm, N)
 PALMGREN_MM = 3.84e-5
@@ -81,3 +81,10 @@ def line_contact_constant(length):
     raceways, Q = K_n δ^(10/9) with δ the total approach (Palmgren; module docstring)."""
     k_mm = 2.0 ** (-10.0 / 9.0) * PALMGREN_MM ** (-10.0 / 9.0) * (length * 1e3) ** (8.0 / 9.0)
     return k_mm * 1e3 ** (10.0 / 9.0)  # N/mm^(10/9) -> N/m^(10/9)
+
+
+def line_pressure(w, R, E=2.075e11, nu=0.3):
+    """The largest Hertz pressure (Pa) of a line contact of load per length ``w`` (N/m) and
+    effective radius ``R`` (m) in the rolling direction: p_max = √(w E' / (2π R)),
+    E' = E / (1 − ν²) (two bodies of one material; steel by default)."""
+    return jnp.sqrt(w * E / (1.0 - nu**2) / (2.0 * jnp.pi * R))

@@ -28,7 +28,7 @@ import numpy as np
 from jaxtyping import Array, Float
 
 from .._util import as_float, check_integer, check_real
-from ._hertz import line_contact_constant, point_contact_constant
+from ._hertz import line_contact_constant, line_pressure, point_contact, point_contact_constant
 
 __all__ = [
     "AbstractRollingBearing",
@@ -120,6 +120,12 @@ class AbstractRollingBearing(eqx.Module):
             f"{type(self).__name__} has no rolling elements: allowed a rolling bearing kind "
             "(DeepGrooveBall, AngularContactBall, CylindricalRoller, TaperedRoller)"
         )
+
+    def contact_pressure(self, displacement) -> Array:
+        """The largest Hertz contact pressure p_max (Pa) of each element's inner and outer
+        contact at d: (Z, 2) for balls, (Z, slices, 2) for the slices of rollers. Refused by a
+        kind without rolling elements."""
+        return self.element_loads(displacement)
 
     def equivalent_load(self, radial, axial) -> Array:
         """ISO 281's equivalent dynamic load P (N) for a radial load F_r and an axial load F_a
@@ -287,6 +293,22 @@ class _Ball(AbstractRollingBearing):
     def element_loads(self, displacement):
         delta = self._contacts(displacement)[0]
         return self.hertz_constant * jnp.maximum(delta, 0.0) ** 1.5
+
+    def contact_pressure(self, displacement):
+        """p_max = 3Q / (2π a b) of each ball's inner and outer contact (Pa), (Z, 2), with
+        a = (6 κ² ℰ Q R / (π E'))^(1/3), b = (6 ℰ Q R / (π κ E'))^(1/3) (Harris & Kotzalas;
+        Brewe & Hamrock's κ, ℰ) at the nominal contact angle."""
+        Q = self.element_loads(displacement)
+        Ep = self.youngs_modulus / (1.0 - self.poisson_ratio**2)
+        out = []
+        for f, inner in ((self.inner_conformity, True), (self.outer_conformity, False)):
+            _, kappa, E2, _, R = point_contact(self.element_diameter, self.pitch_diameter,
+                                               self.nominal_angle, f, self.youngs_modulus,
+                                               self.poisson_ratio, inner)
+            a = (6.0 * kappa**2 * E2 * Q * R / (jnp.pi * Ep)) ** (1.0 / 3.0)
+            b = (6.0 * E2 * Q * R / (jnp.pi * kappa * Ep)) ** (1.0 / 3.0)
+            out.append(jnp.where(Q > 0, 1.5 * Q / (jnp.pi * jnp.where(Q > 0, a * b, 1.0)), 0.0))
+        return jnp.stack(out, axis=-1)
 
     def load(self, displacement):
         delta, ca, sa = self._contacts(displacement)
@@ -528,6 +550,16 @@ class _Roller(AbstractRollingBearing):
     def element_loads(self, displacement):
         delta = self._geometry(displacement)[0]
         return self.hertz_constant / self.slices * jnp.maximum(delta, 0.0) ** (10.0 / 9.0)
+
+    def contact_pressure(self, displacement):
+        """p_max = √(w E' / (2π R)) of each slice's inner and outer line contact (Pa), (Z,
+        slices, 2): w = q / (l / slices) the slice's load per length, R = D(1 ∓ γ)/2 the
+        contact's radius in the rolling direction, γ = D cos α / d_m, E' of steel (Hertz line
+        contact; Harris & Kotzalas)."""
+        w = self.element_loads(displacement) / (self.effective_length / self.slices)
+        g = self.element_diameter * jnp.cos(self.nominal_angle) / self.pitch_diameter
+        return jnp.stack([line_pressure(w, 0.5 * self.element_diameter * (1.0 - g)),
+                          line_pressure(w, 0.5 * self.element_diameter * (1.0 + g))], axis=-1)
 
     def load(self, displacement):
         delta, rows = self._geometry(displacement)
