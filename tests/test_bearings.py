@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import math
 
+import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
@@ -323,6 +324,19 @@ def test_stiffness6_is_a_scene_bearing_matrix():
         js.Bearing(z=0.0, radial=3e8, axial=1e8, tilt=2e5).stiffness_matrix())
 
 
+def test_stiffness_derivative_by_the_clearance_is_finite_and_right():
+    """∂K_xx/∂P_d at a displacement where some balls are out of contact (their δ^(n−k) terms
+    must not make NaN): against a central difference, within 1e-6."""
+    b = jb.catalogue("6205", clearance=10e-6)
+    d = jnp.array(OPERATING["6205"])
+    assert float(b.element_loads(d).min()) == 0.0
+    kxx = lambda c: eqx.tree_at(lambda x: x.clearance, b, c).stiffness(d)[0, 0]  # noqa: E731
+    g = float(jax.grad(kxx)(jnp.asarray(10e-6)))
+    h = 1e-8
+    fd = (float(kxx(jnp.asarray(10e-6 + h))) - float(kxx(jnp.asarray(10e-6 - h)))) / (2 * h)
+    assert math.isfinite(g) and g == pytest.approx(fd, rel=1e-6)
+
+
 # ---------------------------------------------------------------- inverse solve
 
 
@@ -360,7 +374,8 @@ def test_solve_carries_the_load(name):
 @pytest.mark.slow  # differentiates through the solve: its own program, ~8 s loaded
 def test_solve_derivative_is_the_compliance():
     """∂d/∂F of the solve (optimistix's implicit derivative) is inv(K) at the solution, and
-    agrees with a finite difference of two solves."""
+    agrees with a finite difference of two solves; ∂K_xx/∂P_d through the solve agrees with a
+    finite difference."""
     b = jb.catalogue("6205", clearance=10e-6)
     F = jnp.array(LOADS["6205"])
     d_of = lambda F: jb.solve_displacement(b, F).displacement
@@ -370,6 +385,13 @@ def test_solve_derivative_is_the_compliance():
     h = 1.0
     fd = (np.asarray(d_of(F.at[0].add(h))) - np.asarray(d_of(F.at[0].add(-h)))) / (2 * h)
     np.testing.assert_allclose(fd, J[:, 0], rtol=1e-4, atol=1e-6 * np.abs(J[:, 0]).max())
+    # the clearance as a design variable: the operating stiffness's derivative through the solve
+    kxx = lambda c: jb.solve_displacement(  # noqa: E731
+        eqx.tree_at(lambda x: x.clearance, b, c), F).stiffness[0, 0]
+    g = float(jax.grad(kxx)(jnp.asarray(10e-6)))
+    h = 1e-8
+    fd = (float(kxx(jnp.asarray(10e-6 + h))) - float(kxx(jnp.asarray(10e-6 - h)))) / (2 * h)
+    assert g == pytest.approx(fd, rel=1e-5)
 
 
 def test_stribeck_with_clearance_q_max_is_near_five():

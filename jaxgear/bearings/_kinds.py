@@ -49,6 +49,14 @@ def _jacobian(bearing, d):
     return jax.jacfwd(bearing.load)(d)
 
 
+def _contact_power(delta, n):
+    """max(δ, 0)^n with every derivative finite (0 where δ <= 0: an element out of contact
+    has no load, stiffness or derivative of them; the double ``where`` keeps δ^(n − k) of a
+    negative δ out of the derivatives)."""
+    touching = delta > 0
+    return jnp.where(touching, jnp.where(touching, delta, 1.0) ** n, 0.0)
+
+
 def _optional(value):
     """A rating: ``None`` kept, a number as an array leaf."""
     return None if value is None else as_float(value)
@@ -292,7 +300,7 @@ class _Ball(AbstractRollingBearing):
 
     def element_loads(self, displacement):
         delta = self._contacts(displacement)[0]
-        return self.hertz_constant * jnp.maximum(delta, 0.0) ** 1.5
+        return self.hertz_constant * _contact_power(delta, 1.5)
 
     def contact_pressure(self, displacement):
         """p_max = 3Q / (2π a b) of each ball's inner and outer contact (Pa), (Z, 2), with
@@ -312,7 +320,7 @@ class _Ball(AbstractRollingBearing):
 
     def load(self, displacement):
         delta, ca, sa = self._contacts(displacement)
-        Q = self.hertz_constant * jnp.maximum(delta, 0.0) ** 1.5
+        Q = self.hertz_constant * _contact_power(delta, 1.5)
         psi = self.azimuths
         c, s, rp = jnp.cos(psi), jnp.sin(psi), 0.5 * self.pitch_diameter
         rows = jnp.stack([ca * c, ca * s, sa, rp * sa * s, -rp * sa * c])
@@ -320,7 +328,7 @@ class _Ball(AbstractRollingBearing):
 
     def potential(self, displacement):
         delta = self._contacts(displacement)[0]
-        return self.hertz_constant / 2.5 * jnp.sum(jnp.maximum(delta, 0.0) ** 2.5)
+        return self.hertz_constant / 2.5 * jnp.sum(_contact_power(delta, 2.5))
 
 
 class DeepGrooveBall(_Ball):
@@ -549,7 +557,7 @@ class _Roller(AbstractRollingBearing):
 
     def element_loads(self, displacement):
         delta = self._geometry(displacement)[0]
-        return self.hertz_constant / self.slices * jnp.maximum(delta, 0.0) ** (10.0 / 9.0)
+        return self.hertz_constant / self.slices * _contact_power(delta, 10.0 / 9.0)
 
     def contact_pressure(self, displacement):
         """p_max = √(w E' / (2π R)) of each slice's inner and outer line contact (Pa), (Z,
@@ -563,13 +571,13 @@ class _Roller(AbstractRollingBearing):
 
     def load(self, displacement):
         delta, rows = self._geometry(displacement)
-        q = self.hertz_constant / self.slices * jnp.maximum(delta, 0.0) ** (10.0 / 9.0)
+        q = self.hertz_constant / self.slices * _contact_power(delta, 10.0 / 9.0)
         return jnp.einsum("ijk,jk->i", rows, q)
 
     def potential(self, displacement):
         delta = self._geometry(displacement)[0]
         return (self.hertz_constant / self.slices / (19.0 / 9.0)
-                * jnp.sum(jnp.maximum(delta, 0.0) ** (19.0 / 9.0)))
+                * jnp.sum(_contact_power(delta, 19.0 / 9.0)))
 
 
 class CylindricalRoller(_Roller):
