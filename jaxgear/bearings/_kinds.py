@@ -87,7 +87,8 @@ class AbstractRollingBearing(eqx.Module):
     Methods: :meth:`load` (abstract; f(d), shape (5,)), :meth:`potential` (U(d), J, with
     f = ∇U), :meth:`stiffness` (K = ∂f/∂d by ``jax.jacfwd``, (5, 5)), :meth:`stiffness6` (the
     6×6 of a :class:`jaxgear.scenes.Bearing` ``stiffness``), :meth:`carried` (the DOFs it
-    resists), :meth:`element_loads` and :meth:`equivalent_load` (refused where not declared).
+    resists), :meth:`element_loads`, :meth:`contact_pressure` and :meth:`equivalent_load`
+    (refused where not declared).
     """
 
     rolling_elements: ClassVar[bool] = True
