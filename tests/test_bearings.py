@@ -371,6 +371,16 @@ def test_solve_carries_the_load(name):
                                atol=1e-12 * float(jnp.abs(s.stiffness).max()))
 
 
+@pytest.mark.slow  # its own compiled solve
+def test_solve_of_the_linear_spring_is_load_over_stiffness():
+    """The spring kind through the same solve: d = F / k on the DOFs it carries, a tilt left
+    at 0 where it has no tilt stiffness."""
+    s = jb.solve_displacement(jb.LinearSpring(radial=2e8, axial=1e8),
+                              jnp.array([1000.0, -300.0, 500.0, 0, 0]))
+    np.testing.assert_allclose(s.displacement, [5e-6, -1.5e-6, 5e-6, 0, 0], rtol=1e-10,
+                               atol=1e-18)
+
+
 @pytest.mark.slow  # differentiates through the solve: its own program, ~8 s loaded
 def test_solve_derivative_is_the_compliance():
     """∂d/∂F of the solve (optimistix's implicit derivative) is inv(K) at the solution, and
@@ -502,9 +512,14 @@ GEOM = dict(bore=0.025, outer_diameter=0.052, width=0.015, elements=9,
     (lambda: jb.catalogue("7205 B", contact_angle=0.5).equivalent_load(1.0, 1.0),
      "contact_angle = 28.6479 deg"),
     (lambda: jb.LinearSpring().element_loads(jnp.zeros(5)), "no rolling elements"),
+    (lambda: jb.solve_displacement(jb.LinearSpring(), [1.0, 0, 0, 2.0, 0]),
+     "load[3] (M_x) = 2 on a DOF LinearSpring does not carry"),
+    (lambda: jb.solve_displacement(jb.catalogue("6205"), [1.0, 0, 0]), "load"),
+    (lambda: jb.BearingSpectrum([1.0, 2.0], [0.0], 10.0, [1.0, 1.0]), "axial"),
 ])
 def test_bad_bearing_data_is_refused_in_one_line(build, words):
     with pytest.raises(ValueError) as err:
         build()
     msg = str(err.value)
-    assert words in msg and "\n" not in msg and "allowed" in msg, msg
+    assert words in msg and "\n" not in msg, msg
+    assert "allowed" in msg or "must have shape" in msg, msg

@@ -333,8 +333,9 @@ class _Ball(AbstractRollingBearing):
 
 
 class DeepGrooveBall(_Ball):
-    """A single-row deep groove ball bearing (free contact angle from its clearance:
-    cos α₀ = 1 − P_d / (2A), Harris & Kotzalas; 0 without clearance).
+    """A single-row deep groove ball bearing: nominal contact angle 0, an axial load taken up
+    at the free contact angle of its clearance, cos α₀ = 1 − P_d / (2A) (Harris & Kotzalas),
+    and beyond as the load turns the contact.
 
     Attributes:
         bore, outer_diameter, width: boundary dimensions d, D, B (m).
@@ -373,6 +374,14 @@ class DeepGrooveBall(_Ball):
 
     @property
     def nominal_angle(self):
+        """0: a deep groove bearing's contact angle under a radial load (its Hertz constant,
+        pressures and tones are taken there)."""
+        return 0.0
+
+    @property
+    def free_contact_angle(self):
+        """α₀ = arccos(1 − P_d / (2A)) (rad): the contact angle at which an axial shift takes up
+        the clearance (Harris & Kotzalas), 0 without clearance."""
         A = self.curvature_distance
         return jnp.arccos(1.0 - jnp.maximum(self.clearance, 0.0) / (2.0 * A))
 

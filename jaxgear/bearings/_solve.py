@@ -22,7 +22,7 @@ import numpy as np
 import optimistix as optx
 from jaxtyping import Array, Float, Int
 
-from .._util import check_instance, check_real, is_traced
+from .._util import check_instance, check_integer, check_real, is_traced
 from ._kinds import AbstractRollingBearing
 
 __all__ = ["BearingState", "solve_displacement"]
@@ -69,10 +69,10 @@ def _scales(bearing, F):
 
 
 @eqx.filter_jit
-def _solve(bearing, F, max_steps):
+def _solve(bearing, F, max_steps, carried):
     d_ref, r, F_ref = _scales(bearing, F)
     unit = jnp.asarray([1.0, 1.0, 1.0, 1.0 / r, 1.0 / r]) * d_ref
-    held = 1.0 - jnp.asarray(bearing.carried(), float)
+    held = 1.0 - jnp.asarray(carried, float)
 
     def to_d(y):
         return y * unit * (1.0 - held)
@@ -120,11 +120,13 @@ def solve_displacement(bearing: AbstractRollingBearing, load, *, max_steps: int 
                    where="solve_displacement")
     check_real("load", load, "N, N·m", shape=(5,), shape_text="(5,): F_x, F_y, F_z, M_x, M_y",
                where="solve_displacement")
+    check_integer("solve_displacement: max_steps", max_steps, 1)
     F = jnp.asarray(load, dtype=float)
+    carried = bearing.carried()
     if not is_traced(load):
         f = np.asarray(load, dtype=float)
         names = ("F_x", "F_y", "F_z", "M_x", "M_y")
-        for i, (c, name) in enumerate(zip(bearing.carried(), names, strict=True)):
+        for i, (c, name) in enumerate(zip(carried, names, strict=True)):
             if not c and f[i] != 0:
                 raise ValueError(
                     f"solve_displacement: load[{i}] ({name}) = {f[i]:g} on a DOF "
@@ -139,5 +141,4 @@ def solve_displacement(bearing: AbstractRollingBearing, load, *, max_steps: int 
                     f"{type(bearing).__name__}: allowed > F_r tan(alpha) = {least:g} N (and "
                     "> 0: it carries an axial load one way; a partner bearing supplies it)"
                 )
-        check_real("max_steps", max_steps, "", lo=1, where="solve_displacement")
-    return _solve(bearing, F, int(max_steps))
+    return _solve(bearing, F, int(max_steps), carried)
