@@ -134,7 +134,10 @@ class AbstractRollingBearing(eqx.Module):
         """The largest Hertz contact pressure p_max (Pa) of each element's inner and outer
         contact at d: (Z, 2) for balls, (Z, slices, 2) for the slices of rollers. Refused by a
         kind without rolling elements."""
-        return self.element_loads(displacement)
+        raise ValueError(
+            f"{type(self).__name__} has no rolling elements: allowed a rolling bearing kind "
+            "(DeepGrooveBall, AngularContactBall, CylindricalRoller, TaperedRoller)"
+        )
 
     def equivalent_load(self, radial, axial) -> Array:
         """ISO 281's equivalent dynamic load P (N) for a radial load F_r and an axial load F_a
