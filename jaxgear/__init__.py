@@ -9,7 +9,8 @@ subpackage, which ``import jaxgear`` loads: :mod:`jaxgear.scenes` (structures),
 :mod:`jaxgear.dynamics` (runs, sweeps, modes, whine), :mod:`jaxgear.planetary` (planetary
 stages), :mod:`jaxgear.gearbox` (stages joined by shafts), :mod:`jaxgear.rating` (load capacity,
 ISO 6336); :mod:`jaxgear.tribology`, :mod:`jaxgear.acoustics`, :mod:`jaxgear.sizing` (gear sizing from
-requirements) and the case files, :mod:`jaxgear.io`, are imported on their own. A name that left the top level still resolves here
+requirements), :mod:`jaxgear.bearings` (rolling bearings from their geometry) and the case files,
+:mod:`jaxgear.io`, are imported on their own. A name that left the top level still resolves here
 for one release, with a ``DeprecationWarning`` naming its home (``_MOVED_TO`` below). The
 application (:mod:`jaxgear.cli`) is not imported here.
 

@@ -32,6 +32,7 @@ MODEL_SUBPACKAGES = (
     "jaxgear.acoustics",
     "jaxgear.io",
     "jaxgear.sizing",
+    "jaxgear.bearings",
 )
 FORBIDDEN_IN_MODEL = (
     "argparse",

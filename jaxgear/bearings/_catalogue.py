@@ -1,0 +1,77 @@
+"""A few embedded catalogue bearings, in SI, with their sources.
+
+Deep groove ball bearings 6205 and 6203: boundary dimensions, ball count, ball and pitch
+diameters of the SKF 6205-2RS JEM and 6203-2RS JEM as the Case Western Reserve University
+Bearing Data Center states them for its test rig (drive end and fan end; inches converted),
+basic load ratings C, C₀ and the factor f₀ of the SKF rolling bearings catalogue (6205:
+14.8 kN, 7.8 kN, 14; 6203: 9.95 kN, 4.75 kN, 13). Groove conformities are not published: the
+kinds' default 0.52 (Harris & Kotzalas's typical value).
+
+Angular contact 7205 B, cylindrical NU 205 and tapered 30205: boundary dimensions of ISO 15 and
+ISO 355 (d 25 mm, D 52 mm, B 15 mm; the 30205's cup-and-cone width T = 16.25 mm and the
+catalogue's e = 0.37 for its contact angle, α = atan(e / 1.5)), the 7205 B's 40°. Their rolling
+elements (count, diameter, length, pitch diameter) are representative values ESTIMATED from
+the boundary dimensions, not a maker's data, and they carry no load ratings: give
+``dynamic_rating`` (and ``static_rating``) from the maker's catalogue for a life.
+"""
+
+from __future__ import annotations
+
+import math
+
+from .._util import check_instance
+from ._kinds import (
+    AbstractRollingBearing,
+    AngularContactBall,
+    CylindricalRoller,
+    DeepGrooveBall,
+    TaperedRoller,
+)
+
+__all__ = ["CATALOGUE", "catalogue"]
+
+_IN = 0.0254
+_CWRU = ("Case Western Reserve University Bearing Data Center, bearing specifications "
+         "(SKF 6205-2RS JEM drive end, 6203-2RS JEM fan end); SKF rolling bearings catalogue "
+         "(C, C0, f0)")
+_EST = ("ISO 15 / ISO 355 boundary dimensions; rolling elements estimated from them "
+        "(representative, not a maker's data); no load ratings")
+
+#: designation -> (kind, its arguments in SI, the source)
+CATALOGUE: dict[str, tuple[type, dict, str]] = {
+    "6205": (DeepGrooveBall, dict(
+        bore=0.9843 * _IN, outer_diameter=2.0472 * _IN, width=0.5906 * _IN, elements=9,
+        element_diameter=0.3126 * _IN, pitch_diameter=1.537 * _IN, dynamic_rating=14.8e3,
+        static_rating=7.8e3, iso281_f0=14.0), _CWRU),
+    "6203": (DeepGrooveBall, dict(
+        bore=0.6693 * _IN, outer_diameter=1.5748 * _IN, width=0.4724 * _IN, elements=8,
+        element_diameter=0.2656 * _IN, pitch_diameter=1.122 * _IN, dynamic_rating=9.95e3,
+        static_rating=4.75e3, iso281_f0=13.0), _CWRU),
+    "7205 B": (AngularContactBall, dict(
+        bore=0.025, outer_diameter=0.052, width=0.015, elements=12, element_diameter=7.938e-3,
+        pitch_diameter=0.0385, contact_angle=math.radians(40.0)), _EST),
+    "NU 205": (CylindricalRoller, dict(
+        bore=0.025, outer_diameter=0.052, width=0.015, elements=13, element_diameter=7.0e-3,
+        pitch_diameter=0.0385, effective_length=8.0e-3), _EST),
+    "30205": (TaperedRoller, dict(
+        bore=0.025, outer_diameter=0.052, width=0.01625, elements=15, element_diameter=6.0e-3,
+        pitch_diameter=0.039, effective_length=10.0e-3,
+        contact_angle=math.atan(0.37 / 1.5)), _EST),
+}
+
+
+def catalogue(designation: str, **changes) -> AbstractRollingBearing:
+    """The embedded bearing ``designation`` (a key of :data:`CATALOGUE`: "6205", "6203",
+    "7205 B", "NU 205", "30205"), with ``changes`` to its arguments (a clearance, the ratings).
+
+    Raises:
+        ValueError: an unknown designation (one line listing the known ones); a change out of
+            its range (the kind's own line)."""
+    check_instance("designation", designation, str, "a designation string", where="catalogue")
+    if designation not in CATALOGUE:
+        raise ValueError(
+            f"catalogue: designation = {designation!r} is not embedded: allowed "
+            f"{', '.join(repr(k) for k in CATALOGUE)}"
+        )
+    kind, args, _ = CATALOGUE[designation]
+    return kind(**{**args, **changes})

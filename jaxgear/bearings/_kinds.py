@@ -1,0 +1,665 @@
+"""The bearing kinds behind one contract (:class:`AbstractRollingBearing`).
+
+A kind is a class passed as an object: a deep groove ball bearing, an angular contact ball
+bearing, a cylindrical and a tapered roller bearing, each built from its catalogue geometry in
+SI (m, rad, N), and the linear spring the scenes use today (:class:`LinearSpring`: ``radial``,
+``axial``, ``tilt`` stiffnesses, the names of :class:`jaxgear.scenes.Bearing`). What a kind
+supports is declared on the contract as class variables (rolling elements, the Hertz exponent,
+which way it carries an axial load, the ISO 281 life exponent), never probed.
+
+Coordinates: the shaft axis is z; the inner ring's displacement relative to the outer ring is
+d = (δ_x, δ_y, δ_z, γ_x, γ_y) (m, m, m, rad, rad), γ_x and γ_y right-handed rotations about x and
+y (the scenes' φ_x, φ_y: du_y/dz = −φ_x, du_x/dz = φ_y). Element j sits at the azimuth
+ψ_j = 2π j / Z from +x towards +y. The bearing's load vector f = (F_x, F_y, F_z, M_x, M_y) (N,
+N·m) is the force and moment the inner ring passes to the outer ring, equal to the external load
+on the shaft at equilibrium: positive along d, so that K = ∂f/∂d is positive semi-definite.
+"""
+
+from __future__ import annotations
+
+import abc
+import math
+from typing import ClassVar
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+from jaxtyping import Array, Float
+
+from .._util import as_float, check_integer, check_real
+from ._hertz import line_contact_constant, line_pressure, point_contact, point_contact_constant
+
+__all__ = [
+    "AbstractRollingBearing",
+    "AngularContactBall",
+    "CylindricalRoller",
+    "DeepGrooveBall",
+    "LinearSpring",
+    "TaperedRoller",
+]
+
+#: steel (Harris & Kotzalas's bearing steel): Young's modulus (Pa) and Poisson's ratio
+STEEL_E, STEEL_NU = 2.075e11, 0.3
+
+
+@eqx.filter_jit
+def _jacobian(bearing, d):
+    """∂f/∂d of ``bearing.load`` at d, compiled once per kind and element count."""
+    return jax.jacfwd(bearing.load)(d)
+
+
+def _contact_power(delta, n):
+    """max(δ, 0)^n with every derivative finite (0 where δ <= 0: an element out of contact
+    has no load, stiffness or derivative of them; the double ``where`` keeps δ^(n − k) of a
+    negative δ out of the derivatives)."""
+    touching = delta > 0
+    return jnp.where(touching, jnp.where(touching, delta, 1.0) ** n, 0.0)
+
+
+def _optional(value):
+    """A rating: ``None`` kept, a number as an array leaf."""
+    return None if value is None else as_float(value)
+
+
+def _real(default=None):
+    """A real field stored as an array leaf (traced by ``jit``, not a static value that would
+    compile a program per bearing); ``default`` if given."""
+    if default is None:
+        return eqx.field(converter=as_float)
+    return eqx.field(converter=as_float, default=default)
+
+
+class AbstractRollingBearing(eqx.Module):
+    """A bearing kind: the load its rings pass for a displacement, and what it supports.
+
+    Class variables (the contract's declarations):
+
+    - ``rolling_elements``: the kind has rolling elements (element loads, Hertz contact,
+      tones, ISO 281 life); :class:`LinearSpring` does not.
+    - ``contact_exponent``: n of Q = K_n δ^n (3/2 point contact, 10/9 line contact, 1 a spring).
+    - ``axial_load``: which axial load it carries: ``"both"`` ways, ``"positive"`` (single-row
+      angular contact and tapered: +z pushes the inner ring onto its raceway) or ``"none"``
+      (a cylindrical roller bearing without ribs, NU).
+    - ``life_exponent``: p of ISO 281's L10 = (C/P)^p (3 balls, 10/3 rollers), ``None`` where
+      the kind has no rating life.
+
+    Methods: :meth:`load` (abstract; f(d), shape (5,)), :meth:`potential` (U(d), J, with
+    f = ∇U), :meth:`stiffness` (K = ∂f/∂d by ``jax.jacfwd``, (5, 5)), :meth:`stiffness6` (the
+    6×6 of a :class:`jaxgear.scenes.Bearing` ``stiffness``), :meth:`carried` (the DOFs it
+    resists), :meth:`element_loads`, :meth:`contact_pressure` and :meth:`equivalent_load`
+    (refused where not declared).
+    """
+
+    rolling_elements: ClassVar[bool] = True
+    contact_exponent: ClassVar[float] = 1.5
+    axial_load: ClassVar[str] = "both"
+    life_exponent: ClassVar[float | None] = None
+
+    @abc.abstractmethod
+    def load(self, displacement) -> Float[Array, " 5"]:
+        """f = (F_x, F_y, F_z, M_x, M_y) (N, N·m) at the ring displacement d, shape (5,)."""
+
+    @abc.abstractmethod
+    def potential(self, displacement) -> Float[Array, ""]:
+        """The elastic energy U(d) (J) stored in the contacts; :meth:`load` is its gradient."""
+
+    def stiffness(self, displacement) -> Float[Array, "5 5"]:
+        """K = ∂f/∂d (N/m, N/rad, N·m/rad) at the operating point d (``jax.jacfwd`` of
+        :meth:`load`), shape (5, 5), symmetric (f is the gradient of :meth:`potential`)."""
+        return _jacobian(self, jnp.asarray(displacement, dtype=float))
+
+    def stiffness6(self, displacement) -> Float[Array, "6 6"]:
+        """The stiffness at d as the 6×6 matrix a :class:`jaxgear.scenes.Bearing` takes
+        (DOFs u_x, u_y, u_z, φ_x, φ_y, φ_z; row and column φ_z zero), symmetrised."""
+        k = self.stiffness(displacement)
+        k = 0.5 * (k + k.T)
+        return jnp.zeros((6, 6), k.dtype).at[:5, :5].set(k)
+
+    def carried(self) -> tuple[bool, ...]:
+        """Which of the five DOFs the bearing resists (a DOF it does not is left at 0 by
+        :func:`~jaxgear.bearings.solve_displacement`): all but u_z where ``axial_load``
+        is ``"none"``."""
+        return (True, True, self.axial_load != "none", True, True)
+
+    def element_loads(self, displacement) -> Array:
+        """Each rolling element's normal load Q_j (N) at d: (Z,) for balls, (Z, slices) for
+        the slices of rollers. Refused by a kind without rolling elements."""
+        raise ValueError(
+            f"{type(self).__name__} has no rolling elements: allowed a rolling bearing kind "
+            "(DeepGrooveBall, AngularContactBall, CylindricalRoller, TaperedRoller)"
+        )
+
+    def contact_pressure(self, displacement) -> Array:
+        """The largest Hertz contact pressure p_max (Pa) of each element's inner and outer
+        contact at d: (Z, 2) for balls, (Z, slices, 2) for the slices of rollers. Refused by a
+        kind without rolling elements."""
+        raise ValueError(
+            f"{type(self).__name__} has no rolling elements: allowed a rolling bearing kind "
+            "(DeepGrooveBall, AngularContactBall, CylindricalRoller, TaperedRoller)"
+        )
+
+    def equivalent_load(self, radial, axial) -> Array:
+        """ISO 281's equivalent dynamic load P (N) for a radial load F_r and an axial load F_a
+        (N). Refused by a kind without a rating life."""
+        raise ValueError(
+            f"{type(self).__name__} has no ISO 281 rating life: allowed a rolling bearing kind"
+        )
+
+
+class LinearSpring(AbstractRollingBearing):
+    """The linear spring bearing (the scenes' bearing today): f = diag(k_r, k_r, k_a, k_t,
+    k_t) d.
+
+    Attributes:
+        radial: stiffness on δ_x and δ_y (N/m, >= 0); default 2e8.
+        axial: stiffness on δ_z (N/m, >= 0); default 1e8.
+        tilt: stiffness on γ_x and γ_y (N·m/rad, >= 0); default 0.
+
+    Raises:
+        ValueError: a stiffness negative or not finite (one line naming it).
+    """
+
+    radial: float = 2e8
+    axial: float = 1e8
+    tilt: float = 0.0
+
+    rolling_elements: ClassVar[bool] = False
+    contact_exponent: ClassVar[float] = 1.0
+    axial_load: ClassVar[str] = "both"
+    life_exponent: ClassVar[float | None] = None
+
+    def __init__(self, radial=2e8, axial=1e8, tilt=0.0):
+        for name, value, unit in (("radial", radial, "N/m"), ("axial", axial, "N/m"),
+                                  ("tilt", tilt, "N·m/rad")):
+            check_real(name, value, unit, lo=0.0, where="LinearSpring")
+        self.radial, self.axial, self.tilt = as_float(radial), as_float(axial), as_float(tilt)
+
+    def _diagonal(self):
+        k_r, k_a, k_t = self.radial, self.axial, self.tilt
+        return jnp.stack(jnp.broadcast_arrays(*map(jnp.asarray, (k_r, k_r, k_a, k_t, k_t))))
+
+    def load(self, displacement):
+        return self._diagonal() * jnp.asarray(displacement)
+
+    def potential(self, displacement):
+        d = jnp.asarray(displacement)
+        return 0.5 * jnp.sum(self._diagonal() * d**2)
+
+    def carried(self):
+        k = np.asarray([self.radial, self.radial, self.axial, self.tilt, self.tilt])
+        return tuple(bool(x > 0) for x in k)
+
+
+def _check_rating(where, dynamic_rating, static_rating):
+    for name, value in (("dynamic_rating", dynamic_rating), ("static_rating", static_rating)):
+        if value is not None:
+            check_real(name, value, "N", lo=0.0, lo_open=True, where=where)
+
+
+def _check_ring(where, bore, outer_diameter, width, elements, element_diameter, pitch_diameter,
+                word):
+    """The boundary and element geometry common to every rolling kind (one line each)."""
+    check_real("bore", bore, "m", lo=0.0, lo_open=True, where=where)
+    check_real("outer_diameter", outer_diameter, "m", lo=float(bore), lo_open=True,
+               where=where)
+    check_real("width", width, "m", lo=0.0, lo_open=True, where=where)
+    section = 0.5 * (float(outer_diameter) - float(bore))
+    check_real("element_diameter", element_diameter, "m", lo=0.0, hi=section, lo_open=True,
+               hi_open=True, where=f"{where} ({word} inside the ring section "
+               f"(outer_diameter - bore)/2 = {section:.6g} m)")
+    D = float(element_diameter)
+    check_real("pitch_diameter", pitch_diameter, "m", lo=float(bore) + D,
+               hi=float(outer_diameter) - D, lo_open=True, hi_open=True,
+               where=f"{where} (the {word}s between bore + element_diameter and "
+               "outer_diameter - element_diameter)")
+    check_integer(f"{where}: elements", elements, 3)
+    most = int(math.pi * float(pitch_diameter) / D)
+    if elements > most:
+        raise ValueError(
+            f"{where}: elements = {elements} do not fit on the pitch circle: allowed <= "
+            f"pi pitch_diameter / element_diameter = {most}"
+        )
+
+
+class _Ball(AbstractRollingBearing):
+    """Ball kinds: point contact, the contact angle following the load (Jones; Harris &
+    Kotzalas ch. 7): the inner and outer groove curvature centres are A = (f_i + f_o − 1) D
+    apart when a ball just touches, at the free contact angle α₀ with the rings centred less
+    half the diametral clearance P_d radially::
+
+        a_r,j = A cos α₀ − P_d/2 + δ_x cos ψ_j + δ_y sin ψ_j
+        a_z,j = A sin α₀ + δ_z + r_p (γ_x sin ψ_j − γ_y cos ψ_j)        (r_p = d_m / 2)
+        δ_j = |a_j| − A,   Q_j = K_n max(δ_j, 0)^(3/2),   (cos α_j, sin α_j) = a_j / |a_j|
+
+    and f = Σ Q_j (cos α_j cos ψ_j, cos α_j sin ψ_j, sin α_j, r_p sin α_j sin ψ_j,
+    −r_p sin α_j cos ψ_j) (Lim & Singh, J. Sound Vib. 139 (1990) 179–199, Part I, with the
+    ball's contact angle of Jones and Harris).
+    """
+
+    bore: float = _real()
+    outer_diameter: float = _real()
+    width: float = _real()
+    elements: int = eqx.field(static=True)
+    element_diameter: float = _real()
+    pitch_diameter: float = _real()
+    clearance: float = _real(0.0)
+    inner_conformity: float = _real(0.52)
+    outer_conformity: float = _real(0.52)
+    youngs_modulus: float = _real(STEEL_E)
+    poisson_ratio: float = _real(STEEL_NU)
+    dynamic_rating: float | None = eqx.field(default=None, converter=_optional)
+    static_rating: float | None = eqx.field(default=None, converter=_optional)
+
+    contact_exponent: ClassVar[float] = 1.5
+    life_exponent: ClassVar[float | None] = 3.0
+
+    @property
+    @abc.abstractmethod
+    def nominal_angle(self):
+        """α₀ (rad): the contact angle at which a ball first touches both raceways."""
+
+    def _check_ball(self, where):
+        _check_ring(where, self.bore, self.outer_diameter, self.width, self.elements,
+                    self.element_diameter, self.pitch_diameter, "ball")
+        for name in ("inner_conformity", "outer_conformity"):
+            check_real(name, getattr(self, name), "", lo=0.5, hi=0.6, lo_open=True,
+                       where=f"{where} (groove radius / ball diameter)")
+        check_real("youngs_modulus", self.youngs_modulus, "Pa", lo=0.0, lo_open=True,
+                   where=where)
+        check_real("poisson_ratio", self.poisson_ratio, "", lo=0.0, hi=0.5, hi_open=True,
+                   where=where)
+        _check_rating(where, self.dynamic_rating, self.static_rating)
+
+    @property
+    def curvature_distance(self):
+        """A = (f_i + f_o − 1) D (m): the groove curvature centres' distance at first touch."""
+        return (self.inner_conformity + self.outer_conformity - 1.0) * self.element_diameter
+
+    @property
+    def hertz_constant(self):
+        """K_n (N/m^1.5) of one ball between its raceways at the nominal contact angle
+        (:func:`~jaxgear.bearings.point_contact_constant`)."""
+        return point_contact_constant(
+            self.element_diameter, self.pitch_diameter, self.nominal_angle,
+            self.inner_conformity, self.outer_conformity, self.youngs_modulus,
+            self.poisson_ratio,
+        )
+
+    @property
+    def azimuths(self):
+        """ψ_j = 2π j / Z (rad), (Z,)."""
+        return 2.0 * jnp.pi * jnp.arange(self.elements) / self.elements
+
+    def _contacts(self, displacement):
+        """(δ_j, cos α_j, sin α_j), each (Z,)."""
+        d = jnp.asarray(displacement)
+        psi = self.azimuths
+        c, s = jnp.cos(psi), jnp.sin(psi)
+        A, a0, rp = self.curvature_distance, self.nominal_angle, 0.5 * self.pitch_diameter
+        ar = A * jnp.cos(a0) - 0.5 * self.clearance + d[0] * c + d[1] * s
+        az = A * jnp.sin(a0) + d[2] + rp * (d[3] * s - d[4] * c)
+        length = jnp.sqrt(ar**2 + az**2)
+        return length - A, ar / length, az / length
+
+    def element_loads(self, displacement):
+        delta = self._contacts(displacement)[0]
+        return self.hertz_constant * _contact_power(delta, 1.5)
+
+    def contact_pressure(self, displacement):
+        """p_max = 3Q / (2π a b) of each ball's inner and outer contact (Pa), (Z, 2), with
+        a = (6 κ² ℰ Q R / (π E'))^(1/3), b = (6 ℰ Q R / (π κ E'))^(1/3) (Harris & Kotzalas;
+        Brewe & Hamrock's κ, ℰ) at the nominal contact angle."""
+        Q = self.element_loads(displacement)
+        Ep = self.youngs_modulus / (1.0 - self.poisson_ratio**2)
+        out = []
+        for f, inner in ((self.inner_conformity, True), (self.outer_conformity, False)):
+            _, kappa, E2, _, R = point_contact(self.element_diameter, self.pitch_diameter,
+                                               self.nominal_angle, f, self.youngs_modulus,
+                                               self.poisson_ratio, inner)
+            a = (6.0 * kappa**2 * E2 * Q * R / (jnp.pi * Ep)) ** (1.0 / 3.0)
+            b = (6.0 * E2 * Q * R / (jnp.pi * kappa * Ep)) ** (1.0 / 3.0)
+            out.append(jnp.where(Q > 0, 1.5 * Q / (jnp.pi * jnp.where(Q > 0, a * b, 1.0)), 0.0))
+        return jnp.stack(out, axis=-1)
+
+    def load(self, displacement):
+        delta, ca, sa = self._contacts(displacement)
+        Q = self.hertz_constant * _contact_power(delta, 1.5)
+        psi = self.azimuths
+        c, s, rp = jnp.cos(psi), jnp.sin(psi), 0.5 * self.pitch_diameter
+        rows = jnp.stack([ca * c, ca * s, sa, rp * sa * s, -rp * sa * c])
+        return rows @ Q
+
+    def potential(self, displacement):
+        delta = self._contacts(displacement)[0]
+        return self.hertz_constant / 2.5 * jnp.sum(_contact_power(delta, 2.5))
+
+
+class DeepGrooveBall(_Ball):
+    """A single-row deep groove ball bearing: nominal contact angle 0, an axial load taken up
+    at the free contact angle of its clearance, cos α₀ = 1 − P_d / (2A) (Harris & Kotzalas),
+    and beyond as the load turns the contact.
+
+    Attributes:
+        bore, outer_diameter, width: boundary dimensions d, D, B (m).
+        elements: the number of balls Z (int >= 3, Z D < π d_m).
+        element_diameter: the ball diameter D_w (m), inside the ring section (D − d)/2.
+        pitch_diameter: d_m (m), between d + D_w and D − D_w.
+        clearance: the diametral (radial internal) clearance P_d (m), 0 <= P_d < 2A (above, a
+            ball could never touch both grooves); a negative value down to −D_w/100 is a
+            radial preload (interference).
+        inner_conformity, outer_conformity: f_i, f_o = groove radius / D_w, in (0.5, 0.6]
+            (default 0.52: typical, catalogues do not state them; Harris & Kotzalas).
+        youngs_modulus, poisson_ratio: the balls' and rings' material (Pa, -); steel default.
+        dynamic_rating, static_rating: C and C₀ (N), for the ISO 281 life; ``None`` if not given.
+        iso281_f0: ISO 281's factor f₀ (catalogue) for the table of X and Y; ``None``: not given.
+
+    Raises:
+        ValueError: any argument out of its range, in one line naming it, its value and the
+            allowed range (a ball larger than the ring section, a clearance larger than the
+            ball, too many balls for the pitch circle, ...).
+    """
+
+    iso281_f0: float | None = eqx.field(default=None, converter=_optional)
+
+    axial_load: ClassVar[str] = "both"
+
+    def __check_init__(self):
+        w = "DeepGrooveBall"
+        self._check_ball(w)
+        A = float(self.curvature_distance)
+        check_real("clearance", self.clearance, "m", lo=-0.01 * float(self.element_diameter),
+                   hi=min(float(self.element_diameter), 2.0 * A), hi_open=True,
+                   where=f"{w} (diametral clearance; below the ball diameter and 2A = "
+                   f"2 (f_i + f_o - 1) D_w)")
+        if self.iso281_f0 is not None:
+            check_real("iso281_f0", self.iso281_f0, "", lo=0.0, lo_open=True, where=w)
+
+    @property
+    def nominal_angle(self):
+        """0: a deep groove bearing's contact angle under a radial load (its Hertz constant,
+        pressures and tones are taken there)."""
+        return 0.0
+
+    @property
+    def free_contact_angle(self):
+        """α₀ = arccos(1 − P_d / (2A)) (rad): the contact angle at which an axial shift takes up
+        the clearance (Harris & Kotzalas), 0 without clearance."""
+        A = self.curvature_distance
+        return jnp.arccos(1.0 - jnp.maximum(self.clearance, 0.0) / (2.0 * A))
+
+    def _contacts(self, displacement):
+        # the clearance is already in the free angle's geometry: A cos α₀ = A − P_d/2
+        d = jnp.asarray(displacement)
+        psi = self.azimuths
+        c, s = jnp.cos(psi), jnp.sin(psi)
+        A, rp = self.curvature_distance, 0.5 * self.pitch_diameter
+        ar = A - 0.5 * self.clearance + d[0] * c + d[1] * s
+        az = d[2] + rp * (d[3] * s - d[4] * c)
+        length = jnp.sqrt(ar**2 + az**2)
+        return length - A, ar / length, az / length
+
+    @property
+    def hertz_constant(self):
+        return point_contact_constant(
+            self.element_diameter, self.pitch_diameter, 0.0, self.inner_conformity,
+            self.outer_conformity, self.youngs_modulus, self.poisson_ratio,
+        )
+
+    def equivalent_load(self, radial, axial):
+        """ISO 281:2007 Table 3, single-row radial ball bearing (normal clearance): e and Y
+        interpolated linearly in f₀ F_a / C₀; P = F_r for F_a/F_r <= e, else 0.56 F_r + Y F_a.
+
+        Raises:
+            ValueError: ``static_rating`` or ``iso281_f0`` not given (one line)."""
+        if self.static_rating is None or self.iso281_f0 is None:
+            raise ValueError(
+                "DeepGrooveBall.equivalent_load: static_rating and iso281_f0 = None: allowed "
+                "both given (C0 in N and f0 from the catalogue: ISO 281's X, Y table)"
+            )
+        Fr, Fa = jnp.asarray(radial, float), jnp.asarray(axial, float)
+        x = self.iso281_f0 * jnp.abs(Fa) / self.static_rating
+        xp, ep, yp = (jnp.asarray(v) for v in ISO281_BALL)
+        e = jnp.interp(x, xp, ep)
+        Y = jnp.interp(x, xp, yp)
+        heavy = jnp.abs(Fa) > e * Fr
+        return jnp.where(heavy, 0.56 * Fr + Y * jnp.abs(Fa), Fr)
+
+
+#: ISO 281:2007 Table 3, single-row radial ball bearings, normal clearance: f₀ F_a / C₀, e, Y
+#: (X = 0.56 where F_a / F_r > e); beyond the ends the end values
+ISO281_BALL = (
+    (0.172, 0.345, 0.689, 1.03, 1.38, 2.07, 3.45, 5.17, 6.89),
+    (0.19, 0.22, 0.26, 0.28, 0.30, 0.34, 0.38, 0.42, 0.44),
+    (2.30, 1.99, 1.71, 1.55, 1.45, 1.31, 1.15, 1.04, 1.00),
+)
+#: ISO 281:2007 Table 3, single-row angular contact ball bearings: α (deg) -> (e, X, Y) for
+#: F_a / F_r > e (X = 1, Y = 0 below)
+ISO281_ANGULAR = {
+    25: (0.68, 0.41, 0.87),
+    30: (0.80, 0.39, 0.76),
+    35: (0.95, 0.37, 0.66),
+    40: (1.14, 0.35, 0.57),
+    45: (1.34, 0.33, 0.50),
+}
+
+
+class AngularContactBall(_Ball):
+    """A single-row angular contact ball bearing: carries an axial load one way (+z, the
+    inner ring pressed onto its raceway's high shoulder). Fields as :class:`DeepGrooveBall`
+    (its ``clearance``: 0 <= P_d < D_w, an axial preload enters as the operating point's δ_z)
+    and:
+
+    Attributes:
+        contact_angle: the nominal (free) contact angle α₀ (rad), 0 < α₀ < π/2.
+
+    Raises:
+        ValueError: as :class:`DeepGrooveBall`; α₀ = 0 or >= 90° (a thrust bearing is not a
+            kind here).
+    """
+
+    contact_angle: float = _real(0.6981317007977318)  # 40°, the "B" series
+
+    axial_load: ClassVar[str] = "positive"
+
+    def __check_init__(self):
+        w = "AngularContactBall"
+        self._check_ball(w)
+        check_real("contact_angle", self.contact_angle, "rad", lo=0.0, hi=0.5 * math.pi,
+                   lo_open=True, hi_open=True, where=w)
+        check_real("clearance", self.clearance, "m", lo=-0.01 * float(self.element_diameter),
+                   hi=float(self.element_diameter), hi_open=True,
+                   where=f"{w} (diametral clearance, below the ball diameter)")
+
+    @property
+    def nominal_angle(self):
+        return self.contact_angle
+
+    def equivalent_load(self, radial, axial):
+        """ISO 281:2007 Table 3, single-row angular contact ball bearing at α = 25, 30, 35, 40
+        or 45°: P = F_r for F_a/F_r <= e, else X F_r + Y F_a.
+
+        Raises:
+            ValueError: a contact angle not one of the table's (one line)."""
+        deg = math.degrees(float(self.contact_angle))
+        row = ISO281_ANGULAR.get(round(deg))
+        if row is None or abs(deg - round(deg)) > 1e-6:
+            raise ValueError(
+                f"AngularContactBall.equivalent_load: contact_angle = {deg:.6g} deg: allowed "
+                "25, 30, 35, 40 or 45 deg (ISO 281's table of X and Y)"
+            )
+        e, X, Y = row
+        Fr, Fa = jnp.asarray(radial, float), jnp.abs(jnp.asarray(axial, float))
+        return jnp.where(Fa > e * Fr, X * Fr + Y * Fa, Fr)
+
+
+class _Roller(AbstractRollingBearing):
+    """Roller kinds: line contact, the contact angle fixed (Lim & Singh, Part I), each roller
+    cut into ``slices`` slices along its effective length l (slice k at t_k from its centre,
+    axial offset x_k = t_k cos α) so that a tilt loads a roller unevenly::
+
+        δ_jk = (δ_r,j + x_k θ_j − P_d/2) cos α + (δ_z − r_p θ_j) sin α
+        δ_r,j = δ_x cos ψ_j + δ_y sin ψ_j,   θ_j = γ_y cos ψ_j − γ_x sin ψ_j
+        q_jk = (K_n / slices) max(δ_jk, 0)^(10/9)
+
+    (K_n the whole roller's constant, :func:`~jaxgear.bearings.line_contact_constant`: a
+    uniform approach gives Q = K_n δ^(10/9)), f = Σ q_jk ∂δ_jk/∂d. Rollers are steel (the
+    line-contact constant is Palmgren's steel relation).
+    """
+
+    bore: float = _real()
+    outer_diameter: float = _real()
+    width: float = _real()
+    elements: int = eqx.field(static=True)
+    element_diameter: float = _real()
+    pitch_diameter: float = _real()
+    effective_length: float = _real()
+    clearance: float = _real(0.0)
+    slices: int = eqx.field(static=True, default=10)
+    dynamic_rating: float | None = eqx.field(default=None, converter=_optional)
+    static_rating: float | None = eqx.field(default=None, converter=_optional)
+
+    contact_exponent: ClassVar[float] = 10.0 / 9.0
+    life_exponent: ClassVar[float | None] = 10.0 / 3.0
+
+    @property
+    @abc.abstractmethod
+    def nominal_angle(self):
+        """The contact angle α (rad), fixed."""
+
+    def _check_roller(self, where):
+        _check_ring(where, self.bore, self.outer_diameter, self.width, self.elements,
+                    self.element_diameter, self.pitch_diameter, "roller")
+        check_real("effective_length", self.effective_length, "m", lo=0.0,
+                   hi=float(self.width), lo_open=True, where=f"{where} (at most the width)")
+        check_real("clearance", self.clearance, "m", lo=-0.01 * float(self.element_diameter),
+                   hi=float(self.element_diameter), hi_open=True,
+                   where=f"{where} (diametral clearance, below the roller diameter)")
+        check_integer(f"{where}: slices", self.slices, 1)
+        _check_rating(where, self.dynamic_rating, self.static_rating)
+
+    @property
+    def hertz_constant(self):
+        """K_n (N/m^(10/9)) of a whole roller between its raceways (Palmgren)."""
+        return line_contact_constant(self.effective_length)
+
+    @property
+    def azimuths(self):
+        """ψ_j = 2π j / Z (rad), (Z,)."""
+        return 2.0 * jnp.pi * jnp.arange(self.elements) / self.elements
+
+    def _geometry(self, displacement):
+        """(δ_jk (Z, S), the rows ∂δ_jk/∂d (5, Z, S))."""
+        d = jnp.asarray(displacement)
+        psi = self.azimuths
+        c, s = jnp.cos(psi)[:, None], jnp.sin(psi)[:, None]
+        S = self.slices
+        t = ((jnp.arange(S) + 0.5) / S - 0.5) * self.effective_length
+        ca, sa = jnp.cos(self.nominal_angle), jnp.sin(self.nominal_angle)
+        x = (t * ca)[None, :]
+        rp = 0.5 * self.pitch_diameter
+        dr = d[0] * c + d[1] * s
+        theta = d[4] * c - d[3] * s
+        delta = (dr + x * theta - 0.5 * self.clearance) * ca + (d[2] - rp * theta) * sa
+        one = jnp.ones_like(x)
+        rows = jnp.stack([
+            ca * c * one, ca * s * one, sa * jnp.ones_like(delta),
+            (-x * ca + rp * sa) * s, (x * ca - rp * sa) * c,
+        ])
+        return delta, rows
+
+    def element_loads(self, displacement):
+        delta = self._geometry(displacement)[0]
+        return self.hertz_constant / self.slices * _contact_power(delta, 10.0 / 9.0)
+
+    def contact_pressure(self, displacement):
+        """p_max = √(w E' / (2π R)) of each slice's inner and outer line contact (Pa), (Z,
+        slices, 2): w = q / (l / slices) the slice's load per length, R = D(1 ∓ γ)/2 the
+        contact's radius in the rolling direction, γ = D cos α / d_m, E' of steel (Hertz line
+        contact; Harris & Kotzalas)."""
+        w = self.element_loads(displacement) / (self.effective_length / self.slices)
+        g = self.element_diameter * jnp.cos(self.nominal_angle) / self.pitch_diameter
+        return jnp.stack([line_pressure(w, 0.5 * self.element_diameter * (1.0 - g)),
+                          line_pressure(w, 0.5 * self.element_diameter * (1.0 + g))], axis=-1)
+
+    def load(self, displacement):
+        delta, rows = self._geometry(displacement)
+        q = self.hertz_constant / self.slices * _contact_power(delta, 10.0 / 9.0)
+        return jnp.einsum("ijk,jk->i", rows, q)
+
+    def potential(self, displacement):
+        delta = self._geometry(displacement)[0]
+        return (self.hertz_constant / self.slices / (19.0 / 9.0)
+                * jnp.sum(_contact_power(delta, 19.0 / 9.0)))
+
+
+class CylindricalRoller(_Roller):
+    """A single-row cylindrical roller bearing without ribs to locate it axially (NU, N): α = 0,
+    no axial load (``axial_load = "none"``).
+
+    Attributes:
+        bore, outer_diameter, width: boundary dimensions (m).
+        elements: the number of rollers Z. element_diameter: the roller diameter D_w (m).
+        pitch_diameter: d_m (m). effective_length: the roller's effective length l (m),
+            0 < l <= width. clearance: diametral clearance P_d (m), −D_w/100 <= P_d < D_w.
+        slices: slices per roller (int >= 1; default 10).
+        dynamic_rating, static_rating: C and C₀ (N) or ``None``.
+
+    Raises:
+        ValueError: any argument out of its range (one line naming it).
+    """
+
+    axial_load: ClassVar[str] = "none"
+
+    def __check_init__(self):
+        self._check_roller("CylindricalRoller")
+
+    @property
+    def nominal_angle(self):
+        return 0.0
+
+    def equivalent_load(self, radial, axial):
+        """P = F_r (ISO 281, a radial roller bearing at α = 0 carries no axial load).
+
+        Raises:
+            ValueError: a non-zero axial load (one line)."""
+        if not isinstance(axial, jax.core.Tracer) and np.any(np.asarray(axial) != 0):
+            raise ValueError(
+                f"CylindricalRoller.equivalent_load: axial = {np.asarray(axial)} N: allowed 0 "
+                "(an NU bearing has no ribs to take an axial load)"
+            )
+        return jnp.asarray(radial, float)
+
+
+class TaperedRoller(_Roller):
+    """A single-row tapered roller bearing: the outer raceway's contact angle α fixed, an axial
+    load carried one way (+z). Fields as :class:`CylindricalRoller` (``element_diameter``: the
+    rollers' mean diameter) and:
+
+    Attributes:
+        contact_angle: α (rad), 0 < α < π/2 (catalogues give e = 1.5 tan α).
+
+    Raises:
+        ValueError: as :class:`CylindricalRoller`; α = 0 or >= 90°.
+    """
+
+    contact_angle: float = _real(0.25)  # rad
+
+    axial_load: ClassVar[str] = "positive"
+
+    def __check_init__(self):
+        w = "TaperedRoller"
+        self._check_roller(w)
+        check_real("contact_angle", self.contact_angle, "rad", lo=0.0, hi=0.5 * math.pi,
+                   lo_open=True, hi_open=True, where=w)
+
+    @property
+    def nominal_angle(self):
+        return self.contact_angle
+
+    def equivalent_load(self, radial, axial):
+        """ISO 281:2007 Table 4, single-row roller bearing, α ≠ 0: e = 1.5 tan α; P = F_r for
+        F_a/F_r <= e, else 0.4 F_r + 0.4 cot α F_a."""
+        Fr, Fa = jnp.asarray(radial, float), jnp.abs(jnp.asarray(axial, float))
+        e = 1.5 * jnp.tan(self.contact_angle)
+        return jnp.where(Fa > e * Fr, 0.4 * Fr + 0.4 / jnp.tan(self.contact_angle) * Fa, Fr)
