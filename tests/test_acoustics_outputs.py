@@ -226,7 +226,9 @@ def test_power_between_grid_frequencies_plate_and_gradient():
     assert errors[2] < errors[0] / 2 and errors[3] < errors[1] / 2
     grid = coarse
     rr = fa.radiation_resistance(plate, grid, method=fa.Rayleigh(), cache=False)
-    g = jax.grad(lambda a: ja.radiated_power_at(a + 0j, mid[2], rr.factors, grid))(v[0].real)
+    g = jax.jit(jax.grad(lambda a: ja.radiated_power_at(a + 0j, mid[2], rr.factors, grid)))(
+        v[0].real
+    )
     e = np.zeros_like(v[0].real)
     e[17], h = 1.0, 1e-6
     fd = (ja.radiated_power_at(v[0] + h * e, mid[2], rr.factors, grid)

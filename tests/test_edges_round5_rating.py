@@ -324,7 +324,9 @@ def test_given_factors_traced_under_grad_and_jit(rated):
         return jr.rate(geometry, op, s).pitting.S_H
 
     k = 1.3
-    jac = jax.jacfwd(s_h)(jnp.asarray(k))
+    # compiled: eagerly each primitive of the rating's tangent compiles on its own (this test
+    # 5.4 -> 3.2 CPU s alone)
+    jac = jax.jit(jax.jacfwd(s_h))(jnp.asarray(k))
     np.testing.assert_allclose(jac, -s_h(k) / (2 * k), rtol=1e-10)
 
     @jax.jit

@@ -259,6 +259,8 @@ RACER = textwrap.dedent(
 )
 
 
+# default tier: tests/test_fe_cache.py::test_cli_fillet_table_reads_the_disk_cache_in_a_new_process (an entry written whole and read back) and test_damaged_or_stale_entry_is_solved_again_and_replaced (a torn entry is solved again)
+@pytest.mark.slow  # an environment property run in subprocesses (two racing writers)
 def test_two_processes_writing_the_same_entry_leave_one_whole_file(cache, tmp_path, fresh):
     sync = tmp_path / "sync"
     sync.mkdir()
