@@ -384,6 +384,9 @@ def _add_size(s) -> None:
                    "candidate_K.toml, that jaxgear run rates")
     s.add_argument("--top", type=int, default=20,
                    help="feasible candidates printed, lightest first (default: 20)")
+    s.add_argument("--refine", action="store_true",
+                   help="refine each candidate's helix angle, profile shifts and face width by "
+                   "gradients (as [sizing] refine = true)")
     s.add_argument("--force", action="store_true", help=FORCE_HELP)
     s.add_argument("--quiet", action="store_true", help="no progress bar nor ranked list")
 

@@ -84,6 +84,15 @@ def run_size(args) -> int:
     finally:
         if bar is not None:
             bar.close()
+    refining = bool(args.refine or spec.refine)
+    if refining:
+        bar = None if args.quiet else progress(total=n, desc=f"refine {tables['name']}",
+                                               unit="candidate")
+        try:
+            table = sizing.refine(spec, table, progress=step)
+        finally:
+            if bar is not None:
+                bar.close()
     seconds = time.perf_counter() - t0
     ranked = table.ranked()
     cols = table.columns
@@ -107,6 +116,10 @@ def run_size(args) -> int:
                       "d_f²)/8 per gear",
         "seconds": round(seconds, 3),
     }
+    if refining:
+        summary |= {"refine_objective": spec.refine_objective,
+                    "refined": int(table.columns["refined"].sum()),
+                    "refine_converged": int(table.columns["refine_converged"].sum())}
     with staged_outputs(out, "size") as work:
         write_table(os.path.join(work, "sizing.csv"), table)
         _write_parquet(os.path.join(work, "sizing.parquet"), table)

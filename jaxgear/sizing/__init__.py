@@ -13,6 +13,12 @@ from ._candidates import (
     enumerate_candidates as enumerate_candidates,
     ratio_pairs as ratio_pairs,
 )
+from ._refine import (
+    MARGIN as MARGIN,
+    OBJECTIVES as OBJECTIVES,
+    TOLERANCE as TOLERANCE,
+    refine as refine,
+)
 from ._size import (
     CHECKS as CHECKS,
     GEOMETRIC as GEOMETRIC,

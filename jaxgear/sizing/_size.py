@@ -67,14 +67,16 @@ def _static(spec: SizingSpec) -> tuple:
             spec.tip_thickness_min)
 
 
-def candidate_outputs(spec: SizingSpec, normal_module, z1, z2, x1, x2, face_width):
+def candidate_outputs(spec: SizingSpec, normal_module, z1, z2, x1, x2, face_width,
+                      helix_angle=None):
     """One candidate's outputs and checks, the function :func:`size` maps over the candidates
     (``jax.numpy``: traceable; called eagerly it rates one candidate).
 
     Args:
         spec: the :class:`SizingSpec` (its angles, rack, settings and operating point).
         normal_module: m_n (m). z1, z2: the tooth counts (floats, whole numbers). x1, x2: the
-            profile shifts. face_width: b (m), both gears.
+            profile shifts. face_width: b (m), both gears. helix_angle: β (rad, traceable: a
+            refined design's), or None: the spec's.
 
     Returns:
         (outputs, passed): outputs (len(:data:`OUTPUTS`),) in that order (SI; the rating's
@@ -83,12 +85,17 @@ def candidate_outputs(spec: SizingSpec, normal_module, z1, z2, x1, x2, face_widt
         :func:`size` reads off the table), in that order, True where passed.
     """
     c = {"m": normal_module, "z1": z1, "z2": z2, "x1": x1, "x2": x2, "b": face_width}
-    return _one(c, _static(spec), spec.settings, spec.operating)
+    static = _static(spec)
+    if helix_angle is not None:
+        static = (static[0], helix_angle) + static[2:]
+    return _one(c, static, spec.settings, spec.operating)
 
 
-def _one(c, spec_static, settings, operating):
+def _one(c, spec_static, settings, operating, margins=False):
     """The outputs (:data:`OUTPUTS`) and the checks (:data:`CHECKS`, True = passed) of one
-    candidate ``c`` (a dict of scalars: m, z1, z2, x1, x2, b)."""
+    candidate ``c`` (a dict of scalars: m, z1, z2, x1, x2, b); with ``margins`` also the
+    geometric checks' continuous margins (m, each >= 0 where passed: the refinement's
+    constraints) and the centre distance (m)."""
     an, beta, ha, hf, rho, grade, s_min_t = spec_static
     m, z = c["m"], jnp.stack([c["z1"], c["z2"]])
     x = jnp.stack([c["x1"], c["x2"]])
@@ -139,7 +146,12 @@ def _one(c, spec_static, settings, operating):
         "pitting": jnp.all(s_h >= settings.min_safety_pitting),
         "bending": jnp.all(s_f >= settings.min_safety_bending),
     }
-    return outputs, jnp.stack([checks[k] for k in CHECKS if k in checks])
+    passed = jnp.stack([checks[k] for k in CHECKS if k in checks])
+    if margins:
+        return outputs, passed, {"root": df, "tip": da - db, "tip_thickness": s_an - s_min_t * m,
+                                 "undercut": form, "interference": start - form,
+                                 "tip_root_clearance": clear, "centre_distance": a}
+    return outputs, passed
 
 
 @dataclasses.dataclass(frozen=True)

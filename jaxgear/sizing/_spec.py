@@ -64,6 +64,17 @@ class SizingSpec:
             d1); below b_min the candidate is rejected.
         outer_diameter_max: the largest tip diameter of either gear (m), or None.
         tip_thickness_min: the least normal tooth thickness at the tip, as a multiple of m_n.
+        helix_angle_range: (β_min, β_max) (rad), the range the refinement
+            (:func:`jaxgear.sizing.refine`) solves β in, or None: β fixed at ``helix_angle``
+            (the enumeration's).
+        profile_shift_range: (x_min, x_max), the range the refinement solves each profile shift
+            in, or None: the shifts fixed as enumerated (with a fixed centre distance x2 still
+            follows from it and β).
+        refine: whether ``jaxgear size`` refines the continuous variables
+            (:func:`jaxgear.sizing.refine`). refine_objective: what the refinement optimises,
+            a key of :data:`jaxgear.sizing.OBJECTIVES` (``"mass"``: the lightest blanks
+            meeting every limit; ``"margin"``: the largest least safety margin at no more
+            than the enumerated design's mass).
     """
 
     operating: OperatingPoint
@@ -84,6 +95,10 @@ class SizingSpec:
     face_width_ratio: float | None = None
     outer_diameter_max: float | None = None
     tip_thickness_min: float = 0.2
+    helix_angle_range: tuple[float, float] | None = None
+    profile_shift_range: tuple[float, float] | None = None
+    refine: bool = False
+    refine_objective: str = "mass"
 
     def __post_init__(self):
         w = "SizingSpec"
@@ -96,6 +111,14 @@ class SizingSpec:
             if v is not None and not (len(v) == 2 and v[0] <= v[1]):
                 raise ValueError(f"{w}: {name} = {v!r} is out of range: allowed (lo, hi) with "
                                  "lo <= hi")
+        for name in ("helix_angle_range", "profile_shift_range"):
+            v = getattr(self, name)
+            if v is not None and not (len(v) == 2 and v[0] <= v[1]):
+                raise ValueError(f"{w}: {name} = {v!r} is out of range: allowed (lo, hi) with "
+                                 "lo <= hi")
+        if self.refine_objective not in ("mass", "margin"):
+            raise ValueError(f"{w}: refine_objective = {self.refine_objective!r} is out of "
+                             "range: allowed 'mass', 'margin'")
         if not self.normal_modules:
             raise ValueError(f"{w}: normal_modules = () is out of range: allowed one or more")
         if not self.ratio >= 1.0 or not self.ratio_tolerance >= 0.0:
