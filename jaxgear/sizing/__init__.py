@@ -16,6 +16,7 @@ from ._candidates import (
 from ._refine import (
     MARGIN as MARGIN,
     OBJECTIVES as OBJECTIVES,
+    STARTS as STARTS,
     TOLERANCE as TOLERANCE,
     refine as refine,
 )

@@ -9,9 +9,10 @@ fixed number of iterations around ``optimistix.BFGS`` inner minimisations, the w
 shape). The bounds of each variable are kept by a smooth map of an unbounded one,
 v = lo + (hi − lo)(1 + sin y)/2; the validity checks of :data:`jaxgear.sizing.CHECKS` (their
 continuous margins, scaled by m_n or by the minimum safety factors) and the spec's limits are
-the inequality constraints, each held at least :data:`MARGIN` inside. Every optimum is re-rated
-by the sizing's own candidate function and its own checks: one that fails any (or is worse than
-the enumerated design) is not reported; the row keeps its enumerated design.
+the inequality constraints, each held at least :data:`MARGIN` inside. Each candidate is solved
+from its enumerated design and from the further :data:`STARTS` (local optima). Every optimum is
+re-rated by the sizing's own candidate function and its own checks: one that fails any (or is
+worse than the enumerated design) is not reported; the row keeps its enumerated design.
 """
 
 from __future__ import annotations
@@ -29,7 +30,7 @@ from ._candidates import Candidates, enumerate_candidates
 from ._size import OUTPUTS, SizingTable, _one, _static, _table, size
 from ._spec import SizingSpec
 
-__all__ = ["MARGIN", "OBJECTIVES", "TOLERANCE", "refine"]
+__all__ = ["MARGIN", "OBJECTIVES", "STARTS", "TOLERANCE", "refine"]
 
 #: what the refinement can optimise: name → what it asks
 OBJECTIVES = {
@@ -43,6 +44,10 @@ MARGIN = 1e-4
 #: the largest scaled violation of g >= MARGIN at a converged optimum (the reported design must
 #: in any case pass every check exactly)
 TOLERANCE = 1e-5
+#: the further starts of each candidate's solve (the problem has local optima: β against the
+#: shifts), as fractions of the ranges of (β, x1, x2); the face width starts as enumerated
+STARTS = ((0.25, 0.25, 0.75), (0.75, 0.75, 0.25), (0.25, 0.75, 0.25), (0.75, 0.25, 0.75),
+          (0.9, 0.1, 0.5), (0.1, 0.9, 0.5), (0.9, 0.5, 0.9), (0.5, 0.1, 0.1))
 #: a large stand-in (m, or dimensionless) for a limit the spec does not set
 _FREE = 1e3
 #: the inner minimisations' relative tolerance (optimistix's Cauchy test on y and f)
@@ -199,6 +204,7 @@ def _start(v0, lo, hi):
 
 def refine(spec: SizingSpec, table: SizingTable | None = None, *, rows=None,
            objective: str | None = None, outer: int = 12, inner: int = 40, chunk: int = 64,
+           starts: int = len(STARTS) + 1,
            progress: Callable[[int, int], None] | None = None) -> SizingTable:
     """Refine the continuous variables of ``spec``'s candidates: the helix angle within
     ``spec.helix_angle_range``, the profile shifts within ``spec.profile_shift_range`` (x1
@@ -224,7 +230,10 @@ def refine(spec: SizingSpec, table: SizingTable | None = None, *, rows=None,
         rows: the rows to refine (an index array; None: every row).
         objective: a key of :data:`OBJECTIVES`, or None: ``spec.refine_objective``.
         outer: the augmented-Lagrangian iterations (fixed). inner: the most BFGS steps each.
-        chunk: candidates per call of the compiled program (the last padded).
+        chunk: solves per call of the compiled program (the last padded).
+        starts: the solves of each candidate: from its enumerated design, then from the
+            first ``starts`` − 1 points of :data:`STARTS`; the best design that passes every
+            check is reported (1 to ``len(STARTS) + 1``).
         progress: called as ``progress(done, total)`` after each chunk, or None.
 
     Returns:
@@ -243,9 +252,11 @@ def refine(spec: SizingSpec, table: SizingTable | None = None, *, rows=None,
     if objective not in OBJECTIVES:
         raise ValueError(f"refine: objective = {objective!r} is out of range: allowed "
                          f"{', '.join(map(repr, OBJECTIVES))}")
-    for name, v in (("outer", outer), ("inner", inner), ("chunk", chunk)):
-        if isinstance(v, bool) or not isinstance(v, int) or v < 1:
-            raise ValueError(f"refine: {name} = {v!r} is out of range: allowed an integer >= 1")
+    for name, v, top in (("outer", outer, None), ("inner", inner, None), ("chunk", chunk, None),
+                         ("starts", starts, len(STARTS) + 1)):
+        if isinstance(v, bool) or not isinstance(v, int) or v < 1 or (top and v > top):
+            raise ValueError(f"refine: {name} = {v!r} is out of range: allowed an integer >= 1"
+                             + (f" and <= {top}" if top else ""))
     cands = enumerate_candidates(spec)
     n = len(cands)
     rows = np.arange(n) if rows is None else np.asarray(rows, dtype=int).reshape(-1)
@@ -264,42 +275,50 @@ def refine(spec: SizingSpec, table: SizingTable | None = None, *, rows=None,
         (spec.settings, spec.operating))
     lo, hi = _bounds(spec, cands)
     v0 = np.stack([np.full(n, spec.helix_angle), cands.x1, cands.x2, cands.face_width], 1)
-    y0 = np.concatenate([_start(v0, lo, hi), np.nan_to_num(
-        table.columns["least_margin"], nan=0.0)[:, None]], 1)
+    margin0 = np.nan_to_num(table.columns["least_margin"], nan=0.0)[:, None]
     mass0 = table.columns["mass_kg"]
+    y0 = [np.concatenate([_start(v0, lo, hi), margin0], 1)]
+    for frac in STARTS[: starts - 1]:
+        v = np.concatenate([lo[:, :3] + np.asarray(frac) * (hi[:, :3] - lo[:, :3]), v0[:, 3:]], 1)
+        y0.append(np.concatenate([_start(v, lo, hi), margin0], 1))
+    y0 = np.stack(y0, 1)  # (n, starts, 5)
     fields = {"m": cands.normal_module, "z1": cands.z1.astype(float),
-              "z2": cands.z2.astype(float), "lo": lo, "hi": hi, "y0": y0,
+              "z2": cands.z2.astype(float), "lo": lo, "hi": hi,
               "mass0": np.where(np.isfinite(mass0) & (mass0 > 0), mass0, 1.0),
               "lim": np.broadcast_to(_limits(spec), (n, 8))}
-    k = rows.size
+    # every (row, start) a solve of the batch, row-major
+    who, which = np.repeat(rows, starts), np.tile(np.arange(starts), rows.size)
+    fields = {name: v[who] for name, v in fields.items()} | {"y0": y0[who, which]}
+    k = who.size
     design, conv, viol = np.zeros((k, 4)), np.zeros(k, bool), np.zeros(k)
     for start in range(0, k, chunk):
         stop = min(start + chunk, k)
-        idx = rows[np.r_[np.arange(start, stop), np.full(chunk - (stop - start), stop - 1)]]
+        idx = np.r_[np.arange(start, stop), np.full(chunk - (stop - start), stop - 1)]
         batch = {name: jnp.asarray(v[idx], dtype=float) for name, v in fields.items()}
         d, c, e = _solve(batch, static, settings, operating, fixed, objective, outer, inner)
         design[start:stop] = np.asarray(d)[: stop - start]
         conv[start:stop] = np.asarray(c)[: stop - start]
         viol[start:stop] = np.asarray(e)[: stop - start]
         if progress is not None:
-            progress(stop, k)
-    return _merge(spec, table, cands, rows, design, conv, viol, objective, static, settings,
-                  operating, chunk)
+            progress(stop // starts, rows.size)
+    return _merge(spec, table, cands, rows, starts, design, conv, viol, objective, static,
+                  settings, operating, chunk)
 
 
-def _merge(spec, table, cands, rows, design, conv, viol, objective, static, settings,
-           operating, chunk) -> SizingTable:
-    """The table with each refined design that passes every check (and beats or replaces an
-    infeasible enumerated one) in its row, re-rated; the refinement's columns."""
+def _merge(spec, table, cands, rows, starts, design, conv, viol, objective, static,
+           settings, operating, chunk) -> SizingTable:
+    """The table with each row's best refined design (of its starts) that passes every check
+    (and beats or replaces an infeasible enumerated one), re-rated; the refinement's
+    columns (of the reported solve; of the least violation where none passes)."""
     n = len(cands)
-    k = rows.size
     cols = {name: np.array(v, copy=True) for name, v in table.columns.items()}
     failed = np.array(table.failed, copy=True)
     cols["helix_angle_rad"] = np.full(n, float(spec.helix_angle))
     refined, converged, violation = np.zeros(n, int), np.zeros(n, int), np.full(n, np.nan)
-    converged[rows], violation[rows] = conv.astype(int), viol
+    k = design.shape[0]
     if k:
-        m, z1, z2 = cands.normal_module[rows], cands.z1[rows], cands.z2[rows]
+        who = np.repeat(rows, starts)
+        m, z1, z2 = cands.normal_module[who], cands.z1[who], cands.z2[who]
         batch = {"m": m, "z1": z1.astype(float), "z2": z2.astype(float), "beta": design[:, 0],
                  "x1": design[:, 1], "x2": design[:, 2], "b": design[:, 3]}
         o, passed, a = [], [], []
@@ -316,15 +335,22 @@ def _merge(spec, table, cands, rows, design, conv, viol, objective, static, sett
         new = Candidates(m, z1, z2, design[:, 1], design[:, 2], design[:, 3], a)
         t = _table(spec, new, o, passed)
         ok = t.feasible & _in_ranges(spec, new, design[:, 0], t.columns["reference_diameter_1_m"])
+        score = t.columns["mass_kg"] if objective == "mass" else -t.columns["least_margin"]
+        score = np.where(ok, score, np.inf).reshape(-1, starts)
+        best = np.where(np.isfinite(score).any(axis=1), np.argmin(score, axis=1),
+                        np.argmin(viol.reshape(-1, starts), axis=1))
+        pick = np.arange(rows.size) * starts + best
+        converged[rows], violation[rows] = conv[pick].astype(int), viol[pick]
         if objective == "mass":
-            better = t.columns["mass_kg"] <= table.columns["mass_kg"][rows]
+            better = t.columns["mass_kg"][pick] <= table.columns["mass_kg"][rows]
         else:
-            better = t.columns["least_margin"] >= table.columns["least_margin"][rows]
-        take = ok & (better | ~table.feasible[rows])
+            better = t.columns["least_margin"][pick] >= table.columns["least_margin"][rows]
+        take = ok[pick] & (better | ~table.feasible[rows])
+        src = pick[take]
         for name, v in t.columns.items():
-            cols[name][rows[take]] = v[take]
-        cols["helix_angle_rad"][rows[take]] = design[take, 0]
-        failed[rows[take]] = t.failed[take]
+            cols[name][rows[take]] = v[src]
+        cols["helix_angle_rad"][rows[take]] = design[src, 0]
+        failed[rows[take]] = t.failed[src]
         refined[rows[take]] = 1
     cols |= {"refined": refined, "refine_converged": converged, "refine_violation": violation}
     return SizingTable(cols, failed)
