@@ -129,6 +129,9 @@ BAD = [
     ({"helix_angle_deg": [8.0, 45.0]}, "[sizing] helix_angle_deg"),
     ({"helix_angle_deg": [8.0]}, "[sizing] helix_angle_deg"),
     ({"refine_objective": "noise"}, "[sizing] refine_objective = 'noise'"),
+    ({"helix_angle_deg": [8.0, 20.0, 30.0]},
+     "[sizing] helix_angle_deg = [8, 20, 30]: must be an array of 2 numbers"),
+    ({"refine": "yes"}, "[sizing] refine = 'yes': must be true or false"),
 ]
 
 
