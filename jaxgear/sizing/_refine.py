@@ -52,6 +52,8 @@ STARTS = ((0.25, 0.25, 0.75), (0.75, 0.75, 0.25), (0.25, 0.75, 0.25), (0.75, 0.2
 _FREE = 1e3
 #: the inner minimisations' relative tolerance (optimistix's Cauchy test on y and f)
 _RTOL = 1e-8
+
+
 def _shift_sum(m, z1, z2, an, beta, a):
     """The sum x1 + x2 whose zero-backlash centre distance is ``a`` (ISO 21771), and
     cos α_wt (< 1 where ``a`` is reachable)."""
