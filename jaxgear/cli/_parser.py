@@ -393,6 +393,9 @@ def _add_size(s) -> None:
     s.add_argument("--te", type=int, metavar="N",
                    help="the transmission-error stage for the N best feasible candidates "
                    "(default: the spec's te_candidates, 3; 0: none)")
+    s.add_argument("--refine", action="store_true",
+                   help="refine each candidate's helix angle, profile shifts and face width by "
+                   "gradients (as [sizing] refine = true)")
     s.add_argument("--force", action="store_true", help=FORCE_HELP)
     s.add_argument("--chunk", type=int, default=2048,
                    help="candidates per call of the compiled program, per device (default: "

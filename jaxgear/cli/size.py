@@ -128,6 +128,15 @@ def run_size(args) -> int:
     finally:
         if bar is not None:
             bar.close()
+    refining = bool(args.refine or spec.refine)
+    if refining:
+        bar = None if args.quiet else progress(total=n, desc=f"refine {tables['name']}",
+                                               unit="candidate")
+        try:
+            table = sizing.refine(spec, table, progress=step)
+        finally:
+            if bar is not None:
+                bar.close()
     seconds = time.perf_counter() - t0
     if not writer:
         return 0
@@ -179,6 +188,10 @@ def run_size(args) -> int:
             "seconds": round(te_seconds, 3),
         },
     } | _pareto_summary(spec, table, front)
+    if refining:
+        summary |= {"refine_objective": spec.refine_objective,
+                    "refined": int(table.columns["refined"].sum()),
+                    "refine_converged": int(table.columns["refine_converged"].sum())}
     with staged_outputs(out, "size") as work:
         write_table(os.path.join(work, "sizing.csv"), table)
         _write_parquet(os.path.join(work, "sizing.parquet"), table)

@@ -46,6 +46,12 @@ Tables (file units in the key names)::
     te_torques = 4                  # to the rated one in this many equal steps, [1, 16],
                                     # default 4 (1: the rated torque alone)
     te_max_iterations = 50          # the modification optimiser's cap, [1, 1000], default 50
+    refine = true                   # refine the continuous variables by gradients, default
+                                    # false (jaxgear size --refine too)
+    refine_objective = "mass"       # "mass" (default) | "margin"
+    # helix_angle_deg = [8.0, 20.0] # a range: β refined within it (enumerated at its middle)
+    profile_shift_min = -0.5        # each shift refined within these, [-1, 2]; both or
+    profile_shift_max = 1.0         # neither (neither: the shifts stay as enumerated)
     [lubricant]                     # optional: the oil of the mesh loss columns, and
     [pareto]                        # the objectives of the front (jaxgear.io._pareto_table)
 
@@ -82,7 +88,7 @@ from ._pareto_table import parse_pareto, parse_sizing_lubricant
 from ._rating_inputs import modification_inputs
 from ._rating_material_table import MaterialRatingKeys, refuse_unread_material
 from ._rating_table import RatingSection, rating_settings
-from ._sections import Section, number, number_list
+from ._sections import Section, number, number_list, one_of
 from ._writers import toml_value
 
 __all__ = ["SizingSection", "SpecOperating", "candidate_case_text", "load_sizing_spec",
@@ -127,7 +133,8 @@ class SizingSection(Section):
     z1_min: number("[5, 300]", integer=True)
     z1_max: number("[5, 300]", integer=True)
     normal_pressure_angle_deg: number("(10, 35)") = 20.0
-    helix_angle_deg: number("[0, 40)") = 0.0
+    helix_angle_deg: one_of(number=number("[0, 40)"),
+                            array=number_list("[0, 40)", length=2)) = 0.0
     profile_shift: number_list("[-1, 2]", length=2) = pydantic.Field(
         default_factory=lambda: [0.0, 0.0])
     addendum_coeff: number("(0, 2]") = 1.0
@@ -147,6 +154,15 @@ class SizingSection(Section):
     te_torque_min_percent: number("(0, 100]") = 25.0
     te_torques: number("[1, 16]", integer=True) = 4
     te_max_iterations: number("[1, 1000]", integer=True) = 50
+    refine: bool = False
+    refine_objective: Literal["mass", "margin"] = "mass"
+    profile_shift_min: number("[-1, 2]") | None = None
+    profile_shift_max: number("[-1, 2]") | None = None
+
+    def helix_angles_deg(self) -> tuple[float, float]:
+        """(β_min, β_max) in degrees: the range given, or the one angle twice."""
+        v = self.helix_angle_deg
+        return (v[0], v[1]) if isinstance(v, list) else (v, v)
 
     @pydantic.model_validator(mode="after")
     def _related(self):
@@ -154,7 +170,8 @@ class SizingSection(Section):
         for lo, hi in (("normal_module_min_mm", "normal_module_max_mm"), ("z1_min", "z1_max"),
                        ("face_width_min_mm", "face_width_max_mm"),
                        ("centre_distance_min_mm", "centre_distance_max_mm"),
-                       ("profile_shift_sum_min", "profile_shift_sum_max")):
+                       ("profile_shift_sum_min", "profile_shift_sum_max"),
+                       ("profile_shift_min", "profile_shift_max")):
             a, b = getattr(self, lo), getattr(self, hi)
             if a is not None and b is not None and b < a:
                 raise sc.fail(w, hi, f"below {lo} = {sc.fmt(a)}: an empty range", b)
@@ -163,6 +180,15 @@ class SizingSection(Section):
             raise sc.fail(w, "centre_distance_mm", "give a fixed centre distance or a window "
                           "(centre_distance_min_mm, centre_distance_max_mm), not both",
                           self.centre_distance_mm)
+        if isinstance(self.helix_angle_deg, list) and not (
+                self.helix_angle_deg[0] <= self.helix_angle_deg[1]):
+            raise sc.fail(w, "helix_angle_deg", "out of range, allowed one angle or [lo, hi] "
+                          "with lo <= hi", self.helix_angle_deg)
+        shifts = (self.profile_shift_min, self.profile_shift_max)
+        if (shifts[0] is None) != (shifts[1] is None):
+            given = "profile_shift_min" if shifts[0] is not None else "profile_shift_max"
+            raise sc.fail(w, given, "a range needs both profile_shift_min and "
+                          "profile_shift_max", shifts[0] if shifts[0] is not None else shifts[1])
         if (window[0] is None) != (window[1] is None):
             given = "centre_distance_min_mm" if window[0] is not None else "centre_distance_max_mm"
             raise sc.fail(w, given, "a window needs both centre_distance_min_mm and "
@@ -173,7 +199,7 @@ class SizingSection(Section):
                           f"{sc.fmt(self.dedendum_coeff)})", self.fillet_radius_coeff)
         if self.face_width_ratio_max is not None:
             d_most = self.z1_max * self.normal_module_max_mm / math.cos(
-                math.radians(self.helix_angle_deg))
+                math.radians(self.helix_angles_deg()[1]))
             if self.face_width_ratio_max * d_most < self.face_width_min_mm:
                 raise sc.fail(w, "face_width_ratio_max", "below face_width_min_mm = "
                               f"{sc.fmt(self.face_width_min_mm)} / the largest pinion diameter "
@@ -181,7 +207,8 @@ class SizingSection(Section):
                               self.face_width_ratio_max)
         if self.outer_diameter_max_mm is not None:
             d_least = (self.z1_min * self.ratio * (1 - self.ratio_tolerance_percent / 100)
-                       * self.normal_module_min_mm / math.cos(math.radians(self.helix_angle_deg)))
+                       * self.normal_module_min_mm / math.cos(
+                           math.radians(self.helix_angles_deg()[0])))
             if d_least >= self.outer_diameter_max_mm:
                 raise sc.fail(w, "outer_diameter_max_mm", "at or below the smallest gear's "
                               f"reference diameter {sc.fmt(d_least)} mm the ranges allow",
@@ -244,7 +271,7 @@ def parse_sizing_spec(data: dict) -> tuple[SizingSpec, dict]:
         normal_modules=modules,
         pinion_teeth=(sz.z1_min, sz.z1_max),
         normal_pressure_angle=math.radians(sz.normal_pressure_angle_deg),
-        helix_angle=math.radians(sz.helix_angle_deg),
+        helix_angle=math.radians(sum(sz.helix_angles_deg()) / 2),
         addendum_coeff=sz.addendum_coeff,
         dedendum_coeff=sz.dedendum_coeff,
         fillet_radius_coeff=sz.fillet_radius_coeff,
@@ -257,6 +284,12 @@ def parse_sizing_spec(data: dict) -> tuple[SizingSpec, dict]:
         else sz.outer_diameter_max_mm * 1e-3,
         tip_thickness_min=sz.tip_thickness_min,
         **_objectives(data),
+        helix_angle_range=tuple(map(math.radians, sz.helix_angles_deg()))
+        if isinstance(sz.helix_angle_deg, list) else None,
+        profile_shift_range=None if sz.profile_shift_min is None
+        else (sz.profile_shift_min, sz.profile_shift_max),
+        refine=sz.refine,
+        refine_objective=sz.refine_objective,
     )
     _refuse_empty(spec, sz)
     return spec, data
@@ -359,10 +392,14 @@ def candidate_case_text(tables: dict, spec: SizingSpec, row: dict, index: int,
     pair = candidate_pair(spec, row)  # the numbers the sizing's stages analyse
 
     def deg(key, radians):  # the spec's own value where it gave one (no round trip)
-        return sz.get(key, math.degrees(radians))
+        if key == "helix_angle_deg" and row.get("refined", 0):  # the row's own (refined)
+            return math.degrees(float(row["helix_angle_rad"]))
+        v = sz.get(key, math.degrees(radians))
+        return math.degrees(radians) if isinstance(v, list) else v
     lines = [
         f"# Candidate {index} of the sizing spec {tables.get('name', '')!r} (jaxgear size):",
-        "# the spec's material, rating and operating point; the geometry it enumerated.",
+        "# the spec's material, rating and operating point; the geometry it "
+        + ("refined." if row.get("refined", 0) else "enumerated."),
         f"name = {toml_value(name)}",
         "[pair]",
         f"normal_module_mm = {toml_value(pair.normal_module * 1e3)}",

@@ -32,6 +32,13 @@ from ._pareto import (
     ParetoFront as ParetoFront,
     pareto_front as pareto_front,
 )
+from ._refine import (
+    MARGIN as MARGIN,
+    REFINE_OBJECTIVES as REFINE_OBJECTIVES,
+    STARTS as STARTS,
+    TOLERANCE as TOLERANCE,
+    refine as refine,
+)
 from ._size import (
     CHECKS as CHECKS,
     GEOMETRIC as GEOMETRIC,

@@ -108,11 +108,11 @@ def _mesh_loss(spec, c: dict) -> dict:
     """μ_mZ, H_V, P_VZP, η_Z of every row (the module docstring), from the pitch point and the
     addendum contact ratios of the columns' geometry (ISO 21771)."""
     inputs = spec.mesh_loss
-    an, beta = spec.normal_pressure_angle, spec.helix_angle
-    at = math.atan(math.tan(an) / math.cos(beta))
+    an, beta = spec.normal_pressure_angle, c["helix_angle_rad"]  # each row's β (refined)
+    at = np.arctan(math.tan(an) / np.cos(beta))
     z1, z2 = c["z1"].astype(float), c["z2"].astype(float)
-    rb1 = c["reference_diameter_1_m"] / 2 * math.cos(at)
-    rb2 = c["reference_diameter_2_m"] / 2 * math.cos(at)
+    rb1 = c["reference_diameter_1_m"] / 2 * np.cos(at)
+    rb2 = c["reference_diameter_2_m"] / 2 * np.cos(at)
     awt, a = c["operating_pressure_angle_rad"], c["centre_distance_m"]
     tip1 = np.sqrt((c["tip_diameter_1_m"] / 2) ** 2 - rb1**2)
     tip2 = np.sqrt((c["tip_diameter_2_m"] / 2) ** 2 - rb2**2)
@@ -121,8 +121,8 @@ def _mesh_loss(spec, c: dict) -> dict:
     pitch = rb1 * np.tan(awt) - (line - tip2)  # s_C from the path's start (the gear's tip)
     p_bt = 2 * math.pi * rb1 / z1
     e1, e2 = (path - pitch) / p_bt, pitch / p_bt
-    beta_b = math.atan(math.tan(beta) * math.cos(at))
-    h_v = ohlendorf_formula(z2 / z1, z1, math.cos(beta_b), c["eps_alpha"], e1, e2)
+    beta_b = np.arctan(np.tan(beta) * np.cos(at))
+    h_v = ohlendorf_formula(z2 / z1, z1, np.cos(beta_b), c["eps_alpha"], e1, e2)
     torque, speed = float(spec.operating.torque), float(spec.operating.speed)
     rho1, rho2 = rb1 * np.tan(awt), rb2 * np.tan(awt)
     lub, ra = inputs.lubricant, inputs.roughness

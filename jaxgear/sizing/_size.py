@@ -69,14 +69,16 @@ def _static(spec: SizingSpec) -> tuple:
             spec.tip_thickness_min)
 
 
-def candidate_outputs(spec: SizingSpec, normal_module, z1, z2, x1, x2, face_width):
+def candidate_outputs(spec: SizingSpec, normal_module, z1, z2, x1, x2, face_width,
+                      helix_angle=None):
     """One candidate's outputs and checks, the function :func:`size` maps over the candidates
     (``jax.numpy``: traceable; called eagerly it rates one candidate).
 
     Args:
         spec: the :class:`SizingSpec` (its angles, rack, settings and operating point).
         normal_module: m_n (m). z1, z2: the tooth counts (floats, whole numbers). x1, x2: the
-            profile shifts. face_width: b (m), both gears.
+            profile shifts. face_width: b (m), both gears. helix_angle: β (rad, traceable: a
+            refined design's), or None: the spec's.
 
     Returns:
         (outputs, passed): outputs (len(:data:`OUTPUTS`),) in that order (SI; the rating's
@@ -85,12 +87,17 @@ def candidate_outputs(spec: SizingSpec, normal_module, z1, z2, x1, x2, face_widt
         :func:`size` reads off the table), in that order, True where passed.
     """
     c = {"m": normal_module, "z1": z1, "z2": z2, "x1": x1, "x2": x2, "b": face_width}
-    return _one(c, _static(spec), spec.settings, spec.operating)
+    static = _static(spec)
+    if helix_angle is not None:
+        static = (static[0], helix_angle) + static[2:]
+    return _one(c, static, spec.settings, spec.operating)
 
 
-def _one(c, spec_static, settings, operating):
+def _one(c, spec_static, settings, operating, margins=False):
     """The outputs (:data:`OUTPUTS`) and the checks (:data:`CHECKS`, True = passed) of one
-    candidate ``c`` (a dict of scalars: m, z1, z2, x1, x2, b)."""
+    candidate ``c`` (a dict of scalars: m, z1, z2, x1, x2, b); with ``margins`` also the
+    geometric checks' continuous margins (m, each >= 0 where passed: the refinement's
+    constraints) and the centre distance (m)."""
     an, beta, ha, hf, rho, grade, s_min_t = spec_static
     m, z = c["m"], jnp.stack([c["z1"], c["z2"]])
     x = jnp.stack([c["x1"], c["x2"]])
@@ -141,7 +148,12 @@ def _one(c, spec_static, settings, operating):
         "pitting": jnp.all(s_h >= settings.min_safety_pitting),
         "bending": jnp.all(s_f >= settings.min_safety_bending),
     }
-    return outputs, jnp.stack([checks[k] for k in CHECKS if k in checks])
+    passed = jnp.stack([checks[k] for k in CHECKS if k in checks])
+    if margins:
+        return outputs, passed, {"root": df, "tip": da - db, "tip_thickness": s_an - s_min_t * m,
+                                 "undercut": form, "interference": start - form,
+                                 "tip_root_clearance": clear, "centre_distance": a}
+    return outputs, passed
 
 
 @dataclasses.dataclass(frozen=True)
@@ -253,7 +265,10 @@ def _local(static, settings, operating, batch):
     return jax.vmap(lambda c: _one(c, static, settings, operating))(batch)
 
 
-def _table(spec: SizingSpec, cands: Candidates, outs, checks) -> SizingTable:
+def _table(spec: SizingSpec, cands: Candidates, outs, checks, helix_angle=None) -> SizingTable:
+    """The table of ``cands`` from the program's outputs and checks: the inputs, the outputs,
+    the space limits' checks and the objectives' columns. ``helix_angle``: each candidate's β
+    (rad, shape (n,)), or None: the spec's for all (a refined design's own otherwise)."""
     col = dict(zip(OUTPUTS, outs.T, strict=True))
     b_min = spec.face_width[0]
     limit = np.inf if spec.outer_diameter_max is None else spec.outer_diameter_max
@@ -274,6 +289,8 @@ def _table(spec: SizingSpec, cands: Candidates, outs, checks) -> SizingTable:
         "normal_module_m": cands.normal_module, "z1": cands.z1, "z2": cands.z2, "ratio": ratio,
         "ratio_error": ratio / spec.ratio - 1, "x1": cands.x1, "x2": cands.x2,
         "face_width_m": cands.face_width, "centre_distance_m": cands.centre_distance,
+        "helix_angle_rad": (np.full(len(cands), float(spec.helix_angle)) if helix_angle is None
+                            else np.asarray(helix_angle, dtype=float)),
         **col, "least_margin": margin,
     }
     columns |= objective_columns(spec, columns, geometric)  # volume, mesh loss

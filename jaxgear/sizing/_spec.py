@@ -72,6 +72,17 @@ class SizingSpec:
             (:data:`jaxgear.sizing.OBJECTIVES`); default the mass and the least margin.
         chosen: the chosen design on the front, ``"knee"`` or an objective's column
             (:func:`jaxgear.sizing.pareto_front`).
+        helix_angle_range: (β_min, β_max) (rad), the range the refinement
+            (:func:`jaxgear.sizing.refine`) solves β in, or None: β fixed at ``helix_angle``
+            (the enumeration's).
+        profile_shift_range: (x_min, x_max), the range the refinement solves each profile shift
+            in, or None: the shifts fixed as enumerated (with a fixed centre distance x2 still
+            follows from it and β).
+        refine: whether ``jaxgear size`` refines the continuous variables
+            (:func:`jaxgear.sizing.refine`). refine_objective: what the refinement optimises,
+            a key of :data:`jaxgear.sizing.OBJECTIVES` (``"mass"``: the lightest blanks
+            meeting every limit; ``"margin"``: the largest least safety margin at no more
+            than the enumerated design's mass).
     """
 
     operating: OperatingPoint
@@ -95,6 +106,10 @@ class SizingSpec:
     mesh_loss: MeshLossInputs | None = None
     objectives: tuple = DEFAULT_OBJECTIVES
     chosen: str = "knee"
+    helix_angle_range: tuple[float, float] | None = None
+    profile_shift_range: tuple[float, float] | None = None
+    refine: bool = False
+    refine_objective: str = "mass"
 
     def __post_init__(self):
         w = "SizingSpec"
@@ -107,6 +122,14 @@ class SizingSpec:
             if v is not None and not (len(v) == 2 and v[0] <= v[1]):
                 raise ValueError(f"{w}: {name} = {v!r} is out of range: allowed (lo, hi) with "
                                  "lo <= hi")
+        for name in ("helix_angle_range", "profile_shift_range"):
+            v = getattr(self, name)
+            if v is not None and not (len(v) == 2 and v[0] <= v[1]):
+                raise ValueError(f"{w}: {name} = {v!r} is out of range: allowed (lo, hi) with "
+                                 "lo <= hi")
+        if self.refine_objective not in ("mass", "margin"):
+            raise ValueError(f"{w}: refine_objective = {self.refine_objective!r} is out of "
+                             "range: allowed 'mass', 'margin'")
         if not self.normal_modules:
             raise ValueError(f"{w}: normal_modules = () is out of range: allowed one or more")
         if not self.ratio >= 1.0 or not self.ratio_tolerance >= 0.0:
