@@ -96,8 +96,8 @@ class TeSettings:
 
 def candidate_pair(spec: SizingSpec, row: dict) -> GearPair:
     """The :class:`jaxgear.GearPair` of one candidate: ``row`` its table columns (one value
-    each: ``normal_module_m``, ``z1``, ``z2``, ``x1``, ``x2``, ``face_width_m``, ``helix_angle_rad``), ``spec``'s
-    pressure angle and basic rack; both gears of the candidate's face width, no allowances, at the
+    each: ``normal_module_m``, ``z1``, ``z2``, ``x1``, ``x2``, ``face_width_m``,
+    ``helix_angle_rad``), ``spec``'s pressure angle and basic rack; both gears of the candidate's face width, no allowances, at the
     zero-backlash centre distance. The numbers a candidate's case file writes
     (:func:`jaxgear.io.candidate_case_text` reads them here).
 
