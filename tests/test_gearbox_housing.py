@@ -287,9 +287,15 @@ def test_housing_coordinates_have_one_name_on_every_path(steel):
 
 def test_shared_housing_bad_input_one_line(steel):
     housed, grounded, housings = _chains(steel)
-    with pytest.raises(ValueError, match=r"seats\[0\] = 8") as err:  # 8 seats: 0..7
-        _scene(0, housings[0], (8, 1, 2, 3))
-    assert "\n" not in str(err.value)
+    for scene, match in (
+        (lambda: _scene(0, housings[0], (8, 1, 2, 3)), r"seats\[0\] = 8"),  # 8 seats: 0..7
+        (lambda: _scene(1, housings[0], _seats(1), (0.0, math.nan, 0.0)),
+         r"housing_position = \(0.0, nan, 0.0\), allowed 3 finite numbers"),
+        (lambda: _scene(1, None, None, _place(1)), r"housing_position = .* without a housing"),
+    ):
+        with pytest.raises(ValueError, match=match) as err:
+            scene()
+        assert "\n" not in str(err.value)
     stiffer = dataclasses.replace(steel, K=2.0 * steel.K)
     other = Housing.of(stiffer, rotation=R, offset=_offset(0))
     for chain, match in (
