@@ -7,9 +7,10 @@ pairs on 60 mm shafts, stage 2's scene 150 mm above stage 1's, in one steel box.
 Reference, apart from the code under test: the same gearbox built by hand in Python: the box of
 the housing table's rules written out here in numbers (its length the bearings' span plus a
 wall, 130 mm; centred on the four axes across; a 70 mm bore round each axis in both end walls;
-30 mm square feet), meshed and condensed by fem_prep, placed in each stage's scene frame with
-jaxgear.scenes.Housing.of, the stages' lumped_pair scenes on it and the chain's shared housing:
-the same coupled modes and housing energy (a check of the reader).
+30 mm square feet), meshed and condensed by fem_prep, placed once in stage 1's scene frame (the
+gearbox frame) with jaxgear.scenes.Housing.of, the stages' lumped_pair scenes on that one object
+(stage 2 at its place, housing_position) and the chain's shared housing: the same coupled modes
+and housing energy (a check of the reader).
 """
 
 import dataclasses
@@ -76,12 +77,13 @@ def _box(stage2_bore=0.07):
 
 
 def _by_hand(stage2_bore=0.07, **run):
+    """The file's gearbox built here: the box placed once in stage 1's frame (the gearbox
+    frame), stage 2's scene on the same object at its place ``STAGE2`` there."""
     ch, off = _box(stage2_bore)
-    stages, shared = [], None
-    for k, seats in ((0, None), (1, (2, 6, 3, 7))):
-        h = Housing.of(ch, loss_factor=0.02, rotation=R, offset=off - (STAGE2 if k else 0.0))
-        shared = h if shared is None else shared
-        stages.append(lumped_pair_stage(TEETH[k], POLAR[k], housing=h, seats=seats))
+    shared = Housing.of(ch, loss_factor=0.02, rotation=R, offset=off)
+    stages = [lumped_pair_stage(TEETH[0], POLAR[0], housing=shared),
+              lumped_pair_stage(TEETH[1], POLAR[1], housing=shared, seats=(2, 6, 3, 7),
+                                housing_position=STAGE2)]
     return (gb.GearboxTorsional(tuple(stages), [SHAFT], housing=shared),
             gb.GearboxRun(TORQUE, SHAFT, mean_positions=COUPLED_RUN["mean_positions"], **run))
 
@@ -289,21 +291,21 @@ def _planar_supports(stage):
 
 def _planetary_by_hand(ch, off, kind=None, **run):
     """The file's gearbox built here: the example's planetary stage of ``kind`` (default the torsional one; the planar one on the stage with its in-plane
-    supports) on a mount of the box with the ring on seat 0, the pair's lumped scene on the nearest seats; ``ch``
+    supports) on a mount of the box (placed once, in the planetary's frame) with the ring on
+    seat 0, the pair's lumped scene on the nearest seats of the same box at its place
+    ``STAGE2``; ``ch``
     None: the same gearbox on the ground (the ring held by its torsional spring, the pair's
     bearings grounded)."""
     planetary = load_example("gearbox_two_stage").two_stage()[0].stages[0]
     kind = jp.TorsionalPlanetary() if kind is None else kind
     stage = (planetary.stage if isinstance(kind, jp.TorsionalPlanetary)
              else _planar_supports(planetary.stage))
-    hp = hl = None
-    if ch is not None:
-        hp = Housing.of(ch, loss_factor=0.02, rotation=R, offset=off)
-        hl = Housing.of(ch, loss_factor=0.02, rotation=R, offset=off - STAGE2)
+    hp = None if ch is None else Housing.of(ch, loss_factor=0.02, rotation=R, offset=off)
     mount = None if ch is None else HousingMount.on_axis(hp, (("ring", RING_SEAT),))
     housed = gb.PlanetaryGearboxStage(stage, planetary.input, planetary.output,
                                       planetary.meshes, model=kind, mount=mount)
-    lumped = lumped_pair_stage(TEETH[1], POLAR[1], input=1, housing=hl)
+    lumped = lumped_pair_stage(TEETH[1], POLAR[1], input=1, housing=hp,
+                               housing_position=None if ch is None else STAGE2)
     opts = {"mean_positions": COUPLED_RUN["mean_positions"]} | run
     return (gb.GearboxTorsional((housed, lumped), [P_SHAFT], housing=hp),
             gb.GearboxRun(P_TORQUE, P_SHAFT, **opts))

@@ -35,13 +35,15 @@ POLAR = (0.0007315362629828136, 0.005291895403577801)  # the file's pinion and g
 TOL_ORDER1 = 0.015  # measured 0.77 % (and 0.66 deg) at H = 4, 24 positions
 
 
-def lumped_pair_stage(teeth, polar, *, input=0, housing=None, seats=None):
+def lumped_pair_stage(teeth, polar, *, input=0, housing=None, seats=None,
+                      housing_position=None):
     """The pair ``teeth`` (tests/test_gearbox_whine.py's, 10 µm tip relief) as the gearbox files'
     lumped 3D stage, built by hand: its two 120 mm, 60 mm steel shafts (2 elements), bearings of
     2e8 N/m radial at both ends and 1e8 N/m axial at the first, the pinion shaft driven at z = 0,
     the gear shaft's output at its end; ``polar``: the pinion's and the gear's polar moments
-    (kg m^2, the file's); ``input``: the member driven; ``housing``/``seats``: the bearings'
-    seats (:func:`jaxgear.scenes.lumped_pair`)."""
+    (kg m^2, the file's); ``input``: the member driven; ``housing``/``seats``/
+    ``housing_position``: the bearings' seats and the scene's place in the housing's frame
+    (:func:`jaxgear.scenes.lumped_pair`)."""
     s, mesh = _stage(*teeth, 10e-6)
     pair = jg.GearPair(jg.Member(teeth[0], face_width=B), jg.Member(teeth[1], face_width=B),
                        3e-3, math.radians(20.0))
@@ -53,7 +55,7 @@ def lumped_pair_stage(teeth, polar, *, input=0, housing=None, seats=None):
 
     inertias = tuple((ip / 2 + m * B * B / 12, ip) for ip, m in zip(polar, MASSES, strict=True))
     scene = lumped_pair(pair, mesh, shaft(0.0), shaft(0.12), masses=MASSES, inertias=inertias,
-                        housing=housing, seats=seats)
+                        housing=housing, seats=seats, housing_position=housing_position)
     return gb.LumpedPairGearboxStage(scene, input=input, modifications=s.modifications)
 
 

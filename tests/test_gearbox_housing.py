@@ -73,10 +73,16 @@ def _offset(k):
     return -R @ np.array([0.5 * (L + T_WALL), Y0, HEIGHTS[k]])
 
 
-def _scene(k, housing=None, seats=None):
+def _place(k):
+    """Stage k's scene origin in the gearbox frame (stage 1's scene frame), the axes parallel:
+    x_gearbox = x_stage + t_k."""
+    return _offset(0) - _offset(k)
+
+
+def _scene(k, housing=None, seats=None, position=None):
     pair, mesh = PAIRS[k]
     return lumped_pair(pair, mesh, _shaft(), _shaft(), masses=MASSES, inertias=INERTIAS,
-                       housing=housing, seats=seats)
+                       housing=housing, seats=seats, housing_position=position)
 
 
 def _seats(k):
@@ -84,11 +90,14 @@ def _seats(k):
 
 
 def _chains(ch, loss_factor=0.0):
-    """(the gearbox with both stages in the one housing, the grounded gearbox, the housings
-    placed in each stage's frame)."""
+    """(the gearbox with both stages in the one housing, placed once in the gearbox frame
+    (stage 1's scene frame) and each stage's scene on that object at its place
+    :func:`_place`, the grounded gearbox, the housings placed in each stage's frame: the
+    first the shared one, the second for the hand checks)."""
     housings = [Housing.of(ch, loss_factor=loss_factor, rotation=R, offset=_offset(k))
                 for k in range(2)]
-    housed = tuple(gb.LumpedPairGearboxStage(_scene(k, housings[k], _seats(k))) for k in range(2))
+    housed = tuple(gb.LumpedPairGearboxStage(_scene(k, housings[0], _seats(k), _place(k)))
+                   for k in range(2))
     grounded = tuple(gb.LumpedPairGearboxStage(_scene(k)) for k in range(2))
     return (gb.GearboxTorsional(housed, [SHAFT], housing=housings[0]),
             gb.GearboxTorsional(grounded, [SHAFT]), housings)
@@ -278,16 +287,27 @@ def test_housing_coordinates_have_one_name_on_every_path(steel):
 
 def test_shared_housing_bad_input_one_line(steel):
     housed, grounded, housings = _chains(steel)
-    with pytest.raises(ValueError, match=r"seats\[0\] = 8") as err:  # 8 seats: 0..7
-        _scene(0, housings[0], (8, 1, 2, 3))
-    assert "\n" not in str(err.value)
+    for scene, match in (
+        (lambda: _scene(0, housings[0], (8, 1, 2, 3)), r"seats\[0\] = 8"),  # 8 seats: 0..7
+        (lambda: _scene(1, housings[0], _seats(1), (0.0, math.nan, 0.0)),
+         r"housing_position = \(0.0, nan, 0.0\), allowed 3 finite numbers"),
+        (lambda: _scene(1, None, None, _place(1)), r"housing_position = .* without a housing"),
+    ):
+        with pytest.raises(ValueError, match=match) as err:
+            scene()
+        assert "\n" not in str(err.value)
     stiffer = dataclasses.replace(steel, K=2.0 * steel.K)
     other = Housing.of(stiffer, rotation=R, offset=_offset(0))
     for chain, match in (
         (lambda: gb.GearboxTorsional(grounded.stages, [SHAFT], housing=housings[0]),
          "no stage sits in it"),
         (lambda: gb.GearboxTorsional(housed.stages, [SHAFT], housing=other),
-         "differs from stage 1"),
+         "stage 1's mount holds another housing"),
+        # stage 2 placed with another housing object (a stiffer box) than the chain's
+        (lambda: gb.GearboxTorsional(
+            (housed.stages[0], gb.LumpedPairGearboxStage(_scene(1, other, _seats(1),
+                                                                _place(1)))),
+            [SHAFT], housing=housings[0]), "stage 2's mount holds another housing"),
         (lambda: gb.GearboxTorsional((EX.two_stage()[0].stages[1], housed.stages[1]), [SHAFT],
                                      housing=steel), "housing ="),
     ):
@@ -296,6 +316,76 @@ def test_shared_housing_bad_input_one_line(steel):
         assert "\n" not in str(err.value)
     with pytest.raises(ValueError, match="gearbox_modes: chain.housing"):
         gb.gearbox_modes(housed)
+
+
+def _same_coupled_matrices(new, old):
+    """The coupled structure (M, K_s: the housing once, the seats' couplings, the shafts and
+    the hold) and each stage's bearing damping of two chains equal to 1e-12 of their largest
+    entry; returns the largest relative difference."""
+    worst = 0.0
+    pairs = list(zip(gb.GearboxModel(new, RUN).structure_matrices(),
+                     gb.GearboxModel(old, RUN).structure_matrices(), strict=True))
+    pairs += [(a.speed_terms(0.0)[0], b.speed_terms(0.0)[0])
+              for a, b in zip(new.stages, old.stages, strict=True)]
+    for a, b in pairs:
+        a, b = np.asarray(a), np.asarray(b)
+        scale = np.abs(b).max()
+        np.testing.assert_allclose(a, b, rtol=0, atol=1e-12 * scale)
+        worst = max(worst, float(np.abs(a - b).max() / scale))
+    return worst
+
+
+def test_one_housing_object_is_the_stages_own_copies(steel):
+    """The housing placed once in the gearbox frame and both stages' scenes on that one object
+    at their places t (``lumped_pair(..., housing_position=t)``): the chain finds it as its
+    stages' mounts' one object, and its coupled M and K_s and the stages' bearing damping are
+    those of the form before it (each stage on its own copy of the box placed in its own
+    frame, accepted with a DeprecationWarning) to 1e-12 of their largest entry: a seat's lever
+    depends on p − c alone. The same scene on the shared box without its place differs (the
+    comparison can fail)."""
+    housed, _, housings = _chains(steel, loss_factor=0.02)
+    assert all(s.mount().housing is housed.housing for s in housed.stages)
+    copies = tuple(gb.LumpedPairGearboxStage(_scene(k, housings[k], _seats(k)))
+                   for k in range(2))
+    with pytest.warns(DeprecationWarning, match=r"stage\(s\) 2 mounted on a copy") as rec:
+        old = gb.GearboxTorsional(copies, [SHAFT], housing=housings[0])
+    assert len(rec) == 1 and "\n" not in str(rec[0].message)
+    worst = _same_coupled_matrices(housed, old)
+    print("one housing object vs per-stage copies: largest relative difference", worst)
+    unplaced = gb.GearboxTorsional(
+        (housed.stages[0], gb.LumpedPairGearboxStage(_scene(1, housings[0], _seats(1)))),
+        [SHAFT], housing=housings[0])
+    k_new, k_off = (np.asarray(gb.GearboxModel(c, RUN).structure_matrices()[1])
+                    for c in (housed, unplaced))
+    assert np.abs(k_off - k_new).max() > 1e-6 * np.abs(k_new).max()
+
+
+def test_one_housing_object_with_a_planetary_stage_on_its_axis(planetary_box):
+    """The planetary chain in the box placed once in the pair's frame (the gearbox frame here),
+    the planetary stage's ring on ``HousingMount.on_axis(housing, seats, centre=t)``, t its
+    centre there: the coupled M, K_s and bearing damping are those of each stage on its own
+    copy of the box (the planetary's placed in its own frame, deprecated) to 1e-12."""
+    _, _, (hp, hl), _ = _planetary_chains(planetary_box, loss_factor=0.02)
+    planetary = EX.two_stage()[0].stages[0]
+    pair, mesh = PAIRS[1]
+    scene = lumped_pair(pair, mesh, _shaft(), _shaft(), masses=MASSES, inertias=INERTIAS,
+                        housing=hl, seats=(0, 1, 2, 3))
+    lumped = gb.LumpedPairGearboxStage(scene, input=1)
+
+    def chain(housing, centre):
+        mount = HousingMount.on_axis(housing, (("ring", RING_SEAT),), centre=centre)
+        stage = gb.PlanetaryGearboxStage(planetary.stage, planetary.input, planetary.output,
+                                         planetary.meshes, model=jp.TorsionalPlanetary(),
+                                         mount=mount)
+        return gb.GearboxTorsional((stage, lumped), [SHAFT], housing=hl)
+
+    new = chain(hl, _pair_offset() - _planet_offset())
+    assert new.stages[0].mount().housing is new.housing is new.stages[1].mount().housing
+    with pytest.warns(DeprecationWarning, match=r"stage\(s\) 1 mounted on a copy"):
+        old = chain(hp, (0.0, 0.0, 0.0))
+    worst = _same_coupled_matrices(new, old)
+    print("planetary on the one housing object vs its own copy: largest relative difference",
+          worst)
 
 
 @pytest.mark.slow
@@ -355,8 +445,9 @@ def _pair_offset():
 
 
 def _planetary_chains(ch, loss_factor=0.0, ring_seat="seat4", **run):
-    """(the chain in one box, the grounded chain, the housings placed in the planetary's and the
-    pair's frames, the run)."""
+    """(the chain in one box, placed once in the gearbox frame (the planetary's: its centre the
+    origin) with the pair's scene on that object at its place there, the grounded chain, the
+    housings placed in the planetary's (the shared one) and the pair's frames, the run)."""
     hp = Housing.of(ch, loss_factor=loss_factor, rotation=R, offset=_planet_offset())
     hl = Housing.of(ch, loss_factor=loss_factor, rotation=R, offset=_pair_offset())
     planetary = EX.two_stage()[0].stages[0]
@@ -365,10 +456,12 @@ def _planetary_chains(ch, loss_factor=0.0, ring_seat="seat4", **run):
                                         planetary.meshes, model=jp.TorsionalPlanetary(),
                                         mount=mount)
     pair, mesh = PAIRS[1]
+    place = _planet_offset() - _pair_offset()  # the pair's scene origin in the gearbox frame
     scenes = [lumped_pair(pair, mesh, _shaft(), _shaft(), masses=MASSES, inertias=INERTIAS,
-                          housing=h, seats=s) for h, s in ((hl, (0, 1, 2, 3)), (None, None))]
+                          housing=h, seats=s, housing_position=t)
+              for h, s, t in ((hp, (0, 1, 2, 3), place), (None, None, None))]
     housed = gb.GearboxTorsional((housed_p, gb.LumpedPairGearboxStage(scenes[0], input=1)),
-                                 [SHAFT], housing=hl)
+                                 [SHAFT], housing=hp)
     grounded = gb.GearboxTorsional((planetary, gb.LumpedPairGearboxStage(scenes[1], input=1)),
                                    [SHAFT])
     opts = {"steps_per_period": 16, "periods": 6, "keep_periods": 2} | run

@@ -124,6 +124,9 @@ def test_two_joints_on_one_seat_add_and_jax_springs_give_the_same():
     assert HousingMount(housing, (j1, j2)).fixed_frame
     assert not HousingMount.on_axis(housing, (("ring", 0),)).fixed_frame
     assert HousingMount.on_axis(housing, (("ring", 0),)).joints[0].rows == (2, 5)
+    # the seats a member holds alone: declared by on_axis's members, not by a bearing's joint
+    assert HousingMount(housing, (j1, j2)).own_seats() == ()
+    assert HousingMount.on_axis(housing, (("ring", "s0"),)).own_seats() == (("ring", 0),)
 
 
 @pytest.mark.parametrize("make,match", [
@@ -138,6 +141,12 @@ def test_bad_mounts_one_line(make, match):
     housing = _housing(np.random.default_rng(0), seats=2, modes=0)
     with pytest.raises(ValueError, match=match) as e:
         make(housing)
+    assert "\n" not in str(e.value)
+
+
+def test_own_seat_not_a_bool_one_line():
+    with pytest.raises(TypeError, match=r"own_seat = 1, allowed True or False") as e:
+        MountJoint("a", 0, own_seat=1)
     assert "\n" not in str(e.value)
 
 

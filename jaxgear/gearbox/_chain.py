@@ -275,28 +275,36 @@ class GearboxTorsional(eqx.Module):
     shape (n_stages - 1,)). The chain's coordinates are the stages' in order.
 
     ``housing``: one flexible :class:`~jaxgear.scenes.Housing` that the stages share
-    (docs/gearbox.md, "One housing for several stages"), or None. Each stage that sits in it is
-    a :class:`~jaxgear.gearbox.LumpedPairGearboxStage` whose scene was built with this same
-    condensed housing (``lumped_pair(..., housing=, seats=)``, the housing placed in that
-    scene's frame, with the same loss factor): its bearings are joined to its seats there, by
-    the scenes' one seat coupling; or a planetary stage (:class:`PlanetaryGearboxStage`,
-    :class:`~jaxgear.planetary.PlanetaryModel`) given a ``mount=`` on this same condensed
-    housing (placed in the stage's frame, the stage axis its +z): its held member's torsional
-    support joined to its seat by the same coupling. The coupled model
-    (:func:`gearbox_coupled_modes`, :func:`gearbox_dynamics`, :func:`gearbox_whine`) then keeps the
-    housing's coordinates once, after every stage's own, and its K_h, M_h and damping C_h once.
-    Stages without a housing (torsional, an unhoused planetary model, a grounded lumped stage) stay
-    on the ground. The torsional chain's view (:meth:`matrices`, :func:`gearbox_modes`) does not
-    take a shared housing.
+    (docs/gearbox.md, "One housing for several stages"), or None: placed once, in the gearbox
+    frame, every housed stage's :meth:`~jaxgear.dynamics.AbstractStage.mount` holding this one
+    object (``stage.mount().housing is housing``), the stages' axes parallel to the gearbox
+    frame's and each stage at its place t there. A stage that sits in it is a
+    :class:`~jaxgear.gearbox.LumpedPairGearboxStage` (or a pair's
+    :class:`~jaxgear.dynamics.DynamicModel`) whose scene was built on it
+    (``lumped_pair(..., housing=, seats=, housing_position=t)``): its bearings are joined to
+    its seats by the scenes' one seat coupling; or a planetary stage
+    (:class:`PlanetaryGearboxStage`, :class:`~jaxgear.planetary.PlanetaryModel`) given a
+    ``mount=`` on it (``HousingMount.on_axis(housing, seats, centre=t)``, the stage axis the
+    gearbox's +z through t): its held member's torsional support joined to its seat by the
+    same coupling. The coupled model (:func:`gearbox_coupled_modes`, :func:`gearbox_dynamics`,
+    :func:`gearbox_whine`) then keeps the housing's coordinates once, after every stage's own,
+    and its K_h, M_h and damping C_h once. Stages without a housing (torsional, an unhoused
+    planetary model, a grounded lumped stage) stay on the ground. The torsional chain's view
+    (:meth:`matrices`, :func:`gearbox_modes`) does not take a shared housing. Deprecated: a
+    stage mounted on its own copy of the housing placed in the stage's frame (the form before
+    the housing was placed once) stands where the copy's K_h and M_h are ``housing``'s, with a
+    DeprecationWarning (a seat's lever depends on p − c alone: the same coupling to
+    round-off).
 
     Raises:
         ValueError: no stages; a stage not an :class:`~jaxgear.dynamics.AbstractStage`, or one
             that refuses to stand in a gearbox (:meth:`~jaxgear.dynamics.AbstractStage.
             check_stage`: a planetary model without its input and output members, ...);
             ``shaft_stiffnesses`` of another shape; ``housing`` not a
-            :class:`~jaxgear.scenes.Housing`, carried by no stage, or another housing than a
-            stage's (its size, stiffness or mass differ); a seat a planetary stage's member
-            joins that another stage joins too (one line each).
+            :class:`~jaxgear.scenes.Housing`, held by no stage's mount, or a stage mounted on
+            another housing (its size, stiffness or mass differ); a seat a stage's member holds
+            alone (:attr:`~jaxgear.scenes.MountJoint.own_seat`: a planetary member's) that
+            another stage joins too (one line each).
     """
 
     stages: tuple[AbstractStage, ...]
@@ -354,44 +362,58 @@ class GearboxTorsional(eqx.Module):
 
 
 def _check_housing(stages, housing):
-    """Refuse a gearbox-level ``housing`` that no stage carries or that is not each carrying
-    stage's own (its K_h and M_h, compared where the arrays are concrete)."""
+    """Find ``housing`` as the one object its housed stages' mounts hold
+    (``stage.mount().housing is housing``); refuse one that no stage's mount holds, a stage
+    mounted on another housing, and a seat one stage's member holds alone
+    (:attr:`~jaxgear.scenes.MountJoint.own_seat`) that another stage joins too (one line each).
+    A stage mounted on its own copy of the housing (placed one by one, in the stage's frame) is
+    deprecated: it stands where the copy's K_h and M_h are this housing's (compared where the
+    arrays are concrete), with a DeprecationWarning."""
     check_instance("housing", housing, Housing, "a jaxgear.scenes.Housing or None",
                    "GearboxTorsional")
-    h = housing.size
-    carried = 0
-    for k, s in enumerate(stages):
-        own = s.housing()
-        if own is None:
-            continue
-        carried += 1
-        if own[0].shape != (h, h):
-            raise ValueError(f"GearboxTorsional: housing has {h} coordinates, stage {k + 1}'s "
-                             f"scene's housing {own[0].shape[0]}: allowed the same housing")
-        concrete = not any(isinstance(a, jax.core.Tracer)
-                           for a in (*own, housing.K, housing.M))
-        if concrete and not all(
-                np.allclose(np.asarray(a), np.asarray(b), rtol=1e-12, atol=1e-12 * scale)
-                for a, b, scale in ((own[0], housing.K, float(np.abs(housing.K).max())),
-                                    (own[1], housing.M, float(np.abs(housing.M).max())))):
-            raise ValueError(f"GearboxTorsional: housing's stiffness or mass differs from stage "
-                             f"{k + 1}'s scene's housing: allowed the same condensed housing")
-    if carried == 0:
+    mounts = [(k, s.mount()) for k, s in enumerate(stages)]
+    mounts = [(k, m) for k, m in mounts if m is not None]
+    if not mounts:
         raise ValueError("GearboxTorsional: housing is given but no stage sits in it: allowed "
                          "None, or a LumpedPairGearboxStage whose scene is built with "
                          "housing=, or a planetary stage (PlanetaryModel, PlanetaryGearboxStage) "
                          "given a mount= (torsional stages stay on the ground)")
-    # a seat a planetary stage's member is bolted to is that member's alone
-    for k, s in enumerate(stages):
-        if not isinstance(s, PlanetaryModel):
+    h = housing.size
+    copies = []
+    for k, mount in mounts:
+        own = mount.housing
+        if own is housing:
             continue
-        for seat in s.housing_seats():
+        if own.size != h:
+            raise ValueError(f"GearboxTorsional: housing has {h} coordinates, stage {k + 1}'s "
+                             f"mount's housing {own.size}: allowed the one housing object its "
+                             "stages' mounts hold")
+        concrete = not any(isinstance(a, jax.core.Tracer)
+                           for a in (own.K, own.M, housing.K, housing.M))
+        if concrete and not all(
+                np.allclose(np.asarray(a), np.asarray(b), rtol=1e-12, atol=1e-12 * scale)
+                for a, b, scale in ((own.K, housing.K, float(np.abs(housing.K).max())),
+                                    (own.M, housing.M, float(np.abs(housing.M).max())))):
+            raise ValueError(f"GearboxTorsional: stage {k + 1}'s mount holds another housing "
+                             "(its stiffness or mass differs from housing's): allowed the one "
+                             "housing object its stages' mounts hold")
+        copies.append(k + 1)
+    if copies:
+        warnings.warn(
+            f"GearboxTorsional: stage(s) {', '.join(map(str, copies))} mounted on a copy of "
+            "housing placed in the stage's own frame is deprecated: place the housing once in "
+            "the gearbox frame and mount every stage on that one object (lumped_pair(..., "
+            "housing=, housing_position=t), HousingMount.on_axis(housing, seats, centre=t), t "
+            "the stage's place)", DeprecationWarning, stacklevel=4)
+    # a seat a stage's member holds alone (a planetary member bolted to it) is that member's
+    for k, mount in mounts:
+        for member, seat in mount.own_seats():
             for j, other in enumerate(stages):
                 if j != k and seat in other.housing_seats():
                     raise ValueError(
                         f"GearboxTorsional: seat {housing.seat_names[seat]!r} ({seat}) is used "
-                        f"twice, by stage {k + 1}'s planetary member and by stage {j + 1}: "
-                        "allowed a seat of its own for each planetary member")
+                        f"twice, by stage {k + 1}'s {member} and by stage {j + 1}: allowed a "
+                        "seat of its own for each member bolted to the housing")
 
 
 class GearboxModes(eqx.Module):

@@ -334,10 +334,13 @@ def _inertias(case: Case, spec: SceneSpec) -> tuple[float, float]:
     return i1, i2
 
 
-def _lumped3d_pair(case: Case, spec: SceneSpec, mesh, housing=None, seats=None):
+def _lumped3d_pair(case: Case, spec: SceneSpec, mesh, housing=None, seats=None,
+                   position=None):
     """``[scene] model = "lumped3d"``: the 3D lumped pair on its shafts and bearings;
-    ``housing``, ``seats``: a housing placed by the caller (a gearbox's) and each bearing's seat
-    (:func:`~jaxgear.scenes.lumped_pair`'s), instead of the case's ``[housing]``."""
+    ``housing``, ``seats``, ``position``: a housing placed by the caller (a gearbox's, in its
+    frame), each bearing's seat and the scene origin's place in that frame
+    (:func:`~jaxgear.scenes.lumped_pair`'s ``housing_position``), instead of the case's
+    ``[housing]``."""
     i1, i2 = _inertias(case, spec)
     masses, inertias = _gear_bodies(case, spec, i1, i2)
     shafts = (spec.pinion_shaft, spec.gear_shaft)
@@ -354,6 +357,7 @@ def _lumped3d_pair(case: Case, spec: SceneSpec, mesh, housing=None, seats=None):
         density=case.density,
         housing=housing,
         seats=seats,
+        housing_position=position,
     )
 
 

@@ -94,7 +94,6 @@ from ..gearbox import (
 from ..planetary import PlanarPlanetary, TorsionalPlanetary
 from ..scenes import (
     HOUSING_BAND,
-    Housing,
     HousingMount,
     band_cutoff_hz,
     band_holds,
@@ -103,7 +102,6 @@ from ..scenes import (
 from ._case import Case, CaseForm, PairForm
 from ._case_model import PAIR_SCENES, _case_model, dynamic_model_kind
 from ._housing_table import (
-    ROTATION,
     HousedAxis,
     HousingBody,
     HousingSpec,
@@ -318,32 +316,30 @@ class GearboxForm(CaseForm):
         (:func:`jaxgear.gearbox.gearbox_dynamics`): a planetary stage's
         :meth:`~jaxgear.io.PlanetaryForm`'s dynamic meshes (its pairs' own models, phased per
         planet; the torsional model), a pair's :meth:`~jaxgear.io.Case.mesh_model` and its
-        modifications, ``slices`` slices per contact line; a lumped 3D stage its case's scene,
-        with ``[housing]`` on the shared housing (placed in its scene frame: x_stage =
-        R x_housing + t − its ``housing_position``), which the chain keeps once; a planetary
-        stage with ``housing_seat`` its ``model`` kind (:data:`PLANETARY_MODELS`) on a
-        :class:`~jaxgear.scenes.HousingMount` of the shared housing (placed alike, the stage
-        centre its frame's origin: :meth:`~jaxgear.scenes.HousingMount.on_axis`), its ring's
-        torsional support joined to that seat."""
-        stages, shared = [], None
+        modifications, ``slices`` slices per contact line; with ``[housing]`` the one shared
+        housing (:attr:`housing_body`'s, placed once in the gearbox frame), which the chain keeps
+        once: a lumped 3D stage its case's scene on it, its scene origin
+        at its ``housing_position`` there; a planetary stage with ``housing_seat`` its
+        ``model`` kind (:data:`PLANETARY_MODELS`) on a :class:`~jaxgear.scenes.HousingMount` of
+        it on the stage axis through its ``housing_position``
+        (:meth:`~jaxgear.scenes.HousingMount.on_axis`), its ring's torsional support joined to
+        that seat."""
+        stages = []
         housed = self.housed()
+        shared = self.housing_body.housing if housed else None  # placed in the gearbox frame
         for k, s in enumerate(self.stages):
             t = s.torsional
-            housing = None
-            if k in housed:
-                body = self.housing_body
-                housing = Housing.of(body.condensed, loss_factor=self.housing.loss_factor,
-                                     rotation=np.array(ROTATION),
-                                     offset=body.offset - np.asarray(s.housing_position))
-                shared = housing if shared is None else shared
+            housing = shared if k in housed else None
             if isinstance(t, PlanetaryGearboxStage):
                 meshes = s.case.form.spec.dynamic_meshes(s.case, slices)
                 mount = (None if housing is None else
-                         HousingMount.on_axis(housing, (("ring", s.housing_seat),)))
+                         HousingMount.on_axis(housing, (("ring", s.housing_seat),),
+                                              centre=s.housing_position))
                 stages.append(PlanetaryGearboxStage(t.stage, t.input, t.output, meshes,
                                                     model=t.model, mount=mount))
             elif isinstance(t, LumpedPairGearboxStage):
-                stages.append(lumped_stage(s.case, t.input, slices, housing, s.housing_seats))
+                stages.append(lumped_stage(s.case, t.input, slices, housing, s.housing_seats,
+                                           None if housing is None else s.housing_position))
             else:
                 # the pair's own dynamic model on its cells (its chain view the given spring)
                 stages.append(TorsionalPairGearboxStage(t.inertias, t.base_radii,
@@ -440,13 +436,15 @@ def _(form: PlanetaryForm, case: Case, table: StageEntry, where: str, speed: flo
 
 
 def lumped_stage(case: Case, side: int, slices: int | None = None, housing=None,
-                 seats=None) -> LumpedPairGearboxStage:
+                 seats=None, position=None) -> LumpedPairGearboxStage:
     """A pair case's lumped 3D scene (its ``[scene]``, ``model = "lumped3d"``; on ``housing``
-    with ``seats`` (:func:`~jaxgear.scenes.lumped_pair`'s), else on its ``[housing]`` if any) as
-    a :class:`~jaxgear.gearbox.LumpedPairGearboxStage` driven on ``side`` (0 the pinion shaft),
-    its mesh at ``slices`` slices (None: the case's), its cells' separations the case's
-    modifications."""
-    scene = PAIR_SCENES["lumped3d"](case, case.scene, case.mesh_model(slices), housing, seats)
+    with ``seats``, its scene origin at ``position`` (m) in the housing's frame
+    (:func:`~jaxgear.scenes.lumped_pair`'s ``housing_position``), else on its ``[housing]`` if
+    any) as a :class:`~jaxgear.gearbox.LumpedPairGearboxStage` driven on ``side`` (0 the
+    pinion shaft), its mesh at ``slices`` slices (None: the case's), its cells' separations
+    the case's modifications."""
+    scene = PAIR_SCENES["lumped3d"](case, case.scene, case.mesh_model(slices), housing, seats,
+                                    position)
     return LumpedPairGearboxStage(scene, input=side, modifications=case.modifications)
 
 

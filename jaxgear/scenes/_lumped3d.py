@@ -131,6 +131,7 @@ def lumped_pair(
     density: float = 7800.0,
     housing: Housing | None = None,
     seats=None,
+    housing_position=None,
 ) -> LumpedPair:
     """Assemble the 3D lumped scene.
 
@@ -148,10 +149,20 @@ def lumped_pair(
         seats: with ``housing``, each bearing's seat index (pinion's bearings, then the
             gear's), an entry None keeping that bearing on the ground; None: the seat nearest
             each bearing.
+        housing_position: with ``housing``, t (3,) (m): this scene's origin in the frame the
+            housing is placed in, the scene axes parallel to it (a gearbox frame whose one
+            housing several stages share, docs/gearbox.md, "One housing for several
+            stages"); the bearings' joints sit at their scene points plus t. None: the
+            housing is placed in this scene's frame (t = 0).
 
     Raises:
-        ValueError: what :func:`~jaxgear.scenes._mount.couple_housing` refuses.
+        ValueError: what :func:`~jaxgear.scenes._mount.couple_housing` refuses (a
+            ``housing_position`` not 3 finite numbers among it), a ``housing_position``
+            without a ``housing`` (one line).
     """
+    if housing is None and housing_position is not None:
+        raise ValueError(f"lumped_pair: housing_position = {housing_position!r} without a "
+                         "housing, allowed None (or give housing=)")
     d = _lumped_arrays(
         pair, pinion_shaft, gear_shaft, masses, inertias, youngs_modulus, poisson_ratio, density
     )
@@ -163,6 +174,7 @@ def lumped_pair(
         (pinion_shaft.gear_positions[0], gear_shaft.gear_positions[0]),
         housing,
         seats,
+        position=housing_position,
     )
     members = tuple(
         RigidMember(line["centres"][m], tuple(range(g, g + 6)))
@@ -195,14 +207,17 @@ def lumped_pair(
     )
 
 
-def _housed(d: dict, shafts, centres, gear_z, housing, seats, frames=None) -> dict:
+def _housed(d: dict, shafts, centres, gear_z, housing, seats, frames=None,
+            position=None) -> dict:
     """``d`` with ``housing`` coupled (:func:`couple_housing`, each shaft's frame angle
-    ``frames``): the rigid rotation padded, the seats' nodes named."""
+    ``frames``, the scene origin at ``position`` in the housing's frame): the rigid rotation
+    padded, the seats' nodes named."""
     if housing is None:
         return d
     n = d["M"].shape[0]
     out = couple_housing(
-        d, shafts, bearing_positions(shafts, centres, gear_z), housing, seats, frames
+        d, shafts, bearing_positions(shafts, centres, gear_z), housing, seats, frames,
+        position,
     )
     out["nodes"] = (*d["nodes"], *housing_nodes(housing, n))
     if "rigid" in d:

@@ -9,7 +9,8 @@ frame, at the point p (m, scene frame). Its spring K_b acts on the relative disp
 
     d = u − G' q,   G' = Q(φ)ᵀ G,   G = [[R, −S(p − c) R], [0, R]]
 
-(q the seat's six coordinates, c its centre, R the housing's rotation:
+(q the seat's six coordinates, c its centre, R the housing's rotation; p and c in the frame
+the housing is placed in, a gearbox's where several hosts share it:
 :meth:`~jaxgear.scenes.Housing.seat_transform`), restricted to the rows the joint takes
 (P K_b P, P = diag of the joined rows: all six on a fixed frame; about and along the axis,
 u_z and θ_z, for a frame that turns about it). Its energy ½ dᵀ P K_b P d is, on (x, q),
@@ -71,15 +72,23 @@ class MountJoint:
             planetary member's ``"ring"``, ``"carrier"``, ``"sun"``).
         seat: the seat it joins: its index (0 .. n_seats − 1) or its name (one of the
             housing's :attr:`~jaxgear.scenes.Housing.seat_names`).
-        point: p (m, scene frame), (3,): where the node sits.
+        point: p (m), (3,): where the node sits, in the frame the mount's housing is placed
+            in: the host's scene frame, or a frame several hosts share (a gearbox's, the
+            host's axes parallel to it), where it is the host's own point plus t, the host
+            origin's place in that frame.
         rows: the rows of the node's 6-vector the joint takes, ascending indices 0 .. 5
             (:data:`ALL_ROWS`: a fixed frame; :data:`AXIS_ROWS`: a frame turning about +z).
         frame: φ (rad), the angle about +z of the frame the node's coordinates are taken in
             (0: the scene frame).
+        own_seat: whether the seat is this node's alone (a planetary member bolted to it:
+            :meth:`HousingMount.on_axis`), so that a gearbox whose stages share the housing
+            refuses another stage's joint on it; False: a bearing in a bore, which other
+            bearings may share.
 
     Raises:
         ValueError: a point not 3 finite numbers, rows not distinct indices 0 .. 5 in
             ascending order, a frame not finite (one line).
+        TypeError: ``own_seat`` not a bool (one line).
     """
 
     member: str
@@ -87,6 +96,7 @@ class MountJoint:
     point: tuple = (0.0, 0.0, 0.0)
     rows: tuple = ALL_ROWS
     frame: float = 0.0
+    own_seat: bool = False
 
     def __post_init__(self):
         object.__setattr__(self, "point", _point(self.point))
@@ -106,6 +116,9 @@ class MountJoint:
                 or not math.isfinite(self.frame)):
             raise ValueError(f"MountJoint {self.member!r}: frame = {self.frame!r}, allowed a "
                              "finite angle (rad)")
+        if not isinstance(self.own_seat, bool):
+            raise TypeError(f"MountJoint {self.member!r}: own_seat = {self.own_seat!r}, "
+                             "allowed True or False")
 
 
 def _xp(*arrays):
@@ -120,7 +133,9 @@ class HousingMount(eqx.Module):
     housing.
 
     Attributes:
-        housing: the :class:`~jaxgear.scenes.Housing` (placed in the host's scene frame).
+        housing: the :class:`~jaxgear.scenes.Housing`, placed in the frame of the joints'
+            points (the host's scene frame, or a frame the hosts of one housing share: a
+            gearbox's, whose stages' mounts hold this one object).
         joints: static, the :class:`MountJoint` s, in the host's order.
 
     The housing's h coordinates (:meth:`coordinate_names`) follow the host's n; its
@@ -162,15 +177,18 @@ class HousingMount(eqx.Module):
     @classmethod
     def on_axis(cls, housing: Housing, seats, centre=(0.0, 0.0, 0.0),
                 fixed_frame: bool = False) -> HousingMount:
-        """The mount of members on a stage axis (+z through ``centre``, m, scene frame):
+        """The mount of members on a stage axis (+z through ``centre``, m, in the frame the
+        housing is placed in: the stage's own frame, where its centre is the origin, or a
+        gearbox's, where it is the stage's place t):
         ``seats`` ``((member, seat), ...)`` (a seat's index or name), each member's node at
         ``centre``, joining the axis rows (u_z, θ_z: a frame turning about the axis, a
-        planetary stage's carrier frame) or, with ``fixed_frame``, all six.
+        planetary stage's carrier frame) or, with ``fixed_frame``, all six; each member bolted
+        to its seat, the seat its own (:attr:`MountJoint.own_seat`).
 
         Raises:
             ValueError: what :class:`MountJoint` and the mount refuse (one line)."""
         rows = ALL_ROWS if fixed_frame else AXIS_ROWS
-        return cls(housing, tuple(MountJoint(member, seat, centre, rows)
+        return cls(housing, tuple(MountJoint(member, seat, centre, rows, own_seat=True)
                                   for member, seat in seats))
 
     # -- the housing, once -------------------------------------------------------------
@@ -209,6 +227,12 @@ class HousingMount(eqx.Module):
     def seats(self) -> tuple[int, ...]:
         """The seats (indices) the joints use, ascending, each once."""
         return tuple(sorted({self.seat_index(k) for k in range(len(self.joints))}))
+
+    def own_seats(self) -> tuple[tuple[str, int], ...]:
+        """``((member, seat index), ...)`` of the joints whose seat is theirs alone
+        (:attr:`MountJoint.own_seat`), in the joints' order."""
+        return tuple((j.member, self.seat_index(k)) for k, j in enumerate(self.joints)
+                     if j.own_seat)
 
     @property
     def fixed_frame(self) -> bool:
@@ -281,15 +305,22 @@ class HousingMount(eqx.Module):
 
 
 def couple_housing(
-    d: dict, shafts, positions, housing: Housing | None, seats=None, frames=None
+    d: dict, shafts, positions, housing: Housing | None, seats=None, frames=None,
+    position=None,
 ) -> dict:
     """The shafts' NumPy parts (:func:`~jaxgear.scenes._shaft._shaft_arrays`) with ``housing``
     appended after the shaft coordinates and every bearing re-seated from the ground onto a
     seat (module docstring): M, the stiffness parts (a ``housing`` part appended; the
     ``bearings`` part holding the bearing couplings), the damping (n', n') and the bearing
-    force rows, grown to n' = n + h. ``positions``: :func:`bearing_positions`; ``seats``: the
-    seat index of every bearing (shaft after shaft, as ``positions``; None: the nearest), an
-    entry None leaving that bearing on the ground. ``housing`` None returns ``d`` unchanged.
+    force rows, grown to n' = n + h. ``positions``: :func:`bearing_positions` (m, scene
+    frame); ``seats``: the seat index of every bearing (shaft after shaft, as ``positions``;
+    None: the nearest), an entry None leaving that bearing on the ground. ``housing`` None
+    returns ``d`` unchanged.
+    ``position``: t (3,) (m), the scene origin's place in the frame the housing is placed in
+    (a gearbox frame that several scenes share, the scene axes parallel to it; None: the
+    scene's own frame, t = 0): each bearing at p (scene frame) is the mount's joint at p + t
+    and its nearest seat is the one nearest p + t. A seat's lever depends on p − c alone, so
+    a housing placed in the scene's own frame (its seats at c − t) couples alike.
     ``frames``: per shaft, the angle φ (rad) about +z of the frame its coordinates are taken in
     (a hybrid scene's condensed body turns its shaft's frame, docs/housing.md, "Hybrid
     scenes"), or None: every shaft in the scene frame. A bearing of a shaft at φ acts on
@@ -297,15 +328,24 @@ def couple_housing(
     vector): its relative motion in the shaft's frame, the bearing being axisymmetric there.
 
     Raises:
-        ValueError: ``seats`` of another length than the bearings, or a seat index out of range.
+        ValueError: ``seats`` of another length than the bearings, a seat index out of range,
+            ``position`` not 3 finite numbers (one line).
     """
     if housing is None:
         return d
     n = d["M"].shape[0]
     h = housing.size
     N = n + h
+    if position is not None:
+        try:
+            t = np.asarray(position, dtype=float)
+        except (TypeError, ValueError):
+            t = np.full(1, np.nan)
+        if t.shape != (3,) or not np.all(np.isfinite(t)):
+            raise ValueError(f"housing_position = {position!r}, allowed 3 finite numbers (m, "
+                             "the scene origin in the housing's frame)")
     flat = [
-        (i, b, np.asarray(p))
+        (i, b, np.asarray(p) if position is None else np.asarray(p) + t)
         for i, s in enumerate(shafts)
         for b, p in zip(s.bearings, positions[i])
     ]
