@@ -829,13 +829,13 @@ def test_low_speed_tooth_factor_states_and_bearing_forces(setup, low_speed):
 @pytest.mark.slow
 def test_nodal_diameter_resonances_appear_at_the_predicted_speeds(fem_prep_cache):
     """(seed (3.9), Tab. III-11): on the helical test pair the wheel's
-    2-nodal-diameter web modes of the assembled structure (6682 and 7019 Hz, split by the
-    mesh) predict a backward resonance at order Z + 2 = 32 (pinion 1968–2067 rad/s) and a
-    forward one at Z − 2 = 28 (2249–2363 rad/s). The hybrid sweep (25 rad/s steps, one wheel
+    2-nodal-diameter web modes of the assembled structure (6685 and 7033 Hz, split by the
+    mesh) predict a backward resonance at order Z + 2 = 32 (pinion 1969–2072 rad/s) and a
+    forward one at Z − 2 = 28 (2250–2367 rad/s). The hybrid sweep (25 rad/s steps, one wheel
     turn kept) finds the ND-2 axial rim wave of order 32 peaking at 2000 rad/s and travelling
     backward, and that of order 28 peaking at 2300 rad/s travelling forward, each within the
-    predicted span ± one step and at least 3 times its level at 1850 rad/s (measured 4.6×,
-    16×). docs/bench/nd_resonance.json (examples/nodal_diameter_resonance.py) holds the same."""
+    predicted span ± one step and at least 3 times its level at 1850 rad/s (measured 5.0×,
+    17×). docs/bench/nd_resonance.json (examples/nodal_diameter_resonance.py) holds the same."""
 
     ex = load_example("nodal_diameter_resonance")
     res = ex.compute()

@@ -62,7 +62,7 @@ def test_thin_webbed_gear_notebook_executes(tmp_path, fem_prep_cache):
         expect = 2 * math.pi * f_nd / order * Z / z1
         np.testing.assert_allclose(sorted(got["window"][d]), np.sort(expect), rtol=1e-12)
     # the same windows as examples/nodal_diameter_resonance.py's record for this pair, wheel and
-    # damping (docs/bench/nd_resonance.json: 1968–2067 and 2249–2363 rad/s), computed apart
+    # damping (docs/bench/nd_resonance.json: 1969–2072 and 2250–2367 rad/s), computed apart
     record = json.loads((ROOT / "docs" / "bench" / "nd_resonance.json").read_text())
     for d in ("backward", "forward"):
         expect = sorted(r["pinion_speed_rad_s"] for r in record["predicted"] if r["direction"] == d)
