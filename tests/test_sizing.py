@@ -235,6 +235,7 @@ def test_a_written_candidate_rates_to_the_tables_numbers(sized):
     assert row["mass_kg"] == feasible_mass.min()
 
 
+@pytest.mark.usefixtures("no_figures")
 def test_jaxgear_size_writes_the_table_and_a_candidate(sized, tmp_path, capsys):
     spec, tables, table = sized
     path = tmp_path / "small.toml"
@@ -352,6 +353,7 @@ def test_jaxgear_size_refuses_a_bad_spec_in_one_line_before_work(tmp_path, capsy
     assert "none.toml: no such sizing spec file" in capsys.readouterr().err
 
 
+@pytest.mark.usefixtures("no_figures")
 def test_the_table_as_parquet_equals_the_csv(request, tmp_path):
     """sizing.parquet holds the table (read back column by column)."""
     import pyarrow.parquet as pq

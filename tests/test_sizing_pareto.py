@@ -274,7 +274,8 @@ def test_jaxgear_size_writes_the_rank_column_the_front_and_its_figures(sized, tm
     path = tmp_path / "small.toml"
     path.write_text(_toml(SPEC), encoding="utf-8")
     out = tmp_path / "out"
-    assert main(["size", str(path), "--out", str(out), "--quiet"]) == 0
+    # without the TE stage (its columns are not objectives here: tests/test_sizing_te.py)
+    assert main(["size", str(path), "--out", str(out), "--quiet", "--te", "0"]) == 0
     with open(out / "sizing.csv", encoding="utf-8") as f:
         rows = list(csv.DictReader(f))
     rank = np.array([int(r["pareto_rank"]) for r in rows])
@@ -300,7 +301,8 @@ def test_jaxgear_size_writes_the_rank_column_the_front_and_its_figures(sized, tm
     heavy = copy.deepcopy(SPEC)
     heavy["operating"]["torque_Nm"] = 5000.0
     path.write_text(_toml(heavy), encoding="utf-8")
-    assert main(["size", str(path), "--out", str(tmp_path / "none"), "--quiet"]) == 0
+    assert main(["size", str(path), "--out", str(tmp_path / "none"), "--quiet",
+                 "--te", "0"]) == 0
     summary = json.loads((tmp_path / "none" / "sizing.json").read_text(encoding="utf-8"))
     assert summary["feasible"] == 0 and summary["chosen"] is None and summary["plots"] == []
     assert not list((tmp_path / "none").glob("*.png"))

@@ -120,6 +120,9 @@ def test_the_published_design_is_enumerated(spec):
     assert abs(c.centre_distance[k] - CENTRE_DISTANCE) < 1.2e-6
 
 
+# default tier: tests/test_sizing.py::test_a_written_candidate_rates_to_the_tables_numbers (a
+# row's geometry and rating against the case reader's, on the small spec's compiled program)
+@pytest.mark.slow
 def test_the_published_design_rates_to_its_published_rating(table):
     """The published design's row against the report. Geometry to the printed digits: half a
     unit of the last (0.5 µm, 5e-4), plus, on the wheel, what the fourth decimal of x2 (0.6691
@@ -161,6 +164,9 @@ def test_the_published_design_rates_to_its_published_rating(table):
     assert np.all(s_f >= PRINTED["S_F"]) and np.all(s_f / PRINTED["S_F"] - 1 < 0.03)
 
 
+# default tier: tests/test_sizing.py::test_jaxgear_size_writes_the_table_and_a_candidate (a
+# row written as a case file) and test_a_written_candidate_rates_to_the_tables_numbers
+@pytest.mark.slow
 def test_the_published_row_written_as_a_case_is_the_published_pair(spec, table):
     """``--write`` of the published row gives the pair of the embedded case ``nrel-5mw-stage3``
     (Table V's design, typed separately from the report and the paper): the same members and
@@ -181,6 +187,10 @@ def test_the_published_row_written_as_a_case_is_the_published_pair(spec, table):
     assert abs(float(written.center_distance) - float(published.center_distance)) < 1.2e-6
 
 
+# default tier: tests/test_sizing.py::test_rejections_agree_with_the_pairs_own_checks (the
+# minimum safety factors reject) and test_a_written_candidate_rates_to_the_tables_numbers
+# (ranked lightest first among the feasible)
+@pytest.mark.slow
 def test_with_its_own_safety_factors_as_minimums_the_published_design_is_the_lightest(spec, table):
     """At the required minimums (S_Hmin 1.25, S_Fmin 1.56) lighter candidates meet them (the
     published stage holds 45 % and 98 % more); with the minimums raised to the published

@@ -192,6 +192,7 @@ def _toml(data) -> str:
     return "\n".join(lines) + "\n"
 
 
+@pytest.mark.usefixtures("no_figures")
 def test_jaxgear_size_runs_the_stage_and_writes_both_cases(staged, tmp_path, capsys):
     """``jaxgear size`` (the spec's stage: one candidate, the fixture's settings: the same
     compiled programs) writes the stage's columns and, for an evaluated candidate, the plain
