@@ -18,6 +18,7 @@ import tomllib
 import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings, strategies as st
+from test_sizing import _spec as _small_spec
 
 import jaxgear as jg
 import jaxgear.io as jio
@@ -25,21 +26,12 @@ import jaxgear.sizing as js
 import jaxgear.tribology as tr
 from jaxgear.cli import main
 
-# a small helical reducer (tests/test_sizing.py's static values: helix 15°, α_n 20°, the
-# 1/1.25/0.38 rack, grade 6, no tip thickness limit), with an oil: the mesh loss columns
-SPEC = {
+# the small helical reducer of tests/test_sizing.py with pinions to 24 and no outer-diameter
+# limit, and an oil: the mesh loss columns
+SPEC = _small_spec(z1_max=24)
+del SPEC["sizing"]["outer_diameter_max_mm"]
+SPEC |= {
     "name": "small-lubricated",
-    "operating": {"torque_Nm": 120.0, "speed_rpm": 1500.0},
-    "material": {"sigma_H_lim_MPa": 1500.0, "sigma_F_lim_MPa": 430.0,
-                 "treatment": "case_hardened", "density_kg_m3": 7830.0},
-    "rating": {"life_h": 20000.0, "application_factor": 1.25, "min_safety_pitting": 1.1,
-               "min_safety_bending": 1.4, "viscosity_40C_mm2_s": 220.0,
-               "roughness_Rz_flank_um": 4.0, "roughness_Rz_root_um": 16.0, "accuracy_grade": 6},
-    "sizing": {"ratio": 2.0, "ratio_tolerance_percent": 5.0, "normal_module_min_mm": 2.0,
-               "normal_module_max_mm": 3.0, "module_series": "both", "z1_min": 12,
-               "z1_max": 24, "helix_angle_deg": 15.0, "profile_shift": [0.0, 0.1],
-               "face_width_min_mm": 12.0, "face_width_max_mm": 30.0,
-               "face_width_ratio_max": 0.6, "tip_thickness_min": 0.0},
     "lubricant": {"viscosity_40C_mm2_s": 220.0, "viscosity_100C_mm2_s": 19.0,
                   "density_kg_m3": 895.0, "pressure_viscosity_per_GPa": 20.0,
                   "oil_temperature_C": 70.0, "roughness_Ra_um": [0.5, 0.7],

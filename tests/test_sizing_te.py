@@ -13,6 +13,7 @@ import tomllib
 
 import numpy as np
 import pytest
+from test_sizing import _spec as _small_spec
 
 import jaxgear as jg
 import jaxgear.io as jio
@@ -21,22 +22,10 @@ from jaxgear.cli import main
 
 # the small helical reducer of tests/test_sizing.py narrowed to one module and three pinions
 # (a few feasible candidates), the stage at two torques and a short optimisation: cheap
-SPEC = {
-    "name": "small-te",
-    "operating": {"torque_Nm": 120.0, "speed_rpm": 1500.0},
-    "material": {"sigma_H_lim_MPa": 1500.0, "sigma_F_lim_MPa": 430.0,
-                 "treatment": "case_hardened", "density_kg_m3": 7830.0},
-    "rating": {"life_h": 20000.0, "application_factor": 1.25, "min_safety_pitting": 1.1,
-               "min_safety_bending": 1.4, "viscosity_40C_mm2_s": 220.0,
-               "roughness_Rz_flank_um": 4.0, "roughness_Rz_root_um": 16.0, "accuracy_grade": 6},
-    "sizing": {"ratio": 2.0, "ratio_tolerance_percent": 5.0, "normal_module_min_mm": 2.5,
-               "normal_module_max_mm": 2.5, "z1_min": 18, "z1_max": 20,
-               "helix_angle_deg": 15.0, "profile_shift": [0.0, 0.1],
-               "face_width_min_mm": 12.0, "face_width_max_mm": 30.0,
-               "face_width_ratio_max": 0.6, "outer_diameter_max_mm": 118.0,
-               "tip_thickness_min": 0.0, "te_candidates": 1, "te_torque_min_percent": 50.0,
-               "te_torques": 2, "te_max_iterations": 20},
-}
+SPEC = _small_spec(normal_module_min_mm=2.5, normal_module_max_mm=2.5, z1_min=18, z1_max=20,
+                  te_candidates=1, te_torque_min_percent=50.0, te_torques=2,
+                  te_max_iterations=20)
+SPEC["name"] = "small-te"
 
 
 def _spec(**sizing):
