@@ -49,6 +49,14 @@ def _spec(**sizing):
     return data
 
 
+def _refused(data, message):
+    """``data`` (a spec's tables) refused at load in one line starting with ``message``."""
+    with pytest.raises(ValueError) as err:
+        jio.parse_sizing_spec(data)
+    text = str(err.value)
+    assert text.startswith(message) and "\n" not in text, text
+
+
 def _brute_force(data):
     """Every (m_n mm, z1, z2) of the spec by loops, exact ratios (fractions of the decimal
     values), ISO 54's modules typed here, the zero-backlash centre distance of the shifts."""
@@ -126,10 +134,7 @@ BAD = [
 
 @pytest.mark.parametrize("change,message", BAD, ids=[m.split(":")[0] for _, m in BAD])
 def test_bad_specs_are_refused_in_one_line_naming_the_key(change, message):
-    with pytest.raises(ValueError) as err:
-        jio.parse_sizing_spec(_spec(**change))
-    text = str(err.value)
-    assert text.startswith(message) and "\n" not in text, text
+    _refused(_spec(**change), message)
 
 
 def test_operating_needs_one_of_torque_or_power():

@@ -18,9 +18,8 @@ import tomllib
 import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings, strategies as st
-from test_sizing import _spec as _small_spec
+from test_sizing import _pair, _spec as _small_spec
 
-import jaxgear as jg
 import jaxgear.io as jio
 import jaxgear.sizing as js
 import jaxgear.tribology as tr
@@ -167,15 +166,6 @@ def test_pareto_front_names_a_missing_column():
 def sized():
     spec, tables = jio.parse_sizing_spec(_spec())
     return spec, tables, js.size(spec)
-
-
-def _pair(row, spec):
-    members = [jg.Member(int(row[z]), float(row[x]), spec.addendum_coeff, spec.dedendum_coeff,
-                         float(row["face_width_m"]), spec.fillet_radius_coeff)
-               for z, x in (("z1", "x1"), ("z2", "x2"))]
-    return jg.GearPair(*members, normal_module=float(row["normal_module_m"]),
-                       normal_pressure_angle=spec.normal_pressure_angle,
-                       helix_angle=spec.helix_angle)
 
 
 def test_mesh_loss_equals_the_tribology_model_on_each_candidates_pair(sized):
