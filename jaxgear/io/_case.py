@@ -566,15 +566,24 @@ class Case(MeshSettings):
             density=self.density,
         )
 
-    def lumped_train(self, slices: int | None = None):
+    def lumped_train(self, slices: int | None = None, *, housing=None, seats=None,
+                     housing_position=None):
         """The train's lumped 3D scene (:func:`jaxgear.scenes.lumped_train`): each shaft of
         ``[[scene.shafts]]`` on its bearings with its gears (rigid discs of
         :meth:`gear_masses` and :meth:`gear_inertias`, diametral inertia I_p/2 + m b²/12), each
         mesh on its line of action with the layout's hands and phase, the loads' shares and the
-        wrenches per unit input torque.
+        wrenches per unit input torque; on the case's ``[housing]`` if it has one.
+
+        Args:
+            slices: slices per contact line (None: the case's).
+            housing, seats, housing_position: a :class:`jaxgear.scenes.Housing` placed by the
+                caller, each bearing's seat and the scene origin's place in the housing's
+                frame (m) (:func:`~jaxgear.scenes.lumped_train`'s), instead of the case's
+                ``[housing]``.
 
         Raises:
-            ValueError: the case has no lumped 3D scene.
+            ValueError: the case has no lumped 3D scene, or what
+                :func:`~jaxgear.scenes.lumped_train` refuses.
         """
         if not self.lumped:
             raise ValueError("a lumped 3D train needs [scene] model = 'lumped3d'")
@@ -585,8 +594,9 @@ class Case(MeshSettings):
             self.shaft_of,
             **self._lumped_args(),
         )
-        housing = None if self.housing is None else self.housing_body().housing
-        return lumped_train(spec, housing)
+        if housing is None and self.housing is not None:
+            housing = self.housing_body().housing
+        return lumped_train(spec, housing, seats, housing_position=housing_position)
 
     def build_housing(self, shafts, centres, gear_z, *, cache=True):
         """The case's ``[housing]`` (:attr:`housing`) as a :class:`jaxgear.scenes.Housing`
@@ -679,6 +689,7 @@ class Case(MeshSettings):
         tooth_mass: bool = True,
         housing=None,
         seats=None,
+        housing_position=None,
     ):
         """The train's lumped 3D scene with its flexible gears as condensed FE bodies
         (:func:`jaxgear.scenes.hybrid_train`; ``[scene.bodies]``), the output held; its meshes'
@@ -691,6 +702,8 @@ class Case(MeshSettings):
             housing, seats: a :class:`jaxgear.scenes.Housing` the shafts sit in
                 and each bearing's seat, None for a bearing on the ground
                 (:func:`~jaxgear.scenes.hybrid_train`; docs/housing.md, "Hybrid scenes").
+            housing_position: with ``housing``, the scene origin's place in the housing's
+                frame (m; :func:`~jaxgear.scenes.hybrid_train`'s).
 
         Raises:
             ValueError: the case has no lumped 3D scene, or what
@@ -710,7 +723,8 @@ class Case(MeshSettings):
             gear_names=self.gear_names,
             **self._lumped_args(),
         )
-        return hybrid_train(spec, tooth_mass=tooth_mass, housing=housing, seats=seats)
+        return hybrid_train(spec, tooth_mass=tooth_mass, housing=housing, seats=seats,
+                            housing_position=housing_position)
 
     def dynamic_train(self, slices: int | None = None):
         """The train's rigid-gear scene: :meth:`lumped_train` for a lumped 3D scene, else

@@ -55,6 +55,7 @@ from ._gear_mesh import line_of_action, mesh_line, only_mesh, pair_mesh
 from ._interface import GearPlace, RigidMember, body_rims, flexible_member, rim_window
 from ._housing import Housing
 from ._lumped3d import _housed, _lumped_arrays, _train_arrays, train_meshes
+from ._mount import check_housing_position
 from ._shaft import Material, ShaftSpec
 from ._structure import AssembledScene
 from ._train import TrainSpec
@@ -138,6 +139,7 @@ class HybridScene(AssembledScene):
         tooth_mass: bool = True,
         housing: Housing | None = None,
         seats=None,
+        housing_position=None,
     ) -> HybridScene:
         """A lumped 3D gear train (:class:`~jaxgear.scenes.LumpedTrain`) whose flexible gears are
         condensed FE bodies: a flexible idler meshes twice, its two contact zones on one rim, both
@@ -164,6 +166,9 @@ class HybridScene(AssembledScene):
                 seat (shaft after shaft), as :meth:`~jaxgear.scenes.LumpedTrain.of`'s, its
                 coordinates after the shafts' (before the bodies'); a shaft carrying a
                 flexible body meets its seats as in :func:`hybrid_pair`.
+            housing_position: with ``housing``, t (3,) (m): the scene origin's place in the
+                frame the housing is placed in, as :func:`~jaxgear.scenes.lumped_pair`'s;
+                None: the housing placed in the scene's frame.
 
         Raises:
             ValueError (one line, lengths in mm): a shaft carrying a flexible gear and a rigid one or
@@ -171,9 +176,10 @@ class HybridScene(AssembledScene):
                 gears (count, rim taken twice), a gear position that is not where the body puts its
                 rim, a rim width that is not the face width of the gear's meshes; what
                 :func:`hybrid_pair` and
-                :meth:`~jaxgear.scenes.LumpedTrain.of` refuse.
+                :meth:`~jaxgear.scenes.LumpedTrain.of` refuse (``seats``,
+                ``housing_position``).
         """
-        return _hybrid_train(cls, spec, tooth_mass, housing, seats)
+        return _hybrid_train(cls, spec, tooth_mass, housing, seats, housing_position)
 
     def with_window_compliance(self, theta) -> HybridScene:
         """The scene holding its :func:`window_compliance` at the scene angles ``theta`` (rad,
@@ -352,8 +358,10 @@ class HybridScene(AssembledScene):
 # builders (NumPy, once per scene)
 
 
-def _hybrid_train(cls, spec: TrainSpec, tooth_mass: bool, housing=None, seats=None) -> HybridScene:
+def _hybrid_train(cls, spec: TrainSpec, tooth_mass: bool, housing=None, seats=None,
+                  position=None) -> HybridScene:
     """:meth:`HybridScene.train`."""
+    check_housing_position(housing, position, "HybridScene.train")
     bodies, layout, on = spec.gear_bodies, spec.layout, spec.shaft_gears
     shaft_body, bodies_z = _shaft_bodies(spec)
     masses = [None if b is not None else m for b, m in zip(bodies, spec.masses, strict=True)]
@@ -379,6 +387,7 @@ def _hybrid_train(cls, spec: TrainSpec, tooth_mass: bool, housing=None, seats=No
         housing,
         seats,
         frames,
+        position,
     )
     t["nodes"] = t["d"].pop("nodes")
     t["f_torque"] = np.concatenate([t["f_torque"], np.zeros(t["d"]["M"].shape[0] - n0)])
@@ -495,6 +504,7 @@ def hybrid_pair(
     tooth_mass: bool = True,
     housing: Housing | None = None,
     seats=None,
+    housing_position=None,
 ) -> HybridScene:
     """Assemble the hybrid scene: the lumped 3D scene with condensed bodies (H1, H2).
 
@@ -520,14 +530,20 @@ def hybrid_pair(
             flexible member's shaft turns with its body frame, a seat does not: its bearings
             meet their seats at the body frame's angle at θ = 0 (:func:`couple_housing`'s
             ``frames``; docs/housing.md, "Hybrid scenes").
+        housing_position: with ``housing``, t (3,) (m): the scene origin's place in the frame
+            the housing is placed in, as :func:`~jaxgear.scenes.lumped_pair`'s (each bearing's
+            joint at its scene point plus t, its nearest seat the one nearest that point);
+            None: the housing placed in the scene's frame.
 
     Raises:
         ValueError: body/gear mismatch (teeth, root radius), a bearing node off the axis or
             outside its shaft, a structure with a rigid-body mode other than the drive rotation,
             a bearing stiffness or damping matrix on a flexible body's shaft that is not
             axisymmetric about z (that shaft turns with the body frame); what
-            :func:`~jaxgear.scenes.lumped_pair` refuses of ``seats``.
+            :func:`~jaxgear.scenes.lumped_pair` refuses of ``seats`` and ``housing_position``
+            (the latter before any work).
     """
+    check_housing_position(housing, housing_position, "hybrid_pair")
     shafts = (pinion_shaft, gear_shaft)
     where = ("scene.pinion_shaft", "scene.gear_shaft")
     for m, body in enumerate(bodies):
@@ -569,6 +585,7 @@ def hybrid_pair(
             housing,
             seats,
             frames,
+            housing_position,
         )
     ratio = pair.pinion.teeth / pair.gear.teeth
     placed = _place_bodies(
@@ -627,15 +644,22 @@ def _free_rotation(rotations: list, te_rows: list) -> np.ndarray:
 
 
 def hybrid_train(
-    spec: TrainSpec, *, tooth_mass: bool = True, housing: Housing | None = None, seats=None
+    spec: TrainSpec,
+    *,
+    tooth_mass: bool = True,
+    housing: Housing | None = None,
+    seats=None,
+    housing_position=None,
 ) -> HybridScene:
     """The hybrid scene of the train ``spec`` (with ``housing``: its shafts' bearings on the
-    housing's seats): :meth:`HybridScene.train`.
+    housing's seats, the scene origin at ``housing_position`` in the housing's frame):
+    :meth:`HybridScene.train`.
 
     Raises:
         ValueError: what :meth:`HybridScene.train` refuses.
     """
-    return HybridScene.train(spec, tooth_mass=tooth_mass, housing=housing, seats=seats)
+    return HybridScene.train(spec, tooth_mass=tooth_mass, housing=housing, seats=seats,
+                             housing_position=housing_position)
 
 
 HybridPair = HybridScene  # the name of the pair's scene (a hybrid train is the same class)

@@ -30,7 +30,7 @@ from .._baseplane import MeshModel
 from .._geometry import GearPair
 from ._gear_mesh import GearMesh, line_of_action, mesh_line, pair_mesh
 from ._housing import Housing, bearing_positions
-from ._mount import couple_housing, housing_nodes
+from ._mount import check_housing_position, couple_housing, housing_nodes
 from ._interface import RigidMember
 from ._scene import DynamicScene
 from ._shaft import ShaftSpec, _add_gear_body, _shaft_arrays, _shaft_structure
@@ -156,13 +156,11 @@ def lumped_pair(
             housing is placed in this scene's frame (t = 0).
 
     Raises:
-        ValueError: what :func:`~jaxgear.scenes._mount.couple_housing` refuses (a
-            ``housing_position`` not 3 finite numbers among it), a ``housing_position``
-            without a ``housing`` (one line).
+        ValueError: what :func:`~jaxgear.scenes._mount.couple_housing` refuses (a seat index
+            out of range, ``seats`` of another length), a ``housing_position`` without a
+            ``housing`` or not 3 finite numbers (one line, before any work).
     """
-    if housing is None and housing_position is not None:
-        raise ValueError(f"lumped_pair: housing_position = {housing_position!r} without a "
-                         "housing, allowed None (or give housing=)")
+    check_housing_position(housing, housing_position, "lumped_pair")
     d = _lumped_arrays(
         pair, pinion_shaft, gear_shaft, masses, inertias, youngs_modulus, poisson_ratio, density
     )
@@ -294,7 +292,8 @@ class LumpedTrain(GearTrain):
     takes_housing: ClassVar[bool] = True
 
     @classmethod
-    def of(cls, spec: TrainSpec, housing: Housing | None = None, seats=None) -> LumpedTrain:
+    def of(cls, spec: TrainSpec, housing: Housing | None = None, seats=None, *,
+           housing_position=None) -> LumpedTrain:
         """The lumped 3D scene of the train ``spec`` (its layout, shafts, gear bodies, loads
         and material).
 
@@ -309,15 +308,21 @@ class LumpedTrain(GearTrain):
 
         With ``housing`` (a :class:`~jaxgear.scenes.Housing`) the bearings join the shafts to
         its seats (``seats``: each bearing's seat index, shaft after shaft, an entry None
-        keeping that bearing on the ground; None: the nearest seat) instead of the ground, its coordinates after the shafts' (:func:`lumped_pair`'s
-        ``housing``); shaft i's axis runs through its first gear's layout centre, a shaft
-        position s at z = centre_z + s − that gear's position along the shaft.
+        keeping that bearing on the ground; None: the nearest seat) instead of the ground,
+        its coordinates after the shafts' (:func:`lumped_pair`'s ``housing``); shaft i's axis
+        runs through its first gear's layout centre, a shaft position s at z = centre_z + s −
+        that gear's position along the shaft. ``housing_position``: t (3,) (m), the scene
+        origin's place in the frame the housing is placed in, as :func:`lumped_pair`'s (each
+        bearing's joint at its scene point plus t, its nearest seat the one nearest that
+        point); None: the housing placed in the scene's frame.
 
         Raises:
             ValueError: gears and shafts that do not match (a shaft's ``gear_z`` count against
-                its gears), a wrench on no shaft, or what :func:`shaft_speeds`,
-                :func:`shaft_torques` and :func:`scene_span` refuse.
+                its gears), a wrench on no shaft, what :func:`shaft_speeds`,
+                :func:`shaft_torques` and :func:`scene_span` refuse, or what
+                :func:`lumped_pair` refuses of ``seats`` and ``housing_position``.
         """
+        check_housing_position(housing, housing_position, "LumpedTrain.of")
         t = _train_arrays(spec, spec.masses)
         n0 = t["d"]["M"].shape[0]
         on = spec.shaft_gears
@@ -328,6 +333,7 @@ class LumpedTrain(GearTrain):
             [s.gear_positions[0] for s in spec.shafts],
             housing,
             seats,
+            position=housing_position,
         )
         t["nodes"] = t["d"].pop("nodes")
         t["f_torque"] = np.concatenate([t["f_torque"], np.zeros(t["d"]["M"].shape[0] - n0)])
@@ -363,14 +369,16 @@ class LumpedTrain(GearTrain):
         )
 
 
-def lumped_train(spec: TrainSpec, housing: Housing | None = None, seats=None) -> LumpedTrain:
+def lumped_train(spec: TrainSpec, housing: Housing | None = None, seats=None, *,
+                 housing_position=None) -> LumpedTrain:
     """The lumped 3D scene of the train ``spec`` (with ``housing``: its bearings on the
-    housing's seats): :meth:`LumpedTrain.of`.
+    housing's seats, the scene origin at ``housing_position`` in the housing's frame):
+    :meth:`LumpedTrain.of`.
 
     Raises:
         ValueError: what :meth:`LumpedTrain.of` refuses.
     """
-    return LumpedTrain.of(spec, housing, seats)
+    return LumpedTrain.of(spec, housing, seats, housing_position=housing_position)
 
 
 def _train_arrays(spec: TrainSpec, masses, bodies_z=None) -> dict:

@@ -39,7 +39,8 @@ import numpy as np
 from .._util import check_instance
 from ._housing import Housing
 
-__all__ = ["ALL_ROWS", "AXIS_ROWS", "HousingMount", "MountJoint", "couple_housing", "housing_nodes"]
+__all__ = ["ALL_ROWS", "AXIS_ROWS", "HousingMount", "MountJoint", "check_housing_position",
+           "couple_housing", "housing_nodes"]
 
 #: the rows of a node's 6-vector (u_x, u_y, u_z, θ_x, θ_y, θ_z) a joint takes on a frame that
 #: turns about the axis: along it (u_z) and about it (θ_z), the same in the turning and the
@@ -304,6 +305,32 @@ class HousingMount(eqx.Module):
         return xp.block([[top, cross], [cross.T, seat]])
 
 
+def check_housing_position(housing: Housing | None, position, where: str):
+    """The one check of a scene builder's ``housing_position`` (:func:`couple_housing`'s
+    ``position``; every kind that declares
+    :attr:`~jaxgear.scenes.Scene.takes_housing` takes it with ``housing=`` and ``seats=``):
+    t (3,) (m) as a NumPy array, or None for None (the housing placed in the scene's own
+    frame, t = 0). ``where``: the builder's name, for the message.
+
+    Raises:
+        ValueError: a ``position`` without a ``housing``, or not 3 finite numbers (one line
+            naming ``where``, the value and what is allowed).
+    """
+    if position is None:
+        return None
+    if housing is None:
+        raise ValueError(f"{where}: housing_position = {position!r} without a housing, allowed "
+                         "None (or give housing=)")
+    try:
+        t = np.asarray(position, dtype=float)
+    except (TypeError, ValueError):
+        t = np.full(1, np.nan)
+    if t.shape != (3,) or not np.all(np.isfinite(t)):
+        raise ValueError(f"{where}: housing_position = {position!r}, allowed 3 finite numbers "
+                         "(m, the scene origin in the housing's frame)")
+    return t
+
+
 def couple_housing(
     d: dict, shafts, positions, housing: Housing | None, seats=None, frames=None,
     position=None,
@@ -329,23 +356,16 @@ def couple_housing(
 
     Raises:
         ValueError: ``seats`` of another length than the bearings, a seat index out of range,
-            ``position`` not 3 finite numbers (one line).
+            what :func:`check_housing_position` refuses of ``position`` (one line).
     """
+    t = check_housing_position(housing, position, "couple_housing")
     if housing is None:
         return d
     n = d["M"].shape[0]
     h = housing.size
     N = n + h
-    if position is not None:
-        try:
-            t = np.asarray(position, dtype=float)
-        except (TypeError, ValueError):
-            t = np.full(1, np.nan)
-        if t.shape != (3,) or not np.all(np.isfinite(t)):
-            raise ValueError(f"housing_position = {position!r}, allowed 3 finite numbers (m, "
-                             "the scene origin in the housing's frame)")
     flat = [
-        (i, b, np.asarray(p) if position is None else np.asarray(p) + t)
+        (i, b, np.asarray(p) if t is None else np.asarray(p) + t)
         for i, s in enumerate(shafts)
         for b, p in zip(s.bearings, positions[i])
     ]

@@ -44,11 +44,14 @@ class Scene(eqx.Module):
     """Abstract linear structure seen by the contact law.
 
     ``takes_housing`` (a class attribute): whether the kind's bearings can sit in a flexible
-    :class:`~jaxgear.scenes.Housing` (built with ``housing=``, its :class:`HousingMount`
-    seating them); False here, True on the kinds with shafts on bearings
-    (:class:`~jaxgear.scenes.LumpedPair`, :class:`~jaxgear.scenes.LumpedTrain`,
-    :class:`~jaxgear.scenes.HybridScene`). A case's ``[housing]`` is refused at load for a
-    kind that does not declare it."""
+    :class:`~jaxgear.scenes.Housing` (its :class:`HousingMount` seating them); False here,
+    True on the kinds with shafts on bearings (:class:`~jaxgear.scenes.LumpedPair`,
+    :class:`~jaxgear.scenes.LumpedTrain`, :class:`~jaxgear.scenes.HybridScene`), whose every
+    builder takes the housing alike: ``housing=`` (the object, placed in some frame),
+    ``seats=`` (each bearing's seat; None: the nearest) and ``housing_position=`` (t (3,) (m),
+    the scene origin's place in that frame, the axes parallel; None: t = 0), with the same
+    refusals (:func:`~jaxgear.scenes.lumped_pair`). A case's ``[housing]`` is refused at load
+    for a kind that does not declare it."""
 
     takes_housing: ClassVar[bool] = False
 
