@@ -148,8 +148,8 @@ def test_a_pair_stage_bore_diameter_of_its_own(tmp_path):
 
 def test_gearbox_housing_keys_errors_one_line(tmp_path):
     """The stage keys without a gearbox [housing] or on a torsional stage, seats of the wrong
-    count or out of the box's 8, a position not of 3 numbers, a [housing] without a lumped
-    stage, a [housing] key out of range: one line each."""
+    count or out of the box's 8, a position not of 3 finite numbers (mm), a [housing] without a
+    lumped stage, a [housing] key out of range: one line each."""
     for f in DATA.glob("two-pair-*.toml"):
         (tmp_path / f.name).write_text(f.read_text())
     text = CASE.read_text()
@@ -167,6 +167,9 @@ def test_gearbox_housing_keys_errors_one_line(tmp_path):
         text.replace("[0.0, 150.0, 0.0]", "[0.0, 150.0]"): (
             r"\[stages\[1\]\] housing_position_mm = \[0(\.0)?, 150(\.0)?\]: must be an array of "
             r"3 numbers"),
+        text.replace("[0.0, 150.0, 0.0]", "[0.0, nan, 0.0]"): (
+            r"\[stages\[1\]\] housing_position_mm = \[0(\.0)?, nan, 0(\.0)?\]: must be an array "
+            r"of finite numbers"),
         text.replace("cutoff_Hz = 6000.0", "cutoff_Hz = -1.0"): r"\[housing\] cutoff_Hz = -1",
         torsional.replace("\n[whine]\n", table + "\n[whine]\n"): (
             r"\[housing\]: allowed with at least one model = \"lumped3d\" stage"),
