@@ -576,10 +576,10 @@ class Case(MeshSettings):
 
         Args:
             slices: slices per contact line (None: the case's).
-            housing, seats, housing_position: a :class:`jaxgear.scenes.Housing` placed by the
-                caller, each bearing's seat and the scene origin's place in the housing's
-                frame (m) (:func:`~jaxgear.scenes.lumped_train`'s), instead of the case's
-                ``[housing]``.
+            housing: a :class:`jaxgear.scenes.Housing` placed by the caller, instead of the
+                case's ``[housing]`` (None: the case's, if it has one).
+            seats, housing_position: each bearing's seat and the scene origin's place in the
+                housing's frame (m), as :func:`~jaxgear.scenes.lumped_train`'s.
 
         Raises:
             ValueError: the case has no lumped 3D scene, or what
