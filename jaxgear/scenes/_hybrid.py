@@ -730,9 +730,14 @@ def _windows_overflow(meshes: tuple, members: tuple, samples: int = 48) -> bool:
     for mesh in meshes:
         plane = mesh.base_plane
         angles = (np.arange(2 * samples) + 0.5) * float(plane.mesh_period_angle) / samples
-        over = jax.jit(
-            jax.vmap(lambda a, mesh=mesh: mesh.window_overflow(members, mesh.base_plane.cells(a)))
-        )(jnp.asarray(angles + float(mesh.phase), dtype))
+        over = _overflow_at(mesh, members, jnp.asarray(angles + float(mesh.phase), dtype))
         if bool(np.any(np.asarray(over))):
             return True
     return False
+
+
+@eqx.filter_jit
+def _overflow_at(mesh, members: tuple, angles):
+    """Whether a flank cell of ``mesh`` reaches beyond its member's window at each angle (one
+    compiled program per mesh layout, shared by every scene built with it)."""
+    return jax.vmap(lambda a: mesh.window_overflow(members, mesh.base_plane.cells(a)))(angles)
