@@ -29,10 +29,20 @@ from ._kinds import (
     TaperedRoller as TaperedRoller,
 )
 from ._life import (
+    ISO281_CONTAMINATION as ISO281_CONTAMINATION,
+    ISO281_RELIABILITY as ISO281_RELIABILITY,
     BearingLife as BearingLife,
     BearingSpectrum as BearingSpectrum,
+    ModifiedLife as ModifiedLife,
+    fatigue_load_limit as fatigue_load_limit,
+    life_modification_factor as life_modification_factor,
+    modified_life as modified_life,
+    rated_viscosity as rated_viscosity,
     rating_life as rating_life,
+    reliability_factor as reliability_factor,
     spectrum_life as spectrum_life,
+    spectrum_modified_life as spectrum_modified_life,
 )
+from ._reference import ReferenceLife as ReferenceLife, reference_life as reference_life
 from ._solve import BearingState as BearingState, solve_displacement as solve_displacement
 from ._tones import BearingTones as BearingTones, bearing_tones as bearing_tones
