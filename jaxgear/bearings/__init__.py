@@ -6,9 +6,11 @@ The bearing kinds are classes behind one contract (:class:`AbstractRollingBearin
 spring the scenes use today. A kind gives the load its rings pass for a displacement
 (:meth:`~AbstractRollingBearing.load`, the rolling elements' Hertz loads summed: Jones, Harris &
 Kotzalas, Lim & Singh), its 5×5 stiffness at an operating point (``jax.jacfwd``), and
-:func:`solve_displacement` the displacement that carries a load. ISO 281's basic rating life
-(:func:`rating_life`, :func:`spectrum_life` under a :class:`BearingSpectrum`) and the bearing
-tones (:func:`bearing_tones`) complete it; :func:`catalogue` builds a few embedded bearings.
+:func:`solve_displacement` the displacement that carries a load. ISO 281's basic and modified
+rating life (:func:`rating_life`, :func:`modified_life`; :func:`spectrum_life` and
+:func:`spectrum_modified_life` under a :class:`BearingSpectrum`), ISO/TS 16281's reference
+rating life from the element loads (:func:`reference_life`, ball kinds) and the bearing tones
+(:func:`bearing_tones`) complete it; :func:`catalogue` builds a few embedded bearings.
 Not yet wired into the scenes, the gearbox or the case files (docs/bearings.md says how they
 will enter).
 """
