@@ -150,7 +150,7 @@ def test_spectrum_modified_life_palmgren_miner_by_hand():
     b = jb.catalogue("6205")
     spec = jb.BearingSpectrum([2000.0, 4000.0], [0.0, 0.0], [1500 * RPM, 750 * RPM],
                               [1000 * 3600.0, 500 * 3600.0])
-    kw = dict(reliability=0.99, contamination=0.5)
+    kw = {"reliability": 0.99, "contamination": 0.5}
     life = jb.spectrum_modified_life(b, spec, viscosity=20e-6, **kw)
     assert np.asarray(life.life_factor) == pytest.approx([2.21238, 0.565310], rel=1e-5)
     assert float(life.duration) / 3600 == pytest.approx(423.178, rel=1e-5)
