@@ -352,10 +352,19 @@ def _kappa(where, bearing, speed, viscosity, viscosity_ratio):
     turning = w > 0
     nu1 = rated_viscosity(jnp.where(turning, w, 1.0), bearing.pitch_diameter)
     kappa = jnp.where(turning, jnp.asarray(viscosity, float) / nu1, KAPPA_MAX)
-    if not is_traced(kappa):
-        nu1_mm = float(np.max(np.where(np.asarray(turning), np.asarray(nu1), 0.0))) * 1e6
-        _check_kappa(where, kappa, f" (nu_1 up to {nu1_mm:.4g} mm^2/s at this speed and "
-                                   f"pitch_diameter)")
+    if not is_traced(kappa) and np.any(np.asarray(kappa) < KAPPA_MIN):
+        k = np.asarray(kappa).reshape(-1)
+        i = int(np.argmin(k))
+        nu_i = float(np.broadcast_to(np.asarray(viscosity, float), np.shape(kappa)).reshape(-1)[i])
+        nu1_i = float(np.broadcast_to(np.asarray(nu1), np.shape(kappa)).reshape(-1)[i])
+        bin_ = f"[{i}]" if np.ndim(viscosity) else ""
+        w_i = float(np.broadcast_to(np.asarray(w), np.shape(kappa)).reshape(-1)[i])
+        raise ValueError(
+            f"{where}: viscosity{bin_} = {nu_i:.6g} m^2/s gives kappa = nu/nu_1 = "
+            f"{float(k[i]):.4g} (nu_1 = {nu1_i * 1e6:.4g} mm^2/s at speed = {w_i:.6g} rad/s "
+            f"and this pitch_diameter): allowed >= {KAPPA_MIN * nu1_i:.4g} m^2/s "
+            f"(kappa >= {KAPPA_MIN}, ISO 281's a_ISO)"
+        )
     return kappa
 
 
