@@ -35,12 +35,12 @@ RPM = 2.0 * math.pi / 60.0
 
 
 def weibull_a1(R):
-    """ISO/TR 1281-2's a₁ behind ISO 281's Table 12 (Weibull slope 1.5, t₀ at 0.05 L10)."""
+    """ISO/TR 1281-2's a₁ behind ISO 281's table of a₁ (Weibull slope 1.5, t₀ at 0.05 L10)."""
     return 0.95 * (math.log(1 / R) / math.log(1 / 0.9)) ** (2 / 3) + 0.05
 
 
 def test_reliability_factor_follows_iso281_table_and_its_weibull_form():
-    """Table 12's rows exactly (90 % -> 1, 95 % -> 0.64, 99 % -> 0.25, 99.95 % -> 0.077 ...);
+    """ISO 281's rows exactly (90 % -> 1, 95 % -> 0.64, 99 % -> 0.25, 99.95 % -> 0.077 ...);
     every row within its rounding (0.005) of the Weibull form it tabulates, and between the rows
     within 1.5 % of it."""
     for pct, a1 in jb.ISO281_RELIABILITY:
@@ -67,11 +67,11 @@ def test_rated_viscosity_by_hand():
     assert fast * 1e6 == pytest.approx(142.302, rel=1e-4)
 
 
-def test_fatigue_load_limit_against_iso281_annex_b_and_skf():
-    """ISO 281 Annex B: C_u = C₀/22 (ball) and C₀/8.2 (roller) for d_m <= 100 mm; 6205: 7800/22
-    = 354.5 N against SKF's published P_u = 335 N; NU 205 ECP (C₀ = 27 kN): 3292.7 N against
-    SKF's 3.35 kN; a ball bearing of d_m = 300 mm and C₀ = 100 kN: 100000/22 · (100/300)^0.5 =
-    2624.3 N."""
+def test_fatigue_load_limit_against_iso281_estimate_and_skf():
+    """ISO 281's simplified estimate: C_u = C₀/22 (ball) and C₀/8.2 (roller) for d_m <= 100 mm;
+    6205: 7800/22 = 354.5 N against SKF's published P_u = 335 N; NU 205 ECP (C₀ = 27 kN):
+    3292.7 N against SKF's 3.35 kN; a ball bearing of d_m = 300 mm and C₀ = 100 kN:
+    100000/22 · (100/300)^0.5 = 2624.3 N."""
     assert float(jb.fatigue_load_limit(jb.catalogue("6205"))) == pytest.approx(354.545, rel=1e-5)
     assert float(jb.fatigue_load_limit(jb.catalogue("6205"))) == pytest.approx(335.0, rel=0.06)
     nu = jb.catalogue("NU 205", dynamic_rating=28.6e3, static_rating=27e3)

@@ -1,4 +1,4 @@
-"""ISO 281 basic rating life, at one load and under a load spectrum (Palmgren–Miner).
+"""ISO 281's basic and modified rating life, at one load and under a load spectrum.
 
 The basic rating life (ISO 281:2007, 90 % reliability, a₁ = 1) of a bearing of basic dynamic
 load rating C under its equivalent dynamic load P (:meth:`~AbstractRollingBearing.equivalent_load`,
@@ -13,12 +13,12 @@ per pass of the spectrum, the life Σ t_i / D seconds, and the equivalent load
 P_eq = (Σ n_i P_i^p / Σ n_i)^(1/p) with which one constant load gives the same life in
 revolutions.
 
-The modified rating life (ISO 281:2007 clause 9) is L_nm = a₁ a_ISO L10:
+The modified rating life (ISO 281:2007) is L_nm = a₁ a_ISO L10:
 
-- a₁, the life modification factor for reliability (ISO 281 Table 12, 90 % to 99.95 %; between
+- a₁, the life modification factor for reliability (ISO 281's table, 90 % to 99.95 %; between
   the table's rows interpolated along the Weibull form behind it, ln(a₁ − 0.05) linear in
   ln ln(1/R): ISO/TR 1281-2's a₁ = 0.95 (ln(1/R) / ln(1/0.9))^(2/3) + 0.05).
-- a_ISO, the factor of the systems approach (ISO 281 clause 9.3.3), from the viscosity ratio
+- a_ISO, the factor of the systems approach (ISO 281), from the viscosity ratio
   κ = ν/ν₁ and e_C C_u / P, for radial ball (p = 3) and radial roller (p = 10/3) bearings::
 
       ball:   a_ISO = 0.1 [1 − (2.5671 − b/κ^c)^0.83 (e_C C_u / P)^(1/3)]^(−9.3)
@@ -28,18 +28,19 @@ The modified rating life (ISO 281:2007 clause 9) is L_nm = a₁ a_ISO L10:
   (1.9987, 0.19087) ball, (1.2348, 0.19087) roller for 0.4 <= κ < 1; (1.9987, 0.071739) ball,
   (1.2348, 0.071739) roller for 1 <= κ <= 4; κ > 4 taken as 4 (ISO 281); a_ISO <= 50.
 - ν₁, the rated viscosity (mm²/s) at the speed n (r/min) and the pitch diameter d_m (mm)
-  (ISO 281 clause 9.3.3.2): ν₁ = 45000 n^(−0.83) d_m^(−0.5) for n < 1000 r/min, else
+  (ISO 281): ν₁ = 45000 n^(−0.83) d_m^(−0.5) for n < 1000 r/min, else
   ν₁ = 4500 n^(−0.5) d_m^(−0.5).
-- C_u, the fatigue load limit: the maker's value, or ISO 281 Annex B's estimate from C₀:
+- C_u, the fatigue load limit: the maker's value, or ISO 281's simplified estimate from C₀:
   C₀/22 (balls) and C₀/8.2 (rollers) for d_m <= 100 mm, times (100/d_m)^0.5 (balls) and
   (100/d_m)^0.3 (rollers) above.
-- e_C, the contamination factor, 0 to 1 (ISO 281 Table 13 gives its ranges by cleanliness:
-  :data:`ISO281_CONTAMINATION`).
+- e_C, the contamination factor, 0 to 1 (ISO 281's table gives its guideline ranges by
+  cleanliness: :data:`ISO281_CONTAMINATION`).
 
 Under a load spectrum the bins' damage adds by Palmgren–Miner with each bin's own a_ISO (its
-load and its κ): D = Σ n_i / (a₁ a_ISO,i L10,i) (ISO 281 clause 9.4: L_nm = 1 / Σ U_i / L_nm,i,
+load and its κ): D = Σ n_i / (a₁ a_ISO,i L10,i) (ISO 281: L_nm = 1 / Σ U_i / L_nm,i,
 U_i the share of revolutions). Not built: ISO 281's note allowing κ = 1 for EP-additive oils
-with κ < 1 and e_C >= 0.2, thrust bearings' formulas, the detailed e_C of its Annex A.
+with κ < 1 and e_C >= 0.2, thrust bearings' formulas, ISO 281's detailed e_C by oil
+cleanliness class and filtration.
 """
 
 from __future__ import annotations
@@ -164,14 +165,14 @@ def spectrum_life(bearing: AbstractRollingBearing, spectrum: BearingSpectrum) ->
 
 # ---------------------------------------------------------------- ISO 281 modified life
 
-#: ISO 281:2007 Table 12: reliability (%) and the life modification factor a₁
+#: ISO 281:2007's table of reliability (%) and the life modification factor a₁
 ISO281_RELIABILITY: tuple[tuple[float, float], ...] = (
     (90.0, 1.0), (95.0, 0.64), (96.0, 0.55), (97.0, 0.47), (98.0, 0.37), (99.0, 0.25),
     (99.2, 0.22), (99.4, 0.19), (99.6, 0.16), (99.8, 0.12), (99.9, 0.093), (99.92, 0.087),
     (99.94, 0.080), (99.95, 0.077),
 )
 
-#: ISO 281:2007 Table 13, the contamination factor e_C's guideline ranges by cleanliness:
+#: ISO 281:2007's table of the contamination factor e_C's guideline ranges by cleanliness:
 #: level -> ((low, high) for d_m < 100 mm, (low, high) for d_m >= 100 mm)
 ISO281_CONTAMINATION: dict[str, tuple[tuple[float, float], tuple[float, float]]] = {
     "extreme cleanliness": ((1.0, 1.0), (1.0, 1.0)),
@@ -183,7 +184,7 @@ ISO281_CONTAMINATION: dict[str, tuple[tuple[float, float], tuple[float, float]]]
     "very severe contamination": ((0.0, 0.0), (0.0, 0.0)),
 }
 
-#: ISO 281 clause 9.3.3's a_ISO constants of radial bearings, by life exponent p:
+#: ISO 281's a_ISO constants of radial bearings, by life exponent p:
 #: (lead, ((b, c) for κ in [0.1, 0.4), [0.4, 1), [1, 4]), bracket power, load power, exponent)
 _AISO = {
     3.0: (2.5671, ((2.2649, 0.054381), (1.9987, 0.19087), (1.9987, 0.071739)), 0.83,
@@ -191,7 +192,7 @@ _AISO = {
     10.0 / 3.0: (1.5859, ((1.3993, 0.054381), (1.2348, 0.19087), (1.2348, 0.071739)), 1.0,
                  0.4, -9.185),
 }
-#: the largest a_ISO (ISO 281 clause 9.3.3)
+#: the largest a_ISO (ISO 281)
 AISO_MAX = 50.0
 #: the viscosity ratios ISO 281's a_ISO covers; above KAPPA_MAX κ is taken as KAPPA_MAX
 KAPPA_MIN, KAPPA_MAX = 0.1, 4.0
@@ -224,7 +225,7 @@ class ModifiedLife(eqx.Module):
 
 def reliability_factor(reliability):
     """ISO 281's life modification factor a₁ for a reliability R (a fraction, 0.9 to 0.9995:
-    90 % to 99.95 %): Table 12 (:data:`ISO281_RELIABILITY`) at its rows, between them along
+    90 % to 99.95 %): ISO 281's table (:data:`ISO281_RELIABILITY`) at its rows, between them along
     its Weibull form (module docstring).
 
     Raises:
@@ -263,7 +264,7 @@ def _life_set(bearing, where):
 
 
 def fatigue_load_limit(bearing: AbstractRollingBearing):
-    """ISO 281 Annex B's estimate of the fatigue load limit C_u (N) from the static rating C₀:
+    """ISO 281's simplified estimate of the fatigue load limit C_u (N) from the static rating C₀:
     C₀/22 for ball and C₀/8.2 for roller bearings up to d_m = 100 mm, times (100/d_m)^0.5
     (balls) or (100/d_m)^0.3 (rollers) above (d_m in mm). A maker's C_u, where given, is the
     better value (``fatigue_limit=`` of :func:`modified_life`).
@@ -379,7 +380,7 @@ def modified_life(bearing: AbstractRollingBearing, radial, axial, speed, *, visc
             κ = ν / ν₁ with :func:`rated_viscosity`; or ``viscosity_ratio`` κ itself (exactly
             one of the two).
         reliability: R, 0.9 to 0.9995 (a₁: :func:`reliability_factor`).
-        contamination: e_C, 0 to 1 (ISO 281 Table 13: :data:`ISO281_CONTAMINATION`).
+        contamination: e_C, 0 to 1 (ISO 281's guideline ranges: :data:`ISO281_CONTAMINATION`).
         fatigue_limit: C_u (N); ``None``: estimated from C₀ (:func:`fatigue_load_limit`).
 
     Raises:
