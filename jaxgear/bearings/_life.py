@@ -388,12 +388,14 @@ def modified_life(bearing: AbstractRollingBearing, radial, axial, speed, *, visc
             0..1; both or neither of viscosity and viscosity_ratio (one line)."""
     w = "modified_life"
     consts = _life_set(bearing, w)
+    check_real("radial", radial, "N", lo=0.0, where=w)
+    check_real("axial", axial, "N", where=w)
     check_real("speed", speed, "rad/s", lo=0.0, lo_open=True, where=w)
     _check_factor_inputs(w, contamination, fatigue_limit)
-    kappa = _kappa(w, bearing, jnp.asarray(speed, float), viscosity, viscosity_ratio)
     a1 = reliability_factor(reliability)
-    Cu = fatigue_load_limit(bearing) if fatigue_limit is None else as_float(fatigue_limit)
     basic = rating_life(bearing, radial, axial, speed)
+    kappa = _kappa(w, bearing, jnp.asarray(speed, float), viscosity, viscosity_ratio)
+    Cu = fatigue_load_limit(bearing) if fatigue_limit is None else as_float(fatigue_limit)
     P = basic.equivalent_load
     a = _a_iso(consts, kappa, contamination * Cu / P)
     f = a1 * a
@@ -416,12 +418,12 @@ def spectrum_modified_life(bearing: AbstractRollingBearing, spectrum: BearingSpe
     check_instance("spectrum", spectrum, BearingSpectrum, "a jaxgear.bearings.BearingSpectrum",
                    where=w)
     _check_factor_inputs(w, contamination, fatigue_limit)
+    a1 = reliability_factor(reliability)
     k = spectrum.radial.shape[0]
     if viscosity is not None and np.ndim(viscosity) > 0:
         check_real("viscosity", viscosity, "m^2/s", lo=0.0, lo_open=True, shape=(k,),
                    shape_text=f"({k},), one per bin, or a scalar", where=w)
     kappa = _kappa(w, bearing, spectrum.speed, viscosity, viscosity_ratio)
-    a1 = reliability_factor(reliability)
     Cu = fatigue_load_limit(bearing) if fatigue_limit is None else as_float(fatigue_limit)
     p = bearing.life_exponent
     P = bearing.equivalent_load(spectrum.radial, spectrum.axial)
