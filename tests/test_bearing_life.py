@@ -4,7 +4,7 @@
   rounds (ISO/TR 1281-2: a₁ = 0.95 (ln(1/R)/ln(1/0.9))^(2/3) + 0.05); the rated viscosity ν₁,
   a_ISO (ball and roller sets), the fatigue load limit's estimate and L_nm worked by hand here
   (the numbers in each docstring), the a_ISO branches meeting where ISO 281 joins them, its
-  floor 0.1 and cap 50; ISO 281's estimate C_u = C₀/22 and C₀/8.2 against SKF's published
+  floor 0.1 and cap 50; ISO 281's estimate C_u = C₀/22 and C₀/8.2 against SKF's catalogue
   fatigue load limits of the 6205 and the NU 205 ECP.
 - Palmgren–Miner with each bin's a_ISO by hand; one bin is the constant-load life.
 - ISO/TS 16281's reference rating life against a published third-party implementation's
@@ -69,9 +69,10 @@ def test_rated_viscosity_by_hand():
 
 def test_fatigue_load_limit_against_iso281_estimate_and_skf():
     """ISO 281's simplified estimate: C_u = C₀/22 (ball) and C₀/8.2 (roller) for d_m <= 100 mm;
-    6205: 7800/22 = 354.5 N against SKF's published P_u = 335 N; NU 205 ECP (C₀ = 27 kN):
-    3292.7 N against SKF's 3.35 kN; a ball bearing of d_m = 300 mm and C₀ = 100 kN:
-    100000/22 · (100/300)^0.5 = 2624.3 N."""
+    6205: 7800/22 = 354.5 N against SKF's catalogue P_u = 335 N; NU 205 ECP (C₀ = 27 kN):
+    3292.7 N against SKF's 3.35 kN (the catalogue values as transcribed here from the SKF
+    rolling bearings catalogue; the search corpora held no copy to re-read); a ball bearing of
+    d_m = 300 mm and C₀ = 100 kN: 100000/22 · (100/300)^0.5 = 2624.3 N."""
     assert float(jb.fatigue_load_limit(jb.catalogue("6205"))) == pytest.approx(354.545, rel=1e-5)
     assert float(jb.fatigue_load_limit(jb.catalogue("6205"))) == pytest.approx(335.0, rel=0.06)
     nu = jb.catalogue("NU 205", dynamic_rating=28.6e3, static_rating=27e3)
