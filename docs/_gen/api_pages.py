@@ -30,7 +30,7 @@ PACKAGES = (
     ("jaxgear.tribology", "jaxgear.tribology.md", "lubricant film along the path of contact, tooth friction, mesh power loss and efficiency"),
     ("jaxgear.acoustics", "jaxgear.acoustics.md", "the housing's surface vibration, its equivalent radiated power (ERP) and radiated sound power from a cached radiation resistance, levels, A weighting"),
     ("jaxgear.sizing", "jaxgear.sizing.md", "gear sizing: every (module, z1, z2) of a spec's ranges, its geometry, validity and ISO 6336 rating at once; the objectives and the Pareto front"),
-    ("jaxgear.bearings", "jaxgear.bearings.md", "rolling bearings from their geometry: load distribution, stiffness at an operating point, ISO 281 life, bearing tones"),
+    ("jaxgear.bearings", "jaxgear.bearings.md", "rolling bearings from their geometry: load distribution, stiffness at an operating point, ISO 281 and ISO/TS 16281 life, bearing tones"),
     ("jaxgear.io", "jaxgear.io.md", "case files: names to objects, cases to models"),
     ("optimise", "optimise.md", "objectives, problems and minimisers"),
     ("fem_prep", "fem_prep.md", "meshing and condensation of gear bodies"),
@@ -124,7 +124,7 @@ SECTIONS = {
         ("Bearing kinds and the catalogue", ("_kinds", "_catalogue")),
         ("Hertz contact", ("_hertz",)),
         ("Operating point: the inverse solve", ("_solve",)),
-        ("Life (ISO 281) and tones", ("_life", "_tones")),
+        ("Life (ISO 281, ISO/TS 16281) and tones", ("_life", "_reference", "_tones")),
     ),
     "fem_prep.acoustics": (
         ("Surfaces and fluid", ("_surface",)),

@@ -6,9 +6,11 @@ The bearing kinds are classes behind one contract (:class:`AbstractRollingBearin
 spring the scenes use today. A kind gives the load its rings pass for a displacement
 (:meth:`~AbstractRollingBearing.load`, the rolling elements' Hertz loads summed: Jones, Harris &
 Kotzalas, Lim & Singh), its 5×5 stiffness at an operating point (``jax.jacfwd``), and
-:func:`solve_displacement` the displacement that carries a load. ISO 281's basic rating life
-(:func:`rating_life`, :func:`spectrum_life` under a :class:`BearingSpectrum`) and the bearing
-tones (:func:`bearing_tones`) complete it; :func:`catalogue` builds a few embedded bearings.
+:func:`solve_displacement` the displacement that carries a load. ISO 281's basic and modified
+rating life (:func:`rating_life`, :func:`modified_life`; :func:`spectrum_life` and
+:func:`spectrum_modified_life` under a :class:`BearingSpectrum`), ISO/TS 16281's reference
+rating life from the element loads (:func:`reference_life`, ball kinds) and the bearing tones
+(:func:`bearing_tones`) complete it; :func:`catalogue` builds a few embedded bearings.
 Not yet wired into the scenes, the gearbox or the case files (docs/bearings.md says how they
 will enter).
 """
@@ -29,10 +31,20 @@ from ._kinds import (
     TaperedRoller as TaperedRoller,
 )
 from ._life import (
+    ISO281_CONTAMINATION as ISO281_CONTAMINATION,
+    ISO281_RELIABILITY as ISO281_RELIABILITY,
     BearingLife as BearingLife,
     BearingSpectrum as BearingSpectrum,
+    ModifiedLife as ModifiedLife,
+    fatigue_load_limit as fatigue_load_limit,
+    life_modification_factor as life_modification_factor,
+    modified_life as modified_life,
+    rated_viscosity as rated_viscosity,
     rating_life as rating_life,
+    reliability_factor as reliability_factor,
     spectrum_life as spectrum_life,
+    spectrum_modified_life as spectrum_modified_life,
 )
+from ._reference import ReferenceLife as ReferenceLife, reference_life as reference_life
 from ._solve import BearingState as BearingState, solve_displacement as solve_displacement
 from ._tones import BearingTones as BearingTones, bearing_tones as bearing_tones
