@@ -9,8 +9,9 @@ Kotzalas, Lim & Singh), its 5×5 stiffness at an operating point (``jax.jacfwd``
 :func:`solve_displacement` the displacement that carries a load. ISO 281's basic rating life
 (:func:`rating_life`, :func:`spectrum_life` under a :class:`BearingSpectrum`) and the bearing
 tones (:func:`bearing_tones`) complete it; :func:`catalogue` builds a few embedded bearings.
-Not yet wired into the scenes, the gearbox or the case files (docs/bearings.md says how they
-will enter).
+A lumped 3D pair's bearings take them (:class:`jaxgear.scenes.Bearing` ``rolling=``) at the
+operating point of its quasi-static solve (:func:`jaxgear.dynamics.bearings_at_operating_point`;
+docs/bearings.md, "How it enters the scenes").
 """
 
 from ._catalogue import CATALOGUE as CATALOGUE, catalogue as catalogue

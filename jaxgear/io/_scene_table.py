@@ -377,10 +377,11 @@ class ShaftKeys(Section):
         bearings = [b.bearing() for b in self.bearings]
         carried = [b.carried() for b in bearings]
         if not any(c[2] for c in carried):
+            rolling = any(b.rolling is not None for b in bearings)
             raise sc.SchemaError(
                 f"[{where}] bearings: needs an axial stiffness on at least one bearing "
-                "(axial_N_per_um > 0, stiffness_matrix_SI[2][2] > 0, or a rolling bearing "
-                "that carries an axial load)"
+                "(axial_N_per_um > 0 or stiffness_matrix_SI[2][2] > 0"
+                + (", or a rolling bearing that carries an axial load)" if rolling else ")")
             )
         # a rolling bearing is a radial support: its tilt stiffness, which its load gives it,
         # does not hold a shaft alone
