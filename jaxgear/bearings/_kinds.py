@@ -49,6 +49,14 @@ def _jacobian(bearing, d):
     return jax.jacfwd(bearing.load)(d)
 
 
+@eqx.filter_jit
+def _stiffness6(bearing, d):
+    """:meth:`AbstractRollingBearing.stiffness6` at d, compiled once per kind and count."""
+    k = jax.jacfwd(bearing.load)(d)
+    k = 0.5 * (k + k.T)
+    return jnp.zeros((6, 6), k.dtype).at[:5, :5].set(k)
+
+
 def _contact_power(delta, n):
     """max(δ, 0)^n with every derivative finite (0 where δ <= 0: an element out of contact
     has no load, stiffness or derivative of them; the double ``where`` keeps δ^(n − k) of a
@@ -112,9 +120,7 @@ class AbstractRollingBearing(eqx.Module):
     def stiffness6(self, displacement) -> Float[Array, "6 6"]:
         """The stiffness at d as the 6×6 matrix a :class:`jaxgear.scenes.Bearing` takes
         (DOFs u_x, u_y, u_z, φ_x, φ_y, φ_z; row and column φ_z zero), symmetrised."""
-        k = self.stiffness(displacement)
-        k = 0.5 * (k + k.T)
-        return jnp.zeros((6, 6), k.dtype).at[:5, :5].set(k)
+        return _stiffness6(self, jnp.asarray(displacement, dtype=float))
 
     def carried(self) -> tuple[bool, ...]:
         """Which of the five DOFs the bearing resists (a DOF it does not is left at 0 by

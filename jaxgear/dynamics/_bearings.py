@@ -84,6 +84,12 @@ class OperatingPoint(NamedTuple):
     change: float
 
 
+@eqx.filter_jit
+def _load(rolling, d):
+    """A rolling bearing's load f(d) (N, N·m), (5,), compiled once per kind and count."""
+    return rolling.load(d)
+
+
 def _start(b: Bearing) -> Bearing:
     """The linear spring a rolling bearing without an operating point stands on first."""
     if b.rolling is None or b.operating is not None:
@@ -181,7 +187,7 @@ def bearings_at_operating_point(
             for j, b in enumerate(current[i]):
                 if rolling[i][j] and b.rolling is not None:  # K_b d_b − f(d_b) at its node
                     d = np.asarray(b.operating)
-                    f = np.asarray(b.rolling.load(d), float)
+                    f = np.asarray(_load(b.rolling, d), float)
                     bias[dofs[i][j] : dofs[i][j] + 5] += b.stiffness_matrix()[:5, :5] @ d - f
         scene = eqx.tree_at(lambda sc: sc.f_torque, scene, scene.f_torque + bias / T)
         if hold is not None:
@@ -200,7 +206,7 @@ def bearings_at_operating_point(
                 f = now.stiffness_matrix()[:5] @ u[k : k + 6]
                 if now.rolling is not None:  # f(d_b) + K_b (u − d_b)
                     d = np.asarray(now.operating)
-                    f = f + np.asarray(now.rolling.load(d), float) - now.stiffness_matrix()[
+                    f = f + np.asarray(_load(now.rolling, d), float) - now.stiffness_matrix()[
                         :5, :5] @ d
                 f = np.where(b.rolling.carried(), f, 0.0)  # round-off on a free DOF
                 try:
