@@ -125,7 +125,7 @@ def test_fixed_point_converges_and_is_the_nonlinear_equilibrium(shaft_point):
     """The fixed point stops within a few quasi-static solves (measured 3) below its
     tolerance; each bearing carries its load at its operating point (f(d) = load, the package's
     load function, 1e-9), and the gear shaft's linear bearings are left as given."""
-    _, six, _, (pinion, gear), point = shaft_point
+    _, six, _, (_, gear), point = shaft_point
     assert 2 <= point.iterations <= 6
     assert point.change <= 1e-6
     for j in range(2):
@@ -179,14 +179,14 @@ def _refused(data, start):
     "change, start",
     [
         ({"catalogue": "6209"}, "[scene.pinion_shaft.bearings[0]] catalogue = '6209': allowed '6205'"),
-        ({"ball_diameter_mm": 17.0}, "[scene.pinion_shaft.bearings[0]] ball_diameter_mm = 17: out of "
-         "range, allowed < (outer_diameter_mm - bore_mm)/2 = 16"),
+        ({"ball_diameter_mm": 17.0}, ("[scene.pinion_shaft.bearings[0]] ball_diameter_mm = 17: out "
+                                      "of range, allowed < (outer_diameter_mm - bore_mm)/2 = 16")),
         ({"kind": "angular_contact_ball", "contact_angle_deg": 90.0},
          "[scene.pinion_shaft.bearings[0]] contact_angle_deg = 90: out of range"),
         ({"clearance_um": 900.0}, "[scene.pinion_shaft.bearings[0]] clearance_um = 900: out of range"),
         ({"balls": 20}, "[scene.pinion_shaft.bearings[0]] balls = 20: out of range, allowed <= pi"),
-        ({"pitch_diameter_mm": 60.0}, "[scene.pinion_shaft.bearings[0]] pitch_diameter_mm = 60: out "
-         "of range"),
+        ({"pitch_diameter_mm": 60.0}, ("[scene.pinion_shaft.bearings[0]] pitch_diameter_mm = 60: "
+                                       "out of range")),
         ({"radial_N_per_um": 100.0}, "[scene.pinion_shaft.bearings[0]] kind: give one stiffness form"),
         ({"rollers": 12}, "[scene.pinion_shaft.bearings[0]] rollers: not a key of kind"),
     ],
@@ -211,6 +211,24 @@ def test_case_file_catalogue_and_where_geometry_bearings_are_not_taken():
     data["housing"] = copy.deepcopy(tomllib.loads(
         (ROOT / "jaxgear" / "cases" / "power-helical-housed.toml").read_text())["housing"])
     _refused(data, "[housing]: bearings from their geometry")
+    data = _example()
+    data["scene"]["gear_body"] = {"body": "any"}
+    _refused(data, "[scene.pinion_shaft.bearings[0]] kind: a bearing from its geometry is for a "
+             "lumped3d pair of rigid gears on the ground for now (not with pinion_body")
+
+
+def test_a_trains_shafts_refuse_bearings_from_geometry(tmp_path):
+    """A train's shaft (examples/idler-train-lumped3d.toml) on a catalogue bearing: one line."""
+    text = (ROOT / "examples" / "idler-train-lumped3d.toml").read_text()
+    linear = "{ position_mm = 0.0, radial_N_per_um = 200.0, axial_N_per_um = 100.0 }"
+    assert linear in text
+    path = tmp_path / "train.toml"
+    path.write_text(text.replace(linear, '{ position_mm = 0.0, catalogue = "6205" }', 1))
+    with pytest.raises(ValueError) as err:
+        jio.load_case(str(path))
+    text = str(err.value)
+    assert text.startswith("[scene.shafts.input.bearings[0]] catalogue: a bearing from its "
+                           "geometry is for a lumped3d pair") and "\n" not in text, text
 
 
 def test_case_file_bearings_from_geometry_move_the_mesh_mode(tmp_path):
@@ -222,7 +240,7 @@ def test_case_file_bearings_from_geometry_move_the_mesh_mode(tmp_path):
     from jaxgear.dynamics import mesh_averaged_modes
 
     def mesh_mode(case):
-        model, spec = build_dynamic_model(case)
+        model, _ = build_dynamic_model(case)
         modes = mesh_averaged_modes(model, speed=case.speed, positions_per_pitch=16)
         i = int(np.argmax(np.asarray(modes.mesh_energy)))
         return float(np.asarray(modes.omega)[i]) / (2 * math.pi)

@@ -51,7 +51,6 @@ import math
 import os
 from typing import Any, ClassVar, Literal
 
-import numpy as np
 import pydantic
 
 import fem_prep
@@ -282,8 +281,8 @@ class BearingSection(Section):
             if self.kind is None:
                 return None
             mm = 1e-3
-            args = dict(bore=self.bore_mm * mm, outer_diameter=self.outer_diameter_mm * mm,
-                        width=self.width_mm * mm, pitch_diameter=self.pitch_diameter_mm * mm)
+            args = {"bore": self.bore_mm * mm, "outer_diameter": self.outer_diameter_mm * mm,
+                    "width": self.width_mm * mm, "pitch_diameter": self.pitch_diameter_mm * mm}
             if self.balls is not None:
                 args.update(elements=self.balls, element_diameter=self.ball_diameter_mm * mm)
                 args.update({k: getattr(self, k) for k in _BALL_OPTIONAL
