@@ -5,7 +5,6 @@ an operating point, the fixed point of the bearings' loads
 
 from __future__ import annotations
 
-import copy
 import math
 import tomllib
 from pathlib import Path
@@ -199,7 +198,7 @@ def test_case_file_bearing_keys_refused_in_one_line(change, start):
 
 def test_case_file_catalogue_and_where_geometry_bearings_are_not_taken():
     """``catalogue`` with geometry keys, a linear bearing with a rolling key, and bearings from
-    geometry under a housing: one line each."""
+    geometry beside a condensed body: one line each."""
     data = _example()
     data["scene"]["pinion_shaft"]["bearings"][0] = {"position_mm": 0.0, "catalogue": "6205",
                                                      "bore_mm": 25.0}
@@ -208,13 +207,37 @@ def test_case_file_catalogue_and_where_geometry_bearings_are_not_taken():
     data["scene"]["pinion_shaft"]["bearings"][0] = {"position_mm": 0.0, "clearance_um": 5.0}
     _refused(data, "[scene.pinion_shaft.bearings[0]] clearance_um: is a rolling bearing's key")
     data = _example()
-    data["housing"] = copy.deepcopy(tomllib.loads(
-        (ROOT / "jaxgear" / "cases" / "power-helical-housed.toml").read_text())["housing"])
-    _refused(data, "[housing]: bearings from their geometry")
-    data = _example()
     data["scene"]["gear_body"] = {"body": "any"}
     _refused(data, "[scene.pinion_shaft.bearings[0]] kind: a bearing from its geometry is for a "
-             "lumped3d pair of rigid gears on the ground for now (not with pinion_body")
+             "lumped3d pair of rigid gears for now (not with pinion_body")
+
+
+def test_a_housing_holds_the_bearings_at_their_operating_point():
+    """The example's shafts in a housing (a small synthetic one: two seats, three modes): the
+    operating point is the grounded scene's (the housing rigid there), and the housed scene's
+    bearing part holds each bearing's stiffness at that point on its shaft node, coupled to its
+    seat."""
+    from jaxgear.io._case_model import _lumped3d_pair
+    from jaxgear.scenes import Housing, bearing_dofs
+
+    case = jio.parse_case(_example())
+    rng = np.random.default_rng(3)
+    h = 6 * 2 + 3
+    a = rng.standard_normal((h, h))
+    K = 1e9 * (a @ a.T + h * np.eye(h))
+    housing = Housing(K=K, M=np.eye(h), C=1e-3 * K, seat_positions=(
+        (0.0, 0.0, -0.05), (0.0, 0.0, 0.05)), seat_names=("front", "back"),
+        rotation=((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0)))
+    scene = _lumped3d_pair(case, case.scene, case.mesh_model(slices=2), housing=housing)
+    point = operating_point(case)
+    parts = scene.structure.part_names
+    kb = np.asarray(scene.structure.parts_K[parts.index("bearings")])
+    n = kb.shape[0] - h
+    for s, row in zip(bearing_dofs(point.shafts), point.shafts, strict=True):
+        for k, b in zip(s, row.bearings, strict=True):
+            np.testing.assert_allclose(kb[k : k + 6, k : k + 6], b.stiffness_matrix(),
+                                       rtol=1e-12, atol=1e-6)
+            assert np.abs(kb[k : k + 6, n:]).max() > 0  # joined to a seat
 
 
 def test_a_trains_shafts_refuse_bearings_from_geometry(tmp_path):

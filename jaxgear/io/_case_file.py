@@ -619,10 +619,6 @@ def case_housing(data: dict, scene, base_dir, material, *, pair: bool = True, te
         )
     if "housing" not in data:
         return None
-    if scene is not None and scene.rolling:
-        raise sc.fail("housing", None, "bearings from their geometry (a bearing's catalogue "
-                      "or kind in [scene]) stand on the ground for now: allowed [housing] with "
-                      "linear bearings (radial_N_per_um, ..., stiffness_matrix_SI)")
     table = sc.subtable(data, "housing", "")  # checked by parse_housing
     kind = (scene or SceneSpec()).kind(pair)  # no [scene]: the torsional default
     if not kind.takes_housing:

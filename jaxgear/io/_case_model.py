@@ -349,10 +349,7 @@ def _lumped3d_pair(case: Case, spec: SceneSpec, mesh, housing=None, seats=None,
     shafts = (spec.pinion_shaft, spec.gear_shaft)
     if housing is None and case.housing is not None:  # [housing]: the bearings on its seats
         housing = case.housing_body(spec).housing  # (docs/housing.md)
-    if spec.rolling:  # bearings from geometry: at the case's operating point
-        if housing is not None:
-            raise ValueError("a housing under bearings from their geometry (catalogue or kind "
-                             "in [scene]): allowed linear bearings there for now")
+    if spec.rolling:  # bearings from geometry: at the case's operating point (on the ground)
         shafts = operating_point(case, spec).shafts
     return lumped_pair(
         case.pair,
@@ -379,7 +376,10 @@ def operating_point(case: Case, spec: SceneSpec | None = None) -> OperatingPoint
     """The rolling bearings of a ``lumped3d`` pair case's shafts (its ``[scene]``, or
     ``spec``) at their operating point: :func:`jaxgear.dynamics.bearings_at_operating_point`
     on the case's quasi-static scene (its mesh model, modifications, torque and positions per
-    pitch, exact contact, the load rotation held), found once per case and scene.
+    pitch, exact contact, the load rotation held), found once per case and scene. The
+    bearings stand on the ground there, a housing (the case's ``[housing]``, a gearbox's)
+    rigid: its compliance moves the bearings' loads only where a shaft is statically
+    indeterminate; the housed scene then holds the bearings' stiffness at that point.
 
     Raises:
         ValueError: what :func:`~jaxgear.dynamics.bearings_at_operating_point` refuses, in

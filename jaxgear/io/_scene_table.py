@@ -36,7 +36,7 @@
 A ``lumped3d`` shaft's ``bearings`` are tables ``{ position_mm, radial_N_per_um, axial_N_per_um,
 tilt_Nm_per_rad }`` or ``{ position_mm, stiffness_matrix_SI }`` (6×6, not both), each with an
 optional ``damping_matrix_SI`` (6×6): SI per DOF pair, DOF order ux, uy, uz, rx, ry, rz
-(docs/dynamics.md). A rolling bearing from its geometry (a pair of rigid gears on the ground,
+(docs/dynamics.md). A rolling bearing from its geometry (a pair of rigid gears,
 docs/bearings.md) is ``{ position_mm, catalogue = "6205" }`` (an embedded bearing, optionally
 ``clearance_um``) or ``{ position_mm, kind = "deep_groove_ball", bore_mm, outer_diameter_mm,
 width_mm, balls, ball_diameter_mm, pitch_diameter_mm, clearance_um, ... }`` (:data:`ROLLING_KINDS`;
@@ -333,7 +333,7 @@ def refuse_rolling(shafts, why: str) -> None:
         found = None if shaft is None else first_rolling(shaft, where)
         if found is not None:
             raise sc.fail(found[0], found[1], "a bearing from its geometry is for a lumped3d "
-                          f"pair of rigid gears on the ground for now ({why}): allowed "
+                          f"pair of rigid gears for now ({why}): allowed "
                           "radial_N_per_um/axial_N_per_um/tilt_Nm_per_rad or "
                           "stiffness_matrix_SI here")
 
