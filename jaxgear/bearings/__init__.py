@@ -11,8 +11,9 @@ rating life (:func:`rating_life`, :func:`modified_life`; :func:`spectrum_life` a
 :func:`spectrum_modified_life` under a :class:`BearingSpectrum`), ISO/TS 16281's reference
 rating life from the element loads (:func:`reference_life`, ball kinds) and the bearing tones
 (:func:`bearing_tones`) complete it; :func:`catalogue` builds a few embedded bearings.
-Not yet wired into the scenes, the gearbox or the case files (docs/bearings.md says how they
-will enter).
+A lumped 3D pair's bearings take them (:class:`jaxgear.scenes.Bearing` ``rolling=``) at the
+operating point of its quasi-static solve (:func:`jaxgear.dynamics.bearings_at_operating_point`;
+docs/bearings.md, "How it enters the scenes").
 """
 
 from ._catalogue import CATALOGUE as CATALOGUE, catalogue as catalogue

@@ -49,6 +49,14 @@ def _jacobian(bearing, d):
     return jax.jacfwd(bearing.load)(d)
 
 
+@eqx.filter_jit
+def _stiffness6(bearing, d):
+    """:meth:`AbstractRollingBearing.stiffness6` at d, compiled once per kind and count."""
+    k = jax.jacfwd(bearing.load)(d)
+    k = 0.5 * (k + k.T)
+    return jnp.zeros((6, 6), k.dtype).at[:5, :5].set(k)
+
+
 def _contact_power(delta, n):
     """max(δ, 0)^n with every derivative finite (0 where δ <= 0: an element out of contact
     has no load, stiffness or derivative of them; the double ``where`` keeps δ^(n − k) of a
@@ -112,9 +120,7 @@ class AbstractRollingBearing(eqx.Module):
     def stiffness6(self, displacement) -> Float[Array, "6 6"]:
         """The stiffness at d as the 6×6 matrix a :class:`jaxgear.scenes.Bearing` takes
         (DOFs u_x, u_y, u_z, φ_x, φ_y, φ_z; row and column φ_z zero), symmetrised."""
-        k = self.stiffness(displacement)
-        k = 0.5 * (k + k.T)
-        return jnp.zeros((6, 6), k.dtype).at[:5, :5].set(k)
+        return _stiffness6(self, jnp.asarray(displacement, dtype=float))
 
     def carried(self) -> tuple[bool, ...]:
         """Which of the five DOFs the bearing resists (a DOF it does not is left at 0 by
@@ -222,7 +228,25 @@ def _check_ring(where, bore, outer_diameter, width, elements, element_diameter, 
         )
 
 
-class _Ball(AbstractRollingBearing):
+class _RollingElements(AbstractRollingBearing):
+    """The kinds with rolling elements (balls and rollers): ``elements`` of them, element j at
+    the azimuth ψ_j = 2π j / Z (:attr:`azimuths`), at a contact angle :attr:`nominal_angle`."""
+
+    elements: eqx.AbstractVar[int]
+
+    @property
+    @abc.abstractmethod
+    def nominal_angle(self):
+        """The contact angle (rad) the Hertz constant, pressures and tones take: a ball's α₀
+        at which it first touches both raceways, a roller's fixed α."""
+
+    @property
+    def azimuths(self):
+        """ψ_j = 2π j / Z (rad), (Z,)."""
+        return 2.0 * jnp.pi * jnp.arange(self.elements) / self.elements
+
+
+class _Ball(_RollingElements):
     """Ball kinds: point contact, the contact angle following the load (Jones; Harris &
     Kotzalas ch. 7): the inner and outer groove curvature centres are A = (f_i + f_o − 1) D
     apart when a ball just touches, at the free contact angle α₀ with the rings centred less
@@ -254,11 +278,6 @@ class _Ball(AbstractRollingBearing):
     contact_exponent: ClassVar[float] = 1.5
     life_exponent: ClassVar[float | None] = 3.0
 
-    @property
-    @abc.abstractmethod
-    def nominal_angle(self):
-        """α₀ (rad): the contact angle at which a ball first touches both raceways."""
-
     def _check_ball(self, where):
         _check_ring(where, self.bore, self.outer_diameter, self.width, self.elements,
                     self.element_diameter, self.pitch_diameter, "ball")
@@ -285,11 +304,6 @@ class _Ball(AbstractRollingBearing):
             self.inner_conformity, self.outer_conformity, self.youngs_modulus,
             self.poisson_ratio,
         )
-
-    @property
-    def azimuths(self):
-        """ψ_j = 2π j / Z (rad), (Z,)."""
-        return 2.0 * jnp.pi * jnp.arange(self.elements) / self.elements
 
     def _contacts(self, displacement):
         """(δ_j, cos α_j, sin α_j), each (Z,)."""
@@ -493,7 +507,7 @@ class AngularContactBall(_Ball):
         return jnp.where(Fa > e * Fr, X * Fr + Y * Fa, Fr)
 
 
-class _Roller(AbstractRollingBearing):
+class _Roller(_RollingElements):
     """Roller kinds: line contact, the contact angle fixed (Lim & Singh, Part I), each roller
     cut into ``slices`` slices along its effective length l (slice k at t_k from its centre,
     axial offset x_k = t_k cos α) so that a tilt loads a roller unevenly::
@@ -522,11 +536,6 @@ class _Roller(AbstractRollingBearing):
     contact_exponent: ClassVar[float] = 10.0 / 9.0
     life_exponent: ClassVar[float | None] = 10.0 / 3.0
 
-    @property
-    @abc.abstractmethod
-    def nominal_angle(self):
-        """The contact angle α (rad), fixed."""
-
     def _check_roller(self, where):
         _check_ring(where, self.bore, self.outer_diameter, self.width, self.elements,
                     self.element_diameter, self.pitch_diameter, "roller")
@@ -542,11 +551,6 @@ class _Roller(AbstractRollingBearing):
     def hertz_constant(self):
         """K_n (N/m^(10/9)) of a whole roller between its raceways (Palmgren)."""
         return line_contact_constant(self.effective_length)
-
-    @property
-    def azimuths(self):
-        """ψ_j = 2π j / Z (rad), (Z,)."""
-        return 2.0 * jnp.pi * jnp.arange(self.elements) / self.elements
 
     def _geometry(self, displacement):
         """(δ_jk (Z, S), the rows ∂δ_jk/∂d (5, Z, S))."""

@@ -40,7 +40,11 @@ from ._damping import (
     RayleighDamping as RayleighDamping,
     damping_matrix as damping_matrix,
 )
-from ._bearings import bearing_forces as bearing_forces
+from ._bearings import (
+    OperatingPoint as OperatingPoint,
+    bearing_forces as bearing_forces,
+    bearings_at_operating_point as bearings_at_operating_point,
+)
 from ._build import (
     dynamic_model as dynamic_model,
     mesh_energy_shares as mesh_energy_shares,

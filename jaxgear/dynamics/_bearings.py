@@ -1,16 +1,24 @@
-"""The mean bearing forces of a quasi-static solution (the part of the case builders
-that takes a scene, not a case)."""
+"""The bearings of a quasi-static solution (the part of the case builders that takes a scene,
+not a case): their mean forces (:func:`bearing_forces`), and the rolling bearings' operating
+point, the fixed point of their loads and stiffnesses (:func:`bearings_at_operating_point`)."""
 
 from __future__ import annotations
 
+import dataclasses
 import functools
+import math
+from typing import NamedTuple
 
+import equinox as eqx
 import numpy as np
 
-from .._quasi_static import QuasiStaticResult
-from ..scenes import Grounded
+from .._contact import ContactLaw, ExactContact
+from .._quasi_static import QuasiStaticResult, quasi_static
+from .._util import check_integer, check_real
+from ..bearings import solve_displacement
+from ..scenes import Bearing, Grounded, bearing_dofs, grounded
 
-__all__ = ["bearing_forces"]
+__all__ = ["OperatingPoint", "bearing_forces", "bearings_at_operating_point"]
 
 
 @functools.singledispatch
@@ -41,3 +49,201 @@ def bearing_forces(scene, res: QuasiStaticResult) -> dict:
     base = _bearing_scene(scene)
     F = np.asarray(base.bearing_forces(res.theta, res.x))  # (P, r)
     return dict(zip(base.reaction_names, F.mean(axis=0).tolist()))
+
+
+#: the fixed point of the bearings' operating points: the largest relative change of a rolling
+#: bearing's load between two iterations at which it stops, and the iterations allowed
+OPERATING_TOLERANCE = 1e-6
+OPERATING_ITERATIONS = 30
+#: the linear spring a rolling bearing stands on for the first solve (N/m on the radial and, where
+#: the kind carries it, the axial DOFs; no tilt: each shaft statically determinate)
+START_SPRING = (2e8, 1e8)
+
+
+class OperatingPoint(NamedTuple):
+    """The rolling bearings of a scene at their operating point
+    (:func:`bearings_at_operating_point`).
+
+    Attributes:
+        shafts: the :class:`~jaxgear.scenes.ShaftSpec` of each shaft, each rolling bearing at
+            its operating point (:meth:`~jaxgear.scenes.Bearing.at`), the others as given.
+        loads: per shaft, per bearing, the load f = (F_x, F_y, F_z, M_x, M_y) (N, N·m) a
+            rolling bearing carries (the shaft's push on it, fixed frame; ``None`` for a linear
+            bearing), the mean over the quasi-static positions.
+        states: per shaft, per bearing, the rolling bearing's
+            :class:`~jaxgear.bearings.BearingState` at that load (``None`` for a linear one).
+        iterations: quasi-static solves made (the last one confirming the fixed point).
+        change: the last iteration's largest change of a rolling bearing's load, relative to
+            that load (forces, and moments over the pitch radius), <= the tolerance.
+    """
+
+    shafts: tuple
+    loads: tuple
+    states: tuple
+    iterations: int
+    change: float
+
+
+@eqx.filter_jit
+def _load(rolling, d):
+    """A rolling bearing's load f(d) (N, N·m), (5,), compiled once per kind and count."""
+    return rolling.load(d)
+
+
+def _start(b: Bearing) -> Bearing:
+    """The linear spring a rolling bearing without an operating point stands on first."""
+    if b.rolling is None or b.operating is not None:
+        return b
+    c = b.carried()
+    radial, axial = START_SPRING
+    return Bearing(b.z, radial=radial, axial=axial if c[2] else 0.0, tilt=0.0,
+                   damping=b.damping)
+
+
+def _lever(rolling) -> float:
+    """The lever (m) that turns a bearing's moments into forces of its size: its pitch radius
+    (1 m for a kind without rolling elements)."""
+    return 0.5 * float(rolling.pitch_diameter) if rolling.rolling_elements else 1.0
+
+
+def bearings_at_operating_point(
+    build,
+    shafts,
+    modifications,
+    torque,
+    *,
+    hold=None,
+    extra_z=None,
+    contact: ContactLaw = ExactContact(),
+    positions_per_pitch: int = 64,
+    tolerance: float = OPERATING_TOLERANCE,
+    max_iterations: int = OPERATING_ITERATIONS,
+) -> OperatingPoint:
+    """Each rolling bearing of ``shafts`` at the operating point the quasi-static solve of its
+    scene at ``torque`` gives it, iterated to a fixed point.
+
+    A rolling bearing (:class:`~jaxgear.scenes.Bearing` with ``rolling``) stands on a linear
+    spring first (:data:`START_SPRING`, no tilt stiffness: a shaft on two of them is
+    statically determinate, its bearings' loads statics'). Each iteration builds the scene on
+    each rolling bearing's tangent stiffness K_b at its current ring displacement d_b
+    (:meth:`~jaxgear.scenes.Bearing.at`), the bearing's force on the shaft the affine
+    −f(d_b) − K_b (u − d_b) (the constant part an external force K_b d_b − f(d_b) at its
+    node), solves it quasi-statically (:func:`~jaxgear.quasi_static`, exact contact by default,
+    one mesh period), takes the mean over the positions of the load the shaft puts on each
+    rolling bearing, f(d_b) + K_b (u − d_b) (u its node's u_x … φ_y, fixed frame), solves the
+    ring displacement that carries that load (:func:`~jaxgear.bearings.solve_displacement`)
+    and moves the bearing there: to first order Newton's step on the nonlinear bearings, so
+    that at the fixed point u = d_b and each bearing carries f(d_b), the shafts' equilibrium
+    with the nonlinear bearings. The bearings' stiffness moves their loads only through what
+    makes a shaft statically indeterminate (the bearings' axial, tilt and cross stiffness, two
+    bearings sharing an axial load, three bearings on a shaft, the mesh's load over the face);
+    it stops when no load changes by more than ``tolerance`` of itself (forces, and moments
+    over the bearing's pitch radius) from one iteration to the next. Not differentiable
+    through the iteration (NumPy); a bearing's stiffness at a given load is, through
+    :func:`~jaxgear.bearings.solve_displacement`'s implicit derivative.
+
+    Args:
+        build: ``shafts ↦ scene``: the scene on the given shafts in their order,
+            block-diagonally (:func:`~jaxgear.scenes.lumped_pair`,
+            :meth:`~jaxgear.scenes.LumpedTrain.of`), with its external load per unit torque
+            ``f_torque`` (its bearings on the ground).
+        hold: ``scene ↦ DOFs`` the quasi-static solve holds (:func:`jaxgear.scenes.grounded`:
+            the load's rotation, as a case's solve holds it), or None: none.
+        shafts: the scene's :class:`~jaxgear.scenes.ShaftSpec` in its order.
+        modifications, torque: the flank modifications and the pinion torque (N·m) of the
+            solve (:func:`~jaxgear.quasi_static`'s).
+        extra_z: the scene's more node positions per shaft (m; a train's wrenches), or None.
+        contact, positions_per_pitch: the quasi-static solve's contact law and positions.
+        tolerance: the relative change at which it stops (> 0). max_iterations: int >= 2.
+
+    Returns:
+        :class:`OperatingPoint`; without a rolling bearing, the shafts unchanged after no solve.
+
+    Raises:
+        ValueError: a load a rolling bearing cannot carry (a single-row angular contact or
+            tapered bearing without its axial load, ...: :func:`solve_displacement`'s line,
+            prefixed by the bearing's position), a bearing without stiffness at its operating
+            point (clearance and no load), a solve that does not converge, or no fixed point in
+            ``max_iterations`` (the last change and the tolerance in the line).
+    """
+    check_real("tolerance", tolerance, "", lo=0.0, lo_open=True, hi=1.0,
+               where="bearings_at_operating_point")
+    check_integer("bearings_at_operating_point: max_iterations", max_iterations, 2)
+    shafts = tuple(shafts)
+    rolling = [[b.rolling is not None for b in s.bearings] for s in shafts]
+    none = tuple(tuple(None for _ in s.bearings) for s in shafts)
+    if not any(map(any, rolling)):
+        return OperatingPoint(shafts, none, none, 0, 0.0)
+    dofs = bearing_dofs(shafts, extra_z)
+    current = [[_start(b) for b in s.bearings] for s in shafts]
+    previous, change = None, math.inf
+    T = float(torque)
+    for iteration in range(1, int(max_iterations) + 1):
+        specs = tuple(dataclasses.replace(s, bearings=tuple(bs))
+                      for s, bs in zip(shafts, current, strict=True))
+        scene = build(specs)
+        bias = np.zeros(np.shape(scene.f_torque))
+        for i, s in enumerate(shafts):
+            for j, b in enumerate(current[i]):
+                if rolling[i][j] and b.rolling is not None:  # K_b d_b − f(d_b) at its node
+                    d = np.asarray(b.operating)
+                    f = np.asarray(_load(b.rolling, d), float)
+                    bias[dofs[i][j] : dofs[i][j] + 5] += b.stiffness_matrix()[:5, :5] @ d - f
+        scene = eqx.tree_at(lambda sc: sc.f_torque, scene, scene.f_torque + bias / T)
+        if hold is not None:
+            scene = grounded(scene, hold(scene))
+        res = quasi_static(scene, modifications, torque, contact=contact,
+                           positions_per_pitch=positions_per_pitch)
+        u = np.asarray(res.x).mean(axis=0)
+        loads, states, updated, scaled = [], [], [], []
+        for i, s in enumerate(shafts):
+            row_l, row_s, row_b = [], [], []
+            for j, b in enumerate(s.bearings):
+                if not rolling[i][j]:
+                    row_l.append(None), row_s.append(None), row_b.append(b)
+                    continue
+                k, now = dofs[i][j], current[i][j]
+                f = now.stiffness_matrix()[:5] @ u[k : k + 6]
+                if now.rolling is not None:  # f(d_b) + K_b (u − d_b)
+                    d = np.asarray(now.operating)
+                    f = f + np.asarray(_load(now.rolling, d), float) - now.stiffness_matrix()[
+                        :5, :5] @ d
+                f = np.where(b.rolling.carried(), f, 0.0)  # round-off on a free DOF
+                try:
+                    state = solve_displacement(b.rolling, f)
+                except ValueError as err:
+                    raise ValueError(f"{b.where}: {err}") from None
+                if not float(state.residual) < 1e-6:
+                    raise ValueError(
+                        f"{b.where}: the displacement that carries the load {_shown(f)} did "
+                        f"not converge (residual {float(state.residual):.3g}, allowed < 1e-6)")
+                at = b.at(state.displacement)
+                kd = np.diag(at.stiffness_matrix())
+                if b.rolling.rolling_elements and not (kd[0] > 0 and kd[1] > 0):
+                    raise ValueError(
+                        f"{b.where}: no radial stiffness at its operating point (load "
+                        f"{_shown(f)}): a bearing with clearance and no load; allowed a "
+                        "loaded bearing or a preload (clearance < 0)")
+                r = _lever(b.rolling)
+                scaled.append(np.concatenate([f[:3], f[3:] / r]))
+                row_l.append(f), row_s.append(state), row_b.append(at)
+            loads.append(tuple(row_l)), states.append(tuple(row_s)), updated.append(row_b)
+        if previous is not None:
+            change = max(float(np.max(np.abs(a - p)) / max(np.max(np.abs(a)), 1e-30))
+                         for a, p in zip(scaled, previous, strict=True))
+        current, previous = updated, scaled
+        if change <= tolerance:
+            specs = tuple(dataclasses.replace(s, bearings=tuple(bs))
+                          for s, bs in zip(shafts, current, strict=True))
+            return OperatingPoint(specs, tuple(loads), tuple(states), iteration, change)
+    raise ValueError(
+        f"bearings_at_operating_point: the rolling bearings' loads did not settle in "
+        f"{max_iterations} quasi-static solves (last relative change {change:.3g}, allowed "
+        f"<= tolerance = {tolerance:g})"
+    )
+
+
+def _shown(f) -> str:
+    """A load (5,) in a message: (F_x, F_y, F_z) N, (M_x, M_y) N·m."""
+    f = np.asarray(f, float)
+    return (f"F = ({f[0]:.4g}, {f[1]:.4g}, {f[2]:.4g}) N, M = ({f[3]:.4g}, {f[4]:.4g}) N·m")

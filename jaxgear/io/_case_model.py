@@ -17,9 +17,11 @@ from .._quasi_static import QuasiStaticResult, quasi_static
 from ..dynamics import (
     DynamicModel,
     HybridModel,
+    OperatingPoint,
     QuasiPeriodicBalance,
     WhineSize,
     bearing_forces,
+    bearings_at_operating_point,
     check_whine_size,
     dynamic_model,
     group_positions,
@@ -48,7 +50,8 @@ from ._scene_spec import SceneSpec, load_bodies, spec_damping
 from ._whine_table import WHINE_METHODS, whine_of
 
 __all__ = ["PAIR_SCENES", "build_dynamic_model", "check_case_whine", "dynamic_model_kind",
-           "mesh_frequency_periods", "planetary_kind", "quasi_static_scene", "static_scene"]
+           "mesh_frequency_periods", "operating_point", "planetary_kind", "quasi_static_scene",
+           "static_scene"]
 
 
 def build_dynamic_model(
@@ -346,6 +349,8 @@ def _lumped3d_pair(case: Case, spec: SceneSpec, mesh, housing=None, seats=None,
     shafts = (spec.pinion_shaft, spec.gear_shaft)
     if housing is None and case.housing is not None:  # [housing]: the bearings on its seats
         housing = case.housing_body(spec).housing  # (docs/housing.md)
+    if spec.rolling:  # bearings from geometry: at the case's operating point (on the ground)
+        shafts = operating_point(case, spec).shafts
     return lumped_pair(
         case.pair,
         mesh,
@@ -359,6 +364,47 @@ def _lumped3d_pair(case: Case, spec: SceneSpec, mesh, housing=None, seats=None,
         seats=seats,
         housing_position=position,
     )
+
+
+#: the operating points found (:func:`operating_point`), by the case and its scene's identity
+#: (the case kept, so that its identity is not reused); the newest few
+_OPERATING: dict = {}
+_OPERATING_KEPT = 4
+
+
+def operating_point(case: Case, spec: SceneSpec | None = None) -> OperatingPoint:
+    """The rolling bearings of a ``lumped3d`` pair case's shafts (its ``[scene]``, or
+    ``spec``) at their operating point: :func:`jaxgear.dynamics.bearings_at_operating_point`
+    on the case's quasi-static scene (its mesh model, modifications, torque and positions per
+    pitch, exact contact, the load rotation held), found once per case and scene. The
+    bearings stand on the ground there, a housing (the case's ``[housing]``, a gearbox's)
+    rigid: its compliance moves the bearings' loads only where a shaft is statically
+    indeterminate; the housed scene then holds the bearings' stiffness at that point.
+
+    Raises:
+        ValueError: what :func:`~jaxgear.dynamics.bearings_at_operating_point` refuses, in
+            one line.
+    """
+    spec = case.scene if spec is None else spec
+    key = (id(case), id(spec))
+    if key in _OPERATING:
+        return _OPERATING[key][2]
+    i1, i2 = _inertias(case, spec)
+    masses, inertias = _gear_bodies(case, spec, i1, i2)
+    mesh = case.mesh_model()
+
+    def build(shafts):
+        return lumped_pair(case.pair, mesh, *shafts, masses=masses, inertias=inertias,
+                           youngs_modulus=case.youngs_modulus,
+                           poisson_ratio=case.poisson_ratio, density=case.density)
+
+    point = bearings_at_operating_point(
+        build, (spec.pinion_shaft, spec.gear_shaft), case.mesh_modifications(), case.torque,
+        hold=lambda scene: (scene.torque_dofs[1],), positions_per_pitch=case.positions_per_pitch)
+    while len(_OPERATING) >= _OPERATING_KEPT:
+        _OPERATING.pop(next(iter(_OPERATING)))
+    _OPERATING[key] = (case, spec, point)
+    return point
 
 
 def _torsional_pair(case: Case, spec: SceneSpec, mesh):

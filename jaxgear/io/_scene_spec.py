@@ -90,6 +90,13 @@ class SceneSpec:
         return any(b is not None for b in self.bodies)
 
     @property
+    def rolling(self) -> bool:
+        """A shaft stands on a rolling bearing from its geometry (its stiffness at the
+        operating point of the case's quasi-static solve: docs/bearings.md)."""
+        shafts = (self.pinion_shaft, self.gear_shaft, *(self.shafts or ()))
+        return any(b.rolling is not None for s in shafts if s is not None for b in s.bearings)
+
+    @property
     def lumped(self) -> bool:
         """The scene is lumped 3D (``model = "lumped3d"``: shafts on bearings)."""
         return self.model == "lumped3d"

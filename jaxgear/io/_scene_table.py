@@ -36,20 +36,34 @@
 A ``lumped3d`` shaft's ``bearings`` are tables ``{ position_mm, radial_N_per_um, axial_N_per_um,
 tilt_Nm_per_rad }`` or ``{ position_mm, stiffness_matrix_SI }`` (6×6, not both), each with an
 optional ``damping_matrix_SI`` (6×6): SI per DOF pair, DOF order ux, uy, uz, rx, ry, rz
-(docs/dynamics.md).
+(docs/dynamics.md). A rolling bearing from its geometry (a pair of rigid gears,
+docs/bearings.md) is ``{ position_mm, catalogue = "6205" }`` (an embedded bearing, optionally
+``clearance_um``) or ``{ position_mm, kind = "deep_groove_ball", bore_mm, outer_diameter_mm,
+width_mm, balls, ball_diameter_mm, pitch_diameter_mm, clearance_um, ... }`` (:data:`ROLLING_KINDS`;
+rollers: ``rollers``, ``roller_diameter_mm``, ``roller_length_mm``; angular contact and tapered:
+``contact_angle_deg``); its stiffness is the one at the operating point of the case's
+quasi-static solve.
 """
 
 from __future__ import annotations
 
+import math
 import os
 from typing import Any, ClassVar, Literal
 
-import numpy as np
 import pydantic
 
 import fem_prep
 from fem_prep import schema as sc
 
+from ..bearings import (
+    CATALOGUE,
+    AngularContactBall,
+    CylindricalRoller,
+    DeepGrooveBall,
+    TaperedRoller,
+    catalogue,
+)
 from ..dynamics import DIFFRAX_SOLVERS
 from ..scenes import Bearing, ShaftSpec, bearing_matrix
 from ._scene_spec import SceneSpec
@@ -83,11 +97,38 @@ def on_shaft(key: str, v: float, length_mm: float | None, where: str) -> float:
 ON_SHAFT_MM = number(note=" (within the shaft: [0, length_mm])")
 
 
+#: a case file's rolling bearing kinds (``kind = "..."``): the names map to the kinds here only
+ROLLING_KINDS = {
+    "deep_groove_ball": DeepGrooveBall,
+    "angular_contact_ball": AngularContactBall,
+    "cylindrical_roller": CylindricalRoller,
+    "tapered_roller": TaperedRoller,
+}
+#: each kind's keys beyond the boundary dimensions (bore, outer diameter, width) and clearance
+_ELEMENT_KEYS = {
+    "deep_groove_ball": ("balls", "ball_diameter_mm", "pitch_diameter_mm"),
+    "angular_contact_ball": ("balls", "ball_diameter_mm", "pitch_diameter_mm",
+                             "contact_angle_deg"),
+    "cylindrical_roller": ("rollers", "roller_diameter_mm", "roller_length_mm",
+                           "pitch_diameter_mm"),
+    "tapered_roller": ("rollers", "roller_diameter_mm", "roller_length_mm", "pitch_diameter_mm",
+                       "contact_angle_deg"),
+}
+_BALL_OPTIONAL = ("inner_conformity", "outer_conformity")
+_GEOMETRY = ("bore_mm", "outer_diameter_mm", "width_mm", "balls", "ball_diameter_mm",
+             "rollers", "roller_diameter_mm", "roller_length_mm", "pitch_diameter_mm",
+             "contact_angle_deg", "inner_conformity", "outer_conformity")
+_LINEAR = (*_DIAGONAL, "stiffness_matrix_SI")
+
+
 class BearingSection(Section):
     """A ``lumped3d`` shaft's bearing (module docstring): its position on the shaft (mm, within
     the shaft's length, the context's ``length_mm``) and its stiffness: diagonal (radial and
     axial N/µm, tilt N·m/rad; each 0, free, or at least a floor: :data:`_DIAGONAL`; defaults
-    200, 0, 0) or a 6×6 ``stiffness_matrix_SI`` (not both), an optional 6×6
+    200, 0, 0), a 6×6 ``stiffness_matrix_SI``, or a rolling bearing from its geometry
+    (``catalogue``, an embedded designation, or ``kind`` (:data:`ROLLING_KINDS`) with its
+    geometry in mm, its rolling elements' count, its contact angle in degrees, its groove
+    conformities, and a diametral clearance in µm); one form only. An optional 6×6
     ``damping_matrix_SI`` (:func:`jaxgear.scenes.bearing_matrix` checks the matrices).
     :meth:`bearing` the :class:`jaxgear.scenes.Bearing` (SI)."""
 
@@ -101,6 +142,24 @@ class BearingSection(Section):
         None, json_schema_extra={"default": "0"})
     stiffness_matrix_SI: Any = None
     damping_matrix_SI: Any = None
+    catalogue: Literal[tuple(CATALOGUE)] | None = None
+    kind: Literal[tuple(ROLLING_KINDS)] | None = None
+    bore_mm: number("[1, 2000]") | None = None
+    outer_diameter_mm: number("(1, 3000]") | None = None
+    width_mm: number("[0.5, 1000]") | None = None
+    balls: number("[3, 1000]", integer=True) | None = None
+    rollers: number("[3, 1000]", integer=True) | None = None
+    ball_diameter_mm: number("(0, 500]") | None = None
+    roller_diameter_mm: number("(0, 500]") | None = None
+    roller_length_mm: number("(0, 1000]") | None = None
+    pitch_diameter_mm: number("(1, 3000]") | None = None
+    contact_angle_deg: number("(0, 90)") | None = None
+    inner_conformity: number("(0.5, 0.6]") | None = pydantic.Field(
+        None, json_schema_extra={"default": "0.52"})
+    outer_conformity: number("(0.5, 0.6]") | None = pydantic.Field(
+        None, json_schema_extra={"default": "0.52"})
+    clearance_um: number("[-100, 1000]") | None = pydantic.Field(
+        None, json_schema_extra={"default": "0 (catalogue: the entry's)"})
 
     @pydantic.field_validator("position_mm")
     @classmethod
@@ -130,20 +189,121 @@ class BearingSection(Section):
 
     @pydantic.model_validator(mode="after")
     def _one_form(self, info):
+        where = where_of(info)
         both = [key for key in _DIAGONAL if key in self.given]
         if "stiffness_matrix_SI" in self.given and both:
             raise sc.fail(
-                where_of(info),
+                where,
                 "stiffness_matrix_SI",
                 f"give either {'/'.join(_DIAGONAL)} or stiffness_matrix_SI, not both "
                 f"(the matrix is the whole stiffness; remove {', '.join(both)})",
             )
+        rolling = [k for k in ("catalogue", "kind") if k in self.given]
+        if not rolling:
+            extra = [k for k in (*_GEOMETRY, "clearance_um") if k in self.given]
+            if extra:
+                raise sc.fail(where, extra[0], "is a rolling bearing's key: allowed with "
+                              "catalogue or kind (a bearing from its geometry)")
+            return self
+        linear = [k for k in _LINEAR if k in self.given]
+        if len(rolling) == 2 or linear:
+            other = "kind" if len(rolling) == 2 else linear[0]
+            raise sc.fail(where, rolling[0], f"give one stiffness form, a linear one "
+                          f"({', '.join(_LINEAR)}), catalogue or kind: remove {other}")
+        if self.catalogue is not None:
+            extra = [k for k in _GEOMETRY if k in self.given]
+            if extra:
+                raise sc.fail(where, extra[0], f"not with catalogue = {self.catalogue!r} (the "
+                              "entry's geometry): allowed clearance_um beside it")
+        else:
+            self._check_geometry(where)
+        self.rolling(where)  # whatever the kind still refuses (its own line, in SI)
         return self
 
+    def _check_geometry(self, where: str) -> None:
+        """A ``kind``'s keys: its own given, the others refused, the relations between them
+        in the file's units (one line each)."""
+        own = ("bore_mm", "outer_diameter_mm", "width_mm", *_ELEMENT_KEYS[self.kind])
+        optional = _BALL_OPTIONAL if "balls" in own else ()
+        for key in _GEOMETRY:
+            if key in self.given and key not in own + optional:
+                raise sc.fail(where, key, f"not a key of kind = {self.kind!r}: allowed "
+                              f"{', '.join(own + optional)}, clearance_um")
+        for key in own:
+            if key not in self.given:
+                raise sc.fail(where, key, f"missing: kind = {self.kind!r} needs "
+                              f"{', '.join(own)}")
+        d, D = self.bore_mm, self.outer_diameter_mm
+        if not D > d:
+            raise sc.fail(where, "outer_diameter_mm", f"out of range, allowed > bore_mm = "
+                          f"{d:g}", D)
+        word = "ball" if "balls" in own else "roller"
+        size = getattr(self, f"{word}_diameter_mm")
+        section = 0.5 * (D - d)
+        if not size < section:
+            raise sc.fail(where, f"{word}_diameter_mm", f"out of range, allowed < "
+                          f"(outer_diameter_mm - bore_mm)/2 = {section:.6g} (inside the ring "
+                          "section)", size)
+        dm = self.pitch_diameter_mm
+        if not d + size < dm < D - size:
+            raise sc.fail(where, "pitch_diameter_mm", f"out of range, allowed ({d + size:.6g}, "
+                          f"{D - size:.6g}) (bore_mm + {word}_diameter_mm to outer_diameter_mm "
+                          f"- {word}_diameter_mm)", dm)
+        count = getattr(self, f"{word}s")
+        most = int(math.pi * dm / size)
+        if count > most:
+            raise sc.fail(where, f"{word}s", f"out of range, allowed <= pi pitch_diameter_mm / "
+                          f"{word}_diameter_mm = {most} (they fit on the pitch circle)", count)
+        if word == "roller" and not self.roller_length_mm <= self.width_mm:
+            raise sc.fail(where, "roller_length_mm", f"out of range, allowed <= width_mm = "
+                          f"{self.width_mm:g}", self.roller_length_mm)
+        if self.clearance_um is not None:
+            conformity = sum(getattr(self, k) or 0.52 for k in _BALL_OPTIONAL) - 1.0
+            top = size * 1e3
+            if self.kind == "deep_groove_ball":
+                top = min(top, 2e3 * conformity * size)
+            lo = -10.0 * size  # -D/100, in µm
+            if not lo <= self.clearance_um < top:
+                extra = " and 2 (f_i + f_o - 1) ball_diameter_mm" if top < size * 1e3 else ""
+                raise sc.fail(where, "clearance_um", f"out of range, allowed [{lo:.6g}, "
+                              f"{top:.6g}) µm (below the {word} diameter{extra}; negative: a "
+                              f"preload down to -{word}_diameter_mm/100)", self.clearance_um)
+
+    def rolling(self, where: str = ""):
+        """The rolling bearing kind (SI) of ``catalogue`` or ``kind``, or None (a linear
+        bearing); ``where`` the table in a refusal (default :attr:`WHERE`)."""
+        changes = {}
+        if self.clearance_um is not None:
+            changes["clearance"] = self.clearance_um * 1e-6
+        try:
+            if self.catalogue is not None:
+                return catalogue(self.catalogue, **changes)
+            if self.kind is None:
+                return None
+            mm = 1e-3
+            args = {"bore": self.bore_mm * mm, "outer_diameter": self.outer_diameter_mm * mm,
+                    "width": self.width_mm * mm, "pitch_diameter": self.pitch_diameter_mm * mm}
+            if self.balls is not None:
+                args.update(elements=self.balls, element_diameter=self.ball_diameter_mm * mm)
+                args.update({k: getattr(self, k) for k in _BALL_OPTIONAL
+                             if getattr(self, k) is not None})
+            else:
+                args.update(elements=self.rollers, element_diameter=self.roller_diameter_mm * mm,
+                            effective_length=self.roller_length_mm * mm)
+            if self.contact_angle_deg is not None:
+                args["contact_angle"] = math.radians(self.contact_angle_deg)
+            return ROLLING_KINDS[self.kind](**args, **changes)
+        except ValueError as err:  # a relation the checks above do not state, in SI
+            raise sc.SchemaError(f"[{where or self.WHERE}] {err}") from None
+
     def bearing(self) -> Bearing:
-        """The bearing in SI (m, N/m, N·m/rad)."""
+        """The bearing in SI (m, N/m, N·m/rad); a rolling bearing without an operating point
+        yet (:func:`jaxgear.dynamics.bearings_at_operating_point` finds it)."""
         C = None if self.damping_matrix_SI is None else bearing_matrix(self.damping_matrix_SI)
         z = self.position_mm * 1e-3
+        rolling = self.rolling()
+        if rolling is not None:
+            return Bearing(z=z, rolling=rolling, damping=C)
         if self.stiffness_matrix_SI is not None:
             return Bearing(z=z, stiffness=bearing_matrix(self.stiffness_matrix_SI), damping=C)
 
@@ -154,6 +314,28 @@ class BearingSection(Section):
         return Bearing(z=z, radial=given("radial_N_per_um", 200.0) * 1e6,
                        axial=given("axial_N_per_um", 0.0) * 1e6,
                        tilt=given("tilt_Nm_per_rad", 0.0), damping=C)
+
+
+def first_rolling(shaft, where: str) -> tuple[str, str] | None:
+    """(the table, its key) of a shaft section's first rolling bearing (``catalogue`` or
+    ``kind``), or None: where a scene that does not take bearings from geometry refuses it."""
+    for i, b in enumerate(shaft.bearings):
+        for key in ("catalogue", "kind"):
+            if key in b.given:
+                return f"{where}.bearings[{i}]", key
+    return None
+
+
+def refuse_rolling(shafts, why: str) -> None:
+    """Refuse the first rolling bearing of ``shafts`` ((where, section) pairs; None skipped)
+    in one line: bearings from geometry are for ``why``'s scenes only."""
+    for where, shaft in shafts:
+        found = None if shaft is None else first_rolling(shaft, where)
+        if found is not None:
+            raise sc.fail(found[0], found[1], "a bearing from its geometry is for a lumped3d "
+                          f"pair of rigid gears for now ({why}): allowed "
+                          "radial_N_per_um/axial_N_per_um/tilt_Nm_per_rad or "
+                          "stiffness_matrix_SI here")
 
 
 class ShaftKeys(Section):
@@ -192,15 +374,20 @@ class ShaftKeys(Section):
         """The bearings hold the shaft: axially, and against tilting."""
         where = where_of(info)
         bearings = [b.bearing() for b in self.bearings]
-        diag = [np.diag(b.stiffness_matrix()) for b in bearings]
-        if not any(d[2] > 0 for d in diag):
+        carried = [b.carried() for b in bearings]
+        if not any(c[2] for c in carried):
+            rolling = any(b.rolling is not None for b in bearings)
             raise sc.SchemaError(
                 f"[{where}] bearings: needs an axial stiffness on at least one bearing "
-                "(axial_N_per_um > 0 or stiffness_matrix_SI[2][2] > 0)"
+                "(axial_N_per_um > 0 or stiffness_matrix_SI[2][2] > 0"
+                + (", or a rolling bearing that carries an axial load)" if rolling else ")")
             )
-        if any(d[3] > 0 and d[4] > 0 for d in diag):
+        # a rolling bearing is a radial support: its tilt stiffness, which its load gives it,
+        # does not hold a shaft alone
+        if any(c[3] and c[4] and b.rolling is None for b, c in zip(bearings, carried,
+                                                                    strict=True)):
             return self
-        radial = [b.z for b, d in zip(bearings, diag, strict=True) if d[0] > 0 and d[1] > 0]
+        radial = [b.z for b, c in zip(bearings, carried, strict=True) if c[0] and c[1]]
         if len(radial) < 2:
             raise sc.SchemaError(
                 f"[{where}] bearings: needs two radial bearings (or a tilt stiffness) to hold "
@@ -516,6 +703,9 @@ class SceneSection(Section):
                 )
         needs_a_body(self.integration, bool({"pinion_body", "gear_body"} & given),
                      "[scene] pinion_body or gear_body")
+        if {"pinion_body", "gear_body"} & given:
+            refuse_rolling([(f"scene.{k}", getattr(self, k)) for k in ("pinion_shaft",
+                            "gear_shaft")], "not with pinion_body or gear_body")
         return self
 
     def spec(self, base_dir: str | None = None) -> SceneSpec:

@@ -25,6 +25,7 @@ from ._scene_table import (
     dynamics_settings,
     needs_a_body,
     on_shaft,
+    refuse_rolling,
     where_of,
 )
 from ._sections import Section, Text, named_keys, number
@@ -63,6 +64,11 @@ class TrainShaftSection(ShaftKeys):
                 raise sc.fail(where, g, "missing required key")
             on_shaft(g, v[g], info.data.get("length_mm"), where)
         return {g: v[g] for g in carried}
+
+    @pydantic.model_validator(mode="after")
+    def _linear(self, info):
+        refuse_rolling([(where_of(info), self)], "not a train's shafts")
+        return self
 
     def shaft_spec(self):
         """The shaft in SI, its gears' centres in gear order."""

@@ -89,6 +89,7 @@ from ._shaft import (
     Material as Material,
     ShaftMatrices as ShaftMatrices,
     ShaftSpec as ShaftSpec,
+    bearing_dofs as bearing_dofs,
     bearing_matrix as bearing_matrix,
     shaft_matrices as shaft_matrices,
     timoshenko_element as timoshenko_element,

@@ -24,6 +24,7 @@ from typing import NamedTuple
 import jax.numpy as jnp
 import numpy as np
 
+from ..bearings import AbstractRollingBearing
 from ._structure import Structure
 
 __all__ = [
@@ -31,6 +32,7 @@ __all__ = [
     "Material",
     "ShaftMatrices",
     "ShaftSpec",
+    "bearing_dofs",
     "bearing_matrix",
     "shaft_matrices",
     "timoshenko_element",
@@ -208,25 +210,40 @@ def _as_tuple(a: np.ndarray) -> tuple:
 class Bearing:
     """A bearing at axial position ``z`` (m): stiffness and damping from a shaft node to the ground.
 
-    The stiffness is either diagonal (``radial``, ``axial``, ``tilt``) or a full 6×6 matrix
-    (``stiffness``), never both: with ``stiffness`` given, ``radial``/``axial``/``tilt`` must be
-    left out (they stay ``None``). Matrices are in the shaft node's frame, DOF order u_x, u_y, u_z,
-    φ_x, φ_y, φ_z (φ_x, φ_y the tilts with du_y/dz = −φ_x, du_x/dz = φ_y), SI per DOF pair, and
-    are checked by :func:`bearing_matrix` (symmetric, positive semi-definite, row/column φ_z
-    zero) and stored symmetrised as nested tuples (the dataclass stays hashable).
+    The stiffness is either diagonal (``radial``, ``axial``, ``tilt``), a full 6×6 matrix
+    (``stiffness``), or a rolling bearing's from its geometry (``rolling``, a
+    :class:`jaxgear.bearings.AbstractRollingBearing` kind), never two of them: with
+    ``stiffness`` or ``rolling`` given, ``radial``/``axial``/``tilt`` must be left out (they
+    stay ``None``). Matrices are in the shaft node's frame, DOF order u_x, u_y, u_z, φ_x, φ_y,
+    φ_z (φ_x, φ_y the tilts with du_y/dz = −φ_x, du_x/dz = φ_y), SI per DOF pair, and are
+    checked by :func:`bearing_matrix` (symmetric, positive semi-definite, row/column φ_z zero)
+    and stored symmetrised as nested tuples (the dataclass stays hashable).
+
+    A rolling bearing has a stiffness only at an operating point: ``Bearing(z, rolling=kind)``
+    holds none (:meth:`stiffness_matrix` refuses it) until :meth:`at` puts it at the ring
+    displacement d that carries its load (``operating``; its ``stiffness`` the kind's
+    :meth:`~jaxgear.bearings.AbstractRollingBearing.stiffness6` there, the tangent stiffness
+    about d). :func:`jaxgear.dynamics.bearings_at_operating_point` finds each rolling
+    bearing's operating point from the quasi-static solve of its scene (docs/bearings.md).
 
     Attributes:
         z: position along the shaft (m).
-        radial: stiffness on u_x and u_y (N/m); default 2e8 without ``stiffness``.
-        axial: stiffness on u_z (N/m); default 1e8 without ``stiffness``.
-        tilt: stiffness on φ_x and φ_y (N·m/rad); default 0 without ``stiffness``.
+        radial: stiffness on u_x and u_y (N/m); default 2e8 without ``stiffness``/``rolling``.
+        axial: stiffness on u_z (N/m); default 1e8 without ``stiffness``/``rolling``.
+        tilt: stiffness on φ_x and φ_y (N·m/rad); default 0 without ``stiffness``/``rolling``.
         stiffness: 6×6 stiffness matrix (N/m between translations, N/rad = N between a
-            translation and a rotation, N·m/rad between rotations), or ``None``.
+            translation and a rotation, N·m/rad between rotations), or ``None``; with
+            ``rolling`` set by :meth:`at` only.
         damping: 6×6 viscous damping matrix (N·s/m, N·s/rad, N·m·s/rad), or ``None`` (none).
+        rolling: the rolling bearing kind, or ``None`` (a linear spring).
+        operating: with ``rolling``, its operating point d = (δ_x, δ_y, δ_z, γ_x, γ_y) (m,
+            rad; the shaft node's displacement relative to the ground, ring displacement of
+            :mod:`jaxgear.bearings`), or ``None`` (none yet).
 
     Raises:
-        ValueError: ``stiffness`` together with ``radial``/``axial``/``tilt``; a matrix that
-            fails :func:`bearing_matrix`.
+        ValueError: two stiffness forms together; ``rolling`` not a bearing kind; ``operating``
+            without ``rolling`` or not 5 finite numbers; a matrix that fails
+            :func:`bearing_matrix` (one line each).
     """
 
     z: float
@@ -235,10 +252,40 @@ class Bearing:
     tilt: float | None = None
     stiffness: tuple | None = None
     damping: tuple | None = None
+    # not compared (an array module): the stiffness and operating point it stands at are
+    rolling: AbstractRollingBearing | None = dataclasses.field(default=None, compare=False)
+    operating: tuple | None = None
 
     def __post_init__(self):
-        where = f"Bearing at z = {self.z * 1e3:.6g} mm"
-        if self.stiffness is None:
+        where = self.where
+        if self.rolling is not None:
+            if not isinstance(self.rolling, AbstractRollingBearing):
+                raise ValueError(
+                    f"{where}: rolling = {type(self.rolling).__name__}: allowed a "
+                    "jaxgear.bearings kind (DeepGrooveBall, ..., LinearSpring)"
+                )
+            given = [n for n in ("radial", "axial", "tilt") if getattr(self, n) is not None]
+            if given:
+                raise ValueError(
+                    f"{where}: give either radial/axial/tilt or a rolling bearing, not both "
+                    f"(got {', '.join(given)} and rolling)"
+                )
+            if self.operating is None and self.stiffness is not None:
+                raise ValueError(f"{where}: a rolling bearing's stiffness comes from its "
+                                 "operating point: give operating= (Bearing.at), not stiffness")
+            if self.operating is not None:
+                d = tuple(float(x) for x in np.ravel(self.operating))
+                if len(d) != 5 or not all(math.isfinite(x) for x in d):
+                    raise ValueError(f"{where}: operating = {self.operating!r}: allowed 5 finite "
+                                     "numbers (δ_x, δ_y, δ_z in m, γ_x, γ_y in rad)")
+                object.__setattr__(self, "operating", d)
+                if self.stiffness is None:
+                    k = np.asarray(self.rolling.stiffness6(np.asarray(d)), float)
+                    object.__setattr__(self, "stiffness", k)
+        elif self.operating is not None:
+            raise ValueError(f"{where}: operating = {self.operating!r} without a rolling "
+                             "bearing: allowed None (or give rolling=)")
+        elif self.stiffness is None:
             for name, default in (("radial", 2e8), ("axial", 1e8), ("tilt", 0.0)):
                 if getattr(self, name) is None:
                     object.__setattr__(self, name, default)
@@ -259,11 +306,45 @@ class Bearing:
                 raise ValueError(f"{where}: {name} {err}") from None
             object.__setattr__(self, name, _as_tuple(a))
 
+    @property
+    def where(self) -> str:
+        """The bearing's name in a message (``Bearing at z = 12 mm``)."""
+        return f"Bearing at z = {self.z * 1e3:.6g} mm"
+
+    def at(self, displacement) -> Bearing:
+        """This rolling bearing at the operating point ``displacement`` d (5,) (m, rad): its
+        ``stiffness`` the kind's tangent stiffness there (``stiffness6(d)``).
+
+        Raises:
+            ValueError: not a rolling bearing; d not 5 finite numbers (one line)."""
+        if self.rolling is None:
+            raise ValueError(f"{self.where}: Bearing.at needs a rolling bearing (rolling=), "
+                             "allowed on a bearing from geometry")
+        return dataclasses.replace(self, stiffness=None, operating=tuple(
+            float(x) for x in np.ravel(np.asarray(displacement, float))))
+
+    def carried(self) -> tuple[bool, ...]:
+        """Which of the DOFs u_x, u_y, u_z, φ_x, φ_y the bearing resists: a rolling bearing's
+        declaration (:meth:`~jaxgear.bearings.AbstractRollingBearing.carried`), a linear one's
+        non-zero diagonal."""
+        if self.rolling is not None:
+            return tuple(self.rolling.carried())
+        return tuple(bool(x > 0) for x in np.diag(self.stiffness_matrix())[:5])
+
     def stiffness_matrix(self) -> np.ndarray:
         """The 6×6 stiffness (SI, node frame): ``stiffness`` or diag(radial, radial, axial,
-        tilt, tilt, 0)."""
+        tilt, tilt, 0).
+
+        Raises:
+            ValueError: a rolling bearing not at an operating point (one line)."""
         if self.stiffness is not None:
             return np.array(self.stiffness)
+        if self.rolling is not None:
+            raise ValueError(
+                f"{self.where}: the rolling bearing {type(self.rolling).__name__} has a "
+                "stiffness only at an operating point: allowed Bearing.at(displacement), or "
+                "its scene through jaxgear.dynamics.bearings_at_operating_point"
+            )
         return np.diag([self.radial, self.radial, self.axial, self.tilt, self.tilt, 0.0])
 
     def damping_matrix(self) -> np.ndarray:
@@ -315,6 +396,52 @@ class ShaftMatrices(NamedTuple):
     gear_nodes: tuple = ()
 
 
+def shaft_nodes(spec: ShaftSpec, extra_z=()) -> np.ndarray:
+    """The node positions (m from the shaft start) of :func:`shaft_matrices`: nodes at the
+    shaft ends, the gears, the torque, each bearing and ``extra_z``, each segment refined to
+    about ``spec.elements`` elements over the length (positions that differ by rounding only,
+    60 + 10 mm against 70 mm, are one node).
+
+    Raises:
+        ValueError: a position outside the shaft (mm in the message).
+    """
+    zs = {0.0, spec.length, *spec.gear_positions, spec.torque_z, *(b.z for b in spec.bearings),
+          *extra_z}
+    for z in zs:
+        if not -1e-12 <= z <= spec.length + 1e-12:
+            raise ValueError(
+                f"shaft position {z * 1e3:.6g} mm is outside the shaft [0, {spec.length * 1e3:.6g}] mm"
+            )
+    base = []
+    for z in sorted(zs):
+        if not base or z - base[-1] > 1e-9 * max(spec.length, 1.0):
+            base.append(z)
+    nodes = []
+    for a, b in zip(base[:-1], base[1:], strict=True):
+        k = max(1, round(spec.elements * (b - a) / spec.length))
+        nodes.extend(np.linspace(a, b, k + 1)[:-1].tolist())
+    nodes.append(base[-1])
+    return np.array(nodes)
+
+
+def node_at(nodes: np.ndarray, z: float) -> int:
+    """The index of the node of ``nodes`` (m) nearest the position ``z`` (m)."""
+    return int(np.argmin(np.abs(nodes - z)))
+
+
+def bearing_dofs(shafts, extra_z=None) -> tuple[tuple[int, ...], ...]:
+    """Each bearing's node's first DOF in the block-diagonal assembly of ``shafts`` (shaft
+    after shaft, 6 DOFs per node; :func:`_shaft_arrays`' order), one tuple per shaft.
+    ``extra_z``: more node positions per shaft (m), as given to :func:`_shaft_arrays`."""
+    extra_z = extra_z or ((),) * len(shafts)
+    out, offset = [], 0
+    for spec, z in zip(shafts, extra_z, strict=True):
+        nodes = shaft_nodes(spec, z)
+        out.append(tuple(offset + 6 * node_at(nodes, b.z) for b in spec.bearings))
+        offset += 6 * nodes.size
+    return tuple(out)
+
+
 def shaft_matrices(spec: ShaftSpec, E, G, rho, extra_z=()) -> ShaftMatrices:
     """The FE model of one shaft: Timoshenko elements (:func:`timoshenko_element`) between nodes
     at the shaft ends, the gear, the torque, each bearing and ``extra_z`` (m from the shaft
@@ -330,24 +457,7 @@ def shaft_matrices(spec: ShaftSpec, E, G, rho, extra_z=()) -> ShaftMatrices:
         ValueError: a position outside the shaft (mm in the message).
     """
     gears = spec.gear_positions
-    zs = {0.0, spec.length, *gears, spec.torque_z, *(b.z for b in spec.bearings), *extra_z}
-    for z in zs:
-        if not -1e-12 <= z <= spec.length + 1e-12:
-            raise ValueError(
-                f"shaft position {z * 1e3:.6g} mm is outside the shaft [0, {spec.length * 1e3:.6g}] mm"
-            )
-    # refine every segment into about `elements` elements over the whole length; positions that
-    # differ by rounding only (60 + 10 mm vs 70 mm) are one node
-    base = []
-    for z in sorted(zs):
-        if not base or z - base[-1] > 1e-9 * max(spec.length, 1.0):
-            base.append(z)
-    nodes = []
-    for a, b in zip(base[:-1], base[1:], strict=True):
-        k = max(1, round(spec.elements * (b - a) / spec.length))
-        nodes.extend(np.linspace(a, b, k + 1)[:-1].tolist())
-    nodes.append(base[-1])
-    nodes = np.array(nodes)
+    nodes = shaft_nodes(spec, extra_z)
     n = 6 * nodes.size
     K = np.zeros((n, n))
     M = np.zeros((n, n))
@@ -356,7 +466,7 @@ def shaft_matrices(spec: ShaftSpec, E, G, rho, extra_z=()) -> ShaftMatrices:
         sl = slice(6 * e, 6 * e + 12)
         K[sl, sl] += ke
         M[sl, sl] += me
-    idx = lambda z: int(np.argmin(np.abs(nodes - z)))
+    idx = lambda z: node_at(nodes, z)
     # bearings: the 6×6 stiffness and damping on the node's DOFs; the force rows are the
     # translational rows of the stiffness (elastic force k u, couplings to the tilts included)
     Kb = np.zeros((n, n))
