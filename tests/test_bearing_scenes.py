@@ -15,7 +15,7 @@ import pytest
 import jaxgear.io as jio
 from jaxgear import bearings as jb
 from jaxgear.dynamics import bearings_at_operating_point
-from jaxgear.io._case_model import build_dynamic_model, operating_point
+from jaxgear.io import build_dynamic_model, operating_point
 from jaxgear.scenes import Bearing, ShaftSpec, lumped_pair
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -42,6 +42,7 @@ from ._case_model import (
     build_dynamic_model as build_dynamic_model,
     check_case_whine as check_case_whine,
     dynamic_model_kind as dynamic_model_kind,
+    operating_point as operating_point,
     planetary_kind as planetary_kind,
     quasi_static_scene as quasi_static_scene,
     static_scene as static_scene,
@@ -142,6 +143,7 @@ from ._scuffing_table import (
     ScuffingInputs as ScuffingInputs,
     parse_scuffing as parse_scuffing,
 )
+from ._sections import Range as Range, Section as Section, range_of as range_of
 from ._sizing_spec import (
     SizingSection as SizingSection,
     candidate_case_text as candidate_case_text,
@@ -149,7 +151,6 @@ from ._sizing_spec import (
     parse_sizing_spec as parse_sizing_spec,
     sizing_te_settings as sizing_te_settings,
 )
-from ._sections import Range as Range, Section as Section, range_of as range_of
 from ._train_file import parse_train as parse_train
 from ._whine_table import (
     WHINE_KEYS as WHINE_KEYS,
