@@ -84,7 +84,7 @@ def test_columns_equal_the_sweep_of_the_written_case(staged):
     sweep`` sweeps it (dynamics.settled_sweep with the case's integrator, contact law and kept
     periods) at the stage's speeds: its K_v equals the curve and the columns to 1e-9; its
     whine (dynamics.whine_response, the mesh force's orders 1-3 summed here) the whine
-    column."""
+    column, the speed of its largest first order the resonance speed."""
     _, spec, tables, table, curves, _ = staged
     c = table.columns
     assert curves.rows.size == 2 and curves.flanks == ("plain", "plain")
@@ -105,11 +105,12 @@ def test_columns_equal_the_sweep_of_the_written_case(staged):
         close(curves.dynamic_factor[j], kv)
         close(c["dynamic_factor_max"][k], kv.max())
         close(c["dynamic_factor_at_speed"][k], kv[at[0]])
-        close(c["resonance_speed_rad_s"][k], curves.speeds[np.argmax(kv)])
         force = np.abs(np.asarray(dynamics.whine_response(model, curves.speeds).mesh_force))
         rms = np.sqrt(sum(force[:, h, 0] ** 2 / 2 for h in (1, 2, 3)))
         close(curves.whine_force[j], rms)
+        close(curves.first_order[j], force[:, 1, 0])
         close(c["whine_force_N"][k], rms.max())
+        close(c["resonance_speed_rad_s"][k], curves.speeds[np.argmax(force[:, 1, 0])])
         assert c["dynamics_stage"][k] == "plain" and c["dynamics_unsettled"][k] == 0
         assert 1.0 < kv.max() < 1.5  # a quiet helical pair: a few per cent at resonance
     rest = np.setdiff1d(np.arange(len(table)), curves.rows)
@@ -118,15 +119,17 @@ def test_columns_equal_the_sweep_of_the_written_case(staged):
 
 
 def test_the_resonance_speed_is_the_pairs_natural_frequency(staged):
-    """The speed of the largest K_v of the first candidate (the one the range was set around)
-    lies within one step of the speed grid (5 %) of ω_n/z1, ω_n = sqrt(k̄/m_eq) written here;
-    the second candidate's (another pair, its resonance inside the range too) within a step of
-    its own."""
+    """The resonance speed of the first candidate (the one the range was set around: the speed
+    of its largest first-order dynamic mesh force) lies within one step of the speed grid
+    (5 %) of ω_n/z1, ω_n = sqrt(k̄/m_eq) written here, and so does the speed of its largest
+    K_v; the second candidate's (another pair, its resonance inside the range too) within a
+    step of its own."""
     _, spec, _, table, curves, natural = staged
     c = table.columns
     step = curves.speeds[-1] - curves.speeds[-2]
     k0, k1 = (int(i) for i in curves.rows)
     assert abs(c["resonance_speed_rad_s"][k0] - natural) <= step
+    assert abs(curves.speeds[np.argmax(curves.dynamic_factor[0])] - natural) <= step
     second = _natural_speed(spec, {n: v[k1] for n, v in c.items()})
     assert curves.speeds[1] + step <= second <= curves.speeds[-1] - step
     assert abs(second - natural) > step  # a resonance of its own
@@ -286,3 +289,44 @@ def test_jaxgear_size_runs_the_stage(staged, tmp_path, capsys, monkeypatch):
     assert len(err) == 1 and "--te 0: the spec's objective 'te_ppk_m' is a column of the " \
         "transmission-error stage" in err[0]
     assert not (tmp_path / "o3").exists()
+
+
+# default tier: test_columns_equal_the_sweep_of_the_written_case (the written case's model and
+# sweep as jaxgear sweep makes them, without the command's other outputs; plain flanks)
+@pytest.mark.slow
+def test_jaxgear_sweep_on_the_written_modified_case_gives_the_curve(tmp_path, monkeypatch):
+    """With the transmission-error stage on (one candidate, a short optimisation) and the front
+    over its optimised TE and the mass, the dynamics stage runs that candidate with the
+    optimised flanks; ``jaxgear size --write K`` writes ``candidate_K_modified.toml``, and
+    ``jaxgear sweep`` on it over the stage's speeds (a range starting at the spec's speed: the
+    grid is the START:STOP:N that ``--speeds`` takes) gives sweep.json's dynamic factor equal
+    to dynamics.csv's and the row's largest to 1e-9."""
+    monkeypatch.setenv("JAXGEAR_TEST_NO_FIGURES", "1")
+    data = _spec(te_candidates=1, te_torque_min_percent=50.0, te_torques=2,
+                 te_max_iterations=20, dynamics_candidates=1, dynamics_speeds=6,
+                 dynamics_speed_range_rpm=[1500.0, 30000.0])
+    data["pareto"] = {"minimise": ["te_ppk_modified_m", "mass_kg"]}
+    spec, _ = jio.parse_sizing_spec(data)
+    k = int(js.size(spec).ranked()[0])  # the one the TE stage evaluates
+    path = tmp_path / "spec.toml"
+    path.write_text(_toml(data))
+    out = tmp_path / "size"
+    assert main(["size", str(path), "--out", str(out), "--write", str(k), "--quiet"]) == 0
+    with open(out / "sizing.csv", encoding="utf-8") as f:
+        row = list(csv.DictReader(f))[k]
+    assert row["stage"] == "te" and row["dynamics_stage"] == "modified"
+    with open(out / "dynamics.csv", encoding="utf-8") as f:
+        lines = list(csv.DictReader(f))
+    assert {int(r["candidate"]) for r in lines} == {k}
+    speeds = [float(r["speed_rad_s"]) for r in lines]
+    lo, hi = 1500.0 * RPM, 30000.0 * RPM
+    np.testing.assert_array_equal(speeds, np.linspace(lo, hi, 6))
+    sweep = tmp_path / "sweep"
+    assert main(["sweep", str(out / f"candidate_{k}_modified.toml"), "--speeds",
+                 f"{lo!r}:{hi!r}:6", "--out", str(sweep), "--quiet"]) == 0
+    s = json.loads((sweep / "sweep.json").read_text(encoding="utf-8"))
+    np.testing.assert_allclose(s["speeds_rad_s"], speeds, rtol=1e-15)
+    kv = np.asarray([float(r["dynamic_factor"]) for r in lines])
+    np.testing.assert_allclose(s["dynamic_factor"], kv, rtol=1e-9)
+    np.testing.assert_allclose(max(s["dynamic_factor"]), float(row["dynamic_factor_max"]),
+                               rtol=1e-9)

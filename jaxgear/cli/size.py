@@ -393,21 +393,24 @@ def _dynamics_summary(spec, table, curves, seconds: float) -> dict:
 
 
 def _dynamics_files(folder: str, spec, table, curves, name: str) -> None:
-    """``dynamics.csv`` (per candidate run and speed: K_v, the whine force, settled) and
+    """``dynamics.csv`` (per candidate run and speed: K_v, the whine force and its first mesh
+    order, settled) and
     ``dynamic_factor.png`` into ``folder`` (atomically)."""
     from ._plots import sizing_dynamics_plot
 
     with atomic_open(os.path.join(folder, "dynamics.csv"), "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(["candidate", "flanks", "speed_rad_s", "speed_rpm", "dynamic_factor",
-                    "whine_force_N", "settled"])
+                    "whine_force_N", "whine_order1_N", "settled"])
         for j, i in enumerate(curves.rows):
             for s, speed in enumerate(curves.speeds):
                 kv, wf = curves.dynamic_factor[j, s], curves.whine_force[j, s]
+                f1 = curves.first_order[j, s]
                 w.writerow([int(i), curves.flanks[j], repr(float(speed)),
                             repr(float(speed) * 30 / math.pi),
                             "" if math.isnan(kv) else repr(float(kv)),
                             "" if math.isnan(wf) else repr(float(wf)),
+                            "" if math.isnan(f1) else repr(float(f1)),
                             int(curves.settled[j, s])])
     sizing_dynamics_plot(os.path.join(folder, "dynamic_factor.png"), curves, table.columns,
                         float(spec.operating.speed),
@@ -422,14 +425,14 @@ def _print_dynamics(spec, table, curves, seconds: float) -> None:
     print(f"  dynamics stage ({seconds:.1f} s): lumped torsional model, {curves.speeds.size} "
           f"speeds {curves.speeds[0] * rpm:.0f}-{curves.speeds[-1] * rpm:.0f} 1/min "
           "(dynamics.csv, dynamic_factor.png)")
-    print("    row  flanks     K_v max  at (1/min)  K_v at speed  whine (N)")
+    print("    row  flanks     K_v max  K_v at speed  resonance (1/min)  whine (N)")
     for i in curves.rows:
         if c["dynamics_stage"][i] == "failed":
             print(f"{i:>7d}  failed: a speed did not run to its end (dynamics.csv)")
             continue
         line = (f"{i:>7d}  {c['dynamics_stage'][i]:<9s} {c['dynamic_factor_max'][i]:7.4f}  "
-                f"{c['resonance_speed_rad_s'][i] * rpm:10.0f}  "
-                f"{c['dynamic_factor_at_speed'][i]:12.4f}  {c['whine_force_N'][i]:9.2f}")
+                f"{c['dynamic_factor_at_speed'][i]:12.4f}  "
+                f"{c['resonance_speed_rad_s'][i] * rpm:17.0f}  {c['whine_force_N'][i]:9.2f}")
         if c["dynamics_unsettled"][i] > 0:
             line += f"  ({int(c['dynamics_unsettled'][i])} speeds not settled)"
         print(line)

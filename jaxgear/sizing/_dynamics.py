@@ -45,9 +45,10 @@ __all__ = ["DYNAMICS_COLUMNS", "WHINE_ORDERS", "DynamicsCurves", "DynamicsSettin
 
 #: the columns the stage adds (NaN where a candidate was not run; beside them
 #: ``dynamics_stage``, :func:`dynamics_stage`): the largest dynamic factor K_v over the speed
-#: range, K_v at the spec's speed, the speed of the largest (rad/s), the whine level (the
-#: largest over the range of the dynamic mesh force's RMS over the mesh orders 1 to
-#: :data:`WHINE_ORDERS`, N) and the speeds that reached their cap unsettled
+#: range, K_v at the spec's speed, the mesh resonance speed (rad/s: where the first mesh
+#: order's dynamic mesh force is largest over the range), the whine level (the largest over the
+#: range of the dynamic mesh force's RMS over the mesh orders 1 to :data:`WHINE_ORDERS`, N) and
+#: the speeds that reached their cap unsettled
 DYNAMICS_COLUMNS = ("dynamic_factor_max", "dynamic_factor_at_speed", "resonance_speed_rad_s",
                     "whine_force_N", "dynamics_unsettled")
 
@@ -112,6 +113,7 @@ class DynamicsCurves:
             one, (k, S); NaN where a speed failed.
         whine_force: the dynamic mesh force's RMS over the mesh orders 1 to
             :data:`WHINE_ORDERS` (N), (k, S).
+        first_order: the amplitude of the dynamic mesh force's first mesh order (N), (k, S).
         settled: whether each speed settled within the settled sweep's tolerance, (k, S).
         flanks: "plain" or "modified" (the transmission-error stage's), (k,).
     """
@@ -120,6 +122,7 @@ class DynamicsCurves:
     speeds: np.ndarray
     dynamic_factor: np.ndarray
     whine_force: np.ndarray
+    first_order: np.ndarray
     settled: np.ndarray
     flanks: tuple[str, ...]
 
@@ -205,12 +208,13 @@ def dynamics_speeds(spec: SizingSpec, settings: DynamicsSettings, models) -> np.
     return grid
 
 
-def _whine_force(model, speeds) -> np.ndarray:
-    """The dynamic mesh force's RMS over the mesh orders 1 to :data:`WHINE_ORDERS` (N) at each
-    speed: sqrt(Σ_h |F_h|²/2) of the one-sided amplitudes of the harmonic balance."""
+def _whine_force(model, speeds) -> tuple[np.ndarray, np.ndarray]:
+    """(the dynamic mesh force's RMS over the mesh orders 1 to :data:`WHINE_ORDERS`, sqrt(Σ_h
+    |F_h|²/2), the amplitude |F_1| of its first order) (N) at each speed, of the one-sided
+    amplitudes of the harmonic balance."""
     w = whine_response(model, speeds, HarmonicBalance())
     f = np.abs(np.asarray(w.mesh_force)[:, 1 : WHINE_ORDERS + 1, 0])
-    return np.sqrt(0.5 * np.sum(f**2, axis=1))
+    return np.sqrt(0.5 * np.sum(f**2, axis=1)), f[:, 0]
 
 
 def dynamics_stage(spec: SizingSpec, table: SizingTable,
@@ -221,7 +225,10 @@ def dynamics_stage(spec: SizingSpec, table: SizingTable,
     :func:`dynamics_candidates`, each its lumped torsional model
     (:func:`candidate_dynamic_model`) swept over :func:`dynamics_speeds` by
     :func:`jaxgear.dynamics.settled_sweep` (Newmark, automatic steps, exact contact, 4 kept
-    periods) and its whine by :func:`jaxgear.dynamics.whine_response` at the same speeds.
+    periods) and its whine by :func:`jaxgear.dynamics.whine_response` at the same speeds (the
+    mesh resonance speed: where its first mesh order is largest; the speed of the largest K_v
+    may be a higher order's resonance, z1 h Ω = ω_n, h > 1, where the flanks' TE is rich in
+    that order).
     The candidates' models share the compiled programs where their mesh layouts match.
 
     Args:
@@ -253,7 +260,7 @@ def dynamics_stage(spec: SizingSpec, table: SizingTable,
                                                                                  strict=True)]
     speeds = dynamics_speeds(spec, settings, models)
     k, s = len(models), speeds.size
-    kv, whine = np.full((k, s), math.nan), np.full((k, s), math.nan)
+    kv, whine, first = (np.full((k, s), math.nan) for _ in range(3))
     settled = np.zeros((k, s), dtype=bool)
     at = int(np.argmin(np.abs(speeds - float(spec.operating.speed))))
     for j, (i, model) in enumerate(zip(chosen, models, strict=True)):
@@ -267,7 +274,7 @@ def dynamics_stage(spec: SizingSpec, table: SizingTable,
         ok = np.asarray(r.result) == 0
         kv[j] = np.where(ok, np.asarray(r.dynamic_factor, dtype=float), math.nan)
         settled[j] = np.asarray(run.settled) & ok
-        whine[j] = _whine_force(model, speeds)
+        whine[j], first[j] = _whine_force(model, speeds)
         if not np.all(ok):
             stage[i] = "failed"
             continue
@@ -275,10 +282,10 @@ def dynamics_stage(spec: SizingSpec, table: SizingTable,
         top = int(np.argmax(kv[j]))
         columns["dynamic_factor_max"][i] = kv[j, top]
         columns["dynamic_factor_at_speed"][i] = kv[j, at]
-        columns["resonance_speed_rad_s"][i] = speeds[top]
+        columns["resonance_speed_rad_s"][i] = speeds[int(np.argmax(first[j]))]
         columns["whine_force_N"][i] = np.max(whine[j])
         columns["dynamics_unsettled"][i] = float(np.sum(~settled[j]))
-    curves = DynamicsCurves(chosen, speeds, kv, whine, settled, flanks)
+    curves = DynamicsCurves(chosen, speeds, kv, whine, first, settled, flanks)
     table = dataclasses.replace(table, columns=table.columns | columns
                                 | {"dynamics_stage": stage.astype(str)})
     return table, curves
