@@ -143,8 +143,9 @@ def _dominates(a, b) -> bool:
 def test_the_candidates_come_from_the_first_fronts(staged):
     """dynamics_candidates: over the spec's objectives less the stage's (here the mass and the
     least margin), written here by brute force: n = 1 the front's knee (pareto_front's
-    chosen design), n = 2 the two ends of front 1 along the mass, n = |front 1| + 1 front 1
-    and one of front 2 (dominated by front 1 only)."""
+    chosen design), n = 2 the knee and the lightest other of front 1, n = 3 the knee and the
+    two ends of the rest of front 1 along the mass, n = |front 1| + 1 front 1 and one of
+    front 2 (dominated by front 1 only)."""
     _, spec, _, table, curves, _ = staged
     c = table.columns
     rows = np.flatnonzero(table.feasible)
@@ -153,11 +154,12 @@ def test_the_candidates_come_from_the_first_fronts(staged):
                                                       for j in range(rows.size))]
     second = [r for i, r in enumerate(rows) if r not in first and not any(
         _dominates(v[j], v[i]) for j in range(rows.size) if rows[j] not in first)]
-    assert 2 <= len(first) < rows.size and second
+    assert 4 <= len(first) < rows.size and second
     knee = js.pareto_front(table, (("mass_kg", "min"), ("least_margin", "max"))).chosen
     assert js.dynamics_candidates(spec, table, 1).tolist() == [knee]
-    ends = sorted(first, key=lambda r: c["mass_kg"][r])
-    assert sorted(curves.rows.tolist()) == sorted([ends[0], ends[-1]])
+    ends = sorted((r for r in first if r != knee), key=lambda r: c["mass_kg"][r])
+    assert curves.rows.tolist() == [knee, ends[0]]
+    assert js.dynamics_candidates(spec, table, 3).tolist() == [knee, ends[0], ends[-1]]
     got = js.dynamics_candidates(spec, table, len(first) + 1).tolist()
     assert sorted(got[:-1]) == sorted(first) and got[-1] in second
     assert js.dynamics_candidates(spec, table, 0).size == 0

@@ -154,8 +154,9 @@ def dynamics_candidates(spec: SizingSpec, table: SizingTable, n: int) -> np.ndar
     """The rows the stage runs: the first ``n`` of the feasible candidates front by front, the
     fronts over the spec's objectives that the stage does not add (completed to two by
     :data:`jaxgear.sizing.DEFAULT_OBJECTIVES`, the mass and the least margin); of a front
-    larger than the places left, those evenly spaced along its first objective (both ends;
-    one place on the first front: the chosen design, the knee or the spec's choice)."""
+    larger than the places left, those evenly spaced along its first objective (both ends,
+    one place: the best in it), on the first front after its chosen design (the knee or the
+    spec's choice), which comes first."""
     ours = set(STAGE_OBJECTIVES["dynamics"])
     objectives = [o for o in spec.objectives if o[0] not in ours]
     for o in DEFAULT_OBJECTIVES:
@@ -173,9 +174,11 @@ def dynamics_candidates(spec: SizingSpec, table: SizingTable, n: int) -> np.ndar
         rows = np.flatnonzero(front.rank == r)
         if rows.size <= left:
             out += rows.tolist()
-        elif left == 1 and r == 1:
+            continue
+        if r == 1:  # the chosen design first
             out.append(int(front.chosen))
-        else:
+            rows, left = rows[rows != front.chosen], left - 1
+        if left:
             rows = rows[np.argsort(first[rows], kind="stable")]
             out += rows[np.round(np.linspace(0, rows.size - 1, left)).astype(int)].tolist()
     return np.asarray(out, dtype=int)
