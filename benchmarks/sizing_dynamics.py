@@ -46,7 +46,7 @@ from benchmarks._timing import environment
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 OUT = ROOT / "docs" / "bench" / "sizing_dynamics.json"
 SPEC = ROOT / "examples" / "sizing" / "helical.toml"
-CANDIDATES = 16
+CANDIDATES = 40
 AGAIN = 4
 REPEATS = 3
 

@@ -69,7 +69,7 @@ def staged():
     13 speeds: steps of 5 %, none on it), the spec's speed added."""
     spec, tables = jio.parse_sizing_spec(_spec())
     table = js.size(spec)
-    first = int(js.dynamics_candidates(spec, table, 2)[0])
+    first = int(js.dynamics_selection(spec, table, 2)[0])
     natural = _natural_speed(spec, {n: v[first] for n, v in table.columns.items()})
     data = _spec(dynamics_speed_range_rpm=[0.72 * natural / RPM, 1.32 * natural / RPM])
     spec, tables = jio.parse_sizing_spec(data)
@@ -141,7 +141,7 @@ def _dominates(a, b) -> bool:
 
 
 def test_the_candidates_come_from_the_first_fronts(staged):
-    """dynamics_candidates: over the spec's objectives less the stage's (here the mass and the
+    """dynamics_selection: over the spec's objectives less the stage's (here the mass and the
     least margin), written here by brute force: n = 1 the front's knee (pareto_front's
     chosen design), n = 2 the knee and the lightest other of front 1, n = 3 the knee and the
     two ends of the rest of front 1 along the mass, n = |front 1| + 1 front 1 and one of
@@ -156,13 +156,13 @@ def test_the_candidates_come_from_the_first_fronts(staged):
         _dominates(v[j], v[i]) for j in range(rows.size) if rows[j] not in first)]
     assert 4 <= len(first) < rows.size and second
     knee = js.pareto_front(table, (("mass_kg", "min"), ("least_margin", "max"))).chosen
-    assert js.dynamics_candidates(spec, table, 1).tolist() == [knee]
+    assert js.dynamics_selection(spec, table, 1).tolist() == [knee]
     ends = sorted((r for r in first if r != knee), key=lambda r: c["mass_kg"][r])
     assert curves.rows.tolist() == [knee, ends[0]]
-    assert js.dynamics_candidates(spec, table, 3).tolist() == [knee, ends[0], ends[-1]]
-    got = js.dynamics_candidates(spec, table, len(first) + 1).tolist()
+    assert js.dynamics_selection(spec, table, 3).tolist() == [knee, ends[0], ends[-1]]
+    got = js.dynamics_selection(spec, table, len(first) + 1).tolist()
     assert sorted(got[:-1]) == sorted(first) and got[-1] in second
-    assert js.dynamics_candidates(spec, table, 0).size == 0
+    assert js.dynamics_selection(spec, table, 0).size == 0
 
 
 BAD = [
@@ -269,7 +269,8 @@ def test_jaxgear_size_runs_the_stage(staged, tmp_path, capsys, monkeypatch):
     with open(out / "dynamics.csv", encoding="utf-8") as f:
         lines = list(csv.DictReader(f))
     assert len(lines) == curves.rows.size * curves.speeds.size
-    kv = np.asarray([float(r["dynamic_factor"]) for r in lines]).reshape(curves.dynamic_factor.shape)
+    kv = np.asarray([float(r["dynamic_factor"]) for r in lines])
+    kv = kv.reshape(curves.dynamic_factor.shape)
     np.testing.assert_array_equal(kv, curves.dynamic_factor)
     summary = json.loads((out / "sizing.json").read_text(encoding="utf-8"))
     assert summary["dynamics_stage"]["candidates"] == curves.rows.tolist()

@@ -6,10 +6,11 @@ row number of the table) as a case file, ``candidate_K.toml``, that ``jaxgear ru
 the same numbers; the Pareto front over the spec's objectives (the table's ``pareto_rank``,
 the chosen design in ``sizing.json``, ``pareto_X__Y.png`` for each pair of objectives and
 ``contact_ratios.png``); the dynamics stage's curves of K_v and the whine against speed for
-the candidates of the first fronts (``dynamics.csv``, ``dynamic_factor.png``); each finished chunk of candidates is kept in the results store
-(``store/``), which a rerun of the same spec into the same folder resumes from. With
-``--num-processes N`` it runs as process ``--process-id`` of N joined by ``jax.distributed``,
-the chunks spread over every process's devices; process 0 writes the files (docs/sizing.md)."""
+the candidates of the first fronts (``dynamics.csv``, ``dynamic_factor.png``); each finished
+chunk of candidates is kept in the results store (``store/``), which a rerun of the same spec
+into the same folder resumes from. With ``--num-processes N`` it runs as process
+``--process-id`` of N joined by ``jax.distributed``, the chunks spread over every process's
+devices; process 0 writes the files (docs/sizing.md)."""
 
 from __future__ import annotations
 
@@ -378,7 +379,7 @@ def _dynamics_summary(spec, table, curves, seconds: float) -> dict:
         "candidates": [int(i) for i in curves.rows],
         "flanks": list(curves.flanks),
         "selection": "the first Pareto fronts over the objectives the stage does not add "
-                     "(jaxgear.sizing.dynamics_candidates)",
+                     "(jaxgear.sizing.dynamics_selection)",
         "model": "lumped torsional pair (jaxgear sweep's of the written case): disc inertias, "
                  "composite damping 7 % mesh / 1 % structure, the rated torque",
         "sweep": "jaxgear.dynamics.settled_sweep, each speed until it settles (Newmark, "

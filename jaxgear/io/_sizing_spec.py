@@ -316,7 +316,7 @@ def parse_sizing_spec(data: dict) -> tuple[SizingSpec, dict]:
 #: each stage that adds objectives (:data:`jaxgear.sizing.STAGE_OBJECTIVES`): its words, its
 #: spec key and ``jaxgear size``'s option for its candidates
 SIZING_STAGES = {"te": ("the transmission-error stage", "te_candidates", "--te"),
-          "dynamics": ("the dynamics stage", "dynamics_candidates", "--dynamics")}
+                 "dynamics": ("the dynamics stage", "dynamics_candidates", "--dynamics")}
 
 
 def unstaged_objective(objectives, candidates: dict) -> tuple[str, str] | None:

@@ -26,7 +26,7 @@ from ._dynamics import (
     DynamicsCurves as DynamicsCurves,
     DynamicsSettings as DynamicsSettings,
     candidate_dynamic_model as candidate_dynamic_model,
-    dynamics_candidates as dynamics_candidates,
+    dynamics_selection as dynamics_selection,
     dynamics_speeds as dynamics_speeds,
     dynamics_stage as dynamics_stage,
 )

@@ -40,7 +40,7 @@ from ._spec import SizingSpec
 from ._te import candidate_mesh, candidate_modifications, candidate_pair
 
 __all__ = ["DYNAMICS_COLUMNS", "WHINE_ORDERS", "DynamicsCurves", "DynamicsSettings",
-           "candidate_dynamic_model", "dynamics_candidates", "dynamics_speeds",
+           "candidate_dynamic_model", "dynamics_selection", "dynamics_speeds",
            "dynamics_stage"]
 
 #: the columns the stage adds (NaN where a candidate was not run; beside them
@@ -72,7 +72,7 @@ class DynamicsSettings:
 
     Attributes:
         candidates: how many candidates, from the first Pareto fronts
-            (:func:`dynamics_candidates`), >= 0 (0: no stage).
+            (:func:`dynamics_selection`), >= 0 (0: no stage).
         speed_range: (lo, hi), the pinion speeds (rad/s) swept, 0 < lo < hi; None: the
             default (:func:`dynamics_speeds`: through every candidate's mesh resonance).
         speeds: the speeds equally spaced over the range, >= 2 (the spec's speed is added
@@ -137,6 +137,13 @@ def candidate_dynamic_model(spec: SizingSpec, row: dict, modified: bool | None =
         modified: the transmission-error stage's tip relief and crowning
             (:func:`candidate_modifications`) or the plain flanks; None: modified where the
             row's ``stage`` is ``"te"``.
+
+    Returns:
+        The :class:`jaxgear.dynamics.DynamicModel` (SI; coordinates the pinion's and the
+        wheel's rotations, rad, each positive in its direction of motion).
+
+    Raises:
+        ValueError: an invalid geometry (:func:`candidate_pair`'s).
     """
     if modified is None:
         modified = row.get("stage") == "te"
@@ -150,7 +157,7 @@ def candidate_dynamic_model(spec: SizingSpec, row: dict, modified: bool | None =
                          positions_per_pitch=AVERAGE_POSITIONS)
 
 
-def dynamics_candidates(spec: SizingSpec, table: SizingTable, n: int) -> np.ndarray:
+def dynamics_selection(spec: SizingSpec, table: SizingTable, n: int) -> np.ndarray:
     """The rows the stage runs: the first ``n`` of the feasible candidates front by front, the
     fronts over the spec's objectives that the stage does not add (completed to two by
     :data:`jaxgear.sizing.DEFAULT_OBJECTIVES`, the mass and the least margin); of a front
@@ -225,7 +232,7 @@ def dynamics_stage(spec: SizingSpec, table: SizingTable,
                    progress: Callable[[int, int], None] | None = None
                    ) -> tuple[SizingTable, DynamicsCurves]:
     """The dynamics stage (the module docstring): the candidates of
-    :func:`dynamics_candidates`, each its lumped torsional model
+    :func:`dynamics_selection`, each its lumped torsional model
     (:func:`candidate_dynamic_model`) swept over :func:`dynamics_speeds` by
     :func:`jaxgear.dynamics.settled_sweep` (Newmark, automatic steps, exact contact, 4 kept
     periods) and its whine by :func:`jaxgear.dynamics.whine_response` at the same speeds (the
@@ -255,7 +262,7 @@ def dynamics_stage(spec: SizingSpec, table: SizingTable,
     n = len(table)
     columns = {k: np.full(n, math.nan) for k in DYNAMICS_COLUMNS}
     stage = np.full(n, "none", dtype=object)
-    chosen = dynamics_candidates(spec, table, settings.candidates) if settings.candidates \
+    chosen = dynamics_selection(spec, table, settings.candidates) if settings.candidates \
         else np.zeros(0, dtype=int)
     rows = [{k: v[i] for k, v in table.columns.items()} for i in chosen]
     flanks = tuple("modified" if r.get("stage") == "te" else "plain" for r in rows)
