@@ -165,6 +165,17 @@ def test_the_candidates_come_from_the_first_fronts(staged):
     assert js.dynamics_selection(spec, table, 0).size == 0
 
 
+def test_the_stage_off_adds_empty_columns(staged):
+    """With no candidates the stage runs nothing: its columns NaN, ``dynamics_stage`` "none",
+    no curves and no speeds."""
+    _, spec, _, table, _, _ = staged
+    off, curves = js.dynamics_stage(spec, table, js.DynamicsSettings(candidates=0))
+    assert curves.rows.size == 0 and curves.speeds.size == 0
+    assert set(off.columns["dynamics_stage"]) == {"none"}
+    for name in js.DYNAMICS_COLUMNS:
+        assert np.all(np.isnan(off.columns[name]))
+
+
 BAD = [
     ({"dynamics_candidates": -1}, "[sizing] dynamics_candidates = -1: out of range"),
     ({"dynamics_candidates": 1.5}, "[sizing] dynamics_candidates = 1.5:"),

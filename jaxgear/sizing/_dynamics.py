@@ -108,7 +108,8 @@ class DynamicsCurves:
 
     Attributes:
         rows: the candidates' rows of the table, (k,).
-        speeds: the pinion speeds (rad/s), ascending, (S,), the spec's speed among them.
+        speeds: the pinion speeds (rad/s), ascending, (S,), the spec's speed among them (none
+            where no candidate ran).
         dynamic_factor: K_v, the largest mesh force over the kept periods over the static
             one, (k, S); NaN where a speed failed.
         whine_force: the dynamic mesh force's RMS over the mesh orders 1 to
@@ -268,11 +269,12 @@ def dynamics_stage(spec: SizingSpec, table: SizingTable,
     flanks = tuple("modified" if r.get("stage") == "te" else "plain" for r in rows)
     models = [candidate_dynamic_model(spec, r, f == "modified") for r, f in zip(rows, flanks,
                                                                                  strict=True)]
-    speeds = dynamics_speeds(spec, settings, models)
+    # no candidate run: no speeds
+    speeds = dynamics_speeds(spec, settings, models) if models else np.zeros(0)
     k, s = len(models), speeds.size
     kv, whine, first = (np.full((k, s), math.nan) for _ in range(3))
     settled = np.zeros((k, s), dtype=bool)
-    at = int(np.argmin(np.abs(speeds - float(spec.operating.speed))))
+    at = int(np.argmin(np.abs(speeds - float(spec.operating.speed)))) if s else 0
     for j, (i, model) in enumerate(zip(chosen, models, strict=True)):
         def step(done, base=j * s):
             if progress is not None:
