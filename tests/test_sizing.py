@@ -39,7 +39,8 @@ SPEC = {
                "z1_max": 20, "helix_angle_deg": 15.0, "profile_shift": [0.0, 0.1],
                "face_width_min_mm": 12.0, "face_width_max_mm": 30.0,
                "face_width_ratio_max": 0.6, "outer_diameter_max_mm": 118.0,
-               "tip_thickness_min": 0.0},
+               "tip_thickness_min": 0.0,
+               "dynamics_candidates": 0},  # the dynamics stage: tests/test_sizing_dynamics.py
 }
 
 

@@ -393,6 +393,9 @@ def _add_size(s) -> None:
     s.add_argument("--te", type=int, metavar="N",
                    help="the transmission-error stage for the N best feasible candidates "
                    "(default: the spec's te_candidates, 3; 0: none)")
+    s.add_argument("--dynamics", type=int, metavar="N",
+                   help="the dynamics stage (K_v over speed, whine) for N candidates of the "
+                   "first Pareto fronts (default: the spec's dynamics_candidates, 3; 0: none)")
     s.add_argument("--refine", action="store_true",
                    help="refine each candidate's helix angle, profile shifts and face width by "
                    "gradients (as [sizing] refine = true)")

@@ -5,10 +5,12 @@ candidates), the feasible ones printed lightest first; ``--write K`` writes cand
 row number of the table) as a case file, ``candidate_K.toml``, that ``jaxgear run`` rates to
 the same numbers; the Pareto front over the spec's objectives (the table's ``pareto_rank``,
 the chosen design in ``sizing.json``, ``pareto_X__Y.png`` for each pair of objectives and
-``contact_ratios.png``); each finished chunk of candidates is kept in the results store
-(``store/``), which a rerun of the same spec into the same folder resumes from. With
-``--num-processes N`` it runs as process ``--process-id`` of N joined by ``jax.distributed``,
-the chunks spread over every process's devices; process 0 writes the files (docs/sizing.md)."""
+``contact_ratios.png``); the dynamics stage's curves of K_v and the whine against speed for
+the candidates of the first fronts (``dynamics.csv``, ``dynamic_factor.png``); each finished
+chunk of candidates is kept in the results store (``store/``), which a rerun of the same spec
+into the same folder resumes from. With ``--num-processes N`` it runs as process
+``--process-id`` of N joined by ``jax.distributed``, the chunks spread over every process's
+devices; process 0 writes the files (docs/sizing.md)."""
 
 from __future__ import annotations
 
@@ -26,11 +28,14 @@ import numpy as np
 
 from .. import sizing
 from ..io import (
+    SIZING_STAGES,
     SchemaError,
     atomic_open,
     candidate_case_text,
     load_sizing_spec,
+    sizing_dynamics_settings,
     sizing_te_settings,
+    unstaged_objective,
     write_json,
 )
 from ._distributed import join_processes
@@ -114,6 +119,11 @@ def run_size(args) -> int:
         raise ValueError(f"--te {args.te}: out of range, allowed an integer >= 0 (the best "
                          "feasible candidates the transmission-error stage evaluates)")
     te_settings = sizing_te_settings(tables, args.te)
+    if args.dynamics is not None and args.dynamics < 0:
+        raise ValueError(f"--dynamics {args.dynamics}: out of range, allowed an integer >= 0 "
+                         "(the candidates of the first Pareto fronts the dynamics stage runs)")
+    dyn_settings = sizing_dynamics_settings(tables, args.dynamics)
+    _refuse_unstaged(spec, te_settings, dyn_settings)
     bar = None if args.quiet or not writer else progress(
         total=n, desc=f"jaxgear size {tables['name']}", unit="candidate")
 
@@ -157,7 +167,8 @@ def run_size(args) -> int:
                 "that fails none of " + ", ".join(sizing.GEOMETRIC) + " (sizing.csv's rejected "
                 f"column; {kept})")
     table, te_seconds = _te_stage(spec, table, te_settings, args.quiet)
-    # the front after the stages that add objectives' columns (the TE stage's)
+    table, curves, dyn_seconds = _dynamics_stage(spec, table, dyn_settings, args.quiet)
+    # the front after the stages that add objectives' columns (the TE and dynamics stages')
     front = sizing.pareto_front(table, spec.objectives, spec.chosen)
     table = dataclasses.replace(table, columns=table.columns | {"pareto_rank": front.rank})
     ranked = table.ranked()
@@ -188,6 +199,7 @@ def run_size(args) -> int:
             "seconds": round(te_seconds, 3),
         },
     } | _pareto_summary(spec, table, front)
+    summary["dynamics_stage"] = _dynamics_summary(spec, table, curves, dyn_seconds)
     if refining:
         summary |= {"refine_objective": spec.refine_objective,
                     "refined": int(table.columns["refined"].sum()),
@@ -197,6 +209,8 @@ def run_size(args) -> int:
         _write_parquet(os.path.join(work, "sizing.parquet"), table)
         write_json(os.path.join(work, "sizing.json"), summary)
         _pareto_plots(work, table, front, tables["name"])
+        if curves.rows.size:
+            _dynamics_files(work, spec, table, curves, tables["name"])
         if args.write is not None:
             k = args.write
             row = {name: v[k] for name, v in cols.items()}
@@ -214,6 +228,7 @@ def run_size(args) -> int:
             for i in ranked[: args.top]:
                 print(_line(int(i), cols))
         _print_te(table, te_seconds)
+        _print_dynamics(spec, table, curves, dyn_seconds)
         if front.chosen is not None:
             k = front.chosen
             print(f"  chosen ({_rule_words(front)}): row {k}, "
@@ -322,3 +337,103 @@ def _print_te(table, seconds: float) -> None:
               f"  {c['te_ppk_modified_m'][i] * 1e6:6.3f} ({c['te_ppk_max_modified_m'][i] * 1e6:6.3f})"
               f"   {c['tip_relief_depth_m'][i] * 1e6:6.2f}, {c['tip_relief_extent'][i]:4.2f}"
               f"     {c['crowning_depth_m'][i] * 1e6:6.3f}")
+
+
+def _refuse_unstaged(spec, te_settings, dyn_settings) -> None:
+    """One line where ``--te 0`` or ``--dynamics 0`` turns off the stage of one of the spec's
+    objectives (its front would be empty), before any work."""
+    bad = unstaged_objective(spec.objectives, {"te": te_settings.candidates,
+                                               "dynamics": dyn_settings.candidates})
+    if bad is None:
+        return
+    name, stage = bad
+    words, _, option = SIZING_STAGES[stage]
+    raise ValueError(f"{option} 0: the spec's objective {name!r} is a column of {words}, which "
+                     f"this turns off: allowed {option} >= 1 with it ([pareto])")
+
+
+def _dynamics_stage(spec, table, settings, quiet):
+    """The dynamics stage (:func:`jaxgear.sizing.dynamics_stage`) with a progress bar over its
+    candidates' speeds; (the table with its columns, the curves, seconds)."""
+    k = min(settings.candidates, int(table.feasible.sum()))
+    bar = None if quiet or k == 0 else progress(total=k * (settings.speeds + 1),
+                                                desc="dynamics stage", unit="speed")
+
+    def step(done, total):
+        if bar is not None:
+            bar.total = total
+            bar.update(done - bar.n)
+
+    t0 = time.perf_counter()
+    try:
+        table, curves = sizing.dynamics_stage(spec, table, settings, progress=step)
+    finally:
+        if bar is not None:
+            bar.close()
+    return table, curves, time.perf_counter() - t0
+
+
+def _dynamics_summary(spec, table, curves, seconds: float) -> dict:
+    """sizing.json's ``dynamics_stage``: what ran, on which model, over which speeds."""
+    return {
+        "candidates": [int(i) for i in curves.rows],
+        "flanks": list(curves.flanks),
+        "selection": "the first Pareto fronts over the objectives the stage does not add "
+                     "(jaxgear.sizing.dynamics_selection)",
+        "model": "lumped torsional pair (jaxgear sweep's of the written case): disc inertias, "
+                 "composite damping 7 % mesh / 1 % structure, the rated torque",
+        "sweep": "jaxgear.dynamics.settled_sweep, each speed until it settles (Newmark, "
+                 "automatic steps, exact contact, 4 kept periods)",
+        "whine": f"jaxgear.dynamics.whine_response (HarmonicBalance): the dynamic mesh force's "
+                 f"RMS over the mesh orders 1-{sizing.WHINE_ORDERS}",
+        "speeds_rad_s": curves.speeds.tolist(),
+        "speed_rad_s": float(spec.operating.speed),
+        "curves": "dynamics.csv",
+        "seconds": round(seconds, 3),
+    }
+
+
+def _dynamics_files(folder: str, spec, table, curves, name: str) -> None:
+    """``dynamics.csv`` (per candidate run and speed: K_v, the whine force and its first mesh
+    order, settled) and
+    ``dynamic_factor.png`` into ``folder`` (atomically)."""
+    from ._plots import sizing_dynamics_plot
+
+    with atomic_open(os.path.join(folder, "dynamics.csv"), "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["candidate", "flanks", "speed_rad_s", "speed_rpm", "dynamic_factor",
+                    "whine_force_N", "whine_order1_N", "settled"])
+        for j, i in enumerate(curves.rows):
+            for s, speed in enumerate(curves.speeds):
+                kv, wf = curves.dynamic_factor[j, s], curves.whine_force[j, s]
+                f1 = curves.first_order[j, s]
+                w.writerow([int(i), curves.flanks[j], repr(float(speed)),
+                            repr(float(speed) * 30 / math.pi),
+                            "" if math.isnan(kv) else repr(float(kv)),
+                            "" if math.isnan(wf) else repr(float(wf)),
+                            "" if math.isnan(f1) else repr(float(f1)),
+                            int(curves.settled[j, s])])
+    sizing_dynamics_plot(os.path.join(folder, "dynamic_factor.png"), curves, table.columns,
+                        float(spec.operating.speed),
+                        title=f"{name}: the dynamics stage's candidates")
+
+
+def _print_dynamics(spec, table, curves, seconds: float) -> None:
+    if not curves.rows.size:
+        return
+    c = table.columns
+    rpm = 30 / math.pi
+    print(f"  dynamics stage ({seconds:.1f} s): lumped torsional model, {curves.speeds.size} "
+          f"speeds {curves.speeds[0] * rpm:.0f}-{curves.speeds[-1] * rpm:.0f} 1/min "
+          "(dynamics.csv, dynamic_factor.png)")
+    print("    row  flanks     K_v max  K_v at speed  resonance (1/min)  whine (N)")
+    for i in curves.rows:
+        if c["dynamics_stage"][i] == "failed":
+            print(f"{i:>7d}  failed: a speed did not run to its end (dynamics.csv)")
+            continue
+        line = (f"{i:>7d}  {c['dynamics_stage'][i]:<9s} {c['dynamic_factor_max'][i]:7.4f}  "
+                f"{c['dynamic_factor_at_speed'][i]:12.4f}  "
+                f"{c['resonance_speed_rad_s'][i] * rpm:17.0f}  {c['whine_force_N'][i]:9.2f}")
+        if c["dynamics_unsettled"][i] > 0:
+            line += f"  ({int(c['dynamics_unsettled'][i])} speeds not settled)"
+        print(line)

@@ -46,6 +46,12 @@ Tables (file units in the key names)::
     te_torques = 4                  # to the rated one in this many equal steps, [1, 16],
                                     # default 4 (1: the rated torque alone)
     te_max_iterations = 50          # the modification optimiser's cap, [1, 1000], default 50
+    dynamics_candidates = 3         # the dynamics stage: candidates of the first Pareto
+                                    # fronts run, [0, 100], default 3 (0: none)
+    dynamics_speed_range_rpm = [750.0, 30000.0]  # its pinion speeds, each (0, 1e6], lo < hi;
+                                    # default through every candidate's mesh resonance
+    dynamics_speeds = 40            # equally spaced over the range, [2, 400], default 40
+                                    # (the [operating] speed added to them)
     refine = true                   # refine the continuous variables by gradients, default
                                     # false (jaxgear size --refine too)
     refine_objective = "mass"       # "mass" (default) | "margin"
@@ -75,6 +81,8 @@ from fem_prep import schema as sc
 from .._util import as_float
 from ..sizing import (
     CANDIDATE_MESH,
+    STAGE_OBJECTIVES,
+    DynamicsSettings,
     SizingSpec,
     TeSettings,
     candidate_pair,
@@ -91,8 +99,9 @@ from ._rating_table import RatingSection, rating_settings
 from ._sections import Section, number, number_list, one_of
 from ._writers import toml_value
 
-__all__ = ["SizingSection", "SpecOperating", "candidate_case_text", "load_sizing_spec",
-           "parse_sizing_spec", "sizing_te_settings"]
+__all__ = ["SIZING_STAGES", "SizingSection", "SpecOperating", "candidate_case_text",
+           "load_sizing_spec", "parse_sizing_spec", "sizing_dynamics_settings",
+           "sizing_te_settings", "unstaged_objective"]
 
 RPM = math.pi / 30
 
@@ -154,6 +163,9 @@ class SizingSection(Section):
     te_torque_min_percent: number("(0, 100]") = 25.0
     te_torques: number("[1, 16]", integer=True) = 4
     te_max_iterations: number("[1, 1000]", integer=True) = 50
+    dynamics_candidates: number("[0, 100]", integer=True) = 3
+    dynamics_speed_range_rpm: number_list("(0, 1e+06]", length=2) | None = None
+    dynamics_speeds: number("[2, 400]", integer=True) = 40
     refine: bool = False
     refine_objective: Literal["mass", "margin"] = "mass"
     profile_shift_min: number("[-1, 2]") | None = None
@@ -184,6 +196,10 @@ class SizingSection(Section):
                 self.helix_angle_deg[0] <= self.helix_angle_deg[1]):
             raise sc.fail(w, "helix_angle_deg", "out of range, allowed one angle or [lo, hi] "
                           "with lo <= hi", self.helix_angle_deg)
+        r = self.dynamics_speed_range_rpm
+        if r is not None and not r[0] < r[1]:
+            raise sc.fail(w, "dynamics_speed_range_rpm", "out of range, allowed [lo, hi] with "
+                          "lo < hi", r)
         shifts = (self.profile_shift_min, self.profile_shift_max)
         if (shifts[0] is None) != (shifts[1] is None):
             given = "profile_shift_min" if shifts[0] is not None else "profile_shift_max"
@@ -291,8 +307,41 @@ def parse_sizing_spec(data: dict) -> tuple[SizingSpec, dict]:
         refine=sz.refine,
         refine_objective=sz.refine_objective,
     )
+    _refuse_unstaged(spec.objectives, {"te": sz.te_candidates,
+                                       "dynamics": sz.dynamics_candidates}, data.get("pareto"))
     _refuse_empty(spec, sz)
     return spec, data
+
+
+#: each stage that adds objectives (:data:`jaxgear.sizing.STAGE_OBJECTIVES`): its words, its
+#: spec key and ``jaxgear size``'s option for its candidates
+SIZING_STAGES = {"te": ("the transmission-error stage", "te_candidates", "--te"),
+                 "dynamics": ("the dynamics stage", "dynamics_candidates", "--dynamics")}
+
+
+def unstaged_objective(objectives, candidates: dict) -> tuple[str, str] | None:
+    """(the first objective of ``objectives`` a stage adds, that stage) where ``candidates``
+    (stage → its candidates) turns the stage off (0), else None: a front over it would be
+    empty (its column NaN for every candidate)."""
+    for name, _ in objectives:
+        for stage, names in STAGE_OBJECTIVES.items():
+            if name in names and candidates.get(stage, 1) == 0:
+                return name, stage
+    return None
+
+
+def _refuse_unstaged(objectives, candidates: dict, pareto: dict | None) -> None:
+    """One line naming ``[pareto]``'s key that names an objective whose stage the spec turns
+    off (:func:`unstaged_objective`)."""
+    bad = unstaged_objective(objectives, candidates)
+    if bad is None:
+        return
+    name, stage = bad
+    words, key, _ = SIZING_STAGES[stage]
+    where = next(k for k in ("minimise", "maximise") if name in (pareto or {}).get(k, []))
+    raise sc.fail("pareto", where, f"{name!r} is a column of {words}, which [sizing] {key} = 0 "
+                  f"turns off: allowed {key} >= 1 with it, or objectives without it",
+                  pareto[where])
 
 
 def _objectives(data: dict) -> dict:
@@ -360,6 +409,19 @@ def sizing_te_settings(tables: dict, candidates: int | None = None) -> TeSetting
     return TeSettings(candidates=sz.te_candidates if candidates is None else int(candidates),
                       torque_fractions=fractions[:-1] + (1.0,),
                       max_iterations=sz.te_max_iterations)
+
+
+def sizing_dynamics_settings(tables: dict, candidates: int | None = None) -> DynamicsSettings:
+    """The dynamics stage's settings (:class:`jaxgear.sizing.DynamicsSettings`) of a spec's
+    checked tables (:func:`load_sizing_spec`): ``[sizing]``'s ``dynamics_candidates`` (or
+    ``candidates``, ``jaxgear size --dynamics N``, where given), ``dynamics_speed_range_rpm``
+    (in rad/s; none: the stage's default range) and ``dynamics_speeds``."""
+    sz = SizingSection.of_file(tables, required=True)
+    r = sz.dynamics_speed_range_rpm
+    return DynamicsSettings(
+        candidates=sz.dynamics_candidates if candidates is None else int(candidates),
+        speed_range=None if r is None else (r[0] * RPM, r[1] * RPM),
+        speeds=sz.dynamics_speeds)
 
 
 def candidate_case_text(tables: dict, spec: SizingSpec, row: dict, index: int,

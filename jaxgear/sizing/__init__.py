@@ -11,16 +11,29 @@ candidates, plain and with optimised tip relief and crowning. SI units throughou
 (docs/sizing.md). The objectives a designer ranks by are columns (:data:`OBJECTIVES`: mass,
 envelope volume, least margin, mesh loss and efficiency with :class:`MeshLossInputs`), and
 :func:`pareto_front` sorts the feasible candidates into non-dominated fronts over some of them
-and picks a design."""
+and picks a design. :func:`dynamics_stage` runs the candidates of the first fronts through
+their lumped torsional dynamic model: the dynamic factor over a speed range, the resonance
+speed and the whine."""
 
 from ._candidates import (
     Candidates as Candidates,
     enumerate_candidates as enumerate_candidates,
     ratio_pairs as ratio_pairs,
 )
+from ._dynamics import (
+    DYNAMICS_COLUMNS as DYNAMICS_COLUMNS,
+    WHINE_ORDERS as WHINE_ORDERS,
+    DynamicsCurves as DynamicsCurves,
+    DynamicsSettings as DynamicsSettings,
+    candidate_dynamic_model as candidate_dynamic_model,
+    dynamics_selection as dynamics_selection,
+    dynamics_speeds as dynamics_speeds,
+    dynamics_stage as dynamics_stage,
+)
 from ._objectives import (
     MESH_LOSS_COLUMNS as MESH_LOSS_COLUMNS,
     OBJECTIVES as OBJECTIVES,
+    STAGE_OBJECTIVES as STAGE_OBJECTIVES,
     MeshLossInputs as MeshLossInputs,
     envelope_volume as envelope_volume,
     objective_columns as objective_columns,

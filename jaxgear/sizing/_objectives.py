@@ -26,8 +26,8 @@ import numpy as np
 from .._util import check_instance
 from ..tribology import AbstractFriction, Lubricant, ohlendorf_formula
 
-__all__ = ["MESH_LOSS_COLUMNS", "OBJECTIVES", "MeshLossInputs", "envelope_volume",
-           "objective_columns"]
+__all__ = ["MESH_LOSS_COLUMNS", "OBJECTIVES", "STAGE_OBJECTIVES", "MeshLossInputs",
+           "envelope_volume", "objective_columns"]
 
 #: the objectives a sizing may rank by: column → (its natural sense, "min" or "max"; the words
 #: and unit of a plot's axis; the factor from the column's SI unit to the axis's). A new column
@@ -42,6 +42,20 @@ OBJECTIVES = {
     # candidates it did not evaluate
     "te_ppk_m": ("min", "TE peak-to-peak, plain flanks (µm)", 1e6),
     "te_ppk_modified_m": ("min", "TE peak-to-peak, optimised flanks (µm)", 1e6),
+    # the dynamics stage's (jaxgear.sizing.dynamics_stage): NaN, so off the front, for the
+    # candidates it did not run
+    "dynamic_factor_max": ("min", "largest dynamic factor K_v over the speed range", 1.0),
+    "dynamic_factor_at_speed": ("min", "dynamic factor K_v at the spec's speed", 1.0),
+    "whine_force_N": ("min", "whine: dynamic mesh force, orders 1-3, RMS (N)", 1.0),
+}
+
+#: the objectives a later stage adds, by stage (``"te"``: :func:`jaxgear.sizing.te_stage`,
+#: ``"dynamics"``: :func:`jaxgear.sizing.dynamics_stage`): only the candidates that stage runs
+#: have them, so a front over one needs the stage on (the spec reader and ``jaxgear size``
+#: refuse it with the stage's candidates 0)
+STAGE_OBJECTIVES = {
+    "te": ("te_ppk_m", "te_ppk_modified_m"),
+    "dynamics": ("dynamic_factor_max", "dynamic_factor_at_speed", "whine_force_N"),
 }
 
 #: the columns of the mesh loss (with :attr:`SizingSpec.mesh_loss <jaxgear.sizing.SizingSpec>`):

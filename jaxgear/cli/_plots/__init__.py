@@ -68,6 +68,7 @@ from ._sweep import (
 from ._sizing import (
     contact_ratio_plot as contact_ratio_plot,
     pareto_pair_plot as pareto_pair_plot,
+    sizing_dynamics_plot as sizing_dynamics_plot,
 )
 from ._tribology import path_of_contact_plot as path_of_contact_plot
 from ._whine import (

@@ -1,6 +1,7 @@
 """``jaxgear size``'s figures: the Pareto front of each pair of objectives, and the objectives
 over the contact ratios ε_α, ε_β (where the design rules show: contact ratios near whole numbers
-for a quiet mesh, a larger ε_α for a smaller sliding loss)."""
+for a quiet mesh, a larger ε_α for a smaller sliding loss), and the dynamics stage's dynamic
+factor and whine against speed."""
 
 from __future__ import annotations
 
@@ -10,7 +11,7 @@ from matplotlib.figure import Figure
 
 from ._figure import new_figure, savefig
 
-__all__ = ["contact_ratio_plot", "pareto_pair_plot"]
+__all__ = ["contact_ratio_plot", "pareto_pair_plot", "sizing_dynamics_plot"]
 
 #: the chosen design's marker
 CHOSEN = {"marker": "*", "s": 220, "color": "gold", "edgecolor": "k", "linewidths": 0.8,
@@ -124,4 +125,38 @@ def contact_ratio_plot(path, columns: dict, feasible, rank, chosen, objectives, 
         "overlap ratio ε_β (colour, above)", fontsize=8)
     axes[0, 0].legend(fontsize=8, loc="best", framealpha=0.9)
     fig.suptitle(title)
+    savefig(fig, path)
+
+
+def sizing_dynamics_plot(path, curves, columns: dict, speed: float, *, title: str) -> None:
+    """The dynamics stage's candidates (``curves``, :class:`jaxgear.sizing.DynamicsCurves`):
+    above, the dynamic factor K_v against the pinion speed (1/min), each candidate's largest
+    marked; below, the whine (the dynamic mesh force's RMS over the first mesh orders, N); the
+    spec's ``speed`` (rad/s) dashed. Each candidate named by its row, module, teeth, contact
+    ratios and flanks (``columns``: the table's)."""
+    fig = Figure(figsize=(8.0, 7.2), layout="constrained")
+    FigureCanvasAgg(fig)
+    top, low = fig.subplots(2, 1, sharex=True)
+    rpm = 30 / np.pi
+    x = np.asarray(curves.speeds, float) * rpm
+    for j, i in enumerate(curves.rows):
+        label = (f"row {i}: {columns['normal_module_m'][i] * 1e3:g} mm {columns['z1'][i]}/"
+                 f"{columns['z2'][i]}, ε_α {columns['eps_alpha'][i]:.2f}, ε_β "
+                 f"{columns['eps_beta'][i]:.2f}, {curves.flanks[j]} flanks")
+        kv = np.asarray(curves.dynamic_factor[j], float)
+        line = top.plot(x, kv, marker=".", ms=4, lw=1.2, label=label)[0]
+        if np.isfinite(kv).any():
+            k = int(np.nanargmax(kv))
+            top.scatter([x[k]], [kv[k]], s=40, color=line.get_color(), zorder=4)
+        low.plot(x, curves.whine_force[j], marker=".", ms=4, lw=1.2, color=line.get_color())
+    for ax in (top, low):
+        ax.axvline(speed * rpm, color="0.4", ls="--", lw=0.9)
+        ax.grid(alpha=0.3)
+    top.text(speed * rpm, 1.0, " the spec's speed", transform=top.get_xaxis_transform(),
+             va="top", ha="left", fontsize=8, color="0.3")
+    top.set_ylabel("dynamic factor K_v (largest mesh force / static)")
+    low.set_ylabel("whine: dynamic mesh force,\nmesh orders 1-3, RMS (N)")
+    low.set_xlabel("pinion speed (1/min)")
+    top.set_title(title)
+    top.legend(fontsize=8, loc="best", framealpha=0.9)
     savefig(fig, path)
