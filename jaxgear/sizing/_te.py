@@ -244,8 +244,38 @@ def _te_numbers(te, teeth, ppp):
     return ppk[-1], ppk.max(), spectrum.at(z1), spectrum.at(2 * z1)
 
 
+def _optimised(problems: dict, max_iterations: int, batched: bool) -> dict:
+    """Each problem's :func:`optimise.minimise` result from its :func:`_start` (index →
+    result; a problem whose solve failed on the way is absent or has a non-finite value):
+    ``batched``, the problems of one mesh layout solved together
+    (:func:`optimise.minimise_batch`; a batch whose solve fails a runtime check is solved one
+    problem at a time, to find which); else one at a time."""
+    import optimise
+
+    keys = list(problems)
+    out = {}
+    with warnings.catch_warnings():  # the cap: the iterations are a column
+        warnings.simplefilter("ignore", UserWarning)
+        if batched and keys:
+            try:
+                found = optimise.minimise_batch([problems[j] for j in keys],
+                                                [_start(problems[j]) for j in keys],
+                                                max_iterations=max_iterations)
+                return dict(zip(keys, found, strict=True))
+            except eqx.EquinoxRuntimeError:
+                pass
+        for j in keys:
+            try:
+                out[j] = optimise.minimise(problems[j], _start(problems[j]),
+                                           max_iterations=max_iterations, progress=False)
+            except (FloatingPointError, eqx.EquinoxRuntimeError):
+                pass  # a solve that failed on the way: the stage names the candidate
+    return out
+
+
 def te_stage(spec: SizingSpec, table: SizingTable, settings: TeSettings | None = None, *,
-             progress: Callable[[int, int], None] | None = None) -> SizingTable:
+             progress: Callable[[int, int], None] | None = None,
+             batched: bool = False) -> SizingTable:
     """The transmission-error stage: the first ``settings.candidates`` feasible candidates of
     ``table`` (:meth:`SizingTable.ranked`), each its pair's rigid mesh (:func:`candidate_mesh`)
     at the torques ``settings.torque_fractions`` × the rated pinion torque; the plain flanks
@@ -253,7 +283,12 @@ def te_stage(spec: SizingSpec, table: SizingTable, settings: TeSettings | None =
     both members alike, that :func:`optimise.minimise` finds minimising
     :class:`optimise.TePeakToPeak` at the rated torque (smooth contact; from the best point of
     a coarse grid of relief depths and extents, :func:`_start`), evaluated as written (exact
-    contact, sharp relief starts) over the range (batched).
+    contact, sharp relief starts) over the range (batched). ``batched``: the candidates whose
+    meshes share one layout optimised together (:func:`optimise.minimise_batch`, one compiled
+    ``vmap`` of the solve; each candidate's result the one-at-a-time solve's to the optimiser's
+    rounding); else (the default) one at a time (:func:`optimise.minimise`), which is the
+    faster on a CPU: each solve is already vectorised over cells, positions and torques, and
+    a batch steps in lock-step until its slowest member stops (benchmarks/sizing_te.py).
 
     Returns:
         A :class:`SizingTable` of ``table``'s columns and :data:`TE_COLUMNS` (NaN where not
@@ -282,26 +317,26 @@ def te_stage(spec: SizingSpec, table: SizingTable, settings: TeSettings | None =
     plain = te_curves(meshes, None, torques)
     nan = {"tip_relief_depth_m": math.nan, "tip_relief_extent": math.nan,
            "crowning_depth_m": math.nan}
-    designs, iterations = [], []
+    problems = {}
     for j, mesh in enumerate(meshes):
-        design, its = nan, math.nan
         if np.all(np.isfinite(plain[j])):
             try:
-                problem = optimise.make_problem(mesh, None, rated, ",".join(TE_VARIABLES),
-                                                optimise.TePeakToPeak(),
-                                                positions_per_pitch=ppp)
-                with warnings.catch_warnings():  # the cap: the iterations are a column
-                    warnings.simplefilter("ignore", UserWarning)
-                    res = optimise.minimise(problem, _start(problem),
-                                            max_iterations=settings.max_iterations,
-                                            progress=False)
-                values = problem.to_physical(res.x)
-                design = {"tip_relief_depth_m": values["tip_relief.depth"] * 1e-6,
-                          "tip_relief_extent": values["tip_relief.extent"],
-                          "crowning_depth_m": values["crowning.depth"] * 1e-6}
-                its = res.iterations
+                problems[j] = optimise.make_problem(mesh, None, rated, ",".join(TE_VARIABLES),
+                                                    optimise.TePeakToPeak(),
+                                                    positions_per_pitch=ppp)
             except (FloatingPointError, eqx.EquinoxRuntimeError):
                 pass  # a solve that failed on the way: the stage names the candidate
+    results = _optimised(problems, settings.max_iterations, batched)
+    designs, iterations = [], []
+    for j in range(len(meshes)):
+        design, its = nan, math.nan
+        res = results.get(j)
+        if res is not None and np.isfinite(res.value):
+            values = problems[j].to_physical(res.x)
+            design = {"tip_relief_depth_m": values["tip_relief.depth"] * 1e-6,
+                      "tip_relief_extent": values["tip_relief.extent"],
+                      "crowning_depth_m": values["crowning.depth"] * 1e-6}
+            its = res.iterations
         designs.append(design)
         iterations.append(its)
         if progress is not None:
