@@ -244,12 +244,13 @@ def _te_numbers(te, teeth, ppp):
     return ppk[-1], ppk.max(), spectrum.at(z1), spectrum.at(2 * z1)
 
 
-def _optimised(problems: dict, max_iterations: int, batched: bool) -> dict:
+def _optimised(problems: dict, max_iterations: int, batched: bool,
+               done: Callable[[int], None]) -> dict:
     """Each problem's :func:`optimise.minimise` result from its :func:`_start` (index →
     result; a problem whose solve failed on the way is absent or has a non-finite value):
     ``batched``, the problems of one mesh layout solved together
     (:func:`optimise.minimise_batch`; a batch whose solve fails a runtime check is solved one
-    problem at a time, to find which); else one at a time."""
+    problem at a time, to find which); else one at a time. ``done(k)`` after each k solved."""
     import optimise
 
     keys = list(problems)
@@ -261,6 +262,7 @@ def _optimised(problems: dict, max_iterations: int, batched: bool) -> dict:
                 found = optimise.minimise_batch([problems[j] for j in keys],
                                                 [_start(problems[j]) for j in keys],
                                                 max_iterations=max_iterations)
+                done(len(keys))
                 return dict(zip(keys, found, strict=True))
             except eqx.EquinoxRuntimeError:
                 pass
@@ -270,6 +272,7 @@ def _optimised(problems: dict, max_iterations: int, batched: bool) -> dict:
                                            max_iterations=max_iterations, progress=False)
             except (FloatingPointError, eqx.EquinoxRuntimeError):
                 pass  # a solve that failed on the way: the stage names the candidate
+            done(1)
     return out
 
 
@@ -326,7 +329,15 @@ def te_stage(spec: SizingSpec, table: SizingTable, settings: TeSettings | None =
                                                     positions_per_pitch=ppp)
             except (FloatingPointError, eqx.EquinoxRuntimeError):
                 pass  # a solve that failed on the way: the stage names the candidate
-    results = _optimised(problems, settings.max_iterations, batched)
+    finished = len(meshes) - len(problems)  # those with no problem to solve
+
+    def done(k):
+        nonlocal finished
+        finished += k
+        if progress is not None:
+            progress(finished, len(meshes))
+
+    results = _optimised(problems, settings.max_iterations, batched, done)
     designs, iterations = [], []
     for j in range(len(meshes)):
         design, its = nan, math.nan
@@ -339,8 +350,6 @@ def te_stage(spec: SizingSpec, table: SizingTable, settings: TeSettings | None =
             its = res.iterations
         designs.append(design)
         iterations.append(its)
-        if progress is not None:
-            progress(j + 1, len(meshes))
     ok = [j for j, d in enumerate(designs) if np.isfinite(d["tip_relief_depth_m"])]
     modified = np.full_like(plain, math.nan)
     if ok:
