@@ -5,8 +5,9 @@ seconds of the rating's forward program, its reverse-mode gradient and forward-m
 around ``optimistix.BFGS``, ``vmap``ped over the chunk) with the gradient in reverse mode (as
 shipped) and in forward mode; how often the solve's trace evaluates the rating (once each: its
 shape, BFGS's linearisation, the outer step's re-evaluation: no retrace per start, outer
-iteration or chunk); and the solve's compile at a chunk of one. In one process, one compile
-each (compile times move with the load: compare them within a run).
+iteration or chunk); the solve's compile at a chunk of one, and with the XLA CPU options the
+test suite sets (``SUITE_OPTIONS``). In one process, one compile each (compile times move with
+the load: compare them within a run).
 
 The spec: examples/sizing/helical.toml with β refined in [8°, 20°] and each profile shift in
 [−0.5, 1] (benchmarks/sizing_refine.py's). Writes docs/bench/sizing_refine_compile.json (or
@@ -59,12 +60,20 @@ def _equations(closed) -> int:
     return walk(closed.jaxpr)
 
 
-def _compile_s(fn, *args) -> tuple[float, float]:
-    """(trace and lower, XLA compile) seconds of ``fn`` (jitted) at ``args``."""
+#: the XLA CPU options the test suite compiles with (tests/conftest.py: the element-wise fusion
+#: emitter, one LLVM module a program, LLVM's expensive passes left out)
+SUITE_OPTIONS = {"xla_cpu_use_fusion_emitters": False,
+                 "xla_cpu_parallel_codegen_split_count": 1,
+                 "xla_llvm_disable_expensive_passes": True}
+
+
+def _compile_s(fn, *args, options=None) -> tuple[float, float]:
+    """(trace and lower, XLA compile) seconds of ``fn`` (jitted) at ``args``, compiled with the
+    XLA ``options`` (None: XLA's defaults)."""
     t = time.perf_counter()
     lowered = fn.lower(*args)
     t1 = time.perf_counter()
-    lowered.compile()
+    lowered.compile(options)
     return t1 - t, time.perf_counter() - t1
 
 
@@ -123,22 +132,24 @@ def main(path: pathlib.Path = OUT) -> None:
     finally:
         _refine._one = rating
     solves = {}
-    for mode, n in (("bwd", CHUNK), ("fwd", CHUNK), ("bwd", 1)):
+    for mode, n, options in (("bwd", CHUNK, None), ("fwd", CHUNK, None), ("bwd", 1, None),
+                             ("bwd", CHUNK, SUITE_OPTIONS)):
         _refine._AUTODIFF_MODE = mode
         try:
             b = {name: v[:n] for name, v in batch.items()}
             # a fresh jit of the solve (refine's own is cached whatever the mode)
             fn = jax.jit(lambda b: jax.vmap(lambda p: _refine._solve_one(p, *args))(b))
-            lower_s, compile_s = _compile_s(fn, b)
+            lower_s, compile_s = _compile_s(fn, b, options=options)
         finally:
             _refine._AUTODIFF_MODE = "bwd"
-        solves[f"{mode}_chunk_{n}"] = {"trace_lower_s": round(lower_s, 2),
-                                       "compile_s": round(compile_s, 2)}
-        print(mode, n, solves[f"{mode}_chunk_{n}"], flush=True)
+        key = f"{mode}_chunk_{n}" + ("" if options is None else "_suite_xla_options")
+        solves[key] = {"trace_lower_s": round(lower_s, 2), "compile_s": round(compile_s, 2)}
+        print(key, solves[key], flush=True)
     record = {
         "what": "the refinement's compile: traced program sizes and XLA compile seconds of the "
                 "rating's forward program, reverse-mode gradient, forward-mode Jacobian and the "
-                "whole solve (reverse and forward mode, chunk 64 and 1), one compile each",
+                "whole solve (reverse and forward mode, chunk 64 and 1, and with the test "
+                "suite's XLA CPU options), one compile each",
         "machine": machine,
         "spec": "examples/sizing/helical.toml, helix_angle_deg = [8, 20], profile shifts "
                 "[-0.5, 1], objective mass",
