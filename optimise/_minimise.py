@@ -36,9 +36,11 @@ import optax
 import optimistix as optx
 from tqdm.auto import tqdm
 
+from jaxgear._util import padded_batch
+
 from ._problem import Problem
 
-__all__ = ["BATCH_STEP", "OptimisationResult", "minimise", "minimise_batch"]
+__all__ = ["OptimisationResult", "minimise", "minimise_batch"]
 
 # evaluation safety cap per allowed iteration (a line search that never accepts still stops)
 _EVALUATIONS_PER_ITERATION = 50
@@ -412,17 +414,6 @@ def _layout(problem: Problem):
             tuple(rest))
 
 
-#: :func:`minimise_batch` pads a group to a power of two up to this, then to a multiple of it
-BATCH_STEP = 8
-
-
-def _padded(n: int) -> int:
-    """The size a group of ``n`` problems is padded to (few compiled sizes, little waste)."""
-    if n <= BATCH_STEP:
-        return 1 << (n - 1).bit_length()
-    return -(-n // BATCH_STEP) * BATCH_STEP
-
-
 def minimise_batch(
     problems,
     x0s,
@@ -434,8 +425,8 @@ def minimise_batch(
     static layout: their arrays' structure, shapes and dtypes and every other field equal, e.g.
     rigid meshes of the same cell counts) go through one compiled ``jax.vmap`` of the solve
     :func:`minimise` runs, a group padded with copies of its last problem to a power of two up
-    to :data:`BATCH_STEP`, then to a multiple of it (one program per structure and padded
-    size). Each problem keeps its own iterations, stopping rule and iteration cap (a finished
+    to 8, then to a multiple of 8 (``jaxgear._util.padded_batch``: one program per structure
+    and padded size). Each problem keeps its own iterations, stopping rule and iteration cap (a finished
     problem's state is held while the rest of its batch goes on), so its result is
     :func:`minimise`'s to floating-point rounding (batched arithmetic may round differently in
     the last bits, which the line search can carry into differences of the order of the
@@ -472,7 +463,7 @@ def minimise_batch(
     out: list = [None] * len(problems)
     for idx in groups.values():
         t0 = time.perf_counter()
-        padded = idx + [idx[-1]] * (_padded(len(idx)) - len(idx))
+        padded = idx + [idx[-1]] * (padded_batch(len(idx)) - len(idx))
         parts = [eqx.partition(problems[i], eqx.is_array) for i in padded]
         arrays = jax.tree.map(lambda *xs: jnp.stack(xs), *[a for a, _ in parts])
         u0 = jnp.stack([problems[i].unbounded(x0s[i]) for i in padded])

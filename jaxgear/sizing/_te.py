@@ -26,7 +26,7 @@ from .._quasi_static import at_torques
 from .._spectrum import te_spectrum
 from .._stiffness import WeberFoundation
 from .._stiffness_models import Weber, stiffness_table
-from .._util import check_instance
+from .._util import check_instance, padded_batch
 from ._size import SizingTable
 from ._spec import SizingSpec
 
@@ -40,8 +40,6 @@ __all__ = ["CANDIDATE_MESH", "TE_COLUMNS", "TE_VARIABLES", "TeSettings", "candid
 CANDIDATE_MESH = {"stiffness": "weber", "slices": 20, "positions_per_pitch": 16,
                   "extended_contact": True}
 
-#: :func:`te_curves` pads a group of meshes to a power of two up to this, then to a multiple
-BATCH_STEP = 8
 
 #: the design variables of the modified flanks (both members alike), the optimiser's names
 TE_VARIABLES = ("tip_relief.depth", "tip_relief.extent", "crowning.depth")
@@ -154,8 +152,8 @@ def te_curves(meshes, modifications, torques, *, positions_per_pitch: int | None
 
     The meshes of one static layout (the cell arrays' shapes, ``MeshModel``'s static fields)
     go through one compiled ``jax.vmap`` program, a group padded with copies of its last mesh
-    to a power of two up to :data:`BATCH_STEP`, then to a multiple of it (one program per
-    layout and padded size); ``batched=False`` solves them one at a time (the program of one
+    to a power of two up to 8, then to a multiple of 8 (``jaxgear._util.padded_batch``: one
+    program per layout and padded size); ``batched=False`` solves them one at a time (the program of one
     mesh; the benchmark's loop).
 
     Args:
@@ -185,21 +183,13 @@ def te_curves(meshes, modifications, torques, *, positions_per_pitch: int | None
         leaves, tree = jax.tree.flatten((mesh, mods[i]))
         groups.setdefault((tree, tuple(np.shape(v) for v in leaves)), []).append(i)
     for idx in groups.values():
-        size = _padded(len(idx))
+        size = padded_batch(len(idx))
         padded = idx + [idx[-1]] * (size - len(idx))
         te, codes = _batched(_stack([meshes[i] for i in padded]),
                              _stack([mods[i] for i in padded]), torques, ppp)
         failed = np.any(np.asarray(codes)[: len(idx)] != 0, axis=(1, 2))
         out[idx] = np.where(failed[:, None, None], np.nan, np.asarray(te)[: len(idx)])
     return out
-
-
-def _padded(n: int) -> int:
-    """The batch a group of ``n`` meshes is padded to: the next power of two up to
-    :data:`BATCH_STEP`, then the next multiple of it (few compiled sizes, little waste)."""
-    if n <= BATCH_STEP:
-        return 1 << (n - 1).bit_length()
-    return -(-n // BATCH_STEP) * BATCH_STEP
 
 
 def _batched(meshes, mods, torques, ppp):
