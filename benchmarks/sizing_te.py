@@ -9,7 +9,12 @@ the candidate mesh's 16 positions per pitch). Both are checked equal (rtol 1e-12
 Also timed: building the meshes (the Weber stiffness tables, NumPy, one candidate at a time)
 and the whole stage (:func:`jaxgear.sizing.te_stage`: plain curves, the start grid, the
 optimiser, the modified curves) per candidate, compile included and not. The batched and the
-looped curves are timed interleaved (``REPEATS`` times each, the best of each kept).
+looped curves are timed interleaved (``REPEATS`` times each, the best of each kept). The
+stage's optimiser batched (``te_stage(batched=True)``: :func:`optimise.minimise_batch`, the
+candidates of one mesh layout in one vmapped solve) against one candidate at a time (the
+default), on ``OPT_CANDIDATES`` candidates, interleaved ``STAGE_REPEATS`` times, the best of
+each kept, their columns checked equal to the optimiser's rounding (1e-6 of each column's
+largest value, the iterations exactly).
 
 The candidates: the feasible ones of examples/sizing/helical.toml, best ranked first
 (``CANDIDATES`` of them), at the spec's stage torques (25, 50, 75, 100 % of the rated torque).
@@ -41,7 +46,9 @@ OUT = ROOT / "docs" / "bench" / "sizing_te.json"
 SPEC = ROOT / "examples" / "sizing" / "helical.toml"
 CANDIDATES = 32
 STAGE_CANDIDATES = 4
+OPT_CANDIDATES = 8
 REPEATS = 7
+STAGE_REPEATS = 3
 
 
 def _best(fn, repeats):
@@ -93,6 +100,28 @@ def main(path: pathlib.Path = OUT) -> None:
     stage = time.perf_counter() - t
     c = staged.columns
     done = np.flatnonzero(c["stage"] == "te")
+
+    opt_settings = js.TeSettings(OPT_CANDIDATES, settings.torque_fractions,
+                                 settings.max_iterations)
+    firsts, runs, outs = {}, {"one": [], "batched": []}, {}
+    for name, b in (("one", False), ("batched", True)):
+        t = time.perf_counter()
+        outs[name] = js.te_stage(spec, table, opt_settings, batched=b)
+        firsts[name] = time.perf_counter() - t
+    for _ in range(STAGE_REPEATS):
+        for name, b in (("one", False), ("batched", True)):
+            s_, outs[name] = _best(lambda b=b: js.te_stage(spec, table, opt_settings,
+                                                           batched=b), 1)
+            runs[name].append(s_)
+    keys = ("te_ppk_modified_m", "tip_relief_depth_m", "tip_relief_extent", "crowning_depth_m",
+            "te_iterations")
+    # equal to the optimiser's rounding: 1e-6 of each column's largest value (a depth near its
+    # lower bound 0 differs by far more than 1e-6 of itself), the iterations exactly
+    differences = {k: float(np.nanmax(np.abs(outs["one"].columns[k] - outs["batched"].columns[k]))
+                            / np.nanmax(np.abs(outs["one"].columns[k]))) for k in keys}
+    opt_equal = all(v <= 1e-6 for v in differences.values()) and differences["te_iterations"] == 0
+    opt_layouts = len({(m.n_lines, m.first_line) for m in meshes[:OPT_CANDIDATES]})
+    stage_curves = 2 * OPT_CANDIDATES * torques.size  # plain and modified, each torque
     record = {
         "what": "the sizing's transmission-error stage: TE curves per second, jaxgear.sizing."
                 "te_curves' vmap over candidates (grouped by mesh layout) against a loop over "
@@ -119,6 +148,23 @@ def main(path: pathlib.Path = OUT) -> None:
                   "per_candidate_s": round(stage / STAGE_CANDIDATES, 3),
                   "te_ppk_um": (c["te_ppk_m"][done] * 1e6).round(4).tolist(),
                   "te_ppk_modified_um": (c["te_ppk_modified_m"][done] * 1e6).round(4).tolist()},
+        "stage_optimiser": {
+            "what": "te_stage over OPT_CANDIDATES candidates, the optimiser batched per mesh "
+                    "layout (optimise.minimise_batch, padded to a power of two) against one "
+                    "candidate at a time (the default); curves: plain and modified at each torque",
+            "candidates": OPT_CANDIDATES, "layouts": opt_layouts,
+            "one": {"first_s": round(firsts["one"], 2), "best_s": round(min(runs["one"]), 3),
+                    "curves_per_s": round(stage_curves / min(runs["one"]), 2)},
+            "batched": {"first_s": round(firsts["batched"], 2),
+                        "best_s": round(min(runs["batched"]), 3),
+                        "curves_per_s": round(stage_curves / min(runs["batched"]), 2)},
+            "speed_ratio_batched_to_one": round(min(runs["one"]) / min(runs["batched"]), 2),
+            "equal_to_1e-6_of_each_columns_largest": opt_equal,
+            "largest_difference_over_columns_largest": differences,
+            "iterations": outs["one"].columns["te_iterations"][
+                np.isfinite(outs["one"].columns["te_iterations"])].astype(int).tolist(),
+            "runs_s": {k: [round(v, 3) for v in r] for k, r in runs.items()},
+        },
         "load_average_at_end": list(os.getloadavg()),
     }
     path.parent.mkdir(parents=True, exist_ok=True)

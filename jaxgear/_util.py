@@ -21,6 +21,7 @@ __all__ = [
     "of_the_one_mesh",
     "only_one_mesh",
     "only_where_needed",
+    "padded_batch",
     "rms_about_mean",
     "safe_max",
     "safe_sqrt",
@@ -41,6 +42,19 @@ class NamedKind(eqx.Module):
 
     def __hash__(self) -> int:
         return hash(self.name)
+
+
+#: :func:`padded_batch`'s step: batches padded to a power of two up to it, then to a multiple
+BATCH_STEP = 8
+
+
+def padded_batch(n: int) -> int:
+    """The size a group of ``n`` (>= 1) like problems is padded to for one compiled ``vmap``
+    program: the next power of two up to :data:`BATCH_STEP`, then the next multiple of it
+    (few compiled sizes, little waste)."""
+    if n <= BATCH_STEP:
+        return 1 << (n - 1).bit_length()
+    return -(-n // BATCH_STEP) * BATCH_STEP
 
 
 def check_integer(name: str, value, lo: int) -> None:

@@ -22,7 +22,11 @@ from ._acoustics import (
     SurfaceRadiation as SurfaceRadiation,
 )
 from ._master_curve import contour_map as contour_map, master_curve as master_curve
-from ._minimise import OptimisationResult as OptimisationResult, minimise as minimise
+from ._minimise import (
+    OptimisationResult as OptimisationResult,
+    minimise as minimise,
+    minimise_batch as minimise_batch,
+)
 from ._objectives import (
     CENTROID_SCALE as CENTROID_SCALE,
     AbstractObjective as AbstractObjective,

@@ -7,6 +7,10 @@ once per problem structure and solver structure (the start, the iteration cap an
 the iteration cap (accepted iterations, not line-search evaluations) and reports each accepted
 iterate to the host through ``jax.debug.callback``: the callback fills the history and the
 progress bar; it does not stop the loop or wait for Python between iterations.
+:func:`minimise_batch` solves several problems of one structure (the same static layout, e.g.
+meshes of the same cell counts) in one ``jax.vmap`` of that solve: each problem's iterations are
+its own (a finished problem's state is held while the others go on), the callback reports each
+problem's iterates to its own history.
 
 How a solver's iterations are read from its state depends on its family (a quasi-Newton state
 counts accepted steps, an optax state counts updates): :class:`_Iterations` objects chosen once
@@ -32,9 +36,11 @@ import optax
 import optimistix as optx
 from tqdm.auto import tqdm
 
+from jaxgear._util import padded_batch
+
 from ._problem import Problem
 
-__all__ = ["OptimisationResult", "minimise"]
+__all__ = ["OptimisationResult", "minimise", "minimise_batch"]
 
 # evaluation safety cap per allowed iteration (a line search that never accepts still stops)
 _EVALUATIONS_PER_ITERATION = 50
@@ -193,8 +199,7 @@ def _objective(u, problem: Problem):
     return problem.value(problem.bounded(u))
 
 
-@eqx.filter_jit
-def _solve(problem, solver, iterations, u0, max_iterations, run):
+def _solve_one(problem, solver, iterations, u0, max_iterations, run):
     """One optimistix solve; the solver's structure is static, its tolerances, the start and the
     cap are traced."""
     options = {
@@ -215,6 +220,20 @@ def _solve(problem, solver, iterations, u0, max_iterations, run):
     converged = sol.result == optx.RESULTS.successful
     capped = sol.result == optx.RESULTS.nonlinear_max_steps_reached
     return sol.value, value, n_iterations, n_steps, converged, capped
+
+
+_solve = eqx.filter_jit(_solve_one)
+
+
+@eqx.filter_jit
+def _solve_batch(arrays, static, solver, iterations, u0, max_iterations, run):
+    """:func:`_solve_one` mapped over problems stacked along their arrays' first axis
+    (``arrays``; ``static`` their shared rest), starts ``u0`` (B, n) and run ids (B,)."""
+
+    def one(a, u, r):
+        return _solve_one(eqx.combine(a, static), solver, iterations, u, max_iterations, r)
+
+    return jax.vmap(one)(arrays, u0, run)
 
 
 class OptimisationResult(eqx.Module):
@@ -285,17 +304,7 @@ def minimise(
     """
     solver = _as_minimiser(_DEFAULT_SOLVER if solver is None else solver)
     iterations = _iterations_of(solver)
-    x0 = np.asarray(x0, dtype=float).reshape(-1)
-    lo, hi = np.asarray(problem.lower), np.asarray(problem.upper)
-    if x0.shape != lo.shape:
-        raise ValueError(
-            f"x0 has {x0.size} values for {len(problem.names)} variables {problem.names}"
-        )
-    if np.any(x0 < lo) or np.any(x0 > hi):
-        raise ValueError(
-            f"start {dict(zip(problem.names, x0.tolist()))} is outside the bounds "
-            f"{dict(zip(problem.names, zip(lo.tolist(), hi.tolist())))}"
-        )
+    x0 = _checked_start(problem, x0)
     t0 = time.perf_counter()
     desc = f"optimise ({type(solver).__name__})"
     bar = tqdm(total=max_iterations, desc=desc, disable=not progress)
@@ -326,8 +335,37 @@ def minimise(
             "optimisation produced a non-finite objective; check the bounds "
             "and the smooth contact width"
         )
-    hist = rec["history"]
-    ks = sorted(hist)
+    return _result(problem, x0, rec["history"], u, value, it, n_eval, converged, capped,
+                   max_iterations, time.perf_counter() - t0, "")
+
+
+def _checked_start(problem: Problem, x0) -> np.ndarray:
+    """``x0`` as a float array (n,), refused unless it has the problem's size and lies in its
+    bounds."""
+    x0 = np.asarray(x0, dtype=float).reshape(-1)
+    lo, hi = np.asarray(problem.lower), np.asarray(problem.upper)
+    if x0.shape != lo.shape:
+        raise ValueError(
+            f"x0 has {x0.size} values for {len(problem.names)} variables {problem.names}"
+        )
+    if np.any(x0 < lo) or np.any(x0 > hi):
+        raise ValueError(
+            f"start {dict(zip(problem.names, x0.tolist()))} is outside the bounds "
+            f"{dict(zip(problem.names, zip(lo.tolist(), hi.tolist())))}"
+        )
+    return x0
+
+
+def _result(problem, x0, hist, u, value, it, n_eval, converged, capped, max_iterations,
+            wall, which) -> OptimisationResult:
+    """The :class:`OptimisationResult` of one solve from its host-side history ``hist``
+    (iteration → (u, value); entries past the solve's last iteration dropped), warning where it
+    stopped unconverged (``which``: the problem's name in the warning, "" for one)."""
+    lo, hi = np.asarray(problem.lower), np.asarray(problem.upper)
+    ks = sorted(k for k in hist if k <= it)
+    if not ks:  # nothing accepted before the objective failed (a batch's problem)
+        hist = {0: (np.asarray(problem.unbounded(x0)), value)}
+        ks = [0]
     hist_u = np.stack([hist[k][0] for k in ks])
     hist_v = np.asarray([hist[k][1] for k in ks])
     # Problem.bounded in numpy: an eager jnp call would compile once per history length
@@ -336,21 +374,21 @@ def minimise(
     converged, capped = bool(converged), bool(capped)
     if capped:
         warnings.warn(
-            f"optimiser stopped at the iteration cap ({max_iterations}) before convergence; "
-            "the result may not be an optimum (raise max_iterations)",
+            f"optimiser stopped{which} at the iteration cap ({max_iterations}) before "
+            "convergence; the result may not be an optimum (raise max_iterations)",
             UserWarning,
-            stacklevel=2,
+            stacklevel=3,
         )
     elif not converged:
         warnings.warn(
-            f"optimiser stopped after {it} iterations without meeting its stopping rule "
+            f"optimiser stopped{which} after {it} iterations without meeting its stopping rule "
             "(line search failed); the result may not be an optimum",
             UserWarning,
-            stacklevel=2,
+            stacklevel=3,
         )
     return OptimisationResult(
         x0=np.asarray(x0),
-        x=np.asarray(problem.bounded(u)),
+        x=np.asarray(problem.bounded(jnp.asarray(u))),
         value0=float(hist_v[0]),
         value=value,
         history_x=hist_x,
@@ -358,5 +396,95 @@ def minimise(
         iterations=it,
         evaluations=int(n_eval),
         converged=converged,
-        wall_time_s=time.perf_counter() - t0,
+        wall_time_s=wall,
     )
+
+
+def _layout(problem: Problem):
+    """What must be equal for problems to share one compiled batch: the structure of their
+    arrays and their shapes and dtypes, and everything else (the static rest) by value."""
+    arrays, static = eqx.partition(problem, eqx.is_array)
+    leaves, tree = jax.tree.flatten(arrays)
+    rest, rest_tree = jax.tree.flatten(static)
+    try:
+        hash(tuple(rest))
+    except TypeError:  # an unhashable static leaf: a group of its own
+        rest = [id(problem)]
+    return (tree, tuple((np.shape(v), np.dtype(v.dtype)) for v in leaves), rest_tree,
+            tuple(rest))
+
+
+def minimise_batch(
+    problems,
+    x0s,
+    solver: optx.AbstractMinimiser | optax.GradientTransformation | None = None,
+    *,
+    max_iterations: int = 100,
+) -> list[OptimisationResult]:
+    """:func:`minimise` of several problems at once: the problems of one structure (the same
+    static layout: their arrays' structure, shapes and dtypes and every other field equal, e.g.
+    rigid meshes of the same cell counts) go through one compiled ``jax.vmap`` of the solve
+    :func:`minimise` runs, a group padded with copies of its last problem to a power of two up
+    to 8, then to a multiple of 8 (``jaxgear._util.padded_batch``: one program per structure
+    and padded size). Each problem keeps its own iterations, stopping rule and iteration cap (a finished
+    problem's state is held while the rest of its batch goes on), so its result is
+    :func:`minimise`'s to floating-point rounding (batched arithmetic may round differently in
+    the last bits, which the line search can carry into differences of the order of the
+    solver's tolerances); its history is recorded alike. No progress bar.
+
+    Args:
+        problems: the problems, (B,). x0s: their starts, normalised units, (B, n_i), each
+            inside its bounds. solver, max_iterations: as :func:`minimise` (one for all).
+
+    Returns:
+        One :class:`OptimisationResult` per problem, in order; ``wall_time_s`` its batch's
+        (compile included). A problem whose objective became non-finite has a non-finite
+        ``value`` and ``converged`` False (:func:`minimise` raises FloatingPointError).
+
+    Raises:
+        ValueError: a solver of another kind, ``x0s`` of another count than ``problems``, a
+            start of the wrong size or outside its bounds (before any solve).
+        equinox.EquinoxRuntimeError: a runtime check inside a batch's solve failed (which
+            problem is not known: solve that batch's problems one at a time).
+
+    Warns:
+        UserWarning: as :func:`minimise`, naming the problem's index.
+    """
+    solver = _as_minimiser(_DEFAULT_SOLVER if solver is None else solver)
+    iterations = _iterations_of(solver)
+    problems = list(problems)
+    x0s = list(x0s)
+    if len(x0s) != len(problems):
+        raise ValueError(f"x0s has {len(x0s)} starts for {len(problems)} problems")
+    x0s = [_checked_start(p, x) for p, x in zip(problems, x0s, strict=True)]
+    groups: dict = {}
+    for i, p in enumerate(problems):
+        groups.setdefault(_layout(p), []).append(i)
+    out: list = [None] * len(problems)
+    for idx in groups.values():
+        t0 = time.perf_counter()
+        padded = idx + [idx[-1]] * (padded_batch(len(idx)) - len(idx))
+        parts = [eqx.partition(problems[i], eqx.is_array) for i in padded]
+        arrays = jax.tree.map(lambda *xs: jnp.stack(xs), *[a for a, _ in parts])
+        u0 = jnp.stack([problems[i].unbounded(x0s[i]) for i in padded])
+        with _LOCK:
+            runs = [next(_RUN_IDS) for _ in idx]
+        runs += [-1] * (len(padded) - len(idx))  # the copies report to no history
+        recs = {r: {"history": {}, "bar": None} for r in runs if r >= 0}
+        _RUNS.update(recs)
+        try:
+            u, value, n_iterations, n_eval, converged, capped = jax.device_get(_solve_batch(
+                arrays, parts[0][1], solver, iterations, u0,
+                jnp.asarray(int(max_iterations)), jnp.asarray(runs)))
+            jax.effects_barrier()
+        finally:
+            for r in recs:
+                del _RUNS[r]
+        wall = time.perf_counter() - t0
+        for j, i in enumerate(idx):
+            v = float(value[j])
+            out[i] = _result(problems[i], x0s[i], recs[runs[j]]["history"], u[j], v,
+                             int(n_iterations[j]), n_eval[j],
+                             bool(converged[j]) and np.isfinite(v), capped[j],
+                             max_iterations, wall, f" (problem {i})")
+    return out

@@ -6,7 +6,9 @@ candidate written here; bad ranges refused in one line naming the key. One compi
 refinement (the small spec of tests/test_sizing.py, β and the shifts free) serves the tests
 that refine; its compilation (the rating's reverse-mode gradient inside the BFGS and outer
 loops) takes one to three minutes on the 2-core machine, so they are in the slow tier; the
-default tier checks the spec's keys and the refusals."""
+default tier checks the spec's keys and the refusals. The smallest refinement (one candidate,
+β and the face width free, against a dense grid) costs about 30 s there under the suite's XLA
+options (benchmarks/sizing_refine_compile.py: the compile of the rating's derivative)."""
 
 from __future__ import annotations
 
@@ -208,6 +210,52 @@ def _grid_best(spec, k, table, fixed_a=None, sum_range=None, n_beta=13, n_x=16, 
         near = [profile[q] for q in (i - 1, i + 1) if 0 <= q < shape[axis]]
         step += max([abs(v - profile[i]) for v in near if np.isfinite(v)], default=0.0)
     return mass[j], step, (B[j], X1[j], X2[j], W[j])
+
+
+@pytest.mark.slow  # its compile: about 30 s of the 2-core machine at a load of 5
+def test_a_refined_helix_angle_and_face_width_match_a_dense_grid():
+    """The default tier's refinement: a feasible candidate of the small spec with β free in
+    [8°, 20°] and the face width free (the shifts as enumerated), refined from every start,
+    passes every limit re-rated one candidate at a time, is lighter than its enumerated
+    design, and lies against a dense grid of the same candidate (β in 0.25° steps, b in
+    0.05 mm steps, every point rated by the candidate function and judged by every limit,
+    written here): at or below the grid's best feasible mass (1e-9) and above it by no more
+    than the grid's resolution effect (one step of b and the change of the least mass over
+    one step of β)."""
+    data = _spec(helix_angle_deg=list(BETA), refine=True)
+    spec, _ = jio.parse_sizing_spec(data)
+    table = js.size(spec)
+    k = int(ROWS[0])
+    assert table.feasible[k]
+    ref = js.refine(spec, table, rows=[k], chunk=16)
+    row = {n: v[k] for n, v in ref.columns.items()}
+    assert row["refined"] == 1 and row["refine_violation"] == 0.0
+    assert (row["x1"], row["x2"]) == (table.columns["x1"][k], table.columns["x2"][k])
+    met, _ = _limits_met(spec, row, row["helix_angle_rad"])
+    assert all(met.values()), met
+    assert row["mass_kg"] < table.columns["mass_kg"][k]
+
+    s = data["sizing"]
+    beta = np.radians(np.linspace(*BETA, 49))
+    b = np.arange(s["face_width_min_mm"], s["face_width_max_mm"] + 1e-9, 0.05) * 1e-3
+    B, W = (v.ravel() for v in np.meshgrid(beta, b, indexing="ij"))
+    m, z1, z2, x1, x2 = (float(row[n]) for n in ("normal_module_m", "z1", "z2", "x1", "x2"))
+    fn = jax.jit(jax.vmap(lambda bb, w: js.candidate_outputs(
+        spec, jnp.asarray(m), jnp.asarray(z1), jnp.asarray(z2), jnp.asarray(x1),
+        jnp.asarray(x2), w, helix_angle=bb)))
+    o, passed = (np.asarray(v) for v in fn(jnp.asarray(B), jnp.asarray(W)))
+    out = dict(zip(js.OUTPUTS, o.T, strict=True))
+    ok = (np.all(passed, axis=1) & (W <= s["face_width_ratio_max"] * out["reference_diameter_1_m"])
+          & (np.maximum(out["tip_diameter_1_m"], out["tip_diameter_2_m"])
+             <= s["outer_diameter_max_mm"] * 1e-3))
+    mass = np.where(ok, out["mass_kg"], np.inf).reshape(beta.size, b.size)
+    i, j = np.unravel_index(np.argmin(mass), mass.shape)
+    best = mass[i, j]
+    profile = mass.min(axis=1)  # the least feasible mass at each β
+    near = [profile[q] for q in (i - 1, i + 1) if 0 <= q < beta.size and np.isfinite(profile[q])]
+    resolution = best * (b[1] - b[0]) / b[j] + max([abs(v - best) for v in near], default=0.0)
+    assert np.isfinite(best)
+    assert best - resolution <= row["mass_kg"] <= best * (1 + 1e-9), (row["mass_kg"], best)
 
 
 @pytest.mark.slow

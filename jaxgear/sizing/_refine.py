@@ -52,6 +52,9 @@ STARTS = ((0.25, 0.25, 0.75), (0.75, 0.75, 0.25), (0.25, 0.75, 0.25), (0.75, 0.2
 _FREE = 1e3
 #: the inner minimisations' relative tolerance (optimistix's Cauchy test on y and f)
 _RTOL = 1e-8
+#: how BFGS takes the Lagrangian's gradient (optimistix's ``autodiff_mode``): reverse mode; the
+#: forward mode (five variables) compiles no faster (benchmarks/sizing_refine_compile.py)
+_AUTODIFF_MODE = "bwd"
 
 
 def _shift_sum(m, z1, z2, an, beta, a):
@@ -137,7 +140,8 @@ def _solve_one(p, static, settings, operating, fixed, objective, outer, inner):
 
     def step(carry, _):
         y, f, g, lam, rho, viol_prev, _ok = carry
-        sol = optx.minimise(lagrangian, solver, y, (lam, rho), max_steps=inner, throw=False)
+        sol = optx.minimise(lagrangian, solver, y, (lam, rho), max_steps=inner, throw=False,
+                            options={"autodiff_mode": _AUTODIFF_MODE})
         f_new, g_new = fg(sol.value)
         finite = (jnp.isfinite(f_new) & jnp.all(jnp.isfinite(g_new))
                   & jnp.all(jnp.isfinite(sol.value)))

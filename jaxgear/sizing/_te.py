@@ -26,7 +26,7 @@ from .._quasi_static import at_torques
 from .._spectrum import te_spectrum
 from .._stiffness import WeberFoundation
 from .._stiffness_models import Weber, stiffness_table
-from .._util import check_instance
+from .._util import check_instance, padded_batch
 from ._size import SizingTable
 from ._spec import SizingSpec
 
@@ -40,8 +40,6 @@ __all__ = ["CANDIDATE_MESH", "TE_COLUMNS", "TE_VARIABLES", "TeSettings", "candid
 CANDIDATE_MESH = {"stiffness": "weber", "slices": 20, "positions_per_pitch": 16,
                   "extended_contact": True}
 
-#: :func:`te_curves` pads a group of meshes to a power of two up to this, then to a multiple
-BATCH_STEP = 8
 
 #: the design variables of the modified flanks (both members alike), the optimiser's names
 TE_VARIABLES = ("tip_relief.depth", "tip_relief.extent", "crowning.depth")
@@ -154,8 +152,8 @@ def te_curves(meshes, modifications, torques, *, positions_per_pitch: int | None
 
     The meshes of one static layout (the cell arrays' shapes, ``MeshModel``'s static fields)
     go through one compiled ``jax.vmap`` program, a group padded with copies of its last mesh
-    to a power of two up to :data:`BATCH_STEP`, then to a multiple of it (one program per
-    layout and padded size); ``batched=False`` solves them one at a time (the program of one
+    to a power of two up to 8, then to a multiple of 8 (``jaxgear._util.padded_batch``: one
+    program per layout and padded size); ``batched=False`` solves them one at a time (the program of one
     mesh; the benchmark's loop).
 
     Args:
@@ -185,21 +183,13 @@ def te_curves(meshes, modifications, torques, *, positions_per_pitch: int | None
         leaves, tree = jax.tree.flatten((mesh, mods[i]))
         groups.setdefault((tree, tuple(np.shape(v) for v in leaves)), []).append(i)
     for idx in groups.values():
-        size = _padded(len(idx))
+        size = padded_batch(len(idx))
         padded = idx + [idx[-1]] * (size - len(idx))
         te, codes = _batched(_stack([meshes[i] for i in padded]),
                              _stack([mods[i] for i in padded]), torques, ppp)
         failed = np.any(np.asarray(codes)[: len(idx)] != 0, axis=(1, 2))
         out[idx] = np.where(failed[:, None, None], np.nan, np.asarray(te)[: len(idx)])
     return out
-
-
-def _padded(n: int) -> int:
-    """The batch a group of ``n`` meshes is padded to: the next power of two up to
-    :data:`BATCH_STEP`, then the next multiple of it (few compiled sizes, little waste)."""
-    if n <= BATCH_STEP:
-        return 1 << (n - 1).bit_length()
-    return -(-n // BATCH_STEP) * BATCH_STEP
 
 
 def _batched(meshes, mods, torques, ppp):
@@ -244,8 +234,41 @@ def _te_numbers(te, teeth, ppp):
     return ppk[-1], ppk.max(), spectrum.at(z1), spectrum.at(2 * z1)
 
 
+def _optimised(problems: dict, max_iterations: int, batched: bool,
+               done: Callable[[int], None]) -> dict:
+    """Each problem's :func:`optimise.minimise` result from its :func:`_start` (index →
+    result; a problem whose solve failed on the way is absent or has a non-finite value):
+    ``batched``, the problems of one mesh layout solved together
+    (:func:`optimise.minimise_batch`; a batch whose solve fails a runtime check is solved one
+    problem at a time, to find which); else one at a time. ``done(k)`` after each k solved."""
+    import optimise
+
+    keys = list(problems)
+    out = {}
+    with warnings.catch_warnings():  # the cap: the iterations are a column
+        warnings.simplefilter("ignore", UserWarning)
+        if batched and keys:
+            try:
+                found = optimise.minimise_batch([problems[j] for j in keys],
+                                                [_start(problems[j]) for j in keys],
+                                                max_iterations=max_iterations)
+                done(len(keys))
+                return dict(zip(keys, found, strict=True))
+            except eqx.EquinoxRuntimeError:
+                pass
+        for j in keys:
+            try:
+                out[j] = optimise.minimise(problems[j], _start(problems[j]),
+                                           max_iterations=max_iterations, progress=False)
+            except (FloatingPointError, eqx.EquinoxRuntimeError):
+                pass  # a solve that failed on the way: the stage names the candidate
+            done(1)
+    return out
+
+
 def te_stage(spec: SizingSpec, table: SizingTable, settings: TeSettings | None = None, *,
-             progress: Callable[[int, int], None] | None = None) -> SizingTable:
+             progress: Callable[[int, int], None] | None = None,
+             batched: bool = False) -> SizingTable:
     """The transmission-error stage: the first ``settings.candidates`` feasible candidates of
     ``table`` (:meth:`SizingTable.ranked`), each its pair's rigid mesh (:func:`candidate_mesh`)
     at the torques ``settings.torque_fractions`` × the rated pinion torque; the plain flanks
@@ -253,7 +276,12 @@ def te_stage(spec: SizingSpec, table: SizingTable, settings: TeSettings | None =
     both members alike, that :func:`optimise.minimise` finds minimising
     :class:`optimise.TePeakToPeak` at the rated torque (smooth contact; from the best point of
     a coarse grid of relief depths and extents, :func:`_start`), evaluated as written (exact
-    contact, sharp relief starts) over the range (batched).
+    contact, sharp relief starts) over the range (batched). ``batched``: the candidates whose
+    meshes share one layout optimised together (:func:`optimise.minimise_batch`, one compiled
+    ``vmap`` of the solve; each candidate's result the one-at-a-time solve's to the optimiser's
+    rounding); else (the default) one at a time (:func:`optimise.minimise`), which is the
+    faster on a CPU: each solve is already vectorised over cells, positions and torques, and
+    a batch steps in lock-step until its slowest member stops (benchmarks/sizing_te.py).
 
     Returns:
         A :class:`SizingTable` of ``table``'s columns and :data:`TE_COLUMNS` (NaN where not
@@ -282,30 +310,36 @@ def te_stage(spec: SizingSpec, table: SizingTable, settings: TeSettings | None =
     plain = te_curves(meshes, None, torques)
     nan = {"tip_relief_depth_m": math.nan, "tip_relief_extent": math.nan,
            "crowning_depth_m": math.nan}
-    designs, iterations = [], []
+    problems = {}
     for j, mesh in enumerate(meshes):
-        design, its = nan, math.nan
         if np.all(np.isfinite(plain[j])):
             try:
-                problem = optimise.make_problem(mesh, None, rated, ",".join(TE_VARIABLES),
-                                                optimise.TePeakToPeak(),
-                                                positions_per_pitch=ppp)
-                with warnings.catch_warnings():  # the cap: the iterations are a column
-                    warnings.simplefilter("ignore", UserWarning)
-                    res = optimise.minimise(problem, _start(problem),
-                                            max_iterations=settings.max_iterations,
-                                            progress=False)
-                values = problem.to_physical(res.x)
-                design = {"tip_relief_depth_m": values["tip_relief.depth"] * 1e-6,
-                          "tip_relief_extent": values["tip_relief.extent"],
-                          "crowning_depth_m": values["crowning.depth"] * 1e-6}
-                its = res.iterations
+                problems[j] = optimise.make_problem(mesh, None, rated, ",".join(TE_VARIABLES),
+                                                    optimise.TePeakToPeak(),
+                                                    positions_per_pitch=ppp)
             except (FloatingPointError, eqx.EquinoxRuntimeError):
                 pass  # a solve that failed on the way: the stage names the candidate
+    finished = len(meshes) - len(problems)  # those with no problem to solve
+
+    def done(k):
+        nonlocal finished
+        finished += k
+        if progress is not None:
+            progress(finished, len(meshes))
+
+    results = _optimised(problems, settings.max_iterations, batched, done)
+    designs, iterations = [], []
+    for j in range(len(meshes)):
+        design, its = nan, math.nan
+        res = results.get(j)
+        if res is not None and np.isfinite(res.value):
+            values = problems[j].to_physical(res.x)
+            design = {"tip_relief_depth_m": values["tip_relief.depth"] * 1e-6,
+                      "tip_relief_extent": values["tip_relief.extent"],
+                      "crowning_depth_m": values["crowning.depth"] * 1e-6}
+            its = res.iterations
         designs.append(design)
         iterations.append(its)
-        if progress is not None:
-            progress(j + 1, len(meshes))
     ok = [j for j, d in enumerate(designs) if np.isfinite(d["tip_relief_depth_m"])]
     modified = np.full_like(plain, math.nan)
     if ok:
