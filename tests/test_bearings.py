@@ -387,7 +387,7 @@ def test_stiffness_derivative_by_the_clearance_is_finite_and_right():
     b = jb.catalogue("6205", clearance=10e-6)
     d = jnp.array(OPERATING["6205"])
     assert float(_element_loads(b, d).min()) == 0.0
-    kxx = lambda c: eqx.tree_at(lambda x: x.clearance, b, c).stiffness(d)[0, 0]  # noqa: E731
+    kxx = lambda c: eqx.tree_at(lambda x: x.clearance, b, c).stiffness(d)[0, 0]
     g = float(jax.grad(kxx)(jnp.asarray(10e-6)))
     h = 1e-8
     fd = (float(kxx(jnp.asarray(10e-6 + h))) - float(kxx(jnp.asarray(10e-6 - h)))) / (2 * h)
@@ -453,7 +453,7 @@ def test_solve_derivative_is_the_compliance():
     fd = (np.asarray(d_of(F.at[0].add(h))) - np.asarray(d_of(F.at[0].add(-h)))) / (2 * h)
     np.testing.assert_allclose(fd, J[:, 0], rtol=1e-4, atol=1e-6 * np.abs(J[:, 0]).max())
     # the clearance as a design variable: the operating stiffness's derivative through the solve
-    kxx = lambda c: jb.solve_displacement(  # noqa: E731
+    kxx = lambda c: jb.solve_displacement(
         eqx.tree_at(lambda x: x.clearance, b, c), F).stiffness[0, 0]
     g = float(jax.grad(kxx)(jnp.asarray(10e-6)))
     h = 1e-8
@@ -576,8 +576,14 @@ GEOM = dict(bore=0.025, outer_diameter=0.052, width=0.015, elements=9,
     (lambda: jb.BearingSpectrum([1.0, 2.0], [0.0], 10.0, [1.0, 1.0]), "axial"),
 ])
 def test_bad_bearing_data_is_refused_in_one_line(build, words):
+    refused_in_one_line(build, words)
+
+
+def refused_in_one_line(call, words: str) -> None:
+    """``call()`` raises a one-line ValueError holding ``words`` and the allowed range (or the
+    shape asked); the bearing life tests use it too."""
     with pytest.raises(ValueError) as err:
-        build()
+        call()
     msg = str(err.value)
     assert words in msg and "\n" not in msg, msg
     assert "allowed" in msg or "must have shape" in msg, msg
