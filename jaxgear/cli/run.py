@@ -30,6 +30,7 @@ from ..io import (
 )
 from . import scene as cli_scene, sweep as cli_sweep
 from ._acoustics_run import acoustic_outputs, acoustics_run_line  # noqa: F401 (the hook)
+from ._bearing_report import bearing_outputs, bearing_run_lines
 from ._deviation_run import deviation_line, deviation_outputs
 from ._optimise import check_settings, optimise_case, settings_from_case
 from ._paths import check_case_outputs, staged_outputs
@@ -354,6 +355,10 @@ def run_case(
         summary["tribology"] = tribology
         if complete and rating is not None:  # rating.md again, with the tribology lines
             write_rating_table(case, out_dir, rating, tribology)
+    # rolling bearings from geometry: their loads, lives and tones (docs/bearings.md)
+    bearings = bearing_outputs(case.form, case)
+    if bearings is not None:
+        summary["bearings"] = bearings
 
     write_json(os.path.join(out_dir, "summary.json"), summary)
     return summary
@@ -646,6 +651,7 @@ def _(form: PairForm, case: Case, summary: dict) -> list[str]:
         lines
         + rating_run_line(summary.get("rating"))
         + tribology_run_line(summary.get("tribology"))
+        + bearing_run_lines(summary.get("bearings"))
         + whine_run_line(summary.get("whine"))
     )
 

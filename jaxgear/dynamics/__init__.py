@@ -44,6 +44,7 @@ from ._bearings import (
     OperatingPoint as OperatingPoint,
     bearing_forces as bearing_forces,
     bearings_at_operating_point as bearings_at_operating_point,
+    operating_lives as operating_lives,
 )
 from ._build import (
     dynamic_model as dynamic_model,

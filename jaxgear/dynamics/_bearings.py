@@ -1,6 +1,7 @@
 """The bearings of a quasi-static solution (the part of the case builders that takes a scene,
 not a case): their mean forces (:func:`bearing_forces`), and the rolling bearings' operating
-point, the fixed point of their loads and stiffnesses (:func:`bearings_at_operating_point`)."""
+point, the fixed point of their loads and stiffnesses (:func:`bearings_at_operating_point`),
+and their lives there (:func:`operating_lives`)."""
 
 from __future__ import annotations
 
@@ -15,10 +16,10 @@ import numpy as np
 from .._contact import ContactLaw, ExactContact
 from .._quasi_static import QuasiStaticResult, quasi_static
 from .._util import check_integer, check_real
-from ..bearings import solve_displacement
+from ..bearings import operating_life, solve_displacement
 from ..scenes import Bearing, Grounded, bearing_dofs, grounded
 
-__all__ = ["OperatingPoint", "bearing_forces", "bearings_at_operating_point"]
+__all__ = ["OperatingPoint", "bearing_forces", "bearings_at_operating_point", "operating_lives"]
 
 
 @functools.singledispatch
@@ -247,3 +248,43 @@ def _shown(f) -> str:
     """A load (5,) in a message: (F_x, F_y, F_z) N, (M_x, M_y) N·m."""
     f = np.asarray(f, float)
     return (f"F = ({f[0]:.4g}, {f[1]:.4g}, {f[2]:.4g}) N, M = ({f[3]:.4g}, {f[4]:.4g}) N·m")
+
+
+def operating_lives(point: OperatingPoint, speeds, *, viscosity=None, reliability=0.9,
+                    contamination=None) -> tuple:
+    """Each rolling bearing's lives at the operating point ``point``
+    (:func:`bearings_at_operating_point`): :func:`jaxgear.bearings.operating_life` of its load
+    and displacement there at its shaft's speed, the inner ring turning.
+
+    Args:
+        point: the :class:`OperatingPoint` of a scene's shafts.
+        speeds: each shaft's speed (rad/s, > 0; its magnitude: the inner ring's relative to
+            the outer), one per shaft of ``point``, or None (the lives in revolutions only).
+        viscosity, reliability, contamination: ISO 281's modified life
+            (:func:`jaxgear.bearings.modified_life`); ``contamination`` None: no L_nm.
+
+    Returns:
+        Per shaft, per bearing, its :class:`~jaxgear.bearings.OperatingLife`, or None for a
+        linear bearing and a rolling one without ``dynamic_rating``.
+
+    Raises:
+        ValueError: ``speeds`` not one per shaft; what :func:`~jaxgear.bearings.operating_life`
+            refuses (one line).
+    """
+    if speeds is not None and len(speeds) != len(point.shafts):
+        raise ValueError(f"operating_lives: speeds has {len(speeds)} entries: allowed one per "
+                         f"shaft ({len(point.shafts)})")
+    out = []
+    for k, (shaft, loads, states) in enumerate(zip(point.shafts, point.loads, point.states,
+                                                   strict=True)):
+        row = []
+        for b, f, state in zip(shaft.bearings, loads, states, strict=True):
+            if b.rolling is None or f is None or b.rolling.dynamic_rating is None:
+                row.append(None)
+                continue
+            row.append(operating_life(
+                b.rolling, np.asarray(f, float), np.asarray(state.displacement, float),
+                None if speeds is None else abs(float(speeds[k])), viscosity=viscosity,
+                reliability=reliability, contamination=contamination))
+        out.append(tuple(row))
+    return tuple(out)

@@ -7,6 +7,7 @@ from __future__ import annotations
 import fractions
 import functools
 import math
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -26,6 +27,7 @@ from ..dynamics import (
     dynamic_model,
     group_positions,
     group_rows,
+    operating_lives,
     whine_size,
 )
 from ..planetary import (
@@ -44,12 +46,13 @@ from ..scenes import (
     hybrid_pair,
     lumped_pair,
 )
+from ._bearings_table import bearing_life_of
 from ._case import Case, PairForm, TrainForm
 from ._planetary_spec import InternalMeshForm, PlanetaryForm
 from ._scene_spec import SceneSpec, load_bodies, spec_damping
 from ._whine_table import WHINE_METHODS, whine_of
 
-__all__ = ["PAIR_SCENES", "build_dynamic_model", "check_case_whine", "dynamic_model_kind",
+__all__ = ["PAIR_SCENES", "CaseBearings", "build_dynamic_model", "case_bearings", "check_case_whine", "dynamic_model_kind",
            "mesh_frequency_periods", "operating_point", "planetary_kind", "quasi_static_scene",
            "static_scene"]
 
@@ -405,6 +408,36 @@ def operating_point(case: Case, spec: SceneSpec | None = None) -> OperatingPoint
         _OPERATING.pop(next(iter(_OPERATING)))
     _OPERATING[key] = (case, spec, point)
     return point
+
+
+class CaseBearings(NamedTuple):
+    """A pair case's rolling bearings at their operating point with their lives
+    (:func:`case_bearings`): ``point`` (:class:`~jaxgear.dynamics.OperatingPoint`), ``speeds``
+    each shaft's speed (rad/s, magnitudes: the pinion's ``[operating] speed_rad_s``, the gear's
+    that times z1/z2; None without a speed), ``lives`` per shaft per bearing
+    (:func:`~jaxgear.dynamics.operating_lives`), ``settings`` the ``[bearings]`` settings
+    (:class:`~jaxgear.io.BearingLifeSettings`) or None."""
+
+    point: OperatingPoint
+    speeds: tuple | None
+    lives: tuple
+    settings: Any
+
+
+def case_bearings(case: Case) -> CaseBearings | None:
+    """The rolling bearings of a ``lumped3d`` pair case's shafts at their operating point
+    (:func:`operating_point`) and their lives there at the case's speed, with ISO 281's
+    modified life where the case has ``[bearings]`` (:class:`CaseBearings`); None for a case
+    without rolling bearings."""
+    spec = case.scene
+    if spec is None or spec.model != "lumped3d" or not spec.rolling:
+        return None
+    point = operating_point(case, spec)
+    z1, z2 = case.pair.pinion.teeth, case.pair.gear.teeth
+    speeds = (case.speed, case.speed * z1 / z2) if case.speed > 0 else None
+    settings = bearing_life_of(case)
+    extra = {} if settings is None else settings._asdict()
+    return CaseBearings(point, speeds, operating_lives(point, speeds, **extra), settings)
 
 
 def _torsional_pair(case: Case, spec: SceneSpec, mesh):
