@@ -16,7 +16,8 @@ from ..bearings import bearing_tones
 from ..io import PairForm
 from ..io._case_model import case_bearings
 
-__all__ = ["TONE_NAMES", "bearing_outputs", "bearing_run_lines", "bearing_tone_orders"]
+__all__ = ["TONE_NAMES", "bearing_outputs", "bearing_run_lines", "bearing_tone_lines",
+           "bearing_tone_orders"]
 
 #: the tones' keys and their names on the plots
 TONE_NAMES = {"ftf": "FTF", "bpfo": "BPFO", "bpfi": "BPFI", "bsf": "BSF"}
@@ -149,3 +150,15 @@ def bearing_tone_orders(case) -> list[dict]:
                 out.append({"bearing": f"{_SHAFTS[k]}.bearings[{i}]", "tone": tone,
                             "order": order * ratio[k]})
     return out
+
+
+def bearing_tone_lines(case) -> list[tuple[str, float]]:
+    """The tones of :func:`bearing_tone_orders` as (name, order of the pinion speed) lines, one
+    per shaft and tone (a shaft's bearings that share an order named once): the spectra's."""
+    out = {}
+    for t in bearing_tone_orders(case):
+        shaft = t["bearing"].split(".")[0]
+        key = (shaft, t["tone"], round(t["order"], 6))
+        out.setdefault(key, (f"{shaft.replace('_', ' ')} {TONE_NAMES[t['tone']]} "
+                             f"({t['order']:.3g}×)", t["order"]))
+    return list(out.values())
