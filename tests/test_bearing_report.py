@@ -11,11 +11,11 @@ import tomllib
 import numpy as np
 import pytest
 from test_bearing_scenes import (  # the hand statics of a shaft on two bearings
-    A,
     EXAMPLE,
     LINEAR,
-    L,
     TORQUE,
+    A,
+    L,
     _refused,
     shaft_point,  # noqa: F401 (the fixture)
 )
@@ -122,12 +122,12 @@ def test_reported_l10_against_the_hand_statics(report):
     assert len(lines) == 4 and all("L_nm" in t and "L10r" in t for t in lines)
 
 
-def test_lives_of_an_off_centre_pinion_against_two_support_statics(shaft_point):
+def test_lives_of_an_off_centre_pinion_against_two_support_statics(shaft_point):  # noqa: F811
     """The bwire check's shaft (tests/test_bearing_scenes.py: a 25 mm shaft on two 6205s, the
     pinion 30 mm from the first of 100 mm): operating_lives at its operating point against
     L10 = (C / P)³ with P the beam's reactions F_n (L − a)/L and F_n a/L (C = 14.8 kN, SKF),
     within 1 % (three times the reactions' 3e-3)."""
-    case, six, _, _, point = shaft_point
+    case, _, _, _, point = shaft_point
     lives = operating_lives(point, (SPEED, SPEED))
     m = case.pair.normal_module
     alpha = case.pair.normal_pressure_angle

@@ -159,6 +159,6 @@ def bearing_tone_lines(case) -> list[tuple[str, float]]:
     for t in bearing_tone_orders(case):
         shaft = t["bearing"].split(".")[0]
         key = (shaft, t["tone"], round(t["order"], 6))
-        out.setdefault(key, (f"{shaft.replace('_', ' ')} {TONE_NAMES[t['tone']]} "
-                             f"({t['order']:.3g}×)", t["order"]))
+        name = f"{shaft.replace('_', ' ')} {TONE_NAMES[t['tone']]} ({t['order']:.3g}×)"
+        out.setdefault(key, (name, t["order"]))
     return list(out.values())

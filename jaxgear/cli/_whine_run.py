@@ -17,8 +17,8 @@ import numpy as np
 
 from ..dynamics import whine_response
 from ..io import build_dynamic_model, whine_of, write_csv, write_json
-from ._housing_run import housed_run, housing_outputs, housing_run_line
 from ._bearing_report import bearing_tone_lines
+from ._housing_run import housed_run, housing_outputs, housing_run_line
 from ._plots import whine_order_plot, whine_waterfall_plot
 
 __all__ = ["SolvedWhine", "whine_outputs", "whine_run_line"]
