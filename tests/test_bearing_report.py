@@ -24,6 +24,7 @@ import jaxgear.io as jio
 from jaxgear import bearings as jb
 from jaxgear.cli._bearing_report import (
     bearing_outputs,
+    bearing_rating_lines,
     bearing_run_lines,
     bearing_tone_lines,
     bearing_tone_orders,
@@ -254,3 +255,47 @@ def test_catalogue_entry_without_ratings_takes_the_makers():
     assert (kind.dynamic_rating, kind.static_rating) == (29.0e3, 27.0e3)
     life = jb.rating_life(kind, 1000.0, 0.0, SPEED)
     assert float(life.revolutions) == pytest.approx(29.0**(10 / 3) * 1e6, rel=1e-12)
+
+
+def test_rating_sheet_lines_hold_the_section(report):
+    """rating.md's bearing table: one row per bearing with the section's loads and lives (in
+    10⁶ revolutions and hours), the settings named."""
+    _, section = report
+    lines = bearing_rating_lines(section)
+    rows = [t for t in lines if t.startswith("| pinion_shaft") or t.startswith("| gear_shaft")]
+    assert len(rows) == 4 and "viscosity 20 mm²/s" in "\n".join(lines)
+    for row, b in zip(rows, section["bearings"], strict=True):
+        cells = [c.strip() for c in row.strip("|").split("|")]
+        assert cells[0] == b["name"]
+        assert float(cells[2]) == pytest.approx(b["radial_load_N"], rel=1e-3)
+        assert float(cells[5]) == pytest.approx(b["life"]["L10_revolutions"] / 1e6, rel=1e-3)
+        assert float(cells[9]) == pytest.approx(b["life"]["Lnm_hours"], rel=1e-3)
+
+
+@pytest.mark.slow  # a whole jaxgear run with its dynamic factor sweep
+def test_jaxgear_run_reports_the_bearings(report, tmp_path):
+    """``jaxgear run`` of the example at 300 rad/s with ``[bearings]``: summary.json's
+    ``bearings`` is the section built above (the same operating point found again, to 1e-9),
+    sweep.json holds the tones as orders of the pinion speed and campbell.png is written."""
+    import json
+
+    from jaxgear import cli
+
+    path = tmp_path / "rolling.toml"
+    data = _data()
+    text = EXAMPLE.read_text().replace("torque_Nm = 80.0\n",
+                                       f"torque_Nm = 80.0\nspeed_rad_s = {SPEED}\n")
+    text += "\n[bearings]\n" + "".join(f"{k} = {v}\n" for k, v in SETTINGS.items())
+    assert tomllib.loads(text) == data
+    path.write_text(text)
+    out = tmp_path / "out"
+    assert cli.main(["run", str(path), "--out", str(out), "--quiet"]) == 0
+    summary = json.loads((out / "summary.json").read_text())
+    _, section = report
+    for got, want in zip(summary["bearings"]["bearings"], section["bearings"], strict=True):
+        assert got["name"] == want["name"]
+        for key in ("L10_revolutions", "L10r_revolutions", "Lnm_hours"):
+            assert got["life"][key] == pytest.approx(want["life"][key], rel=1e-9)
+    sweep = json.loads((out / "sweep" / "sweep.json").read_text())
+    assert sweep["bearing_tones"] == bearing_tone_orders(report[0])
+    assert (out / "sweep" / "campbell.png").stat().st_size > 0

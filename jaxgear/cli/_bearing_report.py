@@ -1,6 +1,6 @@
 """What ``jaxgear run`` reports of a case's rolling bearings: each bearing's operating load,
 its lives (ISO 281's L10 and L_nm, ISO/TS 16281's L10r) and its tones, in ``summary.json``'s
-``bearings`` section and the lines the run prints (docs/bearings.md, "In the report"); the
+``bearings`` section, ``rating.md`` and the lines the run prints (docs/bearings.md, "In the report"); the
 tones as orders of the pinion speed for the Campbell diagram and the whine spectra. The
 numbers are :func:`jaxgear.io.case_bearings`' (the model's); this module only presents them.
 """
@@ -16,8 +16,8 @@ from ..bearings import bearing_tones
 from ..io import PairForm
 from ..io._case_model import case_bearings
 
-__all__ = ["TONE_NAMES", "bearing_outputs", "bearing_run_lines", "bearing_tone_lines",
-           "bearing_tone_orders"]
+__all__ = ["TONE_NAMES", "bearing_outputs", "bearing_rating_lines", "bearing_run_lines",
+           "bearing_tone_lines", "bearing_tone_orders"]
 
 #: the tones' keys and their names on the plots
 TONE_NAMES = {"ftf": "FTF", "bpfo": "BPFO", "bpfi": "BPFI", "bsf": "BSF"}
@@ -162,3 +162,44 @@ def bearing_tone_lines(case) -> list[tuple[str, float]]:
         name = f"{shaft.replace('_', ' ')} {TONE_NAMES[t['tone']]} ({t['order']:.3g}×)"
         out.setdefault(key, (name, t["order"]))
     return list(out.values())
+
+
+def _cell(v, fmt="{:.4g}") -> str:
+    return "–" if v is None else fmt.format(v)
+
+
+def bearing_rating_lines(section: dict | None) -> list[str]:
+    """The lines of ``rating.md`` for the ``bearings`` section, after the gears' safety factors:
+    a table of each rolling bearing's loads and lives (nothing without the section or without
+    a rated bearing)."""
+    if not section or not any(b["life"] for b in section["bearings"]):
+        return []
+    speed = section["speed_rad_s"]
+    settings = section["life_settings"]
+    lines = ["", "## Rolling bearings (ISO 281, ISO/TS 16281)", "",
+             "Each bearing's load at the operating point of the case's quasi-static solve "
+             "(its shaft's push on it), its basic rating life L10 = (C/P)^p, ISO/TS 16281's "
+             "reference rating life L10r of its balls' loads"
+             + (f", and ISO 281's modified life L_nm = a1 a_ISO L10 (reliability "
+                f"{settings['reliability']:.4g}, viscosity {settings['viscosity_mm2_per_s']:.4g}"
+                f" mm²/s, e_C {settings['contamination_factor']:.4g})" if settings else
+                " (L_nm: with a [bearings] table)")
+             + (f"; hours at {speed:g} rad/s (pinion)." if speed else
+                "; in revolutions ([operating] speed_rad_s gives hours)."), "",
+             "| bearing | kind | F_r (N) | F_a (N) | P (N) | L10 (10⁶ rev) | L10h (h) "
+             "| L10r (10⁶ rev) | L_nm (10⁶ rev) | L_nmh (h) | a_ISO |",
+             "|---|---|---|---|---|---|---|---|---|---|---|"]
+    for b in section["bearings"]:
+        life = b["life"] or {}
+
+        def mega(key, life=life):
+            v = life.get(key)
+            return None if v is None else v / 1e6
+
+        lines.append(
+            f"| {b['name']} | {b['kind']} | {b['radial_load_N']:.4g} | {b['axial_load_N']:.3g} "
+            f"| {_cell(life.get('equivalent_load_N'))} | {_cell(mega('L10_revolutions'))} "
+            f"| {_cell(life.get('L10_hours'))} | {_cell(mega('L10r_revolutions'))} "
+            f"| {_cell(mega('Lnm_revolutions'))} | {_cell(life.get('Lnm_hours'))} "
+            f"| {_cell(life.get('a_ISO'))} |")
+    return lines
