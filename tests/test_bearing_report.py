@@ -30,11 +30,25 @@ from jaxgear.cli._bearing_report import (
     bearing_tone_orders,
 )
 from jaxgear.dynamics import operating_lives
-from jaxgear.io._case_model import case_bearings
+from jaxgear.io._case_model import case_bearings, operating_point
 
 #: the report's speed (pinion, rad/s) and [bearings] settings for the tests
 SPEED = 300.0
 SETTINGS = {"contamination_factor": 0.5, "viscosity_mm2_per_s": 20.0, "reliability_percent": 95.0}
+
+
+#: a [rating] with a two-bin load spectrum (the pinion's torque, speed and hours)
+RATING = {"application_factor": 1.0, "life_h": 20000.0, "viscosity_40C_mm2_s": 220.0,
+          "roughness_Rz_flank_um": 4.8, "roughness_Rz_root_um": 20.0, "accuracy_grade": 6,
+          "spectrum": {"torque_Nm": [80.0, 40.0], "speed_rpm": [3000.0, 1500.0],
+                       "hours": [5e3, 1.5e4]}}
+
+
+def _rated(data):
+    data["material"].update(sigma_H_lim_MPa=1500.0, sigma_F_lim_MPa=430.0,
+                            treatment="case_hardened")
+    data["rating"] = {k: (dict(v) if isinstance(v, dict) else v) for k, v in RATING.items()}
+    return data
 
 
 def _data(speed=SPEED, bearings=SETTINGS):
@@ -49,9 +63,10 @@ def _data(speed=SPEED, bearings=SETTINGS):
 @pytest.fixture(scope="module")
 def report():
     """The example (6206s and 6207s by geometry with SKF's ratings) at 300 rad/s with a
-    ``[bearings]`` table: its case and the ``bearings`` section ``jaxgear run`` writes (one
-    operating point, shared)."""
-    case = jio.parse_case(_data())
+    ``[bearings]`` table and a ``[rating]`` with a two-bin spectrum: its case and the
+    ``bearings`` section ``jaxgear run`` writes (the operating points at 80 and 40 N·m,
+    shared)."""
+    case = jio.parse_case(_rated(_data()))
     return case, bearing_outputs(case.form, case)
 
 
@@ -274,18 +289,26 @@ def test_rating_sheet_lines_hold_the_section(report):
 
 @pytest.mark.slow  # a whole jaxgear run with its dynamic factor sweep
 def test_jaxgear_run_reports_the_bearings(report, tmp_path):
-    """``jaxgear run`` of the example at 300 rad/s with ``[bearings]``: summary.json's
-    ``bearings`` is the section built above (the same operating point found again, to 1e-9),
-    sweep.json holds the tones as orders of the pinion speed and campbell.png is written."""
+    """``jaxgear run`` of the example at 300 rad/s with ``[bearings]`` and the rated spectrum:
+    summary.json's ``bearings`` is the section built above (the same operating points found
+    again, to 1e-9), rating.md ends with the bearings' table, sweep.json holds the tones as
+    orders of the pinion speed and campbell.png is written."""
     import json
 
     from jaxgear import cli
 
     path = tmp_path / "rolling.toml"
-    data = _data()
+    data = _rated(_data())
     text = EXAMPLE.read_text().replace("torque_Nm = 80.0\n",
                                        f"torque_Nm = 80.0\nspeed_rad_s = {SPEED}\n")
+    text = text.replace("density_kg_m3 = 7800.0\n", "density_kg_m3 = 7800.0\n"
+                        "sigma_H_lim_MPa = 1500.0\nsigma_F_lim_MPa = 430.0\n"
+                        "treatment = \"case_hardened\"\n")
     text += "\n[bearings]\n" + "".join(f"{k} = {v}\n" for k, v in SETTINGS.items())
+    text += "\n[rating]\n" + "".join(f"{k} = {v}\n" for k, v in RATING.items()
+                                     if k != "spectrum")
+    text += "[rating.spectrum]\n" + "".join(f"{k} = {v}\n"
+                                           for k, v in RATING["spectrum"].items())
     assert tomllib.loads(text) == data
     path.write_text(text)
     out = tmp_path / "out"
@@ -296,6 +319,57 @@ def test_jaxgear_run_reports_the_bearings(report, tmp_path):
         assert got["name"] == want["name"]
         for key in ("L10_revolutions", "L10r_revolutions", "Lnm_hours"):
             assert got["life"][key] == pytest.approx(want["life"][key], rel=1e-9)
+        assert got["spectrum_life"]["L10_hours"] == pytest.approx(
+            want["spectrum_life"]["L10_hours"], rel=1e-9)
+    sheet = (out / "rating.md").read_text()
+    assert "## Rolling bearings" in sheet and sheet.count("| pinion_shaft.bearings[") == 2
     sweep = json.loads((out / "sweep" / "sweep.json").read_text())
     assert sweep["bearing_tones"] == bearing_tone_orders(report[0])
     assert (out / "sweep" / "campbell.png").stat().st_size > 0
+
+
+def test_spectrum_life_against_the_package_and_palmgren_miner_by_hand(report):
+    """Under the rating's spectrum (80 N·m at 3000 r/min for 5000 h, 40 N·m at 1500 r/min for
+    15000 h) each bearing's bins are the loads of its operating point at the bin's torque:
+    against jaxgear.bearings.spectrum_life and spectrum_modified_life called with those
+    loads (1e-9), and by hand: F_r = F_n(T_i)/2 (the mid-span statics), n_i = ω_i t_i / 2π
+    revolutions of its shaft, L10 = Σ t_i / Σ (n_i / (C/P_i)³ 10⁶) (Palmgren–Miner), within
+    0.3 %."""
+    case, section = report
+    found = case_bearings(case)
+    data = _data()
+    ratio = data["pinion"]["teeth"] / data["gear"]["teeth"]
+    rows = iter(section["bearings"])
+    at40 = operating_point(case, torque=40.0)
+    spec = RATING["spectrum"]
+    for k, shaft in enumerate(found.point.shafts):
+        r = (1.0, ratio)[k]
+        w = np.asarray(spec["speed_rpm"]) * 2 * math.pi / 60 * r
+        t = np.asarray(spec["hours"]) * 3600
+        for i, b in enumerate(shaft.bearings):
+            row = next(rows)["spectrum_life"]
+            f = np.array([found.point.loads[k][i], at40.loads[k][i]])
+            sp = jb.BearingSpectrum(np.hypot(f[:, 0], f[:, 1]), f[:, 2], w, t)
+            basic = jb.spectrum_life(b.rolling, sp)
+            mod = jb.spectrum_modified_life(b.rolling, sp, viscosity=20e-6, reliability=0.95,
+                                            contamination=0.5)
+            assert row["L10_hours"] == pytest.approx(float(basic.duration) / 3600, rel=1e-9)
+            assert row["Lnm_hours"] == pytest.approx(float(mod.duration) / 3600, rel=1e-9)
+            C = 20.3e3 if k == 0 else 27.0e3
+            P = np.array([0.5 * _normal_force(data), 0.25 * _normal_force(data)])
+            n = w * t / (2 * math.pi)
+            hand = t.sum() / np.sum(n / ((C / P) ** 3 * 1e6)) / 3600
+            assert row["L10_hours"] == pytest.approx(hand, rel=3e-3)
+            assert row["bins_radial_load_N"] == pytest.approx(P.tolist(), rel=1e-3)
+
+
+def test_bearings_take_the_ratings_speed_rpm():
+    """[bearings] with the speed given as the rating's ``speed_rpm`` (no ``speed_rad_s``):
+    accepted, the pinion speed converted (parsing only)."""
+    from jaxgear.io._bearings_table import pinion_speed
+
+    data = _rated(_data(speed=None))
+    data["operating"]["speed_rpm"] = 3000.0
+    case = jio.parse_case(data)
+    assert case.bearings is not None
+    assert pinion_speed(data["operating"]) == pytest.approx(100 * math.pi, rel=1e-12)

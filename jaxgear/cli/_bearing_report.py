@@ -55,6 +55,21 @@ def _life(life) -> dict | None:
     return out
 
 
+def _spectrum_life(life) -> dict | None:
+    """A :class:`~jaxgear.dynamics.SpectrumLife` as summary keys (None: not rated)."""
+    if life is None:
+        return None
+    sp, basic, m = life
+    out = {"bins_radial_load_N": np.asarray(sp.radial).tolist(),
+           "bins_axial_load_N": np.asarray(sp.axial).tolist(),
+           "equivalent_load_N": float(basic.equivalent_load),
+           "L10_revolutions": float(basic.revolutions),
+           "L10_hours": float(basic.duration) / _HOUR}
+    if m is not None:
+        out |= {"Lnm_revolutions": float(m.revolutions), "Lnm_hours": float(m.duration) / _HOUR}
+    return out
+
+
 @functools.singledispatch
 def bearing_outputs(form, case) -> dict | None:
     """``summary.json``'s ``bearings`` section of a case of ``form``: None (a form whose
@@ -67,11 +82,13 @@ def _(form: PairForm, case) -> dict | None:
     """A ``lumped3d`` pair's rolling bearings (None without): per bearing its name (the case
     file's table), kind, position, shaft speed, load f = (F_x, F_y, F_z, M_x, M_y) (N, N·m),
     F_r and F_a, tones (orders of its shaft's speed, and Hz at it), and, where it has its
-    ratings, its lives (revolutions, and hours at the case's speed)."""
+    ratings, its lives (revolutions, and hours at the case's speed) and, under the case's
+    rating spectrum, ``spectrum_life`` (each bin's loads, P_eq, L10 and L_nm by
+    Palmgren–Miner)."""
     found = case_bearings(case)
     if found is None:
         return None
-    point, speeds, lives, settings = found
+    point, speeds, lives, settings, spectrum = found
     rows = []
     for k, shaft in enumerate(point.shafts):
         for i, b in enumerate(shaft.bearings):
@@ -93,6 +110,8 @@ def _(form: PairForm, case) -> dict | None:
                 else {t: v * speed / (2 * math.pi) for t, v in orders.items()},
                 "life": _life(lives[k][i]),
             })
+            if spectrum is not None:
+                rows[-1]["spectrum_life"] = _spectrum_life(spectrum[k][i])
     return {
         "speed_rad_s": case.speed if case.speed > 0 else None,
         "life_settings": None if settings is None else {
@@ -128,6 +147,10 @@ def bearing_run_lines(section: dict | None) -> list[str]:
                     continue
                 h = life.get(f"{key}_hours")
                 text += f"; {name} {_e(rev / 1e6)} M rev" + (f" ({_e(h)} h)" if h else "")
+        sp = b.get("spectrum_life")
+        if sp:
+            text += f"; under the rating spectrum L10 {_e(sp['L10_hours'])} h" + (
+                f", L_nm {_e(sp['Lnm_hours'])} h" if "Lnm_hours" in sp else "")
         tones = ", ".join(f"{TONE_NAMES[t]} {v:.4g}" for t, v in b["tones_orders"].items())
         lines.append(f"{text}; tones (orders of its shaft) {tones}")
     return lines

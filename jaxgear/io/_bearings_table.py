@@ -9,12 +9,13 @@ bearings needs beyond their loads and ratings (docs/bearings.md, "In the report"
 
 The bearings themselves are the ``[scene]`` shafts' rolling bearings (``catalogue`` or
 ``kind``, with ``dynamic_rating_kN`` where the catalogue has no C); the speed is
-``[operating] speed_rad_s`` (the pinion's). Each key is checked at load, in one line in the
+``[operating] speed_rad_s`` (the pinion's), else the rating's ``speed_rpm``. Each key is checked at load, in one line in the
 file's units; :func:`bearing_life_of` gives the SI settings.
 """
 
 from __future__ import annotations
 
+import math
 from typing import ClassVar, NamedTuple
 
 import pydantic
@@ -24,7 +25,8 @@ from fem_prep import schema as sc
 from ._lubricant_table import VISCOSITY_RANGE, tribology_of
 from ._sections import Section, number
 
-__all__ = ["BearingLifeSettings", "BearingsSection", "bearing_life_of", "read_bearings"]
+__all__ = ["BearingLifeSettings", "BearingsSection", "bearing_life_of", "pinion_speed",
+           "read_bearings"]
 
 
 class BearingLifeSettings(NamedTuple):
@@ -34,6 +36,15 @@ class BearingLifeSettings(NamedTuple):
     reliability: float
     viscosity: float
     contamination: float
+
+
+def pinion_speed(operating: dict) -> float:
+    """The pinion speed (rad/s) of a case file's ``[operating]`` table: ``speed_rad_s`` where
+    > 0, else the rating's ``speed_rpm`` (converted), else 0."""
+    speed = float(operating.get("speed_rad_s", 0.0))
+    if speed <= 0 and operating.get("speed_rpm") is not None:
+        speed = float(operating["speed_rpm"]) * 2.0 * math.pi / 60.0
+    return speed
 
 
 class BearingsSection(Section):
@@ -65,11 +76,11 @@ def read_bearings(data: dict, scene, lubricant) -> BearingsSection | None:
     if section.viscosity_mm2_per_s is None and lubricant is None:
         raise sc.fail("bearings", "viscosity_mm2_per_s", "missing: ISO 281's modified life "
                       "needs the oil's viscosity (give it, or a [lubricant] table)")
-    speed = data.get("operating", {}).get("speed_rad_s", 0.0)
-    if not speed > 0:
+    if not pinion_speed(data.get("operating", {})) > 0:
         raise sc.fail("operating", "speed_rad_s", "out of range with [bearings], allowed > 0 "
                       "(the bearings' lives in hours and ISO 281's rated viscosity need the "
-                      "pinion speed)", speed)
+                      "pinion speed; or the rating's speed_rpm)",
+                      data.get("operating", {}).get("speed_rad_s", 0.0))
     for where, shaft in (("scene.pinion_shaft", scene.pinion_shaft),
                          ("scene.gear_shaft", scene.gear_shaft)):
         for i, b in enumerate(() if shaft is None else shaft.bearings):
