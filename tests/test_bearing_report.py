@@ -277,7 +277,8 @@ def test_rating_sheet_lines_hold_the_section(report):
     10⁶ revolutions and hours), the settings named."""
     _, section = report
     lines = bearing_rating_lines(section)
-    rows = [t for t in lines if t.startswith("| pinion_shaft") or t.startswith("| gear_shaft")]
+    head = lines.index("| bearing | F_r per bin (N) | P_eq (N) | L10h (h) | L_nmh (h) |")
+    rows = [t for t in lines[:head] if t.startswith(("| pinion_shaft", "| gear_shaft"))]
     assert len(rows) == 4 and "viscosity 20 mm²/s" in "\n".join(lines)
     for row, b in zip(rows, section["bearings"], strict=True):
         cells = [c.strip() for c in row.strip("|").split("|")]
@@ -285,6 +286,11 @@ def test_rating_sheet_lines_hold_the_section(report):
         assert float(cells[2]) == pytest.approx(b["radial_load_N"], rel=1e-3)
         assert float(cells[5]) == pytest.approx(b["life"]["L10_revolutions"] / 1e6, rel=1e-3)
         assert float(cells[9]) == pytest.approx(b["life"]["Lnm_hours"], rel=1e-3)
+    spectrum = [t for t in lines[head:] if t.startswith(("| pinion_shaft", "| gear_shaft"))]
+    assert len(spectrum) == 4
+    for row, b in zip(spectrum, section["bearings"], strict=True):
+        cells = [c.strip() for c in row.strip("|").split("|")]
+        assert float(cells[3]) == pytest.approx(b["spectrum_life"]["L10_hours"], rel=1e-3)
 
 
 @pytest.mark.slow  # a whole jaxgear run with its dynamic factor sweep

@@ -113,7 +113,7 @@ def _(form: PairForm, case) -> dict | None:
             if spectrum is not None:
                 rows[-1]["spectrum_life"] = _spectrum_life(spectrum[k][i])
     return {
-        "speed_rad_s": case.speed if case.speed > 0 else None,
+        "speed_rad_s": None if speeds is None else float(speeds[0]),
         "life_settings": None if settings is None else {
             "reliability": settings.reliability,
             "viscosity_mm2_per_s": settings.viscosity * 1e6,
@@ -199,18 +199,18 @@ def bearing_rating_lines(section: dict | None) -> list[str]:
         return []
     speed = section["speed_rad_s"]
     settings = section["life_settings"]
-    lines = ["", "## Rolling bearings (ISO 281, ISO/TS 16281)", "",
-             "Each bearing's load at the operating point of the case's quasi-static solve "
-             "(its shaft's push on it), its basic rating life L10 = (C/P)^p, ISO/TS 16281's "
-             "reference rating life L10r of its balls' loads"
-             + (f", and ISO 281's modified life L_nm = a1 a_ISO L10 (reliability "
+    modified = (f", and ISO 281's modified life L_nm = a1 a_ISO L10 (reliability "
                 f"{settings['reliability']:.4g}, viscosity {settings['viscosity_mm2_per_s']:.4g}"
                 f" mm²/s, e_C {settings['contamination_factor']:.4g})" if settings else
                 " (L_nm: with a [bearings] table)")
-             + (f"; hours at {speed:g} rad/s (pinion)." if speed else
-                "; in revolutions ([operating] speed_rad_s gives hours)."), "",
-             "| bearing | kind | F_r (N) | F_a (N) | P (N) | L10 (10⁶ rev) | L10h (h) "
-             "| L10r (10⁶ rev) | L_nm (10⁶ rev) | L_nmh (h) | a_ISO |",
+    hours = (f"; hours at {speed:g} rad/s (pinion)." if speed else
+             "; in revolutions ([operating] speed_rad_s gives hours).")
+    intro = ("Each bearing's load at the operating point of the case's quasi-static solve (its "
+             "shaft's push on it), its basic rating life L10 = (C/P)^p, ISO/TS 16281's "
+             "reference rating life L10r of its balls' loads" + modified + hours)
+    lines = ["", "## Rolling bearings (ISO 281, ISO/TS 16281)", "", intro, "",
+             ("| bearing | kind | F_r (N) | F_a (N) | P (N) | L10 (10⁶ rev) | L10h (h) "
+              "| L10r (10⁶ rev) | L_nm (10⁶ rev) | L_nmh (h) | a_ISO |"),
              "|---|---|---|---|---|---|---|---|---|---|---|"]
     for b in section["bearings"]:
         life = b["life"] or {}
@@ -225,4 +225,15 @@ def bearing_rating_lines(section: dict | None) -> list[str]:
             f"| {_cell(life.get('L10_hours'))} | {_cell(mega('L10r_revolutions'))} "
             f"| {_cell(mega('Lnm_revolutions'))} | {_cell(life.get('Lnm_hours'))} "
             f"| {_cell(life.get('a_ISO'))} |")
+    spectra = [(b["name"], b.get("spectrum_life")) for b in section["bearings"]
+               if b.get("spectrum_life")]
+    if spectra:
+        lines += ["", ("Under the rating's load spectrum ([rating.spectrum]: each bin's loads "
+                       "at its own operating point, the bins' damage by Palmgren–Miner):"), "",
+                  "| bearing | F_r per bin (N) | P_eq (N) | L10h (h) | L_nmh (h) |",
+                  "|---|---|---|---|---|"]
+        for name, sp in spectra:
+            bins = " / ".join(f"{v:.4g}" for v in sp["bins_radial_load_N"])
+            lines.append(f"| {name} | {bins} | {sp['equivalent_load_N']:.4g} "
+                         f"| {sp['L10_hours']:.4g} | {_cell(sp.get('Lnm_hours'))} |")
     return lines

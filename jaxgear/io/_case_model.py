@@ -49,8 +49,8 @@ from ..scenes import (
 )
 from ._bearings_table import bearing_life_of, pinion_speed
 from ._case import Case, PairForm, TrainForm
-from ._rating_table import ratings_of
 from ._planetary_spec import InternalMeshForm, PlanetaryForm
+from ._rating_table import ratings_of
 from ._scene_spec import SceneSpec, load_bodies, spec_damping
 from ._whine_table import WHINE_METHODS, whine_of
 
