@@ -444,7 +444,7 @@ def case_bearings(case: Case) -> CaseBearings | None:
         return None
     point = operating_point(case, spec)
     ratio = (1.0, case.pair.pinion.teeth / case.pair.gear.teeth)
-    w = pinion_speed((case.raw or {}).get("operating", {}))
+    w = case.speed if case.speed > 0 else pinion_speed((case.raw or {}).get("operating", {}))
     speeds = tuple(w * r for r in ratio) if w > 0 else None
     settings = bearing_life_of(case)
     extra = {} if settings is None else settings._asdict()
