@@ -379,3 +379,54 @@ def test_bearings_take_the_ratings_speed_rpm():
     case = jio.parse_case(data)
     assert case.bearings is not None
     assert pinion_speed(data["operating"]) == pytest.approx(100 * math.pi, rel=1e-12)
+
+
+def test_operating_life_without_speed_and_its_refusals():
+    """jaxgear.bearings.operating_life of a 6205 at the displacement that carries 2 kN radially:
+    L10 = (C/F_r)³ 10⁶ (ISO 281's P = F_r without axial load) in revolutions, no hours without
+    a speed; L_nm asked without a viscosity or a speed refused in one line."""
+    six = jb.catalogue("6205")
+    load = np.array([2000.0, 0.0, 0.0, 0.0, 0.0])
+    d = np.asarray(jb.solve_displacement(six, load).displacement)
+    life = jb.operating_life(six, load, d)
+    assert life.radial == pytest.approx(2000.0) and life.duration is None
+    assert life.revolutions == pytest.approx((14.8e3 / 2000.0) ** 3 * 1e6, rel=1e-12)
+    assert life.modified is None and life.reference is not None
+    for kwargs, word in (({"speed": 100.0}, "viscosity = None"),
+                         ({"viscosity": 2e-5}, "speed = None")):
+        with pytest.raises(ValueError) as err:
+            jb.operating_life(six, load, d, contamination=0.5, **kwargs)
+        assert str(err.value).startswith(f"operating_life: {word}") and "\n" not in str(err.value)
+
+
+def _captured(monkeypatch, module):
+    """The figure a plot function of ``module`` saves, kept instead of written."""
+    kept = {}
+    monkeypatch.setattr(module, "savefig", lambda fig, path: kept.setdefault("fig", fig))
+    return kept
+
+
+def test_tones_drawn_on_the_campbell_diagram_and_the_waterfall(report, monkeypatch):
+    """The Campbell diagram's and the waterfall's tone lines are f = order Ω / 2π of the pinion
+    speed Ω, one per shaft and tone, labelled with the order."""
+    from jaxgear.cli._plots import _campbell, _whine
+
+    tones = bearing_tone_orders(report[0])
+    summary = {"case": "t", "speeds_rad_s": [100.0, 3000.0], "natural_frequencies_Hz": [0.0, 900.0],
+               "mesh_energy_share": [0.0, 0.5], "critical_speeds": [], "bearing_tones": tones}
+    kept = _captured(monkeypatch, _campbell)
+    _campbell.campbell_plot("unused.png", summary, 45)
+    lines = {ln.get_label(): ln for ln in kept["fig"].axes[0].get_lines()}
+    lines_w = _captured(monkeypatch, _whine)
+    s = np.linspace(100.0, 3000.0, 5)
+    _whine.whine_waterfall_plot("unused.png", s, 45 * s / (2 * np.pi), [1.0, 2.0],
+                                np.ones((5, 2)), label="bearing force (N)", title="t",
+                                tones=bearing_tone_lines(report[0]))
+    drawn_w = {ln.get_label(): ln for ln in lines_w["fig"].axes[0].get_lines()}
+    for t in tones:
+        shaft = t["bearing"].split(".")[0].replace("_", " ")
+        for drawn, label in ((lines, f"{shaft} {t['tone'].upper()} ({t['order']:.3g})"),
+                             (drawn_w, f"{shaft} {t['tone'].upper()} ({t['order']:.3g}×)")):
+            x, y = (np.asarray(v, float) for v in drawn[label].get_data())
+            assert np.allclose(y, t["order"] * x / (2 * np.pi), rtol=1e-12)
+    assert sum(" FTF " in k or " BPFO " in k for k in lines) == 4
