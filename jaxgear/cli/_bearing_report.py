@@ -159,9 +159,10 @@ def bearing_run_lines(section: dict | None) -> list[str]:
 def bearing_tone_orders(case) -> list[dict]:
     """Each rolling bearing's tones as orders of the pinion speed (its own order times its
     shaft's turns per pinion turn: 1, z1/z2), for the Campbell diagram and the spectra:
-    ``[{bearing, tone, order}]``; [] for a case without rolling bearings."""
-    spec = getattr(case, "scene", None)
-    if spec is None or getattr(spec, "model", None) != "lumped3d" or not spec.rolling:
+    ``[{bearing, tone, order}]``; [] for a case without rolling bearings (a pair's shafts take
+    them; a train's, a stage's or a gearbox's do not)."""
+    spec = case.scene if isinstance(case.form, PairForm) else None  # a pair's shafts only
+    if spec is None or spec.model != "lumped3d" or not spec.rolling:
         return []
     ratio = (1.0, case.pair.pinion.teeth / case.pair.gear.teeth)
     out = []

@@ -439,7 +439,7 @@ def case_bearings(case: Case) -> CaseBearings | None:
     (``[rating.spectrum]``), each bin's operating point at its torque and the bins' life by
     Palmgren–Miner (:class:`CaseBearings`); None for a case without rolling bearings. The
     pinion speed: ``[operating] speed_rad_s``, else the rating's ``speed_rpm``."""
-    spec = case.scene
+    spec = case.scene if isinstance(case.form, PairForm) else None
     if spec is None or spec.model != "lumped3d" or not spec.rolling:
         return None
     point = operating_point(case, spec)
