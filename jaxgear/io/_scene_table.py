@@ -239,9 +239,9 @@ class BearingSection(Section):
         given = [k for k in _RATINGS if k in self.given]
         if not given:
             return
-        deep = (self.kind == "deep_groove_ball"
-                or (self.catalogue is not None and CATALOGUE[self.catalogue][0].__name__
-                    == "DeepGrooveBall"))
+        kind = (ROLLING_KINDS[self.kind] if self.catalogue is None
+                else CATALOGUE[self.catalogue][0])
+        deep = issubclass(kind, DeepGrooveBall)  # ISO 281's f0 table: radial ball bearings
         if "iso281_f0" in self.given and not deep:
             raise sc.fail(where, "iso281_f0", "not a key of this kind: ISO 281's f0 is a deep "
                           "groove ball bearing's")
