@@ -178,6 +178,12 @@ RUNS = {  # name: (argv after the command, output file(s) to compare, in the def
         SUMMARY_AND_SWEEP,
         False,
     ),
+    # on rolling bearings from their geometry: the operating point, the bearings' lives and tones
+    "run-example-accessory-lumped3d-rolling": (
+        ["run", "examples/accessory-lumped3d-rolling.toml"],
+        SUMMARY_AND_SWEEP,
+        False,
+    ),
     "run-example-idler-train-lumped3d": (
         ["run", "examples/idler-train-lumped3d.toml"],
         SUMMARY_AND_SWEEP,

@@ -49,7 +49,7 @@ TRACED = ("check_keys", "subtable", "number", "number_list", "choice", "boolean"
 #: key's unit is the longest run of these words (and ``per``) at its end, read by :func:`unit`
 UNIT_WORDS = {
     "mm": "mm", "um": "µm", "m": "m", "mm2": "mm²", "m2": "m²", "m3": "m³",
-    "N": "N", "Nm": "N·m", "kg": "kg", "GPa": "GPa", "MPa": "MPa", "deg": "deg", "rad": "rad",
+    "N": "N", "kN": "kN", "Nm": "N·m", "kg": "kg", "GPa": "GPa", "MPa": "MPa", "deg": "deg", "rad": "rad",
     "s": "s", "h": "h", "Hz": "Hz", "rpm": "1/min", "SI": "SI", "HB": "HB", "K": "K", "C": "°C",
 }
 #: the second word of a two-word unit without ``per`` that divides (a rate, a density):
@@ -624,6 +624,12 @@ def case_samples() -> Iterator[tuple[dict, str | None]]:
             yield data, None
     for path in sorted((ROOT / "examples").glob("*.toml")):
         yield tomllib.loads(path.read_text(encoding="utf-8")), str(path.parent)
+    # the rolling bearings' modified life: the rolling-bearing example at a speed with [bearings]
+    data = tomllib.loads((ROOT / "examples" / "accessory-lumped3d-rolling.toml").read_text("utf-8"))
+    data["operating"]["speed_rad_s"] = 300.0
+    data["bearings"] = {"contamination_factor": 0.5, "reliability_percent": 95.0,
+                        "viscosity_mm2_per_s": 20.0}
+    yield data, str(ROOT / "examples")
     base = tomllib.loads(jio.embedded_case_text("accessory-spur"))
     for text in SAMPLE_OVERLAYS.values():
         data = copy.deepcopy(base)
@@ -1071,6 +1077,11 @@ PAIR_NOTES = {
     "levels (time at level) and scaled to `life_h`. \"Required\" below is within the form "
     "chosen. A train's or a planetary stage's: the same keys for its input member, carried to "
     "each mesh (docs/rating.md, \"Load spectrum and life\").",
+    "bearings": "ISO 281's modified rating life L_nm of the `[scene]` shafts' rolling bearings "
+    "(`catalogue` or `kind`, each with its ratings `dynamic_rating_kN`, `static_rating_kN` and, "
+    "deep groove, `iso281_f0` where the catalogue entry has none) at `[operating] speed_rad_s` "
+    "(> 0); the viscosity defaults to `[lubricant]`'s at its oil temperature. Without the table "
+    "`jaxgear run` reports L10 and L10r only (docs/bearings.md, \"In the report\").",
 }
 
 

@@ -29,6 +29,7 @@ from ..io import (
 )
 from ..planetary import PlanetaryModel
 from ..scenes import HOUSING_BAND, housing_band_hz
+from ._bearing_report import bearing_tone_lines
 from ._plots import whine_level_plot, whine_order_plot, whine_waterfall_plot
 
 __all__ = ["HousedRun", "housed_run", "housing_outputs", "housing_run_line", "hybrid_seats_line",
@@ -174,7 +175,7 @@ def housing_outputs(run: HousedRun, case, w, folder: str, invalid) -> dict:
         whine_waterfall_plot(os.path.join(folder, "erp_waterfall.png"), speeds, f1, orders[wf],
                              np.where(in_band, power, np.nan)[:, wf], label="ERP (W)",
                              title=case.name, invalid=invalid, power=True, limit_hz=band,
-                             order_labels=marks)
+                             order_labels=marks, tones=bearing_tone_lines(case))
         files += ["erp_orders.png", "erp_waterfall.png"]
         for k, name in enumerate(names):
             key = _file_key(name)
@@ -187,7 +188,7 @@ def housing_outputs(run: HousedRun, case, w, folder: str, invalid) -> dict:
             whine_waterfall_plot(os.path.join(folder, f"point_{key}_waterfall.png"), speeds, f1,
                                  orders[wf], v[:, wf], label=f"{name} velocity (mm/s)",
                                  title=case.name, invalid=invalid, limit_hz=band,
-                                 order_labels=marks)
+                                 order_labels=marks, tones=bearing_tone_lines(case))
             files += [f"point_{key}_orders.png", f"point_{key}_waterfall.png"]
     # the operating deflection shapes: each drawn order at its loudest speed in the band
     from fem_prep.housing import write_housing_ods_vtu  # lazy: meshio, for this file only

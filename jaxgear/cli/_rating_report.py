@@ -35,6 +35,7 @@ from ..rating import (
     transverse_load_factor,
     with_measured,
 )
+from ._bearing_report import bearing_rating_lines
 from ._plots import root_stress_plot
 from ._rating_inputs import modification_inputs
 from ._rating_sheet import RATE, inputs_of, k_v_note, rating_lines
@@ -388,13 +389,17 @@ def rating_outputs(
 
 
 def write_rating_table(
-    case: Case, out_dir: str, section: dict, tribology: dict | None = None
+    case: Case, out_dir: str, section: dict, tribology: dict | None = None,
+    bearings: dict | None = None,
 ) -> None:
     """``rating.md`` of the case's final ``rating`` ``section`` (``summary.json``'s: a train's
     per-mesh lists), written atomically into ``out_dir``: ``jaxgear run`` writes it once, after
     every step that adds to the section (the measured K_v, the root stress at speed); with the
-    run's ``tribology`` section, its scuffing and micropitting lines after the rating's."""
+    run's ``tribology`` section, its scuffing and micropitting lines after the rating's; with
+    its ``bearings`` section, the rolling bearings' lives after those
+    (:func:`jaxgear.cli._bearing_report.bearing_rating_lines`)."""
     lines, extra = rating_table_lines(case, section), tribology_rating_lines(tribology, case)
+    extra += bearing_rating_lines(bearings)
     if extra and lines and not lines[-1]:
         extra = extra[1:]  # one blank line between
     write_rating_md(out_dir, lines + extra)

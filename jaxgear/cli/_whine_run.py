@@ -17,6 +17,7 @@ import numpy as np
 
 from ..dynamics import whine_response
 from ..io import build_dynamic_model, whine_of, write_csv, write_json
+from ._bearing_report import bearing_tone_lines
 from ._housing_run import housed_run, housing_outputs, housing_run_line
 from ._plots import whine_order_plot, whine_waterfall_plot
 
@@ -155,6 +156,7 @@ def whine_outputs(case, out_dir: str, solved: SolvedWhine | None = None) -> dict
         whine_waterfall_plot(
             os.path.join(folder, "bearing_waterfall.png"), speeds, f1, orders[wf],
             br_total[:, wf], label="bearing force (N)", title=case.name, invalid=invalid,
+            tones=bearing_tone_lines(case),
         )
     if planetary is not None:  # the supports' lines in the fixed frame (a housing's view)
         _fixed_frame_waterfall(folder, case.name, speeds, f1, planetary["section"], invalid)

@@ -30,6 +30,7 @@ from ..io import (
 )
 from . import scene as cli_scene, sweep as cli_sweep
 from ._acoustics_run import acoustic_outputs, acoustics_run_line  # noqa: F401 (the hook)
+from ._bearing_report import bearing_outputs, bearing_run_lines
 from ._deviation_run import deviation_line, deviation_outputs
 from ._optimise import check_settings, optimise_case, settings_from_case
 from ._paths import check_case_outputs, staged_outputs
@@ -352,8 +353,12 @@ def run_case(
     tribology = tribology_outputs(case, out_dir, res["modified", "exact"])
     if tribology is not None:
         summary["tribology"] = tribology
-        if complete and rating is not None:  # rating.md again, with the tribology lines
-            write_rating_table(case, out_dir, rating, tribology)
+    # rolling bearings from geometry: their loads, lives and tones (docs/bearings.md)
+    bearings = bearing_outputs(case.form, case)
+    if bearings is not None:
+        summary["bearings"] = bearings
+    if complete and rating is not None and (tribology or bearings):  # rating.md with them
+        write_rating_table(case, out_dir, rating, tribology, bearings)
 
     write_json(os.path.join(out_dir, "summary.json"), summary)
     return summary
@@ -494,7 +499,8 @@ def run_kind(case: Case, out: str, args, settings) -> dict:
     if not last:
         # rating.md once, of the final section (a planetary stage's: written by its own files)
         if summary.get("rating") is not None and not isinstance(case.form, PlanetaryForm):
-            write_rating_table(case, out, summary["rating"], summary.get("tribology"))
+            write_rating_table(case, out, summary["rating"], summary.get("tribology"),
+                               summary.get("bearings"))
         summary["complete"] = True
         write_json(summary_path, summary)
     print("\n".join(run_lines(case.form, case, summary)))
@@ -536,7 +542,8 @@ def _(form: PairForm, case: Case, out: str, args, complete: bool) -> dict:
         summary["quasi_static_scene"] = scene_section
         summary["complete"] = bool(complete)
         if complete and summary.get("rating") is not None:  # the run ends here
-            write_rating_table(case, out, summary["rating"], summary.get("tribology"))
+            write_rating_table(case, out, summary["rating"], summary.get("tribology"),
+                               summary.get("bearings"))
         write_json(os.path.join(out, "summary.json"), summary)
     return summary
 
@@ -646,6 +653,7 @@ def _(form: PairForm, case: Case, summary: dict) -> list[str]:
         lines
         + rating_run_line(summary.get("rating"))
         + tribology_run_line(summary.get("tribology"))
+        + bearing_run_lines(summary.get("bearings"))
         + whine_run_line(summary.get("whine"))
     )
 

@@ -29,6 +29,7 @@ import numpy as np
 
 from .. import DynamicsResult, dynamics, io as case_io
 from ..io import Case
+from ._bearing_report import bearing_tone_orders
 from ._options import range_values
 from ._paths import check_case_outputs, staged_outputs
 from ._progress import inner_bars, progress as progress_bar
@@ -300,6 +301,9 @@ def sweep_case_run(
             )
             for z in orders
         ]
+    tones = bearing_tone_orders(case)  # rolling bearings' tones, orders of the pinion speed
+    if tones:
+        summary["bearing_tones"] = tones
     summary.update(kind.resonance_keys(model, modes, speeds, flexible, at))
     summary.update({"speeds_rad_s": clean(speeds), "mesh_frequency_Hz": clean(r.mesh_frequency)})
     summary.update(mesh_responses(model, r, speeds))

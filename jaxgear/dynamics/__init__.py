@@ -44,6 +44,9 @@ from ._bearings import (
     OperatingPoint as OperatingPoint,
     bearing_forces as bearing_forces,
     bearings_at_operating_point as bearings_at_operating_point,
+    SpectrumLife as SpectrumLife,
+    operating_lives as operating_lives,
+    spectrum_lives as spectrum_lives,
 )
 from ._build import (
     dynamic_model as dynamic_model,

@@ -1,6 +1,7 @@
 """The bearings of a quasi-static solution (the part of the case builders that takes a scene,
 not a case): their mean forces (:func:`bearing_forces`), and the rolling bearings' operating
-point, the fixed point of their loads and stiffnesses (:func:`bearings_at_operating_point`)."""
+point, the fixed point of their loads and stiffnesses (:func:`bearings_at_operating_point`),
+and their lives there (:func:`operating_lives`; under a load spectrum :func:`spectrum_lives`)."""
 
 from __future__ import annotations
 
@@ -15,10 +16,19 @@ import numpy as np
 from .._contact import ContactLaw, ExactContact
 from .._quasi_static import QuasiStaticResult, quasi_static
 from .._util import check_integer, check_real
-from ..bearings import solve_displacement
+from ..bearings import (
+    BearingLife,
+    BearingSpectrum,
+    ModifiedLife,
+    operating_life,
+    solve_displacement,
+    spectrum_life,
+    spectrum_modified_life,
+)
 from ..scenes import Bearing, Grounded, bearing_dofs, grounded
 
-__all__ = ["OperatingPoint", "bearing_forces", "bearings_at_operating_point"]
+__all__ = ["OperatingPoint", "SpectrumLife", "bearing_forces", "bearings_at_operating_point",
+           "operating_lives", "spectrum_lives"]
 
 
 @functools.singledispatch
@@ -247,3 +257,107 @@ def _shown(f) -> str:
     """A load (5,) in a message: (F_x, F_y, F_z) N, (M_x, M_y) N·m."""
     f = np.asarray(f, float)
     return (f"F = ({f[0]:.4g}, {f[1]:.4g}, {f[2]:.4g}) N, M = ({f[3]:.4g}, {f[4]:.4g}) N·m")
+
+
+def operating_lives(point: OperatingPoint, speeds, *, viscosity=None, reliability=0.9,
+                    contamination=None) -> tuple:
+    """Each rolling bearing's lives at the operating point ``point``
+    (:func:`bearings_at_operating_point`): :func:`jaxgear.bearings.operating_life` of its load
+    and displacement there at its shaft's speed, the inner ring turning.
+
+    Args:
+        point: the :class:`OperatingPoint` of a scene's shafts.
+        speeds: each shaft's speed (rad/s, > 0; its magnitude: the inner ring's relative to
+            the outer), one per shaft of ``point``, or None (the lives in revolutions only).
+        viscosity, reliability, contamination: ISO 281's modified life
+            (:func:`jaxgear.bearings.modified_life`); ``contamination`` None: no L_nm.
+
+    Returns:
+        Per shaft, per bearing, its :class:`~jaxgear.bearings.OperatingLife`, or None for a
+        linear bearing and a rolling one without ``dynamic_rating``.
+
+    Raises:
+        ValueError: ``speeds`` not one per shaft; what :func:`~jaxgear.bearings.operating_life`
+            refuses (one line).
+    """
+    if speeds is not None and len(speeds) != len(point.shafts):
+        raise ValueError(f"operating_lives: speeds has {len(speeds)} entries: allowed one per "
+                         f"shaft ({len(point.shafts)})")
+    out = []
+    for k, (shaft, loads, states) in enumerate(zip(point.shafts, point.loads, point.states,
+                                                   strict=True)):
+        row = []
+        for b, f, state in zip(shaft.bearings, loads, states, strict=True):
+            if b.rolling is None or f is None or b.rolling.dynamic_rating is None:
+                row.append(None)
+                continue
+            row.append(operating_life(
+                b.rolling, np.asarray(f, float), np.asarray(state.displacement, float),
+                None if speeds is None else abs(float(speeds[k])), viscosity=viscosity,
+                reliability=reliability, contamination=contamination))
+        out.append(tuple(row))
+    return tuple(out)
+
+
+class SpectrumLife(NamedTuple):
+    """A rolling bearing's life under a load spectrum (:func:`spectrum_lives`): ``spectrum``
+    its :class:`~jaxgear.bearings.BearingSpectrum` (each bin's F_r, F_a, shaft speed and time),
+    ``basic`` ISO 281's :class:`~jaxgear.bearings.BearingLife` by Palmgren–Miner and
+    ``modified`` its :class:`~jaxgear.bearings.ModifiedLife` (None without the settings)."""
+
+    spectrum: BearingSpectrum
+    basic: BearingLife
+    modified: ModifiedLife | None
+
+
+def spectrum_lives(points, speeds, durations, *, viscosity=None, reliability=0.9,
+                   contamination=None) -> tuple:
+    """Each rolling bearing's life under a load spectrum of k bins, each bin's loads those of
+    its operating point (:func:`bearings_at_operating_point` at the bin's torque): ISO 281's
+    :func:`~jaxgear.bearings.spectrum_life` and, with ``contamination``,
+    :func:`~jaxgear.bearings.spectrum_modified_life` of the bins' F_r = √(F_x² + F_y²) and
+    F_a = F_z.
+
+    Args:
+        points: (k,) the bins' :class:`OperatingPoint` (the same shafts and bearings), None
+            for an unloaded bin (no torque: no load, no damage).
+        speeds: (k, n) each bin's speed of each of the n shafts (rad/s, magnitudes).
+        durations: (k,) the time run in each bin (s).
+        viscosity, reliability, contamination: as :func:`operating_lives`.
+
+    Returns:
+        Per shaft, per bearing, its :class:`SpectrumLife`, or None (a linear bearing, a rolling
+        one without ``dynamic_rating``).
+
+    Raises:
+        ValueError: no loaded bin; ``speeds`` or ``durations`` not shaped by the bins; what
+            the bearing package refuses (one line).
+    """
+    loaded = [p for p in points if p is not None]
+    if not loaded:
+        raise ValueError("spectrum_lives: points has no loaded bin: allowed at least one "
+                         "OperatingPoint")
+    k, ref = len(points), loaded[0]
+    speeds, durations = np.asarray(speeds, float), np.asarray(durations, float)
+    if speeds.shape != (k, len(ref.shafts)) or durations.shape != (k,):
+        raise ValueError(f"spectrum_lives: speeds {speeds.shape} and durations "
+                         f"{durations.shape}: allowed ({k}, {len(ref.shafts)}) and ({k},)")
+    out = []
+    for s, shaft in enumerate(ref.shafts):
+        row = []
+        for i, b in enumerate(shaft.bearings):
+            if b.rolling is None or b.rolling.dynamic_rating is None:
+                row.append(None)
+                continue
+            f = np.array([np.zeros(5) if p is None else np.asarray(p.loads[s][i], float)
+                          for p in points])
+            spectrum = BearingSpectrum(np.hypot(f[:, 0], f[:, 1]), f[:, 2], speeds[:, s],
+                                       durations)
+            modified = None
+            if contamination is not None:
+                modified = spectrum_modified_life(b.rolling, spectrum, viscosity=viscosity,
+                                                  reliability=reliability,
+                                                  contamination=contamination)
+            row.append(SpectrumLife(spectrum, spectrum_life(b.rolling, spectrum), modified))
+        out.append(tuple(row))
+    return tuple(out)

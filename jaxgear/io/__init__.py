@@ -63,6 +63,11 @@ from ._housing_table import (
     check_housing_band as check_housing_band,
     housing_surface as housing_surface,
 )
+from ._bearings_table import (
+    BearingLifeSettings as BearingLifeSettings,
+    BearingsSection as BearingsSection,
+    bearing_life_of as bearing_life_of,
+)
 from ._load import (
     check_case as check_case,
     embedded_case_text as embedded_case_text,

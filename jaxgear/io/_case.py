@@ -287,6 +287,9 @@ class Case(MeshSettings):
             or None where the file has no such table; :func:`jaxgear.io.whine_of`,
             :func:`~jaxgear.io.acoustics_of`, :func:`~jaxgear.io.tribology_of` and
             :func:`~jaxgear.io.ratings_of` give their SI inputs.
+        bearings: the case file's ``[bearings]`` (:class:`jaxgear.io.BearingsSection`: the
+            rolling bearings' modified life settings), or None;
+            :func:`~jaxgear.io.bearing_life_of` gives them in SI.
         input_files: the files the case was read from, absolute paths: its case file and the
             files it names (body files, a ring body file, a housing's ``mesh_file``, a
             gearbox's stage case files and theirs), set by :func:`jaxgear.io.load_case`; () for
@@ -324,6 +327,7 @@ class Case(MeshSettings):
     acoustics: Section | None = None
     lubricant: Section | None = None
     rating: Section | None = None
+    bearings: Section | None = None
 
     @classmethod
     def of_pair(cls, *, name: str, pair: GearPair, modifications: Modifications, **fields) -> Case:

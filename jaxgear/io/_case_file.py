@@ -22,6 +22,7 @@ from fem_prep import schema as sc
 from ._case import Case
 from .._geometry import JAM, GearPair, Member
 from ._deviations_table import parse_deviations
+from ._bearings_table import read_bearings
 from ._lubricant_table import read_lubricant
 from ._modifications_table import parse_modifications
 from .._contact_geometry import TheoreticalPath
@@ -73,6 +74,7 @@ _SCHEMA: dict[str, Any] = {
     "housing": None,  # checked by parse_housing (a flexible housing, docs/housing.md)
     "whine": None,  # checked by parse_whine (gear whine in the frequency domain)
     "acoustics": None,  # checked by parse_acoustics (the housing's radiated sound)
+    "bearings": None,  # checked by read_bearings (the rolling bearings' modified life)
 }
 #: the case file's table-valued keys (all but its name)
 _TABLES = tuple(k for k in _SCHEMA if k != "name")
@@ -544,6 +546,7 @@ def parse_case(data: dict, default_name: str = "case", base_dir: str | None = No
         )
     scene = parse_scene(data["scene"], base_dir) if "scene" in data else None
     housing = case_housing(data, scene, base_dir, (E, nu, rho), teeth=(pair.pinion.teeth,))
+    bearings = read_bearings(data, scene, lubricant)
     optimise = parse_optimise(data["optimise"]) if "optimise" in data else None
     check_acoustic_tables(data, optimise)
     if optimise is not None and "speeds" in optimise and (scene is None or not scene.hybrid):
@@ -591,6 +594,7 @@ def parse_case(data: dict, default_name: str = "case", base_dir: str | None = No
         whine=whine,
         acoustics=acoustics,
         lubricant=lubricant,
+        bearings=bearings,
         rating=rating,
     )
     for text in plausibility(case):

@@ -7,6 +7,7 @@ from __future__ import annotations
 import fractions
 import functools
 import math
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -26,6 +27,8 @@ from ..dynamics import (
     dynamic_model,
     group_positions,
     group_rows,
+    operating_lives,
+    spectrum_lives,
     whine_size,
 )
 from ..planetary import (
@@ -44,12 +47,14 @@ from ..scenes import (
     hybrid_pair,
     lumped_pair,
 )
+from ._bearings_table import bearing_life_of, pinion_speed
 from ._case import Case, PairForm, TrainForm
 from ._planetary_spec import InternalMeshForm, PlanetaryForm
+from ._rating_table import ratings_of
 from ._scene_spec import SceneSpec, load_bodies, spec_damping
 from ._whine_table import WHINE_METHODS, whine_of
 
-__all__ = ["PAIR_SCENES", "build_dynamic_model", "check_case_whine", "dynamic_model_kind",
+__all__ = ["PAIR_SCENES", "CaseBearings", "build_dynamic_model", "case_bearings", "check_case_whine", "dynamic_model_kind",
            "mesh_frequency_periods", "operating_point", "planetary_kind", "quasi_static_scene",
            "static_scene"]
 
@@ -372,11 +377,13 @@ _OPERATING: dict = {}
 _OPERATING_KEPT = 4
 
 
-def operating_point(case: Case, spec: SceneSpec | None = None) -> OperatingPoint:
+def operating_point(case: Case, spec: SceneSpec | None = None,
+                    torque: float | None = None) -> OperatingPoint:
     """The rolling bearings of a ``lumped3d`` pair case's shafts (its ``[scene]``, or
     ``spec``) at their operating point: :func:`jaxgear.dynamics.bearings_at_operating_point`
     on the case's quasi-static scene (its mesh model, modifications, torque and positions per
-    pitch, exact contact, the load rotation held), found once per case and scene. The
+    pitch, exact contact, the load rotation held; ``torque`` another pinion torque, N·m, for a
+    load spectrum's bin), found once per case, scene and torque. The
     bearings stand on the ground there, a housing (the case's ``[housing]``, a gearbox's)
     rigid: its compliance moves the bearings' loads only where a shaft is statically
     indeterminate; the housed scene then holds the bearings' stiffness at that point.
@@ -386,7 +393,8 @@ def operating_point(case: Case, spec: SceneSpec | None = None) -> OperatingPoint
             one line.
     """
     spec = case.scene if spec is None else spec
-    key = (id(case), id(spec))
+    torque = case.torque if torque is None else float(torque)
+    key = (id(case), id(spec), torque)
     if key in _OPERATING:
         return _OPERATING[key][2]
     i1, i2 = _inertias(case, spec)
@@ -399,12 +407,58 @@ def operating_point(case: Case, spec: SceneSpec | None = None) -> OperatingPoint
                            poisson_ratio=case.poisson_ratio, density=case.density)
 
     point = bearings_at_operating_point(
-        build, (spec.pinion_shaft, spec.gear_shaft), case.mesh_modifications(), case.torque,
+        build, (spec.pinion_shaft, spec.gear_shaft), case.mesh_modifications(), torque,
         hold=lambda scene: (scene.torque_dofs[1],), positions_per_pitch=case.positions_per_pitch)
     while len(_OPERATING) >= _OPERATING_KEPT:
         _OPERATING.pop(next(iter(_OPERATING)))
     _OPERATING[key] = (case, spec, point)
     return point
+
+
+class CaseBearings(NamedTuple):
+    """A pair case's rolling bearings at their operating point with their lives
+    (:func:`case_bearings`): ``point`` (:class:`~jaxgear.dynamics.OperatingPoint`), ``speeds``
+    each shaft's speed (rad/s, magnitudes: the pinion's ``[operating] speed_rad_s``, the gear's
+    that times z1/z2; None without a speed), ``lives`` per shaft per bearing
+    (:func:`~jaxgear.dynamics.operating_lives`), ``settings`` the ``[bearings]`` settings
+    (:class:`~jaxgear.io.BearingLifeSettings`) or None, ``spectrum`` per shaft per bearing its
+    life under the case's ``[rating.spectrum]`` (:func:`~jaxgear.dynamics.spectrum_lives`) or
+    None without one."""
+
+    point: OperatingPoint
+    speeds: tuple | None
+    lives: tuple
+    settings: Any
+    spectrum: tuple | None = None
+
+
+def case_bearings(case: Case) -> CaseBearings | None:
+    """The rolling bearings of a ``lumped3d`` pair case's shafts at their operating point
+    (:func:`operating_point`) and their lives there at the case's speed, with ISO 281's
+    modified life where the case has ``[bearings]`` and, under the case's rating spectrum
+    (``[rating.spectrum]``), each bin's operating point at its torque and the bins' life by
+    Palmgren–Miner (:class:`CaseBearings`); None for a case without rolling bearings. The
+    pinion speed: ``[operating] speed_rad_s``, else the rating's ``speed_rpm``."""
+    spec = case.scene if isinstance(case.form, PairForm) else None
+    if spec is None or spec.model != "lumped3d" or not spec.rolling:
+        return None
+    point = operating_point(case, spec)
+    ratio = (1.0, case.pair.pinion.teeth / case.pair.gear.teeth)
+    w = case.speed if case.speed > 0 else pinion_speed((case.raw or {}).get("operating", {}))
+    speeds = tuple(w * r for r in ratio) if w > 0 else None
+    settings = bearing_life_of(case)
+    extra = {} if settings is None else settings._asdict()
+    lives = operating_lives(point, speeds, **extra)
+    spectrum = None
+    rated = ratings_of(case) if case.rating is not None else None
+    if rated and rated[0].spectrum is not None:
+        bins = rated[0].spectrum
+        torques = np.asarray(bins.torque, float)
+        points = [operating_point(case, spec, t) if t > 0 else None for t in torques]
+        shaft_speeds = np.asarray(bins.speed, float)[:, None] * np.asarray(ratio)[None, :]
+        spectrum = spectrum_lives(points, shaft_speeds, np.asarray(bins.duration, float),
+                                  **extra)
+    return CaseBearings(point, speeds, lives, settings, spectrum)
 
 
 def _torsional_pair(case: Case, spec: SceneSpec, mesh):

@@ -42,7 +42,9 @@ docs/bearings.md) is ``{ position_mm, catalogue = "6205" }`` (an embedded bearin
 width_mm, balls, ball_diameter_mm, pitch_diameter_mm, clearance_um, ... }`` (:data:`ROLLING_KINDS`;
 rollers: ``rollers``, ``roller_diameter_mm``, ``roller_length_mm``; angular contact and tapered:
 ``contact_angle_deg``); its stiffness is the one at the operating point of the case's
-quasi-static solve.
+quasi-static solve. For its life, ``dynamic_rating_kN`` and ``static_rating_kN`` (the maker's
+C and C0, where the catalogue entry has none; a deep groove ball bearing also ``iso281_f0``,
+the catalogue's f0 of ISO 281's X and Y table).
 """
 
 from __future__ import annotations
@@ -119,6 +121,8 @@ _GEOMETRY = ("bore_mm", "outer_diameter_mm", "width_mm", "balls", "ball_diameter
              "rollers", "roller_diameter_mm", "roller_length_mm", "pitch_diameter_mm",
              "contact_angle_deg", "inner_conformity", "outer_conformity")
 _LINEAR = (*_DIAGONAL, "stiffness_matrix_SI")
+#: a rolling bearing's load ratings (its life): C and C0 in kN, ISO 281's f0 (deep groove)
+_RATINGS = ("dynamic_rating_kN", "static_rating_kN", "iso281_f0")
 
 
 class BearingSection(Section):
@@ -160,6 +164,9 @@ class BearingSection(Section):
         None, json_schema_extra={"default": "0.52"})
     clearance_um: number("[-100, 1000]") | None = pydantic.Field(
         None, json_schema_extra={"default": "0 (catalogue: the entry's)"})
+    dynamic_rating_kN: number("(0, 1e+05]") | None = None
+    static_rating_kN: number("(0, 1e+05]") | None = None
+    iso281_f0: number("[5, 30]") | None = None
 
     @pydantic.field_validator("position_mm")
     @classmethod
@@ -200,7 +207,7 @@ class BearingSection(Section):
             )
         rolling = [k for k in ("catalogue", "kind") if k in self.given]
         if not rolling:
-            extra = [k for k in (*_GEOMETRY, "clearance_um") if k in self.given]
+            extra = [k for k in (*_GEOMETRY, "clearance_um", *_RATINGS) if k in self.given]
             if extra:
                 raise sc.fail(where, extra[0], "is a rolling bearing's key: allowed with "
                               "catalogue or kind (a bearing from its geometry)")
@@ -215,10 +222,34 @@ class BearingSection(Section):
             if extra:
                 raise sc.fail(where, extra[0], f"not with catalogue = {self.catalogue!r} (the "
                               "entry's geometry): allowed clearance_um beside it")
+            rated = [k for k in _RATINGS if k in self.given]
+            if rated and CATALOGUE[self.catalogue][1].get("dynamic_rating") is not None:
+                raise sc.fail(where, rated[0], f"not with catalogue = {self.catalogue!r} (the "
+                              "entry's ratings): allowed where the entry has no C")
         else:
             self._check_geometry(where)
+        self._check_ratings(where)
         self.rolling(where)  # whatever the kind still refuses (its own line, in SI)
         return self
+
+    def _check_ratings(self, where: str) -> None:
+        """The ratings given together: C and C0 (ISO 281's life and its fatigue load limit
+        read both) and a deep groove ball bearing's f0 (its X and Y table); f0 on another kind
+        refused."""
+        given = [k for k in _RATINGS if k in self.given]
+        if not given:
+            return
+        kind = (ROLLING_KINDS[self.kind] if self.catalogue is None
+                else CATALOGUE[self.catalogue][0])
+        deep = issubclass(kind, DeepGrooveBall)  # ISO 281's f0 table: radial ball bearings
+        if "iso281_f0" in self.given and not deep:
+            raise sc.fail(where, "iso281_f0", "not a key of this kind: ISO 281's f0 is a deep "
+                          "groove ball bearing's")
+        needed = ("dynamic_rating_kN", "static_rating_kN", *(("iso281_f0",) if deep else ()))
+        for key in needed:
+            if key not in self.given:
+                raise sc.fail(where, key, f"missing: a rating gives {', '.join(needed)} "
+                              "together (ISO 281's life)")
 
     def _check_geometry(self, where: str) -> None:
         """A ``kind``'s keys: its own given, the others refused, the relations between them
@@ -275,6 +306,11 @@ class BearingSection(Section):
         changes = {}
         if self.clearance_um is not None:
             changes["clearance"] = self.clearance_um * 1e-6
+        for key, arg, scale in (("dynamic_rating_kN", "dynamic_rating", 1e3),
+                                ("static_rating_kN", "static_rating", 1e3),
+                                ("iso281_f0", "iso281_f0", 1.0)):
+            if getattr(self, key) is not None:
+                changes[arg] = getattr(self, key) * scale
         try:
             if self.catalogue is not None:
                 return catalogue(self.catalogue, **changes)

@@ -64,7 +64,8 @@ def campbell_plot(
     ``min_share`` of their strain energy in the mesh (black: ≥ 5 %, grey: weaker), each mode
     labelled with its frequency at the right end, every crossing in the swept speed range
     marked (those of the weaker modes small and grey; below the first speed of the sweep none:
-    the low modes' crossings crowd there and no speed was computed).
+    the low modes' crossings crowd there and no speed was computed), and the rolling bearings'
+    tones (``bearing_tones``, orders of the pinion speed; dotted).
     Returns the crossings (:func:`harmonic_crossings`)."""
     fig, ax = new_figure()
     sp = floats(summary["speeds_rad_s"])
@@ -224,6 +225,7 @@ def campbell_plot(
                 else f"{direction} ND resonance, order Z{_ND_ORDER_SIGN[direction]}n "
                 "(body frame, (3.9))",
             )
+    _bearing_tone_lines(ax, summary.get("bearing_tones") or (), s_line)
     ax.set_ylim(0, f_top)
     ax.set_xlim(0, s_max)
     top = ax.secondary_xaxis(
@@ -250,6 +252,27 @@ def campbell_plot(
         _place_nd_labels(ax, nd_labels, avoid=mode_labels)
     savefig(fig, path)
     return cross
+
+
+#: the colours of the bearing tones on the Campbell diagram (after the mesh harmonics' C0-C3)
+_TONE_COLORS = {"ftf": "C4", "bpfo": "C5", "bpfi": "C6", "bsf": "C8"}
+
+
+def _bearing_tone_lines(ax, tones, s_line) -> None:
+    """The rolling bearings' tones (``sweep.json``'s ``bearing_tones``: each a bearing's
+    cage, ball-pass and ball-spin frequency as an order of the pinion speed), dotted, one line
+    and legend entry per shaft and tone (the bearings of a shaft that share an order drawn
+    once)."""
+    drawn = {}
+    for t in tones:
+        shaft = t["bearing"].split(".")[0]
+        key = (shaft, t["tone"], round(float(t["order"]), 6))
+        if key in drawn:
+            continue
+        drawn[key] = True
+        ax.plot(s_line, t["order"] * s_line / (2 * math.pi), color=_TONE_COLORS[t["tone"]],
+                ls=":" if shaft.startswith("pinion") else (0, (3, 1, 1, 1, 1, 1)), lw=1.0,
+                label=f"{shaft.replace('_', ' ')} {t['tone'].upper()} ({t['order']:.3g})")
 
 
 #: ND label offsets (points) from the resonance, tried in turn: backward labels above left of

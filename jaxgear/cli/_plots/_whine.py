@@ -61,7 +61,7 @@ def whine_order_plot(path, speeds, amplitudes, orders, *, ylabel, title, invalid
 
 def whine_waterfall_plot(path, speeds, fundamental_hz, orders, amplitudes, *, label, title,
                          invalid=None, dynamic_range_db=60.0, power=False,
-                         limit_hz=None, order_labels=None) -> None:
+                         limit_hz=None, order_labels=None, tones=()) -> None:
     """The waterfall: every order's frequency (Hz) against the speed (rad/s), each point
     coloured by the order's level 20 log10(|a| / max |a|) (dB; ``power``: a power's,
     10 log10), the orders as grey lines (NaN amplitudes: not drawn).
@@ -73,6 +73,9 @@ def whine_waterfall_plot(path, speeds, fundamental_hz, orders, amplitudes, *, la
         limit_hz: None, or the frequency above which nothing is drawn (a dashed line; the
             frequency axis ends a little above it).
         order_labels: (k,) the names written at the orders' ends (default "<order>×").
+        tones: (name, order of the input speed) of lines drawn dotted beside the orders (a
+            rolling bearing's tones, :func:`jaxgear.cli._bearing_report.bearing_tone_lines`),
+            named in a legend.
     """
     fig, ax = new_figure((8, 5.5))
     s = np.asarray(speeds, dtype=float)
@@ -95,6 +98,11 @@ def whine_waterfall_plot(path, speeds, fundamental_hz, orders, amplitudes, *, la
         text = f"{o[j]:g}×" if order_labels is None else order_labels[j]
         ax.annotate(text, (s[-1], f[-1, j]), xytext=(3, 0), textcoords="offset points",
                     fontsize=7, va="center", color="0.3")
+    for j, (name, order) in enumerate(tones):
+        ax.plot(s, order * s / (2 * np.pi), color=f"C{(j + 4) % 10}", ls=":", lw=1.0,
+                label=name)
+    if tones:
+        ax.legend(fontsize=7, loc="upper left", title="bearing tones", title_fontsize=7)
     if limit_hz is not None:
         ax.axhline(limit_hz, color="tab:red", ls="--", lw=0.9)
         ax.annotate("band limit", (s[0], limit_hz), xytext=(2, 3), textcoords="offset points",

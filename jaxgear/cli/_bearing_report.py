@@ -1,0 +1,240 @@
+"""What ``jaxgear run`` reports of a case's rolling bearings: each bearing's operating load,
+its lives (ISO 281's L10 and L_nm, ISO/TS 16281's L10r) and its tones, in ``summary.json``'s
+``bearings`` section, ``rating.md`` and the lines the run prints (docs/bearings.md, "In the report"); the
+tones as orders of the pinion speed for the Campbell diagram and the whine spectra. The
+numbers are :func:`jaxgear.io.case_bearings`' (the model's); this module only presents them.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+
+import numpy as np
+
+from ..bearings import bearing_tones
+from ..io import PairForm
+from ..io._case_model import case_bearings
+
+__all__ = ["TONE_NAMES", "bearing_outputs", "bearing_rating_lines", "bearing_run_lines",
+           "bearing_tone_lines", "bearing_tone_orders"]
+
+#: the tones' keys and their names on the plots
+TONE_NAMES = {"ftf": "FTF", "bpfo": "BPFO", "bpfi": "BPFI", "bsf": "BSF"}
+_SHAFTS = ("pinion_shaft", "gear_shaft")
+_HOUR = 3600.0
+
+
+def _tones(kind) -> dict:
+    t = bearing_tones(kind)
+    return {k: float(getattr(t, k)) for k in TONE_NAMES}
+
+
+def _life(life) -> dict | None:
+    """An :class:`~jaxgear.bearings.OperatingLife` as summary keys (None: not rated)."""
+    if life is None:
+        return None
+
+    def hours(seconds):
+        return None if seconds is None else float(seconds) / _HOUR
+
+    out = {"equivalent_load_N": life.equivalent_load, "L10_revolutions": life.revolutions,
+           "L10_hours": hours(life.duration)}
+    ref = life.reference
+    if ref is not None:
+        rev = float(ref.revolutions)
+        out |= {"L10r_revolutions": rev, "reference_load_N": float(ref.equivalent_load),
+                "L10r_hours": None if life.duration is None
+                else rev / life.revolutions * life.duration / _HOUR}
+    m = life.modified
+    if m is not None:
+        out |= {"Lnm_revolutions": float(m.revolutions), "Lnm_hours": hours(m.duration),
+                "a1": float(m.reliability_factor), "a_ISO": float(m.life_factor),
+                "viscosity_ratio": float(m.viscosity_ratio),
+                "fatigue_limit_N": float(m.fatigue_limit)}
+    return out
+
+
+def _spectrum_life(life) -> dict | None:
+    """A :class:`~jaxgear.dynamics.SpectrumLife` as summary keys (None: not rated)."""
+    if life is None:
+        return None
+    sp, basic, m = life
+    out = {"bins_radial_load_N": np.asarray(sp.radial).tolist(),
+           "bins_axial_load_N": np.asarray(sp.axial).tolist(),
+           "equivalent_load_N": float(basic.equivalent_load),
+           "L10_revolutions": float(basic.revolutions),
+           "L10_hours": float(basic.duration) / _HOUR}
+    if m is not None:
+        out |= {"Lnm_revolutions": float(m.revolutions), "Lnm_hours": float(m.duration) / _HOUR}
+    return out
+
+
+@functools.singledispatch
+def bearing_outputs(form, case) -> dict | None:
+    """``summary.json``'s ``bearings`` section of a case of ``form``: None (a form whose
+    shafts take no bearings from geometry)."""
+    return None
+
+
+@bearing_outputs.register
+def _(form: PairForm, case) -> dict | None:
+    """A ``lumped3d`` pair's rolling bearings (None without): per bearing its name (the case
+    file's table), kind, position, shaft speed, load f = (F_x, F_y, F_z, M_x, M_y) (N, N·m),
+    F_r and F_a, tones (orders of its shaft's speed, and Hz at it), and, where it has its
+    ratings, its lives (revolutions, and hours at the case's speed) and, under the case's
+    rating spectrum, ``spectrum_life`` (each bin's loads, P_eq, L10 and L_nm by
+    Palmgren–Miner)."""
+    found = case_bearings(case)
+    if found is None:
+        return None
+    point, speeds, lives, settings, spectrum = found
+    rows = []
+    for k, shaft in enumerate(point.shafts):
+        for i, b in enumerate(shaft.bearings):
+            if b.rolling is None:
+                continue
+            f = np.asarray(point.loads[k][i], float)
+            orders = _tones(b.rolling)
+            speed = None if speeds is None else float(speeds[k])
+            rows.append({
+                "name": f"{_SHAFTS[k]}.bearings[{i}]",
+                "kind": type(b.rolling).__name__,
+                "position_m": float(b.z),
+                "shaft_speed_rad_s": speed,
+                "load_N_Nm": f.tolist(),
+                "radial_load_N": float(math.hypot(f[0], f[1])),
+                "axial_load_N": float(f[2]),
+                "tones_orders": orders,
+                "tones_Hz": None if speed is None
+                else {t: v * speed / (2 * math.pi) for t, v in orders.items()},
+                "life": _life(lives[k][i]),
+            })
+            if spectrum is not None:
+                rows[-1]["spectrum_life"] = _spectrum_life(spectrum[k][i])
+    return {
+        "speed_rad_s": None if speeds is None else float(speeds[0]),
+        "life_settings": None if settings is None else {
+            "reliability": settings.reliability,
+            "viscosity_mm2_per_s": settings.viscosity * 1e6,
+            "contamination_factor": settings.contamination,
+        },
+        "operating_point_iterations": int(point.iterations),
+        "bearings": rows,
+    }
+
+
+def _e(v) -> str:
+    return f"{v:.3g}"
+
+
+def bearing_run_lines(section: dict | None) -> list[str]:
+    """What ``jaxgear run`` prints of the ``bearings`` section: one line per rolling bearing
+    (loads, lives, tones); nothing without the section."""
+    if not section:
+        return []
+    lines = []
+    for b in section["bearings"]:
+        text = (f"bearing {b['name']} ({b['kind']}): F_r {b['radial_load_N']:.4g} N, "
+                f"F_a {b['axial_load_N']:.3g} N")
+        life = b["life"]
+        if life is None:
+            text += "; life: no dynamic_rating_kN"
+        else:
+            for key, name in (("L10", "L10"), ("L10r", "L10r"), ("Lnm", "L_nm")):
+                rev = life.get(f"{key}_revolutions")
+                if rev is None:
+                    continue
+                h = life.get(f"{key}_hours")
+                text += f"; {name} {_e(rev / 1e6)} M rev" + (f" ({_e(h)} h)" if h else "")
+        sp = b.get("spectrum_life")
+        if sp:
+            text += f"; under the rating spectrum L10 {_e(sp['L10_hours'])} h" + (
+                f", L_nm {_e(sp['Lnm_hours'])} h" if "Lnm_hours" in sp else "")
+        tones = ", ".join(f"{TONE_NAMES[t]} {v:.4g}" for t, v in b["tones_orders"].items())
+        lines.append(f"{text}; tones (orders of its shaft) {tones}")
+    return lines
+
+
+def bearing_tone_orders(case) -> list[dict]:
+    """Each rolling bearing's tones as orders of the pinion speed (its own order times its
+    shaft's turns per pinion turn: 1, z1/z2), for the Campbell diagram and the spectra:
+    ``[{bearing, tone, order}]``; [] for a case without rolling bearings (a pair's shafts take
+    them; a train's, a stage's or a gearbox's do not)."""
+    spec = case.scene if isinstance(case.form, PairForm) else None  # a pair's shafts only
+    if spec is None or spec.model != "lumped3d" or not spec.rolling:
+        return []
+    ratio = (1.0, case.pair.pinion.teeth / case.pair.gear.teeth)
+    out = []
+    for k, shaft in enumerate((spec.pinion_shaft, spec.gear_shaft)):
+        for i, b in enumerate(() if shaft is None else shaft.bearings):
+            if b.rolling is None:
+                continue
+            for tone, order in _tones(b.rolling).items():
+                out.append({"bearing": f"{_SHAFTS[k]}.bearings[{i}]", "tone": tone,
+                            "order": order * ratio[k]})
+    return out
+
+
+def bearing_tone_lines(case) -> list[tuple[str, float]]:
+    """The tones of :func:`bearing_tone_orders` as (name, order of the pinion speed) lines, one
+    per shaft and tone (a shaft's bearings that share an order named once): the spectra's."""
+    out = {}
+    for t in bearing_tone_orders(case):
+        shaft = t["bearing"].split(".")[0]
+        key = (shaft, t["tone"], round(t["order"], 6))
+        name = f"{shaft.replace('_', ' ')} {TONE_NAMES[t['tone']]} ({t['order']:.3g}×)"
+        out.setdefault(key, (name, t["order"]))
+    return list(out.values())
+
+
+def _cell(v, fmt="{:.4g}") -> str:
+    return "–" if v is None else fmt.format(v)
+
+
+def bearing_rating_lines(section: dict | None) -> list[str]:
+    """The lines of ``rating.md`` for the ``bearings`` section, after the gears' safety factors:
+    a table of each rolling bearing's loads and lives (nothing without the section or without
+    a rated bearing)."""
+    if not section or not any(b["life"] for b in section["bearings"]):
+        return []
+    speed = section["speed_rad_s"]
+    settings = section["life_settings"]
+    modified = (f", and ISO 281's modified life L_nm = a1 a_ISO L10 (reliability "
+                f"{settings['reliability']:.4g}, viscosity {settings['viscosity_mm2_per_s']:.4g}"
+                f" mm²/s, e_C {settings['contamination_factor']:.4g})" if settings else
+                " (L_nm: with a [bearings] table)")
+    hours = (f"; hours at {speed:g} rad/s (pinion)." if speed else
+             "; in revolutions ([operating] speed_rad_s gives hours).")
+    intro = ("Each bearing's load at the operating point of the case's quasi-static solve (its "
+             "shaft's push on it), its basic rating life L10 = (C/P)^p, ISO/TS 16281's "
+             "reference rating life L10r of its balls' loads" + modified + hours)
+    lines = ["", "## Rolling bearings (ISO 281, ISO/TS 16281)", "", intro, "",
+             ("| bearing | kind | F_r (N) | F_a (N) | P (N) | L10 (10⁶ rev) | L10h (h) "
+              "| L10r (10⁶ rev) | L_nm (10⁶ rev) | L_nmh (h) | a_ISO |"),
+             "|---|---|---|---|---|---|---|---|---|---|---|"]
+    for b in section["bearings"]:
+        life = b["life"] or {}
+
+        def mega(key, life=life):
+            v = life.get(key)
+            return None if v is None else v / 1e6
+
+        lines.append(
+            f"| {b['name']} | {b['kind']} | {b['radial_load_N']:.4g} | {b['axial_load_N']:.3g} "
+            f"| {_cell(life.get('equivalent_load_N'))} | {_cell(mega('L10_revolutions'))} "
+            f"| {_cell(life.get('L10_hours'))} | {_cell(mega('L10r_revolutions'))} "
+            f"| {_cell(mega('Lnm_revolutions'))} | {_cell(life.get('Lnm_hours'))} "
+            f"| {_cell(life.get('a_ISO'))} |")
+    spectra = [(b["name"], b.get("spectrum_life")) for b in section["bearings"]
+               if b.get("spectrum_life")]
+    if spectra:
+        lines += ["", ("Under the rating's load spectrum ([rating.spectrum]: each bin's loads "
+                       "at its own operating point, the bins' damage by Palmgren–Miner):"), "",
+                  "| bearing | F_r per bin (N) | P_eq (N) | L10h (h) | L_nmh (h) |",
+                  "|---|---|---|---|---|"]
+        for name, sp in spectra:
+            bins = " / ".join(f"{v:.4g}" for v in sp["bins_radial_load_N"])
+            lines.append(f"| {name} | {bins} | {sp['equivalent_load_N']:.4g} "
+                         f"| {sp['L10_hours']:.4g} | {_cell(sp.get('Lnm_hours'))} |")
+    return lines
