@@ -150,7 +150,7 @@ from ._stiffness_models import (
     Weber as Weber,
     stiffness_table as stiffness_table,
 )
-from ._util import safe_max as safe_max
+from ._util import padded_batch as padded_batch, safe_max as safe_max
 # the subpackages load with the model (``import jaxgear`` then ``jaxgear.rating.rate``); their
 # names are reached there, not here
 from . import (

@@ -36,7 +36,7 @@ import optax
 import optimistix as optx
 from tqdm.auto import tqdm
 
-from jaxgear._util import padded_batch
+from jaxgear import padded_batch
 
 from ._problem import Problem
 
@@ -425,7 +425,7 @@ def minimise_batch(
     static layout: their arrays' structure, shapes and dtypes and every other field equal, e.g.
     rigid meshes of the same cell counts) go through one compiled ``jax.vmap`` of the solve
     :func:`minimise` runs, a group padded with copies of its last problem to a power of two up
-    to 8, then to a multiple of 8 (``jaxgear._util.padded_batch``: one program per structure
+    to 8, then to a multiple of 8 (``jaxgear.padded_batch``: one program per structure
     and padded size). Each problem keeps its own iterations, stopping rule and iteration cap (a finished
     problem's state is held while the rest of its batch goes on), so its result is
     :func:`minimise`'s to floating-point rounding (batched arithmetic may round differently in

@@ -30,7 +30,7 @@ from jaxgear.cli._bearing_report import (
     bearing_tone_orders,
 )
 from jaxgear.dynamics import operating_lives
-from jaxgear.io._case_model import case_bearings, operating_point
+from jaxgear.io import case_bearings, operating_point
 
 #: the report's speed (pinion, rad/s) and [bearings] settings for the tests
 SPEED = 300.0

@@ -278,6 +278,15 @@ PROJECT = ("jaxgear", "fem_prep", "optimise", "benchmarks")
 # The private names tests still reach, as (test file, dotted name or the private module it is
 # reached through): each a white-box check with no public way to the same assertion.
 PRIVATE_IN_TESTS: set[tuple[str, str]] = {
+    # the bearings' summary section, rating.md lines and tone lines from a case without a whole
+    # jaxgear run each (the whole run is the file's slow test); the tone lines as drawn on
+    # captured Campbell and waterfall figures; the rating's speed_rpm read as the pinion speed
+    ("test_bearing_report.py", "jaxgear.cli._bearing_report"),
+    ("test_bearing_report.py", "jaxgear.cli._plots._campbell"),
+    ("test_bearing_report.py", "jaxgear.cli._plots._whine"),
+    ("test_bearing_report.py", "jaxgear.io._bearings_table.pinion_speed"),
+    # the TE stage's own optimiser start, so that the batch is compared where the stage runs it
+    ("test_sizing_te.py", "jaxgear.sizing._te._start"),
     # a case's lumped 3D pair built on a synthetic housing (K, M written in the test), which a
     # case file cannot hold: the housed scene's bearing block at the operating point
     ("test_bearing_scenes.py", "jaxgear.io._case_model._lumped3d_pair"),

@@ -62,6 +62,7 @@ SECTIONS = {
                             "_weber_internal")),
         ("Modifications and deviations", ("_modifications", "_deviations")),
         ("Robustness (tolerances, Monte Carlo)", ("_robust",)),
+        ("Numerics and batching", ("_util",)),
     ),
     "jaxgear.scenes": (
         ("Scenes", ("_scene", "_rigid", "_torsional", "_lumped3d", "_structure")),
@@ -142,7 +143,7 @@ SECTIONS = {
                                    "_optimise_table", "_rating*", "_robust_table",
                                    "_lubricant_table", "_scuffing_table",
                                    "_micropitting_table", "_housing_table", "_whine_table",
-                                   "_acoustics_table")),
+                                   "_acoustics_table", "_bearings_table")),
         ("Writing files", ("_writers",)),
     ),
     "optimise": (

@@ -13,8 +13,7 @@ import math
 import numpy as np
 
 from ..bearings import bearing_tones
-from ..io import PairForm
-from ..io._case_model import case_bearings
+from ..io import PairForm, case_bearings
 
 __all__ = ["TONE_NAMES", "bearing_outputs", "bearing_rating_lines", "bearing_run_lines",
            "bearing_tone_lines", "bearing_tone_orders"]

@@ -28,6 +28,11 @@ from ._acoustics_table import (
     acoustics_of as acoustics_of,
     parse_acoustics as parse_acoustics,
 )
+from ._bearings_table import (
+    BearingLifeSettings as BearingLifeSettings,
+    BearingsSection as BearingsSection,
+    bearing_life_of as bearing_life_of,
+)
 from ._case import (
     Case as Case,
     CaseForm as CaseForm,
@@ -40,6 +45,7 @@ from ._case_file import SchemaError as SchemaError, parse_case as parse_case
 from ._case_model import (
     PAIR_SCENES as PAIR_SCENES,
     build_dynamic_model as build_dynamic_model,
+    case_bearings as case_bearings,
     check_case_whine as check_case_whine,
     dynamic_model_kind as dynamic_model_kind,
     operating_point as operating_point,
@@ -62,11 +68,6 @@ from ._housing_table import (
     HousingSpec as HousingSpec,
     check_housing_band as check_housing_band,
     housing_surface as housing_surface,
-)
-from ._bearings_table import (
-    BearingLifeSettings as BearingLifeSettings,
-    BearingsSection as BearingsSection,
-    bearing_life_of as bearing_life_of,
 )
 from ._load import (
     check_case as check_case,

@@ -53,7 +53,8 @@ _FREE = 1e3
 #: the inner minimisations' relative tolerance (optimistix's Cauchy test on y and f)
 _RTOL = 1e-8
 #: how BFGS takes the Lagrangian's gradient (optimistix's ``autodiff_mode``): reverse mode; the
-#: forward mode (five variables) compiles no faster (benchmarks/sizing_refine_compile.py)
+#: forward mode (five variables) compiles no faster (docs/sizing.md, "Refining the continuous
+#: variables", its cost)
 _AUTODIFF_MODE = "bwd"
 
 

@@ -152,7 +152,7 @@ def te_curves(meshes, modifications, torques, *, positions_per_pitch: int | None
 
     The meshes of one static layout (the cell arrays' shapes, ``MeshModel``'s static fields)
     go through one compiled ``jax.vmap`` program, a group padded with copies of its last mesh
-    to a power of two up to 8, then to a multiple of 8 (``jaxgear._util.padded_batch``: one
+    to a power of two up to 8, then to a multiple of 8 (``jaxgear.padded_batch``: one
     program per layout and padded size); ``batched=False`` solves them one at a time (the program of one
     mesh; the benchmark's loop).
 
@@ -281,7 +281,8 @@ def te_stage(spec: SizingSpec, table: SizingTable, settings: TeSettings | None =
     ``vmap`` of the solve; each candidate's result the one-at-a-time solve's to the optimiser's
     rounding); else (the default) one at a time (:func:`optimise.minimise`), which is the
     faster on a CPU: each solve is already vectorised over cells, positions and torques, and
-    a batch steps in lock-step until its slowest member stops (benchmarks/sizing_te.py).
+    a batch steps in lock-step until its slowest member stops (measured: docs/sizing.md, "The
+    transmission-error stage").
 
     Returns:
         A :class:`SizingTable` of ``table``'s columns and :data:`TE_COLUMNS` (NaN where not
