@@ -236,10 +236,11 @@ def page(module_name: str, summary: str) -> str:
 
 
 def _anchor(title: str) -> str:
-    """The id mkdocs' toc gives a heading (lower case, runs of other characters one ``-``)."""
+    """The id mkdocs' toc gives a heading (Python-Markdown's ``slugify``: punctuation dropped,
+    lower case, runs of spaces and dashes one ``-``; "ISO/TS" → "isots")."""
     import re
 
-    return re.sub(r"[^\w]+", "-", title.lower()).strip("-")
+    return re.sub(r"[-\s]+", "-", re.sub(r"[^\w\s-]", "", title).strip().lower())
 
 
 def pages() -> dict[str, str]:
