@@ -6,8 +6,10 @@ repeats, each call ended by ``jax.block_until_ready`` on its whole result.
 
 from __future__ import annotations
 
+import json
 import math
 import os
+import pathlib
 import platform
 import time
 
@@ -105,3 +107,15 @@ class CompileCounter:
             "xla_compilations": self.count - n0,
             "compile_s": self.seconds - s0,
         }
+
+
+def write_record(path, record: dict) -> None:
+    """Write a benchmark's ``record`` as JSON (indent 2, a final newline) to ``path``, its folder
+    made, atomically (a temporary file beside it, then renamed), and print it."""
+    path = pathlib.Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    text = json.dumps(record, indent=2) + "\n"
+    tmp = path.with_name(path.name + ".tmp")
+    tmp.write_text(text, encoding="utf-8")
+    os.replace(tmp, path)
+    print(text, end="")

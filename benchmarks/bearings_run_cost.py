@@ -18,14 +18,13 @@ Benchmarks are not tests: timings are measured, never asserted (the issue's boun
 from __future__ import annotations
 
 import argparse
-import json
 import os
 import statistics
 import sys
 import time
 
 from ._run_cases_paired import paired_runs
-from ._timing import environment
+from ._timing import environment, write_record
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 CASES = {
@@ -67,8 +66,7 @@ def main(argv=None) -> int:
         "summary": summary,
         "results": rows,
     }
-    with open(a.out, "w") as f:
-        json.dump(result, f, indent=1)
+    write_record(a.out, result)
     return 0
 
 

@@ -24,7 +24,6 @@ load average. From the repository root: ``python -m benchmarks.sizing_dynamics [
 
 from __future__ import annotations
 
-import json
 import math
 import os
 import pathlib
@@ -41,7 +40,7 @@ from scipy.stats import spearmanr
 import jaxgear.dynamics as jd
 import jaxgear.io as jio
 import jaxgear.sizing as js
-from benchmarks._timing import environment
+from benchmarks._timing import environment, write_record
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 OUT = ROOT / "docs" / "bench" / "sizing_dynamics.json"
@@ -158,13 +157,11 @@ def main(path: pathlib.Path = OUT) -> None:
         "rows": rows,
         "load_average_at_end": list(os.getloadavg()),
     }
-    path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(json.dumps(record, indent=2) + "\n", encoding="utf-8")
+    write_record(path, record)
     w = rule["whine_force_N__eps_beta_from_whole"]["spearman"]
     _figure(path.with_suffix(".png"), rows,
             f"{len(rows)} candidates of examples/sizing/helical.toml's front: the whine and K_v "
             f"against ε_β\n(Spearman's ρ of the whine and |ε_β − nearest whole number|: {w})")
-    print(json.dumps(record, indent=2))
 
 
 if __name__ == "__main__":

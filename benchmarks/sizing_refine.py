@@ -21,7 +21,6 @@ docs/bench/sizing_refine.json (or the file given) with the machine, dtype and JA
 
 from __future__ import annotations
 
-import json
 import os
 import pathlib
 import sys
@@ -38,7 +37,7 @@ import scipy.optimize
 
 import jaxgear.io as jio
 import jaxgear.sizing as js
-from benchmarks._timing import environment
+from benchmarks._timing import environment, write_record
 from jaxgear.sizing import _refine
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
@@ -175,9 +174,7 @@ def main(path: pathlib.Path = OUT) -> None:
             "speed_ratio_to_slsqp_one_start": round(loop_s / multi_s, 2)},
         "load_average_at_end": list(os.getloadavg()),
     }
-    path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(json.dumps(record, indent=2) + "\n", encoding="utf-8")
-    print(json.dumps(record, indent=2))
+    write_record(path, record)
 
 
 if __name__ == "__main__":

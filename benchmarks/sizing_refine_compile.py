@@ -18,7 +18,6 @@ the file given) with the machine, dtype and JAX version (benchmarks/_timing.py's
 
 from __future__ import annotations
 
-import json
 import os
 import pathlib
 import sys
@@ -33,7 +32,7 @@ import jax.numpy as jnp
 import numpy as np
 
 import jaxgear.sizing as js
-from benchmarks._timing import environment
+from benchmarks._timing import environment, write_record
 from benchmarks.sizing_refine import _spec
 from jaxgear.sizing import _refine
 
@@ -159,9 +158,7 @@ def main(path: pathlib.Path = OUT) -> None:
                   "rating_evaluations_in_its_trace": len(calls), **solves},
         "load_average_at_end": list(os.getloadavg()),
     }
-    path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(json.dumps(record, indent=2) + "\n", encoding="utf-8")
-    print(json.dumps(record, indent=2))
+    write_record(path, record)
 
 
 if __name__ == "__main__":

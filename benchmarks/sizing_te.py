@@ -25,7 +25,6 @@ Writes docs/bench/sizing_te.json (or the file given) with the machine, dtype and
 
 from __future__ import annotations
 
-import json
 import os
 import pathlib
 import sys
@@ -39,7 +38,7 @@ import numpy as np
 
 import jaxgear.io as jio
 import jaxgear.sizing as js
-from benchmarks._timing import environment
+from benchmarks._timing import environment, write_record
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 OUT = ROOT / "docs" / "bench" / "sizing_te.json"
@@ -167,9 +166,7 @@ def main(path: pathlib.Path = OUT) -> None:
         },
         "load_average_at_end": list(os.getloadavg()),
     }
-    path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(json.dumps(record, indent=2) + "\n", encoding="utf-8")
-    print(json.dumps(record, indent=2))
+    write_record(path, record)
 
 
 if __name__ == "__main__":
