@@ -166,13 +166,13 @@ def test_power_crowning_against_the_dynamic_factor_at_speed(cache):
     lo = band.min()
     flat = (depths >= 5.0) & (depths <= 10.0)
     assert 5.0 <= depths[np.argmin(band)] <= 10.0
-    assert np.all(band[flat] <= 1.011 * lo), band  # docs/guide/flexible.md: "within 1.1 %"
+    assert np.all(band[flat] <= 1.008 * lo), band  # docs/guide/flexible.md: "within 0.8 %"
     above = depths >= 10.0
     assert np.all(np.diff(band[above]) > 0), band  # rises steadily above 10 µm
     assert np.all(band[depths >= 15.0] > 1.02 * lo), band
     opt = stored["optimum"]
     assert 5.0 <= opt["crowning_um"] <= 10.0
-    assert opt["crowning_um"] == pytest.approx(7.7, abs=0.05)  # docs/guide/flexible.md's figure
+    assert opt["crowning_um"] == pytest.approx(7.8, abs=0.05)  # docs/guide/flexible.md's figure
     assert max(opt["dynamic_factor_exact"]) <= 1.01 * lo
     g = ex.gradient_check(problem, 12.5)
     assert g["grad_per_um"] == pytest.approx(g["fd_per_um"], rel=1e-3)
