@@ -81,7 +81,10 @@ def test_thin_webbed_gear_notebook_executes(tmp_path, fem_prep_cache):
         assert f"{d} ND-2 peak at {p['speed']:.0f} rad/s" in text
     assert got["peak"]["backward"]["speed"] < got["peak"]["forward"]["speed"]
     df = np.asarray(got["df"])
-    assert df.max() > 1.2 * min(df[0], df[-1])  # the forward resonance stands out of the sweep
+    # the forward resonance stands out of the sweep: 1.29 against 1.11-1.12 at the ends (1.17x;
+    # above 1.2x before the corner cells' force acted at the geometry's point, which lowered the
+    # ND amplitudes by 15-23 %: docs/bench/nd_resonance.json)
+    assert df.max() > 1.15 * min(df[0], df[-1])
 
     # the crowning optimum at speed: interior, below the uncrowned load, as good as the
     # exact-contact scan (within 1 %), and the scan's best is not at either end
