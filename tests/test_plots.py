@@ -567,3 +567,22 @@ def test_every_critical_speed_line_is_labelled(tmp_path, monkeypatch):
     assert "H1" in lines  # the named peak's line
     assert all(re.fullmatch(r"(mode [1-4] × )?H[1-3]", t) for t in lines), lines
     assert "mode 2 × H2" in lines  # index 1: mode 2, as jaxgear modes numbers it
+
+
+def test_root_stress_plot_draws_cells_on_one_line_as_points(tmp_path):
+    """A root-stress map whose loaded cells lie on one line (or are fewer than three) spans no
+    triangle: the panel draws them as points instead of failing in the triangulation (it
+    raised qhull's "singular input data" in ``jaxgear run`` of a planetary stage at speed)."""
+    from jaxgear.rating import RootStressMap
+
+    line = np.zeros((1, 1, 4))
+    s = np.linspace(0.0, 3e-3, 4).reshape(1, 1, 4)
+    on_a_line = RootStressMap(stress=s * 1e11, roll=line, cell_s=s, cell_z=line,
+                              mask=np.ones((1, 1, 4), bool))
+    grid = RootStressMap(stress=np.arange(4.0).reshape(1, 2, 2) * 1e8, roll=np.zeros((1, 2, 2)),
+                         cell_s=np.array([[[0.0, 1e-3], [0.0, 1e-3]]]),
+                         cell_z=np.array([[[0.0, 0.0], [1e-3, 1e-3]]]),
+                         mask=np.ones((1, 2, 2), bool))
+    path = tmp_path / "root.png"
+    plots.root_stress_plot(str(path), (on_a_line, grid), "t")
+    assert path.stat().st_size > 0

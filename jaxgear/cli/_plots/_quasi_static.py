@@ -481,8 +481,13 @@ def root_stress_plot(path: str, maps, title: str, names=("pinion", "gear")) -> N
         z = np.asarray(rmap.cell_z)[m] * 1e3
         stress = np.asarray(rmap.stress)[m] / 1e6
         # a surface over the cells (their s, z lie on the inclined contact lines, not on a
-        # grid): Gouraud-shaded triangles between them, so no gaps draw stripes
-        sc = ax.tripcolor(s, z, stress, shading="gouraud", cmap="viridis")
+        # grid): Gouraud-shaded triangles between them, so no gaps draw stripes; cells on one
+        # line (or fewer than three) span no triangle: drawn as points
+        pts = np.column_stack([s, z])
+        if len(s) >= 3 and np.linalg.matrix_rank(pts - pts.mean(axis=0)) == 2:
+            sc = ax.tripcolor(s, z, stress, shading="gouraud", cmap="viridis")
+        else:
+            sc = ax.scatter(s, z, c=stress, cmap="viridis")
         k = int(np.argmax(stress))
         ax.plot(s[k], z[k], "r*", ms=10)
         ax.set_title(f"{tag} root stress (MPa), largest {stress[k]:.1f} (★)")
