@@ -218,7 +218,8 @@ def test_the_dynamics_at_zero_speed_give_the_rating_stage_loads():
     """Fast twins: the tests above (the stage's meshes are the pair models). At a carrier
     speed of 1e-6 rad/s the dynamics as the sweep sets them up (planar model, the load-sharing
     stage, the pin error; one kept period of 8 steps) record the quasi-static mesh forces of meshes
-    built here from the tables by hand, at the same travels, to 1e-8 of the largest; the kept
+    built here from the tables by hand (with the case's contact geometry: beyond the
+    theoretical path by default), at the same travels, to 1e-8 of the largest; the kept
     period's steps fall on the rating's positions (mod p_b), so each planet's mean force over it
     is the rating's stage loads' (jaxgear.cli.planetary.stage_loads), to 1e-8."""
     from jaxgear.cli.planetary import sharing_models, stage_loads
@@ -241,7 +242,7 @@ def test_the_dynamics_at_zero_speed_give_the_rating_stage_loads():
     geo = jg.PlanetaryGeometry(case.pairs[0], case.pairs[1], spec.center_distance, 0.0)
     ref = jp.ContactMeshes.from_models(
         geo, np.asarray(spec.planet_angles),
-        tuple(jg.MeshModel.from_pair(p, s, k, case.slices)
+        tuple(jg.MeshModel.from_pair(p, s, k, case.slices, contact_geometry=case.contact_geometry)
               for p, (s, k) in zip(case.pairs, _tables(case, T_LOW, E_LOW, NU_LOW), strict=True)))
     static = jp.planetary_quasi_static(jp.PlanarPlanetary(), stage, ref, np.asarray(torque),
                                        got.travel, errors, radial)

@@ -129,7 +129,7 @@ F = [1.0, 1.3, 0.8, 1.45, 1.1, 0.9, 1.05, 1.2, 0.95, 1.1, 1.0, 0.85]
 @pytest.fixture(scope="module")
 def given(tmp_path_factory):
     """nrel-5mw-planetary (coarse) rated with given loads: per planet and mesh a static record
-    (planet 3 the most loaded: mean forces 1, 1, 1.1), and at speed each planet's static loads
+    (planet 3 the most loaded: mean and peak forces 1, 1, 1.1), and at speed each planet's static loads
     scaled by F step by step (planet 2 the most loaded at speed: peak forces 1, 1.2, 1.1); the
     quasi-static maps with the flat table. (case, static, fast, loads, at, rating)."""
     from jaxgear.cli.planetary import rating_section
@@ -141,7 +141,7 @@ def given(tmp_path_factory):
         static.append(tuple(_synthetic_loads(pair, P, 10 * k + j) for j in range(3)))
         fast.append(tuple(_synthetic_loads(pair, P, 10 * k + j, F) for j in range(3)))
     loads = StageLoads(tuple(static), (np.array([1.0, 1.0, 1.1]),) * 2, "stub loads",
-                       CONTACT)
+                       CONTACT, peak_forces=(np.array([1.0, 1.0, 1.1]),) * 2)
     at = StageAtSpeed(tuple(fast), (np.array([1.0, 1.2, 1.1]),) * 2, 1.0, loads, 1.5, 0, 2, P,
                       "stub run")
     with warnings.catch_warnings():

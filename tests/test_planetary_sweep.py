@@ -148,7 +148,9 @@ def _by_hand(case):
         sun_mesh_stiffness=K_MESH * 1e6,
         ring_mesh_stiffness=K_MESH * 1e6,
     )
-    meshes = jp.ContactMeshes.from_geometry(geo, stage.planet_angles, jg.Uniform(case.stiffness.k0))
+    # the case's cells: beyond the theoretical path ([mesh] extended_contact's default)
+    meshes = jp.ContactMeshes.from_geometry(geo, stage.planet_angles, jg.Uniform(case.stiffness.k0),
+                                            contact_geometry=jg.BeyondPath())
     run = jp.PlanetaryRun(T_IN * Z_S / (Z_S + Z_R), tangential_pin_errors=np.array([10e-6, 0, 0]),
                           **RUN)
     return stage, meshes, run, r_r

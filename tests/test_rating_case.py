@@ -267,6 +267,9 @@ def test_measured_face_load_factor_of_a_crowned_spur_pair(tmp_path):
             "stiffness_per_length_N_per_mm_per_um": 10.0,
             "slices": 10,
             "positions_per_pitch": 16,
+            # the closed form's premise: every cell on the theoretical path, in contact (the
+            # cells beyond it, a tip corner's, load only where the teeth deflect enough)
+            "extended_contact": False,
         },
         "modifications": {"pinion": {"crowning": {"depth_um": 4.0}}},
         "rating": copy.deepcopy(CASE["rating"]),

@@ -88,6 +88,13 @@ SCALES = {
     "modes_at_speed_shift": 1.0,
 }
 
+# values recovered from a condensed FE body's displacements (stresses from the Craig-Bampton
+# modes' interior shapes), whose last digits follow the reduction's round-off: the record of
+# run-power-helical-flexible's hub hoop stress, made elsewhere, differs by 1.9e-8 of itself
+# from this machine's at the recording commit itself (6875996d; the same with one BLAS thread
+# and a fresh FE cache), every other number within 1e-9: compared to 1e-7 of their scale
+LOOSE_RTOL = {"body_stress": 1e-7}
+
 # Where a command names its case: an embedded case by its name, ``examples/NAME.toml`` (the
 # checkout's example case files) or ``kind:NAME`` (the small case of that scene kind,
 # tests/_kinds.py, written into the test's folder).
@@ -354,7 +361,8 @@ def differences(got, ref, path: str = "", scale: float | None = None) -> list[st
     step = got - ref
     if "phase_deg" in path:  # an angle: +180° and −180° are one phase (round-off flips them)
         step = (step + 180.0) % 360.0 - 180.0
-    if abs(step) <= RTOL * s:
+    rtol = next((t for key, t in LOOSE_RTOL.items() if f".{key}." in path), RTOL)
+    if abs(step) <= rtol * s:
         return []
     return [f"{path}: {got!r} != {ref!r} (relative {abs(got - ref) / max(s, 1e-300):.2e})"]
 
@@ -442,6 +450,14 @@ def test_differences_sees_a_change():
     assert differences({"amplitude": [1.0, 4e-9], "phase_deg": [30.0, -30.000001]}, lines) == []
     assert differences({"amplitude": [1.0, 4e-9], "phase_deg": [30.000001, -30.0]}, lines) != []
     assert differences({"amplitude": [1.0, 4e-9], "phase_deg": [30.0, 60.0]}, lines) != []
+    # a condensed body's stresses compare to 1e-7 (LOOSE_RTOL), any other number to 1e-9
+    body = {"body_stress": {"hub": {"hoop_Pa": 5e7}}, "te": {"hoop_Pa": 5e7}}
+    assert differences({"body_stress": {"hub": {"hoop_Pa": 5e7 * (1 + 5e-8)}},
+                        "te": body["te"]}, body) == []
+    assert differences({"body_stress": {"hub": {"hoop_Pa": 5e7 * (1 + 3e-7)}},
+                        "te": body["te"]}, body) != []
+    assert differences({"body_stress": body["body_stress"],
+                        "te": {"hoop_Pa": 5e7 * (1 + 5e-8)}}, body) != []
 
 
 def test_a_changed_recorded_number_is_reported(tmp_path):

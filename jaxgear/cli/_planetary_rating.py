@@ -243,6 +243,8 @@ class StageLoads(NamedTuple):
             (m), where the measured K_Hα reads its pairs (cells beyond it, a tip corner's
             contact, are not pairs: :func:`jaxgear.rating.transverse_load_factor`); None: every
             cell is on the path.
+        peak_forces: (sun/planet, planet/ring): each planet's largest mesh force over the
+            positions (N, transverse), (n_planets,); None where not recorded.
     """
 
     meshes: tuple
@@ -250,12 +252,19 @@ class StageLoads(NamedTuple):
     source: str
     contact_model: str
     paths: tuple | None = None
+    peak_forces: tuple | None = None
 
     def most_loaded(self, k: int) -> int:
         """The planet (0-based) whose mesh of kind ``k`` carries the largest mean force, the
         first of those within 1e-9 of it (equal sharing: planet 1, not round-off's pick:
         :func:`jaxgear.cli.scene.first_peak`)."""
         return first_peak(self.forces[k])
+
+    def peak_planet(self, k: int) -> int:
+        """The planet (0-based) whose mesh of kind ``k`` carries the largest force at any
+        position, the first of those within :data:`SPEED_TIE_RTOL` of it: the static twin of
+        :meth:`StageAtSpeed.most_loaded` (the same pick in the quasi-static limit)."""
+        return first_peak(self.peak_forces[k], SPEED_TIE_RTOL)
 
 
 def stage_loads(case, spec, stage, models: dict, ring=None) -> StageLoads | None:
@@ -288,12 +297,13 @@ def stage_loads(case, spec, stage, models: dict, ring=None) -> StageLoads | None
                       CaseWarning, stacklevel=2)
         return None
     kinds = planet_mesh_loads(meshes, x, q.cell_line_load)
-    forces = tuple(np.mean(np.asarray(f), axis=0)
-                   for f in (q.sun_mesh_forces, q.ring_mesh_forces))
+    per_position = [np.asarray(f) for f in (q.sun_mesh_forces, q.ring_mesh_forces)]
+    forces = tuple(np.mean(f, axis=0) for f in per_position)
     source = STAGE_LOADS.format(model=name, slices=case.slices,
                                 positions=case.positions_per_pitch)
     paths = tuple(float(m.path_of_contact) for m in (meshes.sun_mesh, meshes.ring_mesh))
-    return StageLoads(tuple(kinds), forces, source, stage_contact_model(meshes), paths)
+    return StageLoads(tuple(kinds), forces, source, stage_contact_model(meshes), paths,
+                      tuple(np.max(f, axis=0) for f in per_position))
 
 
 def measured_k_h_alpha(loads: StageLoads | None) -> list[dict] | None:
@@ -623,7 +633,7 @@ def _mesh_at_speed(case, out: str, k: int, section: dict, at: StageAtSpeed, tabl
     """Mesh ``k``'s ``root_stress.at_speed`` (:func:`rating_at_speed`) into its ``section`` and
     ``root_stress_map_<mesh>_speed.png`` into ``out``."""
     pair, rating, name = case.pairs[k], ratings_of(case)[k], case.mesh_name(k)
-    planet, still = at.most_loaded(k), at.static.most_loaded(k)
+    planet, still = at.most_loaded(k), at.static.peak_planet(k)
     fast, rest = at.meshes[k][planet], at.static.meshes[k][still]
     maps, static = [], []
     for i in (0, 1):
@@ -671,7 +681,8 @@ def rating_at_speed(case, out: str, rating: dict, at: StageAtSpeed,
     (:meth:`StageAtSpeed.most_loaded`, per mesh kind) times each member's FE fillet stress per
     unit load (:func:`jaxgear.rating.root_stress_map`, the same tables as the quasi-static map,
     ``table``), and the static map of the quasi-static solve at the same slices and travels
-    (its most loaded planet). Adds ``root_stress.at_speed`` per mesh, the pairs' keys
+    (its planet with the largest mesh force, :meth:`StageLoads.peak_planet`: the same pick
+    as at speed, so that the ratio is 1 in the quasi-static limit). Adds ``root_stress.at_speed`` per mesh, the pairs' keys
     (:func:`jaxgear.cli.at_speed_sections`: ``speed_rad_s`` (the input's), ``max_Pa``,
     ``static_max_Pa``, ``ratio`` per member [pinion, gear], ``dynamic_factor`` (the planet's
     largest mesh force over T_s/(N r_bs), the sweep's definition), ``dynamic_factor_tooth``

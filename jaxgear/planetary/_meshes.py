@@ -33,6 +33,7 @@ import numpy as np
 from jaxtyping import Array, Float
 
 from .._baseplane import CellRow, Cells, MeshModel, on_the_path
+from .._contact_geometry import AbstractContactGeometry, TheoreticalPath
 from .._contact import AbstractContactLaw, ExactContact, solve_contact
 from .._internal import PlanetaryGeometry
 from .._modifications import Modifications
@@ -342,13 +343,17 @@ class ContactMeshes(AbstractPlanetaryMeshes):
         stiffness: AbstractStiffness,
         n_slices: int = 1,
         modifications: tuple[Modifications, Modifications] | None = None,
+        contact_geometry: AbstractContactGeometry = TheoreticalPath(),
         **table,
     ) -> ContactMeshes:
         """The meshes of the stage ``geometry`` with planets at ``planet_angles`` (rad,
         (n_planets,), assembly checked), both tables from ``stiffness`` and the same keywords
         ``table`` (:func:`~jaxgear.stiffness_table`), ``n_slices`` slices per contact line,
-        ``modifications`` (sun pair's, ring pair's; None: none). Each mesh at its own load (a
-        case's pairs, :meth:`jaxgear.io.Case.mesh_model`): :meth:`from_models`.
+        ``modifications`` (sun pair's, ring pair's; None: none), both meshes' cells laid out
+        on ``contact_geometry`` (:meth:`jaxgear.MeshModel.from_pair`'s: the theoretical path by
+        default, as there; :class:`~jaxgear.BeyondPath` as a case file's default ``[mesh]
+        extended_contact``). Each mesh at its own load (a case's pairs,
+        :meth:`jaxgear.io.Case.mesh_model`): :meth:`from_models`.
 
         Raises:
             ValueError: planets that cannot be assembled or whose tip circles overlap, a bad
@@ -358,7 +363,8 @@ class ContactMeshes(AbstractPlanetaryMeshes):
         check_instance("geometry", geometry, PlanetaryGeometry, "a jaxgear.PlanetaryGeometry",
                        "ContactMeshes.from_geometry")
         _check_stage(geometry, planet_angles)
-        meshes = tuple(MeshModel.from_pair(p, *stiffness_table(p, stiffness, **table), n_slices)
+        meshes = tuple(MeshModel.from_pair(p, *stiffness_table(p, stiffness, **table), n_slices,
+                                           contact_geometry=contact_geometry)
                        for p in (geometry.sun_planet, geometry.planet_ring))
         return cls.from_models(geometry, planet_angles, meshes, modifications)
 
