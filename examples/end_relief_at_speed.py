@@ -140,7 +140,7 @@ def gradient_optimum(problem, start) -> dict:
     hi = np.asarray(problem.upper)
     at_bound = bool(np.any(np.minimum(res.x - lo, hi - res.x) < 1e-3 * (hi - lo)))
     return {
-        "objective": problem.objective,
+        "objective": problem.objective.name,
         "depth_um": phys[VAR],
         "extent": phys.get("pinion.end_relief.extent", EXTENT),
         "bounds_depth_um": [round(float(v * problem.delta_m) * 1e6, 9) for v in (lo[0], hi[0])],

@@ -308,7 +308,10 @@ def test_a_grouped_sweep_gives_the_one_program_dynamic_factors(small_case):
         rec = jp.steps_sweep(model, stage, meshes, base, plan, carrier, v, ring, grouped)
         assert rec.programs == (2 if grouped else 1) and not rec.result.any()
         df[grouped] = np.array([f.max(axis=0) / rec.static_force for f in rec.forces])
-    assert df[True].max() > 1.5  # dynamic: the teeth entering mesh ring the stage
+    # dynamic: the teeth entering mesh ring the stage (1.43 with the cells beyond the
+    # theoretical path, the default, where each entering pair takes its load gradually; over
+    # 1.5 on the path)
+    assert df[True].max() > 1.3
     np.testing.assert_allclose(df[True], df[False], rtol=0, atol=jd.SETTLED_TOL)
 
 

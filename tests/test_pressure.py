@@ -152,10 +152,10 @@ def test_pressure_across_the_face_against_crowning_at_speed():
     the power pair's hybrid scene at 3000 rad/s, quasi-static and dynamic. Recomputed at 0 and
     10 µm (the dynamic run at 10 µm) against the committed curves (rtol 1e-6, dynamic 1e-4);
     the committed curves: the lowest peak pressure at 5 µm (914 MPa, against 1026 MPa without
-    crowning, at the web-side edge), the peak rising with deeper crowning (1094 MPa at 20 µm),
+    crowning, at the web-side edge), the peak rising with deeper crowning (1092 MPa at 20 µm),
     the cantilevered edge unloaded from 5 µm and both edges from 20 µm. Dynamic: the peaks
-    1071, 947, 987, 1039, 1085 MPa (the lowest at 5 µm, the dynamic load adding 4 % without
-    crowning), the dynamic factor lowest at 10 µm (1.061; 1.131 without crowning), the seed's
+    1065, 944, 985, 1037, 1083 MPa (the lowest at 5 µm, the dynamic load adding 4 % without
+    crowning), the dynamic factor lowest at 10 µm (1.059; 1.120 without crowning), the seed's
     IV-47/48 choice."""
     import pathlib
 
@@ -171,7 +171,7 @@ def test_pressure_across_the_face_against_crowning_at_speed():
         np.testing.assert_allclose(p, stored["pressure_Pa"][i], rtol=1e-6)
     peaks = [max(p) for p in stored["pressure_Pa"]]
     assert int(np.argmin(peaks)) == 1 and np.all(np.diff(peaks[1:]) > 0)
-    np.testing.assert_allclose(np.array(peaks)[[0, 1, 4]] / 1e6, [1026, 914, 1094], atol=1)
+    np.testing.assert_allclose(np.array(peaks)[[0, 1, 4]] / 1e6, [1026, 914, 1092], atol=1)
     edges = np.array([(p[0], p[-1]) for p in stored["pressure_Pa"]])
     assert np.all(edges[1:, 1] == 0) and edges[0, 1] > 0 and np.all(edges[-1] == 0)
     bodies = ex.load_bodies(case.scene)
@@ -179,8 +179,8 @@ def test_pressure_across_the_face_against_crowning_at_speed():
     np.testing.assert_allclose(pd, stored["pressure_dynamic_Pa"][2], rtol=1e-4)
     assert df == pytest.approx(stored["dynamic_factor"][2], rel=1e-4)
     dyn = [max(p) for p in stored["pressure_dynamic_Pa"]]
-    np.testing.assert_allclose(np.array(dyn) / 1e6, [1071, 947, 987, 1039, 1085], atol=1)
+    np.testing.assert_allclose(np.array(dyn) / 1e6, [1065, 944, 985, 1037, 1083], atol=1)
     assert int(np.argmin(stored["dynamic_factor"])) == 2
     np.testing.assert_allclose(
-        np.array(stored["dynamic_factor"])[[0, 2]], [1.131, 1.061], atol=5e-4
+        np.array(stored["dynamic_factor"])[[0, 2]], [1.120, 1.059], atol=5e-4
     )
