@@ -482,7 +482,8 @@ def root_stress_plot(path: str, maps, title: str, names=("pinion", "gear")) -> N
         stress = np.asarray(rmap.stress)[m] / 1e6
         # a surface over the cells (their s, z lie on the inclined contact lines, not on a
         # grid): Gouraud-shaded triangles between them, so no gaps draw stripes; cells on one
-        # line (or fewer than three) span no triangle: drawn as points
+        # line (or fewer than three) span no triangle: drawn as points (a spur stage's map at
+        # speed: its dynamics lay one slice per contact line, every cell at mid-face)
         pts = np.column_stack([s, z])
         if len(s) >= 3 and np.linalg.matrix_rank(pts - pts.mean(axis=0)) == 2:
             sc = ax.tripcolor(s, z, stress, shading="gouraud", cmap="viridis")
