@@ -374,6 +374,12 @@ def test_run_stores_values_that_agree_with_independent_figures(khk, tmp_path, ca
             )
             assert 0 < q["te_rms_m"] <= q["te_ptp_m"]
     assert not [p for p in os.listdir(out) if p.startswith(".tmp-")]  # no temporary files
+    # a rigid pair (no [scene]): no sweep, no staging folder left, finite stiffness curves
+    assert not (out / "sweep").exists()
+    assert not [p for p in os.listdir(out) if p.startswith(".jaxgear-staging-")]
+    with open(out / "mesh_stiffness.csv") as f:
+        k_rows = list(csv.reader(f))
+    assert len(k_rows) > 2 and all(math.isfinite(float(v)) for r in k_rows[1:] for v in r)
     # TE in te.csv is the TE the summary describes: two mesh periods, theta and 4 curves
     with open(out / "te.csv") as f:
         rows = list(csv.DictReader(f))

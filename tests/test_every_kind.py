@@ -53,7 +53,11 @@ def _csv_finite(path: Path) -> None:
 # that scene; pair-rigid's and pair-relative's sweeps cover the command itself); a rigid train's
 # sweep is a torsional train's (train-torsional's run); the hybrid sweeps are covered by
 # tests/test_hybrid_dynamics.py's default jaxgear sweep on a hybrid pair and by a lumped 3D train's
-# run (below) for a train's keys. Runs: a torsional pair's run is pair-rigid's run_case and
+# run (below) for a train's keys. Runs: a rigid pair's run (a case without [scene]) is
+# tests/test_cli_robust.py::test_run_stores_values_that_agree_with_independent_figures (jaxgear
+# run on the KHK rigid pair: its files, summary and te.csv against the KHK tables; no sweep, no
+# staging folder left) with tests/test_readme_claims.py::test_run_case_summary_holds_versions_files_and_two_periods
+# (every file of a pair's run, its figures); a torsional pair's run is that rigid run_case and
 # pair-rigid's sweep (the default scene of a case without one is that torsional pair); a lumped 3D
 # train's whole run (its 60-speed sweep included, the two-stage train's path) is
 # tests/test_lumped_train.py's default jaxgear run on the two-stage lumped 3D train
@@ -62,7 +66,7 @@ def _csv_finite(path: Path) -> None:
 # tests/test_cli_scene_curves.py's default run of a small lumped 3D pair (its scene's curves and
 # files) with tests/test_regression.py's default sweep-accessory-spur (the sweep_case of a lumped
 # 3D pair, against its record).
-SLOW_RUN = {"train-two-stage", "pair-torsional", "train-lumped3d", "pair-lumped3d"}
+SLOW_RUN = {"train-two-stage", "pair-rigid", "pair-torsional", "train-lumped3d", "pair-lumped3d"}
 # The commands here that are also tests/test_regression.py's records (the same case text, the
 # same options): their outputs are compared with the record here, and the regression test runs
 # them only in the slow suite (one run of each in the default suite, not two).

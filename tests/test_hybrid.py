@@ -433,18 +433,12 @@ def test_the_speed_is_an_argument_of_the_solve(case, scene):
     assert float(a.te_mean) == float(b.te_mean)
 
 
-# default tier: tests/test_hybrid_train.py::test_cached_train_equals_the_uncached_solve (the cached window compliance gives the uncached solve, exact law at two torques and the smooth law)
-@pytest.mark.slow
-def test_cached_window_compliance_gives_the_same_solve(case, body):
-    """The window compliance cached per position (it depends on the scene and the position
-    only) gives the quasi-static result formed at each position: TE, line loads and coordinates
-    to 1e-12 (relative), at two torques and another tip relief (the exact law on the factored
-    full contact set, the smooth law on the cached C), and the same gradient with respect to
-    the relief depth, equal to a central difference; a position that is not cached raises."""
+def _cached_pair(case, scene):
+    """The module's scene with its window compliance cached at the 4 positions of the module's
+    other solves (one compiled program), the positions, the case's modifications and a
+    doubled tip relief."""
     from jaxgear.scenes import cache_window_compliance
 
-    scene = static_scene(case, bodies=(None, body))[0]
-    # the 4 positions of the module's other solves of this scene: one compiled program
     theta = jg.mesh_positions(case.mesh_model(), 4, 1)
     cached = cache_window_compliance(scene, theta)
     assert cached.compliance.C.shape[0] == 4
@@ -452,6 +446,17 @@ def test_cached_window_compliance_gives_the_same_solve(case, body):
     deeper = dataclasses.replace(
         mods, gear=dataclasses.replace(mods.gear, tip_relief_depth=2 * mods.gear.tip_relief_depth)
     )
+    return cached, theta, mods, deeper
+
+
+def test_cached_window_compliance_gives_the_same_solve(case, scene):
+    """The window compliance cached per position (it depends on the scene and the position
+    only) gives the quasi-static result formed at each position: TE, line loads and coordinates
+    to 1e-12 (relative), at two torques and another tip relief (the exact law on the factored
+    full contact set, the smooth law on the cached C); a position that is not cached raises.
+    The same on a train (two meshes on one body): test_hybrid_train.py's
+    test_cached_train_equals_the_uncached_solve (slow); the gradient: the test below (slow)."""
+    cached, theta, mods, deeper = _cached_pair(case, scene)
     for torque, m in ((case.torque, mods), (2.5 * case.torque, deeper)):
         a = jg.quasi_static(scene, m, torque, theta)
         b = jg.quasi_static(cached, m, torque, theta)
@@ -464,6 +469,17 @@ def test_cached_window_compliance_gives_the_same_solve(case, body):
     b = jg.quasi_static(cached, deeper, case.torque, theta, contact=smooth)
     x, y = np.asarray(a.transmission_error), np.asarray(b.transmission_error)
     np.testing.assert_allclose(y, x, rtol=0, atol=1e-12 * np.abs(x).max())
+    with pytest.raises(eqx.EquinoxRuntimeError, match="not one of the cached positions"):
+        jg.quasi_static(cached, mods, case.torque, theta + 1e-4)
+
+
+# default tier: test_cached_window_compliance_gives_the_same_solve (the cached solve is the uncached one, the exact and smooth laws) and tests/test_optimise_dynamic.py::test_dynamic_factor_gradient_matches_finite_differences (reverse mode through the hybrid solves, uncached, against a central difference); the gradient through the cached solve itself is slow only, as it was before this split
+@pytest.mark.slow
+def test_cached_window_compliance_gives_the_same_gradient(case, scene):
+    """The cached window compliance (:func:`_cached_pair`) gives the same gradient of the TE RMS
+    with respect to the relief depth as the uncached solve (1e-9), equal to a central
+    difference (1e-6)."""
+    cached, theta, mods, _ = _cached_pair(case, scene)
 
     def rms(s, depth):
         g = dataclasses.replace(mods.gear, tip_relief_depth=depth)
@@ -475,8 +491,6 @@ def test_cached_window_compliance_gives_the_same_solve(case, body):
     h = 1e-3 * float(d0)  # the active sets hold within the step: a central difference
     fd = (float(rms(cached, d0 + h)) - float(rms(cached, d0 - h))) / (2 * h)
     assert g_cached == pytest.approx(fd, rel=1e-6)
-    with pytest.raises(eqx.EquinoxRuntimeError, match="not one of the cached positions"):
-        jg.quasi_static(cached, mods, case.torque, theta + 1e-4)
 
 
 def test_the_extension_check_reads_each_corners_own_approach(case, scene):

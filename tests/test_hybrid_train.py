@@ -243,6 +243,8 @@ def _rigidified_idler_dynamics(case, speeds):
         assert float(np.asarray(ref.meshes[0].dynamic_factor)[0]) > 1.5  # near a resonance
 
 
+# default tier: tests/test_hybrid.py::test_cached_window_compliance_gives_the_same_solve (the same claim on the flexible pair: two torques, the smooth law, an uncached position raises) and test_idler_bearings_carry_its_two_mesh_forces (this train's quasi-static solve)
+@pytest.mark.slow
 def test_cached_train_equals_the_uncached_solve(case, scene):
     """The flexible idler train (two meshes on one body, two rigid-body amplitudes) with its
     window compliance cached (the exact law on the factored full contact set) against the

@@ -313,6 +313,8 @@ entry()
 """
 
 
+# default tier: tests/test_output_paths.py::test_sigterm_keeps_the_finished_parts_of_a_keep_partial_run (SIGTERM while main runs: one line, exit 143, the handler restored) and tests/test_cli_robust.py::test_interrupt_leaves_the_earlier_files_or_with_keep_partial_an_incomplete_summary (the clean-up SIGTERM's Terminated shares with Ctrl-C: the earlier results as they were, no staging folder); this one the same in a real process through its console entry
+@pytest.mark.slow
 def test_sigterm_mid_run_is_an_interruption_with_exit_143(tmp_path):
     """``timeout``/a job scheduler's SIGTERM while ``jaxgear run`` works (a real process, its
     console entry): one line, exit status 143 (128 + 15), the earlier results as they were and
@@ -346,7 +348,8 @@ def test_sigterm_mid_run_is_an_interruption_with_exit_143(tmp_path):
 def test_sigterm_keeps_the_finished_parts_of_a_keep_partial_run(tmp_path, capsys, monkeypatch):
     """The same SIGTERM (sent to this process while ``main`` runs) on ``--keep-partial``: the
     finished file kept where the user sees it, ``summary.json`` saying the run is incomplete,
-    exit status 143; SIGTERM's own handler back after."""
+    exit status 143; SIGTERM's own handler back after. Without it: the earlier run's files as
+    they were, no staging folder left, 143 (in a real process: the slow test above)."""
     import json
     import signal
 
@@ -359,6 +362,15 @@ def test_sigterm_keeps_the_finished_parts_of_a_keep_partial_run(tmp_path, capsys
     monkeypatch.setattr(run_module, "run_case", run_case)
     before = signal.getsignal(signal.SIGTERM)
     case = _case_file(tmp_path)
+    earlier = tmp_path / "earlier"
+    earlier.mkdir()
+    (earlier / "harris_map.png").write_bytes(b"earlier")  # an earlier run's file, listed
+    (earlier / ".jaxgear-outputs").write_text("harris_map.png\n")
+    assert main(["run", str(case), "--out", str(earlier), "--quiet"]) == 143
+    assert capsys.readouterr().err.strip() == "jaxgear: terminated (SIGTERM)"
+    assert sorted(os.listdir(earlier)) == [".jaxgear-outputs", "harris_map.png"]
+    assert (earlier / "harris_map.png").read_bytes() == b"earlier"
+    assert signal.getsignal(signal.SIGTERM) == before
     out = tmp_path / "out"
     assert main(["run", str(case), "--out", str(out), "--quiet", "--keep-partial"]) == 143
     assert capsys.readouterr().err.strip() == "jaxgear: terminated (SIGTERM)"
