@@ -277,10 +277,6 @@ def _run(model, stage, meshes, run, carrier_speed, mesh_speed, law, ring):
         C=_with_ring(c + omega * model.gyroscopic_matrix(stage) + mesh_speed * g_v, c_u),
         F=jnp.concatenate([f, jnp.zeros(n_u, f.dtype)]),
     )
-    # the ring meshes' transverse force per cell force (mesh_forces is linear), (n, c)
-    ring_rows = jax.jacobian(lambda c: meshes.mesh_forces(c)[stage.n_planets:])(
-        jnp.zeros(rows.k.shape[1], rows.k.dtype)
-    )
     per_mesh = S if run.mesh_steps is None else run.mesh_steps  # steps per mesh period
     dt = p_b / (per_mesh * mesh_speed)
     # step i at the travel x = (i + 1/2) p_b / S, mid-points as :func:`jaxgear.mesh_positions`:
@@ -297,6 +293,8 @@ def _run(model, stage, meshes, run, carrier_speed, mesh_speed, law, ring):
         row = planetary_cell_row(model, stage, meshes, run, travel(i))
         if n_u == 0:
             return row
+        # the ring meshes' displacement's entries in the cells' rows, (n, c)
+        ring_rows = meshes.ring_rows(stage, travel(i), row.k.shape[0])
         if basis is None:  # the station model: the contact on every coordinate
             E = ring.contact_rows(stage, travel(i))
             idx = jnp.arange(n_dof + n_u) if run.ring_cell_space else None  # the cell space

@@ -185,6 +185,17 @@ class AbstractPlanetaryMeshes(eqx.Module):
         ``forces`` (N, (..., c)): sun meshes then ring meshes (the cells' normal forces times
         cos beta_b)."""
 
+    def ring_rows(self, stage, x, cells: int) -> Float[Array, "n c"]:
+        """(n_planets, c) at the mesh travel ``x`` (m), for ``cells`` cells: how each ring
+        mesh's ring displacement along its force (the flexible ring's coordinates,
+        :meth:`~jaxgear.planetary.AbstractRingModel.augment`) enters the cells' rows, per metre
+        (-): the transverse ring-mesh force of each planet per cell force (:meth:`mesh_forces`
+        is linear; cos β_b on that planet's ring cells), the cells' forces on the ring by the
+        same rows."""
+        n = stage.n_planets
+        return jax.jacobian(lambda f: self.mesh_forces(f)[n:])(
+            jnp.zeros(cells, jnp.result_type(x, float)))
+
     @abc.abstractmethod
     def mesh_stiffness(self, model, stage, positions) -> tuple[Array, Array]:
         """(k_s, k_r): each mesh's transverse stiffness on its line of action (N/m, the cells
@@ -457,6 +468,20 @@ class ContactMeshes(AbstractPlanetaryMeshes):
         f_s, f_r = (f.sum(axis=(-2, -1)) for f in self.split_cells(forces))
         return jnp.cos(self.sun_mesh.base_helix_angle) * jnp.concatenate([f_s, f_r], axis=-1)
 
+    def ring_rows(self, stage, x, cells):
+        """:meth:`AbstractPlanetaryMeshes.ring_rows`; beyond the path a ring corner cell's
+        entry carries the factor (1 + λ)/2 of its rotation entries (:func:`_rolling_lever`):
+        the ring's turning on its stations is its rotation there, so that the ring mesh's
+        rolling with the ring turning on its housing moves no corner gap either."""
+        rows = super().ring_rows(stage, x, cells)
+        if not self.ring_mesh.extended_contact:
+            return rows
+        cells_r = self.planet_cells(x)[1][0]
+        lever_driving, lever_driven, *_ = self.ring_mesh.corner(cells_r.s)
+        factor = _rolling_lever(lever_driving, lever_driven).reshape(-1)
+        factor = jnp.concatenate([jnp.ones(cells - factor.shape[0], factor.dtype), factor])
+        return rows * factor[None, :]
+
     def split_cells(self, values) -> tuple[Array, Array]:
         """A per-cell array of the stage's cell rows (..., c) (:meth:`cell_row`'s order: every
         planet's sun-mesh cells, then every planet's ring-mesh cells, each mesh's
@@ -561,17 +586,29 @@ def _drive_modes(model, stage) -> tuple:
 
 def _corner_terms(mesh, cells, rows) -> Array:
     """What a corner cell beyond the theoretical path adds to its mesh row (n_planets, n_lines,
-    n_slices, n_dof), before the factor cos β_b: the tip owner's rotation entry times λ − 1
-    and the translation entries turned by ε (:meth:`~jaxgear.MeshModel.corner`, the rows of
-    :meth:`AbstractPlanetaryModel.corner_rows`); zero on the path."""
+    n_slices, n_dof), before the factor cos β_b: the two members' rotation entries times
+    (λ − 1)/2 (:func:`_rolling_lever`) and the translation entries turned by ε
+    (:meth:`~jaxgear.MeshModel.corner`, the rows of :meth:`AbstractPlanetaryModel.corner_rows`);
+    zero on the path."""
     lever_driving, lever_driven, eps, _, _ = mesh.corner(cells.s)
     r_driving, r_driven, trans, perp = (r[:, None, None, :] for r in rows)
     return (
-        (lever_driving - 1.0)[..., None] * r_driving
-        + (lever_driven - 1.0)[..., None] * r_driven
+        (_rolling_lever(lever_driving, lever_driven) - 1.0)[..., None] * (r_driving + r_driven)
         + (jnp.cos(eps) - 1.0)[..., None] * trans
         - jnp.sin(eps)[..., None] * perp
     )
+
+
+def _rolling_lever(lever_driving, lever_driven):
+    """The factor c = (1 + λ)/2 on both members' rotation entries of a corner cell (1 on the
+    path; λ the tip owner's lever ratio, the other member's is 1), so that the pair's rolling
+    (both members turning at the conjugate ratio) moves no corner gap, as on the path: the
+    exact gap derivative, r_bF for the flank owner and λ r_bT for the tip owner, less its part
+    along the rolling (1 − λ per unit roll, dgap/ds) taken off equally from the two rotations.
+    The cells' positions follow the nominal motion, so a rolling held only by a soft support
+    (a condensed ring on its housing, mm under load) is a phase the cells do not follow and
+    must not close a corner (docs/extended-contact.md, "The pair's rolling")."""
+    return 0.5 * (lever_driving + lever_driven)
 
 
 class PlanetMeshLoads(NamedTuple):
@@ -879,7 +916,7 @@ def _planetary_quasi_static(model, stage, meshes, sun_torque, positions, tangent
                                   "planetary_quasi_static", x)
         row = meshes.cell_row(model, stage, x, (d_sx, d_rx))
         # the ring meshes' transverse force per cell force (mesh_forces is linear)
-        ring_rows = jax.jacobian(lambda c: meshes.mesh_forces(c)[n:])(jnp.zeros_like(row.k))
+        ring_rows = meshes.ring_rows(stage, x, row.k.shape[0])
         K, fx, V = ring.augment(stage, k_b, f, row.V, ring_rows, x)
         sol = solve_contact(K, fx, V, row.k, row.length, row.delta0, row.mask, law)
         cell_forces = sol.force_density * row.length
