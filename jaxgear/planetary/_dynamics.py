@@ -261,7 +261,7 @@ def _run(model, stage, meshes, run, carrier_speed, mesh_speed, law, ring):
             "mesh period (ContactMeshes, ConstantMeshes); planetary_quasi_static takes them"
         )
     S, B = run.steps_per_period, run.periods
-    m, k_b, f, k_mean, rows = planetary_stage_system(model, stage, meshes, run, S)
+    m, k_b, f, k_mean, _ = planetary_stage_system(model, stage, meshes, run, S)
     p_b = meshes.mesh_period()
     omega = as_float(carrier_speed)
     c = modal_damping(m, k_b + k_mean, run.damping_ratio)
