@@ -311,7 +311,9 @@ def test_condensed_ring_stage_reaches_the_condensed_quasi_static_limit():
     """A small stage whose ring is the condensed coarse test ring (tests/_planetary_stage.py's
     seq_ring_case, massless in the dynamics): run_at_speed at 1e-6 of its operating speed
     gives every planet's cell line loads equal to the static solve beside it, which takes the
-    same condensed ring (1e-6 of the largest; measured 5e-8), and not the rigid ring's (the
+    same condensed ring (1e-6 of the largest; measured 2.2e-7 with the case's contact beyond
+    the path, 1.3e-5 while its corners took the stage's rolling: docs/extended-contact.md,
+    "The pair's rolling"), and not the rigid ring's (the
     flexible ring relieves the pin-error planet's ring mesh by more than 1e-3)."""
     from jaxgear.cli.planetary import sharing_models, stage_loads
     from jaxgear.cli.planetary_speed import run_at_speed
