@@ -388,15 +388,73 @@ def test_planetary_rows_are_the_corner_gap_derivative(which):
                 ref = [-d[0] / r_s, d[1] / r_p, -d[2], -d[3], -d[4], -d[5]]
             else:  # mirrored: both turn clockwise in the stage, y flips
                 ref = [d[0] / r_p, d[1] / r_r, -d[2], d[3], -d[4], d[5]]
-            # the row the solvers use: the exact one less its part along the stage's free
-            # rigid-body modes Φ_r (mass-normalised, found here by scipy), V − (V Φ_r)(M Φ_r)ᵀ
+            # the row the solvers use: the exact one less its part along the pair's rolling ρ
+            # (centres fixed, the rotations at the conjugate ratio: no change on the path,
+            # whose rotation entries are ±1 with the corner's signs), taken off so that the
+            # stage's rigid rotation (u = r_b φ on both) changes the rotations' part no more
+            # than the exact row does: a 2 x 2 solve on the two rotation entries; then less
+            # its part along the stage's free rigid-body modes Φ_r (mass-normalised, found
+            # here by scipy), V − (V Φ_r)(M Φ_r)ᵀ
+            assert abs(ref[0 if s[line] > g else 1]) < 0.99  # the tip owner's λ
+            ref = list(ref)
+            a = np.array(ref[:2])
+            rho = np.array([1.0, -np.sign(a[0]) * np.sign(a[1])])
+            rigid = np.array([r_s, r_p] if k == 0 else [r_p, r_r])
+            ref[:2] = np.linalg.solve(np.array([rho, rigid]), [0.0, a @ rigid])
             full = np.zeros(V.shape)
             full[[names.index(n) for n in coords]] = ref
             full -= (full @ phi) @ (M @ phi).T
             np.testing.assert_allclose(V, full, atol=2e-6)
             assert np.abs(V @ phi).max() < 1e-12 * np.abs(V).max() * np.abs(phi).max()
-            assert abs(ref[0 if s[line] > g else 1]) < 0.99  # the tip owner's λ
     assert sorted(seen) == [False, True]
+
+
+def test_planetary_rolling_with_a_flexible_ring_closes_no_corner():
+    # the stage's rolling with the carrier held (the sun turning, the planets turning back, the
+    # ring's displacement at every planet along its force: a flexible ring turning on its
+    # housing, held by nothing stiff; Lin & Parker's deflections u_s + u_n on the sun mesh,
+    # u_r - u_n on the ring mesh) moves the cells along the path, which the cells' positions
+    # (the nominal motion) do not follow: no cell's gap may change with it, corner cells
+    # included (with the exact lever, 1 - λ per unit roll: a condensed ring turning 4 mm on
+    # its housing under load closed the corners by 0.6 mm, the stage's dynamic factor 22)
+    from _planetary_stage import stage as held_stage
+
+    geo, models, meshes, _ = _planetary()
+    # the ring and the carrier held stiffly: no free drive rotation (whose part the corner rows
+    # drop along M R, test above); the ring turns on its stations alone (w)
+    stage = held_stage(geo, 4)
+    model = jp.PlanarPlanetary()
+    names = model.dof_names(stage)
+    z = 80
+    ring = jp.CondensedRing(np.eye(2 * z).reshape(z, 2, z, 2) * 1e-9)
+    n = stage.n_planets
+    roll = np.zeros(len(names) + n)
+    roll[names.index("u_s")] = 1.0
+    roll[[names.index(f"u_{i + 1}") for i in range(n)]] = -1.0
+    roll[len(names):] = 1.0  # the ring's displacement along each ring mesh's force (w)
+
+    @eqx.filter_jit
+    def rows(x):
+        zero = jnp.zeros(n)
+        row = meshes.cell_row(model, stage, x, (zero, zero))
+        ring_rows = meshes.ring_rows(stage, x, row.k.shape[0])
+        k_b = model.stiffness_matrix(stage)
+        V = ring.augment(stage, k_b, jnp.zeros(k_b.shape[0]), row.V, ring_rows, x)[2]
+        cells = meshes.planet_cells(x)
+        s = jnp.concatenate([cells[0][0].s.reshape(-1), cells[1][0].s.reshape(-1)])
+        return V, row.mask, s
+
+    g = (float(models[0].path_of_contact), float(models[1].path_of_contact))
+    pb = float(models[0].base_pitch)
+    corners = 0
+    for x in np.linspace(0.0, pb, 16, endpoint=False) + 1e-6:
+        V, mask, s = (np.asarray(a) for a in rows(jnp.asarray(x)))
+        c_s = n * models[0].n_lines * models[0].n_slices
+        beyond = mask & ((s < 0) | (s > np.r_[[g[0]] * c_s, [g[1]] * (s.size - c_s)]))
+        # the exact rows' rolling part at a corner is (1 - λ) cos β_b, λ ≤ 0.99 there
+        np.testing.assert_allclose(V[mask] @ roll, 0.0, atol=1e-12)
+        corners += int(beyond.sum())
+    assert corners >= 4
 
 
 @pytest.fixture(scope="module")

@@ -261,7 +261,7 @@ def _run(model, stage, meshes, run, carrier_speed, mesh_speed, law, ring):
             "mesh period (ContactMeshes, ConstantMeshes); planetary_quasi_static takes them"
         )
     S, B = run.steps_per_period, run.periods
-    m, k_b, f, k_mean, rows = planetary_stage_system(model, stage, meshes, run, S)
+    m, k_b, f, k_mean, _ = planetary_stage_system(model, stage, meshes, run, S)
     p_b = meshes.mesh_period()
     omega = as_float(carrier_speed)
     c = modal_damping(m, k_b + k_mean, run.damping_ratio)
@@ -276,10 +276,6 @@ def _run(model, stage, meshes, run, carrier_speed, mesh_speed, law, ring):
         M=_with_ring(m, m_u),
         C=_with_ring(c + omega * model.gyroscopic_matrix(stage) + mesh_speed * g_v, c_u),
         F=jnp.concatenate([f, jnp.zeros(n_u, f.dtype)]),
-    )
-    # the ring meshes' transverse force per cell force (mesh_forces is linear), (n, c)
-    ring_rows = jax.jacobian(lambda c: meshes.mesh_forces(c)[stage.n_planets:])(
-        jnp.zeros(rows.k.shape[1], rows.k.dtype)
     )
     per_mesh = S if run.mesh_steps is None else run.mesh_steps  # steps per mesh period
     dt = p_b / (per_mesh * mesh_speed)
@@ -297,6 +293,8 @@ def _run(model, stage, meshes, run, carrier_speed, mesh_speed, law, ring):
         row = planetary_cell_row(model, stage, meshes, run, travel(i))
         if n_u == 0:
             return row
+        # the ring meshes' displacement's entries in the cells' rows, (n, c)
+        ring_rows = meshes.ring_rows(stage, travel(i), row.k.shape[0])
         if basis is None:  # the station model: the contact on every coordinate
             E = ring.contact_rows(stage, travel(i))
             idx = jnp.arange(n_dof + n_u) if run.ring_cell_space else None  # the cell space

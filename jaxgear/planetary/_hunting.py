@@ -402,6 +402,9 @@ class DeviationMeshes(AbstractPlanetaryMeshes):
     def mesh_forces(self, forces):
         return self.contact.mesh_forces(forces)
 
+    def ring_rows(self, stage, x, cells):
+        return self.contact.ring_rows(stage, x, cells)
+
     def face_positions(self, stage):
         return self.contact.face_positions(stage)
 

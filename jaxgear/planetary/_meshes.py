@@ -185,6 +185,17 @@ class AbstractPlanetaryMeshes(eqx.Module):
         ``forces`` (N, (..., c)): sun meshes then ring meshes (the cells' normal forces times
         cos beta_b)."""
 
+    def ring_rows(self, stage, x, cells: int) -> Float[Array, "n c"]:
+        """(n_planets, c) at the mesh travel ``x`` (m), for ``cells`` cells: how each ring
+        mesh's ring displacement along its force (the flexible ring's coordinates,
+        :meth:`~jaxgear.planetary.AbstractRingModel.augment`) enters the cells' rows, per metre
+        (-): the transverse ring-mesh force of each planet per cell force (:meth:`mesh_forces`
+        is linear; cos β_b on that planet's ring cells), the cells' forces on the ring by the
+        same rows."""
+        n = stage.n_planets
+        return jax.jacobian(lambda f: self.mesh_forces(f)[n:])(
+            jnp.zeros(cells, jnp.result_type(x, float)))
+
     @abc.abstractmethod
     def mesh_stiffness(self, model, stage, positions) -> tuple[Array, Array]:
         """(k_s, k_r): each mesh's transverse stiffness on its line of action (N/m, the cells
@@ -457,6 +468,26 @@ class ContactMeshes(AbstractPlanetaryMeshes):
         f_s, f_r = (f.sum(axis=(-2, -1)) for f in self.split_cells(forces))
         return jnp.cos(self.sun_mesh.base_helix_angle) * jnp.concatenate([f_s, f_r], axis=-1)
 
+    def ring_rows(self, stage, x, cells):
+        """:meth:`AbstractPlanetaryMeshes.ring_rows`; beyond the path a ring corner cell's
+        entry carries the factor c of its rotation entries (:func:`_rolling_lever`):
+        the ring's turning on its stations is its rotation there, so that the ring mesh's
+        rolling with the ring turning on its housing moves no corner gap either."""
+        rows = super().ring_rows(stage, x, cells)
+        if not self.ring_mesh.contact_geometry.reaches_beyond_path:
+            return rows
+        cells_r = self.planet_cells(x)[1][0]
+        lever_driving, lever_driven, *_ = self.ring_mesh.corner(cells_r.s)
+        factor = _rolling_lever(lever_driving, lever_driven, self._radii()[1]).reshape(-1)
+        factor = jnp.concatenate([jnp.ones(cells - factor.shape[0], factor.dtype), factor])
+        return rows * factor[None, :]
+
+    def _radii(self) -> tuple:
+        """Each mesh's signed base radii (r_b1, r_b2) (m): the sun's and the planet's, the
+        planet's and minus the ring's (an internal gear)."""
+        return ((self.sun_mesh.base_radius_pinion, self.sun_mesh.base_radius_gear),
+                (self.ring_mesh.base_radius_pinion, -self.ring_mesh.base_radius_gear))
+
     def split_cells(self, values) -> tuple[Array, Array]:
         """A per-cell array of the stage's cell rows (..., c) (:meth:`cell_row`'s order: every
         planet's sun-mesh cells, then every planet's ring-mesh cells, each mesh's
@@ -511,9 +542,11 @@ class ContactMeshes(AbstractPlanetaryMeshes):
         corner = model.corner_rows(stage) if self._extended() else (None, None)
         drive = _drive_modes(model, stage) if self._extended() else None
         parts = []
-        for mesh, cells, delta0, (v, w), x_line, pitch, d, rows in (
-            (self.sun_mesh, cells_s, d0_s, rows_s, x_s, self.pitch_points[0], d_s, corner[0]),
-            (self.ring_mesh, cells_r, d0_r, rows_r, x_r, self.pitch_points[1], d_r, corner[1]),
+        for mesh, cells, delta0, (v, w), x_line, pitch, d, rows, radii in (
+            (self.sun_mesh, cells_s, d0_s, rows_s, x_s, self.pitch_points[0], d_s, corner[0],
+             self._radii()[0]),
+            (self.ring_mesh, cells_r, d0_r, rows_r, x_r, self.pitch_points[1], d_r, corner[1],
+             self._radii()[1]),
         ):
             cb = jnp.cos(mesh.base_helix_angle)
             # (n_lines, n_slices), every planet's; mirrored for left-hand planets
@@ -526,8 +559,8 @@ class ContactMeshes(AbstractPlanetaryMeshes):
             V = mesh.contact_geometry.beyond_path_vectors(
                 mesh, cells.s, V,
                 lambda V: V - (V @ drive[0]) @ drive[1].T,
-                lambda mesh=mesh, cells=cells, rows=rows, cb=cb: cb
-                * _corner_terms(mesh, cells, rows),
+                lambda mesh=mesh, cells=cells, rows=rows, cb=cb, radii=radii: cb
+                * _corner_terms(mesh, cells, rows, radii),
             )
             d0 = jnp.where(cells.mask, delta0 - cb * d[:, None, None], 0.0)
             parts.append((V.reshape(-1, v.shape[-1]), cells.stiffness.reshape(-1),
@@ -559,19 +592,35 @@ def _drive_modes(model, stage) -> tuple:
     return jax.lax.stop_gradient(phi), jax.lax.stop_gradient(M @ phi)
 
 
-def _corner_terms(mesh, cells, rows) -> Array:
+def _corner_terms(mesh, cells, rows, radii) -> Array:
     """What a corner cell beyond the theoretical path adds to its mesh row (n_planets, n_lines,
-    n_slices, n_dof), before the factor cos β_b: the tip owner's rotation entry times λ − 1
-    and the translation entries turned by ε (:meth:`~jaxgear.MeshModel.corner`, the rows of
+    n_slices, n_dof), before the factor cos β_b: the two members' rotation entries times c − 1
+    (:func:`_rolling_lever`; ``radii`` the pair's signed base radii) and the translation
+    entries turned by ε (:meth:`~jaxgear.MeshModel.corner`, the rows of
     :meth:`AbstractPlanetaryModel.corner_rows`); zero on the path."""
     lever_driving, lever_driven, eps, _, _ = mesh.corner(cells.s)
     r_driving, r_driven, trans, perp = (r[:, None, None, :] for r in rows)
+    c = _rolling_lever(lever_driving, lever_driven, radii)
     return (
-        (lever_driving - 1.0)[..., None] * r_driving
-        + (lever_driven - 1.0)[..., None] * r_driven
+        (c - 1.0)[..., None] * (r_driving + r_driven)
         + (jnp.cos(eps) - 1.0)[..., None] * trans
         - jnp.sin(eps)[..., None] * perp
     )
+
+
+def _rolling_lever(lever_driving, lever_driven, radii):
+    """c = (λ1 r_b1 + λ2 r_b2)/(r_b1 + r_b2), the factor on both members' rotation entries of a
+    corner cell (1 on the path; λ the lever ratios, the tip owner's λ_T < 1 beyond the path,
+    the flank owner's 1; ``radii`` (r_b1, r_b2) the pair's base radii, an internal gear's
+    negative). The exact gap derivative (r_bF for the flank owner, λ r_bT for the tip owner)
+    has a part along the pair's rolling (both members turning at the conjugate ratio, centres
+    fixed: dgap/ds = 1 − λ per unit roll); c is that derivative less this part, taken off so
+    that the stage's rigid rotation still moves no gap (the two entries equal, c (u_1 ± u_2)).
+    The cells' positions follow the nominal motion, so a rolling held only by a soft support
+    (a condensed ring turning mm on its housing under load) is a phase the cells do not
+    follow and must not close a corner (docs/extended-contact.md, "The pair's rolling")."""
+    r1, r2 = radii
+    return (lever_driving * r1 + lever_driven * r2) / (r1 + r2)
 
 
 class PlanetMeshLoads(NamedTuple):
@@ -879,7 +928,7 @@ def _planetary_quasi_static(model, stage, meshes, sun_torque, positions, tangent
                                   "planetary_quasi_static", x)
         row = meshes.cell_row(model, stage, x, (d_sx, d_rx))
         # the ring meshes' transverse force per cell force (mesh_forces is linear)
-        ring_rows = jax.jacobian(lambda c: meshes.mesh_forces(c)[n:])(jnp.zeros_like(row.k))
+        ring_rows = meshes.ring_rows(stage, x, row.k.shape[0])
         K, fx, V = ring.augment(stage, k_b, f, row.V, ring_rows, x)
         sol = solve_contact(K, fx, V, row.k, row.length, row.delta0, row.mask, law)
         cell_forces = sol.force_density * row.length
