@@ -80,7 +80,11 @@ def _bounds(rng: sc.Interval, integer: bool, any_size: bool = False) -> dict:
 
     wide = integer and not any_size
     out = {}
-    if rng.lo > -math.inf:
+    if rng.lo == 0.0 and rng.lo_open and not integer:
+        # a positive quantity: at least the smallest normal float, so that a subnormal value
+        # (5e-324) cannot pass the range and underflow to 0 in the unit conversion (µm → m)
+        out["ge"] = sys.float_info.min
+    elif rng.lo > -math.inf:
         out["gt" if rng.lo_open else "ge"] = bound(rng.lo)
     elif wide:
         out["ge"] = -_FLOAT_MAX

@@ -659,6 +659,24 @@ def test_a_mutated_case_file_is_one_line(table, key, value, whole):
         assert "\n" not in str(err), str(err)
 
 
+def test_a_subnormal_positive_value_is_one_line():
+    """The fuzz test's find: ``[lubricant] pressure_viscosity_per_GPa = 5e-324`` lies in (0, 100]
+    but underflows to 0 in the conversion to 1/Pa, where the library refused it with its own
+    ValueError; a key whose range is open at 0 takes at least the smallest normal float (2.2e-308),
+    so the reader refuses it in one line, and keeps a normal small value."""
+    data = _fzg()
+    data["lubricant"]["pressure_viscosity_per_GPa"] = 5e-324
+    with pytest.raises(sc.SchemaError) as err:
+        jio.parse_case(data, "fzg")
+    assert str(err.value) == ("[lubricant] pressure_viscosity_per_GPa = 4.94066e-324: out of range, "
+                              "allowed (0, 100]")
+    data["lubricant"]["pressure_viscosity_per_GPa"] = 1e-300
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        case = jio.parse_case(data, "fzg")
+    assert float(jio.tribology_of(case).lubricant.pressure_viscosity) == pytest.approx(1e-309)
+
+
 def _train(name: str):
     return sc.load_toml((ROOT / f"jaxgear/cases/{name}.toml").read_bytes(), name)
 
