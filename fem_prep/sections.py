@@ -401,9 +401,13 @@ def _problem(kind, ctx, v, rng, info, element, where, key, index):
     if kind in ("greater_than", "greater_than_equal", "less_than", "less_than_equal"):
         if not sc.finite(v) and rng is not None and v in rng.interval:  # beyond a float
             return f"out of range (beyond ±1.79769e+308), allowed {allowed}"
+        # a subnormal value inside a range open at 0 (refused by :func:`_bounds`' floor)
+        subnormal = (isinstance(v, float) and 0.0 < abs(v) < sys.float_info.min
+                     and rng is not None and v in rng.interval)
+        why = " (subnormal: below 2.22507e-308)" if subnormal else ""
         if element:
-            return f"element {sc.fmt(v)} out of range, allowed {allowed}"
-        return f"out of range, allowed {allowed}"
+            return f"element {sc.fmt(v)} out of range{why}, allowed {allowed}"
+        return f"out of range{why}, allowed {allowed}"
     if kind in ("float_type", "int_type", "finite_number", "int_from_float", "float_parsing",
                 "int_parsing"):
         if element:

@@ -144,7 +144,7 @@ REFUSED = {
         ("contact ratio",)),
     "nrel2-center-distance-denormal": (N2, (("# center_distance_mm:",
                                              "center_distance_mm = 5e-324 #"),), (
-        "[planetary] center_distance_mm = 4.94066e-324: out of range, allowed [584.003",)),
+        "[planetary] center_distance_mm = 4.94066e-324: out of range (subnormal",)),
 }
 
 
@@ -207,8 +207,7 @@ GEARBOX_FLOOR = (1e-6 * 1e3 * 0.55 * 3 * 18 * 21e-3 * math.cos(math.radians(20.0
     ("old", "new", "needles"),
     [
         ("torque_Nm = 3.946e6", "torque_Nm = 5e-324",
-         (("[operating] torque_Nm = 4.94066e-324: out of range, allowed "
-           f"[{GEARBOX_FLOOR:.3g}, 1e+09]"), "stage 2")),
+         ("[operating] torque_Nm = 4.94066e-324: out of range (subnormal",)),
         ("torque_Nm = 3.946e6", "torque_Nm = 1e-3",
          (f"[operating] torque_Nm = 0.001: out of range, allowed [{GEARBOX_FLOOR:.3g}",)),
         ("mesh_stiffness_N_per_um = 7668.0", "mesh_stiffness_N_per_um = 1e-300",

@@ -668,8 +668,8 @@ def test_a_subnormal_positive_value_is_one_line():
     data["lubricant"]["pressure_viscosity_per_GPa"] = 5e-324
     with pytest.raises(sc.SchemaError) as err:
         jio.parse_case(data, "fzg")
-    assert str(err.value) == ("[lubricant] pressure_viscosity_per_GPa = 4.94066e-324: out of range, "
-                              "allowed (0, 100]")
+    assert str(err.value) == ("[lubricant] pressure_viscosity_per_GPa = 4.94066e-324: out of range "
+                              "(subnormal: below 2.22507e-308), allowed (0, 100]")
     data["lubricant"]["pressure_viscosity_per_GPa"] = 1e-300
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
