@@ -129,8 +129,8 @@ F = [1.0, 1.3, 0.8, 1.45, 1.1, 0.9, 1.05, 1.2, 0.95, 1.1, 1.0, 0.85]
 @pytest.fixture(scope="module")
 def given(tmp_path_factory):
     """nrel-5mw-planetary (coarse) rated with given loads: per planet and mesh a static record
-    (planet 3 the most loaded: mean and peak forces 1, 1, 1.1), and at speed each planet's static loads
-    scaled by F step by step (planet 2 the most loaded at speed: peak forces 1, 1.2, 1.1); the
+    (planet 3 the most loaded: mean and peak forces 1, 1, 1.1), and at speed each planet's
+    static loads scaled by F step by step (planet 2 the most loaded at speed: peak forces 1, 1.2, 1.1); the
     quasi-static maps with the flat table. (case, static, fast, loads, at, rating)."""
     from jaxgear.cli.planetary import rating_section
     from jaxgear.cli.planetary_speed import StageAtSpeed, StageLoads

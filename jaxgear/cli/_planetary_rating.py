@@ -682,7 +682,8 @@ def rating_at_speed(case, out: str, rating: dict, at: StageAtSpeed,
     unit load (:func:`jaxgear.rating.root_stress_map`, the same tables as the quasi-static map,
     ``table``), and the static map of the quasi-static solve at the same slices and travels
     (its planet with the largest mesh force, :meth:`StageLoads.peak_planet`: the same pick
-    as at speed, so that the ratio is 1 in the quasi-static limit). Adds ``root_stress.at_speed`` per mesh, the pairs' keys
+    as at speed, so that the ratio is 1 in the quasi-static limit). Adds
+    ``root_stress.at_speed`` per mesh, the pairs' keys
     (:func:`jaxgear.cli.at_speed_sections`: ``speed_rad_s`` (the input's), ``max_Pa``,
     ``static_max_Pa``, ``ratio`` per member [pinion, gear], ``dynamic_factor`` (the planet's
     largest mesh force over T_s/(N r_bs), the sweep's definition), ``dynamic_factor_tooth``

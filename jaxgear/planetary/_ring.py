@@ -110,7 +110,8 @@ class AbstractRingModel(eqx.Module):
         coordinates added (none for a rigid ring) at the mesh travel ``travel`` (m).
         ``ring_rows`` (n_planets, c): the transverse ring-mesh force of each planet per cell
         force (cos beta_b on that planet's ring cells; beyond the theoretical path times the
-        corner's rolling-free lever c, :meth:`~jaxgear.planetary.AbstractPlanetaryMeshes.ring_rows`)."""
+        corner's rolling-free lever c,
+        :meth:`~jaxgear.planetary.AbstractPlanetaryMeshes.ring_rows`)."""
 
     @abc.abstractmethod
     def dynamic_matrices(self, dtype, damping_ratio) -> tuple[Array, Array, Array]:
