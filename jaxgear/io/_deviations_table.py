@@ -4,9 +4,10 @@ grade or given, and their run settings."""
 from __future__ import annotations
 
 import math
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
+import pydantic
 
 from fem_prep import schema as sc
 
@@ -26,9 +27,12 @@ from .._robust import (
     RunoutDeviation,
 )
 from ._modifications_table import _depth_range
+from ._sections import Section, number, number_list, one_of
 
 __all__ = [
     "DEVIATION_KINDS",
+    "DeviationsSection",
+    "GearDeviationsSection",
     "deviation_kinds_from_names",
     "member_values",
     "parse_deviations",
@@ -58,21 +62,70 @@ def deviation_kinds_from_names(names) -> tuple[AbstractDeviationKind, ...]:
         )
     return tuple(DEVIATION_KINDS[n] for n in names)
 
-_DEV_KEYS = {"grade", "seed", "revolutions", "positions_per_pitch", "pinion", "gear"}
-_DEV_MEMBER_KEYS = {
-    "pitch_um",
-    "runout_um",
-    "runout_phase_deg",
-    "profile_slope_um",
-    "profile_form_um",
-    "helix_slope_um",
-    "helix_form_um",
-}
 _PER_TOOTH = ("profile_slope", "profile_form", "helix_slope", "helix_form")
 #: tolerance on the closure Σ f_pt = 0 of given single pitch deviations (µm)
 PITCH_CLOSURE_UM = 1e-6
 #: the most positions a deviation span may ask for (revolutions × z1 × positions_per_pitch)
 MAX_SPAN_POSITIONS = 2_000_000
+#: a per-tooth deviation (µm): one for every tooth, or an array of one per tooth
+_PER_TOOTH_VALUE = one_of(number=number(), array=number_list())
+
+
+class GearDeviationsSection(Section):
+    """``[deviations.pinion]`` or ``[deviations.gear]`` (µm, deg): a gear's single pitch
+    deviations (one per tooth, closing), its runout and the runout's phase, its profile and
+    helix slopes and forms (a number for every tooth or one per tooth). The ranges that follow
+    the module and the lengths that follow the gear's teeth are checked where the gear is known
+    (:func:`member_values`). A planetary member's table is this one with the runout refused
+    (:class:`jaxgear.io._planetary_deviations_table.MemberDeviations`)."""
+
+    WHERE: ClassVar[str] = "deviations.pinion"
+    pitch_um: number_list() | None = None
+    profile_slope_um: _PER_TOOTH_VALUE | None = None
+    profile_form_um: _PER_TOOTH_VALUE | None = None
+    helix_slope_um: _PER_TOOTH_VALUE | None = None
+    helix_form_um: _PER_TOOTH_VALUE | None = None
+    runout_um: number() | None = None
+    runout_phase_deg: number("[-360, 360]") | None = None
+
+    def values(self) -> dict:
+        """The deviation keys given, as a table (:func:`member_values`' input)."""
+        return self.table()
+
+
+class DeviationsSection(Section):
+    """``[deviations]`` of a pair (:func:`parse_deviations`): the ISO 1328-1 grade, the draw's
+    seed, the quasi-static span (``revolutions``: pinion revolutions, an integer, or "hunting",
+    held as ``None``) and its positions per pitch, the gears' tables. The span's size and the
+    grade's scope follow the pair's teeth (:func:`parse_deviations`)."""
+
+    WHERE: ClassVar[str] = "deviations"
+    grade: number("[1, 11]", integer=True) | None = None
+    seed: number(">= 0", integer=True) = 0
+    revolutions: number(">= 1", integer=True) | None = pydantic.Field(
+        None, json_schema_extra={"default": "'hunting'"})
+    positions_per_pitch: number(">= 2", integer=True) = 16
+    pinion: GearDeviationsSection | None = None
+    gear: GearDeviationsSection | None = None
+
+    @pydantic.model_validator(mode="before")
+    @classmethod
+    def _hunting(cls, data):
+        """"hunting" revolutions as None; another string refused in the table's words."""
+        return hunting_revolutions(data)
+
+
+def hunting_revolutions(data):
+    """A ``[deviations]`` table with ``revolutions = "hunting"`` dropped (the span's default);
+    another string refused in one line (``allowed an integer >= 1 or "hunting"``)."""
+    if not isinstance(data, dict):
+        return data
+    rev = data.get("revolutions")
+    if isinstance(rev, str):
+        if rev != "hunting":
+            raise sc.fail("deviations", "revolutions", 'allowed an integer >= 1 or "hunting"', rev)
+        data = {k: v for k, v in data.items() if k != "revolutions"}
+    return data
 
 
 def _per_tooth(spec: dict, key: str, where: str, z: int, allowed: str = "any", note: str = ""):
@@ -137,21 +190,11 @@ def parse_deviations(table, pair: GearPair) -> tuple[Deviations, dict]:
         SchemaError: unknown keys, wrong types, values out of range, arrays of another length
             than the gear's teeth, given single pitch deviations that do not close (Σ ≠ 0).
     """
-    if not isinstance(table, dict):
-        raise sc.fail("", "deviations", "must be a table", table)
-    sc.check_keys(table, _DEV_KEYS, "deviations")
-    grade = sc.number(table, "grade", "deviations", None, allowed="[1, 11]", integer=True)
-    seed = sc.number(table, "seed", "deviations", 0, allowed=">= 0", integer=True)
-    rev = table.get("revolutions", "hunting")
+    t = DeviationsSection.read(table)
+    grade, seed, ppp = t.grade, t.seed, t.positions_per_pitch
     z1, z2 = pair.pinion.teeth, pair.gear.teeth
-    if rev == "hunting":
-        count = z2 // math.gcd(z1, z2)
-    else:
-        if isinstance(rev, str):
-            raise sc.fail("deviations", "revolutions", 'allowed an integer >= 1 or "hunting"', rev)
-        count = sc.number(table, "revolutions", "deviations", allowed=">= 1", integer=True)
-        rev = count
-    ppp = sc.number(table, "positions_per_pitch", "deviations", 16, allowed=">= 2", integer=True)
+    count = z2 // math.gcd(z1, z2) if t.revolutions is None else t.revolutions
+    rev = "hunting" if t.revolutions is None else count
     if count * z1 * ppp > MAX_SPAN_POSITIONS:
         raise sc.fail(
             "deviations",
@@ -178,7 +221,7 @@ def parse_deviations(table, pair: GearPair) -> tuple[Deviations, dict]:
                 z,
             )
     for tag, member, z in (("pinion", pair.pinion, z1), ("gear", pair.gear, z2)):
-        spec = sc.subtable(table, tag, "deviations", _DEV_MEMBER_KEYS)
+        spec = getattr(t, tag) or GearDeviationsSection()
         where = f"deviations.{tag}"
         kw: dict[str, Any] = {}
         if grade is not None:
@@ -193,7 +236,7 @@ def parse_deviations(table, pair: GearPair) -> tuple[Deviations, dict]:
                 f: np.asarray(getattr(drawn, f))
                 for f in ("single_pitch", "runout", "runout_phase", *_PER_TOOTH)
             }
-        kw.update(member_values(spec, where, z, signed, positive, note))
+        kw.update(member_values(spec.values(), where, z, signed, positive, note))
         if not kw and grade is None:
             members.append(None)
             continue

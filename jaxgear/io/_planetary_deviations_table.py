@@ -19,9 +19,9 @@ from fem_prep import schema as sc
 
 from .._deviations import ISO1328_SCOPE, GearDeviations, iso1328_tolerances, sample_gear_deviations
 from ..planetary import PlanetaryDeviations, PlanetFlanks, planetary_hunting_periods
-from ._deviations_table import member_values
+from ._deviations_table import GearDeviationsSection, hunting_revolutions, member_values
 from ._modifications_table import _depth_range
-from ._sections import Section, named_keys, number, number_list, one_of
+from ._sections import Section, named_keys, number
 
 __all__ = ["MAX_STAGE_POSITIONS", "StageDeviationsSection", "parse_planetary_deviations"]
 
@@ -32,22 +32,14 @@ MAX_STAGE_POSITIONS = 400_000
 RUNOUT_KEYS = {"sun": "sun_eccentricity_um", "ring": "ring_eccentricity_um"}
 #: a planet's flank tables: the flanks the sun loads, those the ring loads
 FLANKS = ("sun_flank", "ring_flank")
-#: a per-tooth deviation (µm): one for every tooth, or an array of one per tooth
-_PER_TOOTH = one_of(number=number(), array=number_list())
-
-
-class MemberDeviations(Section):
+class MemberDeviations(GearDeviationsSection):
     """``[deviations.sun]``, ``[deviations.ring]`` or a planet flank's table (µm): the pair's
-    member keys (:func:`jaxgear.io._deviations_table.member_values`, which checks the ranges
-    that follow the module and the lengths that follow the member's teeth), the runout keys
-    declared to be refused in their words (the stage's eccentricities carry the runout)."""
+    gear keys (:class:`jaxgear.io._deviations_table.GearDeviationsSection`;
+    :func:`jaxgear.io._deviations_table.member_values` checks the ranges that follow the
+    module and the lengths that follow the member's teeth), the runout keys declared to be
+    refused in their words (the stage's eccentricities carry the runout)."""
 
     WHERE: ClassVar[str] = "deviations.sun"
-    pitch_um: number_list() | None = None
-    profile_slope_um: _PER_TOOTH | None = None
-    profile_form_um: _PER_TOOTH | None = None
-    helix_slope_um: _PER_TOOTH | None = None
-    helix_form_um: _PER_TOOTH | None = None
     runout_um: Any = None  # refused: _refuse_runout
     runout_phase_deg: Any = None
 
@@ -91,13 +83,7 @@ class StageDeviationsSection(Section):
         if not isinstance(data, dict):
             return data
         data = named_keys(data, planets, "deviations", cls.file_keys(), into="planets")
-        rev = data.get("revolutions")
-        if isinstance(rev, str):
-            if rev != "hunting":
-                raise sc.fail("deviations", "revolutions", 'allowed an integer >= 1 or "hunting"',
-                              rev)
-            data = {k: v for k, v in data.items() if k != "revolutions"}
-        return data
+        return hunting_revolutions(data)
 
     @classmethod
     def file_keys(cls, context: dict | None = None) -> tuple[str, ...]:
