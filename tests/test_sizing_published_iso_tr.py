@@ -1,5 +1,5 @@
 """A second published task (examples/sizing/iso-tr-6336-30-example-1.toml, docs/sizing.md "A
-second published task: ISO/TR 6336-30's example 1"): an industrial single helical,
+second published task"): ISO/TR 6336-30's example 1, an industrial single helical,
 case-carburized pair, the worked rating example of the standard's calculation examples, with a
 sizing spec around it. (No textbook or tutorial sizing example with its inputs and its result
 could be read: docs/sizing.md says what was searched.)
