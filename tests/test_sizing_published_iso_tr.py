@@ -23,6 +23,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import pathlib
+import tomllib
 
 import equinox as eqx
 import numpy as np
@@ -130,17 +131,23 @@ def test_the_published_design_is_enumerated_at_the_published_centre_distance(spe
     assert 0 < CENTRE_DISTANCE - c.centre_distance[k] < 2e-6
 
 
-def test_the_published_row_with_the_examples_k_hbeta_gives_the_printed_safety_factors(spec):
-    """The sizing's row of the published design, with the example's K_Hβ = 1.16 given as the
-    example gives it (the published module and pinion teeth alone: 3 candidates, z2 102 to
-    104): K_v and K_Hα the printed 1.003 and 1.0 to their last printed digit (5e-4), and
-    S_H1, S_H2 the printed 1.02853 and 1.08696 within 1e-4. The row's S_H lie 4.2e-5 and
-    4.7e-5 above: its centre distance is the zero-backlash one of the shifts, 1.75 µm short of
-    the example's 500 mm, which moves the operating pressure angle and Z_H (the same pair
-    rated at 500 mm exactly gives the printed digits: tests/test_rating.py)."""
+@pytest.fixture(scope="module")
+def narrow(spec):
+    """The spec with the example's K_Hβ = 1.16 given, as the example gives it, on the published
+    module and pinion teeth alone (3 candidates, z2 102 to 104): one small compiled program."""
     narrow = dataclasses.replace(_with(spec, given=jr.GivenFactors(K_Hbeta=K_HBETA)),
                                  normal_modules=(M_N,), pinion_teeth=(Z1, Z1))
-    table = js.size(narrow, chunk=4)
+    return narrow, js.size(narrow, chunk=4)
+
+
+def test_the_published_row_with_the_examples_k_hbeta_gives_the_printed_safety_factors(narrow):
+    """The sizing's row of the published design, with the example's K_Hβ: K_v and K_Hα the
+    printed 1.003 and 1.0 to their last printed digit (5e-4), and S_H1, S_H2 the printed
+    1.02853 and 1.08696 within 1e-4. The row's S_H lie 4.2e-5 and 4.7e-5 above: its centre
+    distance is the zero-backlash one of the shifts, 1.75 µm short of the example's 500 mm,
+    which moves the operating pressure angle and Z_H (the same pair rated at 500 mm exactly
+    gives the printed digits: tests/test_rating.py)."""
+    table = narrow[1]
     c, k = table.columns, _published_row(table.columns)
     assert len(table.feasible) == 3 and table.feasible[k] and table.reasons()[k] == ""
     assert c["K_Hbeta"][k] == pytest.approx(K_HBETA, rel=1e-15)
@@ -149,6 +156,26 @@ def test_the_published_row_with_the_examples_k_hbeta_gives_the_printed_safety_fa
     s_h = np.array([c["S_H1"][k], c["S_H2"][k]])
     np.testing.assert_allclose(s_h, PRINTED["S_H"], rtol=1e-4)
     assert np.all(s_h >= S_H_MIN)
+
+
+def test_the_published_row_written_as_a_case_is_the_published_pair(narrow):
+    """``--write`` of the published row gives the example's pair, typed above: module, angles,
+    teeth, shifts, rack, face width, and the centre distance within 2 µm of the published
+    500 mm."""
+    tables = jio.load_sizing_spec(str(EXAMPLE))[1]
+    spec, table = narrow
+    k = _published_row(table.columns)
+    row = {name: v[k] for name, v in table.columns.items()}
+    pair = jio.parse_case(tomllib.loads(jio.candidate_case_text(tables, spec, row, k))).pair
+    assert float(pair.normal_module) == pytest.approx(M_N, rel=1e-15)
+    assert float(pair.normal_pressure_angle) == pytest.approx(math.radians(ALPHA_N), rel=1e-15)
+    assert float(pair.helix_angle) == pytest.approx(math.radians(BETA), rel=1e-15)
+    for member, z, x in ((pair.pinion, Z1, X1), (pair.gear, Z2, X2)):
+        assert (member.teeth, member.profile_shift) == (z, x)
+        assert (member.addendum_coeff, member.dedendum_coeff,
+                member.fillet_radius_coeff) == pytest.approx(RACK, rel=1e-15)
+        assert member.face_width == pytest.approx(FACE_WIDTH, rel=1e-15)
+    assert abs(float(pair.center_distance) - CENTRE_DISTANCE) < 2e-6
 
 
 @pytest.fixture(scope="module")
