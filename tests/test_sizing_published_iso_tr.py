@@ -121,7 +121,7 @@ def test_the_published_design_is_enumerated_at_the_published_centre_distance(spe
     """The published m_n, z1/z2 is a candidate, with the published shifts and face width. Its
     centre distance is the zero-backlash distance of the shifts (the formula written above):
     499.99825 mm, 1.75 µm short of the published 500 mm (the example's x1 = 0.145 is rounded:
-    the sum that reaches 500 mm is 0.14533)."""
+    the sum that reaches 500 mm is 0.14522)."""
     c = js.enumerate_candidates(spec)
     k = _published_row({"normal_module_m": c.normal_module, "z1": c.z1, "z2": c.z2})
     assert (c.x1[k], c.x2[k], c.face_width[k]) == (X1, X2, FACE_WIDTH)
