@@ -328,6 +328,7 @@ PRIVATE_IN_TESTS: set[tuple[str, str]] = {
     # read against the file reader's
     ("test_typed_sections.py", "jaxgear.io._case_file"),
     ("test_typed_sections.py", "jaxgear.io._modifications_table"),
+    ("test_typed_sections.py", "jaxgear.io._optimise_table"),
     ("test_typed_sections.py", "jaxgear.io._robust_table"),
     ("test_typed_sections.py", "jaxgear.io._scene_table"),
     ("test_typed_sections.py", "jaxgear.io._train_file"),

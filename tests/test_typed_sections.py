@@ -1,7 +1,7 @@
 """The case file's typed sections (``jaxgear.io._sections``): ``[whine]``, ``[acoustics]``,
 ``[lubricant]``, ``[rating]``, ``[pair]``, ``[pinion]``/``[gear]``, ``[material]``,
-``[operating]`` (a pair's, a train's, a planetary stage's), ``[modifications]``, ``[robust]``
-and the ``[[gears]]`` and ``[[meshes]]`` entries given mutated values (numbers where tables are,
+``[operating]`` (a pair's, a train's, a planetary stage's), ``[modifications]``, ``[robust]``,
+``[optimise]`` and the ``[[gears]]`` and ``[[meshes]]`` entries given mutated values (numbers where tables are,
 strings where numbers are, negative, non-finite and huge values, unknown keys) are refused in the one line the
 command line prints, never a ``TypeError``, ``KeyError`` or pydantic's report; a number key's
 message is the one :func:`fem_prep.checks.number` (the hand-written check, a separate
@@ -38,6 +38,7 @@ from jaxgear.io._case_file import (
 from jaxgear.io._gearbox_file import GearboxOperating, StageEntry
 from jaxgear.io._housing_table import FootEntry, HousingSection, SeatEntry
 from jaxgear.io._modifications_table import ModificationsSection
+from jaxgear.io._optimise_table import OptimiseSection
 from jaxgear.io._planetary_deviations_table import (
     MemberDeviations,
     PlanetDeviations,
@@ -99,6 +100,10 @@ BASES = {
     MeshEntry: {"driving": "input", "driven": "idler", "angle_deg": 0.0},
     RobustSection: {"grade": 6, "samples": 100, "members": ["pinion"],
                     "speeds_rad_s": [100.0, 200.0], "revolutions": "hunting"},
+    OptimiseSection: {"objective": "robust_te_rms", "vars": ["tip_relief.depth", "tip_relief.extent"],
+                      "torques": [40.0, 120.0, 5], "reduce": "quantile", "quantile": 0.9,
+                      "method": "adam", "max_iterations": 50,
+                      "bounds": {"tip_relief.depth": [0.0, 2.5]}},
     # a planetary stage (Lin & Parker's lumped form), a gearbox's tables, a housing
     PlanetarySection: {
         "sun_teeth": 28, "ring_teeth": 62, "sun_pressure_angle_deg": 24.6,
@@ -583,6 +588,78 @@ def test_every_number_key_says_what_the_hand_written_check_says():
      "['pitch', 'runout', 'profile', 'helix']")),
     (RobustSection, {"percentiles": [50.0, 100.0]},
      "[robust] percentiles = [50, 100]: element 100 out of range, allowed (0, 100)"),
+    (OptimiseSection, {"objective": "te_max"},
+     "[optimise] objective = 'te_max': allowed 'te_rms', 'te_ptp', 'robust_te_rms', "),
+    (OptimiseSection, {"reduce": "median"},
+     "[optimise] reduce = 'median': allowed 'max', 'mean', 'quantile'"),
+    (OptimiseSection, {"quantile": 1.0},
+     "[optimise] quantile = 1: out of range, allowed (0, 1)"),
+    (OptimiseSection, {"a_weighted": 1}, "[optimise] a_weighted = 1: must be true or false"),
+    (OptimiseSection, {"method": "bfgs"}, "[optimise] method = 'bfgs': allowed 'lbfgs', 'adam'"),
+    (OptimiseSection, {"max_iterations": 0},
+     "[optimise] max_iterations = 0: out of range, allowed [1, 1e+06]"),
+    (OptimiseSection, {"max_iterations": 7.5}, "[optimise] max_iterations = 7.5: must be an integer"),
+    (OptimiseSection, {"lp_order": 65.0}, "[optimise] lp_order = 65: out of range, allowed [1, 64]"),
+    (OptimiseSection, {"te_limit_um": "1"},
+     "[optimise] te_limit_um = '1': must be a number, not a string"),
+    (OptimiseSection, {"vars": "tip_relief.depth, crowning.dpeth"},
+     ("[optimise] vars = ['tip_relief.depth', 'crowning.dpeth']: unknown variable "
+      "'crowning.dpeth', allowed tip_relief.depth, ")),
+    (OptimiseSection, {"vars": []},
+     "[optimise] vars = []: must be a non-empty array of variable names"),
+    (OptimiseSection, {"vars": ["crowning.depth", "crowning.depth"], "bounds": None},
+     "[optimise] vars = ['crowning.depth', 'crowning.depth']: names a variable twice"),
+    (OptimiseSection, {"torques": [120.0, 40.0, 5]},
+     ("[optimise] torques = [120, 40, 5]: allowed [start, stop, n] in N·m with 0 < start < "
+      "stop and an integer n in [2, 10000]")),
+    (OptimiseSection, {"objective": "dynamic_factor", "torques": None, "speeds": [200.0, 100.0, 3]},
+     "[optimise] speeds = [200, 100, 3]: allowed [start, stop, n]: pinion speeds in rad/s"),
+    (OptimiseSection, {"bounds": 3},
+     "[optimise] bounds = 3: must be a table ([optimise.bounds]), not a number"),
+    (OptimiseSection, {"bounds": {"tip_relief.depth": [0.0]}},
+     "[optimise.bounds] tip_relief.depth = [0]: must be an array of 2 numbers"),
+    (OptimiseSection, {"bounds": {"tip_relief.extent": [0.5, 0.2]}},
+     ("[optimise.bounds] tip_relief.extent = [0.5, 0.2]: out of range, allowed [lo, hi] with "
+      "0 < lo < hi < 1 (Γ)")),
+    (OptimiseSection, {"bounds": {"tip_relief.depth": [-1.0, 2.0]}},
+     ("[optimise.bounds] tip_relief.depth = [-1, 2]: out of range, allowed [lo, hi] with "
+      "0 <= lo < hi (E* = depth/δ_m)")),
+    (OptimiseSection, {"bounds": {"crowning.depth": [0.0, 1.0]}},
+     ("[optimise.bounds] crowning.depth = [0, 1]: is not a design variable (vars = "
+      "['tip_relief.depth', 'tip_relief.extent'])")),
+    (OptimiseSection, {"bounds": {"crowning.dpeth": [0.0, 1.0]}},
+     "[optimise.bounds] crowning.dpeth = [0, 1]: unknown variable, allowed tip_relief.depth"),
+    (OptimiseSection, {"step": 3},
+     ("[optimise] unknown key 'step', allowed: a_weighted, bounds, lp_order, max_iterations, "
+      "method, objective, quantile, reduce, speeds, te_limit_um, torques, vars")),
+    # the keys that relate: quantile and reduce, a key of some objectives only
+    (OptimiseSection, {"reduce": "mean"},
+     "[optimise] quantile = 0.9: applies to reduce = 'quantile' only, not 'mean'"),
+    (OptimiseSection, {"quantile": None},
+     "[optimise] reduce = 'quantile': 'quantile' needs its level: quantile = q in (0, 1)"),
+    (OptimiseSection, {"objective": "te_rms"},
+     ("[optimise] torques = [40, 120, 5]: applies to objective = 'robust_te_rms' or a tribology "
+      "objective (power_loss, efficiency_loss, min_specific_film, max_flash_temperature) only, "
+      "not 'te_rms'")),
+    (OptimiseSection, {"objective": None}, None),  # torques with the default objective
+    (OptimiseSection, {"lp_order": 4.0},
+     "[optimise] lp_order = 4: applies to objective = 'line_load_lp' only, not 'robust_te_rms'"),
+    (OptimiseSection, {"objective": "line_load_lp", "torques": None, "lp_order": 4.0}, None),
+    (OptimiseSection, {"te_limit_um": 1.0},
+     ("[optimise] te_limit_um = 1: applies to objective = 'least_safety' only, not "
+      "'robust_te_rms'")),
+    (OptimiseSection, {"a_weighted": False},
+     ("[optimise] a_weighted = false: applies to objective = 'erp' or 'sound_power' only, not "
+      "'robust_te_rms'")),
+    (OptimiseSection, {"objective": "erp", "torques": None, "a_weighted": False}, None),
+    (OptimiseSection, {"speeds": [100.0, 200.0, 2]},
+     ("[optimise] speeds = [100, 200, 2]: applies to objective = 'dynamic_factor' only, not "
+      "'robust_te_rms'")),
+    (OptimiseSection, {"objective": "dynamic_factor", "torques": None},
+     ("[optimise] objective = 'dynamic_factor': 'dynamic_factor' needs speeds = [start, stop, "
+      "n]")),
+    (OptimiseSection, {"objective": "dynamic_factor", "torques": None,
+                       "speeds": [100.0, 100.0, 1]}, None),
 ])
 def test_the_words(section, change, words):
     """The messages in the file's words (the hand-written checks' wording)."""
@@ -593,6 +670,23 @@ def test_the_words(section, change, words):
     with pytest.raises(sc.SchemaError) as err:
         section.read(table)
     assert str(err.value).startswith(words), str(err.value)
+
+
+def test_the_optimise_settings_are_the_keys_given_normalised():
+    """``[optimise]`` read by its section gives ``jaxgear optimise`` the keys the file gave (the
+    others are the command's), normalised: the names of a comma-separated text as a list, the
+    spans as (float, float, int), an integral float count as an int, the bounds as pairs."""
+    table = BASES[OptimiseSection] | {"vars": " tip_relief.depth ,tip_relief.extent",
+                                      "torques": [40, 120, 5.0], "max_iterations": 50.0,
+                                      "bounds": {"tip_relief.depth": [0, 2.5]}}
+    out = jio.parse_optimise(table)
+    assert out == {"objective": "robust_te_rms", "reduce": "quantile", "quantile": 0.9,
+                   "method": "adam", "max_iterations": 50,
+                   "vars": ["tip_relief.depth", "tip_relief.extent"],
+                   "torques": [40.0, 120.0, 5], "bounds": {"tip_relief.depth": (0.0, 2.5)}}
+    assert [type(v) for v in out["torques"]] == [float, float, int]
+    assert type(out["max_iterations"]) is int
+    assert jio.parse_optimise({}) == {}
 
 
 def test_a_planetary_rating_takes_its_mesh_tables_and_keys():
