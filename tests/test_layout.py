@@ -331,6 +331,7 @@ PRIVATE_IN_TESTS: set[tuple[str, str]] = {
     ("test_typed_sections.py", "jaxgear.io._optimise_table"),
     ("test_typed_sections.py", "jaxgear.io._robust_table"),
     ("test_typed_sections.py", "jaxgear.io._scene_table"),
+    ("test_typed_sections.py", "jaxgear.io._spectrum_table"),
     ("test_typed_sections.py", "jaxgear.io._train_file"),
     ("test_typed_sections.py", "jaxgear.io._train_scene"),
     ("test_typed_sections.py", "jaxgear.io._gearbox_file"),

@@ -1,7 +1,7 @@
 """The case file's typed sections (``jaxgear.io._sections``): ``[whine]``, ``[acoustics]``,
 ``[lubricant]``, ``[rating]``, ``[pair]``, ``[pinion]``/``[gear]``, ``[material]``,
 ``[operating]`` (a pair's, a train's, a planetary stage's), ``[modifications]``, ``[robust]``,
-``[optimise]`` and the ``[[gears]]`` and ``[[meshes]]`` entries given mutated values (numbers where tables are,
+``[optimise]``, ``[rating.spectrum]`` and the ``[[gears]]`` and ``[[meshes]]`` entries given mutated values (numbers where tables are,
 strings where numbers are, negative, non-finite and huge values, unknown keys) are refused in the one line the
 command line prints, never a ``TypeError``, ``KeyError`` or pydantic's report; a number key's
 message is the one :func:`fem_prep.checks.number` (the hand-written check, a separate
@@ -46,6 +46,7 @@ from jaxgear.io._planetary_deviations_table import (
 )
 from jaxgear.io._planetary_table import PlanetarySection
 from jaxgear.io._robust_table import RobustSection
+from jaxgear.io._spectrum_table import SpectrumSection
 from jaxgear.io._scene_table import (
     BearingSection,
     BodySection,
@@ -104,6 +105,8 @@ BASES = {
                       "torques": [40.0, 120.0, 5], "reduce": "quantile", "quantile": 0.9,
                       "method": "adam", "max_iterations": 50,
                       "bounds": {"tip_relief.depth": [0.0, 2.5]}},
+    SpectrumSection: {"torque_Nm": [80.0, 40.0], "speed_rpm": [3000.0, 3000.0],
+                      "hours": [5e3, 1.5e4]},
     # a planetary stage (Lin & Parker's lumped form), a gearbox's tables, a housing
     PlanetarySection: {
         "sun_teeth": 28, "ring_teeth": 62, "sun_pressure_angle_deg": 24.6,
@@ -228,7 +231,10 @@ def _number_fields():
                                        (IntegrationSection, "periods"),
                                        (IntegrationSection, "modal_basis"),  # or false
                                        (StageEntry, "housing_seat"),  # its own words
-                                       (StageDeviationsSection, "revolutions")}  # "hunting"
+                                       (StageDeviationsSection, "revolutions"),  # "hunting"
+                                       # a series' keys: the other form than the base's bins
+                                       (SpectrumSection, "series_step_s"),
+                                       (SpectrumSection, "levels")}
             by_name = typing.get_origin(info.annotation) is dict  # a table of numbers by name
             if isinstance(rng, Range) and not rng.array and not one_of and not words and (
                     not by_name):
@@ -660,6 +666,54 @@ def test_every_number_key_says_what_the_hand_written_check_says():
       "n]")),
     (OptimiseSection, {"objective": "dynamic_factor", "torques": None,
                        "speeds": [100.0, 100.0, 1]}, None),
+    (SpectrumSection, {"torque_Nm": [80.0, -1.0]},
+     "[rating.spectrum] torque_Nm = [80, -1]: element -1 out of range, allowed [0, 1e+09]"),
+    (SpectrumSection, {"torque_Nm": []},
+     "[rating.spectrum] torque_Nm = []: must be an array of at least 1 numbers"),
+    (SpectrumSection, {"speed_rpm": "fast"},
+     "[rating.spectrum] speed_rpm = 'fast': must be a number, not a string"),
+    (SpectrumSection, {"speed_rpm": 2e6},
+     "[rating.spectrum] speed_rpm = 2e+06: out of range, allowed [0, 1e+06]"),
+    (SpectrumSection, {"speed_rpm": [3000.0]},
+     ("[rating.spectrum] speed_rpm = [3000]: must be an array of 2 numbers (one per bin of "
+      "torque_Nm)")),
+    (SpectrumSection, {"hours": [1.0]},
+     "[rating.spectrum] hours = [1]: must be an array of 2 numbers (one per bin of torque_Nm)"),
+    (SpectrumSection, {"hours": [-1.0, 1.0]},
+     "[rating.spectrum] hours = [-1, 1]: element -1 out of range, allowed >= 0"),
+    (SpectrumSection, {"hours": None, "cycles": [1e6, 2e6]}, None),
+    (SpectrumSection, {"hours": None, "time_share": [0.0, 0.0]},
+     "[rating.spectrum] time_share = [0, 0]: out of range: the shares must add up to > 0"),
+    (SpectrumSection, {"hours": None}, "[rating.spectrum] hours: missing: give one of hours, "
+     "cycles, time_share"),
+    (SpectrumSection, {"cycles": [1e6, 2e6]},
+     ("[rating.spectrum] hours: hours and cycles both given: give one of hours, cycles, "
+      "time_share")),
+    (SpectrumSection, {"levels": 4},
+     ("[rating.spectrum] torque_Nm: give bins (torque_Nm, speed_rpm, hours | cycles | "
+      "time_share) or a series (series_torque_Nm, ...), not both (levels is given too)")),
+    (SpectrumSection, {"speed_rpm": None}, "[rating.spectrum] speed_rpm: missing required key"),
+    (SpectrumSection, {"hour": [1.0, 1.0]},
+     "[rating.spectrum] unknown key 'hour' (did you mean 'hours'?), allowed: cycles, hours, "),
+    (SpectrumSection, {"torque_Nm": None, "speed_rpm": None, "hours": None,
+                       "series_torque_Nm": [80.0, 40.0, 60.0], "series_speed_rpm": 3000.0,
+                       "series_step_s": 0.1}, None),
+    (SpectrumSection, {"torque_Nm": None, "speed_rpm": None, "hours": None,
+                       "series_torque_Nm": [80.0, 40.0], "series_speed_rpm": [3000.0] * 3,
+                       "series_step_s": 0.1},
+     ("[rating.spectrum] series_speed_rpm = [3000, 3000, 3000]: must be an array of 2 numbers "
+      "(one per sample of series_torque_Nm)")),
+    (SpectrumSection, {"torque_Nm": None, "speed_rpm": None, "hours": None,
+                       "series_torque_Nm": [0.0, 0.0], "series_speed_rpm": 3000.0,
+                       "series_step_s": 0.1},
+     "[rating.spectrum] series_torque_Nm = [0, 0]: out of range: no sample above 0 N·m"),
+    (SpectrumSection, {"torque_Nm": None, "speed_rpm": None, "hours": None,
+                       "series_torque_Nm": [80.0, 40.0], "series_speed_rpm": 3000.0},
+     "[rating.spectrum] series_step_s: missing required key"),
+    (SpectrumSection, {"torque_Nm": None, "speed_rpm": None, "hours": None,
+                       "series_torque_Nm": [80.0, 40.0], "series_speed_rpm": 3000.0,
+                       "series_step_s": 0.1, "levels": 1001},
+     "[rating.spectrum] levels = 1001: out of range, allowed [1, 1000]"),
 ])
 def test_the_words(section, change, words):
     """The messages in the file's words (the hand-written checks' wording)."""
