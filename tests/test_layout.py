@@ -329,6 +329,7 @@ PRIVATE_IN_TESTS: set[tuple[str, str]] = {
     ("test_typed_sections.py", "jaxgear.io._case_file"),
     ("test_typed_sections.py", "jaxgear.io._modifications_table"),
     ("test_typed_sections.py", "jaxgear.io._optimise_table"),
+    ("test_typed_sections.py", "jaxgear.io._pareto_table"),
     ("test_typed_sections.py", "jaxgear.io._robust_table"),
     ("test_typed_sections.py", "jaxgear.io._scene_table"),
     ("test_typed_sections.py", "jaxgear.io._spectrum_table"),

@@ -1,7 +1,7 @@
 """The case file's typed sections (``jaxgear.io._sections``): ``[whine]``, ``[acoustics]``,
 ``[lubricant]``, ``[rating]``, ``[pair]``, ``[pinion]``/``[gear]``, ``[material]``,
 ``[operating]`` (a pair's, a train's, a planetary stage's), ``[modifications]``, ``[robust]``,
-``[optimise]``, ``[rating.spectrum]`` and the ``[[gears]]`` and ``[[meshes]]`` entries given mutated values (numbers where tables are,
+``[optimise]``, ``[rating.spectrum]``, a sizing spec's ``[pareto]`` and the ``[[gears]]`` and ``[[meshes]]`` entries given mutated values (numbers where tables are,
 strings where numbers are, negative, non-finite and huge values, unknown keys) are refused in the one line the
 command line prints, never a ``TypeError``, ``KeyError`` or pydantic's report; a number key's
 message is the one :func:`fem_prep.checks.number` (the hand-written check, a separate
@@ -39,6 +39,7 @@ from jaxgear.io._gearbox_file import GearboxOperating, StageEntry
 from jaxgear.io._housing_table import FootEntry, HousingSection, SeatEntry
 from jaxgear.io._modifications_table import ModificationsSection
 from jaxgear.io._optimise_table import OptimiseSection
+from jaxgear.io._pareto_table import ParetoSection, parse_pareto
 from jaxgear.io._planetary_deviations_table import (
     MemberDeviations,
     PlanetDeviations,
@@ -107,6 +108,8 @@ BASES = {
                       "bounds": {"tip_relief.depth": [0.0, 2.5]}},
     SpectrumSection: {"torque_Nm": [80.0, 40.0], "speed_rpm": [3000.0, 3000.0],
                       "hours": [5e3, 1.5e4]},
+    ParetoSection: {"minimise": ["mass_kg", "volume_m3"], "maximise": ["least_margin"],
+                    "choose": "volume_m3"},
     # a planetary stage (Lin & Parker's lumped form), a gearbox's tables, a housing
     PlanetarySection: {
         "sun_teeth": 28, "ring_teeth": 62, "sun_pressure_angle_deg": 24.6,
@@ -714,6 +717,31 @@ def test_every_number_key_says_what_the_hand_written_check_says():
                        "series_torque_Nm": [80.0, 40.0], "series_speed_rpm": 3000.0,
                        "series_step_s": 0.1, "levels": 1001},
      "[rating.spectrum] levels = 1001: out of range, allowed [1, 1000]"),
+    (ParetoSection, {"minimise": "mass_kg"},
+     ("[pareto] minimise = 'mass_kg': allowed a list of column names: mass_kg, volume_m3, "
+      "least_margin, mesh_loss_W, efficiency, ")),
+    (ParetoSection, {"maximise": ["least_margin", 3]},
+     "[pareto] maximise = ['least_margin', 3]: allowed a list of column names: mass_kg, "),
+    (ParetoSection, {"maximise": ["margin"]},
+     "[pareto] maximise = ['margin']: 'margin' is not an objective: allowed mass_kg, volume_m3"),
+    (ParetoSection, {"maximise": ["mass_kg"]},
+     "[pareto] maximise = ['mass_kg']: 'mass_kg' is named twice"),
+    (ParetoSection, {"minimise": ["mass_kg", "mesh_loss_W"]},
+     ("[pareto] minimise = ['mass_kg', 'mesh_loss_W']: 'mesh_loss_W' needs a [lubricant] table "
+      "(the oil, roughness and friction of the mesh loss)")),
+    (ParetoSection, {"minimise": ["volume_m3"], "choose": None}, None),
+    (ParetoSection, {"minimise": [], "choose": None},
+     "[pareto] minimise = []: 1 objectives with maximise: allowed 2 to 6"),
+    (ParetoSection, {"minimise": ["mass_kg", "volume_m3", "te_ppk_m", "te_ppk_modified_m",
+                                  "dynamic_factor_max", "whine_force_N"]},
+     "[pareto] minimise = ['mass_kg', 'volume_m3', 'te_ppk_m', 'te_ppk_modified_m', "),
+    (ParetoSection, {"choose": "mesh_loss_W"},
+     "[pareto] choose = 'mesh_loss_W': allowed 'knee', 'mass_kg', 'volume_m3', 'least_margin'"),
+    (ParetoSection, {"choose": 1}, "[pareto] choose = 1: allowed 'knee', 'mass_kg'"),
+    (ParetoSection, {"minimise": None, "maximise": None, "choose": "least_margin"}, None),
+    (ParetoSection, {"minimize": ["mass_kg"]},
+     ("[pareto] unknown key 'minimize' (did you mean 'minimise'?), allowed: choose, maximise, "
+      "minimise")),
 ])
 def test_the_words(section, change, words):
     """The messages in the file's words (the hand-written checks' wording)."""
@@ -741,6 +769,22 @@ def test_the_optimise_settings_are_the_keys_given_normalised():
     assert [type(v) for v in out["torques"]] == [float, float, int]
     assert type(out["max_iterations"]) is int
     assert jio.parse_optimise({}) == {}
+
+
+def test_the_pareto_objectives_are_the_columns_given_with_their_sense():
+    """A sizing spec's ``[pareto]``: the minimised columns then the maximised, ``choose`` as
+    given; the mesh loss's columns read with a ``[lubricant]`` (refused without); no table or
+    neither list, the sizing's defaults (mass minimised, least margin maximised, the knee)."""
+    table = {"minimise": ["mass_kg", "mesh_loss_W"], "maximise": ["least_margin", "efficiency"],
+             "choose": "efficiency"}
+    assert parse_pareto(table, True) == (
+        (("mass_kg", "min"), ("mesh_loss_W", "min"), ("least_margin", "max"),
+         ("efficiency", "max")), "efficiency")
+    with pytest.raises(sc.SchemaError, match=r"'mesh_loss_W' needs a \[lubricant\] table"):
+        parse_pareto(table, False)
+    defaults = ((("mass_kg", "min"), ("least_margin", "max")), "knee")
+    assert parse_pareto(None, False) == defaults
+    assert parse_pareto({"choose": "knee"}, False) == defaults
 
 
 def test_a_planetary_rating_takes_its_mesh_tables_and_keys():
