@@ -1,7 +1,7 @@
 """The case file's typed sections (``jaxgear.io._sections``): ``[whine]``, ``[acoustics]``,
 ``[lubricant]``, ``[rating]``, ``[pair]``, ``[pinion]``/``[gear]``, ``[material]``,
 ``[operating]`` (a pair's, a train's, a planetary stage's), ``[modifications]``, ``[robust]``,
-``[optimise]``, ``[rating.spectrum]``, a sizing spec's ``[pareto]`` and the ``[[gears]]`` and ``[[meshes]]`` entries given mutated values (numbers where tables are,
+``[optimise]``, ``[rating.spectrum]``, a sizing spec's ``[pareto]``, ``[lubricant]``'s micropitting keys and the ``[[gears]]`` and ``[[meshes]]`` entries given mutated values (numbers where tables are,
 strings where numbers are, negative, non-finite and huge values, unknown keys) are refused in the one line the
 command line prints, never a ``TypeError``, ``KeyError`` or pydantic's report; a number key's
 message is the one :func:`fem_prep.checks.number` (the hand-written check, a separate
@@ -37,6 +37,7 @@ from jaxgear.io._case_file import (
 )
 from jaxgear.io._gearbox_file import GearboxOperating, StageEntry
 from jaxgear.io._housing_table import FootEntry, HousingSection, SeatEntry
+from jaxgear.io._micropitting_table import MicropittingKeys
 from jaxgear.io._modifications_table import ModificationsSection
 from jaxgear.io._optimise_table import OptimiseSection
 from jaxgear.io._pareto_table import ParetoSection, parse_pareto
@@ -110,6 +111,7 @@ BASES = {
                       "hours": [5e3, 1.5e4]},
     ParetoSection: {"minimise": ["mass_kg", "volume_m3"], "maximise": ["least_margin"],
                     "choose": "volume_m3"},
+    MicropittingKeys: {"micropitting_load_stage": 8},
     # a planetary stage (Lin & Parker's lumped form), a gearbox's tables, a housing
     PlanetarySection: {
         "sun_teeth": 28, "ring_teeth": 62, "sun_pressure_angle_deg": 24.6,
@@ -742,6 +744,28 @@ def test_every_number_key_says_what_the_hand_written_check_says():
     (ParetoSection, {"minimize": ["mass_kg"]},
      ("[pareto] unknown key 'minimize' (did you mean 'minimise'?), allowed: choose, maximise, "
       "minimise")),
+    (MicropittingKeys, {"micropitting_load_stage": 4.5},
+     "[lubricant] micropitting_load_stage = 4.5: out of range, allowed [5, 10]"),
+    (MicropittingKeys, {"micropitting_load_stage": None, "permissible_specific_film": 0.0},
+     "[lubricant] permissible_specific_film = 0: out of range, allowed (0, 10]"),
+    (MicropittingKeys, {"permissible_specific_film": 0.25},
+     ("[lubricant] permissible_specific_film = 0.25: not read: micropitting_load_stage is given "
+      "(λ_GFP from the TS's Figure A.1); remove one")),
+    (MicropittingKeys, {"micropitting_stage": 8},
+     "[lubricant] unknown key 'micropitting_stage' (did you mean 'micropitting_load_stage'?)"),
+    (LubricantSection, {"micropitting_load_stage": "8"},
+     "[lubricant] micropitting_load_stage = '8': must be a number, not a string"),
+    (LubricantSection, {"micropitting_load_stage": 8, "viscosity_40C_mm2_s": 500.0},
+     ("[lubricant] viscosity_40C_mm2_s = 500: out of range with micropitting_load_stage, allowed "
+      "[32, 460] (ISO VG 32 to 460, the curves of the TS's Figure A.1; or give "
+      "permissible_specific_film)")),
+    (LubricantSection, {"permissible_specific_film": 0.25, "viscosity_40C_mm2_s": 500.0}, None),
+    (LubricantSection, {"micropitting_load_stage": 8, "fzg_load_stage": None,
+                        "bulk_temperature_C": 95.0, "bulk_lubrication_factor": 1.2},
+     ("[lubricant] bulk_lubrication_factor = 1.2: not read: bulk_temperature_C is given (X_S is "
+      "the TS rule's); remove one")),
+    (LubricantSection, {"micropitting_load_stage": 8, "fzg_load_stage": None,
+                        "bulk_lubrication_factor": 1.2}, None),
 ])
 def test_the_words(section, change, words):
     """The messages in the file's words (the hand-written checks' wording)."""
