@@ -48,7 +48,6 @@ from jaxgear.io._planetary_deviations_table import (
 )
 from jaxgear.io._planetary_table import PlanetarySection
 from jaxgear.io._robust_table import RobustSection
-from jaxgear.io._spectrum_table import SpectrumSection
 from jaxgear.io._scene_table import (
     BearingSection,
     BodySection,
@@ -57,6 +56,7 @@ from jaxgear.io._scene_table import (
     SceneSection,
     ShaftSection,
 )
+from jaxgear.io._spectrum_table import SpectrumSection
 from jaxgear.io._train_file import GearSection, MeshEntry, PlanetaryOperating, TrainOperating
 from jaxgear.io._train_scene import TrainBodySection, TrainSceneSection, TrainShaftSection
 
@@ -689,8 +689,8 @@ def test_every_number_key_says_what_the_hand_written_check_says():
     (SpectrumSection, {"hours": None, "cycles": [1e6, 2e6]}, None),
     (SpectrumSection, {"hours": None, "time_share": [0.0, 0.0]},
      "[rating.spectrum] time_share = [0, 0]: out of range: the shares must add up to > 0"),
-    (SpectrumSection, {"hours": None}, "[rating.spectrum] hours: missing: give one of hours, "
-     "cycles, time_share"),
+    (SpectrumSection, {"hours": None},
+     "[rating.spectrum] hours: missing: give one of hours, cycles, time_share"),
     (SpectrumSection, {"cycles": [1e6, 2e6]},
      ("[rating.spectrum] hours: hours and cycles both given: give one of hours, cycles, "
       "time_share")),
