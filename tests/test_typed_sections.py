@@ -656,6 +656,9 @@ def test_every_number_key_says_what_the_hand_written_check_says():
     (OptimiseSection, {"lp_order": 4.0},
      "[optimise] lp_order = 4: applies to objective = 'line_load_lp' only, not 'robust_te_rms'"),
     (OptimiseSection, {"objective": "line_load_lp", "torques": None, "lp_order": 4.0}, None),
+    (OptimiseSection, {"objective": None, "torques": None, "lp_order": 4.0}, None),  # default
+    (OptimiseSection, {"objective": None, "torques": None, "te_limit_um": 1.0},
+     "[optimise] te_limit_um = 1: applies to objective = 'least_safety' only, not 'te_rms'"),
     (OptimiseSection, {"te_limit_um": 1.0},
      ("[optimise] te_limit_um = 1: applies to objective = 'least_safety' only, not "
       "'robust_te_rms'")),
