@@ -1,7 +1,7 @@
 """The case file's typed sections (``jaxgear.io._sections``): ``[whine]``, ``[acoustics]``,
 ``[lubricant]``, ``[rating]``, ``[pair]``, ``[pinion]``/``[gear]``, ``[material]``,
-``[operating]`` (a pair's, a train's, a planetary stage's), ``[modifications]``, ``[robust]``
-and the ``[[gears]]`` and ``[[meshes]]`` entries given mutated values (numbers where tables are,
+``[operating]`` (a pair's, a train's, a planetary stage's), ``[modifications]``, ``[robust]``,
+``[optimise]``, ``[rating.spectrum]``, a sizing spec's ``[pareto]``, ``[lubricant]``'s micropitting keys and the ``[[gears]]`` and ``[[meshes]]`` entries given mutated values (numbers where tables are,
 strings where numbers are, negative, non-finite and huge values, unknown keys) are refused in the one line the
 command line prints, never a ``TypeError``, ``KeyError`` or pydantic's report; a number key's
 message is the one :func:`fem_prep.checks.number` (the hand-written check, a separate
@@ -37,7 +37,10 @@ from jaxgear.io._case_file import (
 )
 from jaxgear.io._gearbox_file import GearboxOperating, StageEntry
 from jaxgear.io._housing_table import FootEntry, HousingSection, SeatEntry
+from jaxgear.io._micropitting_table import MicropittingKeys
 from jaxgear.io._modifications_table import ModificationsSection
+from jaxgear.io._optimise_table import OptimiseSection
+from jaxgear.io._pareto_table import ParetoSection, parse_pareto
 from jaxgear.io._planetary_deviations_table import (
     MemberDeviations,
     PlanetDeviations,
@@ -53,6 +56,7 @@ from jaxgear.io._scene_table import (
     SceneSection,
     ShaftSection,
 )
+from jaxgear.io._spectrum_table import SpectrumSection
 from jaxgear.io._train_file import GearSection, MeshEntry, PlanetaryOperating, TrainOperating
 from jaxgear.io._train_scene import TrainBodySection, TrainSceneSection, TrainShaftSection
 
@@ -99,6 +103,15 @@ BASES = {
     MeshEntry: {"driving": "input", "driven": "idler", "angle_deg": 0.0},
     RobustSection: {"grade": 6, "samples": 100, "members": ["pinion"],
                     "speeds_rad_s": [100.0, 200.0], "revolutions": "hunting"},
+    OptimiseSection: {"objective": "robust_te_rms", "vars": ["tip_relief.depth", "tip_relief.extent"],
+                      "torques": [40.0, 120.0, 5], "reduce": "quantile", "quantile": 0.9,
+                      "method": "adam", "max_iterations": 50,
+                      "bounds": {"tip_relief.depth": [0.0, 2.5]}},
+    SpectrumSection: {"torque_Nm": [80.0, 40.0], "speed_rpm": [3000.0, 3000.0],
+                      "hours": [5e3, 1.5e4]},
+    ParetoSection: {"minimise": ["mass_kg", "volume_m3"], "maximise": ["least_margin"],
+                    "choose": "volume_m3"},
+    MicropittingKeys: {"micropitting_load_stage": 8},
     # a planetary stage (Lin & Parker's lumped form), a gearbox's tables, a housing
     PlanetarySection: {
         "sun_teeth": 28, "ring_teeth": 62, "sun_pressure_angle_deg": 24.6,
@@ -223,7 +236,10 @@ def _number_fields():
                                        (IntegrationSection, "periods"),
                                        (IntegrationSection, "modal_basis"),  # or false
                                        (StageEntry, "housing_seat"),  # its own words
-                                       (StageDeviationsSection, "revolutions")}  # "hunting"
+                                       (StageDeviationsSection, "revolutions"),  # "hunting"
+                                       # a series' keys: the other form than the base's bins
+                                       (SpectrumSection, "series_step_s"),
+                                       (SpectrumSection, "levels")}
             by_name = typing.get_origin(info.annotation) is dict  # a table of numbers by name
             if isinstance(rng, Range) and not rng.array and not one_of and not words and (
                     not by_name):
@@ -583,6 +599,176 @@ def test_every_number_key_says_what_the_hand_written_check_says():
      "['pitch', 'runout', 'profile', 'helix']")),
     (RobustSection, {"percentiles": [50.0, 100.0]},
      "[robust] percentiles = [50, 100]: element 100 out of range, allowed (0, 100)"),
+    (OptimiseSection, {"objective": "te_max"},
+     "[optimise] objective = 'te_max': allowed 'te_rms', 'te_ptp', 'robust_te_rms', "),
+    (OptimiseSection, {"reduce": "median"},
+     "[optimise] reduce = 'median': allowed 'max', 'mean', 'quantile'"),
+    (OptimiseSection, {"quantile": 1.0},
+     "[optimise] quantile = 1: out of range, allowed (0, 1)"),
+    (OptimiseSection, {"a_weighted": 1}, "[optimise] a_weighted = 1: must be true or false"),
+    (OptimiseSection, {"method": "bfgs"}, "[optimise] method = 'bfgs': allowed 'lbfgs', 'adam'"),
+    (OptimiseSection, {"max_iterations": 0},
+     "[optimise] max_iterations = 0: out of range, allowed [1, 1e+06]"),
+    (OptimiseSection, {"max_iterations": 7.5}, "[optimise] max_iterations = 7.5: must be an integer"),
+    (OptimiseSection, {"lp_order": 65.0}, "[optimise] lp_order = 65: out of range, allowed [1, 64]"),
+    (OptimiseSection, {"te_limit_um": "1"},
+     "[optimise] te_limit_um = '1': must be a number, not a string"),
+    (OptimiseSection, {"vars": "tip_relief.depth, crowning.dpeth"},
+     ("[optimise] vars = ['tip_relief.depth', 'crowning.dpeth']: unknown variable "
+      "'crowning.dpeth', allowed tip_relief.depth, ")),
+    (OptimiseSection, {"vars": []},
+     "[optimise] vars = []: must be a non-empty array of variable names"),
+    (OptimiseSection, {"vars": ["crowning.depth", "crowning.depth"], "bounds": None},
+     "[optimise] vars = ['crowning.depth', 'crowning.depth']: names a variable twice"),
+    (OptimiseSection, {"torques": [120.0, 40.0, 5]},
+     ("[optimise] torques = [120, 40, 5]: allowed [start, stop, n] in N·m with 0 < start < "
+      "stop and an integer n in [2, 10000]")),
+    (OptimiseSection, {"objective": "dynamic_factor", "torques": None, "speeds": [200.0, 100.0, 3]},
+     "[optimise] speeds = [200, 100, 3]: allowed [start, stop, n]: pinion speeds in rad/s"),
+    (OptimiseSection, {"bounds": 3},
+     "[optimise] bounds = 3: must be a table ([optimise.bounds]), not a number"),
+    (OptimiseSection, {"bounds": {"tip_relief.depth": [0.0]}},
+     "[optimise.bounds] tip_relief.depth = [0]: must be an array of 2 numbers"),
+    (OptimiseSection, {"bounds": {"tip_relief.extent": [0.5, 0.2]}},
+     ("[optimise.bounds] tip_relief.extent = [0.5, 0.2]: out of range, allowed [lo, hi] with "
+      "0 < lo < hi < 1 (Γ)")),
+    (OptimiseSection, {"bounds": {"tip_relief.depth": [-1.0, 2.0]}},
+     ("[optimise.bounds] tip_relief.depth = [-1, 2]: out of range, allowed [lo, hi] with "
+      "0 <= lo < hi (E* = depth/δ_m)")),
+    (OptimiseSection, {"bounds": {"crowning.depth": [0.0, 1.0]}},
+     ("[optimise.bounds] crowning.depth = [0, 1]: is not a design variable (vars = "
+      "['tip_relief.depth', 'tip_relief.extent'])")),
+    (OptimiseSection, {"bounds": {"crowning.dpeth": [0.0, 1.0]}},
+     "[optimise.bounds] crowning.dpeth = [0, 1]: unknown variable, allowed tip_relief.depth"),
+    (OptimiseSection, {"step": 3},
+     ("[optimise] unknown key 'step', allowed: a_weighted, bounds, lp_order, max_iterations, "
+      "method, objective, quantile, reduce, speeds, te_limit_um, torques, vars")),
+    # the keys that relate: quantile and reduce, a key of some objectives only
+    (OptimiseSection, {"reduce": "mean"},
+     "[optimise] quantile = 0.9: applies to reduce = 'quantile' only, not 'mean'"),
+    (OptimiseSection, {"quantile": None},
+     "[optimise] reduce = 'quantile': 'quantile' needs its level: quantile = q in (0, 1)"),
+    (OptimiseSection, {"objective": "te_rms"},
+     ("[optimise] torques = [40, 120, 5]: applies to objective = 'robust_te_rms' or a tribology "
+      "objective (power_loss, efficiency_loss, min_specific_film, max_flash_temperature) only, "
+      "not 'te_rms'")),
+    (OptimiseSection, {"objective": None}, None),  # torques with the default objective
+    (OptimiseSection, {"lp_order": 4.0},
+     "[optimise] lp_order = 4: applies to objective = 'line_load_lp' only, not 'robust_te_rms'"),
+    (OptimiseSection, {"objective": "line_load_lp", "torques": None, "lp_order": 4.0}, None),
+    (OptimiseSection, {"objective": None, "torques": None, "lp_order": 4.0}, None),  # default
+    (OptimiseSection, {"objective": None, "torques": None, "te_limit_um": 1.0},
+     "[optimise] te_limit_um = 1: applies to objective = 'least_safety' only, not 'te_rms'"),
+    (OptimiseSection, {"te_limit_um": 1.0},
+     ("[optimise] te_limit_um = 1: applies to objective = 'least_safety' only, not "
+      "'robust_te_rms'")),
+    (OptimiseSection, {"a_weighted": False},
+     ("[optimise] a_weighted = false: applies to objective = 'erp' or 'sound_power' only, not "
+      "'robust_te_rms'")),
+    (OptimiseSection, {"objective": "erp", "torques": None, "a_weighted": False}, None),
+    (OptimiseSection, {"speeds": [100.0, 200.0, 2]},
+     ("[optimise] speeds = [100, 200, 2]: applies to objective = 'dynamic_factor' only, not "
+      "'robust_te_rms'")),
+    (OptimiseSection, {"objective": "dynamic_factor", "torques": None},
+     ("[optimise] objective = 'dynamic_factor': 'dynamic_factor' needs speeds = [start, stop, "
+      "n]")),
+    (OptimiseSection, {"objective": "dynamic_factor", "torques": None,
+                       "speeds": [100.0, 100.0, 1]}, None),
+    (SpectrumSection, {"torque_Nm": [80.0, -1.0]},
+     "[rating.spectrum] torque_Nm = [80, -1]: element -1 out of range, allowed [0, 1e+09]"),
+    (SpectrumSection, {"torque_Nm": []},
+     "[rating.spectrum] torque_Nm = []: must be an array of at least 1 numbers"),
+    (SpectrumSection, {"speed_rpm": "fast"},
+     "[rating.spectrum] speed_rpm = 'fast': must be a number, not a string"),
+    (SpectrumSection, {"speed_rpm": 2e6},
+     "[rating.spectrum] speed_rpm = 2e+06: out of range, allowed [0, 1e+06]"),
+    (SpectrumSection, {"speed_rpm": [3000.0]},
+     ("[rating.spectrum] speed_rpm = [3000]: must be an array of 2 numbers (one per bin of "
+      "torque_Nm)")),
+    (SpectrumSection, {"hours": [1.0]},
+     "[rating.spectrum] hours = [1]: must be an array of 2 numbers (one per bin of torque_Nm)"),
+    (SpectrumSection, {"hours": [-1.0, 1.0]},
+     "[rating.spectrum] hours = [-1, 1]: element -1 out of range, allowed >= 0"),
+    (SpectrumSection, {"hours": None, "cycles": [1e6, 2e6]}, None),
+    (SpectrumSection, {"hours": None, "time_share": [0.0, 0.0]},
+     "[rating.spectrum] time_share = [0, 0]: out of range: the shares must add up to > 0"),
+    (SpectrumSection, {"hours": None},
+     "[rating.spectrum] hours: missing: give one of hours, cycles, time_share"),
+    (SpectrumSection, {"cycles": [1e6, 2e6]},
+     ("[rating.spectrum] hours: hours and cycles both given: give one of hours, cycles, "
+      "time_share")),
+    (SpectrumSection, {"levels": 4},
+     ("[rating.spectrum] torque_Nm: give bins (torque_Nm, speed_rpm, hours | cycles | "
+      "time_share) or a series (series_torque_Nm, ...), not both (levels is given too)")),
+    (SpectrumSection, {"speed_rpm": None}, "[rating.spectrum] speed_rpm: missing required key"),
+    (SpectrumSection, {"hour": [1.0, 1.0]},
+     "[rating.spectrum] unknown key 'hour' (did you mean 'hours'?), allowed: cycles, hours, "),
+    (SpectrumSection, {"torque_Nm": None, "speed_rpm": None, "hours": None,
+                       "series_torque_Nm": [80.0, 40.0, 60.0], "series_speed_rpm": 3000.0,
+                       "series_step_s": 0.1}, None),
+    (SpectrumSection, {"torque_Nm": None, "speed_rpm": None, "hours": None,
+                       "series_torque_Nm": [80.0, 40.0], "series_speed_rpm": [3000.0] * 3,
+                       "series_step_s": 0.1},
+     ("[rating.spectrum] series_speed_rpm = [3000, 3000, 3000]: must be an array of 2 numbers "
+      "(one per sample of series_torque_Nm)")),
+    (SpectrumSection, {"torque_Nm": None, "speed_rpm": None, "hours": None,
+                       "series_torque_Nm": [0.0, 0.0], "series_speed_rpm": 3000.0,
+                       "series_step_s": 0.1},
+     "[rating.spectrum] series_torque_Nm = [0, 0]: out of range: no sample above 0 N·m"),
+    (SpectrumSection, {"torque_Nm": None, "speed_rpm": None, "hours": None,
+                       "series_torque_Nm": [80.0, 40.0], "series_speed_rpm": 3000.0},
+     "[rating.spectrum] series_step_s: missing required key"),
+    (SpectrumSection, {"torque_Nm": None, "speed_rpm": None, "hours": None,
+                       "series_torque_Nm": [80.0, 40.0], "series_speed_rpm": 3000.0,
+                       "series_step_s": 0.1, "levels": 1001},
+     "[rating.spectrum] levels = 1001: out of range, allowed [1, 1000]"),
+    (ParetoSection, {"minimise": "mass_kg"},
+     ("[pareto] minimise = 'mass_kg': allowed a list of column names: mass_kg, volume_m3, "
+      "least_margin, mesh_loss_W, efficiency, ")),
+    (ParetoSection, {"maximise": ["least_margin", 3]},
+     "[pareto] maximise = ['least_margin', 3]: allowed a list of column names: mass_kg, "),
+    (ParetoSection, {"maximise": ["margin"]},
+     "[pareto] maximise = ['margin']: 'margin' is not an objective: allowed mass_kg, volume_m3"),
+    (ParetoSection, {"maximise": ["mass_kg"]},
+     "[pareto] maximise = ['mass_kg']: 'mass_kg' is named twice"),
+    (ParetoSection, {"minimise": ["mass_kg", "mesh_loss_W"]},
+     ("[pareto] minimise = ['mass_kg', 'mesh_loss_W']: 'mesh_loss_W' needs a [lubricant] table "
+      "(the oil, roughness and friction of the mesh loss)")),
+    (ParetoSection, {"minimise": ["volume_m3"], "choose": None}, None),
+    (ParetoSection, {"minimise": [], "choose": None},
+     "[pareto] minimise = []: 1 objectives with maximise: allowed 2 to 6"),
+    (ParetoSection, {"minimise": ["mass_kg", "volume_m3", "te_ppk_m", "te_ppk_modified_m",
+                                  "dynamic_factor_max", "whine_force_N"]},
+     "[pareto] minimise = ['mass_kg', 'volume_m3', 'te_ppk_m', 'te_ppk_modified_m', "),
+    (ParetoSection, {"choose": "mesh_loss_W"},
+     "[pareto] choose = 'mesh_loss_W': allowed 'knee', 'mass_kg', 'volume_m3', 'least_margin'"),
+    (ParetoSection, {"choose": 1}, "[pareto] choose = 1: allowed 'knee', 'mass_kg'"),
+    (ParetoSection, {"minimise": None, "maximise": None, "choose": "least_margin"}, None),
+    (ParetoSection, {"minimize": ["mass_kg"]},
+     ("[pareto] unknown key 'minimize' (did you mean 'minimise'?), allowed: choose, maximise, "
+      "minimise")),
+    (MicropittingKeys, {"micropitting_load_stage": 4.5},
+     "[lubricant] micropitting_load_stage = 4.5: out of range, allowed [5, 10]"),
+    (MicropittingKeys, {"micropitting_load_stage": None, "permissible_specific_film": 0.0},
+     "[lubricant] permissible_specific_film = 0: out of range, allowed (0, 10]"),
+    (MicropittingKeys, {"permissible_specific_film": 0.25},
+     ("[lubricant] permissible_specific_film = 0.25: not read: micropitting_load_stage is given "
+      "(λ_GFP from the TS's Figure A.1); remove one")),
+    (MicropittingKeys, {"micropitting_stage": 8},
+     "[lubricant] unknown key 'micropitting_stage' (did you mean 'micropitting_load_stage'?)"),
+    (LubricantSection, {"micropitting_load_stage": "8"},
+     "[lubricant] micropitting_load_stage = '8': must be a number, not a string"),
+    (LubricantSection, {"micropitting_load_stage": 8, "viscosity_40C_mm2_s": 500.0},
+     ("[lubricant] viscosity_40C_mm2_s = 500: out of range with micropitting_load_stage, allowed "
+      "[32, 460] (ISO VG 32 to 460, the curves of the TS's Figure A.1; or give "
+      "permissible_specific_film)")),
+    (LubricantSection, {"permissible_specific_film": 0.25, "viscosity_40C_mm2_s": 500.0}, None),
+    (LubricantSection, {"micropitting_load_stage": 8, "fzg_load_stage": None,
+                        "bulk_temperature_C": 95.0, "bulk_lubrication_factor": 1.2},
+     ("[lubricant] bulk_lubrication_factor = 1.2: not read: bulk_temperature_C is given (X_S is "
+      "the TS rule's); remove one")),
+    (LubricantSection, {"micropitting_load_stage": 8, "fzg_load_stage": None,
+                        "bulk_lubrication_factor": 1.2}, None),
 ])
 def test_the_words(section, change, words):
     """The messages in the file's words (the hand-written checks' wording)."""
@@ -593,6 +779,39 @@ def test_the_words(section, change, words):
     with pytest.raises(sc.SchemaError) as err:
         section.read(table)
     assert str(err.value).startswith(words), str(err.value)
+
+
+def test_the_optimise_settings_are_the_keys_given_normalised():
+    """``[optimise]`` read by its section gives ``jaxgear optimise`` the keys the file gave (the
+    others are the command's), normalised: the names of a comma-separated text as a list, the
+    spans as (float, float, int), an integral float count as an int, the bounds as pairs."""
+    table = BASES[OptimiseSection] | {"vars": " tip_relief.depth ,tip_relief.extent",
+                                      "torques": [40, 120, 5.0], "max_iterations": 50.0,
+                                      "bounds": {"tip_relief.depth": [0, 2.5]}}
+    out = jio.parse_optimise(table)
+    assert out == {"objective": "robust_te_rms", "reduce": "quantile", "quantile": 0.9,
+                   "method": "adam", "max_iterations": 50,
+                   "vars": ["tip_relief.depth", "tip_relief.extent"],
+                   "torques": [40.0, 120.0, 5], "bounds": {"tip_relief.depth": (0.0, 2.5)}}
+    assert [type(v) for v in out["torques"]] == [float, float, int]
+    assert type(out["max_iterations"]) is int
+    assert jio.parse_optimise({}) == {}
+
+
+def test_the_pareto_objectives_are_the_columns_given_with_their_sense():
+    """A sizing spec's ``[pareto]``: the minimised columns then the maximised, ``choose`` as
+    given; the mesh loss's columns read with a ``[lubricant]`` (refused without); no table or
+    neither list, the sizing's defaults (mass minimised, least margin maximised, the knee)."""
+    table = {"minimise": ["mass_kg", "mesh_loss_W"], "maximise": ["least_margin", "efficiency"],
+             "choose": "efficiency"}
+    assert parse_pareto(table, True) == (
+        (("mass_kg", "min"), ("mesh_loss_W", "min"), ("least_margin", "max"),
+         ("efficiency", "max")), "efficiency")
+    with pytest.raises(sc.SchemaError, match=r"'mesh_loss_W' needs a \[lubricant\] table"):
+        parse_pareto(table, False)
+    defaults = ((("mass_kg", "min"), ("least_margin", "max")), "knee")
+    assert parse_pareto(None, False) == defaults
+    assert parse_pareto({"choose": "knee"}, False) == defaults
 
 
 def test_a_planetary_rating_takes_its_mesh_tables_and_keys():

@@ -413,8 +413,9 @@ def _section_kind(field) -> tuple[set, set]:
     for kind, m in zip(kinds[1:], members[1:], strict=True):
         rng = sections._marker_in(m, sections.Range)
         if kind.startswith("array of "):
-            size = f"{rng.length}" if rng.length else f"at least {rng.min_length}"
-            others.append(f"an array of {size} in {rng.interval}")
+            size = f" of {rng.length}" if rng.length else (
+                f" of at least {rng.min_length}" if rng.min_length else "")
+            others.append(f"an array{size} in {rng.interval}")
         else:
             others.append(_type_kind(m)[1])
     return set(kinds), {"; or ".join([_type_kind(members[0])[1], *others])}

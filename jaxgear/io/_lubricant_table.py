@@ -26,7 +26,7 @@ speed_rad_s`` (> 0) or, without it, ``[operating] speed_rpm`` (the rating's).
 from __future__ import annotations
 
 import math
-from typing import Any, ClassVar, Literal, NamedTuple
+from typing import ClassVar, Literal, NamedTuple
 
 import pydantic
 
@@ -43,7 +43,13 @@ from ..tribology import (
     Schlenk,
     TSMicropittingFilm,
 )
-from ._micropitting_table import MICROPITTING_KEYS, MicropittingInputs, parse_micropitting
+from ._micropitting_table import (
+    MICROPITTING_KEYS,
+    MicropittingInputs,
+    MicropittingKeys,
+    check_micropitting,
+    parse_micropitting,
+)
 from ._scuffing_table import ScuffingInputs, ScuffingKeys, parse_scuffing
 from ._sections import number, number_list, one_of
 
@@ -81,12 +87,11 @@ class TribologyInputs(NamedTuple):
 _WALTHER = " (Walther's equation, ASTM D341, holds from 2 mm²/s)"
 
 
-class LubricantSection(ScuffingKeys):
+class LubricantSection(MicropittingKeys, ScuffingKeys):
     """``[lubricant]`` as the file gives it (keys and ranges: the module docstring, the
-    scuffing keys :mod:`jaxgear.io._scuffing_table`'s), checked whole but for the micropitting
-    keys, which :meth:`inputs` checks (:func:`jaxgear.io._micropitting_table.
-    parse_micropitting`, which reads the TS's figure); :meth:`inputs` its SI inputs with the
-    pinion speed of ``[operating]`` (:func:`read_lubricant` reads and checks both)."""
+    scuffing keys :mod:`jaxgear.io._scuffing_table`'s, the micropitting keys
+    :mod:`jaxgear.io._micropitting_table`'s), checked whole; :meth:`inputs` its SI inputs with
+    the pinion speed of ``[operating]`` (:func:`read_lubricant` reads and checks both)."""
 
     WHERE: ClassVar[str] = "lubricant"
     viscosity_40C_mm2_s: number(VISCOSITY_RANGE, note=_WALTHER)
@@ -99,9 +104,6 @@ class LubricantSection(ScuffingKeys):
     lubricant_factor: number("(0, 2]") = 1.0
     friction_coefficient: number("(0, 1]") | None = None
     film: Literal[tuple(FILM_FORMULAS)] = "dowson-higginson"
-    # the micropitting keys: checked by jaxgear.io._micropitting_table.parse_micropitting
-    micropitting_load_stage: Any = None
-    permissible_specific_film: Any = None
 
     @pydantic.model_validator(mode="after")
     def _related(self):
@@ -114,7 +116,8 @@ class LubricantSection(ScuffingKeys):
             raise sc.fail(w, "lubricant_factor", "not read: friction_coefficient is given (X_L "
                           "is Schlenk's); remove one", self.lubricant_factor)
         parse_scuffing(self, bulk_read=bool(MICROPITTING_KEYS & self.given))
-        return self  # the micropitting keys: checked where they are read (inputs)
+        check_micropitting(self)
+        return self
 
     def inputs(self, operating: dict) -> TribologyInputs:
         """The SI inputs (:class:`TribologyInputs`) with the pinion speed of ``operating``
@@ -146,7 +149,7 @@ class LubricantSection(ScuffingKeys):
         return TribologyInputs(
             lub, (ra[0] * 1e-6, ra[1] * 1e-6), friction, FILM_FORMULAS[self.film](), speed,
             parse_scuffing(self, bulk_read=bool(MICROPITTING_KEYS & self.given)),
-            parse_micropitting(self.table()),
+            parse_micropitting(self),
         )
 
 

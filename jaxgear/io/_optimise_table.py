@@ -4,15 +4,21 @@ torques, bounds), checked and normalised."""
 from __future__ import annotations
 
 import functools
-from typing import Any
+from typing import Annotated, Any, ClassVar, Literal
+
+import pydantic
+from pydantic import BeforeValidator
 
 from fem_prep import schema as sc
 from optimise import OBJECTIVES, VARIABLES
+
+from ._sections import Section, number, number_list
 
 __all__ = [
     "ACOUSTIC_OBJECTIVES",
     "OPTIMISE_DEFAULTS",
     "TORQUE_RANGE_OBJECTIVES",
+    "OptimiseSection",
     "check_acoustic_tables",
     "check_train_design",
     "parse_optimise",
@@ -45,20 +51,6 @@ OPTIMISE_DEFAULTS = {
     "a_weighted": True,
 }
 
-_OPTIMISE_KEYS = {
-    "objective",
-    "vars",
-    "torques",
-    "reduce",
-    "method",
-    "max_iterations",
-    "bounds",
-    "lp_order",
-    "speeds",
-    "te_limit_um",
-    "quantile",
-    "a_weighted",
-}
 #: the objectives over the speeds of a housed case's [whine] (jaxgear.io's acoustic path)
 ACOUSTIC_OBJECTIVES = ("erp", "sound_power")
 _MEMBER_PREFIXES = ("pinion", "gear")
@@ -113,6 +105,18 @@ def check_train_design(objective: str | None, variables, modifications: dict | N
                           "every gear: allowed the entries common to every gear, directly under "
                           "[modifications], when the train is optimised", "{...}")
 _DEFAULT_VARS = tuple(OPTIMISE_DEFAULTS["vars"].split(","))
+WHERE = "optimise"
+#: what ``vars`` and ``[optimise.bounds]`` allow, in their messages
+_ALLOWED_VARS = f"{', '.join(VARIABLES)}, optionally prefixed 'pinion.' or 'gear.'"
+
+
+def _variable_kind(name: str) -> str | None:
+    """The kind of a design variable's name (``"depth"``, ``"extent"``, ``"end_extent"``;
+    :data:`optimise.VARIABLES`), a member prefix ``pinion.``/``gear.`` allowed; None for a name
+    that is none."""
+    parts = name.split(".")
+    base = ".".join(parts[1:]) if parts[0] in _MEMBER_PREFIXES else name
+    return VARIABLES[base][1] if base in VARIABLES else None
 
 
 @functools.singledispatch
@@ -127,185 +131,163 @@ def _(value: str) -> list:
     return [x.strip() for x in value.split(",") if x.strip()]
 
 
+def _variable_names(value):
+    """``vars`` (an array of names, or one text of comma-separated names) as a list of distinct
+    design variable names."""
+    v = _name_list(value)
+    if not isinstance(v, list) or not v or not all(isinstance(x, str) for x in v):
+        raise sc.fail(WHERE, "vars", "must be a non-empty array of variable names", value)
+    for x in v:
+        if _variable_kind(x) is None:
+            raise sc.fail(WHERE, "vars", f"unknown variable {sc.fmt(x)}, allowed {_ALLOWED_VARS}",
+                          v)
+    if len(set(v)) != len(v):
+        raise sc.fail(WHERE, "vars", "names a variable twice", v)
+    return list(v)
+
+
+def _torque_span(v):
+    """``torques``: ``[start, stop, n]`` in N·m, 0 < start < stop, an integer n in [2, 10000];
+    as ``[float, float, int]``."""
+    ok = (
+        isinstance(v, list)
+        and len(v) == 3
+        and all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in v)
+        and all(sc.finite(x) for x in v)
+        and 0 < v[0] < v[1]
+        and float(v[2]).is_integer()
+        and 2 <= v[2] <= 10000
+    )
+    if not ok:
+        raise sc.fail(WHERE, "torques", "allowed [start, stop, n] in N·m with 0 < start < stop "
+                      "and an integer n in [2, 10000]", v)
+    return [float(v[0]), float(v[1]), int(v[2])]
+
+
+def _speed_span(v):
+    """``speeds``: ``[start, stop, n]`` pinion speeds in rad/s, 0 < start <= stop <= 1e5, an
+    integer n in [1, 1000], start < stop unless n = 1; as ``[float, float, int]``."""
+    ok = (
+        isinstance(v, list)
+        and len(v) == 3
+        and all(sc.finite(x) for x in v)
+        and 0 < v[0] <= v[1] <= 1e5
+        and float(v[2]).is_integer()
+        and 1 <= v[2] <= 1000
+        and (v[0] < v[1] or v[2] == 1)
+    )
+    if not ok:
+        raise sc.fail(WHERE, "speeds", "allowed [start, stop, n]: pinion speeds in rad/s with "
+                      "0 < start < stop <= 1e+05 and an integer n in [1, 1000] (start = stop "
+                      "when n = 1)", v)
+    return [float(v[0]), float(v[1]), int(v[2])]
+
+
+def _not_for(key: str, objectives: str, objective: str, value) -> sc.SchemaError:
+    """``[optimise] key = value: applies to objective = ... only, not '...'``."""
+    return sc.fail(WHERE, key, f"applies to objective = {objectives} only, not {objective!r}",
+                   value)
+
+
+class OptimiseSection(Section):
+    """``[optimise]`` as the file gives it (the keys of the ``jaxgear optimise`` options,
+    checked whole): the objective, its statistic over a torque range or speeds, the minimiser,
+    the design variables and their bounds. A key the file does not give holds
+    :data:`OPTIMISE_DEFAULTS`' value (what the command takes); :meth:`settings` the keys the
+    file gave, normalised (:func:`parse_optimise`). The keys that apply to some objectives only
+    (``lp_order``, ``te_limit_um``, ``torques``, ``speeds``, ``a_weighted``), ``quantile`` with
+    ``reduce = "quantile"`` only, and the bounds of the design variables are checked together
+    after each key's own type and range."""
+
+    WHERE: ClassVar[str] = WHERE
+    # (in the order a reader meets their errors)
+    objective: Literal[OBJECTIVES] = OPTIMISE_DEFAULTS["objective"]
+    reduce: Literal["max", "mean", "quantile"] = OPTIMISE_DEFAULTS["reduce"]
+    #: the level of reduce = "quantile" (over the torques, or the acoustic objectives' speeds)
+    quantile: number("(0, 1)") | None = None
+    #: the A weighting of the acoustic objectives' orders (IEC 61672-1)
+    a_weighted: bool = OPTIMISE_DEFAULTS["a_weighted"]
+    method: Literal["lbfgs", "adam"] = OPTIMISE_DEFAULTS["method"]
+    max_iterations: number("[1, 1e+06]", integer=True) = OPTIMISE_DEFAULTS["max_iterations"]
+    lp_order: number("[1, 64]") = OPTIMISE_DEFAULTS["lp_order"]
+    #: the TE RMS limit of the least_safety objective (µm), as jaxgear optimise --te-limit-um
+    te_limit_um: number("(0, 1e+04]") | None = None
+    vars: Annotated[list, BeforeValidator(_variable_names)] = pydantic.Field(
+        default_factory=lambda: list(_DEFAULT_VARS))
+    torques: Annotated[list, BeforeValidator(_torque_span)] | None = None
+    #: the speed band of the dynamic_factor objective, as jaxgear optimise --speeds START:STOP:N
+    speeds: Annotated[list, BeforeValidator(_speed_span)] | None = None
+    bounds: dict[str, number_list(length=2)] = pydantic.Field(default_factory=dict)
+
+    @pydantic.model_validator(mode="after")
+    def _related(self):
+        given = self.given
+        goal = self.objective if "objective" in given else None
+        if "quantile" in given and self.reduce != "quantile":
+            raise sc.fail(WHERE, "quantile", "applies to reduce = 'quantile' only, not "
+                          f"{self.reduce!r}", self.quantile)
+        if "quantile" not in given and self.reduce == "quantile":
+            raise sc.fail(WHERE, "reduce", "'quantile' needs its level: quantile = q in (0, 1) "
+                          "(e.g. 0.9)", "quantile")
+        if "a_weighted" in given and goal not in ACOUSTIC_OBJECTIVES:
+            raise _not_for("a_weighted", "'erp' or 'sound_power'", goal or "te_rms",
+                           self.a_weighted)
+        if "lp_order" in given and goal not in (None, "line_load_lp"):
+            raise _not_for("lp_order", "'line_load_lp'", goal, self.lp_order)
+        if "te_limit_um" in given and goal != "least_safety":
+            raise _not_for("te_limit_um", "'least_safety'", goal or "te_rms", self.te_limit_um)
+        if "torques" in given and goal not in (None, *TORQUE_RANGE_OBJECTIVES):
+            raise _not_for("torques", "'robust_te_rms' or a tribology objective "
+                           f"({', '.join(TORQUE_RANGE_OBJECTIVES[1:])})", goal, self.torques)
+        if "speeds" in given and goal != "dynamic_factor":
+            raise _not_for("speeds", "'dynamic_factor'", goal or "te_rms", self.speeds)
+        if "speeds" not in given and goal == "dynamic_factor":
+            raise sc.fail(WHERE, "objective", "'dynamic_factor' needs speeds = [start, stop, n] "
+                          "(its pinion speed band in rad/s, e.g. [2800.0, 3200.0, 3])",
+                          "dynamic_factor")
+        for name, (lo, hi) in self.bounds.items():
+            kind = _variable_kind(name)
+            pair = [lo, hi]
+            if kind is None:
+                raise sc.fail(f"{WHERE}.bounds", name, f"unknown variable, allowed "
+                              f"{_ALLOWED_VARS}", pair)
+            if name not in self.vars:
+                raise sc.fail(f"{WHERE}.bounds", name, "is not a design variable (vars = "
+                              f"{sc.fmt(self.vars)})", pair)
+            good = lo < hi and (lo >= 0 if kind == "depth" else 0 < lo and hi < 1)
+            if not good:
+                lo_ok = "0 < lo < hi < 1" if kind != "depth" else "0 <= lo < hi"
+                unit = "E* = depth/δ_m" if kind == "depth" else "Γ"
+                raise sc.fail(f"{WHERE}.bounds", name, f"out of range, allowed [lo, hi] with "
+                              f"{lo_ok} ({unit})", pair)
+        return self
+
+    def settings(self) -> dict:
+        """The keys the file gave, normalised (:func:`parse_optimise`)."""
+        out: dict[str, Any] = {k: getattr(self, k) for k in type(self).model_fields
+                               if k in self.given}
+        if "bounds" in out:
+            out["bounds"] = {name: (lo, hi) for name, (lo, hi) in self.bounds.items()}
+        return out
+
+
 def parse_optimise(table) -> dict:
-    """Validate an ``[optimise]`` table (keys as the ``jaxgear optimise`` options) and return it
-    normalised: ``vars`` a list of names, ``torques`` ``[start, stop, n]`` (float, float, int),
-    ``bounds`` ``{name: (lo, hi)}`` (E* for depths, Γ for extents), other keys as given.
+    """Validate an ``[optimise]`` table (keys as the ``jaxgear optimise`` options;
+    :class:`OptimiseSection`) and return the keys it gives, normalised: ``vars`` a list of
+    names, ``torques`` and ``speeds`` ``[start, stop, n]`` (float, float, int), ``bounds``
+    ``{name: (lo, hi)}`` (E* for depths, Γ for extents), ``max_iterations`` an int,
+    ``quantile``, ``lp_order``, ``te_limit_um`` floats, other keys as given.
 
     Raises:
-        SchemaError: unknown key, objective, method or variable; torques not ``[start, stop, n]``
-            with 0 < start < stop and an integer n >= 2; crossed bounds; ``lp_order`` outside
-            [1, 64] or with an objective other than ``line_load_lp``; ``te_limit_um`` (the TE
-            RMS limit of ``least_safety``, µm) not in (0, 1e+04] or with another objective;
-            ``quantile`` outside (0, 1) or without ``reduce = "quantile"`` (which needs it);
-            ``a_weighted`` not a boolean or with an objective other than ``erp`` and
-            ``sound_power``.
+        SchemaError: one line naming the key, its value and what is allowed: the table not a
+            table; an unknown key, objective, method or variable; torques not ``[start, stop,
+            n]`` with 0 < start < stop and an integer n in [2, 10000]; speeds not ``[start,
+            stop, n]`` with 0 < start <= stop <= 1e5 and an integer n in [1, 1000], or without
+            objective ``dynamic_factor`` (which needs them); crossed bounds or bounds of a name
+            not in ``vars``; ``lp_order`` outside [1, 64] or with an objective other than
+            ``line_load_lp``; ``te_limit_um`` (the TE RMS limit of ``least_safety``, µm) not in
+            (0, 1e+04] or with another objective; ``quantile`` outside (0, 1) or without
+            ``reduce = "quantile"`` (which needs it); ``a_weighted`` not a boolean or with an
+            objective other than ``erp`` and ``sound_power``.
     """
-    w = "optimise"
-    if not isinstance(table, dict):
-        raise sc.fail("", "optimise", "must be a table", table)
-    sc.check_keys(table, _OPTIMISE_KEYS, w)
-    out: dict[str, Any] = {}
-    if "objective" in table:
-        out["objective"] = sc.choice(table, "objective", w, OBJECTIVES, OPTIMISE_DEFAULTS["objective"])
-    if "reduce" in table:
-        out["reduce"] = sc.choice(table, "reduce", w, ("max", "mean", "quantile"),
-                                  OPTIMISE_DEFAULTS["reduce"])
-    # the level of reduce = "quantile" (over the torques, or the acoustic objectives' speeds)
-    if "quantile" in table:
-        out["quantile"] = float(sc.number(table, "quantile", w, None, allowed="(0, 1)"))
-        if out.get("reduce") != "quantile":
-            raise sc.fail(w, "quantile", "applies to reduce = 'quantile' only, not "
-                          f"{out.get('reduce', 'max')!r}", table["quantile"])
-    elif out.get("reduce") == "quantile":
-        raise sc.fail(w, "reduce", "'quantile' needs its level: quantile = q in (0, 1) "
-                      "(e.g. 0.9)", "quantile")
-    # the A weighting of the acoustic objectives' orders (IEC 61672-1)
-    if "a_weighted" in table:
-        out["a_weighted"] = sc.boolean(table, "a_weighted", w, True)
-        if out.get("objective") not in ACOUSTIC_OBJECTIVES:
-            raise sc.fail(w, "a_weighted", "applies to objective = 'erp' or 'sound_power' only, "
-                          f"not {out.get('objective', 'te_rms')!r}", table["a_weighted"])
-    if "method" in table:
-        out["method"] = sc.choice(table, "method", w, ("lbfgs", "adam"), OPTIMISE_DEFAULTS["method"])
-    if "max_iterations" in table:
-        out["max_iterations"] = sc.number(
-            table, "max_iterations", w, OPTIMISE_DEFAULTS["max_iterations"], allowed="[1, 1e+06]",
-            integer=True,
-        )
-
-    if "lp_order" in table:
-        out["lp_order"] = float(sc.number(table, "lp_order", w, OPTIMISE_DEFAULTS["lp_order"],
-                                             allowed="[1, 64]"))
-        if out.get("objective", "line_load_lp") != "line_load_lp":
-            raise sc.fail(
-                w,
-                "lp_order",
-                f"applies to objective = 'line_load_lp' only, not {out['objective']!r}",
-                table["lp_order"],
-            )
-
-    # the TE RMS limit of the least_safety objective, as jaxgear optimise --te-limit-um
-    if "te_limit_um" in table:
-        out["te_limit_um"] = float(sc.number(table, "te_limit_um", w, None,
-                                                allowed="(0, 1e+04]"))
-        if out.get("objective") != "least_safety":
-            raise sc.fail(
-                w,
-                "te_limit_um",
-                "applies to objective = 'least_safety' only, not "
-                f"{out.get('objective', 'te_rms')!r}",
-                table["te_limit_um"],
-            )
-
-    def kind(name: str):
-        parts = name.split(".")
-        base = ".".join(parts[1:]) if parts[0] in ("pinion", "gear") else name
-        return VARIABLES[base][1] if base in VARIABLES else None
-
-    allowed_vars = f"{', '.join(VARIABLES)}, optionally prefixed 'pinion.' or 'gear.'"
-    names = list(_DEFAULT_VARS)
-    if "vars" in table:
-        v = table["vars"]
-        v = _name_list(v)
-        if not isinstance(v, list) or not v or not all(isinstance(x, str) for x in v):
-            raise sc.fail(w, "vars", "must be a non-empty array of variable names", table["vars"])
-        for x in v:
-            if kind(x) is None:
-                raise sc.fail(w, "vars", f"unknown variable {sc.fmt(x)}, allowed {allowed_vars}", v)
-        if len(set(v)) != len(v):
-            raise sc.fail(w, "vars", "names a variable twice", v)
-        out["vars"] = names = list(v)
-    if "torques" in table:
-        v = table["torques"]
-        ok = (
-            isinstance(v, list)
-            and len(v) == 3
-            and all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in v)
-            and all(sc.finite(x) for x in v)
-            and 0 < v[0] < v[1]
-            and float(v[2]).is_integer()
-            and 2 <= v[2] <= 10000
-        )
-        if not ok:
-            raise sc.fail(
-                w,
-                "torques",
-                "allowed [start, stop, n] in N·m with 0 < start < stop and an integer n in "
-                "[2, 10000]",
-                v,
-            )
-        if out.get("objective", "robust_te_rms") not in TORQUE_RANGE_OBJECTIVES:
-            raise sc.fail(
-                w,
-                "torques",
-                "applies to objective = 'robust_te_rms' or a tribology objective "
-                f"({', '.join(TORQUE_RANGE_OBJECTIVES[1:])}) only, not {out['objective']!r}",
-                v,
-            )
-        out["torques"] = [float(v[0]), float(v[1]), int(v[2])]
-    # the speed band of the dynamic_factor objective, as jaxgear optimise --speeds START:STOP:N
-    if "speeds" in table:
-        v = table["speeds"]
-        ok = (
-            isinstance(v, list)
-            and len(v) == 3
-            and all(sc.finite(x) for x in v)
-            and 0 < v[0] <= v[1] <= 1e5
-            and float(v[2]).is_integer()
-            and 1 <= v[2] <= 1000
-            and (v[0] < v[1] or v[2] == 1)
-        )
-        if not ok:
-            raise sc.fail(
-                w,
-                "speeds",
-                "allowed [start, stop, n]: pinion speeds in rad/s with 0 < start < stop <= 1e+05 "
-                "and an integer n in [1, 1000] (start = stop when n = 1)",
-                v,
-            )
-        if out.get("objective") != "dynamic_factor":
-            raise sc.fail(
-                w,
-                "speeds",
-                "applies to objective = 'dynamic_factor' only, not "
-                f"{out.get('objective', 'te_rms')!r}",
-                v,
-            )
-        out["speeds"] = [float(v[0]), float(v[1]), int(v[2])]
-    elif out.get("objective") == "dynamic_factor":
-        raise sc.fail(
-            w,
-            "objective",
-            "'dynamic_factor' needs speeds = [start, stop, n] (its pinion speed band in rad/s, "
-            "e.g. [2800.0, 3200.0, 3])",
-            "dynamic_factor",
-        )
-    if "bounds" in table:
-        b = sc.subtable(table, "bounds", w)
-        bounds = {}
-        for name, pair in b.items():
-            k = kind(name)
-            if k is None:
-                raise sc.fail(
-                    f"{w}.bounds", name, f"unknown variable, allowed {allowed_vars}", pair
-                )
-            if name not in names:
-                raise sc.fail(
-                    f"{w}.bounds", name, f"is not a design variable (vars = {sc.fmt(names)})", pair
-                )
-            lo_ok = "0 < lo < hi < 1" if k != "depth" else "0 <= lo < hi"
-            lohi = sc.number_list(b, name, f"{w}.bounds", length=2)
-            lo, hi = lohi
-            good = lo < hi and (lo >= 0 if k == "depth" else 0 < lo and hi < 1)
-            if not good:
-                unit = "E* = depth/δ_m" if k == "depth" else "Γ"
-                raise sc.fail(
-                    f"{w}.bounds",
-                    name,
-                    f"out of range, allowed [lo, hi] with {lo_ok} ({unit})",
-                    pair,
-                )
-            bounds[name] = (lo, hi)
-        out["bounds"] = bounds
-    return out
+    return OptimiseSection.read(table).settings()

@@ -18,20 +18,88 @@ and micropitting keys are refused (no film, flash or micropitting stage here).
 
 from __future__ import annotations
 
+from typing import Any, ClassVar
+
+import pydantic
+
 from fem_prep import schema as sc
 
 from ..sizing import CHOICES, DEFAULT_OBJECTIVES, MOST_OBJECTIVES, OBJECTIVES, MeshLossInputs
 from ._lubricant_table import LubricantSection
+from ._sections import Section
 
-__all__ = ["PARETO_KEYS", "SIZING_LUBRICANT_KEYS", "parse_pareto", "parse_sizing_lubricant"]
+__all__ = ["PARETO_KEYS", "SIZING_LUBRICANT_KEYS", "ParetoSection", "parse_pareto",
+           "parse_sizing_lubricant"]
 
-#: the keys of a sizing spec's ``[pareto]``
-PARETO_KEYS = ("minimise", "maximise", "choose")
 #: the keys of ``[lubricant]`` a sizing reads (the mesh loss's)
 SIZING_LUBRICANT_KEYS = frozenset({
     "viscosity_40C_mm2_s", "viscosity_100C_mm2_s", "density_kg_m3", "thermal_expansion_per_K",
     "pressure_viscosity_per_GPa", "oil_temperature_C", "roughness_Ra_um", "lubricant_factor",
     "friction_coefficient"})
+#: the objectives of the mesh loss, which need ``[lubricant]``
+_LUBRICATED = ("mesh_loss_W", "efficiency")
+
+
+def _column_names(value, info: pydantic.ValidationInfo):
+    """``minimise`` or ``maximise``: a list of the objectives' column names."""
+    allowed = ", ".join(OBJECTIVES)
+    if not isinstance(value, list) or not all(isinstance(n, str) for n in value):
+        raise sc.fail("pareto", info.field_name, "allowed a list of column names: " + allowed,
+                      value)
+    for name in value:
+        if name not in OBJECTIVES:
+            raise sc.fail("pareto", info.field_name, f"{name!r} is not an objective: allowed "
+                          f"{allowed}", value)
+    return value
+
+
+class ParetoSection(Section):
+    """A sizing spec's ``[pareto]`` (module docstring), checked whole: the objectives' columns
+    to minimise and to maximise (:data:`jaxgear.sizing.OBJECTIVES`, each named once, 2 to
+    :data:`~jaxgear.sizing.MOST_OBJECTIVES` in all; the mesh loss's only with ``[lubricant]``,
+    the context's ``has_lubricant``) and the design chosen (``"knee"`` or one of them).
+    Without ``minimise`` and ``maximise`` the front is :data:`~jaxgear.sizing.
+    DEFAULT_OBJECTIVES`'."""
+
+    WHERE: ClassVar[str] = "pareto"
+    minimise: list = pydantic.Field(default_factory=list)
+    maximise: list = pydantic.Field(default_factory=list)
+    choose: Any = "knee"  # a name out of CHOICES and the objectives chosen (checked below)
+
+    _names = pydantic.field_validator("minimise", "maximise", mode="before")(_column_names)
+
+    @pydantic.model_validator(mode="after")
+    def _related(self, info: pydantic.ValidationInfo):
+        has_lubricant = (info.context or {}).get("has_lubricant", False)
+        seen = []
+        for key in ("minimise", "maximise"):
+            names = getattr(self, key)
+            for name in names:
+                if name in seen:
+                    raise sc.fail("pareto", key, f"{name!r} is named twice", names)
+                if name in _LUBRICATED and not has_lubricant:
+                    raise sc.fail("pareto", key, f"{name!r} needs a [lubricant] table (the oil, "
+                                  "roughness and friction of the mesh loss)", names)
+                seen.append(name)
+        objectives = self.objectives()
+        if not 2 <= len(objectives) <= MOST_OBJECTIVES:
+            raise sc.fail("pareto", "minimise", f"{len(objectives)} objectives with maximise: "
+                          f"allowed 2 to {MOST_OBJECTIVES}", self.minimise)
+        names = [o[0] for o in objectives]
+        if self.choose not in (*CHOICES, *names):
+            raise sc.fail("pareto", "choose", "allowed " + ", ".join(
+                map(repr, (*CHOICES, *names))), self.choose)
+        return self
+
+    def objectives(self) -> tuple:
+        """The front's objectives, ``(column, "min" | "max")`` each, the minimised first."""
+        if not self.given & {"minimise", "maximise"}:
+            return tuple(DEFAULT_OBJECTIVES)
+        return tuple([(n, "min") for n in self.minimise] + [(n, "max") for n in self.maximise])
+
+
+#: the keys of a sizing spec's ``[pareto]``
+PARETO_KEYS = tuple(ParetoSection.model_fields)
 
 
 def parse_sizing_lubricant(table: dict, operating: dict) -> MeshLossInputs:
@@ -53,38 +121,14 @@ def parse_sizing_lubricant(table: dict, operating: dict) -> MeshLossInputs:
 
 def parse_pareto(table: dict | None, has_lubricant: bool) -> tuple[tuple, str]:
     """``[pareto]`` (or None: the defaults) as (objectives, chosen) for
-    :class:`jaxgear.sizing.SizingSpec` (the module docstring).
+    :class:`jaxgear.sizing.SizingSpec` (the module docstring; :class:`ParetoSection`), with
+    ``has_lubricant`` whether the spec has a ``[lubricant]`` table (the mesh loss's objectives
+    need it).
 
     Raises:
         SchemaError (a ``ValueError``): one line naming the key, its value and what is allowed.
     """
     if table is None:
         return DEFAULT_OBJECTIVES, "knee"
-    sc.check_keys(table, set(PARETO_KEYS), "pareto")
-    allowed = ", ".join(OBJECTIVES)
-    objectives = []
-    for key, sense in (("minimise", "min"), ("maximise", "max")):
-        names = table.get(key, [])
-        if not isinstance(names, list) or not all(isinstance(n, str) for n in names):
-            raise sc.fail("pareto", key, "allowed a list of column names: " + allowed, names)
-        for name in names:
-            if name not in OBJECTIVES:
-                raise sc.fail("pareto", key, f"{name!r} is not an objective: allowed {allowed}",
-                              names)
-            if name in (o[0] for o in objectives):
-                raise sc.fail("pareto", key, f"{name!r} is named twice", names)
-            if name in ("mesh_loss_W", "efficiency") and not has_lubricant:
-                raise sc.fail("pareto", key, f"{name!r} needs a [lubricant] table (the oil, "
-                              "roughness and friction of the mesh loss)", names)
-            objectives.append((name, sense))
-    if "minimise" not in table and "maximise" not in table:
-        objectives = list(DEFAULT_OBJECTIVES)
-    if not 2 <= len(objectives) <= MOST_OBJECTIVES:
-        raise sc.fail("pareto", "minimise", f"{len(objectives)} objectives with maximise: "
-                      f"allowed 2 to {MOST_OBJECTIVES}", table.get("minimise", []))
-    chosen = table.get("choose", "knee")
-    names = [o[0] for o in objectives]
-    if chosen not in (*CHOICES, *names):
-        raise sc.fail("pareto", "choose", "allowed " + ", ".join(map(repr, (*CHOICES, *names))),
-                      chosen)
-    return tuple(objectives), chosen
+    section = ParetoSection.read(table, context={"has_lubricant": has_lubricant})
+    return section.objectives(), section.choose

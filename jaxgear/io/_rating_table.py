@@ -110,7 +110,7 @@ from ._rating_material_table import (
     refuse_unread_material,
 )
 from ._sections import NEEDED, Section, named_keys, number
-from ._spectrum_table import parse_spectrum
+from ._spectrum_table import SpectrumSection, parse_spectrum
 
 __all__ = [
     "EDITIONS",
@@ -213,16 +213,17 @@ class RatingKeys(Section):
 class RatingSection(RatingKeys):
     """A case's ``[rating]`` (module docstring): a mesh's keys (:class:`RatingKeys`), a train's
     or a planetary stage's ``[rating.<driving>-<driven>]`` tables (:attr:`meshes`), a planetary
-    stage's ``K_gamma`` and older ring-cutter keys, the ``[rating.spectrum]`` table (read by
-    :func:`jaxgear.io._spectrum_table.parse_spectrum`). Read it with :meth:`of`, which names
-    the case's meshes."""
+    stage's ``K_gamma`` and older ring-cutter keys, the ``[rating.spectrum]`` table (its
+    :class:`~jaxgear.io._spectrum_table.SpectrumSection`, which
+    :func:`jaxgear.io._spectrum_table.parse_spectrum` maps to the load spectrum with the
+    rating's life). Read it with :meth:`of`, which names the case's meshes."""
 
     K_gamma: number("[1, 10]") | None = None
     # the older ring-cutter keys (their range follows the ring's teeth: ring_cutter)
     ring_cutter_teeth: Any = None
     ring_cutter_profile_shift: Any = None
     ring_cutter_tip_radius_coeff: Any = None
-    spectrum: Any = None
+    spectrum: SpectrumSection | None = None
     meshes: dict[str, RatingKeys] = pydantic.Field(default_factory=dict)
 
     @pydantic.model_validator(mode="before")
