@@ -142,6 +142,33 @@ def test_modified_life_by_hand():
     assert float(maker.revolutions) < float(life.revolutions)
 
 
+def test_makers_fatigue_limit_on_the_kind_by_hand():
+    """A maker's C_u held by the kind (``fatigue_limit``; SKF's P_u = 335 N of the 6205) is the
+    C_u of ISO 281's a_ISO without passing it: the 6205 at F_r = 2000 N, 1500 r/min, ν = 20
+    mm²/s (κ = 1.075516), R = 99 %, e_C = 0.5: e_C C_u/P = 0.08375, a_ISO = 0.1 [1 −
+    0.578811^0.83 · 0.08375^(1/3)]^−9.3 = 2.06580, L_nm = 0.25 · 2.06580 · 405.224e6 =
+    209.278e6 revolutions (the estimate's 354.5 N gave 224.127e6); ``fatigue_limit=`` still
+    overrides it; a roller's C_u likewise (NU 205, SKF's 3.35 kN: 0.317658 at P = 5000 N,
+    κ = 0.6, e_C = 0.3, as the roller's hand case above); without C₀ the kind's C_u alone."""
+    b = jb.catalogue("6205", fatigue_limit=335.0)
+    assert float(jb.fatigue_load_limit(b)) == 335.0
+    life = jb.modified_life(b, 2000.0, 500.0, 1500 * RPM, viscosity=20e-6, reliability=0.99,
+                            contamination=0.5)
+    assert float(life.fatigue_limit) == 335.0
+    assert float(life.life_factor) == pytest.approx(2.065799, rel=1e-6)
+    assert float(life.revolutions) == pytest.approx(209.278e6, rel=1e-5)
+    over = jb.modified_life(b, 2000.0, 500.0, 1500 * RPM, viscosity=20e-6, reliability=0.99,
+                            contamination=0.5, fatigue_limit=354.545454)
+    assert float(over.revolutions) == pytest.approx(224.127e6, rel=1e-5)
+    nu = jb.catalogue("NU 205", dynamic_rating=28.6e3, fatigue_limit=3350.0)
+    assert float(jb.life_modification_factor(nu, 5000.0, 0.6, 0.3)) == pytest.approx(
+        0.317658, rel=1e-5)
+    spec = jb.BearingSpectrum([2000.0], [0.0], 1500 * RPM, [3600.0])
+    one = jb.spectrum_modified_life(b, spec, viscosity=20e-6, reliability=0.99,
+                                    contamination=0.5)
+    assert float(one.revolutions) == pytest.approx(209.278e6, rel=1e-5)
+
+
 def test_spectrum_modified_life_palmgren_miner_by_hand():
     """Two bins of the 6205 (radial), ν = 20 mm²/s, R = 99 %, e_C = 0.5: 1000 h at 2 kN and
     1500 r/min (κ = 1.075516, a_ISO = 2.21238, L10 = 405.224e6), 500 h at 4 kN and 750 r/min
@@ -306,6 +333,10 @@ def _spec():
      "speed = 0"),
     (lambda: jb.fatigue_load_limit(jb.catalogue("NU 205", dynamic_rating=28.6e3)),
      "static_rating = None"),
+    (lambda: jb.catalogue("6205", fatigue_limit=7800.0), "fatigue_limit = 7800"),
+    (lambda: jb.catalogue("6205", fatigue_limit=0.0), "fatigue_limit = 0"),
+    (lambda: jb.catalogue("NU 205", fatigue_limit=-1.0), "fatigue_limit = -1"),
+    (lambda: jb.catalogue("6205", fatigue_limit=float("nan")), "fatigue_limit = nan"),
     (lambda: jb.life_modification_factor(jb.LinearSpring(), 1.0, 1.0), "LinearSpring"),
     (lambda: jb.spectrum_modified_life(jb.catalogue("6205"), _spec(),
                                        viscosity=[2e-5, 2e-5, 2e-5]), "viscosity"),

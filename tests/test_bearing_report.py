@@ -243,6 +243,19 @@ def _bearing(data, i=0, shaft="pinion_shaft"):
         (lambda d: d["scene"]["pinion_shaft"]["bearings"].__setitem__(
             0, {"position_mm": 0.0, "radial_N_per_um": 200.0, "dynamic_rating_kN": 20.0}),
          "[scene.pinion_shaft.bearings[0]] dynamic_rating_kN: is a rolling bearing's key"),
+        (lambda d: _bearing(d).update(fatigue_limit_kN=0.0),
+         "[scene.pinion_shaft.bearings[0]] fatigue_limit_kN = 0: out of range"),
+        (lambda d: _bearing(d).update(fatigue_limit_kN="high"),
+         "[scene.pinion_shaft.bearings[0]] fatigue_limit_kN"),
+        (lambda d: _bearing(d).update(fatigue_limit_kN=11.2),
+         "[scene.pinion_shaft.bearings[0]] fatigue_limit_kN = 11.2: out of range, allowed "
+         "(0, 11.2) (below static_rating_kN C0"),
+        (lambda d: d["scene"]["pinion_shaft"]["bearings"].__setitem__(
+            0, {"position_mm": 0.0, "catalogue": "NU 205", "fatigue_limit_kN": 3.35}),
+         "[scene.pinion_shaft.bearings[0]] fatigue_limit_kN: not read without a C"),
+        (lambda d: d["scene"]["pinion_shaft"]["bearings"].__setitem__(
+            0, {"position_mm": 0.0, "radial_N_per_um": 200.0, "fatigue_limit_kN": 0.3}),
+         "[scene.pinion_shaft.bearings[0]] fatigue_limit_kN: is a rolling bearing's key"),
     ],
 )
 def test_bearing_life_keys_refused_in_one_line(edit, start):
@@ -270,6 +283,54 @@ def test_catalogue_entry_without_ratings_takes_the_makers():
     assert (kind.dynamic_rating, kind.static_rating) == (29.0e3, 27.0e3)
     life = jb.rating_life(kind, 1000.0, 0.0, SPEED)
     assert float(life.revolutions) == pytest.approx(29.0**(10 / 3) * 1e6, rel=1e-12)
+
+
+def _a_iso_ball(kappa, load_ratio):
+    """ISO 281's a_ISO of radial ball bearings (its constants written here), κ in 0.1..4."""
+    b, c = ((2.2649, 0.054381) if kappa < 0.4 else (1.9987, 0.19087) if kappa < 1
+            else (1.9987, 0.071739))
+    return 0.1 * (1 - (2.5671 - b / kappa**c) ** 0.83 * load_ratio ** (1 / 3)) ** -9.3
+
+
+def test_makers_fatigue_limit_from_the_case_in_the_reported_lnm(report):
+    """``fatigue_limit_kN`` in a bearing table reaches the kind in N, and the report's L_nm
+    takes it: each bearing of the example at its operating point (the module's report), its C_u
+    the file's (0.49 kN for the 6206s, 0.655 kN for the 6207s: SKF's P_u as transcribed here),
+    against L_nm = a₁ a_ISO (C/P)³ 10⁶ by hand: a₁ = 0.64 (95 %), κ = ν/ν₁ with ν₁ = 4500
+    n^−0.5 d_m^−0.5 (n > 1000 r/min), a_ISO with e_C C_u/P (ISO 281's ball set written in the
+    test), to 1e-6; the summary's fatigue_limit_N the file's."""
+    import dataclasses
+
+    from jaxgear.cli._bearing_report import _life
+    case, _ = report
+    point = case_bearings(case).point
+    data = _data()
+    makers = {"pinion_shaft": 0.49, "gear_shaft": 0.655}
+    for shaft, cu in makers.items():
+        for b in data["scene"][shaft]["bearings"]:
+            b["fatigue_limit_kN"] = cu
+    given = jio.parse_case(data).scene
+    shafts = tuple(
+        dataclasses.replace(s, bearings=tuple(
+            dataclasses.replace(b, rolling=g.rolling) for b, g in zip(s.bearings, spec.bearings)))
+        for s, spec in zip(point.shafts, (given.pinion_shaft, given.gear_shaft)))
+    ratio = data["pinion"]["teeth"] / data["gear"]["teeth"]
+    speeds = (SPEED, SPEED * ratio)
+    lives = operating_lives(point._replace(shafts=shafts), speeds, viscosity=20e-6,
+                            reliability=0.95, contamination=0.5)
+    for k, shaft in enumerate(makers):
+        for i, b in enumerate(shafts[k].bearings):
+            assert float(b.rolling.fatigue_limit) == pytest.approx(makers[shaft] * 1e3, rel=1e-12)
+            out = _life(lives[k][i])
+            P = out["equivalent_load_N"]
+            n = speeds[k] * 30 / math.pi
+            nu1 = 4500 * n**-0.5 * (float(b.rolling.pitch_diameter) * 1e3) ** -0.5
+            a = _a_iso_ball(20.0 / nu1, 0.5 * makers[shaft] * 1e3 / P)
+            C = 20.3e3 if k == 0 else 27.0e3
+            assert out["fatigue_limit_N"] == pytest.approx(makers[shaft] * 1e3, rel=1e-12)
+            assert out["a_ISO"] == pytest.approx(a, rel=1e-6)
+            assert out["Lnm_revolutions"] == pytest.approx(0.64 * a * (C / P) ** 3 * 1e6,
+                                                           rel=1e-6)
 
 
 def test_rating_sheet_lines_hold_the_section(report):
