@@ -338,7 +338,8 @@ def test_rating_sheet_lines_hold_the_section(report):
     10⁶ revolutions and hours), the settings named."""
     _, section = report
     lines = bearing_rating_lines(section)
-    head = lines.index("| bearing | F_r per bin (N) | P_eq (N) | L10h (h) | L_nmh (h) |")
+    head = lines.index(
+        "| bearing | F_r per bin (N) | P_eq (N) | L10h (h) | L10rh (h) | L_nmh (h) |")
     rows = [t for t in lines[:head] if t.startswith(("| pinion_shaft", "| gear_shaft"))]
     assert len(rows) == 4 and "viscosity 20 mm²/s" in "\n".join(lines)
     for row, b in zip(rows, section["bearings"], strict=True):
@@ -352,6 +353,8 @@ def test_rating_sheet_lines_hold_the_section(report):
     for row, b in zip(spectrum, section["bearings"], strict=True):
         cells = [c.strip() for c in row.strip("|").split("|")]
         assert float(cells[3]) == pytest.approx(b["spectrum_life"]["L10_hours"], rel=1e-3)
+        assert float(cells[4]) == pytest.approx(b["spectrum_life"]["L10r_hours"], rel=1e-3)
+        assert float(cells[5]) == pytest.approx(b["spectrum_life"]["Lnm_hours"], rel=1e-3)
 
 
 @pytest.mark.slow  # a whole jaxgear run with its dynamic factor sweep
@@ -402,7 +405,8 @@ def test_spectrum_life_against_the_package_and_palmgren_miner_by_hand(report):
     against jaxgear.bearings.spectrum_life and spectrum_modified_life called with those
     loads (1e-9), and by hand: F_r = F_n(T_i)/2 (the mid-span statics), n_i = ω_i t_i / 2π
     revolutions of its shaft, L10 = Σ t_i / Σ (n_i / (C/P_i)³ 10⁶) (Palmgren–Miner), within
-    0.3 %."""
+    0.3 %; ISO/TS 16281's L10r = Σ t_i / Σ (n_i / L10r,i), each bin's L10r,i the reference life
+    of its operating point's ring displacement, to 1e-9."""
     case, section = report
     found = case_bearings(case)
     data = _data()
@@ -429,6 +433,13 @@ def test_spectrum_life_against_the_package_and_palmgren_miner_by_hand(report):
             hand = t.sum() / np.sum(n / ((C / P) ** 3 * 1e6)) / 3600
             assert row["L10_hours"] == pytest.approx(hand, rel=3e-3)
             assert row["bins_radial_load_N"] == pytest.approx(P.tolist(), rel=1e-3)
+            # ISO/TS 16281's L10r of each bin's operating point, Palmgren–Miner by hand
+            L10r = [float(jb.reference_life(b.rolling, p.states[k][i].displacement).revolutions)
+                    for p in (found.point, at40)]
+            D = n[0] / L10r[0] + n[1] / L10r[1]
+            assert row["L10r_revolutions"] == pytest.approx(n.sum() / D, rel=1e-9)
+            assert row["L10r_hours"] == pytest.approx(t.sum() / D / 3600, rel=1e-9)
+            assert row["L10r_hours"] < row["L10_hours"]  # the clearance: fewer balls loaded
 
 
 def test_bearings_take_the_ratings_speed_rpm():
