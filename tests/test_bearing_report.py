@@ -142,7 +142,7 @@ def test_lives_of_an_off_centre_pinion_against_two_support_statics(shaft_point):
     """The bwire check's shaft (tests/test_bearing_scenes.py: a 25 mm shaft on two 6205s, the
     pinion 30 mm from the first of 100 mm): operating_lives at its operating point against
     L10 = (C / P)³ with P the beam's reactions F_n (L − a)/L and F_n a/L (C = 14.8 kN, SKF),
-    within 1 % (three times the reactions' 3e-3)."""
+    within 0.6 % (three times the reactions' 2e-3)."""
     case, _, _, _, point = shaft_point
     lives = operating_lives(point, (SPEED, SPEED))
     m = case.pair.normal_module
@@ -150,7 +150,7 @@ def test_lives_of_an_off_centre_pinion_against_two_support_statics(shaft_point):
     Fn = TORQUE / (0.5 * m * case.pair.pinion.teeth * math.cos(alpha))
     for life, share in zip(lives[0], ((L - A) / L, A / L), strict=True):
         P = Fn * share
-        assert life.revolutions == pytest.approx((14.8e3 / P) ** 3 * 1e6, rel=1e-2)
+        assert life.revolutions == pytest.approx((14.8e3 / P) ** 3 * 1e6, rel=6e-3)
         assert life.duration == pytest.approx(life.revolutions * 2 * math.pi / SPEED, rel=1e-12)
         assert life.modified is None and life.reference is not None
     assert all(b is None for b in lives[1])  # the gear shaft's linear springs: no life
