@@ -285,6 +285,39 @@ def test_scene_bearing_contract():
     assert np.allclose(b.at(d).stiffness_matrix(), np.asarray(six.stiffness6(d)))
 
 
+def test_scene_bearing_equality_compares_the_rolling_kind_by_value():
+    """Two rolling bearings without an operating point are equal (and hash alike) only when
+    their kinds are: the same catalogue entry built twice is equal, another clearance, another
+    entry, another rating (None against a value), another class or a linear spring is not; at
+    an operating point the point counts too. A program compiled with a bearing as a static
+    argument is reused for an equal bearing and traced anew for another one."""
+    import jax
+
+    def b(**kw):
+        return Bearing(0.01, rolling=jb.catalogue("6205", **kw))
+
+    assert b() == b() and hash(b()) == hash(b())
+    assert b() != b(clearance=10e-6)
+    assert b() != Bearing(0.01, rolling=jb.catalogue("6203"))
+    assert b() != b(fatigue_limit=335.0)
+    nu = Bearing(0.01, rolling=jb.catalogue("NU 205"))
+    assert nu != Bearing(0.01, rolling=jb.catalogue("NU 205", slices=12))
+    assert b() != Bearing(0.01, radial=1e8) and b() != Bearing(0.02, rolling=b().rolling)
+    d = np.asarray(jb.solve_displacement(b().rolling, [800.0, 300.0, 0, 0, 0]).displacement)
+    assert b().at(d) == b().at(d) and b().at(d) != b().at(d * 1.01) and b().at(d) != b()
+    assert len({b(), b(), b(clearance=10e-6)}) == 2
+    traced = []
+
+    def radial(bearing, x):
+        traced.append(bearing)
+        return x * bearing.rolling.clearance
+
+    run = jax.jit(radial, static_argnums=0)
+    for bearing in (b(clearance=5e-6), b(clearance=5e-6), b(clearance=6e-6)):
+        run(bearing, 1.0)
+    assert len(traced) == 2
+
+
 def _example():
     return tomllib.loads(EXAMPLE.read_text())
 
