@@ -248,8 +248,8 @@ def _bearing(data, i=0, shaft="pinion_shaft"):
         (lambda d: _bearing(d).update(fatigue_limit_kN="high"),
          "[scene.pinion_shaft.bearings[0]] fatigue_limit_kN"),
         (lambda d: _bearing(d).update(fatigue_limit_kN=11.2),
-         "[scene.pinion_shaft.bearings[0]] fatigue_limit_kN = 11.2: out of range, allowed "
-         "(0, 11.2) (below static_rating_kN C0"),
+         ("[scene.pinion_shaft.bearings[0]] fatigue_limit_kN = 11.2: out of range, allowed "
+          "(0, 11.2) (below static_rating_kN C0")),
         (lambda d: d["scene"]["pinion_shaft"]["bearings"].__setitem__(
             0, {"position_mm": 0.0, "catalogue": "NU 205", "fatigue_limit_kN": 3.35}),
          "[scene.pinion_shaft.bearings[0]] fatigue_limit_kN: not read without a C"),

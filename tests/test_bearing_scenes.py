@@ -13,10 +13,9 @@ import numpy as np
 import pytest
 
 import jaxgear.io as jio
-from jaxgear import bearings as jb
+from jaxgear import BeyondPath, TheoreticalPath, bearings as jb, quasi_static
 from jaxgear.dynamics import bearings_at_operating_point
 from jaxgear.io import build_dynamic_model, operating_point
-from jaxgear import BeyondPath, TheoreticalPath, quasi_static
 from jaxgear.scenes import Bearing, ShaftSpec, bearing_dofs, grounded, lumped_pair
 
 ROOT = Path(__file__).resolve().parents[1]

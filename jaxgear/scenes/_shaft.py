@@ -294,12 +294,11 @@ class Bearing:
 
     def __post_init__(self):
         where = self.where
-        if self.rolling is not None:
-            if not isinstance(self.rolling, AbstractRollingBearing):
-                raise ValueError(
-                    f"{where}: rolling = {type(self.rolling).__name__}: allowed a "
-                    "jaxgear.bearings kind (DeepGrooveBall, ..., LinearSpring)"
-                )
+        if self.rolling is not None and not isinstance(self.rolling, AbstractRollingBearing):
+            raise ValueError(
+                f"{where}: rolling = {type(self.rolling).__name__}: allowed a "
+                "jaxgear.bearings kind (DeepGrooveBall, ..., LinearSpring)"
+            )
         object.__setattr__(self, "_rolling", _rolling_key(self.rolling))
         if self.rolling is not None:
             given = [n for n in ("radial", "axial", "tilt") if getattr(self, n) is not None]
