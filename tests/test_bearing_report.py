@@ -246,7 +246,7 @@ def _bearing(data, i=0, shaft="pinion_shaft"):
         (lambda d: _bearing(d).update(fatigue_limit_kN=0.0),
          "[scene.pinion_shaft.bearings[0]] fatigue_limit_kN = 0: out of range"),
         (lambda d: _bearing(d).update(fatigue_limit_kN="high"),
-         "[scene.pinion_shaft.bearings[0]] fatigue_limit_kN"),
+         "[scene.pinion_shaft.bearings[0]] fatigue_limit_kN = 'high': must be a number"),
         (lambda d: _bearing(d).update(fatigue_limit_kN=11.2),
          ("[scene.pinion_shaft.bearings[0]] fatigue_limit_kN = 11.2: out of range, allowed "
           "(0, 11.2) (below static_rating_kN C0")),
