@@ -289,7 +289,11 @@ def test_scene_bearing_equality_compares_the_rolling_kind_by_value():
     their kinds are: the same catalogue entry built twice is equal, another clearance, another
     entry, another rating (None against a value), another class or a linear spring is not; at
     an operating point the point counts too. A program compiled with a bearing as a static
-    argument is reused for an equal bearing and traced anew for another one."""
+    argument is reused for an equal bearing and traced anew for another one. A pickled or
+    deep-copied bearing equals its original."""
+    import copy
+    import pickle
+
     import jax
 
     def b(**kw):
@@ -305,6 +309,9 @@ def test_scene_bearing_equality_compares_the_rolling_kind_by_value():
     d = np.asarray(jb.solve_displacement(b().rolling, [800.0, 300.0, 0, 0, 0]).displacement)
     assert b().at(d) == b().at(d) and b().at(d) != b().at(d * 1.01) and b().at(d) != b()
     assert len({b(), b(), b(clearance=10e-6)}) == 2
+    again = pickle.loads(pickle.dumps(b(clearance=10e-6)))
+    assert again == b(clearance=10e-6) and hash(again) == hash(b(clearance=10e-6))
+    assert copy.deepcopy(b().at(d)) == b().at(d)
     traced = []
 
     def radial(bearing, x):

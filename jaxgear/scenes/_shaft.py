@@ -209,20 +209,22 @@ def _as_tuple(a: np.ndarray) -> tuple:
 
 def _rolling_key(kind) -> tuple | None:
     """A rolling bearing kind as a hashable value (a :class:`Bearing`'s equality and hash):
-    its class, its tree's structure (the static fields: the elements' count, the slices, which
-    ratings are given) and its array leaves' values; a traced leaf (under ``jit`` or ``grad``)
-    by its identity. None for no kind."""
+    its class and each of its fields by name, a number or an array by its shape and values
+    (the elements' count, the slices, the geometry and the ratings; None where a rating is not
+    given), a traced value (under ``jit`` or ``grad``) by its identity. None for no kind."""
     if kind is None:
         return None
-    leaves, structure = jax.tree_util.tree_flatten(kind)
-    values = []
-    for leaf in leaves:
-        if isinstance(leaf, jax.core.Tracer):
-            values.append(("traced", id(leaf)))
-        else:
-            a = np.asarray(leaf)
-            values.append((a.shape, tuple(a.ravel().tolist())))
-    return (type(kind), structure, tuple(values))
+
+    def value(v):
+        if v is None or isinstance(v, (bool, int, str)):
+            return v
+        if isinstance(v, jax.core.Tracer):
+            return ("traced", id(v))
+        a = np.asarray(v)
+        return (a.shape, tuple(a.ravel().tolist()))
+
+    return (type(kind), tuple((f.name, value(getattr(kind, f.name)))
+                              for f in dataclasses.fields(kind)))
 
 
 @dataclasses.dataclass(frozen=True)
