@@ -142,6 +142,33 @@ def test_modified_life_by_hand():
     assert float(maker.revolutions) < float(life.revolutions)
 
 
+def test_makers_fatigue_limit_on_the_kind_by_hand():
+    """A maker's C_u held by the kind (``fatigue_limit``; SKF's P_u = 335 N of the 6205) is the
+    C_u of ISO 281's a_ISO without passing it: the 6205 at F_r = 2000 N, 1500 r/min, ν = 20
+    mm²/s (κ = 1.075516), R = 99 %, e_C = 0.5: e_C C_u/P = 0.08375, a_ISO = 0.1 [1 −
+    0.578811^0.83 · 0.08375^(1/3)]^−9.3 = 2.06580, L_nm = 0.25 · 2.06580 · 405.224e6 =
+    209.278e6 revolutions (the estimate's 354.5 N gave 224.127e6); ``fatigue_limit=`` still
+    overrides it; a roller's C_u likewise (NU 205, SKF's 3.35 kN: 0.317658 at P = 5000 N,
+    κ = 0.6, e_C = 0.3, as the roller's hand case above); without C₀ the kind's C_u alone."""
+    b = jb.catalogue("6205", fatigue_limit=335.0)
+    assert float(jb.fatigue_load_limit(b)) == 335.0
+    life = jb.modified_life(b, 2000.0, 500.0, 1500 * RPM, viscosity=20e-6, reliability=0.99,
+                            contamination=0.5)
+    assert float(life.fatigue_limit) == 335.0
+    assert float(life.life_factor) == pytest.approx(2.065799, rel=1e-6)
+    assert float(life.revolutions) == pytest.approx(209.278e6, rel=1e-5)
+    over = jb.modified_life(b, 2000.0, 500.0, 1500 * RPM, viscosity=20e-6, reliability=0.99,
+                            contamination=0.5, fatigue_limit=354.545454)
+    assert float(over.revolutions) == pytest.approx(224.127e6, rel=1e-5)
+    nu = jb.catalogue("NU 205", dynamic_rating=28.6e3, fatigue_limit=3350.0)
+    assert float(jb.life_modification_factor(nu, 5000.0, 0.6, 0.3)) == pytest.approx(
+        0.317658, rel=1e-5)
+    spec = jb.BearingSpectrum([2000.0], [0.0], 1500 * RPM, [3600.0])
+    one = jb.spectrum_modified_life(b, spec, viscosity=20e-6, reliability=0.99,
+                                    contamination=0.5)
+    assert float(one.revolutions) == pytest.approx(209.278e6, rel=1e-5)
+
+
 def test_spectrum_modified_life_palmgren_miner_by_hand():
     """Two bins of the 6205 (radial), ν = 20 mm²/s, R = 99 %, e_C = 0.5: 1000 h at 2 kN and
     1500 r/min (κ = 1.075516, a_ISO = 2.21238, L10 = 405.224e6), 500 h at 4 kN and 750 r/min
@@ -234,6 +261,38 @@ def test_reference_life_against_published_iso_ts_16281_figures():
         assert (23400.0 / P_ref) ** 3 * 1e6 == pytest.approx(float(life.revolutions), rel=1e-9)
 
 
+def test_spectrum_reference_life_palmgren_miner_by_hand():
+    """Two bins of the published bearing with 0.01 mm clearance (minzhun/ISO16281's cases,
+    their L10r as published): F_r = 1000 N (L10r 10795.7948e6) at 1500 r/min for 1000 h and
+    F_r = F_a = 1000 N (1630.5367e6) at 750 r/min for 200 h: n = 9e7 and 9e6 revolutions, D =
+    9e7/10795.7948e6 + 9e6/1630.5367e6 = 0.0138562 per pass, L10r = 9.9e7/D = 7144.80e6
+    revolutions = 1200 h/D = 86 604 h, P_ref = 23.4 kN / 7144.80^(1/3) = 1214.93 N: within
+    0.7 % (the published cases' own tolerance above); against each bin's reference_life
+    combined by Palmgren–Miner here to 1e-12; a bin that loads no ball (a centred ring with
+    clearance) adds its time but no damage, a bin without time neither (one loaded bin with
+    time is reference_life itself), with the inner or the outer ring turning."""
+    b = ts16281_bearing(0.01e-3)
+    d = jnp.stack([jb.solve_displacement(b, jnp.array(f)).displacement
+                   for f in ([1000.0, 0.0, 0.0, 0.0, 0.0], [1000.0, 0.0, 1000.0, 0.0, 0.0])])
+    w = np.array([1500.0, 750.0]) * RPM
+    t = np.array([1000.0, 200.0]) * 3600
+    life = jb.spectrum_reference_life(b, d, w, t)
+    assert float(life.revolutions) == pytest.approx(7144.80e6, rel=7e-3)
+    assert float(life.duration) / 3600 == pytest.approx(86604.0, rel=7e-3)
+    assert float(life.equivalent_load) == pytest.approx(1214.93, rel=3e-3)
+    per_bin = [float(jb.reference_life(b, di).revolutions) for di in d]
+    n = w * t / (2 * math.pi)
+    D = n[0] / per_bin[0] + n[1] / per_bin[1]
+    assert float(life.revolutions) == pytest.approx(n.sum() / D, rel=1e-12)
+    assert float(life.duration) == pytest.approx(t.sum() / D, rel=1e-12)
+    idle = jb.spectrum_reference_life(b, d.at[1].set(0.0), w, t)
+    assert float(idle.duration) == pytest.approx(t.sum() / (n[0] / per_bin[0]), rel=1e-12)
+    for rotating in ("inner", "outer"):
+        one = jb.spectrum_reference_life(b, d, w, [t[0], 0.0], rotating=rotating)
+        assert float(one.revolutions) == pytest.approx(
+            float(jb.reference_life(b, d[0], rotating=rotating).revolutions), rel=1e-12)
+
+
 def radial_point(bearing, Fr):
     """The displacement (δ_x, 0, 0, 0, 0) carrying F_r along x (a ball on the x axis: the other
     loads vanish by symmetry), by a scalar root find of the load, independent of the solve."""
@@ -306,6 +365,10 @@ def _spec():
      "speed = 0"),
     (lambda: jb.fatigue_load_limit(jb.catalogue("NU 205", dynamic_rating=28.6e3)),
      "static_rating = None"),
+    (lambda: jb.catalogue("6205", fatigue_limit=7800.0), "fatigue_limit = 7800"),
+    (lambda: jb.catalogue("6205", fatigue_limit=0.0), "fatigue_limit = 0"),
+    (lambda: jb.catalogue("NU 205", fatigue_limit=-1.0), "fatigue_limit = -1"),
+    (lambda: jb.catalogue("6205", fatigue_limit=float("nan")), "fatigue_limit = nan"),
     (lambda: jb.life_modification_factor(jb.LinearSpring(), 1.0, 1.0), "LinearSpring"),
     (lambda: jb.spectrum_modified_life(jb.catalogue("6205"), _spec(),
                                        viscosity=[2e-5, 2e-5, 2e-5]), "viscosity"),
@@ -315,6 +378,16 @@ def _spec():
      "rotating = 'cage'"),
     (lambda: jb.reference_life(jb.catalogue("6205"), jnp.zeros(5)), "no ball is loaded"),
     (lambda: jb.reference_life(jb.catalogue("6205"), jnp.zeros(3)), "displacement"),
+    (lambda: jb.spectrum_reference_life(jb.catalogue("6205"), jnp.zeros((2, 5)), 100.0,
+                                        [1.0, 1.0]), "no bin loads a ball"),
+    (lambda: jb.spectrum_reference_life(jb.catalogue("6205"), jnp.zeros((2, 4)), 100.0,
+                                        [1.0, 1.0]), "displacements"),
+    (lambda: jb.spectrum_reference_life(jb.catalogue("6205"), jnp.zeros((2, 5)), 100.0,
+                                        [1.0]), "duration"),
+    (lambda: jb.spectrum_reference_life(jb.catalogue("6205"), jnp.zeros((2, 5)), -1.0,
+                                        [1.0, 1.0]), "speed = -1"),
+    (lambda: jb.spectrum_reference_life(jb.catalogue("NU 205", dynamic_rating=28.6e3),
+                                        jnp.zeros((1, 5)), 1.0, [1.0]), "CylindricalRoller"),
 ])
 def test_bad_life_data_is_refused_in_one_line(call, words):
     refused_in_one_line(call, words)

@@ -142,7 +142,7 @@ def test_lives_of_an_off_centre_pinion_against_two_support_statics(shaft_point):
     """The bwire check's shaft (tests/test_bearing_scenes.py: a 25 mm shaft on two 6205s, the
     pinion 30 mm from the first of 100 mm): operating_lives at its operating point against
     L10 = (C / P)³ with P the beam's reactions F_n (L − a)/L and F_n a/L (C = 14.8 kN, SKF),
-    within 1 % (three times the reactions' 3e-3)."""
+    within 0.6 % (three times the reactions' 2e-3)."""
     case, _, _, _, point = shaft_point
     lives = operating_lives(point, (SPEED, SPEED))
     m = case.pair.normal_module
@@ -150,7 +150,7 @@ def test_lives_of_an_off_centre_pinion_against_two_support_statics(shaft_point):
     Fn = TORQUE / (0.5 * m * case.pair.pinion.teeth * math.cos(alpha))
     for life, share in zip(lives[0], ((L - A) / L, A / L), strict=True):
         P = Fn * share
-        assert life.revolutions == pytest.approx((14.8e3 / P) ** 3 * 1e6, rel=1e-2)
+        assert life.revolutions == pytest.approx((14.8e3 / P) ** 3 * 1e6, rel=6e-3)
         assert life.duration == pytest.approx(life.revolutions * 2 * math.pi / SPEED, rel=1e-12)
         assert life.modified is None and life.reference is not None
     assert all(b is None for b in lives[1])  # the gear shaft's linear springs: no life
@@ -243,6 +243,19 @@ def _bearing(data, i=0, shaft="pinion_shaft"):
         (lambda d: d["scene"]["pinion_shaft"]["bearings"].__setitem__(
             0, {"position_mm": 0.0, "radial_N_per_um": 200.0, "dynamic_rating_kN": 20.0}),
          "[scene.pinion_shaft.bearings[0]] dynamic_rating_kN: is a rolling bearing's key"),
+        (lambda d: _bearing(d).update(fatigue_limit_kN=0.0),
+         "[scene.pinion_shaft.bearings[0]] fatigue_limit_kN = 0: out of range"),
+        (lambda d: _bearing(d).update(fatigue_limit_kN="high"),
+         "[scene.pinion_shaft.bearings[0]] fatigue_limit_kN = 'high': must be a number"),
+        (lambda d: _bearing(d).update(fatigue_limit_kN=11.2),
+         ("[scene.pinion_shaft.bearings[0]] fatigue_limit_kN = 11.2: out of range, allowed "
+          "(0, 11.2) (below static_rating_kN C0")),
+        (lambda d: d["scene"]["pinion_shaft"]["bearings"].__setitem__(
+            0, {"position_mm": 0.0, "catalogue": "NU 205", "fatigue_limit_kN": 3.35}),
+         "[scene.pinion_shaft.bearings[0]] fatigue_limit_kN: not read without a C"),
+        (lambda d: d["scene"]["pinion_shaft"]["bearings"].__setitem__(
+            0, {"position_mm": 0.0, "radial_N_per_um": 200.0, "fatigue_limit_kN": 0.3}),
+         "[scene.pinion_shaft.bearings[0]] fatigue_limit_kN: is a rolling bearing's key"),
     ],
 )
 def test_bearing_life_keys_refused_in_one_line(edit, start):
@@ -272,12 +285,61 @@ def test_catalogue_entry_without_ratings_takes_the_makers():
     assert float(life.revolutions) == pytest.approx(29.0**(10 / 3) * 1e6, rel=1e-12)
 
 
+def _a_iso_ball(kappa, load_ratio):
+    """ISO 281's a_ISO of radial ball bearings (its constants written here), κ in 0.1..4."""
+    b, c = ((2.2649, 0.054381) if kappa < 0.4 else (1.9987, 0.19087) if kappa < 1
+            else (1.9987, 0.071739))
+    return 0.1 * (1 - (2.5671 - b / kappa**c) ** 0.83 * load_ratio ** (1 / 3)) ** -9.3
+
+
+def test_makers_fatigue_limit_from_the_case_in_the_reported_lnm(report):
+    """``fatigue_limit_kN`` in a bearing table reaches the kind in N, and the report's L_nm
+    takes it: each bearing of the example at its operating point (the module's report), its C_u
+    the file's (0.49 kN for the 6206s, 0.655 kN for the 6207s: SKF's P_u as transcribed here),
+    against L_nm = a₁ a_ISO (C/P)³ 10⁶ by hand: a₁ = 0.64 (95 %), κ = ν/ν₁ with ν₁ = 4500
+    n^−0.5 d_m^−0.5 (n > 1000 r/min), a_ISO with e_C C_u/P (ISO 281's ball set written in the
+    test), to 1e-6; the summary's fatigue_limit_N the file's."""
+    import dataclasses
+
+    from jaxgear.cli._bearing_report import _life
+    case, _ = report
+    point = case_bearings(case).point
+    data = _data()
+    makers = {"pinion_shaft": 0.49, "gear_shaft": 0.655}
+    for shaft, cu in makers.items():
+        for b in data["scene"][shaft]["bearings"]:
+            b["fatigue_limit_kN"] = cu
+    given = jio.parse_case(data).scene
+    shafts = tuple(
+        dataclasses.replace(s, bearings=tuple(
+            dataclasses.replace(b, rolling=g.rolling) for b, g in zip(s.bearings, spec.bearings)))
+        for s, spec in zip(point.shafts, (given.pinion_shaft, given.gear_shaft)))
+    ratio = data["pinion"]["teeth"] / data["gear"]["teeth"]
+    speeds = (SPEED, SPEED * ratio)
+    lives = operating_lives(point._replace(shafts=shafts), speeds, viscosity=20e-6,
+                            reliability=0.95, contamination=0.5)
+    for k, shaft in enumerate(makers):
+        for i, b in enumerate(shafts[k].bearings):
+            assert float(b.rolling.fatigue_limit) == pytest.approx(makers[shaft] * 1e3, rel=1e-12)
+            out = _life(lives[k][i])
+            P = out["equivalent_load_N"]
+            n = speeds[k] * 30 / math.pi
+            nu1 = 4500 * n**-0.5 * (float(b.rolling.pitch_diameter) * 1e3) ** -0.5
+            a = _a_iso_ball(20.0 / nu1, 0.5 * makers[shaft] * 1e3 / P)
+            C = 20.3e3 if k == 0 else 27.0e3
+            assert out["fatigue_limit_N"] == pytest.approx(makers[shaft] * 1e3, rel=1e-12)
+            assert out["a_ISO"] == pytest.approx(a, rel=1e-6)
+            assert out["Lnm_revolutions"] == pytest.approx(0.64 * a * (C / P) ** 3 * 1e6,
+                                                           rel=1e-6)
+
+
 def test_rating_sheet_lines_hold_the_section(report):
     """rating.md's bearing table: one row per bearing with the section's loads and lives (in
     10⁶ revolutions and hours), the settings named."""
     _, section = report
     lines = bearing_rating_lines(section)
-    head = lines.index("| bearing | F_r per bin (N) | P_eq (N) | L10h (h) | L_nmh (h) |")
+    head = lines.index(
+        "| bearing | F_r per bin (N) | P_eq (N) | L10h (h) | L10rh (h) | L_nmh (h) |")
     rows = [t for t in lines[:head] if t.startswith(("| pinion_shaft", "| gear_shaft"))]
     assert len(rows) == 4 and "viscosity 20 mm²/s" in "\n".join(lines)
     for row, b in zip(rows, section["bearings"], strict=True):
@@ -291,6 +353,8 @@ def test_rating_sheet_lines_hold_the_section(report):
     for row, b in zip(spectrum, section["bearings"], strict=True):
         cells = [c.strip() for c in row.strip("|").split("|")]
         assert float(cells[3]) == pytest.approx(b["spectrum_life"]["L10_hours"], rel=1e-3)
+        assert float(cells[4]) == pytest.approx(b["spectrum_life"]["L10r_hours"], rel=1e-3)
+        assert float(cells[5]) == pytest.approx(b["spectrum_life"]["Lnm_hours"], rel=1e-3)
 
 
 @pytest.mark.slow  # a whole jaxgear run with its dynamic factor sweep
@@ -341,7 +405,8 @@ def test_spectrum_life_against_the_package_and_palmgren_miner_by_hand(report):
     against jaxgear.bearings.spectrum_life and spectrum_modified_life called with those
     loads (1e-9), and by hand: F_r = F_n(T_i)/2 (the mid-span statics), n_i = ω_i t_i / 2π
     revolutions of its shaft, L10 = Σ t_i / Σ (n_i / (C/P_i)³ 10⁶) (Palmgren–Miner), within
-    0.3 %."""
+    0.3 %; ISO/TS 16281's L10r = Σ t_i / Σ (n_i / L10r,i), each bin's L10r,i the reference life
+    of its operating point's ring displacement, to 1e-9."""
     case, section = report
     found = case_bearings(case)
     data = _data()
@@ -368,6 +433,13 @@ def test_spectrum_life_against_the_package_and_palmgren_miner_by_hand(report):
             hand = t.sum() / np.sum(n / ((C / P) ** 3 * 1e6)) / 3600
             assert row["L10_hours"] == pytest.approx(hand, rel=3e-3)
             assert row["bins_radial_load_N"] == pytest.approx(P.tolist(), rel=1e-3)
+            # ISO/TS 16281's L10r of each bin's operating point, Palmgren–Miner by hand
+            L10r = [float(jb.reference_life(b.rolling, p.states[k][i].displacement).revolutions)
+                    for p in (found.point, at40)]
+            D = n[0] / L10r[0] + n[1] / L10r[1]
+            assert row["L10r_revolutions"] == pytest.approx(n.sum() / D, rel=1e-9)
+            assert row["L10r_hours"] == pytest.approx(t.sum() / D / 3600, rel=1e-9)
+            assert row["L10r_hours"] < row["L10_hours"]  # the clearance: fewer balls loaded
 
 
 def test_bearings_take_the_ratings_speed_rpm():

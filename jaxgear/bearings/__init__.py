@@ -9,7 +9,8 @@ Kotzalas, Lim & Singh), its 5×5 stiffness at an operating point (``jax.jacfwd``
 :func:`solve_displacement` the displacement that carries a load. ISO 281's basic and modified
 rating life (:func:`rating_life`, :func:`modified_life`; :func:`spectrum_life` and
 :func:`spectrum_modified_life` under a :class:`BearingSpectrum`), ISO/TS 16281's reference
-rating life from the element loads (:func:`reference_life`, ball kinds), the three at a
+rating life from the element loads (:func:`reference_life`, ball kinds;
+:func:`spectrum_reference_life` under a load spectrum), the three at a
 bearing's operating point (:func:`operating_life`) and the bearing tones
 (:func:`bearing_tones`) complete it; :func:`catalogue` builds a few embedded bearings.
 A lumped 3D pair's bearings take them (:class:`jaxgear.scenes.Bearing` ``rolling=``) at the
@@ -48,6 +49,10 @@ from ._life import (
     spectrum_modified_life as spectrum_modified_life,
 )
 from ._operating import OperatingLife as OperatingLife, operating_life as operating_life
-from ._reference import ReferenceLife as ReferenceLife, reference_life as reference_life
+from ._reference import (
+    ReferenceLife as ReferenceLife,
+    reference_life as reference_life,
+    spectrum_reference_life as spectrum_reference_life,
+)
 from ._solve import BearingState as BearingState, solve_displacement as solve_displacement
 from ._tones import BearingTones as BearingTones, bearing_tones as bearing_tones

@@ -197,10 +197,15 @@ class LinearSpring(AbstractRollingBearing):
         return tuple(bool(x > 0) for x in k)
 
 
-def _check_rating(where, dynamic_rating, static_rating):
+def _check_rating(where, dynamic_rating, static_rating, fatigue_limit=None):
     for name, value in (("dynamic_rating", dynamic_rating), ("static_rating", static_rating)):
         if value is not None:
             check_real(name, value, "N", lo=0.0, lo_open=True, where=where)
+    if fatigue_limit is not None:  # C_u: the load of ISO 281's fatigue stress, below C₀'s
+        top = None if static_rating is None else float(static_rating)
+        check_real("fatigue_limit", fatigue_limit, "N", lo=0.0, lo_open=True, hi=top,
+                   hi_open=True, where=where if top is None else
+                   f"{where} (the fatigue load limit C_u, below static_rating C0)")
 
 
 def _check_ring(where, bore, outer_diameter, width, elements, element_diameter, pitch_diameter,
@@ -274,6 +279,7 @@ class _Ball(_RollingElements):
     poisson_ratio: float = _real(STEEL_NU)
     dynamic_rating: float | None = eqx.field(default=None, converter=_optional)
     static_rating: float | None = eqx.field(default=None, converter=_optional)
+    fatigue_limit: float | None = eqx.field(default=None, converter=_optional)
 
     contact_exponent: ClassVar[float] = 1.5
     life_exponent: ClassVar[float | None] = 3.0
@@ -288,7 +294,7 @@ class _Ball(_RollingElements):
                    where=where)
         check_real("poisson_ratio", self.poisson_ratio, "", lo=0.0, hi=0.5, hi_open=True,
                    where=where)
-        _check_rating(where, self.dynamic_rating, self.static_rating)
+        _check_rating(where, self.dynamic_rating, self.static_rating, self.fatigue_limit)
 
     @property
     def curvature_distance(self):
@@ -366,6 +372,8 @@ class DeepGrooveBall(_Ball):
             (default 0.52: typical, catalogues do not state them; Harris & Kotzalas).
         youngs_modulus, poisson_ratio: the balls' and rings' material (Pa, -); steel default.
         dynamic_rating, static_rating: C and C₀ (N), for the ISO 281 life; ``None`` if not given.
+        fatigue_limit: the maker's fatigue load limit C_u (N, 0 < C_u < C₀) for ISO 281's a_ISO;
+            ``None``: ISO 281's estimate from C₀ (:func:`~jaxgear.bearings.fatigue_load_limit`).
         iso281_f0: ISO 281's factor f₀ (catalogue) for the table of X and Y; ``None``: not given.
 
     Raises:
@@ -532,6 +540,7 @@ class _Roller(_RollingElements):
     slices: int = eqx.field(static=True, default=10)
     dynamic_rating: float | None = eqx.field(default=None, converter=_optional)
     static_rating: float | None = eqx.field(default=None, converter=_optional)
+    fatigue_limit: float | None = eqx.field(default=None, converter=_optional)
 
     contact_exponent: ClassVar[float] = 10.0 / 9.0
     life_exponent: ClassVar[float | None] = 10.0 / 3.0
@@ -545,7 +554,7 @@ class _Roller(_RollingElements):
                    hi=float(self.element_diameter), hi_open=True,
                    where=f"{where} (diametral clearance, below the roller diameter)")
         check_integer(f"{where}: slices", self.slices, 1)
-        _check_rating(where, self.dynamic_rating, self.static_rating)
+        _check_rating(where, self.dynamic_rating, self.static_rating, self.fatigue_limit)
 
     @property
     def hertz_constant(self):
@@ -608,6 +617,8 @@ class CylindricalRoller(_Roller):
             0 < l <= width. clearance: diametral clearance P_d (m), −D_w/100 <= P_d < D_w.
         slices: slices per roller (int >= 1; default 10).
         dynamic_rating, static_rating: C and C₀ (N) or ``None``.
+        fatigue_limit: the maker's fatigue load limit C_u (N, 0 < C_u < C₀) or ``None`` (ISO
+            281's estimate from C₀).
 
     Raises:
         ValueError: any argument out of its range (one line naming it).

@@ -30,7 +30,8 @@ The modified rating life (ISO 281:2007) is L_nm = a₁ a_ISO L10:
 - ν₁, the rated viscosity (mm²/s) at the speed n (r/min) and the pitch diameter d_m (mm)
   (ISO 281): ν₁ = 45000 n^(−0.83) d_m^(−0.5) for n < 1000 r/min, else
   ν₁ = 4500 n^(−0.5) d_m^(−0.5).
-- C_u, the fatigue load limit: the maker's value, or ISO 281's simplified estimate from C₀:
+- C_u, the fatigue load limit: the maker's value (a kind's ``fatigue_limit``, or
+  ``fatigue_limit=``), or ISO 281's simplified estimate from C₀:
   C₀/22 (balls) and C₀/8.2 (rollers) for d_m <= 100 mm, times (100/d_m)^0.5 (balls) and
   (100/d_m)^0.3 (rollers) above.
 - e_C, the contamination factor, 0 to 1 (ISO 281's table gives its guideline ranges by
@@ -264,19 +265,23 @@ def _life_set(bearing, where):
 
 
 def fatigue_load_limit(bearing: AbstractRollingBearing):
-    """ISO 281's simplified estimate of the fatigue load limit C_u (N) from the static rating C₀:
+    """The fatigue load limit C_u (N) of ``bearing``: the maker's, where the kind holds it
+    (its ``fatigue_limit``), else ISO 281's simplified estimate from the static rating C₀:
     C₀/22 for ball and C₀/8.2 for roller bearings up to d_m = 100 mm, times (100/d_m)^0.5
-    (balls) or (100/d_m)^0.3 (rollers) above (d_m in mm). A maker's C_u, where given, is the
-    better value (``fatigue_limit=`` of :func:`modified_life`).
+    (balls) or (100/d_m)^0.3 (rollers) above (d_m in mm). ``fatigue_limit=`` of
+    :func:`modified_life` overrides both.
 
     Raises:
-        ValueError: a kind without a rating life; ``static_rating`` not given (one line)."""
+        ValueError: a kind without a rating life; neither ``fatigue_limit`` nor
+            ``static_rating`` given (one line)."""
     w = "fatigue_load_limit"
     _life_set(bearing, w)
+    if bearing.fatigue_limit is not None:
+        return bearing.fatigue_limit
     if bearing.static_rating is None:
         raise ValueError(
-            f"{w}: {type(bearing).__name__} has static_rating = None: allowed C0 (N) given, "
-            "or the maker's fatigue load limit passed as fatigue_limit"
+            f"{w}: {type(bearing).__name__} has static_rating = None and fatigue_limit = None: "
+            "allowed C0 (N) or the maker's fatigue load limit C_u (N) given"
         )
     ball = float(bearing.life_exponent) == 3.0
     dm = bearing.pitch_diameter * 1e3
@@ -381,7 +386,8 @@ def modified_life(bearing: AbstractRollingBearing, radial, axial, speed, *, visc
             one of the two).
         reliability: R, 0.9 to 0.9995 (a₁: :func:`reliability_factor`).
         contamination: e_C, 0 to 1 (ISO 281's guideline ranges: :data:`ISO281_CONTAMINATION`).
-        fatigue_limit: C_u (N); ``None``: estimated from C₀ (:func:`fatigue_load_limit`).
+        fatigue_limit: C_u (N); ``None``: the kind's ``fatigue_limit``, else estimated from C₀
+            (:func:`fatigue_load_limit`).
 
     Raises:
         ValueError: as :func:`rating_life`; R outside 0.9..0.9995; κ < 0.1; e_C outside

@@ -31,6 +31,12 @@ continuous half-loaded distribution); a clearance loads fewer balls harder and s
 tilt or an axial load changes it as the distribution says. Q_c is taken at the nominal
 contact angle (the loaded angles enter through the loads Q_j).
 
+Under a load spectrum of k bins (each bin's ring displacement d_i, the shaft speed ω_i and the
+time t_i run in it) the bins' damage adds by Palmgren–Miner as ISO 281's spectrum life does
+(:func:`~jaxgear.bearings.spectrum_life`): n_i = ω_i t_i / 2π revolutions, D = Σ n_i / L10r,i
+per pass, L10r = Σ n_i / D revolutions, Σ t_i / D seconds, and P_ref = C / (L10r / 10⁶)^(1/3)
+(:func:`spectrum_reference_life`); a bin that loads no ball does no damage.
+
 Not built: roller bearings (ISO/TS 16281's laminae, edge stresses and roller profile), the
 modified reference life (a_ISO from the contact pressures).
 """
@@ -38,14 +44,16 @@ modified reference life (a_ISO from the contact pressures).
 from __future__ import annotations
 
 import equinox as eqx
+import jax
 import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Float
 
 from .._util import check_instance, check_real, is_traced
 from ._kinds import AbstractRollingBearing
+from ._life import BearingLife
 
-__all__ = ["ReferenceLife", "reference_life"]
+__all__ = ["ReferenceLife", "reference_life", "spectrum_reference_life"]
 
 #: which ring turns relative to the load: the inner (a shaft's bearing) or the outer (a planet's)
 ROTATING = ("inner", "outer")
@@ -96,27 +104,85 @@ def reference_life(bearing: AbstractRollingBearing, displacement, rotating: str 
         ValueError: not a ball kind with ``dynamic_rating``; d not (5,) finite; ``rotating``
             not one of the two; no ball loaded at d (one line)."""
     w = "reference_life"
-    check_instance("bearing", bearing, AbstractRollingBearing, "a jaxgear.bearings kind",
-                   where=w)
-    if bearing.life_exponent != 3.0 or bearing.dynamic_rating is None:
-        raise ValueError(
-            f"{w}: {type(bearing).__name__} (dynamic_rating = {bearing.dynamic_rating}) is out "
-            "of range: allowed a ball kind (DeepGrooveBall, AngularContactBall) with its "
-            "dynamic_rating C given (rollers' laminae are not built)"
-        )
+    _check_ball_kind(w, bearing, rotating)
     check_real("displacement", displacement, "m, rad", shape=(5,), shape_text="(5,)", where=w)
-    if rotating not in ROTATING:
-        raise ValueError(f"{w}: rotating = {rotating!r} is out of range: allowed 'inner' or "
-                         "'outer' (the ring that turns relative to the load)")
     Q = bearing.element_loads(jnp.asarray(displacement, float))
-    Z = bearing.elements
-    turning = jnp.sum(Q**3 / Z) ** (1.0 / 3.0)
-    standing = jnp.sum(Q ** (10.0 / 3.0) / Z) ** 0.3
-    Q_ei, Q_ee = (turning, standing) if rotating == "inner" else (standing, turning)
     if not is_traced(Q) and not np.any(np.asarray(Q) > 0):
         raise ValueError(f"{w}: no ball is loaded at displacement = {np.asarray(displacement)}: "
                          "allowed an operating point that loads the bearing")
+    Q_ei, Q_ee = _equivalent_loads(bearing, Q, rotating)
     Q_ci, Q_ce = _ratings(bearing)
     L = ((Q_ci / Q_ei) ** (-10.0 / 3.0) + (Q_ce / Q_ee) ** (-10.0 / 3.0)) ** -0.9
     return ReferenceLife(L * 1e6, bearing.dynamic_rating / L ** (1.0 / 3.0), Q_ci, Q_ce, Q_ei,
                          Q_ee)
+
+
+def _check_ball_kind(where, bearing, rotating):
+    check_instance("bearing", bearing, AbstractRollingBearing, "a jaxgear.bearings kind",
+                   where=where)
+    if bearing.life_exponent != 3.0 or bearing.dynamic_rating is None:
+        raise ValueError(
+            f"{where}: {type(bearing).__name__} (dynamic_rating = {bearing.dynamic_rating}) is "
+            "out of range: allowed a ball kind (DeepGrooveBall, AngularContactBall) with its "
+            "dynamic_rating C given (rollers' laminae are not built)"
+        )
+    if rotating not in ROTATING:
+        raise ValueError(f"{where}: rotating = {rotating!r} is out of range: allowed 'inner' or "
+                         "'outer' (the ring that turns relative to the load)")
+
+
+def _equivalent_loads(bearing, Q, rotating):
+    """(Q_ei, Q_ee) (N) of the balls' loads Q (..., Z) (module docstring)."""
+    Z = bearing.elements
+    turning = jnp.sum(Q**3 / Z, axis=-1) ** (1.0 / 3.0)
+    standing = jnp.sum(Q ** (10.0 / 3.0) / Z, axis=-1) ** 0.3
+    return (turning, standing) if rotating == "inner" else (standing, turning)
+
+
+def spectrum_reference_life(bearing: AbstractRollingBearing, displacements, speed, duration,
+                            rotating: str = "inner") -> BearingLife:
+    """ISO/TS 16281's basic reference rating life of a ball bearing under a load spectrum of k
+    bins, the bins' damage added by Palmgren–Miner (module docstring).
+
+    Args:
+        displacements: each bin's ring displacement d_i (m, rad), (k, 5) (its operating point,
+            as :func:`reference_life` takes it); a bin that loads no ball does no damage.
+        speed: ω_i (rad/s, >= 0), (k,) or a scalar for all bins.
+        duration: t_i (s, >= 0), (k,), the time run in each bin.
+        rotating: as :func:`reference_life`.
+
+    Returns:
+        :class:`~jaxgear.bearings.BearingLife`: ``equivalent_load`` P_ref = C / (L10r /
+        10⁶)^(1/3) (N), ``revolutions`` L10r (revolutions), ``duration`` its seconds at the
+        bins' speeds and times. Differentiable in the displacements and the geometry.
+
+    Raises:
+        ValueError: as :func:`reference_life`; arrays not shaped by the bins, a negative or
+            non-finite speed or time, no bin that turns, loads a ball and has time (one line).
+    """
+    w = "spectrum_reference_life"
+    _check_ball_kind(w, bearing, rotating)
+    check_real("displacements", displacements, "m, rad", shape=(None, 5), shape_text="(k, 5)",
+               where=w)
+    k = np.shape(displacements)[0]
+    if np.ndim(speed) == 0:
+        check_real("speed", speed, "rad/s", lo=0.0, where=w)
+        speed = jnp.full(k, jnp.asarray(speed, float))
+    check_real("speed", speed, "rad/s", lo=0.0, shape=(k,), shape_text=f"({k},), one per bin",
+               where=w)
+    check_real("duration", duration, "s", lo=0.0, shape=(k,), shape_text=f"({k},), one per bin",
+               where=w)
+    Q = jax.vmap(bearing.element_loads)(jnp.asarray(displacements, float))  # (k, Z)
+    loaded = jnp.any(Q > 0, axis=-1)
+    n = jnp.asarray(speed, float) * jnp.asarray(duration, float) / (2.0 * jnp.pi)
+    if not is_traced(Q) and not np.any(np.asarray(loaded) & (np.asarray(n) > 0)):
+        raise ValueError(f"{w}: no bin loads a ball while it turns with time in it: allowed at "
+                         "least one loaded bin with speed and duration > 0")
+    safe = jnp.where(loaded[:, None], Q, 1.0)  # an unloaded bin: no damage, finite derivatives
+    Q_ei, Q_ee = _equivalent_loads(bearing, safe, rotating)
+    Q_ci, Q_ce = _ratings(bearing)
+    L = ((Q_ci / Q_ei) ** (-10.0 / 3.0) + (Q_ce / Q_ee) ** (-10.0 / 3.0)) ** -0.9 * 1e6
+    damage = jnp.sum(jnp.where(loaded, n / L, 0.0))
+    revolutions = jnp.sum(n) / damage
+    return BearingLife(bearing.dynamic_rating / (revolutions / 1e6) ** (1.0 / 3.0), revolutions,
+                       jnp.sum(jnp.asarray(duration, float)) / damage)

@@ -58,12 +58,16 @@ def _spectrum_life(life) -> dict | None:
     """A :class:`~jaxgear.dynamics.SpectrumLife` as summary keys (None: not rated)."""
     if life is None:
         return None
-    sp, basic, m = life
+    sp, basic, m, ref = life
     out = {"bins_radial_load_N": np.asarray(sp.radial).tolist(),
            "bins_axial_load_N": np.asarray(sp.axial).tolist(),
            "equivalent_load_N": float(basic.equivalent_load),
            "L10_revolutions": float(basic.revolutions),
            "L10_hours": float(basic.duration) / _HOUR}
+    if ref is not None:
+        out |= {"L10r_revolutions": float(ref.revolutions),
+                "L10r_hours": float(ref.duration) / _HOUR,
+                "reference_load_N": float(ref.equivalent_load)}
     if m is not None:
         out |= {"Lnm_revolutions": float(m.revolutions), "Lnm_hours": float(m.duration) / _HOUR}
     return out
@@ -82,8 +86,8 @@ def _(form: PairForm, case) -> dict | None:
     file's table), kind, position, shaft speed, load f = (F_x, F_y, F_z, M_x, M_y) (N, N·m),
     F_r and F_a, tones (orders of its shaft's speed, and Hz at it), and, where it has its
     ratings, its lives (revolutions, and hours at the case's speed) and, under the case's
-    rating spectrum, ``spectrum_life`` (each bin's loads, P_eq, L10 and L_nm by
-    Palmgren–Miner)."""
+    rating spectrum, ``spectrum_life`` (each bin's loads, P_eq, L10, L10r (balls) and L_nm
+    by Palmgren–Miner)."""
     found = case_bearings(case)
     if found is None:
         return None
@@ -149,6 +153,7 @@ def bearing_run_lines(section: dict | None) -> list[str]:
         sp = b.get("spectrum_life")
         if sp:
             text += f"; under the rating spectrum L10 {_e(sp['L10_hours'])} h" + (
+                f", L10r {_e(sp['L10r_hours'])} h" if "L10r_hours" in sp else "") + (
                 f", L_nm {_e(sp['Lnm_hours'])} h" if "Lnm_hours" in sp else "")
         tones = ", ".join(f"{TONE_NAMES[t]} {v:.4g}" for t, v in b["tones_orders"].items())
         lines.append(f"{text}; tones (orders of its shaft) {tones}")
@@ -230,10 +235,11 @@ def bearing_rating_lines(section: dict | None) -> list[str]:
     if spectra:
         lines += ["", ("Under the rating's load spectrum ([rating.spectrum]: each bin's loads "
                        "at its own operating point, the bins' damage by Palmgren–Miner):"), "",
-                  "| bearing | F_r per bin (N) | P_eq (N) | L10h (h) | L_nmh (h) |",
-                  "|---|---|---|---|---|"]
+                  "| bearing | F_r per bin (N) | P_eq (N) | L10h (h) | L10rh (h) | L_nmh (h) |",
+                  "|---|---|---|---|---|---|"]
         for name, sp in spectra:
             bins = " / ".join(f"{v:.4g}" for v in sp["bins_radial_load_N"])
             lines.append(f"| {name} | {bins} | {sp['equivalent_load_N']:.4g} "
-                         f"| {sp['L10_hours']:.4g} | {_cell(sp.get('Lnm_hours'))} |")
+                         f"| {sp['L10_hours']:.4g} | {_cell(sp.get('L10r_hours'))} "
+                         f"| {_cell(sp.get('Lnm_hours'))} |")
     return lines

@@ -24,6 +24,7 @@ from ..bearings import (
     solve_displacement,
     spectrum_life,
     spectrum_modified_life,
+    spectrum_reference_life,
 )
 from ..scenes import Bearing, Grounded, bearing_dofs, grounded
 
@@ -302,12 +303,16 @@ def operating_lives(point: OperatingPoint, speeds, *, viscosity=None, reliabilit
 class SpectrumLife(NamedTuple):
     """A rolling bearing's life under a load spectrum (:func:`spectrum_lives`): ``spectrum``
     its :class:`~jaxgear.bearings.BearingSpectrum` (each bin's F_r, F_a, shaft speed and time),
-    ``basic`` ISO 281's :class:`~jaxgear.bearings.BearingLife` by Palmgren–Miner and
-    ``modified`` its :class:`~jaxgear.bearings.ModifiedLife` (None without the settings)."""
+    ``basic`` ISO 281's :class:`~jaxgear.bearings.BearingLife` by Palmgren–Miner,
+    ``modified`` its :class:`~jaxgear.bearings.ModifiedLife` (None without the settings) and
+    ``reference`` ISO/TS 16281's reference life of each bin's ball loads by Palmgren–Miner
+    (:func:`~jaxgear.bearings.spectrum_reference_life`, a :class:`~jaxgear.bearings.BearingLife`
+    whose load is P_ref; None for the roller kinds)."""
 
     spectrum: BearingSpectrum
     basic: BearingLife
     modified: ModifiedLife | None
+    reference: BearingLife | None = None
 
 
 def spectrum_lives(points, speeds, durations, *, viscosity=None, reliability=0.9,
@@ -316,7 +321,8 @@ def spectrum_lives(points, speeds, durations, *, viscosity=None, reliability=0.9
     its operating point (:func:`bearings_at_operating_point` at the bin's torque): ISO 281's
     :func:`~jaxgear.bearings.spectrum_life` and, with ``contamination``,
     :func:`~jaxgear.bearings.spectrum_modified_life` of the bins' F_r = √(F_x² + F_y²) and
-    F_a = F_z.
+    F_a = F_z, and for the ball kinds ISO/TS 16281's
+    :func:`~jaxgear.bearings.spectrum_reference_life` of the bins' ring displacements.
 
     Args:
         points: (k,) the bins' :class:`OperatingPoint` (the same shafts and bearings), None
@@ -358,6 +364,13 @@ def spectrum_lives(points, speeds, durations, *, viscosity=None, reliability=0.9
                 modified = spectrum_modified_life(b.rolling, spectrum, viscosity=viscosity,
                                                   reliability=reliability,
                                                   contamination=contamination)
-            row.append(SpectrumLife(spectrum, spectrum_life(b.rolling, spectrum), modified))
+            reference = None
+            if b.rolling.life_exponent == 3.0:  # ISO/TS 16281's method here is the balls'
+                d = np.array([np.zeros(5) if p is None
+                              else np.asarray(p.states[s][i].displacement, float)
+                              for p in points])
+                reference = spectrum_reference_life(b.rolling, d, speeds[:, s], durations)
+            row.append(SpectrumLife(spectrum, spectrum_life(b.rolling, spectrum), modified,
+                                    reference))
         out.append(tuple(row))
     return tuple(out)

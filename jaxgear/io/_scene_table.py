@@ -44,7 +44,8 @@ rollers: ``rollers``, ``roller_diameter_mm``, ``roller_length_mm``; angular cont
 ``contact_angle_deg``); its stiffness is the one at the operating point of the case's
 quasi-static solve. For its life, ``dynamic_rating_kN`` and ``static_rating_kN`` (the maker's
 C and C0, where the catalogue entry has none; a deep groove ball bearing also ``iso281_f0``,
-the catalogue's f0 of ISO 281's X and Y table).
+the catalogue's f0 of ISO 281's X and Y table); ``fatigue_limit_kN``, the maker's fatigue load
+limit C_u for ISO 281's modified life (default: ISO 281's estimate from C0).
 """
 
 from __future__ import annotations
@@ -167,6 +168,8 @@ class BearingSection(Section):
     dynamic_rating_kN: number("(0, 1e+05]") | None = None
     static_rating_kN: number("(0, 1e+05]") | None = None
     iso281_f0: number("[5, 30]") | None = None
+    fatigue_limit_kN: number("(0, 1e+05]") | None = pydantic.Field(
+        None, json_schema_extra={"default": "ISO 281's estimate from C0"})
 
     @pydantic.field_validator("position_mm")
     @classmethod
@@ -207,7 +210,8 @@ class BearingSection(Section):
             )
         rolling = [k for k in ("catalogue", "kind") if k in self.given]
         if not rolling:
-            extra = [k for k in (*_GEOMETRY, "clearance_um", *_RATINGS) if k in self.given]
+            extra = [k for k in (*_GEOMETRY, "clearance_um", *_RATINGS, "fatigue_limit_kN")
+                     if k in self.given]
             if extra:
                 raise sc.fail(where, extra[0], "is a rolling bearing's key: allowed with "
                               "catalogue or kind (a bearing from its geometry)")
@@ -237,8 +241,6 @@ class BearingSection(Section):
         read both) and a deep groove ball bearing's f0 (its X and Y table); f0 on another kind
         refused."""
         given = [k for k in _RATINGS if k in self.given]
-        if not given:
-            return
         kind = (ROLLING_KINDS[self.kind] if self.catalogue is None
                 else CATALOGUE[self.catalogue][0])
         deep = issubclass(kind, DeepGrooveBall)  # ISO 281's f0 table: radial ball bearings
@@ -247,9 +249,27 @@ class BearingSection(Section):
                           "groove ball bearing's")
         needed = ("dynamic_rating_kN", "static_rating_kN", *(("iso281_f0",) if deep else ()))
         for key in needed:
-            if key not in self.given:
+            if given and key not in self.given:
                 raise sc.fail(where, key, f"missing: a rating gives {', '.join(needed)} "
                               "together (ISO 281's life)")
+        if self.fatigue_limit_kN is not None:
+            self._check_fatigue_limit(where)
+
+    def _check_fatigue_limit(self, where: str) -> None:
+        """The maker's C_u: with a C to modify (the entry's or ``dynamic_rating_kN``) and
+        below C0 (ISO 281's C_u is the load of its fatigue stress, 1500 MPa, C0's 4000 to
+        4200 MPa)."""
+        entry = {} if self.catalogue is None else CATALOGUE[self.catalogue][1]
+        C0 = (self.static_rating_kN if self.static_rating_kN is not None
+              else None if entry.get("static_rating") is None else entry["static_rating"] / 1e3)
+        if self.dynamic_rating_kN is None and entry.get("dynamic_rating") is None:
+            raise sc.fail(where, "fatigue_limit_kN", "not read without a C: allowed with "
+                          "dynamic_rating_kN (or a catalogue entry with its ratings), the life "
+                          "it modifies")
+        if C0 is not None and not self.fatigue_limit_kN < C0:
+            raise sc.fail(where, "fatigue_limit_kN", f"out of range, allowed (0, {C0:.6g}) "
+                          "(below static_rating_kN C0: the fatigue load limit is the load of "
+                          "ISO 281's 1500 MPa, C0 that of 4000-4200 MPa)", self.fatigue_limit_kN)
 
     def _check_geometry(self, where: str) -> None:
         """A ``kind``'s keys: its own given, the others refused, the relations between them
@@ -308,7 +328,8 @@ class BearingSection(Section):
             changes["clearance"] = self.clearance_um * 1e-6
         for key, arg, scale in (("dynamic_rating_kN", "dynamic_rating", 1e3),
                                 ("static_rating_kN", "static_rating", 1e3),
-                                ("iso281_f0", "iso281_f0", 1.0)):
+                                ("iso281_f0", "iso281_f0", 1.0),
+                                ("fatigue_limit_kN", "fatigue_limit", 1e3)):
             if getattr(self, key) is not None:
                 changes[arg] = getattr(self, key) * scale
         try:

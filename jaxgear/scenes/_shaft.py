@@ -21,6 +21,7 @@ import math
 import numbers
 from typing import NamedTuple
 
+import jax
 import jax.numpy as jnp
 import numpy as np
 
@@ -206,6 +207,26 @@ def _as_tuple(a: np.ndarray) -> tuple:
     return tuple(tuple(float(x) for x in row) for row in a)
 
 
+def _rolling_key(kind) -> tuple | None:
+    """A rolling bearing kind as a hashable value (a :class:`Bearing`'s equality and hash):
+    its class and each of its fields by name, a number or an array by its shape and values
+    (the elements' count, the slices, the geometry and the ratings; None where a rating is not
+    given), a traced value (under ``jit`` or ``grad``) by its identity. None for no kind."""
+    if kind is None:
+        return None
+
+    def value(v):
+        if v is None or isinstance(v, (bool, int, str)):
+            return v
+        if isinstance(v, jax.core.Tracer):
+            return ("traced", id(v))
+        a = np.asarray(v)
+        return (a.shape, tuple(a.ravel().tolist()))
+
+    return (type(kind), tuple((f.name, value(getattr(kind, f.name)))
+                              for f in dataclasses.fields(kind)))
+
+
 @dataclasses.dataclass(frozen=True)
 class Bearing:
     """A bearing at axial position ``z`` (m): stiffness and damping from a shaft node to the ground.
@@ -217,7 +238,10 @@ class Bearing:
     stay ``None``). Matrices are in the shaft node's frame, DOF order u_x, u_y, u_z, φ_x, φ_y,
     φ_z (φ_x, φ_y the tilts with du_y/dz = −φ_x, du_x/dz = φ_y), SI per DOF pair, and are
     checked by :func:`bearing_matrix` (symmetric, positive semi-definite, row/column φ_z zero)
-    and stored symmetrised as nested tuples (the dataclass stays hashable).
+    and stored symmetrised as nested tuples (the dataclass stays hashable). Two bearings are
+    equal, and hash alike, when their fields are and their rolling kinds are of one class with
+    the same static fields and numbers (compared by value, not identity: a scene or a compiled
+    program keyed by its bearings sees a different kind as a different bearing).
 
     A rolling bearing has a stiffness only at an operating point: ``Bearing(z, rolling=kind)``
     holds none (:meth:`stiffness_matrix` refuses it) until :meth:`at` puts it at the ring
@@ -252,18 +276,33 @@ class Bearing:
     tilt: float | None = None
     stiffness: tuple | None = None
     damping: tuple | None = None
-    # not compared (an array module): the stiffness and operating point it stands at are
+    # compared by value (an array module has no hash): :meth:`__eq__`, :meth:`__hash__`
     rolling: AbstractRollingBearing | None = dataclasses.field(default=None, compare=False)
     operating: tuple | None = None
 
+    def _key(self) -> tuple:
+        """What equality and the hash compare: the compared fields and the rolling kind's
+        value (:func:`_rolling_key`, taken once at construction)."""
+        return (*(getattr(self, f.name) for f in dataclasses.fields(self) if f.compare),
+                self._rolling)
+
+    def __eq__(self, other):
+        if other.__class__ is not self.__class__:
+            return NotImplemented
+        return self._key() == other._key()
+
+    def __hash__(self):
+        return hash(self._key())
+
     def __post_init__(self):
         where = self.where
+        if self.rolling is not None and not isinstance(self.rolling, AbstractRollingBearing):
+            raise ValueError(
+                f"{where}: rolling = {type(self.rolling).__name__}: allowed a "
+                "jaxgear.bearings kind (DeepGrooveBall, ..., LinearSpring)"
+            )
+        object.__setattr__(self, "_rolling", _rolling_key(self.rolling))
         if self.rolling is not None:
-            if not isinstance(self.rolling, AbstractRollingBearing):
-                raise ValueError(
-                    f"{where}: rolling = {type(self.rolling).__name__}: allowed a "
-                    "jaxgear.bearings kind (DeepGrooveBall, ..., LinearSpring)"
-                )
             given = [n for n in ("radial", "axial", "tilt") if getattr(self, n) is not None]
             if given:
                 raise ValueError(
