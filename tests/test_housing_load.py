@@ -50,7 +50,8 @@ def test_the_box_refused_at_load_in_the_files_words(tmp_path):
     box whose 30 mm of room is below the 35 mm shaft (no diameter fits: the conflict named),
     walls too thick for the height (< 80 mm) or for the default length (the span 100 mm
     + a wall: t < 100 mm), a length without room for two walls, feet wider than the length
-    (110 mm): one line each naming the key, its value and the range."""
+    (110 mm), a wall or a foot below 1 µm: one line each naming the key, its value and the
+    range."""
     a = _centre_distance_mm()
     assert a == "99.45"
     case = ACCESSORY + HOUSING_TABLE
@@ -92,6 +93,13 @@ def test_the_box_refused_at_load_in_the_files_words(tmp_path):
             r"wall_thickness_mm = 10\)$"),
         swap("wall_thickness_mm = 10.0", "wall_thickness_mm = 10.0\nfoot_size_mm = 500.0"): (
             r"^\[housing\] foot_size_mm = 500: allowed \(0, 110\] mm"),
+        # a wall far below what the box's sides resolve (the fuzz tests' find: 1e-300 of
+        # 10 mm made feet that end where they start, a ValueError of the mesher's box)
+        swap("wall_thickness_mm = 10.0", "wall_thickness_mm = 1e-299"): (
+            r"^\[housing\] wall_thickness_mm = 1e-299: out of range, allowed \[0\.001, "
+            r"100000\]"),
+        swap("wall_thickness_mm = 10.0", "wall_thickness_mm = 10.0\nfoot_size_mm = 1e-9"): (
+            r"^\[housing\] foot_size_mm = 1e-09: out of range, allowed \[0\.001, 100000\]"),
     }
     assert_one_line_errors(bad, tmp_path)
     # the edges of the ranges: the shaft's diameter refused, just above it and the axes'

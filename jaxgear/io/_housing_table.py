@@ -121,8 +121,9 @@ class HousingSpec:
     cutoff_source: str = "cutoff_Hz"
 
 
-#: a box's or a seat's size (mm)
-_SIZE_MM = "(0, 1e+05]"
+#: a box's or a seat's size (mm): from 1 µm (a thinner wall or foot is below what the box's
+#: metres resolve beside its sides: a foot of 1e-300 mm ends where it starts) to 100 m
+_SIZE_MM = "[0.001, 1e+05]"
 
 
 class SeatEntry(Section):
