@@ -44,6 +44,8 @@ from ._case import (
 from ._case_file import SchemaError as SchemaError, parse_case as parse_case
 from ._case_model import (
     PAIR_SCENES as PAIR_SCENES,
+    BearingShafts as BearingShafts,
+    bearing_shafts as bearing_shafts,
     build_dynamic_model as build_dynamic_model,
     case_bearings as case_bearings,
     check_case_whine as check_case_whine,

@@ -573,7 +573,8 @@ class Case(MeshSettings):
     def lumped_train(self, slices: int | None = None, *, housing=None, seats=None,
                      housing_position=None):
         """The train's lumped 3D scene (:func:`jaxgear.scenes.lumped_train`): each shaft of
-        ``[[scene.shafts]]`` on its bearings with its gears (rigid discs of
+        ``[[scene.shafts]]`` on its bearings (a rolling bearing from its geometry at the
+        case's operating point, :func:`jaxgear.io.operating_point`) with its gears (rigid discs of
         :meth:`gear_masses` and :meth:`gear_inertias`, diametral inertia I_p/2 + m b²/12), each
         mesh on its line of action with the layout's hands and phase, the loads' shares and the
         wrenches per unit input torque; on the case's ``[housing]`` if it has one.
@@ -591,16 +592,29 @@ class Case(MeshSettings):
         """
         if not self.lumped:
             raise ValueError("a lumped 3D train needs [scene] model = 'lumped3d'")
-        spec = TrainSpec(
+        shafts = self.scene.shafts
+        if self.scene.rolling:  # bearings from geometry: at the case's operating point
+            from ._case_model import operating_point  # (on the ground; docs/bearings.md)
+
+            shafts = operating_point(self).shafts
+        if housing is None and self.housing is not None:
+            housing = self.housing_body().housing
+        return lumped_train(self.train_spec(slices, shafts), housing, seats,
+                            housing_position=housing_position)
+
+    def train_spec(self, slices: int | None = None, shafts: tuple | None = None) -> TrainSpec:
+        """The :class:`~jaxgear.scenes.TrainSpec` of the case's lumped 3D train
+        (:meth:`lumped_train`'s) on ``shafts`` (each shaft's
+        :class:`~jaxgear.scenes.ShaftSpec`, shaft order; None: ``[[scene.shafts]]`` as
+        given, a rolling bearing without its operating point); ``slices`` per contact line
+        (None: the case's)."""
+        return TrainSpec(
             tuple(zip(self.mesh_models(slices), self.gears, strict=True)),
             self.layout(),
-            self.scene.shafts,
+            self.scene.shafts if shafts is None else tuple(shafts),
             self.shaft_of,
             **self._lumped_args(),
         )
-        if housing is None and self.housing is not None:
-            housing = self.housing_body().housing
-        return lumped_train(spec, housing, seats, housing_position=housing_position)
 
     def build_housing(self, shafts, centres, gear_z, *, cache=True):
         """The case's ``[housing]`` (:attr:`housing`) as a :class:`jaxgear.scenes.Housing`

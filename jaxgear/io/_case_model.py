@@ -4,6 +4,7 @@ scene of its quasi-static solve."""
 
 from __future__ import annotations
 
+import dataclasses
 import fractions
 import functools
 import math
@@ -46,6 +47,7 @@ from ..scenes import (
     grounded,
     hybrid_pair,
     lumped_pair,
+    lumped_train,
 )
 from ._bearings_table import bearing_life_of, pinion_speed
 from ._case import Case, PairForm, TrainForm
@@ -54,7 +56,7 @@ from ._rating_table import ratings_of
 from ._scene_spec import SceneSpec, load_bodies, spec_damping
 from ._whine_table import WHINE_METHODS, whine_of
 
-__all__ = ["PAIR_SCENES", "CaseBearings", "build_dynamic_model", "case_bearings", "check_case_whine", "dynamic_model_kind",
+__all__ = ["PAIR_SCENES", "BearingShafts", "CaseBearings", "bearing_shafts", "build_dynamic_model", "case_bearings", "check_case_whine", "dynamic_model_kind",
            "mesh_frequency_periods", "operating_point", "planetary_kind", "quasi_static_scene",
            "static_scene"]
 
@@ -371,32 +373,63 @@ def _lumped3d_pair(case: Case, spec: SceneSpec, mesh, housing=None, seats=None,
     )
 
 
-#: the operating points found (:func:`operating_point`), by the case and its scene's identity
-#: (the case kept, so that its identity is not reused); the newest few
-_OPERATING: dict = {}
-_OPERATING_KEPT = 4
+class BearingShafts(NamedTuple):
+    """The shafts of a case that stand on rolling bearings from their geometry
+    (:func:`bearing_shafts`): ``shafts`` each shaft's :class:`~jaxgear.scenes.ShaftSpec` as
+    given (its rolling bearings without an operating point), ``names`` each shaft's table in
+    the case file (``scene.pinion_shaft``, ``scene.shafts.idler``: a bearing's name is
+    ``<name>.bearings[i]``), ``ratios`` each shaft's speed per pinion (input) speed
+    (magnitudes: a pair's 1 and z1/z2, a train's its first gear's speed ratio)."""
+
+    shafts: tuple
+    names: tuple
+    ratios: tuple
 
 
-def operating_point(case: Case, spec: SceneSpec | None = None,
-                    torque: float | None = None) -> OperatingPoint:
-    """The rolling bearings of a ``lumped3d`` pair case's shafts (its ``[scene]``, or
-    ``spec``) at their operating point: :func:`jaxgear.dynamics.bearings_at_operating_point`
-    on the case's quasi-static scene (its mesh model, modifications, torque and positions per
-    pitch, exact contact, the load rotation held; ``torque`` another pinion torque, N·m, for a
-    load spectrum's bin), found once per case, scene and torque. The
-    bearings stand on the ground there, a housing (the case's ``[housing]``, a gearbox's)
-    rigid: its compliance moves the bearings' loads only where a shaft is statically
-    indeterminate; the housed scene then holds the bearings' stiffness at that point.
+@functools.singledispatch
+def bearing_shafts(form, case: Case) -> BearingShafts | None:
+    """The shafts of a case of ``form`` that take rolling bearings from their geometry
+    (:class:`BearingShafts`), or None: a form whose scenes take none (a planetary stage, an
+    internal mesh; a gearbox's stages are pair cases, refused at load), or a case without a
+    rolling bearing."""
+    return None
 
-    Raises:
-        ValueError: what :func:`~jaxgear.dynamics.bearings_at_operating_point` refuses, in
-            one line.
-    """
-    spec = case.scene if spec is None else spec
-    torque = case.torque if torque is None else float(torque)
-    key = (id(case), id(spec), torque)
-    if key in _OPERATING:
-        return _OPERATING[key][2]
+
+@bearing_shafts.register
+def _(form: PairForm, case: Case) -> BearingShafts | None:
+    """A ``lumped3d`` pair's pinion and gear shafts (a hybrid pair refuses rolling bearings at
+    load)."""
+    spec = case.scene
+    if spec is None or not spec.lumped or not spec.rolling:
+        return None
+    return BearingShafts((spec.pinion_shaft, spec.gear_shaft),
+                         ("scene.pinion_shaft", "scene.gear_shaft"),
+                         (1.0, case.pair.pinion.teeth / case.pair.gear.teeth))
+
+
+@bearing_shafts.register
+def _(form: TrainForm, case: Case) -> BearingShafts | None:
+    """A ``lumped3d`` train's ``[[scene.shafts]]`` (a train with ``[scene.bodies]`` refuses
+    rolling bearings at load)."""
+    spec = case.scene
+    if spec is None or not spec.lumped or case.flexible or not spec.rolling:
+        return None
+    names = case.shaft_names or tuple(f"shaft{i}" for i in range(len(spec.shafts)))
+    ratios = case.layout().ratios
+    first = [case.shaft_of.index(i) for i in range(len(spec.shafts))]
+    return BearingShafts(tuple(spec.shafts), tuple(f"scene.shafts.{n}" for n in names),
+                         tuple(abs(float(ratios[g])) for g in first))
+
+
+@functools.singledispatch
+def _bearing_scene(form, case: Case, spec: SceneSpec) -> tuple:
+    """(build, shafts, extra_z): what :func:`~jaxgear.dynamics.bearings_at_operating_point`
+    takes of a case of ``form``: its scene on given shafts, on the ground (:func:`operating_point`)."""
+    raise TypeError(f"no rolling bearings from geometry in a case of form {type(form).__name__}")
+
+
+@_bearing_scene.register
+def _(form: PairForm, case: Case, spec: SceneSpec) -> tuple:
     i1, i2 = _inertias(case, spec)
     masses, inertias = _gear_bodies(case, spec, i1, i2)
     mesh = case.mesh_model()
@@ -406,9 +439,53 @@ def operating_point(case: Case, spec: SceneSpec | None = None,
                            youngs_modulus=case.youngs_modulus,
                            poisson_ratio=case.poisson_ratio, density=case.density)
 
+    return build, (spec.pinion_shaft, spec.gear_shaft), None
+
+
+@_bearing_scene.register
+def _(form: TrainForm, case: Case, spec: SceneSpec) -> tuple:
+    train = case.train_spec()  # its mesh models built once
+
+    def build(shafts):
+        return lumped_train(dataclasses.replace(train, shafts=tuple(shafts)))
+
+    return build, tuple(spec.shafts), train.wrench_z
+
+
+#: the operating points found (:func:`operating_point`), by the case and its scene's identity
+#: (the case kept, so that its identity is not reused); the newest few
+_OPERATING: dict = {}
+_OPERATING_KEPT = 4
+
+
+def operating_point(case: Case, spec: SceneSpec | None = None,
+                    torque: float | None = None) -> OperatingPoint:
+    """The rolling bearings of a ``lumped3d`` pair or train case's shafts (its ``[scene]``, or
+    ``spec``) at their operating point: :func:`jaxgear.dynamics.bearings_at_operating_point`
+    on the case's quasi-static scene on the ground (a pair's :func:`~jaxgear.scenes.lumped_pair`,
+    a train's :func:`~jaxgear.scenes.lumped_train` of :meth:`Case.train_spec`: its mesh
+    models, modifications, torque and positions per pitch, exact contact, the output's
+    rotation held; ``torque`` another pinion (input) torque, N·m, for a load spectrum's bin),
+    found once per case, scene and torque. The bearings stand on the ground there, a housing
+    (the case's ``[housing]``, a gearbox's) rigid: its compliance moves the bearings' loads
+    only where a shaft is statically indeterminate; the housed scene then holds the bearings'
+    stiffness at that point.
+
+    Raises:
+        TypeError: a case whose form takes no rolling bearings (a planetary stage).
+        ValueError: what :func:`~jaxgear.dynamics.bearings_at_operating_point` refuses, in
+            one line.
+    """
+    spec = case.scene if spec is None else spec
+    torque = case.torque if torque is None else float(torque)
+    key = (id(case), id(spec), torque)
+    if key in _OPERATING:
+        return _OPERATING[key][2]
+    build, shafts, extra_z = _bearing_scene(case.form, case, spec)
     point = bearings_at_operating_point(
-        build, (spec.pinion_shaft, spec.gear_shaft), case.mesh_modifications(), torque,
-        hold=lambda scene: (scene.torque_dofs[1],), positions_per_pitch=case.positions_per_pitch)
+        build, shafts, case.mesh_modifications(), torque,
+        hold=lambda scene: (scene.torque_dofs[1],), extra_z=extra_z,
+        positions_per_pitch=case.positions_per_pitch)
     while len(_OPERATING) >= _OPERATING_KEPT:
         _OPERATING.pop(next(iter(_OPERATING)))
     _OPERATING[key] = (case, spec, point)
@@ -416,34 +493,39 @@ def operating_point(case: Case, spec: SceneSpec | None = None,
 
 
 class CaseBearings(NamedTuple):
-    """A pair case's rolling bearings at their operating point with their lives
+    """A pair or train case's rolling bearings at their operating point with their lives
     (:func:`case_bearings`): ``point`` (:class:`~jaxgear.dynamics.OperatingPoint`), ``speeds``
-    each shaft's speed (rad/s, magnitudes: the pinion's ``[operating] speed_rad_s``, the gear's
-    that times z1/z2; None without a speed), ``lives`` per shaft per bearing
-    (:func:`~jaxgear.dynamics.operating_lives`), ``settings`` the ``[bearings]`` settings
-    (:class:`~jaxgear.io.BearingLifeSettings`) or None, ``spectrum`` per shaft per bearing its
-    life under the case's ``[rating.spectrum]`` (:func:`~jaxgear.dynamics.spectrum_lives`) or
-    None without one."""
+    each shaft's speed (rad/s, magnitudes: the pinion's (input's) ``[operating]
+    speed_rad_s`` times the shaft's :attr:`BearingShafts.ratios`; None without a speed),
+    ``lives`` per shaft per bearing (:func:`~jaxgear.dynamics.operating_lives`), ``settings``
+    the ``[bearings]`` settings (:class:`~jaxgear.io.BearingLifeSettings`) or None,
+    ``spectrum`` per shaft per bearing its life under the case's ``[rating.spectrum]``
+    (:func:`~jaxgear.dynamics.spectrum_lives`) or None without one, ``names`` each shaft's
+    table in the case file (:attr:`BearingShafts.names`)."""
 
     point: OperatingPoint
     speeds: tuple | None
     lives: tuple
     settings: Any
     spectrum: tuple | None = None
+    names: tuple = ("scene.pinion_shaft", "scene.gear_shaft")
 
 
 def case_bearings(case: Case) -> CaseBearings | None:
-    """The rolling bearings of a ``lumped3d`` pair case's shafts at their operating point
-    (:func:`operating_point`) and their lives there at the case's speed, with ISO 281's
-    modified life where the case has ``[bearings]`` and, under the case's rating spectrum
-    (``[rating.spectrum]``), each bin's operating point at its torque and the bins' life by
-    Palmgren–Miner (:class:`CaseBearings`); None for a case without rolling bearings. The
-    pinion speed: ``[operating] speed_rad_s``, else the rating's ``speed_rpm``."""
-    spec = case.scene if isinstance(case.form, PairForm) else None
-    if spec is None or spec.model != "lumped3d" or not spec.rolling:
+    """The rolling bearings of a ``lumped3d`` pair or train case's shafts
+    (:func:`bearing_shafts`) at their operating point (:func:`operating_point`) and their
+    lives there at the case's speed, with ISO 281's modified life where the case has
+    ``[bearings]`` and, under the case's rating spectrum (``[rating.spectrum]``, its first
+    mesh's: the input torque and speed), each bin's operating point at its torque and the
+    bins' life by Palmgren–Miner (:class:`CaseBearings`); None for a case without rolling
+    bearings. The pinion (input) speed: ``[operating] speed_rad_s``, else the rating's
+    ``speed_rpm``."""
+    found = bearing_shafts(case.form, case)
+    if found is None:
         return None
+    spec = case.scene
     point = operating_point(case, spec)
-    ratio = (1.0, case.pair.pinion.teeth / case.pair.gear.teeth)
+    ratio = found.ratios
     w = case.speed if case.speed > 0 else pinion_speed((case.raw or {}).get("operating", {}))
     speeds = tuple(w * r for r in ratio) if w > 0 else None
     settings = bearing_life_of(case)
@@ -458,7 +540,7 @@ def case_bearings(case: Case) -> CaseBearings | None:
         shaft_speeds = np.asarray(bins.speed, float)[:, None] * np.asarray(ratio)[None, :]
         spectrum = spectrum_lives(points, shaft_speeds, np.asarray(bins.duration, float),
                                   **extra)
-    return CaseBearings(point, speeds, lives, settings, spectrum)
+    return CaseBearings(point, speeds, lives, settings, spectrum, found.names)
 
 
 def _torsional_pair(case: Case, spec: SceneSpec, mesh):
