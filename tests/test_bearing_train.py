@@ -15,14 +15,15 @@ import pytest
 
 import jaxgear.io as jio
 from jaxgear import bearings as jb
-from jaxgear.cli._bearing_report import bearing_outputs, bearing_tone_orders
+from jaxgear.cli._bearing_report import bearing_outputs, bearing_run_lines, bearing_tone_orders
 from jaxgear.io import operating_point
 
 ROOT = Path(__file__).resolve().parents[1]
 TRAIN = ROOT / "examples" / "idler-train-lumped3d-rolling.toml"
 PAIR = ROOT / "examples" / "accessory-lumped3d-rolling.toml"
-#: the report's input speed (rad/s)
+#: the report's input speed (rad/s) and [bearings] settings
 SPEED = 300.0
+SETTINGS = {"contamination_factor": 0.5, "viscosity_mm2_per_s": 20.0, "reliability_percent": 95.0}
 
 
 def _cheap(data: dict) -> dict:
@@ -34,7 +35,9 @@ def _cheap(data: dict) -> dict:
 def _working_pressure_angle(alpha, x_sum, z_sum):
     """α_w of a spur mesh without backlash: inv α_w = inv α + 2 tan α (x1 + x2)/(z1 + z2), by
     bisection (written here, not the package's)."""
-    inv = lambda a: math.tan(a) - a  # noqa: E731
+    def inv(a):
+        return math.tan(a) - a
+
     target = inv(alpha) + 2.0 * math.tan(alpha) * x_sum / z_sum
     lo, hi = 0.0, 1.2
     for _ in range(200):
@@ -72,10 +75,12 @@ def _hand_shaft_forces(data: dict) -> dict:
 @pytest.fixture(scope="module")
 def train_point():
     """The example train (examples/idler-train-lumped3d-rolling.toml: 6206s on the input and
-    idler shafts, 6207s on the output shaft, 10 µm clearance) at 300 rad/s, cheap: its data,
-    case, operating point and ``jaxgear run``'s ``bearings`` section."""
+    idler shafts, 6207s on the output shaft, 10 µm clearance) at 300 rad/s with a
+    ``[bearings]`` table, cheap: its data, case, operating point and ``jaxgear run``'s
+    ``bearings`` section."""
     data = _cheap(tomllib.loads(TRAIN.read_text()))
     data["operating"]["speed_rad_s"] = SPEED
+    data["bearings"] = dict(SETTINGS)
     case = jio.parse_train(data)
     return data, case, operating_point(case), bearing_outputs(case.form, case)
 
@@ -165,7 +170,9 @@ def test_train_report_lives_against_iso281_by_hand(train_point):
     deep groove ball: F_a / F_r far below e) from the hand statics and C the catalogue's (SKF
     6206 20.3 kN, 6207 27 kN), L10h at its shaft's speed (the input's 300 rad/s times
     z_input/z_idler, z_input/z_output), within 0.3 % (the pair's: three times the loads'
-    1e-3); each bearing named by its table, its tones orders of the input speed."""
+    1e-3); ISO 281's modified life with the ``[bearings]`` settings the package's
+    ``modified_life`` at the reported loads (1e-9); each bearing named by its table, its tones
+    orders of the input speed."""
     data, case, point, section = train_point
     hand = _hand_shaft_forces(data)
     teeth = {g["name"]: g["teeth"] for g in data["gears"]}
@@ -184,6 +191,13 @@ def test_train_report_lives_against_iso281_by_hand(train_point):
         assert row["life"]["L10_revolutions"] == pytest.approx(L10, rel=3e-3)
         assert row["life"]["L10_hours"] == pytest.approx(L10 / (w / (2 * math.pi)) / 3600,
                                                          rel=3e-3)
+        k, i = case.shaft_names.index(shaft), int(row["name"][-2])
+        mod = jb.modified_life(point.shafts[k].bearings[i].rolling, row["radial_load_N"],
+                               row["axial_load_N"], w, viscosity=20e-6, reliability=0.95,
+                               contamination=0.5)
+        assert row["life"]["Lnm_hours"] == pytest.approx(float(mod.duration) / 3600, rel=1e-9)
+    assert section["life_settings"]["reliability"] == pytest.approx(0.95)
+    assert all("L_nm" in t for t in bearing_run_lines(section))
     tones = bearing_tone_orders(case)
     for t in tones:
         shaft = t["bearing"].split(".")[1]
@@ -242,3 +256,23 @@ def test_a_gearbox_stage_refuses_bearings_from_geometry(tmp_path):
     text = str(err.value)
     assert text.startswith("[stages[1]] model = 'lumped3d': not with a stage case on rolling "
                            "bearings from their geometry") and "\n" not in text, text
+
+
+def test_bearings_table_of_a_train_refused_in_one_line():
+    """A train's ``[bearings]`` without a rolling bearing, and with one lacking its rating:
+    one line each, naming the key (the pair's words, the train's table)."""
+    data = tomllib.loads((ROOT / "examples" / "idler-train-lumped3d.toml").read_text())
+    data["operating"]["speed_rad_s"] = SPEED
+    data["bearings"] = dict(SETTINGS)
+    with pytest.raises(ValueError, match=r"^\[bearings\] contamination_factor: not read: the "
+                       "case has no rolling bearing"):
+        jio.parse_train(data)
+    data = tomllib.loads(TRAIN.read_text())
+    data["operating"]["speed_rad_s"] = SPEED
+    data["bearings"] = dict(SETTINGS)
+    del data["scene"]["shafts"][1]["bearings"][1]["dynamic_rating_kN"]
+    del data["scene"]["shafts"][1]["bearings"][1]["static_rating_kN"]
+    del data["scene"]["shafts"][1]["bearings"][1]["iso281_f0"]
+    with pytest.raises(ValueError, match=r"^\[scene\.shafts\.idler\.bearings\[1\]\] "
+                       "dynamic_rating_kN: missing"):
+        jio.parse_train(data)
