@@ -276,3 +276,30 @@ def test_bearings_table_of_a_train_refused_in_one_line():
     with pytest.raises(ValueError, match=r"^\[scene\.shafts\.idler\.bearings\[1\]\] "
                        "dynamic_rating_kN: missing"):
         jio.parse_train(data)
+
+
+@pytest.mark.slow  # a whole jaxgear run of the train with its dynamic factor sweep
+def test_jaxgear_run_reports_a_trains_bearings(train_point, tmp_path):
+    """``jaxgear run`` of the cheap example train at 300 rad/s with ``[bearings]``:
+    summary.json's ``bearings`` is the section built above (the operating point found again,
+    to 1e-9), sweep.json holds the tones as orders of the input speed."""
+    import json
+
+    from _toml import case_toml
+
+    from jaxgear import cli
+
+    data, case, _, section = train_point
+    data = dict(data, scene=dict(data["scene"], integration={
+        "steps_per_period": 16, "periods": 8, "keep_periods": 4}))
+    path = tmp_path / "train.toml"
+    path.write_text(case_toml(data), "utf-8")
+    out = tmp_path / "out"
+    assert cli.main(["run", str(path), "--out", str(out), "--quiet"]) == 0
+    summary = json.loads((out / "summary.json").read_text())
+    for got, want in zip(summary["bearings"]["bearings"], section["bearings"], strict=True):
+        assert got["name"] == want["name"]
+        for key in ("L10_revolutions", "L10r_revolutions", "Lnm_hours"):
+            assert got["life"][key] == pytest.approx(want["life"][key], rel=1e-9)
+    sweep = json.loads((out / "sweep" / "sweep.json").read_text())
+    assert sweep["bearing_tones"] == bearing_tone_orders(case)
