@@ -33,11 +33,14 @@ from ..scenes import (
     grounded,
     hybrid_train,
     line_of_action,
+    lumped_pair,
     lumped_train,
     torsional_train,
     train_layout,
 )
 from ._names import contact_geometry_from_key, contact_law_from_name
+from ._operating import operating_point
+from ._scene_spec import SceneSpec
 from ._sections import Section
 
 __all__ = ["Case", "CaseForm", "MeshSettings", "PairForm", "TrainCase", "TrainForm",
@@ -152,6 +155,29 @@ class MeshSettings:
         return dataclasses.replace(self, **_contact_changes(changes))
 
 
+def _inertias(case: Case, spec: SceneSpec) -> tuple[float, float]:
+    """The pinion's and the gear's polar inertias (kg·m²): the case's, or solid discs."""
+    pair = case.pair
+    i1 = spec.pinion_inertia or disc_inertia(
+        case.density, pair.tip_radii[0], pair.pinion.face_width
+    )
+    i2 = spec.gear_inertia or disc_inertia(case.density, pair.tip_radii[1], pair.gear.face_width)
+    return i1, i2
+
+
+def _gear_bodies(case: Case, spec: SceneSpec, i1: float, i2: float):
+    """(masses, inertias) of rigid disc gear bodies (inertias default to solid discs)."""
+    pair = case.pair
+    body = []
+    for r, b, m, ip in (
+        (pair.tip_radii[0], pair.pinion.face_width, spec.pinion_mass, i1),
+        (pair.tip_radii[1], pair.gear.face_width, spec.gear_mass, i2),
+    ):
+        m = m or case.density * math.pi * r * r * b
+        body.append((m, (ip / 2 + m * b * b / 12, ip)))  # disc: I_d = I_p/2 + m b²/12
+    return (body[0][0], body[1][0]), (body[0][1], body[1][1])
+
+
 class CaseForm(abc.ABC):
     """How a case file wrote its gears, which the case keeps (:attr:`Case.form`): it names the
     case's meshes in the outputs and gives each mesh as a one-mesh case; :mod:`jaxgear.io`
@@ -176,6 +202,18 @@ class CaseForm(abc.ABC):
         (:meth:`Case.housing_size`)."""
         return None
 
+    def bearing_scene(self, case: Case, spec: SceneSpec) -> tuple:
+        """(build, shafts, extra_z): what :func:`jaxgear.dynamics.bearings_at_operating_point`
+        takes of the case's lumped 3D scene with rolling bearings (its ``[scene]``, or ``spec``):
+        ``build(shafts)`` its scene on the ground on those shafts, the shafts as given, the
+        shafts' more node positions (:func:`jaxgear.io.operating_point`).
+
+        Raises:
+            TypeError: a form whose scenes take no rolling bearings from their geometry.
+        """
+        raise TypeError(f"no rolling bearings from geometry in a case of form "
+                        f"{type(self).__name__}")
+
 
 @dataclasses.dataclass(frozen=True)
 class PairForm(CaseForm):
@@ -189,6 +227,20 @@ class PairForm(CaseForm):
 
     def mesh_label(self, case: Case, k: int) -> str:
         return ""
+
+    def bearing_scene(self, case: Case, spec: SceneSpec) -> tuple:
+        """The pair's :func:`~jaxgear.scenes.lumped_pair` (rigid disc gear bodies) on given
+        shafts."""
+        i1, i2 = _inertias(case, spec)
+        masses, inertias = _gear_bodies(case, spec, i1, i2)
+        mesh = case.mesh_model()
+
+        def build(shafts):
+            return lumped_pair(case.pair, mesh, *shafts, masses=masses, inertias=inertias,
+                               youngs_modulus=case.youngs_modulus,
+                               poisson_ratio=case.poisson_ratio, density=case.density)
+
+        return build, (spec.pinion_shaft, spec.gear_shaft), None
 
     def mesh_case(self, case: Case, k: int) -> Case:
         return case
@@ -206,6 +258,16 @@ class TrainForm(CaseForm):
 
     def mesh_label(self, case: Case, k: int) -> str:
         return self.mesh_name(case, k)
+
+    def bearing_scene(self, case: Case, spec: SceneSpec) -> tuple:
+        """The train's :func:`~jaxgear.scenes.lumped_train` (:meth:`Case.train_spec`, its mesh
+        models built once) on given shafts, its wrenches' nodes (``TrainSpec.wrench_z``)."""
+        train = case.train_spec()
+
+        def build(shafts):
+            return lumped_train(dataclasses.replace(train, shafts=tuple(shafts)))
+
+        return build, tuple(spec.shafts), train.wrench_z
 
     def mesh_case(self, case: Case, k: int) -> Case:
         g, h = case.gears[k]
@@ -594,9 +656,7 @@ class Case(MeshSettings):
             raise ValueError("a lumped 3D train needs [scene] model = 'lumped3d'")
         shafts = self.scene.shafts
         if self.scene.rolling:  # bearings from geometry: at the case's operating point
-            from ._case_model import operating_point  # (on the ground; docs/bearings.md)
-
-            shafts = operating_point(self).shafts
+            shafts = operating_point(self).shafts  # (on the ground; docs/bearings.md)
         if housing is None and self.housing is not None:
             housing = self.housing_body().housing
         return lumped_train(self.train_spec(slices, shafts), housing, seats,

@@ -4,7 +4,6 @@ scene of its quasi-static solve."""
 
 from __future__ import annotations
 
-import dataclasses
 import fractions
 import functools
 import math
@@ -23,7 +22,6 @@ from ..dynamics import (
     QuasiPeriodicBalance,
     WhineSize,
     bearing_forces,
-    bearings_at_operating_point,
     check_whine_size,
     dynamic_model,
     group_positions,
@@ -43,14 +41,13 @@ from ..scenes import (
     HousingMount,
     Material,
     TorsionalDynamics,
-    disc_inertia,
     grounded,
     hybrid_pair,
     lumped_pair,
-    lumped_train,
 )
 from ._bearings_table import bearing_life_of, pinion_speed
-from ._case import Case, PairForm, TrainForm
+from ._case import Case, PairForm, TrainForm, _gear_bodies, _inertias
+from ._operating import operating_point
 from ._planetary_spec import InternalMeshForm, PlanetaryForm
 from ._rating_table import ratings_of
 from ._scene_spec import SceneSpec, load_bodies, spec_damping
@@ -334,16 +331,6 @@ def _train_model(form: TrainForm, case: Case, spec: SceneSpec, slices, bodies):
     )
 
 
-def _inertias(case: Case, spec: SceneSpec) -> tuple[float, float]:
-    """The pinion's and the gear's polar inertias (kg·m²): the case's, or solid discs."""
-    pair = case.pair
-    i1 = spec.pinion_inertia or disc_inertia(
-        case.density, pair.tip_radii[0], pair.pinion.face_width
-    )
-    i2 = spec.gear_inertia or disc_inertia(case.density, pair.tip_radii[1], pair.gear.face_width)
-    return i1, i2
-
-
 def _lumped3d_pair(case: Case, spec: SceneSpec, mesh, housing=None, seats=None,
                    position=None):
     """``[scene] model = "lumped3d"``: the 3D lumped pair on its shafts and bearings;
@@ -421,77 +408,6 @@ def _(form: TrainForm, case: Case) -> BearingShafts | None:
                          tuple(abs(float(ratios[g])) for g in first))
 
 
-@functools.singledispatch
-def _bearing_scene(form, case: Case, spec: SceneSpec) -> tuple:
-    """(build, shafts, extra_z): what :func:`~jaxgear.dynamics.bearings_at_operating_point`
-    takes of a case of ``form``: its scene on given shafts, on the ground (:func:`operating_point`)."""
-    raise TypeError(f"no rolling bearings from geometry in a case of form {type(form).__name__}")
-
-
-@_bearing_scene.register
-def _(form: PairForm, case: Case, spec: SceneSpec) -> tuple:
-    i1, i2 = _inertias(case, spec)
-    masses, inertias = _gear_bodies(case, spec, i1, i2)
-    mesh = case.mesh_model()
-
-    def build(shafts):
-        return lumped_pair(case.pair, mesh, *shafts, masses=masses, inertias=inertias,
-                           youngs_modulus=case.youngs_modulus,
-                           poisson_ratio=case.poisson_ratio, density=case.density)
-
-    return build, (spec.pinion_shaft, spec.gear_shaft), None
-
-
-@_bearing_scene.register
-def _(form: TrainForm, case: Case, spec: SceneSpec) -> tuple:
-    train = case.train_spec()  # its mesh models built once
-
-    def build(shafts):
-        return lumped_train(dataclasses.replace(train, shafts=tuple(shafts)))
-
-    return build, tuple(spec.shafts), train.wrench_z
-
-
-#: the operating points found (:func:`operating_point`), by the case and its scene's identity
-#: (the case kept, so that its identity is not reused); the newest few
-_OPERATING: dict = {}
-_OPERATING_KEPT = 4
-
-
-def operating_point(case: Case, spec: SceneSpec | None = None,
-                    torque: float | None = None) -> OperatingPoint:
-    """The rolling bearings of a ``lumped3d`` pair or train case's shafts (its ``[scene]``, or
-    ``spec``) at their operating point: :func:`jaxgear.dynamics.bearings_at_operating_point`
-    on the case's quasi-static scene on the ground (a pair's :func:`~jaxgear.scenes.lumped_pair`,
-    a train's :func:`~jaxgear.scenes.lumped_train` of :meth:`Case.train_spec`: its mesh
-    models, modifications, torque and positions per pitch, exact contact, the output's
-    rotation held; ``torque`` another pinion (input) torque, N·m, for a load spectrum's bin),
-    found once per case, scene and torque. The bearings stand on the ground there, a housing
-    (the case's ``[housing]``, a gearbox's) rigid: its compliance moves the bearings' loads
-    only where a shaft is statically indeterminate; the housed scene then holds the bearings'
-    stiffness at that point.
-
-    Raises:
-        TypeError: a case whose form takes no rolling bearings (a planetary stage).
-        ValueError: what :func:`~jaxgear.dynamics.bearings_at_operating_point` refuses, in
-            one line.
-    """
-    spec = case.scene if spec is None else spec
-    torque = case.torque if torque is None else float(torque)
-    key = (id(case), id(spec), torque)
-    if key in _OPERATING:
-        return _OPERATING[key][2]
-    build, shafts, extra_z = _bearing_scene(case.form, case, spec)
-    point = bearings_at_operating_point(
-        build, shafts, case.mesh_modifications(), torque,
-        hold=lambda scene: (scene.torque_dofs[1],), extra_z=extra_z,
-        positions_per_pitch=case.positions_per_pitch)
-    while len(_OPERATING) >= _OPERATING_KEPT:
-        _OPERATING.pop(next(iter(_OPERATING)))
-    _OPERATING[key] = (case, spec, point)
-    return point
-
-
 class CaseBearings(NamedTuple):
     """A pair or train case's rolling bearings at their operating point with their lives
     (:func:`case_bearings`): ``point`` (:class:`~jaxgear.dynamics.OperatingPoint`), ``speeds``
@@ -564,19 +480,6 @@ def _torsional_pair(case: Case, spec: SceneSpec, mesh):
 
 #: the rigid-gear pair scenes a case's ``[scene] model`` names: (case, spec, mesh model) ↦ scene
 PAIR_SCENES = {"lumped3d": _lumped3d_pair, "torsional": _torsional_pair}
-
-
-def _gear_bodies(case: Case, spec: SceneSpec, i1: float, i2: float):
-    """(masses, inertias) of rigid disc gear bodies (inertias default to solid discs)."""
-    pair = case.pair
-    body = []
-    for r, b, m, ip in (
-        (pair.tip_radii[0], pair.pinion.face_width, spec.pinion_mass, i1),
-        (pair.tip_radii[1], pair.gear.face_width, spec.gear_mass, i2),
-    ):
-        m = m or case.density * math.pi * r * r * b
-        body.append((m, (ip / 2 + m * b * b / 12, ip)))  # disc: I_d = I_p/2 + m b²/12
-    return (body[0][0], body[1][0]), (body[0][1], body[1][1])
 
 
 def static_scene(
