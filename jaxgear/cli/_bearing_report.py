@@ -13,7 +13,7 @@ import math
 import numpy as np
 
 from ..bearings import bearing_tones
-from ..io import PairForm, TrainForm, bearing_shafts, case_bearings
+from ..io import PairForm, TrainForm, case_bearings
 
 __all__ = ["TONE_NAMES", "bearing_outputs", "bearing_rating_lines", "bearing_run_lines",
            "bearing_tone_lines", "bearing_tone_orders"]
@@ -79,8 +79,8 @@ def bearing_outputs(form, case) -> dict | None:
 @bearing_outputs.register(TrainForm)
 def _(form, case) -> dict | None:
     """A ``lumped3d`` pair's or train's rolling bearings (None without): per bearing its name
-    (the case file's table, ``pinion_shaft.bearings[0]``, ``shafts.idler.bearings[1]``), kind, position, shaft speed, load f = (F_x, F_y, F_z, M_x, M_y) (N, N·m),
-    F_r and F_a, tones (orders of its shaft's speed, and Hz at it), and, where it has its
+    (the case file's table, ``pinion_shaft.bearings[0]``, ``shafts.idler.bearings[1]``), kind,
+    position, shaft speed, load f = (F_x, F_y, F_z, M_x, M_y) (N, N·m), F_r and F_a, tones (orders of its shaft's speed, and Hz at it), and, where it has its
     ratings, its lives (revolutions, and hours at the case's speed) and, under the case's
     rating spectrum, ``spectrum_life`` (each bin's loads, P_eq, L10 and L_nm by
     Palmgren–Miner)."""
@@ -167,7 +167,7 @@ def bearing_tone_orders(case) -> list[dict]:
     the Campbell diagram and the spectra: ``[{bearing, tone, order}]``; [] for a case without
     rolling bearings (a lumped 3D pair's or train's shafts take them; a stage's or a
     gearbox's do not)."""
-    found = bearing_shafts(case.form, case)
+    found = case.form.bearing_shafts(case)
     if found is None:
         return []
     out = []

@@ -34,6 +34,7 @@ from ._bearings_table import (
     bearing_life_of as bearing_life_of,
 )
 from ._case import (
+    BearingShafts as BearingShafts,
     Case as Case,
     CaseForm as CaseForm,
     MeshSettings as MeshSettings,
@@ -44,8 +45,6 @@ from ._case import (
 from ._case_file import SchemaError as SchemaError, parse_case as parse_case
 from ._case_model import (
     PAIR_SCENES as PAIR_SCENES,
-    BearingShafts as BearingShafts,
-    bearing_shafts as bearing_shafts,
     build_dynamic_model as build_dynamic_model,
     case_bearings as case_bearings,
     check_case_whine as check_case_whine,

@@ -17,7 +17,7 @@ import dataclasses
 import fractions
 import math
 import warnings
-from typing import Any
+from typing import Any, NamedTuple
 
 from .._baseplane import MeshModel
 from .._contact import ContactLaw
@@ -43,8 +43,8 @@ from ._operating import operating_point
 from ._scene_spec import SceneSpec
 from ._sections import Section
 
-__all__ = ["Case", "CaseForm", "MeshSettings", "PairForm", "TrainCase", "TrainForm",
-           "mesh_teeth_per_turn", "teeth_span"]
+__all__ = ["BearingShafts", "Case", "CaseForm", "MeshSettings", "PairForm", "TrainCase",
+           "TrainForm", "mesh_teeth_per_turn", "teeth_span"]
 
 
 def mesh_teeth_per_turn(pairs, gears, shaft_of) -> tuple[fractions.Fraction, ...]:
@@ -178,6 +178,19 @@ def _gear_bodies(case: Case, spec: SceneSpec, i1: float, i2: float):
     return (body[0][0], body[1][0]), (body[0][1], body[1][1])
 
 
+class BearingShafts(NamedTuple):
+    """The shafts of a case that stand on rolling bearings from their geometry
+    (:meth:`CaseForm.bearing_shafts`): ``shafts`` each shaft's :class:`~jaxgear.scenes.ShaftSpec`
+    as given (its rolling bearings without an operating point), ``names`` each shaft's table in
+    the case file (``scene.pinion_shaft``, ``scene.shafts.idler``: a bearing's name is
+    ``<name>.bearings[i]``), ``ratios`` each shaft's speed per pinion (input) speed
+    (magnitudes: a pair's 1 and z1/z2, a train's its first gear's speed ratio)."""
+
+    shafts: tuple
+    names: tuple
+    ratios: tuple
+
+
 class CaseForm(abc.ABC):
     """How a case file wrote its gears, which the case keeps (:attr:`Case.form`): it names the
     case's meshes in the outputs and gives each mesh as a one-mesh case; :mod:`jaxgear.io`
@@ -200,6 +213,13 @@ class CaseForm(abc.ABC):
         """The sizes of a ``[housing]`` this form lays out itself (a gearbox's, round its
         housed stages), else None: the case lays it out round its scene's bearings
         (:meth:`Case.housing_size`)."""
+        return None
+
+    def bearing_shafts(self, case: Case) -> BearingShafts | None:
+        """The case's shafts that stand on rolling bearings from their geometry
+        (:class:`BearingShafts`), or None: a form whose scenes take none (a planetary stage, an
+        internal mesh; a gearbox's lumped stages are refused at load), or a case without a
+        rolling bearing."""
         return None
 
     def bearing_scene(self, case: Case, spec: SceneSpec) -> tuple:
@@ -227,6 +247,16 @@ class PairForm(CaseForm):
 
     def mesh_label(self, case: Case, k: int) -> str:
         return ""
+
+    def bearing_shafts(self, case: Case) -> BearingShafts | None:
+        """A ``lumped3d`` pair's pinion and gear shafts (a hybrid pair refuses rolling bearings
+        at load)."""
+        spec = case.scene
+        if spec is None or not spec.lumped or not spec.rolling:
+            return None
+        return BearingShafts((spec.pinion_shaft, spec.gear_shaft),
+                             ("scene.pinion_shaft", "scene.gear_shaft"),
+                             (1.0, case.pair.pinion.teeth / case.pair.gear.teeth))
 
     def bearing_scene(self, case: Case, spec: SceneSpec) -> tuple:
         """The pair's :func:`~jaxgear.scenes.lumped_pair` (rigid disc gear bodies) on given
@@ -258,6 +288,18 @@ class TrainForm(CaseForm):
 
     def mesh_label(self, case: Case, k: int) -> str:
         return self.mesh_name(case, k)
+
+    def bearing_shafts(self, case: Case) -> BearingShafts | None:
+        """A ``lumped3d`` train's ``[[scene.shafts]]`` (a train with ``[scene.bodies]`` refuses
+        rolling bearings at load), each at its first gear's speed ratio."""
+        spec = case.scene
+        if spec is None or not spec.lumped or case.flexible or not spec.rolling:
+            return None
+        names = case.shaft_names or tuple(f"shaft{i}" for i in range(len(spec.shafts)))
+        ratios = case.layout().ratios
+        first = [case.shaft_of.index(i) for i in range(len(spec.shafts))]
+        return BearingShafts(tuple(spec.shafts), tuple(f"scene.shafts.{n}" for n in names),
+                             tuple(abs(float(ratios[g])) for g in first))
 
     def bearing_scene(self, case: Case, spec: SceneSpec) -> tuple:
         """The train's :func:`~jaxgear.scenes.lumped_train` (:meth:`Case.train_spec`, its mesh

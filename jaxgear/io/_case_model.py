@@ -53,8 +53,8 @@ from ._rating_table import ratings_of
 from ._scene_spec import SceneSpec, load_bodies, spec_damping
 from ._whine_table import WHINE_METHODS, whine_of
 
-__all__ = ["PAIR_SCENES", "BearingShafts", "CaseBearings", "bearing_shafts", "build_dynamic_model", "case_bearings", "check_case_whine", "dynamic_model_kind",
-           "mesh_frequency_periods", "operating_point", "planetary_kind", "quasi_static_scene",
+__all__ = ["PAIR_SCENES", "CaseBearings", "build_dynamic_model", "case_bearings", "check_case_whine", "dynamic_model_kind",
+           "mesh_frequency_periods", "planetary_kind", "quasi_static_scene",
            "static_scene"]
 
 
@@ -360,64 +360,17 @@ def _lumped3d_pair(case: Case, spec: SceneSpec, mesh, housing=None, seats=None,
     )
 
 
-class BearingShafts(NamedTuple):
-    """The shafts of a case that stand on rolling bearings from their geometry
-    (:func:`bearing_shafts`): ``shafts`` each shaft's :class:`~jaxgear.scenes.ShaftSpec` as
-    given (its rolling bearings without an operating point), ``names`` each shaft's table in
-    the case file (``scene.pinion_shaft``, ``scene.shafts.idler``: a bearing's name is
-    ``<name>.bearings[i]``), ``ratios`` each shaft's speed per pinion (input) speed
-    (magnitudes: a pair's 1 and z1/z2, a train's its first gear's speed ratio)."""
-
-    shafts: tuple
-    names: tuple
-    ratios: tuple
-
-
-@functools.singledispatch
-def bearing_shafts(form, case: Case) -> BearingShafts | None:
-    """The shafts of a case of ``form`` that take rolling bearings from their geometry
-    (:class:`BearingShafts`), or None: a form whose scenes take none (a planetary stage, an
-    internal mesh; a gearbox's stages are pair cases, refused at load), or a case without a
-    rolling bearing."""
-    return None
-
-
-@bearing_shafts.register
-def _(form: PairForm, case: Case) -> BearingShafts | None:
-    """A ``lumped3d`` pair's pinion and gear shafts (a hybrid pair refuses rolling bearings at
-    load)."""
-    spec = case.scene
-    if spec is None or not spec.lumped or not spec.rolling:
-        return None
-    return BearingShafts((spec.pinion_shaft, spec.gear_shaft),
-                         ("scene.pinion_shaft", "scene.gear_shaft"),
-                         (1.0, case.pair.pinion.teeth / case.pair.gear.teeth))
-
-
-@bearing_shafts.register
-def _(form: TrainForm, case: Case) -> BearingShafts | None:
-    """A ``lumped3d`` train's ``[[scene.shafts]]`` (a train with ``[scene.bodies]`` refuses
-    rolling bearings at load)."""
-    spec = case.scene
-    if spec is None or not spec.lumped or case.flexible or not spec.rolling:
-        return None
-    names = case.shaft_names or tuple(f"shaft{i}" for i in range(len(spec.shafts)))
-    ratios = case.layout().ratios
-    first = [case.shaft_of.index(i) for i in range(len(spec.shafts))]
-    return BearingShafts(tuple(spec.shafts), tuple(f"scene.shafts.{n}" for n in names),
-                         tuple(abs(float(ratios[g])) for g in first))
-
-
 class CaseBearings(NamedTuple):
     """A pair or train case's rolling bearings at their operating point with their lives
     (:func:`case_bearings`): ``point`` (:class:`~jaxgear.dynamics.OperatingPoint`), ``speeds``
     each shaft's speed (rad/s, magnitudes: the pinion's (input's) ``[operating]
-    speed_rad_s`` times the shaft's :attr:`BearingShafts.ratios`; None without a speed),
+    speed_rad_s`` times the shaft's :attr:`~jaxgear.io.BearingShafts.ratios`; None without a
+    speed),
     ``lives`` per shaft per bearing (:func:`~jaxgear.dynamics.operating_lives`), ``settings``
     the ``[bearings]`` settings (:class:`~jaxgear.io.BearingLifeSettings`) or None,
     ``spectrum`` per shaft per bearing its life under the case's ``[rating.spectrum]``
     (:func:`~jaxgear.dynamics.spectrum_lives`) or None without one, ``names`` each shaft's
-    table in the case file (:attr:`BearingShafts.names`)."""
+    table in the case file (:attr:`~jaxgear.io.BearingShafts.names`)."""
 
     point: OperatingPoint
     speeds: tuple | None
@@ -429,14 +382,14 @@ class CaseBearings(NamedTuple):
 
 def case_bearings(case: Case) -> CaseBearings | None:
     """The rolling bearings of a ``lumped3d`` pair or train case's shafts
-    (:func:`bearing_shafts`) at their operating point (:func:`operating_point`) and their
-    lives there at the case's speed, with ISO 281's modified life where the case has
+    (:meth:`~jaxgear.io.CaseForm.bearing_shafts`) at their operating point
+    (:func:`~jaxgear.io.operating_point`) and their lives there at the case's speed, with ISO 281's modified life where the case has
     ``[bearings]`` and, under the case's rating spectrum (``[rating.spectrum]``, its first
     mesh's: the input torque and speed), each bin's operating point at its torque and the
     bins' life by Palmgren–Miner (:class:`CaseBearings`); None for a case without rolling
     bearings. The pinion (input) speed: ``[operating] speed_rad_s``, else the rating's
     ``speed_rpm``."""
-    found = bearing_shafts(case.form, case)
+    found = case.form.bearing_shafts(case)
     if found is None:
         return None
     spec = case.scene
