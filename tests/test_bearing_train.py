@@ -303,3 +303,35 @@ def test_jaxgear_run_reports_a_trains_bearings(train_point, tmp_path):
             assert got["life"][key] == pytest.approx(want["life"][key], rel=1e-9)
     sweep = json.loads((out / "sweep" / "sweep.json").read_text())
     assert sweep["bearing_tones"] == bearing_tone_orders(case)
+
+
+def test_train_spectrum_life_by_palmgren_miner(train_point):
+    """Under a ``[rating.spectrum]`` of the input (80 N·m at 3000 r/min for 5000 h, 40 N·m at
+    1500 r/min for 15 000 h) each bearing's bins are its operating points' loads at the bins'
+    input torques: by hand F_r(T_i) = F_r(T) T_i / T (the statics scale with the torque),
+    n_i = ω_i t_i / 2π revolutions of its shaft (the input's speed times z_input/z_shaft),
+    L10 = Σ t_i / Σ (n_i / (C/P_i)³ 10⁶) (Palmgren–Miner), within 0.3 % (the pair's)."""
+    data, _, _, _ = train_point
+    data = dict(data, material=dict(data["material"], sigma_H_lim_MPa=1500.0,
+                                    sigma_F_lim_MPa=430.0))
+    spectrum = {"torque_Nm": [80.0, 40.0], "speed_rpm": [3000.0, 1500.0],
+                "hours": [5e3, 1.5e4]}
+    data["rating"] = {"life_h": 20000.0, "viscosity_40C_mm2_s": 46.0,
+                      "roughness_Rz_flank_um": 3.0, "roughness_Rz_root_um": 10.0,
+                      "spectrum": spectrum}
+    case = jio.parse_train(data)
+    section = bearing_outputs(case.form, case)
+    hand = _hand_shaft_forces(data)
+    teeth = {g["name"]: g["teeth"] for g in data["gears"]}
+    C = {"input": 20.3e3, "idler": 20.3e3, "output": 27.0e3}
+    t = np.asarray(spectrum["hours"]) * 3600
+    for row in section["bearings"]:
+        shaft = row["name"].split(".")[1]
+        w = np.asarray(spectrum["speed_rpm"]) * 2 * math.pi / 60 * teeth["input"] / teeth[shaft]
+        P = 0.5 * np.linalg.norm(hand[shaft]) * np.asarray(spectrum["torque_Nm"]) / 80.0
+        n = w * t / (2 * math.pi)
+        life = t.sum() / np.sum(n / ((C[shaft] / P) ** 3 * 1e6)) / 3600
+        sp = row["spectrum_life"]
+        assert sp["bins_radial_load_N"] == pytest.approx(P.tolist(), rel=1e-3)
+        assert sp["L10_hours"] == pytest.approx(life, rel=3e-3)
+        assert "Lnm_hours" in sp  # the [bearings] settings apply to each bin
