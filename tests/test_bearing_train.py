@@ -209,18 +209,29 @@ def test_train_report_lives_against_iso281_by_hand(train_point):
 
 def test_train_dynamics_take_the_bearings_at_their_operating_point(train_point):
     """The train's lumped scene (its dynamics and modes) holds each rolling bearing's tangent
-    stiffness at the operating point on its shaft node (1e-12)."""
-    from jaxgear.scenes import bearing_dofs
+    stiffness at the operating point on its shaft node (1e-12), on the ground and in a housing
+    (a small synthetic one: two seats, three modes; the operating point the grounded scene's,
+    each bearing joined to a seat)."""
+    from jaxgear.scenes import Housing, bearing_dofs
 
     _, case, point, _ = train_point
-    scene = case.lumped_train()
-    parts = scene.structure.part_names
-    kb = np.asarray(scene.structure.parts_K[parts.index("bearings")])
+    rng = np.random.default_rng(3)
+    h = 6 * 2 + 3
+    a = rng.standard_normal((h, h))
+    K = 1e9 * (a @ a.T + h * np.eye(h))
+    housing = Housing(K=K, M=np.eye(h), C=1e-3 * K, seat_positions=(
+        (0.0, 0.0, -0.05), (0.0, 0.0, 0.05)), seat_names=("front", "back"),
+        rotation=((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0)))
     extra = case.train_spec().wrench_z
-    for s, shaft in zip(bearing_dofs(point.shafts, extra), point.shafts, strict=True):
-        for k, b in zip(s, shaft.bearings, strict=True):
-            np.testing.assert_allclose(kb[k : k + 6, k : k + 6], b.stiffness_matrix(),
-                                       rtol=1e-12, atol=1e-6)
+    for scene, seats in ((case.lumped_train(), 0), (case.lumped_train(housing=housing), h)):
+        parts = scene.structure.part_names
+        kb = np.asarray(scene.structure.parts_K[parts.index("bearings")])
+        n = kb.shape[0] - seats
+        for s, shaft in zip(bearing_dofs(point.shafts, extra), point.shafts, strict=True):
+            for k, b in zip(s, shaft.bearings, strict=True):
+                np.testing.assert_allclose(kb[k : k + 6, k : k + 6], b.stiffness_matrix(),
+                                           rtol=1e-12, atol=1e-6)
+                assert seats == 0 or np.abs(kb[k : k + 6, n:]).max() > 0  # joined to a seat
 
 
 def test_a_hybrid_trains_shafts_refuse_bearings_from_geometry(tmp_path):
