@@ -370,7 +370,7 @@ def test_case_file_catalogue_and_where_geometry_bearings_are_not_taken():
     data = _example()
     data["scene"]["gear_body"] = {"body": "any"}
     _refused(data, "[scene.pinion_shaft.bearings[0]] kind: a bearing from its geometry is for a "
-             "lumped3d pair of rigid gears for now (not with pinion_body")
+             "lumped3d pair or train of rigid gears for now (not with pinion_body")
 
 
 def test_a_housing_holds_the_bearings_at_their_operating_point():
@@ -399,20 +399,6 @@ def test_a_housing_holds_the_bearings_at_their_operating_point():
             np.testing.assert_allclose(kb[k : k + 6, k : k + 6], b.stiffness_matrix(),
                                        rtol=1e-12, atol=1e-6)
             assert np.abs(kb[k : k + 6, n:]).max() > 0  # joined to a seat
-
-
-def test_a_trains_shafts_refuse_bearings_from_geometry(tmp_path):
-    """A train's shaft (examples/idler-train-lumped3d.toml) on a catalogue bearing: one line."""
-    text = (ROOT / "examples" / "idler-train-lumped3d.toml").read_text()
-    linear = "{ position_mm = 0.0, radial_N_per_um = 200.0, axial_N_per_um = 100.0 }"
-    assert linear in text
-    path = tmp_path / "train.toml"
-    path.write_text(text.replace(linear, '{ position_mm = 0.0, catalogue = "6205" }', 1))
-    with pytest.raises(ValueError) as err:
-        jio.load_case(str(path))
-    text = str(err.value)
-    assert text.startswith("[scene.shafts.input.bearings[0]] catalogue: a bearing from its "
-                           "geometry is for a lumped3d pair") and "\n" not in text, text
 
 
 def test_case_file_bearings_from_geometry_move_the_mesh_mode(tmp_path):

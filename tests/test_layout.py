@@ -285,6 +285,9 @@ PRIVATE_IN_TESTS: set[tuple[str, str]] = {
     ("test_bearing_report.py", "jaxgear.cli._plots._campbell"),
     ("test_bearing_report.py", "jaxgear.cli._plots._whine"),
     ("test_bearing_report.py", "jaxgear.io._bearings_table.pinion_speed"),
+    # a train's bearings' summary section and tone orders from a case without a whole jaxgear
+    # run (the whole run is the file's slow test)
+    ("test_bearing_train.py", "jaxgear.cli._bearing_report"),
     # the TE stage's own optimiser start, so that the batch is compared where the stage runs it
     ("test_sizing_te.py", "jaxgear.sizing._te._start"),
     # a case's lumped 3D pair built on a synthetic housing (K, M written in the test), which a

@@ -196,6 +196,12 @@ RUNS = {  # name: (argv after the command, output file(s) to compare, in the def
         SUMMARY_AND_SWEEP,
         False,
     ),
+    # the idler train on rolling bearings from their geometry (each shaft's at its operating point)
+    "run-example-idler-train-lumped3d-rolling": (
+        ["run", "examples/idler-train-lumped3d-rolling.toml"],
+        SUMMARY_AND_SWEEP,
+        False,
+    ),
     "run-example-two-gear-body": (["run", "examples/two-gear-body.toml"], SUMMARY, False),
     # a pair with a condensed wheel in a flexible housing: both shafts' bearings in its seats
     "run-example-hybrid-pair-housed": (

@@ -631,6 +631,13 @@ def case_samples() -> Iterator[tuple[dict, str | None]]:
     data["bearings"] = {"contamination_factor": 0.5, "reliability_percent": 95.0,
                         "viscosity_mm2_per_s": 20.0}
     yield data, str(ROOT / "examples")
+    # and a lumped train's: the rolling-bearing idler train with [bearings]
+    data = tomllib.loads((ROOT / "examples" / "idler-train-lumped3d-rolling.toml").read_text(
+        "utf-8"))
+    data["operating"]["speed_rad_s"] = 300.0
+    data["bearings"] = {"contamination_factor": 0.5, "reliability_percent": 95.0,
+                        "viscosity_mm2_per_s": 20.0}
+    yield data, str(ROOT / "examples")
     base = tomllib.loads(jio.embedded_case_text("accessory-spur"))
     for text in SAMPLE_OVERLAYS.values():
         data = copy.deepcopy(base)
@@ -1059,6 +1066,10 @@ TRAIN_NOTES = {
     "lubricant": "A pair's `[lubricant]` for every mesh (a planetary stage with `[[gears]]` "
     "only): each mesh's film and sliding loss and the train's or stage's efficiency "
     "(docs/tribology.md, \"Trains, planetary stages and gearboxes\").",
+    "bearings": "ISO 281's modified rating life L_nm of a `lumped3d` train's `[[scene.shafts]]` "
+    "rolling bearings, a pair's keys (each bearing with its ratings; the input's `[operating] "
+    "speed_rad_s` > 0, each shaft at its speed ratio); refused without a rolling bearing "
+    "(docs/trains.md, \"Rolling bearings\").",
 }
 
 BODY_INTRO = """\

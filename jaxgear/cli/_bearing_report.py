@@ -13,14 +13,13 @@ import math
 import numpy as np
 
 from ..bearings import bearing_tones
-from ..io import PairForm, case_bearings
+from ..io import PairForm, TrainForm, case_bearings
 
 __all__ = ["TONE_NAMES", "bearing_outputs", "bearing_rating_lines", "bearing_run_lines",
            "bearing_tone_lines", "bearing_tone_orders"]
 
 #: the tones' keys and their names on the plots
 TONE_NAMES = {"ftf": "FTF", "bpfo": "BPFO", "bpfi": "BPFI", "bsf": "BSF"}
-_SHAFTS = ("pinion_shaft", "gear_shaft")
 _HOUR = 3600.0
 
 
@@ -80,18 +79,19 @@ def bearing_outputs(form, case) -> dict | None:
     return None
 
 
-@bearing_outputs.register
-def _(form: PairForm, case) -> dict | None:
-    """A ``lumped3d`` pair's rolling bearings (None without): per bearing its name (the case
-    file's table), kind, position, shaft speed, load f = (F_x, F_y, F_z, M_x, M_y) (N, N·m),
-    F_r and F_a, tones (orders of its shaft's speed, and Hz at it), and, where it has its
+@bearing_outputs.register(PairForm)
+@bearing_outputs.register(TrainForm)
+def _(form, case) -> dict | None:
+    """A ``lumped3d`` pair's or train's rolling bearings (None without): per bearing its name
+    (the case file's table, ``pinion_shaft.bearings[0]``, ``shafts.idler.bearings[1]``), kind,
+    position, shaft speed, load f = (F_x, F_y, F_z, M_x, M_y) (N, N·m), F_r and F_a, tones (orders of its shaft's speed, and Hz at it), and, where it has its
     ratings, its lives (revolutions, and hours at the case's speed) and, under the case's
     rating spectrum, ``spectrum_life`` (each bin's loads, P_eq, L10, L10r (balls) and L_nm
     by Palmgren–Miner)."""
     found = case_bearings(case)
     if found is None:
         return None
-    point, speeds, lives, settings, spectrum = found
+    point, speeds, lives, settings, spectrum, names = found
     rows = []
     for k, shaft in enumerate(point.shafts):
         for i, b in enumerate(shaft.bearings):
@@ -101,7 +101,7 @@ def _(form: PairForm, case) -> dict | None:
             orders = _tones(b.rolling)
             speed = None if speeds is None else float(speeds[k])
             rows.append({
-                "name": f"{_SHAFTS[k]}.bearings[{i}]",
+                "name": f"{_shaft_name(names[k])}.bearings[{i}]",
                 "kind": type(b.rolling).__name__,
                 "position_m": float(b.z),
                 "shaft_speed_rad_s": speed,
@@ -160,23 +160,29 @@ def bearing_run_lines(section: dict | None) -> list[str]:
     return lines
 
 
+def _shaft_name(table: str) -> str:
+    """A shaft's table in the report: the case file's without ``scene.``
+    (``pinion_shaft``, ``shafts.idler``)."""
+    return table.removeprefix("scene.")
+
+
 def bearing_tone_orders(case) -> list[dict]:
-    """Each rolling bearing's tones as orders of the pinion speed (its own order times its
-    shaft's turns per pinion turn: 1, z1/z2), for the Campbell diagram and the spectra:
-    ``[{bearing, tone, order}]``; [] for a case without rolling bearings (a pair's shafts take
-    them; a train's, a stage's or a gearbox's do not)."""
-    spec = case.scene if isinstance(case.form, PairForm) else None  # a pair's shafts only
-    if spec is None or spec.model != "lumped3d" or not spec.rolling:
+    """Each rolling bearing's tones as orders of the pinion (input) speed (its own order times
+    its shaft's turns per pinion turn: a pair's 1, z1/z2; a train's shaft's speed ratio), for
+    the Campbell diagram and the spectra: ``[{bearing, tone, order}]``; [] for a case without
+    rolling bearings (a lumped 3D pair's or train's shafts take them; a stage's or a
+    gearbox's do not)."""
+    found = case.form.bearing_shafts(case)
+    if found is None:
         return []
-    ratio = (1.0, case.pair.pinion.teeth / case.pair.gear.teeth)
     out = []
-    for k, shaft in enumerate((spec.pinion_shaft, spec.gear_shaft)):
-        for i, b in enumerate(() if shaft is None else shaft.bearings):
+    for shaft, name, ratio in zip(*found, strict=True):
+        for i, b in enumerate(shaft.bearings):
             if b.rolling is None:
                 continue
             for tone, order in _tones(b.rolling).items():
-                out.append({"bearing": f"{_SHAFTS[k]}.bearings[{i}]", "tone": tone,
-                            "order": order * ratio[k]})
+                out.append({"bearing": f"{_shaft_name(name)}.bearings[{i}]", "tone": tone,
+                            "order": order * ratio})
     return out
 
 
@@ -185,9 +191,12 @@ def bearing_tone_lines(case) -> list[tuple[str, float]]:
     per shaft and tone (a shaft's bearings that share an order named once): the spectra's."""
     out = {}
     for t in bearing_tone_orders(case):
-        shaft = t["bearing"].split(".")[0]
+        shaft = t["bearing"].rsplit(".bearings[", 1)[0]
         key = (shaft, t["tone"], round(t["order"], 6))
-        name = f"{shaft.replace('_', ' ')} {TONE_NAMES[t['tone']]} ({t['order']:.3g}×)"
+        label = shaft.removeprefix("shafts.").replace("_", " ")
+        if shaft.startswith("shafts."):
+            label += " shaft"
+        name = f"{label} {TONE_NAMES[t['tone']]} ({t['order']:.3g}×)"
         out.setdefault(key, (name, t["order"]))
     return list(out.values())
 

@@ -570,7 +570,13 @@ def _(form: TrainForm, case: Case, out: str, args, complete: bool) -> dict:
     tribology = train_tribology_outputs(case, out, coupled["exact"])
     if tribology is not None:
         summary["tribology"] = tribology
-    if rating is not None or tribology is not None:
+    # rolling bearings from geometry: their loads, lives and tones (docs/bearings.md)
+    bearings = bearing_outputs(case.form, case)
+    if bearings is not None:
+        summary["bearings"] = bearings
+    if complete and rating is not None and bearings:  # rating.md with them
+        write_rating_table(case, out, rating, tribology, bearings)
+    if rating is not None or tribology is not None or bearings is not None:
         write_json(os.path.join(out, "summary.json"), summary)
     return summary
 
@@ -687,6 +693,7 @@ def _(form: TrainForm, case: Case, summary: dict) -> list[str]:
         lines
         + train_rating_run_line(summary.get("rating"))
         + efficiency_run_line(summary.get("tribology"))
+        + bearing_run_lines(summary.get("bearings"))
         + whine_run_line(summary.get("whine"))
     )
 

@@ -34,6 +34,7 @@ from ._bearings_table import (
     bearing_life_of as bearing_life_of,
 )
 from ._case import (
+    BearingShafts as BearingShafts,
     Case as Case,
     CaseForm as CaseForm,
     MeshSettings as MeshSettings,
@@ -48,7 +49,6 @@ from ._case_model import (
     case_bearings as case_bearings,
     check_case_whine as check_case_whine,
     dynamic_model_kind as dynamic_model_kind,
-    operating_point as operating_point,
     planetary_kind as planetary_kind,
     quasi_static_scene as quasi_static_scene,
     static_scene as static_scene,
@@ -99,6 +99,7 @@ from ._names import (
     foundation_from_name as foundation_from_name,
     stiffness_from_name as stiffness_from_name,
 )
+from ._operating import operating_point as operating_point
 from ._optimise_table import (
     ACOUSTIC_OBJECTIVES as ACOUSTIC_OBJECTIVES,
     OPTIMISE_DEFAULTS as OPTIMISE_DEFAULTS,

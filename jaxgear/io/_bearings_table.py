@@ -57,10 +57,12 @@ class BearingsSection(Section):
         None, json_schema_extra={"default": "[lubricant]'s at oil_temperature_C"})
 
 
-def read_bearings(data: dict, scene, lubricant) -> BearingsSection | None:
+def read_bearings(data: dict, scene, lubricant, shafts=None) -> BearingsSection | None:
     """A case file's ``[bearings]`` (:class:`BearingsSection`), or None without the table;
     ``scene``: the case's :class:`~jaxgear.io.SceneSpec` (or None), ``lubricant`` its
-    ``[lubricant]`` section (or None).
+    ``[lubricant]`` section (or None), ``shafts`` its shafts as (table, ShaftSpec) pairs
+    (default a pair's ``scene.pinion_shaft`` and ``scene.gear_shaft``; a train's
+    ``scene.shafts.<name>``).
 
     Raises:
         SchemaError: a key out of range; no rolling bearing on the scene's shafts; no
@@ -81,8 +83,10 @@ def read_bearings(data: dict, scene, lubricant) -> BearingsSection | None:
                       "(the bearings' lives in hours and ISO 281's rated viscosity need the "
                       "pinion speed; or the rating's speed_rpm)",
                       data.get("operating", {}).get("speed_rad_s", 0.0))
-    for where, shaft in (("scene.pinion_shaft", scene.pinion_shaft),
-                         ("scene.gear_shaft", scene.gear_shaft)):
+    if shafts is None:
+        shafts = (("scene.pinion_shaft", scene.pinion_shaft),
+                  ("scene.gear_shaft", scene.gear_shaft))
+    for where, shaft in shafts:
         for i, b in enumerate(() if shaft is None else shaft.bearings):
             if b.rolling is not None and b.rolling.dynamic_rating is None:
                 raise sc.fail(f"{where}.bearings[{i}]", "dynamic_rating_kN", "missing: "

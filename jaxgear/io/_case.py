@@ -17,7 +17,7 @@ import dataclasses
 import fractions
 import math
 import warnings
-from typing import Any
+from typing import Any, NamedTuple
 
 from .._baseplane import MeshModel
 from .._contact import ContactLaw
@@ -33,15 +33,18 @@ from ..scenes import (
     grounded,
     hybrid_train,
     line_of_action,
+    lumped_pair,
     lumped_train,
     torsional_train,
     train_layout,
 )
 from ._names import contact_geometry_from_key, contact_law_from_name
+from ._operating import operating_point
+from ._scene_spec import SceneSpec
 from ._sections import Section
 
-__all__ = ["Case", "CaseForm", "MeshSettings", "PairForm", "TrainCase", "TrainForm",
-           "mesh_teeth_per_turn", "teeth_span"]
+__all__ = ["BearingShafts", "Case", "CaseForm", "MeshSettings", "PairForm", "TrainCase",
+           "TrainForm", "mesh_teeth_per_turn", "teeth_span"]
 
 
 def mesh_teeth_per_turn(pairs, gears, shaft_of) -> tuple[fractions.Fraction, ...]:
@@ -152,6 +155,42 @@ class MeshSettings:
         return dataclasses.replace(self, **_contact_changes(changes))
 
 
+def _inertias(case: Case, spec: SceneSpec) -> tuple[float, float]:
+    """The pinion's and the gear's polar inertias (kg·m²): the case's, or solid discs."""
+    pair = case.pair
+    i1 = spec.pinion_inertia or disc_inertia(
+        case.density, pair.tip_radii[0], pair.pinion.face_width
+    )
+    i2 = spec.gear_inertia or disc_inertia(case.density, pair.tip_radii[1], pair.gear.face_width)
+    return i1, i2
+
+
+def _gear_bodies(case: Case, spec: SceneSpec, i1: float, i2: float):
+    """(masses, inertias) of rigid disc gear bodies (inertias default to solid discs)."""
+    pair = case.pair
+    body = []
+    for r, b, m, ip in (
+        (pair.tip_radii[0], pair.pinion.face_width, spec.pinion_mass, i1),
+        (pair.tip_radii[1], pair.gear.face_width, spec.gear_mass, i2),
+    ):
+        m = m or case.density * math.pi * r * r * b
+        body.append((m, (ip / 2 + m * b * b / 12, ip)))  # disc: I_d = I_p/2 + m b²/12
+    return (body[0][0], body[1][0]), (body[0][1], body[1][1])
+
+
+class BearingShafts(NamedTuple):
+    """The shafts of a case that stand on rolling bearings from their geometry
+    (:meth:`CaseForm.bearing_shafts`): ``shafts`` each shaft's :class:`~jaxgear.scenes.ShaftSpec`
+    as given (its rolling bearings without an operating point), ``names`` each shaft's table in
+    the case file (``scene.pinion_shaft``, ``scene.shafts.idler``: a bearing's name is
+    ``<name>.bearings[i]``), ``ratios`` each shaft's speed per pinion (input) speed
+    (magnitudes: a pair's 1 and z1/z2, a train's its first gear's speed ratio)."""
+
+    shafts: tuple
+    names: tuple
+    ratios: tuple
+
+
 class CaseForm(abc.ABC):
     """How a case file wrote its gears, which the case keeps (:attr:`Case.form`): it names the
     case's meshes in the outputs and gives each mesh as a one-mesh case; :mod:`jaxgear.io`
@@ -176,6 +215,25 @@ class CaseForm(abc.ABC):
         (:meth:`Case.housing_size`)."""
         return None
 
+    def bearing_shafts(self, case: Case) -> BearingShafts | None:
+        """The case's shafts that stand on rolling bearings from their geometry
+        (:class:`BearingShafts`), or None: a form whose scenes take none (a planetary stage, an
+        internal mesh; a gearbox's lumped stages are refused at load), or a case without a
+        rolling bearing."""
+        return None
+
+    def bearing_scene(self, case: Case, spec: SceneSpec) -> tuple:
+        """(build, shafts, extra_z): what :func:`jaxgear.dynamics.bearings_at_operating_point`
+        takes of the case's lumped 3D scene with rolling bearings (its ``[scene]``, or ``spec``):
+        ``build(shafts)`` its scene on the ground on those shafts, the shafts as given, the
+        shafts' more node positions (:func:`jaxgear.io.operating_point`).
+
+        Raises:
+            TypeError: a form whose scenes take no rolling bearings from their geometry.
+        """
+        raise TypeError(f"no rolling bearings from geometry in a case of form "
+                        f"{type(self).__name__}")
+
 
 @dataclasses.dataclass(frozen=True)
 class PairForm(CaseForm):
@@ -189,6 +247,30 @@ class PairForm(CaseForm):
 
     def mesh_label(self, case: Case, k: int) -> str:
         return ""
+
+    def bearing_shafts(self, case: Case) -> BearingShafts | None:
+        """A ``lumped3d`` pair's pinion and gear shafts (a hybrid pair refuses rolling bearings
+        at load)."""
+        spec = case.scene
+        if spec is None or not spec.lumped or not spec.rolling:
+            return None
+        return BearingShafts((spec.pinion_shaft, spec.gear_shaft),
+                             ("scene.pinion_shaft", "scene.gear_shaft"),
+                             (1.0, case.pair.pinion.teeth / case.pair.gear.teeth))
+
+    def bearing_scene(self, case: Case, spec: SceneSpec) -> tuple:
+        """The pair's :func:`~jaxgear.scenes.lumped_pair` (rigid disc gear bodies) on given
+        shafts."""
+        i1, i2 = _inertias(case, spec)
+        masses, inertias = _gear_bodies(case, spec, i1, i2)
+        mesh = case.mesh_model()
+
+        def build(shafts):
+            return lumped_pair(case.pair, mesh, *shafts, masses=masses, inertias=inertias,
+                               youngs_modulus=case.youngs_modulus,
+                               poisson_ratio=case.poisson_ratio, density=case.density)
+
+        return build, (spec.pinion_shaft, spec.gear_shaft), None
 
     def mesh_case(self, case: Case, k: int) -> Case:
         return case
@@ -206,6 +288,28 @@ class TrainForm(CaseForm):
 
     def mesh_label(self, case: Case, k: int) -> str:
         return self.mesh_name(case, k)
+
+    def bearing_shafts(self, case: Case) -> BearingShafts | None:
+        """A ``lumped3d`` train's ``[[scene.shafts]]`` (a train with ``[scene.bodies]`` refuses
+        rolling bearings at load), each at its first gear's speed ratio."""
+        spec = case.scene
+        if spec is None or not spec.lumped or case.flexible or not spec.rolling:
+            return None
+        names = case.shaft_names or tuple(f"shaft{i}" for i in range(len(spec.shafts)))
+        ratios = case.layout().ratios
+        first = [case.shaft_of.index(i) for i in range(len(spec.shafts))]
+        return BearingShafts(tuple(spec.shafts), tuple(f"scene.shafts.{n}" for n in names),
+                             tuple(abs(float(ratios[g])) for g in first))
+
+    def bearing_scene(self, case: Case, spec: SceneSpec) -> tuple:
+        """The train's :func:`~jaxgear.scenes.lumped_train` (:meth:`Case.train_spec`, its mesh
+        models built once) on given shafts, its wrenches' nodes (``TrainSpec.wrench_z``)."""
+        train = case.train_spec()
+
+        def build(shafts):
+            return lumped_train(dataclasses.replace(train, shafts=tuple(shafts)))
+
+        return build, tuple(spec.shafts), train.wrench_z
 
     def mesh_case(self, case: Case, k: int) -> Case:
         g, h = case.gears[k]
@@ -573,7 +677,8 @@ class Case(MeshSettings):
     def lumped_train(self, slices: int | None = None, *, housing=None, seats=None,
                      housing_position=None):
         """The train's lumped 3D scene (:func:`jaxgear.scenes.lumped_train`): each shaft of
-        ``[[scene.shafts]]`` on its bearings with its gears (rigid discs of
+        ``[[scene.shafts]]`` on its bearings (a rolling bearing from its geometry at the
+        case's operating point, :func:`jaxgear.io.operating_point`) with its gears (rigid discs of
         :meth:`gear_masses` and :meth:`gear_inertias`, diametral inertia I_p/2 + m b²/12), each
         mesh on its line of action with the layout's hands and phase, the loads' shares and the
         wrenches per unit input torque; on the case's ``[housing]`` if it has one.
@@ -591,16 +696,27 @@ class Case(MeshSettings):
         """
         if not self.lumped:
             raise ValueError("a lumped 3D train needs [scene] model = 'lumped3d'")
-        spec = TrainSpec(
+        shafts = self.scene.shafts
+        if self.scene.rolling:  # bearings from geometry: at the case's operating point
+            shafts = operating_point(self).shafts  # (on the ground; docs/bearings.md)
+        if housing is None and self.housing is not None:
+            housing = self.housing_body().housing
+        return lumped_train(self.train_spec(slices, shafts), housing, seats,
+                            housing_position=housing_position)
+
+    def train_spec(self, slices: int | None = None, shafts: tuple | None = None) -> TrainSpec:
+        """The :class:`~jaxgear.scenes.TrainSpec` of the case's lumped 3D train
+        (:meth:`lumped_train`'s) on ``shafts`` (each shaft's
+        :class:`~jaxgear.scenes.ShaftSpec`, shaft order; None: ``[[scene.shafts]]`` as
+        given, a rolling bearing without its operating point); ``slices`` per contact line
+        (None: the case's)."""
+        return TrainSpec(
             tuple(zip(self.mesh_models(slices), self.gears, strict=True)),
             self.layout(),
-            self.scene.shafts,
+            self.scene.shafts if shafts is None else tuple(shafts),
             self.shaft_of,
             **self._lumped_args(),
         )
-        if housing is None and self.housing is not None:
-            housing = self.housing_body().housing
-        return lumped_train(spec, housing, seats, housing_position=housing_position)
 
     def build_housing(self, shafts, centres, gear_z, *, cache=True):
         """The case's ``[housing]`` (:attr:`housing`) as a :class:`jaxgear.scenes.Housing`

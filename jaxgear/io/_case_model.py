@@ -22,7 +22,6 @@ from ..dynamics import (
     QuasiPeriodicBalance,
     WhineSize,
     bearing_forces,
-    bearings_at_operating_point,
     check_whine_size,
     dynamic_model,
     group_positions,
@@ -42,20 +41,20 @@ from ..scenes import (
     HousingMount,
     Material,
     TorsionalDynamics,
-    disc_inertia,
     grounded,
     hybrid_pair,
     lumped_pair,
 )
 from ._bearings_table import bearing_life_of, pinion_speed
-from ._case import Case, PairForm, TrainForm
+from ._case import Case, PairForm, TrainForm, _gear_bodies, _inertias
+from ._operating import operating_point
 from ._planetary_spec import InternalMeshForm, PlanetaryForm
 from ._rating_table import ratings_of
 from ._scene_spec import SceneSpec, load_bodies, spec_damping
 from ._whine_table import WHINE_METHODS, whine_of
 
 __all__ = ["PAIR_SCENES", "CaseBearings", "build_dynamic_model", "case_bearings", "check_case_whine", "dynamic_model_kind",
-           "mesh_frequency_periods", "operating_point", "planetary_kind", "quasi_static_scene",
+           "mesh_frequency_periods", "planetary_kind", "quasi_static_scene",
            "static_scene"]
 
 
@@ -332,16 +331,6 @@ def _train_model(form: TrainForm, case: Case, spec: SceneSpec, slices, bodies):
     )
 
 
-def _inertias(case: Case, spec: SceneSpec) -> tuple[float, float]:
-    """The pinion's and the gear's polar inertias (kg·m²): the case's, or solid discs."""
-    pair = case.pair
-    i1 = spec.pinion_inertia or disc_inertia(
-        case.density, pair.tip_radii[0], pair.pinion.face_width
-    )
-    i2 = spec.gear_inertia or disc_inertia(case.density, pair.tip_radii[1], pair.gear.face_width)
-    return i1, i2
-
-
 def _lumped3d_pair(case: Case, spec: SceneSpec, mesh, housing=None, seats=None,
                    position=None):
     """``[scene] model = "lumped3d"``: the 3D lumped pair on its shafts and bearings;
@@ -371,79 +360,41 @@ def _lumped3d_pair(case: Case, spec: SceneSpec, mesh, housing=None, seats=None,
     )
 
 
-#: the operating points found (:func:`operating_point`), by the case and its scene's identity
-#: (the case kept, so that its identity is not reused); the newest few
-_OPERATING: dict = {}
-_OPERATING_KEPT = 4
-
-
-def operating_point(case: Case, spec: SceneSpec | None = None,
-                    torque: float | None = None) -> OperatingPoint:
-    """The rolling bearings of a ``lumped3d`` pair case's shafts (its ``[scene]``, or
-    ``spec``) at their operating point: :func:`jaxgear.dynamics.bearings_at_operating_point`
-    on the case's quasi-static scene (its mesh model, modifications, torque and positions per
-    pitch, exact contact, the load rotation held; ``torque`` another pinion torque, N·m, for a
-    load spectrum's bin), found once per case, scene and torque. The
-    bearings stand on the ground there, a housing (the case's ``[housing]``, a gearbox's)
-    rigid: its compliance moves the bearings' loads only where a shaft is statically
-    indeterminate; the housed scene then holds the bearings' stiffness at that point.
-
-    Raises:
-        ValueError: what :func:`~jaxgear.dynamics.bearings_at_operating_point` refuses, in
-            one line.
-    """
-    spec = case.scene if spec is None else spec
-    torque = case.torque if torque is None else float(torque)
-    key = (id(case), id(spec), torque)
-    if key in _OPERATING:
-        return _OPERATING[key][2]
-    i1, i2 = _inertias(case, spec)
-    masses, inertias = _gear_bodies(case, spec, i1, i2)
-    mesh = case.mesh_model()
-
-    def build(shafts):
-        return lumped_pair(case.pair, mesh, *shafts, masses=masses, inertias=inertias,
-                           youngs_modulus=case.youngs_modulus,
-                           poisson_ratio=case.poisson_ratio, density=case.density)
-
-    point = bearings_at_operating_point(
-        build, (spec.pinion_shaft, spec.gear_shaft), case.mesh_modifications(), torque,
-        hold=lambda scene: (scene.torque_dofs[1],), positions_per_pitch=case.positions_per_pitch)
-    while len(_OPERATING) >= _OPERATING_KEPT:
-        _OPERATING.pop(next(iter(_OPERATING)))
-    _OPERATING[key] = (case, spec, point)
-    return point
-
-
 class CaseBearings(NamedTuple):
-    """A pair case's rolling bearings at their operating point with their lives
+    """A pair or train case's rolling bearings at their operating point with their lives
     (:func:`case_bearings`): ``point`` (:class:`~jaxgear.dynamics.OperatingPoint`), ``speeds``
-    each shaft's speed (rad/s, magnitudes: the pinion's ``[operating] speed_rad_s``, the gear's
-    that times z1/z2; None without a speed), ``lives`` per shaft per bearing
-    (:func:`~jaxgear.dynamics.operating_lives`), ``settings`` the ``[bearings]`` settings
-    (:class:`~jaxgear.io.BearingLifeSettings`) or None, ``spectrum`` per shaft per bearing its
-    life under the case's ``[rating.spectrum]`` (:func:`~jaxgear.dynamics.spectrum_lives`) or
-    None without one."""
+    each shaft's speed (rad/s, magnitudes: the pinion's (input's) ``[operating]
+    speed_rad_s`` times the shaft's :attr:`~jaxgear.io.BearingShafts.ratios`; None without a
+    speed),
+    ``lives`` per shaft per bearing (:func:`~jaxgear.dynamics.operating_lives`), ``settings``
+    the ``[bearings]`` settings (:class:`~jaxgear.io.BearingLifeSettings`) or None,
+    ``spectrum`` per shaft per bearing its life under the case's ``[rating.spectrum]``
+    (:func:`~jaxgear.dynamics.spectrum_lives`) or None without one, ``names`` each shaft's
+    table in the case file (:attr:`~jaxgear.io.BearingShafts.names`)."""
 
     point: OperatingPoint
     speeds: tuple | None
     lives: tuple
     settings: Any
     spectrum: tuple | None = None
+    names: tuple = ("scene.pinion_shaft", "scene.gear_shaft")
 
 
 def case_bearings(case: Case) -> CaseBearings | None:
-    """The rolling bearings of a ``lumped3d`` pair case's shafts at their operating point
-    (:func:`operating_point`) and their lives there at the case's speed, with ISO 281's
-    modified life where the case has ``[bearings]`` and, under the case's rating spectrum
-    (``[rating.spectrum]``), each bin's operating point at its torque and the bins' life by
-    Palmgren–Miner (:class:`CaseBearings`); None for a case without rolling bearings. The
-    pinion speed: ``[operating] speed_rad_s``, else the rating's ``speed_rpm``."""
-    spec = case.scene if isinstance(case.form, PairForm) else None
-    if spec is None or spec.model != "lumped3d" or not spec.rolling:
+    """The rolling bearings of a ``lumped3d`` pair or train case's shafts
+    (:meth:`~jaxgear.io.CaseForm.bearing_shafts`) at their operating point
+    (:func:`~jaxgear.io.operating_point`) and their lives there at the case's speed, with ISO 281's modified life where the case has
+    ``[bearings]`` and, under the case's rating spectrum (``[rating.spectrum]``, its first
+    mesh's: the input torque and speed), each bin's operating point at its torque and the
+    bins' life by Palmgren–Miner (:class:`CaseBearings`); None for a case without rolling
+    bearings. The pinion (input) speed: ``[operating] speed_rad_s``, else the rating's
+    ``speed_rpm``."""
+    found = case.form.bearing_shafts(case)
+    if found is None:
         return None
+    spec = case.scene
     point = operating_point(case, spec)
-    ratio = (1.0, case.pair.pinion.teeth / case.pair.gear.teeth)
+    ratio = found.ratios
     w = case.speed if case.speed > 0 else pinion_speed((case.raw or {}).get("operating", {}))
     speeds = tuple(w * r for r in ratio) if w > 0 else None
     settings = bearing_life_of(case)
@@ -458,7 +409,7 @@ def case_bearings(case: Case) -> CaseBearings | None:
         shaft_speeds = np.asarray(bins.speed, float)[:, None] * np.asarray(ratio)[None, :]
         spectrum = spectrum_lives(points, shaft_speeds, np.asarray(bins.duration, float),
                                   **extra)
-    return CaseBearings(point, speeds, lives, settings, spectrum)
+    return CaseBearings(point, speeds, lives, settings, spectrum, found.names)
 
 
 def _torsional_pair(case: Case, spec: SceneSpec, mesh):
@@ -482,19 +433,6 @@ def _torsional_pair(case: Case, spec: SceneSpec, mesh):
 
 #: the rigid-gear pair scenes a case's ``[scene] model`` names: (case, spec, mesh model) ↦ scene
 PAIR_SCENES = {"lumped3d": _lumped3d_pair, "torsional": _torsional_pair}
-
-
-def _gear_bodies(case: Case, spec: SceneSpec, i1: float, i2: float):
-    """(masses, inertias) of rigid disc gear bodies (inertias default to solid discs)."""
-    pair = case.pair
-    body = []
-    for r, b, m, ip in (
-        (pair.tip_radii[0], pair.pinion.face_width, spec.pinion_mass, i1),
-        (pair.tip_radii[1], pair.gear.face_width, spec.gear_mass, i2),
-    ):
-        m = m or case.density * math.pi * r * r * b
-        body.append((m, (ip / 2 + m * b * b / 12, ip)))  # disc: I_d = I_p/2 + m b²/12
-    return (body[0][0], body[1][0]), (body[0][1], body[1][1])
 
 
 def static_scene(

@@ -461,6 +461,11 @@ def _lumped(case: Case, table: StageEntry, where: str, side: int) -> LumpedPairG
         raise sc.fail(where, "model", "allowed with a stage case whose [scene] has model = "
                       f'"lumped3d" without condensed bodies (case {case.name!r}: {has})',
                       "lumped3d")
+    if case.scene.rolling:  # its operating point would be its own case's torque's
+        raise sc.fail(where, "model", "not with a stage case on rolling bearings from their "
+                      f"geometry (case {case.name!r}: a bearing with catalogue or kind) for now: "
+                      "allowed a stage case on linear bearings (radial_N_per_um/axial_N_per_um/"
+                      "tilt_Nm_per_rad or stiffness_matrix_SI)", "lumped3d")
     try:
         return lumped_stage(case, side)
     except ValueError as err:  # coast flanks, a seat the scene refuses

@@ -390,7 +390,7 @@ def refuse_rolling(shafts, why: str) -> None:
         found = None if shaft is None else first_rolling(shaft, where)
         if found is not None:
             raise sc.fail(found[0], found[1], "a bearing from its geometry is for a lumped3d "
-                          f"pair of rigid gears for now ({why}): allowed "
+                          f"pair or train of rigid gears for now ({why}): allowed "
                           "radial_N_per_um/axial_N_per_um/tilt_Nm_per_rad or "
                           "stiffness_matrix_SI here")
 

@@ -97,6 +97,7 @@ from .._geometry import GearPair
 from .._internal import InternalGearPair
 from .._util import closest_circles
 from ..scenes import train_hands
+from ._bearings_table import read_bearings
 from ._case import Case, TrainForm, mesh_teeth_per_turn, teeth_span
 from ._case_file import (
     MESH_TABLE_KEYS,
@@ -163,6 +164,7 @@ _TOP_KEYS = {
     "rating",
     "deviations",  # a planetary stage's only (jaxgear/io/_planetary_deviations_table.py)
     "lubricant",  # every mesh's film, loss and the efficiency (jaxgear/io/_lubricant_table.py)
+    "bearings",  # the rolling bearings' modified life (jaxgear/io/_bearings_table.py)
     "whine",  # a train's gear whine (jaxgear/io/_whine_table.py)
     "acoustics",  # the housing's radiated sound (jaxgear/io/_acoustics_table.py)
     "optimise",  # jaxgear optimise on the housed train's noise (jaxgear/io/_optimise_table.py)
@@ -545,6 +547,8 @@ def parse_train(data: dict, default_name: str = "train", base_dir: str | None = 
                       "or a housed train's)", "[optimise]")
     # a housed train's or planetary stage's radiated sound
     acoustics = parse_case_acoustics(data) if "acoustics" in data else None
+    if "bearings" in data and (is_planetary(data) or "scene" not in data):
+        read_bearings(data, None, None)  # refused: no rolling bearing to rate
     if is_planetary(data):
         return _planetary_case(data, name, base_dir, op).replace(whine=whine,
                                                                  acoustics=acoustics)
@@ -722,6 +726,8 @@ def parse_train(data: dict, default_name: str = "train", base_dir: str | None = 
         check_internal_stiffness(case, f"meshes[{internal[0]}]")
         check_train_rating(data, case)  # [rating]: refused (external pairs only)
         case = _check_lubricant(data, case)
+        if "bearings" in data:  # refused: its scene takes no rolling bearings
+            read_bearings(data, None, None)
         return case
     _check_overlap(case)
     _check_power(case)
@@ -732,6 +738,10 @@ def parse_train(data: dict, default_name: str = "train", base_dir: str | None = 
         check_acoustic_tables(data, optimise)
     case = case.replace(rating=check_train_rating(data, case))  # every mesh (ISO 6336)
     case = _check_lubricant(data, case)
+    if "bearings" in data:  # the rolling bearings' modified life (docs/bearings.md)
+        named = () if scene is None or scene.shafts is None else tuple(
+            (f"scene.shafts.{n}", s) for n, s in zip(shaft_list, scene.shafts, strict=True))
+        case = case.replace(bearings=read_bearings(data, scene, case.lubricant, named))
     q = case.span_periods
     if scene is not None and scene.keep_periods < q:
         raise sc.fail(

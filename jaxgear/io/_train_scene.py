@@ -65,11 +65,6 @@ class TrainShaftSection(ShaftKeys):
             on_shaft(g, v[g], info.data.get("length_mm"), where)
         return {g: v[g] for g in carried}
 
-    @pydantic.model_validator(mode="after")
-    def _linear(self, info):
-        refuse_rolling([(where_of(info), self)], "not a train's shafts")
-        return self
-
     def shaft_spec(self):
         """The shaft in SI, its gears' centres in gear order."""
         return self.spec(tuple(z * 1e-3 for z in self.gear_positions_mm.values()))
@@ -191,6 +186,9 @@ class TrainSceneSection(Section):
             if missing:
                 raise sc.SchemaError(f"[[scene.shafts]]: no entry for shaft "
                                      f"{', '.join(missing)} (allowed: one per shaft)")
+        if self.bodies and self.shafts:  # a hybrid train: its bearings linear
+            refuse_rolling([(f"scene.shafts.{sh.shaft}", sh) for sh in self.shafts],
+                           "not with [scene.bodies]")
         needs_a_body(self.integration, self.model == "lumped3d" and bool(self.bodies),
                      "[scene.bodies.<gear>]", modal=False)
         return self

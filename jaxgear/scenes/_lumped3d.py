@@ -410,9 +410,7 @@ def _train_arrays(spec: TrainSpec, masses, bodies_z=None) -> dict:
         if not 0 <= w.shaft < n_shafts:
             raise ValueError(f"Wrench: shaft {w.shaft} does not exist (0 to {n_shafts - 1})")
     bodies_z = bodies_z or ((),) * n_shafts
-    extra = tuple(
-        (*(w.z for w in spec.wrenches if w.shaft == i), *bodies_z[i]) for i in range(n_shafts)
-    )
+    extra = tuple((*z, *b) for z, b in zip(spec.wrench_z, bodies_z, strict=True))
     d = _shaft_arrays(shafts, names, *spec.material, extra)
     offsets, mats = d["shaft_offsets"], d["mats"]
     first = [None] * spec.n_gears  # each gear node's first DOF

@@ -342,6 +342,14 @@ class TrainSpec(eqx.Module):
         return [(shaft[g], shaft[h]) for _, (g, h) in self.meshes]
 
     @property
+    def wrench_z(self) -> tuple:
+        """Each shaft's wrench positions (m from its start), the nodes the wrenches add to it
+        (:func:`~jaxgear.scenes.bearing_dofs`' ``extra_z`` of a lumped train), one tuple per
+        shaft."""
+        return tuple(tuple(w.z for w in self.wrenches if w.shaft == i)
+                     for i in range(self.n_shafts))
+
+    @property
     def names(self) -> tuple:
         """Each shaft's name (:attr:`shaft_names`, default ``shaft<i>``)."""
         return self.shaft_names or tuple(f"shaft{i}" for i in range(self.n_shafts))
