@@ -245,6 +245,34 @@ class BeyondPath(AbstractContactGeometry):
         return dataclasses.replace(mesh, contact_geometry=TheoreticalPath())
 
 
+def rolling_lever(lever_driving, lever_driven, weights):
+    """c = (λ1 w1 + λ2 w2)/(w1 + w2) (-): the factor on both members' rotation entries of a
+    corner cell in the rows a solver uses, in place of each member's own lever ratio λ (1 on
+    the path, where c = 1 too), shaped like the lever ratios.
+
+    ``lever_driving``, ``lever_driven``: the two gears' lever ratios λ
+    (:meth:`AbstractContactGeometry.lever_ratios`, :meth:`jaxgear.MeshModel.corner`: the tip
+    owner's λ_T < 1 beyond the path, the flank owner's 1). ``weights``: (w1, w2), how the
+    part taken off is shared between the two members: (r_b1, r_b2), the pair's base radii in
+    the sense its coordinates count the rotations (a planetary stage's meshes, the ring's
+    negative: taken off equally from the two rotation angles, so that the stage's rigid
+    rotation still moves no gap), or (1, 0), the driving gear's own lever kept (the driven
+    gear held: a pair whose gear sits on its output shaft, as :class:`~jaxgear.scenes.RigidMesh`
+    and the plane-strain FE reference hold it).
+
+    The exact gap derivative (r_bF for the flank owner, λ r_bT for the tip owner) has a part
+    along the pair's rolling (both members turning at the conjugate ratio, centres fixed:
+    dgap/ds = 1 − λ per unit roll); c (r_b1, ±r_b2) is that derivative less this part, so that
+    the rolling moves no corner gap, as on the path. The cells' positions follow the nominal
+    motion, so a rolling held only by a soft support (a condensed ring turning mm on its
+    housing, a pair's output shaft) is a phase the cells do not follow and must not close a
+    corner (docs/extended-contact.md, "The pair's rolling"). The price: the two members'
+    torques from a corner cell keep the line of action's ratio r_b2/r_b1 (the corner's broken
+    torque ratio is dropped; with (1, 0) the driving gear's balance stays exact)."""
+    w1, w2 = weights
+    return (lever_driving * w1 + lever_driven * w2) / (w1 + w2)
+
+
 def contact_geometry_of(extended: bool) -> AbstractContactGeometry:
     """The kind a boolean ``extended_contact`` stood for (the deprecated spelling)."""
     return BeyondPath() if extended else TheoreticalPath()

@@ -209,8 +209,9 @@ class TorsionalPairGearboxStage(DynamicModel):
     """A parallel pair on its contact cells in the chain: the pair's own
     :class:`~jaxgear.dynamics.DynamicModel` of the torsional scene
     :class:`~jaxgear.scenes.TorsionalDynamics` ``(mesh, *inertias)`` (pinion and wheel
-    rotations, the wheel's counted in the pinion's sense in the gearbox: the torsional pair's
-    structure vectors, :class:`jaxgear.scenes.TorsionalPair`), built for a gearbox only
+    rotations, the wheel's counted in the pinion's sense in the gearbox; the scene's cell rows,
+    beyond the path less their part along the pair's free drive rotation, as the pair alone
+    and a lumped stage take them), built for a gearbox only
     (:func:`~jaxgear.dynamics.stage_model`: no operating torque, modes or damping), in
     :class:`PairGearboxStage`'s argument order (what ``PairGearboxStage(..., mesh=)`` builds).
     Its torsional chain's view (:meth:`matrices`) keeps the given constant spring

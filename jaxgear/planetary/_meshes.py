@@ -33,7 +33,7 @@ import numpy as np
 from jaxtyping import Array, Float
 
 from .._baseplane import CellRow, Cells, MeshModel, on_the_path
-from .._contact_geometry import AbstractContactGeometry, TheoreticalPath
+from .._contact_geometry import AbstractContactGeometry, TheoreticalPath, rolling_lever
 from .._contact import AbstractContactLaw, ExactContact, solve_contact
 from .._internal import PlanetaryGeometry
 from .._modifications import Modifications
@@ -470,7 +470,7 @@ class ContactMeshes(AbstractPlanetaryMeshes):
 
     def ring_rows(self, stage, x, cells):
         """:meth:`AbstractPlanetaryMeshes.ring_rows`; beyond the path a ring corner cell's
-        entry carries the factor c of its rotation entries (:func:`_rolling_lever`):
+        entry carries the factor c of its rotation entries (:func:`rolling_lever`):
         the ring's turning on its stations is its rotation there, so that the ring mesh's
         rolling with the ring turning on its housing moves no corner gap either."""
         rows = super().ring_rows(stage, x, cells)
@@ -478,7 +478,7 @@ class ContactMeshes(AbstractPlanetaryMeshes):
             return rows
         cells_r = self.planet_cells(x)[1][0]
         lever_driving, lever_driven, *_ = self.ring_mesh.corner(cells_r.s)
-        factor = _rolling_lever(lever_driving, lever_driven, self._radii()[1]).reshape(-1)
+        factor = rolling_lever(lever_driving, lever_driven, self._radii()[1]).reshape(-1)
         factor = jnp.concatenate([jnp.ones(cells - factor.shape[0], factor.dtype), factor])
         return rows * factor[None, :]
 
@@ -595,32 +595,17 @@ def _drive_modes(model, stage) -> tuple:
 def _corner_terms(mesh, cells, rows, radii) -> Array:
     """What a corner cell beyond the theoretical path adds to its mesh row (n_planets, n_lines,
     n_slices, n_dof), before the factor cos β_b: the two members' rotation entries times c − 1
-    (:func:`_rolling_lever`; ``radii`` the pair's signed base radii) and the translation
+    (:func:`rolling_lever`; ``radii`` the pair's signed base radii) and the translation
     entries turned by ε (:meth:`~jaxgear.MeshModel.corner`, the rows of
     :meth:`AbstractPlanetaryModel.corner_rows`); zero on the path."""
     lever_driving, lever_driven, eps, _, _ = mesh.corner(cells.s)
     r_driving, r_driven, trans, perp = (r[:, None, None, :] for r in rows)
-    c = _rolling_lever(lever_driving, lever_driven, radii)
+    c = rolling_lever(lever_driving, lever_driven, radii)
     return (
         (c - 1.0)[..., None] * (r_driving + r_driven)
         + (jnp.cos(eps) - 1.0)[..., None] * trans
         - jnp.sin(eps)[..., None] * perp
     )
-
-
-def _rolling_lever(lever_driving, lever_driven, radii):
-    """c = (λ1 r_b1 + λ2 r_b2)/(r_b1 + r_b2), the factor on both members' rotation entries of a
-    corner cell (1 on the path; λ the lever ratios, the tip owner's λ_T < 1 beyond the path,
-    the flank owner's 1; ``radii`` (r_b1, r_b2) the pair's base radii, an internal gear's
-    negative). The exact gap derivative (r_bF for the flank owner, λ r_bT for the tip owner)
-    has a part along the pair's rolling (both members turning at the conjugate ratio, centres
-    fixed: dgap/ds = 1 − λ per unit roll); c is that derivative less this part, taken off so
-    that the stage's rigid rotation still moves no gap (the two entries equal, c (u_1 ± u_2)).
-    The cells' positions follow the nominal motion, so a rolling held only by a soft support
-    (a condensed ring turning mm on its housing under load) is a phase the cells do not
-    follow and must not close a corner (docs/extended-contact.md, "The pair's rolling")."""
-    r1, r2 = radii
-    return (lever_driving * r1 + lever_driven * r2) / (r1 + r2)
 
 
 class PlanetMeshLoads(NamedTuple):

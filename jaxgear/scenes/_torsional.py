@@ -13,6 +13,7 @@ from jaxtyping import Array, Float
 
 from .._backlash import cell_flank
 from .._baseplane import CellRow, MeshModel
+from .._contact_geometry import rolling_lever
 from .._util import as_float, check_instance, check_real
 from ._gear_mesh import GearMesh, pair_mesh
 from ._interface import TorsionalMember
@@ -45,10 +46,16 @@ class TorsionalPair(Scene):
     The pinion carries the input torque T; the gear is held by an output shaft of torsional
     stiffness ``output_stiffness`` (N·m/rad) to a fixed load. Approach: V = cos β_b (r_b1, −r_b2)
     on the drive flanks, its negative on the coast flanks; beyond the theoretical path
-    (``mesh.contact_geometry``) the tip owner's entry is λ(s) times its own (its lever arm,
-    :meth:`jaxgear.MeshModel.corner`; docs/extended-contact.md).
+    (``mesh.contact_geometry``) :meth:`cell_vectors` (the exact gap derivative) has the tip
+    owner's entry λ(s) times its own (its lever arm, :meth:`jaxgear.MeshModel.corner`), and
+    :meth:`cell_row`, what the solves take, the pinion's own lever on both entries: the exact
+    derivative less its part along the pair's rolling, the gear held
+    (:func:`~jaxgear._contact_geometry.rolling_lever`; docs/extended-contact.md, "The pair's
+    rolling"). The output shaft's twist rolls the pair; that rolling closes no corner, and the
+    result is :class:`RigidMesh`'s (the pinion's advance with the gear held) whatever the
+    shaft.
     The transmission error is independent of the shaft stiffness (statically determinate chain),
-    which the tests use as a check of the structure-vector plumbing.
+    beyond the path too, which the tests use as a check of the structure-vector plumbing.
     """
 
     mesh: MeshModel
@@ -77,6 +84,19 @@ class TorsionalPair(Scene):
         # beyond the path the tip owner's lever arm is λ r_bT (docs/extended-contact.md)
         levers = self.mesh.contact_geometry.lever_ratios(self.mesh, cells.s)
         return v * jnp.stack([jnp.broadcast_to(lv, cells.s.shape) for lv in levers], axis=-1)
+
+    def cell_row(self, cells, delta0):
+        """The cells in one row (:meth:`~jaxgear.scenes.Scene.cell_row`), beyond the path with
+        the pinion's lever ratio on both rotations (the gear held: weights (1, 0) of
+        :func:`~jaxgear._contact_geometry.rolling_lever`); on the path :meth:`cell_vectors`'
+        rows."""
+        _check_meshes(self, cells)
+        c = cells[0]
+        mesh = self.mesh
+        lever = rolling_lever(*mesh.contact_geometry.lever_ratios(mesh, c.s), (1.0, 0.0))
+        lever = jnp.broadcast_to(lever, c.s.shape)
+        V = cell_flank(c)[..., None] * self._v()[None, None, :] * lever[..., None]
+        return CellRow.of(c, V, delta0[0])
 
     def te_vector(self):
         return self._v()
@@ -227,18 +247,6 @@ class TorsionalDynamics(AssembledScene, DynamicScene):
         return (("theta_motor",) if self.has_motor else ()) + names + (
             ("theta_load",) if self.has_load else ()
         )
-
-    def stage_cell_row(self, cells, delta0):
-        """The torsional pair's structure vectors (:class:`TorsionalPair`: each rotation
-        positive in its own direction of motion, the tip owner's lever ratio beyond the path)
-        on the pinion and gear rotations. Unlike :meth:`cell_row`, a corner cell's vector beyond
-        the path is not projected off the free drive rotation (a lumped scene's stage takes its
-        :meth:`cell_row`, projected: the two stage kinds differ there)."""
-        _check_meshes(self, cells)
-        V2 = TorsionalPair(self.mesh).cell_vectors(cells[0])
-        idx = jnp.asarray([self.pinion_index, self.gear_index])
-        V = jnp.zeros(V2.shape[:-1] + (self.n_dof,), V2.dtype).at[..., idx].set(V2)
-        return CellRow.of(cells[0], V, delta0[0])
 
     def rigid_modes(self):
         # the pair's rigid rotation: its gear ratio (every mesh of the pair's structure, such as
