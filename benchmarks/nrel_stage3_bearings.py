@@ -10,19 +10,25 @@ dimensions (its code swaps the HS and IMS dimensions; the HS-B/C bore is printed
 the SKF 32060 X is 300 x 460 x 100 mm) and its code's stiffnesses (for IMS-B its comment
 repeats IMS-C's row; the code's, which the embedded case uses, are taken).
 
-Each bearing is built from that geometry (:data:`KINDS`: HS-A and IMS-A cylindrical roller
+Each bearing is built from that geometry (:func:`bearing`: HS-A and IMS-A cylindrical roller
 bearings without axial location, the four others single-row tapered ones at α = atan(e/1.5)),
 its rollers ESTIMATED by :func:`jaxgear.bearings.estimated_rollers` (the table gives none), and
 loaded with what the published case puts on it: the quasi-static solve of
 ``nrel-5mw-stage3-housed``'s lumped 3D scene on its published springs at rated torque (the
 housing rigid, the mean over a mesh period; :func:`published_loads`). A cylindrical roller bearing
-takes the radial load (it carries no axial load, and no moment: its tilt is free); a tapered one
-takes the radial load and the axial load of a pair set to zero end play, the half-loaded raceway
-F_a = 1.260 F_r tan α (Sjövall), or the case's axial share where that is larger (a single-row
-bearing alone cannot carry less: its partner supplies it). Its tangent stiffness there
-(:func:`jaxgear.bearings.solve_displacement`) gives the radial stiffness along the load and
-across it, the axial and the tilt stiffness, compared with the published values
-(:func:`compare`); the cylindrical ones also with a diametral clearance (50 and 100 µm).
+takes the radial load (it carries no axial load, and no moment: its tilt is free at zero
+moment); a tapered one, held against tilting by its partner, the radial load and the axial load
+of a pair set to zero end play, the half-loaded raceway F_a = 1.260 F_r tan α (Sjövall), or the
+case's axial share where that is larger (a single-row bearing cannot carry its radial load with
+less: its partner supplies it). Its tangent stiffness at the displacement that carries that
+(:func:`operating_displacement`) gives the radial stiffness along the load and across it, the
+axial and the tilt stiffness, compared with the published values (:func:`compare`); the
+cylindrical ones also with a diametral clearance (50 and 100 µm).
+
+How much the estimate of the rollers moves it: HS-A with the roller diameter or length
+scaled by 0.8 and 1.2 (:func:`roller_sensitivity`). The stage-1 spherical roller bearings of
+the same table (the catalogue's 231/750 CA and 240/710 ECA) at the radial load of their
+20-year rating life (:func:`spherical_at_design_load`).
 
 Then the mesh mode of the pair (the mode of the largest mesh energy, mesh-averaged) with both
 bearing sets: the published springs (``nrel-5mw-stage3-housed`` without its housing) and
@@ -197,7 +203,8 @@ def compare(loads: dict | None = None) -> dict:
     """Per bearing: the published load, the load evaluated, the estimated rollers, the
     stiffness from geometry (each clearance for the cylindrical ones) and the published values,
     with the ratios geometry / published of the radial (mean of the two), axial and tilt (mean
-    of the two) stiffnesses (None where the published value is 0)."""
+    of the two) stiffnesses (None where a value is 0); a tapered bearing's ``springs`` (the
+    example's, three digits)."""
     loads = published_loads() if loads is None else loads
     out = {}
     for name, row in TABLE.items():
@@ -221,7 +228,8 @@ def compare(loads: dict | None = None) -> dict:
         for c in clearances:
             g = stiffness_figures(bearing(name, c), load)
             g["ratio_radial"] = 0.5 * (g["radial_along"] + g["radial_across"]) / kr
-            g["ratio_axial"] = g["axial"] / row["K_x"] if row["K_x"] > 0 else None
+            # None where either is 0 (IMS-A published without, the kind NU carrying none)
+            g["ratio_axial"] = g["axial"] / row["K_x"] if row["K_x"] > 0 < g["axial"] else None
             g["ratio_tilt"] = 0.5 * (g["tilt_along"] + g["tilt_across"]) / kt
             entry["geometry"][f"{c * 1e6:g}um"] = g
         if row["type"] == "TRB":  # examples/nrel-5mw-stage3-rolling.toml's springs
@@ -234,20 +242,86 @@ def compare(loads: dict | None = None) -> dict:
     return out
 
 
+#: the stage-1 spherical roller bearings of the same table (the embedded catalogue entries):
+#: published K_x, K_y, K_z (N/m), K_beta, K_gamma (N·m/rad)
+SPHERICAL = {
+    "INP-B": dict(designation="231/750 CA", K_x=4.06e8, K_y=1.54e10, K_z=1.54e10, K_beta=0.0,
+                  K_gamma=0.0),
+    "PLC-A": dict(designation="240/710 ECA", K_x=6.6e4, K_y=1.7e9, K_z=1.1e9, K_beta=5.6e5,
+                  K_gamma=1.3e5),
+}
+#: the rotor's (and the carrier's) rated speed (rad/s) and the design life (s): 12.1 rpm, 20 years
+ROTOR_SPEED, DESIGN_LIFE = 12.1 * 2 * math.pi / 60, 20 * 365.25 * 24 * 3600.0
+
+
+def spherical_at_design_load() -> dict:
+    """The stage-1 spherical roller bearings (the catalogue's 231/750 CA and 240/710 ECA, rollers
+    estimated) at the radial load P that gives ISO 281's L10 of the 20-year design life at the
+    rotor's rated 12.1 rpm, P = C (L10 / 10⁶)^(−3/10) (no model of the main shaft's and the
+    carrier's loads here): their radial, axial and tilt stiffness against the published."""
+    import jaxgear.bearings as jb
+
+    revolutions = ROTOR_SPEED / (2 * math.pi) * DESIGN_LIFE
+    out = {}
+    for name, row in SPHERICAL.items():
+        b = jb.catalogue(row["designation"])
+        P = float(b.dynamic_rating) * (revolutions / 1e6) ** -0.3
+        s = jb.solve_displacement(b, np.array([P, 0.0, 0.0, 0.0, 0.0]))
+        K = np.asarray(s.stiffness)
+        out[name] = {
+            "designation": row["designation"],
+            "published": {k: row[k] for k in ("K_x", "K_y", "K_z", "K_beta", "K_gamma")},
+            "radial_load_N": P, "life_revolutions": revolutions,
+            "radial_along": float(K[0, 0]), "radial_across": float(K[1, 1]),
+            "axial": float(K[2, 2]), "tilt": float(max(K[3, 3], K[4, 4])),
+            "residual": float(s.residual),
+            "ratio_radial": float(0.5 * (K[0, 0] + K[1, 1]) / (0.5 * (row["K_y"] + row["K_z"]))),
+            "ratio_axial": float(K[2, 2] / row["K_x"]),
+        }
+    return out
+
+
+def roller_sensitivity(loads: dict, name: str = "HS-A") -> list:
+    """How much the estimate of the rollers moves a cylindrical bearing's radial stiffness:
+    ``name`` at its evaluated load (zero clearance) with the roller diameter (the count
+    following, the rule's 0.8 π d_m / D_w) or the length scaled by 0.8 and 1.2."""
+    import jaxgear.bearings as jb
+
+    row = TABLE[name]
+    d, D, B = row["d"] * 1e-3, row["D"] * 1e-3, row["B"] * 1e-3
+    base = jb.estimated_rollers(d, D, B)
+    load = bearing_load(name, loads[name])
+    out = []
+    for fd, fl in ((1.0, 1.0), (0.8, 1.0), (1.2, 1.0), (1.0, 0.8), (1.0, 1.2)):
+        Dw = base["element_diameter"] * fd
+        b = jb.CylindricalRoller(bore=d, outer_diameter=D, width=B, pitch_diameter=base[
+            "pitch_diameter"], element_diameter=Dw, elements=int(
+                0.8 * math.pi * base["pitch_diameter"] / Dw),
+            effective_length=base["effective_length"] * fl)
+        g = stiffness_figures(b, load)
+        out.append({"diameter_scale": fd, "length_scale": fl, "elements": b.elements,
+                    "radial_along": g["radial_along"], "radial_across": g["radial_across"]})
+    return out
+
+
 def _three(x: float) -> float:
     """``x`` to three significant digits (a case file's spring)."""
     return float(f"{x:.3g}")
 
 
-def mesh_mode(case) -> float:
-    """The mesh mode (Hz): the mode of the largest mesh energy of the mesh-averaged system."""
+def mesh_modes(case, count: int = 4) -> dict:
+    """The mesh-averaged system's modes of the largest mesh energy: the mesh mode (the
+    largest) and the ``count`` largest with their frequency (Hz) and share of mesh energy."""
     from jaxgear.dynamics import mesh_averaged_modes
     from jaxgear.io import build_dynamic_model
 
     model, _ = build_dynamic_model(case)
     modes = mesh_averaged_modes(model, speed=case.speed, positions_per_pitch=16)
-    i = int(np.argmax(np.asarray(modes.mesh_energy)))
-    return float(np.asarray(modes.omega)[i]) / (2 * math.pi)
+    f = np.asarray(modes.omega) / (2 * math.pi)
+    e = np.asarray(modes.mesh_energy)
+    order = np.argsort(-e)[:count]
+    return {"mesh_mode_Hz": float(f[order[0]]),
+            "largest": [{"Hz": float(f[i]), "mesh_energy": float(e[i])} for i in order]}
 
 
 def unhoused(case_name: str):
@@ -309,12 +383,17 @@ def main(argv=None) -> int:
                 "via gfsReboucas/Drivetrain 4a88df3); the mesh mode with both bearing sets",
         "date": time.strftime("%Y-%m-%d", time.gmtime()),
         "environment": environment(),
-        "bearings": compare(),
     }
+    loads = published_loads()
+    result["bearings"] = compare(loads)
+    result["roller_sensitivity_HS-A"] = roller_sensitivity(loads)
+    result["spherical_stage1"] = spherical_at_design_load()
     if not a.no_modes:
-        result["mesh_mode_Hz"] = {
-            "published springs": mesh_mode(unhoused("nrel-5mw-stage3-housed")),
-            "from geometry": mesh_mode(jio.load_case(EXAMPLE)),
+        case = jio.load_case(EXAMPLE)
+        result["rated_mesh_frequency_Hz"] = case.pair.pinion.teeth * case.speed / (2 * math.pi)
+        result["modes"] = {
+            "published springs": mesh_modes(unhoused("nrel-5mw-stage3-housed")),
+            "from geometry": mesh_modes(case),
         }
     result["seconds"] = time.perf_counter() - t0
     write_record(a.out, result)

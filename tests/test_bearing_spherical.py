@@ -239,8 +239,8 @@ def test_case_file_spherical_roller_keys():
     where = "[scene.pinion_shaft.bearings[0]] "
     for change, start in (
         ({"contact_angle_deg": 45.0}, "contact_angle_deg = 45: out of range, allowed (0, 45)"),
-        ({"roller_length_mm": 10.5}, "roller_length_mm = 10.5: out of range, allowed <= "
-                                     "width_mm / (2 cos contact_angle_deg) = 10.1543"),
+        ({"roller_length_mm": 10.5}, ("roller_length_mm = 10.5: out of range, allowed <= "
+                                      "width_mm / (2 cos contact_angle_deg) = 10.1543")),
         ({"balls": 14}, "balls: not a key of kind = 'spherical_roller'"),
     ):
         with pytest.raises(ValueError) as err:
@@ -258,3 +258,23 @@ def test_solve_carries_a_combined_load_with_the_tilts_free():
         assert float(s.residual) < 1e-9
         np.testing.assert_allclose(_load(b, s.displacement), F, rtol=0, atol=1e-9 * 4e5)
         assert float(s.displacement[3]) == 0.0 and float(s.displacement[4]) == 0.0
+
+
+def test_spherical_bearing_in_a_lumped_pair_at_its_operating_point():
+    """The example pair with its pinion's first bearing spherical (20 µm clearance): the fixed
+    point settles, the bearing carries no moment and has zero tilt stiffness there, and its
+    radial load is half the normal force F_n = T / r_b1 (the pinion at mid-span; 1 %, the
+    other bearing's small tilt stiffness)."""
+    case = jio.parse_case(_spherical_case())
+    point = jio.operating_point(case)
+    f = np.asarray(point.loads[0][0])
+    assert point.iterations <= 10
+    assert f[3] == 0.0 and f[4] == 0.0
+    K = point.shafts[0].bearings[0].stiffness_matrix()
+    assert np.all(K[3:5, :] == 0.0) and np.all(K[:, 3:5] == 0.0)
+    data = _spherical_case()
+    m = data["pair"]["normal_module_mm"] * 1e-3
+    r_b1 = 0.5 * m * data["pinion"]["teeth"] * math.cos(
+        math.radians(data["pair"]["normal_pressure_angle_deg"]))
+    F_n = data["operating"]["torque_Nm"] / r_b1
+    assert math.hypot(f[0], f[1]) == pytest.approx(F_n / 2, rel=1e-2)
