@@ -230,7 +230,9 @@ def _spherical_case(**change):
 
 def test_case_file_spherical_roller_keys():
     """``kind = "spherical_roller"`` builds the kind (rollers per row, SI); an angle of 45° or a
-    roller too long for two rows refused in one line naming the key, in the file's units."""
+    roller too long for two rows, a roller larger than the ring section, too many rollers for
+    a row's pitch circle refused in one line naming the key, in the file's units; the angle
+    missing named with the keys the kind needs."""
     case = jio.parse_case(_spherical_case())
     b = case.scene.pinion_shaft.bearings[0].rolling
     assert isinstance(b, jb.SphericalRoller) and b.elements == 14
@@ -242,11 +244,20 @@ def test_case_file_spherical_roller_keys():
         ({"roller_length_mm": 10.5}, ("roller_length_mm = 10.5: out of range, allowed <= "
                                       "width_mm / (2 cos contact_angle_deg) = 10.1543")),
         ({"balls": 14}, "balls: not a key of kind = 'spherical_roller'"),
+        ({"roller_diameter_mm": 16.0}, ("roller_diameter_mm = 16: out of range, allowed < "
+                                        "(outer_diameter_mm - bore_mm)/2 = 16")),
+        ({"rollers": 20}, "rollers = 20: out of range, allowed <= pi pitch_diameter_mm"),
     ):
         with pytest.raises(ValueError) as err:
             jio.parse_case(_spherical_case(**change))
         text = str(err.value)
         assert text.startswith(where + start) and "\n" not in text, text
+    data = _spherical_case()
+    del data["scene"]["pinion_shaft"]["bearings"][0]["contact_angle_deg"]
+    with pytest.raises(ValueError) as err:
+        jio.parse_case(data)
+    assert str(err.value).startswith(
+        where + "contact_angle_deg: missing: kind = 'spherical_roller' needs"), str(err.value)
 
 
 def test_solve_carries_a_combined_load_with_the_tilts_free():
