@@ -33,7 +33,9 @@ the same table (the catalogue's 231/750 CA and 240/710 ECA) at the radial load o
 Then the mesh mode of the pair (the mode of the largest mesh energy, mesh-averaged) with both
 bearing sets: the published springs (``nrel-5mw-stage3-housed`` without its housing) and
 examples/nrel-5mw-stage3-rolling.toml (HS-A and IMS-A from their geometry at the case's own
-operating point, the tapered bearings on the springs :func:`compare` gives them).
+operating point, the tapered bearings on the springs :func:`compare` gives them); and the whine
+of the stage in nrel-5mw-stage3-housed's box on both sets (:func:`whine_both`: two ``jaxgear
+run``, the overall ERP and the order-1 TE over the turbine's speeds).
 
 Run from the checkout's root::
 
@@ -45,9 +47,12 @@ It writes the record and a PNG beside it (the ratios, geometry over published, p
 from __future__ import annotations
 
 import argparse
+import json
 import math
 import os
+import subprocess
 import sys
+import tempfile
 import time
 import tomllib
 
@@ -55,6 +60,7 @@ import numpy as np
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 EXAMPLE = os.path.join(ROOT, "examples", "nrel-5mw-stage3-rolling.toml")
+HOUSED = os.path.join(ROOT, "jaxgear", "cases", "nrel-5mw-stage3-housed.toml")
 
 #: the port's table (module docstring): name -> designation, type, d, D, B (mm), C (kN), e,
 #: K_x (N/m, axial), K_y, K_z (N/m, radial), K_beta, K_gamma (N·m/rad, tilt); shaft and index
@@ -328,12 +334,71 @@ def unhoused(case_name: str):
     """A case without its ``[housing]`` (and ``[whine]``, which reads the housing's points)."""
     import jaxgear.io as jio
 
-    path = os.path.join(ROOT, "jaxgear", "cases", f"{case_name}.toml")
-    with open(path, encoding="utf-8") as f:
+    with open(os.path.join(ROOT, "jaxgear", "cases", f"{case_name}.toml"), encoding="utf-8") as f:
         data = tomllib.loads(f.read())
     for key in ("housing", "whine"):
         data.pop(key, None)
     return jio.parse_case(data)
+
+
+def housed_rolling_text() -> str:
+    """examples/nrel-5mw-stage3-rolling.toml in nrel-5mw-stage3-housed's housing: that case's
+    ``[housing]``, its points and its ``[whine]`` appended (the same box, speeds and orders)."""
+    with open(EXAMPLE, encoding="utf-8") as f:
+        example = f.read()
+    with open(HOUSED, encoding="utf-8") as f:
+        housed = f.read()
+    example = example.replace('name = "nrel-5mw-stage3-rolling"',
+                              'name = "nrel-5mw-stage3-rolling-housed"')
+    return example + "\n" + housed[housed.index("\n[housing]") + 1 :]
+
+
+def whine_run(case: str, out: str) -> dict:
+    """``jaxgear run`` of ``case`` (a path or an embedded name) into ``out`` (a fresh process of
+    this tree): the overall ERP (dB) and the order-1 TE amplitude (µm) at each speed, and
+    their largest."""
+    code = "import jaxgear_start; jaxgear_start.entry()"
+    subprocess.run([sys.executable, "-c", code, "run", case, "--out", out, "--quiet"], cwd=ROOT,
+                   env={**os.environ, "PYTHONPATH": ROOT}, check=True)
+    with open(os.path.join(out, "whine", "housing.json"), encoding="utf-8") as f:
+        housing = json.load(f)
+    with open(os.path.join(out, "whine", "whine.json"), encoding="utf-8") as f:
+        whine = json.load(f)
+    erp = [float(x) for x in housing["overall_erp_level_dB"]]
+    order1 = whine["orders"].index(1.0)
+    te = [float(a[order1][0]) * 1e6 for a in whine["transmission_error_m"]["amplitude"]]
+    speeds = [float(x) for x in housing["speeds_rad_s"]]
+    i, j = int(np.argmax(erp)), int(np.argmax(te))
+    return {"speeds_rad_s": speeds, "overall_erp_dB": erp, "te_order1_um": te,
+            "max_overall_erp_dB": erp[i], "speed_of_max_erp_rad_s": speeds[i],
+            "max_te_order1_um": te[j], "speed_of_max_te_rad_s": speeds[j]}
+
+
+def modes_in_band(case, lo: float, hi: float, least: float = 0.01) -> list:
+    """The mesh-averaged modes of ``case`` between ``lo`` and ``hi`` (Hz) with at least
+    ``least`` of their energy in the mesh: (Hz, mesh energy) each."""
+    from jaxgear.dynamics import mesh_averaged_modes
+    from jaxgear.io import build_dynamic_model
+
+    model, _ = build_dynamic_model(case)
+    modes = mesh_averaged_modes(model, speed=case.speed, positions_per_pitch=16)
+    f = np.asarray(modes.omega) / (2 * math.pi)
+    e = np.asarray(modes.mesh_energy)
+    return [{"Hz": float(f[i]), "mesh_energy": float(e[i])} for i in range(len(f))
+            if lo <= f[i] <= hi and e[i] >= least]
+
+
+def whine_both() -> dict:
+    """The whine of the housed stage on both bearing sets (:func:`whine_run`): the published
+    springs (the embedded nrel-5mw-stage3-housed) and the bearings from geometry
+    (:func:`housed_rolling_text`)."""
+    with tempfile.TemporaryDirectory() as tmp:
+        path = os.path.join(tmp, "nrel-5mw-stage3-rolling-housed.toml")
+        with open(path, "w", encoding="utf-8") as f:
+            f.write(housed_rolling_text())
+        return {"published springs": whine_run("nrel-5mw-stage3-housed",
+                                               os.path.join(tmp, "published")),
+                "from geometry": whine_run(path, os.path.join(tmp, "geometry"))}
 
 
 def chart(result: dict, path: str) -> None:
@@ -344,7 +409,9 @@ def chart(result: dict, path: str) -> None:
     import matplotlib.pyplot as plt
 
     names = list(result["bearings"])
-    fig, ax = plt.subplots(figsize=(8, 4))
+    whine = result.get("whine")
+    fig, axes = plt.subplots(1, 2 if whine else 1, figsize=(14 if whine else 8, 4.2))
+    ax = axes[0] if whine else axes
     width = 0.27
     for k, (key, label) in enumerate((("ratio_radial", "radial"), ("ratio_axial", "axial"),
                                       ("ratio_tilt", "tilt"))):
@@ -358,6 +425,13 @@ def chart(result: dict, path: str) -> None:
     ax.set_title("NREL 5 MW stage 3: bearing stiffness from geometry (zero clearance)\n"
                  "at the published case's loads, against Nejad et al. 2016")
     ax.legend()
+    if whine:
+        for label, run in whine.items():
+            axes[1].plot(run["speeds_rad_s"], run["overall_erp_dB"], marker=".", label=label)
+        axes[1].set_xlabel("pinion speed (rad/s)")
+        axes[1].set_ylabel("overall ERP (dB re 1 pW)")
+        axes[1].set_title("the housed stage's whine with both bearing sets")
+        axes[1].legend()
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
@@ -367,6 +441,7 @@ def main(argv=None) -> int:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--out", required=True, help="the JSON record to write (a PNG beside it)")
     p.add_argument("--no-modes", action="store_true", help="skip the mesh modes")
+    p.add_argument("--no-whine", action="store_true", help="skip the two housed whine runs")
     a = p.parse_args(argv)
     import jax
 
@@ -395,6 +470,16 @@ def main(argv=None) -> int:
             "published springs": mesh_modes(unhoused("nrel-5mw-stage3-housed")),
             "from geometry": mesh_modes(case),
         }
+    if not a.no_whine:
+        result["whine"] = whine_both()
+        # the housed systems' mesh-coupled modes over the order-1 band of the [whine] speeds
+        housed = {"published springs": jio.load_case("nrel-5mw-stage3-housed"),
+                  "from geometry": jio.parse_case(tomllib.loads(housed_rolling_text()))}
+        per_rad_s = housed["published springs"].pair.pinion.teeth / (2 * math.pi)
+        speeds = [x for w in result["whine"].values() for x in w["speeds_rad_s"]]
+        result["housed_modes_in_order1_band"] = {
+            k: modes_in_band(c, min(speeds) * per_rad_s, max(speeds) * per_rad_s)
+            for k, c in housed.items()}
     result["seconds"] = time.perf_counter() - t0
     write_record(a.out, result)
     chart(result, os.path.splitext(a.out)[0] + ".png")

@@ -8,10 +8,13 @@
 - The published case's bearing loads in the record against statics by hand: each shaft's
   bearings carry the helical mesh's axial force 2 T sin β / (m_n z_1) and its transverse
   force T / r_b1 along the line of action at the working pressure angle.
-- The record's stiffnesses re-computed from its loads (the cylindrical roller bearings in the
-  default tier, every figure and the loads' quasi-static solve in the slow tier).
+- The record's stiffnesses re-computed from its loads (HS-A in the default tier, every figure
+  and the loads' quasi-static solve in the slow tier).
 - The example case file's bearings: the estimated rollers and the tapered pairs' springs as
   the record gives them.
+- The record's whine on the published springs against the embedded housed case's regression
+  record (the same run); the whine on the bearings from geometry is the record's alone (two
+  housed runs of minutes: not re-run by a test).
 """
 
 from __future__ import annotations
@@ -130,3 +133,19 @@ def test_record_recomputed():
     for name, rec in RECORD["spherical_stage1"].items():
         for key in ("radial_along", "axial", "tilt", "radial_load_N"):
             assert sph[name][key] == pytest.approx(rec[key], rel=1e-6, abs=1e-3), (name, key)
+
+
+def test_recorded_published_whine_is_the_embedded_cases_run():
+    """The record's whine on the published springs is what the embedded nrel-5mw-stage3-housed
+    writes (its regression record, the same command): the overall ERP at each speed and the
+    order-1 TE amplitude (1e-6)."""
+    ref = json.loads((ROOT / "tests" / "data" / "regression" / "run-nrel-5mw-stage3-housed.json"
+                      ).read_text("utf-8"))["results"]
+    got = RECORD["whine"]["published springs"]
+    np.testing.assert_allclose(got["speeds_rad_s"], ref["whine/housing.json"]["speeds_rad_s"])
+    np.testing.assert_allclose(got["overall_erp_dB"],
+                               ref["whine/housing.json"]["overall_erp_level_dB"], rtol=1e-6)
+    whine = ref["whine/whine.json"]
+    k = whine["orders"].index(1.0)
+    te = [a[k][0] * 1e6 for a in whine["transmission_error_m"]["amplitude"]]
+    np.testing.assert_allclose(got["te_order1_um"], te, rtol=1e-6)
