@@ -191,6 +191,12 @@ RUNS = {  # name: (argv after the command, output file(s) to compare, in the def
         SUMMARY_AND_SWEEP,
         False,
     ),
+    # the NREL 5 MW stage 3 on bearings from their geometry (its cylindrical roller bearings)
+    "run-example-nrel-5mw-stage3-rolling": (
+        ["run", "examples/nrel-5mw-stage3-rolling.toml"],
+        SUMMARY_AND_SWEEP,
+        False,
+    ),
     "run-example-idler-train-lumped3d": (
         ["run", "examples/idler-train-lumped3d.toml"],
         SUMMARY_AND_SWEEP,

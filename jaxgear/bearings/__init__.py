@@ -2,7 +2,8 @@
 
 The bearing kinds are classes behind one contract (:class:`AbstractRollingBearing`):
 :class:`DeepGrooveBall`, :class:`AngularContactBall`, :class:`CylindricalRoller`,
-:class:`TaperedRoller` from catalogue geometry in SI, and :class:`LinearSpring`, the linear
+:class:`TaperedRoller`, :class:`SphericalRoller` (double row, self-aligning) from catalogue
+geometry in SI, and :class:`LinearSpring`, the linear
 spring the scenes use today. A kind gives the load its rings pass for a displacement
 (:meth:`~AbstractRollingBearing.load`, the rolling elements' Hertz loads summed: Jones, Harris &
 Kotzalas, Lim & Singh), its 5×5 stiffness at an operating point (``jax.jacfwd``), and
@@ -12,13 +13,18 @@ rating life (:func:`rating_life`, :func:`modified_life`; :func:`spectrum_life` a
 rating life from the element loads (:func:`reference_life`, ball kinds;
 :func:`spectrum_reference_life` under a load spectrum), the three at a
 bearing's operating point (:func:`operating_life`) and the bearing tones
-(:func:`bearing_tones`) complete it; :func:`catalogue` builds a few embedded bearings.
+(:func:`bearing_tones`) complete it; :func:`catalogue` builds a few embedded bearings
+(:func:`estimated_rollers`: the rule that estimates a roller set from boundary dimensions).
 A lumped 3D pair's bearings take them (:class:`jaxgear.scenes.Bearing` ``rolling=``) at the
 operating point of its quasi-static solve (:func:`jaxgear.dynamics.bearings_at_operating_point`;
 docs/bearings.md, "How it enters the scenes").
 """
 
-from ._catalogue import CATALOGUE as CATALOGUE, catalogue as catalogue
+from ._catalogue import (
+    CATALOGUE as CATALOGUE,
+    catalogue as catalogue,
+    estimated_rollers as estimated_rollers,
+)
 from ._hertz import (
     line_contact_constant as line_contact_constant,
     line_pressure as line_pressure,
@@ -31,6 +37,7 @@ from ._kinds import (
     CylindricalRoller as CylindricalRoller,
     DeepGrooveBall as DeepGrooveBall,
     LinearSpring as LinearSpring,
+    SphericalRoller as SphericalRoller,
     TaperedRoller as TaperedRoller,
 )
 from ._life import (

@@ -13,6 +13,15 @@ catalogue's e = 0.37 for its contact angle, α = atan(e / 1.5)), the 7205 B's 40
 elements (count, diameter, length, pitch diameter) are representative values ESTIMATED from
 the boundary dimensions, not a maker's data, and they carry no load ratings: give
 ``dynamic_rating`` (and ``static_rating``) from the maker's catalogue for a life.
+
+Spherical roller bearings 231/750 CA/W33 and 240/710 ECA/W33 (the NREL 5 MW reference
+gearbox's INP-B and PLC-A): boundary dimensions, the basic dynamic load rating C and ISO 281's
+e of Nejad et al., "Development of a 5 MW reference gearbox for offshore wind turbines", Wind
+Energy 19 (2016), Table IX, as github.com/gfsReboucas/Drivetrain (4a88df3,
+@NREL_5MW/NREL_5MW.m, ``bearing``) transcribes them with the SKF designations; the contact
+angle from e = 1.5 tan α. No C₀ is published there. Their rollers are ESTIMATED by the rule
+:func:`estimated_rollers` (d_m = (D + d)/2, D_w = (D − d)/4, Z per row the whole part of
+0.8 π d_m / D_w, l = 0.35 B), not a maker's data.
 """
 
 from __future__ import annotations
@@ -25,10 +34,11 @@ from ._kinds import (
     AngularContactBall,
     CylindricalRoller,
     DeepGrooveBall,
+    SphericalRoller,
     TaperedRoller,
 )
 
-__all__ = ["CATALOGUE", "catalogue"]
+__all__ = ["CATALOGUE", "catalogue", "estimated_rollers"]
 
 _IN = 0.0254
 _CWRU = ("Case Western Reserve University Bearing Data Center, bearing specifications "
@@ -36,6 +46,25 @@ _CWRU = ("Case Western Reserve University Bearing Data Center, bearing specifica
          "(C, C0, f0)")
 _EST = ("ISO 15 / ISO 355 boundary dimensions; rolling elements estimated from them "
         "(representative, not a maker's data); no load ratings")
+
+_NREL = ("Nejad et al. 2016 (Wind Energy 19, 1089-1106) Table IX via github.com/gfsReboucas/"
+         "Drivetrain 4a88df3 @NREL_5MW/NREL_5MW.m: d, D, B, C, e (alpha = atan(e/1.5)); rollers "
+         "estimated (estimated_rollers); no C0")
+
+
+def estimated_rollers(bore, outer_diameter, width, rows: int = 1) -> dict:
+    """A roller set ESTIMATED from a roller bearing's boundary dimensions d, D, B (m), where
+    the maker's is not at hand: pitch diameter d_m = (D + d)/2, roller diameter
+    D_w = (D − d)/4 (half the ring section), per row Z = the whole part of 0.8 π d_m / D_w (the
+    cage's bars take a fifth of the pitch circle), effective length l = 0.7 B / ``rows`` (the
+    rings' shoulders, the rollers' end chamfers and, for two rows, the guide ring take the
+    rest). Returns ``pitch_diameter``, ``element_diameter``, ``elements``,
+    ``effective_length`` (m, -), the arguments of a roller kind."""
+    dm = 0.5 * (outer_diameter + bore)
+    D = 0.25 * (outer_diameter - bore)
+    return dict(pitch_diameter=dm, element_diameter=D,
+                elements=int(0.8 * math.pi * dm / D), effective_length=0.7 * width / rows)
+
 
 #: designation -> (kind, its arguments in SI, the source)
 CATALOGUE: dict[str, tuple[type, dict, str]] = {
@@ -57,12 +86,18 @@ CATALOGUE: dict[str, tuple[type, dict, str]] = {
         bore=0.025, outer_diameter=0.052, width=0.01625, elements=15, element_diameter=6.0e-3,
         pitch_diameter=0.039, effective_length=10.0e-3,
         contact_angle=math.atan(0.37 / 1.5)), _EST),
+    "231/750 CA": (SphericalRoller, dict(
+        bore=0.75, outer_diameter=1.22, width=0.365, **estimated_rollers(0.75, 1.22, 0.365, 2),
+        contact_angle=math.atan(0.28 / 1.5), dynamic_rating=16518e3), _NREL),
+    "240/710 ECA": (SphericalRoller, dict(
+        bore=0.71, outer_diameter=1.03, width=0.315, **estimated_rollers(0.71, 1.03, 0.315, 2),
+        contact_angle=math.atan(0.27 / 1.5), dynamic_rating=11164e3), _NREL),
 }
 
 
 def catalogue(designation: str, **changes) -> AbstractRollingBearing:
     """The embedded bearing ``designation`` (a key of :data:`CATALOGUE`: "6205", "6203",
-    "7205 B", "NU 205", "30205"), with ``changes`` to its arguments (a clearance, the ratings).
+    "7205 B", "NU 205", "30205", "231/750 CA", "240/710 ECA"), with ``changes`` to its arguments (a clearance, the ratings).
 
     Raises:
         ValueError: an unknown designation (one line listing the known ones); a change out of

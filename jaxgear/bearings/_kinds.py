@@ -36,6 +36,7 @@ __all__ = [
     "CylindricalRoller",
     "DeepGrooveBall",
     "LinearSpring",
+    "SphericalRoller",
     "TaperedRoller",
 ]
 
@@ -91,6 +92,9 @@ class AbstractRollingBearing(eqx.Module):
       (a cylindrical roller bearing without ribs, NU).
     - ``life_exponent``: p of ISO 281's L10 = (C/P)^p (3 balls, 10/3 rollers), ``None`` where
       the kind has no rating life.
+    - ``self_aligning``: the outer raceway is a sphere about the bearing's centre (a spherical
+      roller bearing): the rings tilt freely, no moment and no tilt stiffness (γ_x, γ_y not
+      carried).
 
     Methods: :meth:`load` (abstract; f(d), shape (5,)), :meth:`potential` (U(d), J, with
     f = ∇U), :meth:`stiffness` (K = ∂f/∂d by ``jax.jacfwd``, (5, 5)), :meth:`stiffness6` (the
@@ -103,6 +107,7 @@ class AbstractRollingBearing(eqx.Module):
     contact_exponent: ClassVar[float] = 1.5
     axial_load: ClassVar[str] = "both"
     life_exponent: ClassVar[float | None] = None
+    self_aligning: ClassVar[bool] = False
 
     @abc.abstractmethod
     def load(self, displacement) -> Float[Array, " 5"]:
@@ -125,15 +130,17 @@ class AbstractRollingBearing(eqx.Module):
     def carried(self) -> tuple[bool, ...]:
         """Which of the five DOFs the bearing resists (a DOF it does not is left at 0 by
         :func:`~jaxgear.bearings.solve_displacement`): all but u_z where ``axial_load``
-        is ``"none"``."""
-        return (True, True, self.axial_load != "none", True, True)
+        is ``"none"`` and but the tilts where the kind is ``self_aligning``."""
+        tilt = not self.self_aligning
+        return (True, True, self.axial_load != "none", tilt, tilt)
 
     def element_loads(self, displacement) -> Array:
         """Each rolling element's normal load Q_j (N) at d: (Z,) for balls, (Z, slices) for
         the slices of rollers. Refused by a kind without rolling elements."""
         raise ValueError(
             f"{type(self).__name__} has no rolling elements: allowed a rolling bearing kind "
-            "(DeepGrooveBall, AngularContactBall, CylindricalRoller, TaperedRoller)"
+            "(DeepGrooveBall, AngularContactBall, CylindricalRoller, TaperedRoller, "
+            "SphericalRoller)"
         )
 
     def contact_pressure(self, displacement) -> Array:
@@ -142,7 +149,8 @@ class AbstractRollingBearing(eqx.Module):
         kind without rolling elements."""
         raise ValueError(
             f"{type(self).__name__} has no rolling elements: allowed a rolling bearing kind "
-            "(DeepGrooveBall, AngularContactBall, CylindricalRoller, TaperedRoller)"
+            "(DeepGrooveBall, AngularContactBall, CylindricalRoller, TaperedRoller, "
+            "SphericalRoller)"
         )
 
     def equivalent_load(self, radial, axial) -> Array:
@@ -678,3 +686,77 @@ class TaperedRoller(_Roller):
         Fr, Fa = jnp.asarray(radial, float), jnp.abs(jnp.asarray(axial, float))
         e = 1.5 * jnp.tan(self.contact_angle)
         return jnp.where(Fa > e * Fr, 0.4 * Fr + 0.4 / jnp.tan(self.contact_angle) * Fa, Fr)
+
+
+class SphericalRoller(_Roller):
+    """A double-row spherical roller bearing: two rows of ``elements`` rollers each, at the
+    contact angles +α and −α, rolling on one spherical outer raceway, so that it is
+    self-aligning (``self_aligning``): it carries a radial load and an axial load both ways
+    and no moment (its tilt rows and columns of the stiffness are zero). Line contact per
+    roller: the barrel roller on its nearly conforming raceways is modelled as a straight
+    roller of the effective length l (Palmgren's line contact,
+    :func:`~jaxgear.bearings.line_contact_constant`), one line per roller (a tilt does not
+    load it unevenly: ``slices`` is 1). Roller j of row r (r = +1 for the row at +α, which
+    carries +z; −1 for the other), both rows at the azimuths ψ_j (Harris & Kotzalas)::
+
+        δ_jr = (δ_x cos ψ_j + δ_y sin ψ_j − P_d/2) cos α + r δ_z sin α
+        Q_jr = K_n max(δ_jr, 0)^(10/9),   f = Σ Q_jr (cos α cos ψ_j, cos α sin ψ_j, r sin α, 0, 0)
+
+    Attributes:
+        bore, outer_diameter, width: boundary dimensions d, D, B (m).
+        elements: the rollers per row Z (int >= 3; the bearing has 2Z). element_diameter: the
+            rollers' largest diameter D_w (m). pitch_diameter: d_m (m).
+        effective_length: l (m), the two rows side by side within the width: 2 l cos α <= B.
+        contact_angle: α (rad), 0 < α < π/4 (catalogues give e = 1.5 tan α, 0.15 to 0.45).
+        clearance: the radial internal clearance P_d (m), −D_w/100 <= P_d < D_w.
+        dynamic_rating, static_rating: C and C₀ (N) or ``None``.
+
+    Raises:
+        ValueError: any argument out of its range (one line naming it); ``slices`` not 1.
+    """
+
+    contact_angle: float = _real(0.17453292519943295)  # 10°
+    slices: int = eqx.field(static=True, default=1)
+
+    axial_load: ClassVar[str] = "both"
+    self_aligning: ClassVar[bool] = True
+
+    def __check_init__(self):
+        w = "SphericalRoller"
+        if self.slices != 1:
+            raise ValueError(f"{w}: slices = {self.slices!r} is out of range: allowed 1 (a "
+                             "self-aligning roller is loaded evenly along its length)")
+        self._check_roller(w)
+        check_real("contact_angle", self.contact_angle, "rad", lo=0.0, hi=0.25 * math.pi,
+                   lo_open=True, hi_open=True, where=f"{w} (0 to 45 deg)")
+        room = float(self.width) / (2.0 * math.cos(float(self.contact_angle)))
+        check_real("effective_length", self.effective_length, "m", lo=0.0, hi=room,
+                   lo_open=True, where=f"{w} (two rows side by side: at most width / (2 cos "
+                   "contact_angle))")
+
+    @property
+    def nominal_angle(self):
+        return self.contact_angle
+
+    def _geometry(self, displacement):
+        """(δ_jr (Z, 2), the rows ∂δ_jr/∂d (5, Z, 2)): column r = 0 the row at +α, 1 at −α."""
+        d = jnp.asarray(displacement)
+        psi = self.azimuths
+        c, s = jnp.cos(psi)[:, None], jnp.sin(psi)[:, None]
+        side = jnp.asarray([1.0, -1.0])[None, :]
+        ca, sa = jnp.cos(self.contact_angle), jnp.sin(self.contact_angle)
+        delta = (d[0] * c + d[1] * s - 0.5 * self.clearance) * ca + side * d[2] * sa
+        one = jnp.ones_like(delta)
+        rows = jnp.stack([ca * c * one, ca * s * one, side * sa * one, 0.0 * one, 0.0 * one])
+        return delta, rows
+
+    def element_loads(self, displacement):
+        """Each roller's load Q_jr (N), (Z, 2): column 0 the row at +α, 1 the row at −α."""
+        return super().element_loads(displacement)
+
+    def equivalent_load(self, radial, axial):
+        """ISO 281:2007, double-row roller bearing, α ≠ 0 (spherical): e = 1.5 tan α;
+        P = F_r + 0.45 cot α F_a for F_a/F_r <= e, else 0.67 F_r + 0.67 cot α F_a."""
+        Fr, Fa = jnp.asarray(radial, float), jnp.abs(jnp.asarray(axial, float))
+        t = jnp.tan(self.contact_angle)
+        return jnp.where(Fa > 1.5 * t * Fr, 0.67 * Fr + 0.67 / t * Fa, Fr + 0.45 / t * Fa)

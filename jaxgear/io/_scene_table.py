@@ -40,8 +40,8 @@ optional ``damping_matrix_SI`` (6×6): SI per DOF pair, DOF order ux, uy, uz, rx
 docs/bearings.md) is ``{ position_mm, catalogue = "6205" }`` (an embedded bearing, optionally
 ``clearance_um``) or ``{ position_mm, kind = "deep_groove_ball", bore_mm, outer_diameter_mm,
 width_mm, balls, ball_diameter_mm, pitch_diameter_mm, clearance_um, ... }`` (:data:`ROLLING_KINDS`;
-rollers: ``rollers``, ``roller_diameter_mm``, ``roller_length_mm``; angular contact and tapered:
-``contact_angle_deg``); its stiffness is the one at the operating point of the case's
+rollers: ``rollers``, ``roller_diameter_mm``, ``roller_length_mm``; angular contact, tapered and
+spherical: ``contact_angle_deg``; a spherical roller bearing's ``rollers`` are per row, of two); its stiffness is the one at the operating point of the case's
 quasi-static solve. For its life, ``dynamic_rating_kN`` and ``static_rating_kN`` (the maker's
 C and C0, where the catalogue entry has none; a deep groove ball bearing also ``iso281_f0``,
 the catalogue's f0 of ISO 281's X and Y table); ``fatigue_limit_kN``, the maker's fatigue load
@@ -64,6 +64,7 @@ from ..bearings import (
     AngularContactBall,
     CylindricalRoller,
     DeepGrooveBall,
+    SphericalRoller,
     TaperedRoller,
     catalogue,
 )
@@ -106,6 +107,7 @@ ROLLING_KINDS = {
     "angular_contact_ball": AngularContactBall,
     "cylindrical_roller": CylindricalRoller,
     "tapered_roller": TaperedRoller,
+    "spherical_roller": SphericalRoller,
 }
 #: each kind's keys beyond the boundary dimensions (bore, outer diameter, width) and clearance
 _ELEMENT_KEYS = {
@@ -116,6 +118,9 @@ _ELEMENT_KEYS = {
                            "pitch_diameter_mm"),
     "tapered_roller": ("rollers", "roller_diameter_mm", "roller_length_mm", "pitch_diameter_mm",
                        "contact_angle_deg"),
+    # rollers per row (two rows)
+    "spherical_roller": ("rollers", "roller_diameter_mm", "roller_length_mm", "pitch_diameter_mm",
+                         "contact_angle_deg"),
 }
 _BALL_OPTIONAL = ("inner_conformity", "outer_conformity")
 _GEOMETRY = ("bore_mm", "outer_diameter_mm", "width_mm", "balls", "ball_diameter_mm",
@@ -308,6 +313,15 @@ class BearingSection(Section):
         if word == "roller" and not self.roller_length_mm <= self.width_mm:
             raise sc.fail(where, "roller_length_mm", f"out of range, allowed <= width_mm = "
                           f"{self.width_mm:g}", self.roller_length_mm)
+        if self.kind == "spherical_roller":
+            if not self.contact_angle_deg < 45.0:
+                raise sc.fail(where, "contact_angle_deg", "out of range, allowed (0, 45) deg "
+                              "(a spherical roller bearing's rows)", self.contact_angle_deg)
+            room = self.width_mm / (2.0 * math.cos(math.radians(self.contact_angle_deg)))
+            if not self.roller_length_mm <= room:
+                raise sc.fail(where, "roller_length_mm", f"out of range, allowed <= width_mm / "
+                              f"(2 cos contact_angle_deg) = {room:.6g} (two rows side by side "
+                              "within the width)", self.roller_length_mm)
         if self.clearance_um is not None:
             conformity = sum(getattr(self, k) or 0.52 for k in _BALL_OPTIONAL) - 1.0
             top = size * 1e3
