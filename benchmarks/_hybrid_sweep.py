@@ -105,10 +105,15 @@ def _baseline_run(
         throw=False,
     )
 
+    def _vectors(cells):  # the model's cell vectors on all n coordinates, (c, n): beyond the
+        # path each corner cell's less its part along the free drive rotation (the scene's
+        # cell_row; on the theoretical path its cell_vectors)
+        return scene.cell_row((cells,), (jnp.zeros_like(cells.s),)).V
+
     def mean_mesh(k):  # K̄_m of mesh period k: the wheel has turned k pitches under the mesh
         def add(Km, p):
             cells = mesh.cells(theta[p] + k * mesh.mesh_period_angle)
-            V = scene.cell_vectors(cells).reshape(-1, n)
+            V = _vectors(cells)
             kl = jnp.where(cells.mask, cells.stiffness * cells.length, 0.0).reshape(-1)
             w = (qs.line_load[p].reshape(-1) > 0).astype(dtype)
             return Km + V.T @ ((kl * w)[:, None] * V), None
@@ -134,7 +139,7 @@ def _baseline_run(
 
         cells, e_th, d0 = separation(mesh, mods, theta[0] + (i + 1) * dth)
         d0 = jnp.where(cells.mask, d0 + (e_ref - e_th), 0.0)
-        V = scene.cell_vectors(cells).reshape(-1, n)  # all c cells on all n coordinates
+        V = _vectors(cells)  # all c cells on all n coordinates
         k = cells.stiffness.reshape(-1)
         ln = cells.length.reshape(-1)
         m = cells.mask.reshape(-1)

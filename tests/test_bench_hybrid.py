@@ -72,8 +72,13 @@ def test_bench_hybrid_quick(tmp_path, monkeypatch):
     assert (
         len(sc["window"]) == 2 and sc["window"][1]["window_dofs"] > sc["window"][0]["window_dofs"]
     )
-    # a wider window than needed changes nothing but the cost
-    assert all(r["te_rel_diff_to_default_window"] <= 1e-9 for r in sc["window"])
+    # a wider window than needed changes nothing but the cost on the theoretical path; beyond
+    # it (the case's default) the corner cells' free-drive part comes off along the window's
+    # inertias (docs/extended-contact.md, "Open"): 4 more rim stations move the TE by 8.9e-4
+    # of its peak (measured, session 60), 8 more by 1.9e-3; with extended_contact = false
+    # both 2e-16
+    assert sc["window"][0]["te_rel_diff_to_default_window"] == 0.0
+    assert all(r["te_rel_diff_to_default_window"] <= 3e-3 for r in sc["window"])
     assert [r["slices"] for r in sc["cells"]] == [8, 16]
     assert "skipped" in sc["body_size"]  # the comparison case is the case itself
     assert not list(out_dir.glob(".tmp-*"))
