@@ -1,7 +1,8 @@
 """Records tests/data/gearbox/coupled_sweep_reference.json: the coupled NREL 5 MW gearbox's
 sweep by jaxgear.gearbox.gearbox_speed_sweep as it was before the gearbox became a
 jaxgear.dynamics model (run from that commit; tests/test_gearbox_model.py compares the model's
-speed_sweep with it to 1e-9). Explicit plan: a few speeds, few steps and blocks (cheap).
+speed_sweep with it to 1e-9), re-recorded after deliberate changes of the physics (the test's
+docstring says which). Explicit plan: a few speeds, few steps and blocks (cheap).
 
     PYTHONPATH=$PWD python tests/data/gearbox/record_coupled_sweep.py
 """
