@@ -125,3 +125,22 @@ def one_way_seats(names) -> tuple[int, ...]:
     box whose pinion bearings sit on seats 0, 1 and the gear's on 2, 3 (the bearing at z = 0 on
     the first of each)."""
     return tuple((0 if "z=0mm" in n else 1) + (2 if n.startswith("gear") else 0) for n in names)
+
+
+def two_seat_housing(modes: int = 3, seed: int = 3):
+    """A small synthetic condensed housing: two seats at z = ∓50 mm (``front``, ``back``) and
+    ``modes`` modal coordinates, its stiffness a random symmetric positive definite matrix
+    (1e9 scale), unit mass, 1e-3 stiffness-proportional damping; returns (housing, its
+    coordinate count)."""
+    import numpy as np
+
+    from jaxgear.scenes import Housing
+
+    rng = np.random.default_rng(seed)
+    h = 6 * 2 + modes
+    a = rng.standard_normal((h, h))
+    K = 1e9 * (a @ a.T + h * np.eye(h))
+    housing = Housing(K=K, M=np.eye(h), C=1e-3 * K, seat_positions=(
+        (0.0, 0.0, -0.05), (0.0, 0.0, 0.05)), seat_names=("front", "back"),
+        rotation=((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0)))
+    return housing, h

@@ -378,17 +378,13 @@ def test_a_housing_holds_the_bearings_at_their_operating_point():
     operating point is the grounded scene's (the housing rigid there), and the housed scene's
     bearing part holds each bearing's stiffness at that point on its shaft node, coupled to its
     seat."""
+    from _housing import two_seat_housing
+
     from jaxgear.io._case_model import _lumped3d_pair
-    from jaxgear.scenes import Housing, bearing_dofs
+    from jaxgear.scenes import bearing_dofs
 
     case = jio.parse_case(_example())
-    rng = np.random.default_rng(3)
-    h = 6 * 2 + 3
-    a = rng.standard_normal((h, h))
-    K = 1e9 * (a @ a.T + h * np.eye(h))
-    housing = Housing(K=K, M=np.eye(h), C=1e-3 * K, seat_positions=(
-        (0.0, 0.0, -0.05), (0.0, 0.0, 0.05)), seat_names=("front", "back"),
-        rotation=((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0)))
+    housing, h = two_seat_housing()
     scene = _lumped3d_pair(case, case.scene, case.mesh_model(slices=2), housing=housing)
     point = operating_point(case)
     parts = scene.structure.part_names

@@ -212,16 +212,12 @@ def test_train_dynamics_take_the_bearings_at_their_operating_point(train_point):
     stiffness at the operating point on its shaft node (1e-12), on the ground and in a housing
     (a small synthetic one: two seats, three modes; the operating point the grounded scene's,
     each bearing joined to a seat)."""
-    from jaxgear.scenes import Housing, bearing_dofs
+    from _housing import two_seat_housing
+
+    from jaxgear.scenes import bearing_dofs
 
     _, case, point, _ = train_point
-    rng = np.random.default_rng(3)
-    h = 6 * 2 + 3
-    a = rng.standard_normal((h, h))
-    K = 1e9 * (a @ a.T + h * np.eye(h))
-    housing = Housing(K=K, M=np.eye(h), C=1e-3 * K, seat_positions=(
-        (0.0, 0.0, -0.05), (0.0, 0.0, 0.05)), seat_names=("front", "back"),
-        rotation=((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0)))
+    housing, h = two_seat_housing()
     extra = case.train_spec().wrench_z
     for scene, seats in ((case.lumped_train(), 0), (case.lumped_train(housing=housing), h)):
         parts = scene.structure.part_names

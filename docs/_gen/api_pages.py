@@ -136,8 +136,8 @@ SECTIONS = {
     "jaxgear.io": (
         ("Loading a case", ("_load", "_case_file", "_case", "_names", "_plausibility")),
         ("A sizing spec and its candidates' case files", ("_sizing_spec",)),
-        ("From a case to models", ("_case_model", "_scene_spec", "_scene_table", "_problem",
-                                   "_acoustic_path",
+        ("From a case to models", ("_case_model", "_operating", "_scene_spec", "_scene_table",
+                                   "_problem", "_acoustic_path",
                                    "_planetary_spec", "_train_file", "_gearbox_file")),
         ("Tables of a case file", ("_sections", "_deviations_table", "_modifications_table",
                                    "_optimise_table", "_rating*", "_robust_table",

@@ -31,6 +31,7 @@ from ._sections import Section, number, number_list, one_of
 
 __all__ = [
     "DEVIATION_KINDS",
+    "DeviationSpan",
     "DeviationsSection",
     "GearDeviationsSection",
     "deviation_kinds_from_names",
@@ -93,26 +94,33 @@ class GearDeviationsSection(Section):
         return self.table()
 
 
-class DeviationsSection(Section):
-    """``[deviations]`` of a pair (:func:`parse_deviations`): the ISO 1328-1 grade, the draw's
-    seed, the quasi-static span (``revolutions``: pinion revolutions, an integer, or "hunting",
-    held as ``None``) and its positions per pitch, the gears' tables. The span's size and the
-    grade's scope follow the pair's teeth (:func:`parse_deviations`)."""
+class DeviationSpan(Section):
+    """The keys every ``[deviations]`` table shares (a pair's, :class:`DeviationsSection`; a
+    planetary stage's): the ISO 1328-1 grade, the draw's seed and the quasi-static span
+    (``revolutions``: an integer, or "hunting", held as ``None``)."""
 
     WHERE: ClassVar[str] = "deviations"
     grade: number("[1, 11]", integer=True) | None = None
     seed: number(">= 0", integer=True) = 0
     revolutions: number(">= 1", integer=True) | None = pydantic.Field(
         None, json_schema_extra={"default": "'hunting'"})
-    positions_per_pitch: number(">= 2", integer=True) = 16
-    pinion: GearDeviationsSection | None = None
-    gear: GearDeviationsSection | None = None
 
     @pydantic.model_validator(mode="before")
     @classmethod
     def _hunting(cls, data):
         """"hunting" revolutions as None; another string refused in the table's words."""
         return hunting_revolutions(data)
+
+
+class DeviationsSection(DeviationSpan):
+    """``[deviations]`` of a pair (:func:`parse_deviations`): the span's keys
+    (:class:`DeviationSpan`; ``revolutions`` in pinion revolutions), its positions per pitch
+    and the gears' tables. The span's size and the grade's scope follow the pair's teeth
+    (:func:`parse_deviations`)."""
+
+    positions_per_pitch: number(">= 2", integer=True) = 16
+    pinion: GearDeviationsSection | None = None
+    gear: GearDeviationsSection | None = None
 
 
 def hunting_revolutions(data):

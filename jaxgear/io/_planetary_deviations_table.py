@@ -19,9 +19,9 @@ from fem_prep import schema as sc
 
 from .._deviations import ISO1328_SCOPE, GearDeviations, iso1328_tolerances, sample_gear_deviations
 from ..planetary import PlanetaryDeviations, PlanetFlanks, planetary_hunting_periods
-from ._deviations_table import GearDeviationsSection, hunting_revolutions, member_values
+from ._deviations_table import DeviationSpan, GearDeviationsSection, member_values
 from ._modifications_table import _depth_range
-from ._sections import Section, named_keys, number
+from ._sections import named_keys, number
 
 __all__ = ["MAX_STAGE_POSITIONS", "StageDeviationsSection", "parse_planetary_deviations"]
 
@@ -57,18 +57,13 @@ class PlanetDeviations(MemberDeviations):
     ring_flank: MemberDeviations | None = None
 
 
-class StageDeviationsSection(Section):
-    """``[deviations]`` of a planetary stage (module docstring): the grade, the seed, the
-    span (``revolutions``: an integer, or "hunting", as ``None``) and its positions per
-    pitch, the members' tables (the planets' named ``planet_1`` … ``planet_N``, the
-    context's ``planets``: :attr:`planets`). The span's size and the grade's scope follow the
-    stage's teeth (:func:`parse_planetary_deviations`)."""
+class StageDeviationsSection(DeviationSpan):
+    """``[deviations]`` of a planetary stage (module docstring): the span's keys
+    (:class:`jaxgear.io._deviations_table.DeviationSpan`; ``revolutions`` in sun turns) and
+    its positions per pitch, the members' tables (the planets' named ``planet_1`` …
+    ``planet_N``, the context's ``planets``: :attr:`planets`). The span's size and the
+    grade's scope follow the stage's teeth (:func:`parse_planetary_deviations`)."""
 
-    WHERE: ClassVar[str] = "deviations"
-    grade: number("[1, 11]", integer=True) | None = None
-    seed: number(">= 0", integer=True) = 0
-    revolutions: number(">= 1", integer=True) | None = pydantic.Field(
-        None, json_schema_extra={"default": "'hunting'"})
     positions_per_pitch: number(">= 2", integer=True) = 4
     sun: MemberDeviations | None = None
     ring: MemberDeviations | None = None
@@ -77,13 +72,12 @@ class StageDeviationsSection(Section):
     @pydantic.model_validator(mode="before")
     @classmethod
     def _tables(cls, data, info):
-        """The planets' tables (``planet_1`` … ``planet_N``) moved to :attr:`planets`;
-        "hunting" revolutions as None, another string in the table's words."""
+        """The planets' tables (``planet_1`` … ``planet_N``) moved to :attr:`planets` (the
+        span's "hunting": :class:`~jaxgear.io._deviations_table.DeviationSpan`)."""
         planets = (info.context or {}).get("planets", ())
         if not isinstance(data, dict):
             return data
-        data = named_keys(data, planets, "deviations", cls.file_keys(), into="planets")
-        return hunting_revolutions(data)
+        return named_keys(data, planets, "deviations", cls.file_keys(), into="planets")
 
     @classmethod
     def file_keys(cls, context: dict | None = None) -> tuple[str, ...]:
