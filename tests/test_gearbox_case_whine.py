@@ -59,6 +59,16 @@ def test_whine_table_parses_and_the_chain_is_the_hand_built_one():
     np.testing.assert_allclose(got, ref, rtol=1e-10)
 
 
+def test_the_whine_size_before_work_is_the_gearboxs():
+    """``jaxgear run``'s size check before work (:func:`jaxgear.io.check_case_whine`, printed
+    beside the housing's) takes a gearbox's size from its stages: its torus grid is the
+    positions per period to the power of its two stages' mesh-frequency groups, 24² = 576
+    static points, at its 2 speeds. (It used to read the case's pair-form mesh orders and
+    stop ``jaxgear run`` with "zip() argument 2 is shorter than argument 1".)"""
+    size = jio.check_case_whine(jio.load_case(str(CASE)))
+    assert (size.speeds, size.static_points) == (2, 24 * 24)
+
+
 def _with(text, tmp_path):
     for f in DATA.glob("two-pair-whine-stage*.toml"):
         (tmp_path / f.name).write_text(f.read_text())

@@ -147,7 +147,7 @@ def check_case_whine(case: Case) -> WhineSize | None:
     (:func:`~jaxgear.dynamics.group_rows`), and its size (:func:`~jaxgear.dynamics.whine_size`,
     the mesh coordinates bounded by :func:`_mesh_coordinates`) within
     :func:`~jaxgear.dynamics.check_whine_size`'s limits. Returns the size (None without
-    ``[whine]``, or for a gearbox, whose ``[whine]`` its file checks).
+    ``[whine]``; the size by the form: :func:`whine_size_of`).
 
     Raises:
         SchemaError: one line naming the ``[whine]`` key, its value and what is allowed.
@@ -164,6 +164,20 @@ def check_case_whine(case: Case) -> WhineSize | None:
             kind, "this case's model")
         raise sc.fail("whine", "method", f"not for {what} ({kind.__name__}): allowed {allowed}",
                       name)
+    return whine_size_of(case.form, case, inputs, kind)
+
+
+@functools.singledispatch
+def whine_size_of(form, case: Case, inputs, kind) -> WhineSize:
+    """The size of a case's ``[whine]`` (``inputs``, :func:`whine_of`'s) on its model ``kind``
+    before any work (:func:`check_case_whine`), dispatched on the case's form: a pair's, a
+    train's or a planetary stage's from its meshes (here); a gearbox's from its stages
+    (:mod:`jaxgear.io._gearbox_file`).
+
+    Raises:
+        SchemaError: one line naming the ``[whine]`` key, its value and what is allowed.
+    """
+    method = inputs.method
     H, P = int(method.harmonics), inputs.positions
     r = _mesh_coordinates(case, kind)
     try:

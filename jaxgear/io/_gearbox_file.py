@@ -78,6 +78,7 @@ from ..dynamics import (
     MAX_WHINE_GRID,
     AbstractStage,
     QuasiPeriodicBalance,
+    WhineSize,
     check_whine_size,
     whine_size,
 )
@@ -100,7 +101,7 @@ from ..scenes import (
     housing_band_hz,
 )
 from ._case import Case, CaseForm, PairForm
-from ._case_model import PAIR_SCENES, _case_model, dynamic_model_kind
+from ._case_model import PAIR_SCENES, _case_model, dynamic_model_kind, whine_size_of
 from ._housing_table import (
     HousedAxis,
     HousingBody,
@@ -377,6 +378,12 @@ def _(form: GearboxForm, case: Case):
     return GearboxModel
 
 
+@whine_size_of.register
+def _(form: GearboxForm, case: Case, inputs, kind) -> WhineSize:
+    """A gearbox's ``[whine]`` size, from its stages (checked at load already)."""
+    return _check_whine_size(inputs, form.stages)
+
+
 def _in_housing(stage: GearboxStage) -> bool:
     """A stage seated in its gearbox's ``[housing]``: a lumped 3D stage, a planetary stage
     with ``housing_seat``."""
@@ -570,12 +577,12 @@ def _whine(table, n_stages: int) -> WhineInputs:
     return inputs
 
 
-def _check_whine_size(inputs: WhineInputs, stages) -> None:
+def _check_whine_size(inputs: WhineInputs, stages) -> WhineSize:
     """The gearbox whine's size before any work (:func:`jaxgear.dynamics.whine_size`: G = the
     stages' mesh-frequency groups, the torus grid of their periods, the coordinates its meshes
     span bounded per stage: 12 for a lumped 3D pair, 3 per member (sun, carrier, ring,
     planets) for a planetary stage, 2 for a torsional pair), refused in one line as a pair's
-    (:func:`jaxgear.dynamics.check_whine_size`)."""
+    (:func:`jaxgear.dynamics.check_whine_size`); returns the size."""
     r = 0
     for s in stages:
         if isinstance(s.torsional, PlanetaryGearboxStage):
@@ -591,6 +598,7 @@ def _check_whine_size(inputs: WhineInputs, stages) -> None:
                           list(P) if isinstance(P, tuple) else P))
     except ValueError as err:
         raise sc.SchemaError(str(err)) from None
+    return size
 
 
 def parse_gearbox(data: dict, default_name: str, base: str | None, load_case) -> Case:
