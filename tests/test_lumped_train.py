@@ -280,6 +280,18 @@ def test_lumped_train_refusals_are_one_line():
         d["scene"] = {"model": "torsional"}
         d["operating"]["wrenches"] = [{"shaft": "intermediate", "position_mm": 10.0}]
 
+    def short_force(d):
+        d["operating"]["wrenches"] = [{"shaft": "intermediate", "position_mm": 10.0},
+                                      {"shaft": "input", "position_mm": 10.0,
+                                       "force_N": [1.0, 2.0]}]
+
+    def beyond_the_shaft(d):
+        d["operating"]["wrenches"] = [{"shaft": "intermediate", "position_mm": 1e4}]
+
+    def wrench_key(d):
+        d["operating"]["wrenches"] = [{"shaft": "intermediate", "position_mm": 1.0,
+                                       "torque_Nm": 3.0}]
+
     def missing_shaft(d):
         d["scene"]["shafts"] = d["scene"]["shafts"][:2]
 
@@ -296,6 +308,9 @@ def test_lumped_train_refusals_are_one_line():
         (clash, r"^\[meshes\[0\]\] input → hst-wheel: both hands are 'left': input \(by "),
         (torque_moment, r"^\[operating\.wrenches\[0\]\] moment_Nm = \[0, 0, 5\]: z must be 0"),
         (torsional_wrench, r"^\[operating\] wrenches: needs \[scene\] model = 'lumped3d'"),
+        (short_force, r"^\[operating\.wrenches\[1\]\] force_N = \[1, 2\]: must be an array"),
+        (beyond_the_shaft, r"^\[operating\.wrenches\[0\]\] position_mm = 10000: out of range"),
+        (wrench_key, r"^\[operating\.wrenches\[0\]\] unknown key 'torque_Nm'"),
         (missing_shaft, r"^\[\[scene\.shafts\]\]: no entry for shaft output"),
         (missing_gear, r"^\[scene\.shafts\.intermediate\.gear_positions_mm\] lst-pinion"),
         (unknown_shaft, r"^\[scene\.shafts\[2\]\] shaft = 'spindle': no such shaft, allowed"),

@@ -97,11 +97,12 @@ from .._geometry import GearPair
 from .._internal import InternalGearPair
 from .._util import closest_circles
 from ..scenes import train_hands
+from ._acoustics_table import parse_case_acoustics
 from ._bearings_table import read_bearings
 from ._case import Case, TrainForm, mesh_teeth_per_turn, teeth_span
 from ._case_file import (
-    MESH_TABLE_KEYS,
     CENTER_DISTANCE_TOL_MM,
+    MESH_TABLE_KEYS,
     MODULE_RANGE_MM,
     PRESSURE_ANGLE_RANGE_DEG,
     MaterialSection,
@@ -116,6 +117,12 @@ from ._case_file import (
 from ._housing_table import check_housing_band, stage_housing_spec
 from ._lubricant_table import read_lubricant
 from ._modifications_table import ModificationsSection
+from ._optimise_table import (
+    OPTIMISE_DEFAULTS,
+    check_acoustic_tables,
+    check_train_design,
+    parse_optimise,
+)
 from ._planetary_deviations_table import parse_planetary_deviations
 from ._planetary_spec import InternalMeshForm
 from ._planetary_table import (
@@ -132,15 +139,8 @@ from ._rating_table import (
     check_train_rating,
     older_ring_cutter,
 )
-from ._sections import Section, Text, by_sign, number
+from ._sections import Section, Text, by_sign, in_range, number, number_list
 from ._train_scene import check_table_size, shaft_of_table, train_scene
-from ._acoustics_table import parse_case_acoustics
-from ._optimise_table import (
-    OPTIMISE_DEFAULTS,
-    check_acoustic_tables,
-    check_train_design,
-    parse_optimise,
-)
 from ._whine_table import (
     WhineSection,
     highest_order_frequency,
@@ -169,7 +169,21 @@ _TOP_KEYS = {
     "acoustics",  # the housing's radiated sound (jaxgear/io/_acoustics_table.py)
     "optimise",  # jaxgear optimise on the housed train's noise (jaxgear/io/_optimise_table.py)
 }
-_WRENCH_KEYS = {"shaft", "position_mm", "force_N", "moment_Nm"}
+#: a wrench's force or moment: (x, y, z) in the fixed frame
+_WRENCH_VECTOR = number_list("[-1e+09, 1e+09]", length=3)
+
+
+class WrenchEntry(Section):
+    """An ``[[operating.wrenches]]`` entry (lumped 3D): a force (N) and a tilting moment (N·m)
+    on a shaft's node at ``position_mm`` along it, each (x, y, z) in the fixed frame, the
+    moment's z 0 (a torque about the shaft axis is a load). The shaft's name, the position's
+    range and the moment's z are checked with the entry's index (:func:`_wrenches`)."""
+
+    WHERE: ClassVar[str] = "operating.wrenches[]"
+    shaft: Text
+    position_mm: number(">= 0")
+    force_N: _WRENCH_VECTOR = pydantic.Field(default_factory=lambda: [0.0, 0.0, 0.0])
+    moment_Nm: _WRENCH_VECTOR = pydantic.Field(default_factory=lambda: [0.0, 0.0, 0.0])
 
 
 class LoadEntry(Section):
@@ -186,7 +200,7 @@ class TrainOperating(OperatingSection):
     shafts: :func:`_wrenches`)."""
 
     loads: list[LoadEntry] = pydantic.Field(default_factory=list)
-    wrenches: Any = None
+    wrenches: list[WrenchEntry] = pydantic.Field(default_factory=list)
 
 
 class PlanetaryOperating(TrainOperating):
@@ -347,45 +361,26 @@ def _modifications(table: Any, names: list[str], modules: list[float]) -> tuple:
     return tuple(section.member(n, module) for n, module in zip(names, modules, strict=True))
 
 
-def _wrenches(op: dict, shaft_names: list, specs) -> tuple:
-    """``[[operating.wrenches]]``: ((shaft, z m, force N (3,), moment N·m (3,)), ...) at the
-    case's input torque; lumped 3D only, the moment about the shaft axis 0."""
-    v = op.get("wrenches", [])
-    if not v:
+def _wrenches(wrenches: list[WrenchEntry], shaft_names: list, specs) -> tuple:
+    """``[[operating.wrenches]]`` (:class:`WrenchEntry`): ((shaft, z m, force N (3,), moment
+    N·m (3,)), ...) at the case's input torque; lumped 3D only, each on a shaft of the train
+    and within its length."""
+    if not wrenches:
         return ()
     if specs is None:
         raise sc.fail(
             "operating", "wrenches", "needs [scene] model = 'lumped3d' (forces on shaft nodes)"
         )
-    if not isinstance(v, list) or not all(isinstance(t, dict) for t in v):
-        raise sc.fail("operating", "wrenches", "must be an array of tables", v)
     out = []
-    for i, t in enumerate(v):
+    for i, t in enumerate(wrenches):
         where = f"operating.wrenches[{i}]"
-        sc.check_keys(t, _WRENCH_KEYS, where)
-        _, s = shaft_of_table(t, where, shaft_names)
+        _, s = shaft_of_table({"shaft": t.shaft}, where, shaft_names)
         length_mm = specs[s].length * 1e3
-        z = sc.number(t, "position_mm", where, allowed=f"[0, {length_mm:.6g}]") * 1e-3
-        vecs = []
-        for key in ("force_N", "moment_Nm"):
-            x = t.get(key, [0.0, 0.0, 0.0])
-            if (
-                not isinstance(x, list)
-                or len(x) != 3
-                or any(isinstance(c, bool) or not isinstance(c, (int, float)) for c in x)
-                or not all(math.isfinite(c) and abs(c) <= 1e9 for c in x)
-            ):
-                raise sc.fail(where, key, "must be 3 numbers (x, y, z; fixed frame), |.| <= 1e9", x)
-            vecs.append(tuple(float(c) for c in x))
-        if vecs[1][2] != 0.0:
-            raise sc.fail(
-                where,
-                "moment_Nm",
-                "z must be 0 (a torque about the shaft axis is a load: [[operating.loads]] or "
-                "the balancing output)",
-                t["moment_Nm"],
-            )
-        out.append((s, z, vecs[0], vecs[1]))
+        z = in_range(where, "position_mm", t.position_mm, f"[0, {length_mm:.6g}]") * 1e-3
+        if t.moment_Nm[2] != 0.0:
+            raise sc.fail(where, "moment_Nm", "z must be 0 (a torque about the shaft axis is a "
+                          "load: [[operating.loads]] or the balancing output)", t.moment_Nm)
+        out.append((s, z, tuple(t.force_N), tuple(t.moment_Nm)))
     return tuple(out)
 
 
@@ -682,7 +677,7 @@ def parse_train(data: dict, default_name: str = "train", base_dir: str | None = 
         if "scene" not in data
         else train_scene(data["scene"], names, shafts, shaft_list, base_dir)
     )
-    wrenches = _wrenches(data["operating"], shaft_list, None if scene is None else scene.shafts)
+    wrenches = _wrenches(op.wrenches, shaft_list, None if scene is None else scene.shafts)
     teeth = mesh_teeth_per_turn(pairs, links, shafts)
     housing = case_housing(data, scene, base_dir, (E, nu, rho), pair=False, teeth=teeth,
                            span=teeth_span(teeth),
