@@ -299,7 +299,7 @@ _last_family = [None]
 # The process's memory maps above which a new family releases the compiled programs (the
 # kernel's vm.max_map_count is 65530 on the CI machine); $JAXGEAR_TEST_RELEASE_MAPS changes it
 # (0: release at every new family).
-RELEASE_MAPS = int(os.environ.get("JAXGEAR_TEST_RELEASE_MAPS", "20000"))
+RELEASE_MAPS = int(os.environ.get("JAXGEAR_TEST_RELEASE_MAPS", "30000"))
 
 
 def _memory_maps() -> int:
