@@ -23,27 +23,16 @@ import math
 import tomllib
 from pathlib import Path
 
-import equinox as eqx
 import jax.numpy as jnp
 import numpy as np
 import pytest
-from test_bearings import refused_in_one_line, sjovall
+from test_bearings import _element_loads, _load, refused_in_one_line, sjovall
 
 import jaxgear.bearings as jb
 import jaxgear.io as jio
 
 ROOT = Path(__file__).resolve().parents[1]
 ALPHA = math.radians(12.0)
-
-
-@eqx.filter_jit
-def _load(bearing, d):
-    return bearing.load(d)
-
-
-@eqx.filter_jit
-def _element_loads(bearing, d):
-    return bearing.element_loads(d)
 
 
 def many(**kw):

@@ -12,6 +12,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from test_bearing_scenes import _working_pressure_angle
 
 import jaxgear.io as jio
 from jaxgear import bearings as jb
@@ -30,20 +31,6 @@ def _cheap(data: dict) -> dict:
     """A case's data at the cost of a default test: 2 slices, 8 positions per pitch."""
     data["mesh"].update(slices=2, positions_per_pitch=8)
     return data
-
-
-def _working_pressure_angle(alpha, x_sum, z_sum):
-    """α_w of a spur mesh without backlash: inv α_w = inv α + 2 tan α (x1 + x2)/(z1 + z2), by
-    bisection (written here, not the package's)."""
-    def inv(a):
-        return math.tan(a) - a
-
-    target = inv(alpha) + 2.0 * math.tan(alpha) * x_sum / z_sum
-    lo, hi = 0.0, 1.2
-    for _ in range(200):
-        mid = 0.5 * (lo + hi)
-        lo, hi = (mid, hi) if inv(mid) < target else (lo, mid)
-    return 0.5 * (lo + hi)
 
 
 def _hand_shaft_forces(data: dict) -> dict:
