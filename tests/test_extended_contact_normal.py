@@ -576,7 +576,6 @@ def test_a_pairs_rolling_closes_no_corner_in_any_scene_kind():
             js.TorsionalPair(mesh).cell_vectors(cells),
             js.TorsionalPair(mesh).cell_row((cells,), zero).V,
             dyn.cell_row((cells,), zero).V,
-            dyn.stage_cell_row((cells,), zero).V,
             lumped.cell_row((cells,), zero).V,
             train.cell_row(tc, tuple(jnp.zeros_like(c.s) for c in tc)).V,
             jnp.concatenate([c.mask.reshape(-1) for c in tc]),
@@ -584,7 +583,7 @@ def test_a_pairs_rolling_closes_no_corner_in_any_scene_kind():
 
     corners = 0
     for theta in np.linspace(0.0, float(mesh.mesh_period_angle), 16, endpoint=False) + 1e-4:
-        cells, exact, torsional, dynamic, stage, lumped_v, train_v, train_mask = rows(
+        cells, exact, torsional, dynamic, lumped_v, train_v, train_mask = rows(
             jnp.asarray(theta)
         )
         s, mask = np.asarray(cells.s), np.asarray(cells.mask)
@@ -597,7 +596,6 @@ def test_a_pairs_rolling_closes_no_corner_in_any_scene_kind():
         for V, m, roll in (
             (torsional, mask, pair_roll),
             (dynamic, mask, np.r_[0.0, pair_roll, 0.0]),
-            (stage, mask, np.r_[0.0, pair_roll, 0.0]),
             (lumped_v, mask, lumped_roll),
             (train_v, train_mask, train_roll),
         ):

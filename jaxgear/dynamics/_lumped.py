@@ -72,7 +72,7 @@ class DynamicModel(AbstractDynamicModel, AbstractStage):
     object that :func:`~jaxgear.dynamics.simulate` runs alone is the object a
     :class:`jaxgear.gearbox.GearboxTorsional` takes. The scene kind gives the part of the
     contract on its coordinates (:attr:`~jaxgear.scenes.AssembledScene.torque_dofs`, the
-    shafts' joints; ``stage_senses``, ``stage_coordinates``, ``stage_cell_row``); the model
+    shafts' joints; ``stage_senses``, ``stage_coordinates``); the model
     the rest once (the mean cell stiffness, the cells at a travel from its modifications'
     separations, the kinematics from the base radii). :func:`~jaxgear.dynamics.stage_model`
     builds a model for a gearbox only: without an operating torque, modes or damping (the
@@ -337,10 +337,10 @@ class DynamicModel(AbstractDynamicModel, AbstractStage):
     def cell_row(self, x):
         """The cells at the mesh travel ``x`` (m): pinion angle x / r_b1, the initial
         separations of the model's modifications (:func:`jaxgear.quasi_static`'s), on the
-        scene's coordinates (``stage_cell_row``) in the common sense."""
+        scene's coordinates (the scene's ``cell_row``) in the common sense."""
         mesh = self.scene.mesh
         cells, _, delta0 = separation(mesh, self._stage_mods(), x / mesh.base_radius_pinion)
-        row = self.scene.stage_cell_row((cells,), (delta0,))
+        row = self.scene.cell_row((cells,), (delta0,))
         return row._replace(V=row.V * self._senses()[None, :])
 
     def mesh_forces(self, forces):

@@ -183,11 +183,6 @@ class AssembledScene(Scene):
             out.append(f"{'/'.join(keys)} {dofs[i - first]}" if keys and width == 6 else f"q{i}")
         return tuple(out)
 
-    def stage_cell_row(self, cells: tuple[Cells, ...], delta0: tuple) -> CellRow:
-        """The cells as a gearbox stage takes them, on the scene's own coordinates (before
-        :meth:`stage_senses`): :meth:`cell_row` here."""
-        return self.cell_row(cells, delta0)
-
     @property
     def reaction_names(self) -> tuple:
         """Names of the bearing force components of :meth:`reaction_matrix`."""
