@@ -155,15 +155,6 @@ def test_stiffness_is_the_jacobian_and_the_rows_transformed(arrangement, end_pla
     np.testing.assert_allclose(Ks, Ks.T, rtol=0, atol=1e-10 * np.max(np.abs(Ks)))
 
 
-def row_resultants(p, d, end_play, arrangement, s):
-    """Each row's (radial force along x, axial force) from its rollers' loads, by hand:
-    Σ q cos α cos ψ and Σ q sin α (the row's own sign: + for the row carrying its own +z)."""
-    out = []
-    for z, f in rows_by_hand(p, d, end_play, arrangement, s):
-        out.append(f)
-    return out
-
-
 @pytest.mark.parametrize("arrangement", ["O", "X"])
 def test_radial_load_zero_end_play_half_loaded_raceways(arrangement):
     """Zero end play, F_r alone: the solve leaves δ_z and the tilts at 0; each row carries

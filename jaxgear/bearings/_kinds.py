@@ -142,7 +142,7 @@ class AbstractRollingBearing(eqx.Module):
         raise ValueError(
             f"{type(self).__name__} has no rolling elements: allowed a rolling bearing kind "
             "(DeepGrooveBall, AngularContactBall, CylindricalRoller, TaperedRoller, "
-            "SphericalRoller)"
+            "SphericalRoller, TaperedRollerPair)"
         )
 
     def contact_pressure(self, displacement) -> Array:
@@ -152,7 +152,7 @@ class AbstractRollingBearing(eqx.Module):
         raise ValueError(
             f"{type(self).__name__} has no rolling elements: allowed a rolling bearing kind "
             "(DeepGrooveBall, AngularContactBall, CylindricalRoller, TaperedRoller, "
-            "SphericalRoller)"
+            "SphericalRoller, TaperedRollerPair)"
         )
 
     def equivalent_load(self, radial, axial) -> Array:
@@ -969,6 +969,14 @@ class TaperedRollerPair(AbstractRollingBearing):
         d = jnp.asarray(displacement)
         row = self._rows()
         return sum(row.potential(A @ d) for A in self.row_maps())
+
+    def row_loads(self, displacement):
+        """Each row's load (F_x, F_y, F_z, M_x, M_y) (N, N·m) about its own mid-plane in its
+        own frame (:class:`TaperedRoller`'s: its F_z > 0 the axial load it carries; the
+        mirrored row's F_z, M_x, M_y of the reflected axes), (2, 5): row 0 at −z, 1 at +z."""
+        d = jnp.asarray(displacement)
+        row = self._rows()
+        return jnp.stack([row.load(A @ d) for A in self.row_maps()])
 
     def element_loads(self, displacement):
         """Each slice's load q_jk (N) of each row, (2, Z, slices): row 0 at −z, 1 at +z."""
