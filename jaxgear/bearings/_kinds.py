@@ -772,7 +772,7 @@ def _double_row_equivalent_load(radial, axial, alpha):
     return jnp.where(Fa > 1.5 * t * Fr, 0.67 * Fr + 0.67 / t * Fa, Fr + 0.45 / t * Fa)
 
 
-#: a tapered roller pair's arrangements: the row at +z faces −z ("O", back-to-back, DB: the
+#: a tapered roller pair's arrangements: the row at +z carries −z ("O", back-to-back, DB: the
 #: pressure centres outside the rows) or +z ("X", face-to-face, DF: between them)
 ARRANGEMENTS = ("O", "X")
 #: ISO 281's basic dynamic rating of two single-row roller bearings side by side as a unit
