@@ -39,9 +39,9 @@ import jaxgear.scenes as js
 ROOT = Path(__file__).resolve().parents[1]
 ALPHA = math.atan(0.37 / 1.5)
 #: one row: a 30206-sized tapered roller bearing (rollers a representative estimate)
-ROW = dict(bore=0.03, outer_diameter=0.062, width=0.01725, elements=17,
-           element_diameter=0.0065, pitch_diameter=0.046, effective_length=0.012,
-           contact_angle=ALPHA)
+ROW = {"bore": 0.03, "outer_diameter": 0.062, "width": 0.01725, "elements": 17,
+       "element_diameter": 0.0065, "pitch_diameter": 0.046, "effective_length": 0.012,
+       "contact_angle": ALPHA}
 
 
 def pair(arrangement="O", end_play=0.0, **kw):
@@ -212,7 +212,7 @@ def test_moment_opposite_row_reactions():
     st = jb.solve_displacement(p, jnp.array([0, 0, 0, 0, My]))
     assert float(st.residual) < 1e-9
     rows = rows_by_hand(p, np.asarray(st.displacement), 0.0, "O", ROW["width"])
-    (z0, f0), (z1, f1) = rows
+    (_, f0), (_, f1) = rows
     scale = abs(f1[0])
     assert f1[0] > 0 and float(st.displacement[4]) > 0
     assert f0[0] == pytest.approx(-f1[0], rel=1e-9)
@@ -357,8 +357,8 @@ def test_case_file_tapered_roller_pair_keys():
     top = 6.5e3 * 1.5 / 0.37
     for change, start in (
         ({"clearance_um": 10.0}, "clearance_um: not a key of kind = 'tapered_roller_pair'"),
-        ({"end_play_um": -300.0}, f"end_play_um = -300: out of range, allowed "
-                                   f"[{-top / 100:.6g}, {top:.6g}) µm"),
+        ({"end_play_um": -300.0}, (f"end_play_um = -300: out of range, allowed "
+                                   f"[{-top / 100:.6g}, {top:.6g}) µm")),
         ({"row_spacing_mm": 17.0}, "row_spacing_mm = 17: out of range, allowed >= width_mm"),
         ({"arrangement": "Y"}, "arrangement"),
     ):

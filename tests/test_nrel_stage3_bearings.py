@@ -102,7 +102,7 @@ def test_example_bearings_are_the_table_and_the_rule():
     their positions (row_spacing_mm their distance), zero end play."""
     import jaxgear.bearings as jb
 
-    for name, row in nrel.TABLE.items():
+    for row in nrel.TABLE.values():
         if row["type"] == "CRB":
             b = EXAMPLE["scene"][row["shaft"]]["bearings"][row["index"]]
         else:  # HS-B, HS-C (IMS-B, IMS-C): one pair, the shaft's second bearing
