@@ -27,6 +27,8 @@ import math
 import tomllib
 from pathlib import Path
 
+import equinox as eqx
+import jax
 import jax.numpy as jnp
 import numpy as np
 import pytest
@@ -269,6 +271,21 @@ def test_preload_loads_both_rows_and_stiffens_o_against_x():
     free = jb.solve_displacement(pair("O", 0.0), F)
     assert float(pre.stiffness[0, 0]) > float(free.stiffness[0, 0])
     assert float(pre.displacement[0]) < float(free.displacement[0])
+
+
+def test_preload_derivative_of_the_stiffness():
+    """The end play is a design variable: ∂K_r/∂e by ``jax.grad`` through the pair's stiffness
+    at a preload, against the closed form's K_r ∝ (−e)^(1/9): ∂K_r/∂e = K_r / (9 e) (1e-9)."""
+    e = -10e-6
+    p = pair("O", e)
+
+    def radial(end_play):
+        q = eqx.tree_at(lambda b: b.end_play, p, end_play)
+        return jax.jacfwd(q.load)(jnp.zeros(5))[0, 0]
+
+    Kr = preloaded_stiffness(p, e, 0.0)[0]
+    got = float(jax.jit(jax.grad(radial))(jnp.asarray(e)))
+    assert got == pytest.approx(Kr / (9 * e), rel=1e-9)
 
 
 def test_iso281_life_and_ratings_of_the_pair():
