@@ -772,6 +772,11 @@ def _double_row_equivalent_load(radial, axial, alpha):
     return jnp.where(Fa > 1.5 * t * Fr, 0.67 * Fr + 0.67 / t * Fa, Fr + 0.45 / t * Fa)
 
 
+def _of_row(name: str, doc: str) -> property:
+    """A read-only property of a :class:`TaperedRollerPair` that is its row's ``name``."""
+    return property(lambda self: getattr(self.row, name), doc=doc)
+
+
 #: a tapered roller pair's arrangements: the row at +z carries −z ("O", back-to-back, DB: the
 #: pressure centres outside the rows) or +z ("X", face-to-face, DF: between them)
 ARRANGEMENTS = ("O", "X")
@@ -861,35 +866,13 @@ class TaperedRollerPair(AbstractRollingBearing):
         self.spacing = as_float(spacing)
 
     # ---- the row's geometry, which the tones, the solve's scales and the life read
-    @property
-    def elements(self):
-        """Z, the rollers of one row (the tones' count)."""
-        return self.row.elements
-
-    @property
-    def element_diameter(self):
-        return self.row.element_diameter
-
-    @property
-    def pitch_diameter(self):
-        return self.row.pitch_diameter
-
-    @property
-    def effective_length(self):
-        return self.row.effective_length
-
-    @property
-    def contact_angle(self):
-        return self.row.contact_angle
-
-    @property
-    def nominal_angle(self):
-        return self.row.contact_angle
-
-    @property
-    def hertz_constant(self):
-        """K_n (N/m^(10/9)) of one roller (the row's)."""
-        return self.row.hertz_constant
+    elements = _of_row("elements", "Z, the rollers of one row (the tones' count).")
+    element_diameter = _of_row("element_diameter", "D_w (m), the rollers' mean diameter.")
+    pitch_diameter = _of_row("pitch_diameter", "d_m (m).")
+    effective_length = _of_row("effective_length", "l (m), a roller's effective length.")
+    contact_angle = _of_row("contact_angle", "α (rad), the outer raceway's contact angle.")
+    nominal_angle = _of_row("contact_angle", "α (rad): the tones' and the Hertz constant's.")
+    hertz_constant = _of_row("hertz_constant", "K_n (N/m^(10/9)) of one roller (the row's).")
 
     @property
     def clearance(self):
