@@ -364,9 +364,9 @@ class BearingSection(Section):
             lo, top = -10.0 * size / t, 1e3 * size / t
             if not lo <= self.end_play_um < top:
                 raise sc.fail(where, "end_play_um", f"out of range, allowed [{lo:.6g}, "
-                              f"{top:.6g}) µm (the rows' diametral clearance end_play_um tan "
-                              "contact_angle_deg in [-roller_diameter_mm/100, "
-                              "roller_diameter_mm); negative: a preload)", self.end_play_um)
+                              f"{top:.6g}) µm (the rows' diametral clearance, end play x tan "
+                              "contact_angle_deg, from -1 % of the roller diameter to below it; "
+                              "negative: a preload)", self.end_play_um)
         if self.row_spacing_mm is not None and not self.row_spacing_mm >= self.width_mm:
             raise sc.fail(where, "row_spacing_mm", f"out of range, allowed >= width_mm = "
                           f"{self.width_mm:g} (the rows' mid-planes: side by side at least)",
