@@ -396,3 +396,34 @@ def test_case_file_tapered_roller_pair_keys():
         jio.parse_case(data)
     assert str(err.value).startswith(
         where + "arrangement: not a key of kind = 'tapered_roller'"), str(err.value)
+
+
+def test_catalogue_rows_and_the_nrel_example_pairs():
+    """The catalogue's 32060 X and LM 567949/910 rows against the NREL stage-3 table
+    (benchmarks/nrel_stage3_bearings.py's transcription: d, D, B, C, α = atan(e/1.5)) and the
+    rollers' rule; ``TaperedRollerPair.of`` a row: the example's pairs (their keys written out in
+    the case file) carry the same load at a displacement (1e-12); ``of`` refuses another kind."""
+    from benchmarks.nrel_stage3_bearings import TABLE
+
+    case = jio.load_case(str(ROOT / "examples" / "nrel-5mw-stage3-rolling.toml"))
+    d = jnp.asarray([20e-6, -10e-6, 5e-6, 1e-5, -2e-5])
+    for name, designation, shaft in (("HS-B", "32060 X", case.scene.pinion_shaft),
+                                     ("IMS-B", "LM 567949/910", case.scene.gear_shaft)):
+        t = TABLE[name]
+        row = jb.catalogue(designation)
+        assert isinstance(row, jb.TaperedRoller)
+        for got, want in ((row.bore, t["d"]), (row.outer_diameter, t["D"]),
+                          (row.width, t["B"])):
+            assert float(got) * 1e3 == pytest.approx(want, rel=1e-12)
+        assert float(row.dynamic_rating) == pytest.approx(t["C_kN"] * 1e3, rel=1e-12)
+        assert math.tan(float(row.contact_angle)) == pytest.approx(t["e"] / 1.5, rel=1e-12)
+        est = jb.estimated_rollers(t["d"] * 1e-3, t["D"] * 1e-3, t["B"] * 1e-3)
+        assert row.elements == est["elements"]
+        example = shaft.bearings[1].rolling
+        built = jb.TaperedRollerPair.of(row, "O", spacing=0.1)
+        f = np.asarray(_load(built, d))
+        np.testing.assert_allclose(np.asarray(_load(example, d)), f, rtol=0,
+                                   atol=1e-12 * np.abs(f).max())
+        assert float(built.dynamic_rating) == pytest.approx(2 ** (7 / 9) * t["C_kN"] * 1e3)
+    refused_in_one_line(lambda: jb.TaperedRollerPair.of(jb.catalogue("NU 205")),
+                        "row = CylindricalRoller: allowed a TaperedRoller")

@@ -865,6 +865,25 @@ class TaperedRollerPair(AbstractRollingBearing):
                    "distance: at least one row's width, side by side)")
         self.spacing = as_float(spacing)
 
+    @classmethod
+    def of(cls, row: TaperedRoller, arrangement="O", end_play=0.0, spacing=None
+           ) -> TaperedRollerPair:
+        """The pair of two rows ``row`` (a :class:`TaperedRoller`, e.g. a catalogue entry; its
+        clearance replaced by the pair's ``end_play``), in ``arrangement``, ``spacing`` apart.
+
+        Raises:
+            ValueError: ``row`` not a TaperedRoller; an argument out of range (one line)."""
+        if type(row) is not TaperedRoller:
+            raise ValueError(f"TaperedRollerPair.of: row = {type(row).__name__}: allowed a "
+                             "TaperedRoller (one row of the pair)")
+        return cls(bore=row.bore, outer_diameter=row.outer_diameter, width=row.width,
+                   elements=row.elements, element_diameter=row.element_diameter,
+                   pitch_diameter=row.pitch_diameter, effective_length=row.effective_length,
+                   contact_angle=row.contact_angle, arrangement=arrangement,
+                   end_play=end_play, spacing=spacing, slices=row.slices,
+                   dynamic_rating=row.dynamic_rating, static_rating=row.static_rating,
+                   fatigue_limit=row.fatigue_limit)
+
     # ---- the row's geometry, which the tones, the solve's scales and the life read
     elements = _of_row("elements", "Z, the rollers of one row (the tones' count).")
     element_diameter = _of_row("element_diameter", "D_w (m), the rollers' mean diameter.")
