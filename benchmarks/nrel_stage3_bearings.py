@@ -30,10 +30,14 @@ scaled by 0.8 and 1.2 (:func:`roller_sensitivity`). The stage-1 spherical roller
 the same table (the catalogue's 231/750 CA and 240/710 ECA) at the radial load of their
 20-year rating life (:func:`spherical_at_design_load`).
 
+The example's tapered pairs at the example's own operating point (:func:`pairs_at_operating_point`:
+HS-B/C and IMS-B/C each one :class:`jaxgear.bearings.TaperedRollerPair` node, its load, its rows'
+shares and its tangent stiffness there).
+
 Then the mesh mode of the pair (the mode of the largest mesh energy, mesh-averaged) with both
 bearing sets: the published springs (``nrel-5mw-stage3-housed`` without its housing) and
-examples/nrel-5mw-stage3-rolling.toml (HS-A and IMS-A from their geometry at the case's own
-operating point, the tapered bearings on the springs :func:`compare` gives them); and the whine
+examples/nrel-5mw-stage3-rolling.toml (HS-A and IMS-A, and the tapered pairs, from their
+geometry at the case's own operating point); and the whine
 of the stage in nrel-5mw-stage3-housed's box on both sets (:func:`whine_both`: two ``jaxgear
 run``, the overall ERP and the order-1 TE over the turbine's speeds).
 
@@ -209,8 +213,7 @@ def compare(loads: dict | None = None) -> dict:
     """Per bearing: the published load, the load evaluated, the estimated rollers, the
     stiffness from geometry (each clearance for the cylindrical ones) and the published values,
     with the ratios geometry / published of the radial (mean of the two), axial and tilt (mean
-    of the two) stiffnesses (None where a value is 0); a tapered bearing's ``springs`` (the
-    example's, three digits)."""
+    of the two) stiffnesses (None where a value is 0)."""
     loads = published_loads() if loads is None else loads
     out = {}
     for name, row in TABLE.items():
@@ -238,12 +241,6 @@ def compare(loads: dict | None = None) -> dict:
             g["ratio_axial"] = g["axial"] / row["K_x"] if row["K_x"] > 0 < g["axial"] else None
             g["ratio_tilt"] = 0.5 * (g["tilt_along"] + g["tilt_across"]) / kt
             entry["geometry"][f"{c * 1e6:g}um"] = g
-        if row["type"] == "TRB":  # examples/nrel-5mw-stage3-rolling.toml's springs
-            g = entry["geometry"]["0um"]
-            entry["springs"] = {
-                "radial_N_per_um": _three(0.5 * (g["radial_along"] + g["radial_across"]) / 1e6),
-                "axial_N_per_um": _three(g["axial"] / 1e6),
-                "tilt_Nm_per_rad": _three(0.5 * (g["tilt_along"] + g["tilt_across"]))}
         out[name] = entry
     return out
 
@@ -310,9 +307,44 @@ def roller_sensitivity(loads: dict, name: str = "HS-A") -> list:
     return out
 
 
-def _three(x: float) -> float:
-    """``x`` to three significant digits (a case file's spring)."""
-    return float(f"{x:.3g}")
+#: the example's tapered pairs: name -> (shaft, bearing index in the example)
+PAIRS = {"HS-B/C": ("pinion_shaft", 1), "IMS-B/C": ("gear_shaft", 1)}
+
+
+def pairs_at_operating_point(case=None) -> dict:
+    """The example's tapered pairs at its own operating point (:func:`jaxgear.io.operating_point`:
+    the fixed point of the quasi-static solve at rated torque on the bearings' tangent
+    stiffness): per pair its load f (N, N·m), displacement, the pressure centres' spread (m),
+    each row's load about its own mid-plane (radial, axial; N), the number of rollers loaded per
+    row and the tangent stiffness's diagonal (N/m, N·m/rad); and the cylindrical ones' loads."""
+    import jaxgear.io as jio
+
+    case = jio.load_case(EXAMPLE) if case is None else case
+    point = jio.operating_point(case, case.scene)
+    shafts = {"pinion_shaft": 0, "gear_shaft": 1}
+    out = {"iterations": int(point.iterations), "change": float(point.change), "pairs": {},
+           "cylindrical_loads_N": {}}
+    for name, (shaft, j) in PAIRS.items():
+        i = shafts[shaft]
+        st = point.states[i][j]
+        b = point.shafts[i].bearings[j].rolling
+        d = np.asarray(st.displacement)
+        rows = []
+        own = np.asarray(b.row_loads(d))  # each row in its own frame (+z: the way it carries)
+        q = np.asarray(b.element_loads(d)).sum(axis=-1)
+        for f, qi in zip(own, q, strict=True):
+            rows.append({"radial_N": float(math.hypot(f[0], f[1])), "axial_N": float(f[2]),
+                         "rollers_loaded": int(np.sum(qi > 0))})
+        K = np.asarray(st.stiffness)
+        out["pairs"][name] = {
+            "load_N": [float(x) for x in np.asarray(point.loads[i][j])],
+            "displacement": [float(x) for x in d], "spread_m": float(b.spread),
+            "rows": rows, "stiffness_diagonal": [float(K[k, k]) for k in range(5)],
+            "residual": float(st.residual)}
+    for name, (shaft, j) in (("HS-A", ("pinion_shaft", 0)), ("IMS-A", ("gear_shaft", 0))):
+        out["cylindrical_loads_N"][name] = [
+            float(x) for x in np.asarray(point.loads[shafts[shaft]][j])]
+    return out
 
 
 def mesh_modes(case, count: int = 4) -> dict:
@@ -463,6 +495,7 @@ def main(argv=None) -> int:
     result["bearings"] = compare(loads)
     result["roller_sensitivity_HS-A"] = roller_sensitivity(loads)
     result["spherical_stage1"] = spherical_at_design_load()
+    result["pairs_at_operating_point"] = pairs_at_operating_point()
     if not a.no_modes:
         case = jio.load_case(EXAMPLE)
         result["rated_mesh_frequency_Hz"] = case.pair.pinion.teeth * case.speed / (2 * math.pi)

@@ -10,8 +10,11 @@
   force T / r_b1 along the line of action at the working pressure angle.
 - The record's stiffnesses re-computed from its loads (HS-A in the default tier, every figure
   and the loads' quasi-static solve in the slow tier).
-- The example case file's bearings: the estimated rollers and the tapered pairs' springs as
-  the record gives them.
+- The example case file's bearings: the estimated rollers, the tapered pairs (one node each,
+  its rows at the published case's two positions); the pairs at the example's own operating
+  point (the record) against statics: the pinion's pair carries the whole mesh axial force
+  (HS-A has no ribs), each pair's rows' axial loads differ by its axial load; (slow) the
+  record's pairs re-computed.
 - The record's whine on the published springs against the embedded housed case's regression
   record (the same run); the whine on the bearings from geometry is the record's alone (two
   housed runs of minutes: not re-run by a test).
@@ -92,27 +95,58 @@ def test_recorded_cylindrical_stiffness_recomputed():
             assert got[key] == pytest.approx(rec["geometry"]["0um"][key], rel=1e-6), key
 
 
-def test_example_bearings_are_the_recorded_ones():
-    """The example's HS-A and IMS-A: the table's boundary dimensions and
-    :func:`jaxgear.bearings.estimated_rollers`'s rollers (mm); its tapered pairs' springs: the
-    record's."""
+def test_example_bearings_are_the_table_and_the_rule():
+    """The example's HS-A and IMS-A and each tapered pair's rows: the table's boundary dimensions
+    and :func:`jaxgear.bearings.estimated_rollers`'s rollers (mm), a pair's α = atan(e/1.5); a
+    pair one node at the centre of the published case's two bearings, its rows' mid-planes at
+    their positions (row_spacing_mm their distance), zero end play."""
     import jaxgear.bearings as jb
 
-    for name, row in nrel.TABLE.items():
-        b = EXAMPLE["scene"][row["shaft"]]["bearings"][row["index"]]
+    for row in nrel.TABLE.values():
         if row["type"] == "CRB":
-            est = jb.estimated_rollers(row["d"], row["D"], row["B"])
-            assert (b["bore_mm"], b["outer_diameter_mm"], b["width_mm"]) == (
-                row["d"], row["D"], row["B"])
-            assert b["rollers"] == est["elements"]
-            for key, arg in (("roller_diameter_mm", "element_diameter"),
-                             ("roller_length_mm", "effective_length"),
-                             ("pitch_diameter_mm", "pitch_diameter")):
-                assert b[key] == pytest.approx(est[arg], rel=1e-12), key
-        else:
-            springs = RECORD["bearings"][name]["springs"]
-            for key, value in springs.items():
-                assert b[key] == pytest.approx(value, rel=1e-12), (name, key)
+            b = EXAMPLE["scene"][row["shaft"]]["bearings"][row["index"]]
+        else:  # HS-B, HS-C (IMS-B, IMS-C): one pair, the shaft's second bearing
+            b = EXAMPLE["scene"][row["shaft"]]["bearings"][1]
+            published = [HOUSED["scene"][row["shaft"]]["bearings"][i]["position_mm"]
+                         for i in (1, 2)]
+            assert b["kind"] == "tapered_roller_pair" and b["end_play_um"] == 0.0
+            assert b["position_mm"] == pytest.approx(sum(published) / 2, rel=1e-12)
+            assert b["row_spacing_mm"] == pytest.approx(published[1] - published[0], rel=1e-12)
+            assert math.tan(math.radians(b["contact_angle_deg"])) == pytest.approx(
+                row["e"] / 1.5, rel=1e-12)
+        est = jb.estimated_rollers(row["d"], row["D"], row["B"])
+        assert (b["bore_mm"], b["outer_diameter_mm"], b["width_mm"]) == (
+            row["d"], row["D"], row["B"])
+        assert b["rollers"] == est["elements"]
+        for key, arg in (("roller_diameter_mm", "element_diameter"),
+                         ("roller_length_mm", "effective_length"),
+                         ("pitch_diameter_mm", "pitch_diameter")):
+            assert b[key] == pytest.approx(est[arg], rel=1e-12), key
+
+
+def test_recorded_pairs_against_statics():
+    """The record's pairs at the example's operating point: the pinion's pair carries the whole
+    mesh axial force 2 T sin β / (m_n z_1) (HS-A has no ribs; 1e-3), the wheel's pair its
+    share beside IMS-A's none; each pair's F_z is its rows' axial loads' difference (the rows'
+    own frames; 1e-9); the shaft's radial loads sum to the mesh's F_bt (1e-3); the spread
+    s + 2 (d_m/2) tan α by hand (O)."""
+    F_a, F_bt, _ = _hand_mesh()
+    rec = RECORD["pairs_at_operating_point"]
+    hs, ims = rec["pairs"]["HS-B/C"], rec["pairs"]["IMS-B/C"]
+    assert -hs["load_N"][2] == pytest.approx(F_a, rel=1e-3)
+    assert ims["load_N"][2] == pytest.approx(F_a, rel=1e-3)
+    for pair, (row, z) in ((hs, ("HS-B", 100.0)), (ims, ("IMS-B", 100.0))):
+        rows = pair["rows"]
+        # O: row 0 (at −z) carries +z, row 1 the other way
+        assert rows[0]["axial_N"] - rows[1]["axial_N"] == pytest.approx(
+            pair["load_N"][2], rel=1e-9, abs=1e-9 * abs(rows[0]["axial_N"]))
+        t = nrel.TABLE[row]
+        a = 0.5 * (t["D"] + t["d"]) / 2 * t["e"] / 1.5 * 1e-3
+        assert pair["spread_m"] == pytest.approx(z * 1e-3 + 2 * a, rel=1e-12)
+    for shaft, names in (("HS-A", "HS-B/C"), ("IMS-A", "IMS-B/C")):
+        f = np.asarray(rec["cylindrical_loads_N"][shaft]) + np.asarray(rec["pairs"][names][
+            "load_N"])
+        assert math.hypot(f[0], f[1]) == pytest.approx(F_bt, rel=1e-3)
 
 
 @pytest.mark.slow  # the published case's quasi-static solve and twelve bearing solves, ~40 s
@@ -133,6 +167,19 @@ def test_record_recomputed():
     for name, rec in RECORD["spherical_stage1"].items():
         for key in ("radial_along", "axial", "tilt", "radial_load_N"):
             assert sph[name][key] == pytest.approx(rec[key], rel=1e-6, abs=1e-3), (name, key)
+
+
+@pytest.mark.slow  # the example's operating point: a few quasi-static solves, ~60 s
+def test_recorded_pairs_recomputed():
+    """The record's pairs at the example's operating point re-computed (loads 1e-6 of the
+    largest, the stiffness's diagonal 1e-6)."""
+    got = nrel.pairs_at_operating_point()
+    for name, rec in RECORD["pairs_at_operating_point"]["pairs"].items():
+        f = np.asarray(rec["load_N"])
+        np.testing.assert_allclose(got["pairs"][name]["load_N"], f, rtol=0,
+                                   atol=1e-6 * np.abs(f).max())
+        np.testing.assert_allclose(got["pairs"][name]["stiffness_diagonal"],
+                                   rec["stiffness_diagonal"], rtol=1e-6)
 
 
 def test_recorded_published_whine_is_the_embedded_cases_run():

@@ -2,7 +2,8 @@
 
 The bearing kinds are classes behind one contract (:class:`AbstractRollingBearing`):
 :class:`DeepGrooveBall`, :class:`AngularContactBall`, :class:`CylindricalRoller`,
-:class:`TaperedRoller`, :class:`SphericalRoller` (double row, self-aligning) from catalogue
+:class:`TaperedRoller`, :class:`SphericalRoller` (double row, self-aligning),
+:class:`TaperedRollerPair` (two tapered rows facing both ways, one node) from catalogue
 geometry in SI, and :class:`LinearSpring`, the linear
 spring the scenes use today. A kind gives the load its rings pass for a displacement
 (:meth:`~AbstractRollingBearing.load`, the rolling elements' Hertz loads summed: Jones, Harris &
@@ -39,6 +40,7 @@ from ._kinds import (
     LinearSpring as LinearSpring,
     SphericalRoller as SphericalRoller,
     TaperedRoller as TaperedRoller,
+    TaperedRollerPair as TaperedRollerPair,
 )
 from ._life import (
     ISO281_CONTAMINATION as ISO281_CONTAMINATION,

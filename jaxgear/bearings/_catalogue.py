@@ -15,13 +15,14 @@ the boundary dimensions, not a maker's data, and they carry no load ratings: giv
 ``dynamic_rating`` (and ``static_rating``) from the maker's catalogue for a life.
 
 Spherical roller bearings 231/750 CA/W33 and 240/710 ECA/W33 (the NREL 5 MW reference
-gearbox's INP-B and PLC-A): boundary dimensions, the basic dynamic load rating C and ISO 281's
+gearbox's INP-B and PLC-A), and the single-row tapered roller bearings 32060 X and
+LM 567949/910 (its stage-3 pairs HS-B/C and IMS-B/C, one row each): boundary dimensions, the basic dynamic load rating C and ISO 281's
 e of Nejad et al., "Development of a 5 MW reference gearbox for offshore wind turbines", Wind
 Energy 19 (2016), Table IX, as github.com/gfsReboucas/Drivetrain (4a88df3,
 @NREL_5MW/NREL_5MW.m, ``bearing``) transcribes them with the SKF designations; the contact
 angle from e = 1.5 tan α. No C₀ is published there. Their rollers are ESTIMATED by the rule
 :func:`estimated_rollers` (d_m = (D + d)/2, D_w = (D − d)/4, Z per row the whole part of
-0.8 π d_m / D_w, l = 0.35 B), not a maker's data.
+0.8 π d_m / D_w, l = 0.35 B; a tapered row's l = 0.7 B), not a maker's data.
 """
 
 from __future__ import annotations
@@ -92,12 +93,21 @@ CATALOGUE: dict[str, tuple[type, dict, str]] = {
     "240/710 ECA": (SphericalRoller, dict(
         bore=0.71, outer_diameter=1.03, width=0.315, **estimated_rollers(0.71, 1.03, 0.315, 2),
         contact_angle=math.atan(0.27 / 1.5), dynamic_rating=11164e3), _NREL),
+    # the stage-3 tapered rows (HS-B/C, IMS-B/C): one row each; a pair is
+    # TaperedRollerPair.of(catalogue(...), arrangement)
+    "32060 X": (TaperedRoller, dict(
+        bore=0.3, outer_diameter=0.46, width=0.1, **estimated_rollers(0.3, 0.46, 0.1),
+        contact_angle=math.atan(0.43 / 1.5), dynamic_rating=1644e3), _NREL),
+    "LM 567949/910": (TaperedRoller, dict(
+        bore=0.41, outer_diameter=0.55, width=0.086, **estimated_rollers(0.41, 0.55, 0.086),
+        contact_angle=math.atan(0.4 / 1.5), dynamic_rating=1467e3), _NREL),
 }
 
 
 def catalogue(designation: str, **changes) -> AbstractRollingBearing:
     """The embedded bearing ``designation`` (a key of :data:`CATALOGUE`: "6205", "6203",
-    "7205 B", "NU 205", "30205", "231/750 CA", "240/710 ECA"), with ``changes`` to its arguments (a clearance, the ratings).
+    "7205 B", "NU 205", "30205", "231/750 CA", "240/710 ECA", "32060 X", "LM 567949/910"), with
+    ``changes`` to its arguments (a clearance, the ratings).
 
     Raises:
         ValueError: an unknown designation (one line listing the known ones); a change out of

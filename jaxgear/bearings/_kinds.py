@@ -1,7 +1,8 @@
 """The bearing kinds behind one contract (:class:`AbstractRollingBearing`).
 
 A kind is a class passed as an object: a deep groove ball bearing, an angular contact ball
-bearing, a cylindrical and a tapered roller bearing, each built from its catalogue geometry in
+bearing, a cylindrical and a tapered roller bearing, a spherical roller bearing, a pair of tapered
+roller bearings facing both ways (one bearing node: :class:`TaperedRollerPair`), each built from its catalogue geometry in
 SI (m, rad, N), and the linear spring the scenes use today (:class:`LinearSpring`: ``radial``,
 ``axial``, ``tilt`` stiffnesses, the names of :class:`jaxgear.scenes.Bearing`). What a kind
 supports is declared on the contract as class variables (rolling elements, the Hertz exponent,
@@ -38,6 +39,7 @@ __all__ = [
     "LinearSpring",
     "SphericalRoller",
     "TaperedRoller",
+    "TaperedRollerPair",
 ]
 
 #: steel (Harris & Kotzalas's bearing steel): Young's modulus (Pa) and Poisson's ratio
@@ -140,7 +142,7 @@ class AbstractRollingBearing(eqx.Module):
         raise ValueError(
             f"{type(self).__name__} has no rolling elements: allowed a rolling bearing kind "
             "(DeepGrooveBall, AngularContactBall, CylindricalRoller, TaperedRoller, "
-            "SphericalRoller)"
+            "SphericalRoller, TaperedRollerPair)"
         )
 
     def contact_pressure(self, displacement) -> Array:
@@ -150,7 +152,7 @@ class AbstractRollingBearing(eqx.Module):
         raise ValueError(
             f"{type(self).__name__} has no rolling elements: allowed a rolling bearing kind "
             "(DeepGrooveBall, AngularContactBall, CylindricalRoller, TaperedRoller, "
-            "SphericalRoller)"
+            "SphericalRoller, TaperedRollerPair)"
         )
 
     def equivalent_load(self, radial, axial) -> Array:
@@ -757,6 +759,241 @@ class SphericalRoller(_Roller):
     def equivalent_load(self, radial, axial):
         """ISO 281:2007, double-row roller bearing, α ≠ 0 (spherical): e = 1.5 tan α;
         P = F_r + 0.45 cot α F_a for F_a/F_r <= e, else 0.67 F_r + 0.67 cot α F_a."""
-        Fr, Fa = jnp.asarray(radial, float), jnp.abs(jnp.asarray(axial, float))
-        t = jnp.tan(self.contact_angle)
-        return jnp.where(Fa > 1.5 * t * Fr, 0.67 * Fr + 0.67 / t * Fa, Fr + 0.45 / t * Fa)
+        return _double_row_equivalent_load(radial, axial, self.contact_angle)
+
+
+def _double_row_equivalent_load(radial, axial, alpha):
+    """ISO 281:2007's equivalent dynamic load of a double-row radial roller bearing at α ≠ 0
+    (a spherical one; a pair of single-row ones side by side, which it rates as one double-row
+    bearing): e = 1.5 tan α, P = F_r + 0.45 cot α F_a for F_a/F_r <= e, else
+    0.67 F_r + 0.67 cot α F_a (N)."""
+    Fr, Fa = jnp.asarray(radial, float), jnp.abs(jnp.asarray(axial, float))
+    t = jnp.tan(alpha)
+    return jnp.where(Fa > 1.5 * t * Fr, 0.67 * Fr + 0.67 / t * Fa, Fr + 0.45 / t * Fa)
+
+
+def _of_row(name: str, doc: str) -> property:
+    """A read-only property of a :class:`TaperedRollerPair` that is its row's ``name``."""
+    return property(lambda self: getattr(self.row, name), doc=doc)
+
+
+#: a tapered roller pair's arrangements: the row at +z carries −z ("O", back-to-back, DB: the
+#: pressure centres outside the rows) or +z ("X", face-to-face, DF: between them)
+ARRANGEMENTS = ("O", "X")
+#: ISO 281's basic dynamic rating of two single-row roller bearings side by side as a unit
+PAIR_DYNAMIC_FACTOR = 2.0 ** (7.0 / 9.0)
+
+
+class TaperedRollerPair(AbstractRollingBearing):
+    """Two single-row tapered roller bearings of one geometry side by side, facing both ways,
+    as ONE bearing node at the pair's centre: a radial load, an axial load both ways and a
+    moment (``axial_load = "both"``, not self-aligning).
+
+    Geometry: the rows' roller mid-planes sit at z = ∓s/2 (``spacing`` s: one row's ``width``
+    for two rows side by side, more with a spacer). Each row is a :class:`TaperedRoller`
+    (:attr:`row`, its sliced line contact unchanged); the row whose inner ring carries +z has
+    its pressure centre (where the contact normal through the roller's mid-length meets the
+    axis) a = (d_m/2) tan α on its −z side, the other row is its mirror image (z → −z). In the
+    O arrangement the row at −z carries +z and the row at +z carries −z, the pressure centres
+    ±(s/2 + a) (the :attr:`spread` s + 2a); in the X arrangement the other way round, ±(s/2 − a)
+    (spread s − 2a, negative where the centres cross).
+
+    The pair's axial end play e (m; negative: a preload) stands in place of the rows' clearance:
+    each row takes the diametral clearance P_d = e tan α, so that with no radial load the inner
+    ring moves axially by e between the two rows' first contacts.
+
+    The load for the node's displacement d (the rigid inner ring): row i at z_i takes
+    A_i d, A_i = S_i T_i, with the lever T_i (δ_x + z_i γ_y, δ_y − z_i γ_x, δ_z, γ_x, γ_y) and
+    S_i = diag(1, 1, −1, −1, −1) for the mirrored row (identity for the other), and
+    f(d) = Σ_i A_iᵀ f_row(A_i d): each row's force, and its moment carried to the node
+    (M_x − z_i F_y, M_y + z_i F_x); U(d) = Σ_i U_row(A_i d). K = ∂f/∂d (``jax.jacfwd``).
+
+    Life (ISO 281:2007): the pair rated as one double-row bearing, C = 2^(7/9) C_row
+    (:data:`PAIR_DYNAMIC_FACTOR`, 1.715: two single-row roller bearings side by side operating
+    as a unit), C₀ = 2 C₀_row (ISO 76), a maker's C_u doubled like C₀; P as a double-row
+    roller bearing's (e = 1.5 tan α, Y₁ = 0.45 cot α, Y₂ = 0.67 cot α). Tones: the row's.
+
+    Args:
+        bore, outer_diameter, width: one row's boundary dimensions d, D, T (m).
+        elements: the rollers per row Z (the tones' count). element_diameter: their mean
+            diameter D_w (m). pitch_diameter: d_m (m). effective_length: l (m), <= width.
+        contact_angle: α (rad), 0 < α < π/2 (the outer raceway's; e = 1.5 tan α).
+        arrangement: ``"O"`` (back-to-back, DB) or ``"X"`` (face-to-face, DF).
+        end_play: the pair's axial end play e (m), −D_w/(100 tan α) <= e < D_w / tan α (the
+            row's clearance range); negative a preload.
+        spacing: the rows' mid-plane distance s (m), >= width; default width.
+        slices: slices per roller (int >= 1; default 10).
+        dynamic_rating, static_rating, fatigue_limit: ONE ROW's C, C₀, C_u (N) or ``None``
+            (the catalogue's single bearing's; the pair's are :attr:`dynamic_rating`, ...).
+
+    Raises:
+        ValueError: any argument out of its range (one line naming it; the row's own lines).
+    """
+
+    row: TaperedRoller
+    arrangement: str = eqx.field(static=True)
+    end_play: float = _real(0.0)
+    spacing: float = _real(0.0)
+
+    contact_exponent: ClassVar[float] = 10.0 / 9.0
+    axial_load: ClassVar[str] = "both"
+    life_exponent: ClassVar[float | None] = 10.0 / 3.0
+    self_aligning: ClassVar[bool] = False
+
+    def __init__(self, bore, outer_diameter, width, elements, element_diameter, pitch_diameter,
+                 effective_length, contact_angle, arrangement="O", end_play=0.0, spacing=None,
+                 slices=10, dynamic_rating=None, static_rating=None, fatigue_limit=None):
+        w = "TaperedRollerPair"
+        self.row = TaperedRoller(
+            bore=bore, outer_diameter=outer_diameter, width=width, elements=elements,
+            element_diameter=element_diameter, pitch_diameter=pitch_diameter,
+            effective_length=effective_length, contact_angle=contact_angle, slices=slices,
+            dynamic_rating=dynamic_rating, static_rating=static_rating,
+            fatigue_limit=fatigue_limit)
+        if arrangement not in ARRANGEMENTS:
+            raise ValueError(f"{w}: arrangement = {arrangement!r} is out of range: allowed "
+                             "'O' (back-to-back, DB) or 'X' (face-to-face, DF)")
+        self.arrangement = arrangement
+        t = math.tan(float(contact_angle))
+        D = float(element_diameter)
+        check_real("end_play", end_play, "m", lo=-0.01 * D / t, hi=D / t, hi_open=True,
+                   where=f"{w} (axial; the rows' clearance end_play tan(contact_angle) in "
+                   "[-element_diameter/100, element_diameter); negative: a preload)")
+        self.end_play = as_float(end_play)
+        spacing = width if spacing is None else spacing
+        check_real("spacing", spacing, "m", lo=float(width), where=f"{w} (the rows' mid-plane "
+                   "distance: at least one row's width, side by side)")
+        self.spacing = as_float(spacing)
+
+    @classmethod
+    def of(cls, row: TaperedRoller, arrangement="O", end_play=0.0, spacing=None
+           ) -> TaperedRollerPair:
+        """The pair of two rows ``row`` (a :class:`TaperedRoller`, e.g. a catalogue entry; its
+        clearance replaced by the pair's ``end_play``), in ``arrangement``, ``spacing`` apart.
+
+        Raises:
+            ValueError: ``row`` not a TaperedRoller; an argument out of range (one line)."""
+        if type(row) is not TaperedRoller:
+            raise ValueError(f"TaperedRollerPair.of: row = {type(row).__name__}: allowed a "
+                             "TaperedRoller (one row of the pair)")
+        return cls(bore=row.bore, outer_diameter=row.outer_diameter, width=row.width,
+                   elements=row.elements, element_diameter=row.element_diameter,
+                   pitch_diameter=row.pitch_diameter, effective_length=row.effective_length,
+                   contact_angle=row.contact_angle, arrangement=arrangement,
+                   end_play=end_play, spacing=spacing, slices=row.slices,
+                   dynamic_rating=row.dynamic_rating, static_rating=row.static_rating,
+                   fatigue_limit=row.fatigue_limit)
+
+    # ---- the row's geometry, which the tones, the solve's scales and the life read
+    elements = _of_row("elements", "Z, the rollers of one row (the tones' count).")
+    element_diameter = _of_row("element_diameter", "D_w (m), the rollers' mean diameter.")
+    pitch_diameter = _of_row("pitch_diameter", "d_m (m).")
+    effective_length = _of_row("effective_length", "l (m), a roller's effective length.")
+    contact_angle = _of_row("contact_angle", "α (rad), the outer raceway's contact angle.")
+    nominal_angle = _of_row("contact_angle", "α (rad): the tones' and the Hertz constant's.")
+    hertz_constant = _of_row("hertz_constant", "K_n (N/m^(10/9)) of one roller (the row's).")
+
+    @property
+    def clearance(self):
+        """The rows' diametral clearance P_d = e tan α (m) of the end play e."""
+        return self.end_play * jnp.tan(self.row.contact_angle)
+
+    # ---- the pair's ratings (ISO 281, ISO 76: two single-row bearings as a unit)
+    @property
+    def dynamic_rating(self):
+        """C = 2^(7/9) C_row (N), or None."""
+        c = self.row.dynamic_rating
+        return None if c is None else PAIR_DYNAMIC_FACTOR * c
+
+    @property
+    def static_rating(self):
+        """C₀ = 2 C₀_row (N), or None."""
+        c = self.row.static_rating
+        return None if c is None else 2.0 * c
+
+    @property
+    def fatigue_limit(self):
+        """C_u = 2 C_u,row (N) where the maker's row value is given, else None."""
+        c = self.row.fatigue_limit
+        return None if c is None else 2.0 * c
+
+    # ---- the pair's layout
+    @property
+    def pressure_offset(self):
+        """a = (d_m/2) tan α (m): a row's pressure centre from its roller mid-plane."""
+        return 0.5 * self.row.pitch_diameter * jnp.tan(self.row.contact_angle)
+
+    @property
+    def positions(self):
+        """The rows' roller mid-planes z_i = (−s/2, +s/2) (m) from the node, (2,)."""
+        return jnp.stack([-0.5 * self.spacing, 0.5 * self.spacing])
+
+    @property
+    def mirrored(self):
+        """Which row carries −z (its inner ring pushed −z onto its raceway): the one at +z in
+        the O arrangement, at −z in the X arrangement, (2,) of bool."""
+        return (False, True) if self.arrangement == "O" else (True, False)
+
+    @property
+    def centres(self):
+        """The rows' pressure centres (m) from the node, (2,): z_i + a for the row carrying −z,
+        z_i − a for the other."""
+        a = self.pressure_offset
+        return self.positions + jnp.asarray([a if m else -a for m in self.mirrored])
+
+    @property
+    def spread(self):
+        """The pressure centres' distance (m): s + 2a (O) or s − 2a (X, negative where they
+        cross)."""
+        c = self.centres
+        return c[1] - c[0]
+
+    def row_maps(self):
+        """A_i = S_i T_i (5, 5) for the two rows, (2, 5, 5): the node's displacement to the
+        row's (its lever, then its mirror)."""
+        maps = []
+        for z, m in zip(self.positions, self.mirrored, strict=True):
+            T = (jnp.eye(5).at[0, 4].set(z).at[1, 3].set(-z))
+            S = jnp.diag(jnp.asarray([1.0, 1.0, -1.0, -1.0, -1.0] if m else [1.0] * 5))
+            maps.append(S @ T)
+        return jnp.stack(maps)
+
+    def _rows(self):
+        """The row with the end play's clearance (its field replaced, not rebuilt)."""
+        return eqx.tree_at(lambda r: r.clearance, self.row, self.clearance)
+
+    def load(self, displacement):
+        d = jnp.asarray(displacement)
+        row = self._rows()
+        return sum(A.T @ row.load(A @ d) for A in self.row_maps())
+
+    def potential(self, displacement):
+        d = jnp.asarray(displacement)
+        row = self._rows()
+        return sum(row.potential(A @ d) for A in self.row_maps())
+
+    def row_loads(self, displacement):
+        """Each row's load (F_x, F_y, F_z, M_x, M_y) (N, N·m) about its own mid-plane in its
+        own frame (:class:`TaperedRoller`'s: its F_z > 0 the axial load it carries; the
+        mirrored row's F_z, M_x, M_y of the reflected axes), (2, 5): row 0 at −z, 1 at +z."""
+        d = jnp.asarray(displacement)
+        row = self._rows()
+        return jnp.stack([row.load(A @ d) for A in self.row_maps()])
+
+    def element_loads(self, displacement):
+        """Each slice's load q_jk (N) of each row, (2, Z, slices): row 0 at −z, 1 at +z."""
+        d = jnp.asarray(displacement)
+        row = self._rows()
+        return jnp.stack([row.element_loads(A @ d) for A in self.row_maps()])
+
+    def contact_pressure(self, displacement):
+        """Each slice's inner and outer p_max (Pa) of each row, (2, Z, slices, 2)."""
+        d = jnp.asarray(displacement)
+        row = self._rows()
+        return jnp.stack([row.contact_pressure(A @ d) for A in self.row_maps()])
+
+    def equivalent_load(self, radial, axial):
+        """ISO 281:2007: the pair as one double-row roller bearing at α (module function
+        ``_double_row_equivalent_load``): e = 1.5 tan α; P = F_r + 0.45 cot α F_a for
+        F_a/F_r <= e, else 0.67 F_r + 0.67 cot α F_a."""
+        return _double_row_equivalent_load(radial, axial, self.row.contact_angle)

@@ -41,7 +41,11 @@ docs/bearings.md) is ``{ position_mm, catalogue = "6205" }`` (an embedded bearin
 ``clearance_um``) or ``{ position_mm, kind = "deep_groove_ball", bore_mm, outer_diameter_mm,
 width_mm, balls, ball_diameter_mm, pitch_diameter_mm, clearance_um, ... }`` (:data:`ROLLING_KINDS`;
 rollers: ``rollers``, ``roller_diameter_mm``, ``roller_length_mm``; angular contact, tapered and
-spherical: ``contact_angle_deg``; a spherical roller bearing's ``rollers`` are per row, of two); its stiffness is the one at the operating point of the case's
+spherical: ``contact_angle_deg``; a spherical roller bearing's ``rollers`` are per row, of two;
+a pair of tapered roller bearings facing both ways, ``kind = "tapered_roller_pair"``, one row's
+geometry, ``arrangement = "O"`` or ``"X"``, ``end_play_um`` in place of ``clearance_um``
+(negative: a preload) and ``row_spacing_mm``, at ``position_mm`` the pair's centre); its
+stiffness is the one at the operating point of the case's
 quasi-static solve. For its life, ``dynamic_rating_kN`` and ``static_rating_kN`` (the maker's
 C and C0, where the catalogue entry has none; a deep groove ball bearing also ``iso281_f0``,
 the catalogue's f0 of ISO 281's X and Y table); ``fatigue_limit_kN``, the maker's fatigue load
@@ -66,6 +70,7 @@ from ..bearings import (
     DeepGrooveBall,
     SphericalRoller,
     TaperedRoller,
+    TaperedRollerPair,
     catalogue,
 )
 from ..dynamics import DIFFRAX_SOLVERS
@@ -108,6 +113,7 @@ ROLLING_KINDS = {
     "cylindrical_roller": CylindricalRoller,
     "tapered_roller": TaperedRoller,
     "spherical_roller": SphericalRoller,
+    "tapered_roller_pair": TaperedRollerPair,
 }
 #: each kind's keys beyond the boundary dimensions (bore, outer diameter, width) and clearance
 _ELEMENT_KEYS = {
@@ -121,11 +127,17 @@ _ELEMENT_KEYS = {
     # rollers per row (two rows)
     "spherical_roller": ("rollers", "roller_diameter_mm", "roller_length_mm", "pitch_diameter_mm",
                          "contact_angle_deg"),
+    # one row's geometry (the two rows alike), and how they face
+    "tapered_roller_pair": ("rollers", "roller_diameter_mm", "roller_length_mm",
+                            "pitch_diameter_mm", "contact_angle_deg", "arrangement"),
 }
 _BALL_OPTIONAL = ("inner_conformity", "outer_conformity")
+#: a tapered roller pair's optional keys: its axial end play in place of the rows' clearance
+_PAIR_OPTIONAL = ("end_play_um", "row_spacing_mm")
 _GEOMETRY = ("bore_mm", "outer_diameter_mm", "width_mm", "balls", "ball_diameter_mm",
              "rollers", "roller_diameter_mm", "roller_length_mm", "pitch_diameter_mm",
-             "contact_angle_deg", "inner_conformity", "outer_conformity")
+             "contact_angle_deg", "inner_conformity", "outer_conformity", "arrangement",
+             *_PAIR_OPTIONAL)
 _LINEAR = (*_DIAGONAL, "stiffness_matrix_SI")
 #: a rolling bearing's load ratings (its life): C and C0 in kN, ISO 281's f0 (deep groove)
 _RATINGS = ("dynamic_rating_kN", "static_rating_kN", "iso281_f0")
@@ -170,6 +182,11 @@ class BearingSection(Section):
         None, json_schema_extra={"default": "0.52"})
     clearance_um: number("[-100, 1000]") | None = pydantic.Field(
         None, json_schema_extra={"default": "0 (catalogue: the entry's)"})
+    arrangement: Literal["O", "X"] | None = None
+    end_play_um: number("[-1000, 10000]") | None = pydantic.Field(
+        None, json_schema_extra={"default": "0"})
+    row_spacing_mm: number("(0, 2000]") | None = pydantic.Field(
+        None, json_schema_extra={"default": "width_mm"})
     dynamic_rating_kN: number("(0, 1e+05]") | None = None
     static_rating_kN: number("(0, 1e+05]") | None = None
     iso281_f0: number("[5, 30]") | None = None
@@ -280,11 +297,13 @@ class BearingSection(Section):
         """A ``kind``'s keys: its own given, the others refused, the relations between them
         in the file's units (one line each)."""
         own = ("bore_mm", "outer_diameter_mm", "width_mm", *_ELEMENT_KEYS[self.kind])
-        optional = _BALL_OPTIONAL if "balls" in own else ()
-        for key in _GEOMETRY:
+        pair = self.kind == "tapered_roller_pair"
+        optional = (_BALL_OPTIONAL if "balls" in own else
+                    _PAIR_OPTIONAL if pair else ()) + (() if pair else ("clearance_um",))
+        for key in (*_GEOMETRY, "clearance_um"):
             if key in self.given and key not in own + optional:
                 raise sc.fail(where, key, f"not a key of kind = {self.kind!r}: allowed "
-                              f"{', '.join(own + optional)}, clearance_um")
+                              f"{', '.join(own + optional)}")
         for key in own:
             if key not in self.given:
                 raise sc.fail(where, key, f"missing: kind = {self.kind!r} needs "
@@ -322,6 +341,8 @@ class BearingSection(Section):
                 raise sc.fail(where, "roller_length_mm", f"out of range, allowed <= width_mm / "
                               f"(2 cos contact_angle_deg) = {room:.6g} (two rows side by side "
                               "within the width)", self.roller_length_mm)
+        if pair:
+            self._check_pair(where, size)
         if self.clearance_um is not None:
             conformity = sum(getattr(self, k) or 0.52 for k in _BALL_OPTIONAL) - 1.0
             top = size * 1e3
@@ -333,6 +354,23 @@ class BearingSection(Section):
                 raise sc.fail(where, "clearance_um", f"out of range, allowed [{lo:.6g}, "
                               f"{top:.6g}) µm (below the {word} diameter{extra}; negative: a "
                               f"preload down to -{word}_diameter_mm/100)", self.clearance_um)
+
+    def _check_pair(self, where: str, size: float) -> None:
+        """A tapered roller pair's end play (the rows' clearance end_play tan α within the
+        roller's range) and row spacing (the rows side by side at least), in the file's
+        units."""
+        t = math.tan(math.radians(self.contact_angle_deg))
+        if self.end_play_um is not None:
+            lo, top = -10.0 * size / t, 1e3 * size / t
+            if not lo <= self.end_play_um < top:
+                raise sc.fail(where, "end_play_um", f"out of range, allowed [{lo:.6g}, "
+                              f"{top:.6g}) µm (the rows' diametral clearance, end play x tan "
+                              "contact_angle_deg, from -1 % of the roller diameter to below it; "
+                              "negative: a preload)", self.end_play_um)
+        if self.row_spacing_mm is not None and not self.row_spacing_mm >= self.width_mm:
+            raise sc.fail(where, "row_spacing_mm", f"out of range, allowed >= width_mm = "
+                          f"{self.width_mm:g} (the rows' mid-planes: side by side at least)",
+                          self.row_spacing_mm)
 
     def rolling(self, where: str = ""):
         """The rolling bearing kind (SI) of ``catalogue`` or ``kind``, or None (a linear
@@ -363,6 +401,12 @@ class BearingSection(Section):
                             effective_length=self.roller_length_mm * mm)
             if self.contact_angle_deg is not None:
                 args["contact_angle"] = math.radians(self.contact_angle_deg)
+            if self.arrangement is not None:
+                args["arrangement"] = self.arrangement
+                if self.end_play_um is not None:
+                    args["end_play"] = self.end_play_um * 1e-6
+                if self.row_spacing_mm is not None:
+                    args["spacing"] = self.row_spacing_mm * 1e-3
             return ROLLING_KINDS[self.kind](**args, **changes)
         except ValueError as err:  # a relation the checks above do not state, in SI
             raise sc.SchemaError(f"[{where or self.WHERE}] {err}") from None

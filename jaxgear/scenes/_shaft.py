@@ -211,13 +211,16 @@ def _rolling_key(kind) -> tuple | None:
     """A rolling bearing kind as a hashable value (a :class:`Bearing`'s equality and hash):
     its class and each of its fields by name, a number or an array by its shape and values
     (the elements' count, the slices, the geometry and the ratings; None where a rating is not
-    given), a traced value (under ``jit`` or ``grad``) by its identity. None for no kind."""
+    given), a kind held inside it (a pair's row) by its own key, a traced value (under ``jit``
+    or ``grad``) by its identity. None for no kind."""
     if kind is None:
         return None
 
     def value(v):
         if v is None or isinstance(v, (bool, int, str)):
             return v
+        if isinstance(v, AbstractRollingBearing):
+            return _rolling_key(v)
         if isinstance(v, jax.core.Tracer):
             return ("traced", id(v))
         a = np.asarray(v)
