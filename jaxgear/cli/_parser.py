@@ -396,6 +396,10 @@ def _add_size(s) -> None:
     s.add_argument("--dynamics", type=int, metavar="N",
                    help="the dynamics stage (K_v over speed, whine) for N candidates of the "
                    "first Pareto fronts (default: the spec's dynamics_candidates, 3; 0: none)")
+    s.add_argument("--sound", type=int, metavar="N",
+                   help="the sound stage (a housing's ERP over the [sound] speeds) for N "
+                   "candidates of the first Pareto fronts, a spec with [sound] (default: its "
+                   "candidates, 1; 0: none)")
     s.add_argument("--refine", action="store_true",
                    help="refine each candidate's helix angle, profile shifts and face width by "
                    "gradients (as [sizing] refine = true)")

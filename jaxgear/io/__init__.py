@@ -161,6 +161,13 @@ from ._sizing_spec import (
     sizing_te_settings as sizing_te_settings,
     unstaged_objective as unstaged_objective,
 )
+from ._sizing_sound import (
+    SoundLayout as SoundLayout,
+    SoundSection as SoundSection,
+    housed_case_text as housed_case_text,
+    sizing_sound as sizing_sound,
+    sound_layout as sound_layout,
+)
 from ._train_file import parse_train as parse_train
 from ._whine_table import (
     WHINE_KEYS as WHINE_KEYS,

@@ -60,6 +60,8 @@ Tables (file units in the key names)::
     profile_shift_max = 1.0         # neither (neither: the shifts stay as enumerated)
     [lubricant]                     # optional: the oil of the mesh loss columns, and
     [pareto]                        # the objectives of the front (jaxgear.io._pareto_table)
+    [sound]                         # optional: the sound stage's housing, shafts and speeds
+                                    # (jaxgear.io._sizing_sound)
 
 Each candidate's face width is the widest allowed, min(face_width_max_mm, face_width_ratio_max
 d1). A spec that can give no candidate (no tooth counts within the ratio tolerance, none in the
@@ -97,6 +99,7 @@ from ._rating_inputs import modification_inputs
 from ._rating_material_table import MaterialRatingKeys, refuse_unread_material
 from ._rating_table import RatingSection, rating_settings
 from ._sections import Section, number, number_list, one_of
+from ._sizing_sound import SoundSection
 from ._writers import toml_value
 
 __all__ = ["SIZING_STAGES", "SizingSection", "SpecOperating", "candidate_case_text",
@@ -233,7 +236,7 @@ class SizingSection(Section):
 
 
 #: the tables of a sizing spec
-SPEC_TABLES = ("operating", "material", "rating", "sizing", "lubricant", "pareto")
+SPEC_TABLES = ("operating", "material", "rating", "sizing", "lubricant", "pareto", "sound")
 
 
 def parse_sizing_spec(data: dict) -> tuple[SizingSpec, dict]:
@@ -307,16 +310,20 @@ def parse_sizing_spec(data: dict) -> tuple[SizingSpec, dict]:
         refine=sz.refine,
         refine_objective=sz.refine_objective,
     )
-    _refuse_unstaged(spec.objectives, {"te": sz.te_candidates,
-                                       "dynamics": sz.dynamics_candidates}, data.get("pareto"))
+    sound = SoundSection.of_file(data) if "sound" in data else None
+    _refuse_unstaged(spec.objectives, {"te": sz.te_candidates, "dynamics": sz.dynamics_candidates,
+                                       "sound": 0 if sound is None else sound.candidates},
+                     data)
     _refuse_empty(spec, sz)
     return spec, data
 
 
 #: each stage that adds objectives (:data:`jaxgear.sizing.STAGE_OBJECTIVES`): its words, its
-#: spec key and ``jaxgear size``'s option for its candidates
-SIZING_STAGES = {"te": ("the transmission-error stage", "te_candidates", "--te"),
-                 "dynamics": ("the dynamics stage", "dynamics_candidates", "--dynamics")}
+#: spec table and key, and ``jaxgear size``'s option for its candidates
+SIZING_STAGES = {"te": ("the transmission-error stage", ("sizing", "te_candidates"), "--te"),
+                 "dynamics": ("the dynamics stage", ("sizing", "dynamics_candidates"),
+                              "--dynamics"),
+                 "sound": ("the sound stage", ("sound", "candidates"), "--sound")}
 
 
 def unstaged_objective(objectives, candidates: dict) -> tuple[str, str] | None:
@@ -330,18 +337,20 @@ def unstaged_objective(objectives, candidates: dict) -> tuple[str, str] | None:
     return None
 
 
-def _refuse_unstaged(objectives, candidates: dict, pareto: dict | None) -> None:
-    """One line naming ``[pareto]``'s key that names an objective whose stage the spec turns
-    off (:func:`unstaged_objective`)."""
+def _refuse_unstaged(objectives, candidates: dict, data: dict) -> None:
+    """One line naming ``[pareto]``'s key that names an objective whose stage the spec
+    (``data``, its tables) turns off (:func:`unstaged_objective`)."""
     bad = unstaged_objective(objectives, candidates)
     if bad is None:
         return
     name, stage = bad
-    words, key, _ = SIZING_STAGES[stage]
+    words, (table, key), _ = SIZING_STAGES[stage]
+    pareto = data.get("pareto")
     where = next(k for k in ("minimise", "maximise") if name in (pareto or {}).get(k, []))
-    raise sc.fail("pareto", where, f"{name!r} is a column of {words}, which [sizing] {key} = 0 "
-                  f"turns off: allowed {key} >= 1 with it, or objectives without it",
-                  pareto[where])
+    off = (f"which [{table}] {key} = 0 turns off" if table in data
+           else f"which runs only with a [{table}] table")
+    raise sc.fail("pareto", where, f"{name!r} is a column of {words}, {off}: allowed "
+                  f"[{table}] {key} >= 1 with it, or objectives without it", pareto[where])
 
 
 def _objectives(data: dict) -> dict:
