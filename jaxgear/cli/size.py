@@ -6,7 +6,10 @@ row number of the table) as a case file, ``candidate_K.toml``, that ``jaxgear ru
 the same numbers; the Pareto front over the spec's objectives (the table's ``pareto_rank``,
 the chosen design in ``sizing.json``, ``pareto_X__Y.png`` for each pair of objectives and
 ``contact_ratios.png``); the dynamics stage's curves of K_v and the whine against speed for
-the candidates of the first fronts (``dynamics.csv``, ``dynamic_factor.png``); each finished
+the candidates of the first fronts (``dynamics.csv``, ``dynamic_factor.png``); with a spec's
+``[sound]``, the sound stage's housing ERP of the candidates of the first fronts
+(:mod:`jaxgear.cli._sizing_sound`: ``sound.csv``, each candidate's housed case and result in
+``store/sound/``; ``--write K`` writes ``candidate_K_housed.toml`` too); each finished
 chunk of candidates is kept in the results store (``store/``), which a rerun of the same spec
 into the same folder resumes from. With ``--num-processes N`` it runs as process
 ``--process-id`` of N joined by ``jax.distributed``, the chunks spread over every process's
@@ -222,7 +225,7 @@ def run_size(args) -> int:
         _pareto_plots(work, table, front, tables["name"])
         if curves.rows.size:
             _dynamics_files(work, spec, table, curves, tables["name"])
-        if heard.rows.size:
+        if heard is not None and heard.rows.size:
             _sound_file(work, heard)
         if args.write is not None:
             k = args.write
@@ -462,7 +465,10 @@ def _print_dynamics(spec, table, curves, seconds: float) -> None:
 def _sound_stage(spec, tables, table, section, candidates, store, args):
     """The sound stage (:func:`jaxgear.cli._sizing_sound.sound_stage`, its results in
     ``store/sound/``) with a progress bar over its candidates; (the table with its columns, the
-    curves, seconds)."""
+    curves, seconds). A spec without ``[sound]``: no stage, no columns (the table as it was,
+    None)."""
+    if section is None:
+        return table, None, 0.0
     k = min(candidates, int(table.feasible.sum()))
     bar = None if args.quiet or k == 0 else progress(total=k, desc="sound stage",
                                                      unit="candidate")
@@ -525,7 +531,7 @@ def _sound_file(folder: str, heard) -> None:
 
 
 def _print_sound(table, heard, seconds: float) -> None:
-    if not heard.rows.size:
+    if heard is None or not heard.rows.size:
         return
     c = table.columns
     rpm = 30 / math.pi
