@@ -272,12 +272,12 @@ def test_the_stage_equals_jaxgear_run_of_the_written_case(sized, tmp_path, monke
     assert float(rows[k]["erp_peak_dB"]) == pytest.approx(got["max_overall_erp_dB"], rel=1e-9)
     assert float(rows[k]["erp_peak_speed_rad_s"]) == got["speed_of_max_overall_erp_rad_s"]
     with open(run / "whine" / "housing.csv", encoding="utf-8") as f:
-        level = {float(r["speed_rad_s"]): r["overall_erp_dB"] for r in csv.DictReader(f)}
+        level = {r["speed_rad_s"]: r["overall_erp_dB"] for r in csv.DictReader(f)}  # in order
     with open(out / "sound.csv", encoding="utf-8") as f:
         curve = [r for r in csv.DictReader(f) if int(r["candidate"]) == k]
     assert len(curve) == len(level) == 12
-    for r in curve:
-        want = level[float(r["speed_rad_s"])]
+    for r, (speed, want) in zip(curve, level.items(), strict=True):
+        assert float(r["speed_rad_s"]) == pytest.approx(float(speed), rel=1e-10)  # 12 digits
         assert (r["overall_erp_dB"] == "") == (want == "")
         if want:
             assert float(r["overall_erp_dB"]) == pytest.approx(float(want), rel=1e-9)
