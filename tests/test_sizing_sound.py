@@ -208,7 +208,8 @@ def test_a_spec_without_sound_writes_what_it_wrote(tmp_path, capsys, monkeypatch
         rows = list(csv.DictReader(f))
     for a, b in zip(plain, rows, strict=True):
         assert {n: b[n] for n in a} == a
-        assert [b[n] for n in (*_columns(), "sound_stage")] == ["", "", "", "none"]
+        assert [b[n] for n in ("erp_peak_dB", "erp_peak_speed_rad_s", "sound_contact_loss",
+                               "sound_stage")] == ["", "", "", "none"]
     summary = json.loads((out / "sizing.json").read_text(encoding="utf-8"))
     assert summary["sound_stage"]["candidates"] == []
     assert not (out / "sound.csv").exists()
@@ -217,12 +218,6 @@ def test_a_spec_without_sound_writes_what_it_wrote(tmp_path, capsys, monkeypatch
     assert main(["size", str(path), "--out", str(tmp_path / "o3"), "--sound", "-1"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "--sound -1: out of range, allowed an integer >= 0" in err[0]
-
-
-def _columns():
-    from jaxgear.cli._sizing_sound import SOUND_COLUMNS
-
-    return SOUND_COLUMNS
 
 
 @pytest.mark.slow
@@ -287,3 +282,21 @@ def test_the_stage_equals_jaxgear_run_of_the_written_case(sized, tmp_path, monke
     assert again["sound_stage"]["candidate_seconds"] == seconds
     with open(out / "sizing.csv", encoding="utf-8") as f:
         assert list(csv.DictReader(f)) == rows
+
+
+def test_the_documented_table_and_the_example_are_valid():
+    """docs/sizing.md's ``[sound]`` block and examples/sizing/helical.toml's (candidates 0:
+    the stage on request) are read by the spec reader as they stand."""
+    import pathlib
+    import re
+
+    root = pathlib.Path(__file__).resolve().parents[1]
+    text = (root / "docs" / "sizing.md").read_text(encoding="utf-8")
+    block = re.findall(r"^```toml\n(.*?)^```", text[text.index("## The sound stage"):],
+                       re.DOTALL | re.MULTILINE)[0]
+    data = copy.deepcopy(SPEC) | tomllib.loads(block)
+    assert jio.sizing_sound(jio.parse_sizing_spec(data)[1])[1] == 1
+    _, tables = jio.load_sizing_spec(str(root / "examples" / "sizing" / "helical.toml"))
+    section, n = jio.sizing_sound(tables)
+    assert n == 0 and section.speed_range_rpm == [300.0, 3000.0]
+    assert jio.sizing_sound(tables, 1)[1] == 1
