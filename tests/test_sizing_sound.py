@@ -79,7 +79,7 @@ def _row(table, k):
     return {n: v[k] for n, v in table.columns.items()}
 
 
-def test_the_housed_case_follows_the_layout_rule(sized):
+def test_the_housed_case_follows_the_layout_rule(sized, tmp_path):
     """The housed case of the first feasible candidate: its own case file first, then a lumped
     3D scene on two equal shafts of length b + 4 margin (gear at the middle, bearings a margin
     in from each end, the pinion's torque at its start, the wheel's at its end), each shaft's
@@ -127,12 +127,17 @@ def test_the_housed_case_follows_the_layout_rule(sized):
     assert w["speed_max_rad_s"] == pytest.approx(3000 * RPM, rel=1e-15)
     assert (w["speeds"], w["harmonics"]) == (12, 8)
     assert "modifications" not in case
-    # a given shaft diameter; a row the transmission-error stage optimised: its flanks
-    section = jio.SoundSection.read(s | {"shaft_diameter_mm": 30.0}, "sound")
+    # a given shaft diameter; a row the transmission-error stage optimised: its flanks; a
+    # margin of many digits (the wheel's torque at its shaft's end, a length of 12 digits)
+    section = jio.SoundSection.read(s | {"shaft_diameter_mm": 30.0,
+                                         "bearing_margin_mm": 15.123456789}, "sound")
     te = row | {"stage": "te", "tip_relief_depth_m": 8e-6, "tip_relief_extent": 0.25,
                 "crowning_depth_m": 4e-6}
     case = tomllib.loads(jio.housed_case_text(tables, spec, te, k, section))
     assert case["scene"]["gear_shaft"]["diameter_mm"] == 30.0
+    shaft = case["scene"]["gear_shaft"]
+    assert shaft["torque_position_mm"] == shaft["length_mm"] == pytest.approx(b + 4 * 15.123456789)
+    jio.parse_case(case, str(tmp_path))  # the case reader takes it (jaxgear run's)
     assert case["modifications"]["tip_relief"] == {"depth_um": 8.0, "extent": 0.25}
     assert case["modifications"]["crowning"] == {"depth_um": 4.0}
 
