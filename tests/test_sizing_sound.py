@@ -138,6 +138,13 @@ def test_the_housed_case_follows_the_layout_rule(sized, tmp_path):
     shaft = case["scene"]["gear_shaft"]
     assert shaft["torque_position_mm"] == shaft["length_mm"] == pytest.approx(b + 4 * 15.123456789)
     jio.parse_case(case, str(tmp_path))  # the case reader takes it (jaxgear run's)
+    # a length whose 6-digit words round below it (100.0000004 → "100"), the torque at its end
+    shaft.update(length_mm=100.0000004, torque_position_mm=100.0000004)
+    jio.parse_case(case, str(tmp_path))
+    shaft["torque_position_mm"] = 100.00001
+    with pytest.raises(ValueError, match=r"^\[scene.gear_shaft\] torque_position_mm = 100: out "
+                       r"of range, allowed \[0, 100\]"):
+        jio.parse_case(case, str(tmp_path))
     assert case["modifications"]["tip_relief"] == {"depth_um": 8.0, "extent": 0.25}
     assert case["modifications"]["crowning"] == {"depth_um": 4.0}
 
