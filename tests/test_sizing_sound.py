@@ -156,8 +156,8 @@ BAD = [
     ({"speed_range_rpm": [500.0, 2e6]}, "[sound] speed_range_rpm"),
     ({"tip_clearance_mm": 0.0}, "[sound] tip_clearance_mm = 0: out of range, allowed [1, 1000]"),
     ({"wall_thickness_mm": 250.0}, "[sound] wall_thickness_mm = 250: out of range"),
-    ({"shaft_diameter_ratio": 0.8}, "[sound] shaft_diameter_ratio = 0.8: out of range, allowed "
-                                    "(0, 0.6]"),
+    ({"shaft_diameter_ratio": 0.8},
+     "[sound] shaft_diameter_ratio = 0.8: out of range, allowed (0, 0.6]"),
     ({"shaft_diameter_ratio": 0.4, "shaft_diameter_mm": 30.0},
      "[sound] shaft_diameter_mm = 30: give one of shaft_diameter_ratio and shaft_diameter_mm"),
     ({"bearing_margin_mm": 4.0},
@@ -233,7 +233,7 @@ def test_a_spec_without_sound_writes_what_it_wrote(tmp_path, capsys, monkeypatch
 
 
 @pytest.mark.slow
-def test_the_stage_equals_jaxgear_run_of_the_written_case(sized, tmp_path, monkeypatch):
+def test_the_stage_equals_jaxgear_run_of_the_written_case(tmp_path, monkeypatch):
     """``jaxgear size --sound 2`` over a front of the mass, the ERP peak and the margin: the
     two candidates of the first fronts (the dynamics stage's rule, the ERP left out) run; the
     first one's housed case (``--write K``) run by ``jaxgear run`` reports the stage's ERP peak
@@ -243,10 +243,9 @@ def test_the_stage_equals_jaxgear_run_of_the_written_case(sized, tmp_path, monke
     them the brute-force domination written here; a rerun reads the store (the same seconds
     recorded)."""
     monkeypatch.setenv("JAXGEAR_TEST_NO_FIGURES", "1")
-    _, spec, tables, table = sized
     data = _spec(candidates=2)
     data["pareto"] = {"minimise": ["mass_kg", "erp_peak_dB"], "maximise": ["least_margin"]}
-    spec, tables = jio.parse_sizing_spec(data)
+    spec, _ = jio.parse_sizing_spec(data)
     chosen = js.dynamics_selection(spec, js.size(spec), 2, stage="sound")
     k = int(chosen[0])
     path = tmp_path / "sound.toml"

@@ -32,8 +32,8 @@ from ..scenes import HOUSING_BAND, housing_band_hz
 from ._bearing_report import bearing_tone_lines
 from ._plots import whine_level_plot, whine_order_plot, whine_waterfall_plot
 
-__all__ = ["HousedErp", "HousedRun", "housed_erp", "housed_run", "housing_outputs", "housing_run_line", "hybrid_seats_line",
-           "hybrid_seats_section"]
+__all__ = ["HousedErp", "HousedRun", "housed_erp", "housed_run", "housing_outputs",
+           "housing_run_line", "hybrid_seats_line", "hybrid_seats_section"]
 
 #: integer orders drawn in the order plots and written as operating deflection shapes
 ORDERS_DRAWN = 4

@@ -155,6 +155,7 @@ from ._sizing_spec import (
     SIZING_STAGES as SIZING_STAGES,
     SizingSection as SizingSection,
     candidate_case_text as candidate_case_text,
+    housed_case_text as housed_case_text,
     load_sizing_spec as load_sizing_spec,
     parse_sizing_spec as parse_sizing_spec,
     sizing_dynamics_settings as sizing_dynamics_settings,
@@ -164,7 +165,6 @@ from ._sizing_spec import (
 from ._sizing_sound import (
     SoundLayout as SoundLayout,
     SoundSection as SoundSection,
-    housed_case_text as housed_case_text,
     sizing_sound as sizing_sound,
     sound_layout as sound_layout,
 )

@@ -1,8 +1,9 @@
 """A sizing spec's ``[sound]`` table: what the sound stage of ``jaxgear size`` (the equivalent
 radiated power of a housing round each candidate of the first Pareto fronts, docs/sizing.md,
 "The sound stage") needs that the candidate does not state: the housing's walls, the shafts and
-bearings' layout and the whine's speeds; and each candidate's housed case file
-(:func:`housed_case_text`), the lumped 3D pair in a box housing that ``jaxgear run`` runs.
+bearings' layout and the whine's speeds; and the layout of a candidate (:func:`sound_layout`)
+that its housed case file (:func:`jaxgear.io.housed_case_text`: the lumped 3D pair in a box
+housing, which ``jaxgear run`` runs) states.
 
 .. code-block:: toml
 
@@ -53,12 +54,9 @@ import pydantic
 
 from fem_prep import schema as sc
 
-from ..sizing import SizingSpec, candidate_pair
-from ._housing_table import EDGE
 from ._sections import Section, number, number_list
-from ._writers import toml_value
 
-__all__ = ["SOUND_ELEMENTS", "SoundLayout", "SoundSection", "housed_case_text", "sizing_sound",
+__all__ = ["POSITIONS", "SOUND_ELEMENTS", "SoundLayout", "SoundSection", "sizing_sound",
            "sound_layout"]
 
 RPM = math.pi / 30
@@ -181,68 +179,3 @@ def sizing_sound(tables: dict, candidates: int | None = None) -> tuple[SoundSect
         return None, 0
     section = SoundSection.of_file(tables)
     return section, section.candidates if candidates is None else int(candidates)
-
-
-def housed_case_text(tables: dict, spec: SizingSpec, row: dict, index: int,
-                     section: SoundSection) -> str:
-    """The housed case file (TOML text) of one candidate: its case file
-    (:func:`jaxgear.io.candidate_case_text`; with the transmission-error stage's tip relief and
-    crowning where that stage evaluated it, ``stage`` "te") and a lumped 3D scene on the shafts
-    and bearings of :func:`sound_layout` with composite damping, the box ``[housing]`` round
-    them (tet10, ``highest_mesh_frequency_Hz`` the mesh order ``band_orders`` at the top speed,
-    raised by 1e-9 so that round-off keeps it in the band) and ``[whine]`` over ``[sound]``'s
-    speeds (harmonic balance, 64 positions per period). ``jaxgear run`` of it runs the
-    housed whine and the ERP the sound stage reports.
-
-    Args:
-        tables, spec, row, index: as :func:`jaxgear.io.candidate_case_text`'s.
-        section: the spec's ``[sound]``.
-
-    Raises:
-        ValueError: an invalid geometry (:func:`jaxgear.sizing.candidate_pair`'s).
-    """
-    from ._sizing_spec import candidate_case_text
-
-    pair = candidate_pair(spec, row)
-    lay = sound_layout(section, pair)
-    s = section
-    lo, hi = (v * RPM for v in s.speed_range_rpm)
-    top = s.band_orders * int(row["z1"]) * hi / (2 * math.pi) * (1 + EDGE)
-    text = candidate_case_text(tables, spec, row, index, modified=row.get("stage") == "te")
-    mm = 1e3
-
-    def bearings(first: float, second: float) -> str:
-        k, ax = toml_value(s.bearing_radial_N_per_um), toml_value(s.bearing_axial_N_per_um)
-        return (f"[{{ position_mm = {toml_value(first * mm)}, radial_N_per_um = {k}, "
-                f"axial_N_per_um = {ax} }}, {{ position_mm = {toml_value(second * mm)}, "
-                f"radial_N_per_um = {k} }}]")
-
-    lines = ["# the sound stage's housed model ([sound] of the spec: shafts, bearings, a box "
-             "round the tip circles)", "[scene]", 'model = "lumped3d"', "[scene.damping]",
-             'model = "composite"']
-    for name, torque in (("pinion_shaft", 0.0), ("gear_shaft", lay.shaft_length)):
-        lines += [f"[scene.{name}]",
-                  f"length_mm = {toml_value(lay.shaft_length * mm)}",
-                  f"diameter_mm = {toml_value(lay.shaft_diameter * mm)}",
-                  f"gear_position_mm = {toml_value(lay.gear_position * mm)}",
-                  f"torque_position_mm = {toml_value(torque * mm)}",
-                  f"elements = {SOUND_ELEMENTS}",
-                  f"bearings = {bearings(*lay.bearing_positions)}"]
-    lines += ["[housing]",
-              f"width_mm = {toml_value(lay.width * mm)}",
-              f"height_mm = {toml_value(lay.height * mm)}",
-              f"wall_thickness_mm = {toml_value(s.wall_thickness_mm)}",
-              f"mesh_size_mm = {toml_value(s.mesh_size_mm)}",
-              'element = "tet10"',
-              f"youngs_modulus_GPa = {toml_value(s.youngs_modulus_GPa)}",
-              f"poisson_ratio = {toml_value(s.poisson_ratio)}",
-              f"density_kg_m3 = {toml_value(s.density_kg_m3)}",
-              f"highest_mesh_frequency_Hz = {toml_value(top)}",
-              f"loss_factor = {toml_value(s.loss_factor)}",
-              "[whine]",
-              f"speed_min_rad_s = {toml_value(lo)}",
-              f"speed_max_rad_s = {toml_value(hi)}",
-              f"speeds = {s.speeds}",
-              f"harmonics = {s.harmonics}",
-              f"positions_per_period = {POSITIONS}"]
-    return text + "\n".join(lines) + "\n"
