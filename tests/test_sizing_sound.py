@@ -311,3 +311,24 @@ def test_the_documented_table_and_the_example_are_valid():
     section, n = jio.sizing_sound(tables)
     assert n == 0 and section.speed_range_rpm == [300.0, 3000.0]
     assert jio.sizing_sound(tables, 1)[1] == 1
+
+
+def test_a_box_that_does_not_fit_fails_its_candidate(tmp_path, monkeypatch):
+    """Shafts too thick for the box (bores of 1.5 x 200 mm round axes under 100 mm apart): the
+    candidate's housed case is refused by the case reader in one line, which the stage records
+    (``sound_stage`` "failed", the reason in sizing.json, its columns empty) instead of
+    stopping the sizing."""
+    monkeypatch.setenv("JAXGEAR_TEST_NO_FIGURES", "1")
+    path = tmp_path / "thick.toml"
+    path.write_text(_toml(_spec(shaft_diameter_mm=200.0)))
+    out = tmp_path / "out"
+    assert main(["size", str(path), "--out", str(out), "--quiet"]) == 0
+    with open(out / "sizing.csv", encoding="utf-8") as f:
+        rows = list(csv.DictReader(f))
+    failed = [i for i, r in enumerate(rows) if r["sound_stage"] == "failed"]
+    assert len(failed) == 1 and rows[failed[0]]["erp_peak_dB"] == ""
+    summary = json.loads((out / "sizing.json").read_text(encoding="utf-8"))["sound_stage"]
+    why = summary["failed"][str(failed[0])]
+    assert why.startswith("[housing] bore_diameter_mm = 300: no diameter fits") and "\n" not in why
+    with open(out / "sound.csv", encoding="utf-8") as f:
+        assert list(csv.DictReader(f)) == []  # no curve of a failed candidate
