@@ -387,7 +387,8 @@ def _add_size(s) -> None:
     s.add_argument("--out", help="output folder (default: jaxgear-out/<spec name>/size/)")
     s.add_argument("--write", type=int, metavar="K",
                    help="also write candidate K (a row of sizing.csv) as a case file, "
-                   "candidate_K.toml, that jaxgear run rates")
+                   "candidate_K.toml, that jaxgear run rates (with [sound]: its housed case "
+                   "too, candidate_K_housed.toml)")
     s.add_argument("--top", type=int, default=20,
                    help="feasible candidates printed, lightest first (default: 20)")
     s.add_argument("--te", type=int, metavar="N",
