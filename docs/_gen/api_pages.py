@@ -135,7 +135,7 @@ SECTIONS = {
     ),
     "jaxgear.io": (
         ("Loading a case", ("_load", "_case_file", "_case", "_names", "_plausibility")),
-        ("A sizing spec and its candidates' case files", ("_sizing_spec",)),
+        ("A sizing spec and its candidates' case files", ("_sizing_spec", "_sizing_sound")),
         ("From a case to models", ("_case_model", "_operating", "_scene_spec", "_scene_table",
                                    "_problem", "_acoustic_path",
                                    "_planetary_spec", "_train_file", "_gearbox_file")),

@@ -32,8 +32,8 @@ from ..scenes import HOUSING_BAND, housing_band_hz
 from ._bearing_report import bearing_tone_lines
 from ._plots import whine_level_plot, whine_order_plot, whine_waterfall_plot
 
-__all__ = ["HousedRun", "housed_run", "housing_outputs", "housing_run_line", "hybrid_seats_line",
-           "hybrid_seats_section"]
+__all__ = ["HousedErp", "HousedRun", "housed_erp", "housed_run", "housing_outputs",
+           "housing_run_line", "hybrid_seats_line", "hybrid_seats_section"]
 
 #: integer orders drawn in the order plots and written as operating deflection shapes
 ORDERS_DRAWN = 4
@@ -101,13 +101,41 @@ def _drawn_orders(w, keep, orders):
     return drawn, wf, labels, tags
 
 
-def housing_outputs(run: HousedRun, case, w, folder: str, invalid) -> dict:
-    """The housing's files of the whine response ``w`` (of the housed scene) into ``folder``;
-    returns the ``housing`` section of the whine summary. ``invalid``: (S,) the speeds with
-    contact loss (shaded, listed)."""
+class HousedErp(NamedTuple):
+    """The equivalent radiated power of a housed whine (:func:`housed_erp`): ``orders`` (k,)
+    the whine's orders above the mean, ``keep`` (K,) which of its orders they are,
+    ``frequency`` (S, k) Hz, ``vibration`` the skin's
+    :class:`~jaxgear.acoustics.HousingVibration`, ``power`` (S, k) W and ``level`` (S, k) dB re
+    1 pW per order, ``band`` the band limit (Hz), ``in_band`` (S, k), ``overall_w`` (S,) W and
+    ``overall_db`` (S,) dB re 1 pW the sums over the orders in the band (NaN at a speed with
+    none)."""
+
+    orders: np.ndarray
+    keep: np.ndarray
+    frequency: np.ndarray
+    vibration: object
+    power: np.ndarray
+    level: np.ndarray
+    band: float
+    in_band: np.ndarray
+    overall_w: np.ndarray
+    overall_db: np.ndarray
+
+    def peak(self) -> int | None:
+        """The speed index of the largest overall ERP (None: no order in the band)."""
+        if not self.in_band.any():
+            return None
+        return int(np.nanargmax(np.where(np.isfinite(self.overall_db), self.overall_db,
+                                         -np.inf)))
+
+
+def housed_erp(run: HousedRun, w) -> HousedErp:
+    """The housing's ERP of the whine response ``w`` of the housed scene: its condensed
+    coordinates recovered on the outer skin (:func:`jaxgear.acoustics.housing_vibration`),
+    ERP = ½ ρ c Σ |v_n|² A per order, the overall the sum over the orders in the band
+    (frequency <= cut-off / 1.5, :func:`jaxgear.scenes.housing_band_hz`; docs/housing.md)."""
     ac, body = run.acoustics, run.body
     n_c = int(ac.K.shape[0])
-    speeds = np.asarray(w.speed, dtype=float)
     f1 = np.asarray(w.frequency, dtype=float)
     orders_all = np.asarray(w.orders, dtype=float)
     keep = orders_all > 0  # the mean moves the housing statically: no velocity
@@ -116,13 +144,28 @@ def housing_outputs(run: HousedRun, case, w, folder: str, invalid) -> dict:
     q = np.asarray(w.coordinates)[:, keep, run.first : run.first + n_c]
     r = housing_vibration(ac, q, freq)
     power = np.asarray(r.power, dtype=float)  # (S, k) W
-    level = np.asarray(r.level, dtype=float)
-    pv = np.asarray(r.point_velocity)  # (S, k, P) m/s
     band = housing_band_hz(body.condensed.cutoff_hz)  # the housing's rule
     in_band = freq <= band
-    overall_w = np.where(in_band, power, 0.0).sum(axis=1)
     overall_db = np.asarray(total_level(np.where(in_band, power, 0.0)), dtype=float)
-    overall_db = np.where(in_band.any(axis=1), overall_db, np.nan)
+    return HousedErp(orders, keep, freq, r, power, np.asarray(r.level, dtype=float), band,
+                     in_band, np.where(in_band, power, 0.0).sum(axis=1),
+                     np.where(in_band.any(axis=1), overall_db, np.nan))
+
+
+def housing_outputs(run: HousedRun, case, w, folder: str, invalid) -> dict:
+    """The housing's files of the whine response ``w`` (of the housed scene) into ``folder``;
+    returns the ``housing`` section of the whine summary. ``invalid``: (S,) the speeds with
+    contact loss (shaded, listed)."""
+    ac, body = run.acoustics, run.body
+    n_c = int(ac.K.shape[0])
+    speeds = np.asarray(w.speed, dtype=float)
+    f1 = np.asarray(w.frequency, dtype=float)
+    erp = housed_erp(run, w)
+    keep, orders, freq, r = erp.keep, erp.orders, erp.frequency, erp.vibration
+    power, level, band, in_band = erp.power, erp.level, erp.band, erp.in_band
+    overall_w, overall_db = erp.overall_w, erp.overall_db
+    q = np.asarray(w.coordinates)[:, keep, run.first : run.first + n_c]
+    pv = np.asarray(r.point_velocity)  # (S, k, P) m/s
     shown = np.where(in_band, level, np.nan)
     R = np.asarray(body.housing.rotation)
     names = list(ac.point_names)
@@ -208,7 +251,7 @@ def housing_outputs(run: HousedRun, case, w, folder: str, invalid) -> dict:
                               os.path.join(folder, "housing_ods.vtu"))
         files.append("housing_ods.vtu")
     files = ["housing.json", "housing.csv", *files]
-    peak = int(np.nanargmax(np.where(np.isfinite(overall_db), overall_db, -np.inf)))
+    peak = erp.peak() or 0
     section = {
         "cutoff_Hz": float(body.condensed.cutoff_hz),
         # the key that gave it, or the [whine] it was derived from (docs/housing.md)

@@ -387,7 +387,8 @@ def _add_size(s) -> None:
     s.add_argument("--out", help="output folder (default: jaxgear-out/<spec name>/size/)")
     s.add_argument("--write", type=int, metavar="K",
                    help="also write candidate K (a row of sizing.csv) as a case file, "
-                   "candidate_K.toml, that jaxgear run rates")
+                   "candidate_K.toml, that jaxgear run rates (with [sound]: its housed case "
+                   "too, candidate_K_housed.toml)")
     s.add_argument("--top", type=int, default=20,
                    help="feasible candidates printed, lightest first (default: 20)")
     s.add_argument("--te", type=int, metavar="N",
@@ -396,6 +397,10 @@ def _add_size(s) -> None:
     s.add_argument("--dynamics", type=int, metavar="N",
                    help="the dynamics stage (K_v over speed, whine) for N candidates of the "
                    "first Pareto fronts (default: the spec's dynamics_candidates, 3; 0: none)")
+    s.add_argument("--sound", type=int, metavar="N",
+                   help="the sound stage (a housing's ERP over the [sound] speeds) for N "
+                   "candidates of the first Pareto fronts, a spec with [sound] (default: its "
+                   "candidates, 1; 0: none)")
     s.add_argument("--refine", action="store_true",
                    help="refine each candidate's helix angle, profile shifts and face width by "
                    "gradients (as [sizing] refine = true)")

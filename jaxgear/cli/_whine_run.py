@@ -21,7 +21,7 @@ from ._bearing_report import bearing_tone_lines
 from ._housing_run import housed_run, housing_outputs, housing_run_line
 from ._plots import whine_order_plot, whine_waterfall_plot
 
-__all__ = ["SolvedWhine", "whine_outputs", "whine_run_line"]
+__all__ = ["SolvedWhine", "case_whine", "whine_outputs", "whine_run_line"]
 
 #: orders drawn in the order plots (the first, by the model's span: 1, 2, 3, 4 of a pair's mesh)
 ORDERS_DRAWN = 4
@@ -52,6 +52,29 @@ class SolvedWhine(NamedTuple):
     housed: object = None
 
 
+def case_whine(case, inputs=None):
+    """The whine of ``case`` over its ``[whine]`` speeds (``inputs``: its
+    :class:`~jaxgear.io.WhineInputs`, default read here): (the case's dynamic model, the
+    :class:`HousedRun` of its ``[housing]`` or None, the
+    :class:`~jaxgear.dynamics.WhineResponse`), as ``jaxgear run`` solves it.
+
+    Raises:
+        ValueError: a case whose model kind has no gear whine (one line).
+    """
+    inputs = whine_of(case) if inputs is None else inputs
+    model, _ = build_dynamic_model(case)
+    if not model.whine_methods:  # what the model kind declares
+        raise ValueError(
+            f"[whine]: the case's model is a {type(model).__name__}, which has no gear whine: "
+            "allowed a lumped scene (torsional or lumped 3D), a pair with condensed bodies or "
+            "a planetary stage's"
+        )
+    housed = housed_run(case, model)  # [housing]: its points checked before the whine
+    w = whine_response(model, np.asarray(inputs.speeds), inputs.method,
+                       positions=inputs.positions)
+    return model, housed, w
+
+
 def whine_outputs(case, out_dir: str, solved: SolvedWhine | None = None) -> dict | None:
     """The whine of ``case`` over its ``[whine]`` speeds into ``out_dir/whine``; None without
     the table. Returns the summary section. ``solved``: the whine already solved (written
@@ -65,16 +88,7 @@ def whine_outputs(case, out_dir: str, solved: SolvedWhine | None = None) -> dict
     if inputs is None:
         return None
     if solved is None:
-        model, _ = build_dynamic_model(case)
-        if not model.whine_methods:  # what the model kind declares
-            raise ValueError(
-                f"[whine]: the case's model is a {type(model).__name__}, which has no gear whine: "
-                "allowed a lumped scene (torsional or lumped 3D), a pair with condensed bodies or "
-                "a planetary stage's"
-            )
-        housed = housed_run(case, model)  # [housing]: its points checked before the whine
-        w = whine_response(model, np.asarray(inputs.speeds), inputs.method,
-                           positions=inputs.positions)
+        model, housed, w = case_whine(case, inputs)
     else:
         w, housed = solved.response, solved.housed
     folder = os.path.join(out_dir, "whine")

@@ -6,7 +6,10 @@ row number of the table) as a case file, ``candidate_K.toml``, that ``jaxgear ru
 the same numbers; the Pareto front over the spec's objectives (the table's ``pareto_rank``,
 the chosen design in ``sizing.json``, ``pareto_X__Y.png`` for each pair of objectives and
 ``contact_ratios.png``); the dynamics stage's curves of K_v and the whine against speed for
-the candidates of the first fronts (``dynamics.csv``, ``dynamic_factor.png``); each finished
+the candidates of the first fronts (``dynamics.csv``, ``dynamic_factor.png``); with a spec's
+``[sound]``, the sound stage's housing ERP of the candidates of the first fronts
+(:mod:`jaxgear.cli._sizing_sound`: ``sound.csv``, each candidate's housed case and result in
+``store/sound/``; ``--write K`` writes ``candidate_K_housed.toml`` too); each finished
 chunk of candidates is kept in the results store (``store/``), which a rerun of the same spec
 into the same folder resumes from. With ``--num-processes N`` it runs as process
 ``--process-id`` of N joined by ``jax.distributed``, the chunks spread over every process's
@@ -32,8 +35,10 @@ from ..io import (
     SchemaError,
     atomic_open,
     candidate_case_text,
+    housed_case_text,
     load_sizing_spec,
     sizing_dynamics_settings,
+    sizing_sound,
     sizing_te_settings,
     unstaged_objective,
     write_json,
@@ -41,6 +46,7 @@ from ..io import (
 from ._distributed import join_processes
 from ._paths import check_foreign_files, check_output_dir, staged_outputs
 from ._progress import progress
+from ._sizing_sound import sound_stage
 
 __all__ = ["STORE", "run_size", "write_table"]
 
@@ -123,7 +129,11 @@ def run_size(args) -> int:
         raise ValueError(f"--dynamics {args.dynamics}: out of range, allowed an integer >= 0 "
                          "(the candidates of the first Pareto fronts the dynamics stage runs)")
     dyn_settings = sizing_dynamics_settings(tables, args.dynamics)
-    _refuse_unstaged(spec, te_settings, dyn_settings)
+    if args.sound is not None and args.sound < 0:
+        raise ValueError(f"--sound {args.sound}: out of range, allowed an integer >= 0 (the "
+                         "candidates of the first Pareto fronts the sound stage runs)")
+    sound, sound_n = sizing_sound(tables, args.sound)
+    _refuse_unstaged(spec, te_settings, dyn_settings, sound_n)
     bar = None if args.quiet or not writer else progress(
         total=n, desc=f"jaxgear size {tables['name']}", unit="candidate")
 
@@ -168,6 +178,8 @@ def run_size(args) -> int:
                 f"column; {kept})")
     table, te_seconds = _te_stage(spec, table, te_settings, args.quiet)
     table, curves, dyn_seconds = _dynamics_stage(spec, table, dyn_settings, args.quiet)
+    table, heard, sound_seconds = _sound_stage(spec, tables, table, sound, sound_n, store,
+                                               args)
     # the front after the stages that add objectives' columns (the TE and dynamics stages')
     front = sizing.pareto_front(table, spec.objectives, spec.chosen)
     table = dataclasses.replace(table, columns=table.columns | {"pareto_rank": front.rank})
@@ -200,6 +212,8 @@ def run_size(args) -> int:
         },
     } | _pareto_summary(spec, table, front)
     summary["dynamics_stage"] = _dynamics_summary(spec, table, curves, dyn_seconds)
+    if sound is not None:
+        summary["sound_stage"] = _sound_summary(heard, sound_seconds)
     if refining:
         summary |= {"refine_objective": spec.refine_objective,
                     "refined": int(table.columns["refined"].sum()),
@@ -211,6 +225,8 @@ def run_size(args) -> int:
         _pareto_plots(work, table, front, tables["name"])
         if curves.rows.size:
             _dynamics_files(work, spec, table, curves, tables["name"])
+        if heard is not None and heard.rows.size:
+            _sound_file(work, heard)
         if args.write is not None:
             k = args.write
             row = {name: v[k] for name, v in cols.items()}
@@ -219,6 +235,9 @@ def run_size(args) -> int:
             if row["stage"] == "te":  # its modified flanks beside (their rating differs)
                 with atomic_open(os.path.join(work, f"candidate_{k}_modified.toml"), "w") as f:
                     f.write(candidate_case_text(tables, spec, row, k, modified=True))
+            if sound is not None:  # its housed model, the sound stage's
+                with atomic_open(os.path.join(work, f"candidate_{k}_housed.toml"), "w") as f:
+                    f.write(housed_case_text(tables, spec, row, k, sound))
     if not args.quiet:
         print(f"{tables['name']}: {len(table)} candidates, {int(table.feasible.sum())} feasible "
               f"({seconds:.2f} s) → {out}/sizing.csv")
@@ -229,6 +248,7 @@ def run_size(args) -> int:
                 print(_line(int(i), cols))
         _print_te(table, te_seconds)
         _print_dynamics(spec, table, curves, dyn_seconds)
+        _print_sound(table, heard, sound_seconds)
         if front.chosen is not None:
             k = front.chosen
             print(f"  chosen ({_rule_words(front)}): row {k}, "
@@ -238,6 +258,8 @@ def run_size(args) -> int:
             print(f"  candidate {args.write} → {out}/candidate_{args.write}.toml")
             if cols["stage"][args.write] == "te":
                 print(f"  its optimised flanks → {out}/candidate_{args.write}_modified.toml")
+            if sound is not None:
+                print(f"  its housed model → {out}/candidate_{args.write}_housed.toml")
     return 0
 
 
@@ -339,11 +361,12 @@ def _print_te(table, seconds: float) -> None:
               f"     {c['crowning_depth_m'][i] * 1e6:6.3f}")
 
 
-def _refuse_unstaged(spec, te_settings, dyn_settings) -> None:
-    """One line where ``--te 0`` or ``--dynamics 0`` turns off the stage of one of the spec's
-    objectives (its front would be empty), before any work."""
+def _refuse_unstaged(spec, te_settings, dyn_settings, sound: int) -> None:
+    """One line where ``--te 0``, ``--dynamics 0`` or ``--sound 0`` turns off the stage of one
+    of the spec's objectives (its front would be empty), before any work."""
     bad = unstaged_objective(spec.objectives, {"te": te_settings.candidates,
-                                               "dynamics": dyn_settings.candidates})
+                                               "dynamics": dyn_settings.candidates,
+                                               "sound": sound})
     if bad is None:
         return
     name, stage = bad
@@ -437,3 +460,88 @@ def _print_dynamics(spec, table, curves, seconds: float) -> None:
         if c["dynamics_unsettled"][i] > 0:
             line += f"  ({int(c['dynamics_unsettled'][i])} speeds not settled)"
         print(line)
+
+
+def _sound_stage(spec, tables, table, section, candidates, store, args):
+    """The sound stage (:func:`jaxgear.cli._sizing_sound.sound_stage`, its results in
+    ``store/sound/``) with a progress bar over its candidates; (the table with its columns, the
+    curves, seconds). A spec without ``[sound]``: no stage, no columns (the table as it was,
+    None)."""
+    if section is None:
+        return table, None, 0.0
+    k = min(candidates, int(table.feasible.sum()))
+    bar = None if args.quiet or k == 0 else progress(total=k, desc="sound stage",
+                                                     unit="candidate")
+
+    def step(done, total, what):
+        if bar is not None:
+            bar.total = total
+            bar.set_postfix_str(what)
+            bar.update(done - bar.n)
+
+    t0 = time.perf_counter()
+    try:
+        table, heard = sound_stage(spec, tables, table, section, candidates,
+                                   os.path.join(store, "sound"), restart=args.force,
+                                   progress=step)
+    finally:
+        if bar is not None:
+            bar.close()
+    return table, heard, time.perf_counter() - t0
+
+
+def _sound_summary(heard, seconds: float) -> dict:
+    """sizing.json's ``sound_stage``: what ran, on which model, over which speeds."""
+    return {
+        "candidates": [int(i) for i in heard.rows],
+        "flanks": list(heard.flanks),
+        "failed": {str(int(i)): why for i, why in zip(heard.rows, heard.failed, strict=True)
+                   if why},
+        "selection": "the first Pareto fronts over the objectives the stage does not add "
+                     "(jaxgear.sizing.dynamics_selection, stage='sound')",
+        "model": "each candidate's housed case (store/sound/candidate_K_housed.toml, "
+                 "jaxgear size --write K writes it): the lumped 3D pair on the [sound] layout's "
+                 "shafts and bearings in a box housing round its tip circles (fem_prep, "
+                 "condensed, cached), run as jaxgear run runs it",
+        "erp": "the housing's outer skin, ERP = ½ ρ c Σ |v_n|² A, the overall over the orders in "
+               "the housing's band (cut-off / 1.5); erp_peak_dB its largest over the speeds",
+        "speeds_rad_s": heard.speeds.tolist(),
+        "curves": "sound.csv",
+        "candidate_seconds": [None if math.isnan(t) else round(float(t), 3)
+                              for t in heard.seconds],
+        "seconds": round(seconds, 3),
+    }
+
+
+def _sound_file(folder: str, heard) -> None:
+    """``sound.csv``: per candidate run and speed, the overall ERP and the contact loss."""
+    with atomic_open(os.path.join(folder, "sound.csv"), "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["candidate", "flanks", "speed_rad_s", "speed_rpm", "overall_erp_dB",
+                    "contact_loss"])
+        for j, i in enumerate(heard.rows):
+            if heard.failed[j]:
+                continue
+            for s, speed in enumerate(heard.speeds):
+                v = heard.overall_erp_db[j, s]
+                w.writerow([int(i), heard.flanks[j], repr(float(speed)),
+                            repr(float(speed) * 30 / math.pi),
+                            "" if math.isnan(v) else repr(float(v)),
+                            int(heard.contact_loss[j, s])])
+
+
+def _print_sound(table, heard, seconds: float) -> None:
+    if heard is None or not heard.rows.size:
+        return
+    c = table.columns
+    rpm = 30 / math.pi
+    print(f"  sound stage ({seconds:.1f} s): housed lumped 3D model, ERP of the housing's skin "
+          "(sound.csv, store/sound/)")
+    print("    row  flanks     ERP peak (dB re 1 pW)  at (1/min)  contact loss  time (s)")
+    for j, i in enumerate(heard.rows):
+        if heard.failed[j]:
+            print(f"{i:>7d}  failed: {heard.failed[j]}")
+            continue
+        print(f"{i:>7d}  {c['sound_stage'][i]:<9s} {c['erp_peak_dB'][i]:21.2f}  "
+              f"{c['erp_peak_speed_rad_s'][i] * rpm:10.0f}  "
+              f"{int(c['sound_contact_loss'][i]):12d}  {heard.seconds[j]:8.1f}")

@@ -155,11 +155,18 @@ from ._sizing_spec import (
     SIZING_STAGES as SIZING_STAGES,
     SizingSection as SizingSection,
     candidate_case_text as candidate_case_text,
+    housed_case_text as housed_case_text,
     load_sizing_spec as load_sizing_spec,
     parse_sizing_spec as parse_sizing_spec,
     sizing_dynamics_settings as sizing_dynamics_settings,
     sizing_te_settings as sizing_te_settings,
     unstaged_objective as unstaged_objective,
+)
+from ._sizing_sound import (
+    SoundLayout as SoundLayout,
+    SoundSection as SoundSection,
+    sizing_sound as sizing_sound,
+    sound_layout as sound_layout,
 )
 from ._train_file import parse_train as parse_train
 from ._whine_table import (

@@ -95,9 +95,11 @@ def where_of(info) -> str:
 
 def on_shaft(key: str, v: float, length_mm: float | None, where: str) -> float:
     """``v`` (mm), a position along a shaft of ``length_mm`` (None: not known, the length is
-    refused itself), or the one line that it lies beyond the shaft."""
-    within = sc.interval(f"[0, {length_mm:.6g}]") if length_mm is not None else None
-    if within is not None and v not in within:
+    refused itself), or the one line that it lies beyond the shaft (the test against the length
+    as given, its words to 6 digits: a position at the end of a length of more digits is on the
+    shaft)."""
+    if length_mm is not None and not 0 <= v <= length_mm:
+        within = sc.interval(f"[0, {length_mm:.6g}]")
         raise sc.fail(where, key, f"out of range, allowed {within}{_ON_SHAFT}", v)
     return v
 

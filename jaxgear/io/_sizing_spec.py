@@ -60,6 +60,8 @@ Tables (file units in the key names)::
     profile_shift_max = 1.0         # neither (neither: the shifts stay as enumerated)
     [lubricant]                     # optional: the oil of the mesh loss columns, and
     [pareto]                        # the objectives of the front (jaxgear.io._pareto_table)
+    [sound]                         # optional: the sound stage's housing, shafts and speeds
+                                    # (jaxgear.io._sizing_sound)
 
 Each candidate's face width is the widest allowed, min(face_width_max_mm, face_width_ratio_max
 d1). A spec that can give no candidate (no tooth counts within the ratio tolerance, none in the
@@ -91,15 +93,18 @@ from ..sizing import (
     ratio_pairs,
 )
 from ._case_file import MaterialSection
+from ._housing_table import EDGE
 from ._modifications_table import modifications_toml, modifications_with
 from ._pareto_table import parse_pareto, parse_sizing_lubricant
 from ._rating_inputs import modification_inputs
 from ._rating_material_table import MaterialRatingKeys, refuse_unread_material
 from ._rating_table import RatingSection, rating_settings
 from ._sections import Section, number, number_list, one_of
+from ._sizing_sound import POSITIONS as SOUND_POSITIONS, SOUND_ELEMENTS, SoundSection, sound_layout
 from ._writers import toml_value
 
 __all__ = ["SIZING_STAGES", "SizingSection", "SpecOperating", "candidate_case_text",
+           "housed_case_text",
            "load_sizing_spec", "parse_sizing_spec", "sizing_dynamics_settings",
            "sizing_te_settings", "unstaged_objective"]
 
@@ -233,7 +238,7 @@ class SizingSection(Section):
 
 
 #: the tables of a sizing spec
-SPEC_TABLES = ("operating", "material", "rating", "sizing", "lubricant", "pareto")
+SPEC_TABLES = ("operating", "material", "rating", "sizing", "lubricant", "pareto", "sound")
 
 
 def parse_sizing_spec(data: dict) -> tuple[SizingSpec, dict]:
@@ -307,16 +312,20 @@ def parse_sizing_spec(data: dict) -> tuple[SizingSpec, dict]:
         refine=sz.refine,
         refine_objective=sz.refine_objective,
     )
-    _refuse_unstaged(spec.objectives, {"te": sz.te_candidates,
-                                       "dynamics": sz.dynamics_candidates}, data.get("pareto"))
+    sound = SoundSection.of_file(data) if "sound" in data else None
+    _refuse_unstaged(spec.objectives, {"te": sz.te_candidates, "dynamics": sz.dynamics_candidates,
+                                       "sound": 0 if sound is None else sound.candidates},
+                     data)
     _refuse_empty(spec, sz)
     return spec, data
 
 
 #: each stage that adds objectives (:data:`jaxgear.sizing.STAGE_OBJECTIVES`): its words, its
-#: spec key and ``jaxgear size``'s option for its candidates
-SIZING_STAGES = {"te": ("the transmission-error stage", "te_candidates", "--te"),
-                 "dynamics": ("the dynamics stage", "dynamics_candidates", "--dynamics")}
+#: spec table and key, and ``jaxgear size``'s option for its candidates
+SIZING_STAGES = {"te": ("the transmission-error stage", ("sizing", "te_candidates"), "--te"),
+                 "dynamics": ("the dynamics stage", ("sizing", "dynamics_candidates"),
+                              "--dynamics"),
+                 "sound": ("the sound stage", ("sound", "candidates"), "--sound")}
 
 
 def unstaged_objective(objectives, candidates: dict) -> tuple[str, str] | None:
@@ -330,18 +339,20 @@ def unstaged_objective(objectives, candidates: dict) -> tuple[str, str] | None:
     return None
 
 
-def _refuse_unstaged(objectives, candidates: dict, pareto: dict | None) -> None:
-    """One line naming ``[pareto]``'s key that names an objective whose stage the spec turns
-    off (:func:`unstaged_objective`)."""
+def _refuse_unstaged(objectives, candidates: dict, data: dict) -> None:
+    """One line naming ``[pareto]``'s key that names an objective whose stage the spec
+    (``data``, its tables) turns off (:func:`unstaged_objective`)."""
     bad = unstaged_objective(objectives, candidates)
     if bad is None:
         return
     name, stage = bad
-    words, key, _ = SIZING_STAGES[stage]
+    words, (table, key), _ = SIZING_STAGES[stage]
+    pareto = data.get("pareto")
     where = next(k for k in ("minimise", "maximise") if name in (pareto or {}).get(k, []))
-    raise sc.fail("pareto", where, f"{name!r} is a column of {words}, which [sizing] {key} = 0 "
-                  f"turns off: allowed {key} >= 1 with it, or objectives without it",
-                  pareto[where])
+    off = (f"which [{table}] {key} = 0 turns off" if table in data
+           else f"which runs only with a [{table}] table")
+    raise sc.fail("pareto", where, f"{name!r} is a column of {words}, {off}: allowed "
+                  f"[{table}] {key} >= 1 with it, or objectives without it", pareto[where])
 
 
 def _objectives(data: dict) -> dict:
@@ -496,3 +507,66 @@ def candidate_case_text(tables: dict, spec: SizingSpec, row: dict, index: int,
             (both, "tip_relief", "extent"): extent,
             (both, "crowning", "depth_um"): crown * 1e6}))
     return text
+
+
+def housed_case_text(tables: dict, spec: SizingSpec, row: dict, index: int,
+                     section: SoundSection) -> str:
+    """The housed case file (TOML text) of one candidate: its case file
+    (:func:`jaxgear.io.candidate_case_text`; with the transmission-error stage's tip relief and
+    crowning where that stage evaluated it, ``stage`` "te") and a lumped 3D scene on the shafts
+    and bearings of :func:`jaxgear.io.sound_layout` with composite damping, the box
+    ``[housing]`` round them (tet10, ``highest_mesh_frequency_Hz`` the mesh order ``band_orders`` at the top speed,
+    raised by 1e-9 so that round-off keeps it in the band) and ``[whine]`` over ``[sound]``'s
+    speeds (harmonic balance, 64 positions per period). ``jaxgear run`` of it runs the
+    housed whine and the ERP the sound stage reports.
+
+    Args:
+        tables, spec, row, index: as :func:`jaxgear.io.candidate_case_text`'s.
+        section: the spec's ``[sound]``.
+
+    Raises:
+        ValueError: an invalid geometry (:func:`jaxgear.sizing.candidate_pair`'s).
+    """
+    pair = candidate_pair(spec, row)
+    lay = sound_layout(section, pair)
+    s = section
+    lo, hi = (v * RPM for v in s.speed_range_rpm)
+    top = s.band_orders * int(row["z1"]) * hi / (2 * math.pi) * (1 + EDGE)
+    text = candidate_case_text(tables, spec, row, index, modified=row.get("stage") == "te")
+    mm = 1e3
+
+    def bearings(first: float, second: float) -> str:
+        k, ax = toml_value(s.bearing_radial_N_per_um), toml_value(s.bearing_axial_N_per_um)
+        return (f"[{{ position_mm = {toml_value(first * mm)}, radial_N_per_um = {k}, "
+                f"axial_N_per_um = {ax} }}, {{ position_mm = {toml_value(second * mm)}, "
+                f"radial_N_per_um = {k} }}]")
+
+    lines = [("# the sound stage's housed model ([sound] of the spec: shafts, bearings, a box "
+              "round the tip circles)"), "[scene]", 'model = "lumped3d"', "[scene.damping]",
+             'model = "composite"']
+    for name, torque in (("pinion_shaft", 0.0), ("gear_shaft", lay.shaft_length)):
+        lines += [f"[scene.{name}]",
+                  f"length_mm = {toml_value(lay.shaft_length * mm)}",
+                  f"diameter_mm = {toml_value(lay.shaft_diameter * mm)}",
+                  f"gear_position_mm = {toml_value(lay.gear_position * mm)}",
+                  f"torque_position_mm = {toml_value(torque * mm)}",
+                  f"elements = {SOUND_ELEMENTS}",
+                  f"bearings = {bearings(*lay.bearing_positions)}"]
+    lines += ["[housing]",
+              f"width_mm = {toml_value(lay.width * mm)}",
+              f"height_mm = {toml_value(lay.height * mm)}",
+              f"wall_thickness_mm = {toml_value(s.wall_thickness_mm)}",
+              f"mesh_size_mm = {toml_value(s.mesh_size_mm)}",
+              'element = "tet10"',
+              f"youngs_modulus_GPa = {toml_value(s.youngs_modulus_GPa)}",
+              f"poisson_ratio = {toml_value(s.poisson_ratio)}",
+              f"density_kg_m3 = {toml_value(s.density_kg_m3)}",
+              f"highest_mesh_frequency_Hz = {toml_value(top)}",
+              f"loss_factor = {toml_value(s.loss_factor)}",
+              "[whine]",
+              f"speed_min_rad_s = {toml_value(lo)}",
+              f"speed_max_rad_s = {toml_value(hi)}",
+              f"speeds = {s.speeds}",
+              f"harmonics = {s.harmonics}",
+              f"positions_per_period = {SOUND_POSITIONS}"]
+    return text + "\n".join(lines) + "\n"

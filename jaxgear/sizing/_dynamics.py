@@ -158,14 +158,17 @@ def candidate_dynamic_model(spec: SizingSpec, row: dict, modified: bool | None =
                          positions_per_pitch=AVERAGE_POSITIONS)
 
 
-def dynamics_selection(spec: SizingSpec, table: SizingTable, n: int) -> np.ndarray:
-    """The rows the stage runs: the first ``n`` of the feasible candidates front by front, the
+def dynamics_selection(spec: SizingSpec, table: SizingTable, n: int,
+                       stage: str = "dynamics") -> np.ndarray:
+    """The rows a stage runs (this one's; ``stage``, a key of
+    :data:`jaxgear.sizing.STAGE_OBJECTIVES`: ``"sound"`` the sound stage's, the same rule):
+    the first ``n`` of the feasible candidates front by front, the
     fronts over the spec's objectives that the stage does not add (completed to two by
     :data:`jaxgear.sizing.DEFAULT_OBJECTIVES`, the mass and the least margin); of a front
     larger than the places left, those evenly spaced along its first objective (both ends,
     one place: the best in it), on the first front after its chosen design (the knee or the
     spec's choice), which comes first."""
-    ours = set(STAGE_OBJECTIVES["dynamics"])
+    ours = set(STAGE_OBJECTIVES[stage])
     objectives = [o for o in spec.objectives if o[0] not in ours]
     for o in DEFAULT_OBJECTIVES:
         if len(objectives) < 2 and o[0] not in (name for name, _ in objectives):

@@ -47,15 +47,20 @@ OBJECTIVES = {
     "dynamic_factor_max": ("min", "largest dynamic factor K_v over the speed range", 1.0),
     "dynamic_factor_at_speed": ("min", "dynamic factor K_v at the spec's speed", 1.0),
     "whine_force_N": ("min", "whine: dynamic mesh force, orders 1-3, RMS (N)", 1.0),
+    # the sound stage's (jaxgear size with [sound]): NaN, so off the front, for the candidates
+    # it did not run
+    "erp_peak_dB": ("min", "housing's overall ERP, largest over the speeds (dB re 1 pW)", 1.0),
 }
 
 #: the objectives a later stage adds, by stage (``"te"``: :func:`jaxgear.sizing.te_stage`,
-#: ``"dynamics"``: :func:`jaxgear.sizing.dynamics_stage`): only the candidates that stage runs
+#: ``"dynamics"``: :func:`jaxgear.sizing.dynamics_stage`, ``"sound"``: ``jaxgear size``'s sound
+#: stage of a spec with ``[sound]``, docs/sizing.md): only the candidates that stage runs
 #: have them, so a front over one needs the stage on (the spec reader and ``jaxgear size``
 #: refuse it with the stage's candidates 0)
 STAGE_OBJECTIVES = {
     "te": ("te_ppk_m", "te_ppk_modified_m"),
     "dynamics": ("dynamic_factor_max", "dynamic_factor_at_speed", "whine_force_N"),
+    "sound": ("erp_peak_dB",),
 }
 
 #: the columns of the mesh loss (with :attr:`SizingSpec.mesh_loss <jaxgear.sizing.SizingSpec>`):

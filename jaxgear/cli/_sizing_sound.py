@@ -1,0 +1,160 @@
+"""The sound stage of ``jaxgear size`` (a spec with ``[sound]``, docs/sizing.md, "The sound
+stage"): for the candidates of the first Pareto fronts (:func:`jaxgear.sizing.dynamics_selection`'s
+rule, ``stage="sound"``), each candidate's housed case file (:func:`jaxgear.io.housed_case_text`:
+the lumped 3D pair on the layout's shafts and bearings in a box housing round its tip circles,
+with ``[whine]``) is written into the results store and run as ``jaxgear run`` runs it: the case
+read by :func:`jaxgear.io.load_case`, its whine solved by :func:`case_whine` (the housing meshed
+and condensed by fem_prep, cached) and its equivalent radiated power on the housing's outer
+skin by :func:`housed_erp`. The columns :data:`SOUND_COLUMNS` are that run's headline: the
+largest overall ERP over the speeds and its speed, so ``jaxgear run`` of the written case
+reports the same numbers. Each finished candidate's result is kept in ``store/sound/`` (keyed by
+its case text and jaxgear's version), which a rerun of the same spec into the same folder
+reads instead of running it again."""
+
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+import json
+import math
+import os
+import time
+from collections.abc import Callable
+from typing import NamedTuple
+
+import numpy as np
+
+from .. import __version__, sizing
+from ..io import SchemaError, atomic_open, housed_case_text, load_case
+from ._housing_run import housed_erp
+from ._whine_run import case_whine
+
+__all__ = ["SOUND_COLUMNS", "SoundCurves", "sound_stage"]
+
+#: the columns the stage adds (NaN where a candidate was not run; beside them ``sound_stage``,
+#: :func:`sound_stage`): the largest overall ERP over the speeds (dB re 1 pW), the speed where
+#: it is largest (rad/s, the pinion's) and the speeds with contact loss (where the whine's
+#: linear result does not hold)
+SOUND_COLUMNS = ("erp_peak_dB", "erp_peak_speed_rad_s", "sound_contact_loss")
+
+
+class SoundCurves(NamedTuple):
+    """The stage's curves, one row per candidate run.
+
+    Attributes:
+        rows: the candidates' rows of the table, (k,).
+        speeds: the pinion speeds (rad/s), (S,) ([sound]'s range; none where no candidate ran).
+        overall_erp_db: the overall ERP over the orders in the housing's band (dB re 1 pW),
+            (k, S); NaN where the candidate failed or no order lies in the band.
+        contact_loss: whether each speed lost contact, (k, S).
+        flanks: "plain" or "modified" (the transmission-error stage's), (k,).
+        seconds: each candidate's time (s; a result read back from the store: its first run's).
+        failed: each candidate's one-line reason ("" where it ran).
+    """
+
+    rows: np.ndarray
+    speeds: np.ndarray
+    overall_erp_db: np.ndarray
+    contact_loss: np.ndarray
+    flanks: tuple[str, ...]
+    seconds: np.ndarray
+    failed: tuple[str, ...]
+
+
+def _run_candidate(path: str) -> dict:
+    """``jaxgear run``'s housed whine and ERP of the case file ``path``: the speeds, the overall
+    ERP (NaN: no order in the band) and the contact loss per speed."""
+    t0 = time.perf_counter()
+    case = load_case(path)
+    _, housed, w = case_whine(case)
+    erp = housed_erp(housed, w)
+    return {"speeds": np.asarray(w.speed, dtype=float).tolist(),
+            "overall_erp_db": [None if math.isnan(v) else float(v) for v in erp.overall_db],
+            "contact_loss": np.asarray(w.contact_loss, dtype=bool).any(axis=1).tolist(),
+            "housing_modes": len(housed.body.condensed.modes_hz),
+            "housing_dofs": int(housed.body.mesh.n_dofs),
+            "seconds": time.perf_counter() - t0}
+
+
+def sound_stage(spec, tables: dict, table: sizing.SizingTable, section, candidates: int,
+                folder: str, *, restart: bool = False,
+                progress: Callable[[int, int, str], None] | None = None
+                ) -> tuple[sizing.SizingTable, SoundCurves]:
+    """The sound stage (the module docstring).
+
+    Args:
+        spec, tables: the sizing spec and its checked tables (:func:`jaxgear.io.load_sizing_spec`).
+        table: its table (after the transmission-error stage, if any: a row of ``stage`` "te"
+            runs with that stage's flanks).
+        section: the spec's ``[sound]`` (:func:`jaxgear.io.sizing_sound`). candidates: how many
+            candidates of the first fronts (0: none).
+        folder: the stage's results store (each candidate's housed case file
+            ``candidate_K_housed.toml`` and result ``candidate_K.json``).
+        restart: run every candidate again (the store's results ignored).
+        progress: ``progress(done, total, what)`` before each candidate (``what``: its row and
+            step) and after the last.
+
+    Returns:
+        (the table with :data:`SOUND_COLUMNS`, NaN where not run, and ``sound_stage``: "plain"
+        or "modified" (the flanks it ran with), "failed" where its housed case did not run (a
+        box that does not fit round the shafts, a housing over the machine's limits: the
+        reason in :attr:`SoundCurves.failed`), else "none"; the :class:`SoundCurves`).
+    """
+    n = len(table)
+    columns = {k: np.full(n, math.nan) for k in SOUND_COLUMNS}
+    stage = np.full(n, "none", dtype=object)
+    chosen = (sizing.dynamics_selection(spec, table, candidates, stage="sound") if candidates
+              else np.zeros(0, dtype=int))
+    k = len(chosen)
+    results, flanks, failed = [], [], []
+    for j, i in enumerate(chosen):
+        i = int(i)
+        row = {name: v[i] for name, v in table.columns.items()}
+        flanks.append("modified" if row.get("stage") == "te" else "plain")
+        if progress is not None:
+            progress(j, k, f"row {i}: housing and whine")
+        text = housed_case_text(tables, spec, row, i, section)
+        key = hashlib.sha256((__version__ + "\n" + text).encode()).hexdigest()
+        os.makedirs(folder, exist_ok=True)
+        case_path = os.path.join(folder, f"candidate_{i}_housed.toml")
+        result_path = os.path.join(folder, f"candidate_{i}.json")
+        got = None
+        if not restart and os.path.isfile(result_path):
+            with open(result_path) as f:
+                stored = json.load(f)
+            got = stored if stored.get("key") == key else None
+        if got is None:
+            with atomic_open(case_path, "w") as f:
+                f.write(text)
+            try:
+                got = _run_candidate(case_path) | {"failed": ""}
+            except (SchemaError, ValueError) as err:  # the case's one line
+                got = {"failed": str(err).splitlines()[0]}
+            with atomic_open(result_path, "w") as f:
+                json.dump(got | {"key": key}, f)
+        results.append(got)
+        failed.append(got["failed"])
+    if progress is not None:
+        progress(k, k, "done")
+    ran = [r for r in results if not r["failed"]]
+    speeds = np.asarray(ran[0]["speeds"] if ran else [], dtype=float)
+    level = np.full((k, speeds.size), math.nan)
+    loss = np.zeros((k, speeds.size), dtype=bool)
+    for j, (i, r) in enumerate(zip(chosen, results, strict=True)):
+        if r["failed"]:
+            stage[i] = "failed"
+            continue
+        stage[i] = flanks[j]
+        level[j] = [math.nan if v is None else v for v in r["overall_erp_db"]]
+        loss[j] = r["contact_loss"]
+        columns["sound_contact_loss"][i] = float(loss[j].sum())
+        if np.isfinite(level[j]).any():  # jaxgear run's headline: the largest, its speed
+            top = int(np.nanargmax(level[j]))
+            columns["erp_peak_dB"][i] = level[j, top]
+            columns["erp_peak_speed_rad_s"][i] = speeds[top]
+    seconds = np.asarray([r.get("seconds", math.nan) for r in results], dtype=float)
+    curves = SoundCurves(np.asarray(chosen, dtype=int), speeds, level, loss, tuple(flanks),
+                         seconds, tuple(failed))
+    table = dataclasses.replace(table, columns=table.columns | columns
+                                | {"sound_stage": stage.astype(str)})
+    return table, curves
