@@ -170,25 +170,42 @@ def ts_flash_temperature(
         )
     check_real("torque", torque, "N·m", lo=0.0, lo_open=True, where=w_)
     check_real("speed", speed, "rad/s", lo=0.0, lo_open=True, where=w_)
-    g = jnp.asarray(gamma)
-    u = pair.gear_ratio
-    a = pair.center_distance
-    sa = math.sin(pair.operating_pressure_angle)
-    cb = math.cos(pair.base_helix_angle)
     x_m = (2.0 * contact_modulus(youngs_modulus, poisson_ratio)) ** 0.25 / thermal_coefficient
-    w_bn = torque / (pair.base_radii[0] * pair.face_width)
+    return _ts_flash(
+        pair.gear_ratio,
+        pair.center_distance,
+        math.sin(pair.operating_pressure_angle),
+        math.cos(pair.base_helix_angle),
+        pair.base_radii[0] * pair.face_width,
+        jnp.asarray(gamma),
+        load_sharing,
+        friction_coefficient,
+        torque,
+        speed,
+        x_m,
+    )
+
+
+def _ts_flash(u, a, sin_awt, cos_bb, rb1_b, gamma, load_sharing, mu, torque, speed, x_m):
+    """:func:`ts_flash_temperature`'s closed form on numbers (traceable): u, a (m), sin α_wt,
+    cos β_b, r_b1 b (m²), Γ, X_Γ, μ, T (N·m), ω₁ (rad/s), X_M = E_r^¼/B_M (SI). Shared by
+    :func:`ts_flash_temperature` and :func:`ts_scuffing`."""
+    g = gamma
+    w_bn = torque / rb1_b
     v_t = speed * a / (1.0 + u)
-    x_g = (1.0 + u) ** 0.5 * jnp.abs(jnp.sqrt(1.0 + g) - jnp.sqrt(1.0 - g / u))
-    x_g = x_g / ((1.0 + g) * (u - g)) ** 0.25
+    # the positions are kept on the flanks (Γ in (−1, u)): an invalid pair gives 0, not NaN
+    x_g = (1.0 + u) ** 0.5 * jnp.abs(
+        jnp.sqrt(jnp.maximum(1.0 + g, 0.0)) - jnp.sqrt(jnp.maximum(1.0 - g / u, 0.0)))
+    x_g = x_g / jnp.maximum((1.0 + g) * (u - g), 1e-12) ** 0.25
     c = 1.11 / math.sqrt(2.0) * (math.pi / 8.0) ** 0.25  # 0.62
     return (
         c
         * x_m
-        * friction_coefficient
+        * mu
         * (load_sharing * w_bn) ** 0.75
-        * (v_t * sa) ** 0.5
-        * cb**0.75
-        / (a * sa) ** 0.25
+        * (v_t * sin_awt) ** 0.5
+        * cos_bb**0.75
+        / (a * sin_awt) ** 0.25
         * x_g
     )
 
@@ -578,14 +595,7 @@ def _scuffing(pair, mask, trib, oil, e_star, b_m, bulk, theta_s, theta_int_s):
     fl_mean = jnp.sum(jnp.where(mask, fl, zero)) / n_path
     theta_m = jnp.asarray(bulk.bulk(oil, fl_mean), dtype)
     theta_b_max = theta_m + fl_max
-    # integral method: its own bulk rule unless a bulk temperature is given
-    if isinstance(bulk, GivenBulkTemperature):
-        theta_m_int = theta_m
-    elif isinstance(bulk, FlashBulkTemperature):  # X_S and X_mp enter both methods' rules
-        theta_m_int = oil + _C1 * bulk.lubrication_factor * 0.5 * (1 + bulk.meshes) * fl_mean
-    else:
-        theta_m_int = oil + _C1 * fl_mean
-    theta_int = theta_m_int + _C2 * fl_mean
+    theta_m_int, theta_int = _integral_temperature(bulk, oil, fl_mean, theta_m)
     return MeshScuffing(
         on_path=mask,
         loaded=loaded,
@@ -603,3 +613,18 @@ def _scuffing(pair, mask, trib, oil, e_star, b_m, bulk, theta_s, theta_int_s):
         integral_safety_factor=theta_int_s / theta_int,
         oil_temperature=jnp.asarray(oil, dtype),
     )
+
+
+def _integral_temperature(bulk, oil, fl_mean, theta_m):
+    """(θ_M,int, θ_int) (°C) of the integral-temperature method (module docstring) from the
+    mean flash temperature θ_fla,int = ``fl_mean`` (K): its own bulk rule unless a bulk
+    temperature is given (then ``theta_m``, the flash method's). Shared by
+    :func:`mesh_scuffing` and :func:`ts_scuffing`."""
+    if isinstance(bulk, GivenBulkTemperature):
+        theta_m_int = theta_m
+    elif isinstance(bulk, FlashBulkTemperature):  # X_S and X_mp enter both methods' rules
+        theta_m_int = oil + _C1 * bulk.lubrication_factor * 0.5 * (1 + bulk.meshes) * fl_mean
+    else:
+        theta_m_int = oil + _C1 * fl_mean
+    return theta_m_int, theta_m_int + _C2 * fl_mean
+

@@ -1,0 +1,268 @@
+"""The closed-form scuffing rating of ISO/TS 6336-20 (flash-temperature method) and the
+integral temperature of ISO/TS 6336-21 for an external cylindrical pair of one material, from
+its geometry and operating point alone (no contact solve): the TS's load-sharing factor X_Γ,
+its mean coefficient of friction μ_mC and its closed-form θ_fl(Γ)
+(:func:`jaxgear.tribology.ts_flash_temperature`'s formula) along the path of contact.
+Traceable and batched (``jax.vmap``): the sizing rates every candidate with it
+(:func:`ts_scuffing`; docs/tribology.md § "The closed form of ISO/TS 6336-20", docs/sizing.md).
+
+Positions on the path (ISO/TR 13989-1 eqs. (30)–(33), the TS's Γ, 0 at the pitch point C):
+
+    Γ_A = −u (tan α_a2/tan α_wt − 1),           Γ_E = tan α_a1/tan α_wt − 1,
+    Γ_B = Γ_E − 2π/(z₁ tan α_wt),               Γ_D = Γ_A + 2π/(z₁ tan α_wt).
+
+Load-sharing factor X_Γ (ISO/TR 13989-1 clause 9, DIN 3990-4; :func:`ts_load_sharing`):
+
+- spur, unmodified profiles (the buttress form): X_Γ = X_Q + (Γ − Γ_A)/(3 (Γ_B − Γ_A)) from A
+  to B, 1 from B to D, X_Q + (Γ_E − Γ)/(3 (Γ_E − Γ_D)) from D to E, X_Q = (Q − 2)/15 with Q the
+  ISO 1328 grade (7 where finer): 1/3 at A and E, 2/3 just before B and after D for Q <= 7, so
+  that the two pairs in double contact carry the load between them (X_Γ(Γ) + X_Γ(Γ + 2π/(z₁
+  tan α_wt)) = 1); a less accurate grade loads the tips more (a sum above 1, as the TR);
+- helical with ε_β >= 1: X_Γ = 1/ε_α (the load spread evenly over the contact lines);
+- 0 < ε_β < 1: the two interpolated linearly in ε_β, X_Γ = (1 − ε_β) X_Γ,spur + ε_β/ε_α
+  (jaxgear's interpolation: the TS's text for this range was not available);
+- helical (β_b > 0): × the buttressing factor X_but, 1 + 0.3 min(ε_β, 1) at A and E falling
+  linearly to 1 over Δ_Γ = 0.2 sin β_b (ISO/TR 13989-1 eqs. (49)–(56)).
+
+Where ε_α < 1 the spur form has no double contact: X_Γ,spur = 1.
+
+Mean coefficient of friction (ISO/TS 6336-20's μ_mC; :func:`ts_friction_coefficient`):
+
+    μ_mC = 0.045 (w_Bt K_Bγ/(v_ΣC ρ_redC))^0.2 η_oil^−0.05 X_R X_L,  X_R = 2.2 (R_a/ρ_redC)^0.25,
+
+w_Bt = K_A K_v K_Hβ K_Hα F_t/b (N/mm, F_t = 2 T₁/d₁ the nominal tangential load at the
+reference circle), v_ΣC = 2 v_t sin α_wt (m/s, v_t the operating pitch-line speed, taken as 50
+m/s above it as ISO/TR 13989-1 eq. (26)), ρ_redC = a sin α_wt u/(1 + u)² (mm, transverse),
+η_oil the oil's dynamic viscosity at θ_oil (mPa·s), R_a = (R_a1 + R_a2)/2 (µm), X_L the TS's
+lubricant factor (1 mineral oil; :class:`ScuffingLimits`' ``lubricant_factor``, the one θ_S
+takes) and K_Bγ the helical load factor: 1 for ε_γ <= 2, 1 + 0.2 √((ε_γ − 2)(5 − ε_γ)) to
+ε_γ = 3.5, 1.3 beyond (:func:`helical_load_factor`).
+
+The flash temperature θ_fl(Γ) = :func:`ts_flash_temperature`'s closed form with X_Γ, μ_mC and
+the torque T₁ K_A K_v K_Hβ K_Hα K_Bγ; θ_fl,max its largest on A…E (sampled, and at B and D),
+θ_flm its mean over A…E (the trapezoidal rule); the bulk temperature, θ_B,max, θ_S, S_B and the
+integral method's θ_int, θ_intS, S_intS as :func:`mesh_scuffing`'s (the same bulk kinds, the
+same :class:`ScuffingLimits`; θ_fla,int = θ_flm, the TS-21's closed form θ_flaE X_ε is not
+carried).
+
+Sources: the TS texts were not available. The positions, X_but, v_ΣC's cap and the structure
+of μ_m are ISO/TR 13989-1:2000's as an independent implementation transcribes them
+(hakangunes258/mekanika, ``Services/Iso13989FlashTemperature.cs``, eqs. (25)–(33), (49)–(56));
+the spur X_Γ's 1/3 steps are DIN 3990-4's (that implementation ramps X_Γ to 1 at B instead,
+which loads the two pairs in double contact by more than the whole load); μ_mC's 0.045, its
+η_oil^−0.05 X_R X_L split and X_R = 2.2 (R_a/ρ_redC)^0.25 are ISO/TS 6336-20:2017's as the
+project's brief (issue 84) states them; K_Bγ is ISO/TR 13989-1's. docs/tribology.md says how far
+each is confirmed.
+"""
+
+from __future__ import annotations
+
+import equinox as eqx
+import jax.numpy as jnp
+from jaxtyping import Array, Float
+
+from .._pressure import contact_modulus
+from ._flash import (
+    STEEL_THERMAL_CONTACT_COEFFICIENT,
+    AbstractBulkTemperature,
+    FlashBulkTemperature,
+    ScuffingLimits,
+    _integral_temperature,
+    _ts_flash,
+)
+from ._lubricant import Lubricant
+
+__all__ = ["SCUFFING_POINTS", "TSScuffing", "helical_load_factor", "ts_friction_coefficient",
+           "ts_load_sharing", "ts_scuffing"]
+
+#: the positions θ_fl is sampled at, equally spaced on A…E (B and D added for the maximum)
+SCUFFING_POINTS = 201
+
+
+def ts_load_sharing(gamma, gamma_a, gamma_b, gamma_d, gamma_e, eps_alpha, eps_beta,
+                    base_helix_angle, grade=7) -> Float[Array, ...]:
+    """The TS's load-sharing factor X_Γ (-) at the positions ``gamma`` (the module docstring;
+    traceable, arrays broadcast together).
+
+    Args:
+        gamma: Γ (-), any shape. gamma_a, gamma_b, gamma_d, gamma_e: Γ_A, Γ_B, Γ_D, Γ_E.
+        eps_alpha, eps_beta: ε_α > 0, ε_β >= 0. base_helix_angle: β_b (rad).
+        grade: the ISO 1328 accuracy grade Q (a Python int; 7 where finer).
+
+    Returns:
+        X_Γ, the broadcast shape; not validated (traced callers).
+    """
+    g = jnp.asarray(gamma)
+    x_q = (max(int(grade), 7) - 2) / 15.0
+    double = eps_alpha > 1.0
+    span_ab = jnp.where(double, gamma_b - gamma_a, 1.0)
+    span_de = jnp.where(double, gamma_e - gamma_d, 1.0)
+    left = jnp.where(g < gamma_b, x_q + (g - gamma_a) / (3.0 * span_ab), 1.0)
+    right = jnp.where(g > gamma_d, x_q + (gamma_e - g) / (3.0 * span_de), 1.0)
+    spur = jnp.where(double, jnp.minimum(jnp.minimum(left, right), 1.0), 1.0)
+    f = jnp.clip(eps_beta, 0.0, 1.0)
+    x = (1.0 - f) * spur + f / eps_alpha
+    width = jnp.maximum(0.2 * jnp.sin(base_helix_angle), 1e-12)
+    ramp = jnp.maximum(jnp.maximum(1.0 - (g - gamma_a) / width, 1.0 - (gamma_e - g) / width), 0.0)
+    return x * (1.0 + 0.3 * f * ramp)
+
+
+def helical_load_factor(eps_gamma) -> Float[Array, ...]:
+    """K_Bγ (-) of the total contact ratio ε_γ (the module docstring; traceable): 1 to ε_γ = 2,
+    1 + 0.2 √((ε_γ − 2)(5 − ε_γ)) to 3.5, 1.3 beyond (ISO/TR 13989-1)."""
+    e = jnp.clip(eps_gamma, 2.0, 3.5)
+    return 1.0 + 0.2 * jnp.sqrt(jnp.maximum((e - 2.0) * (5.0 - e), 0.0))
+
+
+def ts_friction_coefficient(line_load, sum_speed, radius, viscosity, roughness,
+                            lubricant_factor=1.0) -> Float[Array, ...]:
+    """ISO/TS 6336-20's μ_mC (-) (the module docstring; traceable), SI in, the TS's units
+    inside.
+
+    Args:
+        line_load: w_Bt K_Bγ (N/m) > 0. sum_speed: v_ΣC (m/s) > 0 (capped by the caller).
+        radius: ρ_redC (m) > 0. viscosity: η_oil (Pa·s) > 0. roughness: R_a (m) > 0, the
+            flanks' mean. lubricant_factor: X_L (1 mineral oil).
+    """
+    rho_mm = radius * 1e3
+    x_r = 2.2 * (roughness * 1e6 / rho_mm) ** 0.25
+    return (0.045 * (line_load * 1e-3 / (sum_speed * rho_mm)) ** 0.2
+            * (viscosity * 1e3) ** -0.05 * x_r * lubricant_factor)
+
+
+class TSScuffing(eqx.Module):
+    """The closed-form scuffing rating of one pair (:func:`ts_scuffing`); temperatures in °C,
+    rises in K.
+
+    Attributes:
+        gamma: the positions Γ sampled on A…E (-), (:data:`SCUFFING_POINTS`,).
+        load_sharing: X_Γ there. flash_temperature: θ_fl (K) there.
+        positions: (Γ_A, Γ_B, Γ_D, Γ_E). friction_coefficient: μ_mC. load_factor: K_Bγ.
+        max_flash_temperature: θ_fl,max (K; at B and D too). mean_flash_temperature: θ_flm (K).
+        bulk_temperature: θ_M. max_contact_temperature: θ_B,max = θ_M + θ_fl,max.
+        scuffing_temperature: θ_S. safety_factor: S_B = (θ_S − θ_oil)/(θ_B,max − θ_oil).
+        integral_temperature: θ_int. integral_scuffing_temperature: θ_intS.
+        integral_safety_factor: S_intS = θ_intS/θ_int. oil_temperature: θ_oil.
+    """
+
+    gamma: Float[Array, " K"]
+    load_sharing: Float[Array, " K"]
+    flash_temperature: Float[Array, " K"]
+    positions: Float[Array, 4]
+    friction_coefficient: Float[Array, ""]
+    load_factor: Float[Array, ""]
+    max_flash_temperature: Float[Array, ""]
+    mean_flash_temperature: Float[Array, ""]
+    bulk_temperature: Float[Array, ""]
+    max_contact_temperature: Float[Array, ""]
+    scuffing_temperature: float
+    safety_factor: Float[Array, ""]
+    integral_temperature: Float[Array, ""]
+    integral_scuffing_temperature: Float[Array, ""]
+    integral_safety_factor: Float[Array, ""]
+    oil_temperature: Float[Array, ""]
+
+
+def ts_scuffing(
+    teeth_1,
+    gear_ratio,
+    centre_distance,
+    operating_pressure_angle,
+    base_helix_angle,
+    reference_diameter_1,
+    tip_diameters,
+    face_width,
+    contact_ratios,
+    torque,
+    speed,
+    load_factor,
+    lubricant: Lubricant,
+    roughness,
+    limits: ScuffingLimits,
+    youngs_modulus,
+    poisson_ratio,
+    *,
+    bulk: AbstractBulkTemperature | None = None,
+    grade: int = 7,
+    thermal_coefficient=STEEL_THERMAL_CONTACT_COEFFICIENT,
+    points: int = SCUFFING_POINTS,
+) -> TSScuffing:
+    """The closed-form scuffing rating of ISO/TS 6336-20 (and the integral temperature of
+    ISO/TS 6336-21) of an external pair of one material, its pinion driving (the module
+    docstring). Traceable in every number (``jax.vmap`` over candidates, ``jax.grad``); not
+    validated (the callers' readers check their keys: ``jaxgear.io`` for a sizing spec).
+
+    Args:
+        teeth_1: z₁. gear_ratio: u = z₂/z₁ > 0. centre_distance: a (m).
+        operating_pressure_angle: α_wt (rad). base_helix_angle: β_b (rad).
+        reference_diameter_1: d₁ (m) (F_t = 2 T₁/d₁). tip_diameters: (d_a1, d_a2) (m).
+        face_width: b (m). contact_ratios: (ε_α, ε_β).
+        torque: T₁ (N·m) > 0. speed: ω₁ (rad/s) > 0.
+        load_factor: K_A K_v K_Hβ K_Hα (-) of ISO 6336-1 (the TS's K_Bβ = K_Hβ, K_Bα = K_Hα).
+        lubricant: the oil at θ_oil (:class:`Lubricant`: η_oil, ν₄₀). roughness: (R_a1, R_a2)
+            (m). limits: θ_S and θ_intS (:class:`ScuffingLimits`; its X_L enters μ_mC too).
+        youngs_modulus, poisson_ratio: both gears' (Pa, -).
+        bulk: the bulk-temperature rule (None: :class:`FlashBulkTemperature`, X_S = 1).
+        grade: the ISO 1328 grade of X_Γ (a Python int). thermal_coefficient: B_M (W s^½/(m²
+        K)), default steel's. points: the positions sampled on A…E (a Python int >= 2).
+
+    Returns:
+        :class:`TSScuffing`.
+    """
+    bulk = FlashBulkTemperature() if bulk is None else bulk
+    z1, u, a = teeth_1, gear_ratio, centre_distance
+    awt, bb = operating_pressure_angle, base_helix_angle
+    ea, eb = contact_ratios[0], contact_ratios[1]
+    tan_w = jnp.tan(awt)
+    rb1 = a * jnp.cos(awt) / (1.0 + u)
+    rb = jnp.stack([rb1, u * rb1])
+    tan_a = jnp.sqrt(jnp.maximum((jnp.asarray(tip_diameters) / (2.0 * rb)) ** 2 - 1.0, 0.0))
+    g_e = tan_a[0] / tan_w - 1.0
+    g_a = -u * (tan_a[1] / tan_w - 1.0)
+    pitch = 2.0 * jnp.pi / (z1 * tan_w)
+    g_b, g_d = g_e - pitch, g_a + pitch
+    k_by = helical_load_factor(ea + eb)
+    t_load = torque * load_factor * k_by
+    # μ_mC at the pitch point
+    v_t = speed * a / (1.0 + u)
+    sin_w = jnp.sin(awt)
+    rho_c = a * sin_w * u / (1.0 + u) ** 2
+    w_bt = 2.0 * t_load / (reference_diameter_1 * face_width)
+    ra = 0.5 * (roughness[0] + roughness[1])
+    mu = ts_friction_coefficient(w_bt, 2.0 * jnp.minimum(v_t, 50.0) * sin_w, rho_c,
+                                 lubricant.dynamic_viscosity, ra, limits.lubricant_factor)
+    x_m = (2.0 * contact_modulus(youngs_modulus, poisson_ratio)) ** 0.25 / thermal_coefficient
+    frac = jnp.linspace(0.0, 1.0, points, dtype=jnp.result_type(a, float))
+    gamma = g_a + (g_e - g_a) * frac
+    every = jnp.concatenate([gamma, jnp.stack([g_b, g_d])])
+    x_gamma = ts_load_sharing(every, g_a, g_b, g_d, g_e, ea, eb, bb, grade)
+    fl = _ts_flash(u, a, sin_w, jnp.cos(bb), rb1 * face_width, every, x_gamma, mu, t_load,
+                   speed, x_m)
+    on_path = (every >= g_a) & (every <= g_e)  # B, D off the path where ε_α < 1
+    fl_max = jnp.max(jnp.where(on_path, fl, 0.0))
+    sampled = fl[:points]
+    fl_mean = jnp.sum(0.5 * (sampled[1:] + sampled[:-1])) / (points - 1)
+    oil = lubricant.oil_temperature
+    theta_m = bulk.bulk(oil, fl_mean)
+    theta_b = theta_m + fl_max
+    theta_s = limits.flash()
+    _, theta_int = _integral_temperature(bulk, oil, fl_mean, theta_m)
+    theta_int_s = limits.integral(lubricant.viscosity_40)
+    return TSScuffing(
+        gamma=gamma,
+        load_sharing=x_gamma[:points],
+        flash_temperature=sampled,
+        positions=jnp.stack([g_a, g_b, g_d, g_e]),
+        friction_coefficient=mu,
+        load_factor=k_by,
+        max_flash_temperature=fl_max,
+        mean_flash_temperature=fl_mean,
+        bulk_temperature=jnp.asarray(theta_m),
+        max_contact_temperature=theta_b,
+        scuffing_temperature=theta_s,
+        safety_factor=(theta_s - oil) / (theta_b - oil),
+        integral_temperature=theta_int,
+        integral_scuffing_temperature=jnp.asarray(theta_int_s),
+        integral_safety_factor=theta_int_s / theta_int,
+        oil_temperature=jnp.asarray(oil),
+    )
