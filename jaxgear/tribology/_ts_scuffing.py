@@ -39,8 +39,9 @@ takes) and K_Bγ the helical load factor: 1 for ε_γ <= 2, 1 + 0.2 √((ε_γ �
 ε_γ = 3.5, 1.3 beyond (:func:`helical_load_factor`).
 
 The flash temperature θ_fl(Γ) = :func:`ts_flash_temperature`'s closed form with X_Γ, μ_mC and
-the torque T₁ K_A K_v K_Hβ K_Hα K_Bγ; θ_fl,max its largest on A…E (sampled, and at B and D),
-θ_flm its mean over A…E (the trapezoidal rule); the bulk temperature, θ_B,max, θ_S, S_B and the
+the torque T₁ K_A K_v K_Hβ K_Hα K_Bγ; θ_fl,max its largest on A…E and θ_flm its mean over A…E
+(the trapezoidal rule on each of A…B, B…D, D…E, the steps of X_Γ at B and D taken from either
+side); the bulk temperature, θ_B,max, θ_S, S_B and the
 integral method's θ_int, θ_intS, S_intS as :func:`mesh_scuffing`'s (the same bulk kinds, the
 same :class:`ScuffingLimits`; θ_fla,int = θ_flm, the TS-21's closed form θ_flaE X_ε is not
 carried).
@@ -75,12 +76,13 @@ from ._lubricant import Lubricant
 __all__ = ["SCUFFING_POINTS", "TSScuffing", "helical_load_factor", "ts_friction_coefficient",
            "ts_load_sharing", "ts_scuffing"]
 
-#: the positions θ_fl is sampled at, equally spaced on A…E (B and D added for the maximum)
-SCUFFING_POINTS = 201
+#: the positions θ_fl is sampled at on each of the path's three pieces A…B, B…D, D…E (equally
+#: spaced, both ends included: B and D once from either side)
+SCUFFING_POINTS = 64
 
 
 def ts_load_sharing(gamma, gamma_a, gamma_b, gamma_d, gamma_e, eps_alpha, eps_beta,
-                    base_helix_angle, grade=7) -> Float[Array, ...]:
+                    base_helix_angle, grade=7, piece=None) -> Float[Array, ...]:
     """The TS's load-sharing factor X_Γ (-) at the positions ``gamma`` (the module docstring;
     traceable, arrays broadcast together).
 
@@ -88,18 +90,23 @@ def ts_load_sharing(gamma, gamma_a, gamma_b, gamma_d, gamma_e, eps_alpha, eps_be
         gamma: Γ (-), any shape. gamma_a, gamma_b, gamma_d, gamma_e: Γ_A, Γ_B, Γ_D, Γ_E.
         eps_alpha, eps_beta: ε_α > 0, ε_β >= 0. base_helix_angle: β_b (rad).
         grade: the ISO 1328 accuracy grade Q (a Python int; 7 where finer).
+        piece: which piece of the spur form each position takes (0: A…B, 1: B…D, 2: D…E,
+            broadcast with ``gamma``), or None: from Γ (B and D on the middle piece). Given,
+            it picks the side of the steps at B and D.
 
     Returns:
         X_Γ, the broadcast shape; not validated (traced callers).
     """
     g = jnp.asarray(gamma)
+    if piece is None:
+        piece = jnp.where(g < gamma_b, 0, jnp.where(g > gamma_d, 2, 1))
     x_q = (max(int(grade), 7) - 2) / 15.0
-    double = eps_alpha > 1.0
-    span_ab = jnp.where(double, gamma_b - gamma_a, 1.0)
-    span_de = jnp.where(double, gamma_e - gamma_d, 1.0)
-    left = jnp.where(g < gamma_b, x_q + (g - gamma_a) / (3.0 * span_ab), 1.0)
-    right = jnp.where(g > gamma_d, x_q + (gamma_e - g) / (3.0 * span_de), 1.0)
-    spur = jnp.where(double, jnp.minimum(jnp.minimum(left, right), 1.0), 1.0)
+    double = eps_alpha > 1.0  # else single contact: no steps
+    span_ab = jnp.where(double & (gamma_b > gamma_a), gamma_b - gamma_a, 1.0)
+    span_de = jnp.where(double & (gamma_e > gamma_d), gamma_e - gamma_d, 1.0)
+    spur = jnp.where(piece == 0, x_q + (g - gamma_a) / (3.0 * span_ab),
+                     jnp.where(piece == 2, x_q + (gamma_e - g) / (3.0 * span_de), 1.0))
+    spur = jnp.where(double, jnp.minimum(spur, 1.0), 1.0)
     f = jnp.clip(eps_beta, 0.0, 1.0)
     x = (1.0 - f) * spur + f / eps_alpha
     width = jnp.maximum(0.2 * jnp.sin(base_helix_angle), 1e-12)
@@ -135,7 +142,8 @@ class TSScuffing(eqx.Module):
     rises in K.
 
     Attributes:
-        gamma: the positions Γ sampled on A…E (-), (:data:`SCUFFING_POINTS`,).
+        gamma: the positions Γ sampled on A…B, B…D, D…E (-), :data:`SCUFFING_POINTS` on each
+            (B and D twice, once from either side), (3 :data:`SCUFFING_POINTS`,).
         load_sharing: X_Γ there. flash_temperature: θ_fl (K) there.
         positions: (Γ_A, Γ_B, Γ_D, Γ_E). friction_coefficient: μ_mC. load_factor: K_Bγ.
         max_flash_temperature: θ_fl,max (K; at B and D too). mean_flash_temperature: θ_flm (K).
@@ -204,7 +212,8 @@ def ts_scuffing(
         youngs_modulus, poisson_ratio: both gears' (Pa, -).
         bulk: the bulk-temperature rule (None: :class:`FlashBulkTemperature`, X_S = 1).
         grade: the ISO 1328 grade of X_Γ (a Python int). thermal_coefficient: B_M (W s^½/(m²
-        K)), default steel's. points: the positions sampled on A…E (a Python int >= 2).
+        K)), default steel's. points: the positions sampled on each piece of the path (a Python
+        int >= 2).
 
     Returns:
         :class:`TSScuffing`.
@@ -232,16 +241,21 @@ def ts_scuffing(
     mu = ts_friction_coefficient(w_bt, 2.0 * jnp.minimum(v_t, 50.0) * sin_w, rho_c,
                                  lubricant.dynamic_viscosity, ra, limits.lubricant_factor)
     x_m = (2.0 * contact_modulus(youngs_modulus, poisson_ratio)) ** 0.25 / thermal_coefficient
+    # the three pieces A…B, B…D, D…E (B, D kept on the path and in order: ε_α < 1 leaves
+    # one piece, X_Γ = 1; ε_α >= 2, outside the form's range, swaps them)
+    b_, d_ = jnp.clip(g_b, g_a, g_e), jnp.clip(g_d, g_a, g_e)
+    b_, d_ = jnp.minimum(b_, d_), jnp.maximum(b_, d_)
+    ends = jnp.stack([g_a, b_, d_, g_e])
     frac = jnp.linspace(0.0, 1.0, points, dtype=jnp.result_type(a, float))
-    gamma = g_a + (g_e - g_a) * frac
-    every = jnp.concatenate([gamma, jnp.stack([g_b, g_d])])
-    x_gamma = ts_load_sharing(every, g_a, g_b, g_d, g_e, ea, eb, bb, grade)
-    fl = _ts_flash(u, a, sin_w, jnp.cos(bb), rb1 * face_width, every, x_gamma, mu, t_load,
+    gamma = (ends[:3, None] + (ends[1:] - ends[:3])[:, None] * frac[None, :]).reshape(-1)
+    piece = jnp.repeat(jnp.arange(3), points)
+    x_gamma = ts_load_sharing(gamma, g_a, g_b, g_d, g_e, ea, eb, bb, grade, piece=piece)
+    fl = _ts_flash(u, a, sin_w, jnp.cos(bb), rb1 * face_width, gamma, x_gamma, mu, t_load,
                    speed, x_m)
-    on_path = (every >= g_a) & (every <= g_e)  # B, D off the path where ε_α < 1
-    fl_max = jnp.max(jnp.where(on_path, fl, 0.0))
-    sampled = fl[:points]
-    fl_mean = jnp.sum(0.5 * (sampled[1:] + sampled[:-1])) / (points - 1)
+    fl_max = jnp.max(fl)
+    each = fl.reshape(3, points)
+    area = jnp.sum((ends[1:] - ends[:3]) * jnp.mean(0.5 * (each[:, 1:] + each[:, :-1]), axis=1))
+    fl_mean = area / jnp.maximum(g_e - g_a, 1e-12)
     oil = lubricant.oil_temperature
     theta_m = bulk.bulk(oil, fl_mean)
     theta_b = theta_m + fl_max
@@ -250,8 +264,8 @@ def ts_scuffing(
     theta_int_s = limits.integral(lubricant.viscosity_40)
     return TSScuffing(
         gamma=gamma,
-        load_sharing=x_gamma[:points],
-        flash_temperature=sampled,
+        load_sharing=x_gamma,
+        flash_temperature=fl,
         positions=jnp.stack([g_a, g_b, g_d, g_e]),
         friction_coefficient=mu,
         load_factor=k_by,
