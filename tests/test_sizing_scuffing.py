@@ -23,11 +23,11 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 import pytest
+from test_sizing import SPEC
 
 import jaxgear.io as jio
 import jaxgear.sizing as js
 import jaxgear.tribology as tr
-from test_sizing import SPEC
 
 LUBRICANT = {"viscosity_40C_mm2_s": 100.0, "viscosity_100C_mm2_s": 11.0, "density_kg_m3": 880.0,
              "pressure_viscosity_per_GPa": 20.0, "oil_temperature_C": 90.0,
@@ -259,7 +259,7 @@ def test_path_flash_temperature_with_the_ts_load_sharing_matches_the_closed_form
     cell's Γ) and μ = μ_mC gives the closed form's θ_fl at each cell to 1e-9 and its θ_fl,max to
     the 64-per-pitch positions' sampling (1 %, the cells miss the step at B or D by up to a
     position): the two methods agree where their loads do."""
-    from test_flash import E, NU, PPP, SPEED, TORQUE, _gamma, _lubricant, _spur
+    from test_flash import NU, PPP, SPEED, TORQUE, E, _gamma, _lubricant, _spur
 
     pair, res = _spur()
     lub = _lubricant()
@@ -295,8 +295,8 @@ def test_path_flash_temperature_with_the_ts_load_sharing_matches_the_closed_form
 BAD = [
     (_data(min_safety_scuffing=0.2), "[rating] min_safety_scuffing = 0.2"),
     (_data(lubricant={k: v for k, v in LUBRICANT.items() if k != "fzg_load_stage"}),
-     "[rating] min_safety_scuffing = 1.5: not read: the scuffing check needs [lubricant] with "
-     "fzg_load_stage"),
+     ("[rating] min_safety_scuffing = 1.5: not read: the scuffing check needs [lubricant] "
+      "with fzg_load_stage")),
     (_data(lubricant=LUBRICANT | {"fzg_load_stage": 15}), "[lubricant] fzg_load_stage = 15"),
     (_data(lubricant=LUBRICANT | {"film": "grubin"}), "[lubricant] film"),
     (_data(lubricant=LUBRICANT | {"bulk_temperature_C": 120.0, "bulk_lubrication_factor": 1.2}),
@@ -322,7 +322,7 @@ def test_without_scuffing_keys_the_sizing_has_no_scuffing():
 def test_scuffing_rejects_candidates_pitting_and_bending_accept():
     """The check is S_B >= S_Bmin on the table's S_B; some candidates fail it alone (reason
     "scuffing"); the least margin takes S_B/S_Bmin."""
-    spec, _, table = _sized()
+    _, _, table = _sized()
     c = table.columns
     j = list(js.CHECKS).index("scuffing")
     rated = np.isfinite(c["S_B"])
@@ -348,3 +348,51 @@ def test_a_written_candidate_case_loads_without_the_sizing_key():
     assert "fzg_load_stage = 8" in text
     case = jio.parse_case(__import__("tomllib").loads(text))
     assert case is not None
+
+
+# -- the refinement and float32 (slow tier: each its own compile) --------------------------------
+
+
+@pytest.mark.slow
+def test_refined_designs_meet_the_scuffing_limit():
+    """β and the shifts refined with S_B/S_Bmin − 1 >= 0 among the constraints: every refined
+    row passes every check, S_B >= S_Bmin re-rated one at a time by candidate_outputs; a row
+    failing scuffing alone as enumerated is refined into a feasible design."""
+    data = _data()
+    data["sizing"].update({"helix_angle_deg": [8.0, 20.0], "profile_shift_min": -0.5,
+                           "profile_shift_max": 1.0})
+    spec, _ = jio.parse_sizing_spec(data)
+    table = js.size(spec)
+    reasons = np.array(table.reasons())
+    rows = np.r_[np.flatnonzero(reasons == "scuffing")[:2], np.flatnonzero(reasons == "")[:1]]
+    assert rows.size >= 2
+    ref = js.refine(spec, table, rows=rows, starts=3)
+    c = ref.columns
+    assert c["refined"][rows].sum() >= 1
+    for k in rows[c["refined"][rows] == 1]:
+        assert ref.feasible[k]
+        o, passed = js.candidate_outputs(
+            spec, c["normal_module_m"][k], float(c["z1"][k]), float(c["z2"][k]), c["x1"][k],
+            c["x2"][k], c["face_width_m"][k], helix_angle=c["helix_angle_rad"][k])
+        out = dict(zip(js.OUTPUTS, np.asarray(o), strict=True))
+        assert bool(np.all(np.asarray(passed))) and out["S_B"] >= S_B_MIN
+        assert out["S_B"] == pytest.approx(c["S_B"][k], rel=1e-9)
+    assert not np.any(ref.feasible[rows] & (c["S_B"][rows] < S_B_MIN))
+
+
+@pytest.mark.slow
+def test_sizing_with_scuffing_runs_in_float32():
+    """x64 off: the whole sizing program (rating and scuffing, vmapped) runs in float32 and
+    gives the float64 table's S_B to float32 accuracy and the same scuffing verdicts away
+    from the limit."""
+    _, _, table64 = _sized()
+    with jax.enable_x64(False):
+        spec, _ = jio.parse_sizing_spec(_data())
+        table = js.size(spec)
+    s_b = table.columns["S_B"]
+    assert s_b.dtype == np.float32
+    ok = np.isfinite(table64.columns["S_B"])
+    np.testing.assert_allclose(s_b[ok], table64.columns["S_B"][ok], rtol=2e-4)
+    j = list(js.CHECKS).index("scuffing")
+    away = ok & (np.abs(table64.columns["S_B"] / S_B_MIN - 1) > 1e-3)
+    np.testing.assert_array_equal(table.failed[away, j], table64.failed[away, j])
