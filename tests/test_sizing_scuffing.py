@@ -226,6 +226,23 @@ def test_fzg_a_test_gear_fails_at_its_load_stage(stage):
     assert 1.1 < float(_fzg_a(stage).safety_factor) < 1.4
 
 
+@pytest.mark.parametrize("change, message", [
+    ({"torque": -3.0}, "ts_scuffing: torque = -3 N·m is out of range: allowed > 0"),
+    ({"roughness": (0.3e-6,)}, "ts_scuffing: roughness"),
+    ({"limits": 10}, "ts_scuffing: limits"),
+    ({"points": 1}, "ts_scuffing: points = 1 is out of range: allowed an integer >= 2"),
+])
+def test_closed_form_refuses_bad_arguments_in_one_line(change, message):
+    args = {"torque": 300.0, "roughness": (0.3e-6, 0.3e-6), "limits": tr.ScuffingLimits(8),
+            "points": 64}
+    args |= change
+    with pytest.raises(ValueError) as err:
+        tr.ts_scuffing(16, 1.5, 0.0915, 0.39, 0.0, 0.072, (0.0888, 0.1125), 0.02, (1.4, 0.0),
+                       args["torque"], 227.0, 1.0, tr.Lubricant(100e-6, 11e-6, 880.0, 20e-9, 90.0),
+                       args["roughness"], args["limits"], 206e9, 0.3, points=args["points"])
+    assert str(err.value).startswith(message) and "\n" not in str(err.value)
+
+
 def test_closed_form_runs_batched_in_float32():
     """vmap over the load stage's torques, x64 off: float32 throughout, the float64 numbers to
     float32 accuracy."""
@@ -386,11 +403,16 @@ def test_sizing_with_scuffing_runs_in_float32():
     gives the float64 table's S_B to float32 accuracy and the same scuffing verdicts away
     from the limit."""
     _, _, table64 = _sized()
+    k = int(np.flatnonzero(np.isfinite(table64.columns["S_B"]))[0])
+    c = {name: v[k] for name, v in table64.columns.items()}
     with jax.enable_x64(False):
         spec, _ = jio.parse_sizing_spec(_data())
         table = js.size(spec)
+        f32 = [jnp.asarray(c[n], jnp.float32)
+               for n in ("normal_module_m", "z1", "z2", "x1", "x2", "face_width_m")]
+        o, _ = js.candidate_outputs(spec, *f32)
+    assert o.dtype == jnp.float32  # the program's numbers; the table holds them as float64
     s_b = table.columns["S_B"]
-    assert s_b.dtype == np.float32
     ok = np.isfinite(table64.columns["S_B"])
     np.testing.assert_allclose(s_b[ok], table64.columns["S_B"][ok], rtol=2e-4)
     j = list(js.CHECKS).index("scuffing")

@@ -395,29 +395,20 @@ class ScuffingLimits(eqx.Module):
         )
 
 
-class MeshScuffing(eqx.Module):
-    """Flash temperature and scuffing of one mesh (the module docstring). Cell arrays (P, L, N)
-    like the result's line loads; temperatures in °C, rises in K.
+class _ScuffingRating(eqx.Module):
+    """The scalars of a scuffing rating, both methods' (the module docstring): temperatures in
+    °C, rises in K. :class:`MeshScuffing`'s and :class:`~jaxgear.tribology.TSScuffing`'s.
 
     Attributes:
-        on_path: the cells on the flanks (the result's ``cell_mask``), (P, L, N).
-        loaded: the cells with a positive line load, (P, L, N).
-        flash_temperature: θ_fl (K), 0 off the loaded cells.
-        contact_temperature: θ_B = θ_M + θ_fl (°C) on the loaded cells, θ_M elsewhere.
-        max_flash_temperature: the largest θ_fl (K) (:func:`safe_max`: differentiable).
-        mean_flash_temperature: θ_flm = θ_fla,int, the mean of θ_fl over the cells on the path.
+        max_flash_temperature: θ_fl,max (K). mean_flash_temperature: θ_flm = θ_fla,int (K).
         bulk_temperature: θ_M (°C) of the flash-temperature method.
-        max_contact_temperature: θ_B,max = θ_M + max θ_fl (°C).
+        max_contact_temperature: θ_B,max = θ_M + θ_fl,max (°C).
         scuffing_temperature: θ_S (°C). safety_factor: S_B (-).
         integral_bulk_temperature: θ_M,int (°C). integral_temperature: θ_int (°C).
         integral_scuffing_temperature: θ_intS (°C). integral_safety_factor: S_intS (-).
         oil_temperature: θ_oil (°C).
     """
 
-    on_path: Bool[Array, "P L N"]
-    loaded: Bool[Array, "P L N"]
-    flash_temperature: Float[Array, "P L N"]
-    contact_temperature: Float[Array, "P L N"]
     max_flash_temperature: Float[Array, ""]
     mean_flash_temperature: Float[Array, ""]
     bulk_temperature: Float[Array, ""]
@@ -445,6 +436,56 @@ class MeshScuffing(eqx.Module):
             "integral_scuffing_safety_factor": float(self.integral_safety_factor),
         }
 
+
+def scuffing_scalars(bulk, oil, fl_max, fl_mean, theta_s, theta_int_s, dtype) -> dict:
+    """The fields of :class:`_ScuffingRating` (the module docstring's methods) from θ_oil (°C),
+    θ_fl,max and θ_flm (K), θ_S and θ_intS (°C): the bulk temperatures, θ_B,max, θ_int and the
+    safety factors. Traced; shared by :func:`mesh_scuffing` and
+    :func:`~jaxgear.tribology.ts_scuffing`."""
+    theta_m = jnp.asarray(bulk.bulk(oil, fl_mean), dtype)
+    theta_b_max = theta_m + fl_max
+    # integral method: its own bulk rule unless a bulk temperature is given
+    if isinstance(bulk, GivenBulkTemperature):
+        theta_m_int = theta_m
+    elif isinstance(bulk, FlashBulkTemperature):  # X_S and X_mp enter both methods' rules
+        theta_m_int = oil + _C1 * bulk.lubrication_factor * 0.5 * (1 + bulk.meshes) * fl_mean
+    else:
+        theta_m_int = oil + _C1 * fl_mean
+    theta_int = theta_m_int + _C2 * fl_mean
+    return {
+        "max_flash_temperature": fl_max,
+        "mean_flash_temperature": fl_mean,
+        "bulk_temperature": theta_m,
+        "max_contact_temperature": theta_b_max,
+        "scuffing_temperature": theta_s,
+        "safety_factor": (theta_s - oil) / (theta_b_max - oil),
+        "integral_bulk_temperature": theta_m_int,
+        "integral_temperature": theta_int,
+        "integral_scuffing_temperature": theta_int_s,
+        "integral_safety_factor": theta_int_s / theta_int,
+        "oil_temperature": jnp.asarray(oil, dtype),
+    }
+
+
+class MeshScuffing(_ScuffingRating):
+    """Flash temperature and scuffing of one mesh (the module docstring). Cell arrays (P, L, N)
+    like the result's line loads; temperatures in °C, rises in K.
+
+    Attributes:
+        on_path: the cells on the flanks (the result's ``cell_mask``), (P, L, N).
+        loaded: the cells with a positive line load, (P, L, N).
+        flash_temperature: θ_fl (K), 0 off the loaded cells.
+        contact_temperature: θ_B = θ_M + θ_fl (°C) on the loaded cells, θ_M elsewhere.
+        max_flash_temperature: the largest θ_fl (K) (:func:`safe_max`: differentiable).
+        mean_flash_temperature: θ_flm = θ_fla,int, the mean of θ_fl over the cells on the path.
+        bulk_temperature, …, oil_temperature: the rating's scalars (as the module docstring's
+            methods): θ_M, θ_B,max, θ_S, S_B, θ_M,int, θ_int, θ_intS, S_intS, θ_oil.
+    """
+
+    on_path: Bool[Array, "P L N"]
+    loaded: Bool[Array, "P L N"]
+    flash_temperature: Float[Array, "P L N"]
+    contact_temperature: Float[Array, "P L N"]
 
 
 def check_thermal_coefficients(thermal_coefficients, where: str) -> None:
@@ -593,38 +634,12 @@ def _scuffing(pair, mask, trib, oil, e_star, b_m, bulk, theta_s, theta_int_s):
     fl_max = safe_max(jnp.where(loaded, fl, -jnp.inf))
     n_path = jnp.maximum(jnp.sum(mask), 1)
     fl_mean = jnp.sum(jnp.where(mask, fl, zero)) / n_path
-    theta_m = jnp.asarray(bulk.bulk(oil, fl_mean), dtype)
-    theta_b_max = theta_m + fl_max
-    theta_m_int, theta_int = _integral_temperature(bulk, oil, fl_mean, theta_m)
+    rating = scuffing_scalars(bulk, oil, fl_max, fl_mean, theta_s, theta_int_s, dtype)
     return MeshScuffing(
         on_path=mask,
         loaded=loaded,
         flash_temperature=fl,
-        contact_temperature=theta_m + fl,
-        max_flash_temperature=fl_max,
-        mean_flash_temperature=fl_mean,
-        bulk_temperature=theta_m,
-        max_contact_temperature=theta_b_max,
-        scuffing_temperature=theta_s,
-        safety_factor=(theta_s - oil) / (theta_b_max - oil),
-        integral_bulk_temperature=theta_m_int,
-        integral_temperature=theta_int,
-        integral_scuffing_temperature=theta_int_s,
-        integral_safety_factor=theta_int_s / theta_int,
-        oil_temperature=jnp.asarray(oil, dtype),
+        contact_temperature=rating["bulk_temperature"] + fl,
+        **rating,
     )
-
-
-def _integral_temperature(bulk, oil, fl_mean, theta_m):
-    """(θ_M,int, θ_int) (°C) of the integral-temperature method (module docstring) from the
-    mean flash temperature θ_fla,int = ``fl_mean`` (K): its own bulk rule unless a bulk
-    temperature is given (then ``theta_m``, the flash method's). Shared by
-    :func:`mesh_scuffing` and :func:`ts_scuffing`."""
-    if isinstance(bulk, GivenBulkTemperature):
-        theta_m_int = theta_m
-    elif isinstance(bulk, FlashBulkTemperature):  # X_S and X_mp enter both methods' rules
-        theta_m_int = oil + _C1 * bulk.lubrication_factor * 0.5 * (1 + bulk.meshes) * fl_mean
-    else:
-        theta_m_int = oil + _C1 * fl_mean
-    return theta_m_int, theta_m_int + _C2 * fl_mean
 

@@ -58,18 +58,19 @@ each is confirmed.
 
 from __future__ import annotations
 
-import equinox as eqx
 import jax.numpy as jnp
 from jaxtyping import Array, Float
 
 from .._pressure import contact_modulus
+from .._util import check_instance, check_real
 from ._flash import (
     STEEL_THERMAL_CONTACT_COEFFICIENT,
     AbstractBulkTemperature,
     FlashBulkTemperature,
     ScuffingLimits,
-    _integral_temperature,
+    _ScuffingRating,
     _ts_flash,
+    scuffing_scalars,
 )
 from ._lubricant import Lubricant
 
@@ -137,7 +138,7 @@ def ts_friction_coefficient(line_load, sum_speed, radius, viscosity, roughness,
             * (viscosity * 1e3) ** -0.05 * x_r * lubricant_factor)
 
 
-class TSScuffing(eqx.Module):
+class TSScuffing(_ScuffingRating):
     """The closed-form scuffing rating of one pair (:func:`ts_scuffing`); temperatures in °C,
     rises in K.
 
@@ -146,11 +147,10 @@ class TSScuffing(eqx.Module):
             (B and D twice, once from either side), (3 :data:`SCUFFING_POINTS`,).
         load_sharing: X_Γ there. flash_temperature: θ_fl (K) there.
         positions: (Γ_A, Γ_B, Γ_D, Γ_E). friction_coefficient: μ_mC. load_factor: K_Bγ.
-        max_flash_temperature: θ_fl,max (K; at B and D too). mean_flash_temperature: θ_flm (K).
-        bulk_temperature: θ_M. max_contact_temperature: θ_B,max = θ_M + θ_fl,max.
-        scuffing_temperature: θ_S. safety_factor: S_B = (θ_S − θ_oil)/(θ_B,max − θ_oil).
-        integral_temperature: θ_int. integral_scuffing_temperature: θ_intS.
-        integral_safety_factor: S_intS = θ_intS/θ_int. oil_temperature: θ_oil.
+        max_flash_temperature, …, oil_temperature: the rating's scalars, as
+            :class:`MeshScuffing`'s: θ_fl,max (at B and D too), θ_flm, θ_M, θ_B,max, θ_S, S_B =
+            (θ_S − θ_oil)/(θ_B,max − θ_oil), θ_M,int, θ_int, θ_intS, S_intS = θ_intS/θ_int,
+            θ_oil.
     """
 
     gamma: Float[Array, " K"]
@@ -159,16 +159,6 @@ class TSScuffing(eqx.Module):
     positions: Float[Array, 4]
     friction_coefficient: Float[Array, ""]
     load_factor: Float[Array, ""]
-    max_flash_temperature: Float[Array, ""]
-    mean_flash_temperature: Float[Array, ""]
-    bulk_temperature: Float[Array, ""]
-    max_contact_temperature: Float[Array, ""]
-    scuffing_temperature: float
-    safety_factor: Float[Array, ""]
-    integral_temperature: Float[Array, ""]
-    integral_scuffing_temperature: Float[Array, ""]
-    integral_safety_factor: Float[Array, ""]
-    oil_temperature: Float[Array, ""]
 
 
 def ts_scuffing(
@@ -197,8 +187,8 @@ def ts_scuffing(
 ) -> TSScuffing:
     """The closed-form scuffing rating of ISO/TS 6336-20 (and the integral temperature of
     ISO/TS 6336-21) of an external pair of one material, its pinion driving (the module
-    docstring). Traceable in every number (``jax.vmap`` over candidates, ``jax.grad``); not
-    validated (the callers' readers check their keys: ``jaxgear.io`` for a sizing spec).
+    docstring). Traceable in every number (``jax.vmap`` over candidates, ``jax.grad``); a
+    traced number has only its shape checked (a sizing spec's reader checks its keys).
 
     Args:
         teeth_1: z₁. gear_ratio: u = z₂/z₁ > 0. centre_distance: a (m).
@@ -217,8 +207,26 @@ def ts_scuffing(
 
     Returns:
         :class:`TSScuffing`.
+
+    Raises:
+        ValueError: a kind of the wrong class, a number not > 0, ``points`` < 2; one line
+            naming the argument.
     """
+    w_ = "ts_scuffing"
+    check_instance("lubricant", lubricant, Lubricant, "a jaxgear.tribology.Lubricant", w_)
+    check_instance("limits", limits, ScuffingLimits, "a jaxgear.tribology.ScuffingLimits", w_)
     bulk = FlashBulkTemperature() if bulk is None else bulk
+    check_instance("bulk", bulk, AbstractBulkTemperature, "a bulk-temperature kind", w_)
+    for name, v, unit in (("teeth_1", teeth_1, ""), ("gear_ratio", gear_ratio, ""),
+                          ("centre_distance", centre_distance, "m"),
+                          ("reference_diameter_1", reference_diameter_1, "m"),
+                          ("face_width", face_width, "m"), ("torque", torque, "N·m"),
+                          ("speed", speed, "rad/s"), ("load_factor", load_factor, "")):
+        check_real(name, v, unit, lo=0.0, lo_open=True, where=w_)
+    check_real("tip_diameters", tip_diameters, "m", lo=0.0, lo_open=True, shape=(2,), where=w_)
+    check_real("roughness", roughness, "m", lo=0.0, lo_open=True, shape=(2,), where=w_)
+    if isinstance(points, bool) or not isinstance(points, int) or points < 2:
+        raise ValueError(f"{w_}: points = {points!r} is out of range: allowed an integer >= 2")
     z1, u, a = teeth_1, gear_ratio, centre_distance
     awt, bb = operating_pressure_angle, base_helix_angle
     ea, eb = contact_ratios[0], contact_ratios[1]
@@ -257,26 +265,9 @@ def ts_scuffing(
     area = jnp.sum((ends[1:] - ends[:3]) * jnp.mean(0.5 * (each[:, 1:] + each[:, :-1]), axis=1))
     fl_mean = area / jnp.maximum(g_e - g_a, 1e-12)
     oil = lubricant.oil_temperature
-    theta_m = bulk.bulk(oil, fl_mean)
-    theta_b = theta_m + fl_max
-    theta_s = limits.flash()
-    _, theta_int = _integral_temperature(bulk, oil, fl_mean, theta_m)
     theta_int_s = limits.integral(lubricant.viscosity_40)
-    return TSScuffing(
-        gamma=gamma,
-        load_sharing=x_gamma,
-        flash_temperature=fl,
-        positions=jnp.stack([g_a, g_b, g_d, g_e]),
-        friction_coefficient=mu,
-        load_factor=k_by,
-        max_flash_temperature=fl_max,
-        mean_flash_temperature=fl_mean,
-        bulk_temperature=jnp.asarray(theta_m),
-        max_contact_temperature=theta_b,
-        scuffing_temperature=theta_s,
-        safety_factor=(theta_s - oil) / (theta_b - oil),
-        integral_temperature=theta_int,
-        integral_scuffing_temperature=jnp.asarray(theta_int_s),
-        integral_safety_factor=theta_int_s / theta_int,
-        oil_temperature=jnp.asarray(oil),
-    )
+    rating = scuffing_scalars(bulk, oil, fl_max, fl_mean, limits.flash(), theta_int_s,
+                              fl.dtype)
+    return TSScuffing(gamma=gamma, load_sharing=x_gamma, flash_temperature=fl,
+                      positions=jnp.stack([g_a, g_b, g_d, g_e]), friction_coefficient=mu,
+                      load_factor=k_by, **rating)
