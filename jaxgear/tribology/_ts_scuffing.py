@@ -52,8 +52,8 @@ of μ_m are ISO/TR 13989-1:2000's as an independent implementation transcribes t
 the spur X_Γ's 1/3 steps are DIN 3990-4's (that implementation ramps X_Γ to 1 at B instead,
 which loads the two pairs in double contact by more than the whole load); μ_mC's 0.045, its
 η_oil^−0.05 X_R X_L split and X_R = 2.2 (R_a/ρ_redC)^0.25 are ISO/TS 6336-20:2017's as the
-project's brief (issue 84) states them; K_Bγ is ISO/TR 13989-1's. docs/tribology.md says how far
-each is confirmed.
+sizing's requirements state them (not checked against the TS's text); K_Bγ is ISO/TR
+13989-1's. docs/tribology.md says how far each is confirmed.
 """
 
 from __future__ import annotations
