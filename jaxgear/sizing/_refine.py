@@ -226,8 +226,9 @@ def refine(spec: SizingSpec, table: SizingTable | None = None, *, rows=None,
     Constraints (each the continuous margin of a check of :data:`jaxgear.sizing.CHECKS`): root
     and tip diameters, normal tip thickness >= tip_thickness_min · m_n, no undercut (form roll
     >= 0), no interference, tip/root clearance, ε_α > 0 and ε_γ >= 1, d >= 5 mm, S_H >= S_Hmin
-    and S_F >= S_Fmin on both gears, the outer diameter, b/d1, the centre-distance window (a
-    fixed one: the shift sum within ``spec.profile_shift_sum``, x2 within the shift range).
+    and S_F >= S_Fmin on both gears, S_B >= S_Bmin with ``spec.scuffing`` (ISO/TS 6336-20's
+    closed form), the outer diameter, b/d1, the centre-distance window (a fixed one: the shift
+    sum within ``spec.profile_shift_sum``, x2 within the shift range).
 
     A refined design is reported only where it passes every check of the table (re-rated by
     :func:`jaxgear.sizing.candidate_outputs`' function, the numbers ``--write`` writes) and the
