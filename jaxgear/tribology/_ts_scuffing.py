@@ -201,9 +201,9 @@ def ts_scuffing(
             (m). limits: θ_S and θ_intS (:class:`ScuffingLimits`; its X_L enters μ_mC too).
         youngs_modulus, poisson_ratio: both gears' (Pa, -).
         bulk: the bulk-temperature rule (None: :class:`FlashBulkTemperature`, X_S = 1).
-        grade: the ISO 1328 grade of X_Γ (a Python int). thermal_coefficient: B_M (W s^½/(m²
-        K)), default steel's. points: the positions sampled on each piece of the path (a Python
-        int >= 2).
+        grade: the ISO 1328 grade of X_Γ (a Python int).
+        thermal_coefficient: B_M (W s^½/(m² K)), default steel's.
+        points: the positions sampled on each piece of the path (a Python integer, 2 or more).
 
     Returns:
         :class:`TSScuffing`.
