@@ -226,6 +226,30 @@ def test_fzg_a_test_gear_fails_at_its_load_stage(stage):
     assert 1.1 < float(_fzg_a(stage).safety_factor) < 1.4
 
 
+def test_safety_factor_gradient_matches_central_differences():
+    """d S_B/d b, d S_B/d T and d S_B/d ε_α of the FZG A gear (spur, ε_γ < 2: K_Bγ = 1 on its
+    flat part, where a root of 0 would give NaN) by jax.grad against central differences:
+    finite, to 1e-6 (the refinement's gradients)."""
+    m, z1, a = 4.5e-3, 16, 91.5e-3
+    alpha = math.radians(20.0)
+    awt = math.acos((z1 + 24) * m / 2 * math.cos(alpha) / a)
+    lub = tr.Lubricant(100e-6, 11e-6, 880.0, 20e-9, 90.0, 6e-4)
+    def s_b(b, torque, ea):
+        return tr.ts_scuffing(z1, 1.5, a, awt, 0.0, z1 * m, (88.77e-3, 112.5e-3), b, (ea, 0.0),
+                              torque, 227.0, 1.0, lub, (0.35e-6, 0.35e-6), tr.ScuffingLimits(10),
+                              206e9, 0.3).safety_factor
+
+    f = jax.jit(s_b)
+    x0 = (0.02, 372.6, 1.3611)  # ε_α about the gear's; any in (1, 2) serves
+    grad = jax.jit(jax.grad(s_b, argnums=(0, 1, 2)))(*x0)
+    for k, h in enumerate((1e-6, 1e-3, 1e-6)):
+        args_p, args_m = list(x0), list(x0)
+        args_p[k], args_m[k] = x0[k] + h, x0[k] - h
+        fd = (float(f(*args_p)) - float(f(*args_m))) / (2 * h)
+        assert np.isfinite(float(grad[k]))
+        assert float(grad[k]) == pytest.approx(fd, rel=1e-6, abs=1e-12)
+
+
 @pytest.mark.parametrize("change, message", [
     ({"torque": -3.0}, "ts_scuffing: torque = -3 N·m is out of range: allowed > 0"),
     ({"roughness": (0.3e-6,)}, "ts_scuffing: roughness"),

@@ -119,7 +119,9 @@ def helical_load_factor(eps_gamma) -> Float[Array, ...]:
     """K_Bγ (-) of the total contact ratio ε_γ (the module docstring; traceable): 1 to ε_γ = 2,
     1 + 0.2 √((ε_γ − 2)(5 − ε_γ)) to 3.5, 1.3 beyond (ISO/TR 13989-1)."""
     e = jnp.clip(eps_gamma, 2.0, 3.5)
-    return 1.0 + 0.2 * jnp.sqrt(jnp.maximum((e - 2.0) * (5.0 - e), 0.0))
+    above = e > 2.0  # the root's argument kept off 0 where it is 0 (a finite gradient)
+    return jnp.where(above, 1.0 + 0.2 * jnp.sqrt(jnp.where(above, (e - 2.0) * (5.0 - e), 1.0)),
+                     1.0)
 
 
 def ts_friction_coefficient(line_load, sum_speed, radius, viscosity, roughness,
