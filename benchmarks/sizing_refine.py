@@ -66,7 +66,8 @@ def _slsqp(spec, table, rows):
     lim = _refine._limits(spec)
 
     def fg(v, p):
-        f, g, _ = _refine._evaluate_design(v, 0.0, p, static, settings, operating, fixed, "mass")
+        f, g, _ = _refine._evaluate_design(v, 0.0, p, static, settings, operating, None, fixed,
+                                           "mass")
         return f, g
 
     value = jax.jit(fg)

@@ -94,7 +94,7 @@ def main(path: pathlib.Path = OUT) -> None:
     fixed = spec.fixed_centre_distance
 
     def fg(y, p):
-        f, g, _ = _refine._evaluate(y, p, static, settings, operating, fixed, "mass")
+        f, g, _ = _refine._evaluate(y, p, static, settings, operating, None, fixed, "mass")
         return f, g
 
     def penalty(y, p):  # a scalar of f and g as the Lagrangian's (its gradient's program)
@@ -123,7 +123,7 @@ def main(path: pathlib.Path = OUT) -> None:
         calls.append(1)
         return rating(*args, **kwargs)
 
-    args = (static, settings, operating, fixed, "mass", 12, 40)
+    args = (static, settings, operating, None, fixed, "mass", 12, 40)
     _refine._one = counted
     try:
         solve_eqs = _equations(jax.make_jaxpr(

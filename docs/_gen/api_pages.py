@@ -112,7 +112,7 @@ SECTIONS = {
         ("Friction and the tooth loss factor", ("_loss",)),
         ("Film and loss along the path of contact", ("_mesh",)),
         ("Efficiency of trains, planetary stages and gearboxes", ("_efficiency",)),
-        ("Flash temperature and scuffing", ("_flash",)),
+        ("Flash temperature and scuffing", ("_flash", "_ts_scuffing")),
         ("Micropitting", ("_micropitting",)),
     ),
     "jaxgear.acoustics": (

@@ -90,7 +90,7 @@ def _line(i: int, c: dict) -> str:
             f"{c['centre_distance_m'][i] * 1e3:8.2f}  {c['face_width_m'][i] * 1e3:6.1f}  "
             f"{c['mass_kg'][i]:8.3f}  {min(c['S_H1'][i], c['S_H2'][i]):5.3f}  "
             f"{min(c['S_F1'][i], c['S_F2'][i]):5.3f}  {c['eps_alpha'][i]:5.3f}  "
-            f"{c['eps_beta'][i]:5.3f}")
+            f"{c['eps_beta'][i]:5.3f}" + (f"  {c['S_B'][i]:5.3f}" if "S_B" in c else ""))
 
 
 def _store_folder(out: str) -> str:
@@ -243,7 +243,8 @@ def run_size(args) -> int:
               f"({seconds:.2f} s) → {out}/sizing.csv")
         if ranked.size:
             print("  (lightest first; S_H, S_F the least of the two gears)")
-            print("    row   m_n  z1/z2     a (mm)  b (mm)  mass (kg)  S_H    S_F    ε_α    ε_β")
+            print("    row   m_n  z1/z2     a (mm)  b (mm)  mass (kg)  S_H    S_F    ε_α    ε_β"
+                  + ("    S_B" if "S_B" in cols else ""))
             for i in ranked[: args.top]:
                 print(_line(int(i), cols))
         _print_te(table, te_seconds)

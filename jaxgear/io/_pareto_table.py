@@ -8,12 +8,17 @@ and ``mesh_loss``::
     choose = "knee"                         # the chosen design: "knee" or an objective's column
 
     [lubricant]                             # a case file's [lubricant]: the oil, the flanks'
-                                            # R_a and the friction law of the mesh loss
+                                            # R_a and the friction law of the mesh loss, and
+    fzg_load_stage = 10                     # its scuffing keys: the scuffing check (below)
 
 Without ``[pareto]`` the front is the mass (minimised) and the least margin (maximised) with the
 knee chosen; ``mesh_loss_W`` and ``efficiency`` need ``[lubricant]``. Of ``[lubricant]`` a sizing
-reads the oil, the roughness and the friction (Schlenk's X_L or a given μ); its film, scuffing
-and micropitting keys are refused (no film, flash or micropitting stage here).
+reads the oil, the roughness and the friction (Schlenk's X_L or a given μ) and the scuffing keys
+(:mod:`jaxgear.io._scuffing_table`: ``fzg_load_stage`` or the scuffing temperatures, the bulk
+rule, X_L, X_W): with ``fzg_load_stage`` (or ``scuffing_temperature_C``) every candidate is rated
+for scuffing by ISO/TS 6336-20's closed form (:class:`jaxgear.sizing.ScuffingRequirement`, S_Bmin
+from ``[rating] min_safety_scuffing``, default 1); its film and micropitting keys are refused
+(no film or micropitting stage here).
 """
 
 from __future__ import annotations
@@ -24,18 +29,39 @@ import pydantic
 
 from fem_prep import schema as sc
 
-from ..sizing import CHOICES, DEFAULT_OBJECTIVES, MOST_OBJECTIVES, OBJECTIVES, MeshLossInputs
+from ..sizing import (
+    CHOICES,
+    DEFAULT_OBJECTIVES,
+    MOST_OBJECTIVES,
+    OBJECTIVES,
+    MeshLossInputs,
+    ScuffingRequirement,
+)
 from ._lubricant_table import LubricantSection
-from ._sections import Section
+from ._scuffing_table import SCUFFING_KEYS, parse_scuffing
+from ._sections import Section, number
 
-__all__ = ["PARETO_KEYS", "SIZING_LUBRICANT_KEYS", "ParetoSection", "parse_pareto",
-           "parse_sizing_lubricant"]
+__all__ = ["PARETO_KEYS", "SIZING_LUBRICANT_KEYS", "SIZING_RATING_KEYS", "ParetoSection",
+           "SizingRatingKeys", "parse_pareto", "parse_sizing_lubricant", "parse_sizing_scuffing"]
 
-#: the keys of ``[lubricant]`` a sizing reads (the mesh loss's)
+#: the keys of ``[lubricant]`` a sizing reads (the mesh loss's and the scuffing check's)
 SIZING_LUBRICANT_KEYS = frozenset({
     "viscosity_40C_mm2_s", "viscosity_100C_mm2_s", "density_kg_m3", "thermal_expansion_per_K",
     "pressure_viscosity_per_GPa", "oil_temperature_C", "roughness_Ra_um", "lubricant_factor",
-    "friction_coefficient"})
+    "friction_coefficient", *SCUFFING_KEYS})
+
+
+class SizingRatingKeys(Section):
+    """The keys of a sizing spec's ``[rating]`` beyond a case file's (its feasibility limits
+    that a case run does not read): ``min_safety_scuffing``, S_Bmin of the scuffing check,
+    [0.5, 10], default 1 (with ``[lubricant] fzg_load_stage`` only)."""
+
+    WHERE: ClassVar[str] = "rating"
+    min_safety_scuffing: number("[0.5, 10]") | None = None
+
+
+#: the keys of ``[rating]`` a sizing reads and a case file does not
+SIZING_RATING_KEYS = frozenset(SizingRatingKeys.model_fields)
 #: the objectives of the mesh loss, which need ``[lubricant]``
 _LUBRICATED = ("mesh_loss_W", "efficiency")
 
@@ -113,10 +139,35 @@ def parse_sizing_lubricant(table: dict, operating: dict) -> MeshLossInputs:
     unread = sorted(section.given - SIZING_LUBRICANT_KEYS)
     if unread:
         raise sc.fail("lubricant", unread[0], "not read by a sizing (its mesh loss reads the "
-                      "oil, roughness_Ra_um and the friction: " + ", ".join(
-                          sorted(SIZING_LUBRICANT_KEYS)) + ")")
+                      "oil, roughness_Ra_um and the friction, its scuffing check the scuffing "
+                      "keys: " + ", ".join(sorted(SIZING_LUBRICANT_KEYS)) + ")")
     inputs = section.inputs(operating)
     return MeshLossInputs(inputs.lubricant, inputs.roughness, inputs.friction)
+
+
+def parse_sizing_scuffing(lubricant: dict | None, rating: dict,
+                          mesh_loss: MeshLossInputs | None) -> ScuffingRequirement | None:
+    """The scuffing check's inputs of a sizing spec (module docstring): the scuffing keys of
+    ``[lubricant]`` (:func:`jaxgear.io._scuffing_table.parse_scuffing`, already checked with
+    the table by :func:`parse_sizing_lubricant`, whose oil and roughness ``mesh_loss`` holds)
+    and ``[rating] min_safety_scuffing``; None without ``fzg_load_stage`` and
+    ``scuffing_temperature_C``.
+
+    Raises:
+        SchemaError (a ``ValueError``): ``min_safety_scuffing`` out of range, or given without
+            the scuffing keys; one line naming the key.
+    """
+    keys = SizingRatingKeys.read({k: v for k, v in rating.items() if k in SIZING_RATING_KEYS})
+    s_min = keys.min_safety_scuffing
+    inputs = None if lubricant is None else parse_scuffing(lubricant)
+    if inputs is None:
+        if s_min is not None:
+            raise sc.fail("rating", "min_safety_scuffing", "not read: the scuffing check needs "
+                          "[lubricant] with fzg_load_stage (the oil's FZG A/8.3/90 load stage, "
+                          "[1, 14]) or scuffing_temperature_C", s_min)
+        return None
+    return ScuffingRequirement(mesh_loss.lubricant, mesh_loss.roughness, inputs.limits,
+                               inputs.bulk, 1.0 if s_min is None else s_min)
 
 
 def parse_pareto(table: dict | None, has_lubricant: bool) -> tuple[tuple, str]:

@@ -15,6 +15,8 @@ Tables (file units in the key names)::
     [rating]                        # a case file's [rating]: life_h, application_factor,
                                     # min_safety_pitting, min_safety_bending (the feasibility
                                     # limits), lubricant, roughness, accuracy_grade, edition
+    min_safety_scuffing = 1.5       # S_Bmin of the scuffing check, [0.5, 10], default 1 (with
+                                    # [lubricant] fzg_load_stage; the sizing's key only)
     [sizing]
     ratio = 3.5                     # target u = z2/z1, [1, 20]
     ratio_tolerance_percent = 2.0   # |z2/z1 − u| <= tolerance · u, [0, 20], default 2
@@ -58,7 +60,9 @@ Tables (file units in the key names)::
     # helix_angle_deg = [8.0, 20.0] # a range: β refined within it (enumerated at its middle)
     profile_shift_min = -0.5        # each shift refined within these, [-1, 2]; both or
     profile_shift_max = 1.0         # neither (neither: the shifts stay as enumerated)
-    [lubricant]                     # optional: the oil of the mesh loss columns, and
+    [lubricant]                     # optional: the oil of the mesh loss columns and, with
+                                    # fzg_load_stage, of the scuffing check (ISO/TS 6336-20's
+                                    # closed form; its S_B, θ_B,max, μ_mC columns), and
     [pareto]                        # the objectives of the front (jaxgear.io._pareto_table)
     [sound]                         # optional: the sound stage's housing, shafts and speeds
                                     # (jaxgear.io._sizing_sound)
@@ -95,7 +99,12 @@ from ..sizing import (
 from ._case_file import MaterialSection
 from ._housing_table import EDGE
 from ._modifications_table import modifications_toml, modifications_with
-from ._pareto_table import parse_pareto, parse_sizing_lubricant
+from ._pareto_table import (
+    SIZING_RATING_KEYS,
+    parse_pareto,
+    parse_sizing_lubricant,
+    parse_sizing_scuffing,
+)
 from ._rating_inputs import modification_inputs
 from ._rating_material_table import MaterialRatingKeys, refuse_unread_material
 from ._rating_table import RatingSection, rating_settings
@@ -260,7 +269,8 @@ def parse_sizing_spec(data: dict) -> tuple[SizingSpec, dict]:
     sz = SizingSection.of_file(data, required=True)
     op = SpecOperating.of_file(data, required=True)
     mat = MaterialSection.of_file(data)
-    rating = RatingSection.of(data["rating"])
+    rating = RatingSection.of({k: v for k, v in data["rating"].items()
+                               if k not in SIZING_RATING_KEYS})
     if rating.spectrum is not None or rating.use_measured:
         key = "spectrum" if rating.spectrum is not None else "use_measured"
         raise sc.fail("rating", key, "not read by a sizing (one operating point, ISO's factors)")
@@ -356,12 +366,15 @@ def _refuse_unstaged(objectives, candidates: dict, data: dict) -> None:
 
 
 def _objectives(data: dict) -> dict:
-    """The mesh loss's inputs of ``[lubricant]`` and the front's of ``[pareto]``
+    """The mesh loss's and the scuffing check's inputs of ``[lubricant]`` (and ``[rating]
+    min_safety_scuffing``) and the front's of ``[pareto]``
     (:mod:`jaxgear.io._pareto_table`), as :class:`jaxgear.sizing.SizingSpec`'s keywords."""
     lub = data.get("lubricant")
     mesh_loss = None if lub is None else parse_sizing_lubricant(lub, data["operating"])
+    scuffing = parse_sizing_scuffing(lub, data["rating"], mesh_loss)
     objectives, chosen = parse_pareto(data.get("pareto"), lub is not None)
-    return {"mesh_loss": mesh_loss, "objectives": objectives, "chosen": chosen}
+    return {"mesh_loss": mesh_loss, "scuffing": scuffing, "objectives": objectives,
+            "chosen": chosen}
 
 
 def _grade_only(grade: int):
@@ -494,7 +507,10 @@ def candidate_case_text(tables: dict, spec: SizingSpec, row: dict, index: int,
               f"speed_rpm = {toml_value(float(op.get('speed_rpm', spec.operating.speed / RPM)))}"]
     for table in ("material", "rating", *(("lubricant",) if "lubricant" in tables else ())):
         lines.append(f"[{table}]")
-        lines += [f"{k} = {toml_value(v)}" for k, v in tables[table].items()]
+        lines += [f"{k} = {toml_value(v)}" for k, v in tables[table].items()
+                  if not (table == "rating" and k in SIZING_RATING_KEYS)]
+        lines += [f"# the sizing's {k} = {toml_value(v)} (a case run reports S_B, no limit)"
+                  for k, v in tables[table].items() if table == "rating" and k in SIZING_RATING_KEYS]
     lines += ["[mesh]"] + [f"{k} = {toml_value(v)}" for k, v in CANDIDATE_MESH.items()]
     text = "\n".join(lines) + "\n"
     if modified:  # the transmission-error stage's optimised flanks

@@ -9,7 +9,9 @@ every (m_n, z1, z2) in them within the ratio tolerance and the centre-distance w
 CLI's. :func:`te_stage` adds the quasi-static transmission error of the best feasible
 candidates, plain and with optimised tip relief and crowning. SI units throughout
 (docs/sizing.md). The objectives a designer ranks by are columns (:data:`OBJECTIVES`: mass,
-envelope volume, least margin, mesh loss and efficiency with :class:`MeshLossInputs`), and
+envelope volume, least margin, mesh loss and efficiency with :class:`MeshLossInputs`); with a
+:class:`ScuffingRequirement` every candidate is rated for scuffing too (ISO/TS 6336-20's closed
+form, :func:`jaxgear.tribology.ts_scuffing`: S_B a check beside pitting and bending), and
 :func:`pareto_front` sorts the feasible candidates into non-dominated fronts over some of them
 and picks a design. :func:`dynamics_stage` runs the candidates of the first fronts through
 their lumped torsional dynamic model: the dynamic factor over a speed range, the resonance
@@ -33,8 +35,10 @@ from ._dynamics import (
 from ._objectives import (
     MESH_LOSS_COLUMNS as MESH_LOSS_COLUMNS,
     OBJECTIVES as OBJECTIVES,
+    SCUFFING_COLUMNS as SCUFFING_COLUMNS,
     STAGE_OBJECTIVES as STAGE_OBJECTIVES,
     MeshLossInputs as MeshLossInputs,
+    ScuffingRequirement as ScuffingRequirement,
     envelope_volume as envelope_volume,
     objective_columns as objective_columns,
 )

@@ -21,13 +21,22 @@ from __future__ import annotations
 import dataclasses
 import math
 
+import equinox as eqx
 import numpy as np
+from jaxtyping import Array, Float
 
-from .._util import check_instance
-from ..tribology import AbstractFriction, Lubricant, ohlendorf_formula
+from .._util import as_float, check_instance, check_real
+from ..tribology import (
+    AbstractBulkTemperature,
+    AbstractFriction,
+    FlashBulkTemperature,
+    Lubricant,
+    ScuffingLimits,
+    ohlendorf_formula,
+)
 
-__all__ = ["MESH_LOSS_COLUMNS", "OBJECTIVES", "STAGE_OBJECTIVES", "MeshLossInputs",
-           "envelope_volume", "objective_columns"]
+__all__ = ["MESH_LOSS_COLUMNS", "OBJECTIVES", "SCUFFING_COLUMNS", "STAGE_OBJECTIVES",
+           "MeshLossInputs", "ScuffingRequirement", "envelope_volume", "objective_columns"]
 
 #: the objectives a sizing may rank by: column → (its natural sense, "min" or "max"; the words
 #: and unit of a plot's axis; the factor from the column's SI unit to the axis's). A new column
@@ -66,6 +75,10 @@ STAGE_OBJECTIVES = {
 #: the columns of the mesh loss (with :attr:`SizingSpec.mesh_loss <jaxgear.sizing.SizingSpec>`):
 #: μ_mZ, Ohlendorf's H_V, P_VZP (W), η_Z
 MESH_LOSS_COLUMNS = ("friction_coefficient", "loss_factor", "mesh_loss_W", "efficiency")
+#: the columns of the scuffing rating (with :attr:`SizingSpec.scuffing
+#: <jaxgear.sizing.SizingSpec>`; :func:`jaxgear.tribology.ts_scuffing`): S_B, θ_B,max (°C),
+#: θ_fl,max (K), θ_M (°C), μ_mC, S_intS (the integral method's, reported, not a check)
+SCUFFING_COLUMNS = ("S_B", "theta_B_max_C", "theta_fl_max_K", "theta_M_C", "mu_mC", "S_intS")
 
 
 @dataclasses.dataclass(frozen=True)
@@ -92,6 +105,39 @@ class MeshLossInputs:
         if not (len(r) == 2 and all(float(v) > 0 for v in r)):
             raise ValueError(f"{w}: roughness = {r!r} is out of range: allowed (R_a1, R_a2), "
                              "each > 0 (m)")
+
+
+class ScuffingRequirement(eqx.Module):
+    """What the scuffing check of a sizing needs beyond the candidate and the operating point
+    (the closed form of ISO/TS 6336-20, :func:`jaxgear.tribology.ts_scuffing`).
+
+    Attributes:
+        lubricant: the oil at its temperature θ_oil (:class:`jaxgear.tribology.Lubricant`).
+        roughness: (R_a1, R_a2) (m), each > 0 (μ_mC's X_R).
+        limits: θ_S (from the oil's FZG load stage) and θ_intS
+            (:class:`jaxgear.tribology.ScuffingLimits`).
+        bulk: the bulk-temperature rule (:class:`jaxgear.tribology.AbstractBulkTemperature`;
+            default ISO/TS 6336-20's, X_S = 1).
+        min_safety: S_Bmin, the least S_B a candidate may have (> 0; default 1).
+    """
+
+    lubricant: Lubricant
+    roughness: Float[Array, 2]
+    limits: ScuffingLimits
+    bulk: AbstractBulkTemperature
+    min_safety: Float[Array, ""]
+
+    def __init__(self, lubricant, roughness, limits, bulk=None, min_safety=1.0):
+        w = "ScuffingRequirement"
+        check_instance("lubricant", lubricant, Lubricant, "a jaxgear.tribology.Lubricant", w)
+        check_instance("limits", limits, ScuffingLimits, "a jaxgear.tribology.ScuffingLimits", w)
+        bulk = FlashBulkTemperature() if bulk is None else bulk
+        check_instance("bulk", bulk, AbstractBulkTemperature, "a bulk-temperature kind", w)
+        check_real("roughness", roughness, "m", lo=0.0, lo_open=True, shape=(2,), where=w)
+        check_real("min_safety", min_safety, "", lo=0.0, lo_open=True, where=w)
+        self.lubricant, self.limits, self.bulk = lubricant, limits, bulk
+        self.roughness = as_float(roughness)
+        self.min_safety = as_float(min_safety)
 
 
 def envelope_volume(tip_diameter_1, tip_diameter_2, centre_distance, face_width):

@@ -27,7 +27,7 @@ import optimistix as optx
 
 from .._geometry import involute
 from ._candidates import Candidates, enumerate_candidates
-from ._size import OUTPUTS, SizingTable, _one, _static, _table, size
+from ._size import OUTPUTS, SizingTable, _one, _static, _table, program_arguments, size
 from ._spec import SizingSpec
 
 __all__ = ["MARGIN", "REFINE_OBJECTIVES", "STARTS", "TOLERANCE", "refine"]
@@ -35,8 +35,8 @@ __all__ = ["MARGIN", "REFINE_OBJECTIVES", "STARTS", "TOLERANCE", "refine"]
 #: what the refinement can optimise: name → what it asks
 REFINE_OBJECTIVES = {
     "mass": "the least blank mass (both gears) meeting every limit",
-    "margin": "the largest least safety margin min(S_H/S_Hmin, S_F/S_Fmin) meeting every "
-              "limit, at no more than the enumerated design's blank mass",
+    "margin": "the largest least safety margin min(S_H/S_Hmin, S_F/S_Fmin, S_B/S_Bmin) meeting "
+              "every limit, at no more than the enumerated design's blank mass",
 }
 #: how far inside each (scaled) constraint the optimiser aims: g >= MARGIN, g a margin over m_n
 #: or a safety factor's S/S_min − 1
@@ -76,14 +76,14 @@ def _design(y, p, an, fixed):
     return beta, x1, x2, b
 
 
-def _evaluate(y, p, static, settings, operating, fixed, objective):
+def _evaluate(y, p, static, settings, operating, scuffing, fixed, objective):
     """(objective, constraints g (>= 0 where met, scaled), outputs) of ``y`` (the unbounded
     variables, (5,): β, x1, x2, b mapped into their bounds, and the margin objective's t)."""
     return _evaluate_design(_design(y, p, static[0], fixed), y[4], p, static, settings,
-                            operating, fixed, objective)
+                            operating, scuffing, fixed, objective)
 
 
-def _evaluate_design(design, t, p, static, settings, operating, fixed, objective):
+def _evaluate_design(design, t, p, static, settings, operating, scuffing, fixed, objective):
     """(objective, constraints g (>= 0 where met, scaled), outputs) of the design (β, x1, x2,
     b) (x2 unread with a fixed centre distance: it follows) and ``t`` (the margin objective's
     epigraph variable)."""
@@ -93,11 +93,14 @@ def _evaluate_design(design, t, p, static, settings, operating, fixed, objective
     if fixed:
         x2 = _shift_sum(m, p["z1"], p["z2"], an, beta, p["lim"][2])[0] - x1
     c = {"m": m, "z1": p["z1"], "z2": p["z2"], "x1": x1, "x2": x2, "b": b}
-    o, _, mg = _one(c, (an, beta) + tuple(static[2:]), settings, operating, margins=True)
+    o, _, mg = _one(c, (an, beta) + tuple(static[2:]), settings, operating, margins=True,
+                    scuffing=scuffing)
     out = dict(zip(OUTPUTS, o, strict=True))
     d1, d2, da = out["reference_diameter_1_m"], out["reference_diameter_2_m"], o[2:4]
     ea, eb = out["eps_alpha"], out["eps_beta"]
     s_h, s_f = o[18:20] / settings.min_safety_pitting, o[20:22] / settings.min_safety_bending
+    if scuffing is not None:  # S_B/S_Bmin beside the gears' S_F/S_Fmin (its constraint too)
+        s_f = jnp.concatenate([s_f, (out["S_B"] / scuffing.min_safety)[None]])
     lim = p["lim"]  # b/d1 max, D max, a min, a max, sum lo, sum hi, x lo, x hi
     a = mg["centre_distance"]
     if fixed:
@@ -120,12 +123,12 @@ def _evaluate_design(design, t, p, static, settings, operating, fixed, objective
     return f, jnp.concatenate([jnp.ravel(v) for v in g]), out
 
 
-def _solve_one(p, static, settings, operating, fixed, objective, outer, inner):
+def _solve_one(p, static, settings, operating, scuffing, fixed, objective, outer, inner):
     """One candidate's augmented-Lagrangian solve from its start ``p["y0"]``: the variables,
     whether it converged, the largest scaled violation of the constraints (g >= 0)."""
 
     def fg(y):
-        f, g, _ = _evaluate(y, p, static, settings, operating, fixed, objective)
+        f, g, _ = _evaluate(y, p, static, settings, operating, scuffing, fixed, objective)
         return f, g
 
     def lagrangian(y, args):
@@ -164,17 +167,17 @@ def _solve_one(p, static, settings, operating, fixed, objective, outer, inner):
 
 
 @eqx.filter_jit
-def _solve(batch, static, settings, operating, fixed, objective, outer, inner):
-    return jax.vmap(lambda p: _solve_one(p, static, settings, operating, fixed, objective,
-                                         outer, inner))(batch)
+def _solve(batch, static, settings, operating, scuffing, fixed, objective, outer, inner):
+    return jax.vmap(lambda p: _solve_one(p, static, settings, operating, scuffing, fixed,
+                                         objective, outer, inner))(batch)
 
 
 @eqx.filter_jit
-def _rate(batch, static, settings, operating):
+def _rate(batch, static, settings, operating, scuffing):
     """The sizing's candidate function (:func:`_one`) of designs with their own β."""
     def one(c):
         o, passed, mg = _one(c, (static[0], c["beta"]) + tuple(static[2:]), settings,
-                             operating, margins=True)
+                             operating, margins=True, scuffing=scuffing)
         return o, passed, mg["centre_distance"]
     return jax.vmap(one)(batch)
 
@@ -223,8 +226,9 @@ def refine(spec: SizingSpec, table: SizingTable | None = None, *, rows=None,
     Constraints (each the continuous margin of a check of :data:`jaxgear.sizing.CHECKS`): root
     and tip diameters, normal tip thickness >= tip_thickness_min · m_n, no undercut (form roll
     >= 0), no interference, tip/root clearance, ε_α > 0 and ε_γ >= 1, d >= 5 mm, S_H >= S_Hmin
-    and S_F >= S_Fmin on both gears, the outer diameter, b/d1, the centre-distance window (a
-    fixed one: the shift sum within ``spec.profile_shift_sum``, x2 within the shift range).
+    and S_F >= S_Fmin on both gears, S_B >= S_Bmin with ``spec.scuffing`` (ISO/TS 6336-20's
+    closed form), the outer diameter, b/d1, the centre-distance window (a fixed one: the shift
+    sum within ``spec.profile_shift_sum``, x2 within the shift range).
 
     A refined design is reported only where it passes every check of the table (re-rated by
     :func:`jaxgear.sizing.candidate_outputs`' function, the numbers ``--write`` writes) and the
@@ -277,9 +281,7 @@ def refine(spec: SizingSpec, table: SizingTable | None = None, *, rows=None,
                          f"spec's table ({n} rows)")
     fixed = spec.fixed_centre_distance
     static = _static(spec)
-    settings, operating = jax.tree_util.tree_map(
-        lambda v: jnp.asarray(v, dtype=float) if isinstance(v, float) else v,
-        (spec.settings, spec.operating))
+    settings, operating, scuffing = program_arguments(spec)
     lo, hi = _bounds(spec, cands)
     v0 = np.stack([np.full(n, spec.helix_angle), cands.x1, cands.x2, cands.face_width], 1)
     margin0 = np.nan_to_num(table.columns["least_margin"], nan=0.0)[:, None]
@@ -302,18 +304,19 @@ def refine(spec: SizingSpec, table: SizingTable | None = None, *, rows=None,
         stop = min(start + chunk, k)
         idx = np.r_[np.arange(start, stop), np.full(chunk - (stop - start), stop - 1)]
         batch = {name: jnp.asarray(v[idx], dtype=float) for name, v in fields.items()}
-        d, c, e = _solve(batch, static, settings, operating, fixed, objective, outer, inner)
+        d, c, e = _solve(batch, static, settings, operating, scuffing, fixed, objective, outer,
+                         inner)
         design[start:stop] = np.asarray(d)[: stop - start]
         conv[start:stop] = np.asarray(c)[: stop - start]
         viol[start:stop] = np.asarray(e)[: stop - start]
         if progress is not None:
             progress(stop // starts, rows.size)
     return _merge(spec, table, cands, rows, starts, design, conv, viol, objective, static,
-                  settings, operating, chunk)
+                  (settings, operating, scuffing), chunk)
 
 
 def _merge(spec, table, cands, rows, starts, design, conv, viol, objective, static,
-           settings, operating, chunk) -> SizingTable:
+           args, chunk) -> SizingTable:
     """The table with each row's best refined design (of its starts) that passes every check
     (and beats or replaces an infeasible enumerated one), re-rated; the refinement's
     columns (of the reported solve; of the least violation where none passes)."""
@@ -332,7 +335,7 @@ def _merge(spec, table, cands, rows, starts, design, conv, viol, objective, stat
             stop = min(start + chunk, k)
             pad = np.r_[np.arange(start, stop), np.full(chunk - (stop - start), stop - 1)]
             r = _rate({kk: jnp.asarray(v[pad], dtype=float) for kk, v in batch.items()},
-                      static, settings, operating)
+                      static, *args)
             for acc, v in zip((o, passed, a), r, strict=True):
                 acc.append(np.asarray(v)[: stop - start])
         o, passed, a = (np.concatenate(v) for v in (o, passed, a))

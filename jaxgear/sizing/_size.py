@@ -16,8 +16,9 @@ import numpy as np
 
 from .._geometry import involute
 from ..rating import GearAccuracy, TracedTeethRatingGeometry, rate
+from ..tribology import ts_scuffing
 from ._candidates import Candidates, enumerate_candidates
-from ._objectives import objective_columns
+from ._objectives import SCUFFING_COLUMNS, objective_columns
 from ._scale import ChunkStore, rate_chunks, sizing_digest
 from ._spec import SizingSpec
 
@@ -38,6 +39,8 @@ CHECKS = {
     "accuracy_scope": "ISO 1328-1's scope: 5 mm <= d <= 15000 mm, 4 mm <= b <= 1200 mm",
     "pitting": "S_H >= S_Hmin, both gears",
     "bending": "S_F >= S_Fmin, both gears",
+    "scuffing": "S_B >= S_Bmin (ISO/TS 6336-20's closed form), with the spec's scuffing "
+                "requirement (without it every candidate passes)",
 }
 #: the checks of the geometry itself: a candidate failing one has no rating (ISO's formulas
 #: presume a valid pair); its rating columns are NaN
@@ -50,7 +53,7 @@ OUTPUTS = (
     "root_diameter_1_m", "root_diameter_2_m", "operating_pressure_angle_rad",
     "eps_alpha", "eps_beta", "eps_gamma", "tip_thickness_1_m", "tip_thickness_2_m",
     "form_roll_1_m", "form_roll_2_m", "mass_kg",
-    "K_v", "K_Hbeta", "K_Halpha", "S_H1", "S_H2", "S_F1", "S_F2",
+    "K_v", "K_Hbeta", "K_Halpha", "S_H1", "S_H2", "S_F1", "S_F2", *SCUFFING_COLUMNS,
 )
 
 
@@ -82,7 +85,8 @@ def candidate_outputs(spec: SizingSpec, normal_module, z1, z2, x1, x2, face_widt
 
     Returns:
         (outputs, passed): outputs (len(:data:`OUTPUTS`),) in that order (SI; the rating's
-        entries meaningless where the geometry is invalid); passed, booleans of the checks
+        entries meaningless where the geometry is invalid; the scuffing entries NaN without
+        ``spec.scuffing``); passed, booleans of the checks
         of :data:`CHECKS` but ``face_width`` and ``outer_diameter`` (the space limits
         :func:`size` reads off the table), in that order, True where passed.
     """
@@ -90,14 +94,15 @@ def candidate_outputs(spec: SizingSpec, normal_module, z1, z2, x1, x2, face_widt
     static = _static(spec)
     if helix_angle is not None:
         static = (static[0], helix_angle) + static[2:]
-    return _one(c, static, spec.settings, spec.operating)
+    return _one(c, static, spec.settings, spec.operating, scuffing=spec.scuffing)
 
 
-def _one(c, spec_static, settings, operating, margins=False):
+def _one(c, spec_static, settings, operating, margins=False, scuffing=None):
     """The outputs (:data:`OUTPUTS`) and the checks (:data:`CHECKS`, True = passed) of one
-    candidate ``c`` (a dict of scalars: m, z1, z2, x1, x2, b); with ``margins`` also the
-    geometric checks' continuous margins (m, each >= 0 where passed: the refinement's
-    constraints) and the centre distance (m)."""
+    candidate ``c`` (a dict of scalars: m, z1, z2, x1, x2, b), rated for scuffing with
+    ``scuffing`` (a :class:`jaxgear.sizing.ScuffingRequirement`, or None: NaN, passed); with
+    ``margins`` also the geometric checks' continuous margins (m, each >= 0 where passed: the
+    refinement's constraints) and the centre distance (m)."""
     an, beta, ha, hf, rho, grade, s_min_t = spec_static
     m, z = c["m"], jnp.stack([c["z1"], c["z2"]])
     x = jnp.stack([c["x1"], c["x2"]])
@@ -131,10 +136,22 @@ def _one(c, spec_static, settings, operating, margins=False):
     accuracy = GearAccuracy.from_dimensions(m, d, b * two, grade)
     r = rate(geometry, operating, eqx.tree_at(lambda s: s.accuracy, settings, accuracy))
     s_h, s_f = r.pitting.S_H, r.bending.S_F
+    f = r.factors
+    if scuffing is None:
+        sc, s_b_ok = [jnp.full((), jnp.nan, dtype=s_h.dtype)] * len(SCUFFING_COLUMNS), True
+    else:
+        t = ts_scuffing(c["z1"], c["z2"] / c["z1"], a, awt, g.base_helix_angle, d[0], da, b,
+                        (ea, eb), operating.torque, operating.speed,
+                        f.K_A * f.K_v * f.K_Hbeta * f.K_Halpha, scuffing.lubricant,
+                        scuffing.roughness, scuffing.limits, settings.material.youngs_modulus,
+                        settings.material.poisson_ratio, bulk=scuffing.bulk, grade=grade)
+        sc = [t.safety_factor, t.max_contact_temperature, t.max_flash_temperature,
+              t.bulk_temperature, t.friction_coefficient, t.integral_safety_factor]
+        s_b_ok = t.safety_factor >= scuffing.min_safety
     outputs = jnp.stack([
         d[0], d[1], da[0], da[1], df[0], df[1], awt, ea, eb, ea + eb, s_an[0], s_an[1],
-        form[0], form[1], mass, r.factors.K_v, r.factors.K_Hbeta, r.factors.K_Halpha,
-        s_h[0], s_h[1], s_f[0], s_f[1],
+        form[0], form[1], mass, f.K_v, f.K_Hbeta, f.K_Halpha,
+        s_h[0], s_h[1], s_f[0], s_f[1], *(jnp.asarray(v, s_h.dtype) for v in sc),
     ])
     checks = {
         "root": jnp.all(df > 0),
@@ -147,6 +164,7 @@ def _one(c, spec_static, settings, operating, margins=False):
         "accuracy_scope": (jnp.all(d >= 5e-3) & jnp.all(d <= 15.0) & (b >= 4e-3) & (b <= 1.2)),
         "pitting": jnp.all(s_h >= settings.min_safety_pitting),
         "bending": jnp.all(s_f >= settings.min_safety_bending),
+        "scuffing": jnp.asarray(s_b_ok),
     }
     passed = jnp.stack([checks[k] for k in CHECKS if k in checks])
     if margins:
@@ -166,8 +184,10 @@ class SizingTable:
             ``face_width_m``, ``centre_distance_m``; the outputs :data:`OUTPUTS` (diameters,
             the operating pressure angle, ε_α, ε_β, ε_γ, normal tip thicknesses, the rack's form
             circle roll, the blanks' mass (:func:`blank_mass`), K_v, K_Hβ, K_Hα, S_H and S_F per
-            gear: NaN where the geometry is invalid, :data:`GEOMETRIC`); ``least_margin`` the
-            least of S_H/S_Hmin and S_F/S_Fmin (NaN likewise); ``volume_m3`` the envelope's
+            gear: NaN where the geometry is invalid, :data:`GEOMETRIC`); with the spec's
+            ``scuffing`` the scuffing rating's :data:`jaxgear.sizing.SCUFFING_COLUMNS` (S_B,
+            θ_B,max, θ_fl,max, θ_M, μ_mC, S_intS; NaN likewise); ``least_margin`` the least of
+            S_H/S_Hmin, S_F/S_Fmin and (with ``scuffing``) S_B/S_Bmin (NaN likewise); ``volume_m3`` the envelope's
             and, with the spec's ``mesh_loss``, the mesh loss's ``friction_coefficient``,
             ``loss_factor``, ``mesh_loss_W``, ``efficiency`` (NaN likewise;
             :func:`jaxgear.sizing.objective_columns`).
@@ -243,26 +263,32 @@ def size(spec: SizingSpec, *, chunk: int = 2048,
               "b": cands.face_width}
     n_checks = sum(1 for k in CHECKS if k not in ("face_width", "outer_diameter"))
     # numbers as arrays: specs that differ in them share the compiled program
-    settings, operating = jax.tree_util.tree_map(
-        lambda v: jnp.asarray(v, dtype=float) if isinstance(v, float) else v,
-        (spec.settings, spec.operating))
+    args = program_arguments(spec)
     widths = (len(OUTPUTS), n_checks)
     if store is not None:
         names = (OUTPUTS, tuple(CHECKS))
-        digest = sizing_digest(chunk, names, static, (settings, operating), fields)
+        digest = sizing_digest(chunk, names, static, args, fields)
         store = ChunkStore(store, digest, n, chunk)
-    outs, checks = rate_chunks(_local, static, (settings, operating), fields, n, chunk, widths,
+    outs, checks = rate_chunks(_local, static, args, fields, n, chunk, widths,
                                devices=devices, store=store, restart=restart,
                                progress=progress)
     return _table(spec, cands, outs, checks)
 
 
-def _local(static, settings, operating, batch):
+def program_arguments(spec: SizingSpec) -> tuple:
+    """(settings, operating point, scuffing requirement) of ``spec``, their numbers as arrays:
+    the compiled programs' arguments (specs that differ in them share the program)."""
+    return jax.tree_util.tree_map(
+        lambda v: jnp.asarray(v, dtype=float) if isinstance(v, float) else v,
+        (spec.settings, spec.operating, spec.scuffing))
+
+
+def _local(static, settings, operating, scuffing, batch):
     """:func:`_one` mapped over a chunk of candidates (one device's share: the program
     :func:`jaxgear.sizing._scale.rate_chunks` compiles once per chunk size and per spec's
     static values: angles, rack, grade, tip thickness; the settings' and operating point's
     numbers are arguments, so specs that differ in them share it)."""
-    return jax.vmap(lambda c: _one(c, static, settings, operating))(batch)
+    return jax.vmap(lambda c: _one(c, static, settings, operating, scuffing=scuffing))(batch)
 
 
 def _table(spec: SizingSpec, cands: Candidates, outs, checks, helix_angle=None) -> SizingTable:
@@ -284,6 +310,11 @@ def _table(spec: SizingSpec, cands: Candidates, outs, checks, helix_angle=None) 
         np.minimum(col["S_H1"], col["S_H2"]) / float(spec.settings.min_safety_pitting),
         np.minimum(col["S_F1"], col["S_F2"]) / float(spec.settings.min_safety_bending),
     )
+    if spec.scuffing is None:  # no scuffing rating: no columns
+        for k in SCUFFING_COLUMNS:
+            del col[k]
+    else:
+        margin = np.minimum(margin, col["S_B"] / float(spec.scuffing.min_safety))
     ratio = cands.z2 / np.maximum(cands.z1, 1)
     columns = {
         "normal_module_m": cands.normal_module, "z1": cands.z1, "z2": cands.z2, "ratio": ratio,

@@ -8,7 +8,7 @@ import math
 
 from .._util import check_instance
 from ..rating import OperatingPoint, RatingSettings
-from ._objectives import MeshLossInputs
+from ._objectives import MeshLossInputs, ScuffingRequirement
 from ._pareto import DEFAULT_OBJECTIVES, check_objectives
 
 __all__ = ["ISO54_FIRST", "ISO54_SECOND", "SizingSpec", "module_series"]
@@ -68,6 +68,9 @@ class SizingSpec:
         tip_thickness_min: the least normal tooth thickness at the tip, as a multiple of m_n.
         mesh_loss: the oil, roughness and friction law of the mesh loss columns
             (:class:`jaxgear.sizing.MeshLossInputs`), or None: no mesh loss.
+        scuffing: the oil, FZG limits and S_Bmin of the scuffing check (ISO/TS 6336-20's
+            closed form, :class:`jaxgear.sizing.ScuffingRequirement`), or None: no scuffing
+            rating (no scuffing columns; the ``scuffing`` check passes every candidate).
         objectives: the Pareto front's objectives, (column, ``"min"`` | ``"max"``) pairs
             (:data:`jaxgear.sizing.OBJECTIVES`); default the mass and the least margin.
         chosen: the chosen design on the front, ``"knee"`` or an objective's column
@@ -104,6 +107,7 @@ class SizingSpec:
     outer_diameter_max: float | None = None
     tip_thickness_min: float = 0.2
     mesh_loss: MeshLossInputs | None = None
+    scuffing: ScuffingRequirement | None = None
     objectives: tuple = DEFAULT_OBJECTIVES
     chosen: str = "knee"
     helix_angle_range: tuple[float, float] | None = None
@@ -138,6 +142,9 @@ class SizingSpec:
         if self.mesh_loss is not None:
             check_instance("mesh_loss", self.mesh_loss, MeshLossInputs,
                            "a jaxgear.sizing.MeshLossInputs or None", w)
+        if self.scuffing is not None:
+            check_instance("scuffing", self.scuffing, ScuffingRequirement,
+                           "a jaxgear.sizing.ScuffingRequirement or None", w)
         check_objectives(self.objectives, self.chosen, w)
 
     @property

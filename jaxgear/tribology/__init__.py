@@ -9,7 +9,9 @@ density, pressure–viscosity coefficient), the film formula as a kind (:class:`
 (:func:`ohlendorf_loss_factor`) and the mesh's film and loss along the path of contact
 (:func:`mesh_tribology` → :class:`MeshTribology`); Blok's flash temperature along the path and
 the scuffing safety factors of ISO/TS 6336-20 and -21 (:func:`mesh_scuffing` →
-:class:`MeshScuffing`; the flash temperature alone: :func:`mesh_flash_temperature`); the
+:class:`MeshScuffing`; the flash temperature alone: :func:`mesh_flash_temperature`), and
+their closed form from the geometry alone with the TS's load sharing and μ_mC (:func:`ts_scuffing`
+→ :class:`TSScuffing`, the sizing's); the
 micropitting safety factor of ISO/TS 6336-22 (:func:`mesh_micropitting` →
 :class:`MeshMicropitting`); the power loss and efficiency of a gear train, a planetary stage and a
 gearbox from their meshes' own sliding loss, by a series power flow (:func:`train_efficiency`,
@@ -65,4 +67,12 @@ from ._micropitting import (
     mesh_micropitting as mesh_micropitting,
     micropitting_bulk_temperature as micropitting_bulk_temperature,
     pressure_viscosity_temperature_factor as pressure_viscosity_temperature_factor,
+)
+from ._ts_scuffing import (
+    SCUFFING_POINTS as SCUFFING_POINTS,
+    TSScuffing as TSScuffing,
+    helical_load_factor as helical_load_factor,
+    ts_friction_coefficient as ts_friction_coefficient,
+    ts_load_sharing as ts_load_sharing,
+    ts_scuffing as ts_scuffing,
 )

@@ -170,25 +170,42 @@ def ts_flash_temperature(
         )
     check_real("torque", torque, "N·m", lo=0.0, lo_open=True, where=w_)
     check_real("speed", speed, "rad/s", lo=0.0, lo_open=True, where=w_)
-    g = jnp.asarray(gamma)
-    u = pair.gear_ratio
-    a = pair.center_distance
-    sa = math.sin(pair.operating_pressure_angle)
-    cb = math.cos(pair.base_helix_angle)
     x_m = (2.0 * contact_modulus(youngs_modulus, poisson_ratio)) ** 0.25 / thermal_coefficient
-    w_bn = torque / (pair.base_radii[0] * pair.face_width)
+    return _ts_flash(
+        pair.gear_ratio,
+        pair.center_distance,
+        math.sin(pair.operating_pressure_angle),
+        math.cos(pair.base_helix_angle),
+        pair.base_radii[0] * pair.face_width,
+        jnp.asarray(gamma),
+        load_sharing,
+        friction_coefficient,
+        torque,
+        speed,
+        x_m,
+    )
+
+
+def _ts_flash(u, a, sin_awt, cos_bb, rb1_b, gamma, load_sharing, mu, torque, speed, x_m):
+    """:func:`ts_flash_temperature`'s closed form on numbers (traceable): u, a (m), sin α_wt,
+    cos β_b, r_b1 b (m²), Γ, X_Γ, μ, T (N·m), ω₁ (rad/s), X_M = E_r^¼/B_M (SI). Shared by
+    :func:`ts_flash_temperature` and :func:`ts_scuffing`."""
+    g = gamma
+    w_bn = torque / rb1_b
     v_t = speed * a / (1.0 + u)
-    x_g = (1.0 + u) ** 0.5 * jnp.abs(jnp.sqrt(1.0 + g) - jnp.sqrt(1.0 - g / u))
-    x_g = x_g / ((1.0 + g) * (u - g)) ** 0.25
+    # the positions are kept on the flanks (Γ in (−1, u)): an invalid pair gives 0, not NaN
+    x_g = (1.0 + u) ** 0.5 * jnp.abs(
+        jnp.sqrt(jnp.maximum(1.0 + g, 0.0)) - jnp.sqrt(jnp.maximum(1.0 - g / u, 0.0)))
+    x_g = x_g / jnp.maximum((1.0 + g) * (u - g), 1e-12) ** 0.25
     c = 1.11 / math.sqrt(2.0) * (math.pi / 8.0) ** 0.25  # 0.62
     return (
         c
         * x_m
-        * friction_coefficient
+        * mu
         * (load_sharing * w_bn) ** 0.75
-        * (v_t * sa) ** 0.5
-        * cb**0.75
-        / (a * sa) ** 0.25
+        * (v_t * sin_awt) ** 0.5
+        * cos_bb**0.75
+        / (a * sin_awt) ** 0.25
         * x_g
     )
 
@@ -378,29 +395,20 @@ class ScuffingLimits(eqx.Module):
         )
 
 
-class MeshScuffing(eqx.Module):
-    """Flash temperature and scuffing of one mesh (the module docstring). Cell arrays (P, L, N)
-    like the result's line loads; temperatures in °C, rises in K.
+class _ScuffingRating(eqx.Module):
+    """The scalars of a scuffing rating, both methods' (the module docstring): temperatures in
+    °C, rises in K. :class:`MeshScuffing`'s and :class:`~jaxgear.tribology.TSScuffing`'s.
 
     Attributes:
-        on_path: the cells on the flanks (the result's ``cell_mask``), (P, L, N).
-        loaded: the cells with a positive line load, (P, L, N).
-        flash_temperature: θ_fl (K), 0 off the loaded cells.
-        contact_temperature: θ_B = θ_M + θ_fl (°C) on the loaded cells, θ_M elsewhere.
-        max_flash_temperature: the largest θ_fl (K) (:func:`safe_max`: differentiable).
-        mean_flash_temperature: θ_flm = θ_fla,int, the mean of θ_fl over the cells on the path.
+        max_flash_temperature: θ_fl,max (K). mean_flash_temperature: θ_flm = θ_fla,int (K).
         bulk_temperature: θ_M (°C) of the flash-temperature method.
-        max_contact_temperature: θ_B,max = θ_M + max θ_fl (°C).
+        max_contact_temperature: θ_B,max = θ_M + θ_fl,max (°C).
         scuffing_temperature: θ_S (°C). safety_factor: S_B (-).
         integral_bulk_temperature: θ_M,int (°C). integral_temperature: θ_int (°C).
         integral_scuffing_temperature: θ_intS (°C). integral_safety_factor: S_intS (-).
         oil_temperature: θ_oil (°C).
     """
 
-    on_path: Bool[Array, "P L N"]
-    loaded: Bool[Array, "P L N"]
-    flash_temperature: Float[Array, "P L N"]
-    contact_temperature: Float[Array, "P L N"]
     max_flash_temperature: Float[Array, ""]
     mean_flash_temperature: Float[Array, ""]
     bulk_temperature: Float[Array, ""]
@@ -428,6 +436,56 @@ class MeshScuffing(eqx.Module):
             "integral_scuffing_safety_factor": float(self.integral_safety_factor),
         }
 
+
+def scuffing_scalars(bulk, oil, fl_max, fl_mean, theta_s, theta_int_s, dtype) -> dict:
+    """The fields of :class:`_ScuffingRating` (the module docstring's methods) from θ_oil (°C),
+    θ_fl,max and θ_flm (K), θ_S and θ_intS (°C): the bulk temperatures, θ_B,max, θ_int and the
+    safety factors. Traced; shared by :func:`mesh_scuffing` and
+    :func:`~jaxgear.tribology.ts_scuffing`."""
+    theta_m = jnp.asarray(bulk.bulk(oil, fl_mean), dtype)
+    theta_b_max = theta_m + fl_max
+    # integral method: its own bulk rule unless a bulk temperature is given
+    if isinstance(bulk, GivenBulkTemperature):
+        theta_m_int = theta_m
+    elif isinstance(bulk, FlashBulkTemperature):  # X_S and X_mp enter both methods' rules
+        theta_m_int = oil + _C1 * bulk.lubrication_factor * 0.5 * (1 + bulk.meshes) * fl_mean
+    else:
+        theta_m_int = oil + _C1 * fl_mean
+    theta_int = theta_m_int + _C2 * fl_mean
+    return {
+        "max_flash_temperature": fl_max,
+        "mean_flash_temperature": fl_mean,
+        "bulk_temperature": theta_m,
+        "max_contact_temperature": theta_b_max,
+        "scuffing_temperature": theta_s,
+        "safety_factor": (theta_s - oil) / (theta_b_max - oil),
+        "integral_bulk_temperature": theta_m_int,
+        "integral_temperature": theta_int,
+        "integral_scuffing_temperature": theta_int_s,
+        "integral_safety_factor": theta_int_s / theta_int,
+        "oil_temperature": jnp.asarray(oil, dtype),
+    }
+
+
+class MeshScuffing(_ScuffingRating):
+    """Flash temperature and scuffing of one mesh (the module docstring). Cell arrays (P, L, N)
+    like the result's line loads; temperatures in °C, rises in K.
+
+    Attributes:
+        on_path: the cells on the flanks (the result's ``cell_mask``), (P, L, N).
+        loaded: the cells with a positive line load, (P, L, N).
+        flash_temperature: θ_fl (K), 0 off the loaded cells.
+        contact_temperature: θ_B = θ_M + θ_fl (°C) on the loaded cells, θ_M elsewhere.
+        max_flash_temperature: the largest θ_fl (K) (:func:`safe_max`: differentiable).
+        mean_flash_temperature: θ_flm = θ_fla,int, the mean of θ_fl over the cells on the path.
+        bulk_temperature, …, oil_temperature: the rating's scalars (as the module docstring's
+            methods): θ_M, θ_B,max, θ_S, S_B, θ_M,int, θ_int, θ_intS, S_intS, θ_oil.
+    """
+
+    on_path: Bool[Array, "P L N"]
+    loaded: Bool[Array, "P L N"]
+    flash_temperature: Float[Array, "P L N"]
+    contact_temperature: Float[Array, "P L N"]
 
 
 def check_thermal_coefficients(thermal_coefficients, where: str) -> None:
@@ -576,30 +634,12 @@ def _scuffing(pair, mask, trib, oil, e_star, b_m, bulk, theta_s, theta_int_s):
     fl_max = safe_max(jnp.where(loaded, fl, -jnp.inf))
     n_path = jnp.maximum(jnp.sum(mask), 1)
     fl_mean = jnp.sum(jnp.where(mask, fl, zero)) / n_path
-    theta_m = jnp.asarray(bulk.bulk(oil, fl_mean), dtype)
-    theta_b_max = theta_m + fl_max
-    # integral method: its own bulk rule unless a bulk temperature is given
-    if isinstance(bulk, GivenBulkTemperature):
-        theta_m_int = theta_m
-    elif isinstance(bulk, FlashBulkTemperature):  # X_S and X_mp enter both methods' rules
-        theta_m_int = oil + _C1 * bulk.lubrication_factor * 0.5 * (1 + bulk.meshes) * fl_mean
-    else:
-        theta_m_int = oil + _C1 * fl_mean
-    theta_int = theta_m_int + _C2 * fl_mean
+    rating = scuffing_scalars(bulk, oil, fl_max, fl_mean, theta_s, theta_int_s, dtype)
     return MeshScuffing(
         on_path=mask,
         loaded=loaded,
         flash_temperature=fl,
-        contact_temperature=theta_m + fl,
-        max_flash_temperature=fl_max,
-        mean_flash_temperature=fl_mean,
-        bulk_temperature=theta_m,
-        max_contact_temperature=theta_b_max,
-        scuffing_temperature=theta_s,
-        safety_factor=(theta_s - oil) / (theta_b_max - oil),
-        integral_bulk_temperature=theta_m_int,
-        integral_temperature=theta_int,
-        integral_scuffing_temperature=theta_int_s,
-        integral_safety_factor=theta_int_s / theta_int,
-        oil_temperature=jnp.asarray(oil, dtype),
+        contact_temperature=rating["bulk_temperature"] + fl,
+        **rating,
     )
+
