@@ -377,6 +377,30 @@ def test_scuffing_rejects_candidates_pitting_and_bending_accept():
     np.testing.assert_allclose(c["least_margin"][rated], margin[rated], rtol=1e-12)
 
 
+def test_scuffing_safety_is_an_objective_of_the_front():
+    """``S_B`` as a maximised objective: the front over (mass, S_B) is the feasible candidates
+    no other feasible one dominates, found here by a brute-force comparison; without the
+    scuffing keys the objective is refused in one line."""
+    spec, _ = jio.parse_sizing_spec(_data(min_safety_scuffing=1.0))  # some candidates pass
+    table = js.size(spec)
+    front = js.pareto_front(table, (("mass_kg", "min"), ("S_B", "max")))
+    c, ok = table.columns, table.feasible
+    mass, s_b = c["mass_kg"], c["S_B"]
+    want = [i for i in np.flatnonzero(ok)
+            if not any((mass[j] <= mass[i]) and (s_b[j] >= s_b[i])
+                       and ((mass[j] < mass[i]) or (s_b[j] > s_b[i]))
+                       for j in np.flatnonzero(ok))]
+    got = np.flatnonzero(front.rank == 1)
+    np.testing.assert_array_equal(np.sort(got), np.sort(want))
+    assert len(want) >= 2
+    data = _data()
+    data["pareto"] = {"minimise": ["mass_kg"], "maximise": ["S_B"]}
+    spec, _ = jio.parse_sizing_spec(data)
+    assert spec.objectives == (("mass_kg", "min"), ("S_B", "max"))
+    del data["lubricant"]["fzg_load_stage"], data["rating"]["min_safety_scuffing"]
+    _refused(data, "[pareto] maximise = ['S_B']: 'S_B' needs the scuffing rating")
+
+
 def test_a_written_candidate_case_loads_without_the_sizing_key():
     """``--write K``: the case keeps the spec's [lubricant] (its scuffing keys: a case run
     rates scuffing by the contact solve, mesh_scuffing) and drops [rating]

@@ -12,7 +12,8 @@ and ``mesh_loss``::
     fzg_load_stage = 10                     # its scuffing keys: the scuffing check (below)
 
 Without ``[pareto]`` the front is the mass (minimised) and the least margin (maximised) with the
-knee chosen; ``mesh_loss_W`` and ``efficiency`` need ``[lubricant]``. Of ``[lubricant]`` a sizing
+knee chosen; ``mesh_loss_W`` and ``efficiency`` need ``[lubricant]``, ``S_B`` the scuffing
+rating (below). Of ``[lubricant]`` a sizing
 reads the oil, the roughness and the friction (Schlenk's X_L or a given μ) and the scuffing keys
 (:mod:`jaxgear.io._scuffing_table`: ``fzg_load_stage`` or the scuffing temperatures, the bulk
 rule, X_L, X_W): with ``fzg_load_stage`` (or ``scuffing_temperature_C``) every candidate is rated
@@ -64,6 +65,9 @@ class SizingRatingKeys(Section):
 SIZING_RATING_KEYS = frozenset(SizingRatingKeys.model_fields)
 #: the objectives of the mesh loss, which need ``[lubricant]``
 _LUBRICATED = ("mesh_loss_W", "efficiency")
+#: the objectives of the scuffing rating, which need its keys (``[lubricant] fzg_load_stage`` or
+#: ``scuffing_temperature_C``)
+_SCUFFED = ("S_B",)
 
 
 def _column_names(value, info: pydantic.ValidationInfo):
@@ -83,7 +87,7 @@ class ParetoSection(Section):
     """A sizing spec's ``[pareto]`` (module docstring), checked whole: the objectives' columns
     to minimise and to maximise (:data:`jaxgear.sizing.OBJECTIVES`, each named once, 2 to
     :data:`~jaxgear.sizing.MOST_OBJECTIVES` in all; the mesh loss's only with ``[lubricant]``,
-    the context's ``has_lubricant``) and the design chosen (``"knee"`` or one of them).
+    the context's ``has_lubricant``, ``S_B`` only with the scuffing rating, ``has_scuffing``) and the design chosen (``"knee"`` or one of them).
     Without ``minimise`` and ``maximise`` the front is :data:`~jaxgear.sizing.
     DEFAULT_OBJECTIVES`'."""
 
@@ -97,6 +101,7 @@ class ParetoSection(Section):
     @pydantic.model_validator(mode="after")
     def _related(self, info: pydantic.ValidationInfo):
         has_lubricant = (info.context or {}).get("has_lubricant", False)
+        has_scuffing = (info.context or {}).get("has_scuffing", False)
         seen = []
         for key in ("minimise", "maximise"):
             names = getattr(self, key)
@@ -106,6 +111,10 @@ class ParetoSection(Section):
                 if name in _LUBRICATED and not has_lubricant:
                     raise sc.fail("pareto", key, f"{name!r} needs a [lubricant] table (the oil, "
                                   "roughness and friction of the mesh loss)", names)
+                if name in _SCUFFED and not has_scuffing:
+                    raise sc.fail("pareto", key, f"{name!r} needs the scuffing rating: [lubricant]"
+                                  " with fzg_load_stage (the oil's FZG A/8.3/90 load stage) or "
+                                  "scuffing_temperature_C", names)
                 seen.append(name)
         objectives = self.objectives()
         if not 2 <= len(objectives) <= MOST_OBJECTIVES:
@@ -170,16 +179,18 @@ def parse_sizing_scuffing(lubricant: dict | None, rating: dict,
                                inputs.bulk, 1.0 if s_min is None else s_min)
 
 
-def parse_pareto(table: dict | None, has_lubricant: bool) -> tuple[tuple, str]:
+def parse_pareto(table: dict | None, has_lubricant: bool,
+                 has_scuffing: bool = False) -> tuple[tuple, str]:
     """``[pareto]`` (or None: the defaults) as (objectives, chosen) for
     :class:`jaxgear.sizing.SizingSpec` (the module docstring; :class:`ParetoSection`), with
     ``has_lubricant`` whether the spec has a ``[lubricant]`` table (the mesh loss's objectives
-    need it).
+    need it) and ``has_scuffing`` whether it rates scuffing (``S_B`` needs it).
 
     Raises:
         SchemaError (a ``ValueError``): one line naming the key, its value and what is allowed.
     """
     if table is None:
         return DEFAULT_OBJECTIVES, "knee"
-    section = ParetoSection.read(table, context={"has_lubricant": has_lubricant})
+    section = ParetoSection.read(table, context={"has_lubricant": has_lubricant,
+                                                 "has_scuffing": has_scuffing})
     return section.objectives(), section.choose

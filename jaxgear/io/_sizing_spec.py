@@ -372,7 +372,7 @@ def _objectives(data: dict) -> dict:
     lub = data.get("lubricant")
     mesh_loss = None if lub is None else parse_sizing_lubricant(lub, data["operating"])
     scuffing = parse_sizing_scuffing(lub, data["rating"], mesh_loss)
-    objectives, chosen = parse_pareto(data.get("pareto"), lub is not None)
+    objectives, chosen = parse_pareto(data.get("pareto"), lub is not None, scuffing is not None)
     return {"mesh_loss": mesh_loss, "scuffing": scuffing, "objectives": objectives,
             "chosen": chosen}
 

@@ -47,6 +47,8 @@ OBJECTIVES = {
     "least_margin": ("max", "least margin min(S/S_min)", 1.0),
     "mesh_loss_W": ("min", "mesh power loss P_VZP (W)", 1.0),
     "efficiency": ("max", "mesh efficiency η_Z (%)", 100.0),
+    # the scuffing rating's (with the spec's scuffing keys: SCUFFING_COLUMNS)
+    "S_B": ("max", "scuffing safety factor S_B (ISO/TS 6336-20)", 1.0),
     # the transmission-error stage's (jaxgear.sizing.te_stage): NaN, so off the front, for the
     # candidates it did not evaluate
     "te_ppk_m": ("min", "TE peak-to-peak, plain flanks (µm)", 1e6),
