@@ -641,11 +641,17 @@ def check_settings(settings: dict, case: Case | None = None) -> dict:
             raise ValueError(f"--vars {variables!r}: empty variable name, allowed {allowed}")
         for n in names:
             try:
-                Variable.parse(n)
+                var = Variable.parse(n)
             except ValueError:
                 raise ValueError(
                     f"--vars {n!r}: unknown design variable, allowed {allowed}"
                 ) from None
+            if var.kind.acts_on != "modifications":
+                raise ValueError(
+                    f"--vars {n!r}: a bearing's clearance is optimised through the Python API "
+                    "for now (jaxgear.io.case_problem; docs/bearings.md, 'As a design "
+                    "variable'): the command's report and --write take flank modifications only"
+                )
         if len(set(names)) != len(names):
             raise ValueError(f"--vars {variables!r}: names a variable twice")
     lp = settings.get("lp_order")

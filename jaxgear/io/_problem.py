@@ -25,9 +25,11 @@ from optimise import Problem, make_problem
 
 from ._acoustic_path import case_acoustic_path, case_radiation, housed_acoustics
 from ._case import Case, TrainForm
+from ._case_model import static_scene
 from ._load import load_case
 from ._lubricant_table import tribology_of
 from ._modifications_table import case_text_with_modifications, modifications_with
+from ._operating import operating_point
 from ._optimise_table import ACOUSTIC_OBJECTIVES, check_train_design
 from ._rating_table import RatingCase, rating_of
 
@@ -35,6 +37,7 @@ __all__ = [
     "OBJECTIVES",
     "OPTIMISERS",
     "STATISTICS",
+    "case_bearing_design",
     "case_problem",
     "design_case_text",
     "design_modifications",
@@ -257,6 +260,24 @@ def design_modifications(case: Case) -> jg.Modifications:
     return jg.Modifications(pinion=first, gear=first)
 
 
+def case_bearing_design(case: Case) -> op.BearingDesign:
+    """The rolling bearings of a ``lumped3d`` pair or train case at their operating point
+    (:func:`operating_point`, found once), as design variables name them: each shaft by its
+    table without ``scene.`` (``pinion_shaft``, ``gear_shaft``; a train's ``shafts.<name>``):
+    :func:`optimise.bearing_design`.
+
+    Raises:
+        ValueError: a case without rolling bearings from their geometry (one line)."""
+    shafts = case.form.bearing_shafts(case)
+    if shafts is None:
+        raise ValueError(
+            "[optimise] vars: a bearing's clearance is a design variable of a lumped3d case "
+            "whose shafts stand on rolling bearings from their geometry; this case has none")
+    names = tuple(n.removeprefix("scene.") for n in shafts.names)
+    extra_z = case.form.bearing_scene(case, case.scene)[2]
+    return op.bearing_design(operating_point(case), names, extra_z)
+
+
 def case_problem(
     case: Case,
     variables,
@@ -275,7 +296,11 @@ def case_problem(
     housed case's own (:func:`case_acoustic_path`: its lumped 3D scene with the housing, the
     ``[whine]`` speeds and the orders in the housing's band; that scene is the structure),
     "sound_power" with the radiation of its ``[acoustics]`` (:func:`case_radiation`;
-    ``progress``: a bar over its BEM solves). A housed train case takes the acoustic objectives
+    ``progress``: a bar over its BEM solves). A variable of a rolling bearing
+    (``pinion_shaft.bearings[0].clearance``, µm) acts on the case's scene at the bearings'
+    operating point (:func:`case_bearing_design`, the loads held): the acoustic path's scene, or
+    for a quasi-static objective without ``scene`` the case's quasi-static lumped 3D scene
+    (:func:`static_scene`) instead of its rigid mesh. A housed train case takes the acoustic objectives
     only, on its lumped 3D scene with the housing: its design is one modification on every gear
     (:func:`design_modifications`; variables without a member prefix).
 
@@ -319,6 +344,11 @@ def case_problem(
                                                    progress=progress)
     if objective in ACOUSTIC_OBJECTIVES and scene is None:
         scene = settings["acoustic_path"].model.scene  # the path's own structure
+    structural = [v for v in op.variables_of(variables) if v.kind.acts_on == "structure"]
+    if structural:
+        problem_settings["bearings"] = case_bearing_design(case)
+        if scene is None and objective not in ACOUSTIC_OBJECTIVES:
+            scene = static_scene(case, slices)[0]  # the bearings' scene, its load held
     train = isinstance(case.form, TrainForm)  # rated and lubricated per pair only
     goal = objective_from_name(
         objective, case.torque, rating=None if train else rating_of(case),
