@@ -316,8 +316,9 @@ def parse_optimise(table) -> dict:
     """Validate an ``[optimise]`` table (keys as the ``jaxgear optimise`` options;
     :class:`OptimiseSection`) and return the keys it gives, normalised: ``vars`` a list of
     names, ``torques`` and ``speeds`` ``[start, stop, n]`` (float, float, int), ``bounds``
-    ``{name: (lo, hi)}`` (E* for depths, Γ for extents), ``max_iterations`` an int,
-    ``quantile``, ``lp_order``, ``te_limit_um`` floats, other keys as given.
+    ``{name: (lo, hi)}`` (E* for depths, Γ for extents, µm for a clearance),
+    ``max_iterations`` an int, ``quantile``, ``lp_order``, ``te_limit_um`` floats, other keys
+    as given.
 
     Raises:
         SchemaError: one line naming the key, its value and what is allowed: the table not a

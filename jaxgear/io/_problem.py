@@ -300,9 +300,9 @@ def case_problem(
     (``pinion_shaft.bearings[0].clearance``, µm) acts on the case's scene at the bearings'
     operating point (:func:`case_bearing_design`, the loads held): the acoustic path's scene, or
     for a quasi-static objective without ``scene`` the case's quasi-static lumped 3D scene
-    (:func:`static_scene`) instead of its rigid mesh. A housed train case takes the acoustic objectives
-    only, on its lumped 3D scene with the housing: its design is one modification on every gear
-    (:func:`design_modifications`; variables without a member prefix).
+    (:func:`static_scene`) instead of its rigid mesh. A housed train case takes the acoustic
+    objectives only, on its lumped 3D scene with the housing: its design is one modification on
+    every gear (:func:`design_modifications`; variables without a member prefix).
 
     Args:
         case: a :class:`Case` (:func:`jaxgear.io.load_case`).
@@ -324,8 +324,9 @@ def case_problem(
         ValueError: an unknown objective name, "least_safety" on a case without ``[rating]``,
             an acoustic objective on a case without ``[housing]`` and ``[whine]`` ("sound_power":
             or without ``[acoustics]``), a train case with another objective, a prefixed
-            variable or a ``[modifications.<gear>]`` table, as
-            :func:`optimise.make_problem` otherwise.
+            variable or a ``[modifications.<gear>]`` table, a bearing's variable on a case
+            without rolling bearings from their geometry, as :func:`optimise.make_problem`
+            otherwise.
     """
     unknown = sorted(set(settings) - _SETTINGS)
     if unknown:
