@@ -133,7 +133,8 @@ class Smoothing(eqx.Module):
 
 
 class Problem(eqx.Module):
-    """A tooth-modification optimisation problem on the quasi-static model. Build with
+    """An optimisation problem of tooth modifications (and of a rolling bearing's clearance, a
+    variable of the structure: :meth:`at_design`) on the quasi-static model. Build with
     :func:`make_problem`.
 
     Attributes:

@@ -280,3 +280,46 @@ def test_clearance_derivative_of_the_erp_and_an_optimisation(tmp_path):
     ref = float(eqx.filter_jit(lambda p, m: p.design_value(m))(independent, mods))
     assert float(value(problem, jnp.asarray(res.x))) == pytest.approx(ref, rel=1e-9)
     assert res.value == pytest.approx(ref, rel=1e-9)
+
+
+def test_bearing_choices_refused_one_line(tmp_path):
+    """A bearing name that is not one of the case's, no candidate, a candidate the case file
+    refuses: one line (the candidate named), before any solve."""
+    case = jio.load_case(str(ROLLING))
+    with pytest.raises(ValueError, match=r"bearing = 'idler\.bearings\[0\]': allowed "
+                       r"<shaft>\.bearings\[<k>\]") as e:
+        jio.bearing_choices(case, "idler.bearings[0]", {"6205": {"catalogue": "6205"}})
+    assert "\n" not in str(e.value)
+    with pytest.raises(ValueError, match="candidates is empty"):
+        jio.bearing_choices(case, "pinion_shaft.bearings[0]", {})
+    with pytest.raises(ValueError, match=r"candidate 'x': .*catalogue") as e:
+        jio.bearing_choices(case, "pinion_shaft.bearings[0]", {"x": {"catalogue": "9999"}})
+    assert "\n" not in str(e.value)
+
+
+@pytest.mark.slow  # two housed cases' operating points, acoustic paths and optimisations
+def test_bearing_choice_by_enumeration(tmp_path):
+    """Bearing choice (a discrete catalogue entry, not a gradient variable) by enumeration on
+    the housed example: pinion bearing 0 as the example's 6206 (its geometry keys) or as the
+    catalogue's 6205, each clearance optimised (two L-BFGS steps), ranked by the mean ERP in W.
+    The 6206 candidate's start is the example's own ERP (the case rewritten faithfully); each
+    candidate's clearance moves within its bounds and lowers its ERP; the ranking is by the
+    unscaled values."""
+    case = _housed_case(tmp_path)
+    own = {k: v for k, v in tomllib.loads(ROLLING.read_text())["scene"]["pinion_shaft"][
+        "bearings"][0].items() if k != "position_mm"}
+    with pytest.warns(UserWarning, match="iteration cap"):
+        ranked = jio.bearing_choices(case, "pinion_shaft.bearings[0]",
+                                     {"6206": own, "6205": {"catalogue": "6205"}}, "erp",
+                                     max_iterations=2, reduce="mean")
+    by = {c.name: c for c in ranked}
+    assert set(by) == {"6206", "6205"}
+    assert [c.value for c in ranked] == sorted(c.value for c in ranked)
+    assert by["6205"].case.scene.pinion_shaft.bearings[0].rolling.bore == pytest.approx(
+        0.025, abs=1e-5)  # ISO 15: the 62 series' 05 bore
+    assert by["6206"].start_value == pytest.approx(_erp(case)[1], rel=1e-9)
+    for c in ranked:
+        print(f"{c.name}: clearance {c.start_um:.4g} -> {c.clearance_um:.4g} µm, ERP "
+              f"{c.start_value:.6g} -> {c.value:.6g} W")
+        assert -5.0 < c.clearance_um < 20.0 and abs(c.clearance_um - c.start_um) > 0.1
+        assert c.value < c.start_value

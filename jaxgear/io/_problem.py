@@ -11,7 +11,10 @@ one class in :mod:`optimise` plus its name here.
 
 from __future__ import annotations
 
+import copy
+import re
 from collections.abc import Callable
+from typing import NamedTuple
 
 import numpy as np
 import optax
@@ -25,6 +28,7 @@ from optimise import Problem, make_problem
 
 from ._acoustic_path import case_acoustic_path, case_radiation, housed_acoustics
 from ._case import Case, TrainForm
+from ._case_file import parse_case
 from ._case_model import static_scene
 from ._load import load_case
 from ._lubricant_table import tribology_of
@@ -37,6 +41,8 @@ __all__ = [
     "OBJECTIVES",
     "OPTIMISERS",
     "STATISTICS",
+    "BearingChoice",
+    "bearing_choices",
     "case_bearing_design",
     "case_problem",
     "design_case_text",
@@ -276,6 +282,87 @@ def case_bearing_design(case: Case) -> op.BearingDesign:
     names = tuple(n.removeprefix("scene.") for n in shafts.names)
     extra_z = case.form.bearing_scene(case, case.scene)[2]
     return op.bearing_design(operating_point(case), names, extra_z)
+
+
+class BearingChoice(NamedTuple):
+    """One candidate of :func:`bearing_choices`: its ``name``, the ``case`` with it, its
+    clearance's optimum (``clearance_um``, and where it started, ``start_um``), the objective
+    there and at the start (``value``, ``start_value``: the objective's units, unscaled, the
+    problem's smooth law; each candidate's problem scales by its own unmodified design, so the
+    unscaled values are what compares) and the optimiser's ``result``."""
+
+    name: str
+    case: Case
+    clearance_um: float
+    start_um: float
+    value: float
+    start_value: float
+    result: op.OptimisationResult
+
+
+_BEARING_NAME = re.compile(r"^([A-Za-z_][\w-]*)\.bearings\[(\d+)\]$")
+
+
+def bearing_choices(
+    case: Case,
+    bearing: str,
+    candidates: dict,
+    objective: str = "te_rms",
+    *,
+    max_iterations: int = 10,
+    bounds: tuple[float, float] | None = None,
+    **settings,
+) -> tuple[BearingChoice, ...]:
+    """Bearing choice by enumeration: each candidate bearing at the position ``bearing`` of a
+    ``lumped3d`` pair case, its clearance optimised (:func:`case_problem` with the variable
+    ``<bearing>.clearance``, :func:`optimise.minimise` from the candidate's own clearance),
+    ranked by the objective at its optimum, best first. A discrete choice is not a gradient
+    variable: each candidate is a case of its own (its operating point, its model).
+
+    Args:
+        case: a pair case whose ``[scene]`` is ``lumped3d``.
+        bearing: the bearing's name, ``pinion_shaft.bearings[0]``.
+        candidates: ``{name: table}``, each table the bearing's case-file keys without
+            ``position_mm`` (``{"catalogue": "6206"}``, or a ``kind`` with its geometry;
+            ``clearance_um`` the start, default the case bearing's or 0).
+        objective: an objective name (:data:`OBJECTIVES`) that takes a designed structure.
+        max_iterations: the optimiser's iterations per candidate (int >= 1).
+        bounds: the clearance's bounds (µm), default the variable's.
+        settings: the objective's settings (:func:`case_problem`).
+
+    Raises:
+        ValueError: a bearing name that is not ``<shaft>.bearings[<k>]`` of the case's
+            ``[scene]``, no candidate; what loading a candidate's case refuses (one line, the
+            candidate named), what :func:`case_problem` refuses.
+    """
+    hit = _BEARING_NAME.match(bearing.strip())
+    shafts = (case.raw.get("scene") or {})
+    if hit is None or hit.group(1) not in shafts or not int(hit.group(2)) < len(
+            shafts[hit.group(1)].get("bearings", ())):
+        raise ValueError(f"bearing = {bearing!r}: allowed <shaft>.bearings[<k>] of the case's "
+                         "[scene] (e.g. 'pinion_shaft.bearings[0]')")
+    if not candidates:
+        raise ValueError("candidates is empty: allowed {name: the bearing's table}")
+    shaft, k = hit.group(1), int(hit.group(2))
+    variable = f"{bearing.strip()}.clearance"
+    given = {} if bounds is None else {"bounds": {variable: tuple(bounds)}}
+    out = []
+    for name, table in candidates.items():
+        data = copy.deepcopy(case.raw)
+        old = data["scene"][shaft]["bearings"][k]
+        new = {"position_mm": old["position_mm"], "clearance_um": old.get("clearance_um", 0.0)}
+        data["scene"][shaft]["bearings"][k] = new | dict(table)
+        try:
+            candidate = parse_case(data, case.name)
+        except ValueError as err:
+            raise ValueError(f"candidate {name!r}: {err}") from None
+        problem = case_problem(candidate, variable, objective, **given, **settings)
+        x0 = problem.from_physical(problem.case_values(candidate.modifications))
+        res = op.minimise(problem, x0, max_iterations=max_iterations, progress=False)
+        scale = float(problem.scale)
+        out.append(BearingChoice(name, candidate, float(res.x[0]), float(x0[0]),
+                                 res.value * scale, res.value0 * scale, res))
+    return tuple(sorted(out, key=lambda c: c.value))
 
 
 def case_problem(
