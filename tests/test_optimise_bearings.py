@@ -22,6 +22,7 @@ import numpy as np
 import pytest
 from _housing import HOUSING_TABLE, WHINE_TABLE, two_seat_housing
 
+import jaxgear as jg
 import jaxgear.bearings as jb
 import jaxgear.io as jio
 import optimise as op
@@ -323,3 +324,33 @@ def test_bearing_choice_by_enumeration(tmp_path):
               f"{c.start_value:.6g} -> {c.value:.6g} W")
         assert -5.0 < c.clearance_um < 20.0 and abs(c.clearance_um - c.start_um) > 0.1
         assert c.value < c.start_value
+
+
+@pytest.mark.slow  # the example's operating point and a quasi-static objective compiled
+def test_case_problem_quasi_static_objective_runs_on_the_bearings_scene():
+    """A quasi-static objective with a bearing variable runs on the case's grounded lumped 3D
+    scene (not the rigid mesh), and its value at a clearance of 0 µm (the load held) equals the
+    same objective on that scene assembled again in NumPy on the bearing's stiffness there."""
+    from jaxgear.scenes import Grounded
+
+    case = jio.load_case(str(ROLLING))
+    problem = jio.case_problem(case, VAR, "max_line_load", positions_per_pitch=16)
+    assert isinstance(problem.mesh, Grounded)
+    point = jio.operating_point(case)
+    b = point.shafts[0].bearings[0]
+    kind = eqx.tree_at(lambda k: k.clearance, b.rolling, 0.0)
+    k6 = np.asarray(kind.stiffness6(jb.solve_displacement(
+        kind, np.asarray(point.loads[0][0])).displacement))
+    linear = [dataclasses.replace(s, bearings=tuple(
+        Bearing(x.z, stiffness=x.stiffness_matrix(), damping=x.damping) for x in s.bearings))
+        for s in point.shafts]
+    spec = dataclasses.replace(case.scene, pinion_shaft=linear[0], gear_shaft=linear[1])
+    spec = _with_bearing(spec, "pinion_shaft", 0, Bearing(b.z, stiffness=k6))
+    scene = _lumped3d_pair(case, spec, problem.mesh.base_planes[0])
+    again = Grounded(scene, problem.mesh.stiffness_value, problem.mesh.dofs)
+    x = jnp.asarray([0.0])
+    res = jg.quasi_static(again, problem.modifications(x), problem.design_torque,
+                          contact=problem.contact, positions_per_pitch=16)
+    ref = float(problem.objective.of_result(res, problem)) / float(problem.scale)
+    assert float(problem.value(x)) == pytest.approx(ref, rel=1e-9)
+    assert float(problem.value(x)) != float(problem.value(jnp.asarray([10.0])))

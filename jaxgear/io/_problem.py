@@ -436,7 +436,7 @@ def case_problem(
     if structural:
         problem_settings["bearings"] = case_bearing_design(case)
         if scene is None and objective not in ACOUSTIC_OBJECTIVES:
-            scene = static_scene(case, slices)[0]  # the bearings' scene, its load held
+            scene = static_scene(case, slices=slices)[0]  # the bearings' scene, loads held
     train = isinstance(case.form, TrainForm)  # rated and lubricated per pair only
     goal = objective_from_name(
         objective, case.torque, rating=None if train else rating_of(case),
