@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import copy
 import re
+import tomllib
 from collections.abc import Callable
 from typing import NamedTuple
 
@@ -471,9 +472,16 @@ def design_case_text(
     variable on its members; every other entry and line, comments included, kept:
     :func:`case_text_with_modifications`). ``unmodified``: every relief's and crowning's
     ``depth_um`` the case gives written 0 (the bare flanks, :meth:`optimise.Problem.unmodified`:
-    extents, shapes and deviations kept)."""
-    values = {}
+    extents, shapes and deviations kept). A bearing's clearance is written as ``clearance_um``
+    into its ``[[scene.<shaft>.bearings]]`` table (:func:`case_text_with_clearance`).
+
+    Raises:
+        ValueError: modifications or a bearing table this cannot rewrite (one line)."""
+    values, clearances = {}, []
     for var in problem.variables if parameters is not None else ():
+        if var.kind.acts_on == "structure":
+            clearances.append((var.shaft, var.bearing, parameters[var.name]))
+            continue
         mod, quantity = var.base.split(".")
         key = "depth_um" if quantity == "depth" else "extent"
         values[(var.members, mod, key)] = parameters[var.name]
@@ -483,7 +491,43 @@ def design_case_text(
         for mod in _DESIGN_MODIFICATIONS:
             if mod in given:
                 values[(("pinion", "gear"), mod, "depth_um")] = 0.0
-    return case_text_with_modifications(text, modifications_with(table, values))
+    out = case_text_with_modifications(text, modifications_with(table, values))
+    for shaft, k, value in clearances:
+        out = case_text_with_clearance(out, shaft, k, value)
+    return out
+
+
+_TABLE_HEADER = re.compile(r"^\s*\[")
+
+
+def case_text_with_clearance(text: str, shaft: str, k: int, clearance_um: float) -> str:
+    """A case file's TOML ``text`` with bearing ``k`` of ``[scene.<shaft>]`` given
+    ``clearance_um`` (its line replaced, or added under the table's header); every other line,
+    comments included, kept.
+
+    Raises:
+        ValueError: the bearing is not the k-th ``[[scene.<shaft>.bearings]]`` table of the
+            text (an inline array of tables, a train's shaft), one line."""
+    lines = text.splitlines()
+    header = re.compile(rf"^\s*\[\[\s*scene\.{re.escape(shaft)}\.bearings\s*\]\]")
+    starts = [i for i, line in enumerate(lines) if header.match(line)]
+    if not k < len(starts):
+        raise ValueError(
+            f"{shaft}.bearings[{k}]: the case file does not give it as a "
+            f"[[scene.{shaft}.bearings]] table: write it so to have the design written back")
+    start = starts[k]
+    end = next((j for j in range(start + 1, len(lines)) if _TABLE_HEADER.match(lines[j])),
+               len(lines))
+    new = f"clearance_um = {float(clearance_um)!r}  # the design written by jaxgear optimise"
+    for j in range(start + 1, end):
+        if re.match(r"^\s*clearance_um\s*=", lines[j]):
+            lines[j] = new
+            break
+    else:
+        lines.insert(start + 1, new)
+    out = "\n".join(lines) + "\n"
+    tomllib.loads(out)  # a parse error here is a bug of this writer, not the user's
+    return out
 
 
 def write_design_case(
