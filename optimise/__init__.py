@@ -10,7 +10,9 @@ range along an :class:`AcousticPath`) on the rigid mesh or on any scene
 (the hybrid scene at speed included), design variables normalised and bounded by
 reparametrisation; any optimistix quasi-Newton minimiser or optax gradient transformation
 solves it (:func:`minimise`, L-BFGS by default); the Master Curve and the (Γ, E) contour map of TE RMS; robust design against
-sampled deviations (:func:`robust_problem`, a :class:`Mean` or :class:`Quantile` statistic).
+sampled deviations (:func:`robust_problem`, a :class:`Mean` or :class:`Quantile` statistic). A
+rolling bearing's clearance is a variable of the structure (:class:`Clearance`, through a
+:class:`BearingDesign` at the bearings' held operating point, :func:`bearing_design`).
 Case-file names map to these objects in :mod:`jaxgear.io` (``case_problem``).
 """
 
@@ -21,6 +23,7 @@ from ._acoustics import (
     RadiatedSoundPower as RadiatedSoundPower,
     SurfaceRadiation as SurfaceRadiation,
 )
+from ._bearings import BearingDesign as BearingDesign, bearing_design as bearing_design
 from ._master_curve import contour_map as contour_map, master_curve as master_curve
 from ._minimise import (
     OptimisationResult as OptimisationResult,
@@ -66,11 +69,13 @@ from ._tribology import (
 from ._variables import (
     VARIABLES as VARIABLES,
     AbstractKind as AbstractKind,
+    Clearance as Clearance,
     Depth as Depth,
     EndExtent as EndExtent,
     Extent as Extent,
     Variable as Variable,
     tip_relief_slots as tip_relief_slots,
+    variables_of as variables_of,
 )
 
 __version__ = "0.1.0"

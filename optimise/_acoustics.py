@@ -311,6 +311,11 @@ class AbstractAcousticObjective(AbstractObjective):
         zero = jg.Modifications()
         return float(self.statistic(self.per_speed(zero, torque, jg.ExactContact())))
 
+    def with_structure(self, change):
+        """The objective on its path's model with the scene ``change(scene)`` (the model's
+        damping, modes and mean mesh stiffness held: module docstring)."""
+        return eqx.tree_at(lambda o: o.path.model.scene, self, change(self.path.model.scene))
+
     def prepare(self, scene, positions_per_pitch):
         """The path model's scene (``scene`` must be it)."""
         if scene is not self.path.model.scene:

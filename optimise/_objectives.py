@@ -152,10 +152,13 @@ class AbstractObjective(eqx.Module):
     Class attributes:
         name: the objective's name in case files and reports (``[optimise] objective``).
         units: the unit of the unscaled objective, as used in report keys ("m", "N_per_m", ...).
+        designs_structure: whether a variable that acts on the structure (a bearing's
+            clearance) may change the structure it runs on (:meth:`with_structure`).
     """
 
     name: ClassVar[str]
     units: ClassVar[str]
+    designs_structure: ClassVar[bool] = True
 
     @abc.abstractmethod
     def at_torque(
@@ -179,6 +182,12 @@ class AbstractObjective(eqx.Module):
         Raises:
             ValueError: a structure this objective cannot be evaluated on.
         """
+
+    def with_structure(self, change) -> AbstractObjective:
+        """The objective on the structure ``change(scene)`` makes of its own: itself, for an
+        objective that runs on the problem's ``mesh`` (which :meth:`optimise.Problem.at_design`
+        changes); an objective that holds its own structure replaces it."""
+        return self
 
     def default_contact(self, width) -> jg.SmoothContact:
         """The smooth law of the objective and its gradients when none is given: width ``width``
@@ -381,6 +390,9 @@ class DynamicFactor(AbstractObjective):
 
     name: ClassVar[str] = "dynamic_factor"
     units: ClassVar[str] = "dimensionless"
+    # its model's modes and damping are built from the scene (NumPy) at every evaluation, on a
+    # hybrid scene (whose shafts take no rolling bearings from their geometry)
+    designs_structure: ClassVar[bool] = False
 
     def __check_init__(self):
         s = np.asarray(self.speeds)

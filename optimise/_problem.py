@@ -31,6 +31,7 @@ import jaxgear as jg
 import jaxgear.scenes as js
 
 from ._acoustics import EquivalentRadiatedPower, RadiatedSoundPower
+from ._bearings import BearingDesign
 from ._objectives import (
     AbstractObjective,
     DynamicFactor,
@@ -132,7 +133,8 @@ class Smoothing(eqx.Module):
 
 
 class Problem(eqx.Module):
-    """A tooth-modification optimisation problem on the quasi-static model. Build with
+    """An optimisation problem of tooth modifications (and of a rolling bearing's clearance, a
+    variable of the structure: :meth:`at_design`) on the quasi-static model. Build with
     :func:`make_problem`.
 
     Attributes:
@@ -156,6 +158,8 @@ class Problem(eqx.Module):
         lp_order: p of the ``line_load_lp`` metric (the objective's order for
             :class:`LineLoadLp`, else 8).
         positions_per_pitch: static.
+        bearings: the rolling bearings whose clearances are variables
+            (:class:`optimise.BearingDesign`), or None (no variable acts on the structure).
     """
 
     mesh: jg.MeshModel | js.Scene
@@ -173,6 +177,7 @@ class Problem(eqx.Module):
     lp_order: Float[Array, ""]
     speed: Float[Array, ""]
     positions_per_pitch: int = eqx.field(static=True)
+    bearings: BearingDesign | None = None
 
     @property
     def names(self) -> tuple[str, ...]:
@@ -181,15 +186,35 @@ class Problem(eqx.Module):
 
     # -- variables ---------------------------------------------------------------------------
     def modifications(self, x: Float[Array, " n"]) -> jg.Modifications:
-        """Modifications for normalised design values ``x`` (E* for depths, Γ for extents)."""
+        """Modifications for normalised design values ``x`` (E* for depths, Γ for extents; the
+        variables that act on the structure are :meth:`at_design`'s)."""
         mods = self.base
         for i, var in enumerate(self.variables):
+            if var.kind.acts_on != "modifications":
+                continue
             value = var.kind.to_model(x[i], self.delta_m)
             for m in var.members:
                 mods = eqx.tree_at(
                     lambda t, m=m, f=var.field: getattr(getattr(t, m), f), mods, value
                 )
         return mods
+
+    def at_design(self, x: Float[Array, " n"]) -> Problem:
+        """The problem on the structure of design ``x``: itself where no variable acts on the
+        structure; else its structure (``mesh``, and the objective's own,
+        :meth:`AbstractObjective.with_structure`) with each designed bearing at its clearance
+        (:meth:`optimise.BearingDesign.apply`: its load held), differentiable in ``x``."""
+        slots = [i for i, v in enumerate(self.variables) if v.kind.acts_on == "structure"]
+        if not slots:
+            return self
+        variables = [self.variables[i] for i in slots]
+        values = [self.variables[i].kind.to_model(x[i], self.delta_m) for i in slots]
+
+        def change(scene):
+            return self.bearings.apply(scene, variables, values)
+
+        return eqx.tree_at(lambda p: (p.mesh, p.objective), self,
+                           (change(self.mesh), self.objective.with_structure(change)))
 
     def to_physical(self, x) -> dict:
         """Normalised values → case-file units (``depth_um`` or extent), as a dict by name."""
@@ -203,8 +228,9 @@ class Problem(eqx.Module):
 
     def case_values(self, mods: jg.Modifications) -> dict:
         """The variables' values in ``mods`` (each its first member's), in case-file units, as a
-        dict by name."""
-        return {v.name: v.case_value(mods) for v in self.variables}
+        dict by name; a bearing's: its clearance at the operating point, µm)."""
+        return {v.name: v.case_value(mods) if v.kind.acts_on == "modifications"
+                else self.bearings.case_value(v) for v in self.variables}
 
     def lower_is_unmodified(self) -> bool:
         """Whether the lower bounds leave the design unmodified (every depth's lower bound 0)."""
@@ -242,8 +268,9 @@ class Problem(eqx.Module):
         """Scaled objective at normalised design values ``x`` (1 = unmodified at design load;
         ``LoadCentroid``: (c/0.1)²), in the ``contact`` law (default None: the problem's smooth
         law, whose gradients the optimiser follows; :class:`jaxgear.ExactContact` for the
-        design as the exact law sees it)."""
-        return self.design_value(self.modifications(x), contact)
+        design as the exact law sees it). A variable that acts on the structure acts through
+        :meth:`at_design`."""
+        return self.at_design(x).design_value(self.modifications(x), contact)
 
     def design_value(
         self, modifications: jg.Modifications, contact: jg.ContactLaw | None = None
@@ -317,11 +344,11 @@ class Problem(eqx.Module):
         """TE RMS (m) of design ``x`` at each of ``torques`` (N·m), vmapped: a Harris-map view
         (``contact``: the exact law by default, None the problem's smooth law); a scene of
         several meshes (a train): its first mesh's."""
-        mods = self.modifications(x)
+        mods, mesh = self.modifications(x), self.at_design(x).mesh
         return jax.vmap(
             lambda t: (
                 jg.quasi_static(
-                    self.mesh,
+                    mesh,
                     mods,
                     t,
                     speed=self.speed,
@@ -339,7 +366,7 @@ class Problem(eqx.Module):
         scene of several meshes (a train): its first mesh's.
         """
         r = jg.quasi_static(
-            self.mesh,
+            self.at_design(jnp.asarray(x)).mesh,
             self.modifications(jnp.asarray(x)),
             self.design_torque,
             speed=self.speed,
@@ -372,11 +399,11 @@ class Problem(eqx.Module):
     def per_torque(self, x, contact: jg.ContactLaw | None = EXACT) -> Float[Array, " T"]:
         """Unscaled objective at each torque (``objective.units``), in the ``contact`` law (the
         exact law by default, None the problem's smooth law)."""
-        mods = self.modifications(x)
-        return jax.vmap(lambda t: self._single(mods, t, contact))(self.torques)
+        mods, problem = self.modifications(x), self.at_design(x)
+        return jax.vmap(lambda t: problem._single(mods, t, contact))(self.torques)
 
 
-def _bounds(variables, bounds: dict | None) -> tuple[list, list]:
+def _bounds(variables, bounds: dict | None, bearings=None) -> tuple[list, list]:
     lo, hi = [], []
     bounds = dict(bounds or {})
     for v in variables:
@@ -384,6 +411,8 @@ def _bounds(variables, bounds: dict | None) -> tuple[list, list]:
         if not a < b:
             raise ValueError(f"bounds of {v.name!r} = ({a}, {b}) are crossed: need lower < upper")
         v.kind.check_bounds(v.name, a, b)
+        if v.kind.acts_on == "structure":
+            bearings.check_bounds(v, a, b)
         lo.append(a)
         hi.append(b)
     if bounds:
@@ -402,6 +431,7 @@ def make_problem(
     positions_per_pitch: int = 64,
     speed: float = 0.0,
     smoothing: Smoothing | None = None,
+    bearings: BearingDesign | None = None,
 ) -> Problem:
     """Build a :class:`Problem` on model objects (a case file's problem:
     :func:`jaxgear.io.case_problem`).
@@ -425,11 +455,18 @@ def make_problem(
             of the scene's condensed bodies (default 0, at rest).
         smoothing: the smooth contact law and the rounding of the relief starts
             (:class:`Smoothing`; default ``Smoothing()``).
+        bearings: the rolling bearings of ``scene`` at their held operating point
+            (:func:`optimise.bearing_design`), needed by a variable that acts on the structure
+            (``<shaft>.bearings[<k>].clearance``, µm; bounds in µm, default (−5, 20)); the
+            scene must be assembled on its shafts.
 
     Raises:
         ValueError: unknown or duplicated variable, bounds crossed, extents outside (0, 1),
             negative depth bounds, a torque <= 0, an objective or smoothing that is not one, a
-            structure the objective cannot run on.
+            structure the objective cannot run on; a bearing variable without ``bearings``,
+            with an objective that does not take a designed structure
+            (:attr:`AbstractObjective.designs_structure`), on an unknown shaft or bearing, on
+            a linear bearing, or with bounds outside the bearing's range of clearances.
     """
     objective = TeRms() if objective is None else objective
     if not isinstance(objective, AbstractObjective):
@@ -444,8 +481,22 @@ def make_problem(
     variables = variables_of(variables)
     if not float(torque) > 0:
         raise ValueError(f"torque = {torque!r} N·m is out of range: allowed > 0")
+    structural = [v.name for v in variables if v.kind.acts_on == "structure"]
+    if structural and not isinstance(bearings, BearingDesign):
+        raise ValueError(
+            f"variables: {structural[0]!r} acts on the structure: allowed with bearings = "
+            "optimise.bearing_design(...) (the scene's rolling bearings at their operating "
+            "point)")
+    if structural and not objective.designs_structure:
+        raise ValueError(
+            f"variables: {structural[0]!r} acts on the structure: objective = "
+            f"{objective.name!r} does not take a designed structure (allowed the quasi-static "
+            "and acoustic objectives)")
+    for v in variables:
+        if v.kind.acts_on == "structure":
+            bearings.slot(v)  # a rolling bearing of the scene, or one line
     torques = objective.torques(torque)
-    lo, hi = _bounds(variables, bounds)
+    lo, hi = _bounds(variables, bounds, bearings)
     contact = smoothing.contact
     contact = objective.default_contact(1e-7) if contact is None else contact
     ppp = int(positions_per_pitch)
@@ -490,6 +541,7 @@ def make_problem(
         lp_order=jnp.asarray(objective.metric_order()),
         speed=jnp.asarray(float(speed)),
         positions_per_pitch=ppp,
+        bearings=bearings if structural else None,
     )
 
 

@@ -79,7 +79,7 @@ class RobustProblem(eqx.Module):
         ``contact`` (default: the problem's smooth law; :class:`jaxgear.ExactContact` for the
         design as the exact law sees it)."""
         mods, law = self.problem.modifications(x), self.problem._law(contact)
-        return _te_rms(self.problem, self.deviations, self.theta, mods, law)
+        return _te_rms(self.problem.at_design(x), self.deviations, self.theta, mods, law)
 
     def reduce(self, values: Float[Array, " N"]) -> Float[Array, ""]:
         """The statistic of ``values``."""

@@ -1,4 +1,4 @@
-"""Design variables of tooth-modification optimisation (docs/design.md, "Optimisation").
+"""Design variables of optimisation (docs/design.md, "Optimisation").
 
 Design variables are named like the case file: ``tip_relief.depth``, ``tip_relief.extent``,
 ``root_relief.depth``, ``root_relief.extent``, ``crowning.depth``, ``end_relief.depth``,
@@ -8,14 +8,23 @@ them parsed: its ``MemberModification`` field, its members and its kind
 (:class:`AbstractKind`: :class:`Depth`, :class:`Extent`, :class:`EndExtent`), which normalises,
 bounds and writes it in case-file units.
 
+A rolling bearing's diametral clearance is a variable of the structure, not of the flanks:
+``<shaft>.bearings[<k>].clearance`` (``pinion_shaft.bearings[0].clearance``; a train's shaft by
+its name), of kind :class:`Clearance`, in µm (negative: a preload). What a variable acts on is
+declared by its kind (:attr:`AbstractKind.acts_on`): ``"modifications"`` (written into the
+flanks' :class:`jaxgear.Modifications`) or ``"structure"`` (the scene's bearing stiffness,
+:class:`optimise.BearingDesign`, docs/bearings.md, "As a design variable").
+
 Normalisation: depths are E* = E/δ_m with δ_m = F_n / K̄ the mean static deflection of the
-unmodified mesh at the design torque (K̄ its mean mesh stiffness); extents are Γ itself.
+unmodified mesh at the design torque (K̄ its mean mesh stiffness); extents are Γ itself; a
+clearance is its value in µm.
 """
 
 from __future__ import annotations
 
 import abc
 import functools
+import re
 from typing import ClassVar
 
 import equinox as eqx
@@ -25,6 +34,7 @@ import jaxgear as jg
 __all__ = [
     "VARIABLES",
     "AbstractKind",
+    "Clearance",
     "Depth",
     "EndExtent",
     "Extent",
@@ -44,12 +54,25 @@ VARIABLES = {
     "end_relief.extent": ("end_relief_extent", "end_extent"),
 }
 _MEMBERS = {"pinion": ("pinion",), "gear": ("gear",)}  # a variable's prefix -> its members
+#: a bearing's variable: ``<shaft>.bearings[<k>].<quantity>`` (quantity a key of _BEARING_KINDS)
+_BEARING = re.compile(r"^([A-Za-z_][\w.-]*?)\.bearings\[(\d+)\]\.(\w+)$")
 
 
 # -- design variables ----------------------------------------------------------------------------
 class AbstractKind(eqx.Module):
-    """How a design variable is normalised, bounded and written in case-file units."""
+    """How a design variable is normalised, bounded and written in case-file units, and what it
+    acts on.
 
+    Class attributes:
+        acts_on: ``"modifications"`` (the variable's value is written into the flanks'
+            :class:`jaxgear.Modifications`, :meth:`optimise.Problem.modifications`) or
+            ``"structure"`` (it changes the scene's stiffness,
+            :meth:`optimise.Problem.at_design`).
+        rounds_end_relief: the end relief start is rounded over one slice while a variable of
+            this kind is designed.
+    """
+
+    acts_on: ClassVar[str] = "modifications"
     # the end relief start is rounded over one slice when this kind of variable is designed
     rounds_end_relief: ClassVar[bool] = False
 
@@ -155,16 +178,53 @@ class EndExtent(_AbstractFraction):
         return (0.02, 0.5)
 
 
+class Clearance(AbstractKind):
+    """A rolling bearing's diametral clearance P_d, designed in µm (x = P_d / 1 µm; negative: a
+    radial preload); default bounds (−5, 20) µm. It acts on the structure: the bearing's
+    tangent stiffness at its held load (:class:`optimise.BearingDesign`), which also checks
+    the bounds against the bearing's own range."""
+
+    acts_on: ClassVar[str] = "structure"
+
+    def to_model(self, x, delta_m):
+        return x * 1e-6
+
+    def to_file(self, x, delta_m):
+        return x
+
+    def from_file(self, v, delta_m):
+        return v
+
+    def file_value(self, value):
+        return value * 1e6
+
+    def default_bounds(self):
+        return (-5.0, 20.0)
+
+    def check_bounds(self, name, lo, hi):
+        pass  # the bearing's range: BearingDesign.check_bounds
+
+    def unmodified_at(self, value):
+        return True  # a clearance adds no flank modification
+
+
 _KINDS = {"depth": Depth(), "extent": Extent(0.98), "end_extent": EndExtent()}
+#: a bearing's quantity -> its kind
+_BEARING_KINDS = {"clearance": Clearance()}
 
 
 class Variable(eqx.Module):
-    """One design variable: a :class:`jaxgear.MemberModification` field on one or both members.
+    """One design variable: a :class:`jaxgear.MemberModification` field on one or both members,
+    or a quantity of one bearing of the structure.
 
     Attributes:
-        name: as written (``pinion.tip_relief.depth``). base: without the member prefix.
-        field: the ``MemberModification`` field. members: ``("pinion",)``, ``("gear",)`` or
-            both. kind: its normalisation (:class:`Depth`, :class:`Extent`, :class:`EndExtent`).
+        name: as written (``pinion.tip_relief.depth``, ``gear_shaft.bearings[1].clearance``).
+        base: without the member prefix (a bearing's: its name). field: the
+            ``MemberModification`` field (a bearing's: its quantity, ``clearance``). members:
+            ``("pinion",)``, ``("gear",)`` or both (a bearing's: none). kind: its normalisation
+            and what it acts on (:class:`Depth`, :class:`Extent`, :class:`EndExtent`,
+            :class:`Clearance`). shaft, bearing: a bearing's shaft name and index on it (None
+            for a modification).
     """
 
     name: str = eqx.field(static=True)
@@ -172,6 +232,8 @@ class Variable(eqx.Module):
     field: str = eqx.field(static=True)
     members: tuple[str, ...] = eqx.field(static=True)
     kind: AbstractKind
+    shaft: str | None = eqx.field(static=True, default=None)
+    bearing: int | None = eqx.field(static=True, default=None)
 
     @classmethod
     def parse(cls, name: str) -> Variable:
@@ -181,6 +243,10 @@ class Variable(eqx.Module):
             ValueError: an unknown variable.
         """
         name = name.strip()
+        hit = _BEARING.match(name)
+        if hit and hit.group(3) in _BEARING_KINDS:
+            shaft, k, quantity = hit.group(1), int(hit.group(2)), hit.group(3)
+            return cls(name, name, quantity, (), _BEARING_KINDS[quantity], shaft, k)
         head, _, rest = name.partition(".")
         members = _MEMBERS.get(head)
         base = rest if members else name
@@ -188,13 +254,16 @@ class Variable(eqx.Module):
             allowed = ", ".join(sorted(VARIABLES))
             raise ValueError(
                 f"variables: {name!r} is an unknown design variable, allowed {allowed}, "
-                "optionally prefixed by 'pinion.' or 'gear.'"
+                "optionally prefixed by 'pinion.' or 'gear.', or <shaft>.bearings[<k>]."
+                f"{'|'.join(_BEARING_KINDS)} (a rolling bearing's, µm)"
             )
         field, kind = VARIABLES[base]
         return cls(name, base, field, members or ("pinion", "gear"), _KINDS[kind])
 
     def case_value(self, mods: jg.Modifications) -> float:
-        """The variable's value in ``mods`` (its first member's), in case-file units."""
+        """The variable's value in ``mods`` (its first member's), in case-file units (a
+        modification's: a bearing's value is its design's, :meth:`optimise.Problem.case_values`).
+        """
         return self.kind.file_value(float(getattr(getattr(mods, self.members[0]), self.field)))
 
 

@@ -148,7 +148,7 @@ SECTIONS = {
     ),
     "optimise": (
         ("Objectives", ("_objectives", "_safety", "_tribology", "_acoustics")),
-        ("Problems and variables", ("_problem", "_variables")),
+        ("Problems and variables", ("_problem", "_variables", "_bearings")),
         ("Minimisers", ("_minimise", "_master_curve", "_robust")),
     ),
 }

@@ -261,7 +261,8 @@ _INDEX = re.compile(r"\[\d+\]")
 _MEMBER_MODS = re.compile(r"^modifications\.(pinion|gear)\.")
 #: tables whose keys are names the file chooses (not schema keys)
 NAMED_KEYS = {
-    "optimise.bounds": "a design variable of `vars` (E* for depths, Γ for extents)",
+    "optimise.bounds": "a design variable of `vars` (E* for depths, Γ for extents, µm for a "
+    "bearing's `clearance`)",
     "housing.points_mm": "a point's name: [x, y, z] in the scene frame (mm), read at the "
     "housing's outer skin node nearest it",
 }

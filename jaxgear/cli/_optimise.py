@@ -186,6 +186,22 @@ def _objective_report(objective, problem, designs: dict, case: Case) -> dict:
     return {}
 
 
+def _designs_report(objective, problem, shown: dict, case: Case, res) -> dict:
+    """:func:`_objective_report` of the designs ``shown``; where a variable acts on the
+    structure (a bearing's clearance: an acoustic objective only, :func:`check_settings`), each
+    design on its own structure (the start's and the optimum's, :meth:`Problem.at_design`; the
+    case's own and its bare flanks on the case's), its sections merged."""
+    if all(v.kind.acts_on == "modifications" for v in problem.variables):
+        return _objective_report(objective, problem, shown, case)
+    xs = {"initial": res.x0, "final": res.x}
+    out: dict = {}
+    for label, mods in shown.items():
+        at = problem.at_design(jnp.asarray(xs[label])) if label in xs else problem
+        for key, section in _objective_report(at.objective, at, {label: mods}, case).items():
+            out.setdefault(key, {}).update(section)
+    return out
+
+
 def _path_of_contact(mesh) -> float:
     """g_α (m) of the problem's one mesh (a mesh model, or a scene's one base plane): where the
     measured K_Hα reads its pairs (:func:`jaxgear.rating.transverse_load_factor`)."""
@@ -520,7 +536,7 @@ def _optimise(case: Case, settings: dict, out_dir: str, progress: bool):
     shown = {"initial": sharp.modifications(jnp.asarray(res.x0)), "final": designs["optimum"]}
     if best != "optimum":
         shown[best] = designs[best]
-    report.update(_objective_report(objective, problem, shown, case))
+    report.update(_designs_report(objective, problem, shown, case, res))
     post.update()
     os.makedirs(out_dir, exist_ok=True)
     _plots.convergence_plot(
@@ -641,11 +657,19 @@ def check_settings(settings: dict, case: Case | None = None) -> dict:
             raise ValueError(f"--vars {variables!r}: empty variable name, allowed {allowed}")
         for n in names:
             try:
-                Variable.parse(n)
+                var = Variable.parse(n)
             except ValueError:
                 raise ValueError(
                     f"--vars {n!r}: unknown design variable, allowed {allowed}"
                 ) from None
+            if (var.kind.acts_on != "modifications"
+                    and settings["objective"] not in ACOUSTIC_OBJECTIVES):
+                raise ValueError(
+                    f"--vars {n!r}: a bearing's clearance is optimised by jaxgear optimise with "
+                    f"the objective erp or sound_power (a housed case), not "
+                    f"{settings['objective']}; the other objectives take it through the Python "
+                    "API (jaxgear.io.case_problem; docs/bearings.md, 'As a design variable')"
+                )
         if len(set(names)) != len(names):
             raise ValueError(f"--vars {variables!r}: names a variable twice")
     lp = settings.get("lp_order")
@@ -823,7 +847,7 @@ def run_optimise(args) -> int:
 
 
 def _unit(name: str) -> str:
-    return " µm" if name.endswith("depth") else ""
+    return " µm" if name.endswith(("depth", "clearance")) else ""
 
 
 def _optimum_lines(problem, rep: dict) -> list[str]:

@@ -47,6 +47,7 @@ from ._bearings import (
     SpectrumLife as SpectrumLife,
     operating_lives as operating_lives,
     spectrum_lives as spectrum_lives,
+    with_bearing_stiffness as with_bearing_stiffness,
 )
 from ._build import (
     dynamic_model as dynamic_model,

@@ -11,6 +11,7 @@ import math
 from typing import NamedTuple
 
 import equinox as eqx
+import jax.numpy as jnp
 import numpy as np
 
 from .._contact import ContactLaw, ExactContact
@@ -29,7 +30,7 @@ from ..bearings import (
 from ..scenes import Bearing, Grounded, bearing_dofs, grounded
 
 __all__ = ["OperatingPoint", "SpectrumLife", "bearing_forces", "bearings_at_operating_point",
-           "operating_lives", "spectrum_lives"]
+           "operating_lives", "spectrum_lives", "with_bearing_stiffness"]
 
 
 @functools.singledispatch
@@ -43,6 +44,88 @@ def _(scene: Grounded):
     """A :class:`~jaxgear.scenes.Grounded` scene's bearings are its base's (the grounding
     spring is no bearing)."""
     return _bearing_scene(scene.base)
+
+
+@functools.singledispatch
+def _with_structure(scene, structure):
+    """The scene with its assembled structure replaced by ``structure``."""
+    return eqx.tree_at(lambda sc: sc.structure, scene, structure)
+
+
+@_with_structure.register
+def _(scene: Grounded, structure):
+    """A :class:`~jaxgear.scenes.Grounded` scene's structure is its base's (its grounding
+    spring kept as it is)."""
+    return eqx.tree_at(lambda sc: sc.base, scene, _with_structure(scene.base, structure))
+
+
+def with_bearing_stiffness(scene, shafts, changes: dict, extra_z=None):
+    """The scene with bearing stiffness changes ΔK_b added where its assembly put each
+    bearing, differentiably (JAX in the changes): the stiffness K + Σ_b W_bᵀ ΔK_b W_b, its
+    ``bearings`` stiffness part likewise, and the bearing force rows (:attr:`~jaxgear.scenes.
+    Structure.reaction`) + ΔK_b's translational rows.
+
+    W_b is the bearing's relative motion: its shaft node's six DOFs on the ground; on a
+    housing's seat (:class:`~jaxgear.scenes.HousingMount`, the joint ``bearing <k>``) the
+    node's less the seat's, the coupling blocks (A, B, D) of
+    :meth:`~jaxgear.scenes.HousingMount.blocks`, the node's own block ΔK_b (as the assembly
+    puts it, :func:`~jaxgear.scenes._mount.couple_housing`). The assembly is linear in each
+    bearing's matrix, so the result is the scene assembled on K_b + ΔK_b (NumPy) to
+    round-off, here as a JAX expression of ΔK_b: a design variable of a bearing (its clearance,
+    docs/bearings.md, "As a design variable") reaches the scene's stiffness through it.
+
+    Args:
+        scene: a lumped 3D scene assembled on ``shafts`` (:func:`~jaxgear.scenes.lumped_pair`,
+            :class:`~jaxgear.scenes.LumpedTrain`; on the ground or with a housing), or a
+            :class:`~jaxgear.scenes.Grounded` one.
+        shafts: the :class:`~jaxgear.scenes.ShaftSpec` the scene was assembled on, in its
+            order (their bearings' stiffness says which force rows the assembly made).
+        changes: ``{(shaft index, bearing index): ΔK_b}``, each (6, 6) (SI, the node's frame;
+            :class:`~jaxgear.scenes.Bearing`'s DOF order), symmetric.
+        extra_z: the scene's more node positions per shaft (m), as it was assembled, or None.
+
+    Raises:
+        ValueError: a key that is not a bearing of ``shafts`` (one line).
+    """
+    base = _bearing_scene(scene)
+    st = base.structure
+    dofs = bearing_dofs(shafts, extra_z)
+    mount = st.mount
+    joints = {} if mount is None else {j.member: k for k, j in enumerate(mount.joints)}
+    flat = [(i, j) for i, s in enumerate(shafts) for j in range(len(s.bearings))]
+    for key in changes:
+        if key not in flat:
+            raise ValueError(f"with_bearing_stiffness: changes[{key!r}]: allowed (shaft, "
+                             f"bearing) indices of the scene's bearings, {flat}")
+    n = st.size
+    dK = jnp.zeros((n, n), st.K.dtype)
+    dR = jnp.zeros(st.reaction.shape, st.K.dtype)
+    row = 0
+    for k, (i, j) in enumerate(flat):
+        kb = shafts[i].bearings[j].stiffness_matrix()
+        rows = [d for d in range(3) if np.any(kb[d] != 0)]  # the force rows it was given
+        delta = changes.get((i, j))
+        if delta is not None:
+            delta = jnp.asarray(delta, st.K.dtype)
+            a = dofs[i][j]
+            node = slice(a, a + 6)
+            dK = dK.at[node, node].add(delta)
+            dR = dR.at[row:row + len(rows), node].add(delta[jnp.asarray(rows, int)])
+            joint = joints.get(f"bearing {k}")
+            if joint is not None:  # on a seat: the cross and seat blocks
+                _, B, D = mount.blocks(joint, delta)
+                o = st.mount_offset + 6 * mount.seat_index(joint)
+                seat = slice(o, o + 6)
+                dK = dK.at[node, seat].add(B).at[seat, node].add(B.T).at[seat, seat].add(D)
+                dR = dR.at[row:row + len(rows), seat].add(B[jnp.asarray(rows, int)])
+        row += len(rows)
+    parts = st.parts_K
+    if parts is not None:
+        parts = parts.at[st.part_names.index("bearings")].add(dK)
+    structure = eqx.tree_at(lambda s: (s.K, s.parts_K, s.reaction), st,
+                            (st.K + dK, parts, st.reaction + dR),
+                            is_leaf=lambda x: x is None)
+    return _with_structure(scene, structure)
 
 
 def bearing_forces(scene, res: QuasiStaticResult) -> dict:

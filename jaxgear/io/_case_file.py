@@ -27,7 +27,7 @@ from ._lubricant_table import read_lubricant
 from ._modifications_table import parse_modifications
 from .._contact_geometry import TheoreticalPath
 from ._names import FOUNDATIONS, STIFFNESS_MODELS, contact_geometry_from_key, stiffness_from_name
-from ._optimise_table import check_acoustic_tables, parse_optimise
+from ._optimise_table import check_acoustic_tables, check_bearing_variables, parse_optimise
 from ._plausibility import MIN_LINE_LOAD_N_PER_MM, CaseWarning, plausibility
 from ._rating_material_table import MaterialRatingKeys
 from ._rating_table import check_rating
@@ -549,6 +549,8 @@ def parse_case(data: dict, default_name: str = "case", base_dir: str | None = No
     bearings = read_bearings(data, scene, lubricant)
     optimise = parse_optimise(data["optimise"]) if "optimise" in data else None
     check_acoustic_tables(data, optimise)
+    check_bearing_variables(optimise, {} if scene is None or not scene.lumped else {
+        "pinion_shaft": scene.pinion_shaft, "gear_shaft": scene.gear_shaft})
     if optimise is not None and "speeds" in optimise and (scene is None or not scene.hybrid):
         raise sc.fail(
             "optimise",

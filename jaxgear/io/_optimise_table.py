@@ -10,7 +10,7 @@ import pydantic
 from pydantic import BeforeValidator
 
 from fem_prep import schema as sc
-from optimise import OBJECTIVES, VARIABLES
+from optimise import OBJECTIVES, VARIABLES, Variable
 
 from ._sections import Section, number, number_list
 
@@ -20,6 +20,7 @@ __all__ = [
     "TORQUE_RANGE_OBJECTIVES",
     "OptimiseSection",
     "check_acoustic_tables",
+    "check_bearing_variables",
     "check_train_design",
     "parse_optimise",
 ]
@@ -104,19 +105,56 @@ def check_train_design(objective: str | None, variables, modifications: dict | N
             raise sc.fail("modifications", gear, "a train's design is one modification on "
                           "every gear: allowed the entries common to every gear, directly under "
                           "[modifications], when the train is optimised", "{...}")
+
+
+def check_bearing_variables(optimise: dict | None, shafts: dict) -> None:
+    """Each bearing variable of ``[optimise] vars`` names a rolling bearing from its geometry
+    of the case's ``shafts`` (``{name: ShaftSpec or None}``, ``pinion_shaft``, ``gear_shaft``).
+
+    Raises:
+        SchemaError: one line naming ``[optimise] vars``: an unknown shaft, a bearing index
+            out of range, a linear bearing."""
+    for name in (optimise or {}).get("vars", ()):
+        if _variable_kind(name) != "clearance":
+            continue
+        var = Variable.parse(name)
+        spec = shafts.get(var.shaft)
+        if spec is None:
+            given = ", ".join(k for k, v in shafts.items() if v is not None) or "none"
+            raise sc.fail(WHERE, "vars", f"{name!r}: no [scene.{var.shaft}] of a lumped3d "
+                          f"scene, allowed the shafts {given}", name)
+        if not var.bearing < len(spec.bearings):
+            raise sc.fail(WHERE, "vars", f"{name!r}: [scene.{var.shaft}] has "
+                          f"{len(spec.bearings)} bearings, allowed bearings[0] to "
+                          f"bearings[{len(spec.bearings) - 1}]", name)
+        rolling = spec.bearings[var.bearing].rolling
+        if rolling is None or not rolling.rolling_elements:
+            raise sc.fail(WHERE, "vars", f"{name!r} is a linear bearing: a clearance is "
+                          "allowed on a rolling bearing from its geometry (kind = ..., or "
+                          "catalogue = ...)", name)
+
+
 _DEFAULT_VARS = tuple(OPTIMISE_DEFAULTS["vars"].split(","))
 WHERE = "optimise"
 #: what ``vars`` and ``[optimise.bounds]`` allow, in their messages
-_ALLOWED_VARS = f"{', '.join(VARIABLES)}, optionally prefixed 'pinion.' or 'gear.'"
+_ALLOWED_VARS = (f"{', '.join(VARIABLES)}, optionally prefixed 'pinion.' or 'gear.', or a "
+                 "rolling bearing's <shaft>.bearings[<k>].clearance (µm)")
 
 
 def _variable_kind(name: str) -> str | None:
     """The kind of a design variable's name (``"depth"``, ``"extent"``, ``"end_extent"``;
-    :data:`optimise.VARIABLES`), a member prefix ``pinion.``/``gear.`` allowed; None for a name
+    :data:`optimise.VARIABLES`), a member prefix ``pinion.``/``gear.`` allowed, or
+    ``"clearance"`` for a bearing's (``pinion_shaft.bearings[0].clearance``); None for a name
     that is none."""
     parts = name.split(".")
     base = ".".join(parts[1:]) if parts[0] in _MEMBER_PREFIXES else name
-    return VARIABLES[base][1] if base in VARIABLES else None
+    if base in VARIABLES:
+        return VARIABLES[base][1]
+    try:
+        var = Variable.parse(name)
+    except ValueError:
+        return None
+    return var.field if var.kind.acts_on == "structure" else None
 
 
 @functools.singledispatch
@@ -254,10 +292,13 @@ class OptimiseSection(Section):
             if name not in self.vars:
                 raise sc.fail(f"{WHERE}.bounds", name, "is not a design variable (vars = "
                               f"{sc.fmt(self.vars)})", pair)
-            good = lo < hi and (lo >= 0 if kind == "depth" else 0 < lo and hi < 1)
+            good = lo < hi and (lo >= 0 if kind == "depth" else
+                                kind == "clearance" or 0 < lo and hi < 1)
             if not good:
-                lo_ok = "0 < lo < hi < 1" if kind != "depth" else "0 <= lo < hi"
-                unit = "E* = depth/δ_m" if kind == "depth" else "Γ"
+                lo_ok = {"depth": "0 <= lo < hi", "clearance": "lo < hi"}.get(
+                    kind, "0 < lo < hi < 1")
+                unit = {"depth": "E* = depth/δ_m", "clearance": "µm, the bearing's range: "
+                        "docs/bearings.md"}.get(kind, "Γ")
                 raise sc.fail(f"{WHERE}.bounds", name, f"out of range, allowed [lo, hi] with "
                               f"{lo_ok} ({unit})", pair)
         return self
@@ -275,8 +316,9 @@ def parse_optimise(table) -> dict:
     """Validate an ``[optimise]`` table (keys as the ``jaxgear optimise`` options;
     :class:`OptimiseSection`) and return the keys it gives, normalised: ``vars`` a list of
     names, ``torques`` and ``speeds`` ``[start, stop, n]`` (float, float, int), ``bounds``
-    ``{name: (lo, hi)}`` (E* for depths, Γ for extents), ``max_iterations`` an int,
-    ``quantile``, ``lp_order``, ``te_limit_um`` floats, other keys as given.
+    ``{name: (lo, hi)}`` (E* for depths, Γ for extents, µm for a clearance),
+    ``max_iterations`` an int, ``quantile``, ``lp_order``, ``te_limit_um`` floats, other keys
+    as given.
 
     Raises:
         SchemaError: one line naming the key, its value and what is allowed: the table not a

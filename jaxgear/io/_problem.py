@@ -11,7 +11,11 @@ one class in :mod:`optimise` plus its name here.
 
 from __future__ import annotations
 
+import copy
+import re
+import tomllib
 from collections.abc import Callable
+from typing import NamedTuple
 
 import numpy as np
 import optax
@@ -25,9 +29,12 @@ from optimise import Problem, make_problem
 
 from ._acoustic_path import case_acoustic_path, case_radiation, housed_acoustics
 from ._case import Case, TrainForm
+from ._case_file import parse_case
+from ._case_model import static_scene
 from ._load import load_case
 from ._lubricant_table import tribology_of
 from ._modifications_table import case_text_with_modifications, modifications_with
+from ._operating import operating_point
 from ._optimise_table import ACOUSTIC_OBJECTIVES, check_train_design
 from ._rating_table import RatingCase, rating_of
 
@@ -35,6 +42,9 @@ __all__ = [
     "OBJECTIVES",
     "OPTIMISERS",
     "STATISTICS",
+    "BearingChoice",
+    "bearing_choices",
+    "case_bearing_design",
     "case_problem",
     "design_case_text",
     "design_modifications",
@@ -257,6 +267,105 @@ def design_modifications(case: Case) -> jg.Modifications:
     return jg.Modifications(pinion=first, gear=first)
 
 
+def case_bearing_design(case: Case) -> op.BearingDesign:
+    """The rolling bearings of a ``lumped3d`` pair or train case at their operating point
+    (:func:`operating_point`, found once), as design variables name them: each shaft by its
+    table without ``scene.`` (``pinion_shaft``, ``gear_shaft``; a train's ``shafts.<name>``):
+    :func:`optimise.bearing_design`.
+
+    Raises:
+        ValueError: a case without rolling bearings from their geometry (one line)."""
+    shafts = case.form.bearing_shafts(case)
+    if shafts is None:
+        raise ValueError(
+            "[optimise] vars: a bearing's clearance is a design variable of a lumped3d case "
+            "whose shafts stand on rolling bearings from their geometry; this case has none")
+    names = tuple(n.removeprefix("scene.") for n in shafts.names)
+    extra_z = case.form.bearing_scene(case, case.scene)[2]
+    return op.bearing_design(operating_point(case), names, extra_z)
+
+
+class BearingChoice(NamedTuple):
+    """One candidate of :func:`bearing_choices`: its ``name``, the ``case`` with it, its
+    clearance's optimum (``clearance_um``, and where it started, ``start_um``), the objective
+    there and at the start (``value``, ``start_value``: the objective's units, unscaled, the
+    problem's smooth law; each candidate's problem scales by its own unmodified design, so the
+    unscaled values are what compares) and the optimiser's ``result``."""
+
+    name: str
+    case: Case
+    clearance_um: float
+    start_um: float
+    value: float
+    start_value: float
+    result: op.OptimisationResult
+
+
+_BEARING_NAME = re.compile(r"^([A-Za-z_][\w-]*)\.bearings\[(\d+)\]$")
+
+
+def bearing_choices(
+    case: Case,
+    bearing: str,
+    candidates: dict,
+    objective: str = "te_rms",
+    *,
+    max_iterations: int = 10,
+    bounds: tuple[float, float] | None = None,
+    **settings,
+) -> tuple[BearingChoice, ...]:
+    """Bearing choice by enumeration: each candidate bearing at the position ``bearing`` of a
+    ``lumped3d`` pair case, its clearance optimised (:func:`case_problem` with the variable
+    ``<bearing>.clearance``, :func:`optimise.minimise` from the candidate's own clearance),
+    ranked by the objective at its optimum, best first. A discrete choice is not a gradient
+    variable: each candidate is a case of its own (its operating point, its model).
+
+    Args:
+        case: a pair case whose ``[scene]`` is ``lumped3d``.
+        bearing: the bearing's name, ``pinion_shaft.bearings[0]``.
+        candidates: ``{name: table}``, each table the bearing's case-file keys without
+            ``position_mm`` (``{"catalogue": "6206"}``, or a ``kind`` with its geometry;
+            ``clearance_um`` the start, default the case bearing's or 0).
+        objective: an objective name (:data:`OBJECTIVES`) that takes a designed structure.
+        max_iterations: the optimiser's iterations per candidate (int >= 1).
+        bounds: the clearance's bounds (µm), default the variable's.
+        settings: the objective's settings (:func:`case_problem`).
+
+    Raises:
+        ValueError: a bearing name that is not ``<shaft>.bearings[<k>]`` of the case's
+            ``[scene]``, no candidate; what loading a candidate's case refuses (one line, the
+            candidate named), what :func:`case_problem` refuses.
+    """
+    hit = _BEARING_NAME.match(bearing.strip())
+    shafts = (case.raw.get("scene") or {})
+    if hit is None or hit.group(1) not in shafts or not int(hit.group(2)) < len(
+            shafts[hit.group(1)].get("bearings", ())):
+        raise ValueError(f"bearing = {bearing!r}: allowed <shaft>.bearings[<k>] of the case's "
+                         "[scene] (e.g. 'pinion_shaft.bearings[0]')")
+    if not candidates:
+        raise ValueError("candidates is empty: allowed {name: the bearing's table}")
+    shaft, k = hit.group(1), int(hit.group(2))
+    variable = f"{bearing.strip()}.clearance"
+    given = {} if bounds is None else {"bounds": {variable: tuple(bounds)}}
+    out = []
+    for name, table in candidates.items():
+        data = copy.deepcopy(case.raw)
+        old = data["scene"][shaft]["bearings"][k]
+        new = {"position_mm": old["position_mm"], "clearance_um": old.get("clearance_um", 0.0)}
+        data["scene"][shaft]["bearings"][k] = new | dict(table)
+        try:
+            candidate = parse_case(data, case.name)
+        except ValueError as err:
+            raise ValueError(f"candidate {name!r}: {err}") from None
+        problem = case_problem(candidate, variable, objective, **given, **settings)
+        x0 = problem.from_physical(problem.case_values(candidate.modifications))
+        res = op.minimise(problem, x0, max_iterations=max_iterations, progress=False)
+        scale = float(problem.scale)
+        out.append(BearingChoice(name, candidate, float(res.x[0]), float(x0[0]),
+                                 res.value * scale, res.value0 * scale, res))
+    return tuple(sorted(out, key=lambda c: c.value))
+
+
 def case_problem(
     case: Case,
     variables,
@@ -275,9 +384,13 @@ def case_problem(
     housed case's own (:func:`case_acoustic_path`: its lumped 3D scene with the housing, the
     ``[whine]`` speeds and the orders in the housing's band; that scene is the structure),
     "sound_power" with the radiation of its ``[acoustics]`` (:func:`case_radiation`;
-    ``progress``: a bar over its BEM solves). A housed train case takes the acoustic objectives
-    only, on its lumped 3D scene with the housing: its design is one modification on every gear
-    (:func:`design_modifications`; variables without a member prefix).
+    ``progress``: a bar over its BEM solves). A variable of a rolling bearing
+    (``pinion_shaft.bearings[0].clearance``, µm) acts on the case's scene at the bearings'
+    operating point (:func:`case_bearing_design`, the loads held): the acoustic path's scene, or
+    for a quasi-static objective without ``scene`` the case's quasi-static lumped 3D scene
+    (:func:`static_scene`) instead of its rigid mesh. A housed train case takes the acoustic
+    objectives only, on its lumped 3D scene with the housing: its design is one modification on
+    every gear (:func:`design_modifications`; variables without a member prefix).
 
     Args:
         case: a :class:`Case` (:func:`jaxgear.io.load_case`).
@@ -299,8 +412,9 @@ def case_problem(
         ValueError: an unknown objective name, "least_safety" on a case without ``[rating]``,
             an acoustic objective on a case without ``[housing]`` and ``[whine]`` ("sound_power":
             or without ``[acoustics]``), a train case with another objective, a prefixed
-            variable or a ``[modifications.<gear>]`` table, as
-            :func:`optimise.make_problem` otherwise.
+            variable or a ``[modifications.<gear>]`` table, a bearing's variable on a case
+            without rolling bearings from their geometry, as :func:`optimise.make_problem`
+            otherwise.
     """
     unknown = sorted(set(settings) - _SETTINGS)
     if unknown:
@@ -319,6 +433,11 @@ def case_problem(
                                                    progress=progress)
     if objective in ACOUSTIC_OBJECTIVES and scene is None:
         scene = settings["acoustic_path"].model.scene  # the path's own structure
+    structural = [v for v in op.variables_of(variables) if v.kind.acts_on == "structure"]
+    if structural:
+        problem_settings["bearings"] = case_bearing_design(case)
+        if scene is None and objective not in ACOUSTIC_OBJECTIVES:
+            scene = static_scene(case, slices=slices)[0]  # the bearings' scene, loads held
     train = isinstance(case.form, TrainForm)  # rated and lubricated per pair only
     goal = objective_from_name(
         objective, case.torque, rating=None if train else rating_of(case),
@@ -353,9 +472,16 @@ def design_case_text(
     variable on its members; every other entry and line, comments included, kept:
     :func:`case_text_with_modifications`). ``unmodified``: every relief's and crowning's
     ``depth_um`` the case gives written 0 (the bare flanks, :meth:`optimise.Problem.unmodified`:
-    extents, shapes and deviations kept)."""
-    values = {}
+    extents, shapes and deviations kept). A bearing's clearance is written as ``clearance_um``
+    into its ``[[scene.<shaft>.bearings]]`` table (:func:`case_text_with_clearance`).
+
+    Raises:
+        ValueError: modifications or a bearing table this cannot rewrite (one line)."""
+    values, clearances = {}, []
     for var in problem.variables if parameters is not None else ():
+        if var.kind.acts_on == "structure":
+            clearances.append((var.shaft, var.bearing, parameters[var.name]))
+            continue
         mod, quantity = var.base.split(".")
         key = "depth_um" if quantity == "depth" else "extent"
         values[(var.members, mod, key)] = parameters[var.name]
@@ -365,7 +491,43 @@ def design_case_text(
         for mod in _DESIGN_MODIFICATIONS:
             if mod in given:
                 values[(("pinion", "gear"), mod, "depth_um")] = 0.0
-    return case_text_with_modifications(text, modifications_with(table, values))
+    out = case_text_with_modifications(text, modifications_with(table, values))
+    for shaft, k, value in clearances:
+        out = case_text_with_clearance(out, shaft, k, value)
+    return out
+
+
+_TABLE_HEADER = re.compile(r"^\s*\[")
+
+
+def case_text_with_clearance(text: str, shaft: str, k: int, clearance_um: float) -> str:
+    """A case file's TOML ``text`` with bearing ``k`` of ``[scene.<shaft>]`` given
+    ``clearance_um`` (its line replaced, or added under the table's header); every other line,
+    comments included, kept.
+
+    Raises:
+        ValueError: the bearing is not the k-th ``[[scene.<shaft>.bearings]]`` table of the
+            text (an inline array of tables, a train's shaft), one line."""
+    lines = text.splitlines()
+    header = re.compile(rf"^\s*\[\[\s*scene\.{re.escape(shaft)}\.bearings\s*\]\]")
+    starts = [i for i, line in enumerate(lines) if header.match(line)]
+    if not k < len(starts):
+        raise ValueError(
+            f"{shaft}.bearings[{k}]: the case file does not give it as a "
+            f"[[scene.{shaft}.bearings]] table: write it so to have the design written back")
+    start = starts[k]
+    end = next((j for j in range(start + 1, len(lines)) if _TABLE_HEADER.match(lines[j])),
+               len(lines))
+    new = f"clearance_um = {float(clearance_um)!r}  # the design written by jaxgear optimise"
+    for j in range(start + 1, end):
+        if re.match(r"^\s*clearance_um\s*=", lines[j]):
+            lines[j] = new
+            break
+    else:
+        lines.insert(start + 1, new)
+    out = "\n".join(lines) + "\n"
+    tomllib.loads(out)  # a parse error here is a bug of this writer, not the user's
+    return out
 
 
 def write_design_case(
