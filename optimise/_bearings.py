@@ -78,6 +78,10 @@ class BearingDesign(eqx.Module):
             raise ValueError(
                 f"variables: {var.name!r} is a linear bearing (a stiffness): allowed on a "
                 "rolling bearing from its geometry (kind = ..., or catalogue = ...)")
+        if not rolling.clearance_field:
+            raise ValueError(
+                f"variables: {var.name!r} is a {type(rolling).__name__}, whose end play stands "
+                "in for a clearance: allowed on a rolling bearing with a diametral clearance")
         return i, var.bearing
 
     def kind(self, var) -> AbstractRollingBearing:

@@ -146,11 +146,49 @@ def test_bearing_variable_refusals_one_line(small_point, variables, settings, ma
     assert "\n" not in str(e.value)
 
 
+def test_a_tapered_pairs_clearance_is_refused_one_line(small_point):
+    """A tapered roller pair declares no clearance field (its end play stands in for the rows'
+    clearance: ``clearance_field`` on the contract): its clearance as a variable is refused in
+    one line, in Python and in a case file."""
+    case, point = small_point
+    pair = jb.TaperedRollerPair.of(jb.catalogue("30205"), "O")
+    assert not pair.clearance_field and jb.catalogue("30205").clearance_field
+    shafts = list(point.shafts)
+    b0 = shafts[0].bearings[0]
+    d = np.asarray(jb.solve_displacement(pair, np.array([1300.0, 0, 0, 0, 0])).displacement)
+    shafts[0] = dataclasses.replace(
+        shafts[0], bearings=(Bearing(b0.z, rolling=pair).at(d), *shafts[0].bearings[1:]))
+    point = point._replace(shafts=tuple(shafts))
+    design = op.bearing_design(point, ("pinion_shaft", "gear_shaft"))
+    with pytest.raises(ValueError, match=r"'pinion_shaft\.bearings\[0\]\.clearance' is a "
+                       r"TaperedRollerPair, whose end play stands in for a clearance") as e:
+        op.make_problem(case.mesh_model(slices=2), None, case.torque, VAR, op.TeRms(),
+                        bearings=design)
+    assert "\n" not in str(e.value)
+
+
 def _rolling_text(**changes) -> str:
     text = ROLLING.read_text()
     for old, new in changes.items():
         text = text.replace(old, new)
     return text
+
+
+#: the rolling example with the pinion's first bearing a tapered roller pair (a 30205-like row,
+#: its rollers those of the catalogue's estimate), written by text
+_PAIR_CASE = "pair"
+_PAIR_BEARING = """position_mm = 0.0
+kind = "tapered_roller_pair"
+arrangement = "O"
+bore_mm = 25.0
+outer_diameter_mm = 52.0
+width_mm = 16.25
+rollers = 15
+roller_diameter_mm = 6.5
+roller_length_mm = 12.0
+pitch_diameter_mm = 39.0
+contact_angle_deg = 14.0
+"""
 
 
 @pytest.mark.parametrize(
@@ -159,6 +197,8 @@ def _rolling_text(**changes) -> str:
         (LINEAR, f'vars = ["{VAR}"]', r"\[optimise\] vars = .*'pinion_shaft\.bearings\[0\]\."
          r"clearance' is a linear bearing: a clearance is allowed on a rolling bearing from "
          "its geometry"),
+        (_PAIR_CASE, f'vars = ["{VAR}"]', r"\[optimise\] vars = .*'pinion_shaft\.bearings\[0\]"
+         r"\.clearance' is a TaperedRollerPair, whose end_play_um stands in for a clearance"),
         (ROLLING, 'vars = ["gear_shaft.bearings[3].clearance"]', r"\[optimise\] vars = .*"
          r"\[scene\.gear_shaft\] has 2 bearings, allowed bearings\[0\] to bearings\[1\]"),
         (ROLLING, 'vars = ["idler.bearings[0].clearance"]', r"\[optimise\] vars = .*no "
@@ -172,7 +212,14 @@ def test_case_file_bearing_variable_refused_one_line(tmp_path, case_file, optimi
     """``[optimise] vars`` naming a linear bearing's clearance, a bearing or a shaft the scene
     does not have, crossed bounds: one line naming the key when the case loads."""
     path = tmp_path / "c.toml"
-    path.write_text(Path(case_file).read_text() + "\n[optimise]\n" + optimise + "\n")
+    if case_file == _PAIR_CASE:
+        text = ROLLING.read_text()
+        first = text.index("position_mm = 0.0\nkind")
+        end = text.index("[[scene.pinion_shaft.bearings]]", first)
+        text = text[:first] + _PAIR_BEARING + text[end:]
+    else:
+        text = Path(case_file).read_text()
+    path.write_text(text + "\n[optimise]\n" + optimise + "\n")
     with pytest.raises(jio.SchemaError, match=match) as e:
         jio.load_case(str(path))
     assert "\n" not in str(e.value)

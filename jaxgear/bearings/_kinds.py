@@ -97,6 +97,10 @@ class AbstractRollingBearing(eqx.Module):
     - ``self_aligning``: the outer raceway is a sphere about the bearing's centre (a spherical
       roller bearing): the rings tilt freely, no moment and no tilt stiffness (γ_x, γ_y not
       carried).
+    - ``clearance_field``: the kind's diametral clearance P_d is its own field ``clearance``
+      (m), which a design variable may set (``optimise``'s bearing clearance); not for
+      :class:`LinearSpring` (no clearance) nor :class:`TaperedRollerPair` (its axial end
+      play stands in for the rows' clearance).
 
     Methods: :meth:`load` (abstract; f(d), shape (5,)), :meth:`potential` (U(d), J, with
     f = ∇U), :meth:`stiffness` (K = ∂f/∂d by ``jax.jacfwd``, (5, 5)), :meth:`stiffness6` (the
@@ -110,6 +114,7 @@ class AbstractRollingBearing(eqx.Module):
     axial_load: ClassVar[str] = "both"
     life_exponent: ClassVar[float | None] = None
     self_aligning: ClassVar[bool] = False
+    clearance_field: ClassVar[bool] = True
 
     @abc.abstractmethod
     def load(self, displacement) -> Float[Array, " 5"]:
@@ -181,6 +186,7 @@ class LinearSpring(AbstractRollingBearing):
     tilt: float = 0.0
 
     rolling_elements: ClassVar[bool] = False
+    clearance_field: ClassVar[bool] = False
     contact_exponent: ClassVar[float] = 1.0
     axial_load: ClassVar[str] = "both"
     life_exponent: ClassVar[float | None] = None
@@ -839,6 +845,7 @@ class TaperedRollerPair(AbstractRollingBearing):
     axial_load: ClassVar[str] = "both"
     life_exponent: ClassVar[float | None] = 10.0 / 3.0
     self_aligning: ClassVar[bool] = False
+    clearance_field: ClassVar[bool] = False
 
     def __init__(self, bore, outer_diameter, width, elements, element_diameter, pitch_diameter,
                  effective_length, contact_angle, arrangement="O", end_play=0.0, spacing=None,

@@ -132,6 +132,10 @@ def check_bearing_variables(optimise: dict | None, shafts: dict) -> None:
             raise sc.fail(WHERE, "vars", f"{name!r} is a linear bearing: a clearance is "
                           "allowed on a rolling bearing from its geometry (kind = ..., or "
                           "catalogue = ...)", name)
+        if not rolling.clearance_field:
+            raise sc.fail(WHERE, "vars", f"{name!r} is a {type(rolling).__name__}, whose "
+                          "end_play_um stands in for a clearance: allowed on a rolling bearing "
+                          "with clearance_um", name)
 
 
 _DEFAULT_VARS = tuple(OPTIMISE_DEFAULTS["vars"].split(","))
