@@ -184,6 +184,15 @@ def test_gearbox_report_lives_and_tones_by_hand(staged):
             want = order * w / chain["input_speed"]
             assert row["tones_input_orders"][tone] == pytest.approx(want, rel=1e-12)
             assert tones[row["name"], tone] == pytest.approx(want, rel=1e-12)
+    # the figures docs/bearings.md states ("In a gearbox")
+    assert half == pytest.approx(1419.0, abs=0.5)
+    f = np.asarray(rows[0]["load_N_Nm"])
+    assert abs(f[1]) == pytest.approx(1333.0, abs=0.5) and abs(f[0]) == pytest.approx(485.0,
+                                                                                     abs=0.5)
+    assert rows[0]["life"]["L10_revolutions"] == pytest.approx(1.13e9, rel=5e-3)
+    assert rows[0]["life"]["L10_hours"] == pytest.approx(110_000.0, rel=5e-3)
+    assert rows[2]["life"]["L10_hours"] == pytest.approx(180_000.0, rel=5e-3)
+    assert rows[2]["shaft_speed_rad_s"] == pytest.approx(10.98, abs=5e-3)
     lines = bearing_run_lines(section)
     assert len(lines) == 4 and all(t.startswith("bearing stage2.") for t in lines)
     names = [n for n, _ in bearing_tone_lines(case)]
@@ -220,3 +229,40 @@ def test_a_stage_on_rolling_bearings_under_a_load_spectrum_is_refused(tmp_path):
     assert text.startswith("[stages[1]] model = 'lumped3d': not with a stage case on rolling "
                            "bearings from their geometry under a load spectrum") and (
         "[rating.spectrum]" in text and "\n" not in text), text
+
+
+@pytest.mark.slow  # a whole jaxgear run of the gearbox: each stage's run and sweep, the chain's
+# modes, the coupled sweep, Campbell diagram (minutes on the shared 2-core host)
+def test_jaxgear_run_reports_a_gearbox_stages_bearings(staged, tmp_path):
+    """``jaxgear run`` of the gearbox: summary.json's ``bearings`` is the section built above
+    (the operating point found again in the run's process: loads and lives to 1e-9), stage 2's
+    own summary.json has its bearings at the carried point, campbell.json holds the tones as
+    orders of the gearbox's input speed, and the console names each bearing by its stage."""
+    import contextlib
+    import io
+    import json
+
+    from jaxgear import cli
+
+    case, stage, _ = staged
+    out = tmp_path / "out"
+    text = io.StringIO()
+    with contextlib.redirect_stdout(text):
+        assert cli.main(["run", str(GEARBOX), "--out", str(out), "--quiet"]) == 0
+    summary = json.loads((out / "summary.json").read_text())
+    want = _section(case, stage)
+    got = summary["bearings"]
+    assert [r["name"] for r in got["bearings"]] == [r["name"] for r in want["bearings"]]
+    for g, w in zip(got["bearings"], want["bearings"], strict=True):
+        np.testing.assert_allclose(g["load_N_Nm"], w["load_N_Nm"], rtol=1e-9,
+                                   atol=1e-9 * w["radial_load_N"])
+        for key in ("L10_revolutions", "L10r_revolutions", "L10_hours"):
+            assert g["life"][key] == pytest.approx(w["life"][key], rel=1e-9)
+        assert g["tones_input_orders"] == pytest.approx(w["tones_input_orders"], rel=1e-12)
+    own = json.loads((out / "stage2" / "summary.json").read_text())["bearings"]
+    half, _ = _hand_radial(_chain()["torque"])
+    assert all(b["radial_load_N"] == pytest.approx(half, rel=1e-9) for b in own["bearings"])
+    campbell = json.loads((out / "campbell.json").read_text())
+    assert campbell["bearing_tones"] == bearing_tone_orders(case)  # JSON keeps the floats
+    printed = text.getvalue()
+    assert all(f"bearing {r['name']} (DeepGrooveBall)" in printed for r in got["bearings"])
