@@ -106,7 +106,7 @@ def test_stage_tangent_stiffness_is_the_packages_at_its_load(staged):
     displacement that carries its load (:func:`jaxgear.bearings.solve_displacement`, called
     directly with the reported load): 1e-9 of its largest entry; and the gearbox's stage
     scene (the chain's :class:`~jaxgear.gearbox.LumpedPairGearboxStage`) holds that stiffness
-    on each bearing node (1e-12)."""
+    on each bearing node (1e-12); measured identical."""
     _, stage, point = staged
     scene = stage.torsional.scene
     parts = scene.structure.part_names
@@ -126,7 +126,7 @@ def test_stage_tangent_stiffness_is_the_packages_at_its_load(staged):
 def test_stage_as_its_own_pair_case_at_the_carried_torque(staged):
     """The stage case run as its own pair case with ``[operating]`` the carried point (100 N·m
     at 18 rad/s) finds the same operating point: each bearing's load and displacement to 1e-9
-    (the same fixed point, one home)."""
+    (the same fixed point, one home; measured identical)."""
     _, _, point = staged
     chain = _chain()
     data = _toml(STAGE2)
@@ -209,6 +209,46 @@ def _copy(tmp_path: Path, stage2: dict | None = None) -> Path:
     if stage2 is not None:
         (tmp_path / STAGE2.name).write_text(case_toml(stage2), "utf-8")
     return tmp_path / GEARBOX.name
+
+
+def test_housed_stage_bearings_at_the_chains_point_the_housing_rigid(staged, tmp_path):
+    """tests/data/gearbox/two-pair-housed.toml (both stages in one box) with its stage 2 the
+    rolling one (the same 120 mm shafts, its bearings on seats 2, 6, 3, 7) at this file's
+    60 N·m: the stage's bearings stand at the operating point of the grounded stage (the
+    housing rigid there, as a housed pair's: each load F_n/2 at the chain's torque, 1e-9, and
+    the unhoused gearbox's loads to 1e-12), and the housed stage's scene holds each bearing's
+    tangent stiffness on its node (1e-12), joined to the box's coordinates."""
+    _, _, grounded = staged
+    text = (DATA / "two-pair-housed.toml").read_text()
+    for old, new in (('case = "two-pair-lumped-stage2.toml"', f'case = "{STAGE2.name}"'),
+                     ("torque_Nm = 200.0", "torque_Nm = 60.0")):
+        assert old in text
+        text = text.replace(old, new)
+    for path in (DATA / "two-pair-housed-stage1.toml", STAGE2):
+        (tmp_path / path.name).write_text(path.read_text())
+    (tmp_path / "housed.toml").write_text(text)
+    case = jio.load_case(str(tmp_path / "housed.toml"))
+    assert case.form.housed() == (0, 1)
+    stage = case.form.stages[1]
+    point = operating_point(stage.case)
+    half, _ = _hand_radial(_chain()["torque"])
+    for got, want in zip(point.loads, grounded.loads, strict=True):
+        for f, g in zip(got, want, strict=True):
+            assert math.hypot(f[0], f[1]) == pytest.approx(half, rel=1e-9)
+            np.testing.assert_allclose(f, g, rtol=1e-12, atol=1e-12 * half)
+    coupled = case.form.coupled()
+    scene = coupled.stages[1].scene
+    kb = np.asarray(scene.structure.parts_K[scene.structure.part_names.index("bearings")])
+    ground = stage.torsional.scene
+    n = np.asarray(ground.structure.parts_K[ground.structure.part_names.index("bearings")]
+                   ).shape[0]
+    assert kb.shape[0] > n  # the box's coordinates after the stage's own
+    for dofs, shaft in zip(bearing_dofs(point.shafts), point.shafts, strict=True):
+        for k, b in zip(dofs, shaft.bearings, strict=True):
+            kt = b.stiffness_matrix()
+            np.testing.assert_allclose(kb[k : k + 6, k : k + 6], kt, rtol=1e-12,
+                                       atol=1e-12 * np.max(np.abs(kt)))
+            assert np.abs(kb[k : k + 6, n:]).max() > 0  # joined to its seat
 
 
 def test_a_stage_on_rolling_bearings_under_a_load_spectrum_is_refused(tmp_path):
