@@ -200,6 +200,31 @@ def test_gearbox_report_lives_and_tones_by_hand(staged):
                          for n in names), names
 
 
+def test_tones_drawn_on_the_gearbox_campbell_diagram(staged, monkeypatch):
+    """The coupled Campbell diagram draws each shaft's tones (campbell.json's
+    ``bearing_tones``) as f = order Ω / 2π of the gearbox's input speed Ω, labelled with the
+    stage's shaft and the order."""
+    from jaxgear.cli._plots import _gearbox
+
+    case, _, _ = staged
+    kept = {}
+    monkeypatch.setattr(_gearbox, "savefig", lambda fig, path: kept.setdefault("fig", fig))
+    tones = bearing_tone_orders(case)
+    data = {"case": "t", "max_speed_rad_s": 40.0, "operating_speed_rad_s": 30.0,
+            "harmonics": [1], "mesh_Hz_per_rad_s": [3.8, 2.3], "crossings": [],
+            "modes": [{"frequency_Hz": 0.0, "type": "rigid body", "mesh": "-"},
+                      {"frequency_Hz": 900.0, "type": "stage2", "mesh": "m"}],
+            "bearing_tones": tones}
+    _gearbox.gearbox_campbell_plot("unused.png", data)
+    drawn = {ln.get_label(): ln for ln in kept["fig"].axes[0].get_lines()}
+    for t in tones:
+        shaft = t["bearing"].rsplit(".bearings[", 1)[0].replace("_", " ")
+        x, y = (np.asarray(v, float) for v in
+                drawn[f"{shaft} {t['tone'].upper()} ({t['order']:.3g})"].get_data())
+        assert np.allclose(y, t["order"] * x / (2 * np.pi), rtol=1e-12)
+    assert sum(" BPFO " in k for k in drawn) == 2  # one per shaft (its two 6205s alike)
+
+
 def _copy(tmp_path: Path, stage2: dict | None = None) -> Path:
     """The gearbox's files in ``tmp_path``, stage 2's data replaced by ``stage2``."""
     from _toml import case_toml
@@ -272,7 +297,7 @@ def test_a_stage_on_rolling_bearings_under_a_load_spectrum_is_refused(tmp_path):
 
 
 @pytest.mark.slow  # a whole jaxgear run of the gearbox: each stage's run and sweep, the chain's
-# modes, the coupled sweep, Campbell diagram (minutes on the shared 2-core host)
+# modes, the coupled sweep, Campbell diagram: 170-270 s on the shared 2-core host (load 2-5)
 def test_jaxgear_run_reports_a_gearbox_stages_bearings(staged, tmp_path):
     """``jaxgear run`` of the gearbox: summary.json's ``bearings`` is the section built above
     (the operating point found again in the run's process: loads and lives to 1e-9), stage 2's
