@@ -77,6 +77,19 @@ def _normal_force(data):
     return data["operating"]["torque_Nm"] / (0.5 * m * data["pinion"]["teeth"] * math.cos(alpha))
 
 
+def assert_basic_life(row: dict, C: float, P: float, speed: float, *, load_rel: float,
+                      life_rel: float) -> None:
+    """A report row of a radially loaded ball bearing against ISO 281 by hand: its F_r the
+    hand load ``P`` (``load_rel``), its F_a small (P = F_r: far below e), L10 = (C/P)³ 10⁶
+    revolutions and L10h at its shaft's ``speed`` (rad/s; ``life_rel``)."""
+    assert row["radial_load_N"] == pytest.approx(P, rel=load_rel)
+    assert abs(row["axial_load_N"]) < 0.05 * row["radial_load_N"]
+    L10 = (C / P) ** 3 * 1e6
+    assert row["life"]["L10_revolutions"] == pytest.approx(L10, rel=life_rel)
+    assert row["life"]["L10_hours"] == pytest.approx(L10 / (speed / (2 * math.pi)) / 3600,
+                                                     rel=life_rel)
+
+
 def test_reported_life_is_the_bearing_package_with_the_scenes_loads(report):
     """Each bearing's reported loads and lives against jaxgear.bearings called directly (ISO
     281's rating_life and modified_life, ISO/TS 16281's reference_life) with the load and the
@@ -128,12 +141,7 @@ def test_reported_l10_against_the_hand_statics(report):
     for row in section["bearings"]:
         C, w = ((20.3e3, SPEED) if row["name"].startswith("pinion")
                 else (27.0e3, SPEED * ratio))
-        assert row["radial_load_N"] == pytest.approx(half, rel=1e-3)
-        assert abs(row["axial_load_N"]) < 0.05 * row["radial_load_N"]
-        L10 = (C / half) ** 3 * 1e6
-        assert row["life"]["L10_revolutions"] == pytest.approx(L10, rel=3e-3)
-        assert row["life"]["L10_hours"] == pytest.approx(L10 / (w / (2 * math.pi)) / 3600,
-                                                         rel=3e-3)
+        assert_basic_life(row, C, half, w, load_rel=1e-3, life_rel=3e-3)
     lines = bearing_run_lines(section)
     assert len(lines) == 4 and all("L_nm" in t and "L10r" in t for t in lines)
 

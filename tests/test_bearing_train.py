@@ -233,25 +233,6 @@ def test_a_hybrid_trains_shafts_refuse_bearings_from_geometry(tmp_path):
                            "(not with [scene.bodies])") and "\n" not in text, text
 
 
-def test_a_gearbox_stage_refuses_bearings_from_geometry(tmp_path):
-    """A lumped 3D pair stage of a gearbox (tests/data/gearbox/two-pair-lumped.toml) whose stage
-    case stands on a catalogue bearing: one line naming the stage's ``model`` (its operating
-    point would be its own case's torque's, not the chain's)."""
-    data = ROOT / "tests" / "data" / "gearbox"
-    for name in ("two-pair-lumped.toml", "two-pair-whine-stage1.toml"):
-        (tmp_path / name).write_text((data / name).read_text())
-    text = (data / "two-pair-lumped-stage2.toml").read_text()
-    linear = "{ position_mm = 0.0, radial_N_per_um = 200.0, axial_N_per_um = 100.0 }"
-    assert linear in text
-    (tmp_path / "two-pair-lumped-stage2.toml").write_text(
-        text.replace(linear, '{ position_mm = 0.0, catalogue = "6205" }', 1))
-    with pytest.raises(ValueError) as err:
-        jio.load_case(str(tmp_path / "two-pair-lumped.toml"))
-    text = str(err.value)
-    assert text.startswith("[stages[1]] model = 'lumped3d': not with a stage case on rolling "
-                           "bearings from their geometry") and "\n" not in text, text
-
-
 def test_bearings_table_of_a_train_refused_in_one_line():
     """A train's ``[bearings]`` without a rolling bearing, and with one lacking its rating:
     one line each, naming the key (the pair's words, the train's table)."""

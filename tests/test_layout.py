@@ -288,6 +288,11 @@ PRIVATE_IN_TESTS: set[tuple[str, str]] = {
     # a train's bearings' summary section and tone orders from a case without a whole jaxgear
     # run (the whole run is the file's slow test)
     ("test_bearing_train.py", "jaxgear.cli._bearing_report"),
+    # a gearbox's bearings' summary section, console lines and tone orders of its input speed
+    # from the loaded gearbox and its stage's section without a whole jaxgear run (the whole
+    # run is the file's slow test); the tones as drawn on a captured coupled Campbell diagram
+    ("test_gearbox_bearings.py", "jaxgear.cli._bearing_report"),
+    ("test_gearbox_bearings.py", "jaxgear.cli._plots._gearbox"),
     # the TE stage's own optimiser start, so that the batch is compared where the stage runs it
     ("test_sizing_te.py", "jaxgear.sizing._te._start"),
     # a case's lumped 3D pair built on a synthetic housing (K, M written in the test), which a

@@ -13,10 +13,10 @@ import math
 import numpy as np
 
 from ..bearings import bearing_tones
-from ..io import PairForm, TrainForm, case_bearings
+from ..io import GearboxForm, PairForm, TrainForm, case_bearings
 
 __all__ = ["TONE_NAMES", "bearing_outputs", "bearing_rating_lines", "bearing_run_lines",
-           "bearing_tone_lines", "bearing_tone_orders"]
+           "bearing_tone_lines", "bearing_tone_orders", "gearbox_bearing_outputs"]
 
 #: the tones' keys and their names on the plots
 TONE_NAMES = {"ftf": "FTF", "bpfo": "BPFO", "bpfi": "BPFI", "bsf": "BSF"}
@@ -168,11 +168,18 @@ def _shaft_name(table: str) -> str:
 
 def bearing_tone_orders(case) -> list[dict]:
     """Each rolling bearing's tones as orders of the pinion (input) speed (its own order times
-    its shaft's turns per pinion turn: a pair's 1, z1/z2; a train's shaft's speed ratio), for
-    the Campbell diagram and the spectra: ``[{bearing, tone, order}]``; [] for a case without
-    rolling bearings (a lumped 3D pair's or train's shafts take them; a stage's or a
-    gearbox's do not)."""
-    found = case.form.bearing_shafts(case)
+    its shaft's turns per pinion turn: a pair's 1, z1/z2; a train's shaft's speed ratio; a
+    gearbox's lumped 3D stage's, times the stage's pinion turns per turn of the gearbox's
+    input member, each bearing named ``stage<k>.<its table>``), for the Campbell diagram and
+    the spectra: ``[{bearing, tone, order}]``; [] for a case without rolling bearings (a
+    lumped 3D pair's, train's or gearbox stage's shafts take them; a planetary stage's do
+    not)."""
+    return _tone_orders(case.form, case)
+
+
+@functools.singledispatch
+def _tone_orders(form, case) -> list[dict]:
+    found = form.bearing_shafts(case)
     if found is None:
         return []
     out = []
@@ -186,6 +193,19 @@ def bearing_tone_orders(case) -> list[dict]:
     return out
 
 
+@_tone_orders.register
+def _(form: GearboxForm, case) -> list[dict]:
+    """Each stage's tones (its case at the carried point) over its pinion's speed per the
+    gearbox's input speed (the first stage's input member's)."""
+    w = form.stages[0].input_speed
+    out = []
+    for k, s in enumerate(form.stages):
+        for t in _tone_orders(s.case.form, s.case):
+            out.append({"bearing": f"{form.stage_name(k)}.{t['bearing']}", "tone": t["tone"],
+                        "order": t["order"] * s.case.speed / w})
+    return out
+
+
 def bearing_tone_lines(case) -> list[tuple[str, float]]:
     """The tones of :func:`bearing_tone_orders` as (name, order of the pinion speed) lines, one
     per shaft and tone (a shaft's bearings that share an order named once): the spectra's."""
@@ -193,9 +213,11 @@ def bearing_tone_lines(case) -> list[tuple[str, float]]:
     for t in bearing_tone_orders(case):
         shaft = t["bearing"].rsplit(".bearings[", 1)[0]
         key = (shaft, t["tone"], round(t["order"], 6))
-        label = shaft.removeprefix("shafts.").replace("_", " ")
-        if shaft.startswith("shafts."):
+        stage, _, table = shaft.rpartition(".") if shaft.startswith("stage") else ("", "", shaft)
+        label = table.removeprefix("shafts.").replace("_", " ")
+        if table.startswith("shafts."):
             label += " shaft"
+        label = f"{stage} {label}" if stage else label
         name = f"{label} {TONE_NAMES[t['tone']]} ({t['order']:.3g}×)"
         out.setdefault(key, (name, t["order"]))
     return list(out.values())
@@ -252,3 +274,31 @@ def bearing_rating_lines(section: dict | None) -> list[str]:
                          f"| {sp['L10_hours']:.4g} | {_cell(sp.get('L10r_hours'))} "
                          f"| {_cell(sp.get('Lnm_hours'))} |")
     return lines
+
+
+def gearbox_bearing_outputs(form, case, stages: list[dict]) -> dict | None:
+    """A gearbox's ``summary.json`` ``bearings`` section: each lumped 3D stage's rolling
+    bearings as its own run reports them (``stages``: the gearbox summary's rows, each with its
+    stage's ``summary``; the stage case at the carried operating point: its loads there, its
+    lives at the stage's shaft speeds), each named ``stage<k>.<its table>`` with its
+    ``stage`` and ``tones_input_orders`` (its tones as orders of the gearbox's input speed,
+    :func:`bearing_tone_orders`, the coupled Campbell diagram's and the whine's axis); per
+    stage its pinion speed, life settings and fixed-point iterations (``stages``). None for a
+    gearbox without a rolling bearing."""
+    tones: dict = {}
+    for t in bearing_tone_orders(case):
+        tones.setdefault(t["bearing"], {})[t["tone"]] = t["order"]
+    rows, per = [], []
+    for s in stages:
+        section = (s.get("summary") or {}).get("bearings")
+        if not section:
+            continue
+        label = s["stage"]
+        per.append({"stage": label} | {k: v for k, v in section.items() if k != "bearings"})
+        for b in section["bearings"]:
+            name = f"{label}.{b['name']}"
+            rows.append(b | {"name": name, "stage": label, "tones_input_orders": tones[name]})
+    if not rows:
+        return None
+    return {"input_speed_rad_s": float(form.stages[0].input_speed), "stages": per,
+            "bearings": rows}

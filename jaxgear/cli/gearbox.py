@@ -8,7 +8,8 @@ model (:mod:`jaxgear.gearbox`: every stage on its contact cells in one Newmark r
 the operating range: every mesh's dynamic factor against the input speed and the coupled modes
 with their type and the mesh holding most strain energy (``summary.json``'s ``coupled``,
 ``coupled.json``, ``coupled.png``); the coupled Campbell diagram (every stage's mesh orders
-against the coupled modes, ``campbell.json``, ``campbell.png``) and the force spectrum at two
+against the coupled modes, and its lumped stages' rolling bearings' tones, ``campbell.json``,
+``campbell.png``) and the force spectrum at two
 housing-fixed points, stage 1's ring mount and the parallel stage's bearing, from one coupled
 run at the rated input speed (``housing_spectrum.json``, ``housing_spectrum.png``; the
 summary's ``campbell`` and ``housing_spectrum``); with ``[whine]``, the whole coupled gearbox's
@@ -53,6 +54,7 @@ from ..gearbox import (
 )
 from ..io import SceneSpec, build_dynamic_model, housing_surface, spec_integrator, write_json
 from ..planetary import PlanetaryModel
+from ._bearing_report import bearing_run_lines, bearing_tone_orders, gearbox_bearing_outputs
 from ._housing_run import HousedRun
 from ._plots import (
     coupled_dynamic_factor_plot,
@@ -107,7 +109,9 @@ def chain_modes(form) -> list[dict]:
 
 def gearbox_run_files(form, case, out: str, args, complete: bool, run_stage) -> dict:
     """The stages' runs (``run_stage(stage_case, folder, args, None)``: ``jaxgear run``'s work
-    on one case) into ``out/stage<k>``, then the chain's modes; returns the summary."""
+    on one case) into ``out/stage<k>``, then the chain's modes; the lumped 3D stages' rolling
+    bearings at the carried point (the summary's ``bearings``,
+    :func:`~jaxgear.cli._bearing_report.gearbox_bearing_outputs`); returns the summary."""
     stages = []
     for k, s in enumerate(form.stages):
         label = form.stage_name(k)
@@ -152,6 +156,9 @@ def gearbox_run_files(form, case, out: str, args, complete: bool, run_stage) -> 
     }
     if tribology is not None:
         result["tribology"] = tribology
+    bearings = gearbox_bearing_outputs(form, case, stages)  # its lumped stages' rolling bearings
+    if bearings is not None:
+        result["bearings"] = bearings
     write_json(os.path.join(out, "summary.json"), result)
     return result
 
@@ -467,6 +474,7 @@ def coupled_campbell(form, case, out: str) -> dict:
         "mesh_Hz_per_rad_s": [float(v) for v in np.asarray(mesh_frequencies(chain, 1.0))],
         "modes": coupled_mode_table(chain, modes),
         "crossings": crossings,
+        "bearing_tones": bearing_tone_orders(case),  # orders of the input speed
     }
     write_json(os.path.join(out, "campbell.json"), data)
     gearbox_campbell_plot(os.path.join(out, "campbell.png"), data)
@@ -666,4 +674,5 @@ def gearbox_run_lines(form, case, summary: dict) -> list[str]:
             f"{hs['ring_mesh_Hz']:.4g} Hz ({hs['ring_mesh_line_N']:.3g} N); stage "
             f"{hs['bearing_stage']}'s bearing at its mesh harmonics {own} (housing_spectrum.png)")
     return (lines + efficiency_run_line(summary.get("tribology"))
+            + bearing_run_lines(summary.get("bearings"))
             + whine_run_line(summary.get("whine")))

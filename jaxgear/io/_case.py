@@ -218,8 +218,8 @@ class CaseForm(abc.ABC):
     def bearing_shafts(self, case: Case) -> BearingShafts | None:
         """The case's shafts that stand on rolling bearings from their geometry
         (:class:`BearingShafts`), or None: a form whose scenes take none (a planetary stage, an
-        internal mesh; a gearbox's lumped stages are refused at load), or a case without a
-        rolling bearing."""
+        internal mesh; a gearbox, whose lumped 3D stages' cases hold their own at the chain's
+        operating point), or a case without a rolling bearing."""
         return None
 
     def bearing_scene(self, case: Case, spec: SceneSpec) -> tuple:

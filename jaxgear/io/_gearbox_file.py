@@ -455,8 +455,19 @@ def lumped_stage(case: Case, side: int, slices: int | None = None, housing=None,
     return LumpedPairGearboxStage(scene, input=side, modifications=case.modifications)
 
 
+def _spectrum(case: Case) -> bool:
+    """The case's ``[rating]`` has a load spectrum (``[rating.spectrum]``)."""
+    rating = (case.raw or {}).get("rating")
+    return isinstance(rating, dict) and "spectrum" in rating
+
+
 def _lumped(case: Case, table: StageEntry, where: str, side: int) -> LumpedPairGearboxStage:
-    """``model = "lumped3d"``: the torsional keys refused, the case's scene required."""
+    """``model = "lumped3d"``: the torsional keys refused, the case's scene required. ``case``
+    is the stage case carried to the chain's operating point (:func:`_carried`): its rolling
+    bearings from their geometry stand at that point, its pinion's torque as the chain gives
+    it (:func:`jaxgear.io.operating_point`, the pair case's fixed point, on the ground: a
+    gearbox's ``[housing]`` rigid there, as a housed pair's); refused with a rating spectrum
+    (its bins are the stage's own torques)."""
     for key in _TORSIONAL_KEYS:
         if key in table.given:
             raise sc.fail(where, key, 'only for model = "torsional" (a lumped 3D stage\'s '
@@ -468,11 +479,11 @@ def _lumped(case: Case, table: StageEntry, where: str, side: int) -> LumpedPairG
         raise sc.fail(where, "model", "allowed with a stage case whose [scene] has model = "
                       f'"lumped3d" without condensed bodies (case {case.name!r}: {has})',
                       "lumped3d")
-    if case.scene.rolling:  # its operating point would be its own case's torque's
+    if case.scene.rolling and _spectrum(case):  # its bins are the stage's own torques
         raise sc.fail(where, "model", "not with a stage case on rolling bearings from their "
-                      f"geometry (case {case.name!r}: a bearing with catalogue or kind) for now: "
-                      "allowed a stage case on linear bearings (radial_N_per_um/axial_N_per_um/"
-                      "tilt_Nm_per_rad or stiffness_matrix_SI)", "lumped3d")
+                      f"geometry under a load spectrum (case {case.name!r}: [rating.spectrum]) "
+                      "for now: its bins' torques are the stage's own, not the chain's; allowed "
+                      "such a stage case without [rating.spectrum]", "lumped3d")
     try:
         return lumped_stage(case, side)
     except ValueError as err:  # coast flanks, a seat the scene refuses

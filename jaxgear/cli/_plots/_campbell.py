@@ -265,13 +265,13 @@ def _bearing_tone_lines(ax, tones, s_line) -> None:
     once)."""
     drawn = {}
     for t in tones:
-        shaft = t["bearing"].split(".")[0]
+        shaft = t["bearing"].rsplit(".bearings[", 1)[0]
         key = (shaft, t["tone"], round(float(t["order"]), 6))
         if key in drawn:
             continue
         drawn[key] = True
         ax.plot(s_line, t["order"] * s_line / (2 * math.pi), color=_TONE_COLORS[t["tone"]],
-                ls=":" if shaft.startswith("pinion") else (0, (3, 1, 1, 1, 1, 1)), lw=1.0,
+                ls=":" if shaft.endswith("pinion_shaft") else (0, (3, 1, 1, 1, 1, 1)), lw=1.0,
                 label=f"{shaft.replace('_', ' ')} {t['tone'].upper()} ({t['order']:.3g})")
 
 

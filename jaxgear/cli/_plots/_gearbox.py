@@ -9,6 +9,7 @@ import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
+from ._campbell import _bearing_tone_lines
 from ._figure import new_figure, savefig
 
 __all__ = ["coupled_dynamic_factor_plot", "gearbox_campbell_plot", "housing_spectrum_plot"]
@@ -70,7 +71,8 @@ def gearbox_campbell_plot(path, data: dict) -> None:
     scale) against the input speed Omega (rad/s), the coupled modes as horizontal lines each
     labelled with its frequency, type and the mesh holding most of its strain energy, the
     crossings marked (black: the exciting stage's meshes hold >= 5 % of the mode's strain
-    energy; grey: less), the operating speed dashed. ``data``: ``campbell.json``'s."""
+    energy; grey: less), the operating speed dashed, the lumped stages' rolling bearings' tones
+    dotted (``bearing_tones``, orders of the input speed). ``data``: ``campbell.json``'s."""
     fig, ax = new_figure((8, 6.5))
     top = float(data["max_speed_rad_s"])
     s = np.linspace(0.0, top, 200)
@@ -93,6 +95,7 @@ def gearbox_campbell_plot(path, data: dict) -> None:
         strong = c["marked"]
         ax.plot(c["speed_rad_s"], c["frequency_Hz"], "o", ms=5 if strong else 3,
                 mfc="none" if not strong else "k", mec="k" if strong else "0.6", zorder=3)
+    _bearing_tone_lines(ax, data.get("bearing_tones") or (), s)
     ax.axvline(data["operating_speed_rad_s"], color="r", ls="--", lw=0.8,
                label=f"rated input speed {data['operating_speed_rad_s']:.4g} rad/s")
     ax.set_yscale("log")
