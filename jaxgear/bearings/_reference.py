@@ -66,8 +66,9 @@ github.com/minzhun/ISO16281@220b2feb ``RollerBearing.py`` (``__capacity``, ``__l
 ``__basic_ref_life``); the constants 0.378, 0.364, 1.038, 143/108 and λν = 0.83 are that
 transcription's. Under a radial load with zero clearance an unprofiled roller's laminae are
 loaded alike and the S^(−7/9) cancels: L10r does not depend on S. It then scales as (C/F_r)⁴
-(the laminae's exponent), not as ISO 281's (C/P)^(10/3): the two agree near one load only
-(tests/test_bearing_roller_reference.py states the gap). ISO/TS 16281's edge-stress factor
+(the laminae's exponent), not as ISO 281's (C/P)^(10/3): with λν taken out of C
+(L10r λν⁴) they agree at P = C within the rounding of the constants and the rollers'
+discreteness (docs/bearings.md states the measured gap). ISO/TS 16281's edge-stress factor
 for rollers without a profile is not applied (an unprofiled roller's edge laminae are rated as
 they are loaded).
 
