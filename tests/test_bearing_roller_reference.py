@@ -84,8 +84,7 @@ def test_lamina_ratings_by_hand_and_their_series_sum():
     for S = 1, 5 and 10."""
     for S in (1, 5, 10):
         b = nu205(slices=S)
-        d = radial_point(b, 5000.0)
-        r = jb.reference_life(b, d)
+        r = jb.reference_life(b, jnp.array([2e-5, 0.0, 0.0, 0.0, 0.0]))
         qci, qce, Qci, Qce = hand_ratings(28.6e3, b.elements, float(b.element_diameter),
                                           float(b.pitch_diameter), 0.0, 1, S)
         assert float(r.inner_rating) == pytest.approx(qci, rel=1e-12)
@@ -96,12 +95,12 @@ def test_lamina_ratings_by_hand_and_their_series_sum():
 
 @pytest.mark.parametrize("rotating", ["inner", "outer"])
 def test_reference_life_by_hand_for_each_roller_kind(rotating):
-    """The life written here in numpy from each kind's laminae loads: a tilted cylindrical
-    roller bearing with a crown, a spherical roller bearing under a combined load (its idle row
-    adds nothing) and a tapered pair (2 rows × S laminae, i = 2) under a radial, axial and
-    moment load."""
+    """The life written here in numpy from each kind's laminae loads at a displacement (the
+    rule needs no equilibrium): a tilted cylindrical roller bearing with a crown, a spherical
+    roller bearing displaced axially enough to leave one row idle (it adds nothing) and a
+    tapered pair (2 rows × S laminae, i = 2) displaced in all five directions."""
     cyl = nu205(crown=0.00035 * 7.5e-3)
-    d = radial_point(cyl, 4000.0, tilt=5e-4)
+    d = jnp.array([2e-5, 0.0, 0.0, 0.0, 5e-4])
     qci, qce, _, _ = hand_ratings(28.6e3, 13, float(cyl.element_diameter),
                                   float(cyl.pitch_diameter), 0.0, 1, cyl.slices)
     got = jb.reference_life(cyl, d, rotating=rotating)
@@ -112,9 +111,9 @@ def test_reference_life_by_hand_for_each_roller_kind(rotating):
     sph = jb.SphericalRoller(bore=0.09, outer_diameter=0.11, width=0.01, elements=72,
                              element_diameter=0.002, pitch_diameter=0.1, effective_length=0.004,
                              contact_angle=math.radians(12.0), dynamic_rating=5e4)
-    d = jb.solve_displacement(sph, jnp.array([3000.0, 0.0, 2000.0, 0.0, 0.0])).displacement
+    d = jnp.array([1e-6, 0.0, 2e-5, 0.0, 0.0])
     q = np.asarray(sph.element_loads(d))  # (Z, 2): a row a column of one lamina
-    assert np.all(q[:, 1] == 0.0)  # the axial load above e: one row idle
+    assert np.all(q[:, 1] == 0.0) and np.any(q[:, 0] > 0.0)  # the row at −α idle
     qci, qce, _, _ = hand_ratings(5e4, 72, 0.002, 0.1, math.radians(12.0), 2, 1)
     got = jb.reference_life(sph, d, rotating=rotating)
     assert float(got.revolutions) == pytest.approx(hand_life(q, qci, qce, rotating), rel=1e-10)
@@ -123,9 +122,9 @@ def test_reference_life_by_hand_for_each_roller_kind(rotating):
                                 element_diameter=0.0065, pitch_diameter=0.046,
                                 effective_length=0.012, contact_angle=math.radians(14.0),
                                 slices=6, dynamic_rating=4e4)
-    d = jb.solve_displacement(pair, jnp.array([5000.0, 1000.0, 1500.0, 20.0, -30.0])
-                              ).displacement
+    d = jnp.array([2e-5, 5e-6, 1e-5, 1e-4, -2e-4])
     q = np.asarray(pair.element_loads(d))  # (2, Z, S)
+    assert np.all(q.max(axis=(1, 2)) > 0.0)  # both rows loaded
     q = np.concatenate([q[0], q[1]], axis=1)  # (Z, 2S): both rows' laminae
     qci, qce, _, _ = hand_ratings(2 ** (7 / 9) * 4e4, 17, 0.0065, 0.046,
                                   math.radians(14.0), 2, 6)
@@ -201,9 +200,7 @@ def test_spectrum_reference_life_palmgren_miner_by_hand():
                          element_diameter=0.0065, pitch_diameter=0.046, effective_length=0.012,
                          contact_angle=math.radians(14.0), dynamic_rating=4e4,
                          crown=0.00045 * 0.0065)
-    loads = [jnp.array([3000.0, 0.0, 1000.0, 0.0, 0.0]), jnp.array([6000.0, 0.0, 3000.0, 0.0,
-                                                                   0.0])]
-    ds = jnp.stack([jb.solve_displacement(b, f).displacement for f in loads])
+    ds = jnp.array([[2e-5, 0.0, 5e-6, 0.0, 0.0], [3e-5, 0.0, 2e-5, 0.0, 0.0]])  # the bins' d
     w, t = np.array([100.0, 50.0]), np.array([3600.0, 7200.0])
     got = jb.spectrum_reference_life(b, ds, w, t, rotating="outer")
     n = w * t / (2 * math.pi)
@@ -236,7 +233,7 @@ def test_reference_life_derivatives_against_finite_differences():
     sph = jb.SphericalRoller(bore=0.09, outer_diameter=0.11, width=0.01, elements=72,
                              element_diameter=0.002, pitch_diameter=0.1, effective_length=0.004,
                              contact_angle=math.radians(12.0), dynamic_rating=5e4)
-    d = jb.solve_displacement(sph, jnp.array([3000.0, 0.0, 2000.0, 0.0, 0.0])).displacement
+    d = jnp.array([1e-6, 0.0, 2e-5, 0.0, 0.0])  # the row at −α idle
     g = jax.grad(lambda d: jb.reference_life(sph, d).revolutions)(d)
     assert np.all(np.isfinite(np.asarray(g)))
 
@@ -256,3 +253,17 @@ def test_reference_life_derivatives_against_finite_differences():
 ])
 def test_roller_reference_refusals_in_one_line(call, words):
     refused_in_one_line(call, words)
+
+
+def test_operating_life_reports_the_roller_reference_life():
+    """``operating_life`` (what the report's L10r column shows) carries a rated roller
+    bearing's L10r: the same as ``reference_life`` at its displacement, the ring turning as
+    asked; ISO 281's L10 beside it is (C/F_r)^(10/3) by hand."""
+    b = nu205(crown=0.00035 * 7.5e-3)
+    d = radial_point(b, 4000.0, tilt=1e-3)
+    f = b.load(d)
+    life = jb.operating_life(b, f, d, speed=100.0, rotating="outer")
+    want = jb.reference_life(b, d, rotating="outer")
+    assert float(life.reference.revolutions) == pytest.approx(float(want.revolutions), rel=1e-12)
+    Fr = math.hypot(float(f[0]), float(f[1]))
+    assert life.revolutions == pytest.approx((28.6e3 / Fr) ** (10 / 3) * 1e6, rel=1e-9)
