@@ -9,7 +9,8 @@ the basic rating life L10 (:func:`~jaxgear.bearings.rating_life`), the modified 
 L_nm = a₁ a_ISO L10 (:func:`~jaxgear.bearings.modified_life`) where the lubricant and the
 contamination are given, and ISO/TS 16281's basic reference rating life L10r
 (:func:`~jaxgear.bearings.reference_life`) of the balls' or the rollers' laminae's loads at d,
-which a clearance, a tilt or a moment moves and ISO 281's F_r, F_a do not see. The moments M_x, M_y enter L10r only.
+which a clearance, a tilt or a moment moves and ISO 281's F_r, F_a do not see. The moments
+M_x, M_y enter L10r only.
 """
 
 from __future__ import annotations

@@ -221,7 +221,8 @@ def bearing_rating_lines(section: dict | None) -> list[str]:
              "; in revolutions ([operating] speed_rad_s gives hours).")
     intro = ("Each bearing's load at the operating point of the case's quasi-static solve (its "
              "shaft's push on it), its basic rating life L10 = (C/P)^p, ISO/TS 16281's "
-             "reference rating life L10r of its balls' or its rollers' laminae's loads" + modified + hours)
+             "reference rating life L10r of its balls' or its rollers' laminae's loads"
+             + modified + hours)
     lines = ["", "## Rolling bearings (ISO 281, ISO/TS 16281)", "", intro, "",
              ("| bearing | kind | F_r (N) | F_a (N) | P (N) | L10 (10⁶ rev) | L10h (h) "
               "| L10r (10⁶ rev) | L_nm (10⁶ rev) | L_nmh (h) | a_ISO |"),
