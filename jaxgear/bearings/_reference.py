@@ -250,7 +250,8 @@ def spectrum_reference_life(bearing: AbstractRollingBearing, displacements, spee
     Returns:
         :class:`~jaxgear.bearings.BearingLife`: ``equivalent_load`` P_ref = C / (L10r /
         10⁶)^(1/p) (N, p = 3 balls, 10/3 rollers), ``revolutions`` L10r (revolutions),
-        ``duration`` its seconds at the bins' speeds and times. Differentiable in the displacements and the geometry.
+        ``duration`` its seconds at the bins' speeds and times. Differentiable in the
+        displacements and the geometry.
 
     Raises:
         ValueError: as :func:`reference_life`; arrays not shaped by the bins, a negative or
