@@ -11,7 +11,7 @@ Kotzalas, Lim & Singh), its 5×5 stiffness at an operating point (``jax.jacfwd``
 :func:`solve_displacement` the displacement that carries a load. ISO 281's basic and modified
 rating life (:func:`rating_life`, :func:`modified_life`; :func:`spectrum_life` and
 :func:`spectrum_modified_life` under a :class:`BearingSpectrum`), ISO/TS 16281's reference
-rating life from the element loads (:func:`reference_life`, ball kinds;
+rating life from the element loads (:func:`reference_life`, balls and the rollers' laminae;
 :func:`spectrum_reference_life` under a load spectrum), the three at a
 bearing's operating point (:func:`operating_life`) and the bearing tones
 (:func:`bearing_tones`) complete it; :func:`catalogue` builds a few embedded bearings

@@ -101,6 +101,8 @@ class AbstractRollingBearing(eqx.Module):
       (m), which a design variable may set (``optimise``'s bearing clearance); not for
       :class:`LinearSpring` (no clearance) nor :class:`TaperedRollerPair` (its axial end
       play stands in for the rows' clearance).
+    - ``rows``: the rows of rolling elements i (ISO 281's i): 2 for :class:`SphericalRoller`
+      and :class:`TaperedRollerPair`, 1 otherwise.
 
     Methods: :meth:`load` (abstract; f(d), shape (5,)), :meth:`potential` (U(d), J, with
     f = ∇U), :meth:`stiffness` (K = ∂f/∂d by ``jax.jacfwd``, (5, 5)), :meth:`stiffness6` (the
@@ -115,6 +117,7 @@ class AbstractRollingBearing(eqx.Module):
     life_exponent: ClassVar[float | None] = None
     self_aligning: ClassVar[bool] = False
     clearance_field: ClassVar[bool] = True
+    rows: ClassVar[int] = 1
 
     @abc.abstractmethod
     def load(self, displacement) -> Float[Array, " 5"]:
@@ -538,11 +541,24 @@ class _Roller(_RollingElements):
 
         δ_jk = (δ_r,j + x_k θ_j − P_d/2) cos α + (δ_z − r_p θ_j) sin α
         δ_r,j = δ_x cos ψ_j + δ_y sin ψ_j,   θ_j = γ_y cos ψ_j − γ_x sin ψ_j
-        q_jk = (K_n / slices) max(δ_jk, 0)^(10/9)
+        q_jk = (K_n / slices) max(δ_jk − 2 p(t_k), 0)^(10/9)
 
     (K_n the whole roller's constant, :func:`~jaxgear.bearings.line_contact_constant`: a
     uniform approach gives Q = K_n δ^(10/9)), f = Σ q_jk ∂δ_jk/∂d. Rollers are steel (the
     line-contact constant is Palmgren's steel relation).
+
+    The roller's profile (``crown``, optional; default ``None``: a straight roller, the
+    approach δ_jk unchanged): a logarithmic crown, the roller's radius dropping by
+
+        p(t) = c ln(1 / (1 − (2t/l)²))        (m; c = ``crown``, m)
+
+    at t from its centre (:meth:`crown_drop`), so that each slice's approach loses 2 p(t_k)
+    (the roller's two contacts, inner and outer) before the line-contact law: a tilt moves the
+    load towards the middle of the roller instead of spiking it at the edge. ISO/TS 16281:2008
+    (eqs. (42)–(44)) gives c = 0.00035 D_w for cylindrical rollers with l <= 2.5 D_w and
+    c = 0.00045 D_w for tapered rollers (as transcribed in github.com/minzhun/ISO16281@220b2feb,
+    ``RollerBearing.py``, ``__roller_profile``); the slices' centres keep |2t/l| <= 1 − 1/S, so
+    the drop is finite.
     """
 
     bore: float = _real()
@@ -557,6 +573,7 @@ class _Roller(_RollingElements):
     dynamic_rating: float | None = eqx.field(default=None, converter=_optional)
     static_rating: float | None = eqx.field(default=None, converter=_optional)
     fatigue_limit: float | None = eqx.field(default=None, converter=_optional)
+    crown: float | None = eqx.field(default=None, converter=_optional)
 
     contact_exponent: ClassVar[float] = 10.0 / 9.0
     life_exponent: ClassVar[float | None] = 10.0 / 3.0
@@ -571,6 +588,18 @@ class _Roller(_RollingElements):
                    where=f"{where} (diametral clearance, below the roller diameter)")
         check_integer(f"{where}: slices", self.slices, 1)
         _check_rating(where, self.dynamic_rating, self.static_rating, self.fatigue_limit)
+        if self.crown is not None:
+            check_real("crown", self.crown, "m", lo=0.0, hi=0.01 * float(self.element_diameter),
+                       where=f"{where} (the logarithmic crown's scale c, at most "
+                       "element_diameter/100; ISO/TS 16281: 0.00035 to 0.00045 element_diameter)")
+
+    def crown_drop(self, position):
+        """p(t) = c ln(1 / (1 − (2t/l)²)) (m), the drop of the roller's radius at ``position``
+        t (m, |t| < l/2, any shape) from its centre (class docstring); 0 for ``crown=None``."""
+        t = jnp.asarray(position, float)
+        if self.crown is None:
+            return jnp.zeros_like(t)
+        return -self.crown * jnp.log1p(-(2.0 * t / self.effective_length) ** 2)
 
     @property
     def hertz_constant(self):
@@ -590,6 +619,8 @@ class _Roller(_RollingElements):
         dr = d[0] * c + d[1] * s
         theta = d[4] * c - d[3] * s
         delta = (dr + x * theta - 0.5 * self.clearance) * ca + (d[2] - rp * theta) * sa
+        if self.crown is not None:  # None: the straight roller's δ_jk, unchanged
+            delta = delta - 2.0 * self.crown_drop(t)[None, :]
         one = jnp.ones_like(x)
         rows = jnp.stack([
             ca * c * one, ca * s * one, sa * jnp.ones_like(delta),
@@ -635,6 +666,9 @@ class CylindricalRoller(_Roller):
         dynamic_rating, static_rating: C and C₀ (N) or ``None``.
         fatigue_limit: the maker's fatigue load limit C_u (N, 0 < C_u < C₀) or ``None`` (ISO
             281's estimate from C₀).
+        crown: the roller's logarithmic crown c (m, 0 <= c <= D_w/100) or ``None`` (a straight
+            roller; default): each slice's approach less 2 c ln(1/(1 − (2t_k/l)²))
+            (the roller kinds' profile; ISO/TS 16281: c = 0.00035 D_w for l <= 2.5 D_w).
 
     Raises:
         ValueError: any argument out of its range (one line naming it).
@@ -728,12 +762,16 @@ class SphericalRoller(_Roller):
 
     axial_load: ClassVar[str] = "both"
     self_aligning: ClassVar[bool] = True
+    rows: ClassVar[int] = 2
 
     def __check_init__(self):
         w = "SphericalRoller"
         if self.slices != 1:
             raise ValueError(f"{w}: slices = {self.slices!r} is out of range: allowed 1 (a "
                              "self-aligning roller is loaded evenly along its length)")
+        if self.crown is not None:
+            raise ValueError(f"{w}: crown = {float(self.crown)!r} is out of range: allowed None "
+                             "(one slice per roller: a crown has no slice to unload)")
         self._check_roller(w)
         check_real("contact_angle", self.contact_angle, "rad", lo=0.0, hi=0.25 * math.pi,
                    lo_open=True, hi_open=True, where=f"{w} (0 to 45 deg)")
@@ -831,6 +869,7 @@ class TaperedRollerPair(AbstractRollingBearing):
         slices: slices per roller (int >= 1; default 10).
         dynamic_rating, static_rating, fatigue_limit: ONE ROW's C, C₀, C_u (N) or ``None``
             (the catalogue's single bearing's; the pair's are :attr:`dynamic_rating`, ...).
+        crown: the rollers' logarithmic crown c (m) or ``None`` (:class:`TaperedRoller`'s).
 
     Raises:
         ValueError: any argument out of its range (one line naming it; the row's own lines).
@@ -846,17 +885,19 @@ class TaperedRollerPair(AbstractRollingBearing):
     life_exponent: ClassVar[float | None] = 10.0 / 3.0
     self_aligning: ClassVar[bool] = False
     clearance_field: ClassVar[bool] = False
+    rows: ClassVar[int] = 2
 
     def __init__(self, bore, outer_diameter, width, elements, element_diameter, pitch_diameter,
                  effective_length, contact_angle, arrangement="O", end_play=0.0, spacing=None,
-                 slices=10, dynamic_rating=None, static_rating=None, fatigue_limit=None):
+                 slices=10, dynamic_rating=None, static_rating=None, fatigue_limit=None,
+                 crown=None):
         w = "TaperedRollerPair"
         self.row = TaperedRoller(
             bore=bore, outer_diameter=outer_diameter, width=width, elements=elements,
             element_diameter=element_diameter, pitch_diameter=pitch_diameter,
             effective_length=effective_length, contact_angle=contact_angle, slices=slices,
             dynamic_rating=dynamic_rating, static_rating=static_rating,
-            fatigue_limit=fatigue_limit)
+            fatigue_limit=fatigue_limit, crown=crown)
         if arrangement not in ARRANGEMENTS:
             raise ValueError(f"{w}: arrangement = {arrangement!r} is out of range: allowed "
                              "'O' (back-to-back, DB) or 'X' (face-to-face, DF)")
@@ -889,13 +930,15 @@ class TaperedRollerPair(AbstractRollingBearing):
                    contact_angle=row.contact_angle, arrangement=arrangement,
                    end_play=end_play, spacing=spacing, slices=row.slices,
                    dynamic_rating=row.dynamic_rating, static_rating=row.static_rating,
-                   fatigue_limit=row.fatigue_limit)
+                   fatigue_limit=row.fatigue_limit, crown=row.crown)
 
     # ---- the row's geometry, which the tones, the solve's scales and the life read
     elements = _of_row("elements", "Z, the rollers of one row (the tones' count).")
     element_diameter = _of_row("element_diameter", "D_w (m), the rollers' mean diameter.")
     pitch_diameter = _of_row("pitch_diameter", "d_m (m).")
     effective_length = _of_row("effective_length", "l (m), a roller's effective length.")
+    slices = _of_row("slices", "The slices per roller (the row's).")
+    crown = _of_row("crown", "The rollers' logarithmic crown c (m) or None (the row's).")
     contact_angle = _of_row("contact_angle", "α (rad), the outer raceway's contact angle.")
     nominal_angle = _of_row("contact_angle", "α (rad): the tones' and the Hertz constant's.")
     hertz_constant = _of_row("hertz_constant", "K_n (N/m^(10/9)) of one roller (the row's).")

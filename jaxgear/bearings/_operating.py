@@ -7,9 +7,10 @@ scene's :func:`jaxgear.dynamics.bearings_at_operating_point`) has the radial loa
 F_r = √(F_x² + F_y²) and the axial load F_a = F_z (the shaft's axis z) that ISO 281 rates:
 the basic rating life L10 (:func:`~jaxgear.bearings.rating_life`), the modified rating life
 L_nm = a₁ a_ISO L10 (:func:`~jaxgear.bearings.modified_life`) where the lubricant and the
-contamination are given, and, for the ball kinds, ISO/TS 16281's basic reference rating life
-L10r (:func:`~jaxgear.bearings.reference_life`) of the balls' loads at d, which a clearance, a
-tilt or a moment moves and ISO 281's F_r, F_a do not see. The moments M_x, M_y enter L10r only.
+contamination are given, and ISO/TS 16281's basic reference rating life L10r
+(:func:`~jaxgear.bearings.reference_life`) of the balls' or the rollers' laminae's loads at d,
+which a clearance, a tilt or a moment moves and ISO 281's F_r, F_a do not see. The moments
+M_x, M_y enter L10r only.
 """
 
 from __future__ import annotations
@@ -38,8 +39,8 @@ class OperatingLife(NamedTuple):
         duration: L10 in seconds at ``speed`` (L10h = duration / 3600); None without a speed.
         modified: ISO 281's :class:`~jaxgear.bearings.ModifiedLife` (L_nm, a₁, a_ISO, κ,
             C_u), or None where the lubricant or the contamination is not given.
-        reference: ISO/TS 16281's :class:`~jaxgear.bearings.ReferenceLife` (L10r, P_ref) of a
-            ball kind, or None (the roller kinds).
+        reference: ISO/TS 16281's :class:`~jaxgear.bearings.ReferenceLife` (L10r, P_ref): the
+            balls' loads, or the rollers' laminae's (their ``slices`` and ``crown``).
     """
 
     radial: float
@@ -90,8 +91,6 @@ def operating_life(bearing: AbstractRollingBearing, load, displacement, speed=No
     if contamination is not None:
         modified = modified_life(bearing, radial, axial, speed, viscosity=viscosity,
                                  reliability=reliability, contamination=contamination)
-    reference = None
-    if bearing.life_exponent == 3.0:  # ISO/TS 16281's method here is the balls'
-        reference = reference_life(bearing, jnp.asarray(displacement, float), rotating)
+    reference = reference_life(bearing, jnp.asarray(displacement, float), rotating)
     return OperatingLife(radial, axial, float(basic.equivalent_load), float(basic.revolutions),
                          None if speed is None else float(basic.duration), modified, reference)

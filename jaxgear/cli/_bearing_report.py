@@ -86,7 +86,7 @@ def _(form, case) -> dict | None:
     (the case file's table, ``pinion_shaft.bearings[0]``, ``shafts.idler.bearings[1]``), kind,
     position, shaft speed, load f = (F_x, F_y, F_z, M_x, M_y) (N, N·m), F_r and F_a, tones (orders of its shaft's speed, and Hz at it), and, where it has its
     ratings, its lives (revolutions, and hours at the case's speed) and, under the case's
-    rating spectrum, ``spectrum_life`` (each bin's loads, P_eq, L10, L10r (balls) and L_nm
+    rating spectrum, ``spectrum_life`` (each bin's loads, P_eq, L10, L10r and L_nm
     by Palmgren–Miner)."""
     found = case_bearings(case)
     if found is None:
@@ -243,7 +243,8 @@ def bearing_rating_lines(section: dict | None) -> list[str]:
              "; in revolutions ([operating] speed_rad_s gives hours).")
     intro = ("Each bearing's load at the operating point of the case's quasi-static solve (its "
              "shaft's push on it), its basic rating life L10 = (C/P)^p, ISO/TS 16281's "
-             "reference rating life L10r of its balls' loads" + modified + hours)
+             "reference rating life L10r of its balls' or its rollers' laminae's loads"
+             + modified + hours)
     lines = ["", "## Rolling bearings (ISO 281, ISO/TS 16281)", "", intro, "",
              ("| bearing | kind | F_r (N) | F_a (N) | P (N) | L10 (10⁶ rev) | L10h (h) "
               "| L10r (10⁶ rev) | L_nm (10⁶ rev) | L_nmh (h) | a_ISO |"),

@@ -388,9 +388,9 @@ class SpectrumLife(NamedTuple):
     its :class:`~jaxgear.bearings.BearingSpectrum` (each bin's F_r, F_a, shaft speed and time),
     ``basic`` ISO 281's :class:`~jaxgear.bearings.BearingLife` by Palmgren–Miner,
     ``modified`` its :class:`~jaxgear.bearings.ModifiedLife` (None without the settings) and
-    ``reference`` ISO/TS 16281's reference life of each bin's ball loads by Palmgren–Miner
-    (:func:`~jaxgear.bearings.spectrum_reference_life`, a :class:`~jaxgear.bearings.BearingLife`
-    whose load is P_ref; None for the roller kinds)."""
+    ``reference`` ISO/TS 16281's reference life of each bin's element loads (balls, or the
+    rollers' laminae) by Palmgren–Miner (:func:`~jaxgear.bearings.spectrum_reference_life`, a
+    :class:`~jaxgear.bearings.BearingLife` whose load is P_ref)."""
 
     spectrum: BearingSpectrum
     basic: BearingLife
@@ -404,7 +404,7 @@ def spectrum_lives(points, speeds, durations, *, viscosity=None, reliability=0.9
     its operating point (:func:`bearings_at_operating_point` at the bin's torque): ISO 281's
     :func:`~jaxgear.bearings.spectrum_life` and, with ``contamination``,
     :func:`~jaxgear.bearings.spectrum_modified_life` of the bins' F_r = √(F_x² + F_y²) and
-    F_a = F_z, and for the ball kinds ISO/TS 16281's
+    F_a = F_z, and ISO/TS 16281's
     :func:`~jaxgear.bearings.spectrum_reference_life` of the bins' ring displacements.
 
     Args:
@@ -447,12 +447,10 @@ def spectrum_lives(points, speeds, durations, *, viscosity=None, reliability=0.9
                 modified = spectrum_modified_life(b.rolling, spectrum, viscosity=viscosity,
                                                   reliability=reliability,
                                                   contamination=contamination)
-            reference = None
-            if b.rolling.life_exponent == 3.0:  # ISO/TS 16281's method here is the balls'
-                d = np.array([np.zeros(5) if p is None
-                              else np.asarray(p.states[s][i].displacement, float)
-                              for p in points])
-                reference = spectrum_reference_life(b.rolling, d, speeds[:, s], durations)
+            d = np.array([np.zeros(5) if p is None
+                          else np.asarray(p.states[s][i].displacement, float)
+                          for p in points])
+            reference = spectrum_reference_life(b.rolling, d, speeds[:, s], durations)
             row.append(SpectrumLife(spectrum, spectrum_life(b.rolling, spectrum), modified,
                                     reference))
         out.append(tuple(row))
