@@ -166,6 +166,25 @@ BAD = [
     ({"candidates": 101}, "[sound] candidates = 101: out of range, allowed [0, 100]"),
     ({"poisson_ratio": 0.5}, "[sound] poisson_ratio = 0.5: out of range, allowed [0, 0.5)"),
     ({"loss": 0.1}, "[sound] unknown key 'loss'"),
+    # the radiated sound power's keys: [acoustics]'s names and checks under [sound.acoustics]
+    ({"sound_power": 1}, "[sound] sound_power = 1: must be true or false"),
+    ({"acoustics": {"frequencies": 4}},
+     "[sound] sound_power = false: [sound.acoustics] is read only with sound_power = true"),
+    ({"sound_power": True, "acoustics": {"frequencies": 0}},
+     "[sound.acoustics] frequencies = 0: out of range, allowed [1, 2000]"),
+    ({"sound_power": True, "acoustics": {"rank": 0}},
+     "[sound.acoustics] rank = 0: out of range, allowed [1, 1e+06]"),
+    ({"sound_power": True, "acoustics": {"method": "rayleigh"}},
+     "[sound.acoustics] method = 'rayleigh': allowed 'bem', 'erp-only'"),
+    ({"sound_power": True, "acoustics": {"sound_speed_m_s": 0.0}},
+     "[sound.acoustics] sound_speed_m_s = 0: out of range, allowed (0, 100000]"),
+    ({"sound_power": True, "acoustics": {"band_Hz": [100.0, 2000.0]}},
+     "[sound.acoustics] band_Hz = [100, 2000]: not in a sizing (the grid spans each "
+     "candidate's own orders)"),
+    ({"sound_power": True, "acoustics": {"microphones": [{"position_mm": [0.0, 0.0, 900.0]}]}},
+     "[sound.acoustics] microphones = ['mic0']: not in a sizing"),
+    ({"sound_power": True, "acoustics": {"fluid": "air"}},
+     "[sound.acoustics] unknown key 'fluid'"),
 ]
 
 
@@ -188,6 +207,39 @@ def test_a_missing_range_and_an_objective_without_the_stage_are_refused():
                    "of the sound stage, which [sound] candidates = 0 turns off")
     data["sound"]["candidates"] = 1  # the stage on: accepted
     jio.parse_sizing_spec(data)
+    data["pareto"] = {"minimise": ["mass_kg", "sound_power_peak_dB"]}
+    _refused(data, "[pareto] minimise = ['mass_kg', 'sound_power_peak_dB']: "
+                   "'sound_power_peak_dB' is the sound stage's radiated sound power, which "
+                   "[sound] sound_power = true turns on")
+    data["sound"]["sound_power"] = True  # the sound power on: accepted
+    jio.parse_sizing_spec(data)
+
+
+def test_the_housed_case_holds_the_sound_powers_acoustics(sized, tmp_path):
+    """With ``sound_power = true`` the housed case ends in ``[acoustics]``: the given
+    ``[sound.acoustics]`` keys, the defaults of the others (6 frequencies, the air of
+    docs/acoustics.md, no rank), no band (the orders' range); the case reader takes it and its
+    acoustics are the table's; without ``sound_power`` no ``[acoustics]``."""
+    _, spec, tables, table = sized
+    k = int(np.flatnonzero(table.feasible)[0])
+    row = _row(table, k)
+    plain = jio.SoundSection.read(SOUND, "sound")
+    assert plain.radiation() is None
+    assert "acoustics" not in tomllib.loads(jio.housed_case_text(tables, spec, row, k, plain))
+    given = {"frequencies": 4, "rank": 30, "cache": False, "sound_speed_m_s": 340.0}
+    section = jio.SoundSection.read(SOUND | {"sound_power": True, "acoustics": given}, "sound")
+    text = jio.housed_case_text(tables, spec, row, k, section)
+    assert text.startswith(jio.housed_case_text(tables, spec, row, k, plain))
+    case = tomllib.loads(text)
+    assert case["acoustics"] == given | {"method": "bem", "density_kg_m3": 1.21}
+    default = jio.SoundSection.read(SOUND | {"sound_power": True}, "sound")
+    written = tomllib.loads(jio.housed_case_text(tables, spec, row, k, default))["acoustics"]
+    assert written == {"method": "bem", "frequencies": 6, "cache": True, "density_kg_m3": 1.21,
+                       "sound_speed_m_s": 343.0}
+    parsed = jio.parse_case(case, str(tmp_path))
+    inputs = jio.acoustics_of(parsed)
+    assert (inputs.frequencies, inputs.rank, inputs.cache, inputs.band) == (4, 30, False, None)
+    assert (inputs.fluid.density, inputs.fluid.sound_speed) == (1.21, 340.0)
 
 
 def test_a_spec_without_sound_writes_what_it_wrote(tmp_path, capsys, monkeypatch):
