@@ -384,3 +384,73 @@ def test_a_box_that_does_not_fit_fails_its_candidate(tmp_path, monkeypatch):
     assert why.startswith("[housing] bore_diameter_mm = 300: no diameter fits") and "\n" not in why
     with open(out / "sound.csv", encoding="utf-8") as f:
         assert list(csv.DictReader(f)) == []  # no curve of a failed candidate
+
+
+def _spec_text(data) -> str:
+    """A spec's tables as TOML (its tables and one level of sub-tables, JSON's numbers, strings,
+    lists and booleans, which TOML reads the same)."""
+    lines = [f"name = {json.dumps(data['name'])}"]
+    for table, values in data.items():
+        if not isinstance(values, dict):
+            continue
+        lines.append(f"[{table}]")
+        lines += [f"{k} = {json.dumps(v)}" for k, v in values.items() if not isinstance(v, dict)]
+        for k, v in values.items():
+            if isinstance(v, dict):
+                lines.append(f"[{table}.{k}]")
+                lines += [f"{kk} = {json.dumps(vv)}" for kk, vv in v.items()]
+    return "\n".join(lines) + "\n"
+
+
+@pytest.mark.slow
+def test_the_sound_power_equals_jaxgear_run_and_stays_below_the_erp(tmp_path, monkeypatch):
+    """``[sound] sound_power = true`` (the default 6 BEM frequencies over the orders' range), a
+    front of the mass and the sound power peak: the stage's candidate's ``sound_power_peak_dB``
+    and its speed equal ``jaxgear run`` of the written housed case (``--write K``, its
+    ``[acoustics]``): acoustics/sound_power.json's largest overall L_W, and sound.csv's curve
+    that file's overall L_W at every speed, to 1e-9 (the same functions on the same numbers,
+    the radiation operators read back from fem_prep's cache). Physics: at every speed and order
+    the radiated power is at most the housing's ERP (housing.csv's, σ = W / ERP <= 1) within
+    2.5 %, the BEM's own accuracy on the pulsating sphere (docs/acoustics.md), and above zero;
+    the overall L_W at most the overall ERP."""
+    monkeypatch.setenv("JAXGEAR_TEST_NO_FIGURES", "1")
+    data = _spec(sound_power=True, speeds=6)
+    data["pareto"] = {"minimise": ["mass_kg", "sound_power_peak_dB"]}
+    spec, _ = jio.parse_sizing_spec(data)
+    k = int(js.dynamics_selection(spec, js.size(spec), 1, stage="sound")[0])
+    path = tmp_path / "power.toml"
+    path.write_text(_spec_text(data))
+    out = tmp_path / "size"
+    assert main(["size", str(path), "--out", str(out), "--quiet", "--write", str(k)]) == 0
+    with open(out / "sizing.csv", encoding="utf-8") as f:
+        rows = list(csv.DictReader(f))
+    assert [i for i, r in enumerate(rows) if r["sound_stage"] != "none"] == [k]
+    assert [i for i, r in enumerate(rows) if int(r["pareto_rank"]) > 0] == [k]
+    summary = json.loads((out / "sizing.json").read_text(encoding="utf-8"))["sound_stage"]
+    assert summary["sound_power"]["frequencies"] == 6
+    housed = out / f"candidate_{k}_housed.toml"
+    assert tomllib.loads(housed.read_text(encoding="utf-8"))["acoustics"]["frequencies"] == 6
+    run = tmp_path / "run"
+    assert main(["run", str(housed), "--out", str(run), "--quiet"]) == 0
+    got = json.loads((run / "acoustics" / "sound_power.json").read_text(encoding="utf-8"))
+    overall = np.asarray([math.nan if v is None else v for v in got["overall_LW_dB"]])
+    top = int(np.nanargmax(overall))
+    assert float(rows[k]["sound_power_peak_dB"]) == pytest.approx(overall[top], rel=1e-9)
+    assert float(rows[k]["sound_power_peak_speed_rad_s"]) == got["speeds_rad_s"][top]
+    with open(out / "sound.csv", encoding="utf-8") as f:
+        curve = [float(r["overall_sound_power_dB"]) for r in csv.DictReader(f)]
+    np.testing.assert_allclose(curve, overall, rtol=1e-9)
+    # σ <= 1: each order's power against the housing's ERP of the same run
+    with open(run / "whine" / "housing.csv", encoding="utf-8") as f:
+        erp = list(csv.DictReader(f))  # one row per speed and order, speed by speed
+    power = np.asarray(got["power_W"], dtype=float)  # (S, O)
+    assert power.size and np.all(power > 0)
+    per_speed = len(erp) // len(got["speeds_rad_s"])
+    for s, speed in enumerate(got["speeds_rad_s"]):
+        here = erp[s * per_speed : (s + 1) * per_speed]
+        for o, order in enumerate(got["orders"]):
+            e = next(r for r in here if float(r["order"]) == order)
+            assert float(e["speed_rad_s"]) == pytest.approx(speed, rel=1e-10)  # 12 digits
+            assert float(e["in_band"]) == 1.0
+            assert power[s, o] <= 1.025 * float(e["erp_W"]), (speed, order)
+        assert overall[s] <= float(e["overall_erp_dB"]) + 10 * math.log10(1.025)

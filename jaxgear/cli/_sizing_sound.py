@@ -142,7 +142,8 @@ def sound_stage(spec, tables: dict, table: sizing.SizingTable, section, candidat
         row = {name: v[i] for name, v in table.columns.items()}
         flanks.append("modified" if row.get("stage") == "te" else "plain")
         if progress is not None:
-            progress(j, k, f"row {i}: housing and whine")
+            progress(j, k, f"row {i}: housing, whine" + (" and sound power (BEM)"
+                                                         if section.sound_power else ""))
         text = housed_case_text(tables, spec, row, i, section)
         key = hashlib.sha256((__version__ + "\n" + text).encode()).hexdigest()
         os.makedirs(folder, exist_ok=True)
