@@ -359,9 +359,15 @@ def test_the_documented_table_and_the_example_are_valid():
                        re.DOTALL | re.MULTILINE)[0]
     data = copy.deepcopy(SPEC) | tomllib.loads(block)
     assert jio.sizing_sound(jio.parse_sizing_spec(data)[1])[1] == 1
+    power = re.findall(r"^```toml\n(.*?)^```", text[text.index("**The radiated sound power**"):],
+                       re.DOTALL | re.MULTILINE)[0]  # sound_power with [sound.acoustics]
+    data = copy.deepcopy(SPEC) | tomllib.loads(power)
+    radiation = jio.sizing_sound(jio.parse_sizing_spec(data)[1])[0].radiation()
+    assert (radiation.method, radiation.frequencies, radiation.rank) == ("bem", 6, 64)
     _, tables = jio.load_sizing_spec(str(root / "examples" / "sizing" / "helical.toml"))
     section, n = jio.sizing_sound(tables)
     assert n == 0 and section.speed_range_rpm == [300.0, 3000.0]
+    assert section.radiation() is None  # sound_power = false
     assert jio.sizing_sound(tables, 1)[1] == 1
 
 
