@@ -27,7 +27,7 @@ import jax
 jax.config.update("jax_enable_x64", True)
 
 from benchmarks._timing import environment, write_record
-from jaxgear.cli import main as jaxgear
+from benchmarks.sizing_sound import _size as sound_size
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 OUT = ROOT / "docs" / "bench" / "sizing_sound_power.json"
@@ -35,13 +35,8 @@ SPEC = ROOT / "examples" / "sizing" / "helical.toml"
 
 
 def _size(spec: str, out: str, *extra: str) -> dict:
-    """``jaxgear size`` of ``spec`` with the sound stage's first candidate; its sizing.json."""
-    argv = ["size", spec, "--out", out, "--quiet", "--te", "0", "--dynamics", "0", "--sound",
-            "1", *extra]
-    if jaxgear(argv) != 0:
-        raise RuntimeError(f"jaxgear {' '.join(argv)} failed")
-    with open(os.path.join(out, "sizing.json"), encoding="utf-8") as f:
-        return json.load(f)
+    """The stage's first candidate (benchmarks/sizing_sound.py's run of ``spec``)."""
+    return sound_size(out, *extra, spec=spec, candidates=1)
 
 
 def main(path: pathlib.Path) -> None:
