@@ -11,9 +11,10 @@ closed skin's normal velocity, :func:`housed_radiation`, radiated by
 :func:`radiated_sound_power`: one BEM solve per grid frequency, cached). The columns
 :data:`SOUND_COLUMNS` are that run's headline: the largest overall ERP over the speeds and its
 speed, and the largest overall sound power L_W (not A-weighted: the ERP's weighting, so the two
-compare) and its speed, so ``jaxgear run`` of the written case reports the same numbers. Each finished candidate's result is kept in ``store/sound/`` (keyed by
-its case text and jaxgear's version), which a rerun of the same spec into the same folder
-reads instead of running it again."""
+compare) and its speed, so ``jaxgear run`` of the written case reports the same numbers. Each
+finished candidate's result is kept in ``store/sound/`` (keyed by its case text and jaxgear's
+version), which a rerun of the same spec into the same folder reads instead of running it
+again."""
 
 from __future__ import annotations
 
@@ -99,11 +100,11 @@ def _run_candidate(path: str) -> dict:
                     "skin_vertices": int(h.surface.n_vertices),
                     "sound_power_seconds": time.perf_counter() - t1}
     return radiated | {"speeds": np.asarray(w.speed, dtype=float).tolist(),
-            "overall_erp_db": _nullable(erp.overall_db),
-            "contact_loss": np.asarray(w.contact_loss, dtype=bool).any(axis=1).tolist(),
-            "housing_modes": len(housed.body.condensed.modes_hz),
-            "housing_dofs": int(housed.body.mesh.n_dofs),
-            "seconds": time.perf_counter() - t0}
+                       "overall_erp_db": _nullable(erp.overall_db),
+                       "contact_loss": np.asarray(w.contact_loss, dtype=bool).any(axis=1).tolist(),
+                       "housing_modes": len(housed.body.condensed.modes_hz),
+                       "housing_dofs": int(housed.body.mesh.n_dofs),
+                       "seconds": time.perf_counter() - t0}
 
 
 def sound_stage(spec, tables: dict, table: sizing.SizingTable, section, candidates: int,
