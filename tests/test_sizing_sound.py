@@ -409,13 +409,15 @@ def _spec_text(data) -> str:
 
 
 @pytest.mark.slow
-def test_the_sound_power_equals_jaxgear_run_and_stays_below_the_erp(tmp_path, monkeypatch):
+def test_the_sound_power_equals_jaxgear_run_and_stays_below_the_erp(tmp_path, monkeypatch,
+                                                                  fem_prep_cache):
     """``[sound] sound_power = true`` (the default 6 BEM frequencies over the orders' range), a
     front of the mass and the sound power peak: the stage's candidate's ``sound_power_peak_dB``
     and its speed equal ``jaxgear run`` of the written housed case (``--write K``, its
     ``[acoustics]``): acoustics/sound_power.json's largest overall L_W, and sound.csv's curve
     that file's overall L_W at every speed, to 1e-9 (the same functions on the same numbers,
-    the radiation operators read back from fem_prep's cache). Physics: at every speed and order
+    the radiation operators solved by the stage into the test run's fresh fem_prep cache and
+    read back from it by the run). Physics: at every speed and order
     the radiated power is at most the housing's ERP (housing.csv's, σ = W / ERP <= 1) within
     2.5 %, the BEM's own accuracy on the pulsating sphere (docs/acoustics.md), and above zero;
     the overall L_W at most the overall ERP."""
