@@ -39,10 +39,11 @@ CANDIDATES = 2
 REPEATS = 3
 
 
-def _size(out: str, *extra: str) -> dict:
-    """``jaxgear size`` of the example with the sound stage's candidates; its sizing.json."""
-    argv = ["size", str(SPEC), "--out", out, "--quiet", "--te", "0", "--dynamics", "0",
-            "--sound", str(CANDIDATES), *extra]
+def _size(out: str, *extra: str, spec=SPEC, candidates: int = CANDIDATES) -> dict:
+    """``jaxgear size`` of the example (or ``spec``) with the sound stage's ``candidates``, the
+    transmission-error and dynamics stages off; its sizing.json."""
+    argv = ["size", str(spec), "--out", out, "--quiet", "--te", "0", "--dynamics", "0",
+            "--sound", str(candidates), *extra]
     if jaxgear(argv) != 0:
         raise RuntimeError(f"jaxgear {' '.join(argv)} failed")
     with open(os.path.join(out, "sizing.json"), encoding="utf-8") as f:

@@ -166,6 +166,25 @@ BAD = [
     ({"candidates": 101}, "[sound] candidates = 101: out of range, allowed [0, 100]"),
     ({"poisson_ratio": 0.5}, "[sound] poisson_ratio = 0.5: out of range, allowed [0, 0.5)"),
     ({"loss": 0.1}, "[sound] unknown key 'loss'"),
+    # the radiated sound power's keys: [acoustics]'s names and checks under [sound.acoustics]
+    ({"sound_power": 1}, "[sound] sound_power = 1: must be true or false"),
+    ({"acoustics": {"frequencies": 4}},
+     "[sound] sound_power = false: [sound.acoustics] is read only with sound_power = true"),
+    ({"sound_power": True, "acoustics": {"frequencies": 0}},
+     "[sound.acoustics] frequencies = 0: out of range, allowed [1, 2000]"),
+    ({"sound_power": True, "acoustics": {"rank": 0}},
+     "[sound.acoustics] rank = 0: out of range, allowed [1, 1e+06]"),
+    ({"sound_power": True, "acoustics": {"method": "rayleigh"}},
+     "[sound.acoustics] method = 'rayleigh': allowed 'bem', 'erp-only'"),
+    ({"sound_power": True, "acoustics": {"sound_speed_m_s": 0.0}},
+     "[sound.acoustics] sound_speed_m_s = 0: out of range, allowed (0, 100000]"),
+    ({"sound_power": True, "acoustics": {"band_Hz": [100.0, 2000.0]}},
+     "[sound.acoustics] band_Hz = [100, 2000]: not in a sizing (the grid spans each "
+     "candidate's own orders)"),
+    ({"sound_power": True, "acoustics": {"microphones": [{"position_mm": [0.0, 0.0, 900.0]}]}},
+     "[sound.acoustics] microphones = ['mic0']: not in a sizing"),
+    ({"sound_power": True, "acoustics": {"fluid": "air"}},
+     "[sound.acoustics] unknown key 'fluid'"),
 ]
 
 
@@ -188,6 +207,39 @@ def test_a_missing_range_and_an_objective_without_the_stage_are_refused():
                    "of the sound stage, which [sound] candidates = 0 turns off")
     data["sound"]["candidates"] = 1  # the stage on: accepted
     jio.parse_sizing_spec(data)
+    data["pareto"] = {"minimise": ["mass_kg", "sound_power_peak_dB"]}
+    _refused(data, "[pareto] minimise = ['mass_kg', 'sound_power_peak_dB']: "
+                   "'sound_power_peak_dB' is the sound stage's radiated sound power, which "
+                   "[sound] sound_power = true turns on")
+    data["sound"]["sound_power"] = True  # the sound power on: accepted
+    jio.parse_sizing_spec(data)
+
+
+def test_the_housed_case_holds_the_sound_powers_acoustics(sized, tmp_path):
+    """With ``sound_power = true`` the housed case ends in ``[acoustics]``: the given
+    ``[sound.acoustics]`` keys, the defaults of the others (6 frequencies, the air of
+    docs/acoustics.md, no rank), no band (the orders' range); the case reader takes it and its
+    acoustics are the table's; without ``sound_power`` no ``[acoustics]``."""
+    _, spec, tables, table = sized
+    k = int(np.flatnonzero(table.feasible)[0])
+    row = _row(table, k)
+    plain = jio.SoundSection.read(SOUND, "sound")
+    assert plain.radiation() is None
+    assert "acoustics" not in tomllib.loads(jio.housed_case_text(tables, spec, row, k, plain))
+    given = {"frequencies": 4, "rank": 30, "cache": False, "sound_speed_m_s": 340.0}
+    section = jio.SoundSection.read(SOUND | {"sound_power": True, "acoustics": given}, "sound")
+    text = jio.housed_case_text(tables, spec, row, k, section)
+    assert text.startswith(jio.housed_case_text(tables, spec, row, k, plain))
+    case = tomllib.loads(text)
+    assert case["acoustics"] == given | {"method": "bem", "density_kg_m3": 1.21}
+    default = jio.SoundSection.read(SOUND | {"sound_power": True}, "sound")
+    written = tomllib.loads(jio.housed_case_text(tables, spec, row, k, default))["acoustics"]
+    assert written == {"method": "bem", "frequencies": 6, "cache": True, "density_kg_m3": 1.21,
+                       "sound_speed_m_s": 343.0}
+    parsed = jio.parse_case(case, str(tmp_path))
+    inputs = jio.acoustics_of(parsed)
+    assert (inputs.frequencies, inputs.rank, inputs.cache, inputs.band) == (4, 30, False, None)
+    assert (inputs.fluid.density, inputs.fluid.sound_speed) == (1.21, 340.0)
 
 
 def test_a_spec_without_sound_writes_what_it_wrote(tmp_path, capsys, monkeypatch):
@@ -307,9 +359,15 @@ def test_the_documented_table_and_the_example_are_valid():
                        re.DOTALL | re.MULTILINE)[0]
     data = copy.deepcopy(SPEC) | tomllib.loads(block)
     assert jio.sizing_sound(jio.parse_sizing_spec(data)[1])[1] == 1
+    power = re.findall(r"^```toml\n(.*?)^```", text[text.index("**The radiated sound power**"):],
+                       re.DOTALL | re.MULTILINE)[0]  # sound_power with [sound.acoustics]
+    data = copy.deepcopy(SPEC) | tomllib.loads(power)
+    radiation = jio.sizing_sound(jio.parse_sizing_spec(data)[1])[0].radiation()
+    assert (radiation.method, radiation.frequencies, radiation.rank) == ("bem", 6, 64)
     _, tables = jio.load_sizing_spec(str(root / "examples" / "sizing" / "helical.toml"))
     section, n = jio.sizing_sound(tables)
     assert n == 0 and section.speed_range_rpm == [300.0, 3000.0]
+    assert section.radiation() is None  # sound_power = false
     assert jio.sizing_sound(tables, 1)[1] == 1
 
 
@@ -332,3 +390,75 @@ def test_a_box_that_does_not_fit_fails_its_candidate(tmp_path, monkeypatch):
     assert why.startswith("[housing] bore_diameter_mm = 300: no diameter fits") and "\n" not in why
     with open(out / "sound.csv", encoding="utf-8") as f:
         assert list(csv.DictReader(f)) == []  # no curve of a failed candidate
+
+
+def _spec_text(data) -> str:
+    """A spec's tables as TOML (its tables and one level of sub-tables, JSON's numbers, strings,
+    lists and booleans, which TOML reads the same)."""
+    lines = [f"name = {json.dumps(data['name'])}"]
+    for table, values in data.items():
+        if not isinstance(values, dict):
+            continue
+        lines.append(f"[{table}]")
+        lines += [f"{k} = {json.dumps(v)}" for k, v in values.items() if not isinstance(v, dict)]
+        for k, v in values.items():
+            if isinstance(v, dict):
+                lines.append(f"[{table}.{k}]")
+                lines += [f"{kk} = {json.dumps(vv)}" for kk, vv in v.items()]
+    return "\n".join(lines) + "\n"
+
+
+@pytest.mark.slow
+def test_the_sound_power_equals_jaxgear_run_and_stays_below_the_erp(tmp_path, monkeypatch,
+                                                                  fem_prep_cache):
+    """``[sound] sound_power = true`` (the default 6 BEM frequencies over the orders' range), a
+    front of the mass and the sound power peak: the stage's candidate's ``sound_power_peak_dB``
+    and its speed equal ``jaxgear run`` of the written housed case (``--write K``, its
+    ``[acoustics]``): acoustics/sound_power.json's largest overall L_W, and sound.csv's curve
+    that file's overall L_W at every speed, to 1e-9 (the same functions on the same numbers,
+    the radiation operators solved by the stage into the test run's fresh fem_prep cache and
+    read back from it by the run). Physics: at every speed and order
+    the radiated power is at most the housing's ERP (housing.csv's, σ = W / ERP <= 1) within
+    2.5 %, the BEM's own accuracy on the pulsating sphere (docs/acoustics.md), and above zero;
+    the overall L_W at most the overall ERP."""
+    monkeypatch.setenv("JAXGEAR_TEST_NO_FIGURES", "1")
+    data = _spec(sound_power=True, speeds=6)
+    data["pareto"] = {"minimise": ["mass_kg", "sound_power_peak_dB"]}
+    spec, _ = jio.parse_sizing_spec(data)
+    k = int(js.dynamics_selection(spec, js.size(spec), 1, stage="sound")[0])
+    path = tmp_path / "power.toml"
+    path.write_text(_spec_text(data))
+    out = tmp_path / "size"
+    assert main(["size", str(path), "--out", str(out), "--quiet", "--write", str(k)]) == 0
+    with open(out / "sizing.csv", encoding="utf-8") as f:
+        rows = list(csv.DictReader(f))
+    assert [i for i, r in enumerate(rows) if r["sound_stage"] != "none"] == [k]
+    assert [i for i, r in enumerate(rows) if int(r["pareto_rank"]) > 0] == [k]
+    summary = json.loads((out / "sizing.json").read_text(encoding="utf-8"))["sound_stage"]
+    assert summary["sound_power"]["frequencies"] == 6
+    housed = out / f"candidate_{k}_housed.toml"
+    assert tomllib.loads(housed.read_text(encoding="utf-8"))["acoustics"]["frequencies"] == 6
+    run = tmp_path / "run"
+    assert main(["run", str(housed), "--out", str(run), "--quiet"]) == 0
+    got = json.loads((run / "acoustics" / "sound_power.json").read_text(encoding="utf-8"))
+    overall = np.asarray([math.nan if v is None else v for v in got["overall_LW_dB"]])
+    top = int(np.nanargmax(overall))
+    assert float(rows[k]["sound_power_peak_dB"]) == pytest.approx(overall[top], rel=1e-9)
+    assert float(rows[k]["sound_power_peak_speed_rad_s"]) == got["speeds_rad_s"][top]
+    with open(out / "sound.csv", encoding="utf-8") as f:
+        curve = [float(r["overall_sound_power_dB"]) for r in csv.DictReader(f)]
+    np.testing.assert_allclose(curve, overall, rtol=1e-9)
+    # σ <= 1: each order's power against the housing's ERP of the same run
+    with open(run / "whine" / "housing.csv", encoding="utf-8") as f:
+        erp = list(csv.DictReader(f))  # one row per speed and order, speed by speed
+    power = np.asarray(got["power_W"], dtype=float)  # (S, O)
+    assert power.size and np.all(power > 0)
+    per_speed = len(erp) // len(got["speeds_rad_s"])
+    for s, speed in enumerate(got["speeds_rad_s"]):
+        here = erp[s * per_speed : (s + 1) * per_speed]
+        for o, order in enumerate(got["orders"]):
+            e = next(r for r in here if float(r["order"]) == order)
+            assert float(e["speed_rad_s"]) == pytest.approx(speed, rel=1e-10)  # 12 digits
+            assert float(e["in_band"]) == 1.0
+            assert power[s, o] <= 1.025 * float(e["erp_W"]), (speed, order)
+        assert overall[s] <= float(e["overall_erp_dB"]) + 10 * math.log10(1.025)

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import os
 import warnings
+from typing import NamedTuple
 
 import jax.numpy as jnp
 import numpy as np
@@ -44,7 +45,8 @@ from ..io import (
 )
 from ._plots import intensity_map_plot, microphone_plot, sound_power_plot
 
-__all__ = ["ACOUSTICS_FILES", "acoustic_outputs", "acoustics_run_line"]
+__all__ = ["ACOUSTICS_FILES", "SoundPower", "acoustic_outputs", "acoustics_run_line",
+           "radiated_sound_power"]
 
 #: files of the acoustics/ folder (the microphones' only with microphones)
 ACOUSTICS_FILES = (
@@ -74,44 +76,32 @@ def _absent(a) -> list:
     return np.where(np.isnan(a), None, a).tolist()
 
 
-def acoustic_outputs(
-    surface,
-    velocities,
-    speeds,
-    orders,
-    out_dir: str,
-    table,
-    *,
-    frequencies=None,
-    name: str = "",
-    progress: bool = False,
-) -> dict:
-    """The radiated noise of a vibrating surface over speeds and orders into
-    ``out_dir/acoustics`` (the module docstring's files).
+class SoundPower(NamedTuple):
+    """The radiated sound power of :func:`radiated_sound_power`, over S speeds and O orders.
 
-    Args:
-        surface: the :class:`fem_prep.acoustics.RadiatingSurface` (m): closed for ``bem``
-            (:func:`fem_prep.housing.closed_outer_surface`), a flat panel for ``rayleigh``.
-        velocities: ``(S, O, n)`` complex normal velocity amplitudes at the surface's vertices
-            (m/s, one-sided, v(t) = Re v e^{iωt}: jaxgear's whine and housing convention;
-            conjugated here to fem_prep.acoustics' e^{-iωt}).
-        speeds: ``(S,)`` input speeds (rad/s, > 0).
-        orders: ``(O,)`` the orders (> 0): order o at speed Ω sounds at o Ω / 2π Hz unless
-            ``frequencies`` says otherwise.
-        out_dir: the run's folder (``acoustics/`` is made in it).
-        table: :class:`jaxgear.io.AcousticsInputs` or the raw ``[acoustics]`` table.
-        frequencies: ``(S, O)`` Hz of each order at each speed (a whine sweep's
-            ``frequency[:, None] * orders[None, :]``), or ``None``.
-        name: the case's name (titles).
-        progress: progress bars over the frequencies' radiation solves.
-
-    Returns:
-        The ``acoustics`` section (dict) of the run's summary, with the files written.
-
-    Raises:
-        TypeError: a surface that is not a RadiatingSurface, a table of another type.
-        ValueError: shapes that do not fit, a speed, order or frequency ≤ 0 or not finite.
+    Attributes:
+        band: (lo, hi) Hz the radiation operators span; grid: (G,) their frequencies (Hz).
+        frequency: (S, O) Hz of each order at each speed.
+        power: (S, O) W (NaN: outside the band); a_weighting: (S, O) dB (IEC 61672-1).
+        level, level_a: (S, O) L_W (dB re 1 pW) and L_WA (dB(A) re 1 pW).
+        overall, overall_a: (S,) the energetic sums over the orders, L_W and L_WA.
+        radiation: the :class:`fem_prep.acoustics.RadiationResistance` (factors, transfer).
     """
+
+    band: tuple[float, float]
+    grid: np.ndarray
+    frequency: np.ndarray
+    power: np.ndarray
+    a_weighting: np.ndarray
+    level: np.ndarray
+    level_a: np.ndarray
+    overall: np.ndarray
+    overall_a: np.ndarray
+    radiation: object
+
+
+def _checked(surface, velocities, speeds, orders, table, frequencies, progress):
+    """:func:`radiated_sound_power`'s inputs checked, as arrays (its Raises)."""
     if not isinstance(surface, fa.RadiatingSurface):
         raise TypeError(
             f"acoustic_outputs: surface = {type(surface).__name__}, allowed a "
@@ -136,6 +126,30 @@ def acoustic_outputs(
     if f.shape != (S, O) or not np.all(np.isfinite(f)) or f.min() <= 0:
         raise ValueError(f"acoustic_outputs: frequencies {f.shape}, allowed (S, O) = ({S}, {O}) "
                          "finite values > 0 (Hz)")
+    return v, speeds, orders, table, f
+
+
+def radiated_sound_power(surface, velocities, speeds, orders, table, *, frequencies=None,
+                         progress: bool = False) -> SoundPower:
+    """The sound power a vibrating surface radiates at each speed and order: the radiation
+    operators of ``table``'s method at :func:`jaxgear.io.radiation_grid` of the orders'
+    frequencies (:func:`fem_prep.acoustics.radiation_resistance`, cached; one BEM solve per grid
+    frequency), then W = v^H R v interpolated log-log between the grid frequencies
+    (:func:`jaxgear.acoustics.radiated_power_at`), its level, A-weighted level and the overall
+    sums. The computation of :func:`acoustic_outputs` (``jaxgear run``'s ``acoustics/``) and of
+    the sizing's sound stage.
+
+    Args: as :func:`acoustic_outputs`'s (``table`` also for the microphones' transfer).
+
+    Returns:
+        The :class:`SoundPower`.
+
+    Raises:
+        TypeError: a surface that is not a RadiatingSurface, a table of another type.
+        ValueError: shapes that do not fit, a speed, order or frequency ≤ 0 or not finite.
+    """
+    v, speeds, orders, table, f = _checked(surface, velocities, speeds, orders, table,
+                                           frequencies, progress)
     band, grid = radiation_grid(table, f)  # the grid the acoustic objectives radiate at too
     mics = table.microphones
     points = np.array([p for _, p in mics]) if mics else None
@@ -144,8 +158,63 @@ def acoustic_outputs(
     vc = jnp.asarray(np.conj(v))  # e^{iωt} → e^{-iωt}
     W = np.asarray(radiated_power_at(vc, f, rr.factors, grid))  # (S, O)
     A = np.asarray(a_weighting(f))
-    LW, LWA = _db(W, W_REF), _db(W * 10 ** (A / 10), W_REF)
-    total, total_a = _db(np.nansum(W, axis=1), W_REF), _db(np.nansum(W * 10 ** (A / 10), 1), W_REF)
+    return SoundPower(band, grid, f, W, A, _db(W, W_REF), _db(W * 10 ** (A / 10), W_REF),
+                      _db(np.nansum(W, axis=1), W_REF),
+                      _db(np.nansum(W * 10 ** (A / 10), 1), W_REF), rr)
+
+
+def acoustic_outputs(
+    surface,
+    velocities,
+    speeds,
+    orders,
+    out_dir: str,
+    table,
+    *,
+    frequencies=None,
+    name: str = "",
+    progress: bool = False,
+) -> dict:
+    """The radiated noise of a vibrating surface over speeds and orders into
+    ``out_dir/acoustics`` (the module docstring's files; the sound power by
+    :func:`radiated_sound_power`).
+
+    Args:
+        surface: the :class:`fem_prep.acoustics.RadiatingSurface` (m): closed for ``bem``
+            (:func:`fem_prep.housing.closed_outer_surface`), a flat panel for ``rayleigh``.
+        velocities: ``(S, O, n)`` complex normal velocity amplitudes at the surface's vertices
+            (m/s, one-sided, v(t) = Re v e^{iωt}: jaxgear's whine and housing convention;
+            conjugated here to fem_prep.acoustics' e^{-iωt}).
+        speeds: ``(S,)`` input speeds (rad/s, > 0).
+        orders: ``(O,)`` the orders (> 0): order o at speed Ω sounds at o Ω / 2π Hz unless
+            ``frequencies`` says otherwise.
+        out_dir: the run's folder (``acoustics/`` is made in it).
+        table: :class:`jaxgear.io.AcousticsInputs` or the raw ``[acoustics]`` table.
+        frequencies: ``(S, O)`` Hz of each order at each speed (a whine sweep's
+            ``frequency[:, None] * orders[None, :]``), or ``None``.
+        name: the case's name (titles).
+        progress: progress bars over the frequencies' radiation solves.
+
+    Returns:
+        The ``acoustics`` section (dict) of the run's summary, with the files written.
+
+    Raises:
+        TypeError: a surface that is not a RadiatingSurface, a table of another type.
+        ValueError: shapes that do not fit, a speed, order or frequency ≤ 0 or not finite.
+    """
+    if isinstance(table, dict):
+        table = parse_acoustics(table, progress)
+    sp = radiated_sound_power(surface, velocities, speeds, orders, table,
+                              frequencies=frequencies, progress=progress)
+    v = np.asarray(velocities)
+    speeds = np.asarray(speeds, dtype=float).reshape(-1)
+    orders = np.asarray(orders, dtype=float).reshape(-1)
+    S, O = len(speeds), len(orders)
+    band, grid, f, W, A = sp.band, sp.grid, sp.frequency, sp.power, sp.a_weighting
+    rr = sp.radiation
+    LW, LWA, total, total_a = sp.level, sp.level_a, sp.overall, sp.overall_a
+    mics = table.microphones
+    vc = jnp.asarray(np.conj(v))
     head = f"{name}: " if name else ""
     folder = os.path.join(out_dir, "acoustics")
     os.makedirs(folder, exist_ok=True)

@@ -32,8 +32,9 @@ from ..scenes import HOUSING_BAND, housing_band_hz
 from ._bearing_report import bearing_tone_lines
 from ._plots import whine_level_plot, whine_order_plot, whine_waterfall_plot
 
-__all__ = ["HousedErp", "HousedRun", "housed_erp", "housed_run", "housing_outputs",
-           "housing_run_line", "hybrid_seats_line", "hybrid_seats_section"]
+__all__ = ["HousedErp", "HousedRadiation", "HousedRun", "housed_erp", "housed_radiation",
+           "housed_run", "housing_outputs", "housing_run_line", "hybrid_seats_line",
+           "hybrid_seats_section"]
 
 #: integer orders drawn in the order plots and written as operating deflection shapes
 ORDERS_DRAWN = 4
@@ -164,7 +165,6 @@ def housing_outputs(run: HousedRun, case, w, folder: str, invalid) -> dict:
     keep, orders, freq, r = erp.keep, erp.orders, erp.frequency, erp.vibration
     power, level, band, in_band = erp.power, erp.level, erp.band, erp.in_band
     overall_w, overall_db = erp.overall_w, erp.overall_db
-    q = np.asarray(w.coordinates)[:, keep, run.first : run.first + n_c]
     pv = np.asarray(r.point_velocity)  # (S, k, P) m/s
     shown = np.where(in_band, level, np.nan)
     R = np.asarray(body.housing.rotation)
@@ -288,9 +288,7 @@ def housing_outputs(run: HousedRun, case, w, folder: str, invalid) -> dict:
     write_json(os.path.join(folder, "housing.json"), {"case": case.name, **section})
     table = acoustics_of(case, progress=True)
     if table is not None:  # [acoustics]: the radiated sound of the same skin's motion
-        section["acoustics"] = _radiation(run, case, q[:, in_band.all(axis=0)], speeds,
-                                          orders[in_band.all(axis=0)],
-                                          freq[:, in_band.all(axis=0)], folder, table)
+        section["acoustics"] = _radiation(run, case, w, erp, folder, table)
     return {
         k: section[k] for k in ("cutoff_Hz", "band_limit_Hz", "housing_modes", "files")
     } | {
@@ -313,26 +311,56 @@ def housing_run_line(section: dict | None) -> list[str]:
             f"{section['speed_of_max_overall_erp_rad_s']:.0f} rad/s{pts} (whine/housing.*)"]
 
 
-def _radiation(run: HousedRun, case, q, speeds, orders, freq, folder: str, table) -> dict:
-    """``[acoustics]``'s files (:func:`jaxgear.cli._acoustics_run.acoustic_outputs`) of the
-    housing's condensed coordinates ``q`` (S, k, n_c) at the orders in the band over every
-    speed: the outer skin closed over its bores (:func:`fem_prep.housing.closed_outer_surface`)
-    placed in the scene's frame (x = R x_housing + t: the microphones are in the scene's frame,
-    as the named points), its vertices' normal velocity v = iω N_v Φ q."""
-    from ._acoustics_run import acoustic_outputs
+class HousedRadiation(NamedTuple):
+    """What a housed whine radiates (:func:`housed_radiation`): ``surface`` the housing's outer
+    skin closed over its bores in the scene's frame (a :class:`fem_prep.acoustics.
+    RadiatingSurface`, m), ``velocity`` (S, k, n) its vertices' complex normal velocity (m/s,
+    one-sided, v(t) = Re v e^{iωt}), at the ``speeds`` (S,) rad/s and the ``orders`` (k,) in the
+    housing's band at every speed, of ``frequency`` (S, k) Hz."""
 
+    surface: object
+    velocity: np.ndarray
+    speeds: np.ndarray
+    orders: np.ndarray
+    frequency: np.ndarray
+
+
+def housed_radiation(run: HousedRun, w, erp: HousedErp) -> HousedRadiation:
+    """The radiating skin of the whine response ``w`` of the housed scene (its ERP ``erp``,
+    :func:`housed_erp`): the outer skin closed over its bores
+    (:func:`fem_prep.housing.closed_outer_surface`) placed in the scene's frame (x = R
+    x_housing + t: the microphones are in the scene's frame, as the named points), its
+    vertices' normal velocity v = iω N_v Φ q of the housing's condensed coordinates q, at the
+    orders in the band at every speed. What ``jaxgear run``'s ``[acoustics]`` and the sizing's
+    sound stage radiate (:func:`jaxgear.cli._acoustics_run.radiated_sound_power`).
+
+    Raises:
+        SchemaError: no order in the band at every speed (one line).
+    """
+    every = erp.in_band.all(axis=0)
+    orders, freq = erp.orders[every], erp.frequency[:, every]
     if not orders.size:
         raise SchemaError(
             f"[acoustics]: no order of [whine] lies below the housing's band limit at every "
             f"speed ({housing_band_hz(run.body.condensed.cutoff_hz):.0f} Hz = cut-off / {BAND:g}): "
             "allowed a cut-off above 1.5 x the highest order's frequency"
         )
-    body = run.body
+    n_c = int(run.acoustics.K.shape[0])
+    q = np.asarray(w.coordinates)[:, erp.keep, run.first : run.first + n_c][:, every]
     skin, placed = closed_skin(run)  # the skin housed_run found, closed, in the scene's frame
     velocity = 1j * 2 * np.pi * freq[..., None] * (
-        q @ (skin.normal_operator @ body.condensed.recovery).T)
-    return acoustic_outputs(placed, velocity, speeds, orders, os.path.dirname(folder), table,
-                            frequencies=freq, name=case.name, progress=True)
+        q @ (skin.normal_operator @ run.body.condensed.recovery).T)
+    return HousedRadiation(placed, velocity, np.asarray(w.speed, dtype=float), orders, freq)
+
+
+def _radiation(run: HousedRun, case, w, erp: HousedErp, folder: str, table) -> dict:
+    """``[acoustics]``'s files (:func:`jaxgear.cli._acoustics_run.acoustic_outputs`) of the
+    housed whine ``w``'s radiating skin (:func:`housed_radiation`)."""
+    from ._acoustics_run import acoustic_outputs
+
+    h = housed_radiation(run, w, erp)
+    return acoustic_outputs(h.surface, h.velocity, h.speeds, h.orders, os.path.dirname(folder),
+                            table, frequencies=h.frequency, name=case.name, progress=True)
 
 
 def hybrid_seats_section(case) -> dict | None:

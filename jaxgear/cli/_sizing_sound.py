@@ -5,11 +5,16 @@ the lumped 3D pair on the layout's shafts and bearings in a box housing round it
 with ``[whine]``) is written into the results store and run as ``jaxgear run`` runs it: the case
 read by :func:`jaxgear.io.load_case`, its whine solved by :func:`case_whine` (the housing meshed
 and condensed by fem_prep, cached) and its equivalent radiated power on the housing's outer
-skin by :func:`housed_erp`. The columns :data:`SOUND_COLUMNS` are that run's headline: the
-largest overall ERP over the speeds and its speed, so ``jaxgear run`` of the written case
-reports the same numbers. Each finished candidate's result is kept in ``store/sound/`` (keyed by
-its case text and jaxgear's version), which a rerun of the same spec into the same folder
-reads instead of running it again."""
+skin by :func:`housed_erp`; with ``[sound] sound_power = true`` the case holds ``[acoustics]``
+and its radiated sound power is computed as ``jaxgear run``'s ``[acoustics]`` computes it (the
+closed skin's normal velocity, :func:`housed_radiation`, radiated by
+:func:`radiated_sound_power`: one BEM solve per grid frequency, cached). The columns
+:data:`SOUND_COLUMNS` are that run's headline: the largest overall ERP over the speeds and its
+speed, and the largest overall sound power L_W (not A-weighted: the ERP's weighting, so the two
+compare) and its speed, so ``jaxgear run`` of the written case reports the same numbers. Each
+finished candidate's result is kept in ``store/sound/`` (keyed by its case text and jaxgear's
+version), which a rerun of the same spec into the same folder reads instead of running it
+again."""
 
 from __future__ import annotations
 
@@ -25,17 +30,22 @@ from typing import NamedTuple
 import numpy as np
 
 from .. import __version__, sizing
-from ..io import SchemaError, atomic_open, housed_case_text, load_case
-from ._housing_run import housed_erp
+from ..io import SchemaError, acoustics_of, atomic_open, housed_case_text, load_case
+from ._acoustics_run import radiated_sound_power
+from ._housing_run import housed_erp, housed_radiation
 from ._whine_run import case_whine
 
 __all__ = ["SOUND_COLUMNS", "SoundCurves", "sound_stage"]
 
 #: the columns the stage adds (NaN where a candidate was not run; beside them ``sound_stage``,
 #: :func:`sound_stage`): the largest overall ERP over the speeds (dB re 1 pW), the speed where
-#: it is largest (rad/s, the pinion's) and the speeds with contact loss (where the whine's
-#: linear result does not hold)
-SOUND_COLUMNS = ("erp_peak_dB", "erp_peak_speed_rad_s", "sound_contact_loss")
+#: it is largest (rad/s, the pinion's), the speeds with contact loss (where the whine's
+#: linear result does not hold), and with ``[sound] sound_power = true`` the largest overall
+#: radiated sound power L_W over the speeds (dB re 1 pW, not A-weighted; the orders in the
+#: housing's band at every speed, as ``jaxgear run``'s acoustics/sound_power.json
+#: overall_LW_dB) and its speed (rad/s)
+SOUND_COLUMNS = ("erp_peak_dB", "erp_peak_speed_rad_s", "sound_contact_loss",
+                 "sound_power_peak_dB", "sound_power_peak_speed_rad_s")
 
 
 class SoundCurves(NamedTuple):
@@ -47,6 +57,8 @@ class SoundCurves(NamedTuple):
         overall_erp_db: the overall ERP over the orders in the housing's band (dB re 1 pW),
             (k, S); NaN where the candidate failed or no order lies in the band.
         contact_loss: whether each speed lost contact, (k, S).
+        overall_sound_power_db: the overall radiated sound power L_W (dB re 1 pW), (k, S); NaN
+            where not computed (``sound_power`` false, a failed candidate).
         flanks: "plain" or "modified" (the transmission-error stage's), (k,).
         seconds: each candidate's time (s; a result read back from the store: its first run's).
         failed: each candidate's one-line reason ("" where it ran).
@@ -56,24 +68,43 @@ class SoundCurves(NamedTuple):
     speeds: np.ndarray
     overall_erp_db: np.ndarray
     contact_loss: np.ndarray
+    overall_sound_power_db: np.ndarray
     flanks: tuple[str, ...]
     seconds: np.ndarray
     failed: tuple[str, ...]
 
 
+def _nullable(levels) -> list:
+    """Levels (dB) as a JSON list, NaN (no power) as None."""
+    return [None if math.isnan(v) else float(v) for v in np.asarray(levels, dtype=float)]
+
+
 def _run_candidate(path: str) -> dict:
     """``jaxgear run``'s housed whine and ERP of the case file ``path``: the speeds, the overall
-    ERP (NaN: no order in the band) and the contact loss per speed."""
+    ERP (NaN: no order in the band) and the contact loss per speed; with its ``[acoustics]`` the
+    overall radiated sound power per speed, L_W and L_WA (``jaxgear run``'s computation)."""
     t0 = time.perf_counter()
     case = load_case(path)
     _, housed, w = case_whine(case)
     erp = housed_erp(housed, w)
-    return {"speeds": np.asarray(w.speed, dtype=float).tolist(),
-            "overall_erp_db": [None if math.isnan(v) else float(v) for v in erp.overall_db],
-            "contact_loss": np.asarray(w.contact_loss, dtype=bool).any(axis=1).tolist(),
-            "housing_modes": len(housed.body.condensed.modes_hz),
-            "housing_dofs": int(housed.body.mesh.n_dofs),
-            "seconds": time.perf_counter() - t0}
+    table = acoustics_of(case)
+    radiated = {}
+    if table is not None:
+        t1 = time.perf_counter()
+        h = housed_radiation(housed, w, erp)
+        p = radiated_sound_power(h.surface, h.velocity, h.speeds, h.orders, table,
+                                 frequencies=h.frequency)
+        radiated = {"overall_sound_power_db": _nullable(p.overall),
+                    "overall_sound_power_dba": _nullable(p.overall_a),
+                    "radiation_frequencies": len(p.grid),
+                    "skin_vertices": int(h.surface.n_vertices),
+                    "sound_power_seconds": time.perf_counter() - t1}
+    return radiated | {"speeds": np.asarray(w.speed, dtype=float).tolist(),
+                       "overall_erp_db": _nullable(erp.overall_db),
+                       "contact_loss": np.asarray(w.contact_loss, dtype=bool).any(axis=1).tolist(),
+                       "housing_modes": len(housed.body.condensed.modes_hz),
+                       "housing_dofs": int(housed.body.mesh.n_dofs),
+                       "seconds": time.perf_counter() - t0}
 
 
 def sound_stage(spec, tables: dict, table: sizing.SizingTable, section, candidates: int,
@@ -112,7 +143,8 @@ def sound_stage(spec, tables: dict, table: sizing.SizingTable, section, candidat
         row = {name: v[i] for name, v in table.columns.items()}
         flanks.append("modified" if row.get("stage") == "te" else "plain")
         if progress is not None:
-            progress(j, k, f"row {i}: housing and whine")
+            progress(j, k, f"row {i}: housing, whine" + (" and sound power (BEM)"
+                                                         if section.sound_power else ""))
         text = housed_case_text(tables, spec, row, i, section)
         key = hashlib.sha256((__version__ + "\n" + text).encode()).hexdigest()
         os.makedirs(folder, exist_ok=True)
@@ -140,6 +172,7 @@ def sound_stage(spec, tables: dict, table: sizing.SizingTable, section, candidat
     speeds = np.asarray(ran[0]["speeds"] if ran else [], dtype=float)
     level = np.full((k, speeds.size), math.nan)
     loss = np.zeros((k, speeds.size), dtype=bool)
+    radiated = np.full((k, speeds.size), math.nan)
     for j, (i, r) in enumerate(zip(chosen, results, strict=True)):
         if r["failed"]:
             stage[i] = "failed"
@@ -152,9 +185,15 @@ def sound_stage(spec, tables: dict, table: sizing.SizingTable, section, candidat
             top = int(np.nanargmax(level[j]))
             columns["erp_peak_dB"][i] = level[j, top]
             columns["erp_peak_speed_rad_s"][i] = speeds[top]
+        if "overall_sound_power_db" in r:
+            radiated[j] = [math.nan if v is None else v for v in r["overall_sound_power_db"]]
+        if np.isfinite(radiated[j]).any():  # jaxgear run's acoustics: the largest, its speed
+            top = int(np.nanargmax(radiated[j]))
+            columns["sound_power_peak_dB"][i] = radiated[j, top]
+            columns["sound_power_peak_speed_rad_s"][i] = speeds[top]
     seconds = np.asarray([r.get("seconds", math.nan) for r in results], dtype=float)
-    curves = SoundCurves(np.asarray(chosen, dtype=int), speeds, level, loss, tuple(flanks),
-                         seconds, tuple(failed))
+    curves = SoundCurves(np.asarray(chosen, dtype=int), speeds, level, loss, radiated,
+                         tuple(flanks), seconds, tuple(failed))
     table = dataclasses.replace(table, columns=table.columns | columns
                                 | {"sound_stage": stage.astype(str)})
     return table, curves

@@ -213,7 +213,7 @@ def run_size(args) -> int:
     } | _pareto_summary(spec, table, front)
     summary["dynamics_stage"] = _dynamics_summary(spec, table, curves, dyn_seconds)
     if sound is not None:
-        summary["sound_stage"] = _sound_summary(heard, sound_seconds)
+        summary["sound_stage"] = _sound_summary(heard, sound_seconds, sound)
     if refining:
         summary |= {"refine_objective": spec.refine_objective,
                     "refined": int(table.columns["refined"].sum()),
@@ -491,9 +491,20 @@ def _sound_stage(spec, tables, table, section, candidates, store, args):
     return table, heard, time.perf_counter() - t0
 
 
-def _sound_summary(heard, seconds: float) -> dict:
-    """sizing.json's ``sound_stage``: what ran, on which model, over which speeds."""
-    return {
+def _sound_summary(heard, seconds: float, section) -> dict:
+    """sizing.json's ``sound_stage``: what ran, on which model, over which speeds (with
+    ``[sound] sound_power = true``: the radiated sound power's settings)."""
+    radiation = section.radiation()
+    power = {} if radiation is None else {"sound_power": {
+        "method": radiation.method,
+        "frequencies": radiation.frequencies,
+        "rank": radiation.rank,
+        "what": "the housing's closed outer skin radiating by [acoustics] (jaxgear run's, "
+                "written into each housed case), the overall L_W over the orders in the "
+                "housing's band at every speed, not A-weighted; sound_power_peak_dB its largest "
+                "over the speeds",
+    }}
+    return power | {
         "candidates": [int(i) for i in heard.rows],
         "flanks": list(heard.flanks),
         "failed": {str(int(i)): why for i, why in zip(heard.rows, heard.failed, strict=True)
@@ -515,20 +526,22 @@ def _sound_summary(heard, seconds: float) -> dict:
 
 
 def _sound_file(folder: str, heard) -> None:
-    """``sound.csv``: per candidate run and speed, the overall ERP and the contact loss."""
+    """``sound.csv``: per candidate run and speed, the overall ERP, the contact loss and the
+    overall radiated sound power L_W (empty without ``[sound] sound_power = true``)."""
     with atomic_open(os.path.join(folder, "sound.csv"), "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(["candidate", "flanks", "speed_rad_s", "speed_rpm", "overall_erp_dB",
-                    "contact_loss"])
+                    "contact_loss", "overall_sound_power_dB"])
         for j, i in enumerate(heard.rows):
             if heard.failed[j]:
                 continue
             for s, speed in enumerate(heard.speeds):
-                v = heard.overall_erp_db[j, s]
+                v, p = heard.overall_erp_db[j, s], heard.overall_sound_power_db[j, s]
                 w.writerow([int(i), heard.flanks[j], repr(float(speed)),
                             repr(float(speed) * 30 / math.pi),
                             "" if math.isnan(v) else repr(float(v)),
-                            int(heard.contact_loss[j, s])])
+                            int(heard.contact_loss[j, s]),
+                            "" if math.isnan(p) else repr(float(p))])
 
 
 def _print_sound(table, heard, seconds: float) -> None:
@@ -545,4 +558,7 @@ def _print_sound(table, heard, seconds: float) -> None:
             continue
         print(f"{i:>7d}  {c['sound_stage'][i]:<9s} {c['erp_peak_dB'][i]:21.2f}  "
               f"{c['erp_peak_speed_rad_s'][i] * rpm:10.0f}  "
-              f"{int(c['sound_contact_loss'][i]):12d}  {heard.seconds[j]:8.1f}")
+              f"{int(c['sound_contact_loss'][i]):12d}  {heard.seconds[j]:8.1f}"
+              + ("" if math.isnan(c["sound_power_peak_dB"][i]) else
+                 f"  sound power peak {c['sound_power_peak_dB'][i]:.2f} dB re 1 pW at "
+                 f"{c['sound_power_peak_speed_rad_s'][i] * rpm:.0f} 1/min"))

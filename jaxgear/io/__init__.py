@@ -166,6 +166,7 @@ from ._sizing_spec import (
     unstaged_objective as unstaged_objective,
 )
 from ._sizing_sound import (
+    SoundAcoustics as SoundAcoustics,
     SoundLayout as SoundLayout,
     SoundSection as SoundSection,
     sizing_sound as sizing_sound,

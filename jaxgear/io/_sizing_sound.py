@@ -32,6 +32,17 @@ housing, which ``jaxgear run`` runs) states.
     bearing_radial_N_per_um = 500.0 # each bearing's radial stiffness, (0, 1e6], default 500
     bearing_axial_N_per_um = 200.0  # the first bearing of each shaft's axial stiffness,
                                     # (0, 1e6], default 200
+    sound_power = false             # the radiated sound power too (BEM on the housing's closed
+                                    # skin, jaxgear run's [acoustics]), default false
+    [sound.acoustics]               # optional, with sound_power = true: the housed case's
+                                    # [acoustics] (docs/acoustics.md; its keys and checks)
+    method = "bem"                  # "bem" (default) or "erp-only" (radiation efficiency 1)
+    frequencies = 6                 # R at this many log-spaced frequencies over the orders'
+                                    # range, [1, 2000], default 6 (the ranking's coarse grid)
+    rank = 64                       # radiation modes kept, [1, 1e6], default all
+    cache = true                    # R in fem_prep's cache, default true
+    density_kg_m3 = 1.21            # the air, (0, 1e4], default 1.21
+    sound_speed_m_s = 343.0         # (0, 1e5], default 343
 
 The layout of a candidate (:func:`sound_layout`; SI there, mm in the case file): each shaft of
 length b + 4 margin with its gear at the middle, its bearings at margin and length − margin (b
@@ -43,21 +54,27 @@ length the case reader's default, the bearings' span + t (the end walls' mid-pla
 bearings), its bores the reader's 1.5 x the shafts' diameter. Both shafts have one diameter:
 the box of a case's ``[housing]`` has one bore diameter, and a wheel shaft thicker than the
 pinion's would need a bore at each axis of its own.
+
+With ``sound_power = true`` the housed case holds ``[acoustics]`` too (:class:`SoundAcoustics`:
+``[acoustics]``'s keys and checks, without ``band_Hz``, which follows each candidate's orders,
+nor microphones, whose places would follow each box), so that ``jaxgear run`` of it computes the
+radiated sound power the stage ranks by.
 """
 
 from __future__ import annotations
 
 import math
-from typing import ClassVar, NamedTuple
+from typing import ClassVar, Literal, NamedTuple
 
 import pydantic
 
 from fem_prep import schema as sc
 
+from ._acoustics_table import AcousticsSection
 from ._sections import Section, number, number_list
 
-__all__ = ["POSITIONS", "SOUND_ELEMENTS", "SoundLayout", "SoundSection", "sizing_sound",
-           "sound_layout"]
+__all__ = ["POSITIONS", "SOUND_ELEMENTS", "SoundAcoustics", "SoundLayout", "SoundSection",
+           "sizing_sound", "sound_layout"]
 
 RPM = math.pi / 30
 #: the finite elements along each shaft (the case reader refines them at the gear, the torque
@@ -65,6 +82,29 @@ RPM = math.pi / 30
 SOUND_ELEMENTS = 6
 #: the whine's time samples per mesh period (the [whine] default of the example housed case)
 POSITIONS = 64
+
+
+class SoundAcoustics(AcousticsSection):
+    """A sizing spec's ``[sound.acoustics]``: the ``[acoustics]`` table (:class:`~jaxgear.io.
+    AcousticsSection`, its keys, ranges and defaults) written into each candidate's housed case,
+    but for ``frequencies`` (default 6: a coarse grid, enough to rank candidates, docs/sizing.md,
+    "The sound stage"), ``method`` ("bem" or "erp-only": a housing's closed skin), and without
+    ``band_Hz`` (the grid spans each candidate's own orders) or microphones (whose places would
+    follow each candidate's box)."""
+
+    WHERE: ClassVar[str] = "sound.acoustics"
+    method: Literal["bem", "erp-only"] = "bem"
+    frequencies: number("[1, 2000]", integer=True) = 6
+
+    @pydantic.model_validator(mode="after")
+    def _related(self):  # replaces [acoustics]'s: neither of its related keys is read here
+        for key, why in (("band_Hz", "the grid spans each candidate's own orders"),
+                         ("microphones", "their places would follow each candidate's box")):
+            if key in self.model_fields_set:
+                value = self.band_Hz if key == "band_Hz" else self.microphone_names()
+                raise sc.fail(self.WHERE, key, f"not in a sizing ({why}): allowed method, "
+                              "frequencies, rank, cache, density_kg_m3, sound_speed_m_s", value)
+        return self
 
 
 class SoundSection(Section):
@@ -89,6 +129,8 @@ class SoundSection(Section):
     bearing_margin_mm: number("[0, 1000]") = 20.0
     bearing_radial_N_per_um: number("(0, 1e+06]") = 500.0
     bearing_axial_N_per_um: number("(0, 1e+06]") = 200.0
+    sound_power: bool = False
+    acoustics: SoundAcoustics | None = None
 
     @pydantic.model_validator(mode="after")
     def _related(self):
@@ -107,7 +149,18 @@ class SoundSection(Section):
                           f" = {sc.fmt(self.wall_thickness_mm / 2)} (the gears' faces inside "
                           "the end walls, whose mid-planes are at the bearings)",
                           self.bearing_margin_mm)
+        if self.acoustics is not None and not self.sound_power:
+            raise sc.fail(w, "sound_power", "[sound.acoustics] is read only with "
+                          "sound_power = true: allowed true with it, or no [sound.acoustics]",
+                          self.sound_power)
         return self
+
+    def radiation(self) -> SoundAcoustics | None:
+        """The ``[acoustics]`` each candidate's housed case holds: ``[sound.acoustics]`` (its
+        defaults where not given) with ``sound_power = true``, else None (no sound power)."""
+        if not self.sound_power:
+            return None
+        return SoundAcoustics() if self.acoustics is None else self.acoustics
 
     def shaft_diameter(self, root_diameter: float) -> float:
         """Both shafts' diameter (m) for a pinion of root diameter ``root_diameter`` (m): the

@@ -326,6 +326,7 @@ def parse_sizing_spec(data: dict) -> tuple[SizingSpec, dict]:
     _refuse_unstaged(spec.objectives, {"te": sz.te_candidates, "dynamics": sz.dynamics_candidates,
                                        "sound": 0 if sound is None else sound.candidates},
                      data)
+    _refuse_unradiated(spec.objectives, sound, data)
     _refuse_empty(spec, sz)
     return spec, data
 
@@ -363,6 +364,20 @@ def _refuse_unstaged(objectives, candidates: dict, data: dict) -> None:
            else f"which runs only with a [{table}] table")
     raise sc.fail("pareto", where, f"{name!r} is a column of {words}, {off}: allowed "
                   f"[{table}] {key} >= 1 with it, or objectives without it", pareto[where])
+
+
+def _refuse_unradiated(objectives, sound, data: dict) -> None:
+    """One line naming ``[pareto]``'s key that ranks by ``sound_power_peak_dB`` where ``[sound]``
+    runs without ``sound_power = true`` (the column NaN for every candidate); without
+    ``[sound]`` :func:`_refuse_unstaged` has refused it."""
+    name = "sound_power_peak_dB"
+    if sound is None or sound.sound_power or name not in [n for n, _ in objectives]:
+        return
+    pareto = data["pareto"]
+    where = next(k for k in ("minimise", "maximise") if name in pareto.get(k, []))
+    raise sc.fail("pareto", where, f"{name!r} is the sound stage's radiated sound power, which "
+                  "[sound] sound_power = true turns on: allowed sound_power = true with it, or "
+                  "objectives without it", pareto[where])
 
 
 def _objectives(data: dict) -> dict:
@@ -533,8 +548,10 @@ def housed_case_text(tables: dict, spec: SizingSpec, row: dict, index: int,
     and bearings of :func:`jaxgear.io.sound_layout` with composite damping, the box
     ``[housing]`` round them (tet10, ``highest_mesh_frequency_Hz`` the mesh order ``band_orders`` at the top speed,
     raised by 1e-9 so that round-off keeps it in the band) and ``[whine]`` over ``[sound]``'s
-    speeds (harmonic balance, 64 positions per period). ``jaxgear run`` of it runs the
-    housed whine and the ERP the sound stage reports.
+    speeds (harmonic balance, 64 positions per period); with ``[sound] sound_power = true`` its
+    ``[acoustics]`` (:meth:`jaxgear.io.SoundSection.radiation`: method, frequencies, rank,
+    cache and the air; the band the orders' range). ``jaxgear run`` of it runs the housed
+    whine, the ERP and the radiated sound power the sound stage reports.
 
     Args:
         tables, spec, row, index: as :func:`jaxgear.io.candidate_case_text`'s.
@@ -585,4 +602,12 @@ def housed_case_text(tables: dict, spec: SizingSpec, row: dict, index: int,
               f"speeds = {s.speeds}",
               f"harmonics = {s.harmonics}",
               f"positions_per_period = {SOUND_POSITIONS}"]
+    radiation = s.radiation()
+    if radiation is not None:  # [sound] sound_power: the radiated sound power, jaxgear run's
+        lines += ["[acoustics]", f"method = {toml_value(radiation.method)}",
+                  f"frequencies = {radiation.frequencies}"]
+        lines += [] if radiation.rank is None else [f"rank = {radiation.rank}"]
+        lines += [f"cache = {toml_value(radiation.cache)}",
+                  f"density_kg_m3 = {toml_value(radiation.density_kg_m3)}",
+                  f"sound_speed_m_s = {toml_value(radiation.sound_speed_m_s)}"]
     return text + "\n".join(lines) + "\n"

@@ -61,6 +61,9 @@ OBJECTIVES = {
     # the sound stage's (jaxgear size with [sound]): NaN, so off the front, for the candidates
     # it did not run
     "erp_peak_dB": ("min", "housing's overall ERP, largest over the speeds (dB re 1 pW)", 1.0),
+    # with [sound] sound_power = true: the radiated sound power (BEM, jaxgear run's [acoustics])
+    "sound_power_peak_dB": ("min", "housing's overall sound power L_W, largest over the speeds "
+                            "(dB re 1 pW)", 1.0),
 }
 
 #: the objectives a later stage adds, by stage (``"te"``: :func:`jaxgear.sizing.te_stage`,
@@ -71,7 +74,7 @@ OBJECTIVES = {
 STAGE_OBJECTIVES = {
     "te": ("te_ppk_m", "te_ppk_modified_m"),
     "dynamics": ("dynamic_factor_max", "dynamic_factor_at_speed", "whine_force_N"),
-    "sound": ("erp_peak_dB",),
+    "sound": ("erp_peak_dB", "sound_power_peak_dB"),
 }
 
 #: the columns of the mesh loss (with :attr:`SizingSpec.mesh_loss <jaxgear.sizing.SizingSpec>`):
