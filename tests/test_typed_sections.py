@@ -1214,7 +1214,8 @@ def _set(path, value):
     ("two-stage", _set(("shafts", 1, "length_mm"), 1e6),
      "[scene.shafts.intermediate] length_mm = 1e+06: out of range, allowed [1, 100000]"),
     ("two-stage", _set(("shafts", 1, "bearings", 0, "stiff"), 1.0),
-     "[scene.shafts.intermediate.bearings[0]] unknown key 'stiff', allowed: axial_N_per_um, "),
+     "[scene.shafts.intermediate.bearings[0]] unknown key 'stiff', allowed: arrangement, "
+     "axial_N_per_um, "),
     ("two-stage", _set(("shafts",), None),
      ("[scene] model = 'lumped3d' needs [[scene.shafts]], one per shaft: input, intermediate, "
       "output")),
