@@ -102,8 +102,7 @@ def with_bearing_stiffness(scene, shafts, changes: dict, extra_z=None):
     dR = jnp.zeros(st.reaction.shape, st.K.dtype)
     row = 0
     for k, (i, j) in enumerate(flat):
-        kb = shafts[i].bearings[j].stiffness_matrix()
-        rows = [d for d in range(3) if np.any(kb[d] != 0)]  # the force rows it was given
+        rows = shafts[i].bearings[j].force_rows()  # the force rows the assembly gave it
         delta = changes.get((i, j))
         if delta is not None:
             delta = jnp.asarray(delta, st.K.dtype)

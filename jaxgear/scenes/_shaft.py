@@ -389,6 +389,13 @@ class Bearing:
             )
         return np.diag([self.radial, self.radial, self.axial, self.tilt, self.tilt, 0.0])
 
+    def force_rows(self) -> tuple[int, ...]:
+        """The translational DOFs (0 u_x, 1 u_y, 2 u_z) whose elastic force k u the assembly
+        gives a bearing force row (:attr:`~jaxgear.scenes.Structure.reaction`): the non-zero
+        rows of :meth:`stiffness_matrix`'s first three."""
+        kb = self.stiffness_matrix()
+        return tuple(d for d in range(3) if np.any(kb[d] != 0))
+
     def damping_matrix(self) -> np.ndarray:
         """The 6×6 damping (SI, node frame); zeros without ``damping``."""
         return np.zeros((6, 6)) if self.damping is None else np.array(self.damping)
@@ -519,11 +526,10 @@ def shaft_matrices(spec: ShaftSpec, E, G, rho, extra_z=()) -> ShaftMatrices:
         kb = b.stiffness_matrix()
         Kb[sl, sl] += kb
         Cb[sl, sl] += b.damping_matrix()
-        for d in range(3):
-            if np.any(kb[d] != 0):
-                r = np.zeros(n)
-                r[sl] = kb[d]
-                rows.append((f"z={b.z * 1e3:g}mm F{'xyz'[d]}", r))
+        for d in b.force_rows():
+            r = np.zeros(n)
+            r[sl] = kb[d]
+            rows.append((f"z={b.z * 1e3:g}mm F{'xyz'[d]}", r))
     gear_nodes = tuple(idx(z) for z in gears)
     return ShaftMatrices(nodes, K, M, Kb, gear_nodes[0], idx(spec.torque_z), rows, Cb, gear_nodes)
 
