@@ -79,6 +79,21 @@ def _nullable(levels) -> list:
     return [None if math.isnan(v) else float(v) for v in np.asarray(levels, dtype=float)]
 
 
+def _levels(values) -> np.ndarray:
+    """A JSON list of levels (dB) back as an array, None (no power) as NaN: :func:`_nullable`'s
+    inverse."""
+    return np.asarray([math.nan if v is None else v for v in values], dtype=float)
+
+
+def _peak(columns: dict, i: int, names: tuple[str, str], levels, speeds) -> None:
+    """``jaxgear run``'s headline of a curve: its largest level (dB) and the speed where it is
+    (rad/s) into ``columns[names[0]][i]``, ``columns[names[1]][i]``; nothing where every level
+    is NaN."""
+    if np.isfinite(levels).any():
+        top = int(np.nanargmax(levels))
+        columns[names[0]][i], columns[names[1]][i] = levels[top], speeds[top]
+
+
 def _run_candidate(path: str) -> dict:
     """``jaxgear run``'s housed whine and ERP of the case file ``path``: the speeds, the overall
     ERP (NaN: no order in the band) and the contact loss per speed; with its ``[acoustics]`` the
@@ -178,19 +193,14 @@ def sound_stage(spec, tables: dict, table: sizing.SizingTable, section, candidat
             stage[i] = "failed"
             continue
         stage[i] = flanks[j]
-        level[j] = [math.nan if v is None else v for v in r["overall_erp_db"]]
+        level[j] = _levels(r["overall_erp_db"])
         loss[j] = r["contact_loss"]
         columns["sound_contact_loss"][i] = float(loss[j].sum())
-        if np.isfinite(level[j]).any():  # jaxgear run's headline: the largest, its speed
-            top = int(np.nanargmax(level[j]))
-            columns["erp_peak_dB"][i] = level[j, top]
-            columns["erp_peak_speed_rad_s"][i] = speeds[top]
+        _peak(columns, i, ("erp_peak_dB", "erp_peak_speed_rad_s"), level[j], speeds)
         if "overall_sound_power_db" in r:
-            radiated[j] = [math.nan if v is None else v for v in r["overall_sound_power_db"]]
-        if np.isfinite(radiated[j]).any():  # jaxgear run's acoustics: the largest, its speed
-            top = int(np.nanargmax(radiated[j]))
-            columns["sound_power_peak_dB"][i] = radiated[j, top]
-            columns["sound_power_peak_speed_rad_s"][i] = speeds[top]
+            radiated[j] = _levels(r["overall_sound_power_db"])
+        _peak(columns, i, ("sound_power_peak_dB", "sound_power_peak_speed_rad_s"), radiated[j],
+              speeds)
     seconds = np.asarray([r.get("seconds", math.nan) for r in results], dtype=float)
     curves = SoundCurves(np.asarray(chosen, dtype=int), speeds, level, loss, radiated,
                          tuple(flanks), seconds, tuple(failed))
