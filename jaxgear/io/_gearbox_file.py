@@ -456,9 +456,9 @@ def lumped_stage(case: Case, side: int, slices: int | None = None, housing=None,
 
 
 def _spectrum(case: Case) -> bool:
-    """The case's ``[rating]`` has a load spectrum (``[rating.spectrum]``)."""
-    rating = (case.raw or {}).get("rating")
-    return isinstance(rating, dict) and "spectrum" in rating
+    """The case's ``[rating]`` has a load spectrum (``[rating.spectrum]``, its typed
+    :class:`~jaxgear.io._rating_table.RatingSection`'s ``spectrum``)."""
+    return case.rating is not None and case.rating.spectrum is not None
 
 
 def _lumped(case: Case, table: StageEntry, where: str, side: int) -> LumpedPairGearboxStage:
