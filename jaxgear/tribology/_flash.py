@@ -264,6 +264,11 @@ class AbstractBulkTemperature(eqx.Module):
     def bulk(self, oil_temperature, mean_flash):
         """What a kind supplies (the class docstring)."""
 
+    def integral_bulk(self, oil_temperature, mean_flash):
+        """The integral-temperature method's bulk temperature θ_M,int (°C): ISO/TS 6336-21's
+        θ_oil + C₁ θ_flm (C₁ = 0.7) unless the kind says otherwise."""
+        return oil_temperature + _C1 * mean_flash
+
 
 class FlashBulkTemperature(AbstractBulkTemperature):
     """ISO/TS 6336-20's θ_M = θ_oil + 0.47 X_S X_mp θ_flm: ``lubrication_factor`` X_S (1.0 dip
@@ -286,6 +291,11 @@ class FlashBulkTemperature(AbstractBulkTemperature):
             oil_temperature + 0.47 * self.lubrication_factor * 0.5 * (1 + self.meshes) * mean_flash
         )
 
+    def integral_bulk(self, oil_temperature, mean_flash):
+        """θ_oil + C₁ X_S X_mp θ_flm: X_S and X_mp enter both methods' rules."""
+        x = self.lubrication_factor * 0.5 * (1 + self.meshes)
+        return oil_temperature + _C1 * x * mean_flash
+
 
 class GivenBulkTemperature(AbstractBulkTemperature):
     """A given (measured) bulk temperature θ_M (°C), in (−50, 400); both methods use it."""
@@ -307,6 +317,10 @@ class GivenBulkTemperature(AbstractBulkTemperature):
         self.value = as_float(value)
 
     def bulk(self, oil_temperature, mean_flash):
+        return self.value
+
+    def integral_bulk(self, oil_temperature, mean_flash):
+        """The given θ_M: both methods use it."""
         return self.value
 
 
@@ -444,13 +458,7 @@ def scuffing_scalars(bulk, oil, fl_max, fl_mean, theta_s, theta_int_s, dtype) ->
     :func:`~jaxgear.tribology.ts_scuffing`."""
     theta_m = jnp.asarray(bulk.bulk(oil, fl_mean), dtype)
     theta_b_max = theta_m + fl_max
-    # integral method: its own bulk rule unless a bulk temperature is given
-    if isinstance(bulk, GivenBulkTemperature):
-        theta_m_int = theta_m
-    elif isinstance(bulk, FlashBulkTemperature):  # X_S and X_mp enter both methods' rules
-        theta_m_int = oil + _C1 * bulk.lubrication_factor * 0.5 * (1 + bulk.meshes) * fl_mean
-    else:
-        theta_m_int = oil + _C1 * fl_mean
+    theta_m_int = jnp.asarray(bulk.integral_bulk(oil, fl_mean), dtype)  # the kind's own rule
     theta_int = theta_m_int + _C2 * fl_mean
     return {
         "max_flash_temperature": fl_max,
