@@ -27,12 +27,10 @@ its 360 balls sum as the table's integral to 3·10⁻⁶ (both measured against 
 Tolerance: the table's rounding, half a unit of its fourth decimal (5·10⁻⁵), plus 10⁻⁵ for the
 discreteness and the angle's drift; against the quadrature itself 5·10⁻⁶.
 
-Searched and not found readable (issue 85's other requests): Lim & Singh's (1990) example
-stiffness coefficients (their paper, and Guo & Parker's 2012 comparison of them, are stored
-only as their first page), Harris & Kotzalas's worked examples (the 209 deep groove ball
-bearing, the 218 angular contact ball bearing: on the book's CD-ROM in its 5th edition), and
-Jones's 1960 program output (at 24 000 r/min, a centrifugal load the quasi-static model does not
-hold); docs/bearings.md, "Evidence".
+Searched and not found readable (the other published figures the bearings lack): Lim & Singh's (1990) example
+stiffness coefficients (of Guo & Parker's 2012 comparison with them only the first page is
+reachable) and Harris & Kotzalas's worked examples (the 209 deep groove and 218 angular contact
+ball bearings: on the 5th edition's CD-ROM); docs/bearings.md, "Evidence".
 """
 
 from __future__ import annotations
