@@ -27,10 +27,10 @@ its 360 balls sum as the table's integral to 3·10⁻⁶ (both measured against 
 Tolerance: the table's rounding, half a unit of its fourth decimal (5·10⁻⁵), plus 10⁻⁵ for the
 discreteness and the angle's drift; against the quadrature itself 5·10⁻⁶.
 
-Searched and not found readable (the other published figures the bearings lack): Lim & Singh's (1990) example
-stiffness coefficients (of Guo & Parker's 2012 comparison with them only the first page is
-reachable) and Harris & Kotzalas's worked examples (the 209 deep groove and 218 angular contact
-ball bearings: on the 5th edition's CD-ROM); docs/bearings.md, "Evidence".
+Searched and not found readable (the other published figures the bearings lack): Lim &
+Singh's (1990) example stiffness coefficients (of Guo & Parker's 2012 comparison with them only
+the first page is reachable) and Harris & Kotzalas's worked examples (the 209 deep groove and
+218 angular contact ball bearings: on the 5th edition's CD-ROM); docs/bearings.md, "Evidence".
 """
 
 from __future__ import annotations
