@@ -44,7 +44,9 @@ rollers: ``rollers``, ``roller_diameter_mm``, ``roller_length_mm``; angular cont
 spherical: ``contact_angle_deg``; a spherical roller bearing's ``rollers`` are per row, of two;
 a pair of tapered roller bearings facing both ways, ``kind = "tapered_roller_pair"``, one row's
 geometry, ``arrangement = "O"`` or ``"X"``, ``end_play_um`` in place of ``clearance_um``
-(negative: a preload) and ``row_spacing_mm``, at ``position_mm`` the pair's centre); its
+(negative: a preload) and ``row_spacing_mm``, at ``position_mm`` the pair's centre; or
+``catalogue = "32060 X"``, a tapered roller entry, with ``arrangement`` and optionally
+``end_play_um``, ``row_spacing_mm``: the pair of the entry's rows); its
 stiffness is the one at the operating point of the case's
 quasi-static solve. For its life, ``dynamic_rating_kN`` and ``static_rating_kN`` (the maker's
 C and C0, where the catalogue entry has none; a deep groove ball bearing also ``iso281_f0``,
@@ -136,6 +138,8 @@ _ELEMENT_KEYS = {
 _BALL_OPTIONAL = ("inner_conformity", "outer_conformity")
 #: a tapered roller pair's optional keys: its axial end play in place of the rows' clearance
 _PAIR_OPTIONAL = ("end_play_um", "row_spacing_mm")
+#: the keys that make a tapered roller row's ``catalogue`` entry a pair of its rows
+_CATALOGUE_PAIR = ("arrangement", *_PAIR_OPTIONAL)
 _GEOMETRY = ("bore_mm", "outer_diameter_mm", "width_mm", "balls", "ball_diameter_mm",
              "rollers", "roller_diameter_mm", "roller_length_mm", "pitch_diameter_mm",
              "contact_angle_deg", "inner_conformity", "outer_conformity", "arrangement",
@@ -152,7 +156,9 @@ class BearingSection(Section):
     200, 0, 0), a 6×6 ``stiffness_matrix_SI``, or a rolling bearing from its geometry
     (``catalogue``, an embedded designation, or ``kind`` (:data:`ROLLING_KINDS`) with its
     geometry in mm, its rolling elements' count, its contact angle in degrees, its groove
-    conformities, and a diametral clearance in µm); one form only. An optional 6×6
+    conformities, and a diametral clearance in µm; a tapered roller entry with
+    ``arrangement``, ``end_play_um``, ``row_spacing_mm``: the pair of its rows,
+    :meth:`~jaxgear.bearings.TaperedRollerPair.of`); one form only. An optional 6×6
     ``damping_matrix_SI`` (:func:`jaxgear.scenes.bearing_matrix` checks the matrices).
     :meth:`bearing` the :class:`jaxgear.scenes.Bearing` (SI)."""
 
@@ -246,10 +252,7 @@ class BearingSection(Section):
             raise sc.fail(where, rolling[0], f"give one stiffness form, a linear one "
                           f"({', '.join(_LINEAR)}), catalogue or kind: remove {other}")
         if self.catalogue is not None:
-            extra = [k for k in _GEOMETRY if k in self.given]
-            if extra:
-                raise sc.fail(where, extra[0], f"not with catalogue = {self.catalogue!r} (the "
-                              "entry's geometry): allowed clearance_um beside it")
+            self._check_catalogue(where)
             rated = [k for k in _RATINGS if k in self.given]
             if rated and CATALOGUE[self.catalogue][1].get("dynamic_rating") is not None:
                 raise sc.fail(where, rated[0], f"not with catalogue = {self.catalogue!r} (the "
@@ -259,6 +262,37 @@ class BearingSection(Section):
         self._check_ratings(where)
         self.rolling(where)  # whatever the kind still refuses (its own line, in SI)
         return self
+
+    def _check_catalogue(self, where: str) -> None:
+        """A ``catalogue`` entry's keys: its geometry is the entry's; a tapered roller row's
+        entry may be a pair of its rows (``arrangement``, optionally ``end_play_um`` and
+        ``row_spacing_mm``, checked against the entry's roller and width in the file's units);
+        one line each."""
+        kind, entry, _ = CATALOGUE[self.catalogue]
+        own = (*_CATALOGUE_PAIR, "clearance_um") if kind is TaperedRoller else ("clearance_um",)
+        for key in _GEOMETRY:
+            if key in self.given and key in _CATALOGUE_PAIR and key not in own:
+                tapered = [k for k, v in CATALOGUE.items() if v[0] is TaperedRoller]
+                raise sc.fail(where, key, f"not with catalogue = {self.catalogue!r} (a "
+                              f"{kind.__name__}): allowed with a tapered roller entry "
+                              f"({', '.join(map(repr, tapered))}), a pair of its rows",
+                              getattr(self, key))
+            if key in self.given and key not in own:
+                raise sc.fail(where, key, f"not with catalogue = {self.catalogue!r} (the "
+                              f"entry's geometry): allowed {', '.join(own)} beside it")
+        if self.arrangement is None:
+            for key in _PAIR_OPTIONAL:
+                if key in self.given:
+                    raise sc.fail(where, key, f"not without arrangement: allowed with "
+                                  f"catalogue = {self.catalogue!r} and arrangement = 'O' or "
+                                  "'X' (a pair of the entry's rows)", getattr(self, key))
+            return
+        if "clearance_um" in self.given:
+            raise sc.fail(where, "clearance_um", "not with arrangement (a pair of the entry's "
+                          "rows): allowed end_play_um, which stands in for the rows' clearance",
+                          self.clearance_um)
+        self._check_pair(where, entry["element_diameter"] * 1e3,
+                         math.degrees(entry["contact_angle"]), entry["width"] * 1e3)
 
     def _check_ratings(self, where: str) -> None:
         """The ratings given together: C and C0 (ISO 281's life and its fatigue load limit
@@ -344,7 +378,7 @@ class BearingSection(Section):
                               f"(2 cos contact_angle_deg) = {room:.6g} (two rows side by side "
                               "within the width)", self.roller_length_mm)
         if pair:
-            self._check_pair(where, size)
+            self._check_pair(where, size, self.contact_angle_deg, self.width_mm)
         if self.clearance_um is not None:
             conformity = sum(getattr(self, k) or 0.52 for k in _BALL_OPTIONAL) - 1.0
             top = size * 1e3
@@ -357,11 +391,11 @@ class BearingSection(Section):
                               f"{top:.6g}) µm (below the {word} diameter{extra}; negative: a "
                               f"preload down to -{word}_diameter_mm/100)", self.clearance_um)
 
-    def _check_pair(self, where: str, size: float) -> None:
+    def _check_pair(self, where: str, size: float, angle: float, width: float) -> None:
         """A tapered roller pair's end play (the rows' clearance end_play tan α within the
         roller's range) and row spacing (the rows side by side at least), in the file's
-        units."""
-        t = math.tan(math.radians(self.contact_angle_deg))
+        units: ``size`` the roller diameter (mm), ``angle`` α (deg), ``width`` a row's (mm)."""
+        t = math.tan(math.radians(angle))
         if self.end_play_um is not None:
             lo, top = -10.0 * size / t, 1e3 * size / t
             if not lo <= self.end_play_um < top:
@@ -369,9 +403,9 @@ class BearingSection(Section):
                               f"{top:.6g}) µm (the rows' diametral clearance, end play x tan "
                               "contact_angle_deg, from -1 % of the roller diameter to below it; "
                               "negative: a preload)", self.end_play_um)
-        if self.row_spacing_mm is not None and not self.row_spacing_mm >= self.width_mm:
+        if self.row_spacing_mm is not None and not self.row_spacing_mm >= width:
             raise sc.fail(where, "row_spacing_mm", f"out of range, allowed >= width_mm = "
-                          f"{self.width_mm:g} (the rows' mid-planes: side by side at least)",
+                          f"{width:g} (the rows' mid-planes: side by side at least)",
                           self.row_spacing_mm)
 
     def rolling(self, where: str = ""):
@@ -386,9 +420,17 @@ class BearingSection(Section):
                                 ("fatigue_limit_kN", "fatigue_limit", 1e3)):
             if getattr(self, key) is not None:
                 changes[arg] = getattr(self, key) * scale
+        pair = {}
+        if self.arrangement is not None:
+            pair["arrangement"] = self.arrangement
+            if self.end_play_um is not None:
+                pair["end_play"] = self.end_play_um * 1e-6
+            if self.row_spacing_mm is not None:
+                pair["spacing"] = self.row_spacing_mm * 1e-3
         try:
             if self.catalogue is not None:
-                return catalogue(self.catalogue, **changes)
+                row = catalogue(self.catalogue, **changes)
+                return TaperedRollerPair.of(row, **pair) if pair else row
             if self.kind is None:
                 return None
             mm = 1e-3
@@ -403,13 +445,7 @@ class BearingSection(Section):
                             effective_length=self.roller_length_mm * mm)
             if self.contact_angle_deg is not None:
                 args["contact_angle"] = math.radians(self.contact_angle_deg)
-            if self.arrangement is not None:
-                args["arrangement"] = self.arrangement
-                if self.end_play_um is not None:
-                    args["end_play"] = self.end_play_um * 1e-6
-                if self.row_spacing_mm is not None:
-                    args["spacing"] = self.row_spacing_mm * 1e-3
-            return ROLLING_KINDS[self.kind](**args, **changes)
+            return ROLLING_KINDS[self.kind](**args, **pair, **changes)
         except ValueError as err:  # a relation the checks above do not state, in SI
             raise sc.SchemaError(f"[{where or self.WHERE}] {err}") from None
 
