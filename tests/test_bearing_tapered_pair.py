@@ -491,27 +491,27 @@ def test_case_file_catalogue_pair_is_the_spelled_out_pair():
 
 @pytest.mark.parametrize("keys,start", [
     ({"catalogue": "6205", "arrangement": "O"},
-     "arrangement = 'O': not with catalogue = '6205' (a DeepGrooveBall): allowed with a "
-     "tapered roller entry ('30205', '32060 X', 'LM 567949/910')"),
+     ("arrangement = 'O': not with catalogue = '6205' (a DeepGrooveBall): allowed with a "
+     "tapered roller entry ('30205', '32060 X', 'LM 567949/910')")),
     ({"catalogue": "231/750 CA", "arrangement": "X"},
      "arrangement = 'X': not with catalogue = '231/750 CA' (a SphericalRoller)"),
     ({"catalogue": "32060 X", "end_play_um": 10.0},
-     "end_play_um = 10: not without arrangement: allowed with catalogue = '32060 X' and "
-     "arrangement"),
-    ({"catalogue": "32060 X", "row_spacing_mm": 120.0}, "row_spacing_mm = 120: not without "
-     "arrangement"),
+     ("end_play_um = 10: not without arrangement: allowed with catalogue = '32060 X' and "
+     "arrangement")),
+    ({"catalogue": "32060 X", "row_spacing_mm": 120.0}, ("row_spacing_mm = 120: not without "
+     "arrangement")),
     ({"catalogue": "32060 X", "arrangement": "O", "clearance_um": 20.0},
-     "clearance_um = 20: not with arrangement (a pair of the entry's rows): allowed "
-     "end_play_um"),
+     ("clearance_um = 20: not with arrangement (a pair of the entry's rows): allowed "
+     "end_play_um")),
     ({"catalogue": "32060 X", "arrangement": "O", "row_spacing_mm": 90.0},
      "row_spacing_mm = 90: out of range, allowed >= width_mm = 100"),
     # 30205: D_w 6 mm, tan alpha = 0.37/1.5: end play from -D_w/100 / tan alpha = -243 um
     ({"catalogue": "30205", "arrangement": "O", "end_play_um": -300.0},
-     f"end_play_um = -300: out of range, allowed [{-60.0 * 1.5 / 0.37:.6g}, "
-     f"{6000.0 * 1.5 / 0.37:.6g}) µm"),
+     (f"end_play_um = -300: out of range, allowed [{-60.0 * 1.5 / 0.37:.6g}, "
+     f"{6000.0 * 1.5 / 0.37:.6g}) µm")),
     ({"catalogue": "32060 X", "arrangement": "O", "rollers": 20},
-     "rollers: not with catalogue = '32060 X' (the entry's geometry): allowed "
-     "arrangement, end_play_um, row_spacing_mm, clearance_um beside it"),
+     ("rollers: not with catalogue = '32060 X' (the entry's geometry): allowed "
+     "arrangement, end_play_um, row_spacing_mm, clearance_um beside it")),
 ])
 def test_case_file_catalogue_pair_refusals(keys, start):
     """A pair's keys on a catalogue entry that is not a tapered roller row, its end play or

@@ -103,6 +103,11 @@ class AbstractRollingBearing(eqx.Module):
       play stands in for the rows' clearance).
     - ``rows``: the rows of rolling elements i (ISO 281's i): 2 for :class:`SphericalRoller`
       and :class:`TaperedRollerPair`, 1 otherwise.
+    - ``carries_moment``: the kind holds a shaft against tilting on its own (one bearing node
+      that carries a moment from the start: :class:`TaperedRollerPair`, its rows' pressure
+      centres apart; :class:`LinearSpring`, its ``tilt`` spring where > 0), so that a shaft
+      may stand on it alone. Not the single-row kinds, whose tilt stiffness comes from their
+      load only (a shaft needs two of them apart), nor a self-aligning one (no moment).
 
     Methods: :meth:`load` (abstract; f(d), shape (5,)), :meth:`potential` (U(d), J, with
     f = ∇U), :meth:`stiffness` (K = ∂f/∂d by ``jax.jacfwd``, (5, 5)), :meth:`stiffness6` (the
@@ -118,6 +123,7 @@ class AbstractRollingBearing(eqx.Module):
     self_aligning: ClassVar[bool] = False
     clearance_field: ClassVar[bool] = True
     rows: ClassVar[int] = 1
+    carries_moment: ClassVar[bool] = False
 
     @abc.abstractmethod
     def load(self, displacement) -> Float[Array, " 5"]:
@@ -193,6 +199,7 @@ class LinearSpring(AbstractRollingBearing):
     contact_exponent: ClassVar[float] = 1.0
     axial_load: ClassVar[str] = "both"
     life_exponent: ClassVar[float | None] = None
+    carries_moment: ClassVar[bool] = True
 
     def __init__(self, radial=2e8, axial=1e8, tilt=0.0):
         for name, value, unit in (("radial", radial, "N/m"), ("axial", axial, "N/m"),
@@ -831,7 +838,8 @@ PAIR_DYNAMIC_FACTOR = 2.0 ** (7.0 / 9.0)
 class TaperedRollerPair(AbstractRollingBearing):
     """Two single-row tapered roller bearings of one geometry side by side, facing both ways,
     as ONE bearing node at the pair's centre: a radial load, an axial load both ways and a
-    moment (``axial_load = "both"``, not self-aligning).
+    moment (``axial_load = "both"``, not self-aligning, ``carries_moment``: a shaft may stand
+    on the pair alone, an overhung pinion).
 
     Geometry: the rows' roller mid-planes sit at z = ∓s/2 (``spacing`` s: one row's ``width``
     for two rows side by side, more with a spacer). Each row is a :class:`TaperedRoller`
@@ -886,6 +894,7 @@ class TaperedRollerPair(AbstractRollingBearing):
     self_aligning: ClassVar[bool] = False
     clearance_field: ClassVar[bool] = False
     rows: ClassVar[int] = 2
+    carries_moment: ClassVar[bool] = True
 
     def __init__(self, bore, outer_diameter, width, elements, element_diameter, pitch_diameter,
                  effective_length, contact_angle, arrangement="O", end_play=0.0, spacing=None,

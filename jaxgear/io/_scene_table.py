@@ -497,8 +497,9 @@ class ShaftKeys(Section):
     diameter (mm, ``length_mm`` in [1, 1e5], ``diameter_mm`` in [1, 1e4]: a denormal size
     passes "> 0" and fails in the solver), its gears' centres, the torque's position on it,
     its finite elements, and its bearings (:class:`BearingSection`, at least one), which must
-    hold it (an axial stiffness, and a tilt stiffness or two radial bearings 1 % of its length
-    apart). Positions lie on the shaft ([0, length_mm])."""
+    hold it (an axial stiffness, and a tilt stiffness, a bearing that carries a moment (a
+    tapered roller pair: :meth:`~jaxgear.scenes.Bearing.holds_tilt`) or two radial bearings
+    1 % of its length apart). Positions lie on the shaft ([0, length_mm])."""
 
     @pydantic.field_validator("torque_position_mm", check_fields=False)
     @classmethod
@@ -535,16 +536,18 @@ class ShaftKeys(Section):
                 "(axial_N_per_um > 0 or stiffness_matrix_SI[2][2] > 0"
                 + (", or a rolling bearing that carries an axial load)" if rolling else ")")
             )
-        # a rolling bearing is a radial support: its tilt stiffness, which its load gives it,
-        # does not hold a shaft alone
-        if any(c[3] and c[4] and b.rolling is None for b, c in zip(bearings, carried,
-                                                                    strict=True)):
+        # a single-row rolling bearing is a radial support: its tilt stiffness, which its
+        # load gives it, does not hold a shaft alone; a kind that carries a moment does
+        if any(b.holds_tilt() for b in bearings):
             return self
         radial = [b.z for b, c in zip(bearings, carried, strict=True) if c[0] and c[1]]
         if len(radial) < 2:
             raise sc.SchemaError(
                 f"[{where}] bearings: needs two radial bearings (or a tilt stiffness) to hold "
-                "the shaft"
+                "the shaft" + (" (a single-row or self-aligning rolling bearing is a radial "
+                               "support only: allowed a second bearing, or a bearing that "
+                               "carries a moment, kind = 'tapered_roller_pair')"
+                               if any(b.rolling is not None for b in bearings) else "")
             )
         # two radial bearings at one position hold the shaft like one: it tilts freely
         span_mm = (max(radial) - min(radial)) * 1e3
