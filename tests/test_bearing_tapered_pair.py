@@ -522,3 +522,69 @@ def test_case_file_catalogue_pair_refusals(keys, start):
     text = str(err.value)
     assert text.startswith("[scene.pinion_shaft.bearings[0]] " + start), text
     assert "\n" not in text
+
+
+def test_case_file_crown_um_is_the_kinds_crown():
+    """``crown_um`` on a roller kind is the kind's ``crown`` c (m): the case-file pair (kind
+    and catalogue forms) and a cylindrical roller bearing carry bit for bit the load and
+    stiffness at a tilted displacement of the API kinds built with crown = crown_um × 1e-6,
+    (the stiffness: the pair's) which differ from the straight rollers' (the crown unloads the
+    rollers' ends); ISO/TS
+    16281's c = 0.00045 D_w of a tapered roller (D_w 6.5 mm: 2.925 µm), 0.00035 D_w of a
+    cylindrical one."""
+    d = jnp.asarray([10e-6, -5e-6, 4e-6, 2e-4, -3e-4])
+    c = 0.45 * 6.5  # µm
+    by_kind = jio.parse_case(_pair_case(crown_um=c)).scene.pinion_shaft.bearings[0].rolling
+    api = pair("X", end_play=-5.0 * 1e-6, crown=c * 1e-6, spacing=20.0 * 1e-3,
+               contact_angle=math.radians(math.degrees(ALPHA)))
+    straight = pair("X", end_play=-5.0 * 1e-6, spacing=20.0 * 1e-3,
+                    contact_angle=math.radians(math.degrees(ALPHA)))
+    row = jb.catalogue("32060 X")
+    c_cat = 0.45 * float(row.element_diameter) * 1e3  # µm: 0.00045 D_w
+    by_catalogue = jio.parse_case(_catalogue_case(catalogue="32060 X", arrangement="O",
+                                                  crown_um=c_cat)
+                                  ).scene.pinion_shaft.bearings[0].rolling
+    api_catalogue = jb.TaperedRollerPair.of(jb.catalogue("32060 X", crown=c_cat * 1e-6), "O")
+    nu = {"kind": "cylindrical_roller", "bore_mm": 25.0, "outer_diameter_mm": 52.0,
+          "width_mm": 15.0, "rollers": 13, "roller_diameter_mm": 7.0, "roller_length_mm": 8.0,
+          "pitch_diameter_mm": 38.5}
+    by_nu = jio.parse_case(_catalogue_case(**nu, crown_um=0.35 * 7.0)
+                           ).scene.pinion_shaft.bearings[0].rolling
+    api_nu = jb.catalogue("NU 205", crown=0.35 * 7.0 * 1e-6)
+    assert float(by_kind.crown) == pytest.approx(2.925e-6, rel=1e-12)
+    for got, want in ((by_kind, api), (by_catalogue, api_catalogue), (by_nu, api_nu)):
+        assert np.array_equal(np.asarray(_load(got, d)), np.asarray(_load(want, d)))
+    assert np.array_equal(np.asarray(by_kind.stiffness(d)), np.asarray(api.stiffness(d)))
+    f, f0 = np.asarray(_load(by_kind, d)), np.asarray(_load(straight, d))
+    assert np.max(np.abs(f - f0)) > 1e-3 * np.max(np.abs(f0))
+
+
+@pytest.mark.parametrize("keys,start", [
+    # 30206-sized row: D_w 6.5 mm, so c <= 65 µm
+    ({"crown_um": 70.0}, ("crown_um = 70: out of range, allowed [0, 65] µm (the logarithmic "
+                          "crown's scale, at most the roller diameter/100")),
+    ({"crown_um": -1.0}, "crown_um = -1: out of range, allowed [0, 5000]"),
+    # the 32060 X entry: D_w 40 mm, c <= 400 µm
+    ({"catalogue": "32060 X", "arrangement": "O", "crown_um": 450.0},
+     "crown_um = 450: out of range, allowed [0, 400] µm"),
+    ({"catalogue": "6205", "crown_um": 2.0},
+     ("crown_um = 2: not with catalogue = '6205' (a DeepGrooveBall, no crown): allowed on a "
+      "roller kind that takes a crown")),
+    ({"catalogue": "231/750 CA", "crown_um": 2.0},
+     "crown_um = 2: not with catalogue = '231/750 CA' (a SphericalRoller, no crown)"),
+    ({"kind": "deep_groove_ball", "bore_mm": 30.0, "outer_diameter_mm": 62.0, "width_mm": 16.0,
+      "balls": 9, "ball_diameter_mm": 9.525, "pitch_diameter_mm": 46.0, "crown_um": 2.0},
+     "crown_um = 2: not a key of kind = 'deep_groove_ball'"),
+    ({"radial_N_per_um": 100.0, "crown_um": 2.0}, "crown_um: is a rolling bearing's key"),
+])
+def test_case_file_crown_um_refused_in_one_line(keys, start):
+    """``crown_um`` above the roller diameter/100 (µm, the kind's or the catalogue entry's
+    roller), negative, on a ball or spherical roller kind, on a linear bearing: one line
+    naming the key in the file's units."""
+    data = _pair_case(**keys) if "crown_um" in keys and len(keys) == 1 else _catalogue_case(
+        **keys)
+    with pytest.raises(ValueError) as err:
+        jio.parse_case(data)
+    text = str(err.value)
+    assert text.startswith("[scene.pinion_shaft.bearings[0]] " + start), text
+    assert "\n" not in text

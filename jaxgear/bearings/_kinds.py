@@ -103,6 +103,10 @@ class AbstractRollingBearing(eqx.Module):
       play stands in for the rows' clearance).
     - ``rows``: the rows of rolling elements i (ISO 281's i): 2 for :class:`SphericalRoller`
       and :class:`TaperedRollerPair`, 1 otherwise.
+    - ``crown_field``: the kind's rollers take a logarithmic crown, its own field ``crown``
+      (m, 0 <= c <= D_w/100, or None: straight; the roller kinds sliced along their length:
+      :class:`CylindricalRoller`, :class:`TaperedRoller`, :class:`TaperedRollerPair`); not the
+      ball kinds, nor :class:`SphericalRoller` (one line per roller: no slice to unload).
     - ``carries_moment``: the kind holds a shaft against tilting on its own (one bearing node
       that carries a moment from the start: :class:`TaperedRollerPair`, its rows' pressure
       centres apart; :class:`LinearSpring`, its ``tilt`` spring where > 0), so that a shaft
@@ -123,6 +127,7 @@ class AbstractRollingBearing(eqx.Module):
     self_aligning: ClassVar[bool] = False
     clearance_field: ClassVar[bool] = True
     rows: ClassVar[int] = 1
+    crown_field: ClassVar[bool] = False
     carries_moment: ClassVar[bool] = False
 
     @abc.abstractmethod
@@ -584,6 +589,7 @@ class _Roller(_RollingElements):
 
     contact_exponent: ClassVar[float] = 10.0 / 9.0
     life_exponent: ClassVar[float | None] = 10.0 / 3.0
+    crown_field: ClassVar[bool] = True
 
     def _check_roller(self, where):
         _check_ring(where, self.bore, self.outer_diameter, self.width, self.elements,
@@ -770,6 +776,7 @@ class SphericalRoller(_Roller):
     axial_load: ClassVar[str] = "both"
     self_aligning: ClassVar[bool] = True
     rows: ClassVar[int] = 2
+    crown_field: ClassVar[bool] = False
 
     def __check_init__(self):
         w = "SphericalRoller"
@@ -894,6 +901,7 @@ class TaperedRollerPair(AbstractRollingBearing):
     self_aligning: ClassVar[bool] = False
     clearance_field: ClassVar[bool] = False
     rows: ClassVar[int] = 2
+    crown_field: ClassVar[bool] = True
     carries_moment: ClassVar[bool] = True
 
     def __init__(self, bore, outer_diameter, width, elements, element_diameter, pitch_diameter,

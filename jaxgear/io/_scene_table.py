@@ -40,8 +40,10 @@ optional ``damping_matrix_SI`` (6×6): SI per DOF pair, DOF order ux, uy, uz, rx
 docs/bearings.md) is ``{ position_mm, catalogue = "6205" }`` (an embedded bearing, optionally
 ``clearance_um``) or ``{ position_mm, kind = "deep_groove_ball", bore_mm, outer_diameter_mm,
 width_mm, balls, ball_diameter_mm, pitch_diameter_mm, clearance_um, ... }`` (:data:`ROLLING_KINDS`;
-rollers: ``rollers``, ``roller_diameter_mm``, ``roller_length_mm``; angular contact, tapered and
-spherical: ``contact_angle_deg``; a spherical roller bearing's ``rollers`` are per row, of two;
+rollers: ``rollers``, ``roller_diameter_mm``, ``roller_length_mm``, and optionally ``crown_um``,
+the rollers' logarithmic crown (cylindrical and tapered, a pair's rows, their catalogue entries
+too; at most the roller diameter/100); angular contact, tapered and spherical:
+``contact_angle_deg``; a spherical roller bearing's ``rollers`` are per row, of two;
 a pair of tapered roller bearings facing both ways, ``kind = "tapered_roller_pair"``, one row's
 geometry, ``arrangement = "O"`` or ``"X"``, ``end_play_um`` in place of ``clearance_um``
 (negative: a preload) and ``row_spacing_mm``, at ``position_mm`` the pair's centre; or
@@ -156,7 +158,8 @@ class BearingSection(Section):
     200, 0, 0), a 6×6 ``stiffness_matrix_SI``, or a rolling bearing from its geometry
     (``catalogue``, an embedded designation, or ``kind`` (:data:`ROLLING_KINDS`) with its
     geometry in mm, its rolling elements' count, its contact angle in degrees, its groove
-    conformities, and a diametral clearance in µm; a tapered roller entry with
+    conformities, a diametral clearance and a roller kind's logarithmic crown in µm; a
+    tapered roller entry with
     ``arrangement``, ``end_play_um``, ``row_spacing_mm``: the pair of its rows,
     :meth:`~jaxgear.bearings.TaperedRollerPair.of`); one form only. An optional 6×6
     ``damping_matrix_SI`` (:func:`jaxgear.scenes.bearing_matrix` checks the matrices).
@@ -190,6 +193,8 @@ class BearingSection(Section):
         None, json_schema_extra={"default": "0.52"})
     clearance_um: number("[-100, 1000]") | None = pydantic.Field(
         None, json_schema_extra={"default": "0 (catalogue: the entry's)"})
+    crown_um: number("[0, 5000]") | None = pydantic.Field(
+        None, json_schema_extra={"default": "none (straight rollers)"})
     arrangement: Literal["O", "X"] | None = None
     end_play_um: number("[-1000, 10000]") | None = pydantic.Field(
         None, json_schema_extra={"default": "0"})
@@ -240,8 +245,8 @@ class BearingSection(Section):
             )
         rolling = [k for k in ("catalogue", "kind") if k in self.given]
         if not rolling:
-            extra = [k for k in (*_GEOMETRY, "clearance_um", *_RATINGS, "fatigue_limit_kN")
-                     if k in self.given]
+            extra = [k for k in (*_GEOMETRY, "clearance_um", "crown_um", *_RATINGS,
+                                 "fatigue_limit_kN") if k in self.given]
             if extra:
                 raise sc.fail(where, extra[0], "is a rolling bearing's key: allowed with "
                               "catalogue or kind (a bearing from its geometry)")
@@ -270,6 +275,8 @@ class BearingSection(Section):
         one line each."""
         kind, entry, _ = CATALOGUE[self.catalogue]
         own = (*_CATALOGUE_PAIR, "clearance_um") if kind is TaperedRoller else ("clearance_um",)
+        self._check_crown(where, kind, entry["element_diameter"] * 1e3,
+                          f"catalogue = {self.catalogue!r}")
         for key in _GEOMETRY:
             if key in self.given and key in _CATALOGUE_PAIR and key not in own:
                 tapered = [k for k, v in CATALOGUE.items() if v[0] is TaperedRoller]
@@ -344,6 +351,13 @@ class BearingSection(Section):
             if key not in self.given:
                 raise sc.fail(where, key, f"missing: kind = {self.kind!r} needs "
                               f"{', '.join(own)}")
+        if "roller_diameter_mm" in own:
+            self._check_crown(where, ROLLING_KINDS[self.kind], self.roller_diameter_mm,
+                              f"kind = {self.kind!r}")
+        elif "crown_um" in self.given:
+            raise sc.fail(where, "crown_um", f"not a key of kind = {self.kind!r}: allowed on "
+                          "a roller kind that takes a crown (cylindrical_roller, "
+                          "tapered_roller, tapered_roller_pair)", self.crown_um)
         d, D = self.bore_mm, self.outer_diameter_mm
         if not D > d:
             raise sc.fail(where, "outer_diameter_mm", f"out of range, allowed > bore_mm = "
@@ -391,6 +405,22 @@ class BearingSection(Section):
                               f"{top:.6g}) µm (below the {word} diameter{extra}; negative: a "
                               f"preload down to -{word}_diameter_mm/100)", self.clearance_um)
 
+    def _check_crown(self, where: str, kind: type, size: float, what: str) -> None:
+        """``crown_um``: on a kind that declares ``crown_field`` only, at most the roller
+        diameter ``size`` (mm) / 100 (the kinds' range, in µm); ``what`` the kind's words."""
+        if self.crown_um is None:
+            return
+        if not kind.crown_field:
+            raise sc.fail(where, "crown_um", f"not with {what} (a {kind.__name__}, no crown): "
+                          "allowed on a roller kind that takes a crown (cylindrical_roller, "
+                          "tapered_roller, tapered_roller_pair, or their catalogue entries)",
+                          self.crown_um)
+        top = 10.0 * size  # D_w / 100, in µm
+        if not self.crown_um <= top:
+            raise sc.fail(where, "crown_um", f"out of range, allowed [0, {top:.6g}] µm (the "
+                          "logarithmic crown's scale, at most the roller diameter/100; ISO/TS "
+                          "16281: 0.35 to 0.45 x the roller diameter in mm)", self.crown_um)
+
     def _check_pair(self, where: str, size: float, angle: float, width: float) -> None:
         """A tapered roller pair's end play (the rows' clearance end_play tan α within the
         roller's range) and row spacing (the rows side by side at least), in the file's
@@ -414,6 +444,8 @@ class BearingSection(Section):
         changes = {}
         if self.clearance_um is not None:
             changes["clearance"] = self.clearance_um * 1e-6
+        if self.crown_um is not None:
+            changes["crown"] = self.crown_um * 1e-6
         for key, arg, scale in (("dynamic_rating_kN", "dynamic_rating", 1e3),
                                 ("static_rating_kN", "static_rating", 1e3),
                                 ("iso281_f0", "iso281_f0", 1.0),
