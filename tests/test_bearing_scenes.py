@@ -54,16 +54,23 @@ def shaft_point():
     pinion = ShaftSpec(length=L, diameter=0.025, gear_z=A, torque_z=0.0, elements=4,
                        bearings=(Bearing(0.0, rolling=six), Bearing(L, rolling=six)))
     gear = case.scene.gear_shaft
-    mesh = case.mesh_model(slices=2)
+    build, point = _accessory_point(case, case.mesh_model(slices=2), pinion)
+    return case, six, build, (pinion, gear), point
+
+
+def _accessory_point(case, mesh, pinion):
+    """(build, the operating point at :data:`TORQUE`) of the accessory pair ``case`` on
+    ``mesh`` with ``pinion`` its pinion shaft, its gear shaft the case's, 8 positions per
+    pitch, the load's rotation held."""
 
     def build(shafts):
         return lumped_pair(case.pair, mesh, *shafts, masses=(0.5, 2.0),
                            inertias=((2e-4, 3e-4), (2e-3, 3e-3)))
 
-    point = bearings_at_operating_point(build, (pinion, gear), None, TORQUE,
+    point = bearings_at_operating_point(build, (pinion, case.scene.gear_shaft), None, TORQUE,
                                         hold=lambda s: (s.torque_dofs[1],),
                                         positions_per_pitch=8)
-    return case, six, build, (pinion, gear), point
+    return build, point
 
 
 def test_bearing_reactions_equal_two_support_statics(shaft_point):
@@ -502,17 +509,8 @@ def overhung_point():
     pair = jb.TaperedRollerPair.of(jb.catalogue("30205"), "O", end_play=-5e-6)
     pinion = ShaftSpec(length=0.060, diameter=0.025, gear_z=OVERHANG, torque_z=0.060,
                        elements=4, bearings=(Bearing(0.0, rolling=pair),))
-    gear = case.scene.gear_shaft
     mesh = case.replace(contact_geometry=TheoreticalPath()).mesh_model(slices=1)
-
-    def build(shafts):
-        return lumped_pair(case.pair, mesh, *shafts, masses=(0.5, 2.0),
-                           inertias=((2e-4, 3e-4), (2e-3, 3e-3)))
-
-    point = bearings_at_operating_point(build, (pinion, gear), None, TORQUE,
-                                        hold=lambda s: (s.torque_dofs[1],),
-                                        positions_per_pitch=8)
-    return pair, point
+    return pair, _accessory_point(case, mesh, pinion)[1]
 
 
 def test_overhung_pinion_on_one_pair_is_the_cantilever_statics(overhung_point):
