@@ -5,10 +5,12 @@ an operating point, the fixed point of the bearings' loads
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import tomllib
 from pathlib import Path
 
+import equinox as eqx
 import numpy as np
 import pytest
 
@@ -52,16 +54,23 @@ def shaft_point():
     pinion = ShaftSpec(length=L, diameter=0.025, gear_z=A, torque_z=0.0, elements=4,
                        bearings=(Bearing(0.0, rolling=six), Bearing(L, rolling=six)))
     gear = case.scene.gear_shaft
-    mesh = case.mesh_model(slices=2)
+    build, point = _accessory_point(case, case.mesh_model(slices=2), pinion)
+    return case, six, build, (pinion, gear), point
+
+
+def _accessory_point(case, mesh, pinion):
+    """(build, the operating point at :data:`TORQUE`) of the accessory pair ``case`` on
+    ``mesh`` with ``pinion`` its pinion shaft, its gear shaft the case's, 8 positions per
+    pitch, the load's rotation held."""
 
     def build(shafts):
         return lumped_pair(case.pair, mesh, *shafts, masses=(0.5, 2.0),
                            inertias=((2e-4, 3e-4), (2e-3, 3e-3)))
 
-    point = bearings_at_operating_point(build, (pinion, gear), None, TORQUE,
+    point = bearings_at_operating_point(build, (pinion, case.scene.gear_shaft), None, TORQUE,
                                         hold=lambda s: (s.torque_dofs[1],),
                                         positions_per_pitch=8)
-    return case, six, build, (pinion, gear), point
+    return build, point
 
 
 def test_bearing_reactions_equal_two_support_statics(shaft_point):
@@ -482,3 +491,133 @@ def test_clearance_derivative_of_the_mesh_mode():
         2 * h)
     assert slope < 0  # more clearance, softer bearings, a lower mesh mode
     assert slope == pytest.approx(fd, rel=3e-2)
+
+
+#: the overhung pinion: its shaft 60 mm long on ONE tapered roller pair (30205's rows, O) at
+#: z = 0, the pinion 45 mm out
+OVERHANG = 0.045
+
+
+@pytest.fixture(scope="module")
+def overhung_point():
+    """The accessory pair (examples/accessory-lumped3d.toml) on the theoretical path of
+    contact (every cell's normal along the line of action, arm r_b1), ONE slice over the face
+    (the mesh force at mid-face whatever the shaft's tilt), 8 positions per pitch; its pinion
+    on a 25 mm shaft held by a tapered roller pair alone at z = 0, overhung by 45 mm; the gear
+    shaft on the example's linear springs."""
+    case = jio.load_case(str(LINEAR))
+    pair = jb.TaperedRollerPair.of(jb.catalogue("30205"), "O", end_play=-5e-6)
+    pinion = ShaftSpec(length=0.060, diameter=0.025, gear_z=OVERHANG, torque_z=0.060,
+                       elements=4, bearings=(Bearing(0.0, rolling=pair),))
+    mesh = case.replace(contact_geometry=TheoreticalPath()).mesh_model(slices=1)
+    return pair, _accessory_point(case, mesh, pinion)[1]
+
+
+def test_overhung_pinion_on_one_pair_is_the_cantilever_statics(overhung_point):
+    """A shaft held by one bearing that carries a moment (``carries_moment``): the pair's
+    load against the shaft's force and moment balance by hand. On the theoretical path every
+    contact pushes along the line of action t with the arm r_b1, so the mesh force on the
+    pinion is F_n = T / r_b1 along t (spur: no axial part; the torque about z the only other
+    load); with one slice it acts at mid-face, 45 mm from the pair. The pair carries it:
+    (F_x, F_y) of magnitude F_n, F_z = 0, and the moment of the force about its node,
+    M = Δz e_z × F: M_x = −Δz F_y, M_y = Δz F_x (Δz = 45 mm), each to 1e-8 of F_n (of
+    F_n Δz): the shaft is statically determinate, so every iteration's loads are statics'."""
+    _, point = overhung_point
+    g = tomllib.loads(LINEAR.read_text())
+    m, alpha = g["pair"]["normal_module_mm"] * 1e-3, math.radians(
+        g["pair"]["normal_pressure_angle_deg"])
+    z1, z2 = g["pinion"]["teeth"], g["gear"]["teeth"]
+    Fn = TORQUE / (0.5 * m * z1 * math.cos(alpha))
+    aw = _working_pressure_angle(alpha, g["pinion"]["profile_shift"] + g["gear"]["profile_shift"],
+                                 z1 + z2)
+    (f,) = (np.asarray(x) for x in point.loads[0])
+    assert math.hypot(f[0], f[1]) == pytest.approx(Fn, rel=1e-8)
+    assert abs(f[0]) / abs(f[1]) == pytest.approx(math.tan(aw), rel=1e-8)
+    assert abs(f[2]) <= 1e-8 * Fn
+    np.testing.assert_allclose(f[3:], [-OVERHANG * f[1], OVERHANG * f[0]], rtol=0,
+                               atol=1e-8 * Fn * OVERHANG)
+    assert 2 <= point.iterations <= 8 and point.change <= 1e-6
+
+
+def test_overhung_pair_stiffness_is_the_central_differences(overhung_point):
+    """The pair's stiffness in the scene at its operating point (all five DOFs, the tilt
+    included: what holds the overhung shaft) against central differences of its load
+    function there (h = 1e-6 of the displacement's scale per DOF, translations and tilts), to
+    1e-8 of each column's largest entry (measured 4e-10; the differences converge as h², 5e-6
+    at h = 1e-4); the pair carries its load there (f(d) = load, 1e-9)."""
+    pair, point = overhung_point
+    b = point.shafts[0].bearings[0]
+    d = np.asarray(b.operating)
+    f = np.asarray(point.loads[0][0])
+    load = eqx.filter_jit(pair.load)
+    assert np.max(np.abs(np.asarray(load(d)) - f)) <= 1e-9 * np.max(np.abs(f))
+    K = np.asarray(b.stiffness_matrix())[:5, :5]
+    scale = np.array([*[np.max(np.abs(d[:3]))] * 3, *[np.max(np.abs(d[3:]))] * 2])
+    for j in range(5):
+        h = 1e-6 * scale[j]
+        e = np.zeros(5)
+        e[j] = h
+        fd = (np.asarray(load(d + e)) - np.asarray(load(d - e))) / (2 * h)
+        assert np.max(np.abs(K[:, j] - fd)) <= 1e-8 * np.max(np.abs(fd)), j
+    assert K[3, 3] > 0 and K[4, 4] > 0  # the tilt stiffness that holds the shaft
+
+
+@pytest.mark.parametrize("bearing, held", [
+    ({"catalogue": "30205", "arrangement": "O"}, True),
+    ({"catalogue": "30205", "arrangement": "X", "end_play_um": -5.0}, True),
+    ({"catalogue": "6205"}, False),
+    ({"catalogue": "7205 B"}, False),
+    ({"catalogue": "30205"}, False),
+    ({"catalogue": "231/750 CA"}, False),
+])
+def test_case_file_shaft_on_one_bearing_carries_a_moment_or_is_refused(bearing, held):
+    """A shaft on one bearing (the example's pinion shaft, its second bearing removed): held
+    by a kind that declares ``carries_moment`` (a tapered roller pair, O or X), refused in one
+    line by a single-row ball, angular contact or tapered bearing and a self-aligning
+    spherical one (radial supports only)."""
+    data = _example()
+    data["scene"]["pinion_shaft"]["bearings"] = [{"position_mm": 0.0, **bearing}]
+    if held:
+        b = jio.parse_case(data).scene.pinion_shaft.bearings[0]
+        assert b.rolling.carries_moment and b.holds_tilt()
+        return
+    _refused(data, "[scene.pinion_shaft] bearings: needs two radial bearings (or a tilt "
+             "stiffness) to hold the shaft (a single-row or self-aligning rolling bearing is a "
+             "radial support only: allowed a second bearing, or a bearing that carries a "
+             "moment, kind = 'tapered_roller_pair')")
+
+
+def test_contract_declares_which_kinds_carry_a_moment():
+    """``carries_moment`` on the contract: the pair and a linear spring (its tilt spring) yes;
+    every single-row kind and the self-aligning spherical roller bearing no."""
+    assert jb.TaperedRollerPair.carries_moment and jb.LinearSpring.carries_moment
+    for kind in (jb.DeepGrooveBall, jb.AngularContactBall, jb.CylindricalRoller,
+                 jb.TaperedRoller, jb.SphericalRoller):
+        assert not kind.carries_moment, kind
+
+
+def test_start_springs_hold_a_shaft_on_one_pair():
+    """The first solve's springs (white box: a singular start is factored with a pivot of
+    rounding noise, which some CPUs turn into a failed solve): a shaft on one pair stands on
+    its tilt spring too, k_t = k_r (d_m/2)² by hand (30205: d_m = 39 mm), so that the shaft's
+    stiffness (its elements and start springs) is singular only in the free rotation about
+    its axis (1 zero eigenvalue; 3 without the tilt spring: the shaft tilts about the node);
+    a shaft on two radial bearings keeps no tilt spring (statically determinate as before)."""
+    from jaxgear.dynamics._bearings import START_SPRING, _start_springs
+    from jaxgear.scenes import shaft_matrices
+
+    pair = jb.TaperedRollerPair.of(jb.catalogue("30205"), "O")
+    one = ShaftSpec(length=0.06, diameter=0.025, gear_z=0.045, torque_z=0.06, elements=4,
+                    bearings=(Bearing(0.0, rolling=pair),))
+    (start,) = _start_springs(one)
+    assert start.tilt == pytest.approx(START_SPRING[0] * 0.0195**2, rel=1e-12)
+    assert start.radial == START_SPRING[0] and start.axial == START_SPRING[1]
+    two = ShaftSpec(length=0.06, diameter=0.025, gear_z=0.045, torque_z=0.06, elements=4,
+                    bearings=(Bearing(0.0, rolling=pair),
+                              Bearing(0.06, rolling=jb.catalogue("6205"))))
+    assert [b.tilt for b in _start_springs(two)] == [0.0, 0.0]
+    free = Bearing(0.0, radial=START_SPRING[0], axial=START_SPRING[1], tilt=0.0)
+    for bearings, zeros in (((start,), 1), ((free,), 3)):
+        m = shaft_matrices(dataclasses.replace(one, bearings=bearings), 2.1e11, 8.1e10, 7850.0)
+        w = np.linalg.eigvalsh(m.K + m.K_bearing)
+        assert int(np.sum(np.abs(w) < 1e-9 * w.max())) == zeros

@@ -427,3 +427,164 @@ def test_catalogue_rows_and_the_nrel_example_pairs():
         assert float(built.dynamic_rating) == pytest.approx(2 ** (7 / 9) * t["C_kN"] * 1e3)
     refused_in_one_line(lambda: jb.TaperedRollerPair.of(jb.catalogue("NU 205")),
                         "row = CylindricalRoller: allowed a TaperedRoller")
+
+
+def _mm(v: float) -> float:
+    """The file's mm value whose conversion m * 1e-3 is the SI value v to the bit (the reader's
+    conversion), found next to v * 1e3."""
+    m = v * 1e3
+    for _ in range(4):
+        if m * 1e-3 == v:
+            return m
+        m = math.nextafter(m, math.inf if m * 1e-3 < v else -math.inf)
+    raise AssertionError(f"no mm value converts to {v!r}")
+
+
+def _catalogue_case(**keys):
+    """:func:`_pair_case` with its pair the bearing table ``keys`` (at the same position)."""
+    data = _pair_case()
+    bearings = data["scene"]["pinion_shaft"]["bearings"]
+    bearings[0] = {"position_mm": bearings[0]["position_mm"], **keys}
+    return data
+
+
+def test_case_file_catalogue_pair_is_the_spelled_out_pair():
+    """``catalogue = "32060 X"`` with ``arrangement`` (``end_play_um``, ``row_spacing_mm``)
+    builds the pair of the entry's rows: bit for bit the load and stiffness at a displacement
+    of the pair spelled out with ``kind = "tapered_roller_pair"`` and the entry's geometry
+    (mm values that convert to the entry's SI values exactly) and of
+    ``TaperedRollerPair.of(catalogue("32060 X"), ...)``; the pair's C 2^(7/9) the entry's."""
+    row = jb.catalogue("32060 X")
+    given = {"arrangement": "X", "end_play_um": -25.0, "row_spacing_mm": 130.0}
+    from_catalogue = jio.parse_case(_catalogue_case(catalogue="32060 X", **given)
+                                    ).scene.pinion_shaft.bearings[0].rolling
+    spelled = {
+        "bore_mm": _mm(float(row.bore)), "outer_diameter_mm": _mm(float(row.outer_diameter)),
+        "width_mm": _mm(float(row.width)), "rollers": row.elements,
+        "roller_diameter_mm": _mm(float(row.element_diameter)),
+        "roller_length_mm": _mm(float(row.effective_length)),
+        "pitch_diameter_mm": _mm(float(row.pitch_diameter)),
+        "contact_angle_deg": math.degrees(float(row.contact_angle))}
+    assert math.radians(spelled["contact_angle_deg"]) == float(row.contact_angle)
+    by_kind = jio.parse_case(_catalogue_case(kind="tapered_roller_pair", **spelled, **given)
+                             ).scene.pinion_shaft.bearings[0].rolling
+    api = jb.TaperedRollerPair.of(row, "X", end_play=-25.0 * 1e-6, spacing=130.0 * 1e-3)
+    assert isinstance(from_catalogue, jb.TaperedRollerPair)
+    assert from_catalogue.arrangement == "X" and from_catalogue.elements == 23
+    assert float(from_catalogue.end_play) == pytest.approx(-25e-6, rel=1e-15)
+    assert float(from_catalogue.spacing) == pytest.approx(0.13, rel=1e-15)
+    assert float(from_catalogue.dynamic_rating) == pytest.approx(2 ** (7 / 9) * 1644e3,
+                                                                 rel=1e-12)
+    d = jnp.asarray([30e-6, -20e-6, 15e-6, 2e-5, -3e-5])
+    f = np.asarray(_load(from_catalogue, d))
+    k = np.asarray(from_catalogue.stiffness(d))
+    assert np.abs(f[:3]).min() > 0 and np.all(np.diag(k) > 0)
+    for other in (by_kind, api):
+        assert np.array_equal(np.asarray(_load(other, d)), f)
+        assert np.array_equal(np.asarray(other.stiffness(d)), k)
+    # without end play and spacing: zero end play, the rows side by side (the width apart)
+    b = jio.parse_case(_catalogue_case(catalogue="30205", arrangement="O")
+                       ).scene.pinion_shaft.bearings[0].rolling
+    assert b.arrangement == "O" and float(b.end_play) == 0.0
+    assert float(b.spacing) == float(jb.catalogue("30205").width)
+
+
+@pytest.mark.parametrize("keys,start", [
+    ({"catalogue": "6205", "arrangement": "O"},
+     ("arrangement = 'O': not with catalogue = '6205' (a DeepGrooveBall): allowed with a "
+     "tapered roller entry ('30205', '32060 X', 'LM 567949/910')")),
+    ({"catalogue": "231/750 CA", "arrangement": "X"},
+     "arrangement = 'X': not with catalogue = '231/750 CA' (a SphericalRoller)"),
+    ({"catalogue": "32060 X", "end_play_um": 10.0},
+     ("end_play_um = 10: not without arrangement: allowed with catalogue = '32060 X' and "
+     "arrangement")),
+    ({"catalogue": "32060 X", "row_spacing_mm": 120.0}, ("row_spacing_mm = 120: not without "
+     "arrangement")),
+    ({"catalogue": "32060 X", "arrangement": "O", "clearance_um": 20.0},
+     ("clearance_um = 20: not with arrangement (a pair of the entry's rows): allowed "
+     "end_play_um")),
+    ({"catalogue": "32060 X", "arrangement": "O", "row_spacing_mm": 90.0},
+     "row_spacing_mm = 90: out of range, allowed >= width_mm = 100"),
+    # 30205: D_w 6 mm, tan alpha = 0.37/1.5: end play from -D_w/100 / tan alpha = -243 um
+    ({"catalogue": "30205", "arrangement": "O", "end_play_um": -300.0},
+     (f"end_play_um = -300: out of range, allowed [{-60.0 * 1.5 / 0.37:.6g}, "
+     f"{6000.0 * 1.5 / 0.37:.6g}) µm")),
+    ({"catalogue": "32060 X", "arrangement": "O", "rollers": 20},
+     ("rollers: not with catalogue = '32060 X' (the entry's geometry): allowed "
+     "arrangement, end_play_um, row_spacing_mm, clearance_um beside it")),
+])
+def test_case_file_catalogue_pair_refusals(keys, start):
+    """A pair's keys on a catalogue entry that is not a tapered roller row, its end play or
+    spacing without an arrangement, a clearance beside it, its end play and spacing out of
+    the entry's range, the entry's geometry: one line naming the key, in the file's units."""
+    with pytest.raises(ValueError) as err:
+        jio.parse_case(_catalogue_case(**keys))
+    text = str(err.value)
+    assert text.startswith("[scene.pinion_shaft.bearings[0]] " + start), text
+    assert "\n" not in text
+
+
+def test_case_file_crown_um_is_the_kinds_crown():
+    """``crown_um`` on a roller kind is the kind's ``crown`` c (m): the case-file pair (kind
+    and catalogue forms) and a cylindrical roller bearing carry bit for bit the load and
+    stiffness at a tilted displacement of the API kinds built with crown = crown_um × 1e-6,
+    (the stiffness: the pair's) which differ from the straight rollers' (the crown unloads the
+    rollers' ends); ISO/TS
+    16281's c = 0.00045 D_w of a tapered roller (D_w 6.5 mm: 2.925 µm), 0.00035 D_w of a
+    cylindrical one."""
+    d = jnp.asarray([10e-6, -5e-6, 4e-6, 2e-4, -3e-4])
+    c = 0.45 * 6.5  # µm
+    by_kind = jio.parse_case(_pair_case(crown_um=c)).scene.pinion_shaft.bearings[0].rolling
+    api = pair("X", end_play=-5.0 * 1e-6, crown=c * 1e-6, spacing=20.0 * 1e-3,
+               contact_angle=math.radians(math.degrees(ALPHA)))
+    straight = pair("X", end_play=-5.0 * 1e-6, spacing=20.0 * 1e-3,
+                    contact_angle=math.radians(math.degrees(ALPHA)))
+    row = jb.catalogue("32060 X")
+    c_cat = 0.45 * float(row.element_diameter) * 1e3  # µm: 0.00045 D_w
+    by_catalogue = jio.parse_case(_catalogue_case(catalogue="32060 X", arrangement="O",
+                                                  crown_um=c_cat)
+                                  ).scene.pinion_shaft.bearings[0].rolling
+    api_catalogue = jb.TaperedRollerPair.of(jb.catalogue("32060 X", crown=c_cat * 1e-6), "O")
+    nu = {"kind": "cylindrical_roller", "bore_mm": 25.0, "outer_diameter_mm": 52.0,
+          "width_mm": 15.0, "rollers": 13, "roller_diameter_mm": 7.0, "roller_length_mm": 8.0,
+          "pitch_diameter_mm": 38.5}
+    by_nu = jio.parse_case(_catalogue_case(**nu, crown_um=0.35 * 7.0)
+                           ).scene.pinion_shaft.bearings[0].rolling
+    api_nu = jb.catalogue("NU 205", crown=0.35 * 7.0 * 1e-6)
+    assert float(by_kind.crown) == pytest.approx(2.925e-6, rel=1e-12)
+    for got, want in ((by_kind, api), (by_catalogue, api_catalogue), (by_nu, api_nu)):
+        assert np.array_equal(np.asarray(_load(got, d)), np.asarray(_load(want, d)))
+    assert np.array_equal(np.asarray(by_kind.stiffness(d)), np.asarray(api.stiffness(d)))
+    f, f0 = np.asarray(_load(by_kind, d)), np.asarray(_load(straight, d))
+    assert np.max(np.abs(f - f0)) > 1e-3 * np.max(np.abs(f0))
+
+
+@pytest.mark.parametrize("keys,start", [
+    # 30206-sized row: D_w 6.5 mm, so c <= 65 µm
+    ({"crown_um": 70.0}, ("crown_um = 70: out of range, allowed [0, 65] µm (the logarithmic "
+                          "crown's scale, at most the roller diameter/100")),
+    ({"crown_um": -1.0}, "crown_um = -1: out of range, allowed [0, 5000]"),
+    # the 32060 X entry: D_w 40 mm, c <= 400 µm
+    ({"catalogue": "32060 X", "arrangement": "O", "crown_um": 450.0},
+     "crown_um = 450: out of range, allowed [0, 400] µm"),
+    ({"catalogue": "6205", "crown_um": 2.0},
+     ("crown_um = 2: not with catalogue = '6205' (a DeepGrooveBall, no crown): allowed on a "
+      "roller kind that takes a crown")),
+    ({"catalogue": "231/750 CA", "crown_um": 2.0},
+     "crown_um = 2: not with catalogue = '231/750 CA' (a SphericalRoller, no crown)"),
+    ({"kind": "deep_groove_ball", "bore_mm": 30.0, "outer_diameter_mm": 62.0, "width_mm": 16.0,
+      "balls": 9, "ball_diameter_mm": 9.525, "pitch_diameter_mm": 46.0, "crown_um": 2.0},
+     "crown_um = 2: not a key of kind = 'deep_groove_ball'"),
+    ({"radial_N_per_um": 100.0, "crown_um": 2.0}, "crown_um: is a rolling bearing's key"),
+])
+def test_case_file_crown_um_refused_in_one_line(keys, start):
+    """``crown_um`` above the roller diameter/100 (µm, the kind's or the catalogue entry's
+    roller), negative, on a ball or spherical roller kind, on a linear bearing: one line
+    naming the key in the file's units."""
+    data = _pair_case(**keys) if "crown_um" in keys and len(keys) == 1 else _catalogue_case(
+        **keys)
+    with pytest.raises(ValueError) as err:
+        jio.parse_case(data)
+    text = str(err.value)
+    assert text.startswith("[scene.pinion_shaft.bearings[0]] " + start), text
+    assert "\n" not in text

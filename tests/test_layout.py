@@ -298,6 +298,11 @@ PRIVATE_IN_TESTS: set[tuple[str, str]] = {
     # a case's lumped 3D pair built on a synthetic housing (K, M written in the test), which a
     # case file cannot hold: the housed scene's bearing block at the operating point
     ("test_bearing_scenes.py", "jaxgear.io._case_model._lumped3d_pair"),
+    # the first operating-point solve's start springs of a shaft on one tapered roller pair: a
+    # singular start is factored with a pivot of rounding noise (a CPU-dependent failure, no
+    # public result shows it), so the test checks the springs' stiffness is regular
+    ("test_bearing_scenes.py", "jaxgear.dynamics._bearings._start_springs"),
+    ("test_bearing_scenes.py", "jaxgear.dynamics._bearings.START_SPRING"),
     # the same builder as the independent reference of a bearing's stiffness change: the pair
     # assembled again in NumPy on a changed bearing (on the ground and on a synthetic housing)
     ("test_optimise_bearings.py", "jaxgear.io._case_model._lumped3d_pair"),

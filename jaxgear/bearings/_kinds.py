@@ -103,6 +103,15 @@ class AbstractRollingBearing(eqx.Module):
       play stands in for the rows' clearance).
     - ``rows``: the rows of rolling elements i (ISO 281's i): 2 for :class:`SphericalRoller`
       and :class:`TaperedRollerPair`, 1 otherwise.
+    - ``crown_field``: the kind's rollers take a logarithmic crown, its own field ``crown``
+      (m, 0 <= c <= D_w/100, or None: straight; the roller kinds sliced along their length:
+      :class:`CylindricalRoller`, :class:`TaperedRoller`, :class:`TaperedRollerPair`); not the
+      ball kinds, nor :class:`SphericalRoller` (one line per roller: no slice to unload).
+    - ``carries_moment``: the kind holds a shaft against tilting on its own (one bearing node
+      that carries a moment from the start: :class:`TaperedRollerPair`, its rows' pressure
+      centres apart; :class:`LinearSpring`, its ``tilt`` spring where > 0), so that a shaft
+      may stand on it alone. Not the single-row kinds, whose tilt stiffness comes from their
+      load only (a shaft needs two of them apart), nor a self-aligning one (no moment).
 
     Methods: :meth:`load` (abstract; f(d), shape (5,)), :meth:`potential` (U(d), J, with
     f = ∇U), :meth:`stiffness` (K = ∂f/∂d by ``jax.jacfwd``, (5, 5)), :meth:`stiffness6` (the
@@ -118,6 +127,8 @@ class AbstractRollingBearing(eqx.Module):
     self_aligning: ClassVar[bool] = False
     clearance_field: ClassVar[bool] = True
     rows: ClassVar[int] = 1
+    crown_field: ClassVar[bool] = False
+    carries_moment: ClassVar[bool] = False
 
     @abc.abstractmethod
     def load(self, displacement) -> Float[Array, " 5"]:
@@ -193,6 +204,7 @@ class LinearSpring(AbstractRollingBearing):
     contact_exponent: ClassVar[float] = 1.0
     axial_load: ClassVar[str] = "both"
     life_exponent: ClassVar[float | None] = None
+    carries_moment: ClassVar[bool] = True
 
     def __init__(self, radial=2e8, axial=1e8, tilt=0.0):
         for name, value, unit in (("radial", radial, "N/m"), ("axial", axial, "N/m"),
@@ -577,6 +589,7 @@ class _Roller(_RollingElements):
 
     contact_exponent: ClassVar[float] = 10.0 / 9.0
     life_exponent: ClassVar[float | None] = 10.0 / 3.0
+    crown_field: ClassVar[bool] = True
 
     def _check_roller(self, where):
         _check_ring(where, self.bore, self.outer_diameter, self.width, self.elements,
@@ -763,6 +776,7 @@ class SphericalRoller(_Roller):
     axial_load: ClassVar[str] = "both"
     self_aligning: ClassVar[bool] = True
     rows: ClassVar[int] = 2
+    crown_field: ClassVar[bool] = False
 
     def __check_init__(self):
         w = "SphericalRoller"
@@ -831,7 +845,8 @@ PAIR_DYNAMIC_FACTOR = 2.0 ** (7.0 / 9.0)
 class TaperedRollerPair(AbstractRollingBearing):
     """Two single-row tapered roller bearings of one geometry side by side, facing both ways,
     as ONE bearing node at the pair's centre: a radial load, an axial load both ways and a
-    moment (``axial_load = "both"``, not self-aligning).
+    moment (``axial_load = "both"``, not self-aligning, ``carries_moment``: a shaft may stand
+    on the pair alone, an overhung pinion).
 
     Geometry: the rows' roller mid-planes sit at z = ∓s/2 (``spacing`` s: one row's ``width``
     for two rows side by side, more with a spacer). Each row is a :class:`TaperedRoller`
@@ -886,6 +901,8 @@ class TaperedRollerPair(AbstractRollingBearing):
     self_aligning: ClassVar[bool] = False
     clearance_field: ClassVar[bool] = False
     rows: ClassVar[int] = 2
+    crown_field: ClassVar[bool] = True
+    carries_moment: ClassVar[bool] = True
 
     def __init__(self, bore, outer_diameter, width, elements, element_diameter, pitch_diameter,
                  effective_length, contact_angle, arrangement="O", end_play=0.0, spacing=None,

@@ -149,7 +149,9 @@ def bearing_forces(scene, res: QuasiStaticResult) -> dict:
 OPERATING_TOLERANCE = 1e-6
 OPERATING_ITERATIONS = 30
 #: the linear spring a rolling bearing stands on for the first solve (N/m on the radial and, where
-#: the kind carries it, the axial DOFs; no tilt: each shaft statically determinate)
+#: the kind carries it, the axial DOFs; no tilt, each shaft statically determinate, but on a
+#: shaft whose radial bearings stand at one position: there a kind that carries a moment
+#: takes the radial spring times its lever squared, N·m/rad, :func:`_start_springs`)
 START_SPRING = (2e8, 1e8)
 
 
@@ -183,14 +185,26 @@ def _load(rolling, d):
     return rolling.load(d)
 
 
-def _start(b: Bearing) -> Bearing:
-    """The linear spring a rolling bearing without an operating point stands on first."""
+def _start(b: Bearing, tilt: bool) -> Bearing:
+    """The linear spring a rolling bearing without an operating point stands on first: with
+    ``tilt``, a kind that carries a moment (:meth:`~jaxgear.scenes.Bearing.holds_tilt`) on
+    the radial spring times its lever squared too."""
     if b.rolling is None or b.operating is not None:
         return b
     c = b.carried()
     radial, axial = START_SPRING
-    return Bearing(b.z, radial=radial, axial=axial if c[2] else 0.0, tilt=0.0,
+    k_t = radial * _lever(b.rolling) ** 2 if tilt and b.holds_tilt() else 0.0
+    return Bearing(b.z, radial=radial, axial=axial if c[2] else 0.0, tilt=k_t,
                    damping=b.damping)
+
+
+def _start_springs(shaft) -> list:
+    """A shaft's bearings for the first solve (:func:`_start`), statically determinate: the
+    rolling ones on radial springs, and where its radial bearings stand at one position (a
+    shaft held by one bearing that carries a moment, an overhung pinion on a tapered pair)
+    those that carry a moment on a tilt spring too (without it the shaft would tilt freely)."""
+    radial = {b.z for b in shaft.bearings if all(b.carried()[:2])}
+    return [_start(b, len(radial) < 2) for b in shaft.bearings]
 
 
 def _lever(rolling) -> float:
@@ -217,7 +231,9 @@ def bearings_at_operating_point(
 
     A rolling bearing (:class:`~jaxgear.scenes.Bearing` with ``rolling``) stands on a linear
     spring first (:data:`START_SPRING`, no tilt stiffness: a shaft on two of them is
-    statically determinate, its bearings' loads statics'). Each iteration builds the scene on
+    statically determinate, its bearings' loads statics'; a shaft held at one position by a
+    bearing that carries a moment, a tapered roller pair, stands on its tilt spring too, a
+    cantilever, statically determinate as well). Each iteration builds the scene on
     each rolling bearing's tangent stiffness K_b at its current ring displacement d_b
     (:meth:`~jaxgear.scenes.Bearing.at`), the bearing's force on the shaft the affine
     −f(d_b) − K_b (u − d_b) (the constant part an external force K_b d_b − f(d_b) at its
@@ -268,7 +284,7 @@ def bearings_at_operating_point(
     if not any(map(any, rolling)):
         return OperatingPoint(shafts, none, none, 0, 0.0)
     dofs = bearing_dofs(shafts, extra_z)
-    current = [[_start(b) for b in s.bearings] for s in shafts]
+    current = [_start_springs(s) for s in shafts]
     previous, change = None, math.inf
     T = float(torque)
     for iteration in range(1, int(max_iterations) + 1):

@@ -40,11 +40,15 @@ optional ``damping_matrix_SI`` (6×6): SI per DOF pair, DOF order ux, uy, uz, rx
 docs/bearings.md) is ``{ position_mm, catalogue = "6205" }`` (an embedded bearing, optionally
 ``clearance_um``) or ``{ position_mm, kind = "deep_groove_ball", bore_mm, outer_diameter_mm,
 width_mm, balls, ball_diameter_mm, pitch_diameter_mm, clearance_um, ... }`` (:data:`ROLLING_KINDS`;
-rollers: ``rollers``, ``roller_diameter_mm``, ``roller_length_mm``; angular contact, tapered and
-spherical: ``contact_angle_deg``; a spherical roller bearing's ``rollers`` are per row, of two;
+rollers: ``rollers``, ``roller_diameter_mm``, ``roller_length_mm``, and optionally ``crown_um``,
+the rollers' logarithmic crown (cylindrical and tapered, a pair's rows, their catalogue entries
+too; at most the roller diameter/100); angular contact, tapered and spherical:
+``contact_angle_deg``; a spherical roller bearing's ``rollers`` are per row, of two;
 a pair of tapered roller bearings facing both ways, ``kind = "tapered_roller_pair"``, one row's
 geometry, ``arrangement = "O"`` or ``"X"``, ``end_play_um`` in place of ``clearance_um``
-(negative: a preload) and ``row_spacing_mm``, at ``position_mm`` the pair's centre); its
+(negative: a preload) and ``row_spacing_mm``, at ``position_mm`` the pair's centre; or
+``catalogue = "32060 X"``, a tapered roller entry, with ``arrangement`` and optionally
+``end_play_um``, ``row_spacing_mm``: the pair of the entry's rows); its
 stiffness is the one at the operating point of the case's
 quasi-static solve. For its life, ``dynamic_rating_kN`` and ``static_rating_kN`` (the maker's
 C and C0, where the catalogue entry has none; a deep groove ball bearing also ``iso281_f0``,
@@ -136,6 +140,8 @@ _ELEMENT_KEYS = {
 _BALL_OPTIONAL = ("inner_conformity", "outer_conformity")
 #: a tapered roller pair's optional keys: its axial end play in place of the rows' clearance
 _PAIR_OPTIONAL = ("end_play_um", "row_spacing_mm")
+#: the keys that make a tapered roller row's ``catalogue`` entry a pair of its rows
+_CATALOGUE_PAIR = ("arrangement", *_PAIR_OPTIONAL)
 _GEOMETRY = ("bore_mm", "outer_diameter_mm", "width_mm", "balls", "ball_diameter_mm",
              "rollers", "roller_diameter_mm", "roller_length_mm", "pitch_diameter_mm",
              "contact_angle_deg", "inner_conformity", "outer_conformity", "arrangement",
@@ -152,7 +158,10 @@ class BearingSection(Section):
     200, 0, 0), a 6×6 ``stiffness_matrix_SI``, or a rolling bearing from its geometry
     (``catalogue``, an embedded designation, or ``kind`` (:data:`ROLLING_KINDS`) with its
     geometry in mm, its rolling elements' count, its contact angle in degrees, its groove
-    conformities, and a diametral clearance in µm); one form only. An optional 6×6
+    conformities, a diametral clearance and a roller kind's logarithmic crown in µm; a
+    tapered roller entry with
+    ``arrangement``, ``end_play_um``, ``row_spacing_mm``: the pair of its rows,
+    :meth:`~jaxgear.bearings.TaperedRollerPair.of`); one form only. An optional 6×6
     ``damping_matrix_SI`` (:func:`jaxgear.scenes.bearing_matrix` checks the matrices).
     :meth:`bearing` the :class:`jaxgear.scenes.Bearing` (SI)."""
 
@@ -184,6 +193,8 @@ class BearingSection(Section):
         None, json_schema_extra={"default": "0.52"})
     clearance_um: number("[-100, 1000]") | None = pydantic.Field(
         None, json_schema_extra={"default": "0 (catalogue: the entry's)"})
+    crown_um: number("[0, 5000]") | None = pydantic.Field(
+        None, json_schema_extra={"default": "none (straight rollers)"})
     arrangement: Literal["O", "X"] | None = None
     end_play_um: number("[-1000, 10000]") | None = pydantic.Field(
         None, json_schema_extra={"default": "0"})
@@ -234,8 +245,8 @@ class BearingSection(Section):
             )
         rolling = [k for k in ("catalogue", "kind") if k in self.given]
         if not rolling:
-            extra = [k for k in (*_GEOMETRY, "clearance_um", *_RATINGS, "fatigue_limit_kN")
-                     if k in self.given]
+            extra = [k for k in (*_GEOMETRY, "clearance_um", "crown_um", *_RATINGS,
+                                 "fatigue_limit_kN") if k in self.given]
             if extra:
                 raise sc.fail(where, extra[0], "is a rolling bearing's key: allowed with "
                               "catalogue or kind (a bearing from its geometry)")
@@ -246,10 +257,7 @@ class BearingSection(Section):
             raise sc.fail(where, rolling[0], f"give one stiffness form, a linear one "
                           f"({', '.join(_LINEAR)}), catalogue or kind: remove {other}")
         if self.catalogue is not None:
-            extra = [k for k in _GEOMETRY if k in self.given]
-            if extra:
-                raise sc.fail(where, extra[0], f"not with catalogue = {self.catalogue!r} (the "
-                              "entry's geometry): allowed clearance_um beside it")
+            self._check_catalogue(where)
             rated = [k for k in _RATINGS if k in self.given]
             if rated and CATALOGUE[self.catalogue][1].get("dynamic_rating") is not None:
                 raise sc.fail(where, rated[0], f"not with catalogue = {self.catalogue!r} (the "
@@ -259,6 +267,39 @@ class BearingSection(Section):
         self._check_ratings(where)
         self.rolling(where)  # whatever the kind still refuses (its own line, in SI)
         return self
+
+    def _check_catalogue(self, where: str) -> None:
+        """A ``catalogue`` entry's keys: its geometry is the entry's; a tapered roller row's
+        entry may be a pair of its rows (``arrangement``, optionally ``end_play_um`` and
+        ``row_spacing_mm``, checked against the entry's roller and width in the file's units);
+        one line each."""
+        kind, entry, _ = CATALOGUE[self.catalogue]
+        own = (*_CATALOGUE_PAIR, "clearance_um") if kind is TaperedRoller else ("clearance_um",)
+        self._check_crown(where, kind, entry["element_diameter"] * 1e3,
+                          f"catalogue = {self.catalogue!r}")
+        for key in _GEOMETRY:
+            if key in self.given and key in _CATALOGUE_PAIR and key not in own:
+                tapered = [k for k, v in CATALOGUE.items() if v[0] is TaperedRoller]
+                raise sc.fail(where, key, f"not with catalogue = {self.catalogue!r} (a "
+                              f"{kind.__name__}): allowed with a tapered roller entry "
+                              f"({', '.join(map(repr, tapered))}), a pair of its rows",
+                              getattr(self, key))
+            if key in self.given and key not in own:
+                raise sc.fail(where, key, f"not with catalogue = {self.catalogue!r} (the "
+                              f"entry's geometry): allowed {', '.join(own)} beside it")
+        if self.arrangement is None:
+            for key in _PAIR_OPTIONAL:
+                if key in self.given:
+                    raise sc.fail(where, key, f"not without arrangement: allowed with "
+                                  f"catalogue = {self.catalogue!r} and arrangement = 'O' or "
+                                  "'X' (a pair of the entry's rows)", getattr(self, key))
+            return
+        if "clearance_um" in self.given:
+            raise sc.fail(where, "clearance_um", "not with arrangement (a pair of the entry's "
+                          "rows): allowed end_play_um, which stands in for the rows' clearance",
+                          self.clearance_um)
+        self._check_pair(where, entry["element_diameter"] * 1e3,
+                         math.degrees(entry["contact_angle"]), entry["width"] * 1e3)
 
     def _check_ratings(self, where: str) -> None:
         """The ratings given together: C and C0 (ISO 281's life and its fatigue load limit
@@ -310,6 +351,13 @@ class BearingSection(Section):
             if key not in self.given:
                 raise sc.fail(where, key, f"missing: kind = {self.kind!r} needs "
                               f"{', '.join(own)}")
+        if "roller_diameter_mm" in own:
+            self._check_crown(where, ROLLING_KINDS[self.kind], self.roller_diameter_mm,
+                              f"kind = {self.kind!r}")
+        elif "crown_um" in self.given:
+            raise sc.fail(where, "crown_um", f"not a key of kind = {self.kind!r}: allowed on "
+                          "a roller kind that takes a crown (cylindrical_roller, "
+                          "tapered_roller, tapered_roller_pair)", self.crown_um)
         d, D = self.bore_mm, self.outer_diameter_mm
         if not D > d:
             raise sc.fail(where, "outer_diameter_mm", f"out of range, allowed > bore_mm = "
@@ -344,7 +392,7 @@ class BearingSection(Section):
                               f"(2 cos contact_angle_deg) = {room:.6g} (two rows side by side "
                               "within the width)", self.roller_length_mm)
         if pair:
-            self._check_pair(where, size)
+            self._check_pair(where, size, self.contact_angle_deg, self.width_mm)
         if self.clearance_um is not None:
             conformity = sum(getattr(self, k) or 0.52 for k in _BALL_OPTIONAL) - 1.0
             top = size * 1e3
@@ -357,11 +405,27 @@ class BearingSection(Section):
                               f"{top:.6g}) µm (below the {word} diameter{extra}; negative: a "
                               f"preload down to -{word}_diameter_mm/100)", self.clearance_um)
 
-    def _check_pair(self, where: str, size: float) -> None:
+    def _check_crown(self, where: str, kind: type, size: float, what: str) -> None:
+        """``crown_um``: on a kind that declares ``crown_field`` only, at most the roller
+        diameter ``size`` (mm) / 100 (the kinds' range, in µm); ``what`` the kind's words."""
+        if self.crown_um is None:
+            return
+        if not kind.crown_field:
+            raise sc.fail(where, "crown_um", f"not with {what} (a {kind.__name__}, no crown): "
+                          "allowed on a roller kind that takes a crown (cylindrical_roller, "
+                          "tapered_roller, tapered_roller_pair, or their catalogue entries)",
+                          self.crown_um)
+        top = 10.0 * size  # D_w / 100, in µm
+        if not self.crown_um <= top:
+            raise sc.fail(where, "crown_um", f"out of range, allowed [0, {top:.6g}] µm (the "
+                          "logarithmic crown's scale, at most the roller diameter/100; ISO/TS "
+                          "16281: 0.35 to 0.45 x the roller diameter in mm)", self.crown_um)
+
+    def _check_pair(self, where: str, size: float, angle: float, width: float) -> None:
         """A tapered roller pair's end play (the rows' clearance end_play tan α within the
         roller's range) and row spacing (the rows side by side at least), in the file's
-        units."""
-        t = math.tan(math.radians(self.contact_angle_deg))
+        units: ``size`` the roller diameter (mm), ``angle`` α (deg), ``width`` a row's (mm)."""
+        t = math.tan(math.radians(angle))
         if self.end_play_um is not None:
             lo, top = -10.0 * size / t, 1e3 * size / t
             if not lo <= self.end_play_um < top:
@@ -369,9 +433,9 @@ class BearingSection(Section):
                               f"{top:.6g}) µm (the rows' diametral clearance, end play x tan "
                               "contact_angle_deg, from -1 % of the roller diameter to below it; "
                               "negative: a preload)", self.end_play_um)
-        if self.row_spacing_mm is not None and not self.row_spacing_mm >= self.width_mm:
+        if self.row_spacing_mm is not None and not self.row_spacing_mm >= width:
             raise sc.fail(where, "row_spacing_mm", f"out of range, allowed >= width_mm = "
-                          f"{self.width_mm:g} (the rows' mid-planes: side by side at least)",
+                          f"{width:g} (the rows' mid-planes: side by side at least)",
                           self.row_spacing_mm)
 
     def rolling(self, where: str = ""):
@@ -380,15 +444,25 @@ class BearingSection(Section):
         changes = {}
         if self.clearance_um is not None:
             changes["clearance"] = self.clearance_um * 1e-6
+        if self.crown_um is not None:
+            changes["crown"] = self.crown_um * 1e-6
         for key, arg, scale in (("dynamic_rating_kN", "dynamic_rating", 1e3),
                                 ("static_rating_kN", "static_rating", 1e3),
                                 ("iso281_f0", "iso281_f0", 1.0),
                                 ("fatigue_limit_kN", "fatigue_limit", 1e3)):
             if getattr(self, key) is not None:
                 changes[arg] = getattr(self, key) * scale
+        pair = {}
+        if self.arrangement is not None:
+            pair["arrangement"] = self.arrangement
+            if self.end_play_um is not None:
+                pair["end_play"] = self.end_play_um * 1e-6
+            if self.row_spacing_mm is not None:
+                pair["spacing"] = self.row_spacing_mm * 1e-3
         try:
             if self.catalogue is not None:
-                return catalogue(self.catalogue, **changes)
+                row = catalogue(self.catalogue, **changes)
+                return TaperedRollerPair.of(row, **pair) if pair else row
             if self.kind is None:
                 return None
             mm = 1e-3
@@ -403,13 +477,7 @@ class BearingSection(Section):
                             effective_length=self.roller_length_mm * mm)
             if self.contact_angle_deg is not None:
                 args["contact_angle"] = math.radians(self.contact_angle_deg)
-            if self.arrangement is not None:
-                args["arrangement"] = self.arrangement
-                if self.end_play_um is not None:
-                    args["end_play"] = self.end_play_um * 1e-6
-                if self.row_spacing_mm is not None:
-                    args["spacing"] = self.row_spacing_mm * 1e-3
-            return ROLLING_KINDS[self.kind](**args, **changes)
+            return ROLLING_KINDS[self.kind](**args, **pair, **changes)
         except ValueError as err:  # a relation the checks above do not state, in SI
             raise sc.SchemaError(f"[{where or self.WHERE}] {err}") from None
 
@@ -461,8 +529,9 @@ class ShaftKeys(Section):
     diameter (mm, ``length_mm`` in [1, 1e5], ``diameter_mm`` in [1, 1e4]: a denormal size
     passes "> 0" and fails in the solver), its gears' centres, the torque's position on it,
     its finite elements, and its bearings (:class:`BearingSection`, at least one), which must
-    hold it (an axial stiffness, and a tilt stiffness or two radial bearings 1 % of its length
-    apart). Positions lie on the shaft ([0, length_mm])."""
+    hold it (an axial stiffness, and a tilt stiffness, a bearing that carries a moment (a
+    tapered roller pair: :meth:`~jaxgear.scenes.Bearing.holds_tilt`) or two radial bearings
+    1 % of its length apart). Positions lie on the shaft ([0, length_mm])."""
 
     @pydantic.field_validator("torque_position_mm", check_fields=False)
     @classmethod
@@ -499,16 +568,18 @@ class ShaftKeys(Section):
                 "(axial_N_per_um > 0 or stiffness_matrix_SI[2][2] > 0"
                 + (", or a rolling bearing that carries an axial load)" if rolling else ")")
             )
-        # a rolling bearing is a radial support: its tilt stiffness, which its load gives it,
-        # does not hold a shaft alone
-        if any(c[3] and c[4] and b.rolling is None for b, c in zip(bearings, carried,
-                                                                    strict=True)):
+        # a single-row rolling bearing is a radial support: its tilt stiffness, which its
+        # load gives it, does not hold a shaft alone; a kind that carries a moment does
+        if any(b.holds_tilt() for b in bearings):
             return self
         radial = [b.z for b, c in zip(bearings, carried, strict=True) if c[0] and c[1]]
         if len(radial) < 2:
             raise sc.SchemaError(
                 f"[{where}] bearings: needs two radial bearings (or a tilt stiffness) to hold "
-                "the shaft"
+                "the shaft" + (" (a single-row or self-aligning rolling bearing is a radial "
+                               "support only: allowed a second bearing, or a bearing that "
+                               "carries a moment, kind = 'tapered_roller_pair')"
+                               if any(b.rolling is not None for b in bearings) else "")
             )
         # two radial bearings at one position hold the shaft like one: it tilts freely
         span_mm = (max(radial) - min(radial)) * 1e3

@@ -373,6 +373,14 @@ class Bearing:
             return tuple(self.rolling.carried())
         return tuple(bool(x > 0) for x in np.diag(self.stiffness_matrix())[:5])
 
+    def holds_tilt(self) -> bool:
+        """The bearing holds its shaft against tilting on its own: it resists φ_x and φ_y
+        (:meth:`carried`) and, a rolling bearing, its kind declares ``carries_moment`` (a
+        :class:`~jaxgear.bearings.TaperedRollerPair`; a single-row kind's tilt stiffness comes
+        from its load only, so a shaft on it needs a second radial bearing apart)."""
+        c = self.carried()
+        return bool(c[3] and c[4] and (self.rolling is None or self.rolling.carries_moment))
+
     def stiffness_matrix(self) -> np.ndarray:
         """The 6×6 stiffness (SI, node frame): ``stiffness`` or diag(radial, radial, axial,
         tilt, tilt, 0).
