@@ -390,9 +390,9 @@ def _list(v, where: str, fields: dict):
 
 def write_csv(path, header, columns, *, cause: str | None = None) -> None:
     """Write columns (equal-length sequences of numbers) under ``header`` to ``path`` atomically,
-    12 significant digits; ``None`` (no value) as an empty cell, a text (a name) as itself. NaN and ±inf are written as
-    ``nan``/``inf`` with a :class:`NonFiniteOutput` warning naming their columns (``cause`` as
-    :func:`write_json`)."""
+    12 significant digits; ``None`` (no value) as an empty cell, a text (a name) as itself.
+    NaN and ±inf are written as ``nan``/``inf`` with a :class:`NonFiniteOutput` warning naming
+    their columns (``cause`` as :func:`write_json`)."""
     buf = io.StringIO()
     w = csv.writer(buf)
     w.writerow(header)

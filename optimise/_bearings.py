@@ -120,8 +120,9 @@ class BearingDesign(eqx.Module):
 
     def apply(self, scene, variables, clearances):
         """``scene`` (assembled on :attr:`shafts`) with each variable's bearing at its clearance
-        (m, its clearance field's value, one per variable, in order): K_b(c) − K_b(c₀) added where the bearing sits
-        (:func:`jaxgear.dynamics.with_bearing_stiffness`); exactly ``scene`` at c₀."""
+        (m, its clearance field's value, one per variable, in order): K_b(c) − K_b(c₀) added
+        where the bearing sits (:func:`jaxgear.dynamics.with_bearing_stiffness`); exactly
+        ``scene`` at c₀."""
         changes = {}
         for var, c in zip(variables, clearances, strict=True):
             c0 = jnp.asarray(self.clearance(var))

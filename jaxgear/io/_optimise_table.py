@@ -14,7 +14,6 @@ from fem_prep import schema as sc
 from optimise import OBJECTIVES, VARIABLES, AbstractObjective, Variable
 
 from ..bearings import CATALOGUE
-
 from ._sections import Section, number, number_list
 
 __all__ = [
