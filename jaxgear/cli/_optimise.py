@@ -900,7 +900,6 @@ def _run_choice(case: Case, settings: dict, args) -> int:
     out = check_case_outputs(case, "optimise",
                              args.out or os.path.join("jaxgear-out", case.name, "optimise"),
                              force=args.force)
-    clear_outputs(out, "optimise")
     torques = (range_values(settings["torques"], "--torques", positive=True)
                if settings["torques"] else None)
     quiet = args.quiet
@@ -926,6 +925,7 @@ def _run_choice(case: Case, settings: dict, args) -> int:
             quantile=settings.get("quantile"), a_weighted=settings.get("a_weighted"),
             progress=not quiet)
     fitting = [c for c in ranked if c.fits]
+    clear_outputs(out, "optimise")  # e.g. an earlier run's choice.png
     rows = [_choice_row(r + 1 if c.fits else None, c) for r, c in enumerate(ranked)]
     os.makedirs(out, exist_ok=True)
     report_json = {

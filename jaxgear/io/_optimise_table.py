@@ -332,7 +332,12 @@ class OptimiseSection(Section):
     #: bearing choice: one bearing's candidates, ``"<shaft>.bearings[<k>]" = ["6205", ...]``
     #: (catalogue names), each ranked by the objective (its clearance optimised where ``vars``
     #: is that bearing's clearance, else evaluated as given)
-    choices: Annotated[dict, BeforeValidator(_choices)] | None = None
+    choices: dict[str, list[str]] | None = None
+
+    @pydantic.field_validator("choices", mode="before")
+    @classmethod
+    def _choices(cls, v):
+        return _choices(v)
 
     @pydantic.model_validator(mode="after")
     def _related(self):
