@@ -603,6 +603,22 @@ def clearance_key(kind) -> str:
     return f"{kind.clearance_field}_um"
 
 
+def _bearing_lines(lines: list[str], shaft: str, k: int, what: str) -> tuple[int, int]:
+    """(header, end) line indices of the k-th ``[[scene.<shaft>.bearings]]`` table of a case
+    file's ``lines`` (its keys lie between); one line refusing a bearing the text does not
+    give so (``what`` is written back)."""
+    header = re.compile(rf"^\s*\[\[\s*scene\.{re.escape(shaft)}\.bearings\s*\]\]")
+    starts = [i for i, line in enumerate(lines) if header.match(line)]
+    if not k < len(starts):
+        raise ValueError(
+            f"{shaft}.bearings[{k}]: the case file does not give it as a "
+            f"[[scene.{shaft}.bearings]] table: write it so to have the {what} written back")
+    start = starts[k]
+    end = next((j for j in range(start + 1, len(lines)) if _TABLE_HEADER.match(lines[j])),
+               len(lines))
+    return start, end
+
+
 def case_text_with_clearance(text: str, shaft: str, k: int, clearance_um: float,
                              key: str = "clearance_um") -> str:
     """A case file's TOML ``text`` with bearing ``k`` of ``[scene.<shaft>]`` given
@@ -613,15 +629,7 @@ def case_text_with_clearance(text: str, shaft: str, k: int, clearance_um: float,
         ValueError: the bearing is not the k-th ``[[scene.<shaft>.bearings]]`` table of the
             text (an inline array of tables, a train's shaft), one line."""
     lines = text.splitlines()
-    header = re.compile(rf"^\s*\[\[\s*scene\.{re.escape(shaft)}\.bearings\s*\]\]")
-    starts = [i for i, line in enumerate(lines) if header.match(line)]
-    if not k < len(starts):
-        raise ValueError(
-            f"{shaft}.bearings[{k}]: the case file does not give it as a "
-            f"[[scene.{shaft}.bearings]] table: write it so to have the design written back")
-    start = starts[k]
-    end = next((j for j in range(start + 1, len(lines)) if _TABLE_HEADER.match(lines[j])),
-               len(lines))
+    start, end = _bearing_lines(lines, shaft, k, "design")
     new = f"{key} = {float(clearance_um)!r}  # the design written by jaxgear optimise"
     for j in range(start + 1, end):
         if re.match(rf"^\s*{key}\s*=", lines[j]):
@@ -686,15 +694,7 @@ def case_text_with_bearing(text: str, shaft: str, k: int, table: dict) -> str:
         ValueError: the bearing is not the k-th ``[[scene.<shaft>.bearings]]`` table of the
             text, one line."""
     lines = text.splitlines()
-    header = re.compile(rf"^\s*\[\[\s*scene\.{re.escape(shaft)}\.bearings\s*\]\]")
-    starts = [i for i, line in enumerate(lines) if header.match(line)]
-    if not k < len(starts):
-        raise ValueError(
-            f"{shaft}.bearings[{k}]: the case file does not give it as a "
-            f"[[scene.{shaft}.bearings]] table: write it so to have the choice written back")
-    start = starts[k]
-    end = next((j for j in range(start + 1, len(lines)) if _TABLE_HEADER.match(lines[j])),
-               len(lines))
+    start, end = _bearing_lines(lines, shaft, k, "choice")
     kept = [line for line in lines[start + 1:end] if not line.strip()
             or line.lstrip().startswith("#")]
     new = [f"{key} = {_toml_value(v)}" for key, v in table.items()]
