@@ -863,8 +863,8 @@ def _choice_line(i: int, total: int, choice: BearingChoice, units: str) -> str:
     """The progress line of one candidate of a bearing choice."""
     head = f"candidate {i + 1}/{total} {choice.name}:"
     if not choice.fits:
-        return (f"{head} bore {choice.bore_mm:g} mm does not fit the shaft's {choice.seat_mm:g} "
-                "mm: not ranked")
+        return (f"{head} bore {choice.bore_mm:.4g} mm does not fit the shaft's "
+                f"{choice.seat_mm:.4g} mm: not ranked")
     moved = ("" if choice.result is None else
              f" -> {choice.value:.6g} {units}, clearance {choice.start_um:.4g} -> "
              f"{choice.clearance_um:.4g} µm")
