@@ -332,7 +332,7 @@ class OptimiseSection(Section):
     #: bearing choice: one bearing's candidates, ``"<shaft>.bearings[<k>]" = ["6205", ...]``
     #: (catalogue names), each ranked by the objective (its clearance optimised where ``vars``
     #: is that bearing's clearance, else evaluated as given)
-    choices: dict[str, list[str]] | None = None
+    choices: dict[str, list[Literal[tuple(CATALOGUE)]]] | None = None
 
     @pydantic.field_validator("choices", mode="before")
     @classmethod
