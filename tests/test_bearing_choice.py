@@ -120,7 +120,8 @@ def test_a_candidate_that_does_not_fit_is_not_ranked(tmp_path):
 
 def test_case_text_with_bearing_keeps_the_rest(tmp_path):
     """The bearing's table rewritten as a catalogue entry: the written file loads with that
-    bearing, its clearance, and every other table as before."""
+    bearing, its clearance, and every other table as before; a bearing given in an inline
+    array is refused in one line (``--write`` checks it before any work)."""
     text = ROLLING.read_text()
     new = jio.case_text_with_bearing(text, "gear_shaft", 1, {
         "position_mm": 100.0, "catalogue": "6205", "clearance_um": 4.5})
@@ -129,6 +130,12 @@ def test_case_text_with_bearing_keeps_the_rest(tmp_path):
         "position_mm": 100.0, "catalogue": "6205", "clearance_um": 4.5}
     data["scene"]["gear_shaft"]["bearings"][1] = old["scene"]["gear_shaft"]["bearings"][1]
     assert data == old
+    inline = '[scene.pinion_shaft]\nbearings = [{ position_mm = 0.0, catalogue = "6205" }]\n'
+    with pytest.raises(ValueError, match=r"pinion_shaft\.bearings\[0\]: the case file does not "
+                       r"give it as a \[\[scene\.pinion_shaft\.bearings\]\] table") as e:
+        jio.check_choice_text(inline, SEAT)
+    assert "\n" not in str(e.value)
+    jio.check_choice_text(text, "gear_shaft.bearings[1]")
 
 
 def _separately(tmp_path, name: str, max_iterations: int):

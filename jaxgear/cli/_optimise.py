@@ -51,6 +51,7 @@ from ..io import (
     bearing_choices,
     case_problem,
     case_text_with_modifications,
+    check_choice_text,
     check_train_design,
     design_modifications,
     embedded_case_text,
@@ -897,6 +898,11 @@ def _run_choice(case: Case, settings: dict, args) -> int:
         raise ValueError(f"--vars {settings['vars']!r}: with [optimise.choices] allowed "
                          f"{variable!r} (each candidate's clearance optimised) or no vars")
     write_to = check_write(args.write, args.case, case, force=args.force)
+    if write_to is not None:
+        try:
+            check_choice_text(_case_text(args.case), bearing)
+        except ValueError as err:
+            raise ValueError(f"--write {write_to}: {err}") from None
     out = check_case_outputs(case, "optimise",
                              args.out or os.path.join("jaxgear-out", case.name, "optimise"),
                              force=args.force)

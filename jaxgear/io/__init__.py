@@ -125,6 +125,7 @@ from ._problem import (
     case_problem as case_problem,
     case_text_with_bearing as case_text_with_bearing,
     case_text_with_clearance as case_text_with_clearance,
+    check_choice_text as check_choice_text,
     clearance_key as clearance_key,
     design_case_text as design_case_text,
     design_modifications as design_modifications,

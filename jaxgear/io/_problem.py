@@ -53,6 +53,7 @@ __all__ = [
     "case_problem",
     "case_text_with_bearing",
     "case_text_with_clearance",
+    "check_choice_text",
     "clearance_key",
     "design_case_text",
     "design_modifications",
@@ -701,6 +702,16 @@ def case_text_with_bearing(text: str, shaft: str, k: int, table: dict) -> str:
     out = "\n".join(lines[:start + 1] + new + kept + lines[end:]) + "\n"
     tomllib.loads(out)  # a parse error here is a bug of this writer, not the user's
     return out
+
+
+def check_choice_text(text: str, bearing: str) -> None:
+    """Whether :func:`write_choice_case` can rewrite ``bearing`` (``<shaft>.bearings[<k>]``) in
+    the case file ``text``: checked before a choice's work. Raises ValueError (one line): a
+    bearing the text does not give as a ``[[scene.<shaft>.bearings]]`` table."""
+    hit = _BEARING_NAME.match(bearing.strip())
+    if hit is None:
+        raise ValueError(f"bearing = {bearing!r}: allowed <shaft>.bearings[<k>]")
+    _bearing_lines(text.splitlines(), hit.group(1), int(hit.group(2)), "choice")
 
 
 def write_choice_case(path, text: str, case: Case, bearing: str, choice: BearingChoice) -> Case:
