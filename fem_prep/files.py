@@ -390,18 +390,19 @@ def _list(v, where: str, fields: dict):
 
 def write_csv(path, header, columns, *, cause: str | None = None) -> None:
     """Write columns (equal-length sequences of numbers) under ``header`` to ``path`` atomically,
-    12 significant digits; ``None`` (no value) as an empty cell. NaN and ±inf are written as
-    ``nan``/``inf`` with a :class:`NonFiniteOutput` warning naming their columns (``cause`` as
-    :func:`write_json`)."""
+    12 significant digits; ``None`` (no value) as an empty cell, a text (a name) as itself.
+    NaN and ±inf are written as ``nan``/``inf`` with a :class:`NonFiniteOutput` warning naming
+    their columns (``cause`` as :func:`write_json`)."""
     buf = io.StringIO()
     w = csv.writer(buf)
     w.writerow(header)
     fields: dict[str, int] = {}
     for row in zip(*columns):
         for name, v in zip(header, row):
-            if v is not None and not math.isfinite(v):
+            if v is not None and not isinstance(v, str) and not math.isfinite(v):
                 fields[name] = fields.get(name, 0) + 1
-        w.writerow(["" if v is None else f"{v:.12g}" for v in row])
+        w.writerow(["" if v is None else v if isinstance(v, str) else f"{v:.12g}"
+                    for v in row])
     with atomic_open(path, "w", newline="") as f:
         f.write(buf.getvalue())
     _warn_non_finite(path, fields, cause)

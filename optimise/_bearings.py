@@ -1,5 +1,7 @@
-"""Rolling bearings as design variables: a bearing's diametral clearance (negative: a preload)
-acting on the scene's stiffness (docs/bearings.md, "As a design variable").
+"""Rolling bearings as design variables: a bearing's clearance (its kind's
+``clearance_field``: the diametral clearance, or a tapered roller pair's axial end play;
+negative: a preload) acting on the scene's stiffness (docs/bearings.md, "As a design
+variable").
 
 The bearings' operating point is found once (:func:`jaxgear.dynamics.bearings_at_operating_point`,
 NumPy around compiled solves) and each designed bearing's load F_b held there. Its tangent
@@ -19,8 +21,6 @@ the operating point's scene holds (a :class:`jaxgear.dynamics.DynamicModel`'s da
 
 from __future__ import annotations
 
-import dataclasses
-
 import equinox as eqx
 import jax
 import jax.numpy as jnp
@@ -34,9 +34,10 @@ __all__ = ["BearingDesign", "bearing_design"]
 
 
 def _held_stiffness(kind: AbstractRollingBearing, load, clearance) -> Float[Array, "6 6"]:
-    """K_b(c) (6, 6): the tangent stiffness of ``kind`` with diametral clearance ``clearance``
-    (m) where it carries ``load`` (5,) (N, N·m)."""
-    kind = eqx.tree_at(lambda k: k.clearance, kind, clearance)
+    """K_b(c) (6, 6): the tangent stiffness of ``kind`` with its clearance field
+    (``kind.clearance_field``: the diametral clearance, a tapered pair's end play) at
+    ``clearance`` (m) where it carries ``load`` (5,) (N, N·m)."""
+    kind = eqx.tree_at(lambda k: getattr(k, k.clearance_field), kind, clearance)
     return kind.stiffness6(solve_displacement(kind, load).displacement)
 
 
@@ -78,28 +79,36 @@ class BearingDesign(eqx.Module):
             raise ValueError(
                 f"variables: {var.name!r} is a linear bearing (a stiffness): allowed on a "
                 "rolling bearing from its geometry (kind = ..., or catalogue = ...)")
-        if not rolling.clearance_field:
+        if rolling.clearance_field is None:
             raise ValueError(
-                f"variables: {var.name!r} is a {type(rolling).__name__}, whose end play stands "
-                "in for a clearance: allowed on a rolling bearing with a diametral clearance")
+                f"variables: {var.name!r} is a {type(rolling).__name__}, which declares no "
+                "clearance: allowed on a rolling bearing with a clearance field")
         return i, var.bearing
 
     def kind(self, var) -> AbstractRollingBearing:
-        """The rolling bearing kind of a bearing variable (its clearance the operating point's)."""
+        """The rolling bearing kind of a bearing variable (its clearance the operating point's;
+        the variable sets its field ``clearance_field``)."""
         i, j = self.slot(var)
         return self.shafts[i].bearings[j].rolling
 
+    def clearance(self, var) -> float:
+        """The variable's value at the operating point (m): its bearing's clearance field (the
+        diametral clearance, a tapered pair's end play)."""
+        kind = self.kind(var)
+        return float(getattr(kind, kind.clearance_field))
+
     def case_value(self, var) -> float:
         """The variable's value at the operating point, in case-file units (µm)."""
-        return var.kind.file_value(float(self.kind(var).clearance))
+        return var.kind.file_value(self.clearance(var))
 
     def check_bounds(self, var, lo: float, hi: float) -> None:
-        """Refuses bounds (µm) outside the bearing's own range of clearances (its kind's
-        check, one line naming the variable)."""
+        """Refuses bounds (µm) outside the bearing's own range of its clearance field (its
+        kind's check, :meth:`~jaxgear.bearings.AbstractRollingBearing.with_clearance`, one
+        line naming the variable)."""
         kind = self.kind(var)
         for v in (lo, hi):
             try:
-                dataclasses.replace(kind, clearance=var.kind.to_model(float(v), 1.0))
+                kind.with_clearance(var.kind.to_model(float(v), 1.0))
             except ValueError as err:
                 raise ValueError(f"bounds of {var.name!r} = ({lo}, {hi}) µm: {err}") from None
 
@@ -111,11 +120,12 @@ class BearingDesign(eqx.Module):
 
     def apply(self, scene, variables, clearances):
         """``scene`` (assembled on :attr:`shafts`) with each variable's bearing at its clearance
-        (m, one per variable, in order): K_b(c) − K_b(c₀) added where the bearing sits
-        (:func:`jaxgear.dynamics.with_bearing_stiffness`); exactly ``scene`` at c₀."""
+        (m, its clearance field's value, one per variable, in order): K_b(c) − K_b(c₀) added
+        where the bearing sits (:func:`jaxgear.dynamics.with_bearing_stiffness`); exactly
+        ``scene`` at c₀."""
         changes = {}
         for var, c in zip(variables, clearances, strict=True):
-            c0 = jnp.asarray(float(self.kind(var).clearance))
+            c0 = jnp.asarray(self.clearance(var))
             changes[self.slot(var)] = self.stiffness(var, c) - jax.lax.stop_gradient(
                 self.stiffness(var, c0))
         return with_bearing_stiffness(scene, self.shafts, changes, self.extra_z)

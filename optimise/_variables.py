@@ -8,9 +8,11 @@ them parsed: its ``MemberModification`` field, its members and its kind
 (:class:`AbstractKind`: :class:`Depth`, :class:`Extent`, :class:`EndExtent`), which normalises,
 bounds and writes it in case-file units.
 
-A rolling bearing's diametral clearance is a variable of the structure, not of the flanks:
+A rolling bearing's clearance is a variable of the structure, not of the flanks:
 ``<shaft>.bearings[<k>].clearance`` (``pinion_shaft.bearings[0].clearance``; a train's shaft by
-its name), of kind :class:`Clearance`, in µm (negative: a preload). What a variable acts on is
+its name), of kind :class:`Clearance`, in µm (negative: a preload): the field its bearing kind
+declares (``clearance_field``: the diametral clearance, a tapered roller pair's axial end
+play). What a variable acts on is
 declared by its kind (:attr:`AbstractKind.acts_on`): ``"modifications"`` (written into the
 flanks' :class:`jaxgear.Modifications`) or ``"structure"`` (the scene's bearing stiffness,
 :class:`optimise.BearingDesign`, docs/bearings.md, "As a design variable").
@@ -179,8 +181,9 @@ class EndExtent(_AbstractFraction):
 
 
 class Clearance(AbstractKind):
-    """A rolling bearing's diametral clearance P_d, designed in µm (x = P_d / 1 µm; negative: a
-    radial preload); default bounds (−5, 20) µm. It acts on the structure: the bearing's
+    """A rolling bearing's clearance, designed in µm (x = c / 1 µm; negative: a preload): the
+    field its kind declares (``clearance_field``: the diametral clearance P_d, a tapered roller
+    pair's axial end play e); default bounds (−5, 20) µm. It acts on the structure: the bearing's
     tangent stiffness at its held load (:class:`optimise.BearingDesign`), which also checks
     the bounds against the bearing's own range."""
 

@@ -641,8 +641,9 @@ def test_every_number_key_says_what_the_hand_written_check_says():
     (OptimiseSection, {"bounds": {"crowning.dpeth": [0.0, 1.0]}},
      "[optimise.bounds] crowning.dpeth = [0, 1]: unknown variable, allowed tip_relief.depth"),
     (OptimiseSection, {"step": 3},
-     ("[optimise] unknown key 'step', allowed: a_weighted, bounds, lp_order, max_iterations, "
-      "method, objective, quantile, reduce, speeds, te_limit_um, torques, vars")),
+     ("[optimise] unknown key 'step', allowed: a_weighted, bounds, choices, lp_order, "
+      "max_iterations, method, objective, quantile, reduce, speeds, te_limit_um, torques, "
+      "vars")),
     # the keys that relate: quantile and reduce, a key of some objectives only
     (OptimiseSection, {"reduce": "mean"},
      "[optimise] quantile = 0.9: applies to reduce = 'quantile' only, not 'mean'"),

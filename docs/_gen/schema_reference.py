@@ -263,6 +263,8 @@ _MEMBER_MODS = re.compile(r"^modifications\.(pinion|gear)\.")
 NAMED_KEYS = {
     "optimise.bounds": "a design variable of `vars` (E* for depths, Γ for extents, µm for a "
     "bearing's `clearance`)",
+    "optimise.choices": "one rolling bearing of the scene, `\"<shaft>.bearings[<k>]\"`: an array "
+    "of catalogue names, the candidates of a bearing choice (docs/optimise.md)",
     "housing.points_mm": "a point's name: [x, y, z] in the scene frame (mm), read at the "
     "housing's outer skin node nearest it",
 }

@@ -19,6 +19,7 @@ on the shaft at equilibrium: positive along d, so that K = ∂f/∂d is positive
 from __future__ import annotations
 
 import abc
+import dataclasses
 import math
 from typing import ClassVar
 
@@ -97,10 +98,13 @@ class AbstractRollingBearing(eqx.Module):
     - ``self_aligning``: the outer raceway is a sphere about the bearing's centre (a spherical
       roller bearing): the rings tilt freely, no moment and no tilt stiffness (γ_x, γ_y not
       carried).
-    - ``clearance_field``: the kind's diametral clearance P_d is its own field ``clearance``
-      (m), which a design variable may set (``optimise``'s bearing clearance); not for
-      :class:`LinearSpring` (no clearance) nor :class:`TaperedRollerPair` (its axial end
-      play stands in for the rows' clearance).
+    - ``clearance_field``: the name of the kind's own field (m) that a bearing's clearance
+      variable sets (``optimise``'s ``<shaft>.bearings[<k>].clearance``, written back as
+      ``<field>_um`` in a case file; :meth:`with_clearance` sets it): ``"clearance"``, the
+      diametral clearance P_d (negative: a radial preload), for the kinds with rolling
+      elements; ``"end_play"`` for :class:`TaperedRollerPair` (its axial end play e stands in
+      for the rows' clearance, P_d = e tan α; negative: an axial preload); ``None`` for
+      :class:`LinearSpring` (no clearance).
     - ``rows``: the rows of rolling elements i (ISO 281's i): 2 for :class:`SphericalRoller`
       and :class:`TaperedRollerPair`, 1 otherwise.
     - ``crown_field``: the kind's rollers take a logarithmic crown, its own field ``crown``
@@ -125,7 +129,7 @@ class AbstractRollingBearing(eqx.Module):
     axial_load: ClassVar[str] = "both"
     life_exponent: ClassVar[float | None] = None
     self_aligning: ClassVar[bool] = False
-    clearance_field: ClassVar[bool] = True
+    clearance_field: ClassVar[str | None] = "clearance"
     rows: ClassVar[int] = 1
     crown_field: ClassVar[bool] = False
     carries_moment: ClassVar[bool] = False
@@ -147,6 +151,18 @@ class AbstractRollingBearing(eqx.Module):
         """The stiffness at d as the 6×6 matrix a :class:`jaxgear.scenes.Bearing` takes
         (DOFs u_x, u_y, u_z, φ_x, φ_y, φ_z; row and column φ_z zero), symmetrised."""
         return _stiffness6(self, jnp.asarray(displacement, dtype=float))
+
+    def with_clearance(self, value) -> AbstractRollingBearing:
+        """The kind with its :attr:`clearance_field` set to ``value`` (m) and checked as its
+        constructor checks it.
+
+        Raises:
+            ValueError: ``value`` outside the kind's range (its constructor's line), a kind
+                without a clearance field (:class:`LinearSpring`)."""
+        if self.clearance_field is None:
+            raise ValueError(f"{type(self).__name__} has no clearance: allowed a rolling bearing "
+                             "kind with rolling elements")
+        return dataclasses.replace(self, **{self.clearance_field: value})
 
     def carried(self) -> tuple[bool, ...]:
         """Which of the five DOFs the bearing resists (a DOF it does not is left at 0 by
@@ -200,7 +216,7 @@ class LinearSpring(AbstractRollingBearing):
     tilt: float = 0.0
 
     rolling_elements: ClassVar[bool] = False
-    clearance_field: ClassVar[bool] = False
+    clearance_field: ClassVar[str | None] = None
     contact_exponent: ClassVar[float] = 1.0
     axial_load: ClassVar[str] = "both"
     life_exponent: ClassVar[float | None] = None
@@ -899,7 +915,7 @@ class TaperedRollerPair(AbstractRollingBearing):
     axial_load: ClassVar[str] = "both"
     life_exponent: ClassVar[float | None] = 10.0 / 3.0
     self_aligning: ClassVar[bool] = False
-    clearance_field: ClassVar[bool] = False
+    clearance_field: ClassVar[str | None] = "end_play"
     rows: ClassVar[int] = 2
     crown_field: ClassVar[bool] = True
     carries_moment: ClassVar[bool] = True
@@ -948,6 +964,11 @@ class TaperedRollerPair(AbstractRollingBearing):
                    end_play=end_play, spacing=spacing, slices=row.slices,
                    dynamic_rating=row.dynamic_rating, static_rating=row.static_rating,
                    fatigue_limit=row.fatigue_limit, crown=row.crown)
+
+    def with_clearance(self, value) -> TaperedRollerPair:
+        """The pair with end play ``value`` (m; its :attr:`clearance_field`), checked as the
+        constructor checks it (ValueError, one line)."""
+        return type(self).of(self.row, self.arrangement, value, self.spacing)
 
     # ---- the row's geometry, which the tones, the solve's scales and the life read
     elements = _of_row("elements", "Z, the rollers of one row (the tones' count).")

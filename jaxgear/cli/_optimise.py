@@ -43,19 +43,26 @@ from optimise import (
 from ..io import (
     ACOUSTIC_OBJECTIVES,
     OPTIMISE_DEFAULTS,
+    SEAT_TOLERANCE_MM,
     TORQUE_RANGE_OBJECTIVES,
+    BearingChoice,
     Case,
     TrainForm,
+    bearing_choices,
     case_problem,
     case_text_with_modifications,
+    check_choice_text,
     check_train_design,
     design_modifications,
     embedded_case_text,
     load_case,
+    objective_units,
     optimiser_from_name,
     rating_of,
     static_scene,
     tribology_of,
+    write_choice_case,
+    write_csv,
     write_design_case,
     write_json,
 )
@@ -102,9 +109,11 @@ def settings_from_case(case: Case, args=None) -> dict:
         return given.get(key, table.get(key, default))
 
     d = OPTIMISE_DEFAULTS  # one home: the case-file reference shows the same defaults
+    choices = table.get("choices")  # a bearing choice: no vars, each candidate as given
     return {
         "objective": get("objective", d["objective"]),
-        "vars": get("vars", d["vars"]),
+        "vars": get("vars", None if choices else d["vars"]),
+        "choices": choices,
         "torques": get("torques", d["torques"]),
         "reduce": get("reduce", d["reduce"]),
         "method": get("method", d["method"]),
@@ -662,7 +671,7 @@ def check_settings(settings: dict, case: Case | None = None) -> dict:
                 raise ValueError(
                     f"--vars {n!r}: unknown design variable, allowed {allowed}"
                 ) from None
-            if (var.kind.acts_on != "modifications"
+            if (var.kind.acts_on != "modifications" and not settings.get("choices")
                     and settings["objective"] not in ACOUSTIC_OBJECTIVES):
                 raise ValueError(
                     f"--vars {n!r}: a bearing's clearance is optimised by jaxgear optimise with "
@@ -748,6 +757,9 @@ def check_settings(settings: dict, case: Case | None = None) -> dict:
                 f"--speed {speed:g}: needs a case with condensed bodies ([scene.gear_body] or "
                 "[scene.pinion_body]); the rigid mesh has no centrifugal load"
             )
+        if settings.get("choices"):
+            raise ValueError(f"--speed {speed:g}: a bearing choice ([optimise.choices]) runs "
+                             "on the case's lumped 3D scene at rest: allowed without --speed")
     return settings
 
 
@@ -816,6 +828,8 @@ def run_optimise(args) -> int:
     :func:`add_optimise_arguments`); returns the exit status."""
     case = _pair_case(args.case, "optimise", trains=True)
     settings = check_settings(settings_from_case(case, args), case)
+    if settings["choices"]:
+        return _run_choice(case, settings, args)
     _check_train(case, settings)
     write_to = check_write(args.write, args.case, case, force=args.force)
     out = check_case_outputs(case, "optimise",
@@ -843,6 +857,120 @@ def run_optimise(args) -> int:
         except ValueError as err:
             raise ValueError(f"--write {write_to}: {err}") from None
         print(f"{CANDIDATES[best]} written as a case file: {write_to} (jaxgear run {write_to})")
+    return 0
+
+
+def _choice_line(i: int, total: int, choice: BearingChoice, units: str) -> str:
+    """The progress line of one candidate of a bearing choice."""
+    head = f"candidate {i + 1}/{total} {choice.name}:"
+    if not choice.fits:
+        return (f"{head} bore {choice.bore_mm:.4g} mm does not fit the shaft's "
+                f"{choice.seat_mm:.4g} mm: not ranked")
+    moved = ("" if choice.result is None else
+             f" -> {choice.value:.6g} {units}, clearance {choice.start_um:.4g} -> "
+             f"{choice.clearance_um:.4g} µm")
+    return f"{head} {choice.start_value:.6g} {units}{moved}"
+
+
+#: the ranking table's columns (choice.json's candidates, choice.csv's header)
+_CHOICE_COLUMNS = ("rank", "candidate", "fits", "bore_mm", "seat_mm", "objective_start",
+                   "objective", "clearance_start_um", "clearance_um", "life_L10_Mrev",
+                   "iterations", "converged")
+
+
+def _choice_row(rank: int | None, c: BearingChoice) -> dict:
+    res = c.result
+    return dict(zip(_CHOICE_COLUMNS, (
+        rank, c.name, c.fits, c.bore_mm, c.seat_mm, c.start_value, c.value, c.start_um,
+        c.clearance_um, c.life_Mrev, None if res is None else res.iterations,
+        None if res is None else res.converged), strict=True))
+
+
+def _run_choice(case: Case, settings: dict, args) -> int:
+    """``jaxgear optimise`` of a case with ``[optimise.choices]``: the bearing choice
+    (:func:`jaxgear.io.bearing_choices`), its ranking table (``choice.json``, ``choice.csv``)
+    and bar plot (``choice.png``), a line per candidate; ``--write``: the best candidate's
+    case."""
+    (bearing, names), = settings["choices"].items()
+    variable = f"{bearing}.clearance"
+    optimised = settings["vars"] is not None  # [optimise] checked it is the bearing's clearance
+    if optimised and [n.strip() for n in str(settings["vars"]).split(",")] != [variable]:
+        raise ValueError(f"--vars {settings['vars']!r}: with [optimise.choices] allowed "
+                         f"{variable!r} (each candidate's clearance optimised) or no vars")
+    write_to = check_write(args.write, args.case, case, force=args.force)
+    if write_to is not None:
+        try:
+            check_choice_text(_case_text(args.case), bearing)
+        except ValueError as err:
+            raise ValueError(f"--write {write_to}: {err}") from None
+    out = check_case_outputs(case, "optimise",
+                             args.out or os.path.join("jaxgear-out", case.name, "optimise"),
+                             force=args.force)
+    torques = (range_values(settings["torques"], "--torques", positive=True)
+               if settings["torques"] else None)
+    quiet = args.quiet
+    total = len(names)
+    objective = settings["objective"]
+    units = objective_units(objective)
+
+    def report(i, choice):
+        if not quiet:
+            print(_choice_line(i, total, choice, units), flush=True)
+
+    t0 = time.perf_counter()
+    bounds = settings["bounds"].get(variable)
+    with warnings.catch_warnings():
+        warnings.filterwarnings("ignore", message="optimiser stopped at the iteration cap")
+        ranked = bearing_choices(
+            case, bearing, {n: {"catalogue": n} for n in names}, objective,
+            optimise_clearance=optimised, max_iterations=settings["max_iterations"],
+            bounds=bounds, report=report, torques=torques, reduce=settings["reduce"],
+            lp_order=8.0 if settings.get("lp_order") is None else settings["lp_order"],
+            te_limit=None if settings.get("te_limit_um") is None
+            else settings["te_limit_um"] * 1e-6,
+            quantile=settings.get("quantile"), a_weighted=settings.get("a_weighted"),
+            progress=not quiet)
+    fitting = [c for c in ranked if c.fits]
+    clear_outputs(out, "optimise")  # e.g. an earlier run's choice.png
+    rows = [_choice_row(r + 1 if c.fits else None, c) for r, c in enumerate(ranked)]
+    os.makedirs(out, exist_ok=True)
+    report_json = {
+        "case": case.name, "objective": objective, "units": units, "bearing": bearing,
+        "clearance_optimised": optimised, "reduce": settings["reduce"],
+        "max_iterations": settings["max_iterations"] if optimised else None,
+        "candidates": rows, "best": fitting[0].name if fitting else None,
+        "wall_time_s": time.perf_counter() - t0,
+        "notes": "each candidate a case of its own (its operating point, its model): the "
+        "bearing's table replaced by the catalogue entry at the same position, its clearance "
+        "key (clearance_um, a tapered pair's end_play_um) the case bearing's; objective values "
+        f"in {units}, unscaled, the optimisation's smooth law; a candidate whose bore differs "
+        f"from the shaft's diameter by more than {SEAT_TOLERANCE_MM} mm does not fit and is "
+        "not ranked; life_L10_Mrev: ISO 281's basic rating life at the held load (millions of "
+        "revolutions; empty without a C)",
+    }
+    write_json(os.path.join(out, "choice.json"), report_json)
+    write_csv(os.path.join(out, "choice.csv"), _CHOICE_COLUMNS,
+              [[row[k] for row in rows] for k in _CHOICE_COLUMNS])
+    if fitting:
+        _plots.bearing_choice_plot(
+            os.path.join(out, "choice.png"), [c.name for c in fitting],
+            [c.start_value for c in fitting],
+            [c.value for c in fitting] if optimised else None,
+            ylabel=f"{objective} ({units})",
+            title=f"{case.name}: {bearing} by {objective}")
+    if not fitting:
+        print(f"no candidate fits {bearing}'s shaft: nothing ranked; written to {out}/")
+        return 0
+    best = fitting[0]
+    print(f"{bearing}: best {best.name} ({best.value:.6g} {units}"
+          + (f", clearance {best.clearance_um:.4g} µm" if optimised else "")
+          + f"); {len(fitting)} of {total} candidates fit; written to {out}/")
+    if write_to is not None:
+        try:
+            write_choice_case(write_to, _case_text(args.case), case, bearing, best)
+        except ValueError as err:
+            raise ValueError(f"--write {write_to}: {err}") from None
+        print(f"{best.name} written as a case file: {write_to} (jaxgear run {write_to})")
     return 0
 
 

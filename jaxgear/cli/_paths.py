@@ -92,7 +92,8 @@ OUTPUT_FILES: dict[str, tuple[str, ...]] = {
         "vtu/body_*.vtu",
         "vtu/body_*.pvd",
     ),
-    "optimise": ("optimum.json", "convergence.png", "harris.png", "path.png"),
+    "optimise": ("optimum.json", "convergence.png", "harris.png", "path.png", "choice.json",
+                 "choice.csv", "choice.png"),
     # jaxgear modes: the natural frequencies with their types
     "modes": ("modes.json",),
     # jaxgear run on a case with [deviations] (subfolder deviations/)

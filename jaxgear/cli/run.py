@@ -448,8 +448,10 @@ def check_run_case(case) -> None:
 
 def optimise_settings(case) -> dict | None:
     """The checked settings of the case's ``[optimise]`` table
-    (:func:`jaxgear.cli.check_settings`), None without one (a train has none)."""
-    if case.optimise is None:
+    (:func:`jaxgear.cli.check_settings`), None without one (a train has none) or where it is a
+    bearing choice (``[optimise.choices]``: ``jaxgear optimise`` runs it, not ``jaxgear
+    run``)."""
+    if case.optimise is None or case.optimise.get("choices"):
         return None
     return check_settings(settings_from_case(case))
 
@@ -463,7 +465,7 @@ def run_kind(case: Case, out: str, args, settings) -> dict:
     summary_path = os.path.join(out, "summary.json")
     sweep = sweeps(case)
     whine = whine_of(case) is not None  # [whine]: the frequency-domain whine after the rest
-    last = not sweep and case.optimise is None and not whine
+    last = not sweep and settings is None and not whine
     summary = quasi_static_files(case.form, case, out, args, last)
     if sweep:  # the case has a dynamic scene: add its dynamic factor curve
         dynamics, worst_run = _sweep_section(case, out, args.quiet)
@@ -473,7 +475,7 @@ def run_kind(case: Case, out: str, args, settings) -> dict:
         # the root-stress map at speed, from the sweep's run at that speed (not run again)
         root_stress_at_speed(case, out, summary, dynamics, run=worst_run, write_table=False)
         write_json(summary_path, summary)
-    if case.optimise is not None:  # the case asks for an optimisation too
+    if settings is not None:  # the case asks for an optimisation too
         rep = optimise_case(case, settings, os.path.join(out, "optimise"), progress=not args.quiet)
         summary["optimise"] = {
             k: rep[k]

@@ -105,6 +105,7 @@ from ._optimise_table import (
     OPTIMISE_DEFAULTS as OPTIMISE_DEFAULTS,
     TORQUE_RANGE_OBJECTIVES as TORQUE_RANGE_OBJECTIVES,
     check_train_design as check_train_design,
+    objective_units as objective_units,
     parse_optimise as parse_optimise,
 )
 from ._planetary_spec import (
@@ -116,15 +117,21 @@ from ._plausibility import CaseWarning as CaseWarning, plausibility as plausibil
 from ._problem import (
     OBJECTIVES as OBJECTIVES,
     OPTIMISERS as OPTIMISERS,
+    SEAT_TOLERANCE_MM as SEAT_TOLERANCE_MM,
     STATISTICS as STATISTICS,
     BearingChoice as BearingChoice,
     bearing_choices as bearing_choices,
     case_bearing_design as case_bearing_design,
     case_problem as case_problem,
+    case_text_with_bearing as case_text_with_bearing,
+    case_text_with_clearance as case_text_with_clearance,
+    check_choice_text as check_choice_text,
+    clearance_key as clearance_key,
     design_case_text as design_case_text,
     design_modifications as design_modifications,
     objective_from_name as objective_from_name,
     optimiser_from_name as optimiser_from_name,
+    write_choice_case as write_choice_case,
     write_design_case as write_design_case,
 )
 from ._rating_table import (

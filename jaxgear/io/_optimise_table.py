@@ -4,14 +4,16 @@ torques, bounds), checked and normalised."""
 from __future__ import annotations
 
 import functools
+import re
 from typing import Annotated, Any, ClassVar, Literal
 
 import pydantic
 from pydantic import BeforeValidator
 
 from fem_prep import schema as sc
-from optimise import OBJECTIVES, VARIABLES, Variable
+from optimise import OBJECTIVES, VARIABLES, AbstractObjective, Variable
 
+from ..bearings import CATALOGUE
 from ._sections import Section, number, number_list
 
 __all__ = [
@@ -22,6 +24,8 @@ __all__ = [
     "check_acoustic_tables",
     "check_bearing_variables",
     "check_train_design",
+    "designs_structure",
+    "objective_units",
     "parse_optimise",
 ]
 
@@ -107,42 +111,107 @@ def check_train_design(objective: str | None, variables, modifications: dict | N
                           "[modifications], when the train is optimised", "{...}")
 
 
+def _check_bearing(where: str, key: str, name: str, shaft: str, k: int, shafts: dict) -> None:
+    """Bearing ``k`` of ``shaft`` (as ``name`` writes it) is a rolling bearing from its
+    geometry of ``shafts`` (``{name: ShaftSpec or None}``); else one line naming
+    ``[where] key``."""
+    spec = shafts.get(shaft)
+    if spec is None:
+        given = ", ".join(n for n, v in shafts.items() if v is not None) or "none"
+        raise sc.fail(where, key, f"{name!r}: no [scene.{shaft}] of a lumped3d scene, allowed "
+                      f"the shafts {given}", name)
+    if not k < len(spec.bearings):
+        raise sc.fail(where, key, f"{name!r}: [scene.{shaft}] has {len(spec.bearings)} "
+                      f"bearings, allowed bearings[0] to bearings[{len(spec.bearings) - 1}]",
+                      name)
+    rolling = spec.bearings[k].rolling
+    if rolling is None or rolling.clearance_field is None:
+        raise sc.fail(where, key, f"{name!r} is a linear bearing: a clearance is allowed on a "
+                      "rolling bearing from its geometry (kind = ..., or catalogue = ...)", name)
+
+
 def check_bearing_variables(optimise: dict | None, shafts: dict) -> None:
-    """Each bearing variable of ``[optimise] vars`` names a rolling bearing from its geometry
-    of the case's ``shafts`` (``{name: ShaftSpec or None}``, ``pinion_shaft``, ``gear_shaft``).
+    """Each bearing variable of ``[optimise] vars`` and each bearing of
+    ``[optimise.choices]`` names a rolling bearing from its geometry of the case's ``shafts``
+    (``{name: ShaftSpec or None}``, ``pinion_shaft``, ``gear_shaft``; empty where the scene is
+    not ``lumped3d``).
 
     Raises:
-        SchemaError: one line naming ``[optimise] vars``: an unknown shaft, a bearing index
-            out of range, a linear bearing."""
+        SchemaError: one line naming ``[optimise] vars`` or the ``[optimise.choices]`` key: an
+            unknown shaft, a bearing index out of range, a linear bearing (a kind without a
+            ``clearance_field``; a tapered roller pair's variable is its ``end_play_um``)."""
     for name in (optimise or {}).get("vars", ()):
         if _variable_kind(name) != "clearance":
             continue
         var = Variable.parse(name)
-        spec = shafts.get(var.shaft)
-        if spec is None:
-            given = ", ".join(k for k, v in shafts.items() if v is not None) or "none"
-            raise sc.fail(WHERE, "vars", f"{name!r}: no [scene.{var.shaft}] of a lumped3d "
-                          f"scene, allowed the shafts {given}", name)
-        if not var.bearing < len(spec.bearings):
-            raise sc.fail(WHERE, "vars", f"{name!r}: [scene.{var.shaft}] has "
-                          f"{len(spec.bearings)} bearings, allowed bearings[0] to "
-                          f"bearings[{len(spec.bearings) - 1}]", name)
-        rolling = spec.bearings[var.bearing].rolling
-        if rolling is None or not rolling.rolling_elements:
-            raise sc.fail(WHERE, "vars", f"{name!r} is a linear bearing: a clearance is "
-                          "allowed on a rolling bearing from its geometry (kind = ..., or "
-                          "catalogue = ...)", name)
-        if not rolling.clearance_field:
-            raise sc.fail(WHERE, "vars", f"{name!r} is a {type(rolling).__name__}, whose "
-                          "end_play_um stands in for a clearance: allowed on a rolling bearing "
-                          "with clearance_um", name)
+        _check_bearing(WHERE, "vars", name, var.shaft, var.bearing, shafts)
+    for name in (optimise or {}).get("choices") or {}:
+        hit = _CHOICE.match(name)
+        _check_bearing(f"{WHERE}.choices", name, name, hit.group(1), int(hit.group(2)), shafts)
+
+
+#: an ``[optimise.choices]`` key: ``<shaft>.bearings[<k>]``
+_CHOICE = re.compile(r"^([A-Za-z_][\w-]*)\.bearings\[(\d+)\]$")
+
+
+def _objective_class(objective: str) -> type[AbstractObjective] | None:
+    """The :class:`optimise.AbstractObjective` class whose ``name`` is ``objective``, or
+    None."""
+    stack = [AbstractObjective]
+    while stack:
+        kind = stack.pop()
+        if kind.__dict__.get("name") == objective:
+            return kind
+        stack.extend(kind.__subclasses__())
+    return None
+
+
+def designs_structure(objective: str) -> bool:
+    """Whether the objective named ``objective`` (:data:`optimise.OBJECTIVES`) takes a designed
+    structure (a bearing's clearance): its class's ``designs_structure``."""
+    kind = _objective_class(objective)
+    return kind is not None and bool(kind.designs_structure)
+
+
+def objective_units(objective: str) -> str:
+    """The units of the objective named ``objective`` (its class's ``units``: ``m``, ``W``,
+    ...; ValueError: an unknown name)."""
+    kind = _objective_class(objective)
+    if kind is None:
+        raise ValueError(f"objective = {objective!r} is unknown: allowed {', '.join(OBJECTIVES)}")
+    return kind.units
+
+
+def _choices(value):
+    """``[optimise.choices]``: one bearing ``"<shaft>.bearings[<k>]"`` = a non-empty array of
+    distinct catalogue names (:data:`jaxgear.bearings.CATALOGUE`)."""
+    where = f"{WHERE}.choices"
+    if not isinstance(value, dict) or len(value) != 1:
+        raise sc.fail(WHERE, "choices", "allowed one bearing, \"<shaft>.bearings[<k>]\" = "
+                      "[catalogue names] (e.g. \"pinion_shaft.bearings[0]\" = [\"6205\", "
+                      "\"NU 205\"])", value)
+    (name, names), = value.items()
+    if _CHOICE.match(name) is None:
+        raise sc.fail(where, name, "unknown bearing, allowed \"<shaft>.bearings[<k>]\" (e.g. "
+                      "\"pinion_shaft.bearings[0]\")", names)
+    if not isinstance(names, list) or not names:
+        raise sc.fail(where, name, "allowed a non-empty array of catalogue names "
+                      f"({', '.join(CATALOGUE)})", names)
+    for x in names:
+        if x not in CATALOGUE:
+            raise sc.fail(where, name, f"unknown catalogue name {sc.fmt(x)}, allowed "
+                          f"{', '.join(CATALOGUE)}", names)
+    if len(set(names)) != len(names):
+        raise sc.fail(where, name, "names a bearing twice", names)
+    return {name: list(names)}
 
 
 _DEFAULT_VARS = tuple(OPTIMISE_DEFAULTS["vars"].split(","))
 WHERE = "optimise"
 #: what ``vars`` and ``[optimise.bounds]`` allow, in their messages
 _ALLOWED_VARS = (f"{', '.join(VARIABLES)}, optionally prefixed 'pinion.' or 'gear.', or a "
-                 "rolling bearing's <shaft>.bearings[<k>].clearance (µm)")
+                 "rolling bearing's <shaft>.bearings[<k>].clearance (µm; a tapered roller "
+                 "pair's end play)")
 
 
 def _variable_kind(name: str) -> str | None:
@@ -260,6 +329,15 @@ class OptimiseSection(Section):
     #: the speed band of the dynamic_factor objective, as jaxgear optimise --speeds START:STOP:N
     speeds: Annotated[list, BeforeValidator(_speed_span)] | None = None
     bounds: dict[str, number_list(length=2)] = pydantic.Field(default_factory=dict)
+    #: bearing choice: one bearing's candidates, ``"<shaft>.bearings[<k>]" = ["6205", ...]``
+    #: (catalogue names), each ranked by the objective (its clearance optimised where ``vars``
+    #: is that bearing's clearance, else evaluated as given)
+    choices: dict[str, list[Literal[tuple(CATALOGUE)]]] | None = None
+
+    @pydantic.field_validator("choices", mode="before")
+    @classmethod
+    def _choices(cls, v):
+        return _choices(v)
 
     @pydantic.model_validator(mode="after")
     def _related(self):
@@ -287,6 +365,8 @@ class OptimiseSection(Section):
             raise sc.fail(WHERE, "objective", "'dynamic_factor' needs speeds = [start, stop, n] "
                           "(its pinion speed band in rad/s, e.g. [2800.0, 3200.0, 3])",
                           "dynamic_factor")
+        if self.choices is not None:
+            self._check_choice(goal or "te_rms")
         for name, (lo, hi) in self.bounds.items():
             kind = _variable_kind(name)
             pair = [lo, hi]
@@ -306,6 +386,18 @@ class OptimiseSection(Section):
                 raise sc.fail(f"{WHERE}.bounds", name, f"out of range, allowed [lo, hi] with "
                               f"{lo_ok} ({unit})", pair)
         return self
+
+    def _check_choice(self, goal: str) -> None:
+        """``choices`` with ``vars`` its bearing's clearance or not given, and an objective
+        that takes a designed structure."""
+        (name,) = self.choices
+        if "vars" in self.given and self.vars != [f"{name}.clearance"]:
+            raise sc.fail(WHERE, "vars", f"with [optimise.choices] allowed [\"{name}.clearance\"] "
+                          "(each candidate's clearance optimised) or no vars (each evaluated "
+                          "as given)", self.vars)
+        if not designs_structure(goal):
+            raise sc.fail(WHERE, "objective", "a bearing choice needs an objective a bearing's "
+                          "stiffness acts on: allowed any but 'dynamic_factor'", goal)
 
     def settings(self) -> dict:
         """The keys the file gave, normalised (:func:`parse_optimise`)."""

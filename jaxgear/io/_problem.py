@@ -12,16 +12,20 @@ one class in :mod:`optimise` plus its name here.
 from __future__ import annotations
 
 import copy
+import json
 import re
 import tomllib
 from collections.abc import Callable
 from typing import NamedTuple
 
+import equinox as eqx
+import jax.numpy as jnp
 import numpy as np
 import optax
 import optimistix as optx
 
 import jaxgear as jg
+import jaxgear.bearings as jb
 import jaxgear.scenes as js
 import optimise as op
 from fem_prep.schema import atomic_write
@@ -35,21 +39,27 @@ from ._load import load_case
 from ._lubricant_table import tribology_of
 from ._modifications_table import case_text_with_modifications, modifications_with
 from ._operating import operating_point
-from ._optimise_table import ACOUSTIC_OBJECTIVES, check_train_design
+from ._optimise_table import ACOUSTIC_OBJECTIVES, check_train_design, designs_structure
 from ._rating_table import RatingCase, rating_of
 
 __all__ = [
     "OBJECTIVES",
     "OPTIMISERS",
+    "SEAT_TOLERANCE_MM",
     "STATISTICS",
     "BearingChoice",
     "bearing_choices",
     "case_bearing_design",
     "case_problem",
+    "case_text_with_bearing",
+    "case_text_with_clearance",
+    "check_choice_text",
+    "clearance_key",
     "design_case_text",
     "design_modifications",
     "objective_from_name",
     "optimiser_from_name",
+    "write_choice_case",
     "write_design_case",
 ]
 
@@ -287,55 +297,44 @@ def case_bearing_design(case: Case) -> op.BearingDesign:
 
 class BearingChoice(NamedTuple):
     """One candidate of :func:`bearing_choices`: its ``name``, the ``case`` with it, its
-    clearance's optimum (``clearance_um``, and where it started, ``start_um``), the objective
-    there and at the start (``value``, ``start_value``: the objective's units, unscaled, the
-    problem's smooth law; each candidate's problem scales by its own unmodified design, so the
-    unscaled values are what compares) and the optimiser's ``result``."""
+    clearance's optimum (``clearance_um``, and where it started, ``start_um``; µm of its kind's
+    clearance field, a tapered pair's end play; the start where the clearance is not
+    optimised), the objective there and at the start (``value``, ``start_value``: the
+    objective's units, unscaled, the problem's smooth law; each candidate's problem scales by
+    its own unmodified design, so the unscaled values are what compares), the optimiser's
+    ``result`` (None: evaluated as is), whether its bore ``bore_mm`` ``fits`` the shaft's
+    diameter ``seat_mm`` (:data:`SEAT_TOLERANCE_MM`; a candidate that does not fit has no
+    ``case``, values or result: None) and its ISO 281 basic rating life L10 at the held load
+    ``life_Mrev`` (millions of revolutions; None where the kind has no rating or no C)."""
 
     name: str
-    case: Case
-    clearance_um: float
-    start_um: float
-    value: float
-    start_value: float
-    result: op.OptimisationResult
+    case: Case | None
+    clearance_um: float | None
+    start_um: float | None
+    value: float | None
+    start_value: float | None
+    result: op.OptimisationResult | None
+    fits: bool = True
+    bore_mm: float | None = None
+    seat_mm: float | None = None
+    life_Mrev: float | None = None
 
+
+#: how far a candidate's bore may differ from its shaft's diameter and still fit (mm): the
+#: nominal sizes agree (a catalogue's bore converted from inches, 25.00122 mm for 25 mm), the
+#: fit's interference being the shaft's tolerance class, which the model does not hold
+SEAT_TOLERANCE_MM = 0.01
 
 _BEARING_NAME = re.compile(r"^([A-Za-z_][\w-]*)\.bearings\[(\d+)\]$")
 
 
-def bearing_choices(
-    case: Case,
-    bearing: str,
-    candidates: dict,
-    objective: str = "te_rms",
-    *,
-    max_iterations: int = 10,
-    bounds: tuple[float, float] | None = None,
-    **settings,
-) -> tuple[BearingChoice, ...]:
-    """Bearing choice by enumeration: each candidate bearing at the position ``bearing`` of a
-    ``lumped3d`` pair case, its clearance optimised (:func:`case_problem` with the variable
-    ``<bearing>.clearance``, :func:`optimise.minimise` from the candidate's own clearance),
-    ranked by the objective at its optimum, best first. A discrete choice is not a gradient
-    variable: each candidate is a case of its own (its operating point, its model).
-
-    Args:
-        case: a pair case whose ``[scene]`` is ``lumped3d``.
-        bearing: the bearing's name, ``pinion_shaft.bearings[0]``.
-        candidates: ``{name: table}``, each table the bearing's case-file keys without
-            ``position_mm`` (``{"catalogue": "6206"}``, or a ``kind`` with its geometry;
-            ``clearance_um`` the start, default the case bearing's or 0).
-        objective: an objective name (:data:`OBJECTIVES`) that takes a designed structure.
-        max_iterations: the optimiser's iterations per candidate (int >= 1).
-        bounds: the clearance's bounds (µm), default the variable's.
-        settings: the objective's settings (:func:`case_problem`).
-
-    Raises:
-        ValueError: a bearing name that is not ``<shaft>.bearings[<k>]`` of the case's
-            ``[scene]``, no candidate; what loading a candidate's case refuses (one line, the
-            candidate named), what :func:`case_problem` refuses.
-    """
+def _check_choice(case: Case, bearing: str, candidates: dict, objective: str) -> tuple[str, int]:
+    """(shaft, k) of a bearing choice's ``bearing`` name, or one line refusing the case, the
+    name, the candidates or the objective."""
+    if isinstance(case.form, TrainForm) or case.scene is None or not case.scene.lumped:
+        raise ValueError(f"bearing = {bearing!r}: a bearing choice runs on a pair case whose "
+                         "[scene] is lumped3d (its shafts on rolling bearings); this case's is "
+                         f"{'a train' if isinstance(case.form, TrainForm) else 'not'}")
     hit = _BEARING_NAME.match(bearing.strip())
     shafts = (case.raw.get("scene") or {})
     if hit is None or hit.group(1) not in shafts or not int(hit.group(2)) < len(
@@ -344,26 +343,122 @@ def bearing_choices(
                          "[scene] (e.g. 'pinion_shaft.bearings[0]')")
     if not candidates:
         raise ValueError("candidates is empty: allowed {name: the bearing's table}")
-    shaft, k = hit.group(1), int(hit.group(2))
+    if not designs_structure(objective):
+        raise ValueError(f"objective = {objective!r} does not take a designed structure: "
+                         "allowed an objective a bearing's stiffness acts on (not "
+                         "dynamic_factor)")
+    return hit.group(1), int(hit.group(2))
+
+
+def _candidate(case: Case, shaft: str, k: int, name: str, table: dict) -> Case:
+    """The case with bearing ``k`` of ``shaft`` the candidate's ``table`` at the same position,
+    its clearance key (:func:`clearance_key`) the case bearing's where the table gives none."""
+    data = copy.deepcopy(case.raw)
+    old = data["scene"][shaft]["bearings"][k]
+    data["scene"][shaft]["bearings"][k] = {"position_mm": old["position_mm"]} | dict(table)
+    try:
+        candidate = parse_case(data, case.name)
+        key = clearance_key(getattr(candidate.scene, shaft).bearings[k].rolling)
+        if key in old and key not in table:  # the start: the case's clearance
+            data["scene"][shaft]["bearings"][k][key] = old[key]
+            candidate = parse_case(data, case.name)
+    except ValueError as err:
+        raise ValueError(f"candidate {name!r}: {err}") from None
+    return candidate
+
+
+def _bearing_table(case: Case, shaft: str, k: int) -> dict:
+    """The case-file table of bearing ``k`` of ``[scene.<shaft>]`` (the ``case``'s raw keys)."""
+    return dict(case.raw["scene"][shaft]["bearings"][k])
+
+
+def bearing_choices(
+    case: Case,
+    bearing: str,
+    candidates: dict,
+    objective: str = "te_rms",
+    *,
+    optimise_clearance: bool = True,
+    max_iterations: int = 10,
+    bounds: tuple[float, float] | None = None,
+    report: Callable[[int, BearingChoice], None] | None = None,
+    **settings,
+) -> tuple[BearingChoice, ...]:
+    """Bearing choice by enumeration: each candidate bearing at the position ``bearing`` of a
+    ``lumped3d`` pair case whose bore fits the shaft (its diameter within
+    :data:`SEAT_TOLERANCE_MM`), its clearance optimised (:func:`case_problem` with the
+    variable ``<bearing>.clearance``, :func:`optimise.minimise` from the candidate's own
+    clearance) or, with ``optimise_clearance`` False, evaluated at it; ranked by the objective,
+    best first, the candidates that do not fit after them (not ranked, in the given order). A
+    discrete choice is not a gradient variable: each candidate is a case of its own (its
+    operating point, its model).
+
+    Args:
+        case: a pair case whose ``[scene]`` is ``lumped3d``.
+        bearing: the bearing's name, ``pinion_shaft.bearings[0]``.
+        candidates: ``{name: table}``, each table the bearing's case-file keys without
+            ``position_mm`` (``{"catalogue": "6205"}``, or a ``kind`` with its geometry; its
+            clearance key, ``clearance_um`` or a tapered pair's ``end_play_um``, the start,
+            default the case bearing's or the kind's default).
+        objective: an objective name (:data:`OBJECTIVES`) that takes a designed structure.
+        optimise_clearance: optimise each candidate's clearance (else evaluate it as given).
+        max_iterations: the optimiser's iterations per candidate (int >= 1).
+        bounds: the clearance's bounds (µm), default the variable's.
+        report: called with (index, :class:`BearingChoice`) as each candidate is done (the
+            order of ``candidates``), e.g. a progress line.
+        settings: the objective's settings (:func:`case_problem`).
+
+    Raises:
+        ValueError: a case that is not a pair case with a ``lumped3d`` ``[scene]``, a bearing
+            name that is not ``<shaft>.bearings[<k>]`` of it, no candidate, an objective that
+            does not take a designed structure; what loading a candidate's case refuses (one
+            line, the candidate named), before any solve; what :func:`case_problem` refuses.
+    """
+    shaft, k = _check_choice(case, bearing, candidates, objective)
     variable = f"{bearing.strip()}.clearance"
     given = {} if bounds is None else {"bounds": {variable: tuple(bounds)}}
-    out = []
-    for name, table in candidates.items():
-        data = copy.deepcopy(case.raw)
-        old = data["scene"][shaft]["bearings"][k]
-        new = {"position_mm": old["position_mm"], "clearance_um": old.get("clearance_um", 0.0)}
-        data["scene"][shaft]["bearings"][k] = new | dict(table)
-        try:
-            candidate = parse_case(data, case.name)
-        except ValueError as err:
-            raise ValueError(f"candidate {name!r}: {err}") from None
-        problem = case_problem(candidate, variable, objective, **given, **settings)
-        x0 = problem.from_physical(problem.case_values(candidate.modifications))
-        res = op.minimise(problem, x0, max_iterations=max_iterations, progress=False)
-        scale = float(problem.scale)
-        out.append(BearingChoice(name, candidate, float(res.x[0]), float(x0[0]),
-                                 res.value * scale, res.value0 * scale, res))
-    return tuple(sorted(out, key=lambda c: c.value))
+    cases = {name: _candidate(case, shaft, k, name, table)
+             for name, table in candidates.items()}  # every refusal before any solve
+    out, unfit = [], []
+    for i, (name, candidate) in enumerate(cases.items()):
+        spec = getattr(candidate.scene, shaft)
+        bore, seat = (float(spec.bearings[k].rolling.bore) * 1e3, float(spec.diameter) * 1e3)
+        if abs(bore - seat) > SEAT_TOLERANCE_MM:
+            choice = BearingChoice(name, None, None, None, None, None, None, False, bore, seat)
+            unfit.append(choice)
+        else:
+            problem = case_problem(candidate, variable, objective, **given, **settings)
+            x0 = problem.from_physical(problem.case_values(candidate.modifications))
+            scale = float(problem.scale)
+            if optimise_clearance:
+                res = op.minimise(problem, x0, max_iterations=max_iterations, progress=False)
+                x, value, value0 = float(res.x[0]), res.value * scale, res.value0 * scale
+            else:
+                res, x = None, float(x0[0])
+                value = value0 = float(eqx.filter_jit(_value)(problem, jnp.asarray(x0))) * scale
+            choice = BearingChoice(name, candidate, x, float(x0[0]), value, value0, res, True,
+                                   bore, seat, _life_Mrev(problem))
+            out.append(choice)
+        if report is not None:
+            report(i, choice)
+    return tuple(sorted(out, key=lambda c: c.value)) + tuple(unfit)
+
+
+def _value(problem: Problem, x):
+    return problem.value(x)
+
+
+def _life_Mrev(problem: Problem) -> float | None:
+    """ISO 281's basic rating life L10 (millions of revolutions) of the problem's one designed
+    bearing at its held load, or None where its kind has no rating life or no C."""
+    var = problem.variables[0]
+    kind = problem.bearings.kind(var)
+    if kind.life_exponent is None or kind.dynamic_rating is None:
+        return None
+    i, j = problem.bearings.slot(var)
+    f = np.asarray(problem.bearings.loads[i][j], float)
+    life = jb.rating_life(kind, float(np.hypot(f[0], f[1])), float(f[2]), 1.0)
+    return float(life.revolutions) / 1e6
 
 
 def case_problem(
@@ -472,15 +567,18 @@ def design_case_text(
     variable on its members; every other entry and line, comments included, kept:
     :func:`case_text_with_modifications`). ``unmodified``: every relief's and crowning's
     ``depth_um`` the case gives written 0 (the bare flanks, :meth:`optimise.Problem.unmodified`:
-    extents, shapes and deviations kept). A bearing's clearance is written as ``clearance_um``
-    into its ``[[scene.<shaft>.bearings]]`` table (:func:`case_text_with_clearance`).
+    extents, shapes and deviations kept). A bearing's clearance is written as its kind's
+    clearance key (:func:`clearance_key`: ``clearance_um``, a tapered roller pair's
+    ``end_play_um``) into its ``[[scene.<shaft>.bearings]]`` table
+    (:func:`case_text_with_clearance`).
 
     Raises:
         ValueError: modifications or a bearing table this cannot rewrite (one line)."""
     values, clearances = {}, []
     for var in problem.variables if parameters is not None else ():
         if var.kind.acts_on == "structure":
-            clearances.append((var.shaft, var.bearing, parameters[var.name]))
+            key = clearance_key(problem.bearings.kind(var))
+            clearances.append((var.shaft, var.bearing, parameters[var.name], key))
             continue
         mod, quantity = var.base.split(".")
         key = "depth_um" if quantity == "depth" else "extent"
@@ -492,35 +590,50 @@ def design_case_text(
             if mod in given:
                 values[(("pinion", "gear"), mod, "depth_um")] = 0.0
     out = case_text_with_modifications(text, modifications_with(table, values))
-    for shaft, k, value in clearances:
-        out = case_text_with_clearance(out, shaft, k, value)
+    for shaft, k, value, key in clearances:
+        out = case_text_with_clearance(out, shaft, k, value, key)
     return out
 
 
 _TABLE_HEADER = re.compile(r"^\s*\[")
 
 
-def case_text_with_clearance(text: str, shaft: str, k: int, clearance_um: float) -> str:
-    """A case file's TOML ``text`` with bearing ``k`` of ``[scene.<shaft>]`` given
-    ``clearance_um`` (its line replaced, or added under the table's header); every other line,
-    comments included, kept.
+def clearance_key(kind) -> str:
+    """The case-file key (µm) of a rolling bearing kind's clearance field
+    (``kind.clearance_field``): ``clearance_um``, a tapered roller pair's ``end_play_um``."""
+    return f"{kind.clearance_field}_um"
 
-    Raises:
-        ValueError: the bearing is not the k-th ``[[scene.<shaft>.bearings]]`` table of the
-            text (an inline array of tables, a train's shaft), one line."""
-    lines = text.splitlines()
+
+def _bearing_lines(lines: list[str], shaft: str, k: int, what: str) -> tuple[int, int]:
+    """(header, end) line indices of the k-th ``[[scene.<shaft>.bearings]]`` table of a case
+    file's ``lines`` (its keys lie between); one line refusing a bearing the text does not
+    give so (``what`` is written back)."""
     header = re.compile(rf"^\s*\[\[\s*scene\.{re.escape(shaft)}\.bearings\s*\]\]")
     starts = [i for i, line in enumerate(lines) if header.match(line)]
     if not k < len(starts):
         raise ValueError(
             f"{shaft}.bearings[{k}]: the case file does not give it as a "
-            f"[[scene.{shaft}.bearings]] table: write it so to have the design written back")
+            f"[[scene.{shaft}.bearings]] table: write it so to have the {what} written back")
     start = starts[k]
     end = next((j for j in range(start + 1, len(lines)) if _TABLE_HEADER.match(lines[j])),
                len(lines))
-    new = f"clearance_um = {float(clearance_um)!r}  # the design written by jaxgear optimise"
+    return start, end
+
+
+def case_text_with_clearance(text: str, shaft: str, k: int, clearance_um: float,
+                             key: str = "clearance_um") -> str:
+    """A case file's TOML ``text`` with bearing ``k`` of ``[scene.<shaft>]`` given
+    ``clearance_um`` as ``key`` (``clearance_um``, a tapered pair's ``end_play_um``: its line
+    replaced, or added under the table's header); every other line, comments included, kept.
+
+    Raises:
+        ValueError: the bearing is not the k-th ``[[scene.<shaft>.bearings]]`` table of the
+            text (an inline array of tables, a train's shaft), one line."""
+    lines = text.splitlines()
+    start, end = _bearing_lines(lines, shaft, k, "design")
+    new = f"{key} = {float(clearance_um)!r}  # the design written by jaxgear optimise"
     for j in range(start + 1, end):
-        if re.match(r"^\s*clearance_um\s*=", lines[j]):
+        if re.match(rf"^\s*{key}\s*=", lines[j]):
             lines[j] = new
             break
     else:
@@ -543,7 +656,13 @@ def write_design_case(
     Raises:
         ValueError: the case's modifications cannot be rewritten, or the written case does not
             load (one line): nothing is left at ``path``."""
-    new = design_case_text(text, case, problem, parameters, unmodified=unmodified)
+    return _write_case_text(path, design_case_text(text, case, problem, parameters,
+                                                   unmodified=unmodified))
+
+
+def _write_case_text(path, new: str) -> Case:
+    """Write the case file text ``new`` to ``path`` atomically, loaded (:func:`load_case`)
+    before it replaces anything; returns the loaded case (ValueError: it does not load)."""
     loaded = []
 
     def write(tmp):
@@ -556,3 +675,59 @@ def write_design_case(
 
     atomic_write(path, write)
     return loaded[0]
+
+
+def _toml_value(value) -> str:
+    """A scalar of a bearing's table as TOML writes it (a text, a boolean, a number)."""
+    if isinstance(value, str):
+        return json.dumps(value)  # a TOML basic string: a catalogue name
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    return repr(value)
+
+
+def case_text_with_bearing(text: str, shaft: str, k: int, table: dict) -> str:
+    """A case file's TOML ``text`` with bearing ``k`` of ``[scene.<shaft>]`` replaced by
+    ``table`` (its keys, scalars, written under the table's header; the table's own comment
+    lines kept, its keys removed); every other line kept.
+
+    Raises:
+        ValueError: the bearing is not the k-th ``[[scene.<shaft>.bearings]]`` table of the
+            text, one line."""
+    lines = text.splitlines()
+    start, end = _bearing_lines(lines, shaft, k, "choice")
+    kept = [line for line in lines[start + 1:end] if not line.strip()
+            or line.lstrip().startswith("#")]
+    new = [f"{key} = {_toml_value(v)}" for key, v in table.items()]
+    out = "\n".join(lines[:start + 1] + new + kept + lines[end:]) + "\n"
+    tomllib.loads(out)  # a parse error here is a bug of this writer, not the user's
+    return out
+
+
+def check_choice_text(text: str, bearing: str) -> None:
+    """Whether :func:`write_choice_case` can rewrite ``bearing`` (``<shaft>.bearings[<k>]``) in
+    the case file ``text``: checked before a choice's work. Raises ValueError (one line): a
+    bearing the text does not give as a ``[[scene.<shaft>.bearings]]`` table."""
+    hit = _BEARING_NAME.match(bearing.strip())
+    if hit is None:
+        raise ValueError(f"bearing = {bearing!r}: allowed <shaft>.bearings[<k>]")
+    _bearing_lines(text.splitlines(), hit.group(1), int(hit.group(2)), "choice")
+
+
+def write_choice_case(path, text: str, case: Case, bearing: str, choice: BearingChoice) -> Case:
+    """Write the case file ``text`` (of ``case``) with bearing ``bearing``
+    (``<shaft>.bearings[<k>]``) the candidate ``choice`` of :func:`bearing_choices` (its table,
+    its clearance key at ``choice.clearance_um``: :func:`case_text_with_bearing`) to ``path``,
+    atomically, the new file loaded before it replaces anything. Returns the loaded case.
+
+    Raises:
+        ValueError: a candidate that does not fit, a bearing the text does not give as a
+            table, a written case that does not load (one line): nothing left at ``path``."""
+    if not choice.fits:
+        raise ValueError(f"candidate {choice.name!r} does not fit the shaft: allowed a ranked "
+                         "candidate")
+    shaft, k = _check_choice(case, bearing, {choice.name: {}}, "te_rms")
+    table = _bearing_table(choice.case, shaft, k)
+    rolling = getattr(choice.case.scene, shaft).bearings[k].rolling
+    table[clearance_key(rolling)] = float(choice.clearance_um)
+    return _write_case_text(path, case_text_with_bearing(text, shaft, k, table))

@@ -688,6 +688,9 @@ def parse_train(data: dict, default_name: str = "train", base_dir: str | None = 
             raise sc.fail("", "optimise", "not in a train with an internal mesh (allowed: a "
                           "pair's case, or a housed train of external meshes)", "[optimise]")
         optimise = parse_optimise(data["optimise"])
+        if "choices" in optimise:
+            raise sc.fail("optimise", "choices", "a bearing choice is a pair case's (its "
+                          "lumped3d scene): allowed in a pair's case file", "{...}")
     case = Case(
         name=name,
         gear_names=tuple(names),

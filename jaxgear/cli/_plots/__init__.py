@@ -31,6 +31,7 @@ from ._gearbox import (
 )
 from ._optimisation import (
     OBJECTIVE_WORDS as OBJECTIVE_WORDS,
+    bearing_choice_plot as bearing_choice_plot,
     convergence_plot as convergence_plot,
     convergence_ylabel as convergence_ylabel,
     master_curve_plot as master_curve_plot,

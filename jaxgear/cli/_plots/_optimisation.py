@@ -140,3 +140,18 @@ def master_curve_plot(
     labels = [t.get_text() for t in leg.get_texts()]
     savefig(fig, path)
     return labels
+
+
+def bearing_choice_plot(path, names, start, optimum, *, ylabel: str, title: str) -> None:
+    """The bearing choice's ranking: per fitting candidate (``names``, best first) its
+    objective at its start and at its optimum (``None``: evaluated as given, one bar), in the
+    units of ``ylabel``."""
+    fig, ax = new_figure()
+    x = np.arange(len(names))
+    if optimum is None:
+        ax.bar(x, start, 0.6, label="as given")
+    else:
+        ax.bar(x - 0.2, start, 0.4, label="clearance at its start")
+        ax.bar(x + 0.2, optimum, 0.4, label="clearance optimised")
+    ax.set_xticks(x, names)
+    finish(fig, ax, path, xlabel="candidate (best first)", ylabel=ylabel, title=title)
