@@ -107,8 +107,9 @@ class AbstractRollingBearing(eqx.Module):
       :class:`LinearSpring` (no clearance).
     - ``rows``: the rows of rolling elements i (ISO 281's i): 2 for :class:`SphericalRoller`
       and :class:`TaperedRollerPair`, 1 otherwise.
-    - ``crown_field``: the kind's rollers take a logarithmic crown, its own field ``crown``
-      (m, 0 <= c <= D_w/100, or None: straight; the roller kinds sliced along their length:
+    - ``crown_field``: the name of the kind's own field that holds its rollers' logarithmic
+      crown, ``"crown"`` (m, 0 <= c <= D_w/100, or None: straight), or None where the kind
+      takes none (as ``clearance_field`` names the clearance's field; the roller kinds sliced along their length:
       :class:`CylindricalRoller`, :class:`TaperedRoller`, :class:`TaperedRollerPair`); not the
       ball kinds, nor :class:`SphericalRoller` (one line per roller: no slice to unload).
     - ``carries_moment``: the kind holds a shaft against tilting on its own (one bearing node
@@ -131,7 +132,7 @@ class AbstractRollingBearing(eqx.Module):
     self_aligning: ClassVar[bool] = False
     clearance_field: ClassVar[str | None] = "clearance"
     rows: ClassVar[int] = 1
-    crown_field: ClassVar[bool] = False
+    crown_field: ClassVar[str | None] = None
     carries_moment: ClassVar[bool] = False
 
     @abc.abstractmethod
@@ -605,7 +606,7 @@ class _Roller(_RollingElements):
 
     contact_exponent: ClassVar[float] = 10.0 / 9.0
     life_exponent: ClassVar[float | None] = 10.0 / 3.0
-    crown_field: ClassVar[bool] = True
+    crown_field: ClassVar[str | None] = "crown"
 
     def _check_roller(self, where):
         _check_ring(where, self.bore, self.outer_diameter, self.width, self.elements,
@@ -792,7 +793,7 @@ class SphericalRoller(_Roller):
     axial_load: ClassVar[str] = "both"
     self_aligning: ClassVar[bool] = True
     rows: ClassVar[int] = 2
-    crown_field: ClassVar[bool] = False
+    crown_field: ClassVar[str | None] = None
 
     def __check_init__(self):
         w = "SphericalRoller"
@@ -917,7 +918,7 @@ class TaperedRollerPair(AbstractRollingBearing):
     self_aligning: ClassVar[bool] = False
     clearance_field: ClassVar[str | None] = "end_play"
     rows: ClassVar[int] = 2
-    crown_field: ClassVar[bool] = True
+    crown_field: ClassVar[str | None] = "crown"
     carries_moment: ClassVar[bool] = True
 
     def __init__(self, bore, outer_diameter, width, elements, element_diameter, pitch_diameter,

@@ -410,7 +410,7 @@ class BearingSection(Section):
         diameter ``size`` (mm) / 100 (the kinds' range, in µm); ``what`` the kind's words."""
         if self.crown_um is None:
             return
-        if not kind.crown_field:
+        if kind.crown_field is None:
             raise sc.fail(where, "crown_um", f"not with {what} (a {kind.__name__}, no crown): "
                           "allowed on a roller kind that takes a crown (cylindrical_roller, "
                           "tapered_roller, tapered_roller_pair, or their catalogue entries)",
