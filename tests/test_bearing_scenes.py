@@ -6,6 +6,7 @@ an operating point, the fixed point of the bearings' loads
 from __future__ import annotations
 
 import dataclasses
+import json
 import math
 import tomllib
 from pathlib import Path
@@ -15,7 +16,7 @@ import numpy as np
 import pytest
 
 import jaxgear.io as jio
-from jaxgear import BeyondPath, TheoreticalPath, bearings as jb, quasi_static
+from jaxgear import BeyondPath, TheoreticalPath, bearings as jb, cli, quasi_static
 from jaxgear.dynamics import bearings_at_operating_point
 from jaxgear.io import build_dynamic_model, operating_point
 from jaxgear.scenes import Bearing, ShaftSpec, bearing_dofs, grounded, lumped_pair
@@ -621,3 +622,50 @@ def test_start_springs_hold_a_shaft_on_one_pair():
         m = shaft_matrices(dataclasses.replace(one, bearings=bearings), 2.1e11, 8.1e10, 7850.0)
         w = np.linalg.eigvalsh(m.K + m.K_bearing)
         assert int(np.sum(np.abs(w) < 1e-9 * w.max())) == zeros
+
+
+OVERHUNG_CASE = ROOT / "tests" / "data" / "overhung-pinion-pair.toml"
+
+
+@pytest.mark.slow  # a whole jaxgear run: quasi-static files and the lumped scene's sweep
+def test_jaxgear_run_of_an_overhung_pinion_on_one_pair(tmp_path):
+    """``jaxgear run`` on a case file whose pinion shaft stands on ONE tapered roller pair
+    (``catalogue = "30205"``, ``arrangement = "O"``) 40 mm from the pinion: the run's
+    summary against statics by hand. The pair carries the whole mesh force, F_n = T / r_b1
+    in the transverse plane (the case's default contact beyond the path moves it by the
+    corner cells' offset, a few 1e-4), along tan α_w, no axial load (spur); its moment is
+    the force's about the pair's node, M ⟂ F, with the lever |M| / |F| the distance to the
+    mesh force's centre, which lies on the pinion's face (40 mm ± half the 11.5 mm face);
+    the gear shaft's two bearings 50 mm either side of its gear share the opposite force
+    equally (to the moment of its own face's load centre)."""
+    out = tmp_path / "out"
+    assert cli.main(["run", str(OVERHUNG_CASE), "--out", str(out), "--quiet"]) == 0
+    rows = {b["name"]: b for b in json.loads((out / "summary.json").read_text())["bearings"]
+            ["bearings"]}
+    g = tomllib.loads(OVERHUNG_CASE.read_text())
+    m, alpha = g["pair"]["normal_module_mm"] * 1e-3, math.radians(
+        g["pair"]["normal_pressure_angle_deg"])
+    z1, z2 = g["pinion"]["teeth"], g["gear"]["teeth"]
+    Fn = g["operating"]["torque_Nm"] / (0.5 * m * z1 * math.cos(alpha))
+    aw = _working_pressure_angle(alpha, g["pinion"]["profile_shift"] + g["gear"]["profile_shift"],
+                                 z1 + z2)
+    pair = rows["pinion_shaft.bearings[0]"]
+    assert pair["kind"] == "TaperedRollerPair"
+    f = np.asarray(pair["load_N_Nm"])
+    assert math.hypot(f[0], f[1]) == pytest.approx(Fn, rel=2e-3)
+    assert abs(f[0]) / abs(f[1]) == pytest.approx(math.tan(aw), rel=5e-3)
+    assert abs(f[2]) <= 1e-6 * Fn
+    # M ⟂ F (the mesh's contact forces nearly parallel: measured 6e-8 of |F| |M|)
+    assert abs(f[:2] @ f[3:]) <= 1e-6 * np.linalg.norm(f[:2]) * np.linalg.norm(f[3:])
+    lever = math.hypot(f[3], f[4]) / math.hypot(f[0], f[1])
+    shaft = g["scene"]["pinion_shaft"]
+    dz = (shaft["gear_position_mm"] - shaft["bearings"][0]["position_mm"]) * 1e-3
+    half = 0.5 * g["pinion"]["face_width_mm"] * 1e-3
+    assert dz - half < lever < dz + half
+    # the moment's sense: the force at +Δz from the node, M = Δz e_z × F
+    assert np.sign(f[3]) == -np.sign(f[1]) and np.sign(f[4]) == np.sign(f[0])
+    a, b = (np.asarray(rows[f"gear_shaft.bearings[{k}]"]["load_N_Nm"])[:2] for k in (0, 1))
+    np.testing.assert_allclose(a + b, -f[:2], rtol=0, atol=1e-6 * Fn)
+    assert math.hypot(*a) == pytest.approx(0.5 * Fn, rel=0.05)
+    assert math.hypot(*b) == pytest.approx(0.5 * Fn, rel=0.05)
+    assert set(pair["tones_orders"]) == {"ftf", "bpfo", "bpfi", "bsf"}
