@@ -889,7 +889,7 @@ def _choice_row(rank: int | None, c: BearingChoice) -> dict:
 def _run_choice(case: Case, settings: dict, args) -> int:
     """``jaxgear optimise`` of a case with ``[optimise.choices]``: the bearing choice
     (:func:`jaxgear.io.bearing_choices`), its ranking table (``choice.json``, ``choice.csv``)
-    and bar plot (``choice.png``), a line per candidate; ``--write``: the best candidate's
+    and plot (``choice.png``), a line per candidate; ``--write``: the best candidate's
     case."""
     (bearing, names), = settings["choices"].items()
     variable = f"{bearing}.clearance"

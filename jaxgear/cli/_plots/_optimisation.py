@@ -145,13 +145,17 @@ def master_curve_plot(
 def bearing_choice_plot(path, names, start, optimum, *, ylabel: str, title: str) -> None:
     """The bearing choice's ranking: per fitting candidate (``names``, best first) its
     objective at its start and at its optimum (``None``: evaluated as given, one bar), in the
-    units of ``ylabel``."""
+    units of ``ylabel``. Points, not bars, on an axis that holds the values only: the
+    candidates often differ by a fraction of a percent, which bars from zero would hide."""
     fig, ax = new_figure()
     x = np.arange(len(names))
     if optimum is None:
-        ax.bar(x, start, 0.6, label="as given")
+        ax.plot(x, start, "o", ms=8, label="as given")
     else:
-        ax.bar(x - 0.2, start, 0.4, label="clearance at its start")
-        ax.bar(x + 0.2, optimum, 0.4, label="clearance optimised")
+        ax.plot(x, start, "o", ms=8, mfc="none", label="clearance at its start")
+        ax.plot(x, optimum, "o", ms=8, label="clearance optimised")
     ax.set_xticks(x, names)
+    ax.set_xlim(-0.5, len(names) - 0.5)
+    ax.margins(y=0.15)
+    ax.ticklabel_format(axis="y", useOffset=False)
     finish(fig, ax, path, xlabel="candidate (best first)", ylabel=ylabel, title=title)
