@@ -47,7 +47,7 @@ STAGES = {
 }
 # (stage, function called from the stage's function): the callee's seconds from that caller
 NESTED = {
-    "whine_model_build": (("jaxgear/cli/_whine_run.py", "whine_outputs"),
+    "whine_model_build": (("jaxgear/io/_case_sound.py", "case_whine"),
                           ("jaxgear/io/_case_model.py", "build_dynamic_model")),
 }
 

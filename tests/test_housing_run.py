@@ -317,3 +317,83 @@ def test_run_acoustics_erp_only_is_the_housing_erp(tmp_path):
     lw = np.asarray(a["overall_LW_dB"])
     np.testing.assert_allclose(lw, erp, atol=0.5)
     assert section["housing"]["acoustics"]["files"]
+
+
+# -------------------------------------------------------------------------------------------
+# the library's one call: jaxgear.io.case_sound
+
+
+def _hand_erp(case, model, w, rho=1.21, c=343.0):
+    """The ERP (W, (S, K-1)) of the response ``w`` written here from the recovered skin
+    velocities: the housing's condensed coordinates q (the scene's ``housing <first seat>``
+    node on), the full field u = Φ q, each skin facet's corner normal velocities
+    v_a = iω n·u_a (n from the facet's own corners; Tet4: a flat, linear facet), and
+    ERP = ρc Σ_i A_i ⟨|v_n|²⟩_i / 2 with the facet's mean square of the linear field
+    ⟨|v_n|²⟩ = (Σ_a |v_a|² + |Σ_a v_a|²) / 12 (∫ N_a N_b dA = A (1 + δ_ab) / 12); ρ, c of air
+    at 20 °C."""
+    body = case.housing_body()
+    ch = body.condensed
+    first = model.scene.structure.node(f"housing {ch.seat_names[0]}")
+    orders = np.asarray(w.orders, dtype=float)[1:]
+    q = np.asarray(w.coordinates)[:, 1:, first : first + ch.K.shape[0]]  # (S, K-1, n_c)
+    f = np.asarray(w.frequency, dtype=float)[:, None] * orders[None, :]
+    u = np.einsum("dn,skn->skd", np.asarray(ch.recovery), q)  # (S, K-1, n_dofs)
+    skin = jio.housing_surface(case.housing, body).facets
+    corners = body.mesh.mesh.facets[:, skin]  # (3, F) vertex indices
+    p = body.mesh.nodes[corners]  # (3, F, 3)
+    cross = np.cross(p[1] - p[0], p[2] - p[0])
+    area = 0.5 * np.linalg.norm(cross, axis=1)
+    normal = cross / (2 * area[:, None])
+    ua = u[..., 3 * corners[:, :, None] + np.arange(3)]  # (S, K-1, 3, F, 3)
+    va = 2j * math.pi * f[..., None, None] * np.einsum("skafd,fd->skaf", ua, normal)
+    mean_square = (np.sum(np.abs(va) ** 2, axis=2) + np.abs(va.sum(axis=2)) ** 2) / 12
+    return 0.5 * rho * c * np.sum(area * mean_square, axis=-1)
+
+
+@pytest.mark.slow  # one more whine of the housed pair (about 20 s), beside the shared run
+def test_case_sound_is_what_the_run_writes(housed_run):
+    """jaxgear.io.case_sound of the housed pair equals the run's whine/housing.json (the
+    independent path: the file jaxgear run wrote): each order's frequency, band flag, ERP
+    (W, dB) and the overall, the named points' velocity amplitudes, to 1e-9; its ERP equals
+    the one written in the test from the recovered skin velocities (:func:`_hand_erp`) to
+    1e-9; the radiated sound power by an ``erp-only`` [acoustics] (R = ½ρc M on the closed
+    skin's vertices) is within 0.5 dB of the housing's ERP at every speed (two discretisations
+    of one integral: docs/acoustics.md, measured 0.11-0.33 dB on this box)."""
+    case, folder, _, _, _ = housed_run
+    d = json.loads((folder / "housing.json").read_text())
+    sound = jio.case_sound(case)
+    assert sound.sound_power is None  # the case has no [acoustics]
+    erp = sound.erp
+    np.testing.assert_allclose(sound.whine.speed, d["speeds_rad_s"], rtol=1e-12)
+    np.testing.assert_allclose(erp.orders, d["orders"], rtol=0)
+    np.testing.assert_allclose(erp.frequency, d["frequency_Hz"], rtol=1e-12)
+    assert erp.in_band.tolist() == d["in_band"]
+    np.testing.assert_allclose(erp.power, d["erp_W"], rtol=1e-9)
+    np.testing.assert_allclose(erp.level, d["erp_level_dB"], rtol=1e-9)
+    np.testing.assert_allclose(erp.overall_w, d["overall_erp_W"], rtol=1e-9)
+    np.testing.assert_allclose(erp.overall_db, d["overall_erp_level_dB"], rtol=1e-9)
+    pv = np.abs(np.asarray(erp.vibration.point_velocity))
+    for k, name in enumerate(sound.housed.acoustics.point_names):
+        want = d["points"][name]["velocity_m_s"]["amplitude"]
+        np.testing.assert_allclose(pv[:, :, k], want, rtol=1e-9)
+    np.testing.assert_allclose(erp.power, _hand_erp(case, sound.model, sound.whine), rtol=1e-9)
+    radiated = sound.with_sound_power(jio.parse_acoustics({"method": "erp-only",
+                                                            "frequencies": 8}))
+    assert radiated.whine is sound.whine and radiated.radiation.orders.tolist() == [1.0, 2.0]
+    np.testing.assert_allclose(radiated.sound_power.overall, erp.overall_db, atol=0.5)
+
+
+def test_case_sound_refuses_a_case_that_is_not_housed_in_one_line(tmp_path):
+    """No [housing], no [whine], or sound_power=True without [acoustics]: one line naming the
+    table, before any work."""
+    plain = tmp_path / "plain.toml"
+    plain.write_text(jio.embedded_case_text("accessory-spur") + WHINE)
+    for case, kw, match in (
+        (jio.load_case(str(plain)), {}, r"^\[housing\]: the case has none"),
+        (_case(tmp_path), {}, r"^\[whine\]: the case has none"),
+        (_case(tmp_path, whine=WHINE), {"sound_power": True},
+         r"^\[acoustics\]: the case has none"),
+    ):
+        with pytest.raises(jio.SchemaError, match=match) as e:
+            jio.case_sound(case, **kw)
+        assert "\n" not in str(e.value)

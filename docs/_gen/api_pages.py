@@ -119,6 +119,7 @@ SECTIONS = {
         ("Housing response and equivalent radiated power", ("_erp",)),
         ("Sound power and levels", ("_power",)),
         ("Power and microphone pressure across a band", ("_band",)),
+        ("A surface's sound over speeds and orders", ("_sound",)),
         ("A weighting", ("_weighting",)),
     ),
     "jaxgear.bearings": (
@@ -137,7 +138,7 @@ SECTIONS = {
         ("Loading a case", ("_load", "_case_file", "_case", "_names", "_plausibility")),
         ("A sizing spec and its candidates' case files", ("_sizing_spec", "_sizing_sound")),
         ("From a case to models", ("_case_model", "_operating", "_scene_spec", "_scene_table",
-                                   "_problem", "_acoustic_path",
+                                   "_problem", "_acoustic_path", "_case_sound",
                                    "_planetary_spec", "_train_file", "_gearbox_file")),
         ("Tables of a case file", ("_sections", "_deviations_table", "_modifications_table",
                                    "_optimise_table", "_rating*", "_robust_table",

@@ -4,9 +4,10 @@ power (ERP) from the bearing forces at its seats; the sound power W = Re(vᴴ R 
 normal velocity from a cached radiation resistance matrix R (:mod:`fem_prep.acoustics`: the BEM
 or the Rayleigh integral), its low-rank form over the radiation modes, the radiation efficiency,
 sound power and pressure levels, the power and the microphones' pressure at any frequency of a
-band from R at a grid of frequencies (log-log interpolation), and the A weighting of
-IEC 61672-1. The housing's geometry and
-condensation come from :mod:`fem_prep.housing` (NumPy), loaded by the caller.
+band from R at a grid of frequencies (log-log interpolation), a surface's radiated sound over
+speeds and orders (:func:`radiated_sound_power`), and the A weighting of IEC 61672-1. The
+housing's geometry and condensation come from :mod:`fem_prep.housing` (NumPy), loaded by the
+caller.
 """
 
 from ._band import (
@@ -32,6 +33,10 @@ from ._power import (
     radiation_efficiency as radiation_efficiency,
     sound_power_level as sound_power_level,
     sound_pressure_level as sound_pressure_level,
+)
+from ._sound import (
+    SoundPower as SoundPower,
+    radiated_sound_power as radiated_sound_power,
 )
 from ._weighting import (
     a_weighted_power_level as a_weighted_power_level,

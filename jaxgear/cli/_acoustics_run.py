@@ -1,9 +1,9 @@
 """``jaxgear run``'s radiated noise, for a housed case with ``[acoustics]`` (docs/acoustics.md,
-"Outputs"): from the housing skin's normal velocity at every order and speed, the radiation
-operators once per frequency of the band (:func:`fem_prep.acoustics.radiation_resistance`,
-cached; a progress bar over the frequencies, each a BEM solve), then in JAX the sound power per
-order and speed (:func:`jaxgear.acoustics.radiated_power_at`) and the pressure at the
-microphones (:func:`jaxgear.acoustics.mean_square_pressure_at`). Writes ``acoustics/``:
+"Outputs"): from the housing skin's normal velocity at every order and speed, the sound power
+per order and speed and the pressure at the microphones computed in the library
+(:func:`jaxgear.io.surface_sound_power`: the radiation operators once per frequency of the
+band, cached, a progress bar over the frequencies, each a BEM solve; then
+:func:`jaxgear.acoustics.radiated_sound_power` in JAX). Writes ``acoustics/``:
 
 - ``sound_power.csv`` / ``.json`` / ``.png``: L_W (dB re 1 pW) against speed per order and
   overall, linear and A-weighted (dB(A), IEC 61672-1), with W (W) and each order's frequency;
@@ -21,32 +21,21 @@ from __future__ import annotations
 
 import os
 import warnings
-from typing import NamedTuple
 
-import jax.numpy as jnp
 import numpy as np
 
-from fem_prep import acoustics as fa
-
-from ..acoustics import (
-    a_weighting,
-    mean_square_pressure_at,
-    radiated_intensity_at,
-    radiated_power_at,
-)
+from ..acoustics import radiated_intensity_at
 from ..io import (
-    AcousticsInputs,
     CaseWarning,
     parse_acoustics,
-    radiation_grid,
+    surface_sound_power,
     write_csv,
     write_json,
     write_vtu,
 )
 from ._plots import intensity_map_plot, microphone_plot, sound_power_plot
 
-__all__ = ["ACOUSTICS_FILES", "SoundPower", "acoustic_outputs", "acoustics_run_line",
-           "radiated_sound_power"]
+__all__ = ["ACOUSTICS_FILES", "acoustic_outputs", "acoustics_run_line"]
 
 #: files of the acoustics/ folder (the microphones' only with microphones)
 ACOUSTICS_FILES = (
@@ -60,13 +49,6 @@ ACOUSTICS_FILES = (
 )
 #: orders drawn on the intensity map's figure (every order is in intensity.vtu)
 MAP_ORDERS = 3
-W_REF, P_REF = 1e-12, 20e-6
-
-
-def _db(x, ref):
-    x = np.asarray(x, dtype=float)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        return np.where(x > 0, 10 * np.log10(np.where(x > 0, x, 1.0) / ref), np.nan)
 
 
 def _absent(a) -> list:
@@ -74,93 +56,6 @@ def _absent(a) -> list:
     a value absent on purpose (null in JSON, an empty CSV cell)."""
     a = np.asarray(a, dtype=float)
     return np.where(np.isnan(a), None, a).tolist()
-
-
-class SoundPower(NamedTuple):
-    """The radiated sound power of :func:`radiated_sound_power`, over S speeds and O orders.
-
-    Attributes:
-        band: (lo, hi) Hz the radiation operators span; grid: (G,) their frequencies (Hz).
-        frequency: (S, O) Hz of each order at each speed.
-        power: (S, O) W (NaN: outside the band); a_weighting: (S, O) dB (IEC 61672-1).
-        level, level_a: (S, O) L_W (dB re 1 pW) and L_WA (dB(A) re 1 pW).
-        overall, overall_a: (S,) the energetic sums over the orders, L_W and L_WA.
-        radiation: the :class:`fem_prep.acoustics.RadiationResistance` (factors, transfer).
-    """
-
-    band: tuple[float, float]
-    grid: np.ndarray
-    frequency: np.ndarray
-    power: np.ndarray
-    a_weighting: np.ndarray
-    level: np.ndarray
-    level_a: np.ndarray
-    overall: np.ndarray
-    overall_a: np.ndarray
-    radiation: object
-
-
-def _checked(surface, velocities, speeds, orders, table, frequencies, progress):
-    """:func:`radiated_sound_power`'s inputs checked, as arrays (its Raises)."""
-    if not isinstance(surface, fa.RadiatingSurface):
-        raise TypeError(
-            f"acoustic_outputs: surface = {type(surface).__name__}, allowed a "
-            "fem_prep.acoustics.RadiatingSurface"
-        )
-    if isinstance(table, dict):
-        table = parse_acoustics(table, progress)
-    if not isinstance(table, AcousticsInputs):
-        raise TypeError(f"acoustic_outputs: table = {table!r}, allowed AcousticsInputs or a dict")
-    speeds = np.asarray(speeds, dtype=float).reshape(-1)
-    orders = np.asarray(orders, dtype=float).reshape(-1)
-    v = np.asarray(velocities)
-    S, O, n = len(speeds), len(orders), surface.n_vertices
-    if v.shape != (S, O, n):
-        raise ValueError(f"acoustic_outputs: velocities = {v.shape}, allowed (S, O, n) = "
-                         f"({S}, {O}, {n}) (speeds, orders, the surface's vertices)")
-    for what, x in (("speeds", speeds), ("orders", orders)):
-        if x.size == 0 or not np.all(np.isfinite(x)) or x.min() <= 0:
-            raise ValueError(f"acoustic_outputs: {what} = {x.tolist()}, allowed finite values > 0")
-    f = (orders[None, :] * speeds[:, None] / (2 * np.pi) if frequencies is None
-         else np.asarray(frequencies, dtype=float))
-    if f.shape != (S, O) or not np.all(np.isfinite(f)) or f.min() <= 0:
-        raise ValueError(f"acoustic_outputs: frequencies {f.shape}, allowed (S, O) = ({S}, {O}) "
-                         "finite values > 0 (Hz)")
-    return v, speeds, orders, table, f
-
-
-def radiated_sound_power(surface, velocities, speeds, orders, table, *, frequencies=None,
-                         progress: bool = False) -> SoundPower:
-    """The sound power a vibrating surface radiates at each speed and order: the radiation
-    operators of ``table``'s method at :func:`jaxgear.io.radiation_grid` of the orders'
-    frequencies (:func:`fem_prep.acoustics.radiation_resistance`, cached; one BEM solve per grid
-    frequency), then W = v^H R v interpolated log-log between the grid frequencies
-    (:func:`jaxgear.acoustics.radiated_power_at`), its level, A-weighted level and the overall
-    sums. The computation of :func:`acoustic_outputs` (``jaxgear run``'s ``acoustics/``) and of
-    the sizing's sound stage.
-
-    Args: as :func:`acoustic_outputs`'s (``table`` also for the microphones' transfer).
-
-    Returns:
-        The :class:`SoundPower`.
-
-    Raises:
-        TypeError: a surface that is not a RadiatingSurface, a table of another type.
-        ValueError: shapes that do not fit, a speed, order or frequency ≤ 0 or not finite.
-    """
-    v, speeds, orders, table, f = _checked(surface, velocities, speeds, orders, table,
-                                           frequencies, progress)
-    band, grid = radiation_grid(table, f)  # the grid the acoustic objectives radiate at too
-    mics = table.microphones
-    points = np.array([p for _, p in mics]) if mics else None
-    rr = fa.radiation_resistance(surface, grid, table.fluid, table.method, rank=table.rank,
-                                 cache=table.cache, progress=progress, points=points)
-    vc = jnp.asarray(np.conj(v))  # e^{iωt} → e^{-iωt}
-    W = np.asarray(radiated_power_at(vc, f, rr.factors, grid))  # (S, O)
-    A = np.asarray(a_weighting(f))
-    return SoundPower(band, grid, f, W, A, _db(W, W_REF), _db(W * 10 ** (A / 10), W_REF),
-                      _db(np.nansum(W, axis=1), W_REF),
-                      _db(np.nansum(W * 10 ** (A / 10), 1), W_REF), rr)
 
 
 def acoustic_outputs(
@@ -176,8 +71,8 @@ def acoustic_outputs(
     progress: bool = False,
 ) -> dict:
     """The radiated noise of a vibrating surface over speeds and orders into
-    ``out_dir/acoustics`` (the module docstring's files; the sound power by
-    :func:`radiated_sound_power`).
+    ``out_dir/acoustics`` (the module docstring's files; the sound power and the microphones'
+    pressure by :func:`jaxgear.io.surface_sound_power`).
 
     Args:
         surface: the :class:`fem_prep.acoustics.RadiatingSurface` (m): closed for ``bem``
@@ -204,8 +99,8 @@ def acoustic_outputs(
     """
     if isinstance(table, dict):
         table = parse_acoustics(table, progress)
-    sp = radiated_sound_power(surface, velocities, speeds, orders, table,
-                              frequencies=frequencies, progress=progress)
+    sp = surface_sound_power(surface, velocities, speeds, orders, table,
+                             frequencies=frequencies, progress=progress)
     v = np.asarray(velocities)
     speeds = np.asarray(speeds, dtype=float).reshape(-1)
     orders = np.asarray(orders, dtype=float).reshape(-1)
@@ -214,7 +109,6 @@ def acoustic_outputs(
     rr = sp.radiation
     LW, LWA, total, total_a = sp.level, sp.level_a, sp.overall, sp.overall_a
     mics = table.microphones
-    vc = jnp.asarray(np.conj(v))
     head = f"{name}: " if name else ""
     folder = os.path.join(out_dir, "acoustics")
     os.makedirs(folder, exist_ok=True)
@@ -256,9 +150,7 @@ def acoustic_outputs(
         "outside_band": outside,
     }
     if mics:
-        p2 = np.asarray(mean_square_pressure_at(vc, f, rr.transfer, grid))  # (S, O, q)
-        Lp = _db(p2, P_REF**2)
-        LpA = _db(np.nansum(p2 * 10 ** (A / 10)[..., None], axis=1), P_REF**2)  # (S, q)
+        Lp, LpA = sp.pressure_level, sp.overall_pressure_level_a  # (S, O, q), (S, q)
         names = [m for m, _ in mics]
         microphone_plot(os.path.join(folder, "microphones.png"), names, speeds, f, orders, Lp, LpA,
                         title=f"{head}sound pressure at the microphones ({table.method})")

@@ -1,10 +1,10 @@
 """``jaxgear run``'s housing outputs, for a pair, train or planetary case with ``[housing]`` and
 ``[whine]`` (docs/housing.md, "In jaxgear run"): the housing is a body of the case's lumped 3D
 scene (a planetary stage's: of its :class:`~jaxgear.planetary.PlanetaryModel` on its mount, its
-coordinates after the stage's), so the whine response holds its condensed coordinates; their full-field recovery on the
-outer skin (:func:`jaxgear.acoustics.housing_vibration`, the path the one-way
-:func:`~jaxgear.acoustics.housing_response` ends in) gives the normal velocity at the named
-points of ``[housing.points_mm]`` and the equivalent radiated power per order and speed. Into
+coordinates after the stage's), so the whine response holds its condensed coordinates; their
+full-field recovery on the outer skin (:func:`jaxgear.io.housed_erp`, computed in the library)
+gives the normal velocity at the named points of ``[housing.points_mm]`` and the equivalent
+radiated power per order and speed; this module writes and draws them. Into
 ``whine/``: ``housing.json``, ``housing.csv``, the order plots and waterfalls of the ERP and of
 each point's velocity, and the operating deflection shapes at each drawn order's loudest speed
 (``housing_ods.vtu``)."""
@@ -13,28 +13,24 @@ from __future__ import annotations
 
 import os
 import re
-from typing import NamedTuple
 
 import numpy as np
 
-from ..acoustics import housing_vibration, total_level
 from ..io import (
-    SchemaError,
+    HousedErp,
+    HousedRun,
     TrainForm,
     acoustics_of,
-    closed_skin,
-    housed_acoustics,
+    housed_erp,
+    housed_radiation,
     write_csv,
     write_json,
 )
-from ..planetary import PlanetaryModel
-from ..scenes import HOUSING_BAND, housing_band_hz
+from ..scenes import HOUSING_BAND
 from ._bearing_report import bearing_tone_lines
 from ._plots import whine_level_plot, whine_order_plot, whine_waterfall_plot
 
-__all__ = ["HousedErp", "HousedRadiation", "HousedRun", "housed_erp", "housed_radiation",
-           "housed_run", "housing_outputs", "housing_run_line", "hybrid_seats_line",
-           "hybrid_seats_section"]
+__all__ = ["housing_outputs", "housing_run_line", "hybrid_seats_line", "hybrid_seats_section"]
 
 #: integer orders drawn in the order plots and written as operating deflection shapes
 ORDERS_DRAWN = 4
@@ -43,36 +39,6 @@ WATERFALL_ORDERS = 8
 #: the condensed housing's band: the orders at frequencies up to cut-off / BAND
 #: (:func:`jaxgear.scenes.housing_band_hz`)
 BAND = HOUSING_BAND
-
-
-class HousedRun(NamedTuple):
-    """What the housing outputs need of a case, gathered before the whine is solved (the
-    named points checked first): the case's :class:`~jaxgear.io.HousingBody`, its outer
-    surface with the points, the acoustics on the condensed coordinates and the first housing
-    coordinate ``first`` of the scene's structure."""
-
-    body: object
-    surface: object
-    acoustics: object
-    first: int
-
-
-def housed_run(case, model) -> HousedRun | None:
-    """The :class:`HousedRun` of ``case`` (whose dynamic model is ``model``), None without
-    ``[housing]``.
-
-    Raises:
-        SchemaError: a named point off the housing's outer surface (one line naming its key).
-    """
-    housed = housed_acoustics(case)  # the condensed housing from fem_prep's cache
-    if housed is None:
-        return None
-    body = housed.body
-    if isinstance(model, PlanetaryModel):  # a housed stage's: the housing's h follow the stage's
-        first = len(model.coordinates()) - model.mount().size
-    else:
-        first = model.scene.structure.node(f"housing {body.condensed.seat_names[0]}")
-    return HousedRun(body, housed.surface, housed.acoustics, int(first))
 
 
 def _file_key(name: str) -> str:
@@ -100,57 +66,6 @@ def _drawn_orders(w, keep, orders):
     labels = [f"mesh frequency {g[j] + 1}, order {o[j]}" for j in range(K)]
     tags = [f"f{g[j] + 1} {o[j]}x" for j in range(K)]
     return drawn, wf, labels, tags
-
-
-class HousedErp(NamedTuple):
-    """The equivalent radiated power of a housed whine (:func:`housed_erp`): ``orders`` (k,)
-    the whine's orders above the mean, ``keep`` (K,) which of its orders they are,
-    ``frequency`` (S, k) Hz, ``vibration`` the skin's
-    :class:`~jaxgear.acoustics.HousingVibration`, ``power`` (S, k) W and ``level`` (S, k) dB re
-    1 pW per order, ``band`` the band limit (Hz), ``in_band`` (S, k), ``overall_w`` (S,) W and
-    ``overall_db`` (S,) dB re 1 pW the sums over the orders in the band (NaN at a speed with
-    none)."""
-
-    orders: np.ndarray
-    keep: np.ndarray
-    frequency: np.ndarray
-    vibration: object
-    power: np.ndarray
-    level: np.ndarray
-    band: float
-    in_band: np.ndarray
-    overall_w: np.ndarray
-    overall_db: np.ndarray
-
-    def peak(self) -> int | None:
-        """The speed index of the largest overall ERP (None: no order in the band)."""
-        if not self.in_band.any():
-            return None
-        return int(np.nanargmax(np.where(np.isfinite(self.overall_db), self.overall_db,
-                                         -np.inf)))
-
-
-def housed_erp(run: HousedRun, w) -> HousedErp:
-    """The housing's ERP of the whine response ``w`` of the housed scene: its condensed
-    coordinates recovered on the outer skin (:func:`jaxgear.acoustics.housing_vibration`),
-    ERP = ½ ρ c Σ |v_n|² A per order, the overall the sum over the orders in the band
-    (frequency <= cut-off / 1.5, :func:`jaxgear.scenes.housing_band_hz`; docs/housing.md)."""
-    ac, body = run.acoustics, run.body
-    n_c = int(ac.K.shape[0])
-    f1 = np.asarray(w.frequency, dtype=float)
-    orders_all = np.asarray(w.orders, dtype=float)
-    keep = orders_all > 0  # the mean moves the housing statically: no velocity
-    orders = orders_all[keep]
-    freq = f1[:, None] * orders[None, :]  # (S, k) Hz
-    q = np.asarray(w.coordinates)[:, keep, run.first : run.first + n_c]
-    r = housing_vibration(ac, q, freq)
-    power = np.asarray(r.power, dtype=float)  # (S, k) W
-    band = housing_band_hz(body.condensed.cutoff_hz)  # the housing's rule
-    in_band = freq <= band
-    overall_db = np.asarray(total_level(np.where(in_band, power, 0.0)), dtype=float)
-    return HousedErp(orders, keep, freq, r, power, np.asarray(r.level, dtype=float), band,
-                     in_band, np.where(in_band, power, 0.0).sum(axis=1),
-                     np.where(in_band.any(axis=1), overall_db, np.nan))
 
 
 def housing_outputs(run: HousedRun, case, w, folder: str, invalid) -> dict:
@@ -309,48 +224,6 @@ def housing_run_line(section: dict | None) -> list[str]:
     pts = f", {len(section['points'])} named point(s)" if section["points"] else ""
     return [head + f"overall ERP max {top:.1f} dB re 1 pW at "
             f"{section['speed_of_max_overall_erp_rad_s']:.0f} rad/s{pts} (whine/housing.*)"]
-
-
-class HousedRadiation(NamedTuple):
-    """What a housed whine radiates (:func:`housed_radiation`): ``surface`` the housing's outer
-    skin closed over its bores in the scene's frame (a :class:`fem_prep.acoustics.
-    RadiatingSurface`, m), ``velocity`` (S, k, n) its vertices' complex normal velocity (m/s,
-    one-sided, v(t) = Re v e^{iωt}), at the ``speeds`` (S,) rad/s and the ``orders`` (k,) in the
-    housing's band at every speed, of ``frequency`` (S, k) Hz."""
-
-    surface: object
-    velocity: np.ndarray
-    speeds: np.ndarray
-    orders: np.ndarray
-    frequency: np.ndarray
-
-
-def housed_radiation(run: HousedRun, w, erp: HousedErp) -> HousedRadiation:
-    """The radiating skin of the whine response ``w`` of the housed scene (its ERP ``erp``,
-    :func:`housed_erp`): the outer skin closed over its bores
-    (:func:`fem_prep.housing.closed_outer_surface`) placed in the scene's frame (x = R
-    x_housing + t: the microphones are in the scene's frame, as the named points), its
-    vertices' normal velocity v = iω N_v Φ q of the housing's condensed coordinates q, at the
-    orders in the band at every speed. What ``jaxgear run``'s ``[acoustics]`` and the sizing's
-    sound stage radiate (:func:`jaxgear.cli._acoustics_run.radiated_sound_power`).
-
-    Raises:
-        SchemaError: no order in the band at every speed (one line).
-    """
-    every = erp.in_band.all(axis=0)
-    orders, freq = erp.orders[every], erp.frequency[:, every]
-    if not orders.size:
-        raise SchemaError(
-            f"[acoustics]: no order of [whine] lies below the housing's band limit at every "
-            f"speed ({housing_band_hz(run.body.condensed.cutoff_hz):.0f} Hz = cut-off / {BAND:g}): "
-            "allowed a cut-off above 1.5 x the highest order's frequency"
-        )
-    n_c = int(run.acoustics.K.shape[0])
-    q = np.asarray(w.coordinates)[:, erp.keep, run.first : run.first + n_c][:, every]
-    skin, placed = closed_skin(run)  # the skin housed_run found, closed, in the scene's frame
-    velocity = 1j * 2 * np.pi * freq[..., None] * (
-        q @ (skin.normal_operator @ run.body.condensed.recovery).T)
-    return HousedRadiation(placed, velocity, np.asarray(w.speed, dtype=float), orders, freq)
 
 
 def _radiation(run: HousedRun, case, w, erp: HousedErp, folder: str, table) -> dict:

@@ -3,12 +3,12 @@ stage"): for the candidates of the first Pareto fronts (:func:`jaxgear.sizing.dy
 rule, ``stage="sound"``), each candidate's housed case file (:func:`jaxgear.io.housed_case_text`:
 the lumped 3D pair on the layout's shafts and bearings in a box housing round its tip circles,
 with ``[whine]``) is written into the results store and run as ``jaxgear run`` runs it: the case
-read by :func:`jaxgear.io.load_case`, its whine solved by :func:`case_whine` (the housing meshed
-and condensed by fem_prep, cached) and its equivalent radiated power on the housing's outer
-skin by :func:`housed_erp`; with ``[sound] sound_power = true`` the case holds ``[acoustics]``
-and its radiated sound power is computed as ``jaxgear run``'s ``[acoustics]`` computes it (the
-closed skin's normal velocity, :func:`housed_radiation`, radiated by
-:func:`radiated_sound_power`: one BEM solve per grid frequency, cached). The columns
+read by :func:`jaxgear.io.load_case` and its sound computed by :func:`jaxgear.io.case_sound` (its
+whine, the housing meshed and condensed by fem_prep, cached, and its equivalent radiated power on
+the housing's outer skin); with ``[sound] sound_power = true`` the case holds ``[acoustics]``
+and its radiated sound power is computed as ``jaxgear run``'s ``[acoustics]`` computes it
+(:meth:`jaxgear.io.CaseSound.with_sound_power`: the closed skin's normal velocity radiated by
+:func:`jaxgear.io.surface_sound_power`, one BEM solve per grid frequency, cached). The columns
 :data:`SOUND_COLUMNS` are that run's headline: the largest overall ERP over the speeds and its
 speed, and the largest overall sound power L_W (not A-weighted: the ERP's weighting, so the two
 compare) and its speed, so ``jaxgear run`` of the written case reports the same numbers. Each
@@ -30,10 +30,14 @@ from typing import NamedTuple
 import numpy as np
 
 from .. import __version__, sizing
-from ..io import SchemaError, acoustics_of, atomic_open, housed_case_text, load_case
-from ._acoustics_run import radiated_sound_power
-from ._housing_run import housed_erp, housed_radiation
-from ._whine_run import case_whine
+from ..io import (
+    SchemaError,
+    acoustics_of,
+    atomic_open,
+    case_sound,
+    housed_case_text,
+    load_case,
+)
 
 __all__ = ["SOUND_COLUMNS", "SoundCurves", "sound_stage"]
 
@@ -95,30 +99,30 @@ def _peak(columns: dict, i: int, names: tuple[str, str], levels, speeds) -> None
 
 
 def _run_candidate(path: str) -> dict:
-    """``jaxgear run``'s housed whine and ERP of the case file ``path``: the speeds, the overall
-    ERP (NaN: no order in the band) and the contact loss per speed; with its ``[acoustics]`` the
-    overall radiated sound power per speed, L_W and L_WA (``jaxgear run``'s computation)."""
+    """``jaxgear run``'s housed whine and ERP of the case file ``path``
+    (:func:`jaxgear.io.case_sound`): the speeds, the overall ERP (NaN: no order in the band)
+    and the contact loss per speed; with its ``[acoustics]`` the overall radiated sound power
+    per speed, L_W and L_WA (``jaxgear run``'s computation), its own time recorded."""
     t0 = time.perf_counter()
     case = load_case(path)
-    _, housed, w = case_whine(case)
-    erp = housed_erp(housed, w)
+    sound = case_sound(case, sound_power=False)
     table = acoustics_of(case)
     radiated = {}
     if table is not None:
         t1 = time.perf_counter()
-        h = housed_radiation(housed, w, erp)
-        p = radiated_sound_power(h.surface, h.velocity, h.speeds, h.orders, table,
-                                 frequencies=h.frequency)
+        sound = sound.with_sound_power(table)
+        p = sound.sound_power
         radiated = {"overall_sound_power_db": _nullable(p.overall),
                     "overall_sound_power_dba": _nullable(p.overall_a),
                     "radiation_frequencies": len(p.grid),
-                    "skin_vertices": int(h.surface.n_vertices),
+                    "skin_vertices": int(sound.radiation.surface.n_vertices),
                     "sound_power_seconds": time.perf_counter() - t1}
+    w, erp, body = sound.whine, sound.erp, sound.housed.body
     return radiated | {"speeds": np.asarray(w.speed, dtype=float).tolist(),
                        "overall_erp_db": _nullable(erp.overall_db),
                        "contact_loss": np.asarray(w.contact_loss, dtype=bool).any(axis=1).tolist(),
-                       "housing_modes": len(housed.body.condensed.modes_hz),
-                       "housing_dofs": int(housed.body.mesh.n_dofs),
+                       "housing_modes": len(body.condensed.modes_hz),
+                       "housing_dofs": int(body.mesh.n_dofs),
                        "seconds": time.perf_counter() - t0}
 
 

@@ -6,7 +6,8 @@ every mesh's TE and force and of every bearing force component at every speed, w
 validity flags), ``whine/whine.csv`` (the same, one row per speed and order), the order plots
 and the waterfalls of the TE and of the bearing forces (docs/whine.md, "Outputs"); with
 ``[housing]`` (pair and train), the housing's ERP, named points and operating deflection shapes
-from the same response (:mod:`jaxgear.cli._housing_run`)."""
+from the same response (:mod:`jaxgear.cli._housing_run`). The whine is solved in the library
+(:func:`jaxgear.io.case_whine`); this module writes and draws it."""
 
 from __future__ import annotations
 
@@ -15,13 +16,12 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..dynamics import whine_response
-from ..io import build_dynamic_model, whine_of, write_csv, write_json
+from ..io import case_whine, whine_of, write_csv, write_json
 from ._bearing_report import bearing_tone_lines
-from ._housing_run import housed_run, housing_outputs, housing_run_line
+from ._housing_run import housing_outputs, housing_run_line
 from ._plots import whine_order_plot, whine_waterfall_plot
 
-__all__ = ["SolvedWhine", "case_whine", "whine_outputs", "whine_run_line"]
+__all__ = ["SolvedWhine", "whine_outputs", "whine_run_line"]
 
 #: orders drawn in the order plots (the first, by the model's span: 1, 2, 3, 4 of a pair's mesh)
 ORDERS_DRAWN = 4
@@ -43,36 +43,13 @@ def _amp_phase(z):
 class SolvedWhine(NamedTuple):
     """A whine solved elsewhere, for :func:`whine_outputs` to write (a gearbox's,
     :mod:`jaxgear.cli.gearbox`): its ``[whine]`` inputs, the
-    :class:`~jaxgear.dynamics.WhineResponse`, each mesh's name and the :class:`HousedRun` of
-    its housing (None: none)."""
+    :class:`~jaxgear.dynamics.WhineResponse`, each mesh's name and the
+    :class:`~jaxgear.io.HousedRun` of its housing (None: none)."""
 
     inputs: object
     response: object
     meshes: tuple
     housed: object = None
-
-
-def case_whine(case, inputs=None):
-    """The whine of ``case`` over its ``[whine]`` speeds (``inputs``: its
-    :class:`~jaxgear.io.WhineInputs`, default read here): (the case's dynamic model, the
-    :class:`HousedRun` of its ``[housing]`` or None, the
-    :class:`~jaxgear.dynamics.WhineResponse`), as ``jaxgear run`` solves it.
-
-    Raises:
-        ValueError: a case whose model kind has no gear whine (one line).
-    """
-    inputs = whine_of(case) if inputs is None else inputs
-    model, _ = build_dynamic_model(case)
-    if not model.whine_methods:  # what the model kind declares
-        raise ValueError(
-            f"[whine]: the case's model is a {type(model).__name__}, which has no gear whine: "
-            "allowed a lumped scene (torsional or lumped 3D), a pair with condensed bodies or "
-            "a planetary stage's"
-        )
-    housed = housed_run(case, model)  # [housing]: its points checked before the whine
-    w = whine_response(model, np.asarray(inputs.speeds), inputs.method,
-                       positions=inputs.positions)
-    return model, housed, w
 
 
 def whine_outputs(case, out_dir: str, solved: SolvedWhine | None = None) -> dict | None:

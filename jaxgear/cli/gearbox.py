@@ -52,10 +52,16 @@ from ..gearbox import (
     mesh_names,
     window_share,
 )
-from ..io import SceneSpec, build_dynamic_model, housing_surface, spec_integrator, write_json
+from ..io import (
+    HousedRun,
+    SceneSpec,
+    build_dynamic_model,
+    housing_surface,
+    spec_integrator,
+    write_json,
+)
 from ..planetary import PlanetaryModel
 from ._bearing_report import bearing_run_lines, bearing_tone_orders, gearbox_bearing_outputs
-from ._housing_run import HousedRun
 from ._plots import (
     coupled_dynamic_factor_plot,
     gearbox_campbell_plot,

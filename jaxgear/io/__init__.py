@@ -4,7 +4,8 @@ objects. Loading and validating cases (TOML, units in key names) into the one ca
 it), holding the :class:`MeshSettings` and its file's :class:`CaseForm`; its
 ``[scene]`` (:class:`SceneSpec`) and the objects it names (:func:`spec_integrator`,
 :func:`Damping`, :func:`spec_window`, :func:`load_bodies`); the model of a case
-(:func:`build_dynamic_model`, :func:`static_scene`, :func:`quasi_static_scene`); the embedded
+(:func:`build_dynamic_model`, :func:`static_scene`, :func:`quasi_static_scene`); a housed
+case's whine, ERP and radiated sound power (:func:`case_sound`); the embedded
 cases, a case's optimisation problem, and atomic writers. JSON/CSV only: plots live in
 :mod:`jaxgear.cli`. The model (:mod:`jaxgear`, :mod:`jaxgear.scenes`, :mod:`jaxgear.dynamics`)
 never imports this package: it takes the objects built here, never a case."""
@@ -19,6 +20,8 @@ from ._acoustic_path import (
     housed_acoustics as housed_acoustics,
     housing_band as housing_band,
     radiation_grid as radiation_grid,
+    surface_radiation as surface_radiation,
+    surface_sound_power as surface_sound_power,
 )
 from ._acoustics_table import (
     ACOUSTICS_KEYS as ACOUSTICS_KEYS,
@@ -43,6 +46,17 @@ from ._case import (
     TrainForm as TrainForm,
 )
 from ._case_file import SchemaError as SchemaError, parse_case as parse_case
+from ._case_sound import (
+    CaseSound as CaseSound,
+    HousedErp as HousedErp,
+    HousedRadiation as HousedRadiation,
+    HousedRun as HousedRun,
+    case_sound as case_sound,
+    case_whine as case_whine,
+    housed_erp as housed_erp,
+    housed_radiation as housed_radiation,
+    housed_run as housed_run,
+)
 from ._case_model import (
     PAIR_SCENES as PAIR_SCENES,
     build_dynamic_model as build_dynamic_model,

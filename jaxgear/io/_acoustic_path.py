@@ -17,6 +17,10 @@
   closed_outer_surface`, placed in the scene's frame as the run places it, with the run's
   microphones: one cache entry serves both) at that grid, and the map from the skin facets'
   normal velocities to the closed skin's vertices'.
+- :func:`surface_sound_power`: the sound power (and the microphones' pressure) a surface's
+  vertex velocities radiate over speeds and orders by ``[acoustics]``
+  (:func:`surface_radiation`, then :func:`jaxgear.acoustics.radiated_sound_power`): what
+  ``jaxgear run``'s ``acoustics/`` holds.
 """
 
 from __future__ import annotations
@@ -30,10 +34,10 @@ import numpy as np
 import optimise as op
 from fem_prep import acoustics as fa, schema as sc
 
-from ..acoustics import HousingAcoustics, housing_acoustics
+from ..acoustics import HousingAcoustics, SoundPower, housing_acoustics, radiated_sound_power
 from ..dynamics import DynamicModel
 from ..scenes import band_speed_limit, housing_band_hz
-from ._acoustics_table import AcousticsInputs, acoustics_of
+from ._acoustics_table import AcousticsInputs, acoustics_of, parse_acoustics
 from ._housing_table import HOUSING_BAND, housing_surface
 from ._whine_table import whine_of
 
@@ -48,6 +52,8 @@ __all__ = [
     "housed_acoustics",
     "housing_band",
     "radiation_grid",
+    "surface_radiation",
+    "surface_sound_power",
 ]
 
 #: the most memory (bytes) the radiation's factors L (G grid frequencies x n vertices x rank,
@@ -247,8 +253,76 @@ def case_radiation(case, path: op.AcousticPath, housed: HousedAcoustics | None =
         raise _refuse("sound_power", f"the housing skin's {facets.shape[0]} facets do not "
                       f"determine its {facets.shape[1]} condensed coordinates' motion (relative "
                       f"residual {err:.2g}): allowed a finer [housing] mesh_size_mm")
+    rr = surface_radiation(placed, grid, inputs, progress)
+    return op.SurfaceRadiation(jnp.asarray(vertex_map), jnp.asarray(rr.factors), grid)
+
+
+def surface_radiation(surface, grid, inputs: AcousticsInputs, progress: bool = False):
+    """The :class:`fem_prep.acoustics.RadiationResistance` of ``surface`` at the ``grid``
+    frequencies (Hz, (G,)) by ``[acoustics]``'s method, fluid and rank, with the pressure
+    transfer to its microphones (read from / written to fem_prep's cache,
+    :func:`fem_prep.acoustics.radiation_resistance`: one BEM solve per grid frequency)."""
     mics = inputs.microphones
     points = np.array([p for _, p in mics]) if mics else None
-    rr = fa.radiation_resistance(placed, grid, inputs.fluid, inputs.method, rank=inputs.rank,
-                                 cache=inputs.cache, progress=progress, points=points)
-    return op.SurfaceRadiation(jnp.asarray(vertex_map), jnp.asarray(rr.factors), grid)
+    return fa.radiation_resistance(surface, grid, inputs.fluid, inputs.method, rank=inputs.rank,
+                                   cache=inputs.cache, progress=progress, points=points)
+
+
+def surface_sound_power(surface, velocities, speeds, orders, inputs, *, frequencies=None,
+                        progress: bool = False) -> SoundPower:
+    """The sound power a vibrating surface radiates at each speed and order, by a case's
+    ``[acoustics]`` table: the radiation operators of its method at :func:`radiation_grid` of
+    the orders' frequencies (:func:`surface_radiation`, cached), then
+    :func:`jaxgear.acoustics.radiated_sound_power` (W = vᴴ R v interpolated log-log between the
+    grid frequencies, L_W, L_WA, the overall sums and the microphones' pressure). What
+    ``jaxgear run``'s ``[acoustics]`` writes (``acoustics/``) and the sizing's sound stage
+    ranks.
+
+    Args:
+        surface: the :class:`fem_prep.acoustics.RadiatingSurface` (m): closed for ``bem``
+            (:func:`closed_skin`), a flat panel for ``rayleigh``.
+        velocities: ``(S, O, n)`` complex normal velocity amplitudes at the surface's vertices
+            (m/s, one-sided, v(t) = Re v e^{iωt}, positive outward).
+        speeds: ``(S,)`` input speeds (rad/s, > 0).
+        orders: ``(O,)`` the orders (> 0): order o at speed Ω sounds at o Ω / 2π Hz unless
+            ``frequencies`` says otherwise.
+        inputs: :class:`AcousticsInputs` (:func:`acoustics_of`) or the raw ``[acoustics]``
+            table (a dict, read by :func:`parse_acoustics`).
+        frequencies: ``(S, O)`` Hz of each order at each speed (a whine sweep's
+            ``frequency[:, None] * orders[None, :]``), or None.
+        progress: progress bars over the radiation solves.
+
+    Returns:
+        The :class:`jaxgear.acoustics.SoundPower` (its ``band`` the table's ``band_Hz`` or the
+        orders' range).
+
+    Raises:
+        TypeError: a surface that is not a RadiatingSurface, a table of another type.
+        ValueError: shapes that do not fit, a speed, order or frequency ≤ 0 or not finite (one
+            line each).
+    """
+    if not isinstance(surface, fa.RadiatingSurface):
+        raise TypeError(f"surface_sound_power: surface = {type(surface).__name__}, allowed a "
+                        "fem_prep.acoustics.RadiatingSurface")
+    if isinstance(inputs, dict):
+        inputs = parse_acoustics(inputs, progress)
+    if not isinstance(inputs, AcousticsInputs):
+        raise TypeError(f"surface_sound_power: table = {inputs!r}, allowed AcousticsInputs or a dict")
+    speeds = np.asarray(speeds, dtype=float).reshape(-1)
+    orders = np.asarray(orders, dtype=float).reshape(-1)
+    v = np.asarray(velocities)
+    S, O, n = len(speeds), len(orders), surface.n_vertices
+    if v.shape != (S, O, n):
+        raise ValueError(f"surface_sound_power: velocities = {v.shape}, allowed (S, O, n) = "
+                         f"({S}, {O}, {n}) (speeds, orders, the surface's vertices)")
+    for what, x in (("speeds", speeds), ("orders", orders)):
+        if x.size == 0 or not np.all(np.isfinite(x)) or x.min() <= 0:
+            raise ValueError(f"surface_sound_power: {what} = {x.tolist()}, allowed finite values > 0")
+    f = (orders[None, :] * speeds[:, None] / (2 * np.pi) if frequencies is None
+         else np.asarray(frequencies, dtype=float))
+    if f.shape != (S, O) or not np.all(np.isfinite(f)) or f.min() <= 0:
+        raise ValueError(f"surface_sound_power: frequencies {f.shape}, allowed (S, O) = ({S}, {O}) "
+                         "finite values > 0 (Hz)")
+    band, grid = radiation_grid(inputs, f)  # the grid the acoustic objectives radiate at too
+    rr = surface_radiation(surface, grid, inputs, progress)
+    return radiated_sound_power(v, f, rr, band=band)
