@@ -689,14 +689,19 @@ def parse_gearbox(data: dict, default_name: str, base: str | None, load_case) ->
             on a stage that cannot take it, ``housing_seats`` of the wrong count, a seat beyond
             the box's, a ring's ``housing_seat`` a lumped stage's bearing takes, a
             ``housing_bore_diameter_mm`` not positive, with a mesh file's ``[housing]`` or whose
-            bore does not fit (:func:`_check_bores`; a gearbox ``bore_diameter_mm`` alike); one
-            line each.
+            bore does not fit (:func:`_check_bores`; a gearbox ``bore_diameter_mm`` alike), a
+            ``[load_spectrum]`` its reader refuses (as a pair's ``[rating.spectrum]``, before
+            any stage is built) or in a gearbox without a ``model = "lumped3d"`` stage on
+            rolling bearings; one line each.
     """
     sc.check_keys(data, _KEYS, "")
     sc.subtables(data, ("whine", "housing", "load_spectrum"), "")  # before their readers
     name = sc.name(data, "name", "", default_name)
     op = GearboxOperating.of_file(data, required=True)
     torque, speed = op.torque_Nm, op.speed_rad_s
+    spectrum = None  # its bins checked before any stage is built
+    if "load_spectrum" in data:
+        spectrum = parse_spectrum(data["load_spectrum"], SPECTRUM_TIME, "load_spectrum")
     if "stages" not in data:
         raise sc.SchemaError(
             "[[stages]]: missing; a gearbox file lists its stages in order, each a [[stages]] "
@@ -743,8 +748,8 @@ def parse_gearbox(data: dict, default_name: str, base: str | None, load_case) ->
         _check_band(stages, data["operating"], housing, data["housing"])
         if low is not None:
             check_housing_band(housing, low)
-    spectrum = (_load_spectrum(data["load_spectrum"], stages) if "load_spectrum" in data
-                else None)
+    if spectrum is not None:
+        _check_spectrum_stages(stages)
     pairs = tuple(p for s in stages for p in s.case.pairs)
     form = GearboxForm(tuple(stages), whine, housing, spectrum)
     if housing is not None:
@@ -764,18 +769,16 @@ def parse_gearbox(data: dict, default_name: str, base: str | None, load_case) ->
 SPECTRUM_TIME = 3600.0
 
 
-def _load_spectrum(table: dict, stages) -> LoadSpectrum:
-    """The gearbox's ``[load_spectrum]`` (module docstring; the keys of a pair's
-    ``[rating.spectrum]``, :func:`~jaxgear.io._spectrum_table.parse_spectrum`, its bins the
-    first stage's input member's), allowed with a ``model = "lumped3d"`` stage on rolling
-    bearings from their geometry only (whose lives it is for); one line each."""
-    spectrum = parse_spectrum(table, SPECTRUM_TIME, "load_spectrum")
+def _check_spectrum_stages(stages) -> None:
+    """The gearbox's ``[load_spectrum]`` (module docstring; read by
+    :func:`~jaxgear.io._spectrum_table.parse_spectrum` as a pair's ``[rating.spectrum]``, its
+    bins the first stage's input member's) allowed with a ``model = "lumped3d"`` stage on
+    rolling bearings from their geometry only (whose lives it is for); one line."""
     if not any(isinstance(s.torsional, LumpedPairGearboxStage) and s.case.scene.rolling
                for s in stages):
         raise sc.fail("", "load_spectrum", 'allowed with a model = "lumped3d" stage on rolling '
                       "bearings from their geometry only (their lives under it); this gearbox "
                       "has none")
-    return spectrum
 
 
 def _stage_teeth(stages, op: dict) -> list[float]:
