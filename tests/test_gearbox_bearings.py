@@ -506,7 +506,7 @@ def test_spectrum_without_a_rolling_stage_refused(tmp_path):
 
 
 @pytest.mark.slow  # a whole jaxgear run of the gearbox: each stage's run and sweep, the chain's
-# modes, the coupled sweep, Campbell diagram, its bearings' spectrum lives: 170-270 s on the
+# modes, the coupled sweep, Campbell diagram, its bearings' spectrum lives: 170-280 s on the
 # shared 2-core host (load 2-5)
 def test_jaxgear_run_reports_a_gearbox_stages_bearings(staged, tmp_path):
     """``jaxgear run`` of the gearbox under its load spectrum (two-pair-rolling-spectrum.toml:
