@@ -3,10 +3,14 @@
 CHAIN's operating point (the stage's pinion torque as the gearbox carries it, not its own case's),
 against each shaft on two supports by hand, the bearing package called directly, the same stage
 run as its own pair case at the carried torque, and ISO 281's L10 = (C/P)³ by hand in the
-gearbox's report."""
+gearbox's report; under the gearbox's ``[load_spectrum]`` (two-pair-rolling-spectrum.toml):
+each bin carried to the stage by hand, each bearing's lives against Palmgren–Miner by hand from
+each bin's hand statics and against the stage run alone as a pair case under the carried
+``[rating.spectrum]``, a one-bin spectrum against the single point, and its refusals."""
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import tomllib
 from pathlib import Path
@@ -30,6 +34,7 @@ from jaxgear.scenes import bearing_dofs
 
 DATA = Path(__file__).resolve().parent / "data" / "gearbox"
 GEARBOX = DATA / "two-pair-rolling.toml"
+SPECTRUM = DATA / "two-pair-rolling-spectrum.toml"
 STAGE1 = DATA / "two-pair-whine-stage1.toml"
 STAGE2 = DATA / "two-pair-rolling-stage2.toml"
 #: the 6205's basic dynamic rating (SKF's catalogue, as the CWRU bearing data centre lists it)
@@ -289,16 +294,228 @@ def test_a_stage_on_rolling_bearings_under_a_load_spectrum_is_refused(tmp_path):
     text = str(err.value)
     assert text.startswith("[stages[1]] model = 'lumped3d': not with a stage case on rolling "
                            "bearings from their geometry under a load spectrum") and (
-        "[rating.spectrum]" in text and "\n" not in text), text
+        "[rating.spectrum]" in text and "[load_spectrum]" in text and "\n" not in text), text
+
+
+# ---------------------------------------------------------- under the gearbox's load spectrum
+
+
+def _input_bins() -> dict:
+    """The ``[load_spectrum]`` of two-pair-rolling-spectrum.toml as written: stage 1's pinion
+    torque (N·m), speed (rpm -> rad/s by hand) and time shares."""
+    sp = _toml(SPECTRUM)["load_spectrum"]
+    return {"torque": np.array(sp["torque_Nm"]), "speed": np.array(sp["speed_rpm"]) * math.pi / 30,
+            "share": np.array(sp["time_share"])}
+
+
+def _stage2_bins() -> dict:
+    """Each bin at stage 2's pinion by hand (stage 1 z1 -> z2, lossless: T z2/z1, ω z1/z2) and
+    each stage-2 shaft's speed (its gear's ω z3/z4)."""
+    s1, s2 = _toml(STAGE1), _toml(STAGE2)
+    r1 = s1["gear"]["teeth"] / s1["pinion"]["teeth"]
+    b = _input_bins()
+    w = b["speed"] / r1
+    return {"torque": b["torque"] * r1, "speed": w, "share": b["share"],
+            "shafts": (w, w * s2["pinion"]["teeth"] / s2["gear"]["teeth"])}
+
+
+def _spectrum_section(case, stage_case=None):
+    """The gearbox's ``bearings`` section with its ``[load_spectrum]`` (stage 2's own run's
+    rows at the carried point; ``stage_case`` another stage-2 case in the form)."""
+    form = case.form
+    if stage_case is not None:
+        stages = list(form.stages)
+        stages[1] = dataclasses.replace(stages[1], case=stage_case)
+        form = dataclasses.replace(form, stages=tuple(stages))
+    s = form.stages[1].case
+    rows = [{"stage": "stage1", "summary": {}},
+            {"stage": "stage2", "summary": {"bearings": bearing_outputs(s.form, s)}}]
+    return gearbox_bearing_outputs(form, case, rows)
+
+
+@pytest.fixture(scope="module")
+def spectrum():
+    """The gearbox under its load spectrum and its report's ``bearings`` section."""
+    case = jio.load_case(str(SPECTRUM))
+    return case, _spectrum_section(case)
+
+
+def test_spectrum_bins_carried_down_the_chain_by_hand(spectrum):
+    """Each bin at each stage: stage 1's pinion the input's bins (rpm -> rad/s), stage 2's
+    pinion T z2/z1 and ω z1/z2 of stage 1 (1e-14); the times the shares of the scaled total
+    (the lives depend on the shares only); the report's per-stage carried bins alike."""
+    case, section = spectrum
+    form = case.form
+    b, s2 = _input_bins(), _stage2_bins()
+    first, second = form.stage_spectrum(0), form.stage_spectrum(1)
+    np.testing.assert_allclose(first.torque, b["torque"], rtol=1e-14)
+    np.testing.assert_allclose(first.speed, b["speed"], rtol=1e-14)
+    np.testing.assert_allclose(second.torque, s2["torque"], rtol=1e-14)
+    np.testing.assert_allclose(second.speed, s2["speed"], rtol=1e-14)
+    d = np.asarray(second.duration)
+    np.testing.assert_allclose(d / d.sum(), b["share"] / b["share"].sum(), rtol=1e-14)
+    assert s2["torque"][1] == pytest.approx(100.0, rel=1e-14)  # the file's 60 N·m bin
+    row = section["stages"][0]
+    np.testing.assert_allclose(row["spectrum_pinion_torque_Nm"], s2["torque"], rtol=1e-14)
+    np.testing.assert_allclose(row["spectrum_pinion_speed_rad_s"], s2["speed"], rtol=1e-14)
+    np.testing.assert_allclose(section["load_spectrum"]["input_torque_Nm"], b["torque"],
+                               rtol=1e-14)
+
+
+def assert_spectrum_life_by_hand(row: dict, shaft_speeds, *, load_rel: float,
+                                 life_rel: float) -> None:
+    """A report row's ``spectrum_life`` under the gearbox's spectrum against ISO 281 and
+    Palmgren–Miner by hand: each bin's F_r = F_n/2 at stage 2's carried torque
+    (:func:`_hand_radial`; the standstill bin none), P_i = F_r,i (F_a/F_r far below e),
+    n_i = ω_i t_i / 2π its shaft's turns, damage D = Σ n_i (P_i/C)³ / 10⁶, L10 = Σ n_i / D
+    revolutions, L10h = Σ t_i / D, P_eq = (Σ n_i P_i³ / Σ n_i)^(1/3)."""
+    bins = _stage2_bins()
+    t = bins["share"] / bins["share"].sum()  # the lives: shares only
+    half = np.array([_hand_radial(T)[0] for T in bins["torque"]])
+    sp = row["spectrum_life"]
+    np.testing.assert_allclose(sp["bins_radial_load_N"], half, rtol=load_rel)
+    fa = np.abs(np.asarray(sp["bins_axial_load_N"]))
+    assert np.all(fa <= 0.06 * half)
+    n = shaft_speeds * t / (2 * math.pi)
+    damage = np.sum(n * (half / C_6205) ** 3) / 1e6
+    assert sp["L10_revolutions"] == pytest.approx(n.sum() / damage, rel=life_rel)
+    # L10h = Σt/D: its ratio to L10 = Σn/D is Σt/Σn (the shares' time scale cancels)
+    assert sp["L10_hours"] * 3600 / sp["L10_revolutions"] == pytest.approx(
+        t.sum() / n.sum(), rel=life_rel)
+    peq = (np.sum(n * half**3) / n.sum()) ** (1 / 3)
+    assert sp["equivalent_load_N"] == pytest.approx(peq, rel=life_rel)
+
+
+def test_spectrum_lives_by_palmgren_miner_by_hand(spectrum):
+    """Each of stage 2's bearings under the gearbox's spectrum: its bins' loads F_n/2 at each
+    bin's carried torque (1e-9, the statics exact), its L10 (revolutions and hours) and P_eq
+    by Palmgren–Miner by hand (1e-6, the loads' 1e-9, P's axial part none), its shaft's speed
+    per bin the carried pinion speed (its gear z3/z4 of it); L10r reported beside; the console
+    line names the gearbox's spectrum."""
+    _, section = spectrum
+    bins = _stage2_bins()
+    rows = section["bearings"]
+    assert len(rows) == 4
+    for row in rows:
+        w = bins["shafts"][0 if ".pinion_shaft." in row["name"] else 1]
+        assert_spectrum_life_by_hand(row, w, load_rel=1e-9, life_rel=1e-6)
+        assert row["spectrum_life"]["L10r_revolutions"] > 0
+    # the figures docs/bearings.md states ("In a gearbox")
+    assert rows[0]["spectrum_life"]["L10_hours"] == pytest.approx(1.003e5, rel=5e-3)
+    assert rows[2]["spectrum_life"]["L10_hours"] == pytest.approx(1.65e5, rel=5e-3)
+    lines = bearing_run_lines(section)
+    assert all("under the gearbox's load spectrum L10 " in t for t in lines), lines
+
+
+def test_spectrum_lives_are_the_stage_run_alone_under_the_carried_spectrum(spectrum):
+    """Stage 2 with ``[bearings]`` (ISO 281's modified life) in the gearbox, against its case
+    run alone as a pair case whose ``[rating.spectrum]`` is the carried bins written by hand
+    (torque T z2/z1 in N·m, speed in rpm, hours; the pair's own spectrum path): each bearing's
+    bins' loads, L10, L10r and L_nm (revolutions and hours) to 1e-9 (the same statics per
+    bin; measured ~1e-15)."""
+    case, _ = spectrum
+    settings = {"contamination_factor": 0.5, "viscosity_mm2_per_s": 68.0}
+    staged = case.form.stages[1].case
+    staged = staged.replace(bearings=jio.BearingsSection.read(settings))
+    section = _spectrum_section(case, staged)
+    bins = _stage2_bins()
+    data = _toml(STAGE2)
+    data["operating"] = {"torque_Nm": float(bins["torque"][1]),
+                         "speed_rad_s": float(bins["speed"][1])}
+    data["bearings"] = settings
+    data["material"] = {"sigma_H_lim_MPa": 1500.0, "sigma_F_lim_MPa": 430.0,
+                        "treatment": "case_hardened"}
+    hours = bins["share"]  # any time scale: the lives are the shares'
+    data["rating"] = {"application_factor": 1.0, "life_h": 20000.0,
+                      "viscosity_40C_mm2_s": 220.0, "roughness_Rz_flank_um": 4.8,
+                      "roughness_Rz_root_um": 20.0, "accuracy_grade": 6,
+                      "spectrum": {"torque_Nm": bins["torque"].tolist(),
+                                   "speed_rpm": (bins["speed"] * 30 / math.pi).tolist(),
+                                   "hours": hours.tolist()}}
+    alone = jio.parse_case(data)
+    want = bearing_outputs(alone.form, alone)["bearings"]
+    got = section["bearings"]
+    assert [r["name"] for r in got] == [f"stage2.{r['name']}" for r in want]
+    for g, w in zip(got, want, strict=True):
+        g, w = g["spectrum_life"], w["spectrum_life"]
+        np.testing.assert_allclose(g["bins_radial_load_N"], w["bins_radial_load_N"], rtol=1e-9)
+        for key in ("L10", "L10r", "Lnm"):
+            assert g[f"{key}_revolutions"] == pytest.approx(w[f"{key}_revolutions"], rel=1e-9)
+            assert g[f"{key}_hours"] == pytest.approx(w[f"{key}_hours"], rel=1e-9)
+        assert g["Lnm_revolutions"] != pytest.approx(g["L10_revolutions"], rel=1e-3)
+
+
+def test_one_bin_spectrum_is_the_single_operating_point(spectrum):
+    """A spectrum of one bin at the gearbox's ``[operating]`` point: each bearing's L10, L10r
+    (revolutions and hours) and P_eq are its lives at the single point (ISO 281's L10 = (C/P)³
+    and ISO/TS 16281's L10r at one load: 1e-9)."""
+    from jaxgear.rating import LoadSpectrum
+
+    case, _ = spectrum
+    op = _toml(SPECTRUM)["operating"]
+    form = dataclasses.replace(case.form, spectrum=LoadSpectrum([op["torque_Nm"]],
+                                                                [op["speed_rad_s"]], [3600.0]))
+    section = _spectrum_section(case.replace(form=form))
+    for row in section["bearings"]:
+        life, sp = row["life"], row["spectrum_life"]
+        for key in ("L10_revolutions", "L10_hours", "L10r_revolutions", "L10r_hours"):
+            assert sp[key] == pytest.approx(life[key], rel=1e-9), key
+        assert sp["equivalent_load_N"] == pytest.approx(life["equivalent_load_N"], rel=1e-9)
+
+
+@pytest.mark.parametrize("table, words", [
+    ({"torque_Nm": [60.0, -5.0], "speed_rpm": 300.0, "time_share": [0.5, 0.5]},
+     "[load_spectrum] torque_Nm"),
+    ({"torque_Nm": [60.0, 30.0], "speed_rpm": 300.0, "time_share": [1.0]},
+     "[load_spectrum] time_share"),
+    ({"torque_Nm": [60.0], "speed_rpm": [300.0, 200.0], "hours": [1.0]},
+     "[load_spectrum] speed_rpm"),
+    ({"torque_Nm": [0.0], "speed_rpm": 300.0, "hours": [1.0]}, "[load_spectrum]"),
+])
+def test_bad_bins_refused_in_one_line(tmp_path, table, words):
+    """A bad ``[load_spectrum]`` bin (a negative torque, a list of another length, no loaded
+    bin): one line naming the gearbox's table and key in the file's units, before any stage
+    is built."""
+    from _toml import case_toml
+
+    path = _copy(tmp_path)
+    data = _toml(SPECTRUM)
+    data["load_spectrum"] = table
+    path.write_text(case_toml(data), "utf-8")
+    with pytest.raises(ValueError) as err:
+        jio.load_case(str(path))
+    text = str(err.value)
+    assert text.startswith(words) and "\n" not in text, text
+
+
+def test_spectrum_without_a_rolling_stage_refused(tmp_path):
+    """``[load_spectrum]`` in a gearbox without a lumped 3D stage on rolling bearings
+    (tests/data/gearbox/two-pair-lumped.toml: its stage 2 on linear bearings): one line."""
+    from _toml import case_toml
+
+    for name in ("two-pair-lumped.toml", "two-pair-whine-stage1.toml",
+                 "two-pair-lumped-stage2.toml"):
+        (tmp_path / name).write_text((DATA / name).read_text())
+    data = _toml(DATA / "two-pair-lumped.toml")
+    data["load_spectrum"] = _toml(SPECTRUM)["load_spectrum"]
+    (tmp_path / "g.toml").write_text(case_toml(data), "utf-8")
+    with pytest.raises(ValueError) as err:
+        jio.load_case(str(tmp_path / "g.toml"))
+    text = str(err.value)
+    assert "load_spectrum" in text and "rolling bearings" in text and "\n" not in text, text
 
 
 @pytest.mark.slow  # a whole jaxgear run of the gearbox: each stage's run and sweep, the chain's
-# modes, the coupled sweep, Campbell diagram: 170-270 s on the shared 2-core host (load 2-5)
+# modes, the coupled sweep, Campbell diagram, its bearings' spectrum lives: 170-280 s on the
+# shared 2-core host (load 2-5)
 def test_jaxgear_run_reports_a_gearbox_stages_bearings(staged, tmp_path):
-    """``jaxgear run`` of the gearbox: summary.json's ``bearings`` is the section built above
-    (the operating point found again in the run's process: loads and lives to 1e-9), stage 2's
-    own summary.json has its bearings at the carried point, campbell.json holds the tones as
-    orders of the gearbox's input speed, and the console names each bearing by its stage."""
+    """``jaxgear run`` of the gearbox under its load spectrum (two-pair-rolling-spectrum.toml:
+    two-pair-rolling.toml with ``[load_spectrum]``): summary.json's ``bearings`` is the
+    section built above (the operating point found again in the run's process: loads and lives
+    to 1e-9), each bearing's ``spectrum_life`` Palmgren–Miner by hand (1e-6), stage 2's own
+    summary.json has its bearings at the carried point, campbell.json holds the tones as
+    orders of the gearbox's input speed, and the console names each bearing by its stage and
+    its lives under the gearbox's spectrum."""
     import contextlib
     import io
     import json
@@ -309,7 +526,7 @@ def test_jaxgear_run_reports_a_gearbox_stages_bearings(staged, tmp_path):
     out = tmp_path / "out"
     text = io.StringIO()
     with contextlib.redirect_stdout(text):
-        assert cli.main(["run", str(GEARBOX), "--out", str(out), "--quiet"]) == 0
+        assert cli.main(["run", str(SPECTRUM), "--out", str(out), "--quiet"]) == 0
     summary = json.loads((out / "summary.json").read_text())
     want = _section(case, stage)
     got = summary["bearings"]
@@ -320,6 +537,10 @@ def test_jaxgear_run_reports_a_gearbox_stages_bearings(staged, tmp_path):
         for key in ("L10_revolutions", "L10r_revolutions", "L10_hours"):
             assert g["life"][key] == pytest.approx(w["life"][key], rel=1e-9)
         assert g["tones_input_orders"] == pytest.approx(w["tones_input_orders"], rel=1e-12)
+        w = _stage2_bins()["shafts"][0 if ".pinion_shaft." in g["name"] else 1]
+        assert_spectrum_life_by_hand(g, w, load_rel=1e-9, life_rel=1e-6)
+    np.testing.assert_allclose(got["load_spectrum"]["input_torque_Nm"],
+                               _input_bins()["torque"], rtol=1e-14)
     own = json.loads((out / "stage2" / "summary.json").read_text())["bearings"]
     half, _ = _hand_radial(_chain()["torque"])
     assert all(b["radial_load_N"] == pytest.approx(half, rel=1e-9) for b in own["bearings"])
@@ -327,3 +548,4 @@ def test_jaxgear_run_reports_a_gearbox_stages_bearings(staged, tmp_path):
     assert campbell["bearing_tones"] == bearing_tone_orders(case)  # JSON keeps the floats
     printed = text.getvalue()
     assert all(f"bearing {r['name']} (DeepGrooveBall)" in printed for r in got["bearings"])
+    assert printed.count("under the gearbox's load spectrum L10 ") == 4, printed

@@ -1019,7 +1019,12 @@ units (see the pair reference), its speeds the first stage's input member's, `me
 stage's own mesh period, one integer for every stage or a list of one per stage (a slow stage on
 a coarser axis), with at most 10⁶ points on the stages' torus grid (their product). A `[housing]`
 table (the pair's `[housing]` keys, see the pair reference) is one housing shared by the
-`model = "lumped3d"` stages and the planetary stages with `housing_seat` (docs/gearbox.md, "One housing for several stages"). Unknown keys
+`model = "lumped3d"` stages and the planetary stages with `housing_seat` (docs/gearbox.md, "One housing for several stages"). A
+`[load_spectrum]` table (the pair's `[rating.spectrum]` keys, see the pair reference: torque in
+N·m and speed in rpm per bin with `hours`, `cycles` or `time_share`, or a sampled history) is
+the load spectrum of the first stage's input member, carried down the chain to the
+`model = "lumped3d"` stages on rolling bearings for their lives by Palmgren–Miner (allowed only
+with such a stage; docs/gearbox.md, "Under a load spectrum of the chain"). Unknown keys
 are errors."""
 
 #: what the gearbox page says of a table beyond its keys

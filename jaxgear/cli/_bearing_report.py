@@ -13,7 +13,7 @@ import math
 import numpy as np
 
 from ..bearings import bearing_tones
-from ..io import GearboxForm, PairForm, TrainForm, case_bearings
+from ..io import GearboxForm, PairForm, TrainForm, bearing_spectrum_lives, case_bearings
 
 __all__ = ["TONE_NAMES", "bearing_outputs", "bearing_rating_lines", "bearing_run_lines",
            "bearing_tone_lines", "bearing_tone_orders", "gearbox_bearing_outputs"]
@@ -136,6 +136,7 @@ def bearing_run_lines(section: dict | None) -> list[str]:
     (loads, lives, tones); nothing without the section."""
     if not section:
         return []
+    whose = "gearbox's load spectrum" if "load_spectrum" in section else "rating spectrum"
     lines = []
     for b in section["bearings"]:
         text = (f"bearing {b['name']} ({b['kind']}): F_r {b['radial_load_N']:.4g} N, "
@@ -152,7 +153,7 @@ def bearing_run_lines(section: dict | None) -> list[str]:
                 text += f"; {name} {_e(rev / 1e6)} M rev" + (f" ({_e(h)} h)" if h else "")
         sp = b.get("spectrum_life")
         if sp:
-            text += f"; under the rating spectrum L10 {_e(sp['L10_hours'])} h" + (
+            text += f"; under the {whose} L10 {_e(sp['L10_hours'])} h" + (
                 f", L10r {_e(sp['L10r_hours'])} h" if "L10r_hours" in sp else "") + (
                 f", L_nm {_e(sp['Lnm_hours'])} h" if "Lnm_hours" in sp else "")
         tones = ", ".join(f"{TONE_NAMES[t]} {v:.4g}" for t, v in b["tones_orders"].items())
@@ -284,11 +285,17 @@ def gearbox_bearing_outputs(form, case, stages: list[dict]) -> dict | None:
     lives at the stage's shaft speeds), each named ``stage<k>.<its table>`` with its
     ``stage`` and ``tones_input_orders`` (its tones as orders of the gearbox's input speed,
     :func:`bearing_tone_orders`, the coupled Campbell diagram's and the whine's axis); per
-    stage its pinion speed, life settings and fixed-point iterations (``stages``). None for a
-    gearbox without a rolling bearing."""
+    stage its pinion speed, life settings and fixed-point iterations (``stages``). With the
+    gearbox's ``[load_spectrum]``: the section's ``load_spectrum`` (its input bins: torque
+    N·m, speed rad/s, time s), each stage's carried bins (``spectrum_pinion_torque_Nm``,
+    ``spectrum_pinion_speed_rad_s``: :meth:`~jaxgear.io.GearboxForm.stage_spectrum`) and each
+    bearing's ``spectrum_life`` (each bin's loads, P_eq, L10, L10r and L_nm by Palmgren–Miner,
+    :func:`jaxgear.io.bearing_spectrum_lives`, as a pair's under its ``[rating.spectrum]``).
+    None for a gearbox without a rolling bearing."""
     tones: dict = {}
     for t in bearing_tone_orders(case):
         tones.setdefault(t["bearing"], {})[t["tone"]] = t["order"]
+    index = {form.stage_name(k): k for k in range(len(form.stages))}
     rows, per = [], []
     for s in stages:
         section = (s.get("summary") or {}).get("bearings")
@@ -296,10 +303,35 @@ def gearbox_bearing_outputs(form, case, stages: list[dict]) -> dict | None:
             continue
         label = s["stage"]
         per.append({"stage": label} | {k: v for k, v in section.items() if k != "bearings"})
+        spectra = {}
+        if form.spectrum is not None:
+            spectra = _stage_spectrum(form, index[label], per[-1])
         for b in section["bearings"]:
             name = f"{label}.{b['name']}"
             rows.append(b | {"name": name, "stage": label, "tones_input_orders": tones[name]})
+            if spectra:
+                rows[-1]["spectrum_life"] = spectra[b["name"]]
     if not rows:
         return None
-    return {"input_speed_rad_s": float(form.stages[0].input_speed), "stages": per,
-            "bearings": rows}
+    out = {"input_speed_rad_s": float(form.stages[0].input_speed), "stages": per,
+           "bearings": rows}
+    if form.spectrum is not None:
+        sp = form.spectrum
+        out["load_spectrum"] = {"input_torque_Nm": np.asarray(sp.torque).tolist(),
+                                "input_speed_rad_s": np.asarray(sp.speed).tolist(),
+                                "duration_s": np.asarray(sp.duration).tolist()}
+    return out
+
+
+def _stage_spectrum(form, k: int, row: dict) -> dict:
+    """Stage ``k``'s rolling bearings' lives under the gearbox's ``[load_spectrum]`` carried
+    to it, by the bearing's name in the stage's report (``pinion_shaft.bearings[0]``); the
+    carried bins added to the stage's ``row``."""
+    case = form.stages[k].case
+    bins = form.stage_spectrum(k)
+    row["spectrum_pinion_torque_Nm"] = np.asarray(bins.torque).tolist()
+    row["spectrum_pinion_speed_rad_s"] = np.asarray(bins.speed).tolist()
+    lives = bearing_spectrum_lives(case, bins)
+    names = case.form.bearing_shafts(case).names
+    return {f"{_shaft_name(names[j])}.bearings[{i}]": _spectrum_life(life)
+            for j, shaft in enumerate(lives) for i, life in enumerate(shaft)}

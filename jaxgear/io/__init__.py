@@ -59,6 +59,7 @@ from ._case_sound import (
 )
 from ._case_model import (
     PAIR_SCENES as PAIR_SCENES,
+    bearing_spectrum_lives as bearing_spectrum_lives,
     build_dynamic_model as build_dynamic_model,
     case_bearings as case_bearings,
     check_case_whine as check_case_whine,

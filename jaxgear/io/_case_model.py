@@ -53,7 +53,8 @@ from ._rating_table import ratings_of
 from ._scene_spec import SceneSpec, load_bodies, spec_damping
 from ._whine_table import WHINE_METHODS, whine_of
 
-__all__ = ["PAIR_SCENES", "CaseBearings", "build_dynamic_model", "case_bearings", "check_case_whine", "dynamic_model_kind",
+__all__ = ["PAIR_SCENES", "CaseBearings", "bearing_spectrum_lives", "build_dynamic_model",
+           "case_bearings", "check_case_whine", "dynamic_model_kind",
            "mesh_frequency_periods", "planetary_kind", "quasi_static_scene",
            "static_scene"]
 
@@ -417,13 +418,39 @@ def case_bearings(case: Case) -> CaseBearings | None:
     spectrum = None
     rated = ratings_of(case) if case.rating is not None else None
     if rated and rated[0].spectrum is not None:
-        bins = rated[0].spectrum
-        torques = np.asarray(bins.torque, float)
-        points = [operating_point(case, spec, t) if t > 0 else None for t in torques]
-        shaft_speeds = np.asarray(bins.speed, float)[:, None] * np.asarray(ratio)[None, :]
-        spectrum = spectrum_lives(points, shaft_speeds, np.asarray(bins.duration, float),
-                                  **extra)
+        spectrum = bearing_spectrum_lives(case, rated[0].spectrum)
     return CaseBearings(point, speeds, lives, settings, spectrum, found.names)
+
+
+def bearing_spectrum_lives(case: Case, spectrum) -> tuple:
+    """The lives of a ``lumped3d`` pair or train case's rolling bearings under a load spectrum
+    of its pinion (input): ``spectrum`` (:class:`jaxgear.rating.LoadSpectrum`, k bins of
+    the pinion's torque (N·m), speed (rad/s) and time (s)); each bin's operating point at its
+    torque (:func:`~jaxgear.io.operating_point`; a bin without torque: no load, no damage),
+    each shaft at the bin's speed times its :attr:`~jaxgear.io.BearingShafts.ratios`, the
+    bins' damage summed by Palmgren–Miner (:func:`~jaxgear.dynamics.spectrum_lives`, ISO 281
+    and ISO/TS 16281; ISO 281's modified life with the case's ``[bearings]``). A pair case's
+    own ``[rating.spectrum]`` (:func:`case_bearings`) and a gearbox's ``[load_spectrum]``
+    carried to its stage (:meth:`~jaxgear.io.GearboxForm.stage_spectrum`) both come here.
+
+    Returns:
+        Per shaft, per bearing, its :class:`~jaxgear.dynamics.SpectrumLife` or None (a
+        bearing without ratings).
+
+    Raises:
+        ValueError: a case without rolling bearings from their geometry; no loaded bin (one
+            line).
+    """
+    found = case.form.bearing_shafts(case)
+    if found is None:
+        raise ValueError(f"bearing_spectrum_lives: case {case.name!r} has no rolling bearings "
+                         "from their geometry: allowed a lumped3d pair or train case with them")
+    settings = bearing_life_of(case)
+    extra = {} if settings is None else settings._asdict()
+    torques = np.asarray(spectrum.torque, float)
+    points = [operating_point(case, case.scene, t) if t > 0 else None for t in torques]
+    shaft_speeds = np.asarray(spectrum.speed, float)[:, None] * np.asarray(found.ratios)[None, :]
+    return spectrum_lives(points, shaft_speeds, np.asarray(spectrum.duration, float), **extra)
 
 
 def _torsional_pair(case: Case, spec: SceneSpec, mesh):

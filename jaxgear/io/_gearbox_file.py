@@ -59,6 +59,21 @@ A planetary stage's input and output are its ``[planetary]`` table's; each stage
 ``[operating]`` is replaced by the carried one (a pair's torque and speed are its pinion's), also
 for its ``[rating]``: ``jaxgear run`` rates every mesh of every stage that has one, each at the
 carried point.
+
+A ``[load_spectrum]`` table (the keys of a pair's ``[rating.spectrum]``,
+:mod:`jaxgear.io._spectrum_table`, of the first stage's input member: its torque (N·m) and speed
+(rpm) per bin with its hours, cycles (the input's turns) or time share, or a sampled history) is
+the load spectrum of the whole chain: each bin carried stage to stage by the stages' ratios as
+the operating point is (:meth:`GearboxForm.stage_spectrum`), under which ``jaxgear run`` gives
+each rolling bearing of a ``model = "lumped3d"`` stage its lives by Palmgren–Miner
+(:func:`jaxgear.io.bearing_spectrum_lives`; docs/gearbox.md, "Rolling bearings in a stage").
+Allowed only with such a stage; the lives do not depend on the bins' total time, only on their
+shares::
+
+    [load_spectrum]                    # on stage 1's input member
+    torque_Nm = [80.0, 60.0, 30.0]
+    speed_rpm = [300.0, 286.5, 200.0]  # or one number for every bin
+    time_share = [0.1, 0.6, 0.3]       # or hours = [...], cycles = [...]
 """
 
 from __future__ import annotations
@@ -93,6 +108,7 @@ from ..gearbox import (
     TorsionalPairGearboxStage,
 )
 from ..planetary import PlanarPlanetary, TorsionalPlanetary
+from ..rating import LoadSpectrum
 from ..scenes import (
     HOUSING_BAND,
     HousingMount,
@@ -117,6 +133,7 @@ from ._planetary_spec import PlanetaryForm
 from ._planetary_table import MESH_STIFFNESS_N_PER_UM, torque_floor
 from ._plausibility import MIN_LINE_LOAD_N_PER_MM
 from ._sections import NEEDED, Section, Text, in_range, number, number_list
+from ._spectrum_table import parse_spectrum
 from ._whine_table import (
     WhineInputs,
     WhineSection,
@@ -127,7 +144,7 @@ from ._whine_table import (
 __all__ = ["GearboxForm", "GearboxOperating", "GearboxStage", "StageEntry", "is_gearbox",
            "parse_gearbox"]
 
-_KEYS = ("name", "operating", "stages", "whine", "housing")
+_KEYS = ("name", "operating", "stages", "whine", "housing", "load_spectrum")
 #: the keys a planetary stage refuses (a pair stage's only)
 _PAIR_KEYS = ("input", "pinion_inertia_kg_m2", "gear_inertia_kg_m2", "mesh_stiffness_N_per_um",
               "housing_seats")
@@ -222,11 +239,26 @@ class GearboxStage:
 
     @property
     def output_speed(self) -> float:
-        return self.input_speed / self.ratio
+        return carried_through(self.ratio, self.input_speed, self.input_torque)[0]
 
     @property
     def output_torque(self) -> float:
-        return self.input_torque * self.ratio
+        return carried_through(self.ratio, self.input_speed, self.input_torque)[1]
+
+
+def carried_through(ratio: float, speed, torque) -> tuple:
+    """(speed, torque) at a stage's output member from those at its input (rad/s, N·m; numbers
+    or arrays of bins) and its ratio ω_in/ω_out, lossless: ω/ratio, T·ratio. The chain's one
+    carrying rule: the operating point stage to stage, a pair's pinion driven from its gear
+    (:func:`_pair_pinion`) and the ``[load_spectrum]``'s bins
+    (:meth:`GearboxForm.stage_spectrum`)."""
+    return speed / ratio, torque * ratio
+
+
+def _pair_pinion(side: int, ratio: float, speed, torque) -> tuple:
+    """(speed, torque) of a pair stage's pinion, the pair's own operating point, from the
+    stage's input member's (``side`` 0: the pinion, 1: the gear, of ratio ω_in/ω_out)."""
+    return (speed, torque) if side == 0 else carried_through(ratio, speed, torque)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -237,11 +269,14 @@ class GearboxForm(CaseForm):
     ``[whine]`` (:class:`~jaxgear.io.WhineInputs`, a
     :class:`~jaxgear.dynamics.QuasiPeriodicBalance`) or None; ``housing``: its ``[housing]``
     (:class:`~jaxgear.io.HousingSpec`, shared by its lumped 3D stages and its planetary
-    stages with ``housing_seat``) or None."""
+    stages with ``housing_seat``) or None; ``spectrum``: its ``[load_spectrum]``, the first
+    stage's input member's bins (:class:`jaxgear.rating.LoadSpectrum`: torque N·m, speed
+    rad/s, time s) or None."""
 
     stages: tuple[GearboxStage, ...]
     whine: WhineInputs | None = None
     housing: HousingSpec | None = None
+    spectrum: LoadSpectrum | None = None
 
     def stage_name(self, i: int) -> str:
         """Stage ``i``'s name in the outputs: ``stage<i + 1>``."""
@@ -271,6 +306,30 @@ class GearboxForm(CaseForm):
         for s in self.stages:
             out *= s.ratio
         return out
+
+    def stage_spectrum(self, k: int) -> LoadSpectrum:
+        """The gearbox's ``[load_spectrum]`` at stage ``k``'s operating member (0-based): each
+        bin's input torque and speed carried through the stages before it
+        (:func:`carried_through`, the operating point's rule) to the stage's input, a pair
+        stage's then to its pinion (the pair's own operating point); the bins' times
+        unchanged. (k,) bins of torque (N·m), speed (rad/s) and time (s).
+
+        Raises:
+            ValueError: the gearbox has no ``[load_spectrum]``; ``k`` not a stage (one line).
+        """
+        if self.spectrum is None:
+            raise ValueError("GearboxForm.stage_spectrum: the gearbox has no [load_spectrum]")
+        if not 0 <= k < len(self.stages):
+            raise ValueError(f"GearboxForm.stage_spectrum: k = {k}: allowed 0..."
+                             f"{len(self.stages) - 1} (the gearbox's stages)")
+        speed = np.asarray(self.spectrum.speed, float)
+        torque = np.asarray(self.spectrum.torque, float)
+        for s in self.stages[:k]:
+            speed, torque = carried_through(s.ratio, speed, torque)
+        s = self.stages[k]
+        if isinstance(s.case.form, PairForm):
+            speed, torque = _pair_pinion(s.torsional.input, s.ratio, speed, torque)
+        return LoadSpectrum(torque, speed, np.asarray(self.spectrum.duration, float))
 
     def torsional(self) -> GearboxTorsional:
         """The chain's torsional model (:class:`~jaxgear.gearbox.GearboxTorsional`)."""
@@ -481,9 +540,10 @@ def _lumped(case: Case, table: StageEntry, where: str, side: int) -> LumpedPairG
                       "lumped3d")
     if case.scene.rolling and _spectrum(case):  # its bins are the stage's own torques
         raise sc.fail(where, "model", "not with a stage case on rolling bearings from their "
-                      f"geometry under a load spectrum (case {case.name!r}: [rating.spectrum]) "
-                      "for now: its bins' torques are the stage's own, not the chain's; allowed "
-                      "such a stage case without [rating.spectrum]", "lumped3d")
+                      f"geometry under a load spectrum (case {case.name!r}: [rating.spectrum]): "
+                      "its bins' torques are the stage's own, not the chain's; allowed such a "
+                      "stage case without [rating.spectrum], the gearbox's [load_spectrum] "
+                      "carried to it", "lumped3d")
     try:
         return lumped_stage(case, side)
     except ValueError as err:  # coast flanks, a seat the scene refuses
@@ -500,7 +560,7 @@ def _(form: PairForm, case: Case, table: StageEntry, where: str, speed: float, t
     z = (pair.pinion.teeth, pair.gear.teeth)
     ratio = z[1 - side] / z[side]  # ω_in/ω_out
     # the pair's own operating point is its pinion's
-    pinion = (speed, torque) if side == 0 else (speed / ratio, torque * ratio)
+    pinion = _pair_pinion(side, ratio, speed, torque)
     if kind == "lumped3d":
         staged = _carried(case, *pinion)
         return staged, ratio, _lumped(staged, table, where, side)
@@ -629,14 +689,19 @@ def parse_gearbox(data: dict, default_name: str, base: str | None, load_case) ->
             on a stage that cannot take it, ``housing_seats`` of the wrong count, a seat beyond
             the box's, a ring's ``housing_seat`` a lumped stage's bearing takes, a
             ``housing_bore_diameter_mm`` not positive, with a mesh file's ``[housing]`` or whose
-            bore does not fit (:func:`_check_bores`; a gearbox ``bore_diameter_mm`` alike); one
-            line each.
+            bore does not fit (:func:`_check_bores`; a gearbox ``bore_diameter_mm`` alike), a
+            ``[load_spectrum]`` its reader refuses (as a pair's ``[rating.spectrum]``, before
+            any stage is built) or in a gearbox without a ``model = "lumped3d"`` stage on
+            rolling bearings; one line each.
     """
     sc.check_keys(data, _KEYS, "")
-    sc.subtables(data, ("whine", "housing"), "")  # before their readers
+    sc.subtables(data, ("whine", "housing", "load_spectrum"), "")  # before their readers
     name = sc.name(data, "name", "", default_name)
     op = GearboxOperating.of_file(data, required=True)
     torque, speed = op.torque_Nm, op.speed_rad_s
+    spectrum = None  # its bins checked before any stage is built
+    if "load_spectrum" in data:
+        spectrum = parse_spectrum(data["load_spectrum"], SPECTRUM_TIME, "load_spectrum")
     if "stages" not in data:
         raise sc.SchemaError(
             "[[stages]]: missing; a gearbox file lists its stages in order, each a [[stages]] "
@@ -683,8 +748,10 @@ def parse_gearbox(data: dict, default_name: str, base: str | None, load_case) ->
         _check_band(stages, data["operating"], housing, data["housing"])
         if low is not None:
             check_housing_band(housing, low)
+    if spectrum is not None:
+        _check_spectrum_stages(stages)
     pairs = tuple(p for s in stages for p in s.case.pairs)
-    form = GearboxForm(tuple(stages), whine, housing)
+    form = GearboxForm(tuple(stages), whine, housing, spectrum)
     if housing is not None:
         _check_bores(form)
         form.own_housing_size()  # refused here if too large to build
@@ -695,6 +762,23 @@ def parse_gearbox(data: dict, default_name: str, base: str | None, load_case) ->
     return first.replace(name=name, form=form, raw=data, scene=None, pairs=pairs,
                          housing=housing, whine=section, acoustics=None, lubricant=None,
                          rating=None)
+
+
+#: the time the ``[load_spectrum]``'s ``time_share`` and sampled history are scaled to (s): the
+#: bearings' lives under it do not depend on it (Palmgren–Miner: the bins' shares only)
+SPECTRUM_TIME = 3600.0
+
+
+def _check_spectrum_stages(stages) -> None:
+    """The gearbox's ``[load_spectrum]`` (module docstring; read by
+    :func:`~jaxgear.io._spectrum_table.parse_spectrum` as a pair's ``[rating.spectrum]``, its
+    bins the first stage's input member's) allowed with a ``model = "lumped3d"`` stage on
+    rolling bearings from their geometry only (whose lives it is for); one line."""
+    if not any(isinstance(s.torsional, LumpedPairGearboxStage) and s.case.scene.rolling
+               for s in stages):
+        raise sc.fail("", "load_spectrum", 'allowed with a model = "lumped3d" stage on rolling '
+                      "bearings from their geometry only (their lives under it); this gearbox "
+                      "has none")
 
 
 def _stage_teeth(stages, op: dict) -> list[float]:

@@ -77,54 +77,63 @@ class SpectrumSection(Section):
 
     @pydantic.model_validator(mode="before")
     @classmethod
-    def _one_form(cls, data):
+    def _one_form(cls, data, info):
         """The form first (by the keys given, before their values): bins or a series, and
         one bin time."""
         if not isinstance(data, dict) or set(data) - set(cls.model_fields):
             return data  # an unknown key: reported first
+        where = _where(info)
         series = [k for k in SERIES_KEYS if k in data]
         bins = [k for k in (*BIN_KEYS, *BIN_TIMES) if k in data]
         if series and bins:
-            raise sc.fail(WHERE, bins[0], f"give bins (torque_Nm, speed_rpm, hours | cycles | "
+            raise sc.fail(where, bins[0], f"give bins (torque_Nm, speed_rpm, hours | cycles | "
                           f"time_share) or a series (series_torque_Nm, ...), not both "
                           f"({series[0]} is given too)")
         times = [k for k in BIN_TIMES if k in data]
         if len(times) > 1:
-            raise sc.fail(WHERE, "hours", f"{times[0]} and {times[1]} both given: give one of "
+            raise sc.fail(where, "hours", f"{times[0]} and {times[1]} both given: give one of "
                           "hours, cycles, time_share")
         return data
 
     @pydantic.model_validator(mode="after")
-    def _form(self):
+    def _form(self, info):
+        where = _where(info)
         series = self.series
         torque_key, speed_key = (("series_torque_Nm", "series_speed_rpm") if series
                                  else BIN_KEYS)
         for key in (torque_key, speed_key):
             if getattr(self, key) is None:
-                raise sc.fail(WHERE, key, "missing required key")
+                raise sc.fail(where, key, "missing required key")
         torque, speed = getattr(self, torque_key), getattr(self, speed_key)
         each = f"one per {'sample' if series else 'bin'} of {torque_key}"
         if isinstance(speed, list) and len(speed) != len(torque):
-            raise sc.fail(WHERE, speed_key, f"must be an array of {len(torque)} numbers ({each})",
+            raise sc.fail(where, speed_key, f"must be an array of {len(torque)} numbers ({each})",
                           speed)
         if series:
             if self.series_step_s is None:
-                raise sc.fail(WHERE, "series_step_s", "missing required key")
+                raise sc.fail(where, "series_step_s", "missing required key")
             if not max(torque) > 0:
-                raise sc.fail(WHERE, "series_torque_Nm", "out of range: no sample above 0 N·m",
+                raise sc.fail(where, "series_torque_Nm", "out of range: no sample above 0 N·m",
                               torque)
             return self
         times = [k for k in BIN_TIMES if k in self.given]
         if not times:
-            raise sc.fail(WHERE, "hours", "missing: give one of hours, cycles, time_share")
+            raise sc.fail(where, "hours", "missing: give one of hours, cycles, time_share")
         values = getattr(self, times[0])
         if len(values) != len(torque):
-            raise sc.fail(WHERE, times[0], f"must be an array of {len(torque)} numbers ({each})",
+            raise sc.fail(where, times[0], f"must be an array of {len(torque)} numbers ({each})",
                           values)
         if times[0] == "time_share" and not sum(values) > 0:
-            raise sc.fail(WHERE, "time_share", "out of range: the shares must add up to > 0",
+            raise sc.fail(where, "time_share", "out of range: the shares must add up to > 0",
                           values)
         return self
+
+
+def _where(info) -> str:
+    """The table's name in the file's messages: the reader's context's ``spectrum_where`` (a
+    gearbox's ``"load_spectrum"``), else ``rating.spectrum`` (a pair's, read within its
+    ``[rating]``)."""
+    return (info.context or {}).get("spectrum_where", WHERE)
 
 
 #: the keys of ``[rating.spectrum]``
@@ -136,35 +145,38 @@ def _per_entry(value, n: int) -> list[float]:
     return [float(v) for v in value] if isinstance(value, list) else [float(value)] * n
 
 
-def parse_spectrum(table: dict | SpectrumSection, life: float) -> LoadSpectrum:
+def parse_spectrum(table: dict | SpectrumSection, life: float,
+                   where: str = WHERE) -> LoadSpectrum:
     """``[rating.spectrum]`` (module docstring; a table, or its :class:`SpectrumSection`) as a
     :class:`jaxgear.rating.LoadSpectrum` (SI); ``life`` the rating's life (s, ``[rating]
-    life_h``) that ``time_share`` and a series are scaled to.
+    life_h``) that ``time_share`` and a series are scaled to; ``where`` the table's name in
+    the file's messages (a gearbox's ``"load_spectrum"``: the same keys, of its input member).
 
     Raises:
         SchemaError: an unknown key, keys of two forms (or two bin times), a list of another
             length than ``torque_Nm``, a value out of range, no loaded turning bin; one line
             naming the key, its value and the allowed range.
     """
-    section = table if isinstance(table, SpectrumSection) else SpectrumSection.read(table)
+    section = (table if isinstance(table, SpectrumSection) else SpectrumSection.read(
+        table, where, context={"spectrum_where": where}))
     try:
         if section.series:
             return _series(section, life)
-        return _bins(section, life)
+        return _bins(section, life, where)
     except ValueError as err:  # the model's own check (no loaded, turning bin)
         if isinstance(err, sc.SchemaError):
             raise
-        raise sc.fail(WHERE, None, str(err)) from None
+        raise sc.fail(where, None, str(err)) from None
 
 
-def _bins(s: SpectrumSection, life: float) -> LoadSpectrum:
+def _bins(s: SpectrumSection, life: float, where: str = WHERE) -> LoadSpectrum:
     torque = list(s.torque_Nm)
     speed = [w * RPM for w in _per_entry(s.speed_rpm, len(torque))]
     if s.cycles is not None:
         try:
             return LoadSpectrum.from_cycles(torque, speed, list(s.cycles))
         except ValueError as err:
-            raise sc.fail(WHERE, "cycles", str(err).split(": ", 1)[-1], s.cycles) from None
+            raise sc.fail(where, "cycles", str(err).split(": ", 1)[-1], s.cycles) from None
     if s.hours is not None:
         return LoadSpectrum(torque, speed, [h * 3600.0 for h in s.hours])
     return LoadSpectrum(torque, speed, list(s.time_share)).scaled_to(life)
