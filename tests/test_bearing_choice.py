@@ -72,6 +72,29 @@ _AS_GIVEN = "\n[optimise]\n[optimise.choices]\n"  # each candidate evaluated as 
          r"\[optimise\.choices\] allowed \[\"pinion_shaft\.bearings\[0\]\.clearance\"\]"),
         ('radial_N_per_um = 200.0\naxial_N_per_um = 100.0\n', _AS_GIVEN + f'"{SEAT}" = ["6205"]\n',
          r"\[optimise\.choices\] .*is a linear bearing"),
+        # candidates as inline tables: each read as a scene bearing, named with its key
+        ('catalogue = "6205"\n', _AS_GIVEN + f'"{SEAT}" = ["6205", {{ kind = "deep_groove_ball"'
+         ', bore_mm = 0.5 }]\n', r'^\[optimise\.choices\."pinion_shaft\.bearings\[0\]"\[1\]\] '
+         r"bore_mm = 0\.5: out of range, allowed \[1, 2000\]"),
+        ('catalogue = "6205"\n', _AS_GIVEN + f'"{SEAT}" = [{{ catalogue = "6205", arrangement = '
+         '"O" }]\n', r"^\[optimise\.choices\..*\[0\]\] arrangement = 'O': not with catalogue = "
+         r"'6205' \(a DeepGrooveBall\): allowed with a tapered roller entry"),
+        ('catalogue = "6205"\n', _AS_GIVEN + f'"{SEAT}" = [{{ catalogue = "30205", arrangement = '
+         '"X", clearance_um = 5.0 }]\n', r"\[0\]\] clearance_um = 5: not with arrangement .*"
+         "allowed end_play_um"),
+        ('catalogue = "6205"\n', _AS_GIVEN + f'"{SEAT}" = [{{ catalogue = "6205", position_mm = '
+         '3.0 }]\n', r"\[0\]\] position_mm = 3: not a candidate's key: a candidate stands where "
+         "the case's bearing stands"),
+        ('catalogue = "6205"\n', _AS_GIVEN + f'"{SEAT}" = [{{ radial_N_per_um = 200.0 }}]\n',
+         r"\[0\]\] kind: missing: a candidate is a rolling bearing from its geometry, allowed "
+         "catalogue = <name> or kind = <kind>"),
+        ('catalogue = "6205"\n', _AS_GIVEN + f'"{SEAT}" = ["6205", {{ catalogue = "6205", '
+         'clearance_um = 5.0 }]\n', r"\[optimise\.choices\] 'pinion_shaft\.bearings\[0\]' = .*"
+         r"names the candidate '6205' twice: allowed distinct candidates \(a table's own name"),
+        ('catalogue = "6205"\n', _AS_GIVEN + f'"{SEAT}" = [{{ catalogue = "6205", name = "" }}]\n',
+         r"\[0\]\] name = '': allowed a non-empty text"),
+        ('catalogue = "6205"\n', _AS_GIVEN + f'"{SEAT}" = [3]\n',
+         r"\[optimise\.choices\] .*candidate 3: allowed a catalogue name or an inline table"),
     ],
 )
 def test_choice_refused_one_line(tmp_path, first, optimise, match):
@@ -83,6 +106,27 @@ def test_choice_refused_one_line(tmp_path, first, optimise, match):
     with pytest.raises(jio.SchemaError, match=match) as e:
         jio.load_case(str(path))
     assert "\n" not in str(e.value)
+
+
+def test_choice_candidates_as_tables_are_read_and_named(tmp_path):
+    """``[optimise.choices]`` candidates as inline tables beside catalogue names: each read as
+    the bearing's table (no ``name``), named in the ranking by its ``name``, its catalogue name
+    and a pair's arrangement, or its place and kind."""
+    pair = {"catalogue": "30205", "arrangement": "O", "end_play_um": 20.0}
+    ball = {"kind": "deep_groove_ball", "bore_mm": 25.0, "outer_diameter_mm": 52.0,
+            "width_mm": 15.0, "balls": 9, "ball_diameter_mm": 7.9, "pitch_diameter_mm": 39.0}
+    path = tmp_path / "c.toml"
+    path.write_text(_case_text('catalogue = "6205"\n', _AS_GIVEN + f'"{SEAT}" = ["6205", '
+                               '{ catalogue = "30205", arrangement = "O", end_play_um = 20.0 }, '
+                               '{ kind = "deep_groove_ball", bore_mm = 25.0, '
+                               'outer_diameter_mm = 52.0, width_mm = 15.0, balls = 9, '
+                               'ball_diameter_mm = 7.9, pitch_diameter_mm = 39.0 }, '
+                               '{ name = "6205 at 5 um", catalogue = "6205", clearance_um = 5.0 }]'
+                               '\n'))
+    choices = jio.load_case(str(path)).optimise["choices"]
+    assert choices == {SEAT: {"6205": {"catalogue": "6205"}, "30205 O": pair,
+                              "candidate 3 (deep_groove_ball)": ball,
+                              "6205 at 5 um": {"catalogue": "6205", "clearance_um": 5.0}}}
 
 
 def test_choice_refused_without_a_lumped3d_scene(tmp_path, capsys):
