@@ -265,8 +265,9 @@ NAMED_KEYS = {
     "bearing's `clearance`)",
     "optimise.choices": "one rolling bearing of the scene, `\"<shaft>.bearings[<k>]\"`: an array "
     "of candidates, the bearing choice's (docs/bearings.md, \"As a design variable\"): "
-    "catalogue names or inline tables of a scene bearing's keys without `position_mm` (`{ catalogue = \"30205\", arrangement = "
-    "\"O\" }`, `{ kind = ..., bore_mm = ... }`; `name`: the candidate's name in the ranking)",
+    "catalogue names or inline tables of a scene bearing's keys without `position_mm` "
+    "(`{ catalogue = \"30205\", arrangement = \"O\" }`, `{ kind = ..., bore_mm = ... }`; "
+    "`name`: the candidate's name in the ranking)",
     "housing.points_mm": "a point's name: [x, y, z] in the scene frame (mm), read at the "
     "housing's outer skin node nearest it",
 }
