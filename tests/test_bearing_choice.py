@@ -72,6 +72,29 @@ _AS_GIVEN = "\n[optimise]\n[optimise.choices]\n"  # each candidate evaluated as 
          r"\[optimise\.choices\] allowed \[\"pinion_shaft\.bearings\[0\]\.clearance\"\]"),
         ('radial_N_per_um = 200.0\naxial_N_per_um = 100.0\n', _AS_GIVEN + f'"{SEAT}" = ["6205"]\n',
          r"\[optimise\.choices\] .*is a linear bearing"),
+        # candidates as inline tables: each read as a scene bearing, named with its key
+        ('catalogue = "6205"\n', _AS_GIVEN + f'"{SEAT}" = ["6205", {{ kind = "deep_groove_ball"'
+         ', bore_mm = 0.5 }]\n', r'^\[optimise\.choices\."pinion_shaft\.bearings\[0\]"\[1\]\] '
+         r"bore_mm = 0\.5: out of range, allowed \[1, 2000\]"),
+        ('catalogue = "6205"\n', _AS_GIVEN + f'"{SEAT}" = [{{ catalogue = "6205", arrangement = '
+         '"O" }]\n', r"^\[optimise\.choices\..*\[0\]\] arrangement = 'O': not with catalogue = "
+         r"'6205' \(a DeepGrooveBall\): allowed with a tapered roller entry"),
+        ('catalogue = "6205"\n', _AS_GIVEN + f'"{SEAT}" = [{{ catalogue = "30205", arrangement = '
+         '"X", clearance_um = 5.0 }]\n', r"\[0\]\] clearance_um = 5: not with arrangement .*"
+         "allowed end_play_um"),
+        ('catalogue = "6205"\n', _AS_GIVEN + f'"{SEAT}" = [{{ catalogue = "6205", position_mm = '
+         '3.0 }]\n', r"\[0\]\] position_mm = 3: not a candidate's key: a candidate stands where "
+         "the case's bearing stands"),
+        ('catalogue = "6205"\n', _AS_GIVEN + f'"{SEAT}" = [{{ radial_N_per_um = 200.0 }}]\n',
+         r"\[0\]\] kind: missing: a candidate is a rolling bearing from its geometry, allowed "
+         "catalogue = <name> or kind = <kind>"),
+        ('catalogue = "6205"\n', _AS_GIVEN + f'"{SEAT}" = ["6205", {{ catalogue = "6205", '
+         'clearance_um = 5.0 }]\n', r"\[optimise\.choices\] 'pinion_shaft\.bearings\[0\]' = .*"
+         r"names the candidate '6205' twice: allowed distinct candidates \(a table's own name"),
+        ('catalogue = "6205"\n', _AS_GIVEN + f'"{SEAT}" = [{{ catalogue = "6205", name = "" }}]\n',
+         r"\[0\]\] name = '': allowed a non-empty text"),
+        ('catalogue = "6205"\n', _AS_GIVEN + f'"{SEAT}" = [3]\n',
+         r"\[optimise\.choices\] .*candidate 3: allowed a catalogue name or an inline table"),
     ],
 )
 def test_choice_refused_one_line(tmp_path, first, optimise, match):
@@ -83,6 +106,27 @@ def test_choice_refused_one_line(tmp_path, first, optimise, match):
     with pytest.raises(jio.SchemaError, match=match) as e:
         jio.load_case(str(path))
     assert "\n" not in str(e.value)
+
+
+def test_choice_candidates_as_tables_are_read_and_named(tmp_path):
+    """``[optimise.choices]`` candidates as inline tables beside catalogue names: each read as
+    the bearing's table (no ``name``), named in the ranking by its ``name``, its catalogue name
+    and a pair's arrangement, or its place and kind."""
+    pair = {"catalogue": "30205", "arrangement": "O", "end_play_um": 20.0}
+    ball = {"kind": "deep_groove_ball", "bore_mm": 25.0, "outer_diameter_mm": 52.0,
+            "width_mm": 15.0, "balls": 9, "ball_diameter_mm": 7.9, "pitch_diameter_mm": 39.0}
+    path = tmp_path / "c.toml"
+    path.write_text(_case_text('catalogue = "6205"\n', _AS_GIVEN + f'"{SEAT}" = ["6205", '
+                               '{ catalogue = "30205", arrangement = "O", end_play_um = 20.0 }, '
+                               '{ kind = "deep_groove_ball", bore_mm = 25.0, '
+                               'outer_diameter_mm = 52.0, width_mm = 15.0, balls = 9, '
+                               'ball_diameter_mm = 7.9, pitch_diameter_mm = 39.0 }, '
+                               '{ name = "6205 at 5 um", catalogue = "6205", clearance_um = 5.0 }]'
+                               '\n'))
+    choices = jio.load_case(str(path)).optimise["choices"]
+    assert choices == {SEAT: {"6205": {"catalogue": "6205"}, "30205 O": pair,
+                              "candidate 3 (deep_groove_ball)": ball,
+                              "6205 at 5 um": {"catalogue": "6205", "clearance_um": 5.0}}}
 
 
 def test_choice_refused_without_a_lumped3d_scene(tmp_path, capsys):
@@ -248,3 +292,56 @@ def test_end_play_derivative_against_held_load_differences(tmp_path):
     print(f"d(objective)/de: grad {grad:.10g}, held-load differences {held:.10g} "
           f"(rel {abs(grad - held) / abs(held):.2g})")
     assert grad != 0 and grad == pytest.approx(held, rel=1e-5)
+
+
+#: the 6205 as its own geometry: the CWRU Bearing Data Center's inches (drive end, SKF 6205-2RS
+#: JEM: d 0.9843, D 2.0472, B 0.5906, 9 balls of 0.3126, pitch 1.537) and SKF's C, C0, f0
+_IN_MM = 25.4
+_6205 = (f'{{ name = "6205 from its geometry", kind = "deep_groove_ball", '
+         f'bore_mm = {0.9843 * _IN_MM!r}, outer_diameter_mm = {2.0472 * _IN_MM!r}, '
+         f'width_mm = {0.5906 * _IN_MM!r}, balls = 9, ball_diameter_mm = {0.3126 * _IN_MM!r}, '
+         f'pitch_diameter_mm = {1.537 * _IN_MM!r}, dynamic_rating_kN = 14.8, '
+         'static_rating_kN = 7.8, iso281_f0 = 14.0 }')
+_30205_O = 'catalogue = "30205"\narrangement = "O"\nend_play_um = 20.0\n'
+
+
+@pytest.mark.slow  # three candidates' operating points, the pair's again alone
+def test_jaxgear_optimise_ranks_table_candidates(tmp_path):
+    """``jaxgear optimise`` of a choice among the 6205 by name, the 6205 as an inline table of
+    its published geometry and ratings, and a pair of 30205 rows in O as an inline table, each
+    evaluated as given (no vars): the table equals the catalogue entry (objective and life,
+    1e-12); the pair's objective equals the case file with that pair written into the bearing's
+    table, loaded and its problem (``case_problem``) evaluated at its end play (1e-12), its
+    clearance column the end play; the names in the ranking; ``--write`` of a pair candidate
+    leaves its keys in the bearing's table."""
+    path = tmp_path / "choice.toml"
+    path.write_text(_case_text('catalogue = "6205"\nclearance_um = 10.0\n', _AS_GIVEN
+                               + f'"{SEAT}" = ["6205", {_6205}, {{ catalogue = "30205", '
+                               'arrangement = "O", end_play_um = 20.0 }]\n'))
+    out, new = tmp_path / "o", tmp_path / "best.toml"
+    assert main(["optimise", str(path), "--out", str(out), "--quiet", "--write", str(new)]) == 0
+    rep = json.loads((out / "choice.json").read_text())
+    rows = {r["candidate"]: r for r in rep["candidates"]}
+    assert set(rows) == {"6205", "6205 from its geometry", "30205 O"}
+    named, table = rows["6205"], rows["6205 from its geometry"]
+    assert table["fits"] and table["clearance_um"] == pytest.approx(10.0, rel=1e-12)
+    for key in ("objective", "objective_start", "life_L10_Mrev"):
+        assert table[key] == pytest.approx(named[key], rel=1e-12), key
+    alone = tmp_path / "pair.toml"
+    alone.write_text(_case_text(_30205_O))
+    case = jio.load_case(str(alone))
+    problem = jio.case_problem(case, VAR, "te_rms")
+    x0 = problem.from_physical(problem.case_values(case.modifications))
+    value = float(problem.value(x0)) * float(problem.scale)
+    pair = rows["30205 O"]
+    print(f"TE RMS: 6205 {named['objective']:.10g} (table {table['objective']:.10g}), 30205 O "
+          f"{pair['objective']:.10g} (alone {value:.10g}) m")
+    assert pair["clearance_um"] == pytest.approx(20.0, rel=1e-12)
+    assert pair["objective"] == pytest.approx(value, rel=1e-12)
+    assert rep["best"] == min(rows, key=lambda n: rows[n]["objective"])
+    # the pair ranks first (its TE RMS 0.2 % under the 6205's): written back as the file
+    # that gives it alone
+    written = tomllib.loads(new.read_text())["scene"]["pinion_shaft"]
+    assert rep["best"] == "30205 O"
+    assert written == tomllib.loads(alone.read_text())["scene"]["pinion_shaft"]
+    jio.load_case(str(new))

@@ -492,7 +492,7 @@ def test_case_file_catalogue_pair_is_the_spelled_out_pair():
 @pytest.mark.parametrize("keys,start", [
     ({"catalogue": "6205", "arrangement": "O"},
      ("arrangement = 'O': not with catalogue = '6205' (a DeepGrooveBall): allowed with a "
-     "tapered roller entry ('30205', '32060 X', 'LM 567949/910')")),
+     "tapered roller entry ('30205', '30305', '32205', '32060 X', 'LM 567949/910')")),
     ({"catalogue": "231/750 CA", "arrangement": "X"},
      "arrangement = 'X': not with catalogue = '231/750 CA' (a SphericalRoller)"),
     ({"catalogue": "32060 X", "end_play_um": 10.0},

@@ -587,3 +587,45 @@ def refused_in_one_line(call, words: str) -> None:
     msg = str(err.value)
     assert words in msg and "\n" not in msg, msg
     assert "allowed" in msg or "must have shape" in msg, msg
+
+
+#: SKF's "Rolling bearings" (PUB BU/P1 17000/1 EN, 2018) rows as github.com/gumyr/bd_warehouse
+#: (9d0dc94) transcribes them: designation -> (d, D, B or T mm, C kN, C0 kN, e or None)
+_SKF_ROWS = {"7305 BE": (25, 62, 17, 26.5, 15.3, None),  # 7305 BECBPH, 40°
+             "30305": (25, 62, 18.25, 44.6, 43.0, 0.3),  # 30305 J2/Q
+             "32205": (25, 52, 19.25, 35.8, 44.0, 0.57)}  # 32205 BJ2/Q
+
+
+@pytest.mark.parametrize("name", sorted(_SKF_ROWS))
+def test_catalogue_rows_transcribe_skf(name):
+    """The 7305 BE, 30305 and 32205 entries: d, D, B (a tapered row's T), C, C0 and the contact
+    angle (40°; a tapered row's α = atan(e/1.5)) as SKF's table gives them (1e-12); their
+    rolling elements by the stated estimates (balls D_w = 0.3 (D - d), rollers (D - d)/4,
+    d_m = (D + d)/2, Z the whole part of 0.8 π d_m / D_w; a roller's l = 0.7 T); each a 25 mm
+    bore."""
+    d, D, B, C, C0, e = _SKF_ROWS[name]
+    b = jb.catalogue(name)
+    got = [float(x) for x in (b.bore, b.outer_diameter, b.width, b.dynamic_rating,
+                              b.static_rating, b.pitch_diameter)]
+    np.testing.assert_allclose(got, [d * 1e-3, D * 1e-3, B * 1e-3, C * 1e3, C0 * 1e3,
+                                     (D + d) / 2 * 1e-3], rtol=1e-12)
+    angle = math.radians(40.0) if e is None else math.atan(e / 1.5)
+    assert float(b.contact_angle) == pytest.approx(angle, rel=1e-12)
+    Dw = (0.3 if e is None else 0.25) * (D - d)
+    assert float(b.element_diameter) * 1e3 == pytest.approx(Dw, rel=1e-12)
+    assert b.elements == int(0.8 * math.pi * (D + d) / 2 / Dw)
+    if e is not None:
+        assert isinstance(b, jb.TaperedRoller)
+        assert float(b.effective_length) * 1e3 == pytest.approx(0.7 * B, rel=1e-12)
+    else:
+        assert isinstance(b, jb.AngularContactBall)
+
+
+def test_estimated_balls_near_the_6205s():
+    """The ball rule against a published ball set: the 6205 (CWRU's d 0.9843, D 2.0472 in;
+    ball 0.3126 in, pitch 1.537 in): D_w = 0.3 (D - d) within 2.5 % of the ball, d_m = (D + d)/2
+    within 2 % of the pitch."""
+    d, D = 0.9843 * 0.0254, 2.0472 * 0.0254
+    est = jb.estimated_balls(d, D)
+    assert est["element_diameter"] == pytest.approx(0.3126 * 0.0254, rel=0.025)
+    assert est["pitch_diameter"] == pytest.approx(1.537 * 0.0254, rel=0.02)

@@ -264,7 +264,10 @@ NAMED_KEYS = {
     "optimise.bounds": "a design variable of `vars` (E* for depths, Γ for extents, µm for a "
     "bearing's `clearance`)",
     "optimise.choices": "one rolling bearing of the scene, `\"<shaft>.bearings[<k>]\"`: an array "
-    "of catalogue names, the candidates of a bearing choice (docs/optimise.md)",
+    "of candidates, the bearing choice's (docs/bearings.md, \"As a design variable\"): "
+    "catalogue names or inline tables of a scene bearing's keys without `position_mm` "
+    "(`{ catalogue = \"30205\", arrangement = \"O\" }`, `{ kind = ..., bore_mm = ... }`; "
+    "`name`: the candidate's name in the ranking)",
     "housing.points_mm": "a point's name: [x, y, z] in the scene frame (mm), read at the "
     "housing's outer skin node nearest it",
 }

@@ -15,7 +15,8 @@ rating life from the element loads (:func:`reference_life`, balls and the roller
 :func:`spectrum_reference_life` under a load spectrum), the three at a
 bearing's operating point (:func:`operating_life`) and the bearing tones
 (:func:`bearing_tones`) complete it; :func:`catalogue` builds a few embedded bearings
-(:func:`estimated_rollers`: the rule that estimates a roller set from boundary dimensions).
+(:func:`estimated_rollers`, :func:`estimated_balls`: the rules that estimate a roller or ball
+set from boundary dimensions).
 A lumped 3D pair's bearings take them (:class:`jaxgear.scenes.Bearing` ``rolling=``) at the
 operating point of its quasi-static solve (:func:`jaxgear.dynamics.bearings_at_operating_point`;
 docs/bearings.md, "How it enters the scenes").
@@ -24,6 +25,7 @@ docs/bearings.md, "How it enters the scenes").
 from ._catalogue import (
     CATALOGUE as CATALOGUE,
     catalogue as catalogue,
+    estimated_balls as estimated_balls,
     estimated_rollers as estimated_rollers,
 )
 from ._hertz import (

@@ -23,6 +23,18 @@ Energy 19 (2016), Table IX, as github.com/gfsReboucas/Drivetrain (4a88df3,
 angle from e = 1.5 tan α. No C₀ is published there. Their rollers are ESTIMATED by the rule
 :func:`estimated_rollers` (d_m = (D + d)/2, D_w = (D − d)/4, Z per row the whole part of
 0.8 π d_m / D_w, l = 0.35 B; a tapered row's l = 0.7 B), not a maker's data.
+
+Angular contact 7305 BE and single-row tapered roller bearings 30305 and 32205 (beside the
+25 mm entries above, for a choice on a 25 mm shaft): boundary dimensions d, D, B (a tapered
+row's T), the basic load ratings C, C₀ and a tapered row's e of SKF's "Rolling bearings"
+catalogue (PUB BU/P1 17000/1 EN, 2018; the rows 7305 BECBPH, 30305 J2/Q and 32205 BJ2/Q) as
+github.com/gumyr/bd_warehouse (9d0dc94, src/bd_warehouse/data/
+single_row_angular_contact_ball_bearing_parameters.csv and
+single_row_tapered_roller_bearing_parameters.csv) transcribes them: 7305 BE 25 × 62 × 17 mm,
+26.5 kN, 15.3 kN, 40°; 30305 25 × 62 × 18.25 mm, 44.6 kN, 43 kN, e 0.3; 32205 25 × 52 ×
+19.25 mm, 35.8 kN, 44 kN, e 0.57 (α = atan(e / 1.5)). Their rolling elements are ESTIMATED
+(:func:`estimated_rollers` with B = T; the balls by :func:`estimated_balls`), not a maker's
+data (SKF does not publish them).
 """
 
 from __future__ import annotations
@@ -39,7 +51,7 @@ from ._kinds import (
     TaperedRoller,
 )
 
-__all__ = ["CATALOGUE", "catalogue", "estimated_rollers"]
+__all__ = ["CATALOGUE", "catalogue", "estimated_balls", "estimated_rollers"]
 
 _IN = 0.0254
 _CWRU = ("Case Western Reserve University Bearing Data Center, bearing specifications "
@@ -67,6 +79,23 @@ def estimated_rollers(bore, outer_diameter, width, rows: int = 1) -> dict:
                 elements=int(0.8 * math.pi * dm / D), effective_length=0.7 * width / rows)
 
 
+def estimated_balls(bore, outer_diameter) -> dict:
+    """A ball set ESTIMATED from a ball bearing's bore d and outer diameter D (m), where the
+    maker's is not at hand: pitch diameter d_m = (D + d)/2, ball diameter D_w = 0.3 (D − d)
+    (a first-design ratio: 8.10 mm for the 6205, whose published ball is 7.94 mm, 2.5 %),
+    Z = the whole part of 0.8 π d_m / D_w (the cage's bars take a fifth of the pitch circle).
+    Returns ``pitch_diameter``, ``element_diameter``, ``elements`` (m, -), the arguments of a
+    ball kind."""
+    dm = 0.5 * (outer_diameter + bore)
+    D = 0.3 * (outer_diameter - bore)
+    return dict(pitch_diameter=dm, element_diameter=D, elements=int(0.8 * math.pi * dm / D))
+
+
+_SKF = ("SKF Rolling bearings catalogue PUB BU/P1 17000/1 EN (2018) via github.com/gumyr/"
+        "bd_warehouse 9d0dc94 (src/bd_warehouse/data/single_row_*_parameters.csv): d, D, B (T), "
+        "C, C0, e (alpha = atan(e/1.5)); rolling elements estimated (estimated_rollers, "
+        "estimated_balls)")
+
 #: designation -> (kind, its arguments in SI, the source)
 CATALOGUE: dict[str, tuple[type, dict, str]] = {
     "6205": (DeepGrooveBall, dict(
@@ -87,6 +116,17 @@ CATALOGUE: dict[str, tuple[type, dict, str]] = {
         bore=0.025, outer_diameter=0.052, width=0.01625, elements=15, element_diameter=6.0e-3,
         pitch_diameter=0.039, effective_length=10.0e-3,
         contact_angle=math.atan(0.37 / 1.5)), _EST),
+    "7305 BE": (AngularContactBall, dict(
+        bore=0.025, outer_diameter=0.062, width=0.017, **estimated_balls(0.025, 0.062),
+        contact_angle=math.radians(40.0), dynamic_rating=26.5e3, static_rating=15.3e3), _SKF),
+    "30305": (TaperedRoller, dict(
+        bore=0.025, outer_diameter=0.062, width=0.01825,
+        **estimated_rollers(0.025, 0.062, 0.01825), contact_angle=math.atan(0.3 / 1.5),
+        dynamic_rating=44.6e3, static_rating=43e3), _SKF),
+    "32205": (TaperedRoller, dict(
+        bore=0.025, outer_diameter=0.052, width=0.01925,
+        **estimated_rollers(0.025, 0.052, 0.01925), contact_angle=math.atan(0.57 / 1.5),
+        dynamic_rating=35.8e3, static_rating=44e3), _SKF),
     "231/750 CA": (SphericalRoller, dict(
         bore=0.75, outer_diameter=1.22, width=0.365, **estimated_rollers(0.75, 1.22, 0.365, 2),
         contact_angle=math.atan(0.28 / 1.5), dynamic_rating=16518e3), _NREL),
@@ -106,7 +146,8 @@ CATALOGUE: dict[str, tuple[type, dict, str]] = {
 
 def catalogue(designation: str, **changes) -> AbstractRollingBearing:
     """The embedded bearing ``designation`` (a key of :data:`CATALOGUE`: "6205", "6203",
-    "7205 B", "NU 205", "30205", "231/750 CA", "240/710 ECA", "32060 X", "LM 567949/910"), with
+    "7205 B", "NU 205", "30205", "7305 BE", "30305", "32205", "231/750 CA", "240/710 ECA",
+    "32060 X", "LM 567949/910"), with
     ``changes`` to its arguments (a clearance, the ratings).
 
     Raises:

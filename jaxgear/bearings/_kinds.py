@@ -972,6 +972,8 @@ class TaperedRollerPair(AbstractRollingBearing):
         return type(self).of(self.row, self.arrangement, value, self.spacing)
 
     # ---- the row's geometry, which the tones, the solve's scales and the life read
+    bore = _of_row("bore", "d (m), the rows' bore: the seat's diameter.")
+    outer_diameter = _of_row("outer_diameter", "D (m), the rows' outer diameter.")
     elements = _of_row("elements", "Z, the rollers of one row (the tones' count).")
     element_diameter = _of_row("element_diameter", "D_w (m), the rollers' mean diameter.")
     pitch_diameter = _of_row("pitch_diameter", "d_m (m).")

@@ -891,7 +891,7 @@ def _run_choice(case: Case, settings: dict, args) -> int:
     (:func:`jaxgear.io.bearing_choices`), its ranking table (``choice.json``, ``choice.csv``)
     and plot (``choice.png``), a line per candidate; ``--write``: the best candidate's
     case."""
-    (bearing, names), = settings["choices"].items()
+    (bearing, candidates), = settings["choices"].items()  # {name: its bearing table}
     variable = f"{bearing}.clearance"
     optimised = settings["vars"] is not None  # [optimise] checked it is the bearing's clearance
     if optimised and [n.strip() for n in str(settings["vars"]).split(",")] != [variable]:
@@ -909,7 +909,7 @@ def _run_choice(case: Case, settings: dict, args) -> int:
     torques = (range_values(settings["torques"], "--torques", positive=True)
                if settings["torques"] else None)
     quiet = args.quiet
-    total = len(names)
+    total = len(candidates)
     objective = settings["objective"]
     units = objective_units(objective)
 
@@ -922,7 +922,7 @@ def _run_choice(case: Case, settings: dict, args) -> int:
     with warnings.catch_warnings():
         warnings.filterwarnings("ignore", message="optimiser stopped at the iteration cap")
         ranked = bearing_choices(
-            case, bearing, {n: {"catalogue": n} for n in names}, objective,
+            case, bearing, candidates, objective,
             optimise_clearance=optimised, max_iterations=settings["max_iterations"],
             bounds=bounds, report=report, torques=torques, reduce=settings["reduce"],
             lp_order=8.0 if settings.get("lp_order") is None else settings["lp_order"],
@@ -941,7 +941,8 @@ def _run_choice(case: Case, settings: dict, args) -> int:
         "candidates": rows, "best": fitting[0].name if fitting else None,
         "wall_time_s": time.perf_counter() - t0,
         "notes": "each candidate a case of its own (its operating point, its model): the "
-        "bearing's table replaced by the catalogue entry at the same position, its clearance "
+        "bearing's table replaced by the candidate's (a catalogue entry, a pair of a tapered "
+        "entry's rows, a table of a bearing's keys) at the same position, its clearance "
         "key (clearance_um, a tapered pair's end_play_um) the case bearing's; objective values "
         f"in {units}, unscaled, the optimisation's smooth law; a candidate whose bore differs "
         f"from the shaft's diameter by more than {SEAT_TOLERANCE_MM} mm does not fit and is "

@@ -14,6 +14,7 @@ from fem_prep import schema as sc
 from optimise import OBJECTIVES, VARIABLES, AbstractObjective, Variable
 
 from ..bearings import CATALOGUE
+from ._scene_table import BearingSection
 from ._sections import Section, number, number_list
 
 __all__ = [
@@ -184,26 +185,67 @@ def objective_units(objective: str) -> str:
 
 def _choices(value):
     """``[optimise.choices]``: one bearing ``"<shaft>.bearings[<k>]"`` = a non-empty array of
-    distinct catalogue names (:data:`jaxgear.bearings.CATALOGUE`)."""
+    candidates, each a catalogue name (:data:`jaxgear.bearings.CATALOGUE`) or an inline table
+    (:func:`_candidate`); returns ``{bearing: {candidate name: its bearing table}}`` (the
+    tables :func:`jaxgear.io.bearing_choices` takes), the names distinct."""
     where = f"{WHERE}.choices"
     if not isinstance(value, dict) or len(value) != 1:
         raise sc.fail(WHERE, "choices", "allowed one bearing, \"<shaft>.bearings[<k>]\" = "
-                      "[catalogue names] (e.g. \"pinion_shaft.bearings[0]\" = [\"6205\", "
-                      "\"NU 205\"])", value)
+                      "[candidates] (e.g. \"pinion_shaft.bearings[0]\" = [\"6205\", "
+                      "{ catalogue = \"30205\", arrangement = \"O\" }])", value)
     (name, names), = value.items()
     if _CHOICE.match(name) is None:
         raise sc.fail(where, name, "unknown bearing, allowed \"<shaft>.bearings[<k>]\" (e.g. "
                       "\"pinion_shaft.bearings[0]\")", names)
     if not isinstance(names, list) or not names:
         raise sc.fail(where, name, "allowed a non-empty array of catalogue names "
-                      f"({', '.join(CATALOGUE)})", names)
-    for x in names:
+                      f"({', '.join(CATALOGUE)}) or inline tables of a rolling bearing's keys",
+                      names)
+    out: dict[str, dict] = {}
+    for i, x in enumerate(names):
+        label, table = _candidate(name, i, x, names)
+        if label in out:
+            raise sc.fail(where, name, f"names the candidate {label!r} twice: allowed distinct "
+                          "candidates (a table's own name = \"...\" tells two apart)", names)
+        out[label] = table
+    return {name: out}
+
+
+def _candidate(bearing: str, i: int, x, names: list) -> tuple[str, dict]:
+    """Candidate ``i`` (from 0) of ``[optimise.choices]``'s ``bearing``: a catalogue name, or
+    an inline table of a scene bearing's keys read by the same
+    :class:`~jaxgear.io._scene_table.BearingSection` (``catalogue`` with, for a tapered
+    roller entry, ``arrangement``, or ``kind`` with its geometry; its clearance key the start;
+    no ``position_mm``: the case bearing's) and an optional ``name``. Returns (its name in the
+    ranking: ``name``, else the catalogue name with the pair's arrangement, ``"30205 O"``,
+    else ``"candidate <i+1> (<kind>)"``; its bearing table without ``name``). SchemaError:
+    one line naming ``[optimise.choices."<bearing>"[i]]`` and the key."""
+    where = f"{WHERE}.choices.\"{bearing}\"[{i}]"
+    if isinstance(x, str):
         if x not in CATALOGUE:
-            raise sc.fail(where, name, f"unknown catalogue name {sc.fmt(x)}, allowed "
-                          f"{', '.join(CATALOGUE)}", names)
-    if len(set(names)) != len(names):
-        raise sc.fail(where, name, "names a bearing twice", names)
-    return {name: list(names)}
+            raise sc.fail(f"{WHERE}.choices", bearing, f"unknown catalogue name {sc.fmt(x)}, "
+                          f"allowed {', '.join(CATALOGUE)}", names)
+        return x, {"catalogue": x}
+    if not isinstance(x, dict):
+        raise sc.fail(f"{WHERE}.choices", bearing, f"candidate {sc.fmt(x)}: allowed a "
+                      "catalogue name or an inline table of a rolling bearing's keys", names)
+    table = dict(x)
+    label = table.pop("name", None)
+    if label is not None and (not isinstance(label, str) or not label.strip()):
+        raise sc.fail(where, "name", "allowed a non-empty text (the candidate's name in the "
+                      "ranking)", label)
+    if "position_mm" in table:
+        raise sc.fail(where, "position_mm", "not a candidate's key: a candidate stands where "
+                      "the case's bearing stands", table["position_mm"])
+    if "catalogue" not in table and "kind" not in table:
+        raise sc.fail(where, "kind", "missing: a candidate is a rolling bearing from its "
+                      "geometry, allowed catalogue = <name> or kind = <kind> with its geometry "
+                      "(the keys of a scene bearing, docs/bearings.md)")
+    section = BearingSection.read({"position_mm": 0.0, **table}, where)
+    if label is None:
+        label = (f"candidate {i + 1} ({section.kind})" if section.catalogue is None else
+                 " ".join(filter(None, (section.catalogue, section.arrangement))))
+    return label.strip(), table
 
 
 _DEFAULT_VARS = tuple(OPTIMISE_DEFAULTS["vars"].split(","))
@@ -329,10 +371,12 @@ class OptimiseSection(Section):
     #: the speed band of the dynamic_factor objective, as jaxgear optimise --speeds START:STOP:N
     speeds: Annotated[list, BeforeValidator(_speed_span)] | None = None
     bounds: dict[str, number_list(length=2)] = pydantic.Field(default_factory=dict)
-    #: bearing choice: one bearing's candidates, ``"<shaft>.bearings[<k>]" = ["6205", ...]``
-    #: (catalogue names), each ranked by the objective (its clearance optimised where ``vars``
-    #: is that bearing's clearance, else evaluated as given)
-    choices: dict[str, list[Literal[tuple(CATALOGUE)]]] | None = None
+    #: bearing choice: one bearing's candidates, ``"<shaft>.bearings[<k>]" = ["6205",
+    #: { catalogue = "30205", arrangement = "O" }, { kind = ..., bore_mm = ... }]`` (catalogue
+    #: names, inline tables of a bearing's keys), each ranked by the objective (its clearance
+    #: optimised where ``vars`` is that bearing's clearance, else evaluated as given); read as
+    #: ``{bearing: {candidate name: table}}``
+    choices: dict[str, dict[str, dict[str, Any]]] | None = None
 
     @pydantic.field_validator("choices", mode="before")
     @classmethod
