@@ -12,6 +12,8 @@ stiffness is then a JAX function of its clearance c,
 through the displacement solve's implicit derivative, and the scene the objective runs on is
 the operating point's with K_b(c) − K_b(c₀) added where its assembly put the bearing
 (:func:`jaxgear.dynamics.with_bearing_stiffness`: the shaft node, and on a housing its seat).
+K_b(c₀), a constant, is computed once, when the design is built (:func:`bearing_design`), not
+at every evaluation.
 What this holds fixed: the bearings' loads (exact where each shaft is statically determinate,
 its bearings' loads statics'; an approximation where the bearings' stiffness shares a load:
 two bearings sharing an axial load as the shaft tilts, three on a shaft, the mesh's load over
@@ -53,12 +55,17 @@ class BearingDesign(eqx.Module):
         extra_z: the scene's more node positions per shaft (m), or None (static).
         loads: per shaft, per bearing, the held load (5,) (N, N·m) of a rolling bearing, None
             for a linear one.
+        held: per shaft, per bearing, K_b(c₀) (6, 6) (N/m, N/rad, N·m/rad): the tangent
+            stiffness at the held load with the operating point's clearance c₀ of a rolling
+            bearing that declares a clearance field (None for the others), computed once by
+            :func:`bearing_design`; :meth:`apply` subtracts it.
     """
 
     shafts: tuple = eqx.field(static=True)
     names: tuple[str, ...] = eqx.field(static=True)
     extra_z: tuple | None = eqx.field(static=True)
     loads: tuple
+    held: tuple
 
     def slot(self, var) -> tuple[int, int]:
         """(shaft index, bearing index) of a bearing variable.
@@ -94,8 +101,7 @@ class BearingDesign(eqx.Module):
     def clearance(self, var) -> float:
         """The variable's value at the operating point (m): its bearing's clearance field (the
         diametral clearance, a tapered pair's end play)."""
-        kind = self.kind(var)
-        return float(getattr(kind, kind.clearance_field))
+        return _clearance_of(self.kind(var))
 
     def case_value(self, var) -> float:
         """The variable's value at the operating point, in case-file units (µm)."""
@@ -121,13 +127,13 @@ class BearingDesign(eqx.Module):
     def apply(self, scene, variables, clearances):
         """``scene`` (assembled on :attr:`shafts`) with each variable's bearing at its clearance
         (m, its clearance field's value, one per variable, in order): K_b(c) − K_b(c₀) added
-        where the bearing sits (:func:`jaxgear.dynamics.with_bearing_stiffness`); exactly
-        ``scene`` at c₀."""
+        where the bearing sits (:func:`jaxgear.dynamics.with_bearing_stiffness`), K_b(c₀) the
+        one :attr:`held` (computed once); at c₀ exactly ``scene`` evaluated eagerly, to
+        round-off compiled (K_b(c₀) traced and held may differ in their last bits)."""
         changes = {}
         for var, c in zip(variables, clearances, strict=True):
-            c0 = jnp.asarray(self.clearance(var))
-            changes[self.slot(var)] = self.stiffness(var, c) - jax.lax.stop_gradient(
-                self.stiffness(var, c0))
+            i, j = self.slot(var)
+            changes[i, j] = self.stiffness(var, c) - jax.lax.stop_gradient(self.held[i][j])
         return with_bearing_stiffness(scene, self.shafts, changes, self.extra_z)
 
 
@@ -151,4 +157,21 @@ def bearing_design(point: OperatingPoint, names, extra_z=None) -> BearingDesign:
                          f"shaft ({len(point.shafts)})")
     loads = tuple(tuple(None if f is None else jnp.asarray(np.asarray(f, float)) for f in row)
                   for row in point.loads)
-    return BearingDesign(tuple(point.shafts), names, extra_z, loads)
+    held = tuple(
+        tuple(_held_at_c0(b.rolling, f) for b, f in zip(shaft.bearings, row, strict=True))
+        for shaft, row in zip(point.shafts, loads, strict=True))
+    return BearingDesign(tuple(point.shafts), names, extra_z, loads, held)
+
+
+def _held_at_c0(kind, load):
+    """K_b(c₀) (6, 6) of a rolling bearing ``kind`` that declares a clearance field, at its
+    held ``load`` and its own clearance c₀ (None: a linear bearing, a kind without a clearance
+    field, no held load)."""
+    if load is None or kind is None or kind.clearance_field is None:
+        return None
+    return _held_stiffness(kind, load, jnp.asarray(_clearance_of(kind)))
+
+
+def _clearance_of(kind: AbstractRollingBearing) -> float:
+    """The value (m) of the clearance field ``kind.clearance_field`` of a rolling bearing."""
+    return float(getattr(kind, kind.clearance_field))

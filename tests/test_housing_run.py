@@ -397,3 +397,16 @@ def test_case_sound_refuses_a_case_that_is_not_housed_in_one_line(tmp_path):
         with pytest.raises(jio.SchemaError, match=match) as e:
             jio.case_sound(case, **kw)
         assert "\n" not in str(e.value)
+
+
+def test_housing_coordinates_are_the_placed_columns_and_refuse_unplaced():
+    """A housing placed at ``first`` picks the n_c columns from ``first`` of a model's
+    coordinates (n_c the skin operator's size); unplaced (``first`` None, as
+    ``housed_acoustics`` returns it) it is refused in one line."""
+    acoustics = dataclasses.make_dataclass("Ac", ["K"])(np.zeros((3, 3)))
+    q = np.arange(2 * 9.0).reshape(2, 9)
+    placed = jio.HousedAcoustics(None, None, acoustics, first=4)
+    np.testing.assert_array_equal(placed.housing_coordinates(q), [[4, 5, 6], [13, 14, 15]])
+    with pytest.raises(ValueError, match=r"^HousedAcoustics.first: None") as e:
+        placed._replace(first=None).housing_coordinates(q)
+    assert "\n" not in str(e.value)

@@ -170,6 +170,38 @@ def test_a_tapered_pairs_clearance_variable_is_its_end_play(small_point):
     assert "\n" not in str(e.value)
 
 
+@pytest.mark.slow  # the lumped 3D scene assembled, the held solve compiled (about 20 s)
+def test_the_designed_scene_at_the_operating_clearance_is_the_scene(small_point):
+    """At the operating point's clearance c₀ the designed scene (``apply``, K_b(c₀) held once
+    in the design) is the scene it was given: exactly, evaluated eagerly; to round-off
+    (1e-15 of its largest stiffness) compiled; and 1 µm away it is not."""
+    import jax
+
+    case, point = small_point
+    spec = dataclasses.replace(case.scene, pinion_shaft=point.shafts[0])
+    scene = _lumped3d_pair(case, spec, case.mesh_model(slices=2))
+    design = op.bearing_design(point, ("pinion_shaft", "gear_shaft"))
+    var = op.Variable.parse(VAR)
+    c0 = design.clearance(var)
+    assert c0 == pytest.approx(10e-6)
+
+    def structure(s, c):
+        return design.apply(s, [var], [c]).structure
+
+    base = scene.structure
+    scale = float(np.abs(np.asarray(base.K)).max())
+    eager = structure(scene, jnp.asarray(c0))
+    for a, b in ((eager.K, base.K), (eager.parts_K, base.parts_K),
+                 (eager.reaction, base.reaction)):
+        np.testing.assert_array_equal(np.asarray(a), np.asarray(b))
+    compiled = jax.jit(structure)(scene, jnp.asarray(c0))
+    for a, b in ((compiled.K, base.K), (compiled.parts_K, base.parts_K),
+                 (compiled.reaction, base.reaction)):
+        np.testing.assert_allclose(np.asarray(a), np.asarray(b), rtol=0, atol=1e-15 * scale)
+    moved = structure(scene, jnp.asarray(c0 + 1e-6))
+    assert np.abs(np.asarray(moved.K) - np.asarray(base.K)).max() > 1e3
+
+
 def _rolling_text(**changes) -> str:
     text = ROLLING.read_text()
     for old, new in changes.items():

@@ -17,8 +17,8 @@ import re
 import numpy as np
 
 from ..io import (
+    HousedAcoustics,
     HousedErp,
-    HousedRun,
     TrainForm,
     acoustics_of,
     housed_erp,
@@ -68,7 +68,7 @@ def _drawn_orders(w, keep, orders):
     return drawn, wf, labels, tags
 
 
-def housing_outputs(run: HousedRun, case, w, folder: str, invalid) -> dict:
+def housing_outputs(run: HousedAcoustics, case, w, folder: str, invalid) -> dict:
     """The housing's files of the whine response ``w`` (of the housed scene) into ``folder``;
     returns the ``housing`` section of the whine summary. ``invalid``: (S,) the speeds with
     contact loss (shaded, listed)."""
@@ -226,7 +226,7 @@ def housing_run_line(section: dict | None) -> list[str]:
             f"{section['speed_of_max_overall_erp_rad_s']:.0f} rad/s{pts} (whine/housing.*)"]
 
 
-def _radiation(run: HousedRun, case, w, erp: HousedErp, folder: str, table) -> dict:
+def _radiation(run: HousedAcoustics, case, w, erp: HousedErp, folder: str, table) -> dict:
     """``[acoustics]``'s files (:func:`jaxgear.cli._acoustics_run.acoustic_outputs`) of the
     housed whine ``w``'s radiating skin (:func:`housed_radiation`)."""
     from ._acoustics_run import acoustic_outputs

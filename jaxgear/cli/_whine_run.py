@@ -44,7 +44,7 @@ class SolvedWhine(NamedTuple):
     """A whine solved elsewhere, for :func:`whine_outputs` to write (a gearbox's,
     :mod:`jaxgear.cli.gearbox`): its ``[whine]`` inputs, the
     :class:`~jaxgear.dynamics.WhineResponse`, each mesh's name and the
-    :class:`~jaxgear.io.HousedRun` of its housing (None: none)."""
+    :class:`~jaxgear.io.HousedAcoustics` of its housing placed in it (None: none)."""
 
     inputs: object
     response: object

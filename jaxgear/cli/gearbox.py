@@ -53,7 +53,7 @@ from ..gearbox import (
     window_share,
 )
 from ..io import (
-    HousedRun,
+    HousedAcoustics,
     SceneSpec,
     build_dynamic_model,
     housing_surface,
@@ -594,7 +594,7 @@ def gearbox_whine_outputs(form, case, out: str) -> dict | None:
         surface = housing_surface(spec, body)
         acoustics = housing_acoustics(body.condensed, surface, loss_factor=spec.loss_factor)
         n = len(coordinate_names(chain))
-        housed = HousedRun(body, surface, acoustics, n - int(chain.housing.size))
+        housed = HousedAcoustics(body, surface, acoustics, n - int(chain.housing.size))
     w = gearbox_whine(chain, run, np.asarray(inputs.speeds), inputs.method,
                       positions=inputs.positions)
     return whine_outputs(case, out, SolvedWhine(inputs, w, tuple(whine_mesh_names(chain)),

@@ -50,7 +50,6 @@ from ._case_sound import (
     CaseSound as CaseSound,
     HousedErp as HousedErp,
     HousedRadiation as HousedRadiation,
-    HousedRun as HousedRun,
     case_sound as case_sound,
     case_whine as case_whine,
     housed_erp as housed_erp,

@@ -63,19 +63,35 @@ FACTOR_BYTES = 2 * 1024**3
 
 class HousedAcoustics(NamedTuple):
     """A housed case's housing: its :class:`~jaxgear.io.HousingBody` ``body``, its outer skin
-    ``surface`` (:class:`fem_prep.housing.HousingSurface`, the named points on it) and the
-    skin's ``acoustics`` on the condensed coordinates
-    (:class:`jaxgear.acoustics.HousingAcoustics`)."""
+    ``surface`` (:class:`fem_prep.housing.HousingSurface`, the named points on it), the skin's
+    ``acoustics`` on the condensed coordinates (:class:`jaxgear.acoustics.HousingAcoustics`)
+    and, once placed in a dynamic model (:func:`jaxgear.io.housed_run`), ``first``: the index
+    of the first housing coordinate among the model's coordinates (the whine response's last
+    axis; None: not placed, as :func:`housed_acoustics` returns it)."""
 
     body: object
     surface: object
     acoustics: HousingAcoustics
+    first: int | None = None
 
     @property
     def band_limit_hz(self) -> float:
         """The highest frequency (Hz) whose response the condensed housing holds:
         cut-off / :data:`HOUSING_BAND`."""
         return housing_band_hz(self.body.condensed.cutoff_hz)
+
+    def housing_coordinates(self, q) -> np.ndarray:
+        """The housing's n_c condensed coordinates (..., n_c) of a placed housing's model
+        coordinates ``q`` (..., N): its columns ``first`` to ``first + n_c``.
+
+        Raises:
+            ValueError: a housing not placed in a model (``first`` None; one line).
+        """
+        if self.first is None:
+            raise ValueError("HousedAcoustics.first: None: allowed a housing placed in its "
+                             "dynamic model (jaxgear.io.housed_run)")
+        n_c = int(self.acoustics.K.shape[0])
+        return np.asarray(q)[..., self.first : self.first + n_c]
 
 
 class HousingBand(NamedTuple):

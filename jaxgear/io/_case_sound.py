@@ -8,7 +8,8 @@ the sizing's sound stage ranks (``jaxgear size --sound``).
 
 - :func:`case_sound`: the one call, a case to its :class:`CaseSound` (the whine, the ERP, the
   sound power).
-- :func:`case_whine`: a case's dynamic model, its :class:`HousedRun` and its whine response.
+- :func:`case_whine`: a case's dynamic model, its housing placed in it
+  (:class:`~jaxgear.io.HousedAcoustics`) and its whine response.
 - :func:`housed_run`, :func:`housed_erp`, :func:`housed_radiation`: the steps, for a response
   solved elsewhere (a gearbox's housing).
 """
@@ -22,8 +23,8 @@ import numpy as np
 from ..acoustics import SoundPower, housing_vibration, total_level
 from ..dynamics import whine_response
 from ..planetary import PlanetaryModel
-from ..scenes import HOUSING_BAND, housing_band_hz
-from ._acoustic_path import closed_skin, housed_acoustics, surface_sound_power
+from ..scenes import HOUSING_BAND
+from ._acoustic_path import HousedAcoustics, closed_skin, housed_acoustics, surface_sound_power
 from ._acoustics_table import AcousticsInputs, acoustics_of
 from ._case_file import SchemaError
 from ._case_model import build_dynamic_model
@@ -33,7 +34,6 @@ __all__ = [
     "CaseSound",
     "HousedErp",
     "HousedRadiation",
-    "HousedRun",
     "case_sound",
     "case_whine",
     "housed_erp",
@@ -42,25 +42,13 @@ __all__ = [
 ]
 
 
-class HousedRun(NamedTuple):
-    """What a housed whine's sound needs of a case, gathered before the whine is solved (the
-    named points checked first): the case's :class:`~jaxgear.io.HousingBody` ``body``, its
-    outer ``surface`` with the named points (:class:`fem_prep.housing.HousingSurface`), the
-    skin's ``acoustics`` on the condensed coordinates
-    (:class:`jaxgear.acoustics.HousingAcoustics`) and ``first``, the index of the first
-    housing coordinate among the dynamic model's coordinates (the whine response's last
-    axis)."""
-
-    body: object
-    surface: object
-    acoustics: object
-    first: int
-
-
-def housed_run(case, model) -> HousedRun | None:
-    """The :class:`HousedRun` of ``case`` (whose dynamic model is ``model``: a lumped scene
-    carrying the housing, or a :class:`~jaxgear.planetary.PlanetaryModel` whose housing's
-    coordinates follow the stage's), None without ``[housing]``.
+def housed_run(case, model) -> HousedAcoustics | None:
+    """The :class:`~jaxgear.io.HousedAcoustics` of ``case`` placed in its dynamic model
+    ``model`` (a lumped scene carrying the housing, or a
+    :class:`~jaxgear.planetary.PlanetaryModel` whose housing's coordinates follow the stage's):
+    what a housed whine's sound needs, gathered before the whine is solved (the named points
+    checked first), its ``first`` the index of the first housing coordinate among the model's
+    coordinates. None without ``[housing]``.
 
     Raises:
         SchemaError: a named point off the housing's outer surface (one line naming its key).
@@ -73,7 +61,7 @@ def housed_run(case, model) -> HousedRun | None:
         first = len(model.coordinates()) - model.mount().size
     else:
         first = model.scene.structure.node(f"housing {body.condensed.seat_names[0]}")
-    return HousedRun(body, housed.surface, housed.acoustics, int(first))
+    return housed._replace(first=int(first))
 
 
 class HousedErp(NamedTuple):
@@ -112,7 +100,7 @@ class HousedErp(NamedTuple):
                                          -np.inf)))
 
 
-def housed_erp(run: HousedRun, w) -> HousedErp:
+def housed_erp(run: HousedAcoustics, w) -> HousedErp:
     """The housing's ERP of the whine response ``w`` of the housed model (a
     :class:`~jaxgear.dynamics.WhineResponse`: its coordinates (S, K, N), one-sided, q(t) = Re
     q e^{iωt}): its condensed coordinates recovered on the outer skin, v_n = iω N Φ q
@@ -121,18 +109,20 @@ def housed_erp(run: HousedRun, w) -> HousedErp:
     Acustica 95, 2009), the overall the sum over the orders in the band (frequency <= cut-off /
     1.5, :func:`jaxgear.scenes.housing_band_hz`: the band the condensed housing's response
     holds; docs/housing.md). The mean (order 0) moves the housing statically and is left
-    out."""
-    ac, body = run.acoustics, run.body
-    n_c = int(ac.K.shape[0])
+    out. ``run``: the housing placed in the model (:func:`housed_run`).
+
+    Raises:
+        ValueError: a housing not placed in a model (its ``first`` None; one line).
+    """
     f1 = np.asarray(w.frequency, dtype=float)
     orders_all = np.asarray(w.orders, dtype=float)
     keep = orders_all > 0  # the mean moves the housing statically: no velocity
     orders = orders_all[keep]
     freq = f1[:, None] * orders[None, :]  # (S, k) Hz
-    q = np.asarray(w.coordinates)[:, keep, run.first : run.first + n_c]
-    r = housing_vibration(ac, q, freq)
+    q = run.housing_coordinates(np.asarray(w.coordinates)[:, keep])
+    r = housing_vibration(run.acoustics, q, freq)
     power = np.asarray(r.power, dtype=float)  # (S, k) W
-    band = housing_band_hz(body.condensed.cutoff_hz)  # the housing's rule
+    band = run.band_limit_hz  # the housing's rule
     in_band = freq <= band
     overall_db = np.asarray(total_level(np.where(in_band, power, 0.0)), dtype=float)
     return HousedErp(orders, keep, freq, r, power, np.asarray(r.level, dtype=float), band,
@@ -154,7 +144,7 @@ class HousedRadiation(NamedTuple):
     frequency: np.ndarray
 
 
-def housed_radiation(run: HousedRun, w, erp: HousedErp) -> HousedRadiation:
+def housed_radiation(run: HousedAcoustics, w, erp: HousedErp) -> HousedRadiation:
     """The radiating skin of the whine response ``w`` of the housed model (its ERP ``erp``,
     :func:`housed_erp`): the outer skin closed over its bores
     (:func:`fem_prep.housing.closed_outer_surface`) placed in the scene's frame (x = R
@@ -165,17 +155,17 @@ def housed_radiation(run: HousedRun, w, erp: HousedErp) -> HousedRadiation:
 
     Raises:
         SchemaError: no order in the band at every speed (one line).
+        ValueError: a housing not placed in a model (its ``first`` None; one line).
     """
     every = erp.in_band.all(axis=0)
     orders, freq = erp.orders[every], erp.frequency[:, every]
     if not orders.size:
         raise SchemaError(
             f"[acoustics]: no order of [whine] lies below the housing's band limit at every "
-            f"speed ({housing_band_hz(run.body.condensed.cutoff_hz):.0f} Hz = cut-off / "
+            f"speed ({run.band_limit_hz:.0f} Hz = cut-off / "
             f"{HOUSING_BAND:g}): allowed a cut-off above 1.5 x the highest order's frequency"
         )
-    n_c = int(run.acoustics.K.shape[0])
-    q = np.asarray(w.coordinates)[:, erp.keep, run.first : run.first + n_c][:, every]
+    q = run.housing_coordinates(np.asarray(w.coordinates)[:, erp.keep][:, every])
     skin, placed = closed_skin(run)  # the skin housed_run found, closed, in the scene's frame
     velocity = 1j * 2 * np.pi * freq[..., None] * (
         q @ (skin.normal_operator @ run.body.condensed.recovery).T)
@@ -185,7 +175,7 @@ def housed_radiation(run: HousedRun, w, erp: HousedErp) -> HousedRadiation:
 def case_whine(case, inputs=None):
     """The whine of ``case`` over its ``[whine]`` speeds (``inputs``: its
     :class:`~jaxgear.io.WhineInputs`, default read here): (the case's dynamic model,
-    :func:`build_dynamic_model`; the :class:`HousedRun` of its ``[housing]`` or None; the
+    :func:`build_dynamic_model`; its ``[housing]`` placed in it (:func:`housed_run`) or None; the
     :class:`~jaxgear.dynamics.WhineResponse` of :func:`jaxgear.dynamics.whine_response` by
     the table's method and positions per period), as ``jaxgear run`` solves it. A housing's
     named points are checked before the whine is solved.
@@ -216,7 +206,8 @@ class CaseSound(NamedTuple):
 
     Attributes:
         model: the case's dynamic model (:func:`build_dynamic_model`).
-        housed: its :class:`HousedRun`.
+        housed: its housing placed in it (:class:`~jaxgear.io.HousedAcoustics`,
+            :func:`housed_run`).
         whine: the :class:`~jaxgear.dynamics.WhineResponse` (speeds ``whine.speed`` (S,),
             rad/s, the input's; its orders ``whine.orders``).
         erp: the housing skin's :class:`HousedErp` per order and speed (W, dB re 1 pW) and
@@ -228,7 +219,7 @@ class CaseSound(NamedTuple):
     """
 
     model: object
-    housed: HousedRun
+    housed: HousedAcoustics
     whine: object
     erp: HousedErp
     radiation: HousedRadiation | None = None
