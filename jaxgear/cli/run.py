@@ -505,7 +505,11 @@ def run_kind(case: Case, out: str, args, settings) -> dict:
                                summary.get("bearings"))
         summary["complete"] = True
         write_json(summary_path, summary)
-    print("\n".join(run_lines(case.form, case, summary)))
+    lines = run_lines(case.form, case, summary)
+    if case.optimise is not None and case.optimise.get("choices"):  # not run here: say so
+        lines.append("[optimise.choices]: jaxgear run leaves the bearing choice; jaxgear "
+                     "optimise on this case file ranks its candidates")
+    print("\n".join(lines))
     return summary
 
 
