@@ -49,6 +49,7 @@ from ._objectives import (
     load_centroid as load_centroid,
 )
 from ._problem import (
+    OBJECTIVE_DESIGNS_STRUCTURE as OBJECTIVE_DESIGNS_STRUCTURE,
     OBJECTIVE_UNITS as OBJECTIVE_UNITS,
     OBJECTIVES as OBJECTIVES,
     Problem as Problem,

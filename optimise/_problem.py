@@ -50,6 +50,7 @@ from ._variables import VARIABLES, Variable, variables_of
 
 __all__ = [
     "OBJECTIVES",
+    "OBJECTIVE_DESIGNS_STRUCTURE",
     "OBJECTIVE_UNITS",
     "Problem",
     "Smoothing",
@@ -77,6 +78,9 @@ _OBJECTIVE_CLASSES = (
 # the objectives' names (case files map them to objects in jaxgear.io) and their units
 OBJECTIVES = tuple(c.name for c in _OBJECTIVE_CLASSES)
 OBJECTIVE_UNITS = {c.name: c.units for c in _OBJECTIVE_CLASSES}
+#: whether each objective takes a designed structure (a bearing's clearance):
+#: :attr:`AbstractObjective.designs_structure`, by name
+OBJECTIVE_DESIGNS_STRUCTURE = {c.name: c.designs_structure for c in _OBJECTIVE_CLASSES}
 EXACT = jg.ExactContact()  # the default law of the evaluations (a module without arrays)
 
 

@@ -11,7 +11,13 @@ import pydantic
 from pydantic import BeforeValidator
 
 from fem_prep import schema as sc
-from optimise import OBJECTIVES, VARIABLES, AbstractObjective, Variable
+from optimise import (
+    OBJECTIVE_DESIGNS_STRUCTURE,
+    OBJECTIVE_UNITS,
+    OBJECTIVES,
+    VARIABLES,
+    Variable,
+)
 
 from ..bearings import CATALOGUE
 from ._scene_table import BearingSection
@@ -147,40 +153,28 @@ def check_bearing_variables(optimise: dict | None, shafts: dict) -> None:
         var = Variable.parse(name)
         _check_bearing(WHERE, "vars", name, var.shaft, var.bearing, shafts)
     for name in (optimise or {}).get("choices") or {}:
-        hit = _CHOICE.match(name)
+        hit = BEARING_NAME.match(name)
         _check_bearing(f"{WHERE}.choices", name, name, hit.group(1), int(hit.group(2)), shafts)
 
 
-#: an ``[optimise.choices]`` key: ``<shaft>.bearings[<k>]``
-_CHOICE = re.compile(r"^([A-Za-z_][\w-]*)\.bearings\[(\d+)\]$")
-
-
-def _objective_class(objective: str) -> type[AbstractObjective] | None:
-    """The :class:`optimise.AbstractObjective` class whose ``name`` is ``objective``, or
-    None."""
-    stack = [AbstractObjective]
-    while stack:
-        kind = stack.pop()
-        if kind.__dict__.get("name") == objective:
-            return kind
-        stack.extend(kind.__subclasses__())
-    return None
+#: a bearing's name, ``<shaft>.bearings[<k>]``: an ``[optimise.choices]`` key, the bearing of
+#: :func:`jaxgear.io.bearing_choices`
+BEARING_NAME = re.compile(r"^([A-Za-z_][\w-]*)\.bearings\[(\d+)\]$")
 
 
 def designs_structure(objective: str) -> bool:
     """Whether the objective named ``objective`` (:data:`optimise.OBJECTIVES`) takes a designed
-    structure (a bearing's clearance): its class's ``designs_structure``."""
-    kind = _objective_class(objective)
-    return kind is not None and bool(kind.designs_structure)
+    structure (a bearing's clearance): its class's ``designs_structure``; False for an unknown
+    name."""
+    return bool(OBJECTIVE_DESIGNS_STRUCTURE.get(objective, False))
 
 
 def objective_units(objective: str) -> str:
     """The units of the objective named ``objective`` (its class's ``units``: ``m``, ``W``,
     ...; ValueError: an unknown name)."""
-    kind = _objective_class(objective)
-    if kind is None:
+    if objective not in OBJECTIVE_UNITS:
         raise ValueError(f"objective = {objective!r} is unknown: allowed {', '.join(OBJECTIVES)}")
-    return kind.units
+    return OBJECTIVE_UNITS[objective]
 
 
 def _choices(value):
@@ -194,7 +188,7 @@ def _choices(value):
                       "[candidates] (e.g. \"pinion_shaft.bearings[0]\" = [\"6205\", "
                       "{ catalogue = \"30205\", arrangement = \"O\" }])", value)
     (name, names), = value.items()
-    if _CHOICE.match(name) is None:
+    if BEARING_NAME.match(name) is None:
         raise sc.fail(where, name, "unknown bearing, allowed \"<shaft>.bearings[<k>]\" (e.g. "
                       "\"pinion_shaft.bearings[0]\")", names)
     if not isinstance(names, list) or not names:

@@ -39,7 +39,12 @@ from ._load import load_case
 from ._lubricant_table import tribology_of
 from ._modifications_table import case_text_with_modifications, modifications_with
 from ._operating import operating_point
-from ._optimise_table import ACOUSTIC_OBJECTIVES, check_train_design, designs_structure
+from ._optimise_table import (
+    ACOUSTIC_OBJECTIVES,
+    BEARING_NAME,
+    check_train_design,
+    designs_structure,
+)
 from ._rating_table import RatingCase, rating_of
 
 __all__ = [
@@ -325,9 +330,6 @@ class BearingChoice(NamedTuple):
 #: fit's interference being the shaft's tolerance class, which the model does not hold
 SEAT_TOLERANCE_MM = 0.01
 
-_BEARING_NAME = re.compile(r"^([A-Za-z_][\w-]*)\.bearings\[(\d+)\]$")
-
-
 def _check_choice(case: Case, bearing: str, candidates: dict, objective: str) -> tuple[str, int]:
     """(shaft, k) of a bearing choice's ``bearing`` name, or one line refusing the case, the
     name, the candidates or the objective."""
@@ -335,7 +337,7 @@ def _check_choice(case: Case, bearing: str, candidates: dict, objective: str) ->
         raise ValueError(f"bearing = {bearing!r}: a bearing choice runs on a pair case whose "
                          "[scene] is lumped3d (its shafts on rolling bearings); this case's is "
                          f"{'a train' if isinstance(case.form, TrainForm) else 'not'}")
-    hit = _BEARING_NAME.match(bearing.strip())
+    hit = BEARING_NAME.match(bearing.strip())
     shafts = (case.raw.get("scene") or {})
     if hit is None or hit.group(1) not in shafts or not int(hit.group(2)) < len(
             shafts[hit.group(1)].get("bearings", ())):
@@ -708,7 +710,7 @@ def check_choice_text(text: str, bearing: str) -> None:
     """Whether :func:`write_choice_case` can rewrite ``bearing`` (``<shaft>.bearings[<k>]``) in
     the case file ``text``: checked before a choice's work. Raises ValueError (one line): a
     bearing the text does not give as a ``[[scene.<shaft>.bearings]]`` table."""
-    hit = _BEARING_NAME.match(bearing.strip())
+    hit = BEARING_NAME.match(bearing.strip())
     if hit is None:
         raise ValueError(f"bearing = {bearing!r}: allowed <shaft>.bearings[<k>]")
     _bearing_lines(text.splitlines(), hit.group(1), int(hit.group(2)), "choice")
