@@ -121,6 +121,8 @@ ROLLING_KINDS = {
     "spherical_roller": SphericalRoller,
     "tapered_roller_pair": TaperedRollerPair,
 }
+#: the kinds that take ``crown_um`` (their contract's ``crown_field``), in the messages
+_CROWNED = ", ".join(n for n, k in ROLLING_KINDS.items() if k.crown_field is not None)
 #: each kind's keys beyond the boundary dimensions (bore, outer diameter, width) and clearance
 _ELEMENT_KEYS = {
     "deep_groove_ball": ("balls", "ball_diameter_mm", "pitch_diameter_mm"),
@@ -356,8 +358,7 @@ class BearingSection(Section):
                               f"kind = {self.kind!r}")
         elif "crown_um" in self.given:
             raise sc.fail(where, "crown_um", f"not a key of kind = {self.kind!r}: allowed on "
-                          "a roller kind that takes a crown (cylindrical_roller, "
-                          "tapered_roller, tapered_roller_pair)", self.crown_um)
+                          f"a roller kind that takes a crown ({_CROWNED})", self.crown_um)
         d, D = self.bore_mm, self.outer_diameter_mm
         if not D > d:
             raise sc.fail(where, "outer_diameter_mm", f"out of range, allowed > bore_mm = "
@@ -412,9 +413,8 @@ class BearingSection(Section):
             return
         if kind.crown_field is None:
             raise sc.fail(where, "crown_um", f"not with {what} (a {kind.__name__}, no crown): "
-                          "allowed on a roller kind that takes a crown (cylindrical_roller, "
-                          "tapered_roller, tapered_roller_pair, or their catalogue entries)",
-                          self.crown_um)
+                          f"allowed on a roller kind that takes a crown ({_CROWNED}, or their "
+                          "catalogue entries)", self.crown_um)
         top = 10.0 * size  # D_w / 100, in µm
         if not self.crown_um <= top:
             raise sc.fail(where, "crown_um", f"out of range, allowed [0, {top:.6g}] µm (the "
